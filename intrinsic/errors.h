@@ -1,0 +1,42 @@
+// ifem error hierarchy. Library functions throw these on input they cannot use;
+// what can be repaired is repaired and counted in a report instead (see README, "Conventions").
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace ifem {
+
+/// Base of every exception ifem throws. The message says what and where.
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// Input that cannot be used as given: out-of-range index, NaN coordinate, empty mesh, ...
+class InvalidInput : public Error {
+ public:
+  using Error::Error;
+};
+
+/// An edge with 3+ incident faces, or a non-orientable gluing: the manifold path cannot
+/// represent it. The tufted cover accepts such inputs.
+class NonManifoldInput : public InvalidInput {
+ public:
+  using InvalidInput::InvalidInput;
+};
+
+/// A file that cannot be read or written: missing, unknown format, malformed, truncated.
+class IoError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// A numerical failure: a matrix that is not positive definite, an eigensolver that did
+/// not converge.
+class SolverError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace ifem

@@ -1,0 +1,284 @@
+#include "intrinsic/triangulation.h"
+
+#include <cmath>
+#include <numeric>
+
+#include <gtest/gtest.h>
+
+#include "helpers.h"
+#include "intrinsic/geometry.h"
+#include "intrinsic/mesh_generators.h"
+
+namespace ifem::intrinsic {
+namespace {
+
+using test::jittered;
+
+// Checks the invariants that every flip must preserve, against the values before flipping.
+void expect_flip_invariants(IntrinsicTriangulation tri) {
+  tri.validate();
+  const double area0 = total_area(tri);
+  const Eigen::VectorXd sums0 = vertex_angle_sums(tri);
+  const Eigen::VectorXd defect0 = angle_defects(tri);
+  const long chi = euler_characteristic(tri);
+  const FlipReport rep = tri.flip_to_delaunay();
+  EXPECT_FALSE(rep.hit_flip_cap);
+  tri.validate();
+  EXPECT_NEAR(total_area(tri), area0, 1e-9 * area0);
+  const Eigen::VectorXd sums = vertex_angle_sums(tri);
+  for (Index v = 0; v < tri.n_vertices(); ++v) {
+    ASSERT_NEAR(sums[v], sums0[v], 1e-9 * std::max(1.0, sums0[v])) << "vertex " << v;
+  }
+  EXPECT_NEAR((angle_defects(tri) - defect0).cwiseAbs().maxCoeff(), 0.0, 1e-9 * 2 * kPi);
+  // discrete Gauss–Bonnet, boundary terms included
+  EXPECT_NEAR(angle_defects(tri).sum(), 2 * kPi * chi, 1e-8 * std::max<double>(1, tri.n_vertices()));
+  // every interior edge Delaunay: α + β ≤ π(1 + 1e-12)
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    if (tri.is_boundary_edge(e)) continue;
+    const Index h = tri.edge_halfedge(e);
+    const double a = corner_angle(tri, IntrinsicTriangulation::prev(h));
+    const double b = corner_angle(tri, IntrinsicTriangulation::prev(tri.twin(h)));
+    ASSERT_LE(a + b, kPi * (1 + 1e-12)) << "edge " << e;
+  }
+  const Eigen::VectorXd w = cotan_weights(tri);
+  EXPECT_GE(w.minCoeff(), -1e-10 * w.cwiseAbs().maxCoeff());
+}
+
+TEST(Triangulation, TetrahedronCounts) {
+  const TriangleMesh m = tetrahedron();
+  BuildReport rep;
+  const auto tri = IntrinsicTriangulation::from_positions(m.faces, m.positions, &rep);
+  tri.validate();
+  EXPECT_EQ(tri.n_vertices(), 4);
+  EXPECT_EQ(tri.n_edges(), 6);
+  EXPECT_EQ(tri.n_faces(), 4);
+  EXPECT_FALSE(tri.has_boundary());
+  EXPECT_EQ(euler_characteristic(tri), 2);
+  EXPECT_EQ(rep.dropped_faces, 0);
+  EXPECT_EQ(rep.reoriented_faces, 0);
+  const double edge = std::sqrt(8.0 / 3.0);
+  for (Index e = 0; e < 6; ++e) EXPECT_NEAR(tri.length(e), edge, 1e-14);
+  EXPECT_NEAR(total_area(tri), 4 * std::sqrt(3.0) / 4 * edge * edge, 1e-12);
+  EXPECT_NEAR(angle_defects(tri).sum(), 4 * kPi, 1e-12);
+}
+
+TEST(Triangulation, SkewedQuadFlipsExactlyOnce) {
+  const TriangleMesh m = test::skewed_quad();
+  auto tri = IntrinsicTriangulation::from_positions(m.faces, m.positions);
+  // the diagonal 0–2 is the only interior edge and it is not Delaunay
+  Index diag = kInvalidIndex;
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    if (!tri.is_boundary_edge(e)) diag = e;
+  }
+  ASSERT_NE(diag, kInvalidIndex);
+  EXPECT_FALSE(tri.is_delaunay(diag));
+  const FlipReport rep = tri.flip_to_delaunay();
+  EXPECT_EQ(rep.flips, 1u);
+  tri.validate();
+  // the new diagonal joins 1 and 3 with its Euclidean length
+  const Index h = tri.edge_halfedge(diag);
+  EXPECT_EQ(std::min(tri.tail(h), tri.head(h)), 1);
+  EXPECT_EQ(std::max(tri.tail(h), tri.head(h)), 3);
+  EXPECT_NEAR(tri.length(diag), (m.positions.row(1) - m.positions.row(3)).norm(), 1e-14);
+  EXPECT_TRUE(tri.is_delaunay(diag));
+  EXPECT_EQ(tri.flip_to_delaunay().flips, 0u);
+}
+
+TEST(Triangulation, FlipInvariantsOnGeneratedMeshes) {
+  expect_flip_invariants(IntrinsicTriangulation::from_positions(icosphere(6).faces,
+                                                                icosphere(6).positions));
+  const TriangleMesh s = jittered(icosphere(8), 0.08);
+  expect_flip_invariants(IntrinsicTriangulation::from_positions(s.faces, s.positions));
+  const TriangleMesh g = jittered(grid(12, 9), 0.05);
+  expect_flip_invariants(IntrinsicTriangulation::from_positions(g.faces, g.positions));
+  const TriangleMesh uv = jittered(uv_sphere(6, 80), 0.02);  // needle fans at the poles
+  auto tri = IntrinsicTriangulation::from_positions(uv.faces, uv.positions);
+  expect_flip_invariants(tri);
+  EXPECT_GT(tri.flip_to_delaunay().flips, 0u);
+}
+
+TEST(Triangulation, FlippingTwiceRestoresLength) {
+  const TriangleMesh s = jittered(icosphere(3), 0.05);
+  auto tri = IntrinsicTriangulation::from_positions(s.faces, s.positions);
+  for (Index e = 0; e < tri.n_edges(); e += 7) {
+    const double before = tri.length(e);
+    auto copy = tri;
+    if (!copy.flip_edge(e)) continue;
+    copy.validate();
+    ASSERT_TRUE(copy.flip_edge(e));
+    copy.validate();
+    EXPECT_NEAR(copy.length(e), before, 1e-12 * before);
+  }
+}
+
+TEST(Triangulation, GridWithBoundaryGaussBonnet) {
+  const TriangleMesh g = grid(5, 4);
+  const auto tri = IntrinsicTriangulation::from_positions(g.faces, g.positions);
+  EXPECT_TRUE(tri.has_boundary());
+  EXPECT_EQ(euler_characteristic(tri), 1);
+  EXPECT_NEAR(angle_defects(tri).sum(), 2 * kPi, 1e-12);
+  EXPECT_NEAR(total_area(tri), 1.0, 1e-14);
+}
+
+TEST(Triangulation, DropsFacesThatRepeatAVertex) {
+  TriangleMesh m = tetrahedron();
+  m.faces.push_back({0, 0, 1});
+  m.faces.insert(m.faces.begin(), {2, 3, 2});
+  BuildReport rep;
+  const auto tri = IntrinsicTriangulation::from_positions(m.faces, m.positions, &rep);
+  EXPECT_EQ(rep.dropped_faces, 2);
+  EXPECT_EQ(tri.n_faces(), 4);
+  EXPECT_EQ(rep.face_origin, (std::vector<Index>{1, 2, 3, 4}));
+}
+
+TEST(Triangulation, KeepsUnreferencedVertices) {
+  TriangleMesh m = tetrahedron();
+  m.positions.conservativeResize(6, 3);
+  m.positions.row(4) << 5, 5, 5;
+  m.positions.row(5) << 6, 6, 6;
+  BuildReport rep;
+  auto tri = IntrinsicTriangulation::from_positions(m.faces, m.positions, &rep);
+  EXPECT_EQ(tri.n_vertices(), 6);
+  EXPECT_EQ(rep.unreferenced_vertices, 2);
+  EXPECT_EQ(tri.vertex_halfedge(5), kInvalidIndex);
+  tri.validate();
+  // Gauss–Bonnet still holds: an isolated point is a component with χ = 1
+  EXPECT_NEAR(angle_defects(tri).sum(), 2 * kPi * euler_characteristic(tri), 1e-12);
+}
+
+TEST(Triangulation, ReorientsInconsistentFaces) {
+  TriangleMesh m = icosphere(2);
+  for (std::size_t f = 0; f < m.faces.size(); f += 3) std::swap(m.faces[f][1], m.faces[f][2]);
+  BuildReport rep;
+  const auto tri = IntrinsicTriangulation::from_positions(m.faces, m.positions, &rep);
+  tri.validate();
+  EXPECT_GT(rep.reoriented_faces, 0);
+  EXPECT_EQ(euler_characteristic(tri), 2);
+}
+
+TEST(Triangulation, RejectsNonManifoldEdgeNamingIt) {
+  const std::vector<Triangle> fan = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+  Positions p = Positions::Random(5, 3);
+  try {
+    IntrinsicTriangulation::from_positions(fan, p);
+    FAIL() << "expected NonManifoldInput";
+  } catch (const NonManifoldInput& e) {
+    EXPECT_NE(std::string(e.what()).find("edge (0,1) has 3 incident faces"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Triangulation, RejectsNonOrientableGluing) {
+  // a Moebius strip: a band of 5 quads whose ends are glued with a half twist
+  const int n = 5;
+  std::vector<Triangle> f;
+  auto top = [&](int i) { return Index(i % n); };
+  auto bot = [&](int i) { return Index(n + i % n); };
+  for (int i = 0; i < n; ++i) {
+    const bool last = i == n - 1;
+    const Index a = top(i), b = bot(i);
+    const Index c = last ? top(0) : bot(i + 1), d = last ? bot(0) : top(i + 1);
+    // last quad swaps top and bottom: the twist
+    f.push_back({a, b, c});
+    f.push_back({a, c, d});
+  }
+  Positions p = Positions::Random(2 * n, 3);
+  EXPECT_THROW(IntrinsicTriangulation::from_positions(f, p), NonManifoldInput);
+}
+
+TEST(Triangulation, RejectsBadInput) {
+  const TriangleMesh m = tetrahedron();
+  Positions p = m.positions;
+  p(2, 1) = std::nan("");
+  EXPECT_THROW(IntrinsicTriangulation::from_positions(m.faces, p), InvalidInput);
+  std::vector<Triangle> bad = m.faces;
+  bad[1][2] = 9;
+  EXPECT_THROW(IntrinsicTriangulation::from_positions(bad, m.positions), InvalidInput);
+  Eigen::MatrixX3d l = Eigen::MatrixX3d::Ones(4, 3);
+  l(3, 1) = -1;
+  EXPECT_THROW(IntrinsicTriangulation::from_side_lengths(m.faces, 4, l, nullptr), InvalidInput);
+  l(3, 1) = 1.5;  // glued sides disagree
+  EXPECT_THROW(IntrinsicTriangulation::from_side_lengths(m.faces, 4, l, nullptr), InvalidInput);
+}
+
+TEST(Triangulation, SelfEdgeDeltaComplexFromLengths) {
+  // Two triangles on the same three vertices glued along all three sides: a sphere with three
+  // vertices. Flip one edge: the result has a self-edge (a loop at one vertex).
+  const std::vector<Triangle> f = {{0, 1, 2}, {0, 2, 1}};
+  Eigen::MatrixX3d l(2, 3);
+  l << 1.0, 1.2, 1.1, 1.1, 1.2, 1.0;
+  auto tri = IntrinsicTriangulation::from_side_lengths(f, 3, l, nullptr);
+  tri.validate();
+  EXPECT_EQ(tri.n_edges(), 3);
+  EXPECT_NEAR(angle_defects(tri).sum(), 4 * kPi, 1e-12);
+  const double area = total_area(tri);
+  int flipped = 0;
+  for (Index e = 0; e < 3; ++e) flipped += tri.flip_edge(e);
+  EXPECT_GT(flipped, 0);
+  tri.validate();
+  EXPECT_NEAR(total_area(tri), area, 1e-12);
+  EXPECT_NEAR(angle_defects(tri).sum(), 4 * kPi, 1e-12);
+  tri.flip_to_delaunay();
+  tri.validate();
+}
+
+TEST(Triangulation, MollifyRestoresTriangleInequality) {
+  // a degenerate (collinear) triangle next to a good one
+  Positions p(4, 3);
+  p << 0, 0, 0, 1, 0, 0, 2, 0, 0, 1, 1, 0;
+  const std::vector<Triangle> f = {{0, 1, 2}, {0, 2, 3}};
+  auto tri = IntrinsicTriangulation::from_positions(f, p);
+  const MollifyReport rep = tri.mollify(1e-5);
+  EXPECT_EQ(rep.faces_below_margin, 1);
+  EXPECT_GT(rep.delta, 0.0);
+  EXPECT_NEAR(rep.delta, rep.epsilon, 1e-15);  // the collinear face needed exactly ε
+  for (Index fi = 0; fi < tri.n_faces(); ++fi) EXPECT_GT(face_area(tri, fi), 0.0);
+  // a healthy mesh is left alone
+  auto ico = IntrinsicTriangulation::from_positions(icosphere(2).faces, icosphere(2).positions);
+  const auto before = ico.lengths();
+  EXPECT_EQ(ico.mollify(1e-5).delta, 0.0);
+  EXPECT_EQ(ico.lengths(), before);
+}
+
+TEST(Triangulation, RejectsNonFiniteLengths) {
+  const TriangleMesh s = jittered(icosphere(3), 0.1);
+  const auto tri = IntrinsicTriangulation::from_positions(s.faces, s.positions);
+  std::vector<double> hl(tri.n_halfedges());
+  for (Index h = 0; h < tri.n_halfedges(); ++h) hl[h] = tri.halfedge_length(h);
+  for (Index h = 0; h < tri.n_halfedges(); h += 11) {
+    hl[h] = std::nan("");
+    if (tri.twin(h) != kInvalidIndex) hl[tri.twin(h)] = std::nan("");
+  }
+  EXPECT_THROW(IntrinsicTriangulation::from_gluing(tri.tails(), tri.twins(), hl, tri.n_vertices()),
+               InvalidInput);
+}
+
+TEST(Triangulation, OverflowingGeometryNeverLoops) {
+  // lengths near 1e300 are finite, but their squares overflow: every Delaunay test sees NaN or
+  // inf. Flipping must still stop (CGAL issue 5010 is the failure mode this guards against).
+  TriangleMesh s = jittered(icosphere(4), 0.2);
+  s.positions *= 1e300;
+  auto tri = IntrinsicTriangulation::from_positions(s.faces, s.positions);
+  const FlipReport rep = tri.flip_to_delaunay();
+  EXPECT_FALSE(rep.hit_flip_cap);
+  tri.validate();
+}
+
+TEST(Triangulation, FromGluingRoundTrip) {
+  const TriangleMesh s = jittered(icosphere(3), 0.05);
+  const auto tri = IntrinsicTriangulation::from_positions(s.faces, s.positions);
+  std::vector<double> hl(tri.n_halfedges());
+  for (Index h = 0; h < tri.n_halfedges(); ++h) hl[h] = tri.halfedge_length(h);
+  const auto copy =
+      IntrinsicTriangulation::from_gluing(tri.tails(), tri.twins(), hl, tri.n_vertices());
+  copy.validate();
+  EXPECT_EQ(copy.n_edges(), tri.n_edges());
+  EXPECT_NEAR(total_area(copy), total_area(tri), 1e-12);
+  std::vector<Index> bad_twin = tri.twins();
+  std::swap(bad_twin[0], bad_twin[1]);
+  EXPECT_THROW(IntrinsicTriangulation::from_gluing(tri.tails(), bad_twin, hl, tri.n_vertices()),
+               InvalidInput);
+}
+
+}  // namespace
+}  // namespace ifem::intrinsic
