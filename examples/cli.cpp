@@ -1,0 +1,151 @@
+#include "cli.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+#include "intrinsic/errors.h"
+
+namespace ifem::cli {
+
+const std::set<std::string> kSurfaceFlags = {"no-delaunay", "tufted", "pointcloud", "quiet"};
+const std::set<std::string> kSurfaceOptions = {"mollify", "knn"};
+const char* const kSurfaceHelp =
+    "Surface options (any command that reads a mesh or point cloud):\n"
+    "  --mollify F     relative mollification margin: the smallest uniform length δ is added to\n"
+    "                  every edge so each triangle satisfies a+b−c ≥ F·(mean edge length)\n"
+    "                  (default 1e-5; 0 repairs only strict violations)\n"
+    "  --no-delaunay   keep the input triangulation (no intrinsic edge flips)\n"
+    "  --tufted        force the tufted cover even on an edge-manifold mesh\n"
+    "  --pointcloud    treat the input as a point cloud even if it has faces\n"
+    "  --knn K         neighbours per point for point clouds (default 30)\n"
+    "  --quiet         no progress lines on stderr\n";
+
+Args::Args(int argc, char** argv, const std::set<std::string>& flags,
+           const std::set<std::string>& options) {
+  for (int i = 0; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a == "-o") a = "--output";
+    if (a == "-k") a = "--k";
+    if (a == "-h") a = "--help";
+    if (a.size() > 2 && a.compare(0, 2, "--") == 0) {
+      std::string key = a.substr(2), value;
+      const auto eq = key.find('=');
+      const bool inline_value = eq != std::string::npos;
+      if (inline_value) {
+        value = key.substr(eq + 1);
+        key = key.substr(0, eq);
+      }
+      if (key == "help" || flags.count(key)) {
+        if (inline_value) throw InvalidInput("option --" + key + " takes no value");
+        values_[key] = "";
+      } else if (options.count(key)) {
+        if (!inline_value) {
+          if (i + 1 >= argc) throw InvalidInput("option --" + key + " needs a value");
+          value = argv[++i];
+        }
+        values_[key] = value;
+      } else {
+        throw InvalidInput("unknown option --" + key + " (see --help)");
+      }
+    } else {
+      positional_.push_back(a);
+    }
+  }
+}
+
+std::string Args::get(const std::string& key, const std::string& fallback) const {
+  const auto it = values_.find(key);
+  return it == values_.end() ? fallback : it->second;
+}
+
+double Args::get_double(const std::string& key, double fallback) const {
+  if (!has(key)) return fallback;
+  const std::string s = get(key);
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || *end != '\0') throw InvalidInput("--" + key + ": '" + s + "' is not a number");
+  return v;
+}
+
+long Args::get_int(const std::string& key, long fallback) const {
+  if (!has(key)) return fallback;
+  const std::string s = get(key);
+  char* end = nullptr;
+  const long v = std::strtol(s.c_str(), &end, 10);
+  if (s.empty() || *end != '\0') throw InvalidInput("--" + key + ": '" + s + "' is not an integer");
+  return v;
+}
+
+std::vector<long> Args::get_int_list(const std::string& key) const {
+  std::vector<long> out;
+  std::stringstream ss(get(key));
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    const long v = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0') {
+      throw InvalidInput("--" + key + ": '" + item + "' is not an integer");
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
+double now_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+void progress(const Args& args, const std::string& line) {
+  if (!args.has("quiet")) std::fprintf(stderr, "ifem: %s\n", line.c_str());
+}
+
+PreparedSurface prepare_surface(const std::string& file, const Args& args) {
+  PreparedSurface s;
+  double t0 = now_seconds();
+  s.input = io::read_surface(file);
+  s.seconds_load = now_seconds() - t0;
+  const Index nv = static_cast<Index>(s.input.positions.rows());
+  progress(args, "read " + file + ": " + std::to_string(nv) + " vertices, " +
+                     std::to_string(s.input.n_polygons) + " faces (" + s.input.format + ")");
+  s.stats = intrinsic::analyze_faces(s.input.triangles, nv);
+  t0 = now_seconds();
+  if (!s.input.has_faces() || args.has("pointcloud")) {
+    throw InvalidInput(file + ": point clouds are not supported yet");
+  }
+  if (args.has("tufted")) {
+    throw InvalidInput("--tufted: the tufted cover is not available yet");
+  }
+  s.path = "manifold";
+  s.path_reason = "every edge has at most two faces";
+  s.tri = intrinsic::IntrinsicTriangulation::from_positions(s.input.triangles,
+                                                            s.input.positions, &s.build);
+  const double eps = args.get_double("mollify", 1e-5);
+  s.mollify = s.tri.mollify(eps);
+  s.seconds_build = now_seconds() - t0;
+  if (s.build.dropped_faces) {
+    progress(args, "dropped " + std::to_string(s.build.dropped_faces) +
+                       " faces that repeat a vertex");
+  }
+  if (s.build.reoriented_faces) {
+    progress(args, "reoriented " + std::to_string(s.build.reoriented_faces) +
+                       " faces for a consistent orientation");
+  }
+  if (s.mollify.delta > 0) {
+    std::ostringstream m;
+    m << "mollified " << s.mollify.faces_below_margin << " faces: every edge length + "
+      << s.mollify.delta;
+    progress(args, m.str());
+  }
+  if (!args.has("no-delaunay")) {
+    t0 = now_seconds();
+    s.flips = s.tri.flip_to_delaunay();
+    s.seconds_flip = now_seconds() - t0;
+    progress(args, "intrinsic Delaunay: " + std::to_string(s.flips.flips) + " flips");
+  }
+  return s;
+}
+
+}  // namespace ifem::cli
