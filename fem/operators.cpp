@@ -1,5 +1,6 @@
 #include "fem/operators.h"
 
+#include <algorithm>
 #include <vector>
 
 #include "intrinsic/geometry.h"
@@ -14,76 +15,84 @@ SparseMatrix cotan_laplacian(const IntrinsicTriangulation& tri) {
 
 SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri,
                                     const Eigen::VectorXd& w) {
-  // Two counting-sort passes instead of triplets + sort: (1) vertex → incident edges,
-  // (2) walk rows in increasing order and append to the transposed position, which leaves
-  // every column sorted by row; parallel edges (multi-edges) merge on the fly.
+  // Direct CSC assembly (no triplets): count entries per column, scatter each edge's two
+  // off-diagonal entries straight into the matrix arrays, then sort each (small) column by row
+  // in parallel, merging parallel edges (multi-edges of a Δ-complex); the diagonal goes last.
   const Index nv = tri.n_vertices();
   const Index ne = tri.n_edges();
   const double scale = 1.0 / tri.multiplicity();
-  std::vector<Index> adj_start(static_cast<std::size_t>(nv) + 1, 0);
+  const auto& tails = tri.tails();
+  SparseMatrix L(nv, nv);
+  int* outer = L.outerIndexPtr();
+  std::fill(outer, outer + nv + 1, 0);
   for (Index e = 0; e < ne; ++e) {
     const Index h = tri.edge_halfedge(e);
-    const Index i = tri.tail(h), j = tri.head(h);
-    if (i == j) continue;
-    ++adj_start[i + 1];
-    ++adj_start[j + 1];
+    const Index i = tails[h], j = tails[IntrinsicTriangulation::next(h)];
+    if (i == j) continue;  // a self-edge adds w and subtracts it again: nothing
+    ++outer[i + 1];
+    ++outer[j + 1];
   }
-  for (Index v = 0; v < nv; ++v) adj_start[v + 1] += adj_start[v];
-  std::vector<Index> adj_vertex(adj_start[nv]);
-  std::vector<double> adj_weight(adj_start[nv]);
-  {
-    std::vector<Index> fill(adj_start.begin(), adj_start.end() - 1);
-    for (Index e = 0; e < ne; ++e) {
-      const Index h = tri.edge_halfedge(e);
-      const Index i = tri.tail(h), j = tri.head(h);
-      if (i == j) continue;
-      const double we = scale * w[e];
-      adj_vertex[fill[i]] = j;
-      adj_weight[fill[i]++] = we;
-      adj_vertex[fill[j]] = i;
-      adj_weight[fill[j]++] = we;
-    }
-  }
-  // column j holds its diagonal and its neighbours: at most adj count + 1 entries
-  std::vector<int> col_start(static_cast<std::size_t>(nv) + 1, 0);
-  for (Index v = 0; v < nv; ++v) col_start[v + 1] = col_start[v] + (adj_start[v + 1] - adj_start[v]) + 1;
-  std::vector<int> rows(col_start[nv]);
-  std::vector<double> vals(col_start[nv]);
-  std::vector<int> fill(col_start.begin(), col_start.end() - 1);
-  for (Index i = 0; i < nv; ++i) {
-    double diag = 0.0;
-    for (Index k = adj_start[i]; k < adj_start[i + 1]; ++k) diag += adj_weight[k];
-    // the diagonal goes to column i now: rows < i are already there, rows > i come later
-    rows[fill[i]] = i;
-    vals[fill[i]++] = diag;
-    for (Index k = adj_start[i]; k < adj_start[i + 1]; ++k) {
-      const Index j = adj_vertex[k];
-      int& pos = fill[j];
-      if (pos > col_start[j] && rows[pos - 1] == i) {
-        vals[pos - 1] -= adj_weight[k];  // another edge between i and j
-      } else {
-        rows[pos] = i;
-        vals[pos++] = -adj_weight[k];
-      }
-    }
-  }
-  // compact away the room reserved for merged duplicates
-  SparseMatrix L(nv, nv);
-  int nnz = 0;
-  for (Index j = 0; j < nv; ++j) nnz += fill[j] - col_start[j];
-  L.resizeNonZeros(nnz);
-  int* outer = L.outerIndexPtr();
+  for (Index v = 0; v < nv; ++v) outer[v + 1] += outer[v] + 1;  // +1: the diagonal
+  L.resizeNonZeros(outer[nv]);
   int* inner = L.innerIndexPtr();
   double* value = L.valuePtr();
-  int out = 0;
-  for (Index j = 0; j < nv; ++j) {
-    outer[j] = out;
-    for (int k = col_start[j]; k < fill[j]; ++k) {
-      inner[out] = rows[k];
-      value[out++] = vals[k];
+  std::vector<int> fill(outer, outer + nv);
+  Eigen::VectorXd diag = Eigen::VectorXd::Zero(nv);
+  for (Index e = 0; e < ne; ++e) {
+    const Index h = tri.edge_halfedge(e);
+    const Index i = tails[h], j = tails[IntrinsicTriangulation::next(h)];
+    if (i == j) continue;
+    const double we = scale * w[e];
+    inner[fill[j]] = i;
+    value[fill[j]++] = -we;
+    inner[fill[i]] = j;
+    value[fill[i]++] = -we;
+    diag[i] += we;
+    diag[j] += we;
+  }
+  std::vector<int> count(nv);
+#pragma omp parallel for schedule(static)
+  for (Index v = 0; v < nv; ++v) {
+    int* r = inner + outer[v];
+    double* x = value + outer[v];
+    int n = fill[v] - outer[v];
+    r[n] = v;  // the diagonal
+    x[n++] = diag[v];
+    for (int a = 1; a < n; ++a) {  // insertion sort by row: columns hold ~7 entries
+      const int ra = r[a];
+      const double xa = x[a];
+      int b = a;
+      for (; b > 0 && r[b - 1] > ra; --b) {
+        r[b] = r[b - 1];
+        x[b] = x[b - 1];
+      }
+      r[b] = ra;
+      x[b] = xa;
     }
+    int m = 0;
+    for (int a = 0; a < n; ++a) {
+      if (m > 0 && r[m - 1] == r[a]) {
+        x[m - 1] += x[a];
+      } else {
+        r[m] = r[a];
+        x[m++] = x[a];
+      }
+    }
+    count[v] = m;
+  }
+  // squeeze out what merged multi-edges freed (nothing moves on an ordinary mesh)
+  int out = 0;
+  for (Index v = 0; v < nv; ++v) {
+    const int begin = outer[v];
+    if (out != begin) {
+      std::copy(inner + begin, inner + begin + count[v], inner + out);
+      std::copy(value + begin, value + begin + count[v], value + out);
+    }
+    outer[v] = out;
+    out += count[v];
   }
   outer[nv] = out;
+  L.data().resize(out);
   return L;
 }
 

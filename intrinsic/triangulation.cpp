@@ -548,15 +548,26 @@ Eigen::VectorXd angle_defects(const IntrinsicTriangulation& tri) {
 }
 
 Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
+  // one area per face (not one per halfedge): cot of the angle opposite each side
+  const Index nf = tri.n_faces();
+  std::vector<double> cot(tri.n_halfedges());
+#pragma omp parallel for schedule(static)
+  for (Index f = 0; f < nf; ++f) {
+    const double l0 = tri.halfedge_length(3 * f), l1 = tri.halfedge_length(3 * f + 1),
+                 l2 = tri.halfedge_length(3 * f + 2);
+    const double inv4a = 0.25 / triangle_area(l0, l1, l2);
+    const double s0 = l0 * l0, s1 = l1 * l1, s2 = l2 * l2;
+    cot[3 * f] = (s1 + s2 - s0) * inv4a;
+    cot[3 * f + 1] = (s2 + s0 - s1) * inv4a;
+    cot[3 * f + 2] = (s0 + s1 - s2) * inv4a;
+  }
   const Index ne = tri.n_edges();
   Eigen::VectorXd w(ne);
 #pragma omp parallel for schedule(static)
   for (Index e = 0; e < ne; ++e) {
     const Index h = tri.edge_halfedge(e);
     const Index t = tri.twin(h);
-    double c = halfedge_cotan(tri, h);
-    if (t != kInvalidIndex) c += halfedge_cotan(tri, t);
-    w[e] = 0.5 * c;
+    w[e] = 0.5 * (cot[h] + (t != kInvalidIndex ? cot[t] : 0.0));
   }
   return w;
 }
