@@ -1,0 +1,254 @@
+#include "intrinsic/tufted_cover.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <tuple>
+#include <utility>
+
+#include <Eigen/Geometry>
+
+namespace ifem::intrinsic {
+namespace {
+
+constexpr double kTwoPi = 6.28318530717958647692;
+
+// Builds the cover. `positions` may be null (length-only input); then faces around a
+// nonmanifold edge are ordered combinatorially.
+IntrinsicTriangulation build_cover(const std::vector<Triangle>& faces, Index nv,
+                                   const Eigen::MatrixX3d& side, const Positions* positions,
+                                   TuftedCoverReport* report) {
+  TuftedCoverReport rep;
+  const Index nf_in = checked_index(faces.size(), "tufted_cover");
+  rep.input_faces = nf_in;
+
+  // ---- kept faces (a face that repeats a vertex has no surface: dropped, counted)
+  std::vector<Index> kept;
+  kept.reserve(faces.size());
+  for (Index f = 0; f < nf_in; ++f) {
+    const Triangle& t = faces[f];
+    for (int s = 0; s < 3; ++s) {
+      if (t[s] < 0 || t[s] >= nv) {
+        throw InvalidInput("tufted_cover: face " + std::to_string(f) + " has vertex index " +
+                           std::to_string(t[s]) + " out of range [0, " + std::to_string(nv) +
+                           ")");
+      }
+    }
+    for (int s = 0; s < 3; ++s) {
+      const double l = side(f, s);
+      if (!std::isfinite(l) || l < 0.0) {
+        throw InvalidInput("tufted_cover: face " + std::to_string(f) + " side " +
+                           std::to_string(s) + " has invalid length " + std::to_string(l));
+      }
+    }
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+      ++rep.dropped_faces;
+      continue;
+    }
+    kept.push_back(f);
+  }
+  const Index nk = static_cast<Index>(kept.size());
+  checked_index(6 * static_cast<std::size_t>(nk), "tufted_cover");
+
+  // ---- cover faces: 2k = front (v0, v1, v2), 2k+1 = back (v0, v2, v1)
+  // back side t runs along input side 2 − t, reversed
+  const std::size_t nh = 6 * static_cast<std::size_t>(nk);
+  std::vector<Index> tail(nh);
+  std::vector<double> hlen(nh);
+  std::vector<char> referenced(nv, 0);
+  for (Index k = 0; k < nk; ++k) {
+    const Index f = kept[k];
+    const Triangle& t = faces[f];
+    Index* ft = &tail[6 * static_cast<std::size_t>(k)];
+    double* fl = &hlen[6 * static_cast<std::size_t>(k)];
+    ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
+    ft[3] = t[0], ft[4] = t[2], ft[5] = t[1];
+    fl[0] = side(f, 0), fl[1] = side(f, 1), fl[2] = side(f, 2);
+    fl[3] = side(f, 2), fl[4] = side(f, 1), fl[5] = side(f, 0);
+    referenced[t[0]] = referenced[t[1]] = referenced[t[2]] = 1;
+  }
+  rep.unreferenced_vertices = static_cast<Index>(std::count(referenced.begin(), referenced.end(), 0));
+
+  // Input side x = 3k + s joins lo(x) < hi(x). Its "up" cover halfedge runs lo → hi, its
+  // "down" one hi → lo; front halfedge 6k + s, back halfedge 6k + 3 + (2 − s).
+  auto corner = [&](Index x, int d) { return faces[kept[x / 3]][(x % 3 + d) % 3]; };
+  auto lo = [&](Index x) { return std::min(corner(x, 0), corner(x, 1)); };
+  auto hi = [&](Index x) { return std::max(corner(x, 0), corner(x, 1)); };
+  auto front = [](Index x) { return 6 * (x / 3) + x % 3; };
+  auto back = [](Index x) { return 6 * (x / 3) + 3 + (2 - x % 3); };
+  auto up = [&](Index x) { return corner(x, 0) < corner(x, 1) ? front(x) : back(x); };
+  auto down = [&](Index x) { return corner(x, 0) < corner(x, 1) ? back(x) : front(x); };
+
+  // ---- group sides by edge: counting sort by lo, then sort each bucket by (hi, side id)
+  const Index ns = 3 * nk;
+  std::vector<Index> start(static_cast<std::size_t>(nv) + 1, 0);
+  for (Index x = 0; x < ns; ++x) ++start[lo(x) + 1];
+  for (Index v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<Index> order(ns);
+  {
+    std::vector<Index> fill(start.begin(), start.end() - 1);
+    for (Index x = 0; x < ns; ++x) order[fill[lo(x)]++] = x;  // increasing x within a bucket
+  }
+
+  std::vector<Index> twin(nh, kInvalidIndex);
+  Index n_edges = 0, n_boundary = 0, n_nonmanifold = 0, max_per_edge = 0;
+  Index first_nm_lo = kInvalidIndex, first_nm_hi = kInvalidIndex;
+
+#pragma omp parallel
+  {
+    // per-thread scratch for the angular sort around a nonmanifold edge
+    std::vector<std::tuple<double, Index, double, double, Index>> keyed;
+#pragma omp for schedule(dynamic, 256) reduction(+ : n_edges, n_boundary, n_nonmanifold) \
+    reduction(max : max_per_edge)
+    for (Index v = 0; v < nv; ++v) {
+      Index* b = order.data() + start[v];
+      Index* e = order.data() + start[v + 1];
+      if (e - b > 1) {
+        std::sort(b, e, [&](Index x, Index y) {
+          const Index hx = hi(x), hy = hi(y);
+          return hx != hy ? hx < hy : x < y;
+        });
+      }
+      for (Index* i = b; i < e;) {
+        Index* j = i + 1;
+        const Index h_hi = hi(*i);
+        while (j < e && hi(*j) == h_hi) ++j;
+        const Index n = static_cast<Index>(j - i);
+        ++n_edges;
+        max_per_edge = std::max(max_per_edge, n);
+        if (n == 1) {
+          ++n_boundary;
+          twin[up(*i)] = down(*i);
+          twin[down(*i)] = up(*i);
+        } else if (n == 2) {
+          twin[up(i[0])] = down(i[1]);
+          twin[down(i[1])] = up(i[0]);
+          twin[up(i[1])] = down(i[0]);
+          twin[down(i[0])] = up(i[1]);
+        } else {
+          ++n_nonmanifold;
+#pragma omp critical(ifem_tufted_first_nm)
+          if (first_nm_lo == kInvalidIndex || v < first_nm_lo ||
+              (v == first_nm_lo && h_hi < first_nm_hi)) {
+            first_nm_lo = v;
+            first_nm_hi = h_hi;
+          }
+          // canonical cyclic order: angle of the opposite vertex about the axis lo → hi,
+          // measured from the opposite vertex with the smallest id; then opposite id, then
+          // the lengths of the other two sides (length-only input), then the side id
+          keyed.clear();
+          for (Index* k = i; k < j; ++k) {
+            const Index x = *k;
+            const Index opp = corner(x, 2);
+            const Index f = kept[x / 3];
+            const int s = x % 3;
+            // other two sides, in the direction lo → hi → opp → lo
+            double l_ho = side(f, (s + 1) % 3), l_ol = side(f, (s + 2) % 3);
+            if (corner(x, 0) != v) std::swap(l_ho, l_ol);
+            keyed.emplace_back(0.0, opp, l_ho, l_ol, x);
+          }
+          if (positions) {
+            const Eigen::Vector3d pa = positions->row(v).transpose();
+            Eigen::Vector3d u = positions->row(h_hi).transpose() - pa;
+            const double ul = u.norm();
+            if (ul > 0.0 && std::isfinite(ul)) {
+              u /= ul;
+              auto perp = [&](Index c) {
+                const Eigen::Vector3d w = positions->row(c).transpose() - pa;
+                return Eigen::Vector3d(w - w.dot(u) * u);
+              };
+              // reference: the first opposite vertex (by id) off the axis
+              std::vector<Index> opps;
+              for (const auto& kt : keyed) opps.push_back(std::get<1>(kt));
+              std::sort(opps.begin(), opps.end());
+              Eigen::Vector3d r = Eigen::Vector3d::Zero();
+              for (const Index c : opps) {
+                const Eigen::Vector3d w = perp(c);
+                const double wl = w.norm();
+                if (wl > 1e-14 * ul) {
+                  r = w / wl;
+                  break;
+                }
+              }
+              if (r.squaredNorm() > 0.0) {
+                const Eigen::Vector3d r2 = u.cross(r);
+                for (auto& kt : keyed) {
+                  const Eigen::Vector3d w = perp(std::get<1>(kt));
+                  double th = std::atan2(w.dot(r2), w.dot(r));
+                  if (th < 0.0) th += kTwoPi;
+                  std::get<0>(kt) = th;
+                }
+              }
+            }
+          }
+          std::sort(keyed.begin(), keyed.end());
+          for (Index k = 0; k < n; ++k) {
+            const Index x = std::get<4>(keyed[k]);
+            const Index y = std::get<4>(keyed[(k + 1) % n]);
+            twin[up(x)] = down(y);
+            twin[down(y)] = up(x);
+          }
+        }
+        i = j;
+      }
+    }
+  }
+  rep.edges = n_edges;
+  rep.boundary_edges = n_boundary;
+  rep.nonmanifold_edges = n_nonmanifold;
+  rep.max_faces_per_edge = max_per_edge;
+  rep.first_nonmanifold_edge[0] = first_nm_lo;
+  rep.first_nonmanifold_edge[1] = first_nm_hi;
+
+  IntrinsicTriangulation tri =
+      IntrinsicTriangulation::from_gluing(std::move(tail), std::move(twin), hlen, nv, 2);
+  if (report) {
+    rep.parent_face.resize(2 * static_cast<std::size_t>(nk));
+    for (Index k = 0; k < nk; ++k) rep.parent_face[2 * k] = rep.parent_face[2 * k + 1] = kept[k];
+    *report = std::move(rep);
+  }
+  return tri;
+}
+
+}  // namespace
+
+IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Positions& positions,
+                                    TuftedCoverReport* report) {
+  const Index nv = checked_index(static_cast<std::size_t>(positions.rows()), "tufted_cover");
+  for (Index v = 0; v < nv; ++v) {
+    if (!positions.row(v).allFinite()) {
+      throw InvalidInput("tufted_cover: vertex " + std::to_string(v) +
+                         " has a non-finite coordinate");
+    }
+  }
+  const Index nf = checked_index(faces.size(), "tufted_cover");
+  Eigen::MatrixX3d side(nf, 3);
+#pragma omp parallel for schedule(static)
+  for (Index f = 0; f < nf; ++f) {
+    for (int s = 0; s < 3; ++s) {
+      const Index a = faces[f][s], b = faces[f][(s + 1) % 3];
+      if (a < 0 || a >= nv || b < 0 || b >= nv) {
+        side(f, s) = -1.0;  // reported with the face id by build_cover
+        continue;
+      }
+      const auto d = positions.row(a) - positions.row(b);
+      double l = d.norm();
+      if (!std::isfinite(l)) l = d.stableNorm();  // huge coordinates: avoid overflow in x²
+      side(f, s) = l;
+    }
+  }
+  return build_cover(faces, nv, side, &positions, report);
+}
+
+IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, Index n_vertices,
+                                    const Eigen::MatrixX3d& side_lengths,
+                                    TuftedCoverReport* report) {
+  if (n_vertices < 0) throw InvalidInput("tufted_cover: negative vertex count");
+  if (side_lengths.rows() != static_cast<Eigen::Index>(faces.size())) {
+    throw InvalidInput("tufted_cover: " + std::to_string(side_lengths.rows()) +
+                       " rows of side lengths for " + std::to_string(faces.size()) + " faces");
+  }
+  return build_cover(faces, n_vertices, side_lengths, nullptr, report);
+}
+
+}  // namespace ifem::intrinsic
