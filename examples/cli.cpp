@@ -102,6 +102,19 @@ void progress(const Args& args, const std::string& line) {
   if (!args.has("quiet")) std::fprintf(stderr, "ifem: %s\n", line.c_str());
 }
 
+namespace {
+
+// Why the manifold path cannot take this face list, or "" when it can try.
+std::string nonmanifold_reason(const intrinsic::FaceListStats& st) {
+  if (st.nonmanifold_edges == 0) return "";
+  return std::to_string(st.nonmanifold_edges) + " nonmanifold edge" +
+         (st.nonmanifold_edges == 1 ? "" : "s") + ", first (" +
+         std::to_string(st.first_nonmanifold_edge[0]) + "," +
+         std::to_string(st.first_nonmanifold_edge[1]) + ")";
+}
+
+}  // namespace
+
 PreparedSurface prepare_surface(const std::string& file, const Args& args) {
   PreparedSurface s;
   double t0 = now_seconds();
@@ -111,18 +124,70 @@ PreparedSurface prepare_surface(const std::string& file, const Args& args) {
   progress(args, "read " + file + ": " + std::to_string(nv) + " vertices, " +
                      std::to_string(s.input.n_polygons) + " faces (" + s.input.format + ")");
   s.stats = intrinsic::analyze_faces(s.input.triangles, nv);
-  t0 = now_seconds();
-  if (!s.input.has_faces() || args.has("pointcloud")) {
-    throw InvalidInput(file + ": point clouds are not supported yet");
-  }
-  if (args.has("tufted")) {
-    throw InvalidInput("--tufted: the tufted cover is not available yet");
-  }
-  s.path = "manifold";
-  s.path_reason = "every edge has at most two faces";
-  s.tri = intrinsic::IntrinsicTriangulation::from_positions(s.input.triangles,
-                                                            s.input.positions, &s.build);
   const double eps = args.get_double("mollify", 1e-5);
+  t0 = now_seconds();
+
+  // ---- point cloud: no faces, or --pointcloud
+  if (!s.input.has_faces() || args.has("pointcloud")) {
+    pointcloud::Options opt;
+    opt.k = static_cast<int>(args.get_int("knn", 30));
+    opt.mollify_relative_epsilon = eps;
+    opt.intrinsic_delaunay = !args.has("no-delaunay");
+    const bool with_normals = s.input.normals.rows() == nv && nv > 0;
+    s.tri = pointcloud::pointcloud_triangulation(s.input.positions, opt,
+                                                 with_normals ? &s.input.normals : nullptr,
+                                                 &s.cloud);
+    s.path = "pointcloud";
+    s.path_reason = std::string(s.input.has_faces() ? "--pointcloud" : "no faces") +
+                    ": point cloud, k = " + std::to_string(s.cloud.k) +
+                    (s.cloud.normals_from_input ? ", file normals" : ", PCA normals");
+    s.mollify = s.cloud.mollify;
+    s.flips = s.cloud.flips;
+    s.build.input_faces = 0;
+    s.build.unreferenced_vertices = s.cloud.isolated_points;
+    s.seconds_build = s.cloud.seconds_knn + s.cloud.seconds_local + s.cloud.seconds_cover;
+    s.seconds_flip = s.cloud.seconds_idt;
+    std::ostringstream m;
+    m << "point cloud: " << nv << " points, k = " << s.cloud.k << ", "
+      << s.cloud.local_triangles << " local triangles, " << s.cloud.isolated_points
+      << " isolated points; kNN " << s.cloud.seconds_knn << " s, local Delaunay "
+      << s.cloud.seconds_local << " s, tufted cover " << s.cloud.seconds_cover
+      << " s, intrinsic Delaunay " << s.cloud.seconds_idt << " s (" << s.flips.flips
+      << " flips)";
+    progress(args, m.str());
+    return s;
+  }
+
+  // ---- mesh: manifold path when it can represent the input, tufted cover otherwise
+  std::string why_tufted;
+  if (args.has("tufted")) {
+    why_tufted = "--tufted";
+  } else if (!s.stats.edge_manifold()) {
+    why_tufted = nonmanifold_reason(s.stats);
+  } else {
+    try {
+      s.tri = intrinsic::IntrinsicTriangulation::from_positions(s.input.triangles,
+                                                                s.input.positions, &s.build);
+      s.path = "manifold";
+      s.path_reason = "edge-manifold and orientable";
+      if (s.build.reoriented_faces) {
+        s.path_reason += " (" + std::to_string(s.build.reoriented_faces) + " faces reoriented)";
+      }
+    } catch (const NonManifoldInput& e) {
+      const std::string what = e.what();
+      why_tufted = what.find("non-orientable") != std::string::npos ? "non-orientable" : what;
+    }
+  }
+  if (s.path.empty()) {
+    s.tri = intrinsic::tufted_cover(s.input.triangles, s.input.positions, &s.tufted);
+    s.path = "tufted";
+    s.path_reason = why_tufted;
+    s.build.input_faces = s.tufted.input_faces;
+    s.build.dropped_faces = s.tufted.dropped_faces;
+    s.build.unreferenced_vertices = s.tufted.unreferenced_vertices;
+    s.build.face_origin = s.tufted.parent_face;
+  }
+  progress(args, "path: " + s.path + " (" + s.path_reason + ")");
   s.mollify = s.tri.mollify(eps);
   s.seconds_build = now_seconds() - t0;
   if (s.build.dropped_faces) {

@@ -11,6 +11,8 @@
 #include "intrinsic/mesh_analysis.h"
 #include "intrinsic/mesh_io.h"
 #include "intrinsic/triangulation.h"
+#include "intrinsic/tufted_cover.h"
+#include "pointcloud/pointcloud_laplacian.h"
 
 namespace ifem::cli {
 
@@ -61,6 +63,8 @@ struct PreparedSurface {
   intrinsic::BuildReport build;
   intrinsic::MollifyReport mollify;
   intrinsic::FlipReport flips;
+  intrinsic::TuftedCoverReport tufted;  ///< filled on the "tufted" path
+  pointcloud::Report cloud;             ///< filled on the "pointcloud" path
   std::string path;         ///< "manifold", "tufted" or "pointcloud"
   std::string path_reason;  ///< why that path was taken
   double seconds_load = 0, seconds_build = 0, seconds_flip = 0;
@@ -68,7 +72,13 @@ struct PreparedSurface {
 
 /// Loads `file` and builds its intrinsic triangulation: mollified (--mollify, default 1e-5
 /// relative), flipped to intrinsic Delaunay unless --no-delaunay. Prints one progress line per
-/// stage to stderr unless --quiet.
+/// stage to stderr unless --quiet. The path is chosen automatically:
+///  - "pointcloud" when the file has no faces or --pointcloud (kNN local triangulations,
+///    --knn K neighbours, glued into a tufted cover);
+///  - "tufted" when --tufted, when an edge has 3+ faces, or when the gluing is non-orientable;
+///  - "manifold" otherwise.
+/// On every path the triangulation's vertices are the input's vertices in the input's order
+/// (unreferenced / isolated ones included: zero row in L, zero mass).
 PreparedSurface prepare_surface(const std::string& file, const Args& args);
 
 /// Prints a progress line to stderr unless --quiet was given.

@@ -17,7 +17,8 @@ constexpr double kTwoPi = 6.28318530717958647692;
 // nonmanifold edge are ordered combinatorially.
 IntrinsicTriangulation build_cover(const std::vector<Triangle>& faces, Index nv,
                                    const Eigen::MatrixX3d& side, const Positions* positions,
-                                   TuftedCoverReport* report) {
+                                   TuftedCoverReport* report, int input_multiplicity) {
+  if (input_multiplicity < 1) throw InvalidInput("tufted_cover: input multiplicity must be ≥ 1");
   TuftedCoverReport rep;
   const Index nf_in = checked_index(faces.size(), "tufted_cover");
   rep.input_faces = nf_in;
@@ -201,7 +202,8 @@ IntrinsicTriangulation build_cover(const std::vector<Triangle>& faces, Index nv,
   rep.first_nonmanifold_edge[1] = first_nm_hi;
 
   IntrinsicTriangulation tri =
-      IntrinsicTriangulation::from_gluing(std::move(tail), std::move(twin), hlen, nv, 2);
+      IntrinsicTriangulation::from_gluing(std::move(tail), std::move(twin), hlen, nv,
+                                                             2 * input_multiplicity);
   if (report) {
     rep.parent_face.resize(2 * static_cast<std::size_t>(nk));
     for (Index k = 0; k < nk; ++k) rep.parent_face[2 * k] = rep.parent_face[2 * k + 1] = kept[k];
@@ -213,7 +215,7 @@ IntrinsicTriangulation build_cover(const std::vector<Triangle>& faces, Index nv,
 }  // namespace
 
 IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Positions& positions,
-                                    TuftedCoverReport* report) {
+                                    TuftedCoverReport* report, int input_multiplicity) {
   const Index nv = checked_index(static_cast<std::size_t>(positions.rows()), "tufted_cover");
   for (Index v = 0; v < nv; ++v) {
     if (!positions.row(v).allFinite()) {
@@ -237,18 +239,18 @@ IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Po
       side(f, s) = l;
     }
   }
-  return build_cover(faces, nv, side, &positions, report);
+  return build_cover(faces, nv, side, &positions, report, input_multiplicity);
 }
 
 IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, Index n_vertices,
                                     const Eigen::MatrixX3d& side_lengths,
-                                    TuftedCoverReport* report) {
+                                    TuftedCoverReport* report, int input_multiplicity) {
   if (n_vertices < 0) throw InvalidInput("tufted_cover: negative vertex count");
   if (side_lengths.rows() != static_cast<Eigen::Index>(faces.size())) {
     throw InvalidInput("tufted_cover: " + std::to_string(side_lengths.rows()) +
                        " rows of side lengths for " + std::to_string(faces.size()) + " faces");
   }
-  return build_cover(faces, n_vertices, side_lengths, nullptr, report);
+  return build_cover(faces, n_vertices, side_lengths, nullptr, report, input_multiplicity);
 }
 
 }  // namespace ifem::intrinsic

@@ -43,9 +43,14 @@ struct TuftedCoverReport {
 /// @param faces #F triangles over vertex ids in [0, positions.rows())
 /// @param positions #V×3, finite
 /// @param[out] report optional counts
+/// @param input_multiplicity how many times the faces cover each point of the surface (1 for a
+///        mesh, 3 for the union of point-cloud local triangulations, where each triangle shows
+///        up in the neighbourhoods of its three corners); the result has multiplicity
+///        2 × input_multiplicity, so operators average over the copies
 /// @throws InvalidInput on an index out of range or a non-finite coordinate
 IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Positions& positions,
-                                    TuftedCoverReport* report = nullptr);
+                                    TuftedCoverReport* report = nullptr,
+                                    int input_multiplicity = 1);
 
 /// Tufted cover from per-side lengths (side_lengths(f, s) = length of the side from corner s to
 /// corner s+1 of face f). Without positions there is no angle about an edge: around an edge
@@ -55,6 +60,7 @@ IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Po
 ///         one edge whose lengths disagree (1e-12 relative)
 IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, Index n_vertices,
                                     const Eigen::MatrixX3d& side_lengths,
-                                    TuftedCoverReport* report = nullptr);
+                                    TuftedCoverReport* report = nullptr,
+                                    int input_multiplicity = 1);
 
 }  // namespace ifem::intrinsic

@@ -1,0 +1,79 @@
+#include "pointcloud/local_delaunay.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ifem::pointcloud {
+namespace {
+
+struct Inverted {
+  double x, y;
+  int index;  // into q, or -1 for the origin
+};
+
+double cross(const Inverted& o, const Inverted& a, const Inverted& b) {
+  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+}  // namespace
+
+int delaunay_star(const std::vector<Eigen::Vector2d>& q, std::vector<std::array<int, 2>>& out,
+                  double min_relative_distance) {
+  double r = 0.0;
+  for (const auto& p : q) {
+    if (p.allFinite()) r = std::max(r, p.norm());
+  }
+  if (!(r > 0.0)) return 0;
+  // Inversion about the origin, scaled by r so coordinates stay O(1 / relative distance):
+  // w = r q / |q|². The circle through 0, q_a, q_b maps to the line through w_a, w_b, and the
+  // circle's inside to the far side of that line, so (0, q_a, q_b) is a Delaunay triangle iff
+  // w_a w_b is an edge of the convex hull of {0} ∪ {w} with the origin inside.
+  const double min_dist = min_relative_distance * r;
+  std::vector<Inverted> w;
+  w.reserve(q.size() + 1);
+  w.push_back({0.0, 0.0, -1});
+  for (int j = 0; j < static_cast<int>(q.size()); ++j) {
+    const Eigen::Vector2d& p = q[j];
+    if (!p.allFinite()) continue;
+    const double d = p.norm();
+    if (!(d > min_dist)) continue;
+    const double s = r / (d * d);
+    w.push_back({p.x() * s, p.y() * s, j});
+  }
+  if (w.size() < 3) return 0;
+  std::sort(w.begin(), w.end(), [](const Inverted& a, const Inverted& b) {
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    return a.index < b.index;
+  });
+  // exact duplicates: keep the first (smallest index; the origin sorts first as index −1)
+  w.erase(std::unique(w.begin(), w.end(),
+                      [](const Inverted& a, const Inverted& b) { return a.x == b.x && a.y == b.y; }),
+          w.end());
+  const int n = static_cast<int>(w.size());
+  if (n < 3) return 0;
+  // Andrew's monotone chain, counter-clockwise, collinear points dropped
+  std::vector<Inverted> hull(2 * n);
+  int k = 0;
+  for (int i = 0; i < n; ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], w[i]) <= 0.0) --k;
+    hull[k++] = w[i];
+  }
+  for (int i = n - 2, lower = k + 1; i >= 0; --i) {
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], w[i]) <= 0.0) --k;
+    hull[k++] = w[i];
+  }
+  const int m = k - 1;  // the last point repeats the first
+  if (m < 3) return 0;  // all collinear
+  int added = 0;
+  for (int i = 0; i < m; ++i) {
+    const Inverted& a = hull[i];
+    const Inverted& b = hull[(i + 1) % m];
+    if (a.index < 0 || b.index < 0) continue;  // an edge at the origin: centre on the boundary
+    out.push_back({a.index, b.index});
+    ++added;
+  }
+  return added;
+}
+
+}  // namespace ifem::pointcloud

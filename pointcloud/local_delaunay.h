@@ -1,0 +1,23 @@
+// The Delaunay star of one point among its projected neighbours: the triangles of the planar
+// Delaunay triangulation incident to the centre, found as the convex hull of the neighbours
+// inverted about the centre (circles through the centre become lines).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace ifem::pointcloud {
+
+/// Delaunay triangles incident to the origin among the planar points q (the origin itself is
+/// the centre and is not listed). Appends to `out` one pair (a, b) of indices into q per
+/// triangle (origin, q[a], q[b]), counter-clockwise, in counter-clockwise order around the
+/// origin. Robust by construction: points within `min_relative_distance` × max|q| of the
+/// origin (duplicates of the centre) are ignored, exact duplicates count once (smallest index),
+/// collinear or too few points give no triangle; never throws, never produces NaN. O(n log n).
+/// Returns the number of triangles appended.
+int delaunay_star(const std::vector<Eigen::Vector2d>& q, std::vector<std::array<int, 2>>& out,
+                  double min_relative_distance = 1e-9);
+
+}  // namespace ifem::pointcloud

@@ -1,0 +1,70 @@
+// Point-cloud Laplacian (Sharp & Crane 2020, "A Laplacian for Nonmanifold Triangle Meshes",
+// §5.3): kNN neighbourhoods, tangent plane by PCA, planar Delaunay triangulation of each
+// point's projected neighbours keeping the triangles at the point, the union of all those
+// triangles glued into a tufted cover, mollified and flipped to intrinsic Delaunay. Build L and
+// M from the result with fem::cotan_laplacian / fem::lumped_mass.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "intrinsic/triangulation.h"
+#include "intrinsic/tufted_cover.h"
+#include "pointcloud/knn.h"
+
+namespace ifem::pointcloud {
+
+/// Settings of the point-cloud pipeline.
+struct Options {
+  int k = 30;                            ///< neighbours per point (clamped to #P − 1)
+  bool use_input_normals = true;         ///< use the given normals where finite and non-zero
+  double mollify_relative_epsilon = 1e-5;  ///< see IntrinsicTriangulation::mollify
+  bool intrinsic_delaunay = true;        ///< flip the cover to intrinsic Delaunay
+  /// @throws InvalidInput if k < 2 or the margin is negative / not finite
+  void validate() const;
+};
+
+/// What the pipeline did, counted, with the time of each stage.
+struct Report {
+  Index points = 0;
+  int k = 0;                     ///< neighbours actually used
+  Index local_triangles = 0;     ///< triangles over all local triangulations (a triangle found
+                                 ///< from each of its three corners counts three times)
+  Index starless_points = 0;     ///< points whose own neighbourhood gave no triangle: fewer than
+                                 ///< 3 distinct neighbours, collinear, or all at the point
+  Index isolated_points = 0;     ///< points in no triangle at all: zero row in L, zero mass
+  Index first_isolated_point = kInvalidIndex;
+  Index coincident_points = 0;   ///< points with another point at exactly the same position
+  Index normals_from_input = 0;  ///< points whose tangent plane came from the given normals
+  intrinsic::TuftedCoverReport cover;
+  intrinsic::MollifyReport mollify;
+  intrinsic::FlipReport flips;
+  double seconds_knn = 0, seconds_local = 0, seconds_cover = 0, seconds_idt = 0;
+};
+
+/// The triangles of every point's local Delaunay star, in point order: for point i, the
+/// Delaunay triangulation of its k neighbours projected to i's tangent plane (PCA of the
+/// neighbourhood, or normals[i]), the triangles incident to i, as (i, a, b) counter-clockwise
+/// about the plane's normal. Parallel (OpenMP) over points; deterministic.
+/// @param normals #P×3 or null; rows that are zero or not finite fall back to PCA
+std::vector<Triangle> local_triangulations(const Positions& points, const Neighbours& neighbours,
+                                           const Eigen::MatrixX3d* normals = nullptr,
+                                           Report* report = nullptr);
+
+/// The whole pipeline: a tufted cover of the union of local triangulations over the cloud's
+/// points (ids = input order), with multiplicity 6 = 2 (front/back) × 3 (each triangle belongs
+/// to the stars of its three corners), so the lumped mass of a point is a third of the area of
+/// the local triangles at it, averaged over the stars that contain them (Σ mass ≈ surface area).
+/// Mollified and, unless disabled, intrinsic Delaunay. Always finite; isolated points
+/// (reported) have no halfedge, hence a zero row in L and zero mass: solvers give them +inf
+/// distance / 0.
+/// @param points #P×3, finite (any number, including 0, 1, 2)
+/// @param normals optional #P×3 (e.g. from the file)
+/// @throws InvalidInput on a non-finite coordinate, bad options or a normals size mismatch
+intrinsic::IntrinsicTriangulation pointcloud_triangulation(const Positions& points,
+                                                           const Options& options = {},
+                                                           const Eigen::MatrixX3d* normals = nullptr,
+                                                           Report* report = nullptr);
+
+}  // namespace ifem::pointcloud
