@@ -140,6 +140,32 @@ class IntrinsicTriangulation {
   /// (Sharp & Crane 2020, §4.5). Geometry unchanged when no face is below the margin.
   MollifyReport mollify(double relative_epsilon = 1e-5);
 
+  // ===== Insertion (defined in triangulation_insert.cpp; insertions append) =====
+
+  /// Inserts a new vertex (id n_vertices()) inside face f, at distances l0, l1, l2 from
+  /// corners 0, 1, 2 of f; returns its id. O(1). Slots, with f = (c0, c1, c2) and new faces
+  /// f1 = n_faces() and f2 = n_faces() + 1 (before the call):
+  ///   face f  = (c0, c1, v): 3f   c0→c1 (unchanged), 3f+1  c1→v, 3f+2  v→c0
+  ///   face f1 = (c1, c2, v): 3f1  c1→c2 (old 3f+1),  3f1+1 c2→v, 3f1+2 v→c1
+  ///   face f2 = (c2, c0, v): 3f2  c2→c0 (old 3f+2),  3f2+1 c0→v, 3f2+2 v→c2
+  /// New edges (n_edges() before the call, in this order): v–c0, v–c1, v–c2.
+  /// The caller is responsible for the lengths describing a point inside f.
+  Index insert_vertex_in_face(Index f, double l0, double l1, double l2);
+
+  /// Splits edge e at a new vertex m (id n_vertices()), at distance `t`·length(e) from the
+  /// tail a of h = edge_halfedge(e); returns m. O(1). With face(h) = (a, b, c) (h, h1, h2) and,
+  /// if e is interior, face(t) = (b, a, d) (tw, t1, t2), new faces g1 = n_faces(), g2 = g1 + 1:
+  ///   face(h)  = (a, m, c): h  a→m (edge e), h1 m→c (new edge), h2 c→a (unchanged)
+  ///   face g1  = (m, b, c): 3g1 m→b, 3g1+1 b→c (old h1), 3g1+2 c→m
+  ///   face(tw) = (b, m, d): tw b→m, t1 m→d (new edge), t2 d→b (unchanged)
+  ///   face g2  = (m, a, d): 3g2 m→a, 3g2+1 a→d (old t1), 3g2+2 d→m
+  /// On a boundary edge only face(h) and g1 exist (3g1 is then a boundary side). New edges,
+  /// in order: m–b, m–c, then (interior only) m–d. l_mc / l_md are the new diagonals.
+  Index split_edge(Index e, double t, double l_mc, double l_md);
+
+  /// Sets the length of edge e (used by callers that move inserted vertices).
+  void set_length(Index e, double l) { length_[e] = l; }
+
   /// Checks every structural invariant: twin is an involution without fixed points, glued
   /// sides run in opposite directions and share an edge, edge_halfedge and vertex_halfedge are
   /// consistent, lengths are finite and positive, every face satisfies the triangle inequality

@@ -1,0 +1,197 @@
+#include "intrinsic/refine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "intrinsic/geometry.h"
+
+namespace ifem::intrinsic {
+namespace {
+
+using T = IntrinsicTriangulation;
+
+}  // namespace
+
+double min_corner_angle(const IntrinsicTriangulation& tri, Index f) {
+  return std::min({corner_angle(tri, 3 * f), corner_angle(tri, 3 * f + 1),
+                   corner_angle(tri, 3 * f + 2)});
+}
+
+RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options) {
+  const double deg = kPi / 180.0;
+  if (!(options.min_angle_degrees > 0.0 && options.min_angle_degrees <= 30.0)) {
+    throw InvalidInput("delaunay_refine: minimum angle must be in (0, 30] degrees, got " +
+                       std::to_string(options.min_angle_degrees));
+  }
+  if (!(options.max_area >= 0.0)) {
+    throw InvalidInput("delaunay_refine: max_area must be ≥ 0");
+  }
+  const double bound = options.min_angle_degrees * deg;
+  const double max_area = options.max_area > 0.0 ? options.max_area : 0.0;
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  RefineReport rep;
+  rep.vertices_before = tri.n_vertices();
+  const Index cap = options.max_insertions >= 0 ? options.max_insertions
+                                                : 10 * std::max<Index>(tri.n_vertices(), 10);
+
+  rep.flips += st.flip_to_delaunay().flips;
+  double before = kPi;
+  for (Index f = 0; f < tri.n_faces(); ++f) before = std::min(before, min_corner_angle(tri, f));
+  rep.min_angle_before = before / deg;
+
+  // a corner that no insertion can fix: its vertex's total angle is below the bound (on the
+  // boundary) or below twice the bound (inside: a second corner there would be too small)
+  auto unfixable = [&](Index v) {
+    const double theta = st.vertex_angle_sum(v);
+    return st.is_boundary_vertex(v) ? theta < bound : theta < 2.0 * bound;
+  };
+  // 0 = good, 1 = bad, 2 = needle (every small corner unfixable)
+  auto classify = [&](Index f) {
+    bool small = false, fixable_small = false;
+    for (int k = 0; k < 3; ++k) {
+      const Index h = 3 * f + k;
+      if (corner_angle(tri, h) < bound) {
+        small = true;
+        if (!unfixable(tri.tail(h))) fixable_small = true;
+      }
+    }
+    if (fixable_small) return 1;
+    if (max_area > 0.0 && face_area(tri, f) > max_area) return 1;
+    return small ? 2 : 0;
+  };
+
+  using Item = std::pair<double, Index>;
+  std::priority_queue<Item> queue;
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    if (classify(f) == 1) queue.emplace(face_area(tri, f), f);
+  }
+  std::vector<Index> touched, flip_queue;
+  Eigen::Vector2d p[3];
+  while (!queue.empty()) {
+    const auto [key, f] = queue.top();
+    queue.pop();
+    if (classify(f) != 1) continue;
+    const double area = face_area(tri, f);
+    if (area != key) {  // the face changed since it was queued
+      queue.emplace(area, f);
+      continue;
+    }
+    if (rep.insertions >= cap) {
+      rep.hit_insertion_cap = true;
+      break;
+    }
+    // circumcenter in f's layout, and the straight line to it from the centroid
+    face_layout(tri, f, p);
+    const Eigen::Vector2d b = p[1], c = p[2];
+    const double dd = 2.0 * (b.x() * c.y() - b.y() * c.x());
+    const Eigen::Vector2d cc((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / dd,
+                             (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / dd);
+    const Eigen::Vector2d centroid = (p[0] + p[1] + p[2]) / 3.0;
+    const Eigen::Vector2d w = cc - centroid;
+    const double dist = w.norm();
+    if (!std::isfinite(dist) || !(dist > 0.0)) {
+      ++rep.failed_traces;
+      continue;
+    }
+    SurfacePoint start;
+    start.face = f;
+    start.bary = Eigen::Vector3d::Constant(1.0 / 3.0);
+    TraceResult r;
+    try {
+      r = trace_straight(tri, start, w / dist, dist, -1, false, false, 4 * tri.n_faces() + 1000);
+    } catch (const Error&) {
+      ++rep.failed_traces;
+      continue;
+    }
+    Index v;
+    try {
+      if (r.hit_boundary) {
+        v = st.split_edge(tri.edge(r.boundary_halfedge), 0.5);
+        ++rep.boundary_splits;
+      } else {
+        const Index g = r.end.face;
+        const Eigen::Vector3d& bary = r.end.bary;
+        int k = 0;
+        for (int j = 1; j < 3; ++j) {
+          if (bary[j] < bary[k]) k = j;
+        }
+        // Chew: a circumcenter inside the diametral circle of a boundary side of the face it
+        // lands in splits that side at its midpoint instead
+        Index encroached = kInvalidIndex;
+        face_layout(tri, g, p);
+        const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
+        for (int s = 0; s < 3; ++s) {
+          if (tri.twin(3 * g + s) != kInvalidIndex) continue;
+          if ((p[s] - x).dot(p[(s + 1) % 3] - x) < 0.0) encroached = 3 * g + s;
+        }
+        if (encroached != kInvalidIndex) {
+          v = st.split_edge(tri.edge(encroached), 0.5);
+          ++rep.boundary_splits;
+        } else if (bary[k] < 1e-9) {
+          // on (or within rounding of) a side: split that edge
+          const int s = (k + 1) % 3;
+          const Index h = 3 * g + s;
+          const Index e = tri.edge(h);
+          double u = bary[(s + 1) % 3] / (bary[s] + bary[(s + 1) % 3]);
+          if (tri.edge_halfedge(e) != h) u = 1.0 - u;
+          if (tri.is_boundary_edge(e)) {
+            u = 0.5;
+            ++rep.boundary_splits;
+          } else {
+            ++rep.edge_splits;
+          }
+          v = st.split_edge(e, std::clamp(u, 1e-3, 1.0 - 1e-3));
+        } else {
+          v = st.insert_vertex(g, bary);
+          ++rep.face_insertions;
+        }
+      }
+    } catch (const Error&) {
+      ++rep.failed_traces;
+      continue;
+    }
+    ++rep.insertions;
+    // restore Delaunay around v: the sides opposite v, then whatever flips reach
+    touched.clear();
+    flip_queue.clear();
+    const Index h0 = tri.vertex_halfedge(v);
+    Index h = h0;
+    for (int guard = 0; guard < 64; ++guard) {
+      touched.push_back(T::face(h));
+      flip_queue.push_back(tri.edge(T::next(h)));
+      const Index n = tri.twin(T::prev(h));
+      if (n == kInvalidIndex || n == h0) break;
+      h = n;
+    }
+    rep.flips += st.flip_to_delaunay_from(flip_queue, &touched);
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    for (const Index x : touched) {
+      if (classify(x) == 1) queue.emplace(face_area(tri, x), x);
+    }
+  }
+
+  rep.vertices_after = tri.n_vertices();
+  rep.insertions = rep.vertices_after - rep.vertices_before;
+  double after = kPi, after_ok = kPi;
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    const double a = min_corner_angle(tri, f);
+    after = std::min(after, a);
+    const int c = classify(f);
+    if (c == 2) {
+      ++rep.needle_faces;
+    } else {
+      after_ok = std::min(after_ok, a);
+      if (c == 1) ++rep.bad_faces_left;
+    }
+  }
+  rep.min_angle_after = after / deg;
+  rep.min_angle_after_excluding_needles = after_ok / deg;
+  return rep;
+}
+
+}  // namespace ifem::intrinsic

@@ -1,0 +1,520 @@
+#include "intrinsic/signpost.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "intrinsic/geometry.h"
+
+namespace ifem::intrinsic {
+namespace {
+
+using T = IntrinsicTriangulation;
+
+inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+Index trace_cap(const IntrinsicTriangulation& tri) { return 4 * tri.n_faces() + 1000; }
+
+}  // namespace
+
+void face_layout(const IntrinsicTriangulation& tri, Index f, Eigen::Vector2d p[3]) {
+  const double l0 = tri.halfedge_length(3 * f), l1 = tri.halfedge_length(3 * f + 1),
+               l2 = tri.halfedge_length(3 * f + 2);
+  p[0] = Eigen::Vector2d::Zero();
+  p[1] = Eigen::Vector2d(l0, 0.0);
+  p[2] = Eigen::Vector2d((l0 * l0 + l2 * l2 - l1 * l1) / (2.0 * l0),
+                         2.0 * triangle_area(l0, l1, l2) / l0);
+}
+
+TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
+                           Eigen::Vector2d dir, double distance, int start_corner,
+                           bool slide_on_boundary, bool record_path, Index max_steps) {
+  TraceResult r;
+  Index f = start.face;
+  Eigen::Vector3d b = start.bary;
+  Eigen::Vector2d d = dir.normalized();
+  double rem = std::max(distance, 0.0);
+  const double end_slack = 1e-10 * rem;
+  // starting at a corner, the line may first leave only through the opposite side
+  int only = start_corner;
+  int excl = -1;
+  if (record_path) r.path.push_back(start);
+  Eigen::Vector2d p[3];
+  face_layout(tri, f, p);
+  auto normalize = [](Eigen::Vector3d& x) {
+    x = x.cwiseMax(0.0);
+    const double s = x.sum();
+    if (s > 0.0) x /= s;
+  };
+  for (Index step = 0;; ++step) {
+    if (step > max_steps) {
+      throw Error("trace: gave up after " + std::to_string(max_steps) +
+                  " side crossings (degenerate geometry near face " + std::to_string(f) + ")");
+    }
+    // barycentric velocity of the unit direction d (Σ db = 0, Σ db_i p_i = d)
+    const double db2 = d.y() / p[2].y();
+    const double db1 = (d.x() - db2 * p[2].x()) / p[1].x();
+    const Eigen::Vector3d db(-db1 - db2, db1, db2);
+    const double tol = 1e-12 * db.cwiseAbs().maxCoeff();
+    int k_exit = -1;
+    double t_exit = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      if (k == excl || (only >= 0 && k != only) || !(db[k] < -tol)) continue;
+      const double t = std::max(b[k], 0.0) / -db[k];
+      if (t < t_exit) {
+        t_exit = t;
+        k_exit = k;
+      }
+    }
+    // ending within rounding of a side (typically at the far vertex): end, do not cross
+    if (k_exit < 0 || rem <= t_exit + end_slack) {
+      const double t_end = std::min(rem, t_exit);
+      if (std::isfinite(t_end) && db.allFinite()) b += t_end * db;
+      normalize(b);
+      r.end = {f, b};
+      r.direction = d;
+      if (record_path) r.path.push_back(r.end);
+      return r;
+    }
+    only = -1;
+    b += t_exit * db;
+    b[k_exit] = 0.0;
+    normalize(b);
+    rem -= t_exit;
+    const int s = (k_exit + 1) % 3, s1 = (s + 1) % 3;
+    const Index he = 3 * f + s;
+    const Index tw = tri.twin(he);
+    const Eigen::Vector2d e = (p[s1] - p[s]).normalized();
+    if (tw == kInvalidIndex) {
+      const double c = d.dot(e);
+      if (slide_on_boundary && c != 0.0 && r.slides < max_steps) {
+        // a line of the input surface cannot leave it: this is rounding, run along the side
+        d = c > 0.0 ? e : Eigen::Vector2d(-e);
+        ++r.slides;
+        excl = k_exit;
+        if (record_path) r.path.push_back({f, b});
+        continue;
+      }
+      r.hit_boundary = true;
+      r.boundary_halfedge = he;
+      r.end = {f, b};
+      r.direction = d;
+      if (record_path) r.path.push_back(r.end);
+      return r;
+    }
+    const double cs = d.dot(e), sn = cross2(e, d);
+    const double u = b[s1] / (b[s] + b[s1]);
+    const Index g = T::face(tw);
+    const int s2 = T::side(tw);
+    Eigen::Vector3d nb = Eigen::Vector3d::Zero();
+    nb[s2] = u;
+    nb[(s2 + 1) % 3] = 1.0 - u;
+    face_layout(tri, g, p);
+    const Eigen::Vector2d e2 = (p[(s2 + 1) % 3] - p[s2]).normalized();
+    const Eigen::Vector2d e2perp(-e2.y(), e2.x());
+    d = -(cs * e2 + sn * e2perp);
+    f = g;
+    b = nb;
+    excl = (s2 + 2) % 3;
+    if (record_path) r.path.push_back({f, b});
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+SignpostTriangulation::SignpostTriangulation(const std::vector<Triangle>& faces,
+                                             const Positions& positions, double mollify_epsilon,
+                                             BuildReport* report)
+    : positions_(positions) {
+  input_ = IntrinsicTriangulation::from_positions(faces, positions, report);
+  if (mollify_epsilon > 0.0) mollify_ = input_.mollify(mollify_epsilon);
+  tri_ = input_;
+  init_directions(input_, input_direction_, angle_sum_, boundary_);
+  direction_ = input_direction_;
+  const Index nv = input_.n_vertices();
+  location_.resize(nv);
+  frame_.assign(nv, 0.0);
+  for (Index v = 0; v < nv; ++v) {
+    const Index h = input_.vertex_halfedge(v);
+    if (h == kInvalidIndex) continue;
+    location_[v].face = T::face(h);
+    location_[v].bary[T::side(h)] = 1.0;
+  }
+}
+
+void SignpostTriangulation::init_directions(const IntrinsicTriangulation& t,
+                                            std::vector<double>& dir, std::vector<double>& sum,
+                                            std::vector<char>& boundary) const {
+  const Index nv = t.n_vertices(), nh = t.n_halfedges();
+  dir.assign(nh, std::numeric_limits<double>::quiet_NaN());
+  sum.assign(nv, 0.0);
+  boundary.assign(nv, 0);
+  auto walk_fan = [&](Index v, Index h0) {
+    // rewind clockwise to the fan's first halfedge (an outgoing boundary side, if any)
+    Index h = h0;
+    for (Index guard = 0; guard < nh; ++guard) {
+      const Index tw = t.twin(h);
+      if (tw == kInvalidIndex) break;
+      const Index back = T::next(tw);
+      if (back == h0) break;
+      h = back;
+    }
+    if (t.twin(h) == kInvalidIndex) boundary[v] = 1;
+    const Index first = h;
+    for (Index guard = 0; guard < nh; ++guard) {
+      dir[h] = sum[v];
+      sum[v] += corner_angle(t, h);
+      const Index n = t.twin(T::prev(h));
+      if (n == kInvalidIndex || n == first) break;
+      h = n;
+    }
+  };
+  for (Index v = 0; v < nv; ++v) {
+    const Index h = t.vertex_halfedge(v);
+    if (h != kInvalidIndex) walk_fan(v, h);
+  }
+  // pinched vertices (several fans): later fans continue the angle range
+  for (Index h = 0; h < nh; ++h) {
+    if (std::isnan(dir[h])) walk_fan(t.tail(h), h);
+  }
+}
+
+double SignpostTriangulation::wrap(Index v, double a) const {
+  const double theta = angle_sum_[v];
+  if (boundary_[v]) return std::clamp(a, 0.0, theta);
+  if (a >= theta) a -= theta;
+  if (a < 0.0) a += theta;
+  if (!(a >= 0.0 && a < theta)) a = std::fmod(std::fmod(a, theta) + theta, theta);
+  return a;
+}
+
+void SignpostTriangulation::add_vertex_records() {
+  angle_sum_.push_back(2.0 * kPi);
+  boundary_.push_back(0);
+  location_.push_back({});
+  frame_.push_back(0.0);
+  direction_.resize(tri_.n_halfedges(), 0.0);
+}
+
+Eigen::Vector3d SignpostTriangulation::position(const SurfacePoint& p) const {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  if (p.face == kInvalidIndex) return x;
+  for (int k = 0; k < 3; ++k) {
+    x += p.bary[k] * positions_.row(input_.tail(3 * p.face + k)).transpose();
+  }
+  return x;
+}
+
+Positions SignpostTriangulation::vertex_positions() const {
+  Positions x(tri_.n_vertices(), 3);
+  const Index n_in = n_input_vertices();
+  for (Index v = 0; v < tri_.n_vertices(); ++v) {
+    x.row(v) = v < n_in ? Eigen::Vector3d(positions_.row(v)) : position(location_[v]);
+  }
+  return x;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Flips
+
+bool SignpostTriangulation::flip_edge(Index e) {
+  const Index h = tri_.edge_halfedge(e);
+  const Index t = tri_.twin(h);
+  if (t == kInvalidIndex) return false;
+  const Index h1 = T::next(h), h2 = T::prev(h), t1 = T::next(t), t2 = T::prev(t);
+  const double dh1 = direction_[h1], dh2 = direction_[h2], dt1 = direction_[t1],
+               dt2 = direction_[t2];
+  if (!tri_.flip_edge(e)) return false;
+  // slots keep their sides' signposts: h1 ← h2, h2 ← t1, t1 ← t2, t2 ← h1
+  direction_[h1] = dh2;
+  direction_[h2] = dt1;
+  direction_[t1] = dt2;
+  direction_[t2] = dh1;
+  // h = d→c is t1 = d→b turned by face(t)'s corner at d; t = c→d is h1 = c→a turned likewise
+  direction_[h] = wrap(tri_.tail(h), direction_[t1] + corner_angle(tri_, t1));
+  direction_[t] = wrap(tri_.tail(t), direction_[h1] + corner_angle(tri_, h1));
+  return true;
+}
+
+std::size_t SignpostTriangulation::flip_to_delaunay_from(std::vector<Index> stack,
+                                                         std::vector<Index>* touched) {
+  std::size_t flips = 0;
+  const std::size_t cap = 50 * static_cast<std::size_t>(tri_.n_edges()) + 1000;
+  while (!stack.empty() && flips < cap) {
+    const Index e = stack.back();
+    stack.pop_back();
+    if (tri_.is_delaunay(e) || !flip_edge(e)) continue;
+    ++flips;
+    const Index h = tri_.edge_halfedge(e);
+    const Index t = tri_.twin(h);
+    if (touched) {
+      touched->push_back(T::face(h));
+      touched->push_back(T::face(t));
+    }
+    for (const Index x : {T::next(h), T::prev(h), T::next(t), T::prev(t)}) {
+      stack.push_back(tri_.edge(x));
+    }
+  }
+  return flips;
+}
+
+FlipReport SignpostTriangulation::flip_to_delaunay() {
+  FlipReport rep;
+  const Index ne = tri_.n_edges();
+  const std::size_t cap = 50 * static_cast<std::size_t>(ne) + 1000;
+  std::vector<char> queued(ne, 1);
+  std::vector<Index> stack(ne);
+  for (Index e = 0; e < ne; ++e) stack[e] = ne - 1 - e;
+  while (!stack.empty()) {
+    const Index e = stack.back();
+    stack.pop_back();
+    queued[e] = 0;
+    if (tri_.is_delaunay(e)) continue;
+    if (rep.flips >= cap) {
+      rep.hit_flip_cap = true;
+      break;
+    }
+    if (!flip_edge(e)) {
+      ++rep.unflippable;
+      continue;
+    }
+    ++rep.flips;
+    const Index h = tri_.edge_halfedge(e);
+    const Index t = tri_.twin(h);
+    for (const Index x : {T::next(h), T::prev(h), T::next(t), T::prev(t)}) {
+      const Index ex = tri_.edge(x);
+      if (!queued[ex]) {
+        queued[ex] = 1;
+        stack.push_back(ex);
+      }
+    }
+  }
+  return rep;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tracing over the input
+
+TraceResult SignpostTriangulation::trace_from_vertex(Index v, double phi, double distance,
+                                                     bool record) const {
+  const Index cap = trace_cap(input_);
+  Eigen::Vector2d p[3];
+  if (v >= n_input_vertices()) {
+    const SurfacePoint& s = location_[v];
+    const double a = frame_[v] + phi;
+    return trace_straight(input_, s, Eigen::Vector2d(std::cos(a), std::sin(a)), distance, -1,
+                          true, record, cap);
+  }
+  // the wedge of the input fan at v that contains direction phi
+  const Index h0 = input_.vertex_halfedge(v);
+  if (h0 == kInvalidIndex) {
+    throw InvalidInput("trace: vertex " + std::to_string(v) + " has no faces");
+  }
+  Index h = h0, found = kInvalidIndex;
+  for (Index guard = 0; guard < input_.n_halfedges(); ++guard) {
+    const double a0 = input_direction_[h];
+    if (phi >= a0 && phi <= a0 + corner_angle(input_, h)) {
+      found = h;
+      break;
+    }
+    const Index n = input_.twin(T::prev(h));
+    if (n == kInvalidIndex || n == h0) break;
+    h = n;
+  }
+  if (found == kInvalidIndex) {
+    // pinched vertex (other fans) or rounding past the last wedge: nearest wedge
+    double best = std::numeric_limits<double>::infinity();
+    for (Index x = 0; x < input_.n_halfedges(); ++x) {
+      if (input_.tail(x) != v) continue;
+      const double a0 = input_direction_[x], a1 = a0 + corner_angle(input_, x);
+      const double gap = phi < a0 ? a0 - phi : phi > a1 ? phi - a1 : 0.0;
+      if (gap < best) {
+        best = gap;
+        found = x;
+      }
+    }
+    if (found == kInvalidIndex) found = h0;
+  }
+  const double alpha =
+      std::clamp(phi - input_direction_[found], 0.0, corner_angle(input_, found));
+  const Index f = T::face(found);
+  const int s = T::side(found);
+  face_layout(input_, f, p);
+  const Eigen::Vector2d e = (p[(s + 1) % 3] - p[s]).normalized();
+  const Eigen::Vector2d eperp(-e.y(), e.x());
+  SurfacePoint start;
+  start.face = f;
+  start.bary[s] = 1.0;
+  return trace_straight(input_, start, std::cos(alpha) * e + std::sin(alpha) * eperp, distance,
+                        s, true, record, cap);
+}
+
+void SignpostTriangulation::locate_from(Index h, Index v, double direction_v_to_u) {
+  const TraceResult r = trace_from_vertex(tri_.tail(h), direction_[h], tri_.halfedge_length(h),
+                                          false);
+  location_[v] = r.end;
+  frame_[v] = std::atan2(-r.direction.y(), -r.direction.x()) - direction_v_to_u;
+}
+
+SurfacePoint SignpostTriangulation::locate(Index f, const Eigen::Vector3d& bary) const {
+  Eigen::Vector2d p[3];
+  face_layout(tri_, f, p);
+  const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
+  int k = 0;
+  for (int j = 1; j < 3; ++j) {
+    if ((x - p[j]).squaredNorm() < (x - p[k]).squaredNorm()) k = j;
+  }
+  const Index h = 3 * f + k;
+  const Eigen::Vector2d w = x - p[k];
+  const double dist = w.norm();
+  if (!(dist > 0.0)) return location_[tri_.tail(h)];
+  const Eigen::Vector2d e = p[(k + 1) % 3] - p[k];
+  const double alpha = std::atan2(cross2(e, w), e.dot(w));
+  const Index v = tri_.tail(h);
+  return trace_from_vertex(v, wrap(v, direction_[h] + alpha), dist, false).end;
+}
+
+std::vector<SurfacePoint> SignpostTriangulation::trace_edge(Index e) const {
+  Index h = tri_.edge_halfedge(e);
+  const Index n_in = n_input_vertices();
+  if (tri_.tail(h) >= n_in && tri_.head(h) < n_in && tri_.twin(h) != kInvalidIndex) {
+    h = tri_.twin(h);
+  }
+  return trace_from_vertex(tri_.tail(h), direction_[h], tri_.halfedge_length(h), true).path;
+}
+
+std::vector<std::vector<Eigen::Vector3d>> SignpostTriangulation::traced_edges_3d() const {
+  std::vector<std::vector<Eigen::Vector3d>> out(tri_.n_edges());
+  std::string failure;  // exceptions may not leave an OpenMP loop: rethrown after it
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Index e = 0; e < tri_.n_edges(); ++e) {
+    std::vector<SurfacePoint> path;
+    try {
+      path = trace_edge(e);
+    } catch (const Error& err) {
+#pragma omp critical(ifem_signpost_trace_failure)
+      if (failure.empty()) failure = "edge " + std::to_string(e) + ": " + err.what();
+      continue;
+    }
+    auto& line = out[e];
+    line.reserve(path.size());
+    for (const SurfacePoint& p : path) {
+      const Eigen::Vector3d x = position(p);
+      if (line.empty() || (x - line.back()).squaredNorm() > 0.0) line.push_back(x);
+    }
+  }
+  if (!failure.empty()) throw Error("traced_edges_3d: " + failure);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Insertion
+
+Index SignpostTriangulation::insert_vertex(Index f, const Eigen::Vector3d& bary) {
+  Eigen::Vector2d p[3];
+  face_layout(tri_, f, p);
+  const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
+  const double l[3] = {(x - p[0]).norm(), (x - p[1]).norm(), (x - p[2]).norm()};
+  const double d1 = direction_[3 * f + 1], d2 = direction_[3 * f + 2];
+  const Index v = tri_.insert_vertex_in_face(f, l[0], l[1], l[2]);
+  add_vertex_records();
+  const Index f1 = tri_.n_faces() - 2, f2 = f1 + 1;
+  const Index c0 = tri_.tail(3 * f), c1 = tri_.tail(3 * f1), c2 = tri_.tail(3 * f2);
+  auto& dir = direction_;
+  dir[3 * f1] = d1;
+  dir[3 * f2] = d2;
+  dir[3 * f + 2] = 0.0;  // v→c0
+  dir[3 * f1 + 2] = corner_angle(tri_, 3 * f + 2);
+  dir[3 * f2 + 2] = dir[3 * f1 + 2] + corner_angle(tri_, 3 * f1 + 2);
+  dir[3 * f2 + 1] = wrap(c0, dir[3 * f] + corner_angle(tri_, 3 * f));
+  dir[3 * f + 1] = wrap(c1, dir[3 * f1] + corner_angle(tri_, 3 * f1));
+  dir[3 * f1 + 1] = wrap(c2, dir[3 * f2] + corner_angle(tri_, 3 * f2));
+  // locate from the nearest corner (the shortest trace)
+  const Index into[3] = {3 * f2 + 1, 3 * f + 1, 3 * f1 + 1};   // c_k → v
+  const Index outof[3] = {3 * f + 2, 3 * f1 + 2, 3 * f2 + 2};  // v → c_k
+  int k = 0;
+  for (int j = 1; j < 3; ++j) {
+    if (l[j] < l[k]) k = j;
+  }
+  locate_from(into[k], v, dir[outof[k]]);
+  return v;
+}
+
+Index SignpostTriangulation::split_edge(Index e, double t) {
+  const Index h = tri_.edge_halfedge(e);
+  const Index tw = tri_.twin(h);
+  const bool interior = tw != kInvalidIndex;
+  Eigen::Vector2d p[3];
+  face_layout(tri_, T::face(h), p);
+  int s = T::side(h);
+  const double l_mc =
+      (p[s] + t * (p[(s + 1) % 3] - p[s]) - p[(s + 2) % 3]).norm();
+  double l_md = 0.0;
+  if (interior) {
+    face_layout(tri_, T::face(tw), p);
+    s = T::side(tw);
+    l_md = (p[s] + (1.0 - t) * (p[(s + 1) % 3] - p[s]) - p[(s + 2) % 3]).norm();
+  }
+  const Index h1 = T::next(h), h2 = T::prev(h);
+  const Index t1 = interior ? T::next(tw) : kInvalidIndex;
+  const Index t2 = interior ? T::prev(tw) : kInvalidIndex;
+  const double dh1 = direction_[h1], dt1 = interior ? direction_[t1] : 0.0;
+  const Index m = tri_.split_edge(e, t, l_mc, l_md);
+  add_vertex_records();
+  const Index g1 = interior ? tri_.n_faces() - 2 : tri_.n_faces() - 1, g2 = g1 + 1;
+  auto& dir = direction_;
+  dir[3 * g1 + 1] = dh1;
+  dir[3 * g1 + 2] = wrap(tri_.tail(h2), dir[h2] + corner_angle(tri_, h2));  // c→m
+  dir[3 * g1] = 0.0;                                                        // m→b
+  dir[h1] = corner_angle(tri_, 3 * g1);                                     // m→c
+  const double to_a = dir[h1] + corner_angle(tri_, h1);                     // m→a
+  if (interior) {
+    dir[3 * g2 + 1] = dt1;
+    dir[3 * g2 + 2] = wrap(tri_.tail(t2), dir[t2] + corner_angle(tri_, t2));  // d→m
+    dir[3 * g2] = to_a;
+    dir[t1] = to_a + corner_angle(tri_, 3 * g2);  // m→d
+    if (t <= 0.5) {
+      locate_from(h, m, to_a);
+    } else {
+      locate_from(tw, m, 0.0);
+    }
+  } else {
+    angle_sum_[m] = kPi;
+    boundary_[m] = 1;
+    locate_from(h, m, kPi);
+  }
+  return m;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Function transfer
+
+Eigen::VectorXd SignpostTriangulation::input_to_intrinsic(const Eigen::VectorXd& x) const {
+  const Index n_in = n_input_vertices();
+  if (x.size() != n_in) {
+    throw InvalidInput("input_to_intrinsic: " + std::to_string(x.size()) + " values for " +
+                       std::to_string(n_in) + " input vertices");
+  }
+  Eigen::VectorXd out(tri_.n_vertices());
+  out.head(n_in) = x;
+  for (Index v = n_in; v < tri_.n_vertices(); ++v) {
+    const SurfacePoint& p = location_[v];
+    double s = 0.0;
+    for (int k = 0; k < 3; ++k) s += p.bary[k] * x[input_.tail(3 * p.face + k)];
+    out[v] = s;
+  }
+  return out;
+}
+
+Eigen::VectorXd SignpostTriangulation::intrinsic_to_input(const Eigen::VectorXd& x) const {
+  if (x.size() != tri_.n_vertices()) {
+    throw InvalidInput("intrinsic_to_input: " + std::to_string(x.size()) + " values for " +
+                       std::to_string(tri_.n_vertices()) + " intrinsic vertices");
+  }
+  return x.head(n_input_vertices());
+}
+
+}  // namespace ifem::intrinsic
