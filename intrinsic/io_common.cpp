@@ -1,13 +1,13 @@
 // Shared I/O helpers: whole-file reading, number parsing with std::from_chars, error messages
 // with file and line / byte offset, atomic writes.
-#include "intrinsic/io_detail.h"
-
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
+
+#include "intrinsic/io_detail.h"
 
 namespace ifem::io::detail {
 

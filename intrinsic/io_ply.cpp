@@ -22,11 +22,11 @@ bool parse_type(std::string_view s, PlyType& t) {
     PlyType type;
   };
   static const Named kTypes[] = {
-      {"char", PlyType::kInt8},     {"int8", PlyType::kInt8},       {"uchar", PlyType::kUint8},
-      {"uint8", PlyType::kUint8},   {"short", PlyType::kInt16},     {"int16", PlyType::kInt16},
-      {"ushort", PlyType::kUint16}, {"uint16", PlyType::kUint16},   {"int", PlyType::kInt32},
-      {"int32", PlyType::kInt32},   {"uint", PlyType::kUint32},     {"uint32", PlyType::kUint32},
-      {"float", PlyType::kFloat32}, {"float32", PlyType::kFloat32}, {"double", PlyType::kFloat64},
+      {"char", PlyType::kInt8},      {"int8", PlyType::kInt8},       {"uchar", PlyType::kUint8},
+      {"uint8", PlyType::kUint8},    {"short", PlyType::kInt16},     {"int16", PlyType::kInt16},
+      {"ushort", PlyType::kUint16},  {"uint16", PlyType::kUint16},   {"int", PlyType::kInt32},
+      {"int32", PlyType::kInt32},    {"uint", PlyType::kUint32},     {"uint32", PlyType::kUint32},
+      {"float", PlyType::kFloat32},  {"float32", PlyType::kFloat32}, {"double", PlyType::kFloat64},
       {"float64", PlyType::kFloat64}};
   for (const auto& named : kTypes) {
     if (s == named.name) {
@@ -429,8 +429,8 @@ void read_body(const std::string& path, const PlyHeader& h, Source& src, Surface
           const std::int64_t v = src.integer(prop.type);
           const bool restart = kind == Kind::kTristrips && v == -1;
           if ((v < 0 && !restart) || v > std::numeric_limits<Index>::max()) {
-            src.fail(at, "face index " + std::to_string(v) + " out of range in element '" +
-                             e.name + "' #" + std::to_string(i));
+            src.fail(at, "face index " + std::to_string(v) + " out of range in element '" + e.name +
+                             "' #" + std::to_string(i));
           }
           list.push_back(static_cast<Index>(v));
         }

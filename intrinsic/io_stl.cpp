@@ -34,14 +34,16 @@ bool starts_with_solid(const std::string& bytes) {
 }
 
 /// Binary when the size matches the triangle count in the header exactly (even if the 80-byte
-/// comment starts with "solid", as many exporters write); ASCII when it starts with "solid";
-/// otherwise binary (and then too short means truncated).
+/// comment starts with "solid", as many exporters write); ASCII when it starts with "solid" and
+/// holds no NUL byte (binary floats and attribute counts almost always contain one); otherwise
+/// binary (and then too short means truncated).
 bool is_binary_stl(const std::string& bytes) {
   if (bytes.size() >= kBinaryHeader) {
     const std::uint64_t n = load_u32_le(bytes.data() + 80);
     if (kBinaryHeader + kBinaryTriangle * n == bytes.size()) return true;
   }
-  return !starts_with_solid(bytes);
+  if (!starts_with_solid(bytes)) return true;
+  return std::memchr(bytes.data(), '\0', bytes.size()) != nullptr;
 }
 
 /// Welds corners with exactly equal coordinates (−0 == +0); returns the vertex of each corner.
@@ -83,14 +85,16 @@ std::vector<Index> weld(const std::vector<double>& corners, std::vector<double>&
 SurfaceInput read_stl(const std::string& path, const std::string& bytes) {
   SurfaceInput out;
   std::vector<double> corners;
-  std::vector<std::size_t> facet_sizes;   // corners per facet
-  std::vector<std::size_t> facet_where;   // line or byte offset of each facet
+  std::vector<std::size_t> facet_sizes;  // corners per facet
+  std::vector<std::size_t> facet_where;  // line or byte offset of each facet
   const bool binary = is_binary_stl(bytes);
   if (binary) {
     out.format = "stl-binary";
     if (bytes.size() < kBinaryHeader) {
-      fail_offset(path, bytes.size(), "truncated binary STL: the header needs 84 bytes, the file "
-                                      "has " + std::to_string(bytes.size()));
+      fail_offset(path, bytes.size(),
+                  "truncated binary STL: the header needs 84 bytes, the file "
+                  "has " +
+                      std::to_string(bytes.size()));
     }
     const std::uint64_t n = load_u32_le(bytes.data() + 80);
     const std::uint64_t complete = (bytes.size() - kBinaryHeader) / kBinaryTriangle;

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <set>
 
 #include "intrinsic/errors.h"
@@ -59,7 +60,9 @@ SurfaceInput read_surface(const std::string& path) {
                         " (expected .obj, .off, .ply, .stl, .xyz or .txt)");
   }
   const std::string bytes = detail::read_file(path);
-  return reader(path, bytes);
+  SurfaceInput s = reader(path, bytes);
+  if (s.positions.rows() == 0) fail_file(path, "no vertices (empty " + s.format + " file)");
+  return s;
 }
 
 SurfaceInput read_mesh(const std::string& path) {
@@ -131,8 +134,8 @@ void write_ply(const std::string& path, const Positions& positions,
       out.push_back('\n');
     }
     for (const Triangle& t : faces) {
-      out += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " +
-             std::to_string(t[2]) + "\n";
+      out += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) +
+             "\n";
     }
   }
   detail::write_file_atomically(path, out);
@@ -153,8 +156,8 @@ void write_matrix_market(const std::string& path, const Eigen::SparseMatrix<doub
     }
   }
   std::string out = "%%MatrixMarket matrix coordinate real general\n% written by ifem\n";
-  out += std::to_string(A.rows()) + " " + std::to_string(A.cols()) + " " + std::to_string(nnz) +
-         "\n";
+  out +=
+      std::to_string(A.rows()) + " " + std::to_string(A.cols()) + " " + std::to_string(nnz) + "\n";
   out += body;
   detail::write_file_atomically(path, out);
 }
@@ -244,8 +247,7 @@ Eigen::VectorXd read_values(const std::string& path) {
     if (!c.at_line_end()) c.fail("more than one value on a line");
     c.next_line();
   }
-  return Eigen::Map<const Eigen::VectorXd>(values.data(),
-                                           static_cast<Eigen::Index>(values.size()));
+  return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
 }
 
 }  // namespace ifem::io

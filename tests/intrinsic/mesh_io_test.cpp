@@ -3,6 +3,9 @@
 // writer round trips, and the shared corpus against the vertex / face counts in its MANIFEST.
 #include "intrinsic/mesh_io.h"
 
+#include <gtest/gtest.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -15,10 +18,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
-
-#include <gtest/gtest.h>
 
 #include "helpers.h"
 #include "intrinsic/errors.h"
@@ -244,21 +243,20 @@ TEST_F(MeshIo, PlyAsciiExtraPropertiesNormalsAndSkippedElements) {
 std::string binary_ply(bool big_endian) {
   std::string s = "ply\n";
   s += big_endian ? "format binary_big_endian 1.0\n" : "format binary_little_endian 1.0\n";
-  s +=
-      "element vertex 4\n"
-      "property float x\n"
-      "property double y\n"
-      "property float z\n"
-      "property short temperature\n"
-      "property list uchar int ignored_list\n"
-      "property ushort id\n"
-      "element material 2\n"
-      "property list ushort uchar name\n"
-      "property float shininess\n"
-      "element face 2\n"
-      "property list int short vertex_index\n"
-      "property float area\n"
-      "end_header\n";
+  s += "element vertex 4\n"
+       "property float x\n"
+       "property double y\n"
+       "property float z\n"
+       "property short temperature\n"
+       "property list uchar int ignored_list\n"
+       "property ushort id\n"
+       "element material 2\n"
+       "property list ushort uchar name\n"
+       "property float shininess\n"
+       "element face 2\n"
+       "property list int short vertex_index\n"
+       "property float area\n"
+       "end_header\n";
   const double xyz[4][3] = {{0, 0, 0}, {1, 0.1, 0}, {1, 1, 0.5}, {0, 1, -2}};
   for (int i = 0; i < 4; ++i) {
     put<float>(s, static_cast<float>(xyz[i][0]), big_endian);
@@ -386,6 +384,12 @@ TEST_F(MeshIo, StlBinaryStartingWithSolidIsDetected) {
   EXPECT_EQ(s.positions.rows(), 4);
   EXPECT_EQ(s.welded_vertices, 8);
   EXPECT_EQ(s.triangles, tris({{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {2, 1, 3}}));
+  // Trailing bytes after the declared triangles: the size no longer matches, but the NUL bytes
+  // still mark it as binary.
+  const SurfaceInput t =
+      read_surface(write("tail.stl", binary_stl("solid tet exported", tet) + "\n\n"));
+  EXPECT_EQ(t.format, "stl-binary");
+  EXPECT_EQ(t.triangles, s.triangles);
 }
 
 // ---------------------------------------------------------------------------------- XYZ
@@ -412,14 +416,16 @@ TEST_F(MeshIo, MissingFileAndUnknownExtension) {
   expect_read_error(path("nope.obj"), "nope.obj", "no such file");
   expect_read_error(write("mesh.vtk", "x"), "mesh.vtk", "unknown extension");
   expect_read_error(write("noext", "x"), "noext", "unknown extension");
+  expect_read_error(write("empty.obj", ""), "empty.obj", "no vertices");
+  expect_read_error(write("comments.xyz", "# nothing\n"), "comments.xyz", "no vertices");
+  expect_read_error(write("empty.ply", ""), "line 1", "not a PLY");
 }
 
 TEST_F(MeshIo, TextErrorsNameTheLine) {
   expect_read_error(write("m1.obj", "v 0 0 0\nv 1 0 0\nv 1 x3 0\n"), "line 3", "malformed");
   expect_read_error(write("m2.obj", "v 0 0 0\nv 1 0 0\nv 1 1e5x 0\n"), "line 3", "malformed");
   expect_read_error(write("m3.obj", "v 0 0 0\nv 1 0\n"), "line 2", "missing");
-  expect_read_error(write("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), "line 4",
-                    "index 0");
+  expect_read_error(write("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), "line 4", "index 0");
   expect_read_error(write("big.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n"), "line 5",
                     "out of range");
   expect_read_error(write("rel.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n"), "line 3",
@@ -456,26 +462,30 @@ TEST_F(MeshIo, PlyHeaderErrors) {
                     "line 7", "end_header");
   expect_read_error(write("eof.ply", "ply\nformat ascii 1.0\nelement vertex 1\n"), "line 3",
                     "end_header");
-  expect_read_error(write("type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty "
-                                      "float128 x\nend_header\n0\n"),
+  expect_read_error(write("type.ply",
+                          "ply\nformat ascii 1.0\nelement vertex 1\nproperty "
+                          "float128 x\nend_header\n0\n"),
                     "line 4", "unknown property type");
   expect_read_error(write("fmt.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n"),
                     "line 2", "format");
-  expect_read_error(write("nox.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float "
-                                     "u\nend_header\n0\n"),
+  expect_read_error(write("nox.ply",
+                          "ply\nformat ascii 1.0\nelement vertex 1\nproperty float "
+                          "u\nend_header\n0\n"),
                     "line 3", "x, y and z");
   // A header that claims 4e9 vertices in a ~100-byte file fails fast instead of allocating.
   expect_read_error(write("huge_a.ply", std::string("ply\nformat ascii 1.0\nelement vertex "
                                                     "4000000000\n") +
                                             kPlyXyzHeader + "end_header\n0 0 0\n"),
                     "line 3", "4000000000");
-  const std::string huge_b = std::string("ply\nformat binary_little_endian 1.0\nelement vertex "
-                                         "4000000000\n") +
+  const std::string huge_b = std::string(
+                                 "ply\nformat binary_little_endian 1.0\nelement vertex "
+                                 "4000000000\n") +
                              kPlyXyzHeader + "end_header\n";
   expect_read_error(write("huge_b.ply", huge_b + std::string(12, '\0')),
                     "byte offset " + std::to_string(huge_b.size()), "4000000000");
-  const std::string huge_f = std::string("ply\nformat binary_little_endian 1.0\nelement vertex "
-                                         "0\n") +
+  const std::string huge_f = std::string(
+                                 "ply\nformat binary_little_endian 1.0\nelement vertex "
+                                 "0\n") +
                              kPlyXyzHeader +
                              "element face 4000000000\nproperty list uchar int "
                              "vertex_indices\nend_header\n";
@@ -492,11 +502,9 @@ TEST_F(MeshIo, PlyBodyErrorsNameLineOrByteOffset) {
   const std::string a = "ply\nformat ascii 1.0\n" + header;
   expect_read_error(write("ra.ply", a + "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), "line 13",
                     "out of range");
-  expect_read_error(write("ma.ply", a + "0 0 0\n1 0 0y\n0 1 0\n3 0 1 2\n"), "line 11",
-                    "malformed");
+  expect_read_error(write("ma.ply", a + "0 0 0\n1 0 0y\n0 1 0\n3 0 1 2\n"), "line 11", "malformed");
   expect_read_error(write("na.ply", a + "0 0 0\n1 0 0\n0 1 nan\n3 0 1 2\n"), "line 12", "NaN");
-  expect_read_error(write("ta.ply", a + "0 0 0\n1 0 0\n0 1 0\n3 0 1\n"), "line 13",
-                    "truncated");
+  expect_read_error(write("ta.ply", a + "0 0 0\n1 0 0\n0 1 0\n3 0 1\n"), "line 13", "truncated");
   // Binary little-endian: vertices take 36 bytes after the header.
   const std::string b = "ply\nformat binary_little_endian 1.0\n" + header;
   auto body = [&](float z2, std::int32_t last, bool truncate) {
@@ -516,16 +524,15 @@ TEST_F(MeshIo, PlyBodyErrorsNameLineOrByteOffset) {
                     "NaN");
   expect_read_error(write("tb.ply", body(0, 2, true)), "byte offset " + std::to_string(h + 36),
                     "truncated");
-  expect_read_error(write("negb.ply", body(0, -7, false)),
-                    "byte offset " + std::to_string(h + 45), "out of range");
+  expect_read_error(write("negb.ply", body(0, -7, false)), "byte offset " + std::to_string(h + 45),
+                    "out of range");
 }
 
 TEST_F(MeshIo, StlBinaryErrors) {
   const std::vector<std::array<float, 9>> two = {{0, 0, 0, 1, 0, 0, 0, 1, 0},
                                                  {0, 0, 0, 0, 1, 0, 0, 0, 1}};
   std::string s = binary_stl("binary", two);
-  expect_read_error(write("trunc.stl", s.substr(0, s.size() - 10)), "byte offset 134",
-                    "truncated");
+  expect_read_error(write("trunc.stl", s.substr(0, s.size() - 10)), "byte offset 134", "truncated");
   expect_read_error(write("short.stl", s.substr(0, 50)), "byte offset 50", "truncated");
   std::string huge = s.substr(0, 80);
   put<std::uint32_t>(huge, 4000000000u, false);
@@ -533,9 +540,8 @@ TEST_F(MeshIo, StlBinaryErrors) {
                     "4000000000");
   auto bad = two;
   bad[1][4] = std::numeric_limits<float>::infinity();
-  expect_read_error(write("inf.stl", binary_stl("binary", bad)), "byte offset " +
-                                                                     std::to_string(134 + 28),
-                    "NaN or infinite");
+  expect_read_error(write("inf.stl", binary_stl("binary", bad)),
+                    "byte offset " + std::to_string(134 + 28), "NaN or infinite");
 }
 
 // ---------------------------------------------------------------------------------- writers
@@ -545,7 +551,8 @@ Positions random_positions(int n, unsigned seed) {
   std::uniform_real_distribution<double> u(-1, 1);
   Positions p(n, 3);
   for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) p(i, k) = u(rng) * std::pow(10.0, static_cast<int>(rng() % 40) - 20);
+    for (int k = 0; k < 3; ++k)
+      p(i, k) = u(rng) * std::pow(10.0, static_cast<int>(rng() % 40) - 20);
   }
   return p;
 }
@@ -638,14 +645,17 @@ TEST_F(MeshIo, MatrixMarketRoundTripAndSymmetric) {
   expected << 2.5, 0, -1, 0, 0, 0, -1, 0, 4;
   EXPECT_EQ(S, expected);
 
-  const auto bad = write("bad.mtx", "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 "
-                                    "1\n3 1 1\n");
+  const auto bad = write("bad.mtx",
+                         "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 "
+                         "1\n3 1 1\n");
   expect_io_error([&] { read_matrix_market(bad); }, {"bad.mtx", "line 4", "out of range"});
-  const auto few = write("few.mtx", "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 "
-                                    "1\n");
+  const auto few = write("few.mtx",
+                         "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 "
+                         "1\n");
   expect_io_error([&] { read_matrix_market(few); }, {"few.mtx", "line", "ends after 1 of 2"});
-  const auto huge = write("huge.mtx", "%%MatrixMarket matrix coordinate real general\n"
-                                      "2 2 4000000000\n1 1 1\n");
+  const auto huge = write("huge.mtx",
+                          "%%MatrixMarket matrix coordinate real general\n"
+                          "2 2 4000000000\n1 1 1\n");
   expect_io_error([&] { read_matrix_market(huge); }, {"huge.mtx", "line 2", "4000000000"});
   const auto banner = write("banner.mtx", "hello\n");
   expect_io_error([&] { read_matrix_market(banner); }, {"banner.mtx", "line 1", "MatrixMarket"});
