@@ -12,13 +12,14 @@ namespace ifem::cli {
 // One function per subcommand, each defined in its cli_<name>.cpp.
 Command info_command();
 Command laplacian_command();
+Command refine_command();
 }  // namespace ifem::cli
 
 namespace {
 
 std::vector<ifem::cli::Command> commands() {
   using namespace ifem::cli;
-  return {info_command(), laplacian_command()};
+  return {info_command(), laplacian_command(), refine_command()};
 }
 
 void print_usage() {

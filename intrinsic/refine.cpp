@@ -17,8 +17,13 @@ using T = IntrinsicTriangulation;
 }  // namespace
 
 double min_corner_angle(const IntrinsicTriangulation& tri, Index f) {
-  return std::min({corner_angle(tri, 3 * f), corner_angle(tri, 3 * f + 1),
-                   corner_angle(tri, 3 * f + 2)});
+  // the smallest angle is opposite the shortest side
+  const Index h = 3 * f;
+  const double l0 = tri.halfedge_length(h), l1 = tri.halfedge_length(h + 1),
+               l2 = tri.halfedge_length(h + 2);
+  if (l0 <= l1 && l0 <= l2) return opposite_angle(l0, l1, l2);
+  if (l1 <= l2) return opposite_angle(l1, l2, l0);
+  return opposite_angle(l2, l0, l1);
 }
 
 RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options) {
@@ -49,14 +54,19 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
     const double theta = st.vertex_angle_sum(v);
     return st.is_boundary_vertex(v) ? theta < bound : theta < 2.0 * bound;
   };
-  // 0 = good, 1 = bad, 2 = needle (every small corner unfixable)
+  // 0 = good, 1 = bad, 2 = needle (every small corner unfixable). The angle at a corner is
+  // below the bound iff its cosine b² + c² − a² over 2bc is above cos(bound): no atan2.
+  const double cos_bound = std::cos(bound);
   auto classify = [&](Index f) {
     bool small = false, fixable_small = false;
+    const double l[3] = {tri.halfedge_length(3 * f), tri.halfedge_length(3 * f + 1),
+                         tri.halfedge_length(3 * f + 2)};
     for (int k = 0; k < 3; ++k) {
-      const Index h = 3 * f + k;
-      if (corner_angle(tri, h) < bound) {
+      // corner k sits between sides k and k+2, opposite side k+1
+      const double b = l[k], c = l[(k + 2) % 3], a = l[(k + 1) % 3];
+      if (b * b + c * c - a * a > cos_bound * 2.0 * b * c) {
         small = true;
-        if (!unfixable(tri.tail(h))) fixable_small = true;
+        if (!unfixable(tri.tail(3 * f + k))) fixable_small = true;
       }
     }
     if (fixable_small) return 1;

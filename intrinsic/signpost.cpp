@@ -134,6 +134,8 @@ SignpostTriangulation::SignpostTriangulation(const std::vector<Triangle>& faces,
   tri_ = input_;
   init_directions(input_, input_direction_, angle_sum_, boundary_);
   direction_ = input_direction_;
+  input_corner_.resize(input_.n_halfedges());
+  for (Index h = 0; h < input_.n_halfedges(); ++h) input_corner_[h] = corner_angle(input_, h);
   const Index nv = input_.n_vertices();
   location_.resize(nv);
   frame_.assign(nv, 0.0);
@@ -316,7 +318,7 @@ TraceResult SignpostTriangulation::trace_from_vertex(Index v, double phi, double
   Index h = h0, found = kInvalidIndex;
   for (Index guard = 0; guard < input_.n_halfedges(); ++guard) {
     const double a0 = input_direction_[h];
-    if (phi >= a0 && phi <= a0 + corner_angle(input_, h)) {
+    if (phi >= a0 && phi <= a0 + input_corner_[h]) {
       found = h;
       break;
     }
@@ -329,7 +331,7 @@ TraceResult SignpostTriangulation::trace_from_vertex(Index v, double phi, double
     double best = std::numeric_limits<double>::infinity();
     for (Index x = 0; x < input_.n_halfedges(); ++x) {
       if (input_.tail(x) != v) continue;
-      const double a0 = input_direction_[x], a1 = a0 + corner_angle(input_, x);
+      const double a0 = input_direction_[x], a1 = a0 + input_corner_[x];
       const double gap = phi < a0 ? a0 - phi : phi > a1 ? phi - a1 : 0.0;
       if (gap < best) {
         best = gap;
@@ -339,7 +341,7 @@ TraceResult SignpostTriangulation::trace_from_vertex(Index v, double phi, double
     if (found == kInvalidIndex) found = h0;
   }
   const double alpha =
-      std::clamp(phi - input_direction_[found], 0.0, corner_angle(input_, found));
+      std::clamp(phi - input_direction_[found], 0.0, input_corner_[found]);
   const Index f = T::face(found);
   const int s = T::side(found);
   face_layout(input_, f, p);

@@ -10,6 +10,7 @@
 // boundary vertex's directions fill [0, Θ_v].
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -136,6 +137,7 @@ class SignpostTriangulation {
   Positions positions_;
   MollifyReport mollify_;
   std::vector<double> input_direction_;  // #H input: signposts of the input halfedges
+  std::vector<double> input_corner_;     // #H input: corner angle at each halfedge's tail
   std::vector<double> direction_;        // #H intrinsic
   std::vector<double> angle_sum_;        // #V intrinsic
   std::vector<char> boundary_;           // #V intrinsic
@@ -143,5 +145,13 @@ class SignpostTriangulation {
   std::vector<double> frame_;            // #V: for inserted vertices, the angle (in the layout
                                          // of its location face) of signpost direction 0
 };
+
+/// Writes polylines (e.g. SignpostTriangulation::traced_edges_3d()) as a PLY line set:
+/// vertices (x, y, z as double) and edges (vertex1, vertex2 as int), binary little-endian or
+/// ASCII; opens in MeshLab, ParaView, Polyscope. Atomic (writes path.tmp, then renames).
+/// @throws IoError if the file cannot be written
+void write_polylines_ply(const std::string& path,
+                         const std::vector<std::vector<Eigen::Vector3d>>& polylines,
+                         bool binary = true);
 
 }  // namespace ifem::intrinsic

@@ -1,0 +1,70 @@
+// Benchmark section "refine": intrinsic Delaunay refinement (signposts, Chew's 2nd algorithm)
+// on rocketship.ply, a uv sphere of needle triangles (156k faces) and igea_268k.ply.
+// Times exclude reading the file; "build" is the signpost triangulation's construction
+// (+ mollification 1e-5, as the CLI does), "refine" includes the initial flips to Delaunay.
+//
+//   ifem_bench refine [--repeat 5] [--min-angle 25] [--data ../shared/data/meshes]
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench_util.h"
+#include "intrinsic/mesh_generators.h"
+#include "intrinsic/mesh_io.h"
+#include "intrinsic/refine.h"
+#include "intrinsic/signpost.h"
+
+namespace ifem::bench {
+namespace {
+
+void run_case(const std::string& name, const std::vector<Triangle>& faces, const Positions& x,
+              int repeat, double min_angle) {
+  std::vector<double> tb, tr, tt;
+  intrinsic::RefineReport rep;
+  for (int k = 0; k < repeat; ++k) {
+    double t0 = seconds_now();
+    intrinsic::SignpostTriangulation st(faces, x, 1e-5);
+    tb.push_back(seconds_now() - t0);
+    intrinsic::RefineOptions opt;
+    opt.min_angle_degrees = min_angle;
+    t0 = seconds_now();
+    rep = intrinsic::delaunay_refine(st, opt);
+    tr.push_back(seconds_now() - t0);
+    if (k == 0) {  // tracing every edge (the common subdivision's curves), once
+      t0 = seconds_now();
+      const auto lines = st.traced_edges_3d();
+      tt.push_back(seconds_now() - t0);
+    }
+  }
+  std::printf(
+      "%-22s %8zu faces  build %7.3f s  refine %7.3f s  trace-all %7.3f s  V %7d -> %7d  "
+      "min angle %6.2f -> %6.2f  (needles %d, left %d%s)\n",
+      name.c_str(), faces.size(), median(tb), median(tr), median(tt), rep.vertices_before,
+      rep.vertices_after, rep.min_angle_before, rep.min_angle_after_excluding_needles,
+      rep.needle_faces, rep.bad_faces_left, rep.hit_insertion_cap ? ", CAP" : "");
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int refine(int argc, char** argv) {
+  const int repeat = static_cast<int>(int_option(argc, argv, "--repeat", 5));
+  const double min_angle = std::stod(string_option(argc, argv, "--min-angle", "25"));
+  const std::string data = string_option(argc, argv, "--data", IFEM_SHARED_MESHES);
+  std::printf("refine: min angle %.1f°, median of %d runs\n", min_angle, repeat);
+  for (const char* file : {"rocketship.ply", "igea_268k.ply"}) {
+    const std::filesystem::path path = std::filesystem::path(data) / file;
+    if (!std::filesystem::exists(path)) {
+      std::printf("%-22s (missing: %s)\n", file, path.string().c_str());
+      continue;
+    }
+    const io::SurfaceInput in = io::read_mesh(path.string());
+    run_case(file, in.triangles, in.positions, repeat, min_angle);
+  }
+  const intrinsic::TriangleMesh m = intrinsic::uv_sphere(40, 2000);  // 156,000 faces
+  run_case("uv_sphere(40, 2000)", m.faces, m.positions, repeat, min_angle);
+  return 0;
+}
+
+}  // namespace ifem::bench

@@ -1,0 +1,34 @@
+// Intrinsic Delaunay refinement for the `ifem` commands: `ifem refine`, and `--refine` in the
+// solver commands (distance, eigen, poisson), which call refine_prepared() on their surface.
+#pragma once
+
+#include <set>
+#include <string>
+
+#include "cli.h"
+#include "intrinsic/refine.h"
+#include "intrinsic/signpost.h"
+
+namespace ifem::cli {
+
+/// The options refinement understands: --min-angle, --max-area, --max-insertions.
+extern const std::set<std::string> kRefineOptions;
+/// Help text for them (and for the --refine flag of the solver commands).
+extern const char* const kRefineHelp;
+
+/// Reads --min-angle (default 25), --max-area (default none), --max-insertions (default
+/// 10 × input vertices).
+intrinsic::RefineOptions refine_options(const Args& args);
+
+/// Refines a prepared surface in place: rebuilds its intrinsic triangulation with signposts
+/// from the input (same faces, same mollification), refines it, and stores the result in
+/// s.tri. Input vertices keep their ids 0..n_input-1 and inserted vertices follow, so a
+/// result vector x on s.tri is on the input vertices as x.head(n_input); use
+/// SignpostTriangulation::input_to_intrinsic() for data given on the input vertices.
+/// Prints a progress line unless --quiet.
+/// @throws InvalidInput unless the surface took the manifold path (the tufted cover and point
+///         clouds have no input surface to trace over)
+intrinsic::SignpostTriangulation refine_prepared(PreparedSurface& s, const Args& args,
+                                                 intrinsic::RefineReport* report = nullptr);
+
+}  // namespace ifem::cli
