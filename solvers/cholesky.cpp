@@ -1,0 +1,228 @@
+#include "solvers/cholesky.h"
+
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <cholmod.h>
+
+#include "intrinsic/errors.h"
+
+namespace ifem::solvers {
+
+struct CholeskySolver::Impl {
+  cholmod_common common;
+  cholmod_factor* factor = nullptr;
+  Eigen::Index n = 0;
+  std::vector<int> outer, inner;  // pattern of the analyzed matrix (for refactor checks)
+  mutable std::mutex mutex;       // cholmod_common is not thread-safe
+
+  Impl() {
+    cholmod_start(&common);
+    common.print = 0;  // report through exceptions, never print
+    common.error_handler = nullptr;
+  }
+  ~Impl() {
+    if (factor) cholmod_free_factor(&factor, &common);
+    cholmod_finish(&common);
+  }
+
+  // A view of A's lower triangle as a cholmod_sparse (no copy).
+  static cholmod_sparse view(const fem::SparseMatrix& A) {
+    cholmod_sparse s;
+    std::memset(&s, 0, sizeof(s));
+    s.nrow = static_cast<size_t>(A.rows());
+    s.ncol = static_cast<size_t>(A.cols());
+    s.nzmax = static_cast<size_t>(A.nonZeros());
+    s.p = const_cast<int*>(A.outerIndexPtr());
+    s.i = const_cast<int*>(A.innerIndexPtr());
+    s.nz = const_cast<int*>(A.innerNonZeroPtr());
+    s.x = const_cast<double*>(A.valuePtr());
+    s.stype = -1;  // symmetric, lower triangle used
+    s.itype = CHOLMOD_INT;
+    s.xtype = CHOLMOD_REAL;
+    s.dtype = CHOLMOD_DOUBLE;
+    s.sorted = 1;
+    s.packed = A.isCompressed() ? 1 : 0;
+    return s;
+  }
+
+  std::string status_text() const {
+    switch (common.status) {
+      case CHOLMOD_OUT_OF_MEMORY: return "out of memory";
+      case CHOLMOD_TOO_LARGE: return "problem too large";
+      case CHOLMOD_INVALID: return "invalid input";
+      case CHOLMOD_GPU_PROBLEM: return "GPU problem";
+      case CHOLMOD_NOT_POSDEF: return "not positive definite";
+      case CHOLMOD_DSMALL: return "diagonal entry tiny";
+      default: return "status " + std::to_string(common.status);
+    }
+  }
+
+  double min_rcond = 0.0;
+
+  // Numeric factorization into `f`; throws SolverError with the reason.
+  void factorize(const fem::SparseMatrix& A, cholmod_factor* f, const char* who) {
+    cholmod_sparse s = view(A);
+    const int ok = cholmod_factorize(&s, f, &common);
+    if (!ok || common.status < CHOLMOD_OK) {
+      throw SolverError(std::string(who) + ": CHOLMOD factorization failed: " + status_text());
+    }
+    if (common.status == CHOLMOD_NOT_POSDEF || f->minor < f->n) {
+      throw SolverError(std::string(who) + ": matrix is not positive definite (Cholesky pivot " +
+                        std::to_string(f->minor) + " of " + std::to_string(f->n) +
+                        " is not positive); a Laplacian needs Dirichlet data, screening or a "
+                        "pinned vertex on every connected component");
+    }
+    // a singular PSD matrix often factors with a round-off-sized last pivot: catch it
+    const double rcond = cholmod_rcond(f, &common);
+    if (!(rcond >= min_rcond)) {
+      throw SolverError(std::string(who) + ": matrix is not positive definite (numerically "
+                        "singular: reciprocal condition estimate " + std::to_string(rcond) +
+                        "); a Laplacian needs Dirichlet data, screening or a pinned vertex on "
+                        "every connected component");
+    }
+  }
+};
+
+namespace {
+
+void check_matrix(const fem::SparseMatrix& A, const char* who) {
+  if (A.rows() != A.cols()) {
+    throw InvalidInput(std::string(who) + ": matrix is " + std::to_string(A.rows()) + "×" +
+                       std::to_string(A.cols()) + ", expected square");
+  }
+  if (A.rows() == 0) throw InvalidInput(std::string(who) + ": empty matrix");
+  const double* v = A.valuePtr();
+  for (Eigen::Index k = 0; k < A.nonZeros(); ++k) {
+    if (!std::isfinite(v[k])) {
+      throw InvalidInput(std::string(who) + ": matrix has a non-finite entry");
+    }
+  }
+}
+
+}  // namespace
+
+CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  check_matrix(A_in, "CholeskySolver");
+  fem::SparseMatrix compressed;
+  const fem::SparseMatrix* A = &A_in;
+  if (!A_in.isCompressed()) {
+    compressed = A_in;
+    compressed.makeCompressed();
+    A = &compressed;
+  }
+  Impl& im = *impl_;
+  im.n = A->rows();
+  im.min_rcond = options.min_rcond;
+  cholmod_common& c = im.common;
+  c.supernodal = options.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+  c.final_ll = 1;
+  if (options.force_amd) {
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_AMD;
+    c.postorder = 1;
+  }
+  cholmod_sparse s = Impl::view(*A);
+  im.factor = cholmod_analyze(&s, &c);
+  if (!im.factor || c.status < CHOLMOD_OK) {
+    throw SolverError("CholeskySolver: CHOLMOD analysis failed: " + im.status_text());
+  }
+  im.factorize(*A, im.factor, "CholeskySolver");
+  im.outer.assign(A->outerIndexPtr(), A->outerIndexPtr() + A->cols() + 1);
+  im.inner.assign(A->innerIndexPtr(), A->innerIndexPtr() + A->nonZeros());
+}
+
+CholeskySolver::~CholeskySolver() = default;
+CholeskySolver::CholeskySolver(CholeskySolver&&) noexcept = default;
+CholeskySolver& CholeskySolver::operator=(CholeskySolver&&) noexcept = default;
+
+void CholeskySolver::refactor(const fem::SparseMatrix& A_in) {
+  check_matrix(A_in, "CholeskySolver::refactor");
+  fem::SparseMatrix compressed;
+  const fem::SparseMatrix* A = &A_in;
+  if (!A_in.isCompressed()) {
+    compressed = A_in;
+    compressed.makeCompressed();
+    A = &compressed;
+  }
+  Impl& im = *impl_;
+  const bool same = A->rows() == im.n &&
+                    static_cast<std::size_t>(A->nonZeros()) == im.inner.size() &&
+                    std::equal(im.outer.begin(), im.outer.end(), A->outerIndexPtr()) &&
+                    std::equal(im.inner.begin(), im.inner.end(), A->innerIndexPtr());
+  if (!same) {
+    throw InvalidInput("CholeskySolver::refactor: the sparsity pattern differs from the "
+                       "analyzed matrix; construct a new solver");
+  }
+  std::lock_guard<std::mutex> lock(im.mutex);
+  // factor into a copy so a failure keeps the previous factor usable
+  cholmod_factor* f = cholmod_copy_factor(im.factor, &im.common);
+  if (!f) throw SolverError("CholeskySolver::refactor: out of memory");
+  try {
+    im.factorize(*A, f, "CholeskySolver::refactor");
+  } catch (...) {
+    cholmod_free_factor(&f, &im.common);
+    throw;
+  }
+  cholmod_free_factor(&im.factor, &im.common);
+  im.factor = f;
+}
+
+namespace {
+
+// Solves A X = B for B given as raw column-major data (rows = n, cols columns).
+void solve_raw(const CholeskySolver::Impl& im, const double* B, Eigen::Index cols, double* X) {
+  if (cols == 0) return;
+  cholmod_dense b;
+  std::memset(&b, 0, sizeof(b));
+  b.nrow = static_cast<size_t>(im.n);
+  b.ncol = static_cast<size_t>(cols);
+  b.nzmax = b.nrow * b.ncol;
+  b.d = b.nrow;
+  b.x = const_cast<double*>(B);
+  b.xtype = CHOLMOD_REAL;
+  b.dtype = CHOLMOD_DOUBLE;
+  std::lock_guard<std::mutex> lock(im.mutex);
+  auto& c = const_cast<cholmod_common&>(im.common);
+  cholmod_dense* x = cholmod_solve(CHOLMOD_A, im.factor, &b, &c);
+  if (!x || c.status < CHOLMOD_OK) {
+    if (x) cholmod_free_dense(&x, &c);
+    throw SolverError("CholeskySolver::solve: CHOLMOD solve failed: " + im.status_text());
+  }
+  std::memcpy(X, x->x, sizeof(double) * b.nzmax);
+  cholmod_free_dense(&x, &c);
+}
+
+void check_rhs(Eigen::Index rows, Eigen::Index n) {
+  if (rows != n) {
+    throw InvalidInput("CholeskySolver::solve: right-hand side has " + std::to_string(rows) +
+                       " rows, expected " + std::to_string(n));
+  }
+}
+
+}  // namespace
+
+Eigen::MatrixXd CholeskySolver::solve(const Eigen::MatrixXd& B) const {
+  check_rhs(B.rows(), impl_->n);
+  Eigen::MatrixXd X(B.rows(), B.cols());
+  solve_raw(*impl_, B.data(), B.cols(), X.data());
+  return X;
+}
+
+Eigen::VectorXd CholeskySolver::solve(const Eigen::VectorXd& b) const {
+  check_rhs(b.rows(), impl_->n);
+  Eigen::VectorXd x(b.rows());
+  solve_raw(*impl_, b.data(), 1, x.data());
+  return x;
+}
+
+Eigen::Index CholeskySolver::size() const { return impl_->n; }
+
+double CholeskySolver::factor_nonzeros() const { return impl_->common.lnz; }
+
+}  // namespace ifem::solvers

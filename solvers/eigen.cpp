@@ -1,0 +1,148 @@
+#include "solvers/eigen.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Spectra/SymGEigsShiftSolver.h>
+
+#include "intrinsic/errors.h"
+#include "solvers/cholesky.h"
+
+namespace ifem::solvers {
+
+namespace {
+
+// Spectra shift-invert operator: y = (L − σM)⁻¹ x through CholeskySolver.
+class ShiftInvertOp {
+ public:
+  using Scalar = double;
+  ShiftInvertOp(const fem::SparseMatrix& L, const Eigen::VectorXd& m) : L_(L), m_(m) {}
+  Eigen::Index rows() const { return L_.rows(); }
+  Eigen::Index cols() const { return L_.cols(); }
+  void set_shift(double sigma) {
+    fem::SparseMatrix A = L_;
+    for (Eigen::Index i = 0; i < A.rows(); ++i) A.coeffRef(i, i) -= sigma * m_[i];
+    A.makeCompressed();
+    chol_ = std::make_unique<CholeskySolver>(A);
+  }
+  void perform_op(const double* x, double* y) const {
+    const Eigen::Map<const Eigen::VectorXd> xv(x, rows());
+    Eigen::Map<Eigen::VectorXd>(y, rows()) = chol_->solve(Eigen::VectorXd(xv));
+  }
+
+ private:
+  const fem::SparseMatrix& L_;
+  const Eigen::VectorXd& m_;
+  std::unique_ptr<CholeskySolver> chol_;
+};
+
+// B operator: the diagonal lumped mass.
+class DiagonalOp {
+ public:
+  using Scalar = double;
+  explicit DiagonalOp(const Eigen::VectorXd& m) : m_(m) {}
+  Eigen::Index rows() const { return m_.size(); }
+  Eigen::Index cols() const { return m_.size(); }
+  void perform_op(const double* x, double* y) const {
+    for (Eigen::Index i = 0; i < m_.size(); ++i) y[i] = m_[i] * x[i];
+  }
+
+ private:
+  const Eigen::VectorXd& m_;
+};
+
+}  // namespace
+
+void EigenOptions::validate() const {
+  if (extra_pairs < 0 || ncv < 0 || max_iterations < 1 || !(tolerance > 0.0) ||
+      !(shift_scale > 0.0)) {
+    throw InvalidInput("EigenOptions: need extra_pairs ≥ 0, ncv ≥ 0, max_iterations ≥ 1, "
+                       "tolerance > 0, shift_scale > 0");
+  }
+}
+
+EigenPairs eigenpairs(const fem::SparseMatrix& L_full, const Eigen::VectorXd& mass_full, Index k,
+                      const EigenOptions& options) {
+  options.validate();
+  const Index n = Index(L_full.rows());
+  if (L_full.cols() != n || mass_full.size() != n) {
+    throw InvalidInput("eigenpairs: L is " + std::to_string(L_full.rows()) + "×" +
+                       std::to_string(L_full.cols()) + " but mass has " +
+                       std::to_string(mass_full.size()) + " entries");
+  }
+  // referenced vertices: positive mass
+  std::vector<Index> id(n, kInvalidIndex), vertex;
+  for (Index v = 0; v < n; ++v) {
+    if (mass_full[v] > 0.0) {
+      id[v] = Index(vertex.size());
+      vertex.push_back(v);
+    }
+  }
+  const Index nr = Index(vertex.size());
+  if (k < 1 || k >= nr) {
+    throw InvalidInput("eigenpairs: k = " + std::to_string(k) + " must be in [1, " +
+                       std::to_string(nr) + ") (the number of vertices with mass)");
+  }
+  fem::SparseMatrix L;
+  Eigen::VectorXd m(nr);
+  if (nr == n) {
+    L = L_full;
+    m = mass_full;
+  } else {
+    std::vector<Eigen::Triplet<double>> trip;
+    for (Index j = 0; j < n; ++j) {
+      if (id[j] == kInvalidIndex) continue;
+      for (fem::SparseMatrix::InnerIterator it(L_full, j); it; ++it) {
+        if (id[it.row()] != kInvalidIndex) trip.emplace_back(id[it.row()], id[j], it.value());
+      }
+    }
+    L.resize(nr, nr);
+    L.setFromTriplets(trip.begin(), trip.end());
+    for (Index i = 0; i < nr; ++i) m[i] = mass_full[vertex[i]];
+  }
+  L.makeCompressed();
+  const Index nev = std::min<Index>(k + options.extra_pairs, nr - 1);
+  Index ncv = options.ncv > 0 ? options.ncv : std::max<Index>(2 * nev + 1, 20);
+  ncv = std::min(ncv, nr);
+  if (ncv <= nev) {
+    throw InvalidInput("eigenpairs: k = " + std::to_string(k) + " is too large for " +
+                       std::to_string(nr) + " vertices");
+  }
+  const double sigma = -options.shift_scale / m.sum();
+  ShiftInvertOp op(L, m);
+  DiagonalOp bop(m);
+  Spectra::SymGEigsShiftSolver<ShiftInvertOp, DiagonalOp, Spectra::GEigsMode::ShiftInvert> eigs(
+      op, bop, nev, ncv, sigma);
+  eigs.init();
+  const Eigen::Index nconv = eigs.compute(Spectra::SortRule::LargestMagn, options.max_iterations,
+                                          options.tolerance, Spectra::SortRule::SmallestAlge);
+  if (eigs.info() != Spectra::CompInfo::Successful || nconv < k) {
+    throw SolverError("eigenpairs: " + std::to_string(nconv) + " of " + std::to_string(nev) +
+                      " eigenpairs converged after " + std::to_string(eigs.num_iterations()) +
+                      " iterations (asked for " + std::to_string(k) +
+                      "); try a larger ncv or max_iterations");
+  }
+  const Eigen::VectorXd values = eigs.eigenvalues();
+  const Eigen::MatrixXd vectors = eigs.eigenvectors();
+  // ascending order (Spectra's SmallestAlge sorting already is, but do not rely on it)
+  std::vector<Index> order(values.size());
+  for (Index i = 0; i < Index(order.size()); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](Index a, Index b) { return values[a] < values[b]; });
+  EigenPairs out;
+  out.values.resize(k);
+  out.vectors = Eigen::MatrixXd::Zero(n, k);
+  for (Index j = 0; j < k; ++j) {
+    out.values[j] = values[order[j]];
+    for (Index i = 0; i < nr; ++i) out.vectors(vertex[i], j) = vectors(i, order[j]);
+  }
+  return out;
+}
+
+EigenPairs eigenpairs(const intrinsic::IntrinsicTriangulation& tri, Index k,
+                      const EigenOptions& options) {
+  return eigenpairs(fem::cotan_laplacian(tri), fem::lumped_mass(tri), k, options);
+}
+
+}  // namespace ifem::solvers

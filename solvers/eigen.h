@@ -1,0 +1,46 @@
+// Smallest eigenpairs of the Laplace–Beltrami operator: L φ = λ M φ (L cotan stiffness, PSD;
+// M lumped mass), by Lanczos in shift-invert mode (Spectra) with a CHOLMOD factor of L − σM.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "fem/operators.h"
+#include "intrinsic/triangulation.h"
+
+namespace ifem::solvers {
+
+/// Options of eigenpairs().
+struct EigenOptions {
+  /// Extra pairs computed internally and dropped, so that a degenerate eigenvalue cut by the
+  /// k-th pair is not returned with a missing copy (Lanczos can miss copies; DEPENDENCIES.md).
+  Index extra_pairs = 6;
+  /// Lanczos basis size: max(2·(k + extra) + 1, 20), capped by the number of unknowns; 0 = auto.
+  Index ncv = 0;
+  Index max_iterations = 1000;
+  double tolerance = 1e-10;  ///< Spectra's relative convergence tolerance
+  /// σ = −shift_scale / (total area): slightly negative so that L − σM is positive definite.
+  double shift_scale = 1e-2;
+  void validate() const;
+};
+
+/// k eigenpairs with the smallest eigenvalues.
+struct EigenPairs {
+  Eigen::VectorXd values;   ///< k, ascending (≥ 0 up to round-off; 0 once per component)
+  Eigen::MatrixXd vectors;  ///< #V×k, M-orthonormal: Φᵀ M Φ = I
+};
+
+/// Solves L φ = λ M φ for the k smallest eigenvalues.
+/// Unreferenced vertices (no face: zero row in L and zero mass) are left out of the problem and
+/// get 0 in every eigenvector. Faces of zero area on an otherwise referenced vertex are fine.
+/// @param L #V×#V stiffness (PSD), @param mass #V lumped mass (> 0 on referenced vertices)
+/// @throws InvalidInput if k < 1 or k ≥ the number of referenced vertices, or sizes disagree
+/// @throws SolverError if Lanczos does not converge ("3 of 10 eigenpairs converged ...") or the
+///         factorization of L − σM fails
+EigenPairs eigenpairs(const fem::SparseMatrix& L, const Eigen::VectorXd& mass, Index k,
+                      const EigenOptions& options = {});
+
+/// Same, assembling L and M from the triangulation (use the intrinsic Delaunay one).
+EigenPairs eigenpairs(const intrinsic::IntrinsicTriangulation& tri, Index k,
+                      const EigenOptions& options = {});
+
+}  // namespace ifem::solvers

@@ -1,0 +1,504 @@
+#include "solvers/heat_distance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include <Eigen/Dense>
+
+#include "fem/gradient.h"
+#include "fem/operators.h"
+#include "intrinsic/errors.h"
+#include "intrinsic/geometry.h"
+#include "solvers/cholesky.h"
+#include "solvers/components.h"
+#include "solvers/poisson.h"
+
+namespace ifem::solvers {
+
+using intrinsic::IntrinsicTriangulation;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kAbsoluteHeatFloor = 1e-290;  // stay clear of subnormals
+
+// A source as weights on vertices (1 vertex, or the 3 corners of a face).
+struct WeightedPoint {
+  Index n = 0;
+  Index vertex[3] = {0, 0, 0};
+  double weight[3] = {0, 0, 0};
+  double corner_distance[3] = {0, 0, 0};  // distance in the face layout to each corner
+  bool is_vertex() const { return n == 1; }
+};
+
+}  // namespace
+
+void HeatDistanceOptions::validate() const {
+  if (!(time_factor > 0.0) || !std::isfinite(time_factor)) {
+    throw InvalidInput("HeatDistanceOptions: time_factor must be > 0, got " +
+                       std::to_string(time_factor));
+  }
+  if (!(mean_edge_length >= 0.0) || !std::isfinite(mean_edge_length)) {
+    throw InvalidInput("HeatDistanceOptions: mean_edge_length must be ≥ 0");
+  }
+  if (!(resolved_heat > 0.0 && resolved_heat <= 1.0 && trusted_heat >= resolved_heat &&
+        trusted_heat <= 1.0)) {
+    throw InvalidInput("HeatDistanceOptions: need 0 < resolved_heat ≤ trusted_heat ≤ 1");
+  }
+  if (max_constrained_sources < 0) {
+    throw InvalidInput("HeatDistanceOptions: max_constrained_sources must be ≥ 0");
+  }
+}
+
+double mean_edge_length(const IntrinsicTriangulation& tri) {
+  if (tri.n_edges() == 0) return 0.0;
+  const auto& l = tri.lengths();
+  return std::accumulate(l.begin(), l.end(), 0.0) / double(l.size());
+}
+
+struct HeatDistanceSolver::Impl {
+  HeatDistanceOptions opt;
+  IntrinsicTriangulation tri;
+  Components comps;
+  fem::SparseMatrix L;
+  Eigen::VectorXd mass;
+  double t = 0.0;
+  std::optional<PoissonSolver> heat_neumann;    // (M + tL), Neumann
+  std::optional<PoissonSolver> heat_dirichlet;  // (M + tL), u = 0 on the boundary
+  std::optional<PoissonSolver> poisson;         // L, pure Neumann per component
+
+  Eigen::VectorXd heat(const Eigen::VectorXd& delta) const {
+    const Eigen::VectorXd none;
+    Eigen::VectorXd u = heat_neumann->solve_weak(delta, none);
+    if (heat_dirichlet) {
+      const Eigen::VectorXd zeros =
+          Eigen::VectorXd::Zero(Eigen::Index(heat_dirichlet->dirichlet_vertices().size()));
+      u = 0.5 * (u + heat_dirichlet->solve_weak(delta, zeros));
+    }
+    return u;
+  }
+
+  // −∇u/|∇u| on faces where `use_face` (all faces when null), 0 elsewhere.
+  Eigen::MatrixX2d unit_field(const Eigen::VectorXd& u, const std::vector<char>* use_face) const {
+    Eigen::MatrixX2d X = fem::gradient(tri, u);
+    const Index nf = tri.n_faces();
+#pragma omp parallel for schedule(static)
+    for (Index f = 0; f < nf; ++f) {
+      // hypot, not norm(): |∇u| can be ~1e-200, whose square underflows
+      const double norm = std::hypot(X(f, 0), X(f, 1));
+      if ((use_face && !(*use_face)[f]) || !(norm > 0.0) || !std::isfinite(norm)) {
+        X.row(f).setZero();
+      } else {
+        X.row(f) /= -norm;
+      }
+    }
+    return X;
+  }
+
+  // Per-component maximum heat (components with a source only; others 0).
+  std::vector<double> component_max(const Eigen::VectorXd& u) const {
+    std::vector<double> mx(comps.count, 0.0);
+    for (Index v = 0; v < tri.n_vertices(); ++v) {
+      const Index c = comps.label[v];
+      if (c != kInvalidIndex && std::isfinite(u[v])) mx[c] = std::max(mx[c], u[v]);
+    }
+    return mx;
+  }
+
+  Eigen::VectorXd distance(const std::vector<WeightedPoint>& pts, HeatDistanceReport* rep) const;
+  Eigen::VectorXd first_stage(const std::vector<WeightedPoint>& pts, const Eigen::VectorXd& u,
+                              const std::vector<char>& use_face, HeatDistanceReport& rep) const;
+  void later_stages(const std::vector<WeightedPoint>& pts, const std::vector<char>& src_comp,
+                    Eigen::VectorXd& phi, std::vector<char>& known, HeatDistanceReport& rep) const;
+};
+
+HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
+                                       const HeatDistanceOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  if (tri_in.n_faces() == 0) throw InvalidInput("HeatDistanceSolver: triangulation has no faces");
+  Impl& im = *impl_;
+  im.opt = options;
+  const double h_input = mean_edge_length(tri_in);
+  im.tri = tri_in;
+  if (options.intrinsic_delaunay) im.tri.flip_to_delaunay();
+  double h = options.mean_edge_length;
+  if (h == 0.0) {
+    h = options.step_length == HeatDistanceOptions::StepLength::kInput ? h_input
+                                                                       : mean_edge_length(im.tri);
+  }
+  if (!(h > 0.0)) throw InvalidInput("HeatDistanceSolver: mean edge length is 0");
+  im.t = options.time_factor * h * h;
+  im.comps = connected_components(im.tri);
+  im.L = fem::cotan_laplacian(im.tri);
+  im.mass = fem::lumped_mass(im.tri);
+  const fem::SparseMatrix tL = im.t * im.L;
+  PoissonOptions heat_opt;
+  heat_opt.screening = 1.0;  // tL + 1·M
+  im.heat_neumann.emplace(tL, im.mass, im.comps, std::vector<Index>{}, heat_opt);
+  if (options.boundary == HeatDistanceOptions::Boundary::kAverage && im.tri.has_boundary()) {
+    std::vector<char> on_boundary(im.tri.n_vertices(), 0);
+    for (Index h2 = 0; h2 < im.tri.n_halfedges(); ++h2) {
+      if (im.tri.twin(h2) == kInvalidIndex) {
+        on_boundary[im.tri.tail(h2)] = 1;
+        on_boundary[im.tri.head(h2)] = 1;
+      }
+    }
+    std::vector<Index> bv;
+    for (Index v = 0; v < im.tri.n_vertices(); ++v) {
+      if (on_boundary[v]) bv.push_back(v);
+    }
+    im.heat_dirichlet.emplace(tL, im.mass, im.comps, std::move(bv), heat_opt);
+  }
+  im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, PoissonOptions{});
+}
+
+HeatDistanceSolver::~HeatDistanceSolver() = default;
+HeatDistanceSolver::HeatDistanceSolver(HeatDistanceSolver&&) noexcept = default;
+HeatDistanceSolver& HeatDistanceSolver::operator=(HeatDistanceSolver&&) noexcept = default;
+
+const IntrinsicTriangulation& HeatDistanceSolver::triangulation() const { return impl_->tri; }
+double HeatDistanceSolver::time_step() const { return impl_->t; }
+
+Eigen::VectorXd HeatDistanceSolver::compute_distance(const std::vector<Index>& sources,
+                                                     HeatDistanceReport* report) const {
+  if (sources.empty()) throw InvalidInput("heat distance: the source set is empty");
+  const Impl& im = *impl_;
+  std::vector<Index> s = sources;
+  std::sort(s.begin(), s.end());
+  s.erase(std::unique(s.begin(), s.end()), s.end());
+  std::vector<WeightedPoint> pts;
+  for (const Index v : s) {
+    if (v < 0 || v >= im.tri.n_vertices()) {
+      throw InvalidInput("heat distance: source vertex " + std::to_string(v) +
+                         " out of range [0, " + std::to_string(im.tri.n_vertices()) + ")");
+    }
+    if (im.comps.label[v] == kInvalidIndex) {
+      throw InvalidInput("heat distance: source vertex " + std::to_string(v) +
+                         " is not referenced by any face");
+    }
+    WeightedPoint p;
+    p.n = 1;
+    p.vertex[0] = v;
+    p.weight[0] = 1.0;
+    pts.push_back(p);
+  }
+  return im.distance(pts, report);
+}
+
+Eigen::VectorXd HeatDistanceSolver::compute_distance_from_points(
+    const std::vector<SurfacePoint>& sources, HeatDistanceReport* report) const {
+  if (sources.empty()) throw InvalidInput("heat distance: the source set is empty");
+  const Impl& im = *impl_;
+  std::vector<WeightedPoint> pts;
+  for (const SurfacePoint& sp : sources) {
+    if (sp.face < 0 || sp.face >= im.tri.n_faces()) {
+      throw InvalidInput("heat distance: source face " + std::to_string(sp.face) +
+                         " out of range [0, " + std::to_string(im.tri.n_faces()) + ")");
+    }
+    if (!sp.bary.allFinite() || sp.bary.minCoeff() < -1e-12 ||
+        std::abs(sp.bary.sum() - 1.0) > 1e-9) {
+      throw InvalidInput("heat distance: barycentric coordinates of a source on face " +
+                         std::to_string(sp.face) + " must be ≥ 0 and sum to 1");
+    }
+    // corner distances from the face's 2D layout
+    const Eigen::Vector2d c[3] = {{0.0, 0.0},
+                                  {im.tri.halfedge_length(3 * sp.face), 0.0},
+                                  fem::face_corner2(im.tri, sp.face)};
+    const Eigen::Vector2d x = sp.bary[0] * c[0] + sp.bary[1] * c[1] + sp.bary[2] * c[2];
+    WeightedPoint p;
+    p.n = 3;
+    for (int i = 0; i < 3; ++i) {
+      p.vertex[i] = im.tri.tail(3 * sp.face + i);
+      p.weight[i] = std::max(0.0, sp.bary[i]);
+      p.corner_distance[i] = (x - c[i]).norm();
+    }
+    pts.push_back(p);
+  }
+  return im.distance(pts, report);
+}
+
+Eigen::VectorXd HeatDistanceSolver::Impl::distance(const std::vector<WeightedPoint>& pts,
+                                                   HeatDistanceReport* report) const {
+  HeatDistanceReport rep;
+  const Index nv = tri.n_vertices();
+  Eigen::VectorXd delta = Eigen::VectorXd::Zero(nv);
+  std::vector<char> src_comp(comps.count, 0);
+  for (const WeightedPoint& p : pts) {
+    for (Index i = 0; i < p.n; ++i) delta[p.vertex[i]] += p.weight[i];
+    src_comp[comps.label[p.vertex[0]]] = 1;
+  }
+  const Eigen::VectorXd u = heat(delta);
+  // resolved vertices / faces
+  const std::vector<double> mx = component_max(u);
+  std::vector<char> resolved(nv, 0);
+  for (Index v = 0; v < nv; ++v) {
+    const Index c = comps.label[v];
+    if (c == kInvalidIndex || !src_comp[c]) continue;
+    const double floor = std::max(opt.resolved_heat * mx[c], kAbsoluteHeatFloor);
+    resolved[v] = u[v] > floor ? 1 : 0;
+    if (!resolved[v]) ++rep.unresolved_vertices;
+  }
+  std::vector<char> use_face(tri.n_faces(), 1);
+  if (rep.unresolved_vertices > 0) {
+    for (Index f = 0; f < tri.n_faces(); ++f) {
+      use_face[f] = resolved[tri.tail(3 * f)] && resolved[tri.tail(3 * f + 1)] &&
+                    resolved[tri.tail(3 * f + 2)];
+    }
+  }
+  Eigen::VectorXd phi = first_stage(pts, u, use_face, rep);
+  std::vector<char> known(nv, 0);
+  for (Index v = 0; v < nv; ++v) {
+    const Index c = comps.label[v];
+    if (c == kInvalidIndex || !src_comp[c]) {
+      phi[v] = kInf;
+      continue;
+    }
+    if (rep.unresolved_vertices == 0 || !opt.resolve_underflow) {
+      known[v] = 1;
+    } else {
+      const double trust = std::max(opt.trusted_heat * mx[c], kAbsoluteHeatFloor);
+      known[v] = u[v] >= trust ? 1 : 0;
+    }
+  }
+  // sources are always known
+  for (const WeightedPoint& p : pts) {
+    if (p.is_vertex()) known[p.vertex[0]] = 1;
+  }
+  if (rep.unresolved_vertices > 0 && opt.resolve_underflow) {
+    for (Index v = 0; v < nv; ++v) {
+      if (!known[v] && std::isfinite(phi[v])) phi[v] = kInf;
+    }
+    later_stages(pts, src_comp, phi, known, rep);
+  }
+  for (Index v = 0; v < nv; ++v) {
+    if (phi[v] < 0.0) phi[v] = 0.0;
+  }
+  for (const WeightedPoint& p : pts) {
+    if (p.is_vertex()) phi[p.vertex[0]] = 0.0;
+  }
+  if (report) *report = rep;
+  return phi;
+}
+
+Eigen::VectorXd HeatDistanceSolver::Impl::first_stage(const std::vector<WeightedPoint>& pts,
+                                                      const Eigen::VectorXd& u,
+                                                      const std::vector<char>& use_face,
+                                                      HeatDistanceReport& rep) const {
+  const Index nv = tri.n_vertices();
+  const Eigen::MatrixX2d X = unit_field(u, &use_face);
+  const Eigen::VectorXd b = fem::divergence(tri, X);
+  Eigen::VectorXd phi = poisson->solve_weak(b, Eigen::VectorXd());
+  // first source of each component, and the extra constraints φ(p_k) − φ(p_first) = 0
+  std::vector<Index> first(comps.count, kInvalidIndex);
+  std::vector<std::pair<Index, Index>> extra;  // (point k, first point of its component)
+  for (Index k = 0; k < Index(pts.size()); ++k) {
+    const Index c = comps.label[pts[k].vertex[0]];
+    if (first[c] == kInvalidIndex) {
+      first[c] = k;
+    } else {
+      extra.emplace_back(k, first[c]);
+    }
+  }
+  rep.constraints = Index(extra.size());
+  auto value_at = [&](const Eigen::VectorXd& f, const WeightedPoint& p) {
+    double s = 0.0;
+    for (Index i = 0; i < p.n; ++i) s += p.weight[i] * f[p.vertex[i]];
+    return s;
+  };
+  if (!extra.empty()) {
+    const Index m = Index(extra.size());
+    // dense n×m right-hand sides: keep them below ~160 MB
+    const Index by_memory = Index(std::max<double>(1.0, 2e7 / double(std::max<Index>(nv, 1))));
+    const bool all_vertices = std::all_of(pts.begin(), pts.end(),
+                                          [](const WeightedPoint& p) { return p.is_vertex(); });
+    if (m <= std::min(opt.max_constrained_sources, by_memory) || !all_vertices) {
+      // Lagrange multipliers through the cached pure-Neumann factor: with P the solution map,
+      // C the constraint columns, φ = P b − P C λ and Cᵀφ = 0.
+      Eigen::MatrixXd C = Eigen::MatrixXd::Zero(nv, m);
+      for (Index j = 0; j < m; ++j) {
+        const WeightedPoint& pk = pts[extra[j].first];
+        const WeightedPoint& p0 = pts[extra[j].second];
+        for (Index i = 0; i < pk.n; ++i) C(pk.vertex[i], j) += pk.weight[i];
+        for (Index i = 0; i < p0.n; ++i) C(p0.vertex[i], j) -= p0.weight[i];
+      }
+      const Eigen::MatrixXd W = poisson->solve_weak_homogeneous(C);
+      const Eigen::MatrixXd S = C.transpose() * W;
+      const Eigen::VectorXd r = C.transpose() * phi;
+      const Eigen::VectorXd lambda = S.completeOrthogonalDecomposition().solve(r);
+      phi -= W * lambda;
+    } else {
+      // many vertex sources: zero Dirichlet values on all of them (one new factorization)
+      std::vector<Index> dv;
+      for (const WeightedPoint& p : pts) dv.push_back(p.vertex[0]);
+      const PoissonSolver direct(L, mass, comps, dv, PoissonOptions{});
+      phi = direct.solve_weak(b, Eigen::VectorXd::Zero(Eigen::Index(dv.size())));
+    }
+  }
+  // shift each component so that its first source is at 0
+  std::vector<double> shift(comps.count, 0.0);
+  for (Index c = 0; c < comps.count; ++c) {
+    if (first[c] != kInvalidIndex) shift[c] = value_at(phi, pts[first[c]]);
+  }
+  for (Index v = 0; v < nv; ++v) {
+    const Index c = comps.label[v];
+    if (c != kInvalidIndex) phi[v] -= shift[c];
+  }
+  return phi;
+}
+
+void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pts,
+                                            const std::vector<char>& src_comp,
+                                            Eigen::VectorXd& phi, std::vector<char>& known,
+                                            HeatDistanceReport& rep) const {
+  (void)pts;
+  const Index nv = tri.n_vertices();
+  const Index nf = tri.n_faces();
+  const auto& tail = tri.tails();
+  auto remaining = [&]() {
+    Index r = 0;
+    for (Index v = 0; v < nv; ++v) {
+      const Index c = comps.label[v];
+      if (c != kInvalidIndex && src_comp[c] && !known[v]) ++r;
+    }
+    return r;
+  };
+  Index left = remaining();
+  while (left > 0) {
+    ++rep.stages;
+    // heat from the frontier of the known region
+    Eigen::VectorXd delta = Eigen::VectorXd::Zero(nv);
+    for (Index f = 0; f < nf; ++f) {
+      const Index a = tail[3 * f], b = tail[3 * f + 1], c = tail[3 * f + 2];
+      const int k = known[a] + known[b] + known[c];
+      if (k == 0 || k == 3) continue;
+      if (known[a]) delta[a] = 1.0;
+      if (known[b]) delta[b] = 1.0;
+      if (known[c]) delta[c] = 1.0;
+    }
+    const Eigen::VectorXd u = heat(delta);
+    const std::vector<double> mx = component_max(u);
+    std::vector<char> resolved(nv, 0), trusted(nv, 0);
+    std::vector<char> comp_done(comps.count, 1);
+    for (Index v = 0; v < nv; ++v) {
+      const Index c = comps.label[v];
+      if (c == kInvalidIndex || !src_comp[c]) continue;
+      resolved[v] = u[v] > std::max(opt.resolved_heat * mx[c], kAbsoluteHeatFloor);
+      trusted[v] = u[v] >= std::max(opt.trusted_heat * mx[c], kAbsoluteHeatFloor);
+      if (!known[v] && !resolved[v]) comp_done[c] = 0;
+    }
+    // region: resolved faces with an unknown vertex; drop pieces without a known vertex
+    std::vector<char> use_face(nf, 0);
+    std::vector<Index> parent(nv);
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](Index v) {
+      while (parent[v] != v) v = parent[v] = parent[parent[v]];
+      return v;
+    };
+    for (Index f = 0; f < nf; ++f) {
+      const Index a = tail[3 * f], b = tail[3 * f + 1], c = tail[3 * f + 2];
+      if (!(resolved[a] && resolved[b] && resolved[c])) continue;
+      if (known[a] && known[b] && known[c]) continue;
+      use_face[f] = 1;
+      const Index ra = find(a), rb = find(b);
+      if (ra != rb) parent[rb] = ra;
+      const Index ra2 = find(a), rc = find(c);
+      if (ra2 != rc) parent[rc] = ra2;
+    }
+    std::vector<char> piece_known(nv, 0);
+    for (Index f = 0; f < nf; ++f) {
+      if (!use_face[f]) continue;
+      for (int i = 0; i < 3; ++i) {
+        if (known[tail[3 * f + i]]) piece_known[find(tail[3 * f + i])] = 1;
+      }
+    }
+    std::vector<Index> unknown_id(nv, kInvalidIndex);
+    std::vector<Index> unknown_vertex;
+    for (Index f = 0; f < nf; ++f) {
+      if (!use_face[f]) continue;
+      if (!piece_known[find(tail[3 * f])]) {
+        use_face[f] = 0;
+        continue;
+      }
+      for (int i = 0; i < 3; ++i) {
+        const Index v = tail[3 * f + i];
+        if (!known[v] && unknown_id[v] == kInvalidIndex) {
+          unknown_id[v] = Index(unknown_vertex.size());
+          unknown_vertex.push_back(v);
+        }
+      }
+    }
+    if (unknown_vertex.empty()) {
+      throw SolverError("heat distance: the heat does not reach " + std::to_string(left) +
+                        " vertices beyond stage " + std::to_string(rep.stages - 1) +
+                        " (no resolved face next to the known region)");
+    }
+    // Poisson on the region: stiffness from its faces, Dirichlet = known values
+    const Eigen::MatrixX2d X = unit_field(u, &use_face);
+    const Eigen::VectorXd div = fem::divergence(tri, X);
+    const Index nu = Index(unknown_vertex.size());
+    Eigen::VectorXd rhs(nu);
+    for (Index i = 0; i < nu; ++i) rhs[i] = div[unknown_vertex[i]];
+    std::vector<Eigen::Triplet<double>> trip;
+    const double s = 0.5 / tri.multiplicity();
+    for (Index f = 0; f < nf; ++f) {
+      if (!use_face[f]) continue;
+      for (int k = 0; k < 3; ++k) {
+        const Index h = 3 * f + k;
+        const Index i = tri.tail(h), j = tri.head(h);
+        if (i == j) continue;
+        const double w = s * intrinsic::halfedge_cotan(tri, h);
+        const Index ui = unknown_id[i], uj = unknown_id[j];
+        if (ui != kInvalidIndex) {
+          trip.emplace_back(ui, ui, w);
+          if (uj != kInvalidIndex) {
+            trip.emplace_back(ui, uj, -w);
+          } else {
+            rhs[ui] += w * phi[j];
+          }
+        }
+        if (uj != kInvalidIndex) {
+          trip.emplace_back(uj, uj, w);
+          if (ui != kInvalidIndex) {
+            trip.emplace_back(uj, ui, -w);
+          } else {
+            rhs[uj] += w * phi[i];
+          }
+        }
+      }
+    }
+    fem::SparseMatrix A(nu, nu);
+    A.setFromTriplets(trip.begin(), trip.end());
+    A.makeCompressed();
+    const CholeskySolver chol(A);
+    const Eigen::VectorXd y = chol.solve(rhs);
+    Index added = 0;
+    for (Index i = 0; i < nu; ++i) {
+      const Index v = unknown_vertex[i];
+      if (trusted[v] || comp_done[comps.label[v]]) {
+        known[v] = 1;
+        phi[v] = y[i];
+        ++added;
+      }
+    }
+    if (added == 0) {
+      throw SolverError("heat distance: no progress at stage " + std::to_string(rep.stages) +
+                        " (" + std::to_string(left) + " vertices left)");
+    }
+    left = remaining();
+  }
+}
+
+Eigen::VectorXd heat_distance(const IntrinsicTriangulation& tri, const std::vector<Index>& sources,
+                              const HeatDistanceOptions& options) {
+  if (sources.empty()) throw InvalidInput("heat_distance: the source set is empty");
+  const HeatDistanceSolver solver(tri, options);
+  return solver.compute_distance(sources);
+}
+
+}  // namespace ifem::solvers

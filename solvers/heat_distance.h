@@ -1,0 +1,129 @@
+// Geodesic distance by the heat method (Crane, Weischedel, Wardetzky, "Geodesics in Heat",
+// ACM TOG 2013; "The Heat Method for Distance Computation", CACM 2017) on the intrinsic
+// Delaunay triangulation, with a multi-stage continuation where the heat underflows.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "intrinsic/triangulation.h"
+
+namespace ifem::solvers {
+
+/// A point on the surface: a face of the solver's triangulation and barycentric coordinates
+/// (weights of corners 0, 1, 2 of that face, i.e. of tail(3f), tail(3f+1), tail(3f+2);
+/// non-negative, summing to 1).
+struct SurfacePoint {
+  Index face = 0;
+  Eigen::Vector3d bary = Eigen::Vector3d(1.0, 0.0, 0.0);
+};
+
+/// Options of HeatDistanceSolver.
+struct HeatDistanceOptions {
+  /// m in t = m·h²: the heat time step relative to the squared mean edge length (m > 0).
+  double time_factor = 1.0;
+  /// Which mesh gives h when mean_edge_length is 0.
+  enum class StepLength {
+    kInput,              ///< the triangulation passed in (before the solver's Delaunay flips)
+    kIntrinsicDelaunay,  ///< the intrinsic Delaunay triangulation (edges are longer)
+  };
+  StepLength step_length = StepLength::kInput;
+  /// h itself, when > 0 (e.g. the input mesh's mean edge length when the caller hands over a
+  /// triangulation that is already intrinsic Delaunay).
+  double mean_edge_length = 0.0;
+  /// Flip a copy of the triangulation to intrinsic Delaunay first (flips keep vertex ids).
+  bool intrinsic_delaunay = true;
+  /// Boundary condition of the heat step on meshes with boundary: the mean of the Neumann
+  /// and the zero-Dirichlet solutions (the paper's recommendation), or Neumann only.
+  enum class Boundary { kAverage, kNeumann };
+  Boundary boundary = Boundary::kAverage;
+  /// Continue where the heat underflows (see HeatDistanceSolver). Off: faces where the heat
+  /// is not resolved get a zero vector field, and distances there are unreliable.
+  bool resolve_underflow = true;
+  /// A vertex's heat is resolved when u > resolved_heat × (max u in its component);
+  /// vertices are trusted (final) at a stage when u ≥ trusted_heat × max.
+  double resolved_heat = 1e-270;
+  double trusted_heat = 1e-180;
+  /// Largest number of extra zero-distance constraints (several sources in one component)
+  /// handled with the cached factorization (k back-substitutions); above it, vertex sources
+  /// become Dirichlet conditions of a freshly factored Poisson problem.
+  Index max_constrained_sources = 64;
+  /// @throws InvalidInput on a non-positive time factor or thresholds out of (0, 1]
+  void validate() const;
+};
+
+/// What one distance query did.
+struct HeatDistanceReport {
+  int stages = 1;                  ///< 1 unless the heat underflowed somewhere
+  Index unresolved_vertices = 0;   ///< reachable vertices whose first-stage heat was unresolved
+  Index constraints = 0;           ///< zero-distance constraints beyond one per component
+};
+
+/// Stateful heat-method solver: the constructor builds the intrinsic Delaunay triangulation,
+/// L, M and factors (M + tL) (twice on meshes with boundary: Neumann and Dirichlet) and the
+/// Poisson matrix L once; each compute_distance() then costs back-substitutions.
+///
+/// Method, per query: (M + tL) u = δ (δ = 1 at each vertex source, barycentric weights for a
+/// surface point); X = −∇u/|∇u| per face; L φ = div X (cached factor, pure Neumann); φ shifted
+/// so the sources are at distance 0.
+///
+/// Several sources: the result approximates the distance to the nearest source. Every source
+/// is forced to distance exactly 0 (per component: the differences φ(s_k) − φ(s_0) are
+/// constrained to zero with Lagrange multipliers through the cached factor, or, beyond
+/// max_constrained_sources, with Dirichlet conditions), so no source is biased by the others.
+///
+/// Underflow (far from the sources on large or long meshes u underflows to 0 and −∇u/|∇u| is
+/// undefined): faces whose heat is below resolved_heat get X = 0 in the first stage; since the
+/// resolved region is bounded by a level set of the distance, X is then still (nearly) the
+/// gradient of min(d, D), so φ is right where u ≥ trusted_heat. Later stages re-run the heat
+/// from the frontier of the trusted region (cached factor) and solve the Poisson problem on the
+/// newly resolved region with Dirichlet values on that frontier (a small factorization per
+/// stage), until every reachable vertex is trusted.
+///
+/// Conventions: the result has one value per vertex (#V, vertex ids of the input); +inf on
+/// vertices that no source can reach (another connected component, unreferenced vertices);
+/// values are clamped to ≥ 0, vertex sources are exactly 0. Face ids of SurfacePoint sources
+/// refer to triangulation(), the solver's (flipped) copy: when the input is already intrinsic
+/// Delaunay, no flip happens and they equal the input's face ids.
+class HeatDistanceSolver {
+ public:
+  /// @throws InvalidInput on bad options or a triangulation without faces
+  /// @throws SolverError if a factorization fails
+  explicit HeatDistanceSolver(const intrinsic::IntrinsicTriangulation& tri,
+                              const HeatDistanceOptions& options = {});
+  ~HeatDistanceSolver();
+  HeatDistanceSolver(HeatDistanceSolver&&) noexcept;
+  HeatDistanceSolver& operator=(HeatDistanceSolver&&) noexcept;
+
+  /// Distance to the nearest of the given vertices, #V.
+  /// @throws InvalidInput on an empty set, an id out of range or an unreferenced vertex
+  Eigen::VectorXd compute_distance(const std::vector<Index>& sources,
+                                   HeatDistanceReport* report = nullptr) const;
+
+  /// Distance to the nearest of the given surface points, #V.
+  /// @throws InvalidInput on an empty set, a face out of range or bad barycentric coordinates
+  Eigen::VectorXd compute_distance_from_points(const std::vector<SurfacePoint>& sources,
+                                               HeatDistanceReport* report = nullptr) const;
+
+  /// The triangulation the solver works on (intrinsic Delaunay unless disabled).
+  const intrinsic::IntrinsicTriangulation& triangulation() const;
+  /// The heat time step t = m·h².
+  double time_step() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+/// One-off: heat-method distance from vertex sources (builds a HeatDistanceSolver).
+Eigen::VectorXd heat_distance(const intrinsic::IntrinsicTriangulation& tri,
+                              const std::vector<Index>& sources,
+                              const HeatDistanceOptions& options = {});
+
+/// Mean edge length of a triangulation.
+double mean_edge_length(const intrinsic::IntrinsicTriangulation& tri);
+
+}  // namespace ifem::solvers

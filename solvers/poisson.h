@@ -1,0 +1,88 @@
+// Poisson / Laplace / screened Poisson problems on an intrinsic triangulation with Dirichlet
+// values on any vertex set and natural (zero) Neumann conditions elsewhere.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fem/operators.h"
+#include "intrinsic/triangulation.h"
+#include "solvers/cholesky.h"
+#include "solvers/components.h"
+
+namespace ifem::solvers {
+
+/// Options of PoissonSolver / solve_poisson().
+struct PoissonOptions {
+  /// c ≥ 0: solves (L + c·M) u = M f (screened Poisson); 0 = plain Poisson L u = M f.
+  double screening = 0.0;
+  /// @throws InvalidInput if screening is negative or not finite
+  void validate() const;
+};
+
+/// Solves (L + c·M) u = b on the free vertices with u = g on the Dirichlet vertices, where
+/// L = cotan_laplacian (PSD) and M = lumped mass (diagonal), factoring once for a fixed
+/// Dirichlet vertex set so that new right-hand sides and Dirichlet values cost back-substitutions.
+///
+/// Conventions (per connected component):
+/// - a component with at least one Dirichlet vertex, or any component when c > 0, has a unique
+///   solution;
+/// - a component with no Dirichlet vertex and c = 0 (e.g. a closed surface) is pure Neumann:
+///   the right-hand side is first made compatible by removing its mass-weighted mean
+///   (b ← b − (Σb / Σm)·m on the component), and the zero-mean solution (Σ m_i u_i = 0) is
+///   returned;
+/// - unreferenced vertices (no face, zero row in L and zero mass) get 0, or their Dirichlet value
+///   when one is given.
+class PoissonSolver {
+ public:
+  /// @param tri the triangulation (use the intrinsic Delaunay one for non-negative weights)
+  /// @param dirichlet_vertices distinct vertex ids in [0, #V) where u is prescribed
+  /// @throws InvalidInput on an out-of-range or repeated Dirichlet vertex or bad options
+  /// @throws SolverError if the reduced matrix cannot be factored
+  PoissonSolver(const intrinsic::IntrinsicTriangulation& tri, std::vector<Index> dirichlet_vertices,
+                const PoissonOptions& options = {});
+
+  /// Same, from assembled operators: A = L + c·diag(mass), with components[v] the component of
+  /// v (kInvalidIndex for a vertex that takes part in no face: it is left out of the system).
+  PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
+                const Components& components, std::vector<Index> dirichlet_vertices,
+                const PoissonOptions& options = {});
+
+  ~PoissonSolver();
+  PoissonSolver(PoissonSolver&&) noexcept;
+  PoissonSolver& operator=(PoissonSolver&&) noexcept;
+
+  /// Solves (L + c·M) u = M f. @param f #V per-vertex source values
+  /// @param dirichlet_values one value per Dirichlet vertex, in the constructor's order
+  /// @returns u, #V
+  Eigen::VectorXd solve(const Eigen::VectorXd& f, const Eigen::VectorXd& dirichlet_values) const;
+
+  /// Solves (L + c·M) u = b for an integrated (weak) right-hand side b (#V), e.g. b = M f or a
+  /// divergence. Same conventions as solve().
+  Eigen::VectorXd solve_weak(const Eigen::VectorXd& b, const Eigen::VectorXd& dirichlet_values) const;
+
+  /// solve_weak() for every column of B (#V×k) with zero Dirichlet values.
+  Eigen::MatrixXd solve_weak_homogeneous(const Eigen::MatrixXd& B) const;
+
+  /// The Dirichlet vertices, in the constructor's order.
+  const std::vector<Index>& dirichlet_vertices() const;
+  /// Number of unknowns in the factored system.
+  Index n_unknowns() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+/// One-off: solves (L + c·M) u = M f with u = dirichlet_values on dirichlet_vertices.
+/// See PoissonSolver for the conventions (zero mean without Dirichlet data, 0 on unreferenced).
+/// @param f #V per-vertex right-hand side (a function, multiplied by the lumped mass here)
+Eigen::VectorXd solve_poisson(const intrinsic::IntrinsicTriangulation& tri, const Eigen::VectorXd& f,
+                              const std::vector<Index>& dirichlet_vertices,
+                              const Eigen::VectorXd& dirichlet_values,
+                              const PoissonOptions& options = {});
+
+}  // namespace ifem::solvers
