@@ -9,6 +9,7 @@
 namespace ifem::bench {
 // Each returns a process exit code; argv[0] is the section name.
 int foundation(int argc, char** argv);
+int pointcloud(int argc, char** argv);
 int refine(int argc, char** argv);
 }  // namespace ifem::bench
 
@@ -23,6 +24,8 @@ struct Section {
 const Section kSections[] = {
     {"foundation", "load, build, mollify, flip to IDT, assemble L + M on 10k..1M+ faces",
      ifem::bench::foundation},
+    {"pointcloud", "tufted-cover Laplacian on nonmanifold/big meshes; point clouds 10k..1M, per stage",
+     ifem::bench::pointcloud},
     {"refine", "intrinsic Delaunay refinement: rocketship, needle uv sphere, igea",
      ifem::bench::refine},
 };
