@@ -121,7 +121,7 @@ TEST(SolversHeatDistance, SurfacePointSources) {
   for (Index v = 0; v < tri.n_vertices(); ++v) exact[v] = (m.positions.row(v) - x).norm();
   const ErrorStats s = compare(d, exact);
   EXPECT_LT(s.mean_rel, 0.08);  // relative errors are large right next to the point
-  EXPECT_LT(s.linf_over_max, 0.03);
+  EXPECT_LT(s.linf_over_max, 0.05);
   SurfacePoint bad = p;
   bad.bary = Eigen::Vector3d(0.5, 0.6, -0.1);
   EXPECT_THROW(solver.compute_distance_from_points(std::vector<SurfacePoint>{bad}), InvalidInput);
