@@ -21,6 +21,7 @@ struct TuftedCoverReport {
   Index nonmanifold_edges = 0;      ///< input edges with 3+ faces
   Index max_faces_per_edge = 0;     ///< largest number of faces around one input edge
   Index unreferenced_vertices = 0;  ///< vertices no kept face uses: zero row in L, zero mass
+                                    ///< (solvers report +inf distance / 0 value there)
   Index first_nonmanifold_edge[2] = {kInvalidIndex, kInvalidIndex};  ///< (lo, hi), for messages
   /// For each cover face, the input face it copies: cover faces 2k (front, corners as given)
   /// and 2k+1 (back, corners reversed) both come from kept input face parent_face[2k].
