@@ -13,13 +13,17 @@ namespace ifem::cli {
 Command info_command();
 Command laplacian_command();
 Command refine_command();
+Command distance_command();
+Command eigen_command();
+Command poisson_command();
 }  // namespace ifem::cli
 
 namespace {
 
 std::vector<ifem::cli::Command> commands() {
   using namespace ifem::cli;
-  return {info_command(), laplacian_command(), refine_command()};
+  return {info_command(), laplacian_command(), refine_command(), distance_command(), eigen_command(),
+          poisson_command()};
 }
 
 void print_usage() {
