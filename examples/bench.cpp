@@ -9,6 +9,7 @@
 namespace ifem::bench {
 // Each returns a process exit code; argv[0] is the section name.
 int foundation(int argc, char** argv);
+int solvers(int argc, char** argv);
 int pointcloud(int argc, char** argv);
 int refine(int argc, char** argv);
 }  // namespace ifem::bench
@@ -28,6 +29,8 @@ const Section kSections[] = {
      ifem::bench::pointcloud},
     {"refine", "intrinsic Delaunay refinement: rocketship, needle uv sphere, igea",
      ifem::bench::refine},
+    {"solvers", "heat distance precompute + query 10k..1M faces; k = 10, 50 eigenpairs",
+     ifem::bench::solvers},
 };
 
 }  // namespace
