@@ -318,21 +318,34 @@ TraceResult SignpostTriangulation::trace_from_vertex(Index v, double phi, double
   Index h = h0, found = kInvalidIndex;
   for (Index guard = 0; guard < input_.n_halfedges(); ++guard) {
     const double a0 = input_direction_[h];
-    if (phi >= a0 && phi <= a0 + input_corner_[h]) {
+    if (phi >= a0 && phi < a0 + input_corner_[h]) {  // half-open: fans may share an end
       found = h;
       break;
     }
     const Index n = input_.twin(T::prev(h));
-    if (n == kInvalidIndex || n == h0) break;
+    if (n == kInvalidIndex || n == h0) {
+      // the closed end of the last fan (phi = Θ_v on the boundary)
+      const double a1 = a0 + input_corner_[h];
+      if (n == kInvalidIndex && phi >= a0 && phi <= a1 + 1e-12 &&
+          std::abs(a1 - angle_sum_[v]) <= 1e-12 * angle_sum_[v]) {
+        found = h;
+      }
+      break;
+    }
     h = n;
   }
   if (found == kInvalidIndex) {
-    // pinched vertex (other fans) or rounding past the last wedge: nearest wedge
+    // pinched vertex (other fans), the end of a boundary fan, or rounding: the wedge that
+    // contains phi (half-open), else the nearest one
     double best = std::numeric_limits<double>::infinity();
     for (Index x = 0; x < input_.n_halfedges(); ++x) {
       if (input_.tail(x) != v) continue;
       const double a0 = input_direction_[x], a1 = a0 + input_corner_[x];
-      const double gap = phi < a0 ? a0 - phi : phi > a1 ? phi - a1 : 0.0;
+      if (phi >= a0 && phi < a1) {
+        found = x;
+        break;
+      }
+      const double gap = phi < a0 ? a0 - phi : phi - a1;
       if (gap < best) {
         best = gap;
         found = x;
