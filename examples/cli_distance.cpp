@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "cli.h"
+#include "cli_refine.h"
 #include "cli_solver_util.h"
 #include "intrinsic/errors.h"
 #include "solvers/heat_distance.h"
@@ -30,6 +31,9 @@ int run(const Args& args) {
                          std::to_string(nv) + ")");
     }
   }
+  // refined: inserted vertices come after the input's, so sources and results keep their ids;
+  // the time step stays the input's (below), not the refined mesh's smaller edges
+  if (args.has("refine")) refine_prepared(s, args);
   solvers::HeatDistanceOptions opt;
   opt.time_factor = args.get_double("time-factor", 1.0);
   opt.intrinsic_delaunay = false;  // prepare_surface already flipped (unless --no-delaunay)
@@ -92,10 +96,13 @@ Command distance_command() {
                "  --time-factor m      t = m·h² (default 1); larger is smoother, smaller is\n"
                "                       sharper but noisier\n\n"
                "example: ifem distance bunny.obj --source 0 -o bunny_dist.ply\n\n") +
-           kSurfaceHelp;
+           "  --refine             intrinsic Delaunay refinement first (options below)\n\n" +
+           kRefineHelp + "\n" + kSurfaceHelp;
   c.flags = kSurfaceFlags;
+  c.flags.insert("refine");
   c.options = kSurfaceOptions;
   c.options.insert({"output", "source", "time-factor"});
+  c.options.insert(kRefineOptions.begin(), kRefineOptions.end());
   c.run = run;
   return c;
 }
