@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "intrinsic/errors.h"
+#include "intrinsic/surface_triangulation.h"
 
 namespace ifem::cli {
 
@@ -102,18 +103,6 @@ void progress(const Args& args, const std::string& line) {
   if (!args.has("quiet")) std::fprintf(stderr, "ifem: %s\n", line.c_str());
 }
 
-namespace {
-
-// Why the manifold path cannot take this face list, or "" when it can try.
-std::string nonmanifold_reason(const intrinsic::FaceListStats& st) {
-  if (st.nonmanifold_edges == 0) return "";
-  return std::to_string(st.nonmanifold_edges) + " nonmanifold edge" +
-         (st.nonmanifold_edges == 1 ? "" : "s") + ", first (" +
-         std::to_string(st.first_nonmanifold_edge[0]) + "," +
-         std::to_string(st.first_nonmanifold_edge[1]) + ")";
-}
-
-}  // namespace
 
 PreparedSurface prepare_surface(const std::string& file, const Args& args) {
   PreparedSurface s;
@@ -158,38 +147,25 @@ PreparedSurface prepare_surface(const std::string& file, const Args& args) {
     return s;
   }
 
-  // ---- mesh: manifold path when it can represent the input, tufted cover otherwise
-  std::string why_tufted;
-  if (args.has("tufted")) {
-    why_tufted = "--tufted";
-  } else if (!s.stats.edge_manifold()) {
-    why_tufted = nonmanifold_reason(s.stats);
-  } else {
-    try {
-      s.tri = intrinsic::IntrinsicTriangulation::from_positions(s.input.triangles,
-                                                                s.input.positions, &s.build);
-      s.path = "manifold";
-      s.path_reason = "edge-manifold and orientable";
-      if (s.build.reoriented_faces) {
-        s.path_reason += " (" + std::to_string(s.build.reoriented_faces) + " faces reoriented)";
-      }
-    } catch (const NonManifoldInput& e) {
-      const std::string what = e.what();
-      why_tufted = what.find("non-orientable") != std::string::npos ? "non-orientable" : what;
-    }
-  }
-  if (s.path.empty()) {
-    s.tri = intrinsic::tufted_cover(s.input.triangles, s.input.positions, &s.tufted);
-    s.path = "tufted";
-    s.path_reason = why_tufted;
-    s.build.input_faces = s.tufted.input_faces;
-    s.build.dropped_faces = s.tufted.dropped_faces;
-    s.build.unreferenced_vertices = s.tufted.unreferenced_vertices;
-    s.build.face_origin = s.tufted.parent_face;
-  }
+  // ---- mesh: manifold path when it represents the input with non-negative weights,
+  //      tufted cover otherwise (the choice lives in the library: build_surface)
+  intrinsic::SurfaceOptions opt;
+  opt.mollify_relative_epsilon = eps;
+  opt.intrinsic_delaunay = !args.has("no-delaunay");
+  opt.force_tufted = args.has("tufted");
+  intrinsic::SurfaceTriangulation st =
+      intrinsic::build_surface(s.input.triangles, s.input.positions, opt);
+  s.tri = std::move(st.tri);
+  s.path = st.path_name();
+  s.path_reason = opt.force_tufted ? "--tufted" : st.reason;
+  s.build = std::move(st.build);
+  s.tufted = std::move(st.tufted);
+  s.mollify = st.mollify;
+  s.flips = st.flips;
+  s.boundary_vertex = std::move(st.boundary_vertex);
+  s.seconds_build = st.seconds_build;
+  s.seconds_flip = st.seconds_flip;
   progress(args, "path: " + s.path + " (" + s.path_reason + ")");
-  s.mollify = s.tri.mollify(eps);
-  s.seconds_build = now_seconds() - t0;
   if (s.build.dropped_faces) {
     progress(args, "dropped " + std::to_string(s.build.dropped_faces) +
                        " faces that repeat a vertex");
@@ -204,10 +180,7 @@ PreparedSurface prepare_surface(const std::string& file, const Args& args) {
       << s.mollify.delta;
     progress(args, m.str());
   }
-  if (!args.has("no-delaunay")) {
-    t0 = now_seconds();
-    s.flips = s.tri.flip_to_delaunay();
-    s.seconds_flip = now_seconds() - t0;
+  if (opt.intrinsic_delaunay) {
     progress(args, "intrinsic Delaunay: " + std::to_string(s.flips.flips) + " flips");
   }
   return s;

@@ -67,6 +67,8 @@ struct PreparedSurface {
   pointcloud::Report cloud;             ///< filled on the "pointcloud" path
   std::string path;         ///< "manifold", "tufted" or "pointcloud"
   std::string path_reason;  ///< why that path was taken
+  /// #V, 1 on vertices of the input's boundary (edges with one face); empty for point clouds
+  std::vector<char> boundary_vertex;
   double seconds_load = 0, seconds_build = 0, seconds_flip = 0;
 };
 
@@ -75,8 +77,9 @@ struct PreparedSurface {
 /// stage to stderr unless --quiet. The path is chosen automatically:
 ///  - "pointcloud" when the file has no faces or --pointcloud (kNN local triangulations,
 ///    --knn K neighbours, glued into a tufted cover);
-///  - "tufted" when --tufted, when an edge has 3+ faces, or when the gluing is non-orientable;
-///  - "manifold" otherwise.
+///  - "tufted" when --tufted, when an edge has 3+ faces, when the gluing is non-orientable, or
+///    when boundary edges opposite obtuse angles would keep negative cotan weights;
+///  - "manifold" otherwise (intrinsic::build_surface makes the mesh choice).
 /// On every path the triangulation's vertices are the input's vertices in the input's order
 /// (unreferenced / isolated ones included: zero row in L, zero mass).
 PreparedSurface prepare_surface(const std::string& file, const Args& args);

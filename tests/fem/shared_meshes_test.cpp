@@ -11,6 +11,7 @@
 #include "intrinsic/geometry.h"
 #include "intrinsic/mesh_analysis.h"
 #include "intrinsic/mesh_io.h"
+#include "intrinsic/surface_triangulation.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -64,7 +65,29 @@ TEST_P(SharedMesh, IntrinsicDelaunayLaplacianOrNamedError) {
     const double b = corner_angle(tri, IntrinsicTriangulation::prev(tri.twin(h)));
     ASSERT_LE(a + b, kPi * (1 + 1e-12)) << "edge " << e;
   }
-  const fem::SparseMatrix L = fem::cotan_laplacian(tri);
+  // interior edges carry non-negative weights on the manifold path; boundary edges opposite an
+  // obtuse angle may not (they cannot flip): build_surface then takes the tufted cover
+  const Eigen::VectorXd w = cotan_weights(tri);
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    if (!tri.is_boundary_edge(e)) ASSERT_GE(w[e], -1e-10 * w.cwiseAbs().maxCoeff());
+  }
+}
+
+// The automatic path (manifold or tufted cover) gives every mesh a finite Laplacian with
+// non-negative weights and a positive mass on every referenced vertex.
+TEST_P(SharedMesh, AutomaticPathHasNonNegativeWeights) {
+  IFEM_REQUIRE_SHARED_DATA();
+  const auto path = test::shared_data() / "meshes" / GetParam();
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not in this corpus";
+  const io::SurfaceInput in = io::read_mesh(path.string());
+  const SurfaceTriangulation s = build_surface(in.triangles, in.positions);
+  s.tri.validate();
+  EXPECT_FALSE(s.flips.hit_flip_cap);
+  if (s.path == SurfacePath::kTufted) {
+    EXPECT_FALSE(s.reason.empty());
+  }
+  const fem::SparseMatrix L = fem::cotan_laplacian(s.tri);
+  ASSERT_EQ(L.rows(), in.positions.rows());
   const double scale = L.diagonal().cwiseAbs().maxCoeff();
   ASSERT_TRUE(std::isfinite(scale));
   const Eigen::VectorXd L1 = L * Eigen::VectorXd::Ones(L.rows());
@@ -78,9 +101,23 @@ TEST_P(SharedMesh, IntrinsicDelaunayLaplacianOrNamedError) {
       }
     }
   }
-  const Eigen::VectorXd M = fem::lumped_mass(tri);
-  EXPECT_TRUE(M.allFinite());
-  EXPECT_GE(M.minCoeff(), 0.0);
+  const Eigen::VectorXd M = fem::lumped_mass(s.tri);
+  ASSERT_TRUE(M.allFinite());
+  const FaceListStats st = analyze_faces(in.triangles, static_cast<Index>(in.positions.rows()));
+  std::vector<char> referenced(in.positions.rows(), 0);
+  for (const Triangle& t : in.triangles) {
+    if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) referenced[t[0]] = referenced[t[1]] = referenced[t[2]] = 1;
+  }
+  for (Eigen::Index v = 0; v < M.size(); ++v) {
+    if (referenced[v]) {
+      ASSERT_GT(M[v], 0.0) << "vertex " << v;
+    } else {
+      ASSERT_EQ(M[v], 0.0) << "vertex " << v;
+    }
+  }
+  if (st.nonmanifold_edges > 0) {
+    EXPECT_EQ(s.path, SurfacePath::kTufted);
+  }
 }
 
 // Every mesh of the corpus, listed so that a missing file is noticed (skipped, by name).
