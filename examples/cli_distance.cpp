@@ -37,8 +37,11 @@ int run(const Args& args) {
   solvers::HeatDistanceOptions opt;
   opt.time_factor = args.get_double("time-factor", 1.0);
   opt.intrinsic_delaunay = false;  // prepare_surface already flipped (unless --no-delaunay)
-  if (s.input.has_faces() && s.path == "manifold") {
+  if (s.input.has_faces()) {
+    // t from the input mesh's edges (more accurate than the IDT's on sliver meshes), and the
+    // input's boundary (a tufted cover has none of its own)
     opt.mean_edge_length = input_mean_edge_length(s.input);
+    opt.boundary_vertices = s.boundary_vertex;
   }
   double t0 = now_seconds();
   const solvers::HeatDistanceSolver solver(s.tri, opt);

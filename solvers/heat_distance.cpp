@@ -141,14 +141,25 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
   PoissonOptions heat_opt;
   heat_opt.screening = 1.0;  // tL + 1·M
   im.heat_neumann.emplace(tL, im.mass, im.comps, std::vector<Index>{}, heat_opt);
-  if (options.boundary == HeatDistanceOptions::Boundary::kAverage && im.tri.has_boundary()) {
-    std::vector<char> on_boundary(im.tri.n_vertices(), 0);
+  std::vector<char> on_boundary = options.boundary_vertices;
+  if (on_boundary.empty()) {
+    on_boundary.assign(im.tri.n_vertices(), 0);
     for (Index h2 = 0; h2 < im.tri.n_halfedges(); ++h2) {
       if (im.tri.twin(h2) == kInvalidIndex) {
         on_boundary[im.tri.tail(h2)] = 1;
         on_boundary[im.tri.head(h2)] = 1;
       }
     }
+  } else if (static_cast<Index>(on_boundary.size()) > im.tri.n_vertices()) {
+    throw InvalidInput("HeatDistanceSolver: boundary_vertices has " +
+                       std::to_string(on_boundary.size()) + " entries for " +
+                       std::to_string(im.tri.n_vertices()) + " vertices");
+  } else {
+    on_boundary.resize(im.tri.n_vertices(), 0);  // inserted vertices: interior
+  }
+  const bool any_boundary =
+      std::find(on_boundary.begin(), on_boundary.end(), 1) != on_boundary.end();
+  if (options.boundary == HeatDistanceOptions::Boundary::kAverage && any_boundary) {
     std::vector<Index> bv;
     for (Index v = 0; v < im.tri.n_vertices(); ++v) {
       if (on_boundary[v]) bv.push_back(v);

@@ -39,6 +39,11 @@ struct HeatDistanceOptions {
   /// and the zero-Dirichlet solutions (the paper's recommendation), or Neumann only.
   enum class Boundary { kAverage, kNeumann };
   Boundary boundary = Boundary::kAverage;
+  /// The boundary of the surface, as a #V mask, when it is not the triangulation's own: a
+  /// tufted cover has no boundary (its boundary edges are glued front to back), so callers pass
+  /// the input mesh's boundary vertices here (intrinsic::SurfaceTriangulation::boundary_vertex).
+  /// Empty: the triangulation's boundary.
+  std::vector<char> boundary_vertices;
   /// Continue where the heat underflows (see HeatDistanceSolver). Off: faces where the heat
   /// is not resolved get a zero vector field, and distances there are unreliable.
   bool resolve_underflow = true;
