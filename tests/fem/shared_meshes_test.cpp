@@ -68,8 +68,11 @@ TEST_P(SharedMesh, IntrinsicDelaunayLaplacianOrNamedError) {
   // interior edges carry non-negative weights on the manifold path; boundary edges opposite an
   // obtuse angle may not (they cannot flip): build_surface then takes the tufted cover
   const Eigen::VectorXd w = cotan_weights(tri);
+  const double w_tol = -1e-10 * w.cwiseAbs().maxCoeff();
   for (Index e = 0; e < tri.n_edges(); ++e) {
-    if (!tri.is_boundary_edge(e)) ASSERT_GE(w[e], -1e-10 * w.cwiseAbs().maxCoeff());
+    if (!tri.is_boundary_edge(e)) {
+      ASSERT_GE(w[e], w_tol) << "edge " << e;
+    }
   }
 }
 
@@ -106,7 +109,9 @@ TEST_P(SharedMesh, AutomaticPathHasNonNegativeWeights) {
   const FaceListStats st = analyze_faces(in.triangles, static_cast<Index>(in.positions.rows()));
   std::vector<char> referenced(in.positions.rows(), 0);
   for (const Triangle& t : in.triangles) {
-    if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) referenced[t[0]] = referenced[t[1]] = referenced[t[2]] = 1;
+    if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) {
+      referenced[t[0]] = referenced[t[1]] = referenced[t[2]] = 1;
+    }
   }
   for (Eigen::Index v = 0; v < M.size(); ++v) {
     if (referenced[v]) {
@@ -135,8 +140,8 @@ INSTANTIATE_TEST_SUITE_P(
                       "tet_with_self_edge.ply", "thingi10k_138207.obj", "thingi10k_49220.obj",
                       "thingi10k_679615.obj", "thingi10k_73342.obj", "thingi10k_90225.obj",
                       "triple_vierbein.obj", "truck.obj"),
-    [](const ::testing::TestParamInfo<std::string>& info) {
-      std::string n = info.param;
+    [](const ::testing::TestParamInfo<std::string>& param) {
+      std::string n = param.param;
       for (char& c : n) {
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
       }
