@@ -85,12 +85,13 @@ int run(const Args& args) {
                    ? intrinsic::IntrinsicTriangulation::from_positions(s.input.triangles,
                                                                        s.input.positions)
                    : intrinsic::tufted_cover(s.input.triangles, s.input.positions);
-  input.mollify(args.get_double("mollify", 1e-5));
-  const AngleStats a = angle_stats(input);
+  const AngleStats a = angle_stats(input);  // as given: before mollification and flips
   // of the input face list (the cover's own χ is that of the doubled surface)
   const long chi = static_cast<long>(st.vertices - st.unreferenced_vertices) - st.edges +
                    (st.faces - st.degenerate_faces);
-  const bool orientable = s.build.reoriented_faces >= 0 && s.path == "manifold";
+  // genus only where it is defined: an orientable surface without pinched vertices or edges
+  const bool orientable = st.nonmanifold_edges == 0 && st.nonmanifold_vertices == 0 &&
+                          s.path_reason.find("non-orientable") == std::string::npos;
   const long genus2 = 2L * st.components - chi - st.boundary_loops;  // 2g, orientable surfaces
   const double share = tri.n_edges() ? double(a.non_delaunay_edges) / input.n_edges() : 0.0;
   if (args.has("json")) {
