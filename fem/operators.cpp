@@ -51,7 +51,7 @@ SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri,
     diag[j] += we;
   }
   std::vector<int> count(nv);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nv > kParallelMin)
   for (Index v = 0; v < nv; ++v) {
     int* r = inner + outer[v];
     double* x = value + outer[v];
@@ -99,7 +99,7 @@ SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri,
 Eigen::VectorXd face_areas(const IntrinsicTriangulation& tri) {
   const Index nf = tri.n_faces();
   Eigen::VectorXd a(nf);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nf > kParallelMin)
   for (Index f = 0; f < nf; ++f) a[f] = intrinsic::face_area(tri, f);
   return a;
 }

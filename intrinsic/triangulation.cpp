@@ -551,7 +551,7 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
   // one area per face (not one per halfedge): cot of the angle opposite each side
   const Index nf = tri.n_faces();
   std::vector<double> cot(tri.n_halfedges());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nf > kParallelMin)
   for (Index f = 0; f < nf; ++f) {
     const double l0 = tri.halfedge_length(3 * f), l1 = tri.halfedge_length(3 * f + 1),
                  l2 = tri.halfedge_length(3 * f + 2);
@@ -563,7 +563,7 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
   }
   const Index ne = tri.n_edges();
   Eigen::VectorXd w(ne);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (ne > kParallelMin)
   for (Index e = 0; e < ne; ++e) {
     const Index h = tri.edge_halfedge(e);
     const Index t = tri.twin(h);

@@ -15,6 +15,10 @@ namespace ifem {
 using Index = std::int32_t;
 inline constexpr Index kInvalidIndex = -1;
 
+/// Loops over fewer elements than this run on one thread: waking a second one costs more than
+/// it saves (and much more when the other core is busy).
+inline constexpr Index kParallelMin = 50000;
+
 /// One triangle as three vertex ids, counter-clockwise as seen from the front.
 using Triangle = std::array<Index, 3>;
 
