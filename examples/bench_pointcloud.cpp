@@ -4,6 +4,7 @@
 //
 //   ifem_bench pointcloud [--repeat 3] [--max-points 1000000] [--data ../shared/data/meshes]
 //   ifem_bench pointcloud --points N   (one cloud of ≈N points; for a clean peak-RSS figure)
+//   --merge none|half|union            (pointcloud::Options::merge; default half)
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -80,13 +81,15 @@ Positions sphere_points(long n) {
   return m.positions;
 }
 
+pointcloud::Options g_cloud_options;
+
 void run_cloud(long n, int repeat) {
   const Positions p = sphere_points(n);
   std::vector<double> tk, tl, tc, ti, ta, tt;
   pointcloud::Report rep;
   for (int k = 0; k < repeat; ++k) {
     const double t0 = seconds_now();
-    const IntrinsicTriangulation tri = pointcloud::pointcloud_triangulation(p, {}, nullptr, &rep);
+    const IntrinsicTriangulation tri = pointcloud::pointcloud_triangulation(p, g_cloud_options, nullptr, &rep);
     const double t1 = seconds_now();
     const fem::SparseMatrix L = fem::cotan_laplacian(tri);
     const Eigen::VectorXd m = fem::lumped_mass(tri);
@@ -118,6 +121,10 @@ void cloud_header() {
 int pointcloud(int argc, char** argv) {
   const int repeat = static_cast<int>(int_option(argc, argv, "--repeat", 3));
   const long only = int_option(argc, argv, "--points", 0);
+  const std::string merge = string_option(argc, argv, "--merge", "half");
+  g_cloud_options.merge = merge == "none"    ? pointcloud::Options::Merge::kNone
+                          : merge == "union" ? pointcloud::Options::Merge::kUnion
+                                             : pointcloud::Options::Merge::kHalf;
   if (only > 0) {
     cloud_header();
     run_cloud(only, repeat);

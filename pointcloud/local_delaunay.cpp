@@ -6,10 +6,7 @@
 namespace ifem::pointcloud {
 namespace {
 
-struct Inverted {
-  double x, y;
-  int index;  // into q, or -1 for the origin
-};
+using Inverted = StarWorkspace::Point;
 
 double cross(const Inverted& o, const Inverted& a, const Inverted& b) {
   return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
@@ -19,6 +16,12 @@ double cross(const Inverted& o, const Inverted& a, const Inverted& b) {
 
 int delaunay_star(const std::vector<Eigen::Vector2d>& q, std::vector<std::array<int, 2>>& out,
                   double min_relative_distance) {
+  StarWorkspace ws;
+  return delaunay_star(q, out, ws, min_relative_distance);
+}
+
+int delaunay_star(const std::vector<Eigen::Vector2d>& q, std::vector<std::array<int, 2>>& out,
+                  StarWorkspace& ws, double min_relative_distance) {
   double r = 0.0;
   for (const auto& p : q) {
     if (p.allFinite()) r = std::max(r, p.norm());
@@ -29,8 +32,8 @@ int delaunay_star(const std::vector<Eigen::Vector2d>& q, std::vector<std::array<
   // circle's inside to the far side of that line, so (0, q_a, q_b) is a Delaunay triangle iff
   // w_a w_b is an edge of the convex hull of {0} ∪ {w} with the origin inside.
   const double min_dist = min_relative_distance * r;
-  std::vector<Inverted> w;
-  w.reserve(q.size() + 1);
+  std::vector<Inverted>& w = ws.w;
+  w.clear();
   w.push_back({0.0, 0.0, -1});
   for (int j = 0; j < static_cast<int>(q.size()); ++j) {
     const Eigen::Vector2d& p = q[j];
@@ -53,7 +56,8 @@ int delaunay_star(const std::vector<Eigen::Vector2d>& q, std::vector<std::array<
   const int n = static_cast<int>(w.size());
   if (n < 3) return 0;
   // Andrew's monotone chain, counter-clockwise, collinear points dropped
-  std::vector<Inverted> hull(2 * n);
+  std::vector<Inverted>& hull = ws.hull;
+  if (hull.size() < 2 * static_cast<std::size_t>(n)) hull.resize(2 * static_cast<std::size_t>(n));
   int k = 0;
   for (int i = 0; i < n; ++i) {
     while (k >= 2 && cross(hull[k - 2], hull[k - 1], w[i]) <= 0.0) --k;

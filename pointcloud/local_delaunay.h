@@ -20,4 +20,18 @@ namespace ifem::pointcloud {
 int delaunay_star(const std::vector<Eigen::Vector2d>& q, std::vector<std::array<int, 2>>& out,
                   double min_relative_distance = 1e-9);
 
+/// Scratch memory for delaunay_star(), reused across calls (one per thread) so that the
+/// per-point loop of the point-cloud pipeline does not allocate.
+struct StarWorkspace {
+  struct Point {
+    double x, y;
+    int index;  // into q, or -1 for the origin
+  };
+  std::vector<Point> w, hull;
+};
+
+/// delaunay_star() with caller-owned scratch memory (same result).
+int delaunay_star(const std::vector<Eigen::Vector2d>& q, std::vector<std::array<int, 2>>& out,
+                  StarWorkspace& workspace, double min_relative_distance = 1e-9);
+
 }  // namespace ifem::pointcloud

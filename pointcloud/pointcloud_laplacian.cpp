@@ -74,8 +74,17 @@ void Options::validate() const {
   }
 }
 
-std::vector<Triangle> local_triangulations(const Positions& points, const Neighbours& nb,
-                                           const Eigen::MatrixX3d* normals, Report* report) {
+namespace {
+
+// Every point's Delaunay star, in point order: tris[offset[i] .. offset[i+1]) are the
+// triangles (i, a, b) of point i.
+struct Stars {
+  std::vector<Index> offset;
+  std::vector<Triangle> tris;
+};
+
+Stars compute_stars(const Positions& points, const Neighbours& nb, const Eigen::MatrixX3d* normals,
+                    Report* report) {
   const Index n = static_cast<Index>(points.rows());
   if (nb.k > 0 && nb.ids.size() != static_cast<std::size_t>(nb.k) * n) {
     throw InvalidInput("local_triangulations: neighbour table does not match the points");
@@ -86,14 +95,18 @@ std::vector<Triangle> local_triangulations(const Positions& points, const Neighb
   }
   const int nt = thread_count();
   std::vector<std::vector<Triangle>> per_thread(nt);
+  Stars st;
+  st.offset.assign(static_cast<std::size_t>(n) + 1, 0);
   Index starless = 0, from_normals = 0, coincident = 0;
   const int k = nb.k;
 #pragma omp parallel reduction(+ : starless, from_normals, coincident)
   {
     std::vector<Triangle>& out = per_thread[thread_id()];
+    out.reserve(7 * static_cast<std::size_t>(n) / nt + 64);
     std::vector<Eigen::Vector3d> d(k);
     std::vector<Eigen::Vector2d> q(k);
     std::vector<std::array<int, 2>> star;
+    StarWorkspace ws;
     // static schedule: thread t gets the t-th contiguous block, so concatenating the
     // per-thread lists in thread order gives point order
 #pragma omp for schedule(static)
@@ -111,7 +124,8 @@ std::vector<Triangle> local_triangulations(const Positions& points, const Neighb
       coincident += has_coincident;
       star.clear();
       if (k >= 2 && r > 0.0 && std::isfinite(r)) {
-        for (int j = 0; j < k; ++j) d[j] /= r;
+        const double inv_r = 1.0 / r;
+        for (int j = 0; j < k; ++j) d[j] *= inv_r;
         Eigen::Vector3d nrm;
         bool have = false;
         if (normals) {
@@ -131,27 +145,79 @@ std::vector<Triangle> local_triangulations(const Positions& points, const Neighb
         const Eigen::Vector3d t1 = nrm.cross(Eigen::Vector3d::Unit(axis)).normalized();
         const Eigen::Vector3d t2 = nrm.cross(t1);
         for (int j = 0; j < k; ++j) q[j] = Eigen::Vector2d(d[j].dot(t1), d[j].dot(t2));
-        delaunay_star(q, star);
+        delaunay_star(q, star, ws);
       }
       if (star.empty()) ++starless;
+      st.offset[i + 1] = static_cast<Index>(star.size());
       for (const auto& ab : star) out.push_back({i, nbr[ab[0]], nbr[ab[1]]});
     }
   }
-  std::size_t total = 0;
-  for (const auto& v : per_thread) total += v.size();
-  std::vector<Triangle> tris;
-  tris.reserve(total);
+  for (Index i = 0; i < n; ++i) st.offset[i + 1] += st.offset[i];
+  st.tris.reserve(st.offset[n]);
   for (auto& v : per_thread) {
-    tris.insert(tris.end(), v.begin(), v.end());
+    st.tris.insert(st.tris.end(), v.begin(), v.end());
     std::vector<Triangle>().swap(v);
   }
   if (report) {
-    report->local_triangles = checked_index(tris.size(), "local_triangulations");
+    report->local_triangles = checked_index(st.tris.size(), "local_triangulations");
     report->starless_points = starless;
     report->normals_from_input = from_normals;
     report->coincident_points = coincident;
   }
-  return tris;
+  return st;
+}
+
+// The distinct triangles of the union of stars, each once: triangle (i, a, b) of star i is
+// kept iff no corner v < i has it in its own star (so it is kept from the first star that has
+// it, with that star's orientation). Counts in how many stars each distinct triangle shows up.
+// copies[c] = how many times a triangle found in c stars is glued in.
+std::vector<Triangle> distinct_triangles(const Stars& st, const int copies[4], Report* report) {
+  const Index n = static_cast<Index>(st.offset.size()) - 1;
+  const Index nt = static_cast<Index>(st.tris.size());
+  auto in_star = [&](Index v, Index x, Index y) {
+    for (Index t = st.offset[v]; t < st.offset[v + 1]; ++t) {
+      const Triangle& u = st.tris[t];
+      if ((u[1] == x && u[2] == y) || (u[1] == y && u[2] == x)) return true;
+    }
+    return false;
+  };
+  std::vector<char> keep(nt);  // 0, or the number of stars with the triangle
+  Index by_stars[4] = {0, 0, 0, 0};
+  Index c1 = 0, c2 = 0, c3 = 0;
+#pragma omp parallel for schedule(static) reduction(+ : c1, c2, c3)
+  for (Index i = 0; i < n; ++i) {
+    for (Index t = st.offset[i]; t < st.offset[i + 1]; ++t) {
+      const Index a = st.tris[t][1], b = st.tris[t][2];
+      const bool in_a = in_star(a, i, b), in_b = in_star(b, i, a);
+      const bool first = !(in_a && a < i) && !(in_b && b < i);
+      keep[t] = first ? static_cast<char>(1 + in_a + in_b) : 0;
+      if (first) {
+        const int c = 1 + in_a + in_b;
+        c1 += c == 1;
+        c2 += c == 2;
+        c3 += c == 3;
+      }
+    }
+  }
+  by_stars[1] = c1, by_stars[2] = c2, by_stars[3] = c3;
+  std::vector<Triangle> out;
+  out.reserve(static_cast<std::size_t>(copies[1] * c1 + copies[2] * c2 + copies[3] * c3));
+  for (Index t = 0; t < nt; ++t) {
+    for (int c = 0; c < copies[static_cast<int>(keep[t])]; ++c) out.push_back(st.tris[t]);
+  }
+  (void)n;
+  if (report) {
+    report->distinct_triangles = c1 + c2 + c3;
+    for (int c = 1; c <= 3; ++c) report->triangles_in_stars[c - 1] = by_stars[c];
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Triangle> local_triangulations(const Positions& points, const Neighbours& nb,
+                                           const Eigen::MatrixX3d* normals, Report* report) {
+  return compute_stars(points, nb, normals, report).tris;
 }
 
 intrinsic::IntrinsicTriangulation pointcloud_triangulation(const Positions& points,
@@ -178,13 +244,28 @@ intrinsic::IntrinsicTriangulation pointcloud_triangulation(const Positions& poin
   rep.seconds_knn = now() - t0;
 
   t0 = now();
-  const std::vector<Triangle> tris =
-      local_triangulations(points, nb, options.use_input_normals ? normals : nullptr, &rep);
+  std::vector<Triangle> tris;
+  int multiplicity = 3;
+  {
+    Stars st = compute_stars(points, nb, options.use_input_normals ? normals : nullptr, &rep);
+    if (options.merge == Options::Merge::kHalf) {
+      const int copies[4] = {0, 1, 1, 2};
+      tris = distinct_triangles(st, copies, &rep);
+      multiplicity = 2;
+    } else if (options.merge == Options::Merge::kUnion) {
+      const int copies[4] = {0, 1, 1, 1};
+      tris = distinct_triangles(st, copies, &rep);
+      multiplicity = 1;
+    } else {
+      rep.distinct_triangles = rep.local_triangles;
+      tris = std::move(st.tris);
+    }
+  }
   rep.seconds_local = now() - t0;
 
   t0 = now();
   intrinsic::IntrinsicTriangulation tri =
-      intrinsic::tufted_cover(tris, points, &rep.cover, /*input_multiplicity=*/3);
+      intrinsic::tufted_cover(tris, points, &rep.cover, multiplicity);
   rep.mollify = tri.mollify(options.mollify_relative_epsilon);
   rep.seconds_cover = now() - t0;
   rep.isolated_points = rep.cover.unreferenced_vertices;

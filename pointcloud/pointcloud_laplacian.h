@@ -21,6 +21,9 @@ struct Options {
   bool use_input_normals = true;         ///< use the given normals where finite and non-zero
   double mollify_relative_epsilon = 1e-5;  ///< see IntrinsicTriangulation::mollify
   bool intrinsic_delaunay = true;        ///< flip the cover to intrinsic Delaunay
+  /// How the local triangles are glued; see pointcloud_triangulation().
+  enum class Merge { kNone, kHalf, kUnion };
+  Merge merge = Merge::kHalf;
   /// @throws InvalidInput if k < 2 or the margin is negative / not finite
   void validate() const;
 };
@@ -31,6 +34,10 @@ struct Report {
   int k = 0;                     ///< neighbours actually used
   Index local_triangles = 0;     ///< triangles over all local triangulations (a triangle found
                                  ///< from each of its three corners counts three times)
+  Index distinct_triangles = 0;  ///< triangles glued into the cover (= local_triangles unless
+                                 ///< merge_identical_triangles)
+  Index triangles_in_stars[3] = {0, 0, 0};  ///< distinct triangles found in 1, 2, 3 stars
+                                            ///< (merge_identical_triangles only)
   Index starless_points = 0;     ///< points whose own neighbourhood gave no triangle: fewer than
                                  ///< 3 distinct neighbours, collinear, or all at the point
   Index isolated_points = 0;     ///< points in no triangle at all: zero row in L, zero mass
