@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include "intrinsic/geometry.h"
@@ -128,8 +132,11 @@ TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint
 SignpostTriangulation::SignpostTriangulation(const std::vector<Triangle>& faces,
                                              const Positions& positions, double mollify_epsilon,
                                              BuildReport* report)
-    : positions_(positions) {
-  input_ = IntrinsicTriangulation::from_positions(faces, positions, report);
+    : positions_(positions), faces_(faces), mollify_epsilon_(mollify_epsilon) {
+  BuildReport build;
+  input_ = IntrinsicTriangulation::from_positions(faces, positions, &build);
+  face_origin_ = build.face_origin;
+  if (report) *report = build;
   if (mollify_epsilon > 0.0) mollify_ = input_.mollify(mollify_epsilon);
   tri_ = input_;
   init_directions(input_, input_direction_, angle_sum_, boundary_);
@@ -398,6 +405,10 @@ std::vector<SurfacePoint> SignpostTriangulation::trace_edge(Index e) const {
   if (tri_.tail(h) >= n_in && tri_.head(h) < n_in && tri_.twin(h) != kInvalidIndex) {
     h = tri_.twin(h);
   }
+  return trace_halfedge(h);
+}
+
+std::vector<SurfacePoint> SignpostTriangulation::trace_halfedge(Index h) const {
   return trace_from_vertex(tri_.tail(h), direction_[h], tri_.halfedge_length(h), true).path;
 }
 
@@ -530,6 +541,180 @@ Eigen::VectorXd SignpostTriangulation::intrinsic_to_input(const Eigen::VectorXd&
                        std::to_string(tri_.n_vertices()) + " intrinsic vertices");
   }
   return x.head(n_input_vertices());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Saving and restoring: the "ifem-signpost 1" text format. One record per line, fields
+// separated by spaces, doubles printed with %.17g (exact round trip), ids 0-based, -1 = none:
+//
+//   ifem-signpost 1
+//   mollify EPS                      relative mollification the input was built with
+//   input_vertices NV                then NV lines "x y z"
+//   input_faces NF                   then NF lines "a b c" (the faces as given, unrepaired)
+//   intrinsic NVI NFI                intrinsic vertex and face counts (NVI ≥ NV)
+//   halfedges                        then 3·NFI lines "tail twin length direction" for
+//                                    halfedge 3f+s (corner s of face f): tail vertex, glued
+//                                    halfedge (-1 on the boundary), edge length, signpost
+//   vertices                         then NVI lines "angle_sum boundary face b0 b1 b2 frame":
+//                                    total angle Θ_v, 1 on the boundary, location on the input
+//                                    (input() face and barycentric coordinates), and for
+//                                    inserted vertices the angle of direction 0 in that face
+//   end
+//
+// Input vertices are intrinsic vertices 0..NV-1. Lines starting with '#' are comments.
+
+void SignpostTriangulation::save(const std::string& path) const {
+  const std::string tmp = path + ".tmp";
+  std::FILE* f = std::fopen(tmp.c_str(), "w");
+  if (!f) throw IoError(path + ": cannot open for writing");
+  std::fprintf(f, "ifem-signpost 1\n# intrinsic triangulation with signposts over its input\n");
+  std::fprintf(f, "mollify %.17g\n", mollify_epsilon_);
+  std::fprintf(f, "input_vertices %ld\n", long(positions_.rows()));
+  for (Eigen::Index v = 0; v < positions_.rows(); ++v) {
+    std::fprintf(f, "%.17g %.17g %.17g\n", positions_(v, 0), positions_(v, 1), positions_(v, 2));
+  }
+  std::fprintf(f, "input_faces %zu\n", faces_.size());
+  for (const Triangle& t : faces_) std::fprintf(f, "%d %d %d\n", int(t[0]), int(t[1]), int(t[2]));
+  std::fprintf(f, "intrinsic %d %d\nhalfedges\n", int(tri_.n_vertices()), int(tri_.n_faces()));
+  for (Index h = 0; h < tri_.n_halfedges(); ++h) {
+    std::fprintf(f, "%d %d %.17g %.17g\n", int(tri_.tail(h)), int(tri_.twin(h)),
+                 tri_.halfedge_length(h), direction_[h]);
+  }
+  std::fprintf(f, "vertices\n");
+  for (Index v = 0; v < tri_.n_vertices(); ++v) {
+    const SurfacePoint& p = location_[v];
+    std::fprintf(f, "%.17g %d %d %.17g %.17g %.17g %.17g\n", angle_sum_[v], int(boundary_[v]),
+                 int(p.face), p.bary[0], p.bary[1], p.bary[2], frame_[v]);
+  }
+  std::fprintf(f, "end\n");
+  const bool ok = std::ferror(f) == 0;
+  if (std::fclose(f) != 0 || !ok) {
+    std::remove(tmp.c_str());
+    throw IoError(path + ": write failed");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw IoError(path + ": cannot rename " + tmp + ": " + ec.message());
+  }
+}
+
+namespace {
+
+// Line reader for load(): skips blank lines and '#' comments, names the line in errors.
+class LineReader {
+ public:
+  LineReader(const std::string& path) : path_(path), in_(path) {
+    if (!in_) throw IoError(path + ": cannot open");
+  }
+  std::istringstream next(const char* what) {
+    std::string line;
+    while (std::getline(in_, line)) {
+      ++lineno_;
+      if (line.empty() || line[0] == '#') continue;
+      return std::istringstream(line);
+    }
+    throw IoError(path_ + ": unexpected end of file, expected " + what);
+  }
+  [[noreturn]] void fail(const std::string& msg) const {
+    throw IoError(path_ + ":" + std::to_string(lineno_) + ": " + msg);
+  }
+  void keyword(const char* word, long* a = nullptr, long* b = nullptr) {
+    std::istringstream ss = next(word);
+    std::string w;
+    ss >> w;
+    if (w != word) fail(std::string("expected '") + word + "', got '" + w + "'");
+    if (a && !(ss >> *a)) fail(std::string("'") + word + "' needs a count");
+    if (b && !(ss >> *b)) fail(std::string("'") + word + "' needs two counts");
+  }
+  template <class... X>
+  void values(const char* what, X&... x) {
+    std::istringstream ss = next(what);
+    std::string rest;
+    if (!((ss >> x) && ...) || (ss >> rest)) fail(std::string("expected ") + what);
+  }
+
+ private:
+  std::string path_;
+  std::ifstream in_;
+  long lineno_ = 0;
+};
+
+}  // namespace
+
+SignpostTriangulation SignpostTriangulation::load(const std::string& path) {
+  LineReader r(path);
+  {
+    std::istringstream ss = r.next("header");
+    std::string magic;
+    int version = 0;
+    ss >> magic >> version;
+    if (magic != "ifem-signpost") r.fail("not an ifem-signpost file");
+    if (version != 1) r.fail("unsupported version " + std::to_string(version) + " (this reads 1)");
+  }
+  std::istringstream ms = r.next("mollify");
+  std::string w;
+  double eps = 0;
+  if (!(ms >> w >> eps) || w != "mollify" || !(eps >= 0)) r.fail("expected 'mollify EPS'");
+  long nv = 0, nf = 0;
+  r.keyword("input_vertices", &nv);
+  if (nv < 0 || nv > std::numeric_limits<Index>::max()) r.fail("bad vertex count");
+  Positions x(nv, 3);
+  for (long v = 0; v < nv; ++v) r.values("'x y z'", x(v, 0), x(v, 1), x(v, 2));
+  r.keyword("input_faces", &nf);
+  if (nf < 0 || nf > std::numeric_limits<Index>::max() / 3) r.fail("bad face count");
+  std::vector<Triangle> faces(nf);
+  for (long f = 0; f < nf; ++f) {
+    long a, b, c;
+    r.values("'a b c'", a, b, c);
+    for (const long i : {a, b, c}) {
+      if (i < 0 || i >= nv) r.fail("vertex id " + std::to_string(i) + " out of range");
+    }
+    faces[f] = {Index(a), Index(b), Index(c)};
+  }
+  long nvi = 0, nfi = 0;
+  r.keyword("intrinsic", &nvi, &nfi);
+  if (nvi < nv || nfi < 0 || nfi > std::numeric_limits<Index>::max() / 3 ||
+      nvi > std::numeric_limits<Index>::max()) {
+    r.fail("bad intrinsic counts");
+  }
+  r.keyword("halfedges");
+  const long nh = 3 * nfi;
+  std::vector<Index> tail(nh), twin(nh);
+  std::vector<double> len(nh), dir(nh);
+  for (long h = 0; h < nh; ++h) {
+    long t, tw;
+    r.values("'tail twin length direction'", t, tw, len[h], dir[h]);
+    if (t < 0 || t >= nvi || tw < -1 || tw >= nh) r.fail("halfedge id out of range");
+    tail[h] = Index(t);
+    twin[h] = tw < 0 ? kInvalidIndex : Index(tw);
+  }
+  r.keyword("vertices");
+  SignpostTriangulation st(faces, x, eps);
+  if (st.input_.n_vertices() != Index(nv)) r.fail("input vertex count mismatch");
+  st.angle_sum_.resize(nvi);
+  st.boundary_.resize(nvi);
+  st.location_.resize(nvi);
+  st.frame_.resize(nvi);
+  for (long v = 0; v < nvi; ++v) {
+    long b, f;
+    SurfacePoint& p = st.location_[v];
+    r.values("'angle_sum boundary face b0 b1 b2 frame'", st.angle_sum_[v], b, f, p.bary[0],
+             p.bary[1], p.bary[2], st.frame_[v]);
+    if (f < -1 || f >= st.input_.n_faces()) r.fail("location face out of range");
+    st.boundary_[v] = char(b != 0);
+    p.face = f < 0 ? kInvalidIndex : Index(f);
+  }
+  r.keyword("end");
+  try {
+    st.tri_ = IntrinsicTriangulation::from_gluing(std::move(tail), std::move(twin), len,
+                                                  Index(nvi));
+  } catch (const InvalidInput& e) {
+    throw IoError(path + ": intrinsic triangulation: " + e.what());
+  }
+  st.direction_ = std::move(dir);
+  return st;
 }
 
 }  // namespace ifem::intrinsic

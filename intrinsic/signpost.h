@@ -65,11 +65,30 @@ class SignpostTriangulation {
   SignpostTriangulation(const std::vector<Triangle>& faces, const Positions& positions,
                         double mollify_epsilon = 0.0, BuildReport* report = nullptr);
 
+  // ===== Saving and restoring (format "ifem-signpost 1", documented in signpost.cpp) =====
+
+  /// Writes the input (positions, faces as given, mollification) and the intrinsic
+  /// triangulation (gluing, lengths, signposts, vertex locations) to a text file, every double
+  /// with 17 significant digits so that load() restores it bit for bit. Atomic (path.tmp, then
+  /// rename). @throws IoError if the file cannot be written
+  void save(const std::string& path) const;
+  /// Reads a file written by save(): the input is rebuilt from its faces and positions (same
+  /// repairs, same mollification), the intrinsic triangulation from its gluing. Halfedges,
+  /// lengths, signposts and vertex locations are identical to the saved ones; edge ids are
+  /// renumbered (edge e of the loaded triangulation is the edge of its halfedge
+  /// edge_halfedge(e)). @throws IoError on a malformed file (naming the line)
+  static SignpostTriangulation load(const std::string& path);
+
   // ===== Access =====
   const IntrinsicTriangulation& intrinsic() const { return tri_; }
   const IntrinsicTriangulation& input() const { return input_; }
   const Positions& input_positions() const { return positions_; }
   const MollifyReport& mollify_report() const { return mollify_; }
+  /// The faces given to the constructor, as given (before dropping / reorienting).
+  const std::vector<Triangle>& input_faces() const { return faces_; }
+  /// For each face of input(), the index of the given face it came from.
+  const std::vector<Index>& input_face_origin() const { return face_origin_; }
+  double mollify_epsilon() const { return mollify_epsilon_; }
   Index n_input_vertices() const { return input_.n_vertices(); }
   /// Θ_v, the total angle of intrinsic vertex v (2π at inserted interior vertices, π on the
   /// boundary).
@@ -110,6 +129,9 @@ class SignpostTriangulation {
   /// input vertex when there is one.
   /// @throws Error when tracing fails (too many crossings on a degenerate input)
   std::vector<SurfacePoint> trace_edge(Index e) const;
+  /// Traces intrinsic halfedge h from its tail to its head: the segment between path[i] and
+  /// path[i+1] lies in input face path[i].face (path[i+1] may be expressed in the next face).
+  std::vector<SurfacePoint> trace_halfedge(Index h) const;
   /// Traces every intrinsic edge; polylines in 3D.
   std::vector<std::vector<Eigen::Vector3d>> traced_edges_3d() const;
 
@@ -123,6 +145,7 @@ class SignpostTriangulation {
   Eigen::VectorXd intrinsic_to_input(const Eigen::VectorXd& intrinsic_values) const;
 
  private:
+  SignpostTriangulation() = default;
   void init_directions(const IntrinsicTriangulation& t, std::vector<double>& dir,
                        std::vector<double>& sum, std::vector<char>& boundary) const;
   double wrap(Index v, double a) const;
@@ -135,6 +158,9 @@ class SignpostTriangulation {
   IntrinsicTriangulation input_;
   IntrinsicTriangulation tri_;
   Positions positions_;
+  std::vector<Triangle> faces_;      // as given
+  std::vector<Index> face_origin_;   // #F input: index into faces_
+  double mollify_epsilon_ = 0.0;
   MollifyReport mollify_;
   std::vector<double> input_direction_;  // #H input: signposts of the input halfedges
   std::vector<double> input_corner_;     // #H input: corner angle at each halfedge's tail
@@ -145,6 +171,28 @@ class SignpostTriangulation {
   std::vector<double> frame_;            // #V: for inserted vertices, the angle (in the layout
                                          // of its location face) of signpost direction 0
 };
+
+/// The common subdivision of a signpost triangulation: the overlay of the intrinsic and the
+/// input triangulations, as a 3D triangle mesh on the input surface. Each of its polygons (the
+/// intersection of one intrinsic face with one input face, convex) is split into a fan of
+/// triangles, which record both faces. Its total area is the input's.
+struct CommonSubdivision {
+  Positions positions;                ///< vertices: input vertices first (same ids), then
+                                      ///< inserted intrinsic vertices, then edge crossings
+  std::vector<Triangle> faces;
+  std::vector<Index> intrinsic_face;  ///< per face: the intrinsic face it lies in
+  std::vector<Index> input_face;      ///< per face: the input face, as an index into the
+                                      ///< faces given (SignpostTriangulation::input_faces())
+};
+
+/// Builds the common subdivision by tracing every intrinsic edge over the input and cutting
+/// each input face along the traced segments. @throws Error when a trace fails
+CommonSubdivision common_subdivision(const SignpostTriangulation& st);
+
+/// Writes a common subdivision as a PLY triangle mesh with face properties `intrinsic_face`
+/// and `input_face` (int). Atomic. @throws IoError if the file cannot be written
+void write_common_subdivision_ply(const std::string& path, const CommonSubdivision& cs,
+                                  bool binary = true);
 
 /// Writes polylines (e.g. SignpostTriangulation::traced_edges_3d()) as a PLY line set:
 /// vertices (x, y, z as double) and edges (vertex1, vertex2 as int), binary little-endian or

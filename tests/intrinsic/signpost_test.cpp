@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "helpers.h"
@@ -302,6 +303,148 @@ TEST(Refine, SharedCorpusManifoldMeshes) {
     ++tested;
   }
   EXPECT_GT(tested, 0);
+}
+
+}  // namespace
+}  // namespace ifem::intrinsic
+
+namespace ifem::intrinsic {
+namespace {
+
+double mesh_area(const Positions& x, const std::vector<Triangle>& faces) {
+  double a = 0.0;
+  for (const Triangle& t : faces) {
+    const Eigen::Vector3d p = x.row(t[0]), q = x.row(t[1]), r = x.row(t[2]);
+    a += 0.5 * (q - p).cross(r - p).norm();
+  }
+  return a;
+}
+
+// The overlay covers the input exactly once: total area = the input's, each input face's
+// pieces add up to its area, and every piece knows its intrinsic face, whose pieces add up to
+// the intrinsic face's area.
+void expect_common_subdivision(const SignpostTriangulation& st, const TriangleMesh& m) {
+  const CommonSubdivision cs = common_subdivision(st);
+  ASSERT_EQ(cs.faces.size(), cs.intrinsic_face.size());
+  ASSERT_EQ(cs.faces.size(), cs.input_face.size());
+  const double area_in = mesh_area(m.positions, m.faces);
+  EXPECT_NEAR(mesh_area(cs.positions, cs.faces), area_in, 1e-9 * area_in);
+  std::vector<double> per_input(m.faces.size(), 0.0);
+  std::vector<double> per_intrinsic(st.intrinsic().n_faces(), 0.0);
+  for (std::size_t i = 0; i < cs.faces.size(); ++i) {
+    ASSERT_GE(cs.intrinsic_face[i], 0) << "piece " << i << " has no intrinsic face";
+    ASSERT_LT(cs.intrinsic_face[i], st.intrinsic().n_faces());
+    ASSERT_GE(cs.input_face[i], 0);
+    ASSERT_LT(cs.input_face[i], Index(m.faces.size()));
+    const double a = mesh_area(cs.positions, {cs.faces[i]});
+    per_input[cs.input_face[i]] += a;
+    per_intrinsic[cs.intrinsic_face[i]] += a;
+  }
+  for (std::size_t f = 0; f < m.faces.size(); ++f) {
+    EXPECT_NEAR(per_input[f], mesh_area(m.positions, {m.faces[f]}), 1e-9 * area_in) << f;
+  }
+  // intrinsic areas are of the mollified lengths: compare loosely
+  for (Index f = 0; f < st.intrinsic().n_faces(); ++f) {
+    EXPECT_NEAR(per_intrinsic[f], face_area(st.intrinsic(), f), 1e-6 * area_in) << f;
+  }
+  // input vertices keep their ids
+  for (Eigen::Index v = 0; v < m.positions.rows(); ++v) {
+    ASSERT_EQ(Eigen::Vector3d(cs.positions.row(v)), Eigen::Vector3d(m.positions.row(v)));
+  }
+}
+
+TEST(CommonSubdivision, AreaMatchesInputAfterFlipsAndRefinement) {
+  struct Case {
+    const char* name;
+    TriangleMesh mesh;
+  };
+  const Case cases[] = {{"jittered icosphere", jittered(icosphere(3), 0.15, 2)},
+                        {"needle uv sphere", uv_sphere(8, 60)},
+                        {"jittered grid (boundary)", jittered(grid(8, 8), 0.06, 8)}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    SignpostTriangulation st(c.mesh.faces, c.mesh.positions);
+    expect_common_subdivision(st, c.mesh);  // the input itself: one piece per face
+    EXPECT_EQ(common_subdivision(st).faces.size(), c.mesh.faces.size());
+    st.flip_to_delaunay();
+    expect_common_subdivision(st, c.mesh);
+    delaunay_refine(st);
+    expect_common_subdivision(st, c.mesh);
+  }
+}
+
+TEST(CommonSubdivision, SharedSpotRefined) {
+  const auto path = test::test_data() / "spot.obj";
+  const io::SurfaceInput in = io::read_mesh(path.string());
+  SignpostTriangulation st(in.triangles, in.positions, 1e-5);
+  delaunay_refine(st);
+  TriangleMesh m;
+  m.positions = in.positions;
+  m.faces = in.triangles;
+  expect_common_subdivision(st, m);
+  const auto tmp = std::filesystem::temp_directory_path() / "ifem_cs_test.ply";
+  write_common_subdivision_ply(tmp.string(), common_subdivision(st), false);
+  EXPECT_GT(std::filesystem::file_size(tmp), 1000u);
+  std::filesystem::remove(tmp);
+}
+
+TEST(SignpostSave, RoundTripIsExact) {
+  const TriangleMesh m = jittered(grid(9, 7), 0.05, 3);
+  SignpostTriangulation st(m.faces, m.positions, 1e-5);
+  delaunay_refine(st);
+  const auto tmp = std::filesystem::temp_directory_path() / "ifem_signpost_test.ifem";
+  st.save(tmp.string());
+  const SignpostTriangulation back = SignpostTriangulation::load(tmp.string());
+  std::filesystem::remove(tmp);
+  const IntrinsicTriangulation &a = st.intrinsic(), &b = back.intrinsic();
+  ASSERT_EQ(a.n_vertices(), b.n_vertices());
+  ASSERT_EQ(a.n_halfedges(), b.n_halfedges());
+  EXPECT_EQ(back.n_input_vertices(), st.n_input_vertices());
+  for (Index h = 0; h < a.n_halfedges(); ++h) {
+    ASSERT_EQ(a.tail(h), b.tail(h)) << h;
+    ASSERT_EQ(a.twin(h), b.twin(h)) << h;
+    ASSERT_EQ(a.halfedge_length(h), b.halfedge_length(h)) << h;
+    ASSERT_EQ(st.halfedge_direction(h), back.halfedge_direction(h)) << h;
+  }
+  for (Index v = 0; v < a.n_vertices(); ++v) {
+    ASSERT_EQ(st.vertex_location(v).face, back.vertex_location(v).face);
+    ASSERT_EQ(st.vertex_location(v).bary, back.vertex_location(v).bary);
+    ASSERT_EQ(st.vertex_angle_sum(v), back.vertex_angle_sum(v));
+  }
+  for (Index h = 0; h < a.n_halfedges(); ++h) {
+    const auto p = st.trace_halfedge(h), q = back.trace_halfedge(h);
+    ASSERT_EQ(p.size(), q.size()) << h;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      ASSERT_EQ(p[i].face, q[i].face);
+      ASSERT_EQ(p[i].bary, q[i].bary);
+    }
+  }
+  // the restored one keeps working: insert, flip, transfer
+  SignpostTriangulation c = SignpostTriangulation::load([&] {
+    st.save(tmp.string());
+    return tmp.string();
+  }());
+  std::filesystem::remove(tmp);
+  c.insert_vertex(0, Eigen::Vector3d(0.3, 0.3, 0.4));
+  c.flip_to_delaunay();
+  expect_traces_consistent(c);
+}
+
+TEST(SignpostSave, MalformedFilesNameTheProblem) {
+  const auto tmp = std::filesystem::temp_directory_path() / "ifem_signpost_bad.ifem";
+  auto write = [&](const std::string& text) {
+    std::FILE* f = std::fopen(tmp.string().c_str(), "w");
+    std::fputs(text.c_str(), f);
+    std::fclose(f);
+  };
+  write("ply\n");
+  EXPECT_THROW(SignpostTriangulation::load(tmp.string()), IoError);
+  write("ifem-signpost 2\n");
+  EXPECT_THROW(SignpostTriangulation::load(tmp.string()), IoError);
+  write("ifem-signpost 1\nmollify 0\ninput_vertices 3\n0 0 0\n1 0 0\n");
+  EXPECT_THROW(SignpostTriangulation::load(tmp.string()), IoError);
+  std::filesystem::remove(tmp);
+  EXPECT_THROW(SignpostTriangulation::load(tmp.string()), IoError);
 }
 
 }  // namespace
