@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "cli.h"
+#include "cli_refine.h"
 #include "cli_solver_util.h"
 #include "intrinsic/errors.h"
 #include "solvers/eigen.h"
@@ -18,6 +19,9 @@ int run(const Args& args) {
   if (k < 1) throw InvalidInput("-k must be ≥ 1");
   PreparedSurface s = prepare_surface(args.positional()[0], args);
   const Index nv = Index(s.input.positions.rows());
+  // refined: input vertices keep ids 0..nv-1, so the eigenvectors restricted to them are the
+  // values on the input's vertices (inserted vertices only enrich the discretization)
+  if (args.has("refine")) refine_prepared(s, args);
   const double t0 = now_seconds();
   const solvers::EigenPairs ep = solvers::eigenpairs(s.tri, Index(k));
   progress(args, "eigenpairs in " + std::to_string(now_seconds() - t0) + " s");
@@ -42,7 +46,8 @@ Command eigen_command() {
   c.name = "eigen";
   c.summary = "smallest Laplace–Beltrami eigenpairs (L φ = λ M φ) as PLY properties";
   c.help = std::string(
-               "usage: ifem eigen MESH -k K -o OUT.ply [surface options]\n\n"
+               "usage: ifem eigen MESH -k K -o OUT.ply [--refine [refinement options]] "
+               "[surface options]\n\n"
                "Computes the K smallest eigenvalues λ and eigenvectors φ of L φ = λ M φ (L the\n"
                "intrinsic Delaunay cotan Laplacian, PSD; M the lumped mass) by shift-invert\n"
                "Lanczos with a sparse Cholesky factor.\n"
@@ -53,11 +58,16 @@ Command eigen_command() {
                "  -o, --output OUT.ply the input mesh with per-vertex properties phi0..phiK-1,\n"
                "                       in the input's vertex order; the eigenvalues go to\n"
                "                       OUT.eigenvalues.txt (one per line) and to stdout\n\n"
+               "  --refine             intrinsic Delaunay refinement first (options below); λ and\n"
+               "                       φ are of the refined triangulation, φ reported on the\n"
+               "                       input's vertices (manifold path only)\n\n"
                "example: ifem eigen spot.obj -k 20 -o spot_modes.ply\n\n") +
-           kSurfaceHelp;
+           kRefineHelp + "\n" + kSurfaceHelp;
   c.flags = kSurfaceFlags;
+  c.flags.insert("refine");
   c.options = kSurfaceOptions;
   c.options.insert({"output", "k"});
+  c.options.insert(kRefineOptions.begin(), kRefineOptions.end());
   c.run = run;
   return c;
 }

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "cli_refine.h"
 #include "cli_solver_util.h"
 #include "intrinsic/errors.h"
 #include "solvers/poisson.h"
@@ -47,18 +48,29 @@ int run(const Args& args) {
   if (ext != ".ply" && ext != ".txt") throw InvalidInput("-o " + out + ": use .ply or .txt");
   PreparedSurface s = prepare_surface(args.positional()[0], args);
   const Index nv = Index(s.input.positions.rows());
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(s.tri.n_vertices());
+  // read the data before the (slow) refinement so bad files fail fast
+  Eigen::VectorXd f_in = Eigen::VectorXd::Zero(nv);
   if (args.has("rhs")) {
     const Eigen::VectorXd r = io::read_values(args.get("rhs"));
     if (r.size() != nv) {
       throw InvalidInput("--rhs " + args.get("rhs") + ": " + std::to_string(r.size()) +
                          " values, expected one per input vertex (" + std::to_string(nv) + ")");
     }
-    f.head(nv) = r;
+    f_in = r;
   }
   std::vector<Index> dv;
   std::vector<double> dval;
   if (args.has("dirichlet")) read_dirichlet(args.get("dirichlet"), nv, dv, dval);
+  // refined: f is interpolated linearly onto the inserted vertices (they lie on input faces);
+  // the Dirichlet vertices are input vertices, which keep their ids
+  Eigen::VectorXd f;
+  if (args.has("refine")) {
+    const intrinsic::SignpostTriangulation st = refine_prepared(s, args);
+    f = st.input_to_intrinsic(f_in);
+  } else {
+    f = Eigen::VectorXd::Zero(s.tri.n_vertices());
+    f.head(nv) = f_in;
+  }
   solvers::PoissonOptions opt;
   opt.screening = args.get_double("screening", 0.0);
   const double t0 = now_seconds();
@@ -84,7 +96,7 @@ Command poisson_command() {
   c.summary = "solve (L + cM) u = M f with Dirichlet values on any vertices";
   c.help = std::string(
                "usage: ifem poisson MESH [--dirichlet FILE] [--rhs FILE] [--screening c] -o OUT "
-               "[surface options]\n\n"
+               "[--refine [refinement options]] [surface options]\n\n"
                "Solves the Poisson problem −Δu = f, i.e. L u = M f (L the intrinsic Delaunay\n"
                "cotan Laplacian, PSD; M the lumped mass), or the screened problem\n"
                "(L + cM) u = M f, with u fixed on the Dirichlet vertices and natural (zero\n"
@@ -101,11 +113,17 @@ Command poisson_command() {
                "Without Dirichlet data (and c = 0) a connected component is pure Neumann: f is\n"
                "made compatible by removing its mass-weighted mean and the zero-mean solution is\n"
                "returned. Vertices used by no face get 0 (or their Dirichlet value).\n\n"
+               "  --refine           intrinsic Delaunay refinement first (options below): f is\n"
+               "                     interpolated linearly onto inserted vertices, the Dirichlet\n"
+               "                     vertices stay input vertices, u is reported on the input's\n"
+               "                     vertices (manifold path only)\n\n"
                "example: ifem poisson disk.obj --dirichlet bc.txt -o u.ply\n\n") +
-           kSurfaceHelp;
+           kRefineHelp + "\n" + kSurfaceHelp;
   c.flags = kSurfaceFlags;
+  c.flags.insert("refine");
   c.options = kSurfaceOptions;
   c.options.insert({"output", "dirichlet", "rhs", "screening"});
+  c.options.insert(kRefineOptions.begin(), kRefineOptions.end());
   c.run = run;
   return c;
 }

@@ -24,6 +24,12 @@ intrinsic::RefineOptions refine_options(const Args& args) {
   return o;
 }
 
+std::string refine_unsupported(const PreparedSurface& s) {
+  return "refinement supports the manifold path only (edge-manifold, orientable meshes, with a "
+         "boundary only when no boundary edge keeps a negative cotan weight); this input took "
+         "the " + s.path + " path (" + s.path_reason + ")";
+}
+
 namespace {
 
 std::string describe(const intrinsic::RefineReport& r) {
@@ -44,10 +50,7 @@ std::string describe(const intrinsic::RefineReport& r) {
 
 intrinsic::SignpostTriangulation refine_prepared(PreparedSurface& s, const Args& args,
                                                  intrinsic::RefineReport* report) {
-  if (s.path != "manifold") {
-    throw InvalidInput("--refine needs an edge-manifold, orientable mesh (this input took the " +
-                       s.path + " path: " + s.path_reason + ")");
-  }
+  if (s.path != "manifold") throw InvalidInput(refine_unsupported(s));
   const double t0 = now_seconds();
   intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
                                       args.get_double("mollify", 1e-5));
@@ -70,31 +73,61 @@ double input_min_angle(const PreparedSurface& s) {
 
 int run(const Args& args) {
   if (args.positional().size() != 1) throw InvalidInput("expected one input file (see --help)");
-  if (!args.has("output")) throw InvalidInput("missing -o OUT.ply (see --help)");
-  PreparedSurface s = prepare_surface(args.positional()[0], args);
-  if (s.path != "manifold") {
-    throw InvalidInput("refine needs an edge-manifold, orientable mesh (this input took the " +
-                       s.path + " path: " + s.path_reason + ")");
+  if (!args.has("output") && !args.has("save") && !args.has("lines") && !args.has("mesh")) {
+    throw InvalidInput("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
   }
+  PreparedSurface s = prepare_surface(args.positional()[0], args);
+  if (s.path != "manifold") throw InvalidInput(refine_unsupported(s));
   const double min_in = input_min_angle(s);
   intrinsic::RefineReport r;
   const intrinsic::SignpostTriangulation st = refine_prepared(s, args, &r);
-  const double t0 = now_seconds();
-  const auto lines = st.traced_edges_3d();
+  // everything is computed before the first file is written: no partial output on a failure
+  double t0 = now_seconds();
   const bool binary = !args.has("ascii");
-  intrinsic::write_polylines_ply(args.get("output"), lines, binary);
-  progress(args, "traced " + std::to_string(lines.size()) + " intrinsic edges over the input in " +
-                     std::to_string(now_seconds() - t0) + " s");
+  intrinsic::CommonSubdivision cs;
+  if (args.has("output")) {
+    cs = intrinsic::common_subdivision(st);
+    progress(args, "common subdivision: " + std::to_string(cs.faces.size()) + " triangles in " +
+                       std::to_string(now_seconds() - t0) + " s");
+  }
+  std::vector<std::vector<Eigen::Vector3d>> lines;
+  if (args.has("lines")) {
+    t0 = now_seconds();
+    lines = st.traced_edges_3d();
+    progress(args, "traced " + std::to_string(lines.size()) +
+                       " intrinsic edges over the input in " +
+                       std::to_string(now_seconds() - t0) + " s");
+  }
+  std::vector<Triangle> faces;
+  Eigen::VectorXd inserted;
+  const auto& tri = st.intrinsic();
   if (args.has("mesh")) {
-    const auto& tri = st.intrinsic();
-    std::vector<Triangle> faces(tri.n_faces());
+    faces.resize(tri.n_faces());
     for (Index f = 0; f < tri.n_faces(); ++f) {
       faces[f] = {tri.tail(3 * f), tri.tail(3 * f + 1), tri.tail(3 * f + 2)};
     }
-    Eigen::VectorXd inserted(tri.n_vertices());
+    inserted.resize(tri.n_vertices());
     for (Index v = 0; v < tri.n_vertices(); ++v) inserted[v] = v >= st.n_input_vertices();
+  }
+  std::vector<std::string> wrote;
+  if (args.has("output")) {
+    intrinsic::write_common_subdivision_ply(args.get("output"), cs, binary);
+    wrote.push_back(args.get("output") + " (common subdivision, " +
+                    std::to_string(cs.faces.size()) + " triangles)");
+  }
+  if (args.has("lines")) {
+    intrinsic::write_polylines_ply(args.get("lines"), lines, binary);
+    wrote.push_back(args.get("lines") + " (" + std::to_string(lines.size()) +
+                    " traced edges, PLY line set)");
+  }
+  if (args.has("mesh")) {
     io::write_ply(args.get("mesh"), st.vertex_positions(), faces, {{"inserted", inserted}},
                   binary);
+    wrote.push_back(args.get("mesh") + " (refined triangulation)");
+  }
+  if (args.has("save")) {
+    st.save(args.get("save"));
+    wrote.push_back(args.get("save") + " (intrinsic triangulation, ifem-signpost 1)");
   }
   std::printf("vertices: %d input -> %d refined (%d inserted)\n", r.vertices_before,
               r.vertices_after, r.insertions);
@@ -109,9 +142,7 @@ int run(const Args& args) {
     std::printf("stopped at the insertion cap: %d triangles still below the bounds\n",
                 r.bad_faces_left);
   }
-  std::printf("wrote %s (%zu traced edges as a PLY line set)%s%s\n", args.get("output").c_str(),
-              lines.size(), args.has("mesh") ? ", " : "",
-              args.has("mesh") ? args.get("mesh").c_str() : "");
+  for (const std::string& w : wrote) std::printf("wrote %s\n", w.c_str());
   return 0;
 }
 
@@ -120,28 +151,40 @@ int run(const Args& args) {
 Command refine_command() {
   Command c;
   c.name = "refine";
-  c.summary = "intrinsic Delaunay refinement (min angle), traced edges as a PLY line set";
+  c.summary = "intrinsic Delaunay refinement (min angle); common subdivision as a PLY mesh";
   c.help = std::string(
                "usage: ifem refine MESH [--min-angle A] [--max-area X] [--max-insertions N]\n"
-               "                   -o OUT.ply [--mesh REFINED.ply] [--ascii] [surface options]\n\n"
+               "                   -o OUT.ply [--lines LINES.ply] [--mesh REFINED.ply]\n"
+               "                   [--save FILE.ifem] [--ascii] [surface options]\n\n"
                "Refines the intrinsic Delaunay triangulation of MESH by inserting circumcenters\n"
                "(Chew's second algorithm, located on the surface with signposts) until every\n"
                "triangle has all corner angles ≥ A. The surface itself never changes: inserted\n"
                "vertices lie on the input's triangles. Triangles whose small angle sits at a\n"
                "cone vertex with total angle below the bound (2× it inside) cannot be fixed and\n"
                "are left alone and counted.\n\n"
-               "  -o, --output OUT.ply   the intrinsic edges traced over the input surface, as a\n"
+               "  -o, --output OUT.ply   the common subdivision: the overlay of the intrinsic and\n"
+               "                         input triangulations as a triangle mesh on the input\n"
+               "                         surface (each overlay polygon fanned into triangles),\n"
+               "                         face properties 'intrinsic_face' and 'input_face'\n"
+               "                         (0-based, input faces in the file's order)\n"
+               "  --lines LINES.ply      the intrinsic edges traced over the input surface, as a\n"
                "                         PLY line set (vertex + edge elements)\n"
-               "  --mesh FILE.ply        also the refined triangulation, inserted vertices at\n"
-               "                         their positions on the surface (property 'inserted')\n"
-               "  --ascii                ASCII PLY instead of binary\n\n") +
+               "  --mesh FILE.ply        the refined triangulation, inserted vertices at their\n"
+               "                         positions on the surface (property 'inserted')\n"
+               "  --save FILE.ifem       the input and the intrinsic triangulation (gluing,\n"
+               "                         lengths, signposts, inserted-vertex locations) as text,\n"
+               "                         format 'ifem-signpost 1' (intrinsic/signpost.cpp)\n"
+               "  --ascii                ASCII PLY instead of binary\n"
+               "Supported inputs: the manifold path only (edge-manifold, orientable meshes; with\n"
+               "a boundary, only when no boundary edge keeps a negative cotan weight); other\n"
+               "inputs are an error.\n\n") +
            kRefineHelp + "\n" + kSurfaceHelp;
   c.flags = kSurfaceFlags;
   c.flags.insert("ascii");
   c.options = kSurfaceOptions;
   c.options.insert(kRefineOptions.begin(), kRefineOptions.end());
   c.options.insert("output");
-  c.options.insert("mesh");
+  c.options.insert({"mesh", "lines", "save"});
   c.run = run;
   return c;
 }

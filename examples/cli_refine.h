@@ -16,6 +16,9 @@ extern const std::set<std::string> kRefineOptions;
 /// Help text for them (and for the --refine flag of the solver commands).
 extern const char* const kRefineHelp;
 
+/// The error message for a surface refinement does not support (not the manifold path).
+std::string refine_unsupported(const PreparedSurface& s);
+
 /// Reads --min-angle (default 25), --max-area (default none), --max-insertions (default
 /// 10 × input vertices).
 intrinsic::RefineOptions refine_options(const Args& args);
