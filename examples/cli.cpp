@@ -1,12 +1,17 @@
 #include "cli.h"
 
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
+#include <utility>
 
 #include "intrinsic/errors.h"
 #include "intrinsic/surface_triangulation.h"
+#ifdef IFEM_HAVE_PCL
+#include "pointcloud/pcl_adapter.h"
+#endif
 
 namespace ifem::cli {
 
@@ -104,10 +109,32 @@ void progress(const Args& args, const std::string& line) {
 }
 
 
+// .pcd goes through the optional PCL adapter; everything else through io::read_surface.
+static io::SurfaceInput read_input(const std::string& file) {
+  std::string ext = file.size() >= 4 ? file.substr(file.size() - 4) : "";
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".pcd") return io::read_surface(file);
+#ifdef IFEM_HAVE_PCL
+  pointcloud::PclPoints pts = pointcloud::read_pcd(file);
+  io::SurfaceInput in;
+  in.positions = std::move(pts.positions);
+  if (pts.has_normals()) in.normals = std::move(pts.normals);
+  in.format = "pcd";
+  if (pts.dropped_non_finite > 0) {
+    std::fprintf(stderr, "ifem: %s: dropped %d points with non-finite coordinates\n",
+                 file.c_str(), pts.dropped_non_finite);
+  }
+  return in;
+#else
+  throw IoError(file + ": this ifem was built without PCL: .pcd needs the PCL adapter "
+                "(install libpcl-dev and reconfigure with -DIFEM_WITH_PCL=ON)");
+#endif
+}
+
 PreparedSurface prepare_surface(const std::string& file, const Args& args) {
   PreparedSurface s;
   double t0 = now_seconds();
-  s.input = io::read_surface(file);
+  s.input = read_input(file);
   s.seconds_load = now_seconds() - t0;
   const Index nv = static_cast<Index>(s.input.positions.rows());
   progress(args, "read " + file + ": " + std::to_string(nv) + " vertices, " +

@@ -49,6 +49,9 @@ else
 fi
 
 if [ "$do_build" = 1 ]; then
-  cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  # ON when PCL was asked for (a broken PCL install fails loudly), OFF with --no-pcl
+  pcl_option=OFF
+  [ "$with_pcl" = 1 ] && [ -f pointcloud/pcl_adapter.cpp ] && pcl_option=ON
+  cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DIFEM_WITH_PCL="$pcl_option" >/dev/null
   cmake --build "$build_dir" -j"$(nproc)"
 fi
