@@ -1,5 +1,6 @@
 #include "fem/gradient.h"
 
+#include <cmath>
 #include <string>
 
 #include "intrinsic/errors.h"
@@ -10,6 +11,10 @@ namespace ifem::fem {
 using intrinsic::IntrinsicTriangulation;
 
 namespace {
+
+// OpenMP regions below this many faces run serially: on a busy machine, waking a thread costs
+// up to a scheduler time slice (milliseconds), more than the whole loop on a small mesh.
+constexpr Index kParallelFaces = 20000;
 
 // Layout of face f: corner positions p0 = 0, p1 = (l0, 0), p2 = (x, y); area A.
 struct Layout {
@@ -57,7 +62,7 @@ Eigen::MatrixX2d gradient(const IntrinsicTriangulation& tri, const Eigen::Vector
   const Index nf = tri.n_faces();
   Eigen::MatrixX2d G(nf, 2);
   const auto& tail = tri.tails();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nf >= kParallelFaces)
   for (Index f = 0; f < nf; ++f) {
     Eigen::Vector2d g[3];
     if (!hat_gradients(layout(tri, f), g)) {
@@ -80,7 +85,7 @@ Eigen::VectorXd divergence(const IntrinsicTriangulation& tri, const Eigen::Matri
   // per-corner contributions computed in parallel, scattered serially (no atomics)
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> c(nf, 3);
   const double s = 1.0 / tri.multiplicity();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nf >= kParallelFaces)
   for (Index f = 0; f < nf; ++f) {
     const Layout L = layout(tri, f);
     Eigen::Vector2d g[3];
@@ -93,6 +98,43 @@ Eigen::VectorXd divergence(const IntrinsicTriangulation& tri, const Eigen::Matri
   }
   Eigen::VectorXd div = Eigen::VectorXd::Zero(tri.n_vertices());
   const auto& tail = tri.tails();
+  for (Index f = 0; f < nf; ++f) {
+    for (int i = 0; i < 3; ++i) div[tail[3 * f + i]] += c(f, i);
+  }
+  return div;
+}
+
+Eigen::VectorXd divergence_of_unit_gradient(const IntrinsicTriangulation& tri,
+                                            const Eigen::VectorXd& u,
+                                            const std::vector<char>* use_face) {
+  if (u.size() != tri.n_vertices()) {
+    throw InvalidInput("divergence_of_unit_gradient: u has " + std::to_string(u.size()) +
+                       " values, expected #V = " + std::to_string(tri.n_vertices()));
+  }
+  const Index nf = tri.n_faces();
+  if (use_face && static_cast<Index>(use_face->size()) != nf) {
+    throw InvalidInput("divergence_of_unit_gradient: use_face has " +
+                       std::to_string(use_face->size()) + " entries, expected #F = " +
+                       std::to_string(nf));
+  }
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> c(nf, 3);
+  const double s = 1.0 / tri.multiplicity();
+  const auto& tail = tri.tails();
+#pragma omp parallel for schedule(static) if (nf >= kParallelFaces)
+  for (Index f = 0; f < nf; ++f) {
+    c.row(f).setZero();
+    if (use_face && !(*use_face)[f]) continue;
+    const Layout L = layout(tri, f);
+    Eigen::Vector2d g[3];
+    if (!hat_gradients(L, g)) continue;
+    Eigen::Vector2d x = u[tail[3 * f]] * g[0] + u[tail[3 * f + 1]] * g[1] +
+                        u[tail[3 * f + 2]] * g[2];
+    const double norm = std::hypot(x.x(), x.y());
+    if (!(norm > 0.0) || !std::isfinite(norm)) continue;
+    x /= -norm;
+    for (int i = 0; i < 3; ++i) c(f, i) = s * L.area * g[i].dot(x);
+  }
+  Eigen::VectorXd div = Eigen::VectorXd::Zero(tri.n_vertices());
   for (Index f = 0; f < nf; ++f) {
     for (int i = 0; i < 3; ++i) div[tail[3 * f + i]] += c(f, i);
   }

@@ -3,6 +3,8 @@
 // Used by the heat method (Crane, Weischedel, Wardetzky 2013, §3.2).
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "intrinsic/triangulation.h"
@@ -26,6 +28,16 @@ Eigen::MatrixX2d gradient(const intrinsic::IntrinsicTriangulation& tri, const Ei
 /// @param X #F×2 per-face vectors
 /// @throws InvalidInput if X.rows() != #F
 Eigen::VectorXd divergence(const intrinsic::IntrinsicTriangulation& tri, const Eigen::MatrixX2d& X);
+
+/// divergence() of the unit field X_f = −∇u/|∇u| (the heat method's normalized gradient) in one
+/// pass over the faces, without storing X: faces where |∇u| is zero or not finite, degenerate
+/// faces and faces with use_face[f] == 0 (when use_face is given, #F) contribute nothing.
+/// |∇u| is computed with hypot, so gradients of ~1e-200 (underflowing heat) still normalize.
+/// Equals divergence(tri, X) with X built that way (same per-corner arithmetic).
+/// @throws InvalidInput if u.size() != #V or use_face has the wrong size
+Eigen::VectorXd divergence_of_unit_gradient(const intrinsic::IntrinsicTriangulation& tri,
+                                            const Eigen::VectorXd& u,
+                                            const std::vector<char>* use_face = nullptr);
 
 /// Local 2D position of corner 2 of face f in the frame of gradient() (corner 0 at the origin,
 /// corner 1 at (ℓ₀, 0)); y ≥ 0.

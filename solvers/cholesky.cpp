@@ -1,5 +1,6 @@
 #include "solvers/cholesky.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -7,10 +8,65 @@
 #include <vector>
 
 #include <cholmod.h>
+#include <dlfcn.h>
 
 #include "intrinsic/errors.h"
 
 namespace ifem::solvers {
+
+void CholeskyOptions::validate() const {
+  if (!(min_rcond >= 0.0) || factor_blas_threads < 0 || solve_blas_threads < 0) {
+    throw InvalidInput("CholeskyOptions: need min_rcond ≥ 0 and BLAS thread counts ≥ 0");
+  }
+}
+
+namespace {
+
+// OpenBLAS's thread setter/getter, looked up once at run time (null with another BLAS).
+struct OpenBlasThreads {
+  using Set = void (*)(int);
+  using Get = int (*)();
+  Set set = nullptr;
+  Get get = nullptr;
+  OpenBlasThreads() {
+    set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    if (!set || !get) set = nullptr, get = nullptr;
+  }
+  static const OpenBlasThreads& instance() {
+    static const OpenBlasThreads o;
+    return o;
+  }
+};
+
+std::mutex blas_scope_mutex;
+int blas_scope_depth = 0;
+int blas_scope_saved = 0;
+
+}  // namespace
+
+BlasThreadScope::BlasThreadScope(int threads) {
+  const OpenBlasThreads& o = OpenBlasThreads::instance();
+  if (threads <= 0 || !o.set) return;
+  std::lock_guard<std::mutex> lock(blas_scope_mutex);
+  if (blas_scope_depth++ == 0) {
+    blas_scope_saved = o.get();
+    if (blas_scope_saved != threads) o.set(threads);
+  }
+  active_ = true;
+}
+
+BlasThreadScope::~BlasThreadScope() {
+  if (!active_) return;
+  const OpenBlasThreads& o = OpenBlasThreads::instance();
+  std::lock_guard<std::mutex> lock(blas_scope_mutex);
+  if (--blas_scope_depth == 0 && o.get() != blas_scope_saved) o.set(blas_scope_saved);
+}
+
+int BlasThreadScope::current() {
+  const OpenBlasThreads& o = OpenBlasThreads::instance();
+  return o.get ? o.get() : 0;
+}
 
 struct CholeskySolver::Impl {
   cholmod_common common;
@@ -18,6 +74,11 @@ struct CholeskySolver::Impl {
   Eigen::Index n = 0;
   std::vector<int> outer, inner;  // pattern of the analyzed matrix (for refactor checks)
   mutable std::mutex mutex;       // cholmod_common is not thread-safe
+  int factor_blas_threads = 0, solve_blas_threads = 1;
+  // cholmod_solve2 workspace, kept between solves (guarded by mutex)
+  mutable cholmod_dense* X = nullptr;
+  mutable cholmod_dense* Y = nullptr;
+  mutable cholmod_dense* E = nullptr;
 
   Impl() {
     cholmod_start(&common);
@@ -25,6 +86,9 @@ struct CholeskySolver::Impl {
     common.error_handler = nullptr;
   }
   ~Impl() {
+    if (X) cholmod_free_dense(&X, &common);
+    if (Y) cholmod_free_dense(&Y, &common);
+    if (E) cholmod_free_dense(&E, &common);
     if (factor) cholmod_free_factor(&factor, &common);
     cholmod_finish(&common);
   }
@@ -66,6 +130,7 @@ struct CholeskySolver::Impl {
   // Numeric factorization into `f`; throws SolverError with the reason.
   void factorize(const fem::SparseMatrix& A, cholmod_factor* f, const char* who) {
     cholmod_sparse s = view(A);
+    const BlasThreadScope threads(factor_blas_threads);
     const int ok = cholmod_factorize(&s, f, &common);
     if (!ok || common.status < CHOLMOD_OK) {
       throw SolverError(std::string(who) + ": CHOLMOD factorization failed: " + status_text());
@@ -119,6 +184,8 @@ CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyOpti
   Impl& im = *impl_;
   im.n = A->rows();
   im.min_rcond = options.min_rcond;
+  im.factor_blas_threads = options.factor_blas_threads;
+  im.solve_blas_threads = options.solve_blas_threads;
   cholmod_common& c = im.common;
   c.supernodal = options.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
   c.final_ll = 1;
@@ -175,7 +242,7 @@ void CholeskySolver::refactor(const fem::SparseMatrix& A_in) {
 
 namespace {
 
-// Solves A X = B for B given as raw column-major data (rows = n, cols columns).
+// Solves A X = B for B given as raw column-major data (rows = n, cols columns); X may alias B.
 void solve_raw(const CholeskySolver::Impl& im, const double* B, Eigen::Index cols, double* X) {
   if (cols == 0) return;
   cholmod_dense b;
@@ -188,14 +255,14 @@ void solve_raw(const CholeskySolver::Impl& im, const double* B, Eigen::Index col
   b.xtype = CHOLMOD_REAL;
   b.dtype = CHOLMOD_DOUBLE;
   std::lock_guard<std::mutex> lock(im.mutex);
+  const BlasThreadScope threads(im.solve_blas_threads);
   auto& c = const_cast<cholmod_common&>(im.common);
-  cholmod_dense* x = cholmod_solve(CHOLMOD_A, im.factor, &b, &c);
-  if (!x || c.status < CHOLMOD_OK) {
-    if (x) cholmod_free_dense(&x, &c);
+  // cholmod_solve2 reuses X, Y, E when their sizes fit: no allocation per solve
+  const int ok = cholmod_solve2(CHOLMOD_A, im.factor, &b, nullptr, &im.X, nullptr, &im.Y, &im.E, &c);
+  if (!ok || !im.X || c.status < CHOLMOD_OK) {
     throw SolverError("CholeskySolver::solve: CHOLMOD solve failed: " + im.status_text());
   }
-  std::memcpy(X, x->x, sizeof(double) * b.nzmax);
-  cholmod_free_dense(&x, &c);
+  std::memcpy(X, im.X->x, sizeof(double) * b.nzmax);
 }
 
 void check_rhs(Eigen::Index rows, Eigen::Index n) {
@@ -221,7 +288,30 @@ Eigen::VectorXd CholeskySolver::solve(const Eigen::VectorXd& b) const {
   return x;
 }
 
+void CholeskySolver::solve(const double* b, double* x, Eigen::Index cols) const {
+  if (cols < 0) throw InvalidInput("CholeskySolver::solve: negative column count");
+  solve_raw(*impl_, b, cols, x);
+}
+
 Eigen::Index CholeskySolver::size() const { return impl_->n; }
+
+double CholeskySolver::factor_flops() const { return impl_->common.fl; }
+
+const char* CholeskySolver::ordering() const {
+  const cholmod_common& c = impl_->common;
+  if (c.selected < 0 || c.selected >= CHOLMOD_MAXMETHODS) return "unknown";
+  switch (c.method[c.selected].ordering) {
+    case CHOLMOD_NATURAL: return "natural";
+    case CHOLMOD_GIVEN: return "given";
+    case CHOLMOD_AMD: return "AMD";
+    case CHOLMOD_METIS: return "METIS";
+    case CHOLMOD_NESDIS: return "NESDIS";
+    case CHOLMOD_COLAMD: return "COLAMD";
+    default: return "other";
+  }
+}
+
+bool CholeskySolver::supernodal() const { return impl_->factor && impl_->factor->is_super; }
 
 double CholeskySolver::factor_nonzeros() const { return impl_->common.lnz; }
 

@@ -1,11 +1,15 @@
 #include "solvers/heat_distance.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <optional>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include <Eigen/Dense>
@@ -35,6 +39,39 @@ struct WeightedPoint {
   double corner_distance[3] = {0, 0, 0};  // distance in the face layout to each corner
   bool is_vertex() const { return n == 1; }
 };
+
+// Runs independent jobs on up to min(#jobs, #cores) threads; rethrows the first exception.
+// Used for the factorizations: CHOLMOD's supernodal factorization of a surface Laplacian is
+// mostly small dense blocks where BLAS threads gain little, so two factorizations side by side
+// (BLAS at 1 thread each) finish well before two in a row (DEPENDENCIES.md: ~1.9 s vs
+// 2.6–3.0 s at 1M faces).
+void run_parallel(const std::vector<std::function<void()>>& jobs) {
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t workers = std::min<std::size_t>(jobs.size(), cores);
+  if (workers <= 1) {
+    for (const auto& j : jobs) j();
+    return;
+  }
+  const BlasThreadScope one_blas_thread(1);
+  std::atomic<std::size_t> next{0};
+  std::vector<std::exception_ptr> errors(jobs.size());
+  auto work = [&]() {
+    for (std::size_t i = next++; i < jobs.size(); i = next++) {
+      try {
+        jobs[i]();
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (std::size_t w = 1; w < workers; ++w) threads.emplace_back(work);
+  work();
+  for (auto& t : threads) t.join();
+  for (const auto& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+}
 
 }  // namespace
 
@@ -74,30 +111,21 @@ struct HeatDistanceSolver::Impl {
 
   Eigen::VectorXd heat(const Eigen::VectorXd& delta) const {
     const Eigen::VectorXd none;
-    Eigen::VectorXd u = heat_neumann->solve_weak(delta, none);
-    if (heat_dirichlet) {
-      const Eigen::VectorXd zeros =
-          Eigen::VectorXd::Zero(Eigen::Index(heat_dirichlet->dirichlet_vertices().size()));
-      u = 0.5 * (u + heat_dirichlet->solve_weak(delta, zeros));
+    if (!heat_dirichlet) return heat_neumann->solve_weak(delta, none);
+    // the two solves are independent: side by side on large meshes
+    const Eigen::VectorXd zeros =
+        Eigen::VectorXd::Zero(Eigen::Index(heat_dirichlet->dirichlet_vertices().size()));
+    Eigen::VectorXd u, ud;
+    std::vector<std::function<void()>> jobs = {
+        [&] { u = heat_neumann->solve_weak(delta, none); },
+        [&] { ud = heat_dirichlet->solve_weak(delta, zeros); }};
+    if (tri.n_vertices() >= 20000) {
+      run_parallel(jobs);
+    } else {
+      for (const auto& j : jobs) j();
     }
+    u = 0.5 * (u + ud);
     return u;
-  }
-
-  // −∇u/|∇u| on faces where `use_face` (all faces when null), 0 elsewhere.
-  Eigen::MatrixX2d unit_field(const Eigen::VectorXd& u, const std::vector<char>* use_face) const {
-    Eigen::MatrixX2d X = fem::gradient(tri, u);
-    const Index nf = tri.n_faces();
-#pragma omp parallel for schedule(static)
-    for (Index f = 0; f < nf; ++f) {
-      // hypot, not norm(): |∇u| can be ~1e-200, whose square underflows
-      const double norm = std::hypot(X(f, 0), X(f, 1));
-      if ((use_face && !(*use_face)[f]) || !(norm > 0.0) || !std::isfinite(norm)) {
-        X.row(f).setZero();
-      } else {
-        X.row(f) /= -norm;
-      }
-    }
-    return X;
   }
 
   // Per-component maximum heat (components with a source only; others 0).
@@ -137,10 +165,6 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
   im.comps = connected_components(im.tri);
   im.L = fem::cotan_laplacian(im.tri);
   im.mass = fem::lumped_mass(im.tri);
-  const fem::SparseMatrix tL = im.t * im.L;
-  PoissonOptions heat_opt;
-  heat_opt.screening = 1.0;  // tL + 1·M
-  im.heat_neumann.emplace(tL, im.mass, im.comps, std::vector<Index>{}, heat_opt);
   std::vector<char> on_boundary = options.boundary_vertices;
   if (on_boundary.empty()) {
     on_boundary.assign(im.tri.n_vertices(), 0);
@@ -159,14 +183,27 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
   }
   const bool any_boundary =
       std::find(on_boundary.begin(), on_boundary.end(), 1) != on_boundary.end();
+  // Two factorizations (three with boundary), each exactly once, side by side.
+  const fem::SparseMatrix tL = im.t * im.L;
+  PoissonOptions heat_opt;
+  heat_opt.screening = 1.0;  // tL + 1·M
+  std::vector<std::function<void()>> jobs;
+  jobs.emplace_back([&] {
+    im.heat_neumann.emplace(tL, im.mass, im.comps, std::vector<Index>{}, heat_opt);
+  });
   if (options.boundary == HeatDistanceOptions::Boundary::kAverage && any_boundary) {
     std::vector<Index> bv;
     for (Index v = 0; v < im.tri.n_vertices(); ++v) {
       if (on_boundary[v]) bv.push_back(v);
     }
-    im.heat_dirichlet.emplace(tL, im.mass, im.comps, std::move(bv), heat_opt);
+    jobs.emplace_back([&im, &tL, &heat_opt, bv = std::move(bv)]() mutable {
+      im.heat_dirichlet.emplace(tL, im.mass, im.comps, std::move(bv), heat_opt);
+    });
   }
-  im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, PoissonOptions{});
+  jobs.emplace_back([&] {
+    im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, PoissonOptions{});
+  });
+  run_parallel(jobs);
 }
 
 HeatDistanceSolver::~HeatDistanceSolver() = default;
@@ -302,8 +339,7 @@ Eigen::VectorXd HeatDistanceSolver::Impl::first_stage(const std::vector<Weighted
                                                       const std::vector<char>& use_face,
                                                       HeatDistanceReport& rep) const {
   const Index nv = tri.n_vertices();
-  const Eigen::MatrixX2d X = unit_field(u, &use_face);
-  const Eigen::VectorXd b = fem::divergence(tri, X);
+  const Eigen::VectorXd b = fem::divergence_of_unit_gradient(tri, u, &use_face);
   Eigen::VectorXd phi = poisson->solve_weak(b, Eigen::VectorXd());
   // first source of each component, and the extra constraints φ(p_k) − φ(p_first) = 0
   std::vector<Index> first(comps.count, kInvalidIndex);
@@ -450,8 +486,7 @@ void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pt
                         " (no resolved face next to the known region)");
     }
     // Poisson on the region: stiffness from its faces, Dirichlet = known values
-    const Eigen::MatrixX2d X = unit_field(u, &use_face);
-    const Eigen::VectorXd div = fem::divergence(tri, X);
+    const Eigen::VectorXd div = fem::divergence_of_unit_gradient(tri, u, &use_face);
     const Index nu = Index(unknown_vertex.size());
     Eigen::VectorXd rhs(nu);
     for (Index i = 0; i < nu; ++i) rhs[i] = div[unknown_vertex[i]];

@@ -18,6 +18,8 @@ namespace ifem::solvers {
 struct PoissonOptions {
   /// c ≥ 0: solves (L + c·M) u = M f (screened Poisson); 0 = plain Poisson L u = M f.
   double screening = 0.0;
+  /// Options of the factorization (e.g. factor_blas_threads = 1 when several are built at once).
+  CholeskyOptions cholesky;
   /// @throws InvalidInput if screening is negative or not finite
   void validate() const;
 };
