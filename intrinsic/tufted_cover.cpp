@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -10,8 +11,6 @@
 
 namespace ifem::intrinsic {
 namespace {
-
-constexpr double kTwoPi = 6.28318530717958647692;
 
 // Builds the cover. `positions` may be null (length-only input); then faces around a
 // nonmanifold edge are ordered combinatorially.
@@ -72,49 +71,60 @@ IntrinsicTriangulation build_cover(const std::vector<Triangle>& faces, Index nv,
 
   // Input side x = 3k + s joins lo(x) < hi(x). Its "up" cover halfedge runs lo → hi, its
   // "down" one hi → lo; front halfedge 6k + s, back halfedge 6k + 3 + (2 − s).
-  auto corner = [&](Index x, int d) { return faces[kept[x / 3]][(x % 3 + d) % 3]; };
+  std::vector<Triangle> kept_tri(nk);  // kept faces, compact (one indirection less per lookup)
+  for (Index k = 0; k < nk; ++k) kept_tri[k] = faces[kept[k]];
+  auto corner = [&](Index x, int d) {
+    static constexpr int kMod3[5] = {0, 1, 2, 0, 1};
+    return kept_tri[x / 3][kMod3[x % 3 + d]];
+  };
   auto lo = [&](Index x) { return std::min(corner(x, 0), corner(x, 1)); };
-  auto hi = [&](Index x) { return std::max(corner(x, 0), corner(x, 1)); };
   auto front = [](Index x) { return 6 * (x / 3) + x % 3; };
   auto back = [](Index x) { return 6 * (x / 3) + 3 + (2 - x % 3); };
   auto up = [&](Index x) { return corner(x, 0) < corner(x, 1) ? front(x) : back(x); };
   auto down = [&](Index x) { return corner(x, 0) < corner(x, 1) ? back(x) : front(x); };
 
-  // ---- group sides by edge: counting sort by lo, then sort each bucket by (hi, side id)
+  // ---- group sides by edge: counting sort by lo into 64-bit keys (hi << 32 | side id), then
+  // sort each (small) bucket by key, i.e. by (hi, side id)
   const Index ns = 3 * nk;
   std::vector<Index> start(static_cast<std::size_t>(nv) + 1, 0);
   for (Index x = 0; x < ns; ++x) ++start[lo(x) + 1];
   for (Index v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<Index> order(ns);
+  std::vector<std::uint64_t> order(ns);
   {
     std::vector<Index> fill(start.begin(), start.end() - 1);
-    for (Index x = 0; x < ns; ++x) order[fill[lo(x)]++] = x;  // increasing x within a bucket
+    for (Index x = 0; x < ns; ++x) {
+      const Index a = corner(x, 0), b = corner(x, 1);
+      order[fill[std::min(a, b)]++] =
+          static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(x);
+    }
   }
-
   std::vector<Index> twin(nh, kInvalidIndex);
   Index n_edges = 0, n_boundary = 0, n_nonmanifold = 0, max_per_edge = 0;
   Index first_nm_lo = kInvalidIndex, first_nm_hi = kInvalidIndex;
 
-#pragma omp parallel
+  auto side_of = [](std::uint64_t key) { return static_cast<Index>(key & 0xffffffffu); };
+#pragma omp parallel if (ns > kParallelMin)
   {
     // per-thread scratch for the angular sort around a nonmanifold edge
     std::vector<std::tuple<double, Index, double, double, Index>> keyed;
+    std::vector<Index> opps, sides;
 #pragma omp for schedule(dynamic, 256) reduction(+ : n_edges, n_boundary, n_nonmanifold) \
     reduction(max : max_per_edge)
     for (Index v = 0; v < nv; ++v) {
-      Index* b = order.data() + start[v];
-      Index* e = order.data() + start[v + 1];
-      if (e - b > 1) {
-        std::sort(b, e, [&](Index x, Index y) {
-          const Index hx = hi(x), hy = hi(y);
-          return hx != hy ? hx < hy : x < y;
-        });
-      }
-      for (Index* i = b; i < e;) {
-        Index* j = i + 1;
-        const Index h_hi = hi(*i);
-        while (j < e && hi(*j) == h_hi) ++j;
-        const Index n = static_cast<Index>(j - i);
+      std::uint64_t* b = order.data() + start[v];
+      std::uint64_t* e = order.data() + start[v + 1];
+      if (e - b > 1) std::sort(b, e);
+      for (std::uint64_t* ki = b; ki < e;) {
+        std::uint64_t* kj = ki + 1;
+        const std::uint64_t edge_key = *ki >> 32;
+        while (kj < e && (*kj >> 32) == edge_key) ++kj;
+        // side ids of this edge, increasing
+        const Index n = static_cast<Index>(kj - ki);
+        sides.resize(n);
+        for (Index m = 0; m < n; ++m) sides[m] = side_of(ki[m]);
+        Index* i = sides.data();
+        Index* j = i + n;
+        const Index h_hi = static_cast<Index>(edge_key);
         ++n_edges;
         max_per_edge = std::max(max_per_edge, n);
         if (n == 1) {
@@ -159,7 +169,7 @@ IntrinsicTriangulation build_cover(const std::vector<Triangle>& faces, Index nv,
                 return Eigen::Vector3d(w - w.dot(u) * u);
               };
               // reference: the first opposite vertex (by id) off the axis
-              std::vector<Index> opps;
+              opps.clear();
               for (const auto& kt : keyed) opps.push_back(std::get<1>(kt));
               std::sort(opps.begin(), opps.end());
               Eigen::Vector3d r = Eigen::Vector3d::Zero();
@@ -175,8 +185,12 @@ IntrinsicTriangulation build_cover(const std::vector<Triangle>& faces, Index nv,
                 const Eigen::Vector3d r2 = u.cross(r);
                 for (auto& kt : keyed) {
                   const Eigen::Vector3d w = perp(std::get<1>(kt));
-                  double th = std::atan2(w.dot(r2), w.dot(r));
-                  if (th < 0.0) th += kTwoPi;
+                  // pseudo-angle in [0, 4): increasing with the angle from r towards r2
+                  // (same order as atan2 in [0, 2π), without the transcendental call)
+                  const double x = w.dot(r), y = w.dot(r2);
+                  const double l1 = std::abs(x) + std::abs(y);
+                  double th = 0.0;
+                  if (l1 > 0.0) th = y >= 0.0 ? 1.0 - x / l1 : 3.0 + x / l1;
                   std::get<0>(kt) = th;
                 }
               }
@@ -190,7 +204,7 @@ IntrinsicTriangulation build_cover(const std::vector<Triangle>& faces, Index nv,
             twin[down(y)] = up(x);
           }
         }
-        i = j;
+        ki = kj;
       }
     }
   }
