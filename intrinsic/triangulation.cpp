@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -44,46 +45,49 @@ void pair_sides(const std::vector<Index>& tail, Index n_vertices, std::vector<In
     ++start[std::min(tail[h], tail[T::next(h)]) + 1];
   }
   for (Index v = 0; v < n_vertices; ++v) start[v + 1] += start[v];
-  std::vector<Index> order(nh);
+  // key = (larger vertex, halfedge) packed in 64 bits: sorting keys needs no indirection
+  std::vector<std::uint64_t> order(nh);
   {
     std::vector<Index> fill(start.begin(), start.end() - 1);
-    for (Index h = 0; h < nh; ++h) order[fill[std::min(tail[h], tail[T::next(h)])]++] = h;
+    for (Index h = 0; h < nh; ++h) {
+      const Index a = tail[h], b = tail[T::next(h)];
+      order[fill[std::min(a, b)]++] =
+          static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(h);
+    }
   }
   partner.assign(nh, kInvalidIndex);
   same_dir.assign(nh, 0);
-  auto hi = [&](Index h) { return std::max(tail[h], tail[T::next(h)]); };
   for (Index v = 0; v < n_vertices; ++v) {
-    Index* b = order.data() + start[v];
-    Index* e = order.data() + start[v + 1];
-    // buckets are small (about the vertex degree): insertion sort by (hi, h)
-    for (Index* i = b + 1; i < e; ++i) {
-      const Index x = *i;
-      const Index kx = hi(x);
-      Index* j = i;
-      while (j > b && (hi(*(j - 1)) > kx || (hi(*(j - 1)) == kx && *(j - 1) > x))) {
-        *j = *(j - 1);
-        --j;
-      }
+    std::uint64_t* b = order.data() + start[v];
+    std::uint64_t* e = order.data() + start[v + 1];
+    // buckets are small (about the vertex degree): insertion sort
+    for (std::uint64_t* i = b + 1; i < e; ++i) {
+      const std::uint64_t x = *i;
+      std::uint64_t* j = i;
+      for (; j > b && *(j - 1) > x; --j) *j = *(j - 1);
       *j = x;
     }
-    for (Index* i = b; i < e;) {
-      Index* j = i + 1;
-      while (j < e && hi(*j) == hi(*i)) ++j;
+    for (std::uint64_t* i = b; i < e;) {
+      const std::uint64_t hi = *i >> 32;
+      std::uint64_t* j = i + 1;
+      while (j < e && (*j >> 32) == hi) ++j;
       const std::ptrdiff_t n = j - i;
+      auto half = [](std::uint64_t k) { return static_cast<Index>(k & 0xffffffffu); };
       if (n > 2) {
         std::ostringstream s;
-        s << "edge " << edge_name(v, hi(*i)) << " has " << n
+        s << "edge " << edge_name(v, static_cast<Index>(hi)) << " has " << n
           << " incident faces (faces";
-        for (Index* k = i; k < j && k < i + 6; ++k) s << " " << T::face(*k);
+        for (std::uint64_t* k = i; k < j && k < i + 6; ++k) s << " " << T::face(half(*k));
         s << (n > 6 ? " ..." : "") << "); use the tufted cover for nonmanifold input";
         throw NonManifoldInput(s.str());
       }
       if (n == 2) {
-        partner[i[0]] = i[1];
-        partner[i[1]] = i[0];
-        const char same = tail[i[0]] == tail[i[1]];
-        same_dir[i[0]] = same;
-        same_dir[i[1]] = same;
+        const Index h0 = half(i[0]), h1 = half(i[1]);
+        partner[h0] = h1;
+        partner[h1] = h0;
+        const char same = tail[h0] == tail[h1];
+        same_dir[h0] = same;
+        same_dir[h1] = same;
       }
       i = j;
     }
@@ -188,11 +192,10 @@ IntrinsicTriangulation IntrinsicTriangulation::from_side_lengths(
   }
   BuildReport rep;
   rep.input_faces = nf_in;
-  std::vector<Index> tail;
-  std::vector<double> hlen;
-  tail.reserve(3 * faces.size());
-  hlen.reserve(3 * faces.size());
-  rep.face_origin.reserve(faces.size());
+  std::vector<Index> tail(3 * faces.size());
+  std::vector<double> hlen(3 * faces.size());
+  rep.face_origin.resize(faces.size());
+  Index kept = 0;
   for (Index f = 0; f < nf_in; ++f) {
     const Triangle& t = faces[f];
     for (int s = 0; s < 3; ++s) {
@@ -211,12 +214,16 @@ IntrinsicTriangulation IntrinsicTriangulation::from_side_lengths(
       ++rep.dropped_faces;
       continue;
     }
-    rep.face_origin.push_back(f);
+    rep.face_origin[kept] = f;
     for (int s = 0; s < 3; ++s) {
-      tail.push_back(t[s]);
-      hlen.push_back(side_lengths(f, s));
+      tail[3 * kept + s] = t[s];
+      hlen[3 * kept + s] = side_lengths(f, s);
     }
+    ++kept;
   }
+  tail.resize(3 * static_cast<std::size_t>(kept));
+  hlen.resize(3 * static_cast<std::size_t>(kept));
+  rep.face_origin.resize(kept);
 
   std::vector<Index> partner;
   std::vector<char> same_dir;
