@@ -22,15 +22,25 @@ class ShiftInvertOp {
   Eigen::Index rows() const { return L_.rows(); }
   Eigen::Index cols() const { return L_.cols(); }
   void set_shift(double sigma) {
-    fem::SparseMatrix A = L_;
-    for (Eigen::Index i = 0; i < A.rows(); ++i) A.coeffRef(i, i) -= sigma * m_[i];
+    // lower triangle of L − σM (all CHOLMOD reads)
+    fem::SparseMatrix A = L_.triangularView<Eigen::Lower>();
+    std::vector<Eigen::Index> missing;  // columns without a stored diagonal (not from cotan_laplacian)
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+      bool found = false;
+      for (fem::SparseMatrix::InnerIterator it(A, j); it; ++it) {
+        if (it.row() == j) {
+          it.valueRef() -= sigma * m_[j];
+          found = true;
+        }
+      }
+      if (!found) missing.push_back(j);
+    }
+    for (const Eigen::Index j : missing) A.coeffRef(j, j) = -sigma * m_[j];
     A.makeCompressed();
     chol_ = std::make_unique<CholeskySolver>(A);
   }
-  void perform_op(const double* x, double* y) const {
-    const Eigen::Map<const Eigen::VectorXd> xv(x, rows());
-    Eigen::Map<Eigen::VectorXd>(y, rows()) = chol_->solve(Eigen::VectorXd(xv));
-  }
+  // one back-substitution per Lanczos step: no allocation (CHOLMOD's workspace is kept)
+  void perform_op(const double* x, double* y) const { chol_->solve(x, y); }
 
  private:
   const fem::SparseMatrix& L_;
