@@ -55,54 +55,74 @@ IntrinsicTriangulation build_cover(const std::vector<Triangle>& faces, Index nv,
   const std::size_t nh = 6 * static_cast<std::size_t>(nk);
   std::vector<Index> tail(nh);
   std::vector<double> hlen(nh);
-  std::vector<char> referenced(nv, 0);
+  std::vector<Triangle> kept_tri(nk);  // kept faces, compact (one indirection less per lookup)
+#pragma omp parallel for schedule(static) if (nk > kParallelMin)
   for (Index k = 0; k < nk; ++k) {
     const Index f = kept[k];
     const Triangle& t = faces[f];
+    kept_tri[k] = t;
     Index* ft = &tail[6 * static_cast<std::size_t>(k)];
     double* fl = &hlen[6 * static_cast<std::size_t>(k)];
     ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
     ft[3] = t[0], ft[4] = t[2], ft[5] = t[1];
     fl[0] = side(f, 0), fl[1] = side(f, 1), fl[2] = side(f, 2);
     fl[3] = side(f, 2), fl[4] = side(f, 1), fl[5] = side(f, 0);
-    referenced[t[0]] = referenced[t[1]] = referenced[t[2]] = 1;
   }
-  rep.unreferenced_vertices = static_cast<Index>(std::count(referenced.begin(), referenced.end(), 0));
 
   // Input side x = 3k + s joins lo(x) < hi(x). Its "up" cover halfedge runs lo → hi, its
   // "down" one hi → lo; front halfedge 6k + s, back halfedge 6k + 3 + (2 − s).
-  std::vector<Triangle> kept_tri(nk);  // kept faces, compact (one indirection less per lookup)
-  for (Index k = 0; k < nk; ++k) kept_tri[k] = faces[kept[k]];
   auto corner = [&](Index x, int d) {
     static constexpr int kMod3[5] = {0, 1, 2, 0, 1};
     return kept_tri[x / 3][kMod3[x % 3 + d]];
   };
-  auto lo = [&](Index x) { return std::min(corner(x, 0), corner(x, 1)); };
   auto front = [](Index x) { return 6 * (x / 3) + x % 3; };
   auto back = [](Index x) { return 6 * (x / 3) + 3 + (2 - x % 3); };
   auto up = [&](Index x) { return corner(x, 0) < corner(x, 1) ? front(x) : back(x); };
   auto down = [&](Index x) { return corner(x, 0) < corner(x, 1) ? back(x) : front(x); };
 
-  // ---- group sides by edge: counting sort by lo into 64-bit keys (hi << 32 | side id), then
-  // sort each (small) bucket by key, i.e. by (hi, side id)
+  // ---- group sides by edge: counting sort by lo into 64-bit keys (hi << 32 | 2x + rising,
+  // rising = corner order is lo → hi), then sort each (small) bucket by key, i.e. (hi, x)
   const Index ns = 3 * nk;
   std::vector<Index> start(static_cast<std::size_t>(nv) + 1, 0);
-  for (Index x = 0; x < ns; ++x) ++start[lo(x) + 1];
+  for (Index k = 0; k < nk; ++k) {
+    const Triangle& t = kept_tri[k];
+    ++start[std::min(t[0], t[1]) + 1];
+    ++start[std::min(t[1], t[2]) + 1];
+    ++start[std::min(t[2], t[0]) + 1];
+  }
+  Index unreferenced = 0;
   for (Index v = 0; v < nv; ++v) start[v + 1] += start[v];
   std::vector<std::uint64_t> order(ns);
   {
+    std::vector<char> referenced(nv, 0);
     std::vector<Index> fill(start.begin(), start.end() - 1);
-    for (Index x = 0; x < ns; ++x) {
-      const Index a = corner(x, 0), b = corner(x, 1);
-      order[fill[std::min(a, b)]++] =
-          static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(x);
+    for (Index k = 0; k < nk; ++k) {
+      const Triangle& t = kept_tri[k];
+      referenced[t[0]] = referenced[t[1]] = referenced[t[2]] = 1;
+      for (int s = 0; s < 3; ++s) {
+        const Index a = t[s], b = t[s == 2 ? 0 : s + 1];
+        const Index x = 3 * k + s;
+        const std::uint32_t low = 2 * static_cast<std::uint32_t>(x) + (a < b ? 1u : 0u);
+        order[fill[std::min(a, b)]++] = static_cast<std::uint64_t>(std::max(a, b)) << 32 | low;
+      }
     }
+    unreferenced = static_cast<Index>(std::count(referenced.begin(), referenced.end(), 0));
   }
+  rep.unreferenced_vertices = unreferenced;
   std::vector<Index> twin(nh, kInvalidIndex);
   Index n_edges = 0, n_boundary = 0, n_nonmanifold = 0, max_per_edge = 0;
   Index first_nm_lo = kInvalidIndex, first_nm_hi = kInvalidIndex;
 
-  auto side_of = [](std::uint64_t key) { return static_cast<Index>(key & 0xffffffffu); };
+  // from a key's low word: the side id, and its up / down cover halfedges
+  auto side_of = [](std::uint64_t key) { return static_cast<Index>((key & 0xffffffffu) >> 1); };
+  auto up_k = [&](std::uint64_t key) {
+    const Index x = side_of(key);
+    return (key & 1u) ? front(x) : back(x);
+  };
+  auto down_k = [&](std::uint64_t key) {
+    const Index x = side_of(key);
+    return (key & 1u) ? back(x) : front(x);
+  };
 #pragma omp parallel if (ns > kParallelMin)
   {
     // per-thread scratch for the angular sort around a nonmanifold edge
@@ -118,25 +138,25 @@ IntrinsicTriangulation build_cover(const std::vector<Triangle>& faces, Index nv,
         std::uint64_t* kj = ki + 1;
         const std::uint64_t edge_key = *ki >> 32;
         while (kj < e && (*kj >> 32) == edge_key) ++kj;
-        // side ids of this edge, increasing
         const Index n = static_cast<Index>(kj - ki);
-        sides.resize(n);
-        for (Index m = 0; m < n; ++m) sides[m] = side_of(ki[m]);
-        Index* i = sides.data();
-        Index* j = i + n;
         const Index h_hi = static_cast<Index>(edge_key);
         ++n_edges;
         max_per_edge = std::max(max_per_edge, n);
         if (n == 1) {
           ++n_boundary;
-          twin[up(*i)] = down(*i);
-          twin[down(*i)] = up(*i);
+          twin[up_k(ki[0])] = down_k(ki[0]);
+          twin[down_k(ki[0])] = up_k(ki[0]);
         } else if (n == 2) {
-          twin[up(i[0])] = down(i[1]);
-          twin[down(i[1])] = up(i[0]);
-          twin[up(i[1])] = down(i[0]);
-          twin[down(i[0])] = up(i[1]);
+          twin[up_k(ki[0])] = down_k(ki[1]);
+          twin[down_k(ki[1])] = up_k(ki[0]);
+          twin[up_k(ki[1])] = down_k(ki[0]);
+          twin[down_k(ki[0])] = up_k(ki[1]);
         } else {
+          // side ids of this edge, increasing
+          sides.resize(n);
+          for (Index m = 0; m < n; ++m) sides[m] = side_of(ki[m]);
+          Index* i = sides.data();
+          Index* j = i + n;
           ++n_nonmanifold;
 #pragma omp critical(ifem_tufted_first_nm)
           if (first_nm_lo == kInvalidIndex || v < first_nm_lo ||
