@@ -259,7 +259,9 @@ IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Po
   }
   const Index nf = checked_index(faces.size(), "tufted_cover");
   Eigen::MatrixX3d side(nf, 3);
-#pragma omp parallel for schedule(static)
+  static_assert(Positions::IsRowMajor, "rows of Positions are contiguous xyz triples");
+  const double* xyz = positions.data();
+#pragma omp parallel for schedule(static) if (nf > kParallelMin)
   for (Index f = 0; f < nf; ++f) {
     for (int s = 0; s < 3; ++s) {
       const Index a = faces[f][s], b = faces[f][(s + 1) % 3];
@@ -267,9 +269,13 @@ IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Po
         side(f, s) = -1.0;  // reported with the face id by build_cover
         continue;
       }
-      const auto d = positions.row(a) - positions.row(b);
-      double l = d.norm();
-      if (!std::isfinite(l)) l = d.stableNorm();  // huge coordinates: avoid overflow in x²
+      const double* pa = xyz + 3 * static_cast<std::size_t>(a);
+      const double* pb = xyz + 3 * static_cast<std::size_t>(b);
+      const double dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2];
+      double l = std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (!std::isfinite(l)) {  // huge coordinates: avoid overflow in x²
+        l = (positions.row(a) - positions.row(b)).stableNorm();
+      }
       side(f, s) = l;
     }
   }
