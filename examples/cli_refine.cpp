@@ -1,6 +1,8 @@
 // `ifem refine`: intrinsic Delaunay refinement of a mesh (signposts, Chew's 2nd algorithm).
 #include "cli_refine.h"
 
+#include "intrinsic/surface_triangulation.h"
+
 #include <cstdio>
 #include <sstream>
 
@@ -25,10 +27,22 @@ intrinsic::RefineOptions refine_options(const Args& args) {
 }
 
 std::string refine_unsupported(const PreparedSurface& s) {
-  return "refinement supports the manifold path only (edge-manifold, orientable meshes, with a "
-         "boundary only when no boundary edge keeps a negative cotan weight); this input took "
-         "the " + s.path + " path (" + s.path_reason + ")";
+  return "refinement supports edge-manifold, orientable meshes only (signposts need the "
+         "manifold Δ-complex); this input took the " + s.path + " path (" + s.path_reason + ")";
 }
+
+namespace {
+
+// Refinement runs on the manifold Δ-complex of the input. A mesh that took the tufted path only
+// because boundary edges opposite obtuse angles kept negative weights is fine: refinement
+// splits exactly those (encroached) boundary edges.
+bool refinable(const PreparedSurface& s) {
+  return s.path != "pointcloud" && s.stats.edge_manifold() &&
+         s.path_reason.find("non-orientable") == std::string::npos &&
+         s.path_reason != "--tufted";
+}
+
+}  // namespace
 
 namespace {
 
@@ -50,12 +64,21 @@ std::string describe(const intrinsic::RefineReport& r) {
 
 intrinsic::SignpostTriangulation refine_prepared(PreparedSurface& s, const Args& args,
                                                  intrinsic::RefineReport* report) {
-  if (s.path != "manifold") throw InvalidInput(refine_unsupported(s));
+  if (!refinable(s)) throw InvalidInput(refine_unsupported(s));
   const double t0 = now_seconds();
   intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
                                       args.get_double("mollify", 1e-5));
   const intrinsic::RefineReport r = intrinsic::delaunay_refine(st, refine_options(args));
   s.tri = st.intrinsic();
+  if (s.path != "manifold") {
+    s.path = "manifold";
+    s.path_reason = "refined (boundary edges opposite obtuse angles are split by refinement)";
+  }
+  s.boundary_vertex.clear();  // the refined triangulation's own boundary is the surface's
+  if (const Index bad = intrinsic::negative_boundary_weights(s.tri)) {
+    progress(args, "note: " + std::to_string(bad) +
+                       " boundary edges still face obtuse angles after refinement (needle cones)");
+  }
   progress(args, describe(r) + " in " + std::to_string(now_seconds() - t0) + " s");
   if (report) *report = r;
   return st;
@@ -77,7 +100,7 @@ int run(const Args& args) {
     throw InvalidInput("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
   }
   PreparedSurface s = prepare_surface(args.positional()[0], args);
-  if (s.path != "manifold") throw InvalidInput(refine_unsupported(s));
+  if (!refinable(s)) throw InvalidInput(refine_unsupported(s));
   const double min_in = input_min_angle(s);
   intrinsic::RefineReport r;
   const intrinsic::SignpostTriangulation st = refine_prepared(s, args, &r);
@@ -175,9 +198,8 @@ Command refine_command() {
                "                         lengths, signposts, inserted-vertex locations) as text,\n"
                "                         format 'ifem-signpost 1' (intrinsic/signpost.cpp)\n"
                "  --ascii                ASCII PLY instead of binary\n"
-               "Supported inputs: the manifold path only (edge-manifold, orientable meshes; with\n"
-               "a boundary, only when no boundary edge keeps a negative cotan weight); other\n"
-               "inputs are an error.\n\n") +
+               "Supported inputs: edge-manifold, orientable meshes, with or without boundary\n"
+               "(nonmanifold and non-orientable meshes and point clouds are an error).\n\n") +
            kRefineHelp + "\n" + kSurfaceHelp;
   c.flags = kSurfaceFlags;
   c.flags.insert("ascii");

@@ -69,6 +69,18 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
     }
     if (fixable_small) return 1;
     if (max_area > 0.0 && face_area(tri, f) > max_area) return 1;
+    if (options.split_encroached_boundary) {
+      for (int k = 0; k < 3; ++k) {
+        // side k faces the corner k+2: obtuse there ⇔ b² + c² < a²; its circumcenter then lies
+        // across side k, so inserting it splits that boundary edge
+        // (only for an interior apex: an apex on the boundary can cascade, as in Ruppert's
+        // small-input-angle case)
+        if (tri.twin(3 * f + k) != kInvalidIndex) continue;
+        if (st.is_boundary_vertex(tri.tail(3 * f + (k + 2) % 3))) continue;
+        const double a = l[k], b = l[(k + 1) % 3], c = l[(k + 2) % 3];
+        if (b * b + c * c - a * a < -1e-12 * (b * b + c * c)) return 1;
+      }
+    }
     return small ? 2 : 0;
   };
 

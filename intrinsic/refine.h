@@ -14,6 +14,11 @@ struct RefineOptions {
   double min_angle_degrees = 25.0;  ///< minimum corner angle wanted, in (0, 30]
   double max_area = 0.0;            ///< also split triangles larger than this (0: no bound)
   Index max_insertions = -1;        ///< cap on inserted vertices (−1: 10 × #input vertices)
+  /// Split boundary edges that face an obtuse angle (encroached: the opposite vertex lies in
+  /// their diametral circle, Ruppert), until none is left. Chew's angle test alone keeps e.g.
+  /// 25°-25°-130° triangles, whose boundary side gets a negative cotan weight; with this on,
+  /// the refined Laplacian has non-negative weights on boundary edges too.
+  bool split_encroached_boundary = true;
 };
 
 /// Outcome of delaunay_refine(), counted.
