@@ -57,14 +57,18 @@ Neighbours k_nearest(const Positions& points, int k) {
   CloudView view{xyz.data(), static_cast<std::size_t>(n)};
   const Tree tree(3, view, nanoflann::KDTreeSingleIndexAdaptorParams(24));
   nb.ids.resize(static_cast<std::size_t>(nb.k) * n);
+  nb.spatial_order.assign(tree.vAcc.begin(), tree.vAcc.end());
   const int want = nb.k + 1;
 #pragma omp parallel
   {
     std::vector<std::uint32_t> idx(want);
     std::vector<double> dist(want);
     std::vector<std::pair<double, Index>> found;
+    // queries in the tree's leaf order (vAcc): consecutive queries are close in space, so
+    // their tree paths and neighbours stay in cache (input order may be anything)
 #pragma omp for schedule(dynamic, 512)
-    for (Index i = 0; i < n; ++i) {
+    for (Index t = 0; t < n; ++t) {
+      const Index i = static_cast<Index>(tree.vAcc[t]);
       nanoflann::KNNResultSet<double, std::uint32_t, std::size_t> rs(want);
       rs.init(idx.data(), dist.data());
       tree.findNeighbors(rs, &xyz[3 * static_cast<std::size_t>(i)], nanoflann::SearchParams());

@@ -13,6 +13,9 @@ struct Neighbours {
   int k = 0;                ///< neighbours per point
   std::vector<Index> ids;   ///< #P·k, row-major: ids[k·i + j] is the j-th neighbour of point i
   const Index* of(Index i) const { return ids.data() + static_cast<std::size_t>(k) * i; }
+  /// All point ids in a spatially coherent order (the k-d tree's leaf order), for loops that
+  /// gain from cache locality; empty if not computed (then use 0..#P−1).
+  std::vector<Index> spatial_order;
 };
 
 /// k nearest neighbours of every point, the point itself excluded (an exact duplicate of it

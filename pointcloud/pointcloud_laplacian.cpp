@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -95,22 +96,29 @@ Stars compute_stars(const Positions& points, const Neighbours& nb, const Eigen::
   }
   const int nt = thread_count();
   std::vector<std::vector<Triangle>> per_thread(nt);
+  // points are visited in the kNN's spatial order when available (cache locality); each point's
+  // star is written to its thread's buffer and found again through (thread, position)
+  const bool spatial = nb.spatial_order.size() == static_cast<std::size_t>(n);
+  std::vector<std::pair<int, std::size_t>> where(spatial ? n : 0);
   Stars st;
   st.offset.assign(static_cast<std::size_t>(n) + 1, 0);
   Index starless = 0, from_normals = 0, coincident = 0;
   const int k = nb.k;
 #pragma omp parallel reduction(+ : starless, from_normals, coincident)
   {
-    std::vector<Triangle>& out = per_thread[thread_id()];
+    const int tid = thread_id();
+    std::vector<Triangle>& out = per_thread[tid];
     out.reserve(7 * static_cast<std::size_t>(n) / nt + 64);
     std::vector<Eigen::Vector3d> d(k);
     std::vector<Eigen::Vector2d> q(k);
     std::vector<std::array<int, 2>> star;
     StarWorkspace ws;
-    // static schedule: thread t gets the t-th contiguous block, so concatenating the
-    // per-thread lists in thread order gives point order
+    // static schedule: without a spatial order, thread t gets the t-th contiguous block, so
+    // concatenating the per-thread lists in thread order gives point order
 #pragma omp for schedule(static)
-    for (Index i = 0; i < n; ++i) {
+    for (Index t = 0; t < n; ++t) {
+      const Index i = spatial ? nb.spatial_order[t] : t;
+      if (spatial) where[i] = {tid, out.size()};
       const Index* nbr = nb.of(i);
       const Eigen::Vector3d pi = points.row(i).transpose();
       double r = 0.0;
@@ -153,10 +161,20 @@ Stars compute_stars(const Positions& points, const Neighbours& nb, const Eigen::
     }
   }
   for (Index i = 0; i < n; ++i) st.offset[i + 1] += st.offset[i];
-  st.tris.reserve(st.offset[n]);
-  for (auto& v : per_thread) {
-    st.tris.insert(st.tris.end(), v.begin(), v.end());
-    std::vector<Triangle>().swap(v);
+  if (spatial) {
+    st.tris.resize(st.offset[n]);
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+    for (Index i = 0; i < n; ++i) {
+      const Triangle* src = per_thread[where[i].first].data() + where[i].second;
+      std::copy(src, src + (st.offset[i + 1] - st.offset[i]), st.tris.data() + st.offset[i]);
+    }
+    for (auto& v : per_thread) std::vector<Triangle>().swap(v);
+  } else {
+    st.tris.reserve(st.offset[n]);
+    for (auto& v : per_thread) {
+      st.tris.insert(st.tris.end(), v.begin(), v.end());
+      std::vector<Triangle>().swap(v);
+    }
   }
   if (report) {
     report->local_triangles = checked_index(st.tris.size(), "local_triangulations");
