@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ifem::pointcloud {
 namespace {
@@ -44,11 +45,57 @@ int delaunay_star(const std::vector<Eigen::Vector2d>& q, std::vector<std::array<
     w.push_back({p.x() * s, p.y() * s, j});
   }
   if (w.size() < 3) return 0;
-  std::sort(w.begin(), w.end(), [](const Inverted& a, const Inverted& b) {
+  auto lex = [](const Inverted& a, const Inverted& b) {
     if (a.x != b.x) return a.x < b.x;
     if (a.y != b.y) return a.y < b.y;
     return a.index < b.index;
-  });
+  };
+  // Pre-filter (same result, less sorting): the hull H of the origin and the first few points
+  // (the nearest ones when q is sorted by distance: the largest |w|). If the origin is strictly
+  // inside H, at distance ρ from every edge line, then every w with |w| < ρ lies strictly
+  // inside H, hence strictly inside the full hull: not a hull vertex, never in a triangle. The
+  // lexicographically smallest point is always a hull vertex, so the chain below starts at the
+  // same point and returns the same triangles in the same order.
+  constexpr std::size_t kProbe = 10;
+  if (w.size() > 2 * kProbe) {
+    Inverted sub[kProbe + 1], h[2 * kProbe + 2];
+    std::copy(w.begin(), w.begin() + kProbe + 1, sub);  // w[0] is the origin
+    std::sort(sub, sub + kProbe + 1, lex);
+    int k = 0;
+    for (int i = 0; i <= static_cast<int>(kProbe); ++i) {
+      while (k >= 2 && cross(h[k - 2], h[k - 1], sub[i]) <= 0.0) --k;
+      h[k++] = sub[i];
+    }
+    for (int i = static_cast<int>(kProbe) - 1, lower = k + 1; i >= 0; --i) {
+      while (k >= lower && cross(h[k - 2], h[k - 1], sub[i]) <= 0.0) --k;
+      h[k++] = sub[i];
+    }
+    const int m = k - 1;
+    double rho2 = std::numeric_limits<double>::infinity();
+    const Inverted o{0.0, 0.0, -1};
+    for (int i = 0; i < m && m >= 3; ++i) {
+      const Inverted& a = h[i];
+      const Inverted& b = h[i + 1];
+      const double c = cross(a, b, o);  // > 0: origin strictly left of a → b (inside)
+      const double ex = b.x - a.x, ey = b.y - a.y;
+      const double len2 = ex * ex + ey * ey;
+      if (!(c > 0.0) || !(len2 > 0.0)) {
+        rho2 = 0.0;  // origin on or outside H (or degenerate): no filter
+        break;
+      }
+      rho2 = std::min(rho2, c * c / len2);
+    }
+    if (m < 3) rho2 = 0.0;
+    rho2 *= 1.0 - 1e-6;  // margin for rounding: filtering fewer points is always safe
+    if (rho2 > 0.0 && std::isfinite(rho2)) {
+      std::size_t out_n = kProbe + 1;
+      for (std::size_t j = kProbe + 1; j < w.size(); ++j) {
+        if (w[j].x * w[j].x + w[j].y * w[j].y >= rho2) w[out_n++] = w[j];
+      }
+      w.resize(out_n);
+    }
+  }
+  std::sort(w.begin(), w.end(), lex);
   // exact duplicates: keep the first (smallest index; the origin sorts first as index −1)
   w.erase(std::unique(w.begin(), w.end(),
                       [](const Inverted& a, const Inverted& b) { return a.x == b.x && a.y == b.y; }),

@@ -53,6 +53,46 @@ TEST(LocalDelaunay, HexagonIsAClosedFan) {
   EXPECT_EQ(seen.size(), 6u);
 }
 
+// Neighbourhoods sorted nearest first, as the pipeline gives them: the pre-filter (hull of the
+// nearest points) drops most far points; the triangles must not change, nor their order
+// (compared with the same points given far first, where the filter finds nothing to drop).
+TEST(LocalDelaunay, SortedNeighbourhoodsMatchBruteForce) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int trial = 0; trial < 300; ++trial) {
+    std::vector<Eigen::Vector2d> q;
+    for (int j = 0; j < 21 + trial % 50; ++j) {
+      Eigen::Vector2d x(g(rng), g(rng));
+      if (trial % 4 == 0) x.x() = std::round(4 * x.x()) / 4;  // grid-like ties, cocircular
+      if (trial % 4 == 0) x.y() = std::round(4 * x.y()) / 4;
+      if (trial % 5 == 1) x.x() += 1.5;  // centre near the boundary: open star
+      q.push_back(x);
+    }
+    std::sort(q.begin(), q.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+      return a.squaredNorm() != b.squaredNorm() ? a.squaredNorm() < b.squaredNorm()
+                                                 : a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
+    });
+    // no exact duplicates (they keep the smallest index, which the reversal below changes)
+    q.erase(std::unique(q.begin(), q.end()), q.end());
+    const int n = static_cast<int>(q.size());
+    Pairs out;
+    delaunay_star(q, out);
+    const std::set<std::array<int, 2>> got(out.begin(), out.end());
+    EXPECT_EQ(got.size(), out.size());
+    // (the brute force keeps every triangle of a cocircular tie: skip it on the grid trials)
+    if (trial % 4 != 0) {
+      EXPECT_EQ(got, brute_star(q)) << "trial " << trial;
+    }
+    // reversed input order: nothing filtered; map the indices back and compare in order
+    std::vector<Eigen::Vector2d> rev(q.rbegin(), q.rend());
+    Pairs out_rev;
+    delaunay_star(rev, out_rev);
+    std::set<std::array<int, 2>> got_rev;
+    for (const auto& ab : out_rev) got_rev.insert({n - 1 - ab[0], n - 1 - ab[1]});
+    EXPECT_EQ(got_rev, got) << "trial " << trial;
+  }
+}
+
 TEST(LocalDelaunay, MatchesBruteForce) {
   std::mt19937 rng(4);
   std::normal_distribution<double> g(0.0, 1.0);
