@@ -79,5 +79,42 @@ TEST(SolversCholesky, BadInput) {
   EXPECT_THROW(chol.solve(Eigen::VectorXd(Eigen::VectorXd::Ones(3))), InvalidInput);
 }
 
+TEST(SolversCholesky, RawSolveInPlaceMatchesVectorSolveAndReportsChoice) {
+  const fem::SparseMatrix A = spd_matrix();
+  // lower triangle only: all CHOLMOD reads
+  const fem::SparseMatrix lower = A.triangularView<Eigen::Lower>();
+  const CholeskySolver chol(lower);
+  EXPECT_STREQ(chol.ordering(), "AMD");
+  EXPECT_TRUE(chol.supernodal());
+  EXPECT_GT(chol.factor_nonzeros(), 0.0);
+  EXPECT_GT(chol.factor_flops(), 0.0);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 2.0);
+  const Eigen::VectorXd x = chol.solve(b);
+  EXPECT_LT((A * x - b).norm(), 1e-10 * b.norm());
+  Eigen::VectorXd y = b;
+  chol.solve(y.data(), y.data());  // in place, reused workspace
+  chol.solve(y.data(), y.data());  // twice: A⁻²b
+  EXPECT_LT((A * (A * y) - b).norm(), 1e-9 * b.norm());
+  Eigen::MatrixXd B(A.rows(), 3);
+  B << b, 2 * b, -b;
+  const Eigen::MatrixXd X = chol.solve(B);  // column count changes: workspace reallocated
+  EXPECT_LT((X.col(1) - 2 * x).norm(), 1e-12 * x.norm());
+}
+
+TEST(SolversCholesky, BlasThreadScopeRestoresTheSetting) {
+  const int before = BlasThreadScope::current();
+  {
+    const BlasThreadScope outer(1);
+    if (before > 0) {
+      EXPECT_EQ(BlasThreadScope::current(), 1);
+    }
+    const BlasThreadScope inner(3);  // nested: the first scope's count stays
+    if (before > 0) {
+      EXPECT_EQ(BlasThreadScope::current(), 1);
+    }
+  }
+  EXPECT_EQ(BlasThreadScope::current(), before);
+}
+
 }  // namespace
 }  // namespace ifem::solvers

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fem/gradient.h"
 #include "intrinsic/errors.h"
 #include "solvers/heat_distance.h"
 #include "test_util.h"
@@ -165,6 +166,27 @@ TEST(SolversHeatDistance, ErrorPaths) {
   bad.time_factor = 0.0;
   EXPECT_THROW(HeatDistanceSolver(tri, bad), InvalidInput);
   EXPECT_THROW(HeatDistanceSolver(intrinsic::IntrinsicTriangulation()), InvalidInput);
+}
+
+TEST(SolversHeatDistance, FusedUnitGradientDivergenceMatchesComposition) {
+  const auto tri = test::make_tri(intrinsic::icosphere(6));
+  Eigen::VectorXd u(tri.n_vertices());
+  for (Index v = 0; v < tri.n_vertices(); ++v) u[v] = std::exp(-0.01 * v) * 1e-200 + 1e-210 * v;
+  std::vector<char> use(tri.n_faces(), 1);
+  for (Index f = 0; f < tri.n_faces(); f += 3) use[f] = 0;
+  Eigen::MatrixX2d X = fem::gradient(tri, u);
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    const double n = std::hypot(X(f, 0), X(f, 1));
+    if (!use[f] || !(n > 0.0)) {
+      X.row(f).setZero();
+    } else {
+      X.row(f) /= -n;
+    }
+  }
+  const Eigen::VectorXd ref = fem::divergence(tri, X);
+  const Eigen::VectorXd fused = fem::divergence_of_unit_gradient(tri, u, &use);
+  EXPECT_LT((fused - ref).cwiseAbs().maxCoeff(), 1e-14 * ref.cwiseAbs().maxCoeff());
+  EXPECT_THROW(fem::divergence_of_unit_gradient(tri, Eigen::VectorXd(3)), InvalidInput);
 }
 
 }  // namespace
