@@ -271,37 +271,7 @@ std::size_t SignpostTriangulation::flip_to_delaunay_from(std::vector<Index> stac
 }
 
 FlipReport SignpostTriangulation::flip_to_delaunay() {
-  FlipReport rep;
-  const Index ne = tri_.n_edges();
-  const std::size_t cap = 50 * static_cast<std::size_t>(ne) + 1000;
-  std::vector<char> queued(ne, 1);
-  std::vector<Index> stack(ne);
-  for (Index e = 0; e < ne; ++e) stack[e] = ne - 1 - e;
-  while (!stack.empty()) {
-    const Index e = stack.back();
-    stack.pop_back();
-    queued[e] = 0;
-    if (tri_.is_delaunay(e)) continue;
-    if (rep.flips >= cap) {
-      rep.hit_flip_cap = true;
-      break;
-    }
-    if (!flip_edge(e)) {
-      ++rep.unflippable;
-      continue;
-    }
-    ++rep.flips;
-    const Index h = tri_.edge_halfedge(e);
-    const Index t = tri_.twin(h);
-    for (const Index x : {T::next(h), T::prev(h), T::next(t), T::prev(t)}) {
-      const Index ex = tri_.edge(x);
-      if (!queued[ex]) {
-        queued[ex] = 1;
-        stack.push_back(ex);
-      }
-    }
-  }
-  return rep;
+  return tri_.flip_to_delaunay([this](Index e) { return flip_edge(e); });
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -408,6 +408,10 @@ bool IntrinsicTriangulation::flip_edge(Index e) {
 }
 
 FlipReport IntrinsicTriangulation::flip_to_delaunay() {
+  return flip_to_delaunay([this](Index e) { return flip_edge(e); });
+}
+
+FlipReport IntrinsicTriangulation::flip_to_delaunay(const std::function<bool(Index)>& flip) {
   FlipReport rep;
   const Index ne = n_edges();
   const std::size_t cap = 50 * static_cast<std::size_t>(ne) + 1000;
@@ -423,7 +427,7 @@ FlipReport IntrinsicTriangulation::flip_to_delaunay() {
       rep.hit_flip_cap = true;
       break;
     }
-    if (!flip_edge(e)) {
+    if (!flip(e)) {
       ++rep.unflippable;
       continue;
     }

@@ -3,6 +3,7 @@
 // Meshes", §4.1). Halfedge h = 3*f + s is side s of face f, running from corner s to corner s+1.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "intrinsic/errors.h"
@@ -134,6 +135,11 @@ class IntrinsicTriangulation {
   /// Flips non-Delaunay edges until every edge is Delaunay. Terminates on every input
   /// (tolerance, NaN-safe test, and a cap of 50·E + 1000 flips that is reported if reached).
   FlipReport flip_to_delaunay();
+
+  /// Same queue and stopping rules, with `flip(e)` doing each flip (it must flip e in this
+  /// triangulation or return false): lets a structure layered on top (signposts) update its own
+  /// data per flip without repeating the algorithm.
+  FlipReport flip_to_delaunay(const std::function<bool(Index)>& flip);
 
   /// Adds the smallest uniform δ ≥ 0 to every edge length so that every face satisfies
   /// a + b − c ≥ ε for all three orderings, ε = relative_epsilon × mean edge length
