@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "intrinsic/geometry.h"
 #include "intrinsic/mesh_generators.h"
 #include "intrinsic/triangulation.h"
 
@@ -61,6 +62,45 @@ inline intrinsic::TriangleMesh jittered(intrinsic::TriangleMesh m, double amount
     for (int k = 0; k < 3; ++k) m.positions(i, k) += amount * rnd();
   }
   return m;
+}
+
+
+/// Flips `tri` to intrinsic Delaunay in place and checks what flips must preserve: validity,
+/// total area and every vertex angle sum and angle defect (1e-9 relative), Gauss–Bonnet
+/// (Σ defects = 2πχ, boundary terms included), α + β ≤ π(1 + 1e-12) on every interior edge,
+/// and non-negative cotan weights on interior edges (on every edge if `all_weights`).
+inline void check_flip_to_delaunay(intrinsic::IntrinsicTriangulation& tri, bool all_weights) {
+  using namespace intrinsic;
+  tri.validate();
+  const double area0 = total_area(tri);
+  const Eigen::VectorXd sums0 = vertex_angle_sums(tri);
+  const Eigen::VectorXd defects0 = angle_defects(tri);
+  const FlipReport rep = tri.flip_to_delaunay();
+  EXPECT_FALSE(rep.hit_flip_cap);
+  tri.validate();
+  EXPECT_NEAR(total_area(tri), area0, 1e-9 * area0);
+  const Eigen::VectorXd sums = vertex_angle_sums(tri);
+  EXPECT_LE((sums - sums0).cwiseAbs().maxCoeff(),
+            1e-9 * std::max(1.0, sums0.cwiseAbs().maxCoeff()));
+  const Eigen::VectorXd defects = angle_defects(tri);
+  EXPECT_LE((defects - defects0).cwiseAbs().maxCoeff(), 1e-9 * 2 * kPi);
+  EXPECT_NEAR(defects.sum(), 2 * kPi * euler_characteristic(tri),
+              1e-9 * 2 * kPi * std::max<Index>(1, tri.n_vertices()));
+  const Eigen::VectorXd w = cotan_weights(tri);
+  const double w_tol = -1e-10 * w.cwiseAbs().maxCoeff();
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    if (tri.is_boundary_edge(e)) {
+      if (all_weights) {
+        ASSERT_GE(w[e], w_tol) << "boundary edge " << e;
+      }
+      continue;
+    }
+    const Index h = tri.edge_halfedge(e);
+    const double a = corner_angle(tri, IntrinsicTriangulation::prev(h));
+    const double b = corner_angle(tri, IntrinsicTriangulation::prev(tri.twin(h)));
+    ASSERT_LE(a + b, kPi * (1 + 1e-12)) << "edge " << e;
+    ASSERT_GE(w[e], w_tol) << "edge " << e;
+  }
 }
 
 }  // namespace ifem::test
