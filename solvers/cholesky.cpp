@@ -4,6 +4,10 @@
 #include <cmath>
 #include <cstring>
 #include <mutex>
+
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
 #include <string>
 #include <vector>
 
@@ -37,6 +41,31 @@ struct OpenBlasThreads {
     static const OpenBlasThreads o;
     return o;
   }
+};
+
+// Flush-to-zero + denormals-are-zero for the calling thread while it runs CHOLMOD. The Cholesky
+// factor of the heat matrix M + tL has entries that decay exponentially away from the diagonal
+// (and so does the heat itself in a solve): without this they reach subnormal numbers, whose
+// arithmetic is ~100× slower on x86. Measured at 1M faces: factorizing M + tL took 7.5 s
+// against 2.9 s for L with the same pattern. Values below 1e-308 become 0: harmless here.
+class FlushDenormalsScope {
+ public:
+  FlushDenormalsScope() {
+#if defined(__SSE2__)
+    saved_ = _mm_getcsr();
+    _mm_setcsr(saved_ | 0x8040u);  // FTZ (bit 15) | DAZ (bit 6)
+#endif
+  }
+  ~FlushDenormalsScope() {
+#if defined(__SSE2__)
+    _mm_setcsr(saved_);
+#endif
+  }
+  FlushDenormalsScope(const FlushDenormalsScope&) = delete;
+  FlushDenormalsScope& operator=(const FlushDenormalsScope&) = delete;
+
+ private:
+  unsigned saved_ = 0;
 };
 
 std::mutex blas_scope_mutex;
@@ -131,6 +160,7 @@ struct CholeskySolver::Impl {
   void factorize(const fem::SparseMatrix& A, cholmod_factor* f, const char* who) {
     cholmod_sparse s = view(A);
     const BlasThreadScope threads(factor_blas_threads);
+    const FlushDenormalsScope no_subnormals;
     const int ok = cholmod_factorize(&s, f, &common);
     if (!ok || common.status < CHOLMOD_OK) {
       throw SolverError(std::string(who) + ": CHOLMOD factorization failed: " + status_text());
@@ -256,6 +286,7 @@ void solve_raw(const CholeskySolver::Impl& im, const double* B, Eigen::Index col
   b.dtype = CHOLMOD_DOUBLE;
   std::lock_guard<std::mutex> lock(im.mutex);
   const BlasThreadScope threads(im.solve_blas_threads);
+  const FlushDenormalsScope no_subnormals;
   auto& c = const_cast<cholmod_common&>(im.common);
   // cholmod_solve2 reuses X, Y, E when their sizes fit: no allocation per solve
   const int ok = cholmod_solve2(CHOLMOD_A, im.factor, &b, nullptr, &im.X, nullptr, &im.Y, &im.E, &c);
