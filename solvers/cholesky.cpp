@@ -100,6 +100,7 @@ int BlasThreadScope::current() {
 struct CholeskySolver::Impl {
   cholmod_common common;
   cholmod_factor* factor = nullptr;
+  bool factored_supernodal = false;  // the numeric factorization ran supernodal
   Eigen::Index n = 0;
   std::vector<int> outer, inner;  // pattern of the analyzed matrix (for refactor checks)
   mutable std::mutex mutex;       // cholmod_common is not thread-safe
@@ -230,6 +231,14 @@ CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyOpti
     throw SolverError("CholeskySolver: CHOLMOD analysis failed: " + im.status_text());
   }
   im.factorize(*A, im.factor, "CholeskySolver");
+  im.factored_supernodal = im.factor->is_super;
+  if (im.factor->is_super && options.simplicial_solves) {
+    // to_ll = 1, to_super = 0, to_packed = 1, to_monotonic = 1
+    if (!cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, im.factor, &c) ||
+        c.status < CHOLMOD_OK) {
+      throw SolverError("CholeskySolver: converting the factor failed: " + im.status_text());
+    }
+  }
   im.outer.assign(A->outerIndexPtr(), A->outerIndexPtr() + A->cols() + 1);
   im.inner.assign(A->innerIndexPtr(), A->innerIndexPtr() + A->nonZeros());
 }
@@ -342,7 +351,7 @@ const char* CholeskySolver::ordering() const {
   }
 }
 
-bool CholeskySolver::supernodal() const { return impl_->factor && impl_->factor->is_super; }
+bool CholeskySolver::supernodal() const { return impl_->factor && impl_->factored_supernodal; }
 
 double CholeskySolver::factor_nonzeros() const { return impl_->common.lnz; }
 
