@@ -2,6 +2,7 @@
 // corpus (../shared/data), which tests skip cleanly when it is absent.
 #pragma once
 
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -27,6 +28,17 @@ inline std::vector<std::filesystem::path> shared_files(const std::string& sub) {
   }
   std::sort(out.begin(), out.end());
   return out;
+}
+
+/// True when the run asked to be quick (IFEM_TEST_QUICK set, as CI does for its sanitizer run,
+/// where everything is 3–5× slower) and the file is one of the corpus's large ones (> 1 MB).
+/// Loops over ../shared/data skip such files; every small and degenerate file still runs.
+inline bool skip_in_quick_run(const std::filesystem::path& file) {
+  const char* quick = std::getenv("IFEM_TEST_QUICK");
+  if (!quick || !*quick || std::string(quick) == "0") return false;
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(file, ec);
+  return !ec && size > (1u << 20);
 }
 
 #define IFEM_REQUIRE_SHARED_DATA()                                                   \

@@ -22,6 +22,7 @@ TEST_P(SharedMesh, IntrinsicDelaunayLaplacianOrNamedError) {
   IFEM_REQUIRE_SHARED_DATA();
   const auto path = test::shared_data() / "meshes" / GetParam();
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not in this corpus";
+  if (test::skip_in_quick_run(path)) GTEST_SKIP() << "large file skipped (IFEM_TEST_QUICK)";
   const io::SurfaceInput in = io::read_mesh(path.string());
   const FaceListStats st =
       analyze_faces(in.triangles, static_cast<Index>(in.positions.rows()));
@@ -54,6 +55,7 @@ TEST_P(SharedMesh, AutomaticPathHasNonNegativeWeights) {
   IFEM_REQUIRE_SHARED_DATA();
   const auto path = test::shared_data() / "meshes" / GetParam();
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not in this corpus";
+  if (test::skip_in_quick_run(path)) GTEST_SKIP() << "large file skipped (IFEM_TEST_QUICK)";
   const io::SurfaceInput in = io::read_mesh(path.string());
   const SurfaceTriangulation s = build_surface(in.triangles, in.positions);
   s.tri.validate();

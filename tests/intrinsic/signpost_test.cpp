@@ -266,6 +266,7 @@ TEST(Refine, SharedCorpusManifoldMeshes) {
   IFEM_REQUIRE_SHARED_DATA();
   Index tested = 0;
   for (const auto& path : test::shared_files("meshes")) {
+    if (test::skip_in_quick_run(path)) continue;
     io::SurfaceInput in;
     try {
       in = io::read_mesh(path.string());
