@@ -1,5 +1,7 @@
 // `ifem laplacian`: the intrinsic Delaunay cotan Laplacian and mass matrix of a mesh.
+#include <algorithm>
 #include <cstdio>
+#include <string>
 
 #include "cli.h"
 #include "fem/operators.h"
@@ -23,16 +25,28 @@ int run(const Args& args) {
   M.makeCompressed();
   io::write_matrix_market(prefix + "_L.mtx", L);
   io::write_matrix_market(prefix + "_M.mtx", M);
-  double min_offdiag = 0;
+  // positive off-diagonals (negative weights), judged relative to the diagonal: weights that
+  // are exactly 0 (cocircular or right angles) come out as ±1e-16-sized rounding
+  double max_offdiag = 0.0, max_diag = 0.0;
+  long positive = 0;
   for (int k = 0; k < L.outerSize(); ++k) {
     for (fem::SparseMatrix::InnerIterator it(L, k); it; ++it) {
-      if (it.row() != it.col()) min_offdiag = std::max(min_offdiag, it.value());
+      if (it.row() == it.col()) max_diag = std::max(max_diag, it.value());
+      else max_offdiag = std::max(max_offdiag, it.value());
     }
   }
-  std::printf("wrote %s_L.mtx and %s_M.mtx: %d×%d, %ld nonzeros in L, path %s, %zu flips, "
-              "largest off-diagonal %.3g (≤ 0 means non-negative weights)\n",
+  const double tol = 1e-10 * max_diag;
+  for (int k = 0; k < L.outerSize(); ++k) {
+    for (fem::SparseMatrix::InnerIterator it(L, k); it; ++it) {
+      positive += it.row() != it.col() && it.value() > tol;
+    }
+  }
+  std::printf("wrote %s_L.mtx and %s_M.mtx: %d×%d, %ld nonzeros in L, path %s, %zu flips, %s\n",
               prefix.c_str(), prefix.c_str(), int(L.rows()), int(L.cols()), long(L.nonZeros()),
-              s.path.c_str(), s.flips.flips, min_offdiag);
+              s.path.c_str(), s.flips.flips,
+              positive == 0 ? "all weights non-negative (off-diagonals ≤ 1e-10 × max diagonal)"
+                            : (std::to_string(positive) + " negative weights (positive off-diagonals" +
+                               ", largest " + std::to_string(max_offdiag) + ")").c_str());
   return 0;
 }
 
