@@ -11,12 +11,16 @@
 
 namespace ifem::cli {
 
-const std::set<std::string> kRefineOptions = {"min-angle", "max-area", "max-insertions"};
+const std::set<std::string> kRefineOptions = {"min-angle", "max-area", "max-insertions",
+                                               "relax"};
 const char* const kRefineHelp =
     "Refinement options:\n"
     "  --min-angle A        smallest corner angle wanted, degrees, in (0, 30] (default 25)\n"
     "  --max-area X         also split triangles of area above X (default: no bound)\n"
-    "  --max-insertions N   stop after N inserted vertices (default 10 × input vertices)\n";
+    "  --max-insertions N   stop after N inserted vertices (default 10 × input vertices)\n"
+    "  --relax ITER         then ITER passes of optimal Delaunay (ODT) relaxation of the\n"
+    "                       inserted vertices, each moved inside its flat star on the surface\n"
+    "                       (input vertices never move; min angle kept; default 0)\n";
 
 intrinsic::RefineOptions refine_options(const Args& args) {
   intrinsic::RefineOptions o;
@@ -60,14 +64,27 @@ std::string describe(const intrinsic::RefineReport& r) {
   return m.str();
 }
 
+std::string describe_relax(const intrinsic::RelaxReport& r) {
+  std::ostringstream m;
+  m << "relaxed: " << r.passes << " ODT passes, " << r.moved << " moves (" << r.rejected
+    << " rejected, longest " << r.max_displacement << "), " << r.flips
+    << " flips, min angle " << r.min_angle_before << "° -> " << r.min_angle_after
+    << "°, mean min angle " << r.mean_min_angle_before << "° -> " << r.mean_min_angle_after
+    << "°";
+  return m.str();
+}
+
 }  // namespace
 
 intrinsic::SignpostTriangulation refine_prepared(PreparedSurface& s, const Args& args,
-                                                 intrinsic::RefineReport* report) {
+                                                 intrinsic::RefineReport* report,
+                                                 intrinsic::RelaxReport* relax_report) {
   if (!refinable(s)) throw InvalidInput(refine_unsupported(s));
   const double t0 = now_seconds();
   intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
                                       args.get_double("mollify", 1e-5));
+  const auto relax = static_cast<int>(args.get_int("relax", 0));
+  if (relax < 0) throw InvalidInput("--relax: expected a number of passes ≥ 0");
   const intrinsic::RefineReport r = intrinsic::delaunay_refine(st, refine_options(args));
   s.tri = st.intrinsic();
   if (s.path != "manifold") {
@@ -81,6 +98,16 @@ intrinsic::SignpostTriangulation refine_prepared(PreparedSurface& s, const Args&
   }
   progress(args, describe(r) + " in " + std::to_string(now_seconds() - t0) + " s");
   if (report) *report = r;
+  intrinsic::RelaxReport rr;
+  if (relax > 0) {
+    const double t1 = now_seconds();
+    intrinsic::RelaxOptions ro;
+    ro.iterations = relax;
+    rr = intrinsic::relax_inserted_vertices(st, ro);
+    progress(args, describe_relax(rr) + " in " + std::to_string(now_seconds() - t1) + " s");
+  }
+  if (relax_report) *relax_report = rr;
+  s.tri = st.intrinsic();  // the relaxed lengths (the same connectivity up to flips)
   return st;
 }
 
@@ -103,7 +130,8 @@ int run(const Args& args) {
   if (!refinable(s)) throw InvalidInput(refine_unsupported(s));
   const double min_in = input_min_angle(s);
   intrinsic::RefineReport r;
-  const intrinsic::SignpostTriangulation st = refine_prepared(s, args, &r);
+  intrinsic::RelaxReport rr;
+  const intrinsic::SignpostTriangulation st = refine_prepared(s, args, &r, &rr);
   // everything is computed before the first file is written: no partial output on a failure
   double t0 = now_seconds();
   const bool binary = !args.has("ascii");
@@ -161,6 +189,12 @@ int run(const Args& args) {
                 r.min_angle_after);
   }
   std::printf("\n");
+  if (rr.passes > 0) {
+    std::printf("relaxed: %d ODT passes, %d moves; min angle %.3f° -> %.3f°, mean min angle "
+                "%.3f° -> %.3f°\n",
+                rr.passes, rr.moved, rr.min_angle_before, rr.min_angle_after,
+                rr.mean_min_angle_before, rr.mean_min_angle_after);
+  }
   if (r.hit_insertion_cap) {
     std::printf("stopped at the insertion cap: %d triangles still below the bounds\n",
                 r.bad_faces_left);
@@ -177,6 +211,7 @@ Command refine_command() {
   c.summary = "intrinsic Delaunay refinement (min angle); common subdivision as a PLY mesh";
   c.help = std::string(
                "usage: ifem refine MESH [--min-angle A] [--max-area X] [--max-insertions N]\n"
+               "                   [--relax ITER]\n"
                "                   -o OUT.ply [--lines LINES.ply] [--mesh REFINED.ply]\n"
                "                   [--save FILE.ifem] [--ascii] [surface options]\n\n"
                "Refines the intrinsic Delaunay triangulation of MESH by inserting circumcenters\n"

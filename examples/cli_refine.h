@@ -11,7 +11,7 @@
 
 namespace ifem::cli {
 
-/// The options refinement understands: --min-angle, --max-area, --max-insertions.
+/// The options refinement understands: --min-angle, --max-area, --max-insertions, --relax.
 extern const std::set<std::string> kRefineOptions;
 /// Help text for them (and for the --refine flag of the solver commands).
 extern const char* const kRefineHelp;
@@ -24,7 +24,8 @@ std::string refine_unsupported(const PreparedSurface& s);
 intrinsic::RefineOptions refine_options(const Args& args);
 
 /// Refines a prepared surface in place: rebuilds its intrinsic triangulation with signposts
-/// from the input (same faces, same mollification), refines it, and stores the result in
+/// from the input (same faces, same mollification), refines it, relaxes the inserted
+/// vertices (--relax ITER passes, default 0), and stores the result in
 /// s.tri. Input vertices keep their ids 0..n_input-1 and inserted vertices follow, so a
 /// result vector x on s.tri is on the input vertices as x.head(n_input); use
 /// SignpostTriangulation::input_to_intrinsic() for data given on the input vertices.
@@ -32,6 +33,7 @@ intrinsic::RefineOptions refine_options(const Args& args);
 /// @throws InvalidInput unless the surface took the manifold path (the tufted cover and point
 ///         clouds have no input surface to trace over)
 intrinsic::SignpostTriangulation refine_prepared(PreparedSurface& s, const Args& args,
-                                                 intrinsic::RefineReport* report = nullptr);
+                                                 intrinsic::RefineReport* report = nullptr,
+                                                 intrinsic::RelaxReport* relax_report = nullptr);
 
 }  // namespace ifem::cli

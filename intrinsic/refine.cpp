@@ -233,4 +233,113 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
   return rep;
 }
 
+namespace {
+
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// smallest corner angle of the planar triangle (a, b, c)
+double planar_min_angle(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                        const Eigen::Vector2d& c) {
+  const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
+  if (la <= lb && la <= lc) return opposite_angle(la, lb, lc);
+  if (lb <= lc) return opposite_angle(lb, lc, la);
+  return opposite_angle(lc, la, lb);
+}
+
+void angle_stats(const IntrinsicTriangulation& tri, double& min_deg, double& mean_deg) {
+  double mn = kPi, sum = 0.0;
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    const double a = min_corner_angle(tri, f);
+    mn = std::min(mn, a);
+    sum += a;
+  }
+  min_deg = mn * 180.0 / kPi;
+  mean_deg = tri.n_faces() > 0 ? sum / tri.n_faces() * 180.0 / kPi : 0.0;
+}
+
+}  // namespace
+
+RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options) {
+  if (options.iterations < 0) {
+    throw InvalidInput("relax_inserted_vertices: iterations must be ≥ 0");
+  }
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  RelaxReport rep;
+  angle_stats(tri, rep.min_angle_before, rep.mean_min_angle_before);
+  std::vector<Index> spokes;
+  std::vector<Eigen::Vector2d> ring;
+  const Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+  for (int pass = 0; pass < options.iterations; ++pass) {
+    ++rep.passes;
+    for (Index v = st.n_input_vertices(); v < tri.n_vertices(); ++v) {
+      if (st.is_boundary_vertex(v)) {
+        ++rep.skipped_boundary;
+        continue;
+      }
+      if (!st.inserted_vertex_star(v, &spokes, &ring)) {
+        ++rep.skipped_irregular;
+        continue;
+      }
+      // area-weighted mean of the circumcenters of (v, ring[i], ring[i+1]), v at the origin
+      const std::size_t n = ring.size();
+      Eigen::Vector2d acc = Eigen::Vector2d::Zero();
+      double area = 0.0, old_min = kPi, old_sum = 0.0;
+      bool ok = true;
+      for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector2d& b = ring[i];
+        const Eigen::Vector2d& c = ring[(i + 1) % n];
+        const double dd = 2.0 * cross2(b, c);
+        if (!(dd > 0.0)) {
+          ok = false;
+          break;
+        }
+        const Eigen::Vector2d cc((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / dd,
+                                 (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / dd);
+        acc += 0.25 * dd * cc;  // area = dd / 4
+        area += 0.25 * dd;
+        const double a = planar_min_angle(origin, b, c);
+        old_min = std::min(old_min, a);
+        old_sum += a;
+      }
+      if (!ok || !(area > 0.0)) {
+        ++rep.skipped_irregular;
+        continue;
+      }
+      const Eigen::Vector2d target = acc / area;
+      if (!target.allFinite()) {
+        ++rep.rejected;
+        continue;
+      }
+      bool moved = false;
+      for (const double fraction : {1.0, 0.5, 0.25}) {
+        const Eigen::Vector2d p = fraction * target;
+        if (options.keep_min_angle) {
+          double new_min = kPi, new_sum = 0.0;
+          for (std::size_t i = 0; i < n; ++i) {
+            const double a = planar_min_angle(p, ring[i], ring[(i + 1) % n]);
+            new_min = std::min(new_min, a);
+            new_sum += a;
+          }
+          if (!(new_min >= old_min && new_sum >= old_sum)) continue;
+        }
+        if (st.move_inserted_vertex(v, p)) {
+          moved = true;
+          rep.max_displacement = std::max(rep.max_displacement, p.norm());
+          break;
+        }
+      }
+      if (moved) {
+        ++rep.moved;
+      } else {
+        ++rep.rejected;
+      }
+    }
+    rep.flips += st.flip_to_delaunay().flips;
+  }
+  angle_stats(tri, rep.min_angle_after, rep.mean_min_angle_after);
+  return rep;
+}
+
 }  // namespace ifem::intrinsic

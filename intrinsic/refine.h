@@ -49,6 +49,38 @@ struct RefineReport {
 /// @throws InvalidInput on a bound outside (0, 30] degrees or a negative max_area
 RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options = {});
 
+/// Optimal Delaunay triangulation (ODT) relaxation of the inserted vertices.
+struct RelaxOptions {
+  int iterations = 1;  ///< passes over the inserted vertices (each followed by Delaunay flips)
+  /// Keep the smallest corner angle of each star, and the sum of its triangles' smallest
+  /// angles, from decreasing: a move (or its half, or quarter) that would lower either is
+  /// rejected, so the triangulation's minimum angle, and with it delaunay_refine()'s bound,
+  /// never gets worse (the Delaunay flips after a pass only raise it).
+  bool keep_min_angle = true;
+};
+
+/// Outcome of relax_inserted_vertices(), counted.
+struct RelaxReport {
+  int passes = 0;
+  Index moved = 0;             ///< vertex moves made (summed over the passes)
+  Index rejected = 0;          ///< moves skipped: outside the star, or lowering its min angle
+  Index skipped_boundary = 0;  ///< inserted boundary vertices (never moved), per pass
+  Index skipped_irregular = 0; ///< inserted vertices whose star is not a disk, per pass
+  double max_displacement = 0.0;  ///< longest single move
+  std::size_t flips = 0;          ///< Delaunay flips after the passes
+  double min_angle_before = 0.0, min_angle_after = 0.0;  ///< degrees, over all faces
+  double mean_min_angle_before = 0.0, mean_min_angle_after = 0.0;  ///< degrees, face mean
+};
+
+/// ODT relaxation: for `iterations` passes, moves every inserted interior vertex (ids ≥
+/// n_input_vertices(); input vertices never move, inserted boundary vertices neither) to the
+/// area-weighted mean of the circumcenters of its star's triangles, computed in the flat
+/// layout of its star (SignpostTriangulation::inserted_vertex_star()), if that point lies
+/// strictly inside the star (else half, then a quarter of the way, else not at all), then
+/// flips to intrinsic Delaunay. The surface, the input vertices' angle sums and the total area
+/// are unchanged; inserted vertices stay flat and keep their locations on the input.
+RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options = {});
+
 /// Smallest corner angle (radians) of face f.
 double min_corner_angle(const IntrinsicTriangulation& tri, Index f);
 

@@ -121,6 +121,25 @@ class SignpostTriangulation {
   /// edge_halfedge(e) (boundary edges included); returns the new vertex id.
   Index split_edge(Index e, double t);
 
+  /// The star of an inserted interior vertex v laid out isometrically in the plane (v is flat,
+  /// Θ_v = 2π): v at the origin, angle 0 along signpost direction 0, ring vertex i at
+  /// length(h_i)·(cos φ_i, sin φ_i) with φ_i the signpost of the i-th outgoing halfedge h_i,
+  /// counter-clockwise (face(h_i) = (v, ring[i], ring[i+1])). Returns false, filling nothing
+  /// useful, when v is an input or boundary vertex or its star is not a disk (a self-edge at
+  /// v, or an outer side glued to another face of the star).
+  bool inserted_vertex_star(Index v, std::vector<Index>* spokes,
+                            std::vector<Eigen::Vector2d>* ring) const;
+  /// Moves inserted interior vertex v by `displacement`, given in the layout of
+  /// inserted_vertex_star(). The surface is unchanged (v moves inside its flat star): the
+  /// spokes get their new planar lengths, the signposts at v and of the spokes' twins are
+  /// updated (the ring vertices' total angles do not change), and v's location on the input
+  /// is traced from the old one along the displacement. Returns false and changes nothing if v
+  /// has no such star, if the new position is not strictly inside the star's kernel (every
+  /// new triangle's height above its outer side at least min_relative_height × that side's
+  /// length), or if the trace over the input fails.
+  bool move_inserted_vertex(Index v, const Eigen::Vector2d& displacement,
+                            double min_relative_height = 1e-6);
+
   /// Locates a point of the intrinsic triangulation on the input surface by tracing from a
   /// corner of f along the direction to it.
   SurfacePoint locate(Index f, const Eigen::Vector3d& bary) const;

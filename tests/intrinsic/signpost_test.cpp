@@ -1,6 +1,7 @@
 #include "intrinsic/signpost.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include <Eigen/Geometry>
@@ -208,6 +209,84 @@ TEST(Refine, MeetsAngleBoundOnGeneratedMeshes) {
     expect_refined(st, rep, sums0, area0, c.bound);
     expect_traces_consistent(st);
   }
+}
+
+TEST(Relax, OdtMovesInsertedVerticesOnly) {
+  struct Case {
+    const char* name;
+    TriangleMesh mesh;
+  };
+  const Case cases[] = {{"jittered icosphere", jittered(icosphere(4), 0.35, 2)},
+                        {"sliver uv sphere", uv_sphere(8, 200)},
+                        {"jittered grid (boundary)", jittered(grid(10, 10), 0.06, 8)}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    SignpostTriangulation st(c.mesh.faces, c.mesh.positions);
+    const Eigen::VectorXd sums0 = vertex_angle_sums(st.intrinsic());
+    const double area0 = total_area(st.intrinsic());
+    const RefineReport rr = delaunay_refine(st);
+    ASSERT_GT(rr.insertions, 0);
+    const Index nv = st.intrinsic().n_vertices();
+    const Positions x0 = st.vertex_positions();
+    RelaxOptions opt;
+    opt.iterations = 3;
+    const RelaxReport rep = relax_inserted_vertices(st, opt);
+    const IntrinsicTriangulation& tri = st.intrinsic();
+    tri.validate();
+    EXPECT_EQ(rep.passes, 3);
+    EXPECT_GT(rep.moved, 0);
+    EXPECT_GT(rep.max_displacement, 0.0);
+    EXPECT_EQ(tri.n_vertices(), nv);
+    EXPECT_NEAR(total_area(tri), area0, 1e-9 * area0);
+    const Eigen::VectorXd sums = vertex_angle_sums(tri);
+    for (Index v = 0; v < sums0.size(); ++v) {
+      ASSERT_NEAR(sums[v], sums0[v], 1e-9 * std::max(1.0, sums0[v])) << "input vertex " << v;
+    }
+    for (Index v = static_cast<Index>(sums0.size()); v < tri.n_vertices(); ++v) {
+      const double flat = st.is_boundary_vertex(v) ? kPi : 2 * kPi;
+      ASSERT_NEAR(sums[v], flat, 1e-9) << "inserted vertex " << v;
+      ASSERT_NEAR(st.vertex_angle_sum(v), flat, 1e-12);
+    }
+    // input vertices do not move; inserted vertices moved somewhere
+    const Positions x = st.vertex_positions();
+    EXPECT_EQ((x.topRows(sums0.size()) - x0.topRows(sums0.size())).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_GT((x - x0).cwiseAbs().maxCoeff(), 0.0);
+    expect_traces_consistent(st);
+    // quality: the minimum angle is kept (the guard), the mean of the faces' minimum angles
+    // does not get worse (to rounding, and flips), and improves on the sliver sphere
+    EXPECT_GE(rep.min_angle_after, rep.min_angle_before - 1e-9);
+    EXPECT_GE(rep.mean_min_angle_after, rep.mean_min_angle_before - 1e-9);
+    if (std::string(c.name) == "sliver uv sphere") {
+      EXPECT_GT(rep.mean_min_angle_after, rep.mean_min_angle_before + 1.0);
+    }
+    EXPECT_GE(rep.min_angle_after, rr.min_angle_after - 1e-9);
+    std::printf("[%s] relax: %d moved, %d rejected, min %.3f -> %.3f, mean %.3f -> %.3f, "
+                "%zu flips\n",
+                c.name, rep.moved, rep.rejected, rep.min_angle_before, rep.min_angle_after,
+                rep.mean_min_angle_before, rep.mean_min_angle_after, rep.flips);
+  }
+}
+
+TEST(Relax, MoveRejectsPointsOutsideTheStar) {
+  const TriangleMesh m = jittered(icosphere(3), 0.03, 7);
+  SignpostTriangulation st(m.faces, m.positions);
+  const Index v = st.insert_vertex(5, Eigen::Vector3d(0.3, 0.3, 0.4));
+  EXPECT_FALSE(st.move_inserted_vertex(0, Eigen::Vector2d(1e-3, 0.0)));  // input vertex
+  std::vector<Index> spokes;
+  std::vector<Eigen::Vector2d> ring;
+  ASSERT_TRUE(st.inserted_vertex_star(v, &spokes, &ring));
+  ASSERT_EQ(ring.size(), 3u);
+  const std::vector<double> before = st.intrinsic().lengths();
+  EXPECT_FALSE(st.move_inserted_vertex(v, 2.0 * ring[0]));  // beyond a ring vertex
+  EXPECT_EQ(st.intrinsic().lengths(), before);
+  // to the centroid of the star: inside, lengths become the planar distances
+  const Eigen::Vector2d p = (ring[0] + ring[1] + ring[2]) / 3.0;
+  ASSERT_TRUE(st.move_inserted_vertex(v, p));
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(st.intrinsic().halfedge_length(spokes[i]), (ring[i] - p).norm(), 1e-14);
+  }
+  st.intrinsic().validate();
+  expect_traces_consistent(st);
 }
 
 TEST(Refine, MaxAreaBoundAndInsertionCap) {
