@@ -40,7 +40,7 @@ int run(const Args& args) {
   if (s.input.has_faces()) {
     // t from the input mesh's edges (more accurate than the IDT's on sliver meshes), and the
     // input's boundary (a tufted cover has none of its own)
-    opt.mean_edge_length = input_mean_edge_length(s.input);
+    opt.mean_edge_length = intrinsic::mean_side_length(s.input.triangles, s.input.positions);
     opt.boundary_vertices = s.boundary_vertex;
   }
   double t0 = now_seconds();

@@ -17,17 +17,4 @@ inline std::string extension_of(const std::string& path) {
   return e;
 }
 
-/// Mean edge length of the input's triangles (as given, before any flip).
-inline double input_mean_edge_length(const io::SurfaceInput& in) {
-  double sum = 0.0;
-  long n = 0;
-  for (const auto& t : in.triangles) {
-    for (int i = 0; i < 3; ++i) {
-      sum += (in.positions.row(t[i]) - in.positions.row(t[(i + 1) % 3])).norm();
-      ++n;
-    }
-  }
-  return n ? sum / double(n) : 0.0;
-}
-
 }  // namespace ifem::cli

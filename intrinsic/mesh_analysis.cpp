@@ -113,4 +113,16 @@ FaceListStats analyze_faces(const std::vector<Triangle>& faces, Index n_vertices
   return st;
 }
 
+double mean_side_length(const std::vector<Triangle>& faces, const Positions& positions) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const Triangle& t : faces) {
+    for (int i = 0; i < 3; ++i) {
+      sum += (positions.row(t[i]) - positions.row(t[(i + 1) % 3])).norm();
+      ++n;
+    }
+  }
+  return n ? sum / static_cast<double>(n) : 0.0;
+}
+
 }  // namespace ifem::intrinsic

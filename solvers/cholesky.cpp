@@ -199,19 +199,23 @@ void check_matrix(const fem::SparseMatrix& A, const char* who) {
   }
 }
 
+// A itself when compressed (CHOLMOD reads the CSC arrays directly), else a compressed copy
+// kept in `storage`.
+const fem::SparseMatrix* compressed(const fem::SparseMatrix& A, fem::SparseMatrix& storage) {
+  if (A.isCompressed()) return &A;
+  storage = A;
+  storage.makeCompressed();
+  return &storage;
+}
+
 }  // namespace
 
 CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyOptions& options)
     : impl_(std::make_unique<Impl>()) {
   options.validate();
   check_matrix(A_in, "CholeskySolver");
-  fem::SparseMatrix compressed;
-  const fem::SparseMatrix* A = &A_in;
-  if (!A_in.isCompressed()) {
-    compressed = A_in;
-    compressed.makeCompressed();
-    A = &compressed;
-  }
+  fem::SparseMatrix storage;
+  const fem::SparseMatrix* A = compressed(A_in, storage);
   Impl& im = *impl_;
   im.n = A->rows();
   im.min_rcond = options.min_rcond;
@@ -249,13 +253,8 @@ CholeskySolver& CholeskySolver::operator=(CholeskySolver&&) noexcept = default;
 
 void CholeskySolver::refactor(const fem::SparseMatrix& A_in) {
   check_matrix(A_in, "CholeskySolver::refactor");
-  fem::SparseMatrix compressed;
-  const fem::SparseMatrix* A = &A_in;
-  if (!A_in.isCompressed()) {
-    compressed = A_in;
-    compressed.makeCompressed();
-    A = &compressed;
-  }
+  fem::SparseMatrix storage;
+  const fem::SparseMatrix* A = compressed(A_in, storage);
   Impl& im = *impl_;
   const bool same = A->rows() == im.n &&
                     static_cast<std::size_t>(A->nonZeros()) == im.inner.size() &&

@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "intrinsic/errors.h"
+#include "intrinsic/mesh_analysis.h"
 #include "intrinsic/mesh_io.h"
 #include "intrinsic/surface_triangulation.h"
 #include "solvers/heat_distance.h"
@@ -40,18 +41,6 @@ Rel relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) {
   }
   r.mean = sum / std::max(n, 1);
   return r;
-}
-
-double mean_input_edge(const io::SurfaceInput& in) {
-  double s = 0;
-  long n = 0;
-  for (const auto& t : in.triangles) {
-    for (int i = 0; i < 3; ++i) {
-      s += (in.positions.row(t[i]) - in.positions.row(t[(i + 1) % 3])).norm();
-      ++n;
-    }
-  }
-  return s / std::max(n, 1L);
 }
 
 // Per mesh and source, the mean relative error must not exceed CGAL's (issue #3), with the
@@ -102,7 +91,7 @@ TEST(SolversReference, HeatDistanceVsExact) {
     const intrinsic::IntrinsicTriangulation& tri = s.tri;
     const std::string note = s.path == intrinsic::SurfacePath::kTufted ? "tufted" : "";
     HeatDistanceOptions opt;
-    opt.mean_edge_length = mean_input_edge(in);
+    opt.mean_edge_length = intrinsic::mean_side_length(in.triangles, in.positions);
     opt.intrinsic_delaunay = false;
     opt.boundary_vertices = s.boundary_vertex;
     const Eigen::VectorXd d = HeatDistanceSolver(tri, opt).compute_distance({src});
@@ -157,7 +146,7 @@ TEST(SolversReference, DISABLED_StepLengthSweep) {
     const Eigen::VectorXd exact = io::read_values(p.string());
     const Eigen::VectorXd cgal = io::read_values((p.parent_path() / (stem + ".src" + mt[2].str() + ".cgal-heat.txt")).string());
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
-    const double h_in = mean_input_edge(in);
+    const double h_in = intrinsic::mean_side_length(in.triangles, in.positions);
     const double h_idt = mean_edge_length(s.tri);
     double area = 0; std::vector<double> el;
     for (const auto& t : in.triangles) {
@@ -195,7 +184,7 @@ TEST(SolversReference, DISABLED_BoundarySweep) {
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
     auto tri = intrinsic::IntrinsicTriangulation::from_positions(in.triangles, in.positions);
     tri.mollify(1e-5); tri.flip_to_delaunay();
-    const double h_in = mean_input_edge(in);
+    const double h_in = intrinsic::mean_side_length(in.triangles, in.positions);
     auto run = [&](const intrinsic::IntrinsicTriangulation& t, bool bnd, HeatDistanceOptions::Boundary b) {
       HeatDistanceOptions opt;
       opt.mean_edge_length = h_in;

@@ -16,6 +16,7 @@
 #include <iterator>
 #include <string>
 
+#include "intrinsic/mesh_analysis.h"
 #include "intrinsic/mesh_io.h"
 #include "intrinsic/refine.h"
 #include "intrinsic/signpost.h"
@@ -38,18 +39,6 @@ double mean_rel(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) {
     ++n;
   }
   return sum / double(std::max(n, 1L));
-}
-
-double mean_input_edge(const io::SurfaceInput& in) {
-  double s = 0;
-  long n = 0;
-  for (const auto& t : in.triangles) {
-    for (int i = 0; i < 3; ++i) {
-      s += (in.positions.row(t[i]) - in.positions.row(t[(i + 1) % 3])).norm();
-      ++n;
-    }
-  }
-  return s / double(std::max(n, 1L));
 }
 
 struct Case {
@@ -95,7 +84,7 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
       continue;
     }
     const io::SurfaceInput in = io::read_mesh(mesh.string());
-    const double h = mean_input_edge(in);
+    const double h = intrinsic::mean_side_length(in.triangles, in.positions);
     // unrefined: what `ifem distance` does (build_surface: mollify 1e-5, intrinsic Delaunay)
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
     ASSERT_EQ(s.path, intrinsic::SurfacePath::kManifold) << stem << ": " << s.reason;
