@@ -40,11 +40,16 @@ void write_file_atomically(const std::string& path, const std::string& bytes) {
     fail_file(path, "cannot write " + tmp + ": " + std::strerror(errno));
   }
   const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  close_and_rename(f, wrote, tmp, path);
+}
+
+void close_and_rename(std::FILE* f, bool ok, const std::string& tmp, const std::string& path) {
+  ok = ok && std::ferror(f) == 0;
   const int saved_errno = errno;
   const bool closed = std::fclose(f) == 0;
-  if (!wrote || !closed) {
+  if (!ok || !closed) {
     std::remove(tmp.c_str());
-    fail_file(path, "cannot write " + tmp + ": " + std::strerror(wrote ? errno : saved_errno));
+    fail_file(path, "cannot write " + tmp + ": " + std::strerror(ok ? errno : saved_errno));
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
     const int rename_errno = errno;

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <cstdio>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -22,6 +23,11 @@ std::string read_file(const std::string& path);
 /// Writes `bytes` to `path.tmp`, then renames it to `path`; removes the tmp file on failure.
 /// @throws IoError if any step fails
 void write_file_atomically(const std::string& path, const std::string& bytes);
+
+/// Finishes a file written to `tmp` through `f` (opened by the caller): closes it and renames it
+/// to `path`, or removes it and throws IoError when `ok` is false, a write failed, or the
+/// rename fails. Writers that stream with fprintf use it to stay atomic.
+void close_and_rename(std::FILE* f, bool ok, const std::string& tmp, const std::string& path);
 
 /// Throws IoError "<path>, line <line>: <problem>".
 [[noreturn]] void fail_line(const std::string& path, std::size_t line, const std::string& problem);

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "intrinsic/geometry.h"
+#include "intrinsic/io_detail.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -640,17 +641,7 @@ void SignpostTriangulation::save(const std::string& path) const {
                  int(p.face), p.bary[0], p.bary[1], p.bary[2], frame_[v]);
   }
   std::fprintf(f, "end\n");
-  const bool ok = std::ferror(f) == 0;
-  if (std::fclose(f) != 0 || !ok) {
-    std::remove(tmp.c_str());
-    throw IoError(path + ": write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw IoError(path + ": cannot rename " + tmp + ": " + ec.message());
-  }
+  io::detail::close_and_rename(f, true, tmp, path);
 }
 
 namespace {

@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "intrinsic/io_detail.h"
 #include "intrinsic/signpost.h"
 
 namespace ifem::intrinsic {
@@ -55,17 +56,7 @@ void write_polylines_ply(const std::string& path,
     }
     base += static_cast<std::int32_t>(line.size());
   }
-  const bool ok = !std::ferror(f);
-  if (std::fclose(f) != 0 || !ok) {
-    std::remove(tmp.c_str());
-    throw IoError(path + ": write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw IoError(path + ": cannot rename " + tmp + ": " + ec.message());
-  }
+  io::detail::close_and_rename(f, true, tmp, path);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -455,17 +446,7 @@ void write_common_subdivision_ply(const std::string& path, const CommonSubdivisi
       std::fprintf(f, "3 %d %d %d %d %d\n", rec[0], rec[1], rec[2], rec[3], rec[4]);
     }
   }
-  const bool ok = !std::ferror(f);
-  if (std::fclose(f) != 0 || !ok) {
-    std::remove(tmp.c_str());
-    throw IoError(path + ": write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw IoError(path + ": cannot rename " + tmp + ": " + ec.message());
-  }
+  io::detail::close_and_rename(f, true, tmp, path);
 }
 
 }  // namespace ifem::intrinsic
