@@ -350,6 +350,31 @@ bool IntrinsicTriangulation::is_delaunay(Index e) const {
   return !bad;
 }
 
+IntrinsicTriangulation::SlotMove IntrinsicTriangulation::record_slot_move(
+    int n, const Index* from, const Index* to) const {
+  SlotMove m;
+  m.n = n;
+  for (int k = 0; k < n; ++k) {
+    m.old_slot[k] = from[k];
+    m.new_slot[k] = to[k];
+    m.old_twin[k] = twin_[from[k]];
+    m.old_edge[k] = edge_[from[k]];
+  }
+  return m;
+}
+
+void IntrinsicTriangulation::finish_slot_move(const SlotMove& m) {
+  for (int k = 0; k < m.n; ++k) {
+    const Index s = m.new_slot[k];
+    edge_[s] = m.old_edge[k];
+    const Index ot = m.old_twin[k];
+    const Index nt = ot == kInvalidIndex ? kInvalidIndex : m.moved(ot);
+    twin_[s] = nt;
+    if (nt != kInvalidIndex && ot == nt) twin_[ot] = s;  // outside partner points back
+    if (edge_halfedge_[m.old_edge[k]] == m.old_slot[k]) edge_halfedge_[m.old_edge[k]] = s;
+  }
+}
+
 bool IntrinsicTriangulation::flip_edge(Index e) {
   const Index h = edge_halfedge_[e];
   const Index t = twin_[h];
@@ -364,19 +389,9 @@ bool IntrinsicTriangulation::flip_edge(Index e) {
   // Old faces (a,b,c) = (h,h1,h2) and (b,a,d) = (t,t1,t2). New faces keep the slots:
   // face(h) = (d,c,a) with h: d→c, h1: c→a (was h2), h2: a→d (was t1);
   // face(t) = (c,d,b) with t: c→d, t1: d→b (was t2), t2: b→c (was h1).
-  const Index old_slot[4] = {h2, t1, t2, h1};
-  const Index new_slot[4] = {h1, h2, t1, t2};
-  Index old_twin[4], old_edge[4];
-  for (int k = 0; k < 4; ++k) {
-    old_twin[k] = twin_[old_slot[k]];
-    old_edge[k] = edge_[old_slot[k]];
-  }
-  auto moved = [&](Index x) {
-    for (int k = 0; k < 4; ++k) {
-      if (old_slot[k] == x) return new_slot[k];
-    }
-    return x;
-  };
+  const Index from[4] = {h2, t1, t2, h1};
+  const Index to[4] = {h1, h2, t1, t2};
+  const SlotMove mv = record_slot_move(4, from, to);
   // vertex_halfedge entries that pointed into the diamond move with their sides (a Δ-complex
   // may repeat vertices among a, b, c, d: visit each once)
   Index verts[4] = {a, b, c, d};
@@ -386,17 +401,9 @@ bool IntrinsicTriangulation::flip_edge(Index e) {
     Index& vh = vertex_halfedge_[verts[k]];
     if (vh == h) vh = h2;       // a: a→d now sits in slot h2
     else if (vh == t) vh = t2;  // b: b→c now sits in slot t2
-    else vh = moved(vh);
+    else vh = mv.moved(vh);
   }
-  for (int k = 0; k < 4; ++k) {
-    const Index s = new_slot[k];
-    edge_[s] = old_edge[k];
-    const Index ot = old_twin[k];
-    const Index nt = ot == kInvalidIndex ? kInvalidIndex : moved(ot);
-    twin_[s] = nt;
-    if (nt != kInvalidIndex && ot == nt) twin_[ot] = s;  // outside partner points back
-    if (edge_halfedge_[old_edge[k]] == old_slot[k]) edge_halfedge_[old_edge[k]] = s;
-  }
+  finish_slot_move(mv);
   tail_[h] = d;
   tail_[h1] = c;
   tail_[h2] = a;

@@ -179,6 +179,23 @@ class IntrinsicTriangulation {
   void validate() const;
 
  private:
+  // A local rewrite (flip, insertion, split) moves up to four halfedge slots' contents (edge
+  // and gluing) to new slots. Record them before the rewrite, map stale slot ids with moved(),
+  // then finish_slot_move() writes the contents at their new slots and re-points the outside
+  // partners and edge_halfedge_ (partners inside the moved set are mapped too).
+  struct SlotMove {
+    int n = 0;
+    Index old_slot[4], new_slot[4], old_twin[4], old_edge[4];
+    Index moved(Index x) const {
+      for (int k = 0; k < n; ++k) {
+        if (x == old_slot[k]) return new_slot[k];
+      }
+      return x;
+    }
+  };
+  SlotMove record_slot_move(int n, const Index* from, const Index* to) const;
+  void finish_slot_move(const SlotMove& m);
+
   void build_edges_and_vertices(const std::vector<double>& halfedge_length, bool check_agree);
 
   Index n_vertices_ = 0;

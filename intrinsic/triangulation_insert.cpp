@@ -16,11 +16,9 @@ Index IntrinsicTriangulation::insert_vertex_in_face(Index f, double l0, double l
   const Index f1 = n_faces(), f2 = f1 + 1;
   const Index a = 3 * f, b = a + 1, c = a + 2;
   const Index c0 = tail_[a], c1 = tail_[b], c2 = tail_[c];
-  const Index old_slot[2] = {b, c};
-  const Index new_slot[2] = {3 * f1, 3 * f2};
-  const Index old_twin[2] = {twin_[b], twin_[c]};
-  const Index old_edge[2] = {edge_[b], edge_[c]};
-  auto moved = [&](Index x) { return x == b ? new_slot[0] : x == c ? new_slot[1] : x; };
+  const Index from[2] = {b, c};
+  const Index to[2] = {3 * f1, 3 * f2};
+  const SlotMove mv = record_slot_move(2, from, to);
 
   const std::size_t nh = 3 * static_cast<std::size_t>(f2 + 1);
   tail_.resize(nh);
@@ -30,16 +28,8 @@ Index IntrinsicTriangulation::insert_vertex_in_face(Index f, double l0, double l
   length_.insert(length_.end(), {l0, l1, l2});
   edge_halfedge_.insert(edge_halfedge_.end(), {c, 3 * f1 + 2, 3 * f2 + 2});
 
-  for (int k = 0; k < 2; ++k) {
-    const Index s = new_slot[k];
-    edge_[s] = old_edge[k];
-    const Index ot = old_twin[k];
-    const Index nt = ot == kInvalidIndex ? kInvalidIndex : moved(ot);
-    twin_[s] = nt;
-    if (nt != kInvalidIndex && nt == ot) twin_[ot] = s;
-    if (edge_halfedge_[old_edge[k]] == old_slot[k]) edge_halfedge_[old_edge[k]] = s;
-  }
-  for (const Index x : {c0, c1, c2}) vertex_halfedge_[x] = moved(vertex_halfedge_[x]);
+  finish_slot_move(mv);
+  for (const Index x : {c0, c1, c2}) vertex_halfedge_[x] = mv.moved(vertex_halfedge_[x]);
   vertex_halfedge_[v] = c;
 
   tail_[b] = c1;  // a = c0→c1 unchanged
@@ -84,16 +74,9 @@ Index IntrinsicTriangulation::split_edge(Index e, double t, double l_mc, double 
   const Index g1 = n_faces(), g2 = g1 + 1;
 
   const int nm = interior ? 2 : 1;
-  const Index old_slot[2] = {h1, t1};
-  const Index new_slot[2] = {3 * g1 + 1, 3 * g2 + 1};
-  const Index old_twin[2] = {twin_[h1], interior ? twin_[t1] : kInvalidIndex};
-  const Index old_edge[2] = {edge_[h1], interior ? edge_[t1] : kInvalidIndex};
-  auto moved = [&](Index x) {
-    for (int k = 0; k < nm; ++k) {
-      if (x == old_slot[k]) return new_slot[k];
-    }
-    return x;
-  };
+  const Index from[2] = {h1, t1};
+  const Index to[2] = {3 * g1 + 1, 3 * g2 + 1};
+  const SlotMove mv = record_slot_move(nm, from, to);
 
   const std::size_t nh = 3 * static_cast<std::size_t>(interior ? g2 + 1 : g1 + 1);
   tail_.resize(nh);
@@ -110,17 +93,9 @@ Index IntrinsicTriangulation::split_edge(Index e, double t, double l_mc, double 
     edge_halfedge_.push_back(t1);
   }
 
-  for (int k = 0; k < nm; ++k) {
-    const Index s = new_slot[k];
-    edge_[s] = old_edge[k];
-    const Index ot = old_twin[k];
-    const Index nt = ot == kInvalidIndex ? kInvalidIndex : moved(ot);
-    twin_[s] = nt;
-    if (nt != kInvalidIndex && nt == ot) twin_[ot] = s;
-    if (edge_halfedge_[old_edge[k]] == old_slot[k]) edge_halfedge_[old_edge[k]] = s;
-  }
+  finish_slot_move(mv);
   for (const Index x : {a, b, c, d}) {
-    if (x != kInvalidIndex) vertex_halfedge_[x] = moved(vertex_halfedge_[x]);
+    if (x != kInvalidIndex) vertex_halfedge_[x] = mv.moved(vertex_halfedge_[x]);
   }
 
   auto glue = [&](Index x, Index y, Index edge_id) {
