@@ -3,30 +3,59 @@
 
 #include "intrinsic/surface_triangulation.h"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include "intrinsic/errors.h"
 #include "intrinsic/geometry.h"
+#include "intrinsic/mesh_analysis.h"
 
 namespace ifem::cli {
 
-const std::set<std::string> kRefineOptions = {"min-angle", "max-area", "max-insertions",
-                                               "relax"};
+const std::set<std::string> kRefineOptions = {"min-angle", "max-area", "resolution",
+                                               "max-insertions", "relax"};
 const char* const kRefineHelp =
     "Refinement options:\n"
     "  --min-angle A        smallest corner angle wanted, degrees, in (0, 30] (default 25)\n"
+    "  --resolution C       also refine until edges are about C·h long (h = mean edge length\n"
+    "                       of the input): triangles larger than the equilateral one of side\n"
+    "                       C·h are split (default: 0.4 for distance, none otherwise; 0 = off)\n"
     "  --max-area X         also split triangles of area above X (default: no bound)\n"
-    "  --max-insertions N   stop after N inserted vertices (default 10 × input vertices)\n"
+    "  --max-insertions N   stop after N inserted vertices (default 10 × input vertices,\n"
+    "                       plus 4 × area / (max area) with a size bound)\n"
     "  --relax ITER         then ITER passes of optimal Delaunay (ODT) relaxation of the\n"
     "                       inserted vertices, each moved inside its flat star on the surface\n"
     "                       (input vertices never move; min angle kept; default 0)\n";
 
-intrinsic::RefineOptions refine_options(const Args& args) {
+double refine_target_length(const PreparedSurface& s, const Args& args,
+                            double default_resolution) {
+  const double c = args.get_double("resolution", default_resolution);
+  if (!(c >= 0.0) || !std::isfinite(c)) {
+    throw InvalidInput("--resolution: expected a factor ≥ 0 of the mean edge length");
+  }
+  if (c == 0.0 || !s.input.has_faces()) return 0.0;
+  return c * intrinsic::mean_side_length(s.input.triangles, s.input.positions);
+}
+
+intrinsic::RefineOptions refine_options(const Args& args, const PreparedSurface& s,
+                                        double target_length) {
   intrinsic::RefineOptions o;
   o.min_angle_degrees = args.get_double("min-angle", o.min_angle_degrees);
   o.max_area = args.get_double("max-area", 0.0);
+  if (target_length > 0.0) {
+    const double a = std::sqrt(3.0) / 4.0 * target_length * target_length;
+    o.max_area = o.max_area > 0.0 ? std::min(o.max_area, a) : a;
+  }
   o.max_insertions = static_cast<Index>(args.get_int("max-insertions", -1));
+  if (o.max_insertions < 0 && o.max_area > 0.0) {
+    // a size bound asks for about area / max_area triangles: leave room for 4× that
+    double area = 0.0;
+    for (Index f = 0; f < s.tri.n_faces(); ++f) area += intrinsic::face_area(s.tri, f);
+    area /= s.tri.multiplicity();
+    const double cap = 10.0 * std::max<Index>(s.tri.n_vertices(), 10) + 4.0 * area / o.max_area;
+    o.max_insertions = static_cast<Index>(std::min(cap, 1.5e9));
+  }
   return o;
 }
 
@@ -77,6 +106,7 @@ std::string describe_relax(const intrinsic::RelaxReport& r) {
 }  // namespace
 
 intrinsic::SignpostTriangulation refine_prepared(PreparedSurface& s, const Args& args,
+                                                 double default_resolution,
                                                  intrinsic::RefineReport* report,
                                                  intrinsic::RelaxReport* relax_report) {
   if (!refinable(s)) throw InvalidInput(refine_unsupported(s));
@@ -85,7 +115,9 @@ intrinsic::SignpostTriangulation refine_prepared(PreparedSurface& s, const Args&
                                       args.get_double("mollify", 1e-5));
   const auto relax = static_cast<int>(args.get_int("relax", 0));
   if (relax < 0) throw InvalidInput("--relax: expected a number of passes ≥ 0");
-  const intrinsic::RefineReport r = intrinsic::delaunay_refine(st, refine_options(args));
+  const intrinsic::RefineOptions options =
+      refine_options(args, s, refine_target_length(s, args, default_resolution));
+  const intrinsic::RefineReport r = intrinsic::delaunay_refine(st, options);
   s.tri = st.intrinsic();
   if (s.path != "manifold") {
     s.path = "manifold";
@@ -131,7 +163,7 @@ int run(const Args& args) {
   const double min_in = input_min_angle(s);
   intrinsic::RefineReport r;
   intrinsic::RelaxReport rr;
-  const intrinsic::SignpostTriangulation st = refine_prepared(s, args, &r, &rr);
+  const intrinsic::SignpostTriangulation st = refine_prepared(s, args, 0.0, &r, &rr);
   // everything is computed before the first file is written: no partial output on a failure
   double t0 = now_seconds();
   const bool binary = !args.has("ascii");
@@ -210,8 +242,8 @@ Command refine_command() {
   c.name = "refine";
   c.summary = "intrinsic Delaunay refinement (min angle); common subdivision as a PLY mesh";
   c.help = std::string(
-               "usage: ifem refine MESH [--min-angle A] [--max-area X] [--max-insertions N]\n"
-               "                   [--relax ITER]\n"
+               "usage: ifem refine MESH [--min-angle A] [--resolution C] [--max-area X]\n"
+               "                   [--max-insertions N] [--relax ITER]\n"
                "                   -o OUT.ply [--lines LINES.ply] [--mesh REFINED.ply]\n"
                "                   [--save FILE.ifem] [--ascii] [surface options]\n\n"
                "Refines the intrinsic Delaunay triangulation of MESH by inserting circumcenters\n"

@@ -11,7 +11,8 @@
 
 namespace ifem::cli {
 
-/// The options refinement understands: --min-angle, --max-area, --max-insertions, --relax.
+/// The options refinement understands: --min-angle, --resolution, --max-area,
+/// --max-insertions, --relax.
 extern const std::set<std::string> kRefineOptions;
 /// Help text for them (and for the --refine flag of the solver commands).
 extern const char* const kRefineHelp;
@@ -19,9 +20,16 @@ extern const char* const kRefineHelp;
 /// The error message for a surface refinement does not support (not the manifold path).
 std::string refine_unsupported(const PreparedSurface& s);
 
-/// Reads --min-angle (default 25), --max-area (default none), --max-insertions (default
-/// 10 × input vertices).
-intrinsic::RefineOptions refine_options(const Args& args);
+/// The target edge length asked for by --resolution C (default `default_resolution`): C × the
+/// input's mean edge length; 0 when C = 0 (no size bound).
+double refine_target_length(const PreparedSurface& s, const Args& args,
+                            double default_resolution);
+
+/// Reads --min-angle (default 25), --max-area (default none; with target_length > 0 at most the
+/// area of the equilateral triangle of that side), --max-insertions (default 10 × input
+/// vertices, plus 4 × area / max_area when there is a size bound).
+intrinsic::RefineOptions refine_options(const Args& args, const PreparedSurface& s,
+                                        double target_length);
 
 /// Refines a prepared surface in place: rebuilds its intrinsic triangulation with signposts
 /// from the input (same faces, same mollification), refines it, relaxes the inserted
@@ -29,10 +37,12 @@ intrinsic::RefineOptions refine_options(const Args& args);
 /// s.tri. Input vertices keep their ids 0..n_input-1 and inserted vertices follow, so a
 /// result vector x on s.tri is on the input vertices as x.head(n_input); use
 /// SignpostTriangulation::input_to_intrinsic() for data given on the input vertices.
+/// `default_resolution` is --resolution's default (refine_target_length()).
 /// Prints a progress line unless --quiet.
 /// @throws InvalidInput unless the surface took the manifold path (the tufted cover and point
 ///         clouds have no input surface to trace over)
 intrinsic::SignpostTriangulation refine_prepared(PreparedSurface& s, const Args& args,
+                                                 double default_resolution = 0.0,
                                                  intrinsic::RefineReport* report = nullptr,
                                                  intrinsic::RelaxReport* relax_report = nullptr);
 

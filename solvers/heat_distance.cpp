@@ -90,6 +90,10 @@ void HeatDistanceOptions::validate() const {
   if (max_constrained_sources < 0) {
     throw InvalidInput("HeatDistanceOptions: max_constrained_sources must be ≥ 0");
   }
+  if (correction_steps < 0) {
+    throw InvalidInput("HeatDistanceOptions: correction_steps must be ≥ 0, got " +
+                       std::to_string(correction_steps));
+  }
 }
 
 double mean_edge_length(const IntrinsicTriangulation& tri) {
@@ -323,6 +327,23 @@ Eigen::VectorXd HeatDistanceSolver::Impl::distance(const std::vector<WeightedPoi
       if (!known[v] && std::isfinite(phi[v])) phi[v] = kInf;
     }
     later_stages(pts, src_comp, phi, known, rep);
+  }
+  for (int step = 0; step < opt.correction_steps; ++step) {
+    // φ ← the integral of ∇φ/|∇φ| (the heat method's second half applied to φ itself, on
+    // the faces where φ is finite, with the same source constraints)
+    Eigen::VectorXd minus_phi(nv);
+    for (Index v = 0; v < nv; ++v) minus_phi[v] = std::isfinite(phi[v]) ? -phi[v] : 0.0;
+    std::vector<char> finite_face(tri.n_faces(), 1);
+    for (Index f = 0; f < tri.n_faces(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(phi[tri.tail(3 * f + k)])) finite_face[f] = 0;
+      }
+    }
+    HeatDistanceReport ignored;
+    const Eigen::VectorXd next = first_stage(pts, minus_phi, finite_face, ignored);
+    for (Index v = 0; v < nv; ++v) {
+      if (std::isfinite(phi[v])) phi[v] = next[v];
+    }
   }
   for (Index v = 0; v < nv; ++v) {
     if (phi[v] < 0.0) phi[v] = 0.0;

@@ -67,7 +67,17 @@ struct HeatDistanceOptions {
   /// handled with the cached factorization (k back-substitutions); above it, vertex sources
   /// become Dirichlet conditions of a freshly factored Poisson problem.
   Index max_constrained_sources = 64;
-  /// @throws InvalidInput on a non-positive time factor or thresholds out of (0, 1]
+  /// Correction steps after the heat method: φ ← the solution of L φ = div(∇φ/|∇φ|) with the
+  /// same source constraints, i.e. the method's second half applied to its own result (a
+  /// fixed-point iteration of the eikonal normalization; cf. Belyaev & Fayolle, "On variational
+  /// and PDE-based distance function approximations", CGF 2015). Each step costs a divergence
+  /// and one back-substitution with the cached factor. One step pays off with a small time
+  /// step on a fine mesh: `ifem distance --refine` refines to a target edge length ℓ and uses
+  /// t = ℓ²/4 with one step (tests/solvers/refine_accuracy_test.cpp has the figures); with the
+  /// paper's t = h² it does not help. Default 0 (the paper's method).
+  int correction_steps = 0;
+  /// @throws InvalidInput on a non-positive time factor, thresholds out of (0, 1] or negative
+  ///         correction steps
   void validate() const;
 };
 
