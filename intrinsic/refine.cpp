@@ -206,7 +206,7 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
       if (n == kInvalidIndex || n == h0) break;
       h = n;
     }
-    rep.flips += st.flip_to_delaunay_from(flip_queue, &touched);
+    rep.flips += st.flip_to_delaunay_from(flip_queue, &touched).flips;
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     for (const Index x : touched) {

@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "intrinsic/geometry.h"
 #include "intrinsic/io_detail.h"
@@ -24,15 +25,6 @@ inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 Index trace_cap(const IntrinsicTriangulation& tri) { return 4 * tri.n_faces() + 1000; }
 
 }  // namespace
-
-void face_layout(const IntrinsicTriangulation& tri, Index f, Eigen::Vector2d p[3]) {
-  const double l0 = tri.halfedge_length(3 * f), l1 = tri.halfedge_length(3 * f + 1),
-               l2 = tri.halfedge_length(3 * f + 2);
-  p[0] = Eigen::Vector2d::Zero();
-  p[1] = Eigen::Vector2d(l0, 0.0);
-  p[2] = Eigen::Vector2d((l0 * l0 + l2 * l2 - l1 * l1) / (2.0 * l0),
-                         2.0 * triangle_area(l0, l1, l2) / l0);
-}
 
 TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
                            Eigen::Vector2d dir, double distance, int start_corner,
@@ -249,26 +241,10 @@ bool SignpostTriangulation::flip_edge(Index e) {
   return true;
 }
 
-std::size_t SignpostTriangulation::flip_to_delaunay_from(std::vector<Index> stack,
-                                                         std::vector<Index>* touched) {
-  std::size_t flips = 0;
-  const std::size_t cap = 50 * static_cast<std::size_t>(tri_.n_edges()) + 1000;
-  while (!stack.empty() && flips < cap) {
-    const Index e = stack.back();
-    stack.pop_back();
-    if (tri_.is_delaunay(e) || !flip_edge(e)) continue;
-    ++flips;
-    const Index h = tri_.edge_halfedge(e);
-    const Index t = tri_.twin(h);
-    if (touched) {
-      touched->push_back(T::face(h));
-      touched->push_back(T::face(t));
-    }
-    for (const Index x : {T::next(h), T::prev(h), T::next(t), T::prev(t)}) {
-      stack.push_back(tri_.edge(x));
-    }
-  }
-  return flips;
+FlipReport SignpostTriangulation::flip_to_delaunay_from(std::vector<Index> queue,
+                                                        std::vector<Index>* touched) {
+  return tri_.flip_to_delaunay_from(std::move(queue), touched,
+                                    [this](Index e) { return flip_edge(e); });
 }
 
 FlipReport SignpostTriangulation::flip_to_delaunay() {
@@ -411,12 +387,8 @@ std::vector<std::vector<Eigen::Vector3d>> SignpostTriangulation::traced_edges_3d
 // Insertion
 
 Index SignpostTriangulation::insert_vertex(Index f, const Eigen::Vector3d& bary) {
-  Eigen::Vector2d p[3];
-  face_layout(tri_, f, p);
-  const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
-  const double l[3] = {(x - p[0]).norm(), (x - p[1]).norm(), (x - p[2]).norm()};
   const double d1 = direction_[3 * f + 1], d2 = direction_[3 * f + 2];
-  const Index v = tri_.insert_vertex_in_face(f, l[0], l[1], l[2]);
+  const Index v = tri_.insert_vertex_in_face(f, bary);
   add_vertex_records();
   const Index f1 = tri_.n_faces() - 2, f2 = f1 + 1;
   const Index c0 = tri_.tail(3 * f), c1 = tri_.tail(3 * f1), c2 = tri_.tail(3 * f2);
@@ -434,7 +406,7 @@ Index SignpostTriangulation::insert_vertex(Index f, const Eigen::Vector3d& bary)
   const Index outof[3] = {3 * f + 2, 3 * f1 + 2, 3 * f2 + 2};  // v → c_k
   int k = 0;
   for (int j = 1; j < 3; ++j) {
-    if (l[j] < l[k]) k = j;
+    if (tri_.halfedge_length(outof[j]) < tri_.halfedge_length(outof[k])) k = j;
   }
   locate_from(into[k], v, dir[outof[k]]);
   return v;
@@ -444,22 +416,11 @@ Index SignpostTriangulation::split_edge(Index e, double t) {
   const Index h = tri_.edge_halfedge(e);
   const Index tw = tri_.twin(h);
   const bool interior = tw != kInvalidIndex;
-  Eigen::Vector2d p[3];
-  face_layout(tri_, T::face(h), p);
-  int s = T::side(h);
-  const double l_mc =
-      (p[s] + t * (p[(s + 1) % 3] - p[s]) - p[(s + 2) % 3]).norm();
-  double l_md = 0.0;
-  if (interior) {
-    face_layout(tri_, T::face(tw), p);
-    s = T::side(tw);
-    l_md = (p[s] + (1.0 - t) * (p[(s + 1) % 3] - p[s]) - p[(s + 2) % 3]).norm();
-  }
   const Index h1 = T::next(h), h2 = T::prev(h);
   const Index t1 = interior ? T::next(tw) : kInvalidIndex;
   const Index t2 = interior ? T::prev(tw) : kInvalidIndex;
   const double dh1 = direction_[h1], dt1 = interior ? direction_[t1] : 0.0;
-  const Index m = tri_.split_edge(e, t, l_mc, l_md);
+  const Index m = tri_.split_edge(e, t);
   add_vertex_records();
   const Index g1 = interior ? tri_.n_faces() - 2 : tri_.n_faces() - 1, g2 = g1 + 1;
   auto& dir = direction_;

@@ -37,10 +37,6 @@ struct TraceResult {
   std::vector<SurfacePoint> path;   ///< start, every side crossing, end (when recorded)
 };
 
-/// The 2D layout of face f used by every direction in this module: corner 0 at the origin,
-/// corner 1 on the positive x axis, corner 2 above it.
-void face_layout(const IntrinsicTriangulation& tri, Index f, Eigen::Vector2d p[3]);
-
 /// Traces the straight line leaving `start` (inside or on the boundary of start.face) in the
 /// unit direction `dir` (start.face's layout) for `distance`, unfolding across glued sides.
 /// @param start_corner when the start is corner k of start.face (bary = e_k), k: the line may
@@ -111,8 +107,9 @@ class SignpostTriangulation {
   /// Flips to intrinsic Delaunay, updating the signposts.
   FlipReport flip_to_delaunay();
   /// Flips non-Delaunay edges reachable from the queue of edges given (local repair after an
-  /// insertion); appends every face a flip touched to `touched` when given.
-  std::size_t flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched);
+  /// insertion, IntrinsicTriangulation::flip_to_delaunay_from), updating the signposts;
+  /// appends every face a flip touched to `touched` when given.
+  FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched);
 
   /// Inserts a vertex in intrinsic face f at barycentric coordinates `bary` (all > 0) and
   /// locates it on the input; returns its id (n_vertices() before the call).

@@ -149,6 +149,15 @@ double flipped_length(double l_ab, double l_bc, double l_ca, double l_ad, double
 
 }  // namespace
 
+void face_layout(const IntrinsicTriangulation& tri, Index f, Eigen::Vector2d p[3]) {
+  const double l0 = tri.halfedge_length(3 * f), l1 = tri.halfedge_length(3 * f + 1),
+               l2 = tri.halfedge_length(3 * f + 2);
+  p[0] = Eigen::Vector2d::Zero();
+  p[1] = Eigen::Vector2d(l0, 0.0);
+  p[2] = Eigen::Vector2d((l0 * l0 + l2 * l2 - l1 * l1) / (2.0 * l0),
+                         2.0 * triangle_area(l0, l1, l2) / l0);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Construction
 
@@ -418,6 +427,41 @@ FlipReport IntrinsicTriangulation::flip_to_delaunay() {
   return flip_to_delaunay([this](Index e) { return flip_edge(e); });
 }
 
+FlipReport IntrinsicTriangulation::flip_to_delaunay_from(std::vector<Index> queue,
+                                                         std::vector<Index>* touched) {
+  return flip_to_delaunay_from(std::move(queue), touched,
+                               [this](Index e) { return flip_edge(e); });
+}
+
+FlipReport IntrinsicTriangulation::flip_to_delaunay_from(std::vector<Index> stack,
+                                                         std::vector<Index>* touched,
+                                                         const std::function<bool(Index)>& flip) {
+  FlipReport rep;
+  const std::size_t cap = 50 * static_cast<std::size_t>(n_edges()) + 1000;
+  while (!stack.empty()) {
+    const Index e = stack.back();
+    stack.pop_back();
+    if (is_delaunay(e)) continue;
+    if (rep.flips >= cap) {
+      rep.hit_flip_cap = true;
+      break;
+    }
+    if (!flip(e)) {
+      ++rep.unflippable;
+      continue;
+    }
+    ++rep.flips;
+    const Index h = edge_halfedge_[e];
+    const Index t = twin_[h];
+    if (touched) {
+      touched->push_back(face(h));
+      touched->push_back(face(t));
+    }
+    for (const Index x : {next(h), prev(h), next(t), prev(t)}) stack.push_back(edge_[x]);
+  }
+  return rep;
+}
+
 FlipReport IntrinsicTriangulation::flip_to_delaunay(const std::function<bool(Index)>& flip) {
   FlipReport rep;
   const Index ne = n_edges();
@@ -450,6 +494,37 @@ FlipReport IntrinsicTriangulation::flip_to_delaunay(const std::function<bool(Ind
     }
   }
   return rep;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Insertion at a point given in a face's layout (the O(1) rewrites are in triangulation_insert.cpp)
+
+Index IntrinsicTriangulation::insert_vertex_in_face(Index f, const Eigen::Vector3d& bary) {
+  if (f < 0 || f >= n_faces()) {
+    throw InvalidInput("insert_vertex_in_face: face " + std::to_string(f) + " out of range");
+  }
+  Eigen::Vector2d p[3];
+  face_layout(*this, f, p);
+  const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
+  return insert_vertex_in_face(f, (x - p[0]).norm(), (x - p[1]).norm(), (x - p[2]).norm());
+}
+
+Index IntrinsicTriangulation::split_edge(Index e, double t) {
+  if (e < 0 || e >= n_edges()) {
+    throw InvalidInput("split_edge: edge " + std::to_string(e) + " out of range");
+  }
+  // the new vertex at fraction t along side s of a face's layout, to the opposite corner
+  auto diagonal = [this](Index h, double u) {
+    Eigen::Vector2d p[3];
+    face_layout(*this, face(h), p);
+    const int s = side(h);
+    return (p[s] + u * (p[(s + 1) % 3] - p[s]) - p[(s + 2) % 3]).norm();
+  };
+  const Index h = edge_halfedge_[e];
+  const Index tw = twin_[h];
+  const double l_mc = diagonal(h, t);
+  const double l_md = tw != kInvalidIndex ? diagonal(tw, 1.0 - t) : 0.0;
+  return split_edge(e, t, l_mc, l_md);
 }
 
 // ---------------------------------------------------------------------------------------------

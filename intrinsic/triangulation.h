@@ -35,6 +35,12 @@ struct FlipReport {
   bool hit_flip_cap = false;         ///< true if the safety cap on flips was reached
 };
 
+class IntrinsicTriangulation;
+
+/// The 2D layout of face f used by every direction in this library: corner 0 at the origin,
+/// corner 1 on the positive x axis, corner 2 above it (from the three side lengths).
+void face_layout(const IntrinsicTriangulation& tri, Index f, Eigen::Vector2d p[3]);
+
 /// An intrinsic triangulation: connectivity (a Δ-complex, self-edges and repeated vertices
 /// allowed, boundary allowed) and one length per edge. No positions.
 ///
@@ -141,6 +147,16 @@ class IntrinsicTriangulation {
   /// data per flip without repeating the algorithm.
   FlipReport flip_to_delaunay(const std::function<bool(Index)>& flip);
 
+  /// Local Delaunay repair (after an insertion): flips non-Delaunay edges reachable from the
+  /// edges in `queue` (taken last first), queueing the four outer sides of every flipped
+  /// diamond, until none is left or the cap of 50·E + 1000 flips (reported) is reached.
+  /// Appends the two faces of every flip to `touched` when given (with repeats).
+  FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched);
+
+  /// Same, with `flip(e)` doing each flip (as flip_to_delaunay(flip)).
+  FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched,
+                                   const std::function<bool(Index)>& flip);
+
   /// Adds the smallest uniform δ ≥ 0 to every edge length so that every face satisfies
   /// a + b − c ≥ ε for all three orderings, ε = relative_epsilon × mean edge length
   /// (Sharp & Crane 2020, §4.5). Geometry unchanged when no face is below the margin.
@@ -158,6 +174,11 @@ class IntrinsicTriangulation {
   /// The caller is responsible for the lengths describing a point inside f.
   Index insert_vertex_in_face(Index f, double l0, double l1, double l2);
 
+  /// Inserts a new vertex inside face f at barycentric coordinates `bary` (for corners 0, 1, 2;
+  /// all > 0, summing to 1): the three new lengths are the distances in f's 2D layout
+  /// (face_layout()). Same slots and ids as above; returns the new vertex id.
+  Index insert_vertex_in_face(Index f, const Eigen::Vector3d& bary);
+
   /// Splits edge e at a new vertex m (id n_vertices()), at distance `t`·length(e) from the
   /// tail a of h = edge_halfedge(e); returns m. O(1). With face(h) = (a, b, c) (h, h1, h2) and,
   /// if e is interior, face(t) = (b, a, d) (tw, t1, t2), new faces g1 = n_faces(), g2 = g1 + 1:
@@ -168,6 +189,10 @@ class IntrinsicTriangulation {
   /// On a boundary edge only face(h) and g1 exist (3g1 is then a boundary side). New edges,
   /// in order: m–b, m–c, then (interior only) m–d. l_mc / l_md are the new diagonals.
   Index split_edge(Index e, double t, double l_mc, double l_md);
+
+  /// Splits edge e at fraction t ∈ (0, 1) as above, with the new diagonals l_mc / l_md
+  /// measured in the 2D layouts of the one or two faces of e (boundary edges included).
+  Index split_edge(Index e, double t);
 
   /// Sets the length of edge e (used by callers that move inserted vertices).
   void set_length(Index e, double l) { length_[e] = l; }
