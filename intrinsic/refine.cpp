@@ -12,6 +12,131 @@ namespace {
 
 using T = IntrinsicTriangulation;
 
+// The refinement algorithm below is written once, over a "host": the triangulation it refines
+// and the operations that change it. Two hosts: signposts (every operation also keeps the
+// inserted vertices located on the input) and a bare Δ-complex. A host provides
+//   const IntrinsicTriangulation& tri() const;  FlipReport flip_to_delaunay();
+//   FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched);
+//   Index insert_vertex(Index f, const Eigen::Vector3d& bary);  Index split_edge(Index e, double t);
+
+class SignpostHost {
+ public:
+  explicit SignpostHost(SignpostTriangulation& st) : st_(st) {}
+  const IntrinsicTriangulation& tri() const { return st_.intrinsic(); }
+  FlipReport flip_to_delaunay() { return st_.flip_to_delaunay(); }
+  FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched) {
+    return st_.flip_to_delaunay_from(queue, touched);
+  }
+  Index insert_vertex(Index f, const Eigen::Vector3d& bary) { return st_.insert_vertex(f, bary); }
+  Index split_edge(Index e, double t) { return st_.split_edge(e, t); }
+
+ private:
+  SignpostTriangulation& st_;
+};
+
+class PlainHost {
+ public:
+  explicit PlainHost(IntrinsicTriangulation& tri) : tri_(tri) {}
+  const IntrinsicTriangulation& tri() const { return tri_; }
+  FlipReport flip_to_delaunay() { return tri_.flip_to_delaunay(); }
+  FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched) {
+    return tri_.flip_to_delaunay_from(queue, touched);
+  }
+  Index insert_vertex(Index f, const Eigen::Vector3d& bary) {
+    return tri_.insert_vertex_in_face(f, bary);
+  }
+  Index split_edge(Index e, double t) { return tri_.split_edge(e, t); }
+
+ private:
+  IntrinsicTriangulation& tri_;
+};
+
+// Total angle of the fan (cone) that the corner at tail(h) belongs to, and whether that fan
+// reaches the boundary. At an ordinary vertex this is the vertex's angle sum; a pinched vertex
+// (several fans: nonmanifold input, the input vertices of a tufted cover) is several cone
+// points at once.
+double fan_angle(const IntrinsicTriangulation& tri, Index h, bool* boundary) {
+  const Index guard = tri.n_halfedges();
+  Index first = h;  // rewind clockwise to the fan's first corner (an outgoing boundary side)
+  for (Index k = 0; k < guard; ++k) {
+    const Index tw = tri.twin(first);
+    if (tw == kInvalidIndex || T::next(tw) == h) break;
+    first = T::next(tw);
+  }
+  *boundary = tri.twin(first) == kInvalidIndex;
+  double sum = 0.0;
+  Index x = first;
+  for (Index k = 0; k < guard; ++k) {
+    sum += corner_angle(tri, x);
+    const Index n = tri.twin(T::prev(x));
+    if (n == kInvalidIndex) {
+      *boundary = true;
+      break;
+    }
+    if (n == first) break;
+    x = n;
+  }
+  return sum;
+}
+
+// Which corners no insertion can fix: those whose fan's total angle is below the bound on the
+// boundary, or below twice the bound inside (a second corner there would be too small).
+// Decided per fan, not by a pinched vertex's total: a tufted cover doubles every input
+// vertex's angle over two fans, and a needle tip of 0.8° (conrod.off) is a 1.7° fan next to
+// a 720° total; judged by the total, refinement would never stop there. Fan angles are fixed
+// by flips and insertions; inserted vertices are flat, so they are never needles.
+class Cones {
+ public:
+  Cones(const IntrinsicTriangulation& tri, double bound) : bound_(bound) {
+    const Index nv = tri.n_vertices(), nh = tri.n_halfedges();
+    state_.assign(nv, 0);
+    boundary_.assign(nv, 0);
+    std::vector<char> seen(nh, 0);
+    for (Index h = 0; h < nh; ++h) {
+      if (tri.twin(h) == kInvalidIndex) boundary_[tri.tail(h)] = boundary_[tri.head(h)] = 1;
+      if (seen[h]) continue;
+      bool fan_boundary = false;
+      const double theta = fan_angle(tri, h, &fan_boundary);
+      state_[tri.tail(h)] |= unfixable(theta, fan_boundary) ? kSomeUnfixable : kSomeFixable;
+      Index x = h;  // mark the fan's corners (from h both ways)
+      for (Index k = 0; k < nh && x != kInvalidIndex && !seen[x]; ++k) {
+        seen[x] = 1;
+        x = tri.twin(T::prev(x));
+      }
+      x = tri.twin(h);
+      for (Index k = 0; k < nh && x != kInvalidIndex && !seen[T::next(x)]; ++k) {
+        seen[T::next(x)] = 1;
+        x = tri.twin(T::next(x));
+      }
+    }
+  }
+  /// Whether the corner at tail(h) lies in a fan no insertion can fix.
+  bool unfixable(const IntrinsicTriangulation& tri, Index h) const {
+    const Index v = tri.tail(h);
+    if (v >= static_cast<Index>(state_.size())) return false;  // inserted: flat
+    if (state_[v] != (kSomeUnfixable | kSomeFixable)) return state_[v] == kSomeUnfixable;
+    bool fan_boundary = false;
+    const double theta = fan_angle(tri, h, &fan_boundary);
+    return unfixable(theta, fan_boundary);
+  }
+  /// A vertex with a side without twin starting or ending at it.
+  bool is_boundary(Index v) const { return boundary_[v] != 0; }
+  /// Records inserted vertex v (flat: never a needle).
+  void add_vertex(Index v, bool boundary) {
+    boundary_.resize(static_cast<std::size_t>(v) + 1, 0);
+    boundary_[v] = boundary ? 1 : 0;
+  }
+
+ private:
+  static constexpr char kSomeUnfixable = 1, kSomeFixable = 2;
+  bool unfixable(double theta, bool boundary) const {
+    return boundary ? theta < bound_ : theta < 2.0 * bound_;
+  }
+  double bound_;
+  std::vector<char> state_;     // per input vertex: which kinds of fans it has
+  std::vector<char> boundary_;  // per vertex
+};
+
 }  // namespace
 
 double min_corner_angle(const IntrinsicTriangulation& tri, Index f) {
@@ -24,7 +149,10 @@ double min_corner_angle(const IntrinsicTriangulation& tri, Index f) {
   return opposite_angle(l2, l0, l1);
 }
 
-RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options) {
+namespace {
+
+template <class Host>
+RefineReport refine(Host& host, const RefineOptions& options) {
   const double deg = kPi / 180.0;
   if (!(options.min_angle_degrees > 0.0 && options.min_angle_degrees <= 30.0)) {
     throw InvalidInput("delaunay_refine: minimum angle must be in (0, 30] degrees, got " +
@@ -35,23 +163,18 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
   }
   const double bound = options.min_angle_degrees * deg;
   const double max_area = options.max_area > 0.0 ? options.max_area : 0.0;
-  const IntrinsicTriangulation& tri = st.intrinsic();
+  const IntrinsicTriangulation& tri = host.tri();
   RefineReport rep;
   rep.vertices_before = tri.n_vertices();
   const Index cap = options.max_insertions >= 0 ? options.max_insertions
                                                 : 10 * std::max<Index>(tri.n_vertices(), 10);
 
-  rep.flips += st.flip_to_delaunay().flips;
+  rep.flips += host.flip_to_delaunay().flips;
   double before = kPi;
   for (Index f = 0; f < tri.n_faces(); ++f) before = std::min(before, min_corner_angle(tri, f));
   rep.min_angle_before = before / deg;
 
-  // a corner that no insertion can fix: its vertex's total angle is below the bound (on the
-  // boundary) or below twice the bound (inside: a second corner there would be too small)
-  auto unfixable = [&](Index v) {
-    const double theta = st.vertex_angle_sum(v);
-    return st.is_boundary_vertex(v) ? theta < bound : theta < 2.0 * bound;
-  };
+  Cones cones(tri, bound);
   // 0 = good, 1 = bad, 2 = needle (every small corner unfixable). The angle at a corner is
   // below the bound iff its cosine b² + c² − a² over 2bc is above cos(bound): no atan2.
   const double cos_bound = std::cos(bound);
@@ -64,7 +187,7 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
       const double b = l[k], c = l[(k + 2) % 3], a = l[(k + 1) % 3];
       if (b * b + c * c - a * a > cos_bound * 2.0 * b * c) {
         small = true;
-        if (!unfixable(tri.tail(3 * f + k))) fixable_small = true;
+        if (!cones.unfixable(tri, 3 * f + k)) fixable_small = true;
       }
     }
     if (fixable_small) return 1;
@@ -76,7 +199,7 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
         // (only for an interior apex: an apex on the boundary can cascade, as in Ruppert's
         // small-input-angle case)
         if (tri.twin(3 * f + k) != kInvalidIndex) continue;
-        if (st.is_boundary_vertex(tri.tail(3 * f + (k + 2) % 3))) continue;
+        if (cones.is_boundary(tri.tail(3 * f + (k + 2) % 3))) continue;
         const double a = l[k], b = l[(k + 1) % 3], c = l[(k + 2) % 3];
         if (b * b + c * c - a * a < -1e-12 * (b * b + c * c)) return 1;
       }
@@ -147,10 +270,12 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
       continue;
     }
     Index v;
+    bool on_boundary = false;
     try {
       if (r.hit_boundary) {
-        v = st.split_edge(tri.edge(r.boundary_halfedge), 0.5);
+        v = host.split_edge(tri.edge(r.boundary_halfedge), 0.5);
         ++rep.boundary_splits;
+        on_boundary = true;
       } else {
         const Index g = r.end.face;
         const Eigen::Vector3d& bary = r.end.bary;
@@ -168,8 +293,9 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
           if ((p[s] - x).dot(p[(s + 1) % 3] - x) < 0.0) encroached = 3 * g + s;
         }
         if (encroached != kInvalidIndex) {
-          v = st.split_edge(tri.edge(encroached), 0.5);
+          v = host.split_edge(tri.edge(encroached), 0.5);
           ++rep.boundary_splits;
+          on_boundary = true;
         } else if (bary[k] < 1e-9) {
           // on (or within rounding of) a side: split that edge
           const int s = (k + 1) % 3;
@@ -180,12 +306,13 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
           if (tri.is_boundary_edge(e)) {
             u = 0.5;
             ++rep.boundary_splits;
+            on_boundary = true;
           } else {
             ++rep.edge_splits;
           }
-          v = st.split_edge(e, std::clamp(u, 1e-3, 1.0 - 1e-3));
+          v = host.split_edge(e, std::clamp(u, 1e-3, 1.0 - 1e-3));
         } else {
-          v = st.insert_vertex(g, bary);
+          v = host.insert_vertex(g, bary);
           ++rep.face_insertions;
         }
       }
@@ -194,6 +321,7 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
       continue;
     }
     ++rep.insertions;
+    cones.add_vertex(v, on_boundary);
     // restore Delaunay around v: the sides opposite v, then whatever flips reach
     touched.clear();
     flip_queue.clear();
@@ -206,7 +334,7 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
       if (n == kInvalidIndex || n == h0) break;
       h = n;
     }
-    rep.flips += st.flip_to_delaunay_from(flip_queue, &touched).flips;
+    rep.flips += host.flip_to_delaunay_from(flip_queue, &touched).flips;
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     for (const Index x : touched) {
@@ -231,6 +359,18 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
   rep.min_angle_after = after / deg;
   rep.min_angle_after_excluding_needles = after_ok / deg;
   return rep;
+}
+
+}  // namespace
+
+RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options) {
+  SignpostHost host(st);
+  return refine(host, options);
+}
+
+RefineReport delaunay_refine(IntrinsicTriangulation& tri, const RefineOptions& options) {
+  PlainHost host(tri);
+  return refine(host, options);
 }
 
 namespace {

@@ -1,6 +1,7 @@
-// Intrinsic Delaunay refinement (Chew's second algorithm on a signpost intrinsic triangulation,
-// Sharp, Soliman & Crane 2019, §6.2): insert circumcenters of bad triangles, located by tracing
-// over the intrinsic triangulation, until every triangle meets a minimum-angle bound.
+// Intrinsic Delaunay refinement (Chew's second algorithm on an intrinsic triangulation, Sharp,
+// Soliman & Crane 2019, §6.2): insert circumcenters of bad triangles, located by tracing over
+// the intrinsic triangulation, until every triangle meets a minimum-angle bound. On signposts
+// (inserted vertices located on the input) or on a bare Δ-complex such as the tufted cover.
 #pragma once
 
 #include <cstddef>
@@ -31,8 +32,9 @@ struct RefineReport {
   Index failed_traces = 0;        ///< bad triangles skipped because tracing failed
   std::size_t flips = 0;          ///< edge flips (initial Delaunay + after insertions)
   bool hit_insertion_cap = false; ///< stopped by max_insertions
-  Index needle_faces = 0;         ///< triangles left alone: each small angle sits at a vertex
-                                  ///< whose total angle is below the bound (2× bound inside)
+  Index needle_faces = 0;         ///< triangles left alone: each small angle sits in a vertex
+                                  ///< fan (cone) whose total angle is below the bound (2×
+                                  ///< bound inside); per fan at a pinched vertex
   Index bad_faces_left = 0;       ///< other triangles still below the bounds at the end
   double min_angle_before = 0.0;  ///< smallest corner angle, degrees, of the input's intrinsic
                                   ///< Delaunay triangulation... (before any insertion)
@@ -41,13 +43,30 @@ struct RefineReport {
 };
 
 /// Refines `st` in place: flips to intrinsic Delaunay, then repeatedly takes the largest bad
-/// triangle (a corner below the bound, or area above max_area), traces from its centroid
-/// towards its circumcenter over the intrinsic triangulation and inserts a vertex there (or
+/// triangle (a corner below the bound that an insertion can fix, or area above max_area),
+/// traces from its centroid towards its circumcenter over the intrinsic triangulation and
+/// inserts a vertex there (or
 /// splits the edge it lands on, or the boundary edge it would cross, at its midpoint), and
 /// restores the Delaunay property by flips. Terminates on every input (the insertion cap).
 /// Input vertices keep their ids; inserted vertices are appended.
 /// @throws InvalidInput on a bound outside (0, 30] degrees or a negative max_area
 RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options = {});
+
+/// The same algorithm (the same code) on a bare intrinsic triangulation, without signposts:
+/// any Δ-complex — the tufted cover of a nonmanifold mesh or point cloud, or a plain manifold
+/// triangulation with or without boundary. Vertices 0..n−1 keep their ids, so values solved
+/// for on the result are the input vertices' first n entries; inserted vertices (ids ≥ n) have
+/// no location on the input surface (use the signpost overload to know where they lie).
+/// Whether a small corner can be fixed is decided by the total angle of its vertex's fan
+/// (cone), as in the signpost overload: at a pinched vertex (an interior input vertex of a
+/// tufted cover has two fans, front and back) each fan counts on its own, not the vertex's
+/// angle sum over all fans.
+/// Inserted vertices are flat (angle sum 2π, π on the boundary); a vertex is on the boundary
+/// when a side without twin starts or ends at it. The multiplicity (2 for a tufted cover) is
+/// kept, and with it total_area(). On a manifold mesh the result is exactly the signpost
+/// overload's (same insertions, same lengths).
+/// @throws InvalidInput on a bound outside (0, 30] degrees or a negative max_area
+RefineReport delaunay_refine(IntrinsicTriangulation& tri, const RefineOptions& options = {});
 
 /// Optimal Delaunay triangulation (ODT) relaxation of the inserted vertices.
 struct RelaxOptions {
