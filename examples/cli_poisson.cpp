@@ -65,8 +65,9 @@ int run(const Args& args) {
   // the Dirichlet vertices are input vertices, which keep their ids
   Eigen::VectorXd f;
   if (args.has("refine")) {
-    const intrinsic::SignpostTriangulation st = refine_prepared(s, args);
-    f = st.input_to_intrinsic(f_in);
+    // signposts needed: the inserted vertices' places on the input faces carry f over
+    const auto st = refine_prepared(s, args, 0.0, true);
+    f = st->input_to_intrinsic(f_in);
   } else {
     f = Eigen::VectorXd::Zero(s.tri.n_vertices());
     f.head(nv) = f_in;

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 #include "intrinsic/errors.h"
@@ -59,16 +60,27 @@ intrinsic::RefineOptions refine_options(const Args& args, const PreparedSurface&
   return o;
 }
 
-std::string refine_unsupported(const PreparedSurface& s) {
-  return "refinement supports edge-manifold, orientable meshes only (signposts need the "
-         "manifold Δ-complex); this input took the " + s.path + " path (" + s.path_reason + ")";
+std::string refine_unsupported(const PreparedSurface& s, bool need_signposts) {
+  if (s.path == "pointcloud") {
+    return "refinement is not supported on point clouds (their tufted cover is glued from local "
+           "triangulations, with a mass of its own)";
+  }
+  if (need_signposts) {
+    return "this input took the " + s.path + " path (" + s.path_reason +
+           "): refinement then runs on the tufted cover, without signposts, so inserted "
+           "vertices have no place on the input; `ifem distance --refine` and `ifem eigen "
+           "--refine` support that, this command needs signposts (edge-manifold, orientable "
+           "meshes only)";
+  }
+  return "refinement supports edge-manifold, orientable meshes (signposts) and the tufted "
+         "cover; this input took the " + s.path + " path (" + s.path_reason + ")";
 }
 
 namespace {
 
-// Refinement runs on the manifold Δ-complex of the input. A mesh that took the tufted path only
-// because boundary edges opposite obtuse angles kept negative weights is fine: refinement
-// splits exactly those (encroached) boundary edges.
+// Refinement with signposts runs on the manifold Δ-complex of the input. A mesh that took the
+// tufted path only because boundary edges opposite obtuse angles kept negative weights is fine:
+// refinement splits exactly those (encroached) boundary edges.
 bool refinable(const PreparedSurface& s) {
   return s.path != "pointcloud" && s.stats.edge_manifold() &&
          s.path_reason.find("non-orientable") == std::string::npos &&
@@ -105,19 +117,37 @@ std::string describe_relax(const intrinsic::RelaxReport& r) {
 
 }  // namespace
 
-intrinsic::SignpostTriangulation refine_prepared(PreparedSurface& s, const Args& args,
-                                                 double default_resolution,
-                                                 intrinsic::RefineReport* report,
-                                                 intrinsic::RelaxReport* relax_report) {
-  if (!refinable(s)) throw InvalidInput(refine_unsupported(s));
-  const double t0 = now_seconds();
-  intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
-                                      args.get_double("mollify", 1e-5));
+std::optional<intrinsic::SignpostTriangulation> refine_prepared(
+    PreparedSurface& s, const Args& args, double default_resolution, bool need_signposts,
+    intrinsic::RefineReport* report, intrinsic::RelaxReport* relax_report) {
   const auto relax = static_cast<int>(args.get_int("relax", 0));
   if (relax < 0) throw InvalidInput("--relax: expected a number of passes ≥ 0");
-  const intrinsic::RefineOptions options =
-      refine_options(args, s, refine_target_length(s, args, default_resolution));
-  const intrinsic::RefineReport r = intrinsic::delaunay_refine(st, options);
+  const double t0 = now_seconds();
+  const double target = refine_target_length(s, args, default_resolution);
+  if (!refinable(s)) {
+    // nonmanifold / non-orientable / --tufted: refine the tufted cover itself, intrinsically
+    if (s.path != "tufted" || need_signposts) {
+      throw InvalidInput(refine_unsupported(s, need_signposts));
+    }
+    if (relax > 0) {
+      throw InvalidInput("--relax moves vertices with signposts, which the tufted cover (" +
+                         s.path_reason + ") does not have");
+    }
+    const intrinsic::RefineReport r =
+        intrinsic::delaunay_refine(s.tri, refine_options(args, s, target));
+    // inserted vertices count as interior for the heat method's boundary condition (the
+    // cover folds across the input's boundary edges: they are interior edges of it)
+    if (!s.boundary_vertex.empty()) s.boundary_vertex.resize(s.tri.n_vertices(), 0);
+    progress(args, describe(r) + " on the tufted cover in " +
+                       std::to_string(now_seconds() - t0) + " s");
+    if (report) *report = r;
+    if (relax_report) *relax_report = intrinsic::RelaxReport{};
+    return std::nullopt;
+  }
+  intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
+                                      args.get_double("mollify", 1e-5));
+  const intrinsic::RefineReport r =
+      intrinsic::delaunay_refine(st, refine_options(args, s, target));
   s.tri = st.intrinsic();
   if (s.path != "manifold") {
     s.path = "manifold";
@@ -159,11 +189,11 @@ int run(const Args& args) {
     throw InvalidInput("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
   }
   PreparedSurface s = prepare_surface(args.positional()[0], args);
-  if (!refinable(s)) throw InvalidInput(refine_unsupported(s));
+  if (!refinable(s)) throw InvalidInput(refine_unsupported(s, true));
   const double min_in = input_min_angle(s);
   intrinsic::RefineReport r;
   intrinsic::RelaxReport rr;
-  const intrinsic::SignpostTriangulation st = refine_prepared(s, args, 0.0, &r, &rr);
+  const intrinsic::SignpostTriangulation st = *refine_prepared(s, args, 0.0, true, &r, &rr);
   // everything is computed before the first file is written: no partial output on a failure
   double t0 = now_seconds();
   const bool binary = !args.has("ascii");
@@ -266,7 +296,9 @@ Command refine_command() {
                "                         format 'ifem-signpost 1' (intrinsic/signpost.cpp)\n"
                "  --ascii                ASCII PLY instead of binary\n"
                "Supported inputs: edge-manifold, orientable meshes, with or without boundary\n"
-               "(nonmanifold and non-orientable meshes and point clouds are an error).\n\n") +
+               "(nonmanifold and non-orientable meshes are refined on their tufted cover by\n"
+               "`ifem distance --refine` and `ifem eigen --refine`, which need no signposts;\n"
+               "here they are an error, as are point clouds).\n\n") +
            kRefineHelp + "\n" + kSurfaceHelp;
   c.flags = kSurfaceFlags;
   c.flags.insert("ascii");

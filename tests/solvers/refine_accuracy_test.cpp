@@ -50,7 +50,7 @@ struct Case {
   double max_accurate; // bound on the accurate mode's error: measured + ~10%, ≤ CGAL / 2
 };
 
-// Sliver meshes (rocketship, block, fandisk; conrod is nonmanifold, see the tufted test below)
+// Sliver meshes (rocketship, block, fandisk; conrod is nonmanifold: the tufted test below)
 // and two clean ones for contrast. Measured (Release, this tree; mean relative error):
 //   mesh        src    no refine  angle only  accurate  CGAL heat   V: input → angle → accurate
 //   rocketship      0   0.1648     0.0179     0.0127     0.2017     28010 → 64566 → 185074
@@ -171,6 +171,54 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
         std::printf("\n");
       }
     }
+  }
+}
+
+// conrod is nonmanifold (3 edges with 3+ faces): it takes the tufted path, and refinement runs
+// on the tufted cover itself, without signposts (`ifem distance --refine` there). Measured
+// (3223 → 86056 vertices, 6 needle-cone faces at the 0.8° tip):
+//   src   no refine   accurate   CGAL heat
+//     0    0.0727      0.0074     0.1039
+//     7    0.1264      0.0083     0.1779
+TEST(RefineAccuracy, TuftedCoverConrodRefinedVsExact) {
+  IFEM_REQUIRE_SHARED_DATA();
+  const fs::path mesh = test::shared_data() / "meshes" / "conrod.off";
+  const fs::path ref = test::shared_data() / "reference";
+  if (!fs::exists(mesh)) GTEST_SKIP() << "conrod.off missing";
+  const io::SurfaceInput in = io::read_mesh(mesh.string());
+  const double h = intrinsic::mean_side_length(in.triangles, in.positions);
+  const intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
+  ASSERT_EQ(s.path, intrinsic::SurfacePath::kTufted) << s.reason;
+  const double area = intrinsic::total_area(s.tri);
+  intrinsic::IntrinsicTriangulation refined = s.tri;
+  const Accurate acc;
+  const intrinsic::RefineReport rep =
+      intrinsic::delaunay_refine(refined, accurate_refine(acc, h, area, s.tri.n_vertices()));
+  EXPECT_FALSE(rep.hit_insertion_cap);
+  EXPECT_EQ(refined.multiplicity(), 2);
+  EXPECT_NEAR(intrinsic::total_area(refined), area, 1e-9 * area);
+  HeatDistanceOptions plain;
+  plain.intrinsic_delaunay = false;
+  plain.mean_edge_length = h;
+  plain.boundary_vertices = s.boundary_vertex;
+  HeatDistanceOptions fine = accurate_heat(acc, h);
+  fine.boundary_vertices = s.boundary_vertex;
+  if (!fine.boundary_vertices.empty()) fine.boundary_vertices.resize(refined.n_vertices(), 0);
+  const HeatDistanceSolver plain_solver(s.tri, plain), fine_solver(refined, fine);
+  std::printf("conrod: V %ld -> %d on the tufted cover (%d needle faces)\n",
+              long(in.positions.rows()), refined.n_vertices(), rep.needle_faces);
+  for (const Index src : {0, 7}) {
+    const std::string tag = "conrod.src" + std::to_string(src);
+    const Eigen::VectorXd exact = io::read_values((ref / (tag + ".exact.txt")).string());
+    const Eigen::VectorXd cgal = io::read_values((ref / (tag + ".cgal-heat.txt")).string());
+    const Eigen::VectorXd d0 = plain_solver.compute_distance({src});
+    Eigen::VectorXd d1 = fine_solver.compute_distance({src});
+    d1.conservativeResize(exact.size());
+    const double e0 = mean_rel(d0, exact), e1 = mean_rel(d1, exact), ec = mean_rel(cgal, exact);
+    std::printf("conrod src %d: no refine %.4f, accurate %.4f, CGAL heat %.4f (acc/CGAL %.2f)\n",
+                src, e0, e1, ec, e1 / ec);
+    EXPECT_LE(e1, 0.5 * ec) << tag << ": the accurate mode must halve CGAL's error";
+    EXPECT_LE(e1, 0.012) << tag;
   }
 }
 
