@@ -54,28 +54,43 @@ class PlainHost {
 // Total angle of the fan (cone) that the corner at tail(h) belongs to, and whether that fan
 // reaches the boundary. At an ordinary vertex this is the vertex's angle sum; a pinched vertex
 // (several fans: nonmanifold input, the input vertices of a tufted cover) is several cone
-// points at once.
-double fan_angle(const IntrinsicTriangulation& tri, Index h, bool* boundary) {
+// points at once. Returns a value ≥ `limit` as soon as it is known to reach it (then
+// `boundary` may be incomplete): first from the corners' cosines alone (one corner above the
+// limit), then by adding up the angles.
+double fan_angle(const IntrinsicTriangulation& tri, Index h, double limit, bool* boundary) {
+  const double cos_limit = std::cos(std::min(limit, kPi));
   const Index guard = tri.n_halfedges();
-  Index first = h;  // rewind clockwise to the fan's first corner (an outgoing boundary side)
-  for (Index k = 0; k < guard; ++k) {
-    const Index tw = tri.twin(first);
-    if (tw == kInvalidIndex || T::next(tw) == h) break;
-    first = T::next(tw);
-  }
-  *boundary = tri.twin(first) == kInvalidIndex;
-  double sum = 0.0;
-  Index x = first;
-  for (Index k = 0; k < guard; ++k) {
-    sum += corner_angle(tri, x);
-    const Index n = tri.twin(T::prev(x));
-    if (n == kInvalidIndex) {
-      *boundary = true;
-      break;
+  // visits the corners of h's fan (counter-clockwise from h, then clockwise if open) until
+  // `f` returns false; true if it never did
+  auto walk = [&](auto&& f) {
+    Index x = h;
+    for (Index k = 0; k < guard; ++k) {
+      if (!f(x)) return false;
+      x = tri.twin(T::prev(x));
+      if (x == h) return true;
+      if (x == kInvalidIndex) break;
     }
-    if (n == first) break;
-    x = n;
-  }
+    x = tri.twin(h);
+    for (Index k = 0; k < guard && x != kInvalidIndex; ++k) {
+      x = T::next(x);
+      if (!f(x)) return false;
+      x = tri.twin(x);
+    }
+    return true;
+  };
+  const bool all_below = walk([&](Index x) {
+    const double b = tri.halfedge_length(x), c = tri.halfedge_length(T::prev(x)),
+                 a = tri.halfedge_length(T::next(x));
+    return !(b * b + c * c - a * a < cos_limit * 2.0 * b * c);
+  });
+  if (!all_below) return limit;
+  double sum = 0.0;
+  *boundary = false;
+  walk([&](Index x) {
+    if (tri.twin(x) == kInvalidIndex || tri.twin(T::prev(x)) == kInvalidIndex) *boundary = true;
+    sum += corner_angle(tri, x);
+    return sum < limit;
+  });
   return sum;
 }
 
@@ -84,19 +99,32 @@ double fan_angle(const IntrinsicTriangulation& tri, Index h, bool* boundary) {
 // Decided per fan, not by a pinched vertex's total: a tufted cover doubles every input
 // vertex's angle over two fans, and a needle tip of 0.8° (conrod.off) is a 1.7° fan next to
 // a 720° total; judged by the total, refinement would never stop there. Fan angles are fixed
-// by flips and insertions; inserted vertices are flat, so they are never needles.
+// by flips and insertions; inserted vertices are flat, so they are never needles. Vertices
+// that start with a corner below the bound get their answer cached (every fan walked once:
+// the pole of a needle sphere has 2000 corners); other corners walk their fan when asked,
+// which on an ordinary mesh stops at the next corner.
 class Cones {
  public:
   Cones(const IntrinsicTriangulation& tri, double bound) : bound_(bound) {
-    const Index nv = tri.n_vertices(), nh = tri.n_halfedges();
+    const Index nv = tri.n_vertices(), nf = tri.n_faces(), nh = tri.n_halfedges();
     state_.assign(nv, 0);
     boundary_.assign(nv, 0);
+    const double cos_bound = std::cos(bound);
+    for (Index f = 0; f < nf; ++f) {
+      const double l[3] = {tri.halfedge_length(3 * f), tri.halfedge_length(3 * f + 1),
+                           tri.halfedge_length(3 * f + 2)};
+      for (int k = 0; k < 3; ++k) {
+        const Index h = 3 * f + k;
+        if (tri.twin(h) == kInvalidIndex) boundary_[tri.tail(h)] = boundary_[tri.head(h)] = 1;
+        const double b = l[k], c = l[(k + 2) % 3], a = l[(k + 1) % 3];
+        if (b * b + c * c - a * a > cos_bound * 2.0 * b * c) state_[tri.tail(h)] = kCached;
+      }
+    }
     std::vector<char> seen(nh, 0);
     for (Index h = 0; h < nh; ++h) {
-      if (tri.twin(h) == kInvalidIndex) boundary_[tri.tail(h)] = boundary_[tri.head(h)] = 1;
-      if (seen[h]) continue;
+      if (seen[h] || !(state_[tri.tail(h)] & kCached)) continue;
       bool fan_boundary = false;
-      const double theta = fan_angle(tri, h, &fan_boundary);
+      const double theta = fan_angle(tri, h, 2.0 * bound_, &fan_boundary);
       state_[tri.tail(h)] |= unfixable(theta, fan_boundary) ? kSomeUnfixable : kSomeFixable;
       Index x = h;  // mark the fan's corners (from h both ways)
       for (Index k = 0; k < nh && x != kInvalidIndex && !seen[x]; ++k) {
@@ -114,9 +142,10 @@ class Cones {
   bool unfixable(const IntrinsicTriangulation& tri, Index h) const {
     const Index v = tri.tail(h);
     if (v >= static_cast<Index>(state_.size())) return false;  // inserted: flat
-    if (state_[v] != (kSomeUnfixable | kSomeFixable)) return state_[v] == kSomeUnfixable;
-    bool fan_boundary = false;
-    const double theta = fan_angle(tri, h, &fan_boundary);
+    const char known = state_[v] & (kSomeUnfixable | kSomeFixable);
+    if (known == kSomeUnfixable || known == kSomeFixable) return known == kSomeUnfixable;
+    bool fan_boundary = false;  // not cached, or fans of both kinds
+    const double theta = fan_angle(tri, h, 2.0 * bound_, &fan_boundary);
     return unfixable(theta, fan_boundary);
   }
   /// A vertex with a side without twin starting or ending at it.
@@ -128,12 +157,12 @@ class Cones {
   }
 
  private:
-  static constexpr char kSomeUnfixable = 1, kSomeFixable = 2;
+  static constexpr char kSomeUnfixable = 1, kSomeFixable = 2, kCached = 4;
   bool unfixable(double theta, bool boundary) const {
     return boundary ? theta < bound_ : theta < 2.0 * bound_;
   }
   double bound_;
-  std::vector<char> state_;     // per input vertex: which kinds of fans it has
+  std::vector<char> state_;     // per input vertex: kCached, and which kinds of fans it has
   std::vector<char> boundary_;  // per vertex
 };
 
@@ -150,6 +179,60 @@ double min_corner_angle(const IntrinsicTriangulation& tri, Index f) {
 }
 
 namespace {
+
+// Priority buckets of the bad-face queue, highest first: faces with a fixable corner below the
+// bound, by that corner's angle θ, smallest first (kAngleBuckets even steps of sin(θ/2) over
+// [0, sin 15°], ≈ 0.25° each); then faces bad only by size or by facing an encroached boundary
+// side, by area, largest first (kAreaSub buckets per factor of 2).
+constexpr int kAreaSub = 4;
+constexpr int kAreaBuckets = 2200 * kAreaSub;  // binary exponents of doubles, subnormals included
+constexpr int kAngleBuckets = 120;
+
+int area_bucket(double area) {
+  int e = 0;
+  const double mant = std::frexp(area, &e);  // in [0.5, 1)
+  const int sub = std::clamp(static_cast<int>((mant - 0.5) * 2.0 * kAreaSub), 0, kAreaSub - 1);
+  return std::clamp((e + 1100) * kAreaSub + sub, 0, kAreaBuckets - 1);
+}
+
+int angle_bucket(double sin_half_angle) {
+  const double sin15 = 0.25881904510252074;
+  const int k = std::clamp(static_cast<int>(sin_half_angle / sin15 * kAngleBuckets), 0,
+                           kAngleBuckets - 1);
+  return kAreaBuckets + kAngleBuckets - 1 - k;
+}
+
+// Bad faces, highest bucket first, LIFO inside a bucket: O(1) push and pop (a heap's sifting
+// dominated big refinements). A face whose bucket changed while queued is pushed again into
+// the new one; where_[f] names the bucket of its live entry, and other entries are skipped when
+// popped, so the order follows the faces' current shapes.
+class BadFaceQueue {
+ public:
+  BadFaceQueue() : buckets_(kAreaBuckets + kAngleBuckets) {}
+  void push(Index f, int bucket) {
+    if (static_cast<std::size_t>(f) >= where_.size()) where_.resize(2 * f + 1024, -1);
+    if (where_[f] == bucket) return;
+    where_[f] = bucket;
+    buckets_[bucket].push_back(f);
+    top_ = std::max(top_, bucket);
+  }
+  Index pop() {
+    for (;;) {
+      while (top_ >= 0 && buckets_[top_].empty()) --top_;
+      if (top_ < 0) return kInvalidIndex;
+      const Index f = buckets_[top_].back();
+      buckets_[top_].pop_back();
+      if (where_[f] != top_) continue;  // stale: queued again elsewhere, or already taken
+      where_[f] = -1;
+      return f;
+    }
+  }
+
+ private:
+  std::vector<std::vector<Index>> buckets_;
+  std::vector<int> where_;
+  int top_ = -1;
+};
 
 template <class Host>
 RefineReport refine(Host& host, const RefineOptions& options) {
@@ -175,11 +258,18 @@ RefineReport refine(Host& host, const RefineOptions& options) {
   rep.min_angle_before = before / deg;
 
   Cones cones(tri, bound);
-  // 0 = good, 1 = bad, 2 = needle (every small corner unfixable). The angle at a corner is
-  // below the bound iff its cosine b² + c² − a² over 2bc is above cos(bound): no atan2.
+  // kind 0 = good, 1 = bad, 2 = needle (every small corner unfixable); a bad face's queue
+  // bucket. The angle θ at a corner is below the bound iff its cosine b² + c² − a² over 2bc is
+  // above cos(bound), and sin²(θ/2) = (a² − (b − c)²) / 4bc: no trigonometry.
+  struct Verdict {
+    int kind = 0;
+    int bucket = 0;
+  };
   const double cos_bound = std::cos(bound);
   auto classify = [&](Index f) {
-    bool small = false, fixable_small = false;
+    Verdict v;
+    bool small = false;
+    double worst = 2.0;  // sin(θ/2) of the smallest fixable small corner
     const double l[3] = {tri.halfedge_length(3 * f), tri.halfedge_length(3 * f + 1),
                          tri.halfedge_length(3 * f + 2)};
     for (int k = 0; k < 3; ++k) {
@@ -187,11 +277,24 @@ RefineReport refine(Host& host, const RefineOptions& options) {
       const double b = l[k], c = l[(k + 2) % 3], a = l[(k + 1) % 3];
       if (b * b + c * c - a * a > cos_bound * 2.0 * b * c) {
         small = true;
-        if (!cones.unfixable(tri, 3 * f + k)) fixable_small = true;
+        if (!cones.unfixable(tri, 3 * f + k)) {
+          const double s2 = (a * a - (b - c) * (b - c)) / (4.0 * b * c);
+          worst = std::min(worst, std::sqrt(std::max(s2, 0.0)));
+        }
       }
     }
-    if (fixable_small) return 1;
-    if (max_area > 0.0 && face_area(tri, f) > max_area) return 1;
+    v.kind = 1;
+    if (worst <= 1.0) {
+      v.bucket = angle_bucket(worst);
+      return v;
+    }
+    if (max_area > 0.0) {
+      const double area = face_area(tri, f);
+      if (area > max_area) {
+        v.bucket = area_bucket(area);
+        return v;
+      }
+    }
     if (options.split_encroached_boundary) {
       for (int k = 0; k < 3; ++k) {
         // side k faces the corner k+2: obtuse there ⇔ b² + c² < a²; its circumcenter then lies
@@ -201,47 +304,26 @@ RefineReport refine(Host& host, const RefineOptions& options) {
         if (tri.twin(3 * f + k) != kInvalidIndex) continue;
         if (cones.is_boundary(tri.tail(3 * f + (k + 2) % 3))) continue;
         const double a = l[k], b = l[(k + 1) % 3], c = l[(k + 2) % 3];
-        if (b * b + c * c - a * a < -1e-12 * (b * b + c * c)) return 1;
+        if (b * b + c * c - a * a < -1e-12 * (b * b + c * c)) {
+          v.bucket = area_bucket(face_area(tri, f));
+          return v;
+        }
       }
     }
-    return small ? 2 : 0;
+    v.kind = small ? 2 : 0;
+    return v;
   };
 
-  // Largest bad triangle first, approximately: buckets by the binary exponent of the area (a
-  // factor of 2 per bucket), LIFO inside a bucket. O(1) per push and pop, unlike a heap whose
-  // sifting dominated on big refinements; each face is queued at most once at a time.
-  constexpr int kSub = 4;                // buckets per factor of 2
-  constexpr int kBuckets = 2200 * kSub;  // binary exponents of doubles, subnormals included
-  std::vector<std::vector<Index>> buckets(kBuckets);
-  std::vector<char> queued;
-  int top = -1;
-  auto push = [&](Index f) {
-    if (static_cast<std::size_t>(f) >= queued.size()) queued.resize(tri.n_faces() + 1024, 0);
-    if (queued[f]) return;
-    queued[f] = 1;
-    int e = 0;
-    const double mant = std::frexp(face_area(tri, f), &e);  // in [0.5, 1)
-    const int sub = std::clamp(static_cast<int>((mant - 0.5) * 2.0 * kSub), 0, kSub - 1);
-    const int k = std::clamp((e + 1100) * kSub + sub, 0, kBuckets - 1);
-    buckets[k].push_back(f);
-    top = std::max(top, k);
-  };
-  auto pop = [&]() {
-    while (top >= 0 && buckets[top].empty()) --top;
-    if (top < 0) return kInvalidIndex;
-    const Index f = buckets[top].back();
-    buckets[top].pop_back();
-    queued[f] = 0;
-    return f;
-  };
-  queued.assign(tri.n_faces(), 0);
+  BadFaceQueue queue;
   for (Index f = 0; f < tri.n_faces(); ++f) {
-    if (classify(f) == 1) push(f);
+    const Verdict v = classify(f);
+    if (v.kind == 1) queue.push(f, v.bucket);
   }
   std::vector<Index> touched, flip_queue;
   Eigen::Vector2d p[3];
-  for (Index f = pop(); f != kInvalidIndex; f = pop()) {
-    if (classify(f) != 1) continue;
+  for (Index f = queue.pop(); f != kInvalidIndex; f = queue.pop()) {
+    const Verdict verdict = classify(f);
+    if (verdict.kind != 1) continue;
     if (rep.insertions >= cap) {
       rep.hit_insertion_cap = true;
       break;
@@ -250,10 +332,10 @@ RefineReport refine(Host& host, const RefineOptions& options) {
     face_layout(tri, f, p);
     const Eigen::Vector2d b = p[1], c = p[2];
     const double dd = 2.0 * (b.x() * c.y() - b.y() * c.x());
-    const Eigen::Vector2d cc((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / dd,
-                             (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / dd);
+    const Eigen::Vector2d target((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / dd,
+                                 (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / dd);
     const Eigen::Vector2d centroid = (p[0] + p[1] + p[2]) / 3.0;
-    const Eigen::Vector2d w = cc - centroid;
+    const Eigen::Vector2d w = target - centroid;
     const double dist = w.norm();
     if (!std::isfinite(dist) || !(dist > 0.0)) {
       ++rep.failed_traces;
@@ -338,7 +420,8 @@ RefineReport refine(Host& host, const RefineOptions& options) {
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     for (const Index x : touched) {
-      if (classify(x) == 1) push(x);
+      const Verdict vx = classify(x);
+      if (vx.kind == 1) queue.push(x, vx.bucket);
     }
   }
 
@@ -348,7 +431,7 @@ RefineReport refine(Host& host, const RefineOptions& options) {
   for (Index f = 0; f < tri.n_faces(); ++f) {
     const double a = min_corner_angle(tri, f);
     after = std::min(after, a);
-    const int c = classify(f);
+    const int c = classify(f).kind;
     if (c == 2) {
       ++rep.needle_faces;
     } else {

@@ -42,12 +42,15 @@ struct RefineReport {
   double min_angle_after_excluding_needles = 0.0;  ///< same, ignoring needle_faces
 };
 
-/// Refines `st` in place: flips to intrinsic Delaunay, then repeatedly takes the largest bad
-/// triangle (a corner below the bound that an insertion can fix, or area above max_area),
-/// traces from its centroid towards its circumcenter over the intrinsic triangulation and
-/// inserts a vertex there (or
-/// splits the edge it lands on, or the boundary edge it would cross, at its midpoint), and
-/// restores the Delaunay property by flips. Terminates on every input (the insertion cap).
+/// Refines `st` in place: flips to intrinsic Delaunay, then repeatedly takes the worst bad
+/// triangle, traces from its centroid towards its circumcenter over the
+/// intrinsic triangulation and inserts a vertex there (or splits the edge it lands on, or the
+/// boundary edge it would cross, at its midpoint), and restores the Delaunay property by
+/// flips. Worst first: triangles with a corner below the bound that an insertion can fix, by
+/// that corner, smallest first (in steps of about 0.25°; on the needle sphere uv_sphere(40,
+/// 2000) at 25° this ends at 268,974 vertices, largest-area-first at 284,725), then triangles
+/// larger than max_area or facing an encroached boundary side, largest first. Terminates on
+/// every input (the insertion cap).
 /// Input vertices keep their ids; inserted vertices are appended.
 /// @throws InvalidInput on a bound outside (0, 30] degrees or a negative max_area
 RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options = {});
