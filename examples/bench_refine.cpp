@@ -3,7 +3,8 @@
 // Times exclude reading the file; "build" is the signpost triangulation's construction
 // (+ mollification 1e-5, as the CLI does), "refine" includes the initial flips to Delaunay.
 //
-//   ifem_bench refine [--repeat 5] [--min-angle 25] [--data ../shared/data/meshes]
+//   ifem_bench refine [--repeat 5] [--min-angle 25] [--off-centers 0|1]
+//                     [--data ../shared/data/meshes]
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -19,15 +20,13 @@ namespace ifem::bench {
 namespace {
 
 void run_case(const std::string& name, const std::vector<Triangle>& faces, const Positions& x,
-              int repeat, double min_angle) {
+              int repeat, const intrinsic::RefineOptions& opt) {
   std::vector<double> tb, tr, tt;
   intrinsic::RefineReport rep;
   for (int k = 0; k < repeat; ++k) {
     double t0 = seconds_now();
     intrinsic::SignpostTriangulation st(faces, x, 1e-5);
     tb.push_back(seconds_now() - t0);
-    intrinsic::RefineOptions opt;
-    opt.min_angle_degrees = min_angle;
     t0 = seconds_now();
     rep = intrinsic::delaunay_refine(st, opt);
     tr.push_back(seconds_now() - t0);
@@ -50,9 +49,12 @@ void run_case(const std::string& name, const std::vector<Triangle>& faces, const
 
 int refine(int argc, char** argv) {
   const int repeat = static_cast<int>(int_option(argc, argv, "--repeat", 5));
-  const double min_angle = std::stod(string_option(argc, argv, "--min-angle", "25"));
+  intrinsic::RefineOptions opt;
+  opt.min_angle_degrees = std::stod(string_option(argc, argv, "--min-angle", "25"));
+  opt.off_centers = int_option(argc, argv, "--off-centers", 0) != 0;
   const std::string data = string_option(argc, argv, "--data", IFEM_SHARED_MESHES);
-  std::printf("refine: min angle %.1f°, median of %d runs\n", min_angle, repeat);
+  std::printf("refine: min angle %.1f°, %s, median of %d runs\n", opt.min_angle_degrees,
+              opt.off_centers ? "off-centers" : "circumcenters", repeat);
   for (const char* file : {"rocketship.ply", "igea_268k.ply"}) {
     const std::filesystem::path path = std::filesystem::path(data) / file;
     if (!std::filesystem::exists(path)) {
@@ -60,10 +62,10 @@ int refine(int argc, char** argv) {
       continue;
     }
     const io::SurfaceInput in = io::read_mesh(path.string());
-    run_case(file, in.triangles, in.positions, repeat, min_angle);
+    run_case(file, in.triangles, in.positions, repeat, opt);
   }
   const intrinsic::TriangleMesh m = intrinsic::uv_sphere(40, 2000);  // 156,000 faces
-  run_case("uv_sphere(40, 2000)", m.faces, m.positions, repeat, min_angle);
+  run_case("uv_sphere(40, 2000)", m.faces, m.positions, repeat, opt);
   return 0;
 }
 

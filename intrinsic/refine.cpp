@@ -15,9 +15,11 @@ using T = IntrinsicTriangulation;
 // The refinement algorithm below is written once, over a "host": the triangulation it refines
 // and the operations that change it. Two hosts: signposts (every operation also keeps the
 // inserted vertices located on the input) and a bare Δ-complex. A host provides
-//   const IntrinsicTriangulation& tri() const;  FlipReport flip_to_delaunay();
+//   const IntrinsicTriangulation& tri() const;
+//   FlipReport flip_to_delaunay();
 //   FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched);
-//   Index insert_vertex(Index f, const Eigen::Vector3d& bary);  Index split_edge(Index e, double t);
+//   Index insert_vertex(Index f, const Eigen::Vector3d& bary);
+//   Index split_edge(Index e, double t);
 
 class SignpostHost {
  public:
@@ -197,8 +199,8 @@ int area_bucket(double area) {
 
 int angle_bucket(double sin_half_angle) {
   const double sin15 = 0.25881904510252074;
-  const int k = std::clamp(static_cast<int>(sin_half_angle / sin15 * kAngleBuckets), 0,
-                           kAngleBuckets - 1);
+  const int k =
+      std::clamp(static_cast<int>(sin_half_angle / sin15 * kAngleBuckets), 0, kAngleBuckets - 1);
   return kAreaBuckets + kAngleBuckets - 1 - k;
 }
 
@@ -233,6 +235,11 @@ class BadFaceQueue {
   std::vector<int> where_;
   int top_ = -1;
 };
+
+// How far from the midpoint of a bad face's shortest side an off-center goes, as a fraction of
+// the distance at which the isosceles triangle on that side has exactly the bound at its apex
+// (Üngör 2004); 0.95 as in Shewchuk's Triangle, so that the new triangle is just above it.
+constexpr double kOffCenterFactor = 0.95;
 
 template <class Host>
 RefineReport refine(Host& host, const RefineOptions& options) {
@@ -328,12 +335,24 @@ RefineReport refine(Host& host, const RefineOptions& options) {
       rep.hit_insertion_cap = true;
       break;
     }
-    // circumcenter in f's layout, and the straight line to it from the centroid
+    // circumcenter in f's layout (or the off-center), and the straight line to it from the
+    // centroid
     face_layout(tri, f, p);
     const Eigen::Vector2d b = p[1], c = p[2];
     const double dd = 2.0 * (b.x() * c.y() - b.y() * c.x());
-    const Eigen::Vector2d target((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / dd,
-                                 (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / dd);
+    Eigen::Vector2d target((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / dd,
+                           (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / dd);
+    if (options.off_centers && verdict.bucket >= kAreaBuckets) {
+      int s = 0;  // shortest side
+      for (int k = 1; k < 3; ++k) {
+        if ((p[(k + 1) % 3] - p[k]).squaredNorm() < (p[(s + 1) % 3] - p[s]).squaredNorm()) s = k;
+      }
+      const Eigen::Vector2d m = 0.5 * (p[s] + p[(s + 1) % 3]);
+      const double to_cc = (target - m).norm();
+      const double h =
+          kOffCenterFactor * 0.5 * (p[(s + 1) % 3] - p[s]).norm() / std::tan(0.5 * bound);
+      if (h < to_cc) target = m + (h / to_cc) * (target - m);
+    }
     const Eigen::Vector2d centroid = (p[0] + p[1] + p[2]) / 3.0;
     const Eigen::Vector2d w = target - centroid;
     const double dist = w.norm();

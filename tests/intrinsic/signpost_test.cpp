@@ -204,16 +204,26 @@ TEST(Refine, MeetsAngleBoundOnGeneratedMeshes) {
                         {"grid", grid(7, 5, 3.0, 1.0, false), 30.0},
                         {"jittered grid", jittered(grid(10, 10), 0.06, 8), 28.0}};
   for (const Case& c : cases) {
-    SCOPED_TRACE(c.name);
-    SignpostTriangulation st(c.mesh.faces, c.mesh.positions);
-    const Eigen::VectorXd sums0 = vertex_angle_sums(st.intrinsic());
-    const double area0 = total_area(st.intrinsic());
-    RefineOptions opt;
-    opt.min_angle_degrees = c.bound;
-    const RefineReport rep = delaunay_refine(st, opt);
-    EXPECT_GT(rep.insertions, 0);
-    expect_refined(st.intrinsic(), rep, sums0, area0, c.bound);
-    expect_traces_consistent(st);
+    Index insertions[2] = {0, 0};
+    for (const bool off_centers : {false, true}) {
+      SCOPED_TRACE(std::string(c.name) + (off_centers ? ", off-centers" : ", circumcenters"));
+      SignpostTriangulation st(c.mesh.faces, c.mesh.positions);
+      const Eigen::VectorXd sums0 = vertex_angle_sums(st.intrinsic());
+      const double area0 = total_area(st.intrinsic());
+      RefineOptions opt;
+      opt.min_angle_degrees = c.bound;
+      opt.off_centers = off_centers;
+      const RefineReport rep = delaunay_refine(st, opt);
+      EXPECT_GT(rep.insertions, 0);
+      expect_refined(st.intrinsic(), rep, sums0, area0, c.bound);
+      expect_traces_consistent(st);
+      insertions[off_centers] = rep.insertions;
+    }
+    // off-centers differ from circumcenters only on triangles with a corner below half the
+    // bound: the needles
+    if (std::string(c.name) == "needle uv sphere") {
+      EXPECT_NE(insertions[0], insertions[1]);
+    }
   }
 }
 
@@ -390,7 +400,7 @@ TriangleMesh book(int pages, int nx, int ny, double w, double h, double jitter) 
 // was inserted, inserted vertices come after the input's, the cover stays closed and keeps
 // multiplicity 2 (so total_area() is still the input surface's).
 void expect_tufted_refined(const std::vector<Triangle>& faces, const Positions& x,
-                           double bound_deg) {
+                           double bound_deg, bool off_centers = false) {
   TuftedCoverReport cover_rep;
   IntrinsicTriangulation tri = tufted_cover(faces, x, &cover_rep);
   tri.mollify(1e-5);
@@ -401,6 +411,7 @@ void expect_tufted_refined(const std::vector<Triangle>& faces, const Positions& 
   const double area0 = total_area(tri);
   RefineOptions opt;
   opt.min_angle_degrees = bound_deg;
+  opt.off_centers = off_centers;
   const RefineReport rep = delaunay_refine(tri, opt);
   EXPECT_GT(rep.insertions, 0);
   EXPECT_EQ(rep.vertices_before, n);
@@ -419,6 +430,7 @@ TEST(Refine, TuftedCoverOfNonmanifoldBook) {
   // three pages of stretched cells (21.8° corners, below the bound) on one spine
   const TriangleMesh m = book(3, 12, 3, 1.0, 0.1, 0.2);
   expect_tufted_refined(m.faces, m.positions, 25.0);
+  expect_tufted_refined(m.faces, m.positions, 30.0, /*off_centers=*/true);
 }
 
 TEST(Refine, TuftedCoverOfConrod) {
