@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -210,11 +211,12 @@ int angle_bucket(double sin_half_angle) {
 // popped, so the order follows the faces' current shapes.
 class BadFaceQueue {
  public:
-  BadFaceQueue() : buckets_(kAreaBuckets + kAngleBuckets) {}
+  explicit BadFaceQueue(Index n_faces)
+      : buckets_(kAreaBuckets + kAngleBuckets), where_(n_faces, kNowhere) {}
   void push(Index f, int bucket) {
-    if (static_cast<std::size_t>(f) >= where_.size()) where_.resize(2 * f + 1024, -1);
+    if (static_cast<std::size_t>(f) >= where_.size()) where_.resize(2 * f + 1024, kNowhere);
     if (where_[f] == bucket) return;
-    where_[f] = bucket;
+    where_[f] = static_cast<std::int16_t>(bucket);
     buckets_[bucket].push_back(f);
     top_ = std::max(top_, bucket);
   }
@@ -225,14 +227,16 @@ class BadFaceQueue {
       const Index f = buckets_[top_].back();
       buckets_[top_].pop_back();
       if (where_[f] != top_) continue;  // stale: queued again elsewhere, or already taken
-      where_[f] = -1;
+      where_[f] = kNowhere;
       return f;
     }
   }
 
  private:
+  static constexpr std::int16_t kNowhere = -1;
+  static_assert(kAreaBuckets + kAngleBuckets <= 32767, "bucket ids are 16-bit");
   std::vector<std::vector<Index>> buckets_;
-  std::vector<int> where_;
+  std::vector<std::int16_t> where_;  // per face: the bucket of its live entry, or kNowhere
   int top_ = -1;
 };
 
@@ -321,7 +325,7 @@ RefineReport refine(Host& host, const RefineOptions& options) {
     return v;
   };
 
-  BadFaceQueue queue;
+  BadFaceQueue queue(tri.n_faces());
   for (Index f = 0; f < tri.n_faces(); ++f) {
     const Verdict v = classify(f);
     if (v.kind == 1) queue.push(f, v.bucket);
