@@ -39,8 +39,7 @@ double refine_target_length(const PreparedSurface& s, const Args& args,
   return c * intrinsic::mean_side_length(s.input.triangles, s.input.positions);
 }
 
-intrinsic::RefineOptions refine_options(const Args& args, const PreparedSurface& s,
-                                        double target_length) {
+intrinsic::RefineOptions refine_options(const Args& args, double target_length) {
   intrinsic::RefineOptions o;
   o.min_angle_degrees = args.get_double("min-angle", o.min_angle_degrees);
   o.max_area = args.get_double("max-area", 0.0);
@@ -49,14 +48,6 @@ intrinsic::RefineOptions refine_options(const Args& args, const PreparedSurface&
     o.max_area = o.max_area > 0.0 ? std::min(o.max_area, a) : a;
   }
   o.max_insertions = static_cast<Index>(args.get_int("max-insertions", -1));
-  if (o.max_insertions < 0 && o.max_area > 0.0) {
-    // a size bound asks for about area / max_area triangles: leave room for 4× that
-    double area = 0.0;
-    for (Index f = 0; f < s.tri.n_faces(); ++f) area += intrinsic::face_area(s.tri, f);
-    area /= s.tri.multiplicity();
-    const double cap = 10.0 * std::max<Index>(s.tri.n_vertices(), 10) + 4.0 * area / o.max_area;
-    o.max_insertions = static_cast<Index>(std::min(cap, 1.5e9));
-  }
   return o;
 }
 
@@ -134,7 +125,7 @@ std::optional<intrinsic::SignpostTriangulation> refine_prepared(
                          s.path_reason + ") does not have");
     }
     const intrinsic::RefineReport r =
-        intrinsic::delaunay_refine(s.tri, refine_options(args, s, target));
+        intrinsic::delaunay_refine(s.tri, refine_options(args, target));
     // inserted vertices count as interior for the heat method's boundary condition (the
     // cover folds across the input's boundary edges: they are interior edges of it)
     if (!s.boundary_vertex.empty()) s.boundary_vertex.resize(s.tri.n_vertices(), 0);
@@ -147,7 +138,7 @@ std::optional<intrinsic::SignpostTriangulation> refine_prepared(
   intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
                                       args.get_double("mollify", 1e-5));
   const intrinsic::RefineReport r =
-      intrinsic::delaunay_refine(st, refine_options(args, s, target));
+      intrinsic::delaunay_refine(st, refine_options(args, target));
   s.tri = st.intrinsic();
   if (s.path != "manifold") {
     s.path = "manifold";

@@ -28,10 +28,9 @@ double refine_target_length(const PreparedSurface& s, const Args& args,
                             double default_resolution);
 
 /// Reads --min-angle (default 25), --max-area (default none; with target_length > 0 at most the
-/// area of the equilateral triangle of that side), --max-insertions (default 10 × input
-/// vertices, plus 4 × area / max_area when there is a size bound).
-intrinsic::RefineOptions refine_options(const Args& args, const PreparedSurface& s,
-                                        double target_length);
+/// area of the equilateral triangle of that side), --max-insertions (default: the library's,
+/// RefineOptions::max_insertions).
+intrinsic::RefineOptions refine_options(const Args& args, double target_length);
 
 /// Refines a prepared surface in place. Edge-manifold orientable inputs (the manifold path, or
 /// the tufted path taken only for negative boundary weights): rebuilds the intrinsic

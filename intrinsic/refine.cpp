@@ -260,8 +260,13 @@ RefineReport refine(Host& host, const RefineOptions& options) {
   const IntrinsicTriangulation& tri = host.tri();
   RefineReport rep;
   rep.vertices_before = tri.n_vertices();
-  const Index cap = options.max_insertions >= 0 ? options.max_insertions
-                                                : 10 * std::max<Index>(tri.n_vertices(), 10);
+  Index cap = options.max_insertions;
+  if (cap < 0) {
+    // 10 per input vertex, and room for 4× the triangles a size bound asks for
+    double c = 10.0 * std::max<Index>(tri.n_vertices(), 10);
+    if (max_area > 0.0) c += 4.0 * total_area(tri) * tri.multiplicity() / max_area;
+    cap = static_cast<Index>(std::min(c, 1.5e9));
+  }
 
   rep.flips += host.flip_to_delaunay().flips;
   double before = kPi;

@@ -53,19 +53,19 @@ struct Case {
 // Sliver meshes (rocketship, block, fandisk; conrod is nonmanifold: the tufted test below)
 // and two clean ones for contrast. Measured (Release, this tree; mean relative error):
 //   mesh        src    no refine  angle only  accurate  CGAL heat   V: input → angle → accurate
-//   rocketship      0   0.1648     0.0179     0.0127     0.2017     28010 → 64566 → 185074
-//   rocketship  15579   0.0296     0.0349     0.0102     0.0407
-//   block           0   0.0230     0.0269     0.0090     0.0232      2132 →  3317 →  18742
-//   block        2049   0.0270     0.0319     0.0104     0.0272
-//   fandisk         0   0.0087     0.0087     0.0030     0.0087      7229 →  7236 →  66500
-//   fandisk      1274   0.0083     0.0083     0.0030     0.0083
-//   bunny_lowres    0   0.0283     0.0281     0.0074     0.0282      1839 →  1844 →  16457
-//   spot            0   0.0169     0.0169     0.0043     0.0169      2930 →  3180 →  27915
+//   rocketship      0   0.1648     0.0176     0.0131     0.2017     28010 → 62478 → 183174
+//   rocketship  15579   0.0296     0.0367     0.0093     0.0407
+//   block           0   0.0230     0.0273     0.0096     0.0232      2132 →  3222 →  18457
+//   block        2049   0.0270     0.0309     0.0104     0.0272
+//   fandisk         0   0.0087     0.0087     0.0031     0.0087      7229 →  7236 →  65896
+//   fandisk      1274   0.0083     0.0083     0.0031     0.0083
+//   bunny_lowres    0   0.0283     0.0281     0.0077     0.0282      1839 →  1844 →  16405
+//   spot            0   0.0169     0.0169     0.0042     0.0169      2930 →  3153 →  27753
 const Case kCases[] = {
-    {"rocketship.ply", 0, 0.02, 0.014},   {"rocketship.ply", 15579, 0.042, 0.0115},
-    {"block.off", 0, 0.032, 0.010},       {"block.off", 2049, 0.038, 0.0115},
-    {"fandisk.off", 0, 0.0105, 0.0034},   {"fandisk.off", 1274, 0.01, 0.0034},
-    {"bunny_npm_lowres.obj", 0, 0.034, 0.0082}, {"spot.obj", 0, 0.02, 0.0048},
+    {"rocketship.ply", 0, 0.02, 0.015},   {"rocketship.ply", 15579, 0.042, 0.011},
+    {"block.off", 0, 0.032, 0.011},       {"block.off", 2049, 0.036, 0.012},
+    {"fandisk.off", 0, 0.0105, 0.0036},   {"fandisk.off", 1274, 0.01, 0.0036},
+    {"bunny_npm_lowres.obj", 0, 0.034, 0.009}, {"spot.obj", 0, 0.02, 0.0049},
 };
 
 // `ifem distance --refine`'s accurate mode, as a function of the resolution c, time factor m
@@ -75,11 +75,10 @@ struct Accurate {
   int steps = 1;
 };
 
-intrinsic::RefineOptions accurate_refine(const Accurate& a, double h, double area, Index nv) {
+intrinsic::RefineOptions accurate_refine(const Accurate& a, double h) {
   intrinsic::RefineOptions o;
   const double l = a.resolution * h;
   o.max_area = std::sqrt(3.0) / 4.0 * l * l;
-  o.max_insertions = Index(10.0 * nv + 4.0 * area / o.max_area);  // as the CLI
   return o;
 }
 
@@ -114,7 +113,6 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
     // unrefined: what `ifem distance` does (build_surface: mollify 1e-5, intrinsic Delaunay)
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
     ASSERT_EQ(s.path, intrinsic::SurfacePath::kManifold) << stem << ": " << s.reason;
-    const double area = intrinsic::total_area(s.tri) / s.tri.multiplicity();
     // angle only: `--refine --resolution 0` (signposts over the same mollified input, 25°)
     intrinsic::SignpostTriangulation st(in.triangles, in.positions, 1e-5);
     const intrinsic::RefineReport rep = intrinsic::delaunay_refine(st);
@@ -124,7 +122,7 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
     const Accurate acc;
     intrinsic::SignpostTriangulation sa(in.triangles, in.positions, 1e-5);
     const intrinsic::RefineReport rep_acc =
-        intrinsic::delaunay_refine(sa, accurate_refine(acc, h, area, s.tri.n_vertices()));
+        intrinsic::delaunay_refine(sa, accurate_refine(acc, h));
     EXPECT_FALSE(rep_acc.hit_insertion_cap) << stem;
     HeatDistanceOptions opt;
     opt.intrinsic_delaunay = false;  // both are Delaunay already
@@ -156,7 +154,7 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
         Accurate a;
         a.resolution = res;
         intrinsic::SignpostTriangulation sw(in.triangles, in.positions, 1e-5);
-        intrinsic::delaunay_refine(sw, accurate_refine(a, h, area, s.tri.n_vertices()));
+        intrinsic::delaunay_refine(sw, accurate_refine(a, h));
         std::printf("    c=%.2f V=%-7d", res, sw.intrinsic().n_vertices());
         for (const double m : {0.125, 0.25, 0.5, 1.0}) {
           a.time_factor = m;
@@ -176,10 +174,10 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
 
 // conrod is nonmanifold (3 edges with 3+ faces): it takes the tufted path, and refinement runs
 // on the tufted cover itself, without signposts (`ifem distance --refine` there). Measured
-// (3223 → 86056 vertices, 6 needle-cone faces at the 0.8° tip):
+// (3223 → 84996 vertices, 6 needle-cone faces at the 0.8° tip):
 //   src   no refine   accurate   CGAL heat
-//     0    0.0727      0.0074     0.1039
-//     7    0.1264      0.0083     0.1779
+//     0    0.0727      0.0071     0.1039
+//     7    0.1264      0.0088     0.1779
 TEST(RefineAccuracy, TuftedCoverConrodRefinedVsExact) {
   IFEM_REQUIRE_SHARED_DATA();
   const fs::path mesh = test::shared_data() / "meshes" / "conrod.off";
@@ -193,7 +191,7 @@ TEST(RefineAccuracy, TuftedCoverConrodRefinedVsExact) {
   intrinsic::IntrinsicTriangulation refined = s.tri;
   const Accurate acc;
   const intrinsic::RefineReport rep =
-      intrinsic::delaunay_refine(refined, accurate_refine(acc, h, area, s.tri.n_vertices()));
+      intrinsic::delaunay_refine(refined, accurate_refine(acc, h));
   EXPECT_FALSE(rep.hit_insertion_cap);
   EXPECT_EQ(refined.multiplicity(), 2);
   EXPECT_NEAR(intrinsic::total_area(refined), area, 1e-9 * area);
