@@ -15,7 +15,7 @@
 namespace ifem::cli {
 
 const std::set<std::string> kRefineOptions = {"min-angle", "max-area", "resolution",
-                                               "max-insertions", "relax"};
+                                               "max-insertions", "relax", "max-edge"};
 const char* const kRefineHelp =
     "Refinement options:\n"
     "  --min-angle A        smallest corner angle wanted, degrees, in (0, 30] (default 25)\n"
@@ -27,7 +27,9 @@ const char* const kRefineHelp =
     "                       plus 4 × area / (max area) with a size bound)\n"
     "  --relax ITER         then ITER passes of optimal Delaunay (ODT) relaxation of the\n"
     "                       inserted vertices, each moved inside its flat star on the surface\n"
-    "                       (input vertices never move; min angle kept; default 0)\n";
+    "                       (input vertices never move; min angle kept; default 0)\n"
+    "  --max-edge L         with --relax: after each pass split edges longer than L at their\n"
+    "                       midpoints (the next pass relaxes the new vertices)\n";
 
 double refine_target_length(const PreparedSurface& s, const Args& args,
                             double default_resolution) {
@@ -99,7 +101,12 @@ std::string describe(const intrinsic::RefineReport& r) {
 std::string describe_relax(const intrinsic::RelaxReport& r) {
   std::ostringstream m;
   m << "relaxed: " << r.passes << " ODT passes, " << r.moved << " moves (" << r.rejected
-    << " rejected, longest " << r.max_displacement << "), " << r.flips
+    << " rejected, longest " << r.max_displacement << "), ";
+  if (r.splits > 0) {
+    m << r.splits << " long edges split (longest now " << r.max_edge_after << ")"
+      << (r.hit_split_cap ? " STOPPED at the split cap" : "") << ", ";
+  }
+  m << r.flips
     << " flips, min angle " << r.min_angle_before << "° -> " << r.min_angle_after
     << "°, mean min angle " << r.mean_min_angle_before << "° -> " << r.mean_min_angle_after
     << "°";
@@ -113,6 +120,9 @@ std::optional<intrinsic::SignpostTriangulation> refine_prepared(
     intrinsic::RefineReport* report, intrinsic::RelaxReport* relax_report) {
   const auto relax = static_cast<int>(args.get_int("relax", 0));
   if (relax < 0) throw InvalidInput("--relax: expected a number of passes ≥ 0");
+  const double max_edge = args.get_double("max-edge", 0.0);
+  if (!(max_edge >= 0.0)) throw InvalidInput("--max-edge: expected a length ≥ 0");
+  if (max_edge > 0.0 && relax == 0) throw InvalidInput("--max-edge splits during --relax ITER");
   const double t0 = now_seconds();
   const double target = refine_target_length(s, args, default_resolution);
   if (!refinable(s)) {
@@ -156,6 +166,7 @@ std::optional<intrinsic::SignpostTriangulation> refine_prepared(
     const double t1 = now_seconds();
     intrinsic::RelaxOptions ro;
     ro.iterations = relax;
+    ro.max_edge_length = max_edge;
     rr = intrinsic::relax_inserted_vertices(st, ro);
     progress(args, describe_relax(rr) + " in " + std::to_string(now_seconds() - t1) + " s");
   }
@@ -243,9 +254,9 @@ int run(const Args& args) {
   }
   std::printf("\n");
   if (rr.passes > 0) {
-    std::printf("relaxed: %d ODT passes, %d moves; min angle %.3f° -> %.3f°, mean min angle "
-                "%.3f° -> %.3f°\n",
-                rr.passes, rr.moved, rr.min_angle_before, rr.min_angle_after,
+    std::printf("relaxed: %d ODT passes, %d moves, %d edge splits; min angle %.3f° -> "
+                "%.3f°, mean min angle %.3f° -> %.3f°\n",
+                rr.passes, rr.moved, rr.splits, rr.min_angle_before, rr.min_angle_after,
                 rr.mean_min_angle_before, rr.mean_min_angle_after);
   }
   if (r.hit_insertion_cap) {
@@ -264,7 +275,7 @@ Command refine_command() {
   c.summary = "intrinsic Delaunay refinement (min angle); common subdivision as a PLY mesh";
   c.help = std::string(
                "usage: ifem refine MESH [--min-angle A] [--resolution C] [--max-area X]\n"
-               "                   [--max-insertions N] [--relax ITER]\n"
+               "                   [--max-insertions N] [--relax ITER [--max-edge L]]\n"
                "                   -o OUT.ply [--lines LINES.ply] [--mesh REFINED.ply]\n"
                "                   [--save FILE.ifem] [--ascii] [surface options]\n\n"
                "Refines the intrinsic Delaunay triangulation of MESH by inserting circumcenters\n"

@@ -512,12 +512,54 @@ void angle_stats(const IntrinsicTriangulation& tri, double& min_deg, double& mea
 
 }  // namespace
 
+namespace {
+
+// Splits the edges longer than options.max_edge_length at their midpoints, round after round
+// (a split edge's halves may still be too long), each round followed by Delaunay flips.
+void split_long_edges(SignpostTriangulation& st, const RelaxOptions& options, Index cap,
+                      RelaxReport& rep) {
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  std::vector<Index> longer;
+  for (;;) {
+    longer.clear();
+    for (Index e = 0; e < tri.n_edges(); ++e) {
+      if (tri.length(e) > options.max_edge_length) longer.push_back(e);
+    }
+    if (longer.empty()) return;
+    bool split_any = false;
+    for (const Index e : longer) {  // edge ids survive splits (new edges are appended)
+      if (rep.splits >= cap) {
+        rep.hit_split_cap = true;
+        break;
+      }
+      if (!(tri.length(e) > options.max_edge_length)) continue;
+      try {
+        st.split_edge(e, 0.5);
+      } catch (const Error&) {
+        continue;  // e.g. an edge with both sides in one face
+      }
+      ++rep.splits;
+      split_any = true;
+    }
+    rep.flips += st.flip_to_delaunay().flips;
+    if (!split_any || rep.hit_split_cap) return;
+  }
+}
+
+}  // namespace
+
 RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options) {
   if (options.iterations < 0) {
     throw InvalidInput("relax_inserted_vertices: iterations must be ≥ 0");
   }
+  if (!(options.max_edge_length >= 0.0)) {
+    throw InvalidInput("relax_inserted_vertices: max_edge_length must be ≥ 0");
+  }
   const IntrinsicTriangulation& tri = st.intrinsic();
   RelaxReport rep;
+  const Index split_cap = options.max_splits >= 0
+                              ? options.max_splits
+                              : 10 * std::max<Index>(tri.n_vertices(), 10);
   angle_stats(tri, rep.min_angle_before, rep.mean_min_angle_before);
   std::vector<Index> spokes;
   std::vector<Eigen::Vector2d> ring;
@@ -588,8 +630,12 @@ RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOption
       }
     }
     rep.flips += st.flip_to_delaunay().flips;
+    if (options.max_edge_length > 0.0) split_long_edges(st, options, split_cap, rep);
   }
   angle_stats(tri, rep.min_angle_after, rep.mean_min_angle_after);
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    rep.max_edge_after = std::max(rep.max_edge_after, tri.length(e));
+  }
   return rep;
 }
 

@@ -90,6 +90,13 @@ struct RelaxOptions {
   /// rejected, so the triangulation's minimum angle, and with it delaunay_refine()'s bound,
   /// never gets worse (the Delaunay flips after a pass only raise it).
   bool keep_min_angle = true;
+  /// After each pass's Delaunay flips, split every edge longer than this at its midpoint (the
+  /// new vertices are inserted vertices: the next pass moves them), repeated until none is left,
+  /// then flip to Delaunay again. 0: no splitting. Splits can lower the minimum angle (a
+  /// midpoint split of a Delaunay edge at worst halves the angles next to it); the report says.
+  double max_edge_length = 0.0;
+  /// Cap on the splits, over all passes (−1: 10 × #vertices at the start).
+  Index max_splits = -1;
 };
 
 /// Outcome of relax_inserted_vertices(), counted.
@@ -99,6 +106,9 @@ struct RelaxReport {
   Index rejected = 0;          ///< moves skipped: outside the star, or lowering its min angle
   Index skipped_boundary = 0;  ///< inserted boundary vertices (never moved), per pass
   Index skipped_irregular = 0; ///< inserted vertices whose star is not a disk, per pass
+  Index splits = 0;            ///< edges split for max_edge_length (new inserted vertices)
+  bool hit_split_cap = false;  ///< stopped splitting at max_splits with longer edges left
+  double max_edge_after = 0.0; ///< longest edge at the end
   double max_displacement = 0.0;  ///< longest single move
   std::size_t flips = 0;          ///< Delaunay flips after the passes
   double min_angle_before = 0.0, min_angle_after = 0.0;  ///< degrees, over all faces
@@ -110,8 +120,9 @@ struct RelaxReport {
 /// area-weighted mean of the circumcenters of its star's triangles, computed in the flat
 /// layout of its star (SignpostTriangulation::inserted_vertex_star()), if that point lies
 /// strictly inside the star (else half, then a quarter of the way, else not at all), then
-/// flips to intrinsic Delaunay. The surface, the input vertices' angle sums and the total area
-/// are unchanged; inserted vertices stay flat and keep their locations on the input.
+/// flips to intrinsic Delaunay, then splits edges longer than max_edge_length (if set). The
+/// surface, the input vertices' angle sums and the total area are unchanged; inserted vertices
+/// stay flat and keep their locations on the input.
 RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options = {});
 
 /// Smallest corner angle (radians) of face f.

@@ -283,6 +283,54 @@ TEST(Relax, OdtMovesInsertedVerticesOnly) {
   }
 }
 
+// Relaxation with a target edge length: every edge ends at most that long, the new vertices are
+// inserted ones (flat, located on the input), the surface does not change.
+TEST(Relax, SplitsEdgesLongerThanTheTarget) {
+  for (const bool boundary : {false, true}) {
+    SCOPED_TRACE(boundary ? "jittered grid (boundary)" : "sliver uv sphere");
+    const TriangleMesh m = boundary ? jittered(grid(8, 8), 0.06, 3) : uv_sphere(8, 60);
+    SignpostTriangulation st(m.faces, m.positions);
+    const Eigen::VectorXd sums0 = vertex_angle_sums(st.intrinsic());
+    const double area0 = total_area(st.intrinsic());
+    delaunay_refine(st);
+    double longest = 0.0, mean = 0.0;
+    for (Index e = 0; e < st.intrinsic().n_edges(); ++e) {
+      longest = std::max(longest, st.intrinsic().length(e));
+      mean += st.intrinsic().length(e) / st.intrinsic().n_edges();
+    }
+    const Index nv = st.intrinsic().n_vertices();
+    RelaxOptions opt;
+    opt.iterations = 2;
+    opt.max_edge_length = 0.6 * mean;
+    ASSERT_LT(opt.max_edge_length, longest);
+    const RelaxReport rep = relax_inserted_vertices(st, opt);
+    const IntrinsicTriangulation& tri = st.intrinsic();
+    tri.validate();
+    EXPECT_GT(rep.splits, 0);
+    EXPECT_FALSE(rep.hit_split_cap);
+    EXPECT_EQ(tri.n_vertices(), nv + rep.splits);
+    EXPECT_LE(rep.max_edge_after, opt.max_edge_length);
+    for (Index e = 0; e < tri.n_edges(); ++e) ASSERT_LE(tri.length(e), opt.max_edge_length);
+    EXPECT_NEAR(total_area(tri), area0, 1e-9 * area0);
+    const Eigen::VectorXd sums = vertex_angle_sums(tri);
+    for (Index v = 0; v < sums0.size(); ++v) {
+      ASSERT_NEAR(sums[v], sums0[v], 1e-9 * std::max(1.0, sums0[v])) << "input vertex " << v;
+    }
+    for (Index v = static_cast<Index>(sums0.size()); v < tri.n_vertices(); ++v) {
+      ASSERT_NEAR(sums[v], st.is_boundary_vertex(v) ? kPi : 2 * kPi, 1e-9) << "vertex " << v;
+    }
+    expect_traces_consistent(st);
+    std::printf("[%s] relax with splits: %d splits, longest edge %.4f -> %.4f (target %.4f), "
+                "min angle %.2f -> %.2f\n",
+                boundary ? "grid" : "sphere", rep.splits, longest, rep.max_edge_after,
+                opt.max_edge_length, rep.min_angle_before, rep.min_angle_after);
+  }
+  SignpostTriangulation st(icosphere(2).faces, icosphere(2).positions);
+  RelaxOptions bad;
+  bad.max_edge_length = -1.0;
+  EXPECT_THROW(relax_inserted_vertices(st, bad), InvalidInput);
+}
+
 TEST(Relax, MoveRejectsPointsOutsideTheStar) {
   const TriangleMesh m = jittered(icosphere(3), 0.03, 7);
   SignpostTriangulation st(m.faces, m.positions);
