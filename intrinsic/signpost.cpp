@@ -574,6 +574,9 @@ Eigen::VectorXd SignpostTriangulation::intrinsic_to_input(const Eigen::VectorXd&
 //                                    total angle Θ_v, 1 on the boundary, location on the input
 //                                    (input() face and barycentric coordinates), and for
 //                                    inserted vertices the angle of direction 0 in that face
+//   edges NE                         (optional) then NE lines "h": edge e is the edge of
+//                                    halfedge h, which is its edge_halfedge(e) (without this
+//                                    section edges are numbered in halfedge order)
 //   end
 //
 // Input vertices are intrinsic vertices 0..NV-1. Lines starting with '#' are comments.
@@ -601,6 +604,8 @@ void SignpostTriangulation::save(const std::string& path) const {
     std::fprintf(f, "%.17g %d %d %.17g %.17g %.17g %.17g\n", angle_sum_[v], int(boundary_[v]),
                  int(p.face), p.bary[0], p.bary[1], p.bary[2], frame_[v]);
   }
+  std::fprintf(f, "edges %d\n", int(tri_.n_edges()));
+  for (Index e = 0; e < tri_.n_edges(); ++e) std::fprintf(f, "%d\n", int(tri_.edge_halfedge(e)));
   std::fprintf(f, "end\n");
   io::detail::close_and_rename(f, true, tmp, path);
 }
@@ -711,10 +716,32 @@ SignpostTriangulation SignpostTriangulation::load(const std::string& path) {
     st.boundary_[v] = char(b != 0);
     p.face = f < 0 ? kInvalidIndex : Index(f);
   }
-  r.keyword("end");
+  std::vector<Index> edge_halfedge;
+  bool has_edges = false;
+  {
+    std::istringstream ss = r.next("'edges NE' or 'end'");
+    std::string word;
+    ss >> word;
+    if (word == "edges") {
+      long ne = 0;
+      if (!(ss >> ne) || ne < 0 || ne > nh) r.fail("'edges' needs a count");
+      edge_halfedge.resize(ne);
+      for (long e = 0; e < ne; ++e) {
+        long h;
+        r.values("'h'", h);
+        if (h < 0 || h >= nh) r.fail("halfedge id out of range");
+        edge_halfedge[e] = Index(h);
+      }
+      has_edges = true;
+      r.keyword("end");
+    } else if (word != "end") {
+      r.fail("expected 'edges' or 'end', got '" + word + "'");
+    }
+  }
   try {
     st.tri_ = IntrinsicTriangulation::from_gluing(std::move(tail), std::move(twin), len,
                                                   Index(nvi));
+    if (has_edges) st.tri_.renumber_edges(edge_halfedge);
   } catch (const InvalidInput& e) {
     throw IoError(path + ": intrinsic triangulation: " + e.what());
   }

@@ -70,9 +70,9 @@ class SignpostTriangulation {
   void save(const std::string& path) const;
   /// Reads a file written by save(): the input is rebuilt from its faces and positions (same
   /// repairs, same mollification), the intrinsic triangulation from its gluing. Halfedges,
-  /// lengths, signposts and vertex locations are identical to the saved ones; edge ids are
-  /// renumbered (edge e of the loaded triangulation is the edge of its halfedge
-  /// edge_halfedge(e)). @throws IoError on a malformed file (naming the line)
+  /// lengths, signposts, vertex locations and edge ids (with their edge_halfedge()) are
+  /// identical to the saved ones (files without the optional 'edges' section get edges
+  /// numbered in halfedge order). @throws IoError on a malformed file (naming the line)
   static SignpostTriangulation load(const std::string& path);
 
   // ===== Access =====

@@ -300,6 +300,34 @@ IntrinsicTriangulation IntrinsicTriangulation::from_gluing(std::vector<Index> ta
   return tri;
 }
 
+void IntrinsicTriangulation::renumber_edges(const std::vector<Index>& eh) {
+  if (eh.size() != edge_halfedge_.size()) {
+    throw InvalidInput("renumber_edges: " + std::to_string(eh.size()) + " halfedges for " +
+                       std::to_string(n_edges()) + " edges");
+  }
+  std::vector<Index> edge(tail_.size(), kInvalidIndex);
+  std::vector<double> len(eh.size());
+  for (std::size_t e = 0; e < eh.size(); ++e) {
+    const Index h = eh[e];
+    if (h < 0 || h >= n_halfedges()) {
+      throw InvalidInput("renumber_edges: halfedge " + std::to_string(h) + " out of range");
+    }
+    for (const Index x : {h, twin_[h]}) {
+      if (x == kInvalidIndex) continue;
+      if (edge[x] != kInvalidIndex) {
+        throw InvalidInput("renumber_edges: halfedge " + std::to_string(x) +
+                           " belongs to two listed edges");
+      }
+      edge[x] = static_cast<Index>(e);
+    }
+    len[e] = length_[edge_[h]];
+  }
+  // every halfedge is covered: E edges cover at most as many halfedges as exist, each once
+  edge_ = std::move(edge);
+  edge_halfedge_ = eh;
+  length_ = std::move(len);
+}
+
 void IntrinsicTriangulation::build_edges_and_vertices(const std::vector<double>& hlen,
                                                       bool check_agree) {
   const Index nh = n_halfedges();

@@ -196,6 +196,11 @@ class IntrinsicTriangulation {
 
   /// Sets the length of edge e (used by callers that move inserted vertices).
   void set_length(Index e, double l) { length_[e] = l; }
+  /// Renumbers the edges: edge e becomes the edge of halfedge edge_halfedge[e] (and its twin),
+  /// with that halfedge as edge_halfedge(e); lengths follow their edges. Restores a saved edge
+  /// numbering (the constructors number edges in halfedge order).
+  /// @throws InvalidInput unless every halfedge belongs to exactly one listed edge
+  void renumber_edges(const std::vector<Index>& edge_halfedge);
 
   /// Checks every structural invariant: twin is an involution without fixed points, glued
   /// sides run in opposite directions and share an edge, edge_halfedge and vertex_halfedge are

@@ -1,6 +1,8 @@
 #include "intrinsic/triangulation.h"
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <numeric>
 
 #include <gtest/gtest.h>
@@ -8,6 +10,8 @@
 #include "helpers.h"
 #include "intrinsic/geometry.h"
 #include "intrinsic/mesh_generators.h"
+#include "intrinsic/refine.h"
+#include "intrinsic/signpost.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -252,6 +256,58 @@ TEST(Triangulation, FromGluingRoundTrip) {
   std::swap(bad_twin[0], bad_twin[1]);
   EXPECT_THROW(IntrinsicTriangulation::from_gluing(tri.tails(), bad_twin, hl, tri.n_vertices()),
                InvalidInput);
+}
+
+// renumber_edges: a permutation of the edges (and of which halfedge is canonical) moves the
+// lengths with them; an inconsistent listing is rejected.
+TEST(Triangulation, RenumberEdgesFollowsTheListing) {
+  const TriangleMesh m = jittered(grid(3, 3), 0.05, 4);  // has boundary edges
+  IntrinsicTriangulation t = IntrinsicTriangulation::from_positions(m.faces, m.positions);
+  const IntrinsicTriangulation original = t;
+  const Index ne = t.n_edges();
+  std::vector<Index> eh(ne);
+  for (Index e = 0; e < ne; ++e) {
+    const Index h = original.edge_halfedge(ne - 1 - e);  // reversed order
+    eh[e] = original.twin(h) != kInvalidIndex && e % 2 ? original.twin(h) : h;
+  }
+  t.renumber_edges(eh);
+  t.validate();
+  for (Index e = 0; e < ne; ++e) {
+    EXPECT_EQ(t.edge_halfedge(e), eh[e]);
+    EXPECT_EQ(t.length(e), original.length(ne - 1 - e));
+  }
+  for (Index h = 0; h < t.n_halfedges(); ++h) {
+    EXPECT_EQ(t.halfedge_length(h), original.halfedge_length(h));
+  }
+  std::vector<Index> twice = eh;
+  twice[1] = twice[0];
+  EXPECT_THROW(t.renumber_edges(twice), InvalidInput);
+  EXPECT_THROW(t.renumber_edges(std::vector<Index>(ne - 1, 0)), InvalidInput);
+}
+
+// Save / load keeps edge ids and canonical halfedges (after refinement and flips they are no
+// longer in halfedge order, which is what the loader would otherwise produce).
+TEST(Triangulation, SignpostSaveLoadKeepsEdgeIds) {
+  const TriangleMesh m = uv_sphere(6, 40);
+  SignpostTriangulation st(m.faces, m.positions);
+  delaunay_refine(st);
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "ifem_edge_ids_test.ifem").string();
+  st.save(path);
+  const SignpostTriangulation back = SignpostTriangulation::load(path);
+  std::filesystem::remove(path);
+  const IntrinsicTriangulation& a = st.intrinsic();
+  const IntrinsicTriangulation& b = back.intrinsic();
+  ASSERT_EQ(a.n_edges(), b.n_edges());
+  Index moved = 0;  // edges a halfedge-order numbering would have renumbered
+  for (Index e = 0; e < a.n_edges(); ++e) {
+    EXPECT_EQ(b.edge_halfedge(e), a.edge_halfedge(e));
+    EXPECT_EQ(b.length(e), a.length(e));
+    const Index h = a.edge_halfedge(e);
+    if (e > 0 && h < a.edge_halfedge(e - 1)) ++moved;
+  }
+  for (Index h = 0; h < a.n_halfedges(); ++h) ASSERT_EQ(b.edge(h), a.edge(h));
+  EXPECT_GT(moved, 0) << "the test needs a numbering that is not in halfedge order";
 }
 
 }  // namespace
