@@ -14,8 +14,8 @@ namespace ifem::intrinsic {
 struct RefineOptions {
   double min_angle_degrees = 25.0;  ///< minimum corner angle wanted, in (0, 30]
   double max_area = 0.0;            ///< also split triangles larger than this (0: no bound)
-  /// cap on inserted vertices (−1: 10 × #input vertices, plus 4 × (faces' area / max_area)
-  /// with an area bound: about four times the triangles that bound asks for)
+  /// cap on inserted vertices (−1: 10 × #input vertices + 2000, plus 4 × (faces' area /
+  /// max_area) with an area bound: about four times the triangles that bound asks for)
   Index max_insertions = -1;
   /// Split boundary edges that face an obtuse angle (encroached: the opposite vertex lies in
   /// their diametral circle, Ruppert), until none is left. Chew's angle test alone keeps e.g.
