@@ -1,8 +1,14 @@
 #include "intrinsic/signpost.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -589,6 +595,26 @@ double mesh_area(const Positions& x, const std::vector<Triangle>& faces) {
   return a;
 }
 
+// Total length of the directed edges whose reverse is not an edge (the boundary of an oriented
+// mesh), or −1 if a directed edge is used twice.
+double unpaired_length(const Positions& x, const std::vector<Triangle>& faces) {
+  const std::int64_t nv = x.rows();
+  std::vector<std::int64_t> directed;
+  for (const Triangle& t : faces) {
+    for (int k = 0; k < 3; ++k) directed.push_back(std::int64_t(t[k]) * nv + t[(k + 1) % 3]);
+  }
+  std::sort(directed.begin(), directed.end());
+  if (std::adjacent_find(directed.begin(), directed.end()) != directed.end()) return -1.0;
+  double length = 0.0;
+  for (const std::int64_t d : directed) {
+    const std::int64_t a = d / nv, b = d % nv;
+    if (!std::binary_search(directed.begin(), directed.end(), b * nv + a)) {
+      length += (x.row(b) - x.row(a)).norm();
+    }
+  }
+  return length;
+}
+
 // The overlay covers the input exactly once: total area = the input's, each input face's
 // pieces add up to its area, and every piece knows its intrinsic face, whose pieces add up to
 // the intrinsic face's area.
@@ -620,6 +646,17 @@ void expect_common_subdivision(const SignpostTriangulation& st, const TriangleMe
   for (Eigen::Index v = 0; v < m.positions.rows(); ++v) {
     ASSERT_EQ(Eigen::Vector3d(cs.positions.row(v)), Eigen::Vector3d(m.positions.row(v)));
   }
+  // Watertight as the input is: every directed edge once, the ones without their reverse
+  // running along the input's boundary (same total length), every vertex used.
+  const double len_in = unpaired_length(m.positions, m.faces);
+  const double len_cs = unpaired_length(cs.positions, cs.faces);
+  ASSERT_GE(len_cs, 0.0) << "a directed edge is used twice";
+  EXPECT_NEAR(len_cs, len_in, 1e-9 * std::max(len_in, std::sqrt(area_in)));
+  std::vector<char> used(std::size_t(cs.positions.rows()), 0);
+  for (const Triangle& t : cs.faces) {
+    for (const Index v : t) used[std::size_t(v)] = 1;
+  }
+  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0) << "unused vertices";
 }
 
 TEST(CommonSubdivision, AreaMatchesInputAfterFlipsAndRefinement) {
@@ -655,6 +692,113 @@ TEST(CommonSubdivision, SharedSpotRefined) {
   write_common_subdivision_ply(tmp.string(), common_subdivision(st), false);
   EXPECT_GT(std::filesystem::file_size(tmp), 1000u);
   std::filesystem::remove(tmp);
+}
+
+bool same_common_subdivision(const CommonSubdivision& a, const CommonSubdivision& b) {
+  return a.positions.rows() == b.positions.rows() && a.positions == b.positions &&
+         a.faces == b.faces && a.intrinsic_face == b.intrinsic_face &&
+         a.input_face == b.input_face;
+}
+
+// Needle input faces are crossed by many intrinsic edges each (long sides cut at many points),
+// which is where the per-face assembly does most of its work. Beyond the common checks: areas
+// per face and relative, Euler characteristic 2 (closed, watertight, every vertex used: a
+// sphere). The larger case has enough segments to assemble in parallel: runs agree exactly.
+TEST(CommonSubdivision, NeedleSphereOverlayIsClosedAndExact) {
+  for (const auto& [n_lat, n_lon] : {std::pair{8, 200}, std::pair{12, 400}}) {
+    SCOPED_TRACE(std::to_string(n_lat) + " x " + std::to_string(n_lon));
+    const TriangleMesh m = uv_sphere(n_lat, n_lon);
+    SignpostTriangulation st(m.faces, m.positions);
+    delaunay_refine(st);
+    expect_common_subdivision(st, m);
+    const CommonSubdivision cs = common_subdivision(st);
+    EXPECT_GT(cs.faces.size(), 10 * m.faces.size());
+    std::vector<double> per_input(m.faces.size(), 0.0);
+    std::vector<double> per_intrinsic(st.intrinsic().n_faces(), 0.0);
+    for (std::size_t i = 0; i < cs.faces.size(); ++i) {
+      const double a = mesh_area(cs.positions, {cs.faces[i]});
+      per_input[std::size_t(cs.input_face[i])] += a;
+      per_intrinsic[std::size_t(cs.intrinsic_face[i])] += a;
+    }
+    for (std::size_t f = 0; f < m.faces.size(); ++f) {
+      const double a = mesh_area(m.positions, {m.faces[f]});
+      ASSERT_NEAR(per_input[f], a, 1e-9 * a) << "input face " << f;
+    }
+    for (Index f = 0; f < st.intrinsic().n_faces(); ++f) {
+      const double a = face_area(st.intrinsic(), f);
+      ASSERT_NEAR(per_intrinsic[std::size_t(f)], a, 1e-6 * a) << "intrinsic face " << f;
+    }
+    const std::int64_t n_edges = 3 * std::int64_t(cs.faces.size()) / 2;  // closed
+    EXPECT_EQ(cs.positions.rows() - n_edges + std::int64_t(cs.faces.size()), 2);
+    EXPECT_TRUE(same_common_subdivision(common_subdivision(st), cs));
+  }
+}
+
+// An input face that no traced segment crosses or runs along takes its intrinsic face across a
+// side, from a polygon of a neighbouring input face (the polygons' sides are then rebuilt for
+// the faces involved). On a flat grid, turning the three edges of input face 24 outwards by
+// 1e-8 rad (through a saved file) makes each of their traces leave a side of face 24 at its
+// start and cross a neighbour: face 24 keeps one polygon with no label of its own. It must
+// still get intrinsic face 24 (intrinsic = input here), up to slivers of relative area ~4e-8.
+TEST(CommonSubdivision, LabelsAcrossSidesOfAnUncrossedFace) {
+  const TriangleMesh m = grid(6, 6);
+  const SignpostTriangulation st0(m.faces, m.positions);
+  const Index g = 24;
+  const auto tmp = std::filesystem::temp_directory_path() / "ifem_cs_turned.ifem";
+  st0.save(tmp.string());
+  std::vector<std::string> lines;
+  {
+    std::FILE* f = std::fopen(tmp.string().c_str(), "r");
+    ASSERT_NE(f, nullptr);
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, f)) lines.emplace_back(buf);
+    std::fclose(f);
+  }
+  const auto first = std::find(lines.begin(), lines.end(), "halfedges\n") + 1;
+  ASSERT_LT(first + st0.intrinsic().n_halfedges(), lines.end());
+  for (int s = 0; s < 3; ++s) {
+    const Index h = 3 * g + s, t = st0.intrinsic().twin(h);
+    ASSERT_NE(t, kInvalidIndex);
+    for (const auto& [x, turn] : {std::pair{h, -1e-8}, std::pair{t, 1e-8}}) {  // away from g
+      int tail = 0, twin = 0;
+      double length = 0.0, direction = 0.0;
+      std::string& line = *(first + x);
+      ASSERT_EQ(std::sscanf(line.c_str(), "%d %d %lf %lf", &tail, &twin, &length, &direction), 4);
+      direction = std::fmod(direction + turn + st0.vertex_angle_sum(tail),
+                            st0.vertex_angle_sum(tail));
+      char buf[512];
+      std::snprintf(buf, sizeof buf, "%d %d %.17g %.17g\n", tail, twin, length, direction);
+      line = buf;
+    }
+  }
+  {
+    std::FILE* f = std::fopen(tmp.string().c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    for (const std::string& line : lines) std::fputs(line.c_str(), f);
+    std::fclose(f);
+  }
+  const SignpostTriangulation st = SignpostTriangulation::load(tmp.string());
+  std::filesystem::remove(tmp);
+  const CommonSubdivision cs = common_subdivision(st);
+  EXPECT_GT(cs.faces.size(), m.faces.size());  // the turned edges cut slivers off
+  std::vector<double> per_input(m.faces.size(), 0.0);
+  std::vector<double> per_intrinsic(st.intrinsic().n_faces(), 0.0);
+  for (std::size_t i = 0; i < cs.faces.size(); ++i) {
+    ASSERT_TRUE(cs.intrinsic_face[i] >= 0 && cs.intrinsic_face[i] < st.intrinsic().n_faces());
+    ASSERT_TRUE(cs.input_face[i] >= 0 && cs.input_face[i] < Index(m.faces.size()));
+    const double a = mesh_area(cs.positions, {cs.faces[i]});
+    per_input[std::size_t(cs.input_face[i])] += a;
+    per_intrinsic[std::size_t(cs.intrinsic_face[i])] += a;
+  }
+  for (std::size_t f = 0; f < m.faces.size(); ++f) {
+    const double a = mesh_area(m.positions, {m.faces[f]});
+    EXPECT_NEAR(per_input[f], a, 1e-9 * a) << "input face " << f;
+  }
+  for (Index f = 0; f < st.intrinsic().n_faces(); ++f) {
+    const double a = face_area(st.intrinsic(), f);
+    EXPECT_NEAR(per_intrinsic[std::size_t(f)], a, 1e-6 * a) << "intrinsic face " << f;
+  }
+  EXPECT_TRUE(same_common_subdivision(common_subdivision(st), cs));
 }
 
 TEST(SignpostSave, RoundTripIsExact) {
