@@ -483,7 +483,7 @@ void FaceAssembler::build_adjacency() {
     }
     // Sorted by a pseudo-angle first: increasing with atan2 on (−π, π] (from −π at y = −0,
     // x < 0), |d key / d angle| ∈ [1/2, 1]. Where all neighbours' keys differ by more than
-    // 1e-12, their atan2 (≤ 1 ulp off) differ too and come in the same order: that order is
+    // 1e-12, their atan2 (a few ulp off at most) differ too and come in the same order: that order is
     // the only one a sort by atan2 can return. Otherwise (near ties, zero vectors) sort by
     // atan2 itself, from the order added, as the comparisons then decide.
     const int deg = s1 - s0;
@@ -498,7 +498,7 @@ void FaceAssembler::build_adjacency() {
       key_[std::size_t(r)] = std::signbit(d.y()) ? -key : key;
       order_[std::size_t(r)] = s0 + r;
     }
-    if (exact) {  // insertion sort (degrees are small), then the gaps
+    if (exact && deg <= 16) {  // insertion sort (degrees are mostly 2 or 3)
       for (int r = 1; r < deg; ++r) {
         const double k = key_[std::size_t(r)];
         const int o = order_[std::size_t(r)];
@@ -510,6 +510,16 @@ void FaceAssembler::build_adjacency() {
         key_[std::size_t(q)] = k;
         order_[std::size_t(q)] = o;
       }
+    } else if (exact) {
+      ang_.clear();
+      for (int r = 0; r < deg; ++r) ang_.emplace_back(key_[std::size_t(r)], order_[std::size_t(r)]);
+      std::sort(ang_.begin(), ang_.end(), by_angle);
+      for (int r = 0; r < deg; ++r) {
+        key_[std::size_t(r)] = ang_[std::size_t(r)].first;
+        order_[std::size_t(r)] = ang_[std::size_t(r)].second;
+      }
+    }
+    if (exact) {  // the order is atan2's if the keys are apart
       for (int r = 1; r < deg; ++r) {
         if (!(key_[std::size_t(r)] - key_[std::size_t(r - 1)] > 1e-12)) exact = false;
       }
