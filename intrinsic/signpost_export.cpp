@@ -9,6 +9,7 @@
 #include <string>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 #include "intrinsic/io_detail.h"
 #include "intrinsic/signpost.h"
