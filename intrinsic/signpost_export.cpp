@@ -717,6 +717,19 @@ CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
     }
   }
   if (!failure.empty()) throw Error("common_subdivision: " + failure);
+  // A trace leaving (or reaching) a vertex that lies on an input side records a crossing at the
+  // vertex itself: drop it, so that the vertex is the path's end in the face the segment really
+  // runs in (else that face gets a second node at the vertex's place and overlapping pieces).
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Index e = 0; e < ne; ++e) {
+    auto& path = paths[e];
+    const double tol = 1e-10 * tri.length(e);
+    auto same_place = [&](const SurfacePoint& a, const SurfacePoint& b) {
+      return (st.position(a) - st.position(b)).norm() <= tol;
+    };
+    while (path.size() > 2 && same_place(path[0], path[1])) path.erase(path.begin());
+    while (path.size() > 2 && same_place(path[path.size() - 2], path.back())) path.pop_back();
+  }
 
   // ---- node ids: input vertices, inserted vertices, then one per interior path point; segments
   std::vector<Index> offset(ne + 1, 0), seg_offset(ne + 1, 0);
