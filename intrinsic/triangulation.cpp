@@ -464,11 +464,27 @@ FlipReport IntrinsicTriangulation::flip_to_delaunay_from(std::vector<Index> queu
 FlipReport IntrinsicTriangulation::flip_to_delaunay_from(std::vector<Index> stack,
                                                          std::vector<Index>* touched,
                                                          const std::function<bool(Index)>& flip) {
+  return flip_stack(stack, nullptr, touched, flip);
+}
+
+FlipReport IntrinsicTriangulation::flip_to_delaunay(const std::function<bool(Index)>& flip) {
+  const Index ne = n_edges();
+  std::vector<char> queued(ne, 1);
+  std::vector<Index> stack(ne);
+  for (Index e = 0; e < ne; ++e) stack[e] = ne - 1 - e;  // pop in increasing order
+  return flip_stack(stack, &queued, nullptr, flip);
+}
+
+FlipReport IntrinsicTriangulation::flip_stack(std::vector<Index>& stack,
+                                              std::vector<char>* queued,
+                                              std::vector<Index>* touched,
+                                              const std::function<bool(Index)>& flip) {
   FlipReport rep;
   const std::size_t cap = 50 * static_cast<std::size_t>(n_edges()) + 1000;
   while (!stack.empty()) {
     const Index e = stack.back();
     stack.pop_back();
+    if (queued) (*queued)[e] = 0;
     if (is_delaunay(e)) continue;
     if (rep.flips >= cap) {
       rep.hit_flip_cap = true;
@@ -485,40 +501,13 @@ FlipReport IntrinsicTriangulation::flip_to_delaunay_from(std::vector<Index> stac
       touched->push_back(face(h));
       touched->push_back(face(t));
     }
-    for (const Index x : {next(h), prev(h), next(t), prev(t)}) stack.push_back(edge_[x]);
-  }
-  return rep;
-}
-
-FlipReport IntrinsicTriangulation::flip_to_delaunay(const std::function<bool(Index)>& flip) {
-  FlipReport rep;
-  const Index ne = n_edges();
-  const std::size_t cap = 50 * static_cast<std::size_t>(ne) + 1000;
-  std::vector<char> queued(ne, 1);
-  std::vector<Index> stack(ne);
-  for (Index e = 0; e < ne; ++e) stack[e] = ne - 1 - e;  // pop in increasing order
-  while (!stack.empty()) {
-    const Index e = stack.back();
-    stack.pop_back();
-    queued[e] = 0;
-    if (is_delaunay(e)) continue;
-    if (rep.flips >= cap) {
-      rep.hit_flip_cap = true;
-      break;
-    }
-    if (!flip(e)) {
-      ++rep.unflippable;
-      continue;
-    }
-    ++rep.flips;
-    const Index h = edge_halfedge_[e];
-    const Index t = twin_[h];
     for (const Index x : {next(h), prev(h), next(t), prev(t)}) {
       const Index ex = edge_[x];
-      if (!queued[ex]) {
-        queued[ex] = 1;
-        stack.push_back(ex);
+      if (queued) {
+        if ((*queued)[ex]) continue;
+        (*queued)[ex] = 1;
       }
+      stack.push_back(ex);
     }
   }
   return rep;

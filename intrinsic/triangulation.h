@@ -224,6 +224,10 @@ class IntrinsicTriangulation {
     }
   };
   SlotMove record_slot_move(int n, const Index* from, const Index* to) const;
+  // The flip loop of flip_to_delaunay() and flip_to_delaunay_from(): pops edges, flips the
+  // non-Delaunay ones, pushes the diamond's sides (only those not queued when `queued` is given)
+  FlipReport flip_stack(std::vector<Index>& stack, std::vector<char>* queued,
+                        std::vector<Index>* touched, const std::function<bool(Index)>& flip);
   void finish_slot_move(const SlotMove& m);
 
   void build_edges_and_vertices(const std::vector<double>& halfedge_length, bool check_agree);

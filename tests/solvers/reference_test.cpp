@@ -23,25 +23,8 @@ namespace ifem::solvers {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Rel {
-  double mean = 0, max = 0;
-};
-
-Rel relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) {
-  Rel r;
-  double sum = 0;
-  int n = 0;
-  for (Eigen::Index v = 0; v < exact.size(); ++v) {
-    if (!std::isfinite(exact[v]) || exact[v] <= 0) continue;
-    const double e = std::abs(d[v] - exact[v]) / exact[v];
-    sum += std::isfinite(e) ? e : 1e9;
-    r.max = std::max(r.max, e);
-    ++n;
-  }
-  r.mean = sum / std::max(n, 1);
-  return r;
-}
+using test::Rel;
+using test::relative_error;
 
 // Per mesh and source, the mean relative error must not exceed CGAL's (issue #3), with the
 // triangulation built the way the CLI builds it (build_surface, the input's boundary passed on).

@@ -32,15 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 
 double mean_rel(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) {
-  double sum = 0;
-  long n = 0;
-  for (Eigen::Index v = 0; v < exact.size(); ++v) {
-    if (!std::isfinite(exact[v]) || exact[v] <= 0) continue;
-    const double e = std::abs(d[v] - exact[v]) / exact[v];
-    sum += std::isfinite(e) ? e : 1e9;
-    ++n;
-  }
-  return sum / double(std::max(n, 1L));
+  return test::relative_error(d, exact).mean;
 }
 
 struct Case {

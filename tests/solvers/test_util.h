@@ -1,11 +1,37 @@
 // Helpers for the solvers tests.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Core>
+
 #include "intrinsic/mesh_generators.h"
 #include "intrinsic/triangulation.h"
 #include "helpers.h"
 
 namespace ifem::test {
+
+/// Mean and max of |d − exact| / exact over the vertices with a finite, positive exact distance
+/// (a non-finite d counts as 1e9), for comparisons against ../shared/data/reference.
+struct Rel {
+  double mean = 0, max = 0;
+};
+
+inline Rel relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) {
+  Rel r;
+  double sum = 0;
+  int n = 0;
+  for (Eigen::Index v = 0; v < exact.size(); ++v) {
+    if (!std::isfinite(exact[v]) || exact[v] <= 0) continue;
+    const double e = std::abs(d[v] - exact[v]) / exact[v];
+    sum += std::isfinite(e) ? e : 1e9;
+    r.max = std::max(r.max, e);
+    ++n;
+  }
+  r.mean = sum / std::max(n, 1);
+  return r;
+}
 
 inline intrinsic::IntrinsicTriangulation make_tri(const intrinsic::TriangleMesh& m,
                                                   bool delaunay = true) {
