@@ -34,16 +34,22 @@ std::string read_file(const std::string& path) {
 }
 
 void write_file_atomically(const std::string& path, const std::string& bytes) {
+  std::FILE* f = open_temporary(path, true);
+  const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  close_and_rename(f, wrote, path);
+}
+
+std::FILE* open_temporary(const std::string& path, bool binary) {
   const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  std::FILE* f = std::fopen(tmp.c_str(), binary ? "wb" : "w");
   if (f == nullptr) {
     fail_file(path, "cannot write " + tmp + ": " + std::strerror(errno));
   }
-  const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  close_and_rename(f, wrote, tmp, path);
+  return f;
 }
 
-void close_and_rename(std::FILE* f, bool ok, const std::string& tmp, const std::string& path) {
+void close_and_rename(std::FILE* f, bool ok, const std::string& path) {
+  const std::string tmp = path + ".tmp";
   ok = ok && std::ferror(f) == 0;
   const int saved_errno = errno;
   const bool closed = std::fclose(f) == 0;

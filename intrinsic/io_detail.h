@@ -24,10 +24,14 @@ std::string read_file(const std::string& path);
 /// @throws IoError if any step fails
 void write_file_atomically(const std::string& path, const std::string& bytes);
 
-/// Finishes a file written to `tmp` through `f` (opened by the caller): closes it and renames it
-/// to `path`, or removes it and throws IoError when `ok` is false, a write failed, or the
-/// rename fails. Writers that stream with fprintf use it to stay atomic.
-void close_and_rename(std::FILE* f, bool ok, const std::string& tmp, const std::string& path);
+/// Opens `path`.tmp for writing (binary or text); throws IoError naming it when that fails.
+/// Writers that stream with fprintf write there, then call close_and_rename() to stay atomic.
+std::FILE* open_temporary(const std::string& path, bool binary);
+
+/// Finishes a file written through `f` from open_temporary(path): closes it and renames it to
+/// `path`, or removes it and throws IoError when `ok` is false, a write failed, or the rename
+/// fails.
+void close_and_rename(std::FILE* f, bool ok, const std::string& path);
 
 /// Throws IoError "<path>, line <line>: <problem>".
 [[noreturn]] void fail_line(const std::string& path, std::size_t line, const std::string& problem);

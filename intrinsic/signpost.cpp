@@ -582,9 +582,7 @@ Eigen::VectorXd SignpostTriangulation::intrinsic_to_input(const Eigen::VectorXd&
 // Input vertices are intrinsic vertices 0..NV-1. Lines starting with '#' are comments.
 
 void SignpostTriangulation::save(const std::string& path) const {
-  const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "w");
-  if (!f) throw IoError(path + ": cannot open for writing");
+  std::FILE* f = io::detail::open_temporary(path, false);
   std::fprintf(f, "ifem-signpost 1\n# intrinsic triangulation with signposts over its input\n");
   std::fprintf(f, "mollify %.17g\n", mollify_epsilon_);
   std::fprintf(f, "input_vertices %ld\n", long(positions_.rows()));
@@ -607,7 +605,7 @@ void SignpostTriangulation::save(const std::string& path) const {
   std::fprintf(f, "edges %d\n", int(tri_.n_edges()));
   for (Index e = 0; e < tri_.n_edges(); ++e) std::fprintf(f, "%d\n", int(tri_.edge_halfedge(e)));
   std::fprintf(f, "end\n");
-  io::detail::close_and_rename(f, true, tmp, path);
+  io::detail::close_and_rename(f, true, path);
 }
 
 namespace {

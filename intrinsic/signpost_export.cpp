@@ -27,9 +27,7 @@ void write_polylines_ply(const std::string& path,
   if (nv > static_cast<std::size_t>(INT32_MAX)) {
     throw IoError(path + ": too many polyline vertices for 32-bit ids");
   }
-  const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), binary ? "wb" : "w");
-  if (!f) throw IoError(path + ": cannot open for writing");
+  std::FILE* f = io::detail::open_temporary(path, binary);
   std::fprintf(f,
                "ply\nformat %s 1.0\ncomment ifem: traced intrinsic edges over the input surface\n"
                "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n"
@@ -58,7 +56,7 @@ void write_polylines_ply(const std::string& path,
     }
     base += static_cast<std::int32_t>(line.size());
   }
-  io::detail::close_and_rename(f, true, tmp, path);
+  io::detail::close_and_rename(f, true, path);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1052,9 +1050,7 @@ void write_common_subdivision_ply(const std::string& path, const CommonSubdivisi
   if (cs.positions.rows() > INT32_MAX || cs.faces.size() > std::size_t(INT32_MAX)) {
     throw IoError(path + ": too many vertices for 32-bit ids");
   }
-  const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), binary ? "wb" : "w");
-  if (!f) throw IoError(path + ": cannot open for writing");
+  std::FILE* f = io::detail::open_temporary(path, binary);
   std::fprintf(f,
                "ply\nformat %s 1.0\n"
                "comment ifem: common subdivision of the intrinsic and input triangulations\n"
@@ -1083,7 +1079,7 @@ void write_common_subdivision_ply(const std::string& path, const CommonSubdivisi
       std::fprintf(f, "3 %d %d %d %d %d\n", rec[0], rec[1], rec[2], rec[3], rec[4]);
     }
   }
-  io::detail::close_and_rename(f, true, tmp, path);
+  io::detail::close_and_rename(f, true, path);
 }
 
 }  // namespace ifem::intrinsic
