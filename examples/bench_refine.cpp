@@ -9,13 +9,13 @@
 //
 //   ifem_bench refine [--repeat 5] [--min-angle 25] [--off-centers 0|1]
 //                     [--data ../shared/data/meshes]
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "bench_util.h"
+#include "intrinsic/geometry.h"
 #include "intrinsic/mesh_analysis.h"
 #include "intrinsic/mesh_generators.h"
 #include "intrinsic/mesh_io.h"
@@ -61,14 +61,10 @@ void run_case(const std::string& name, const std::vector<Triangle>& faces, const
 // path (nonmanifold) the tufted cover itself.
 void run_accurate(const std::string& name, const io::SurfaceInput& in, int repeat) {
   const double h = intrinsic::mean_side_length(in.triangles, in.positions);
-  const double l = 0.4 * h;
+  const solvers::RefinedDistanceSettings accurate;
   intrinsic::RefineOptions ro;
-  ro.max_area = std::sqrt(3.0) / 4.0 * l * l;
-  solvers::HeatDistanceOptions ho;
-  ho.intrinsic_delaunay = false;
-  ho.mean_edge_length = l;
-  ho.time_factor = 0.25;
-  ho.correction_steps = 1;
+  ro.max_area = intrinsic::equilateral_area(accurate.target_length(h));
+  const solvers::HeatDistanceOptions ho = accurate.heat_options(h);
   std::vector<double> tr, tp, tq;
   Index nv = 0;
   for (int k = 0; k < repeat; ++k) {

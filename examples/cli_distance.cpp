@@ -11,8 +11,8 @@
 namespace ifem::cli {
 namespace {
 
-// --resolution's default with --refine: edges of about 0.4 × the input's mean edge length
-constexpr double kDistanceResolution = 0.4;
+// --refine's defaults: the library's accurate mode (resolution, time factor, correction steps)
+const solvers::RefinedDistanceSettings kAccurate;
 
 int run(const Args& args) {
   if (args.positional().size() != 1) throw InvalidInput("expected one input file (see --help)");
@@ -40,11 +40,12 @@ int run(const Args& args) {
   // reference mesh (tests/solvers/refine_accuracy_test.cpp). Without one, t stays the input's:
   // the refined mesh's mean edge is short and its t too small in the large triangles.
   const bool refine = args.has("refine");
-  const double target = refine ? refine_target_length(s, args, kDistanceResolution) : 0.0;
-  if (refine) refine_prepared(s, args, kDistanceResolution);
+  const double target = refine ? refine_target_length(s, args, kAccurate.resolution) : 0.0;
+  if (refine) refine_prepared(s, args, kAccurate.resolution);
   solvers::HeatDistanceOptions opt;
-  opt.time_factor = args.get_double("time-factor", target > 0.0 ? 0.25 : 1.0);
-  opt.correction_steps = static_cast<int>(args.get_int("correction-steps", target > 0.0 ? 1 : 0));
+  opt.time_factor = args.get_double("time-factor", target > 0.0 ? kAccurate.time_factor : 1.0);
+  opt.correction_steps = static_cast<int>(
+      args.get_int("correction-steps", target > 0.0 ? kAccurate.correction_steps : 0));
   opt.intrinsic_delaunay = false;  // prepare_surface already flipped (unless --no-delaunay)
   if (s.input.has_faces()) {
     // t from the input mesh's edges (more accurate than the IDT's on sliver meshes), and the

@@ -46,7 +46,7 @@ intrinsic::RefineOptions refine_options(const Args& args, double target_length) 
   o.min_angle_degrees = args.get_double("min-angle", o.min_angle_degrees);
   o.max_area = args.get_double("max-area", 0.0);
   if (target_length > 0.0) {
-    const double a = std::sqrt(3.0) / 4.0 * target_length * target_length;
+    const double a = intrinsic::equilateral_area(target_length);
     o.max_area = o.max_area > 0.0 ? std::min(o.max_area, a) : a;
   }
   o.max_insertions = static_cast<Index>(args.get_int("max-insertions", -1));

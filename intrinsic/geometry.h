@@ -35,6 +35,9 @@ inline double opposite_cotan(double a, double b, double c) {
 }
 
 /// Area of face f.
+/// Area of the equilateral triangle of side l (the area bound that asks for edges of about l).
+inline double equilateral_area(double l) { return 0.4330127018922193 * l * l; }  // √3/4 l²
+
 inline double face_area(const IntrinsicTriangulation& tri, Index f) {
   const Index h = 3 * f;
   return triangle_area(tri.halfedge_length(h), tri.halfedge_length(h + 1),

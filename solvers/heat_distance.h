@@ -81,6 +81,28 @@ struct HeatDistanceOptions {
   void validate() const;
 };
 
+/// The accurate mode of `ifem distance --refine`: refine to edges of about ℓ = resolution·h (h =
+/// the input's mean edge length; area bound equilateral_area(ℓ), 25°), then the heat method on
+/// the refined triangulation with t = time_factor·ℓ² and correction_steps correction steps. At
+/// most half of CGAL's heat-method error on every sliver reference mesh; the sweep it was chosen
+/// from is in tests/solvers/refine_accuracy_test.cpp (IFEM_REFINE_SWEEP=1).
+struct RefinedDistanceSettings {
+  double resolution = 0.4;
+  double time_factor = 0.25;
+  int correction_steps = 1;
+  /// The target edge length ℓ for an input of mean edge length h.
+  double target_length(double h) const { return resolution * h; }
+  /// Heat options for the refined (already intrinsic Delaunay) triangulation.
+  HeatDistanceOptions heat_options(double h) const {
+    HeatDistanceOptions o;
+    o.intrinsic_delaunay = false;
+    o.mean_edge_length = target_length(h);
+    o.time_factor = time_factor;
+    o.correction_steps = correction_steps;
+    return o;
+  }
+};
+
 /// What one distance query did.
 struct HeatDistanceReport {
   int stages = 1;                  ///< 1 unless the heat underflowed somewhere

@@ -60,26 +60,12 @@ const Case kCases[] = {
     {"bunny_npm_lowres.obj", 0, 0.034, 0.009}, {"spot.obj", 0, 0.02, 0.0049},
 };
 
-// `ifem distance --refine`'s accurate mode, as a function of the resolution c, time factor m
-// and correction steps: returns the refined triangulation's solver settings.
-struct Accurate {
-  double resolution = 0.4, time_factor = 0.25;
-  int steps = 1;
-};
+// `ifem distance --refine`'s refinement for settings a (resolution c) and input mean edge h.
+using Accurate = RefinedDistanceSettings;
 
 intrinsic::RefineOptions accurate_refine(const Accurate& a, double h) {
   intrinsic::RefineOptions o;
-  const double l = a.resolution * h;
-  o.max_area = std::sqrt(3.0) / 4.0 * l * l;
-  return o;
-}
-
-HeatDistanceOptions accurate_heat(const Accurate& a, double h) {
-  HeatDistanceOptions o;
-  o.intrinsic_delaunay = false;
-  o.mean_edge_length = a.resolution * h;
-  o.time_factor = a.time_factor;
-  o.correction_steps = a.steps;
+  o.max_area = intrinsic::equilateral_area(a.target_length(h));
   return o;
 }
 
@@ -120,7 +106,7 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
     opt.intrinsic_delaunay = false;  // both are Delaunay already
     opt.mean_edge_length = h;        // the input's h for both (as the CLI)
     const HeatDistanceSolver plain_solver(s.tri, opt), refined_solver(refined, opt);
-    const HeatDistanceSolver accurate_solver(sa.intrinsic(), accurate_heat(acc, h));
+    const HeatDistanceSolver accurate_solver(sa.intrinsic(), acc.heat_options(h));
     for (; i < j; ++i) {
       const Case& c = kCases[i];
       const std::string tag = stem + ".src" + std::to_string(c.src);
@@ -151,9 +137,9 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
         for (const double m : {0.125, 0.25, 0.5, 1.0}) {
           a.time_factor = m;
           for (const int steps : {0, 1}) {
-            a.steps = steps;
+            a.correction_steps = steps;
             Eigen::VectorXd d =
-                HeatDistanceSolver(sw.intrinsic(), accurate_heat(a, h)).compute_distance({c.src});
+                HeatDistanceSolver(sw.intrinsic(), a.heat_options(h)).compute_distance({c.src});
             d.conservativeResize(exact.size());
             std::printf(" m=%g/%d %.4f", m, steps, mean_rel(d, exact));
           }
@@ -191,7 +177,7 @@ TEST(RefineAccuracy, TuftedCoverConrodRefinedVsExact) {
   plain.intrinsic_delaunay = false;
   plain.mean_edge_length = h;
   plain.boundary_vertices = s.boundary_vertex;
-  HeatDistanceOptions fine = accurate_heat(acc, h);
+  HeatDistanceOptions fine = acc.heat_options(h);
   fine.boundary_vertices = s.boundary_vertex;
   if (!fine.boundary_vertices.empty()) fine.boundary_vertices.resize(refined.n_vertices(), 0);
   const HeatDistanceSolver plain_solver(s.tri, plain), fine_solver(refined, fine);
