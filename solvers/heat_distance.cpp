@@ -143,8 +143,22 @@ struct HeatDistanceSolver::Impl {
   }
 
   Eigen::VectorXd distance(const std::vector<WeightedPoint>& pts, HeatDistanceReport* rep) const;
-  Eigen::VectorXd first_stage(const std::vector<WeightedPoint>& pts, const Eigen::VectorXd& u,
-                              const std::vector<char>& use_face, HeatDistanceReport& rep) const;
+  // The sources' constraints on φ, set up once per query (the first stage and every correction
+  // step use them): the first point of each component is shifted to 0, and φ(p_k) = φ(p_first)
+  // for the others, by Lagrange multipliers through the cached pure-Neumann factor, or, for
+  // many vertex sources, by a Dirichlet factorization.
+  struct SourceConstraints {
+    std::vector<Index> first;  // per component: its first point, or kInvalidIndex
+    Index count = 0;           // constraints beyond the first point of each component
+    Eigen::MatrixXd C, W;      // Lagrange: constraint columns and P C (P = the solution map)
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> S;  // of Cᵀ P C
+    std::optional<PoissonSolver> direct;  // Dirichlet: zero on every vertex source
+  };
+  SourceConstraints constraints(const std::vector<WeightedPoint>& pts) const;
+  // φ with L φ = div(−∇u/|∇u|) on the faces use_face marks, under the constraints
+  Eigen::VectorXd integrate_unit_field(const std::vector<WeightedPoint>& pts,
+                                       const SourceConstraints& sc, const Eigen::VectorXd& u,
+                                       const std::vector<char>& use_face) const;
   void later_stages(const std::vector<WeightedPoint>& pts, const std::vector<char>& src_comp,
                     Eigen::VectorXd& phi, std::vector<char>& known, HeatDistanceReport& rep) const;
 };
@@ -303,7 +317,9 @@ Eigen::VectorXd HeatDistanceSolver::Impl::distance(const std::vector<WeightedPoi
                     resolved[tri.tail(3 * f + 2)];
     }
   }
-  Eigen::VectorXd phi = first_stage(pts, u, use_face, rep);
+  const SourceConstraints sc = constraints(pts);
+  rep.constraints = sc.count;
+  Eigen::VectorXd phi = integrate_unit_field(pts, sc, u, use_face);
   std::vector<char> known(nv, 0);
   for (Index v = 0; v < nv; ++v) {
     const Index c = comps.label[v];
@@ -339,8 +355,7 @@ Eigen::VectorXd HeatDistanceSolver::Impl::distance(const std::vector<WeightedPoi
         if (!std::isfinite(phi[tri.tail(3 * f + k)])) finite_face[f] = 0;
       }
     }
-    HeatDistanceReport ignored;
-    const Eigen::VectorXd next = first_stage(pts, minus_phi, finite_face, ignored);
+    const Eigen::VectorXd next = integrate_unit_field(pts, sc, minus_phi, finite_face);
     for (Index v = 0; v < nv; ++v) {
       if (std::isfinite(phi[v])) phi[v] = next[v];
     }
@@ -355,63 +370,71 @@ Eigen::VectorXd HeatDistanceSolver::Impl::distance(const std::vector<WeightedPoi
   return phi;
 }
 
-Eigen::VectorXd HeatDistanceSolver::Impl::first_stage(const std::vector<WeightedPoint>& pts,
-                                                      const Eigen::VectorXd& u,
-                                                      const std::vector<char>& use_face,
-                                                      HeatDistanceReport& rep) const {
+HeatDistanceSolver::Impl::SourceConstraints HeatDistanceSolver::Impl::constraints(
+    const std::vector<WeightedPoint>& pts) const {
   const Index nv = tri.n_vertices();
-  const Eigen::VectorXd b = fem::divergence_of_unit_gradient(tri, u, &use_face);
-  Eigen::VectorXd phi = poisson->solve_weak(b, Eigen::VectorXd());
+  SourceConstraints sc;
   // first source of each component, and the extra constraints φ(p_k) − φ(p_first) = 0
-  std::vector<Index> first(comps.count, kInvalidIndex);
+  sc.first.assign(comps.count, kInvalidIndex);
   std::vector<std::pair<Index, Index>> extra;  // (point k, first point of its component)
   for (Index k = 0; k < Index(pts.size()); ++k) {
     const Index c = comps.label[pts[k].vertex[0]];
-    if (first[c] == kInvalidIndex) {
-      first[c] = k;
+    if (sc.first[c] == kInvalidIndex) {
+      sc.first[c] = k;
     } else {
-      extra.emplace_back(k, first[c]);
+      extra.emplace_back(k, sc.first[c]);
     }
   }
-  rep.constraints = Index(extra.size());
+  sc.count = Index(extra.size());
+  if (extra.empty()) return sc;
+  const Index m = sc.count;
+  // dense n×m right-hand sides: keep them below ~160 MB
+  const Index by_memory = Index(std::max<double>(1.0, 2e7 / double(std::max<Index>(nv, 1))));
+  const bool all_vertices = std::all_of(pts.begin(), pts.end(),
+                                        [](const WeightedPoint& p) { return p.is_vertex(); });
+  if (m <= std::min(opt.max_constrained_sources, by_memory) || !all_vertices) {
+    // Lagrange multipliers through the cached pure-Neumann factor: with P the solution map,
+    // C the constraint columns, φ = P b − P C λ and Cᵀφ = 0.
+    sc.C = Eigen::MatrixXd::Zero(nv, m);
+    for (Index j = 0; j < m; ++j) {
+      const WeightedPoint& pk = pts[extra[j].first];
+      const WeightedPoint& p0 = pts[extra[j].second];
+      for (Index i = 0; i < pk.n; ++i) sc.C(pk.vertex[i], j) += pk.weight[i];
+      for (Index i = 0; i < p0.n; ++i) sc.C(p0.vertex[i], j) -= p0.weight[i];
+    }
+    sc.W = poisson->solve_weak_homogeneous(sc.C);
+    sc.S.compute(sc.C.transpose() * sc.W);
+  } else {
+    // many vertex sources: zero Dirichlet values on all of them (one new factorization)
+    std::vector<Index> dv;
+    for (const WeightedPoint& p : pts) dv.push_back(p.vertex[0]);
+    sc.direct.emplace(L, mass, comps, dv, PoissonOptions{});
+  }
+  return sc;
+}
+
+Eigen::VectorXd HeatDistanceSolver::Impl::integrate_unit_field(
+    const std::vector<WeightedPoint>& pts, const SourceConstraints& sc, const Eigen::VectorXd& u,
+    const std::vector<char>& use_face) const {
+  const Index nv = tri.n_vertices();
+  const Eigen::VectorXd b = fem::divergence_of_unit_gradient(tri, u, &use_face);
+  Eigen::VectorXd phi;
+  if (sc.direct) {
+    const auto n_dirichlet = Eigen::Index(sc.direct->dirichlet_vertices().size());
+    phi = sc.direct->solve_weak(b, Eigen::VectorXd::Zero(n_dirichlet));
+  } else {
+    phi = poisson->solve_weak(b, Eigen::VectorXd());
+    if (sc.count > 0) phi -= sc.W * sc.S.solve(sc.C.transpose() * phi);
+  }
+  // shift each component so that its first source is at 0
   auto value_at = [&](const Eigen::VectorXd& f, const WeightedPoint& p) {
     double s = 0.0;
     for (Index i = 0; i < p.n; ++i) s += p.weight[i] * f[p.vertex[i]];
     return s;
   };
-  if (!extra.empty()) {
-    const Index m = Index(extra.size());
-    // dense n×m right-hand sides: keep them below ~160 MB
-    const Index by_memory = Index(std::max<double>(1.0, 2e7 / double(std::max<Index>(nv, 1))));
-    const bool all_vertices = std::all_of(pts.begin(), pts.end(),
-                                          [](const WeightedPoint& p) { return p.is_vertex(); });
-    if (m <= std::min(opt.max_constrained_sources, by_memory) || !all_vertices) {
-      // Lagrange multipliers through the cached pure-Neumann factor: with P the solution map,
-      // C the constraint columns, φ = P b − P C λ and Cᵀφ = 0.
-      Eigen::MatrixXd C = Eigen::MatrixXd::Zero(nv, m);
-      for (Index j = 0; j < m; ++j) {
-        const WeightedPoint& pk = pts[extra[j].first];
-        const WeightedPoint& p0 = pts[extra[j].second];
-        for (Index i = 0; i < pk.n; ++i) C(pk.vertex[i], j) += pk.weight[i];
-        for (Index i = 0; i < p0.n; ++i) C(p0.vertex[i], j) -= p0.weight[i];
-      }
-      const Eigen::MatrixXd W = poisson->solve_weak_homogeneous(C);
-      const Eigen::MatrixXd S = C.transpose() * W;
-      const Eigen::VectorXd r = C.transpose() * phi;
-      const Eigen::VectorXd lambda = S.completeOrthogonalDecomposition().solve(r);
-      phi -= W * lambda;
-    } else {
-      // many vertex sources: zero Dirichlet values on all of them (one new factorization)
-      std::vector<Index> dv;
-      for (const WeightedPoint& p : pts) dv.push_back(p.vertex[0]);
-      const PoissonSolver direct(L, mass, comps, dv, PoissonOptions{});
-      phi = direct.solve_weak(b, Eigen::VectorXd::Zero(Eigen::Index(dv.size())));
-    }
-  }
-  // shift each component so that its first source is at 0
   std::vector<double> shift(comps.count, 0.0);
   for (Index c = 0; c < comps.count; ++c) {
-    if (first[c] != kInvalidIndex) shift[c] = value_at(phi, pts[first[c]]);
+    if (sc.first[c] != kInvalidIndex) shift[c] = value_at(phi, pts[sc.first[c]]);
   }
   for (Index v = 0; v < nv; ++v) {
     const Index c = comps.label[v];
