@@ -6,8 +6,8 @@
 #include <cstdio>
 
 #include "fem/operators.h"
-#include "intrinsic/mesh_io.h"
-#include "intrinsic/surface_triangulation.h"
+#include "intrinsic/io/mesh_io.h"
+#include "intrinsic/surface/build_surface.h"
 #include "solvers/heat_distance.h"
 
 int main(int argc, char** argv) {

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <string>
 
-#include "intrinsic/errors.h"
-#include "intrinsic/geometry.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
 
 namespace ifem::fem {
 
@@ -56,8 +56,8 @@ Eigen::Vector2d face_corner2(const IntrinsicTriangulation& tri, Index f) {
 
 Eigen::MatrixX2d gradient(const IntrinsicTriangulation& tri, const Eigen::VectorXd& u) {
   if (u.size() != tri.n_vertices()) {
-    throw InvalidInput("gradient: u has " + std::to_string(u.size()) + " values, expected #V = " +
-                       std::to_string(tri.n_vertices()));
+    throw InvalidInput("gradient: u has " + std::to_string(u.size()) +
+                       " values, expected #V = " + std::to_string(tri.n_vertices()));
   }
   const Index nf = tri.n_faces();
   Eigen::MatrixX2d G(nf, 2);
@@ -69,8 +69,8 @@ Eigen::MatrixX2d gradient(const IntrinsicTriangulation& tri, const Eigen::Vector
       G.row(f).setZero();
       continue;
     }
-    const Eigen::Vector2d v = u[tail[3 * f]] * g[0] + u[tail[3 * f + 1]] * g[1] +
-                              u[tail[3 * f + 2]] * g[2];
+    const Eigen::Vector2d v =
+        u[tail[3 * f]] * g[0] + u[tail[3 * f + 1]] * g[1] + u[tail[3 * f + 2]] * g[2];
     G.row(f) = v.transpose();
   }
   return G;
@@ -114,8 +114,8 @@ Eigen::VectorXd divergence_of_unit_gradient(const IntrinsicTriangulation& tri,
   const Index nf = tri.n_faces();
   if (use_face && static_cast<Index>(use_face->size()) != nf) {
     throw InvalidInput("divergence_of_unit_gradient: use_face has " +
-                       std::to_string(use_face->size()) + " entries, expected #F = " +
-                       std::to_string(nf));
+                       std::to_string(use_face->size()) +
+                       " entries, expected #F = " + std::to_string(nf));
   }
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> c(nf, 3);
   const double s = 1.0 / tri.multiplicity();
@@ -127,8 +127,8 @@ Eigen::VectorXd divergence_of_unit_gradient(const IntrinsicTriangulation& tri,
     const Layout L = layout(tri, f);
     Eigen::Vector2d g[3];
     if (!hat_gradients(L, g)) continue;
-    Eigen::Vector2d x = u[tail[3 * f]] * g[0] + u[tail[3 * f + 1]] * g[1] +
-                        u[tail[3 * f + 2]] * g[2];
+    Eigen::Vector2d x =
+        u[tail[3 * f]] * g[0] + u[tail[3 * f + 1]] * g[1] + u[tail[3 * f + 2]] * g[2];
     const double norm = std::hypot(x.x(), x.y());
     if (!(norm > 0.0) || !std::isfinite(norm)) continue;
     x /= -norm;

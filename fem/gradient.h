@@ -3,11 +3,10 @@
 // Used by the heat method (Crane, Weischedel, Wardetzky 2013, §3.2).
 #pragma once
 
+#include <Eigen/Core>
 #include <vector>
 
-#include <Eigen/Core>
-
-#include "intrinsic/triangulation.h"
+#include "intrinsic/core/triangulation.h"
 
 namespace ifem::fem {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "intrinsic/geometry.h"
+#include "intrinsic/core/geometry.h"
 
 namespace ifem::fem {
 
@@ -13,8 +13,7 @@ SparseMatrix cotan_laplacian(const IntrinsicTriangulation& tri) {
   return laplacian_from_weights(tri, intrinsic::cotan_weights(tri));
 }
 
-SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri,
-                                    const Eigen::VectorXd& w) {
+SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri, const Eigen::VectorXd& w) {
   // Direct CSC assembly (no triplets): count entries per column, scatter each edge's two
   // off-diagonal entries straight into the matrix arrays, then sort each (small) column by row
   // in parallel, merging parallel edges (multi-edges of a Δ-complex); the diagonal goes last.

@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "intrinsic/triangulation.h"
+#include "intrinsic/core/triangulation.h"
 
 namespace ifem::fem {
 

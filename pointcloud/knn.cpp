@@ -3,12 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <nanoflann.hpp>
 #include <string>
 #include <utility>
 
-#include <nanoflann.hpp>
-
-#include "intrinsic/errors.h"
+#include "intrinsic/core/errors.h"
 
 namespace ifem::pointcloud {
 namespace {
@@ -75,7 +74,8 @@ Neighbours k_nearest(const Positions& points, int k) {
       const std::size_t got = rs.size();
       found.clear();
       for (std::size_t j = 0; j < got; ++j) {
-        if (static_cast<Index>(idx[j]) != i) found.emplace_back(dist[j], static_cast<Index>(idx[j]));
+        if (static_cast<Index>(idx[j]) != i)
+          found.emplace_back(dist[j], static_cast<Index>(idx[j]));
       }
       std::sort(found.begin(), found.end());
       Index* out = nb.ids.data() + static_cast<std::size_t>(nb.k) * i;

@@ -4,14 +4,14 @@
 
 #include <vector>
 
-#include "intrinsic/types.h"
+#include "intrinsic/core/types.h"
 
 namespace ifem::pointcloud {
 
 /// For each point, its k nearest other points, nearest first (ties by index).
 struct Neighbours {
-  int k = 0;                ///< neighbours per point
-  std::vector<Index> ids;   ///< #P·k, row-major: ids[k·i + j] is the j-th neighbour of point i
+  int k = 0;               ///< neighbours per point
+  std::vector<Index> ids;  ///< #P·k, row-major: ids[k·i + j] is the j-th neighbour of point i
   const Index* of(Index i) const { return ids.data() + static_cast<std::size_t>(k) * i; }
   /// All point ids in a spatially coherent order (the k-d tree's leaf order), for loops that
   /// gain from cache locality; empty if not computed (then use 0..#P−1).

@@ -97,9 +97,10 @@ int delaunay_star(const std::vector<Eigen::Vector2d>& q, std::vector<std::array<
   }
   std::sort(w.begin(), w.end(), lex);
   // exact duplicates: keep the first (smallest index; the origin sorts first as index −1)
-  w.erase(std::unique(w.begin(), w.end(),
-                      [](const Inverted& a, const Inverted& b) { return a.x == b.x && a.y == b.y; }),
-          w.end());
+  w.erase(
+      std::unique(w.begin(), w.end(),
+                  [](const Inverted& a, const Inverted& b) { return a.x == b.x && a.y == b.y; }),
+      w.end());
   const int n = static_cast<int>(w.size());
   if (n < 3) return 0;
   // Andrew's monotone chain, counter-clockwise, collinear points dropped

@@ -3,10 +3,9 @@
 // inverted about the centre (circles through the centre become lines).
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace ifem::pointcloud {
 

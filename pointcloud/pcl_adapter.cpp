@@ -1,17 +1,17 @@
 #include "pointcloud/pcl_adapter.h"
 
-#include <cmath>
-#include <string>
-#include <type_traits>
-#include <utility>
-
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/conversions.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
-#include "intrinsic/errors.h"
+#include <cmath>
+#include <string>
+#include <type_traits>
+#include <utility>
+
+#include "intrinsic/core/errors.h"
 
 namespace ifem::pointcloud {
 namespace {
@@ -36,8 +36,8 @@ PclPoints convert(const pcl::PointCloud<Point>& cloud, bool with_normals) {
     out.source_index[k] = static_cast<Index>(i);
     if constexpr (std::is_same_v<Point, pcl::PointNormal>) {
       if (with_normals) {
-        const bool ok = std::isfinite(p.normal_x) && std::isfinite(p.normal_y) &&
-                        std::isfinite(p.normal_z);
+        const bool ok =
+            std::isfinite(p.normal_x) && std::isfinite(p.normal_y) && std::isfinite(p.normal_z);
         if (ok) {
           out.normals.row(k) << p.normal_x, p.normal_y, p.normal_z;
         } else {
@@ -66,9 +66,7 @@ intrinsic::IntrinsicTriangulation triangulate(const pcl::PointCloud<Point>& clou
 
 PclPoints from_pcl(const pcl::PointCloud<pcl::PointXYZ>& cloud) { return convert(cloud, false); }
 
-PclPoints from_pcl(const pcl::PointCloud<pcl::PointNormal>& cloud) {
-  return convert(cloud, true);
-}
+PclPoints from_pcl(const pcl::PointCloud<pcl::PointNormal>& cloud) { return convert(cloud, true); }
 
 PclPoints read_pcd(const std::string& path) {
   pcl::PCLPointCloud2 blob;

@@ -4,10 +4,9 @@
 // include path (your code that builds pcl::PointCloud objects does).
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "pointcloud/pointcloud_laplacian.h"
 

@@ -1,15 +1,14 @@
 #include "pointcloud/pointcloud_laplacian.h"
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
 #include <utility>
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/Geometry>
-
-#include "intrinsic/errors.h"
+#include "intrinsic/core/errors.h"
 #include "pointcloud/local_delaunay.h"
 
 #ifdef _OPENMP
@@ -20,8 +19,7 @@ namespace ifem::pointcloud {
 namespace {
 
 double now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 int thread_count() {
@@ -45,7 +43,7 @@ int thread_id() {
 Eigen::Vector3d pca_normal(const std::vector<Eigen::Vector3d>& d) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const auto& x : d) mean += x;
-  mean /= static_cast<double>(d.size() + 1);  // the centre (offset 0) is part of the sample
+  mean /= static_cast<double>(d.size() + 1);      // the centre (offset 0) is part of the sample
   Eigen::Matrix3d cov = mean * mean.transpose();  // the centre's term
   for (const auto& x : d) {
     const Eigen::Vector3d y = x - mean;

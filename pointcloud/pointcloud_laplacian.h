@@ -5,22 +5,21 @@
 // M from the result with fem::cotan_laplacian / fem::lumped_mass.
 #pragma once
 
+#include <Eigen/Core>
 #include <vector>
 
-#include <Eigen/Core>
-
-#include "intrinsic/triangulation.h"
-#include "intrinsic/tufted_cover.h"
+#include "intrinsic/core/triangulation.h"
+#include "intrinsic/surface/tufted_cover.h"
 #include "pointcloud/knn.h"
 
 namespace ifem::pointcloud {
 
 /// Settings of the point-cloud pipeline.
 struct Options {
-  int k = 30;                            ///< neighbours per point (clamped to #P − 1)
-  bool use_input_normals = true;         ///< use the given normals where finite and non-zero
+  int k = 30;                              ///< neighbours per point (clamped to #P − 1)
+  bool use_input_normals = true;           ///< use the given normals where finite and non-zero
   double mollify_relative_epsilon = 1e-5;  ///< see IntrinsicTriangulation::mollify
-  bool intrinsic_delaunay = true;        ///< flip the cover to intrinsic Delaunay
+  bool intrinsic_delaunay = true;          ///< flip the cover to intrinsic Delaunay
   /// How the local triangles are glued (weights of triangles found in 1, 2, 3 stars):
   /// kNone 1/3, 2/3, 1 (×3 copies); kHalf 1/2, 1/2, 1 (×2); kUnion 1, 1, 1 (×1). See
   /// pointcloud_triangulation().
@@ -40,9 +39,9 @@ struct Report {
                                  ///< merge_identical_triangles)
   Index triangles_in_stars[3] = {0, 0, 0};  ///< distinct triangles found in 1, 2, 3 stars
                                             ///< (merge_identical_triangles only)
-  Index starless_points = 0;     ///< points whose own neighbourhood gave no triangle: fewer than
-                                 ///< 3 distinct neighbours, collinear, or all at the point
-  Index isolated_points = 0;     ///< points in no triangle at all: zero row in L, zero mass
+  Index starless_points = 0;  ///< points whose own neighbourhood gave no triangle: fewer than
+                              ///< 3 distinct neighbours, collinear, or all at the point
+  Index isolated_points = 0;  ///< points in no triangle at all: zero row in L, zero mass
   Index first_isolated_point = kInvalidIndex;
   Index coincident_points = 0;   ///< points with another point at exactly the same position
   Index normals_from_input = 0;  ///< points whose tangent plane came from the given normals
@@ -81,9 +80,8 @@ std::vector<Triangle> local_triangulations(const Positions& points, const Neighb
 /// @param points #P×3, finite (any number, including 0, 1, 2)
 /// @param normals optional #P×3 (e.g. from the file)
 /// @throws InvalidInput on a non-finite coordinate, bad options or a normals size mismatch
-intrinsic::IntrinsicTriangulation pointcloud_triangulation(const Positions& points,
-                                                           const Options& options = {},
-                                                           const Eigen::MatrixX3d* normals = nullptr,
-                                                           Report* report = nullptr);
+intrinsic::IntrinsicTriangulation pointcloud_triangulation(
+    const Positions& points, const Options& options = {}, const Eigen::MatrixX3d* normals = nullptr,
+    Report* report = nullptr);
 
 }  // namespace ifem::pointcloud

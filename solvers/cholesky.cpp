@@ -8,13 +8,13 @@
 #if defined(__SSE2__)
 #include <xmmintrin.h>
 #endif
-#include <string>
-#include <vector>
-
 #include <cholmod.h>
 #include <dlfcn.h>
 
-#include "intrinsic/errors.h"
+#include <string>
+#include <vector>
+
+#include "intrinsic/core/errors.h"
 
 namespace ifem::solvers {
 
@@ -145,13 +145,20 @@ struct CholeskySolver::Impl {
 
   std::string status_text() const {
     switch (common.status) {
-      case CHOLMOD_OUT_OF_MEMORY: return "out of memory";
-      case CHOLMOD_TOO_LARGE: return "problem too large";
-      case CHOLMOD_INVALID: return "invalid input";
-      case CHOLMOD_GPU_PROBLEM: return "GPU problem";
-      case CHOLMOD_NOT_POSDEF: return "not positive definite";
-      case CHOLMOD_DSMALL: return "diagonal entry tiny";
-      default: return "status " + std::to_string(common.status);
+      case CHOLMOD_OUT_OF_MEMORY:
+        return "out of memory";
+      case CHOLMOD_TOO_LARGE:
+        return "problem too large";
+      case CHOLMOD_INVALID:
+        return "invalid input";
+      case CHOLMOD_GPU_PROBLEM:
+        return "GPU problem";
+      case CHOLMOD_NOT_POSDEF:
+        return "not positive definite";
+      case CHOLMOD_DSMALL:
+        return "diagonal entry tiny";
+      default:
+        return "status " + std::to_string(common.status);
     }
   }
 
@@ -175,8 +182,10 @@ struct CholeskySolver::Impl {
     // a singular PSD matrix often factors with a round-off-sized last pivot: catch it
     const double rcond = cholmod_rcond(f, &common);
     if (!(rcond >= min_rcond)) {
-      throw SolverError(std::string(who) + ": matrix is not positive definite (numerically "
-                        "singular: reciprocal condition estimate " + std::to_string(rcond) +
+      throw SolverError(std::string(who) +
+                        ": matrix is not positive definite (numerically "
+                        "singular: reciprocal condition estimate " +
+                        std::to_string(rcond) +
                         "); a Laplacian needs Dirichlet data, screening or a pinned vertex on "
                         "every connected component");
     }
@@ -238,8 +247,7 @@ CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyOpti
   im.factored_supernodal = im.factor->is_super;
   if (im.factor->is_super && options.simplicial_solves) {
     // to_ll = 1, to_super = 0, to_packed = 1, to_monotonic = 1
-    if (!cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, im.factor, &c) ||
-        c.status < CHOLMOD_OK) {
+    if (!cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, im.factor, &c) || c.status < CHOLMOD_OK) {
       throw SolverError("CholeskySolver: converting the factor failed: " + im.status_text());
     }
   }
@@ -261,8 +269,9 @@ void CholeskySolver::refactor(const fem::SparseMatrix& A_in) {
                     std::equal(im.outer.begin(), im.outer.end(), A->outerIndexPtr()) &&
                     std::equal(im.inner.begin(), im.inner.end(), A->innerIndexPtr());
   if (!same) {
-    throw InvalidInput("CholeskySolver::refactor: the sparsity pattern differs from the "
-                       "analyzed matrix; construct a new solver");
+    throw InvalidInput(
+        "CholeskySolver::refactor: the sparsity pattern differs from the "
+        "analyzed matrix; construct a new solver");
   }
   std::lock_guard<std::mutex> lock(im.mutex);
   // factor into a copy so a failure keeps the previous factor usable
@@ -297,7 +306,8 @@ void solve_raw(const CholeskySolver::Impl& im, const double* B, Eigen::Index col
   const FlushDenormalsScope no_subnormals;
   auto& c = const_cast<cholmod_common&>(im.common);
   // cholmod_solve2 reuses X, Y, E when their sizes fit: no allocation per solve
-  const int ok = cholmod_solve2(CHOLMOD_A, im.factor, &b, nullptr, &im.X, nullptr, &im.Y, &im.E, &c);
+  const int ok =
+      cholmod_solve2(CHOLMOD_A, im.factor, &b, nullptr, &im.X, nullptr, &im.Y, &im.E, &c);
   if (!ok || !im.X || c.status < CHOLMOD_OK) {
     throw SolverError("CholeskySolver::solve: CHOLMOD solve failed: " + im.status_text());
   }
@@ -340,13 +350,20 @@ const char* CholeskySolver::ordering() const {
   const cholmod_common& c = impl_->common;
   if (c.selected < 0 || c.selected >= CHOLMOD_MAXMETHODS) return "unknown";
   switch (c.method[c.selected].ordering) {
-    case CHOLMOD_NATURAL: return "natural";
-    case CHOLMOD_GIVEN: return "given";
-    case CHOLMOD_AMD: return "AMD";
-    case CHOLMOD_METIS: return "METIS";
-    case CHOLMOD_NESDIS: return "NESDIS";
-    case CHOLMOD_COLAMD: return "COLAMD";
-    default: return "other";
+    case CHOLMOD_NATURAL:
+      return "natural";
+    case CHOLMOD_GIVEN:
+      return "given";
+    case CHOLMOD_AMD:
+      return "AMD";
+    case CHOLMOD_METIS:
+      return "METIS";
+    case CHOLMOD_NESDIS:
+      return "NESDIS";
+    case CHOLMOD_COLAMD:
+      return "COLAMD";
+    default:
+      return "other";
   }
 }
 

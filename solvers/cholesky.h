@@ -2,10 +2,9 @@
 // factor once, solve many. CHOLMOD stays private to cholesky.cpp.
 #pragma once
 
-#include <memory>
-
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <memory>
 
 #include "fem/operators.h"
 
@@ -100,7 +99,7 @@ class CholeskySolver {
   /// converted to simplicial form for faster solves, see simplicial_solves).
   bool supernodal() const;
 
- /// Internal state (CHOLMOD common + factor); defined in cholesky.cpp only.
+  /// Internal state (CHOLMOD common + factor); defined in cholesky.cpp only.
   struct Impl;
 
  private:

@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "intrinsic/triangulation.h"
+#include "intrinsic/core/triangulation.h"
 
 namespace ifem::solvers {
 

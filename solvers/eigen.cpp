@@ -1,13 +1,13 @@
 #include "solvers/eigen.h"
 
+#include <Spectra/SymGEigsShiftSolver.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include <Spectra/SymGEigsShiftSolver.h>
-
-#include "intrinsic/errors.h"
+#include "intrinsic/core/errors.h"
 #include "solvers/cholesky.h"
 
 namespace ifem::solvers {
@@ -24,7 +24,8 @@ class ShiftInvertOp {
   void set_shift(double sigma) {
     // lower triangle of L − σM (all CHOLMOD reads)
     fem::SparseMatrix A = L_.triangularView<Eigen::Lower>();
-    std::vector<Eigen::Index> missing;  // columns without a stored diagonal (not from cotan_laplacian)
+    std::vector<Eigen::Index>
+        missing;  // columns without a stored diagonal (not from cotan_laplacian)
     for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
       bool found = false;
       for (fem::SparseMatrix::InnerIterator it(A, j); it; ++it) {
@@ -68,8 +69,9 @@ class DiagonalOp {
 void EigenOptions::validate() const {
   if (extra_pairs < 0 || ncv < 0 || max_iterations < 1 || !(tolerance > 0.0) ||
       !(shift_scale > 0.0)) {
-    throw InvalidInput("EigenOptions: need extra_pairs ≥ 0, ncv ≥ 0, max_iterations ≥ 1, "
-                       "tolerance > 0, shift_scale > 0");
+    throw InvalidInput(
+        "EigenOptions: need extra_pairs ≥ 0, ncv ≥ 0, max_iterations ≥ 1, "
+        "tolerance > 0, shift_scale > 0");
   }
 }
 

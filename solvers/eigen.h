@@ -5,7 +5,7 @@
 #include <Eigen/Core>
 
 #include "fem/operators.h"
-#include "intrinsic/triangulation.h"
+#include "intrinsic/core/triangulation.h"
 
 namespace ifem::solvers {
 

@@ -1,5 +1,6 @@
 #include "solvers/heat_distance.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -12,12 +13,10 @@
 #include <thread>
 #include <utility>
 
-#include <Eigen/Dense>
-
 #include "fem/gradient.h"
 #include "fem/operators.h"
-#include "intrinsic/errors.h"
-#include "intrinsic/geometry.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
 #include "solvers/cholesky.h"
 #include "solvers/components.h"
 #include "solvers/poisson.h"
@@ -206,9 +205,8 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
   PoissonOptions heat_opt;
   heat_opt.screening = 1.0;  // tL + 1·M
   std::vector<std::function<void()>> jobs;
-  jobs.emplace_back([&] {
-    im.heat_neumann.emplace(tL, im.mass, im.comps, std::vector<Index>{}, heat_opt);
-  });
+  jobs.emplace_back(
+      [&] { im.heat_neumann.emplace(tL, im.mass, im.comps, std::vector<Index>{}, heat_opt); });
   if (options.boundary == HeatDistanceOptions::Boundary::kAverage && any_boundary) {
     std::vector<Index> bv;
     for (Index v = 0; v < im.tri.n_vertices(); ++v) {
@@ -218,9 +216,8 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
       im.heat_dirichlet.emplace(tL, im.mass, im.comps, std::move(bv), heat_opt);
     });
   }
-  jobs.emplace_back([&] {
-    im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, PoissonOptions{});
-  });
+  jobs.emplace_back(
+      [&] { im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, PoissonOptions{}); });
   run_parallel(jobs);
 }
 
@@ -273,9 +270,8 @@ Eigen::VectorXd HeatDistanceSolver::compute_distance_from_points(
                          std::to_string(sp.face) + " must be ≥ 0 and sum to 1");
     }
     // corner distances from the face's 2D layout
-    const Eigen::Vector2d c[3] = {{0.0, 0.0},
-                                  {im.tri.halfedge_length(3 * sp.face), 0.0},
-                                  fem::face_corner2(im.tri, sp.face)};
+    const Eigen::Vector2d c[3] = {
+        {0.0, 0.0}, {im.tri.halfedge_length(3 * sp.face), 0.0}, fem::face_corner2(im.tri, sp.face)};
     const Eigen::Vector2d x = sp.bary[0] * c[0] + sp.bary[1] * c[1] + sp.bary[2] * c[2];
     WeightedPoint p;
     p.n = 3;
@@ -390,8 +386,8 @@ HeatDistanceSolver::Impl::SourceConstraints HeatDistanceSolver::Impl::constraint
   const Index m = sc.count;
   // dense n×m right-hand sides: keep them below ~160 MB
   const Index by_memory = Index(std::max<double>(1.0, 2e7 / double(std::max<Index>(nv, 1))));
-  const bool all_vertices = std::all_of(pts.begin(), pts.end(),
-                                        [](const WeightedPoint& p) { return p.is_vertex(); });
+  const bool all_vertices =
+      std::all_of(pts.begin(), pts.end(), [](const WeightedPoint& p) { return p.is_vertex(); });
   if (m <= std::min(opt.max_constrained_sources, by_memory) || !all_vertices) {
     // Lagrange multipliers through the cached pure-Neumann factor: with P the solution map,
     // C the constraint columns, φ = P b − P C λ and Cᵀφ = 0.
@@ -444,8 +440,8 @@ Eigen::VectorXd HeatDistanceSolver::Impl::integrate_unit_field(
 }
 
 void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pts,
-                                            const std::vector<char>& src_comp,
-                                            Eigen::VectorXd& phi, std::vector<char>& known,
+                                            const std::vector<char>& src_comp, Eigen::VectorXd& phi,
+                                            std::vector<char>& known,
                                             HeatDistanceReport& rep) const {
   (void)pts;
   const Index nv = tri.n_vertices();
@@ -577,8 +573,8 @@ void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pt
       }
     }
     if (added == 0) {
-      throw SolverError("heat distance: no progress at stage " + std::to_string(rep.stages) +
-                        " (" + std::to_string(left) + " vertices left)");
+      throw SolverError("heat distance: no progress at stage " + std::to_string(rep.stages) + " (" +
+                        std::to_string(left) + " vertices left)");
     }
     left = remaining();
   }

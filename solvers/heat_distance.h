@@ -3,12 +3,11 @@
 // Delaunay triangulation, with a multi-stage continuation where the heat underflows.
 #pragma once
 
+#include <Eigen/Core>
 #include <memory>
 #include <vector>
 
-#include <Eigen/Core>
-
-#include "intrinsic/triangulation.h"
+#include "intrinsic/core/triangulation.h"
 
 namespace ifem::solvers {
 
@@ -105,9 +104,9 @@ struct RefinedDistanceSettings {
 
 /// What one distance query did.
 struct HeatDistanceReport {
-  int stages = 1;                  ///< 1 unless the heat underflowed somewhere
-  Index unresolved_vertices = 0;   ///< reachable vertices whose first-stage heat was unresolved
-  Index constraints = 0;           ///< zero-distance constraints beyond one per component
+  int stages = 1;                 ///< 1 unless the heat underflowed somewhere
+  Index unresolved_vertices = 0;  ///< reachable vertices whose first-stage heat was unresolved
+  Index constraints = 0;          ///< zero-distance constraints beyond one per component
 };
 
 /// Stateful heat-method solver: the constructor builds the intrinsic Delaunay triangulation,

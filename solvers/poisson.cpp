@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "intrinsic/errors.h"
+#include "intrinsic/core/errors.h"
 
 namespace ifem::solvers {
 
@@ -18,14 +18,14 @@ void PoissonOptions::validate() const {
 
 struct PoissonSolver::Impl {
   Index n = 0;
-  std::vector<Index> dirichlet;     // caller's order
-  std::vector<Index> unknown;       // vertex → unknown id, or -1
+  std::vector<Index> dirichlet;  // caller's order
+  std::vector<Index> unknown;    // vertex → unknown id, or -1
   std::vector<Index> unknown_vertex;
   Components comps;
-  std::vector<char> floating;       // per component: pure Neumann (pinned, zero mean)
-  std::vector<double> comp_mass;    // per component: Σ m
+  std::vector<char> floating;     // per component: pure Neumann (pinned, zero mean)
+  std::vector<double> comp_mass;  // per component: Σ m
   Eigen::VectorXd mass;
-  fem::SparseMatrix A_ud;           // unknowns × Dirichlet columns (coupling)
+  fem::SparseMatrix A_ud;  // unknowns × Dirichlet columns (coupling)
   std::optional<CholeskySolver> chol;
 
   // One right-hand side: the work of solve_many() without the #V×1 matrix copies.
@@ -278,7 +278,8 @@ Eigen::MatrixXd PoissonSolver::solve_weak_homogeneous(const Eigen::MatrixXd& B) 
 const std::vector<Index>& PoissonSolver::dirichlet_vertices() const { return impl_->dirichlet; }
 Index PoissonSolver::n_unknowns() const { return Index(impl_->unknown_vertex.size()); }
 
-Eigen::VectorXd solve_poisson(const intrinsic::IntrinsicTriangulation& tri, const Eigen::VectorXd& f,
+Eigen::VectorXd solve_poisson(const intrinsic::IntrinsicTriangulation& tri,
+                              const Eigen::VectorXd& f,
                               const std::vector<Index>& dirichlet_vertices,
                               const Eigen::VectorXd& dirichlet_values,
                               const PoissonOptions& options) {

@@ -2,13 +2,12 @@
 // values on any vertex set and natural (zero) Neumann conditions elsewhere.
 #pragma once
 
+#include <Eigen/Core>
 #include <memory>
 #include <vector>
 
-#include <Eigen/Core>
-
 #include "fem/operators.h"
-#include "intrinsic/triangulation.h"
+#include "intrinsic/core/triangulation.h"
 #include "solvers/cholesky.h"
 #include "solvers/components.h"
 
@@ -63,7 +62,8 @@ class PoissonSolver {
 
   /// Solves (L + c·M) u = b for an integrated (weak) right-hand side b (#V), e.g. b = M f or a
   /// divergence. Same conventions as solve().
-  Eigen::VectorXd solve_weak(const Eigen::VectorXd& b, const Eigen::VectorXd& dirichlet_values) const;
+  Eigen::VectorXd solve_weak(const Eigen::VectorXd& b,
+                             const Eigen::VectorXd& dirichlet_values) const;
 
   /// solve_weak() for every column of B (#V×k) with zero Dirichlet values.
   Eigen::MatrixXd solve_weak_homogeneous(const Eigen::MatrixXd& B) const;
@@ -82,7 +82,8 @@ class PoissonSolver {
 /// One-off: solves (L + c·M) u = M f with u = dirichlet_values on dirichlet_vertices.
 /// See PoissonSolver for the conventions (zero mean without Dirichlet data, 0 on unreferenced).
 /// @param f #V per-vertex right-hand side (a function, multiplied by the lumped mass here)
-Eigen::VectorXd solve_poisson(const intrinsic::IntrinsicTriangulation& tri, const Eigen::VectorXd& f,
+Eigen::VectorXd solve_poisson(const intrinsic::IntrinsicTriangulation& tri,
+                              const Eigen::VectorXd& f,
                               const std::vector<Index>& dirichlet_vertices,
                               const Eigen::VectorXd& dirichlet_values,
                               const PoissonOptions& options = {});

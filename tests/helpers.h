@@ -2,16 +2,16 @@
 // corpus (../shared/data), which tests skip cleanly when it is absent.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
-#include "intrinsic/geometry.h"
-#include "intrinsic/mesh_generators.h"
-#include "intrinsic/triangulation.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/core/triangulation.h"
+#include "intrinsic/generators/mesh_generators.h"
 
 namespace ifem::test {
 
@@ -41,11 +41,11 @@ inline bool skip_in_quick_run(const std::filesystem::path& file) {
   return !ec && size > (1u << 20);
 }
 
-#define IFEM_REQUIRE_SHARED_DATA()                                                   \
-  do {                                                                               \
-    if (!std::filesystem::is_directory(::ifem::test::shared_data() / "meshes")) {    \
-      GTEST_SKIP() << "../shared/data is absent: " << ::ifem::test::shared_data();   \
-    }                                                                                \
+#define IFEM_REQUIRE_SHARED_DATA()                                                 \
+  do {                                                                             \
+    if (!std::filesystem::is_directory(::ifem::test::shared_data() / "meshes")) {  \
+      GTEST_SKIP() << "../shared/data is absent: " << ::ifem::test::shared_data(); \
+    }                                                                              \
   } while (0)
 
 /// A flat quad (unit square) split along the diagonal 0–2: with vertex 1 pulled in so that the
@@ -75,7 +75,6 @@ inline intrinsic::TriangleMesh jittered(intrinsic::TriangleMesh m, double amount
   }
   return m;
 }
-
 
 /// Flips `tri` to intrinsic Delaunay in place and checks what flips must preserve: validity,
 /// total area and every vertex angle sum and angle defect (1e-9 relative), Gauss–Bonnet

@@ -1,11 +1,12 @@
 #include "fem/operators.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include "helpers.h"
-#include "intrinsic/geometry.h"
-#include "intrinsic/mesh_generators.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/generators/mesh_generators.h"
 
 namespace ifem::fem {
 namespace {
@@ -79,7 +80,7 @@ TEST(Operators, MassSumsToArea) {
   // both masses integrate the linear function x exactly
   Eigen::VectorXd x = m.positions.col(0);
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(x.size());
-  EXPECT_NEAR(ones.dot(M * x), 6.0, 1e-12);        // ∫ x over [0,2]×[0,3]
+  EXPECT_NEAR(ones.dot(M * x), 6.0, 1e-12);  // ∫ x over [0,2]×[0,3]
   EXPECT_NEAR(lumped_mass(tri).dot(x), 6.0, 1e-12);
 }
 

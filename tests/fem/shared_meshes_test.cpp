@@ -1,17 +1,17 @@
 // The foundation's promise on real data: every mesh in ../shared/data/meshes gives either a
 // finite intrinsic Delaunay Laplacian with non-negative weights, or a NonManifoldInput error
 // naming the offending edge. Flip invariants are checked on each mesh that builds.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <string>
 
-#include <gtest/gtest.h>
-
 #include "fem/operators.h"
 #include "helpers.h"
-#include "intrinsic/geometry.h"
-#include "intrinsic/mesh_analysis.h"
-#include "intrinsic/mesh_io.h"
-#include "intrinsic/surface_triangulation.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/io/mesh_io.h"
+#include "intrinsic/surface/build_surface.h"
+#include "intrinsic/surface/face_analysis.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -24,8 +24,7 @@ TEST_P(SharedMesh, IntrinsicDelaunayLaplacianOrNamedError) {
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not in this corpus";
   if (test::skip_in_quick_run(path)) GTEST_SKIP() << "large file skipped (IFEM_TEST_QUICK)";
   const io::SurfaceInput in = io::read_mesh(path.string());
-  const FaceListStats st =
-      analyze_faces(in.triangles, static_cast<Index>(in.positions.rows()));
+  const FaceListStats st = analyze_faces(in.triangles, static_cast<Index>(in.positions.rows()));
   IntrinsicTriangulation tri;
   try {
     tri = IntrinsicTriangulation::from_positions(in.triangles, in.positions);
@@ -105,15 +104,15 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values("3holes.off", "armadillo.obj", "beetle_sutherland.obj", "block.off",
                       "bob_small.ply", "bunny_npm_lowres.obj", "bunny_poly.ply", "camelhead.off",
                       "cgal_all_degen.off", "cgal_degtri_nullface_bis.off",
-                      "cgal_fused_vertices.off", "cgal_non_manifold_face_graph.off",
-                      "conrod.off", "cow_viewpoint.obj", "fan3.obj", "fandisk.off",
-                      "fertility.off", "hourglass_ico.obj", "igea_268k.ply",
-                      "lato000_rangescan.ply", "lego.ply", "moebius.obj", "ogre.obj",
-                      "pegasus.obj", "platonic_shelf.obj", "rocketship.ply", "spot.obj",
-                      "stanford_bunny_scan.obj", "teapot_unwelded.obj", "terrain8k.obj",
-                      "tet_with_self_edge.ply", "thingi10k_138207.obj", "thingi10k_49220.obj",
-                      "thingi10k_679615.obj", "thingi10k_73342.obj", "thingi10k_90225.obj",
-                      "triple_vierbein.obj", "truck.obj"),
+                      "cgal_fused_vertices.off", "cgal_non_manifold_face_graph.off", "conrod.off",
+                      "cow_viewpoint.obj", "fan3.obj", "fandisk.off", "fertility.off",
+                      "hourglass_ico.obj", "igea_268k.ply", "lato000_rangescan.ply", "lego.ply",
+                      "moebius.obj", "ogre.obj", "pegasus.obj", "platonic_shelf.obj",
+                      "rocketship.ply", "spot.obj", "stanford_bunny_scan.obj",
+                      "teapot_unwelded.obj", "terrain8k.obj", "tet_with_self_edge.ply",
+                      "thingi10k_138207.obj", "thingi10k_49220.obj", "thingi10k_679615.obj",
+                      "thingi10k_73342.obj", "thingi10k_90225.obj", "triple_vierbein.obj",
+                      "truck.obj"),
     [](const ::testing::TestParamInfo<std::string>& param) {
       std::string n = param.param;
       for (char& c : n) {

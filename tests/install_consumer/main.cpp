@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "fem/operators.h"
-#include "intrinsic/mesh_generators.h"
+#include "intrinsic/generators/mesh_generators.h"
 
 int main() {
   const auto mesh = ifem::intrinsic::icosphere(4);

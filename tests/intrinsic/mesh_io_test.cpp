@@ -1,7 +1,7 @@
-// Tests for intrinsic/mesh_io.h: every format on small files written here with known contents,
+// Tests for intrinsic/io/mesh_io.h: every format on small files written here with known contents,
 // every kind of bad input (error type, file name and line / byte offset in the message),
 // writer round trips, and the shared corpus against the vertex / face counts in its MANIFEST.
-#include "intrinsic/mesh_io.h"
+#include "intrinsic/io/mesh_io.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "helpers.h"
-#include "intrinsic/errors.h"
+#include "intrinsic/core/errors.h"
 
 namespace ifem::io {
 namespace {

@@ -1,5 +1,8 @@
-#include "intrinsic/signpost.h"
+#include "intrinsic/refine/signpost.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -10,15 +13,12 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Geometry>
-#include <gtest/gtest.h>
-
 #include "helpers.h"
-#include "intrinsic/geometry.h"
-#include "intrinsic/mesh_generators.h"
-#include "intrinsic/mesh_io.h"
-#include "intrinsic/refine.h"
-#include "intrinsic/tufted_cover.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/delaunay_refine.h"
+#include "intrinsic/surface/tufted_cover.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -282,10 +282,11 @@ TEST(Relax, OdtMovesInsertedVerticesOnly) {
       EXPECT_GT(rep.mean_min_angle_after, rep.mean_min_angle_before + 1.0);
     }
     EXPECT_GE(rep.min_angle_after, rr.min_angle_after - 1e-9);
-    std::printf("[%s] relax: %d moved, %d rejected, min %.3f -> %.3f, mean %.3f -> %.3f, "
-                "%zu flips\n",
-                c.name, rep.moved, rep.rejected, rep.min_angle_before, rep.min_angle_after,
-                rep.mean_min_angle_before, rep.mean_min_angle_after, rep.flips);
+    std::printf(
+        "[%s] relax: %d moved, %d rejected, min %.3f -> %.3f, mean %.3f -> %.3f, "
+        "%zu flips\n",
+        c.name, rep.moved, rep.rejected, rep.min_angle_before, rep.min_angle_after,
+        rep.mean_min_angle_before, rep.mean_min_angle_after, rep.flips);
   }
 }
 
@@ -326,10 +327,11 @@ TEST(Relax, SplitsEdgesLongerThanTheTarget) {
       ASSERT_NEAR(sums[v], st.is_boundary_vertex(v) ? kPi : 2 * kPi, 1e-9) << "vertex " << v;
     }
     expect_traces_consistent(st);
-    std::printf("[%s] relax with splits: %d splits, longest edge %.4f -> %.4f (target %.4f), "
-                "min angle %.2f -> %.2f\n",
-                boundary ? "grid" : "sphere", rep.splits, longest, rep.max_edge_after,
-                opt.max_edge_length, rep.min_angle_before, rep.min_angle_after);
+    std::printf(
+        "[%s] relax with splits: %d splits, longest edge %.4f -> %.4f (target %.4f), "
+        "min angle %.2f -> %.2f\n",
+        boundary ? "grid" : "sphere", rep.splits, longest, rep.max_edge_after, opt.max_edge_length,
+        rep.min_angle_before, rep.min_angle_after);
   }
   SignpostTriangulation st(icosphere(2).faces, icosphere(2).positions);
   RelaxOptions bad;
@@ -453,8 +455,8 @@ TriangleMesh book(int pages, int nx, int ny, double w, double h, double jitter) 
 // Refines the tufted cover of a nonmanifold mesh and checks expect_refined() plus: something
 // was inserted, inserted vertices come after the input's, the cover stays closed and keeps
 // multiplicity 2 (so total_area() is still the input surface's).
-void expect_tufted_refined(const std::vector<Triangle>& faces, const Positions& x,
-                           double bound_deg, bool off_centers = false) {
+void expect_tufted_refined(const std::vector<Triangle>& faces, const Positions& x, double bound_deg,
+                           bool off_centers = false) {
   TuftedCoverReport cover_rep;
   IntrinsicTriangulation tri = tufted_cover(faces, x, &cover_rep);
   tri.mollify(1e-5);
@@ -509,8 +511,8 @@ TEST(Refine, PlainOverloadIsTheSignpostAlgorithm) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     SignpostTriangulation st(c.mesh.faces, c.mesh.positions, 1e-5);
-    IntrinsicTriangulation tri = IntrinsicTriangulation::from_positions(c.mesh.faces,
-                                                                        c.mesh.positions);
+    IntrinsicTriangulation tri =
+        IntrinsicTriangulation::from_positions(c.mesh.faces, c.mesh.positions);
     tri.mollify(1e-5);
     const Eigen::VectorXd sums0 = vertex_angle_sums(tri);
     const double area0 = total_area(tri);
@@ -560,8 +562,7 @@ TEST(Refine, SharedCorpusManifoldMeshes) {
     st->intrinsic().validate();
     // a degenerate input that runs into the cap has split slivers of near-zero area whose
     // lengths are long: 1e-8 there (cgal_all_degen.off drifts by 1.5e-9), 1e-9 otherwise
-    EXPECT_NEAR(total_area(st->intrinsic()), area0,
-                (rep.hit_insertion_cap ? 1e-8 : 1e-9) * area0);
+    EXPECT_NEAR(total_area(st->intrinsic()), area0, (rep.hit_insertion_cap ? 1e-8 : 1e-9) * area0);
     const Eigen::VectorXd sums = vertex_angle_sums(st->intrinsic());
     // near-degenerate input corners make angles ill-conditioned in the lengths: 1e-7 here,
     // 1e-9 relative on the generated meshes above
@@ -735,8 +736,7 @@ TEST(CommonSubdivision, SharedSpotRefined) {
 
 bool same_common_subdivision(const CommonSubdivision& a, const CommonSubdivision& b) {
   return a.positions.rows() == b.positions.rows() && a.positions == b.positions &&
-         a.faces == b.faces && a.intrinsic_face == b.intrinsic_face &&
-         a.input_face == b.input_face;
+         a.faces == b.faces && a.intrinsic_face == b.intrinsic_face && a.input_face == b.input_face;
 }
 
 // Needle input faces are crossed by many intrinsic edges each (long sides cut at many points),
@@ -803,8 +803,8 @@ TEST(CommonSubdivision, LabelsAcrossSidesOfAnUncrossedFace) {
       double length = 0.0, direction = 0.0;
       std::string& line = *(first + x);
       ASSERT_EQ(std::sscanf(line.c_str(), "%d %d %lf %lf", &tail, &twin, &length, &direction), 4);
-      direction = std::fmod(direction + turn + st0.vertex_angle_sum(tail),
-                            st0.vertex_angle_sum(tail));
+      direction =
+          std::fmod(direction + turn + st0.vertex_angle_sum(tail), st0.vertex_angle_sum(tail));
       char buf[512];
       std::snprintf(buf, sizeof buf, "%d %d %.17g %.17g\n", tail, twin, length, direction);
       line = buf;

@@ -1,17 +1,17 @@
-#include "intrinsic/triangulation.h"
+#include "intrinsic/core/triangulation.h"
+
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <numeric>
 
-#include <gtest/gtest.h>
-
 #include "helpers.h"
-#include "intrinsic/geometry.h"
-#include "intrinsic/mesh_generators.h"
-#include "intrinsic/refine.h"
-#include "intrinsic/signpost.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/refine/delaunay_refine.h"
+#include "intrinsic/refine/signpost.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -63,8 +63,8 @@ TEST(Triangulation, SkewedQuadFlipsExactlyOnce) {
 }
 
 TEST(Triangulation, FlipInvariantsOnGeneratedMeshes) {
-  expect_flip_invariants(IntrinsicTriangulation::from_positions(icosphere(6).faces,
-                                                                icosphere(6).positions));
+  expect_flip_invariants(
+      IntrinsicTriangulation::from_positions(icosphere(6).faces, icosphere(6).positions));
   const TriangleMesh s = jittered(icosphere(8), 0.08);
   expect_flip_invariants(IntrinsicTriangulation::from_positions(s.faces, s.positions));
   const TriangleMesh g = jittered(grid(12, 9), 0.05);

@@ -1,18 +1,18 @@
-#include "intrinsic/tufted_cover.h"
+#include "intrinsic/surface/tufted_cover.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <random>
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/SparseCore>
-#include <gtest/gtest.h>
-
 #include "helpers.h"
-#include "intrinsic/geometry.h"
-#include "intrinsic/mesh_generators.h"
-#include "intrinsic/mesh_io.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/io/mesh_io.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -121,8 +121,10 @@ void expect_good_laplacian(const Ops& o, const std::vector<Triangle>& faces,
   }
   for (Index i = 0; i < n; ++i) {
     ASSERT_TRUE(std::isfinite(o.m[i])) << what;
-    if (used[i]) EXPECT_GT(o.m[i], 0.0) << what << " vertex " << i;
-    else EXPECT_EQ(o.m[i], 0.0) << what << " vertex " << i;
+    if (used[i])
+      EXPECT_GT(o.m[i], 0.0) << what << " vertex " << i;
+    else
+      EXPECT_EQ(o.m[i], 0.0) << what << " vertex " << i;
   }
 }
 
@@ -149,8 +151,8 @@ Positions to_positions(std::initializer_list<std::array<double, 3>> pts) {
 
 TEST(TuftedCover, Fan3IsClosedEdgeManifold) {
   // three triangles on edge (0,1)
-  const Positions p = to_positions({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -0.5, 0.8},
-                                    {0.5, -0.5, -0.8}});
+  const Positions p =
+      to_positions({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -0.5, 0.8}, {0.5, -0.5, -0.8}});
   const std::vector<Triangle> f = {{0, 1, 2}, {0, 1, 3}, {1, 0, 4}};
   TuftedCoverReport rep;
   const IntrinsicTriangulation tri = tufted_cover(f, p, &rep);
@@ -175,8 +177,8 @@ TEST(TuftedCover, AngularOrderAroundEdge) {
   // copies must be glued between angular neighbours only (a planar pair 0°/180° forms a flat
   // sheet with the two others as fins, whatever the listing order)
   // vertex ids deliberately not in angular order: 2 at 0°, 3 at 180°, 4 at 90°, 5 at 270°
-  const Positions p = to_positions({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0},
-                                    {0.5, 0, 1}, {0.5, 0, -1}});
+  const Positions p =
+      to_positions({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1}, {0.5, 0, -1}});
   const std::vector<Triangle> f = {{0, 1, 2}, {0, 1, 4}, {0, 1, 3}, {0, 1, 5}};
   TuftedCoverReport rep;
   const IntrinsicTriangulation tri = tufted_cover(f, p, &rep);
@@ -233,10 +235,16 @@ TEST(TuftedCover, BoundaryMeshBeforeFlipsMatchesManifold) {
 TEST(TuftedCover, DegenerateInputs) {
   // duplicate faces, a face repeating a vertex, a zero-area face, coincident vertices 5 = 1,
   // an unreferenced vertex 6, inconsistent orientation, a nonmanifold edge
-  const Positions p = to_positions({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.2}, {2, 0, 0},
-                                    {1, 0, 0}, {9, 9, 9}, {0.3, -1, 0.4}});
-  const std::vector<Triangle> f = {{0, 1, 2}, {0, 1, 2}, {2, 1, 0}, {1, 3, 2}, {2, 2, 3},
-                                   {0, 1, 4},  // zero area: 0, 1, 4 collinear
+  const Positions p = to_positions({{0, 0, 0},
+                                    {1, 0, 0},
+                                    {0, 1, 0},
+                                    {1, 1, 0.2},
+                                    {2, 0, 0},
+                                    {1, 0, 0},
+                                    {9, 9, 9},
+                                    {0.3, -1, 0.4}});
+  const std::vector<Triangle> f = {{0, 1, 2}, {0, 1, 2}, {2, 1, 0},
+                                   {1, 3, 2}, {2, 2, 3}, {0, 1, 4},  // zero area: 0, 1, 4 collinear
                                    {5, 3, 1},  // 5 coincides with 1: a zero-length side
                                    {1, 0, 7}};
   TuftedCoverReport rep;
@@ -276,7 +284,8 @@ TEST(TuftedCover, FromSideLengths) {
   Eigen::MatrixX3d side(m.faces.size(), 3);
   for (std::size_t f = 0; f < m.faces.size(); ++f) {
     for (int s = 0; s < 3; ++s) {
-      side(f, s) = (m.positions.row(m.faces[f][s]) - m.positions.row(m.faces[f][(s + 1) % 3])).norm();
+      side(f, s) =
+          (m.positions.row(m.faces[f][s]) - m.positions.row(m.faces[f][(s + 1) % 3])).norm();
     }
   }
   std::vector<Triangle> faces = m.faces;
@@ -335,12 +344,11 @@ TEST(TuftedCoverData, EveryMeshGivesAGoodLaplacian) {
 
 TEST(TuftedCoverData, NonmanifoldMeshesAreFaceOrderInvariant) {
   IFEM_REQUIRE_SHARED_DATA();
-  for (const char* name : {"fan3.obj", "triple_vierbein.obj", "beetle_sutherland.obj", "truck.obj",
-                           "conrod.off", "thingi10k_138207.obj", "thingi10k_49220.obj",
-                           "thingi10k_73342.obj", "thingi10k_90225.obj", "moebius.obj",
-                           "cgal_all_degen.off", "cgal_degtri_nullface_bis.off",
-                           "cgal_fused_vertices.off", "cgal_non_manifold_face_graph.off",
-                           "hourglass_ico.obj"}) {
+  for (const char* name :
+       {"fan3.obj", "triple_vierbein.obj", "beetle_sutherland.obj", "truck.obj", "conrod.off",
+        "thingi10k_138207.obj", "thingi10k_49220.obj", "thingi10k_73342.obj", "thingi10k_90225.obj",
+        "moebius.obj", "cgal_all_degen.off", "cgal_degtri_nullface_bis.off",
+        "cgal_fused_vertices.off", "cgal_non_manifold_face_graph.off", "hourglass_ico.obj"}) {
     SCOPED_TRACE(name);
     const auto file = test::shared_data() / "meshes" / name;
     const io::SurfaceInput in = io::read_surface(file.string());

@@ -1,13 +1,13 @@
 #include "pointcloud/local_delaunay.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
 
-#include <gtest/gtest.h>
-
-#include "intrinsic/errors.h"
+#include "intrinsic/core/errors.h"
 #include "pointcloud/knn.h"
 
 namespace ifem::pointcloud {
@@ -41,7 +41,8 @@ std::set<std::array<int, 2>> brute_star(const std::vector<Eigen::Vector2d>& q) {
 
 TEST(LocalDelaunay, HexagonIsAClosedFan) {
   std::vector<Eigen::Vector2d> q;
-  for (int i = 0; i < 6; ++i) q.emplace_back(std::cos(i * M_PI / 3 + 0.1), std::sin(i * M_PI / 3 + 0.1));
+  for (int i = 0; i < 6; ++i)
+    q.emplace_back(std::cos(i * M_PI / 3 + 0.1), std::sin(i * M_PI / 3 + 0.1));
   q.emplace_back(5, 5);  // far away: not a Delaunay neighbour
   Pairs out;
   EXPECT_EQ(delaunay_star(q, out), 6);
@@ -70,7 +71,8 @@ TEST(LocalDelaunay, SortedNeighbourhoodsMatchBruteForce) {
     }
     std::sort(q.begin(), q.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
       return a.squaredNorm() != b.squaredNorm() ? a.squaredNorm() < b.squaredNorm()
-                                                 : a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
+             : a.x() != b.x()                   ? a.x() < b.x()
+                                                : a.y() < b.y();
     });
     // no exact duplicates (they keep the smallest index, which the reversal below changes)
     q.erase(std::unique(q.begin(), q.end()), q.end());
@@ -112,9 +114,9 @@ TEST(LocalDelaunay, DegenerateNeighbourhoods) {
   Pairs out;
   EXPECT_EQ(delaunay_star({}, out), 0);
   EXPECT_EQ(delaunay_star({{1, 0}}, out), 0);
-  EXPECT_EQ(delaunay_star({{0, 0}, {0, 0}, {0, 0}}, out), 0);  // all at the centre
+  EXPECT_EQ(delaunay_star({{0, 0}, {0, 0}, {0, 0}}, out), 0);            // all at the centre
   EXPECT_EQ(delaunay_star({{1, 0}, {2, 0}, {-1, 0}, {-3, 0}}, out), 0);  // collinear
-  EXPECT_EQ(delaunay_star({{1, 1}, {1, 1}, {1, 1}}, out), 0);  // one distinct neighbour
+  EXPECT_EQ(delaunay_star({{1, 1}, {1, 1}, {1, 1}}, out), 0);            // one distinct neighbour
   EXPECT_TRUE(out.empty());
   // duplicates count once (smallest index), the centre's duplicates are ignored
   EXPECT_EQ(delaunay_star({{1, 0}, {0, 1}, {1, 0}, {0, 0}, {-1, -1}, {0, 1}}, out), 3);

@@ -2,20 +2,19 @@
 // exactly what the Positions path gives on the same (float-rounded) coordinates.
 #include "pointcloud/pcl_adapter.h"
 
+#include <gtest/gtest.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <string>
 
-#include <unistd.h>
-
-#include <gtest/gtest.h>
-#include <pcl/io/pcd_io.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-
 #include "fem/operators.h"
-#include "intrinsic/errors.h"
+#include "intrinsic/core/errors.h"
 
 namespace ifem::pointcloud {
 namespace {

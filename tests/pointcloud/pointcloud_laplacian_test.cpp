@@ -1,16 +1,16 @@
 #include "pointcloud/pointcloud_laplacian.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <random>
 
-#include <Eigen/Eigenvalues>
-#include <gtest/gtest.h>
-
 #include "fem/operators.h"
 #include "helpers.h"
-#include "intrinsic/mesh_io.h"
+#include "intrinsic/io/mesh_io.h"
 
 namespace ifem::pointcloud {
 namespace {

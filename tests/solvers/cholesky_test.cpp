@@ -1,10 +1,11 @@
+#include "solvers/cholesky.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 
 #include "fem/operators.h"
-#include "intrinsic/errors.h"
-#include "solvers/cholesky.h"
+#include "intrinsic/core/errors.h"
 #include "test_util.h"
 
 namespace ifem::solvers {

@@ -1,10 +1,11 @@
+#include "solvers/eigen.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "fem/operators.h"
-#include "intrinsic/errors.h"
-#include "solvers/eigen.h"
+#include "intrinsic/core/errors.h"
 #include "test_util.h"
 
 namespace ifem::solvers {
@@ -28,7 +29,8 @@ TEST(SolversEigen, UnitSphereSpectrumWithMultiplicities) {
   const fem::SparseMatrix L = fem::cotan_laplacian(tri);
   const Eigen::VectorXd m = fem::lumped_mass(tri);
   for (int j = 0; j < 16; ++j) {
-    const Eigen::VectorXd r = L * ep.vectors.col(j) - ep.values[j] * m.cwiseProduct(ep.vectors.col(j));
+    const Eigen::VectorXd r =
+        L * ep.vectors.col(j) - ep.values[j] * m.cwiseProduct(ep.vectors.col(j));
     EXPECT_LT(r.norm(), 1e-7 * std::max(1.0, ep.values[j]) * (L * ep.vectors.col(j)).norm() + 1e-9);
   }
   const Eigen::MatrixXd G = ep.vectors.transpose() * m.asDiagonal() * ep.vectors;

@@ -1,11 +1,12 @@
+#include "solvers/heat_distance.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
 #include "fem/gradient.h"
-#include "intrinsic/errors.h"
-#include "solvers/heat_distance.h"
+#include "intrinsic/core/errors.h"
 #include "test_util.h"
 
 namespace ifem::solvers {
@@ -37,7 +38,8 @@ ErrorStats compare(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) {
 
 Eigen::VectorXd euclidean(const intrinsic::TriangleMesh& m, Index src) {
   Eigen::VectorXd d(m.positions.rows());
-  for (Eigen::Index v = 0; v < d.size(); ++v) d[v] = (m.positions.row(v) - m.positions.row(src)).norm();
+  for (Eigen::Index v = 0; v < d.size(); ++v)
+    d[v] = (m.positions.row(v) - m.positions.row(src)).norm();
   return d;
 }
 
@@ -112,7 +114,8 @@ TEST(SolversHeatDistance, SurroundedSourceIsNotBiased) {
   std::vector<Index> src = {centre};
   for (int k = 0; k < 16; ++k) {
     const double a = 2 * 3.14159265 * k / 16;
-    const int i = int(std::lround(20 + 12 * std::cos(a))), j = int(std::lround(20 + 12 * std::sin(a)));
+    const int i = int(std::lround(20 + 12 * std::cos(a))),
+              j = int(std::lround(20 + 12 * std::sin(a)));
     src.push_back(j * 41 + i);
   }
   const Eigen::VectorXd d = heat_distance(tri, src);
@@ -174,9 +177,10 @@ TEST(SolversHeatDistance, LongStripUnderflowIsResolved) {
   HeatDistanceReport rep;
   const Eigen::VectorXd d = HeatDistanceSolver(tri).compute_distance({0}, &rep);
   const ErrorStats s = compare(d, exact);
-  std::printf("strip: single stage mean_rel %.3g max_rel %.3g; %d stages: mean_rel %.3g "
-              "max_rel %.3g linf/max %.3g\n",
-              s1.mean_rel, s1.max_rel, rep.stages, s.mean_rel, s.max_rel, s.linf_over_max);
+  std::printf(
+      "strip: single stage mean_rel %.3g max_rel %.3g; %d stages: mean_rel %.3g "
+      "max_rel %.3g linf/max %.3g\n",
+      s1.mean_rel, s1.max_rel, rep.stages, s.mean_rel, s.max_rel, s.linf_over_max);
   EXPECT_GT(s1.mean_rel, 0.3);  // single stage is garbage far away
   EXPECT_GT(rep.stages, 2);
   EXPECT_TRUE(d.allFinite());

@@ -1,12 +1,13 @@
+#include "solvers/poisson.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "fem/gradient.h"
 #include "fem/operators.h"
-#include "intrinsic/errors.h"
-#include "intrinsic/geometry.h"
-#include "solvers/poisson.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
 #include "test_util.h"
 
 namespace ifem::solvers {
@@ -28,7 +29,8 @@ TEST(SolversGradient, LinearFunctionHasConstantGradient) {
   m.positions.col(2).setZero();  // keep it flat
   const auto tri = test::make_tri(m, false);
   Eigen::VectorXd u(tri.n_vertices());
-  for (Index v = 0; v < tri.n_vertices(); ++v) u[v] = 3.0 * m.positions(v, 0) - 2.0 * m.positions(v, 1);
+  for (Index v = 0; v < tri.n_vertices(); ++v)
+    u[v] = 3.0 * m.positions(v, 0) - 2.0 * m.positions(v, 1);
   const Eigen::MatrixX2d G = fem::gradient(tri, u);
   for (Index f = 0; f < tri.n_faces(); ++f) EXPECT_NEAR(G.row(f).norm(), std::sqrt(13.0), 1e-9);
   EXPECT_THROW(fem::gradient(tri, Eigen::VectorXd::Zero(3)), InvalidInput);
@@ -51,8 +53,8 @@ double square_error(int n) {
       bval.push_back(exact[v]);
     }
   }
-  const Eigen::VectorXd u =
-      solve_poisson(tri, f, bv, Eigen::Map<Eigen::VectorXd>(bval.data(), Eigen::Index(bval.size())));
+  const Eigen::VectorXd u = solve_poisson(
+      tri, f, bv, Eigen::Map<Eigen::VectorXd>(bval.data(), Eigen::Index(bval.size())));
   return (u - exact).cwiseAbs().maxCoeff();
 }
 
@@ -74,7 +76,8 @@ TEST(SolversPoisson, ClosedSurfaceZeroMeanAndCompatibleRhs) {
   for (Index v = 0; v < tri.n_vertices(); ++v) f[v] = sphere.positions(v, 2) + 1.0;
   const Eigen::VectorXd u = solve_poisson(tri, f, {}, Eigen::VectorXd());
   EXPECT_NEAR(m.dot(u), 0.0, 1e-10);
-  for (Index v = 0; v < tri.n_vertices(); ++v) EXPECT_NEAR(u[v], sphere.positions(v, 2) / 2.0, 5e-3);
+  for (Index v = 0; v < tri.n_vertices(); ++v)
+    EXPECT_NEAR(u[v], sphere.positions(v, 2) / 2.0, 5e-3);
   // screened: (L + cM) u = M f has the unique solution z/(2 + c) + 1/c
   PoissonOptions opt;
   opt.screening = 3.0;

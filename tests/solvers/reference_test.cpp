@@ -2,6 +2,7 @@
 // with CGAL's heat method as the baseline to match or beat.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,12 +11,10 @@
 #include <regex>
 #include <set>
 
-#include <Eigen/Geometry>
-
-#include "intrinsic/errors.h"
-#include "intrinsic/mesh_analysis.h"
-#include "intrinsic/mesh_io.h"
-#include "intrinsic/surface_triangulation.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/io/mesh_io.h"
+#include "intrinsic/surface/build_surface.h"
+#include "intrinsic/surface/face_analysis.h"
 #include "solvers/heat_distance.h"
 #include "test_util.h"
 
@@ -35,12 +34,18 @@ TEST(SolversReference, HeatDistanceVsExact) {
   const std::set<std::string> repaired_reference = {"conrod"};
   // (mesh.src → bound) where the default (h = input mean edge length, averaged boundary
   // conditions) is still above CGAL's mean relative error; measured values + ~2% slack
-  const std::map<std::string, double> known_above = {
-      {"3holes.0", 0.0259},     {"3holes.3254", 0.0181},  {"armadillo.0", 0.0157},
-      {"armadillo.8403", 0.0089}, {"bunny_npm_lowres.0", 0.0289},
-      {"bunny_npm_lowres.1151", 0.0241}, {"fertility.0", 0.0272}, {"fertility.4322", 0.0202},
-      {"stanford_bunny_scan.11899", 0.0072}, {"stanford_bunny_scan.0", 0.0094},
-      {"fandisk.1274", 0.0085}, {"spot.657", 0.0131}};
+  const std::map<std::string, double> known_above = {{"3holes.0", 0.0259},
+                                                     {"3holes.3254", 0.0181},
+                                                     {"armadillo.0", 0.0157},
+                                                     {"armadillo.8403", 0.0089},
+                                                     {"bunny_npm_lowres.0", 0.0289},
+                                                     {"bunny_npm_lowres.1151", 0.0241},
+                                                     {"fertility.0", 0.0272},
+                                                     {"fertility.4322", 0.0202},
+                                                     {"stanford_bunny_scan.11899", 0.0072},
+                                                     {"stanford_bunny_scan.0", 0.0094},
+                                                     {"fandisk.1274", 0.0085},
+                                                     {"spot.657", 0.0131}};
   const bool run_large = std::getenv("IFEM_TEST_LARGE") != nullptr;
   std::printf("%-22s %6s %8s | %9s %9s | %9s %9s | %9s | %s\n", "mesh", "src", "V", "mean_rel",
               "max_rel", "cgal_mean", "cgal_max", "h=IDT", "note");
@@ -67,8 +72,8 @@ TEST(SolversReference, HeatDistanceVsExact) {
     }
     const io::SurfaceInput in = io::read_mesh(mesh.string());
     const Eigen::VectorXd exact = io::read_values(p.string());
-    const Eigen::VectorXd cgal =
-        io::read_values((p.parent_path() / (stem + ".src" + mt[2].str() + ".cgal-heat.txt")).string());
+    const Eigen::VectorXd cgal = io::read_values(
+        (p.parent_path() / (stem + ".src" + mt[2].str() + ".cgal-heat.txt")).string());
     ASSERT_EQ(exact.size(), in.positions.rows());
     const intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
     const intrinsic::IntrinsicTriangulation& tri = s.tri;
@@ -114,8 +119,8 @@ TEST(SolversReference, HeatDistanceVsExact) {
 TEST(SolversReference, DISABLED_StepLengthSweep) {
   IFEM_REQUIRE_SHARED_DATA();
   const std::regex name(R"((.+)\.src(\d+)\.exact\.txt)");
-  std::printf("%-20s %6s | %7s | %7s %7s %7s %7s %7s %7s %7s | h_in h_idt h_area h_med\n", "mesh", "src", "cgal",
-              "input", "idt", "area", "median", "max", "sqrtio", "in*1.1");
+  std::printf("%-20s %6s | %7s | %7s %7s %7s %7s %7s %7s %7s | h_in h_idt h_area h_med\n", "mesh",
+              "src", "cgal", "input", "idt", "area", "median", "max", "sqrtio", "in*1.1");
   for (const fs::path& p : test::shared_files("reference")) {
     std::smatch mt;
     const std::string fname = p.filename().string();
@@ -124,18 +129,23 @@ TEST(SolversReference, DISABLED_StepLengthSweep) {
     const Index src = Index(std::stol(mt[2]));
     if (stem == "igea_268k" && !std::getenv("IFEM_TEST_LARGE")) continue;
     fs::path mesh;
-    for (const auto& m : test::shared_files("meshes")) if (m.stem().string() == stem) mesh = m;
+    for (const auto& m : test::shared_files("meshes"))
+      if (m.stem().string() == stem) mesh = m;
     const io::SurfaceInput in = io::read_mesh(mesh.string());
     const Eigen::VectorXd exact = io::read_values(p.string());
-    const Eigen::VectorXd cgal = io::read_values((p.parent_path() / (stem + ".src" + mt[2].str() + ".cgal-heat.txt")).string());
+    const Eigen::VectorXd cgal = io::read_values(
+        (p.parent_path() / (stem + ".src" + mt[2].str() + ".cgal-heat.txt")).string());
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
     const double h_in = intrinsic::mean_side_length(in.triangles, in.positions);
     const double h_idt = mean_edge_length(s.tri);
-    double area = 0; std::vector<double> el;
+    double area = 0;
+    std::vector<double> el;
     for (const auto& t : in.triangles) {
-      Eigen::Vector3d a = in.positions.row(t[0]), b = in.positions.row(t[1]), c = in.positions.row(t[2]);
+      Eigen::Vector3d a = in.positions.row(t[0]), b = in.positions.row(t[1]),
+                      c = in.positions.row(t[2]);
       area += 0.5 * (b - a).cross(c - a).norm();
-      for (int i = 0; i < 3; ++i) el.push_back((in.positions.row(t[i]) - in.positions.row(t[(i + 1) % 3])).norm());
+      for (int i = 0; i < 3; ++i)
+        el.push_back((in.positions.row(t[i]) - in.positions.row(t[(i + 1) % 3])).norm());
     }
     std::nth_element(el.begin(), el.begin() + el.size() / 2, el.end());
     const double h_med = el[el.size() / 2];
@@ -147,9 +157,11 @@ TEST(SolversReference, DISABLED_StepLengthSweep) {
       opt.boundary_vertices = s.boundary_vertex;
       return relative_error(HeatDistanceSolver(s.tri, opt).compute_distance({src}), exact).mean;
     };
-    std::printf("%-20s %6d | %7.4f | %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f | %.4g %.4g %.4g %.4g %s\n", stem.c_str(), src,
-                relative_error(cgal, exact).mean, run(h_in), run(h_idt), run(h_area), run(h_med),
-                run(std::max(h_in, h_idt)), run(std::sqrt(h_in * h_idt)), run(1.1 * h_in), h_in, h_idt, h_area, h_med, s.path_name());
+    std::printf(
+        "%-20s %6d | %7.4f | %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f %7.4f | %.4g %.4g %.4g %.4g %s\n",
+        stem.c_str(), src, relative_error(cgal, exact).mean, run(h_in), run(h_idt), run(h_area),
+        run(h_med), run(std::max(h_in, h_idt)), run(std::sqrt(h_in * h_idt)), run(1.1 * h_in), h_in,
+        h_idt, h_area, h_med, s.path_name());
     std::fflush(stdout);
   }
 }
@@ -158,17 +170,24 @@ TEST(SolversReference, DISABLED_StepLengthSweep) {
 // tufted vs manifold path. Not run by default.
 TEST(SolversReference, DISABLED_BoundarySweep) {
   IFEM_REQUIRE_SHARED_DATA();
-  for (auto [stem, src] : std::vector<std::pair<std::string, Index>>{{"stanford_bunny_scan", 11899}, {"stanford_bunny_scan", 0}, {"camelhead", 0}, {"camelhead", 9741}}) {
+  for (auto [stem, src] : std::vector<std::pair<std::string, Index>>{{"stanford_bunny_scan", 11899},
+                                                                     {"stanford_bunny_scan", 0},
+                                                                     {"camelhead", 0},
+                                                                     {"camelhead", 9741}}) {
     fs::path mesh;
-    for (const auto& m : test::shared_files("meshes")) if (m.stem().string() == stem) mesh = m;
+    for (const auto& m : test::shared_files("meshes"))
+      if (m.stem().string() == stem) mesh = m;
     const io::SurfaceInput in = io::read_mesh(mesh.string());
     fs::path ref = mesh.parent_path().parent_path() / "reference";
-    const Eigen::VectorXd exact = io::read_values((ref / (stem + ".src" + std::to_string(src) + ".exact.txt")).string());
+    const Eigen::VectorXd exact =
+        io::read_values((ref / (stem + ".src" + std::to_string(src) + ".exact.txt")).string());
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
     auto tri = intrinsic::IntrinsicTriangulation::from_positions(in.triangles, in.positions);
-    tri.mollify(1e-5); tri.flip_to_delaunay();
+    tri.mollify(1e-5);
+    tri.flip_to_delaunay();
     const double h_in = intrinsic::mean_side_length(in.triangles, in.positions);
-    auto run = [&](const intrinsic::IntrinsicTriangulation& t, bool bnd, HeatDistanceOptions::Boundary b) {
+    auto run = [&](const intrinsic::IntrinsicTriangulation& t, bool bnd,
+                   HeatDistanceOptions::Boundary b) {
       HeatDistanceOptions opt;
       opt.mean_edge_length = h_in;
       opt.intrinsic_delaunay = false;
@@ -177,8 +196,12 @@ TEST(SolversReference, DISABLED_BoundarySweep) {
       return relative_error(HeatDistanceSolver(t, opt).compute_distance({src}), exact).mean;
     };
     using B = HeatDistanceOptions::Boundary;
-    std::printf("%s %d path %s: tufted avg %.4f neu %.4f | tufted-nobnd %.4f | manifold avg %.4f neu %.4f negw %d\n", stem.c_str(), src, s.path_name(),
-      run(s.tri, true, B::kAverage), run(s.tri, true, B::kNeumann), run(s.tri, false, B::kAverage), run(tri, false, B::kAverage), run(tri, false, B::kNeumann), intrinsic::negative_boundary_weights(tri));
+    std::printf(
+        "%s %d path %s: tufted avg %.4f neu %.4f | tufted-nobnd %.4f | manifold avg %.4f neu %.4f "
+        "negw %d\n",
+        stem.c_str(), src, s.path_name(), run(s.tri, true, B::kAverage),
+        run(s.tri, true, B::kNeumann), run(s.tri, false, B::kAverage), run(tri, false, B::kAverage),
+        run(tri, false, B::kNeumann), intrinsic::negative_boundary_weights(tri));
   }
 }
 

@@ -17,12 +17,12 @@
 #include <iterator>
 #include <string>
 
-#include "intrinsic/geometry.h"
-#include "intrinsic/mesh_analysis.h"
-#include "intrinsic/mesh_io.h"
-#include "intrinsic/refine.h"
-#include "intrinsic/signpost.h"
-#include "intrinsic/surface_triangulation.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/delaunay_refine.h"
+#include "intrinsic/refine/signpost.h"
+#include "intrinsic/surface/build_surface.h"
+#include "intrinsic/surface/face_analysis.h"
 #include "solvers/heat_distance.h"
 #include "test_util.h"
 
@@ -36,10 +36,10 @@ double mean_rel(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) {
 }
 
 struct Case {
-  const char* mesh;    // file name in ../shared/data/meshes
+  const char* mesh;  // file name in ../shared/data/meshes
   Index src;
-  double max_angle;    // bound on the angle-only refined error: measured + ~20%
-  double max_accurate; // bound on the accurate mode's error: measured + ~10%, ≤ CGAL / 2
+  double max_angle;     // bound on the angle-only refined error: measured + ~20%
+  double max_accurate;  // bound on the accurate mode's error: measured + ~10%, ≤ CGAL / 2
 };
 
 // Sliver meshes (rocketship, block, fandisk; conrod is nonmanifold: the tufted test below)
@@ -54,10 +54,14 @@ struct Case {
 //   bunny_lowres    0   0.0283     0.0281     0.0077     0.0282      1839 →  1844 →  16405
 //   spot            0   0.0169     0.0169     0.0042     0.0169      2930 →  3153 →  27753
 const Case kCases[] = {
-    {"rocketship.ply", 0, 0.02, 0.015},   {"rocketship.ply", 15579, 0.042, 0.011},
-    {"block.off", 0, 0.032, 0.011},       {"block.off", 2049, 0.036, 0.012},
-    {"fandisk.off", 0, 0.0105, 0.0036},   {"fandisk.off", 1274, 0.01, 0.0036},
-    {"bunny_npm_lowres.obj", 0, 0.034, 0.009}, {"spot.obj", 0, 0.02, 0.0049},
+    {"rocketship.ply", 0, 0.02, 0.015},
+    {"rocketship.ply", 15579, 0.042, 0.011},
+    {"block.off", 0, 0.032, 0.011},
+    {"block.off", 2049, 0.036, 0.012},
+    {"fandisk.off", 0, 0.0105, 0.0036},
+    {"fandisk.off", 1274, 0.01, 0.0036},
+    {"bunny_npm_lowres.obj", 0, 0.034, 0.009},
+    {"spot.obj", 0, 0.02, 0.0049},
 };
 
 // `ifem distance --refine`'s refinement for settings a (resolution c) and input mean edge h.
@@ -99,8 +103,7 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
     // accurate: `--refine`
     const Accurate acc;
     intrinsic::SignpostTriangulation sa(in.triangles, in.positions, 1e-5);
-    const intrinsic::RefineReport rep_acc =
-        intrinsic::delaunay_refine(sa, accurate_refine(acc, h));
+    const intrinsic::RefineReport rep_acc = intrinsic::delaunay_refine(sa, accurate_refine(acc, h));
     EXPECT_FALSE(rep_acc.hit_insertion_cap) << stem;
     HeatDistanceOptions opt;
     opt.intrinsic_delaunay = false;  // both are Delaunay already
@@ -120,9 +123,9 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
       d2.conservativeResize(exact.size());
       const double e0 = mean_rel(d0, exact), e1 = mean_rel(d1, exact), e2 = mean_rel(d2, exact),
                    ec = mean_rel(cgal, exact);
-      std::printf("%-18s %6d %7ld %7d %7d | %9.4f %9.4f %9.4f %9.4f | %.2f\n", stem.c_str(),
-                  c.src, long(exact.size()), refined.n_vertices(), sa.intrinsic().n_vertices(),
-                  e0, e1, e2, ec, e2 / ec);
+      std::printf("%-18s %6d %7ld %7d %7d | %9.4f %9.4f %9.4f %9.4f | %.2f\n", stem.c_str(), c.src,
+                  long(exact.size()), refined.n_vertices(), sa.intrinsic().n_vertices(), e0, e1, e2,
+                  ec, e2 / ec);
       EXPECT_LE(e1, c.max_angle) << tag;
       EXPECT_LE(e2, c.max_accurate) << tag;
       EXPECT_LE(e2, 0.5 * ec) << tag << ": the accurate mode must halve CGAL's error";
@@ -168,8 +171,7 @@ TEST(RefineAccuracy, TuftedCoverConrodRefinedVsExact) {
   const double area = intrinsic::total_area(s.tri);
   intrinsic::IntrinsicTriangulation refined = s.tri;
   const Accurate acc;
-  const intrinsic::RefineReport rep =
-      intrinsic::delaunay_refine(refined, accurate_refine(acc, h));
+  const intrinsic::RefineReport rep = intrinsic::delaunay_refine(refined, accurate_refine(acc, h));
   EXPECT_FALSE(rep.hit_insertion_cap);
   EXPECT_EQ(refined.multiplicity(), 2);
   EXPECT_NEAR(intrinsic::total_area(refined), area, 1e-9 * area);

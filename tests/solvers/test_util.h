@@ -1,14 +1,13 @@
 // Helpers for the solvers tests.
 #pragma once
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Core>
-
-#include "intrinsic/mesh_generators.h"
-#include "intrinsic/triangulation.h"
 #include "helpers.h"
+#include "intrinsic/core/triangulation.h"
+#include "intrinsic/generators/mesh_generators.h"
 
 namespace ifem::test {
 

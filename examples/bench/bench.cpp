@@ -1,0 +1,48 @@
+// `ifem_bench`: the benchmark program behind BENCHMARKS.md. Each section is a function in its
+// bench_<name>.cpp, listed below. Figures are medians over --repeat runs (default 5).
+//
+//   ifem_bench SECTION [--repeat N] [section options]
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+namespace ifem::bench {
+// Each returns a process exit code; argv[0] is the section name.
+int foundation(int argc, char** argv);
+int solvers(int argc, char** argv);
+int pointcloud(int argc, char** argv);
+int refine(int argc, char** argv);
+}  // namespace ifem::bench
+
+namespace {
+
+struct Section {
+  const char* name;
+  const char* summary;
+  int (*run)(int, char**);
+};
+
+const Section kSections[] = {
+    {"foundation", "load, build, mollify, flip to IDT, assemble L + M on 10k..1M+ faces",
+     ifem::bench::foundation},
+    {"pointcloud",
+     "tufted-cover Laplacian on nonmanifold/big meshes; point clouds 10k..1M, per stage",
+     ifem::bench::pointcloud},
+    {"refine", "intrinsic Delaunay refinement: rocketship, needle uv sphere, igea",
+     ifem::bench::refine},
+    {"solvers", "heat distance precompute + query 10k..1M faces; k = 10, 50 eigenpairs",
+     ifem::bench::solvers},
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc >= 2) {
+    for (const Section& s : kSections) {
+      if (std::strcmp(argv[1], s.name) == 0) return s.run(argc - 1, argv + 1);
+    }
+  }
+  std::printf("usage: ifem_bench SECTION [options]\n\nsections:\n");
+  for (const Section& s : kSections) std::printf("  %-12s %s\n", s.name, s.summary);
+  return argc >= 2 && std::strcmp(argv[1], "--help") == 0 ? 0 : 2;
+}

@@ -1,0 +1,164 @@
+// `ifem info`: what a mesh is made of, and what ifem will do with it.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "cli.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
+
+namespace ifem::cli {
+namespace {
+
+struct AngleStats {
+  double min_deg = 0, max_deg = 0;
+  Index non_delaunay_edges = 0;
+};
+
+AngleStats angle_stats(const intrinsic::IntrinsicTriangulation& tri) {
+  AngleStats a;
+  double lo = 1e300, hi = 0;
+  for (Index h = 0; h < tri.n_halfedges(); ++h) {
+    const double t = intrinsic::corner_angle(tri, h);
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+  }
+  for (Index e = 0; e < tri.n_edges(); ++e) a.non_delaunay_edges += !tri.is_delaunay(e);
+  const double deg = 180.0 / intrinsic::kPi;
+  a.min_deg = tri.n_halfedges() ? lo * deg : 0;
+  a.max_deg = hi * deg;
+  return a;
+}
+
+// `ifem info` on a point cloud: counts and what the local triangulations produced.
+int print_pointcloud(const std::string& file, const PreparedSurface& s, bool json) {
+  const pointcloud::Report& c = s.cloud;
+  const double area = intrinsic::total_area(s.tri);
+  if (json) {
+    std::printf(
+        "{\"file\": \"%s\", \"format\": \"%s\", \"points\": %d, \"k\": %d, "
+        "\"local_triangles\": %d, \"isolated_points\": %d, \"first_isolated_point\": %d, "
+        "\"starless_points\": %d, \"coincident_points\": %d, \"normals_from_file\": %d, "
+        "\"cover_faces\": %d, \"cover_edges\": %d, \"nonmanifold_edges\": %d, "
+        "\"area\": %.9g, \"mollify_delta\": %.6g, \"flips_to_idt\": %zu, "
+        "\"seconds_knn\": %.4g, \"seconds_local\": %.4g, \"seconds_cover\": %.4g, "
+        "\"seconds_idt\": %.4g, \"path\": \"%s\", \"path_reason\": \"%s\"}\n",
+        file.c_str(), s.input.format.c_str(), c.points, c.k, c.local_triangles, c.isolated_points,
+        c.first_isolated_point, c.starless_points, c.coincident_points, c.normals_from_input,
+        s.tri.n_faces(), s.tri.n_edges(), c.cover.nonmanifold_edges, area, c.mollify.delta,
+        c.flips.flips, c.seconds_knn, c.seconds_local, c.seconds_cover, c.seconds_idt,
+        s.path.c_str(), s.path_reason.c_str());
+    return 0;
+  }
+  std::printf("%s (%s)\n", file.c_str(), s.input.format.c_str());
+  std::printf("  points %d, k = %d neighbours, normals from the file on %d points\n", c.points, c.k,
+              c.normals_from_input);
+  std::printf(
+      "  local Delaunay triangles %d (over all stars), points without a star of their "
+      "own %d\n",
+      c.local_triangles, c.starless_points);
+  std::printf("  isolated points %d", c.isolated_points);
+  if (c.isolated_points)
+    std::printf(" (first %d; zero row in L, zero mass)", c.first_isolated_point);
+  std::printf(", points with an exact duplicate %d\n", c.coincident_points);
+  std::printf(
+      "  tufted cover: %d faces, %d edges (multiplicity %d), %d nonmanifold input edges, "
+      "area %.6g\n",
+      s.tri.n_faces(), s.tri.n_edges(), s.tri.multiplicity(), c.cover.nonmanifold_edges, area);
+  std::printf("  mollification δ = %.3g (margin ε = %.3g, %d faces below it)\n", c.mollify.delta,
+              c.mollify.epsilon, c.mollify.faces_below_margin);
+  std::printf("  intrinsic Delaunay: %zu flips\n", c.flips.flips);
+  std::printf("  time: kNN %.3g s, local Delaunay %.3g s, tufted cover %.3g s, flips %.3g s\n",
+              c.seconds_knn, c.seconds_local, c.seconds_cover, c.seconds_idt);
+  std::printf("  path: %s (%s)\n", s.path.c_str(), s.path_reason.c_str());
+  return 0;
+}
+
+int run(const Args& args) {
+  if (args.positional().size() != 1) throw InvalidInput("expected one input file (see --help)");
+  const std::string file = args.positional()[0];
+  // Always flip here: info reports the flip count; --no-delaunay only skips it.
+  PreparedSurface s = prepare_surface(file, args);
+  if (s.path == "pointcloud") return print_pointcloud(file, s, args.has("json"));
+  const auto& st = s.stats;
+  const auto& tri = s.tri;
+  // angles and Delaunay share are measured on the input triangulation (before flips); the
+  // tufted cover has the input's faces (twice), so its angles are the input's
+  auto input = s.path == "manifold" ? intrinsic::IntrinsicTriangulation::from_positions(
+                                          s.input.triangles, s.input.positions)
+                                    : intrinsic::tufted_cover(s.input.triangles, s.input.positions);
+  const AngleStats a = angle_stats(input);  // as given: before mollification and flips
+  // of the input face list (the cover's own χ is that of the doubled surface)
+  const long chi = static_cast<long>(st.vertices - st.unreferenced_vertices) - st.edges +
+                   (st.faces - st.degenerate_faces);
+  // genus only where it is defined: an orientable surface without pinched vertices or edges
+  const bool orientable = st.nonmanifold_edges == 0 && st.nonmanifold_vertices == 0 &&
+                          s.path_reason.find("non-orientable") == std::string::npos;
+  const long genus2 = 2L * st.components - chi - st.boundary_loops;  // 2g, orientable surfaces
+  const double share = tri.n_edges() ? double(a.non_delaunay_edges) / input.n_edges() : 0.0;
+  if (args.has("json")) {
+    std::printf(
+        "{\"file\": \"%s\", \"format\": \"%s\", \"vertices\": %d, \"edges\": %d, \"faces\": %d, "
+        "\"polygons\": %d, \"unreferenced_vertices\": %d, \"boundary_edges\": %d, "
+        "\"boundary_loops\": %d, \"components\": %d, \"euler_characteristic\": %ld, "
+        "\"genus\": %s, \"nonmanifold_edges\": %d, \"nonmanifold_vertices\": %d, "
+        "\"dropped_degenerate_faces\": %d, \"duplicate_faces\": %d, \"reoriented_faces\": %d, "
+        "\"min_angle_deg\": %.6g, \"max_angle_deg\": %.6g, \"non_delaunay_share\": %.6g, "
+        "\"flips_to_idt\": %zu, \"mollify_delta\": %.6g, \"path\": \"%s\", \"path_reason\": "
+        "\"%s\"}\n",
+        file.c_str(), s.input.format.c_str(), tri.n_vertices(), st.edges,
+        tri.n_faces() / tri.multiplicity(), s.input.n_polygons, st.unreferenced_vertices,
+        st.boundary_edges, st.boundary_loops, st.components, chi,
+        (orientable && genus2 >= 0 && genus2 % 2 == 0) ? std::to_string(genus2 / 2).c_str()
+                                                       : "null",
+        st.nonmanifold_edges, st.nonmanifold_vertices, s.build.dropped_faces, st.duplicate_faces,
+        s.build.reoriented_faces, a.min_deg, a.max_deg, share, s.flips.flips, s.mollify.delta,
+        s.path.c_str(), s.path_reason.c_str());
+    return 0;
+  }
+  std::printf("%s (%s)\n", file.c_str(), s.input.format.c_str());
+  std::printf("  vertices %d (unreferenced %d), edges %d, faces %d (from %d polygons)\n",
+              tri.n_vertices(), st.unreferenced_vertices, st.edges,
+              tri.n_faces() / tri.multiplicity(), s.input.n_polygons);
+  std::printf("  components %d, boundary loops %d (%d boundary edges), Euler characteristic %ld",
+              st.components, st.boundary_loops, st.boundary_edges, chi);
+  if (orientable && genus2 >= 0 && genus2 % 2 == 0) std::printf(", genus %ld", genus2 / 2);
+  std::printf("\n  nonmanifold edges %d, nonmanifold vertices %d\n", st.nonmanifold_edges,
+              st.nonmanifold_vertices);
+  std::printf("  repaired: %d degenerate faces dropped, %d faces reoriented, %d duplicate faces\n",
+              s.build.dropped_faces, s.build.reoriented_faces, st.duplicate_faces);
+  std::printf("  corner angles %.4g° .. %.4g°, non-Delaunay edges %.2f%%\n", a.min_deg, a.max_deg,
+              100.0 * share);
+  std::printf("  mollification δ = %.3g (margin ε = %.3g, %d faces below it)\n", s.mollify.delta,
+              s.mollify.epsilon, s.mollify.faces_below_margin);
+  std::printf("  intrinsic Delaunay: %zu flips\n", s.flips.flips);
+  std::printf("  path: %s (%s)\n", s.path.c_str(), s.path_reason.c_str());
+  return 0;
+}
+
+}  // namespace
+
+Command info_command() {
+  Command c;
+  c.name = "info";
+  c.summary = "describe a mesh: counts, topology, defects, angles, flips to intrinsic Delaunay";
+  c.help =
+      std::string(
+          "usage: ifem info MESH|POINTCLOUD [--json] [surface options]\n\n"
+          "Prints vertex/edge/face counts, components, boundary loops, Euler characteristic\n"
+          "and genus, nonmanifold edges and vertices, what was repaired (degenerate faces\n"
+          "dropped, faces reoriented), min/max corner angle and the share of non-Delaunay\n"
+          "edges of the input, the flips to the intrinsic Delaunay triangulation, and which\n"
+          "path (manifold / tufted cover / point cloud) ifem takes for this input and why.\n"
+          "On a point cloud: point count, k, local triangles, isolated points, stage times.\n\n"
+          "  --json          one JSON object on stdout instead of text\n\n") +
+      kSurfaceHelp;
+  c.flags = kSurfaceFlags;
+  c.flags.insert("json");
+  c.options = kSurfaceOptions;
+  c.run = run;
+  return c;
+}
+
+}  // namespace ifem::cli

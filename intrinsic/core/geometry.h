@@ -1,0 +1,80 @@
+// Geometry of an intrinsic triangulation from edge lengths alone: triangle areas (stable
+// Heron), corner angles, cotangents, vertex angle sums and angle defects.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+
+#include "intrinsic/core/triangulation.h"
+
+namespace ifem::intrinsic {
+
+inline constexpr double kPi = 3.14159265358979323846;
+
+/// Area of a triangle with side lengths a, b, c by Kahan's stable Heron formula; 0 when the
+/// lengths violate the triangle inequality (never NaN for finite non-negative input).
+inline double triangle_area(double a, double b, double c) {
+  // sort so that a >= b >= c
+  if (a < b) std::swap(a, b);
+  if (a < c) std::swap(a, c);
+  if (b < c) std::swap(b, c);
+  const double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+  return p > 0.0 ? 0.25 * std::sqrt(p) : 0.0;
+}
+
+/// Angle opposite side a in a triangle with sides a, b, c, in [0, π]; atan2 form, accurate for
+/// needles and caps alike.
+inline double opposite_angle(double a, double b, double c) {
+  return std::atan2(4.0 * triangle_area(a, b, c), b * b + c * c - a * a);
+}
+
+/// Cotangent of the angle opposite side a; ±inf for a degenerate triangle.
+inline double opposite_cotan(double a, double b, double c) {
+  return (b * b + c * c - a * a) / (4.0 * triangle_area(a, b, c));
+}
+
+/// Area of face f.
+/// Area of the equilateral triangle of side l (the area bound that asks for edges of about l).
+inline double equilateral_area(double l) { return 0.4330127018922193 * l * l; }  // √3/4 l²
+
+inline double face_area(const IntrinsicTriangulation& tri, Index f) {
+  const Index h = 3 * f;
+  return triangle_area(tri.halfedge_length(h), tri.halfedge_length(h + 1),
+                       tri.halfedge_length(h + 2));
+}
+
+/// Interior angle of face(h) at tail(h) (between h and prev(h)).
+inline double corner_angle(const IntrinsicTriangulation& tri, Index h) {
+  using T = IntrinsicTriangulation;
+  return opposite_angle(tri.halfedge_length(T::next(h)), tri.halfedge_length(h),
+                        tri.halfedge_length(T::prev(h)));
+}
+
+/// Cotangent of the angle of face(h) opposite h (at the corner tail(prev(h))).
+inline double halfedge_cotan(const IntrinsicTriangulation& tri, Index h) {
+  using T = IntrinsicTriangulation;
+  return opposite_cotan(tri.halfedge_length(h), tri.halfedge_length(T::next(h)),
+                        tri.halfedge_length(T::prev(h)));
+}
+
+/// Sum of all face areas, divided by the triangulation's multiplicity (so a tufted cover
+/// reports the area of the surface it covers).
+double total_area(const IntrinsicTriangulation& tri);
+
+/// Per-vertex sum of corner angles (#V; 0 on unreferenced vertices).
+Eigen::VectorXd vertex_angle_sums(const IntrinsicTriangulation& tri);
+
+/// Per-vertex angle defect 2π − Θ_v − π·b_v, where b_v counts boundary halfedges leaving v:
+/// 2π − Θ inside, π − Θ on a manifold boundary vertex, and the right value at nonmanifold
+/// (pinched) vertices too, so that Σ defects = 2π·χ with χ = V − E + F always holds.
+Eigen::VectorXd angle_defects(const IntrinsicTriangulation& tri);
+
+/// Per-edge cotan weight w_e = (cot α + cot β)/2 (one term on a boundary edge), #E.
+Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri);
+
+/// Euler characteristic V − E + F (all vertices counted, unreferenced ones included).
+inline long euler_characteristic(const IntrinsicTriangulation& tri) {
+  return static_cast<long>(tri.n_vertices()) - tri.n_edges() + tri.n_faces();
+}
+
+}  // namespace ifem::intrinsic

@@ -1,0 +1,144 @@
+#include "intrinsic/generators/mesh_generators.h"
+
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
+
+namespace ifem::intrinsic {
+
+TriangleMesh icosphere(int n) {
+  if (n < 1) throw InvalidInput("icosphere: n must be ≥ 1");
+  const double p = (1.0 + std::sqrt(5.0)) / 2.0;
+  const double base[12][3] = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0},
+                              {0, -1, p}, {0, 1, p}, {0, -1, -p}, {0, 1, -p},
+                              {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
+  const int ico[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                          {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                          {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                          {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  TriangleMesh mesh;
+  const long nv = 10L * n * n + 2;
+  mesh.positions.resize(nv, 3);
+  Index next_vertex = 0;
+  auto add = [&](const Eigen::RowVector3d& x) {
+    mesh.positions.row(next_vertex) = x.normalized();
+    return next_vertex++;
+  };
+  Eigen::RowVector3d corner[12];
+  for (int i = 0; i < 12; ++i) {
+    corner[i] = Eigen::RowVector3d(base[i][0], base[i][1], base[i][2]);
+    add(corner[i]);
+  }
+  // edge-interior vertices: first id of edge (lo, hi), numbered from lo towards hi
+  std::map<std::pair<int, int>, Index> edge_base;
+  for (const auto& f : ico) {
+    for (int s = 0; s < 3; ++s) {
+      const int a = std::min(f[s], f[(s + 1) % 3]), b = std::max(f[s], f[(s + 1) % 3]);
+      if (edge_base.count({a, b})) continue;
+      edge_base[{a, b}] = next_vertex;
+      for (int k = 1; k < n; ++k) add(corner[a] + (corner[b] - corner[a]) * (double(k) / n));
+    }
+  }
+  mesh.faces.reserve(20L * n * n);
+  std::vector<Index> lattice((n + 1) * (n + 1));
+  for (const auto& f : ico) {
+    // lattice point (i, j): weight i/n on f[1], j/n on f[2], the rest on f[0]
+    auto on_edge = [&](int u, int v, int k) -> Index {  // k steps from u towards v
+      if (k == 0) return u;
+      if (k == n) return v;
+      const Index b0 = edge_base[{std::min(u, v), std::max(u, v)}];
+      return u < v ? b0 + k - 1 : b0 + (n - k) - 1;
+    };
+    for (int i = 0; i <= n; ++i) {
+      for (int j = 0; i + j <= n; ++j) {
+        Index id;
+        if (j == 0)
+          id = on_edge(f[0], f[1], i);
+        else if (i == 0)
+          id = on_edge(f[0], f[2], j);
+        else if (i + j == n)
+          id = on_edge(f[1], f[2], j);
+        else
+          id = add(corner[f[0]] + (corner[f[1]] - corner[f[0]]) * (double(i) / n) +
+                   (corner[f[2]] - corner[f[0]]) * (double(j) / n));
+        lattice[i * (n + 1) + j] = id;
+      }
+    }
+    auto at = [&](int i, int j) { return lattice[i * (n + 1) + j]; };
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; i + j < n; ++j) {
+        mesh.faces.push_back({at(i, j), at(i + 1, j), at(i, j + 1)});
+        if (i + j + 1 < n) mesh.faces.push_back({at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+      }
+    }
+  }
+  return mesh;
+}
+
+TriangleMesh uv_sphere(int n_lat, int n_lon) {
+  if (n_lat < 2 || n_lon < 3) throw InvalidInput("uv_sphere: need n_lat ≥ 2 and n_lon ≥ 3");
+  TriangleMesh mesh;
+  const Index nv = 2 + (n_lat - 1) * n_lon;
+  mesh.positions.resize(nv, 3);
+  mesh.positions.row(0) << 0, 0, 1;
+  mesh.positions.row(nv - 1) << 0, 0, -1;
+  auto ring = [&](int r, int k) { return 1 + (r - 1) * n_lon + (k % n_lon); };
+  for (int r = 1; r < n_lat; ++r) {
+    const double theta = kPi * r / n_lat;
+    for (int k = 0; k < n_lon; ++k) {
+      const double phi = 2.0 * kPi * k / n_lon;
+      mesh.positions.row(ring(r, k)) << std::sin(theta) * std::cos(phi),
+          std::sin(theta) * std::sin(phi), std::cos(theta);
+    }
+  }
+  for (int k = 0; k < n_lon; ++k) {
+    mesh.faces.push_back({0, ring(1, k), ring(1, k + 1)});
+    mesh.faces.push_back({nv - 1, ring(n_lat - 1, k + 1), ring(n_lat - 1, k)});
+  }
+  for (int r = 1; r + 1 < n_lat; ++r) {
+    for (int k = 0; k < n_lon; ++k) {
+      mesh.faces.push_back({ring(r, k), ring(r + 1, k), ring(r + 1, k + 1)});
+      mesh.faces.push_back({ring(r, k), ring(r + 1, k + 1), ring(r, k + 1)});
+    }
+  }
+  return mesh;
+}
+
+TriangleMesh grid(int nx, int ny, double width, double height, bool alternate) {
+  if (nx < 1 || ny < 1) throw InvalidInput("grid: need at least one cell in each direction");
+  TriangleMesh mesh;
+  mesh.positions.resize((nx + 1) * (ny + 1), 3);
+  auto id = [&](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j <= ny; ++j) {
+    for (int i = 0; i <= nx; ++i) {
+      mesh.positions.row(id(i, j)) << width * i / nx, height * j / ny, 0.0;
+    }
+  }
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const Index a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if (!alternate || (i + j) % 2 == 0) {
+        mesh.faces.push_back({a, b, c});
+        mesh.faces.push_back({a, c, d});
+      } else {
+        mesh.faces.push_back({a, b, d});
+        mesh.faces.push_back({b, c, d});
+      }
+    }
+  }
+  return mesh;
+}
+
+TriangleMesh tetrahedron() {
+  TriangleMesh mesh;
+  mesh.positions.resize(4, 3);
+  const double s = 1.0 / std::sqrt(3.0);
+  mesh.positions << s, s, s, s, -s, -s, -s, s, -s, -s, -s, s;
+  mesh.faces = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+  return mesh;
+}
+
+}  // namespace ifem::intrinsic

@@ -1,0 +1,31 @@
+// Small mesh generators for tests, examples and benchmarks (scalable to millions of faces).
+#pragma once
+
+#include <vector>
+
+#include "intrinsic/core/types.h"
+
+namespace ifem::intrinsic {
+
+/// A triangle mesh as plain arrays.
+struct TriangleMesh {
+  Positions positions;          ///< #V×3
+  std::vector<Triangle> faces;  ///< #F, counter-clockwise seen from outside
+};
+
+/// Unit icosphere with every icosahedron edge cut into n segments: 20·n² faces, 10·n² + 2
+/// vertices, all on the unit sphere. n = 224 gives 1,003,520 faces.
+TriangleMesh icosphere(int n);
+
+/// Unit sphere in latitude/longitude: n_lat rings, n_lon segments, a single vertex at each pole
+/// (the fans there are needle triangles when n_lon ≫ n_lat). 2·n_lon·(n_lat − 1) faces.
+TriangleMesh uv_sphere(int n_lat, int n_lon);
+
+/// Flat grid on [0, width]×[0, height] (z = 0) with nx×ny cells, each split into two triangles
+/// along alternating diagonals when `alternate` is true, else always along the same diagonal.
+TriangleMesh grid(int nx, int ny, double width = 1.0, double height = 1.0, bool alternate = true);
+
+/// Regular tetrahedron inscribed in the unit sphere.
+TriangleMesh tetrahedron();
+
+}  // namespace ifem::intrinsic

@@ -1,0 +1,66 @@
+// Reading and writing meshes and point clouds: OBJ, OFF, PLY (ASCII / binary LE / BE), STL
+// (ASCII / binary), XYZ; PLY output with named per-vertex scalar properties; Matrix Market.
+// Vertex count and order of OBJ/OFF/PLY/XYZ input are kept exactly (no welding, reordering or
+// dropping of unreferenced vertices). Errors: IoError naming the file, the line (text) or byte
+// offset (binary), and the problem. Writers never leave a partial file behind.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <string>
+#include <vector>
+
+#include "intrinsic/core/types.h"
+
+namespace ifem::io {
+
+/// A named per-vertex scalar (a PLY vertex property).
+struct VertexProperty {
+  std::string name;
+  Eigen::VectorXd values;  ///< #V
+};
+
+/// What a file held, as given: positions in file order and polygons fan-triangulated.
+struct SurfaceInput {
+  Positions positions;                  ///< #V×3, file order
+  std::vector<Triangle> triangles;      ///< polygons fan-triangulated (v0, vi, vi+1)
+  std::vector<Index> triangle_polygon;  ///< #T: index of the file polygon each triangle came from
+  Index n_polygons = 0;                 ///< polygons in the file (faces, strips decoded)
+  Index n_non_triangles = 0;            ///< polygons with more than 3 corners
+  Eigen::MatrixX3d normals;             ///< #V×3 when the file has per-vertex normals, else 0×3
+  std::vector<VertexProperty> vertex_properties;  ///< other per-vertex scalars (PLY), as doubles
+  Index welded_vertices = 0;  ///< STL only: corners merged because positions were equal
+  std::string format;         ///< e.g. "obj", "off", "ply-binary-le", "stl-ascii", "xyz"
+  bool has_faces() const { return !triangles.empty(); }
+};
+
+/// Reads a mesh or point cloud, choosing the format from the extension (.obj .off .ply .stl
+/// .xyz .txt; case-insensitive). A file with no faces is a point cloud.
+/// @throws IoError on a missing file, unknown extension, malformed or truncated content, a face
+///         index out of range, or a NaN/inf coordinate (with file and line / byte offset)
+SurfaceInput read_surface(const std::string& path);
+
+/// Same, but a file without faces is an error ("no faces") — for commands that need a mesh.
+SurfaceInput read_mesh(const std::string& path);
+
+/// Writes a PLY (binary little-endian by default) with vertices, optional triangles and any
+/// number of named per-vertex double properties (each #V long). Atomic: writes path.tmp and
+/// renames it.
+/// @throws IoError if the file cannot be written or a property has the wrong length
+void write_ply(const std::string& path, const Positions& positions,
+               const std::vector<Triangle>& faces,
+               const std::vector<VertexProperty>& vertex_properties = {}, bool binary = true);
+
+/// Writes a sparse matrix in Matrix Market coordinate format (general, real, 1-based), atomic.
+void write_matrix_market(const std::string& path, const Eigen::SparseMatrix<double>& A);
+
+/// Reads a Matrix Market coordinate real matrix (general or symmetric).
+Eigen::SparseMatrix<double> read_matrix_market(const std::string& path);
+
+/// Writes one value per line (%.17g; inf as "inf"), atomic.
+void write_values(const std::string& path, const Eigen::VectorXd& values);
+
+/// Reads one value per line (blank lines and '#' comments skipped; "inf"/"nan" accepted).
+Eigen::VectorXd read_values(const std::string& path);
+
+}  // namespace ifem::io

@@ -1,0 +1,643 @@
+#include "intrinsic/refine/delaunay_refine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "intrinsic/core/geometry.h"
+
+namespace ifem::intrinsic {
+namespace {
+
+using T = IntrinsicTriangulation;
+
+// The refinement algorithm below is written once, over a "host": the triangulation it refines
+// and the operations that change it. Two hosts: signposts (every operation also keeps the
+// inserted vertices located on the input) and a bare Δ-complex. A host provides
+//   const IntrinsicTriangulation& tri() const;
+//   FlipReport flip_to_delaunay();
+//   FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched);
+//   Index insert_vertex(Index f, const Eigen::Vector3d& bary);
+//   Index split_edge(Index e, double t);
+
+class SignpostHost {
+ public:
+  explicit SignpostHost(SignpostTriangulation& st) : st_(st) {}
+  const IntrinsicTriangulation& tri() const { return st_.intrinsic(); }
+  FlipReport flip_to_delaunay() { return st_.flip_to_delaunay(); }
+  FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched) {
+    return st_.flip_to_delaunay_from(queue, touched);
+  }
+  Index insert_vertex(Index f, const Eigen::Vector3d& bary) { return st_.insert_vertex(f, bary); }
+  Index split_edge(Index e, double t) { return st_.split_edge(e, t); }
+
+ private:
+  SignpostTriangulation& st_;
+};
+
+class PlainHost {
+ public:
+  explicit PlainHost(IntrinsicTriangulation& tri) : tri_(tri) {}
+  const IntrinsicTriangulation& tri() const { return tri_; }
+  FlipReport flip_to_delaunay() { return tri_.flip_to_delaunay(); }
+  FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched) {
+    return tri_.flip_to_delaunay_from(queue, touched);
+  }
+  Index insert_vertex(Index f, const Eigen::Vector3d& bary) {
+    return tri_.insert_vertex_in_face(f, bary);
+  }
+  Index split_edge(Index e, double t) { return tri_.split_edge(e, t); }
+
+ private:
+  IntrinsicTriangulation& tri_;
+};
+
+// Total angle of the fan (cone) that the corner at tail(h) belongs to, and whether that fan
+// reaches the boundary. At an ordinary vertex this is the vertex's angle sum; a pinched vertex
+// (several fans: nonmanifold input, the input vertices of a tufted cover) is several cone
+// points at once. Returns a value ≥ `limit` as soon as it is known to reach it (then
+// `boundary` may be incomplete): first from the corners' cosines alone (one corner above the
+// limit), then by adding up the angles.
+double fan_angle(const IntrinsicTriangulation& tri, Index h, double limit, bool* boundary) {
+  const double cos_limit = std::cos(std::min(limit, kPi));
+  const Index guard = tri.n_halfedges();
+  // visits the corners of h's fan (counter-clockwise from h, then clockwise if open) until
+  // `f` returns false; true if it never did
+  auto walk = [&](auto&& f) {
+    Index x = h;
+    for (Index k = 0; k < guard; ++k) {
+      if (!f(x)) return false;
+      x = tri.twin(T::prev(x));
+      if (x == h) return true;
+      if (x == kInvalidIndex) break;
+    }
+    x = tri.twin(h);
+    for (Index k = 0; k < guard && x != kInvalidIndex; ++k) {
+      x = T::next(x);
+      if (!f(x)) return false;
+      x = tri.twin(x);
+    }
+    return true;
+  };
+  const bool all_below = walk([&](Index x) {
+    const double b = tri.halfedge_length(x), c = tri.halfedge_length(T::prev(x)),
+                 a = tri.halfedge_length(T::next(x));
+    return !(b * b + c * c - a * a < cos_limit * 2.0 * b * c);
+  });
+  if (!all_below) return limit;
+  double sum = 0.0;
+  *boundary = false;
+  walk([&](Index x) {
+    if (tri.twin(x) == kInvalidIndex || tri.twin(T::prev(x)) == kInvalidIndex) *boundary = true;
+    sum += corner_angle(tri, x);
+    return sum < limit;
+  });
+  return sum;
+}
+
+// Which corners no insertion can fix: those whose fan's total angle is below the bound on the
+// boundary, or below twice the bound inside (a second corner there would be too small).
+// Decided per fan, not by a pinched vertex's total: a tufted cover doubles every input
+// vertex's angle over two fans, and a needle tip of 0.8° (conrod.off) is a 1.7° fan next to
+// a 720° total; judged by the total, refinement would never stop there. Fan angles are fixed
+// by flips and insertions; inserted vertices are flat, so they are never needles. Vertices
+// that start with a corner below the bound get their answer cached (every fan walked once:
+// the pole of a needle sphere has 2000 corners); other corners walk their fan when asked,
+// which on an ordinary mesh stops at the next corner.
+class Cones {
+ public:
+  Cones(const IntrinsicTriangulation& tri, double bound) : bound_(bound) {
+    const Index nv = tri.n_vertices(), nf = tri.n_faces(), nh = tri.n_halfedges();
+    state_.assign(nv, 0);
+    boundary_.assign(nv, 0);
+    const double cos_bound = std::cos(bound);
+    for (Index f = 0; f < nf; ++f) {
+      const double l[3] = {tri.halfedge_length(3 * f), tri.halfedge_length(3 * f + 1),
+                           tri.halfedge_length(3 * f + 2)};
+      for (int k = 0; k < 3; ++k) {
+        const Index h = 3 * f + k;
+        if (tri.twin(h) == kInvalidIndex) boundary_[tri.tail(h)] = boundary_[tri.head(h)] = 1;
+        const double b = l[k], c = l[(k + 2) % 3], a = l[(k + 1) % 3];
+        if (b * b + c * c - a * a > cos_bound * 2.0 * b * c) state_[tri.tail(h)] = kCached;
+      }
+    }
+    std::vector<char> seen(nh, 0);
+    for (Index h = 0; h < nh; ++h) {
+      if (seen[h] || !(state_[tri.tail(h)] & kCached)) continue;
+      bool fan_boundary = false;
+      const double theta = fan_angle(tri, h, 2.0 * bound_, &fan_boundary);
+      state_[tri.tail(h)] |= unfixable(theta, fan_boundary) ? kSomeUnfixable : kSomeFixable;
+      Index x = h;  // mark the fan's corners (from h both ways)
+      for (Index k = 0; k < nh && x != kInvalidIndex && !seen[x]; ++k) {
+        seen[x] = 1;
+        x = tri.twin(T::prev(x));
+      }
+      x = tri.twin(h);
+      for (Index k = 0; k < nh && x != kInvalidIndex && !seen[T::next(x)]; ++k) {
+        seen[T::next(x)] = 1;
+        x = tri.twin(T::next(x));
+      }
+    }
+  }
+  /// Whether the corner at tail(h) lies in a fan no insertion can fix.
+  bool unfixable(const IntrinsicTriangulation& tri, Index h) const {
+    const Index v = tri.tail(h);
+    if (v >= static_cast<Index>(state_.size())) return false;  // inserted: flat
+    const char known = state_[v] & (kSomeUnfixable | kSomeFixable);
+    if (known == kSomeUnfixable || known == kSomeFixable) return known == kSomeUnfixable;
+    bool fan_boundary = false;  // not cached, or fans of both kinds
+    const double theta = fan_angle(tri, h, 2.0 * bound_, &fan_boundary);
+    return unfixable(theta, fan_boundary);
+  }
+  /// A vertex with a side without twin starting or ending at it.
+  bool is_boundary(Index v) const { return boundary_[v] != 0; }
+  /// Records inserted vertex v (flat: never a needle).
+  void add_vertex(Index v, bool boundary) {
+    boundary_.resize(static_cast<std::size_t>(v) + 1, 0);
+    boundary_[v] = boundary ? 1 : 0;
+  }
+
+ private:
+  static constexpr char kSomeUnfixable = 1, kSomeFixable = 2, kCached = 4;
+  bool unfixable(double theta, bool boundary) const {
+    return boundary ? theta < bound_ : theta < 2.0 * bound_;
+  }
+  double bound_;
+  std::vector<char> state_;     // per input vertex: kCached, and which kinds of fans it has
+  std::vector<char> boundary_;  // per vertex
+};
+
+}  // namespace
+
+double min_corner_angle(const IntrinsicTriangulation& tri, Index f) {
+  // the smallest angle is opposite the shortest side
+  const Index h = 3 * f;
+  const double l0 = tri.halfedge_length(h), l1 = tri.halfedge_length(h + 1),
+               l2 = tri.halfedge_length(h + 2);
+  if (l0 <= l1 && l0 <= l2) return opposite_angle(l0, l1, l2);
+  if (l1 <= l2) return opposite_angle(l1, l2, l0);
+  return opposite_angle(l2, l0, l1);
+}
+
+namespace {
+
+// Priority buckets of the bad-face queue, highest first: faces with a fixable corner below the
+// bound, by that corner's angle θ, smallest first (kAngleBuckets even steps of sin(θ/2) over
+// [0, sin 15°], ≈ 0.25° each); then faces bad only by size or by facing an encroached boundary
+// side, by area, largest first (kAreaSub buckets per factor of 2).
+constexpr int kAreaSub = 4;
+constexpr int kAreaBuckets = 2200 * kAreaSub;  // binary exponents of doubles, subnormals included
+constexpr int kAngleBuckets = 120;
+
+int area_bucket(double area) {
+  int e = 0;
+  const double mant = std::frexp(area, &e);  // in [0.5, 1)
+  const int sub = std::clamp(static_cast<int>((mant - 0.5) * 2.0 * kAreaSub), 0, kAreaSub - 1);
+  return std::clamp((e + 1100) * kAreaSub + sub, 0, kAreaBuckets - 1);
+}
+
+int angle_bucket(double sin_half_angle) {
+  const double sin15 = 0.25881904510252074;
+  const int k =
+      std::clamp(static_cast<int>(sin_half_angle / sin15 * kAngleBuckets), 0, kAngleBuckets - 1);
+  return kAreaBuckets + kAngleBuckets - 1 - k;
+}
+
+// Bad faces, highest bucket first, LIFO inside a bucket: O(1) push and pop (a heap's sifting
+// dominated big refinements). A face whose bucket changed while queued is pushed again into
+// the new one; where_[f] names the bucket of its live entry, and other entries are skipped when
+// popped, so the order follows the faces' current shapes.
+class BadFaceQueue {
+ public:
+  explicit BadFaceQueue(Index n_faces)
+      : buckets_(kAreaBuckets + kAngleBuckets), where_(n_faces, kNowhere) {}
+  void push(Index f, int bucket) {
+    if (static_cast<std::size_t>(f) >= where_.size()) where_.resize(2 * f + 1024, kNowhere);
+    if (where_[f] == bucket) return;
+    where_[f] = static_cast<std::int16_t>(bucket);
+    buckets_[bucket].push_back(f);
+    top_ = std::max(top_, bucket);
+  }
+  Index pop() {
+    for (;;) {
+      while (top_ >= 0 && buckets_[top_].empty()) --top_;
+      if (top_ < 0) return kInvalidIndex;
+      const Index f = buckets_[top_].back();
+      buckets_[top_].pop_back();
+      if (where_[f] != top_) continue;  // stale: queued again elsewhere, or already taken
+      where_[f] = kNowhere;
+      return f;
+    }
+  }
+
+ private:
+  static constexpr std::int16_t kNowhere = -1;
+  static_assert(kAreaBuckets + kAngleBuckets <= 32767, "bucket ids are 16-bit");
+  std::vector<std::vector<Index>> buckets_;
+  std::vector<std::int16_t> where_;  // per face: the bucket of its live entry, or kNowhere
+  int top_ = -1;
+};
+
+// How far from the midpoint of a bad face's shortest side an off-center goes, as a fraction of
+// the distance at which the isosceles triangle on that side has exactly the bound at its apex
+// (Üngör 2004); 0.95 as in Shewchuk's Triangle, so that the new triangle is just above it.
+constexpr double kOffCenterFactor = 0.95;
+
+template <class Host>
+RefineReport refine(Host& host, const RefineOptions& options) {
+  const double deg = kPi / 180.0;
+  if (!(options.min_angle_degrees > 0.0 && options.min_angle_degrees <= 30.0)) {
+    throw InvalidInput("delaunay_refine: minimum angle must be in (0, 30] degrees, got " +
+                       std::to_string(options.min_angle_degrees));
+  }
+  if (!(options.max_area >= 0.0)) {
+    throw InvalidInput("delaunay_refine: max_area must be ≥ 0");
+  }
+  const double bound = options.min_angle_degrees * deg;
+  const double max_area = options.max_area > 0.0 ? options.max_area : 0.0;
+  const IntrinsicTriangulation& tri = host.tri();
+  RefineReport rep;
+  rep.vertices_before = tri.n_vertices();
+  Index cap = options.max_insertions;
+  if (cap < 0) {
+    // 10 per input vertex, plus 2000 for the rings a tiny (mollified, degenerate) feature of a
+    // small mesh needs (cgal_fused_vertices.off: 40 vertices, 855 insertions), and room for
+    // 4× the triangles a size bound asks for
+    double c = 10.0 * std::max<Index>(tri.n_vertices(), 10) + 2000.0;
+    if (max_area > 0.0) c += 4.0 * total_area(tri) * tri.multiplicity() / max_area;
+    cap = static_cast<Index>(std::min(c, 1.5e9));
+  }
+
+  rep.flips += host.flip_to_delaunay().flips;
+  double before = kPi;
+  for (Index f = 0; f < tri.n_faces(); ++f) before = std::min(before, min_corner_angle(tri, f));
+  rep.min_angle_before = before / deg;
+
+  Cones cones(tri, bound);
+  // kind 0 = good, 1 = bad, 2 = needle (every small corner unfixable); a bad face's queue
+  // bucket. The angle θ at a corner is below the bound iff its cosine b² + c² − a² over 2bc is
+  // above cos(bound), and sin²(θ/2) = (a² − (b − c)²) / 4bc: no trigonometry.
+  struct Verdict {
+    int kind = 0;
+    int bucket = 0;
+  };
+  const double cos_bound = std::cos(bound);
+  auto classify = [&](Index f) {
+    Verdict v;
+    bool small = false;
+    double worst = 2.0;  // sin(θ/2) of the smallest fixable small corner
+    const double l[3] = {tri.halfedge_length(3 * f), tri.halfedge_length(3 * f + 1),
+                         tri.halfedge_length(3 * f + 2)};
+    for (int k = 0; k < 3; ++k) {
+      // corner k sits between sides k and k+2, opposite side k+1
+      const double b = l[k], c = l[(k + 2) % 3], a = l[(k + 1) % 3];
+      if (b * b + c * c - a * a > cos_bound * 2.0 * b * c) {
+        small = true;
+        if (!cones.unfixable(tri, 3 * f + k)) {
+          const double s2 = (a * a - (b - c) * (b - c)) / (4.0 * b * c);
+          worst = std::min(worst, std::sqrt(std::max(s2, 0.0)));
+        }
+      }
+    }
+    v.kind = 1;
+    if (worst <= 1.0) {
+      v.bucket = angle_bucket(worst);
+      return v;
+    }
+    if (max_area > 0.0) {
+      const double area = face_area(tri, f);
+      if (area > max_area) {
+        v.bucket = area_bucket(area);
+        return v;
+      }
+    }
+    if (options.split_encroached_boundary) {
+      for (int k = 0; k < 3; ++k) {
+        // side k faces the corner k+2: obtuse there ⇔ b² + c² < a²; its circumcenter then lies
+        // across side k, so inserting it splits that boundary edge
+        // (only for an interior apex: an apex on the boundary can cascade, as in Ruppert's
+        // small-input-angle case)
+        if (tri.twin(3 * f + k) != kInvalidIndex) continue;
+        if (cones.is_boundary(tri.tail(3 * f + (k + 2) % 3))) continue;
+        const double a = l[k], b = l[(k + 1) % 3], c = l[(k + 2) % 3];
+        if (b * b + c * c - a * a < -1e-12 * (b * b + c * c)) {
+          v.bucket = area_bucket(face_area(tri, f));
+          return v;
+        }
+      }
+    }
+    v.kind = small ? 2 : 0;
+    return v;
+  };
+
+  BadFaceQueue queue(tri.n_faces());
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    const Verdict v = classify(f);
+    if (v.kind == 1) queue.push(f, v.bucket);
+  }
+  std::vector<Index> touched, flip_queue;
+  Eigen::Vector2d p[3];
+  for (Index f = queue.pop(); f != kInvalidIndex; f = queue.pop()) {
+    const Verdict verdict = classify(f);
+    if (verdict.kind != 1) continue;
+    if (rep.insertions >= cap) {
+      rep.hit_insertion_cap = true;
+      break;
+    }
+    // circumcenter in f's layout (or the off-center), and the straight line to it from the
+    // centroid
+    face_layout(tri, f, p);
+    const Eigen::Vector2d b = p[1], c = p[2];
+    const double dd = 2.0 * (b.x() * c.y() - b.y() * c.x());
+    Eigen::Vector2d target((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / dd,
+                           (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / dd);
+    if (options.off_centers && verdict.bucket >= kAreaBuckets) {
+      int s = 0;  // shortest side
+      for (int k = 1; k < 3; ++k) {
+        if ((p[(k + 1) % 3] - p[k]).squaredNorm() < (p[(s + 1) % 3] - p[s]).squaredNorm()) s = k;
+      }
+      const Eigen::Vector2d m = 0.5 * (p[s] + p[(s + 1) % 3]);
+      const double to_cc = (target - m).norm();
+      const double h =
+          kOffCenterFactor * 0.5 * (p[(s + 1) % 3] - p[s]).norm() / std::tan(0.5 * bound);
+      if (h < to_cc) target = m + (h / to_cc) * (target - m);
+    }
+    const Eigen::Vector2d centroid = (p[0] + p[1] + p[2]) / 3.0;
+    const Eigen::Vector2d w = target - centroid;
+    const double dist = w.norm();
+    if (!std::isfinite(dist) || !(dist > 0.0)) {
+      ++rep.failed_traces;
+      continue;
+    }
+    SurfacePoint start;
+    start.face = f;
+    start.bary = Eigen::Vector3d::Constant(1.0 / 3.0);
+    TraceResult r;
+    try {
+      r = trace_straight(tri, start, w / dist, dist, -1, false, false, 4 * tri.n_faces() + 1000);
+    } catch (const Error&) {
+      ++rep.failed_traces;
+      continue;
+    }
+    Index v;
+    bool on_boundary = false;
+    try {
+      if (r.hit_boundary) {
+        v = host.split_edge(tri.edge(r.boundary_halfedge), 0.5);
+        ++rep.boundary_splits;
+        on_boundary = true;
+      } else {
+        const Index g = r.end.face;
+        const Eigen::Vector3d& bary = r.end.bary;
+        int k = 0;
+        for (int j = 1; j < 3; ++j) {
+          if (bary[j] < bary[k]) k = j;
+        }
+        // Chew: a circumcenter inside the diametral circle of a boundary side of the face it
+        // lands in splits that side at its midpoint instead
+        Index encroached = kInvalidIndex;
+        face_layout(tri, g, p);
+        const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
+        for (int s = 0; s < 3; ++s) {
+          if (tri.twin(3 * g + s) != kInvalidIndex) continue;
+          if ((p[s] - x).dot(p[(s + 1) % 3] - x) < 0.0) encroached = 3 * g + s;
+        }
+        if (encroached != kInvalidIndex) {
+          v = host.split_edge(tri.edge(encroached), 0.5);
+          ++rep.boundary_splits;
+          on_boundary = true;
+        } else if (bary[k] < 1e-9) {
+          // on (or within rounding of) a side: split that edge
+          const int s = (k + 1) % 3;
+          const Index h = 3 * g + s;
+          const Index e = tri.edge(h);
+          double u = bary[(s + 1) % 3] / (bary[s] + bary[(s + 1) % 3]);
+          if (tri.edge_halfedge(e) != h) u = 1.0 - u;
+          if (tri.is_boundary_edge(e)) {
+            u = 0.5;
+            ++rep.boundary_splits;
+            on_boundary = true;
+          } else {
+            ++rep.edge_splits;
+          }
+          v = host.split_edge(e, std::clamp(u, 1e-3, 1.0 - 1e-3));
+        } else {
+          v = host.insert_vertex(g, bary);
+          ++rep.face_insertions;
+        }
+      }
+    } catch (const Error&) {
+      ++rep.failed_traces;
+      continue;
+    }
+    ++rep.insertions;
+    cones.add_vertex(v, on_boundary);
+    // restore Delaunay around v: the sides opposite v, then whatever flips reach
+    touched.clear();
+    flip_queue.clear();
+    const Index h0 = tri.vertex_halfedge(v);
+    Index h = h0;
+    for (int guard = 0; guard < 64; ++guard) {
+      touched.push_back(T::face(h));
+      flip_queue.push_back(tri.edge(T::next(h)));
+      const Index n = tri.twin(T::prev(h));
+      if (n == kInvalidIndex || n == h0) break;
+      h = n;
+    }
+    rep.flips += host.flip_to_delaunay_from(flip_queue, &touched).flips;
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    for (const Index x : touched) {
+      const Verdict vx = classify(x);
+      if (vx.kind == 1) queue.push(x, vx.bucket);
+    }
+  }
+
+  rep.vertices_after = tri.n_vertices();
+  rep.insertions = rep.vertices_after - rep.vertices_before;
+  double after = kPi, after_ok = kPi;
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    const double a = min_corner_angle(tri, f);
+    after = std::min(after, a);
+    const int c = classify(f).kind;
+    if (c == 2) {
+      ++rep.needle_faces;
+    } else {
+      after_ok = std::min(after_ok, a);
+      if (c == 1) ++rep.bad_faces_left;
+    }
+  }
+  rep.min_angle_after = after / deg;
+  rep.min_angle_after_excluding_needles = after_ok / deg;
+  return rep;
+}
+
+}  // namespace
+
+RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options) {
+  SignpostHost host(st);
+  return refine(host, options);
+}
+
+RefineReport delaunay_refine(IntrinsicTriangulation& tri, const RefineOptions& options) {
+  PlainHost host(tri);
+  return refine(host, options);
+}
+
+namespace {
+
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// smallest corner angle of the planar triangle (a, b, c)
+double planar_min_angle(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                        const Eigen::Vector2d& c) {
+  const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
+  if (la <= lb && la <= lc) return opposite_angle(la, lb, lc);
+  if (lb <= lc) return opposite_angle(lb, lc, la);
+  return opposite_angle(lc, la, lb);
+}
+
+void angle_stats(const IntrinsicTriangulation& tri, double& min_deg, double& mean_deg) {
+  double mn = kPi, sum = 0.0;
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    const double a = min_corner_angle(tri, f);
+    mn = std::min(mn, a);
+    sum += a;
+  }
+  min_deg = mn * 180.0 / kPi;
+  mean_deg = tri.n_faces() > 0 ? sum / tri.n_faces() * 180.0 / kPi : 0.0;
+}
+
+}  // namespace
+
+namespace {
+
+// Splits the edges longer than options.max_edge_length at their midpoints, round after round
+// (a split edge's halves may still be too long), each round followed by Delaunay flips.
+void split_long_edges(SignpostTriangulation& st, const RelaxOptions& options, Index cap,
+                      RelaxReport& rep) {
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  std::vector<Index> longer;
+  for (;;) {
+    longer.clear();
+    for (Index e = 0; e < tri.n_edges(); ++e) {
+      if (tri.length(e) > options.max_edge_length) longer.push_back(e);
+    }
+    if (longer.empty()) return;
+    bool split_any = false;
+    for (const Index e : longer) {  // edge ids survive splits (new edges are appended)
+      if (rep.splits >= cap) {
+        rep.hit_split_cap = true;
+        break;
+      }
+      if (!(tri.length(e) > options.max_edge_length)) continue;
+      try {
+        st.split_edge(e, 0.5);
+      } catch (const Error&) {
+        continue;  // e.g. an edge with both sides in one face
+      }
+      ++rep.splits;
+      split_any = true;
+    }
+    rep.flips += st.flip_to_delaunay().flips;
+    if (!split_any || rep.hit_split_cap) return;
+  }
+}
+
+}  // namespace
+
+RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options) {
+  if (options.iterations < 0) {
+    throw InvalidInput("relax_inserted_vertices: iterations must be ≥ 0");
+  }
+  if (!(options.max_edge_length >= 0.0)) {
+    throw InvalidInput("relax_inserted_vertices: max_edge_length must be ≥ 0");
+  }
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  RelaxReport rep;
+  const Index split_cap =
+      options.max_splits >= 0 ? options.max_splits : 10 * std::max<Index>(tri.n_vertices(), 10);
+  angle_stats(tri, rep.min_angle_before, rep.mean_min_angle_before);
+  std::vector<Index> spokes;
+  std::vector<Eigen::Vector2d> ring;
+  const Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+  for (int pass = 0; pass < options.iterations; ++pass) {
+    ++rep.passes;
+    for (Index v = st.n_input_vertices(); v < tri.n_vertices(); ++v) {
+      if (st.is_boundary_vertex(v)) {
+        ++rep.skipped_boundary;
+        continue;
+      }
+      if (!st.inserted_vertex_star(v, &spokes, &ring)) {
+        ++rep.skipped_irregular;
+        continue;
+      }
+      // area-weighted mean of the circumcenters of (v, ring[i], ring[i+1]), v at the origin
+      const std::size_t n = ring.size();
+      Eigen::Vector2d acc = Eigen::Vector2d::Zero();
+      double area = 0.0, old_min = kPi, old_sum = 0.0;
+      bool ok = true;
+      for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector2d& b = ring[i];
+        const Eigen::Vector2d& c = ring[(i + 1) % n];
+        const double dd = 2.0 * cross2(b, c);
+        if (!(dd > 0.0)) {
+          ok = false;
+          break;
+        }
+        const Eigen::Vector2d cc((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / dd,
+                                 (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / dd);
+        acc += 0.25 * dd * cc;  // area = dd / 4
+        area += 0.25 * dd;
+        const double a = planar_min_angle(origin, b, c);
+        old_min = std::min(old_min, a);
+        old_sum += a;
+      }
+      if (!ok || !(area > 0.0)) {
+        ++rep.skipped_irregular;
+        continue;
+      }
+      const Eigen::Vector2d target = acc / area;
+      if (!target.allFinite()) {
+        ++rep.rejected;
+        continue;
+      }
+      bool moved = false;
+      for (const double fraction : {1.0, 0.5, 0.25}) {
+        const Eigen::Vector2d p = fraction * target;
+        if (options.keep_min_angle) {
+          double new_min = kPi, new_sum = 0.0;
+          for (std::size_t i = 0; i < n; ++i) {
+            const double a = planar_min_angle(p, ring[i], ring[(i + 1) % n]);
+            new_min = std::min(new_min, a);
+            new_sum += a;
+          }
+          if (!(new_min >= old_min && new_sum >= old_sum)) continue;
+        }
+        if (st.move_inserted_vertex(v, p)) {
+          moved = true;
+          rep.max_displacement = std::max(rep.max_displacement, p.norm());
+          break;
+        }
+      }
+      if (moved) {
+        ++rep.moved;
+      } else {
+        ++rep.rejected;
+      }
+    }
+    rep.flips += st.flip_to_delaunay().flips;
+    if (options.max_edge_length > 0.0) split_long_edges(st, options, split_cap, rep);
+  }
+  angle_stats(tri, rep.min_angle_after, rep.mean_min_angle_after);
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    rep.max_edge_after = std::max(rep.max_edge_after, tri.length(e));
+  }
+  return rep;
+}
+
+}  // namespace ifem::intrinsic

@@ -1,0 +1,220 @@
+// Signpost intrinsic triangulations (Sharp, Soliman & Crane 2019, "Navigating Intrinsic
+// Triangulations"): an intrinsic triangulation that also knows, for every halfedge, the
+// direction it leaves its tail in, so each intrinsic edge can be traced over the input mesh
+// as a straight (geodesic) path, and every inserted vertex knows where it sits on the input.
+//
+// Directions are angles measured counter-clockwise (in the orientation of the faces) at a
+// vertex, in [0, Θ_v) with Θ_v the vertex's total angle (its angle sum on the input); as a
+// polar coordinate they are scaled by 2π/Θ_v (π/Θ_v on the boundary). Angle 0 is the
+// direction of a fixed outgoing halfedge, on the boundary the outgoing boundary halfedge, so a
+// boundary vertex's directions fill [0, Θ_v].
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "intrinsic/core/triangulation.h"
+
+namespace ifem::intrinsic {
+
+/// A point on a triangulated surface: a face and barycentric coordinates for its corners
+/// 0, 1, 2 (corner s is the tail of halfedge 3·face + s). Vertices are represented as a face
+/// corner with coordinate 1.
+struct SurfacePoint {
+  Index face = kInvalidIndex;
+  Eigen::Vector3d bary = Eigen::Vector3d::Zero();
+};
+
+/// Result of tracing a straight line over a triangulation (trace_straight()).
+struct TraceResult {
+  SurfacePoint end;                         ///< where the line ended
+  Eigen::Vector2d direction;                ///< unit direction at the end, in end.face's layout
+  bool hit_boundary = false;                ///< stopped at a boundary side (when not sliding)
+  Index boundary_halfedge = kInvalidIndex;  ///< the boundary side it stopped at
+  Index slides = 0;                         ///< times the line was slid along a boundary side
+  std::vector<SurfacePoint> path;           ///< start, every side crossing, end (when recorded)
+};
+
+/// Traces the straight line leaving `start` (inside or on the boundary of start.face) in the
+/// unit direction `dir` (start.face's layout) for `distance`, unfolding across glued sides.
+/// @param start_corner when the start is corner k of start.face (bary = e_k), k: the line may
+///        then first leave only through the side opposite k, never along a side at rounding
+///        level (−1: no such restriction)
+/// @param slide_on_boundary if true, a line reaching a boundary side continues along it (a
+///        numerical fix for lines that run along the boundary); else it stops there
+/// @param record_path if true, fills TraceResult::path
+/// @throws Error if the line crosses more than max_steps sides (degenerate input)
+TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
+                           Eigen::Vector2d dir, double distance, int start_corner,
+                           bool slide_on_boundary, bool record_path, Index max_steps);
+
+/// An intrinsic triangulation with signposts, over an input mesh kept alongside.
+class SignpostTriangulation {
+ public:
+  /// Builds the input triangulation from faces and positions (faces repeating a vertex are
+  /// dropped, orientation repaired, as IntrinsicTriangulation::from_positions) and starts the
+  /// intrinsic triangulation as a copy of it.
+  /// @param mollify_epsilon if > 0, both triangulations are mollified with it (the input's
+  ///        lengths are then the mollified ones; 3D output uses the positions)
+  SignpostTriangulation(const std::vector<Triangle>& faces, const Positions& positions,
+                        double mollify_epsilon = 0.0, BuildReport* report = nullptr);
+
+  // ===== Saving and restoring (format "ifem-signpost 1", documented in signpost.cpp) =====
+
+  /// Writes the input (positions, faces as given, mollification) and the intrinsic
+  /// triangulation (gluing, lengths, signposts, vertex locations) to a text file, every double
+  /// with 17 significant digits so that load() restores it bit for bit. Atomic (path.tmp, then
+  /// rename). @throws IoError if the file cannot be written
+  void save(const std::string& path) const;
+  /// Reads a file written by save(): the input is rebuilt from its faces and positions (same
+  /// repairs, same mollification), the intrinsic triangulation from its gluing. Halfedges,
+  /// lengths, signposts, vertex locations and edge ids (with their edge_halfedge()) are
+  /// identical to the saved ones (files without the optional 'edges' section get edges
+  /// numbered in halfedge order). @throws IoError on a malformed file (naming the line)
+  static SignpostTriangulation load(const std::string& path);
+
+  // ===== Access =====
+  const IntrinsicTriangulation& intrinsic() const { return tri_; }
+  const IntrinsicTriangulation& input() const { return input_; }
+  const Positions& input_positions() const { return positions_; }
+  const MollifyReport& mollify_report() const { return mollify_; }
+  /// The faces given to the constructor, as given (before dropping / reorienting).
+  const std::vector<Triangle>& input_faces() const { return faces_; }
+  /// For each face of input(), the index of the given face it came from.
+  const std::vector<Index>& input_face_origin() const { return face_origin_; }
+  double mollify_epsilon() const { return mollify_epsilon_; }
+  Index n_input_vertices() const { return input_.n_vertices(); }
+  /// Θ_v, the total angle of intrinsic vertex v (2π at inserted interior vertices, π on the
+  /// boundary).
+  double vertex_angle_sum(Index v) const { return angle_sum_[v]; }
+  bool is_boundary_vertex(Index v) const { return boundary_[v] != 0; }
+  /// Signpost of intrinsic halfedge h: its direction at its tail, in [0, Θ_tail].
+  double halfedge_direction(Index h) const { return direction_[h]; }
+  /// Where intrinsic vertex v lies on the input (an input face and barycentric coordinates).
+  const SurfacePoint& vertex_location(Index v) const { return location_[v]; }
+  /// 3D position of a point of the input surface.
+  Eigen::Vector3d position(const SurfacePoint& p) const;
+  /// 3D positions of all intrinsic vertices.
+  Positions vertex_positions() const;
+
+  // ===== Operations (all keep the signposts up to date) =====
+
+  /// Flips intrinsic edge e (see IntrinsicTriangulation::flip_edge) and updates the
+  /// signposts of the diamond in O(1).
+  bool flip_edge(Index e);
+  /// Flips to intrinsic Delaunay, updating the signposts.
+  FlipReport flip_to_delaunay();
+  /// Flips non-Delaunay edges reachable from the queue of edges given (local repair after an
+  /// insertion, IntrinsicTriangulation::flip_to_delaunay_from), updating the signposts;
+  /// appends every face a flip touched to `touched` when given.
+  FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched);
+
+  /// Inserts a vertex in intrinsic face f at barycentric coordinates `bary` (all > 0) and
+  /// locates it on the input; returns its id (n_vertices() before the call).
+  Index insert_vertex(Index f, const Eigen::Vector3d& bary);
+  /// Splits intrinsic edge e at fraction t ∈ (0, 1) of its length from the tail of
+  /// edge_halfedge(e) (boundary edges included); returns the new vertex id.
+  Index split_edge(Index e, double t);
+
+  /// The star of an inserted interior vertex v laid out isometrically in the plane (v is flat,
+  /// Θ_v = 2π): v at the origin, angle 0 along signpost direction 0, ring vertex i at
+  /// length(h_i)·(cos φ_i, sin φ_i) with φ_i the signpost of the i-th outgoing halfedge h_i,
+  /// counter-clockwise (face(h_i) = (v, ring[i], ring[i+1])). Returns false, filling nothing
+  /// useful, when v is an input or boundary vertex or its star is not a disk (a self-edge at
+  /// v, or an outer side glued to another face of the star).
+  bool inserted_vertex_star(Index v, std::vector<Index>* spokes,
+                            std::vector<Eigen::Vector2d>* ring) const;
+  /// Moves inserted interior vertex v by `displacement`, given in the layout of
+  /// inserted_vertex_star(). The surface is unchanged (v moves inside its flat star): the
+  /// spokes get their new planar lengths, the signposts at v and of the spokes' twins are
+  /// updated (the ring vertices' total angles do not change), and v's location on the input
+  /// is traced from the old one along the displacement. Returns false and changes nothing if v
+  /// has no such star, if the new position is not strictly inside the star's kernel (every
+  /// new triangle's height above its outer side at least min_relative_height × that side's
+  /// length), or if the trace over the input fails.
+  bool move_inserted_vertex(Index v, const Eigen::Vector2d& displacement,
+                            double min_relative_height = 1e-6);
+
+  /// Locates a point of the intrinsic triangulation on the input surface by tracing from a
+  /// corner of f along the direction to it.
+  SurfacePoint locate(Index f, const Eigen::Vector3d& bary) const;
+  /// Traces intrinsic edge e over the input surface: a polyline of input surface points from
+  /// one endpoint to the other (every input side crossed), starting at an endpoint that is an
+  /// input vertex when there is one.
+  /// @throws Error when tracing fails (too many crossings on a degenerate input)
+  std::vector<SurfacePoint> trace_edge(Index e) const;
+  /// Traces intrinsic halfedge h from its tail to its head: the segment between path[i] and
+  /// path[i+1] lies in input face path[i].face (path[i+1] may be expressed in the next face).
+  std::vector<SurfacePoint> trace_halfedge(Index h) const;
+  /// Traces every intrinsic edge; polylines in 3D.
+  std::vector<std::vector<Eigen::Vector3d>> traced_edges_3d() const;
+
+  // ===== Function transfer =====
+
+  /// Values on input vertices → intrinsic vertices: input vertices keep theirs, inserted ones
+  /// interpolate linearly in their input face.
+  Eigen::VectorXd input_to_intrinsic(const Eigen::VectorXd& input_values) const;
+  /// Values on intrinsic vertices → input vertices (the first n_input_vertices() entries:
+  /// input vertices are intrinsic vertices with the same ids).
+  Eigen::VectorXd intrinsic_to_input(const Eigen::VectorXd& intrinsic_values) const;
+
+ private:
+  SignpostTriangulation() = default;
+  void init_directions(const IntrinsicTriangulation& t, std::vector<double>& dir,
+                       std::vector<double>& sum, std::vector<char>& boundary) const;
+  double wrap(Index v, double a) const;
+  void add_vertex_records();
+  /// Starts a trace over the input at intrinsic vertex v in signpost direction phi.
+  TraceResult trace_from_vertex(Index v, double phi, double distance, bool record) const;
+  /// Locates vertex v (just inserted) by tracing from neighbour u along halfedge h = u→v.
+  void locate_from(Index h, Index v, double direction_v_to_u);
+
+  IntrinsicTriangulation input_;
+  IntrinsicTriangulation tri_;
+  Positions positions_;
+  std::vector<Triangle> faces_;     // as given
+  std::vector<Index> face_origin_;  // #F input: index into faces_
+  double mollify_epsilon_ = 0.0;
+  MollifyReport mollify_;
+  std::vector<double> input_direction_;  // #H input: signposts of the input halfedges
+  std::vector<double> input_corner_;     // #H input: corner angle at each halfedge's tail
+  std::vector<double> direction_;        // #H intrinsic
+  std::vector<double> angle_sum_;        // #V intrinsic
+  std::vector<char> boundary_;           // #V intrinsic
+  std::vector<SurfacePoint> location_;   // #V intrinsic
+  std::vector<double> frame_;            // #V: for inserted vertices, the angle (in the layout
+                                         // of its location face) of signpost direction 0
+};
+
+/// The common subdivision of a signpost triangulation: the overlay of the intrinsic and the
+/// input triangulations, as a 3D triangle mesh on the input surface. Each of its polygons (the
+/// intersection of one intrinsic face with one input face, convex) is split into a fan of
+/// triangles, which record both faces. Its total area is the input's.
+struct CommonSubdivision {
+  Positions positions;  ///< vertices: input vertices first (same ids), then
+                        ///< inserted intrinsic vertices, then edge crossings
+  std::vector<Triangle> faces;
+  std::vector<Index> intrinsic_face;  ///< per face: the intrinsic face it lies in
+  std::vector<Index> input_face;      ///< per face: the input face, as an index into the
+                                      ///< faces given (SignpostTriangulation::input_faces())
+};
+
+/// Builds the common subdivision by tracing every intrinsic edge over the input and cutting
+/// each input face along the traced segments. @throws Error when a trace fails
+CommonSubdivision common_subdivision(const SignpostTriangulation& st);
+
+/// Writes a common subdivision as a PLY triangle mesh with face properties `intrinsic_face`
+/// and `input_face` (int). Atomic. @throws IoError if the file cannot be written
+void write_common_subdivision_ply(const std::string& path, const CommonSubdivision& cs,
+                                  bool binary = true);
+
+/// Writes polylines (e.g. SignpostTriangulation::traced_edges_3d()) as a PLY line set:
+/// vertices (x, y, z as double) and edges (vertex1, vertex2 as int), binary little-endian or
+/// ASCII; opens in MeshLab, ParaView, Polyscope. Atomic (writes path.tmp, then renames).
+/// @throws IoError if the file cannot be written
+void write_polylines_ply(const std::string& path,
+                         const std::vector<std::vector<Eigen::Vector3d>>& polylines,
+                         bool binary = true);
+
+}  // namespace ifem::intrinsic
