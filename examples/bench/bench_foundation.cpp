@@ -50,7 +50,7 @@ Row run_file(const std::string& name, const std::string& path, int repeat) {
   for (int k = 0; k < repeat; ++k) {
     IntrinsicTriangulation t = tri;
     double t0 = seconds_now();
-    t.mollify(1e-5);
+    t.mollify();
     tm.push_back(seconds_now() - t0);
     t0 = seconds_now();
     r.flips = t.flip_to_delaunay().flips;
@@ -70,7 +70,7 @@ Row run_file(const std::string& name, const std::string& path, int repeat) {
 int peak(const std::string& path) {
   const io::SurfaceInput in = io::read_mesh(path);
   auto tri = IntrinsicTriangulation::from_positions(in.triangles, in.positions);
-  tri.mollify(1e-5);
+  tri.mollify();
   tri.flip_to_delaunay();
   const fem::SparseMatrix L = fem::cotan_laplacian(tri);
   const Eigen::VectorXd M = fem::lumped_mass(tri);

@@ -39,7 +39,7 @@ MeshRow run_mesh(const std::vector<Triangle>& faces, const Positions& positions,
     IntrinsicTriangulation tri = intrinsic::tufted_cover(faces, positions, &rep);
     tc.push_back(seconds_now() - t0);
     t0 = seconds_now();
-    tri.mollify(1e-5);
+    tri.mollify();
     tm.push_back(seconds_now() - t0);
     t0 = seconds_now();
     r.flips = tri.flip_to_delaunay().flips;

@@ -33,7 +33,7 @@ void run_case(const std::string& name, const std::vector<Triangle>& faces, const
   intrinsic::RefineReport rep;
   for (int k = 0; k < repeat; ++k) {
     double t0 = seconds_now();
-    intrinsic::SignpostTriangulation st(faces, x, 1e-5);
+    intrinsic::SignpostTriangulation st(faces, x, intrinsic::kDefaultMollifyEpsilon);
     tb.push_back(seconds_now() - t0);
     t0 = seconds_now();
     rep = intrinsic::delaunay_refine(st, opt);
@@ -72,7 +72,7 @@ void run_accurate(const std::string& name, const io::SurfaceInput& in, int repea
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
     intrinsic::IntrinsicTriangulation tri;
     if (s.path == intrinsic::SurfacePath::kManifold) {
-      intrinsic::SignpostTriangulation st(in.triangles, in.positions, 1e-5);
+      intrinsic::SignpostTriangulation st(in.triangles, in.positions, intrinsic::kDefaultMollifyEpsilon);
       intrinsic::delaunay_refine(st, ro);
       tri = st.intrinsic();
     } else {

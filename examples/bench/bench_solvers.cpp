@@ -24,7 +24,7 @@ namespace {
 // method's matrices have this pattern.
 std::string factor_stats(const std::vector<Triangle>& faces, const Positions& pos) {
   auto tri = intrinsic::IntrinsicTriangulation::from_positions(faces, pos);
-  tri.mollify(1e-5);
+  tri.mollify();
   tri.flip_to_delaunay();
   fem::SparseMatrix A = fem::cotan_laplacian(tri);
   const Eigen::VectorXd m = fem::lumped_mass(tri);
@@ -51,7 +51,7 @@ void heat_row(const std::string& name, const std::vector<Triangle>& faces, const
     const double t0 = seconds_now();
     intrinsic::IntrinsicTriangulation tri =
         intrinsic::IntrinsicTriangulation::from_positions(faces, pos);
-    tri.mollify(1e-5);
+    tri.mollify();
     solvers::HeatDistanceSolver solver(tri);  // flips to IDT, assembles, factors
     pre.push_back(seconds_now() - t0);
     nf = tri.n_faces();

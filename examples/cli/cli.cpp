@@ -139,7 +139,7 @@ PreparedSurface prepare_surface(const std::string& file, const Args& args) {
   progress(args, "read " + file + ": " + std::to_string(nv) + " vertices, " +
                      std::to_string(s.input.n_polygons) + " faces (" + s.input.format + ")");
   s.stats = intrinsic::analyze_faces(s.input.triangles, nv);
-  const double eps = args.get_double("mollify", 1e-5);
+  const double eps = args.get_double("mollify", intrinsic::kDefaultMollifyEpsilon);
   t0 = now_seconds();
 
   // ---- point cloud: no faces, or --pointcloud

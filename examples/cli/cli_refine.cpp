@@ -142,7 +142,7 @@ std::optional<intrinsic::SignpostTriangulation> refine_prepared(
     return std::nullopt;
   }
   intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
-                                      args.get_double("mollify", 1e-5));
+                                      args.get_double("mollify", intrinsic::kDefaultMollifyEpsilon));
   const intrinsic::RefineReport r = intrinsic::delaunay_refine(st, refine_options(args, target));
   s.tri = st.intrinsic();
   if (s.path != "manifold") {

@@ -21,6 +21,10 @@ struct BuildReport {
   std::vector<Index> face_origin;   ///< for each triangulation face, the input face it came from
 };
 
+/// The mollification margin used everywhere unless a caller asks otherwise: every triangle is
+/// made to satisfy a + b − c ≥ kDefaultMollifyEpsilon × (mean edge length) (Sharp & Crane 2020).
+inline constexpr double kDefaultMollifyEpsilon = 1e-5;
+
 /// Outcome of mollify(): the uniform length increment that was added to every edge.
 struct MollifyReport {
   double epsilon = 0.0;  ///< the margin asked for, absolute (relative factor × mean length)
@@ -160,7 +164,7 @@ class IntrinsicTriangulation {
   /// Adds the smallest uniform δ ≥ 0 to every edge length so that every face satisfies
   /// a + b − c ≥ ε for all three orderings, ε = relative_epsilon × mean edge length
   /// (Sharp & Crane 2020, §4.5). Geometry unchanged when no face is below the margin.
-  MollifyReport mollify(double relative_epsilon = 1e-5);
+  MollifyReport mollify(double relative_epsilon = kDefaultMollifyEpsilon);
 
   // ===== Insertion (defined in triangulation_insert.cpp; insertions append) =====
 

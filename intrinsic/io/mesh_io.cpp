@@ -18,13 +18,6 @@ using detail::fail_file;
 
 namespace {
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  return ext;
-}
-
 bool iequals(std::string_view a, std::string_view b) {
   if (a.size() != b.size()) return false;
   for (std::size_t k = 0; k < a.size(); ++k) {
@@ -46,8 +39,15 @@ void append_raw_le(std::string& out, T v) {
 
 }  // namespace
 
+std::string file_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return ext;
+}
+
 SurfaceInput read_surface(const std::string& path) {
-  const std::string ext = lower_extension(path);
+  const std::string ext = file_extension(path);
   using Reader = SurfaceInput (*)(const std::string&, const std::string&);
   Reader reader = nullptr;
   if (ext == ".obj") reader = detail::read_obj;

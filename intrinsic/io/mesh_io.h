@@ -34,6 +34,9 @@ struct SurfaceInput {
   bool has_faces() const { return !triangles.empty(); }
 };
 
+/// The lowercased extension of a path's file name, with its dot (".obj"); "" when it has none.
+std::string file_extension(const std::string& path);
+
 /// Reads a mesh or point cloud, choosing the format from the extension (.obj .off .ply .stl
 /// .xyz .txt; case-insensitive). A file with no faces is a point cloud.
 /// @throws IoError on a missing file, unknown extension, malformed or truncated content, a face

@@ -15,7 +15,7 @@ enum class SurfacePath { kManifold, kTufted };
 
 /// Options of build_surface(); defaults are what the CLI uses.
 struct SurfaceOptions {
-  double mollify_relative_epsilon = 1e-5;  ///< see IntrinsicTriangulation::mollify
+  double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;  ///< see IntrinsicTriangulation::mollify
   bool intrinsic_delaunay = true;          ///< flip to the intrinsic Delaunay triangulation
   bool force_tufted = false;               ///< take the tufted cover even when not needed
 };

@@ -42,7 +42,7 @@ TEST_P(SharedMesh, IntrinsicDelaunayLaplacianOrNamedError) {
     return;
   }
   EXPECT_EQ(st.nonmanifold_edges, 0) << "a nonmanifold mesh must not build on the manifold path";
-  tri.mollify(1e-5);
+  tri.mollify();
   // boundary edges opposite an obtuse angle cannot flip on the manifold path, so only interior
   // weights are checked here (build_surface then takes the tufted cover: next test)
   test::check_flip_to_delaunay(tri, false);

@@ -459,7 +459,7 @@ void expect_tufted_refined(const std::vector<Triangle>& faces, const Positions& 
                            bool off_centers = false) {
   TuftedCoverReport cover_rep;
   IntrinsicTriangulation tri = tufted_cover(faces, x, &cover_rep);
-  tri.mollify(1e-5);
+  tri.mollify();
   ASSERT_GT(cover_rep.nonmanifold_edges, 0);
   ASSERT_EQ(tri.multiplicity(), 2);
   const Index n = tri.n_vertices();
@@ -510,10 +510,10 @@ TEST(Refine, PlainOverloadIsTheSignpostAlgorithm) {
                         {"needle cone", needle_cone()}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
-    SignpostTriangulation st(c.mesh.faces, c.mesh.positions, 1e-5);
+    SignpostTriangulation st(c.mesh.faces, c.mesh.positions, intrinsic::kDefaultMollifyEpsilon);
     IntrinsicTriangulation tri =
         IntrinsicTriangulation::from_positions(c.mesh.faces, c.mesh.positions);
-    tri.mollify(1e-5);
+    tri.mollify();
     const Eigen::VectorXd sums0 = vertex_angle_sums(tri);
     const double area0 = total_area(tri);
     const RefineReport a = delaunay_refine(st), b = delaunay_refine(tri);
@@ -551,7 +551,7 @@ TEST(Refine, SharedCorpusManifoldMeshes) {
     if (in.triangles.size() > 60000) continue;  // keep the suite quick
     std::unique_ptr<SignpostTriangulation> st;
     try {
-      st = std::make_unique<SignpostTriangulation>(in.triangles, in.positions, 1e-5);
+      st = std::make_unique<SignpostTriangulation>(in.triangles, in.positions, kDefaultMollifyEpsilon);
     } catch (const NonManifoldInput&) {
       continue;
     }
@@ -722,7 +722,7 @@ TEST(CommonSubdivision, EdgesLeavingVerticesOnInputSides) {
 TEST(CommonSubdivision, SharedSpotRefined) {
   const auto path = test::test_data() / "spot.obj";
   const io::SurfaceInput in = io::read_mesh(path.string());
-  SignpostTriangulation st(in.triangles, in.positions, 1e-5);
+  SignpostTriangulation st(in.triangles, in.positions, intrinsic::kDefaultMollifyEpsilon);
   delaunay_refine(st);
   TriangleMesh m;
   m.positions = in.positions;
@@ -842,7 +842,7 @@ TEST(CommonSubdivision, LabelsAcrossSidesOfAnUncrossedFace) {
 
 TEST(SignpostSave, RoundTripIsExact) {
   const TriangleMesh m = jittered(grid(9, 7), 0.05, 3);
-  SignpostTriangulation st(m.faces, m.positions, 1e-5);
+  SignpostTriangulation st(m.faces, m.positions, intrinsic::kDefaultMollifyEpsilon);
   delaunay_refine(st);
   const auto tmp = std::filesystem::temp_directory_path() / "ifem_signpost_test.ifem";
   st.save(tmp.string());

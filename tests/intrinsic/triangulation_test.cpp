@@ -206,7 +206,7 @@ TEST(Triangulation, MollifyRestoresTriangleInequality) {
   p << 0, 0, 0, 1, 0, 0, 2, 0, 0, 1, 1, 0;
   const std::vector<Triangle> f = {{0, 1, 2}, {0, 2, 3}};
   auto tri = IntrinsicTriangulation::from_positions(f, p);
-  const MollifyReport rep = tri.mollify(1e-5);
+  const MollifyReport rep = tri.mollify();
   EXPECT_EQ(rep.faces_below_margin, 1);
   EXPECT_GT(rep.delta, 0.0);
   EXPECT_NEAR(rep.delta, rep.epsilon, 1e-15);  // the collinear face needed exactly ε
@@ -214,7 +214,7 @@ TEST(Triangulation, MollifyRestoresTriangleInequality) {
   // a healthy mesh is left alone
   auto ico = IntrinsicTriangulation::from_positions(icosphere(2).faces, icosphere(2).positions);
   const auto before = ico.lengths();
-  EXPECT_EQ(ico.mollify(1e-5).delta, 0.0);
+  EXPECT_EQ(ico.mollify().delta, 0.0);
   EXPECT_EQ(ico.lengths(), before);
 }
 

@@ -52,7 +52,7 @@ Ops operators(const IntrinsicTriangulation& tri) {
 Ops tufted_idt(const std::vector<Triangle>& faces, const Positions& p,
                TuftedCoverReport* rep = nullptr) {
   IntrinsicTriangulation tri = tufted_cover(faces, p, rep);
-  tri.mollify(1e-5);
+  tri.mollify();
   const FlipReport fr = tri.flip_to_delaunay();
   EXPECT_FALSE(fr.hit_flip_cap);
   return operators(tri);
@@ -204,7 +204,7 @@ TEST(TuftedCover, ManifoldMeshGivesTheManifoldLaplacian) {
   // L_tufted = L_manifold and M_tufted = M_manifold exactly, after intrinsic Delaunay too.
   const TriangleMesh m = test::jittered(icosphere(5), 0.04, 3);
   IntrinsicTriangulation man = IntrinsicTriangulation::from_positions(m.faces, m.positions);
-  man.mollify(1e-5);
+  man.mollify();
   man.flip_to_delaunay();
   const Ops a = operators(man);
   const Ops b = tufted_idt(m.faces, m.positions);
@@ -254,7 +254,7 @@ TEST(TuftedCover, DegenerateInputs) {
   EXPECT_GE(rep.nonmanifold_edges, 1);
   EXPECT_EQ(tri.n_faces(), 14);
   EXPECT_EQ(tri.vertex_halfedge(6), kInvalidIndex);
-  const MollifyReport mr = tri.mollify(1e-5);
+  const MollifyReport mr = tri.mollify();
   EXPECT_GT(mr.delta, 0.0);
   tri.validate();
   tri.flip_to_delaunay();
@@ -294,7 +294,7 @@ TEST(TuftedCover, FromSideLengths) {
   side2 << side, side.row(0);
   const Ops a = tufted_idt(faces, m.positions);
   IntrinsicTriangulation tri = tufted_cover(faces, static_cast<Index>(m.positions.rows()), side2);
-  tri.mollify(1e-5);
+  tri.mollify();
   tri.flip_to_delaunay();
   const Ops b = operators(tri);
   expect_same_spectrum(low_spectrum(a, 30), low_spectrum(b, 30), 1e-8);

@@ -183,7 +183,7 @@ TEST(SolversReference, DISABLED_BoundarySweep) {
         io::read_values((ref / (stem + ".src" + std::to_string(src) + ".exact.txt")).string());
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
     auto tri = intrinsic::IntrinsicTriangulation::from_positions(in.triangles, in.positions);
-    tri.mollify(1e-5);
+    tri.mollify();
     tri.flip_to_delaunay();
     const double h_in = intrinsic::mean_side_length(in.triangles, in.positions);
     auto run = [&](const intrinsic::IntrinsicTriangulation& t, bool bnd,
