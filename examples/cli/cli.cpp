@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "intrinsic/core/errors.h"
-#include "intrinsic/surface/build_surface.h"
+#include "intrinsic/io/mesh_io.h"
 #ifdef IFEM_HAVE_PCL
 #include "pointcloud/pcl_adapter.h"
 #endif
@@ -107,107 +107,56 @@ void progress(const Args& args, const std::string& line) {
   if (!args.has("quiet")) std::fprintf(stderr, "ifem: %s\n", line.c_str());
 }
 
-// .pcd goes through the optional PCL adapter; everything else through io::read_surface.
-static io::SurfaceInput read_input(const std::string& file) {
-  std::string ext = file.size() >= 4 ? file.substr(file.size() - 4) : "";
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != ".pcd") return io::read_surface(file);
-#ifdef IFEM_HAVE_PCL
-  pointcloud::PclPoints pts = pointcloud::read_pcd(file);
-  io::SurfaceInput in;
-  in.positions = std::move(pts.positions);
-  if (pts.has_normals()) in.normals = std::move(pts.normals);
-  in.format = "pcd";
-  if (pts.dropped_non_finite > 0) {
-    std::fprintf(stderr, "ifem: %s: dropped %d points with non-finite coordinates\n", file.c_str(),
-                 pts.dropped_non_finite);
-  }
-  return in;
-#else
-  throw IoError(file +
-                ": this ifem was built without PCL: .pcd needs the PCL adapter "
-                "(install libpcl-dev and reconfigure with -DIFEM_WITH_PCL=ON)");
-#endif
-}
-
-PreparedSurface prepare_surface(const std::string& file, const Args& args) {
-  PreparedSurface s;
-  double t0 = now_seconds();
-  s.input = read_input(file);
-  s.seconds_load = now_seconds() - t0;
-  const Index nv = static_cast<Index>(s.input.positions.rows());
-  progress(args, "read " + file + ": " + std::to_string(nv) + " vertices, " +
-                     std::to_string(s.input.n_polygons) + " faces (" + s.input.format + ")");
-  s.stats = intrinsic::analyze_faces(s.input.triangles, nv);
-  const double eps = args.get_double("mollify", intrinsic::kDefaultMollifyEpsilon);
-  t0 = now_seconds();
-
-  // ---- point cloud: no faces, or --pointcloud
-  if (!s.input.has_faces() || args.has("pointcloud")) {
-    pointcloud::Options opt;
-    opt.k = static_cast<int>(args.get_int("knn", 30));
-    opt.mollify_relative_epsilon = eps;
-    opt.intrinsic_delaunay = !args.has("no-delaunay");
-    const bool with_normals = s.input.normals.rows() == nv && nv > 0;
-    s.tri = pointcloud::pointcloud_triangulation(
-        s.input.positions, opt, with_normals ? &s.input.normals : nullptr, &s.cloud);
-    s.path = "pointcloud";
-    s.path_reason = std::string(s.input.has_faces() ? "--pointcloud" : "no faces") +
-                    ": point cloud, k = " + std::to_string(s.cloud.k) +
-                    (s.cloud.normals_from_input ? ", file normals" : ", PCA normals");
-    s.mollify = s.cloud.mollify;
-    s.flips = s.cloud.flips;
-    s.build.input_faces = 0;
-    s.build.unreferenced_vertices = s.cloud.isolated_points;
-    s.seconds_build = s.cloud.seconds_knn + s.cloud.seconds_local + s.cloud.seconds_cover;
-    s.seconds_flip = s.cloud.seconds_idt;
-    std::ostringstream m;
-    m << "point cloud: " << nv << " points, k = " << s.cloud.k << ", " << s.cloud.local_triangles
-      << " local triangles, " << s.cloud.isolated_points << " isolated points; kNN "
-      << s.cloud.seconds_knn << " s, local Delaunay " << s.cloud.seconds_local
-      << " s, tufted cover " << s.cloud.seconds_cover << " s, intrinsic Delaunay "
-      << s.cloud.seconds_idt << " s (" << s.flips.flips << " flips)";
-    progress(args, m.str());
-    return s;
-  }
-
-  // ---- mesh: manifold path when it represents the input with non-negative weights,
-  //      tufted cover otherwise (the choice lives in the library: build_surface)
-  intrinsic::SurfaceOptions opt;
-  opt.mollify_relative_epsilon = eps;
+solvers::PrepareOptions prepare_options(const Args& args) {
+  solvers::PrepareOptions opt;
+  opt.mollify_relative_epsilon = args.get_double("mollify", intrinsic::kDefaultMollifyEpsilon);
   opt.intrinsic_delaunay = !args.has("no-delaunay");
   opt.force_tufted = args.has("tufted");
-  intrinsic::SurfaceTriangulation st =
-      intrinsic::build_surface(s.input.triangles, s.input.positions, opt);
-  s.tri = std::move(st.tri);
-  s.path = st.path_name();
-  s.path_reason = opt.force_tufted ? "--tufted" : st.reason;
-  s.build = std::move(st.build);
-  s.tufted = std::move(st.tufted);
-  s.mollify = st.mollify;
-  s.flips = st.flips;
-  s.boundary_vertex = std::move(st.boundary_vertex);
-  s.seconds_build = st.seconds_build;
-  s.seconds_flip = st.seconds_flip;
-  progress(args, "path: " + s.path + " (" + s.path_reason + ")");
-  if (s.build.dropped_faces) {
-    progress(args,
-             "dropped " + std::to_string(s.build.dropped_faces) + " faces that repeat a vertex");
+  opt.force_pointcloud = args.has("pointcloud");
+  opt.knn = static_cast<int>(args.get_int("knn", 30));
+  if (!args.has("quiet")) {
+    opt.progress = [](const std::string& line) {
+      std::fprintf(stderr, "ifem: %s\n", line.c_str());
+    };
   }
-  if (s.build.reoriented_faces) {
-    progress(args, "reoriented " + std::to_string(s.build.reoriented_faces) +
-                       " faces for a consistent orientation");
+  return opt;
+}
+
+io::SurfaceInput read_input(const std::string& file, const Args& args) {
+  io::SurfaceInput in;
+  if (io::file_extension(file) != ".pcd") {
+    in = io::read_surface(file);
+  } else {
+#ifdef IFEM_HAVE_PCL
+    pointcloud::PclPoints pts = pointcloud::read_pcd(file);
+    in.positions = std::move(pts.positions);
+    if (pts.has_normals()) in.normals = std::move(pts.normals);
+    in.format = "pcd";
+    if (pts.dropped_non_finite > 0) {
+      progress(args, file + ": dropped " + std::to_string(pts.dropped_non_finite) +
+                         " points with non-finite coordinates");
+    }
+#else
+    throw IoError(file +
+                  ": this ifem was built without PCL: .pcd needs the PCL adapter "
+                  "(install libpcl-dev and reconfigure with -DIFEM_WITH_PCL=ON)");
+#endif
   }
-  if (s.mollify.delta > 0) {
-    std::ostringstream m;
-    m << "mollified " << s.mollify.faces_below_margin << " faces: every edge length + "
-      << s.mollify.delta;
-    progress(args, m.str());
-  }
-  if (opt.intrinsic_delaunay) {
-    progress(args, "intrinsic Delaunay: " + std::to_string(s.flips.flips) + " flips");
-  }
-  return s;
+  progress(args, "read " + file + ": " + std::to_string(in.positions.rows()) + " vertices, " +
+                     std::to_string(in.n_polygons) + " faces (" + in.format + ")");
+  return in;
+}
+
+PreparedSurface prepare_surface(io::SurfaceInput input, const Args& args,
+                                const std::optional<solvers::RefineSettings>& refine) {
+  solvers::PrepareOptions opt = prepare_options(args);
+  opt.refine = refine;
+  return solvers::prepare_surface(std::move(input), opt);
+}
+
+PreparedSurface prepare_surface(const std::string& file, const Args& args,
+                                const std::optional<solvers::RefineSettings>& refine) {
+  return prepare_surface(read_input(file, args), args, refine);
 }
 
 }  // namespace ifem::cli

@@ -4,15 +4,13 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
-#include "intrinsic/core/triangulation.h"
 #include "intrinsic/io/mesh_io.h"
-#include "intrinsic/surface/face_analysis.h"
-#include "intrinsic/surface/tufted_cover.h"
-#include "pointcloud/pointcloud_laplacian.h"
+#include "solvers/pipeline.h"
 
 namespace ifem::cli {
 
@@ -54,35 +52,27 @@ extern const std::set<std::string> kSurfaceOptions;  // --mollify --knn
 /// Help text for those options, to append to a command's help.
 extern const char* const kSurfaceHelp;
 
-/// An input loaded and turned into an intrinsic triangulation, with everything that was
-/// repaired or chosen along the way.
-struct PreparedSurface {
-  io::SurfaceInput input;
-  intrinsic::FaceListStats stats;
-  intrinsic::IntrinsicTriangulation tri;
-  intrinsic::BuildReport build;
-  intrinsic::MollifyReport mollify;
-  intrinsic::FlipReport flips;
-  intrinsic::TuftedCoverReport tufted;  ///< filled on the "tufted" path
-  pointcloud::Report cloud;             ///< filled on the "pointcloud" path
-  std::string path;                     ///< "manifold", "tufted" or "pointcloud"
-  std::string path_reason;              ///< why that path was taken
-  /// #V, 1 on vertices of the input's boundary (edges with one face); empty for point clouds
-  std::vector<char> boundary_vertex;
-  double seconds_load = 0, seconds_build = 0, seconds_flip = 0;
-};
+/// The library's prepared surface (solvers/pipeline.h): the CLI adds no state of its own.
+using PreparedSurface = solvers::PreparedSurface;
 
-/// Loads `file` and builds its intrinsic triangulation: mollified (--mollify, default 1e-5
-/// relative), flipped to intrinsic Delaunay unless --no-delaunay. Prints one progress line per
-/// stage to stderr unless --quiet. The path is chosen automatically:
-///  - "pointcloud" when the file has no faces or --pointcloud (kNN local triangulations,
-///    --knn K neighbours, glued into a tufted cover);
-///  - "tufted" when --tufted, when an edge has 3+ faces, when the gluing is non-orientable, or
-///    when boundary edges opposite obtuse angles would keep negative cotan weights;
-///  - "manifold" otherwise (intrinsic::build_surface makes the mesh choice).
-/// On every path the triangulation's vertices are the input's vertices in the input's order
-/// (unreferenced / isolated ones included: zero row in L, zero mass).
-PreparedSurface prepare_surface(const std::string& file, const Args& args);
+/// The library's PrepareOptions from the surface options (--mollify, --no-delaunay, --tufted,
+/// --pointcloud, --knn) and the progress sink (stderr unless --quiet).
+solvers::PrepareOptions prepare_options(const Args& args);
+
+/// Reads `file` (.pcd through the optional PCL adapter, anything else through io::read_surface)
+/// and prints one progress line.
+io::SurfaceInput read_input(const std::string& file, const Args& args);
+
+/// solvers::prepare_surface() of an input read by read_input(), with the command line's surface
+/// options and, when given, refinement. The path is chosen by the library: point cloud (no
+/// faces, or --pointcloud), tufted cover (--tufted, nonmanifold, non-orientable, negative
+/// boundary weights), manifold otherwise. On every path the triangulation's first #V_in
+/// vertices are the input's, in the input's order.
+PreparedSurface prepare_surface(io::SurfaceInput input, const Args& args,
+                                const std::optional<solvers::RefineSettings>& refine = {});
+/// read_input() then prepare_surface().
+PreparedSurface prepare_surface(const std::string& file, const Args& args,
+                                const std::optional<solvers::RefineSettings>& refine = {});
 
 /// Prints a progress line to stderr unless --quiet was given.
 void progress(const Args& args, const std::string& line);

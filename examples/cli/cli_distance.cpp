@@ -1,11 +1,14 @@
 // `ifem distance`: geodesic distance by the heat method on the intrinsic Delaunay triangulation.
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <sstream>
 
 #include "cli.h"
 #include "cli_refine.h"
 #include "cli_solver_util.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/timer.h"
 #include "solvers/heat_distance.h"
 
 namespace ifem::cli {
@@ -26,44 +29,32 @@ int run(const Args& args) {
   std::vector<Index> sources;
   for (const long v : args.get_int_list("source")) sources.push_back(Index(v));
   if (sources.empty()) throw InvalidInput("--source: no vertex given");
-  PreparedSurface s = prepare_surface(args.positional()[0], args);
-  const Index nv = Index(s.input.positions.rows());
+  // --refine: the library's accurate mode (edges of about 0.4·h, t = ℓ²/4, one correction step;
+  // solvers::distance_options); inserted vertices come after the input's, so ids are kept
+  std::optional<solvers::RefineSettings> refine;
+  if (args.has("refine")) refine = refine_settings(args, kAccurate.resolution, false);
+  const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);
+  const Index nv = s.n_input_vertices();
   for (const Index v : sources) {
     if (v < 0 || v >= nv) {
       throw InvalidInput("--source " + std::to_string(v) + ": vertex out of range [0, " +
                          std::to_string(nv) + ")");
     }
   }
-  // refined: inserted vertices come after the input's, so sources and results keep their ids.
-  // With a size bound (default --resolution 0.4) the heat step is t = ℓ²/4 for the target edge
-  // length ℓ, plus one correction step: together 2× below CGAL's heat method on every
-  // reference mesh (tests/solvers/refine_accuracy_test.cpp). Without one, t stays the input's:
-  // the refined mesh's mean edge is short and its t too small in the large triangles.
-  const bool refine = args.has("refine");
-  const double target = refine ? refine_target_length(s, args, kAccurate.resolution) : 0.0;
-  if (refine) refine_prepared(s, args, kAccurate.resolution);
-  solvers::HeatDistanceOptions opt;
-  opt.time_factor = args.get_double("time-factor", target > 0.0 ? kAccurate.time_factor : 1.0);
-  opt.correction_steps = static_cast<int>(
-      args.get_int("correction-steps", target > 0.0 ? kAccurate.correction_steps : 0));
-  opt.intrinsic_delaunay = false;  // prepare_surface already flipped (unless --no-delaunay)
-  if (s.input.has_faces()) {
-    // t from the input mesh's edges (more accurate than the IDT's on sliver meshes), and the
-    // input's boundary (a tufted cover has none of its own)
-    opt.mean_edge_length =
-        target > 0.0 ? target : intrinsic::mean_side_length(s.input.triangles, s.input.positions);
-    opt.boundary_vertices = s.boundary_vertex;
+  solvers::DistanceSettings settings;
+  if (args.has("time-factor")) settings.time_factor = args.get_double("time-factor", 1.0);
+  if (args.has("correction-steps")) {
+    settings.correction_steps = static_cast<int>(args.get_int("correction-steps", 0));
   }
-  double t0 = now_seconds();
-  const solvers::HeatDistanceSolver solver(s.tri, opt);
-  progress(args, "heat method: t = " + std::to_string(solver.time_step()) + ", factored in " +
-                     std::to_string(now_seconds() - t0) + " s");
-  t0 = now_seconds();
+  const solvers::HeatDistanceOptions heat = solvers::distance_options(s, settings);
+  const Stopwatch watch;
   solvers::HeatDistanceReport rep;
-  Eigen::VectorXd d = solver.compute_distance(sources, &rep);
-  progress(args, "distance in " + std::to_string(now_seconds() - t0) + " s (" +
-                     std::to_string(rep.stages) + " stage" + (rep.stages > 1 ? "s" : "") + ")");
-  d.conservativeResize(nv);  // the triangulation's first #V vertices are the input's
+  const Eigen::VectorXd d = solvers::geodesic_distance(s, sources, settings, &rep);
+  std::ostringstream m;
+  m << "heat method: t = " << heat.time_factor << "·h² (h = " << heat.mean_edge_length << "), "
+    << heat.correction_steps << " correction steps, " << rep.stages << " stage"
+    << (rep.stages > 1 ? "s" : "") << ", " << watch.seconds() << " s";
+  progress(args, m.str());
   if (ext == ".ply") {
     io::write_ply(out, s.input.positions, s.input.triangles, {{"distance", d}});
   } else {

@@ -1,10 +1,12 @@
 // `ifem eigen`: the smallest Laplace–Beltrami eigenpairs L φ = λ M φ.
 #include <cstdio>
+#include <optional>
 
 #include "cli.h"
 #include "cli_refine.h"
 #include "cli_solver_util.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/timer.h"
 #include "solvers/eigen.h"
 
 namespace ifem::cli {
@@ -17,18 +19,16 @@ int run(const Args& args) {
   if (extension_of(out) != ".ply") throw InvalidInput("-o " + out + ": the output must be .ply");
   const long k = args.get_int("k", 10);
   if (k < 1) throw InvalidInput("-k must be ≥ 1");
-  PreparedSurface s = prepare_surface(args.positional()[0], args);
-  const Index nv = Index(s.input.positions.rows());
-  // refined: input vertices keep ids 0..nv-1, so the eigenvectors restricted to them are the
+  // refined: input vertices keep ids 0..#V_in-1, so the eigenvectors restricted to them are the
   // values on the input's vertices (inserted vertices only enrich the discretization)
-  if (args.has("refine")) refine_prepared(s, args);
-  const double t0 = now_seconds();
-  const solvers::EigenPairs ep = solvers::eigenpairs(s.tri, Index(k));
-  progress(args, "eigenpairs in " + std::to_string(now_seconds() - t0) + " s");
+  std::optional<solvers::RefineSettings> refine;
+  if (args.has("refine")) refine = refine_settings(args, 0.0, false);
+  const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);
+  const Stopwatch watch;
+  const solvers::EigenPairs ep = solvers::eigenmodes(s, Index(k));
+  progress(args, "eigenpairs in " + std::to_string(watch.seconds()) + " s");
   std::vector<io::VertexProperty> props;
-  for (long j = 0; j < k; ++j) {
-    props.push_back({"phi" + std::to_string(j), ep.vectors.col(j).head(nv)});
-  }
+  for (long j = 0; j < k; ++j) props.push_back({"phi" + std::to_string(j), ep.vectors.col(j)});
   io::write_ply(out, s.input.positions, s.input.triangles, props);
   const std::string values_path = out.substr(0, out.size() - 4) + ".eigenvalues.txt";
   io::write_values(values_path, ep.values);

@@ -48,7 +48,7 @@ int print_pointcloud(const std::string& file, const PreparedSurface& s, bool jso
         c.first_isolated_point, c.starless_points, c.coincident_points, c.normals_from_input,
         s.tri.n_faces(), s.tri.n_edges(), c.cover.nonmanifold_edges, area, c.mollify.delta,
         c.flips.flips, c.seconds_knn, c.seconds_local, c.seconds_cover, c.seconds_idt,
-        s.path.c_str(), s.path_reason.c_str());
+        intrinsic::to_string(s.path), s.reason_detail.c_str());
     return 0;
   }
   std::printf("%s (%s)\n", file.c_str(), s.input.format.c_str());
@@ -71,7 +71,7 @@ int print_pointcloud(const std::string& file, const PreparedSurface& s, bool jso
   std::printf("  intrinsic Delaunay: %zu flips\n", c.flips.flips);
   std::printf("  time: kNN %.3g s, local Delaunay %.3g s, tufted cover %.3g s, flips %.3g s\n",
               c.seconds_knn, c.seconds_local, c.seconds_cover, c.seconds_idt);
-  std::printf("  path: %s (%s)\n", s.path.c_str(), s.path_reason.c_str());
+  std::printf("  path: %s (%s)\n", intrinsic::to_string(s.path), s.reason_detail.c_str());
   return 0;
 }
 
@@ -80,21 +80,23 @@ int run(const Args& args) {
   const std::string file = args.positional()[0];
   // Always flip here: info reports the flip count; --no-delaunay only skips it.
   PreparedSurface s = prepare_surface(file, args);
-  if (s.path == "pointcloud") return print_pointcloud(file, s, args.has("json"));
+  if (s.path == intrinsic::SurfacePath::kPointCloud)
+    return print_pointcloud(file, s, args.has("json"));
   const auto& st = s.stats;
   const auto& tri = s.tri;
   // angles and Delaunay share are measured on the input triangulation (before flips); the
   // tufted cover has the input's faces (twice), so its angles are the input's
-  auto input = s.path == "manifold" ? intrinsic::IntrinsicTriangulation::from_positions(
-                                          s.input.triangles, s.input.positions)
-                                    : intrinsic::tufted_cover(s.input.triangles, s.input.positions);
+  auto input =
+      s.path == intrinsic::SurfacePath::kManifold
+          ? intrinsic::IntrinsicTriangulation::from_positions(s.input.triangles, s.input.positions)
+          : intrinsic::tufted_cover(s.input.triangles, s.input.positions);
   const AngleStats a = angle_stats(input);  // as given: before mollification and flips
   // of the input face list (the cover's own χ is that of the doubled surface)
   const long chi = static_cast<long>(st.vertices - st.unreferenced_vertices) - st.edges +
                    (st.faces - st.degenerate_faces);
   // genus only where it is defined: an orientable surface without pinched vertices or edges
   const bool orientable = st.nonmanifold_edges == 0 && st.nonmanifold_vertices == 0 &&
-                          s.path_reason.find("non-orientable") == std::string::npos;
+                          s.reason != intrinsic::PathReason::kNonOrientable;
   const long genus2 = 2L * st.components - chi - st.boundary_loops;  // 2g, orientable surfaces
   const double share = tri.n_edges() ? double(a.non_delaunay_edges) / input.n_edges() : 0.0;
   if (args.has("json")) {
@@ -114,7 +116,7 @@ int run(const Args& args) {
                                                        : "null",
         st.nonmanifold_edges, st.nonmanifold_vertices, s.build.dropped_faces, st.duplicate_faces,
         s.build.reoriented_faces, a.min_deg, a.max_deg, share, s.flips.flips, s.mollify.delta,
-        s.path.c_str(), s.path_reason.c_str());
+        intrinsic::to_string(s.path), s.reason_detail.c_str());
     return 0;
   }
   std::printf("%s (%s)\n", file.c_str(), s.input.format.c_str());
@@ -133,7 +135,7 @@ int run(const Args& args) {
   std::printf("  mollification δ = %.3g (margin ε = %.3g, %d faces below it)\n", s.mollify.delta,
               s.mollify.epsilon, s.mollify.faces_below_margin);
   std::printf("  intrinsic Delaunay: %zu flips\n", s.flips.flips);
-  std::printf("  path: %s (%s)\n", s.path.c_str(), s.path_reason.c_str());
+  std::printf("  path: %s (%s)\n", intrinsic::to_string(s.path), s.reason_detail.c_str());
   return 0;
 }
 

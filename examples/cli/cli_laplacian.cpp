@@ -45,7 +45,7 @@ int run(const Args& args) {
   }
   std::printf("wrote %s_L.mtx and %s_M.mtx: %d×%d, %ld nonzeros in L, path %s, %zu flips, %s\n",
               prefix.c_str(), prefix.c_str(), int(L.rows()), int(L.cols()), long(L.nonZeros()),
-              s.path.c_str(), s.flips.flips,
+              intrinsic::to_string(s.path), s.flips.flips,
               positive == 0
                   ? "all weights non-negative (off-diagonals ≤ 1e-10 × max diagonal)"
                   : (std::to_string(positive) + " negative weights (positive off-diagonals" +

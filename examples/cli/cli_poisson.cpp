@@ -1,12 +1,15 @@
 // `ifem poisson`: L u = M f with Dirichlet values on chosen vertices.
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 #include "cli.h"
 #include "cli_refine.h"
 #include "cli_solver_util.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/timer.h"
 #include "solvers/poisson.h"
 
 namespace ifem::cli {
@@ -46,40 +49,32 @@ int run(const Args& args) {
   const std::string out = args.get("output");
   const std::string ext = extension_of(out);
   if (ext != ".ply" && ext != ".txt") throw InvalidInput("-o " + out + ": use .ply or .txt");
-  PreparedSurface s = prepare_surface(args.positional()[0], args);
-  const Index nv = Index(s.input.positions.rows());
-  // read the data before the (slow) refinement so bad files fail fast
-  Eigen::VectorXd f_in = Eigen::VectorXd::Zero(nv);
+  // read the data before the (slow) preparation and refinement so bad files fail fast
+  io::SurfaceInput input = read_input(args.positional()[0], args);
+  const Index nv = static_cast<Index>(input.positions.rows());
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(nv);
   if (args.has("rhs")) {
-    const Eigen::VectorXd r = io::read_values(args.get("rhs"));
-    if (r.size() != nv) {
-      throw InvalidInput("--rhs " + args.get("rhs") + ": " + std::to_string(r.size()) +
+    f = io::read_values(args.get("rhs"));
+    if (f.size() != nv) {
+      throw InvalidInput("--rhs " + args.get("rhs") + ": " + std::to_string(f.size()) +
                          " values, expected one per input vertex (" + std::to_string(nv) + ")");
     }
-    f_in = r;
   }
   std::vector<Index> dv;
   std::vector<double> dval;
   if (args.has("dirichlet")) read_dirichlet(args.get("dirichlet"), nv, dv, dval);
-  // refined: f is interpolated linearly onto the inserted vertices (they lie on input faces);
-  // the Dirichlet vertices are input vertices, which keep their ids
-  Eigen::VectorXd f;
-  if (args.has("refine")) {
-    // signposts needed: the inserted vertices' places on the input faces carry f over
-    const auto st = refine_prepared(s, args, 0.0, true);
-    f = st->input_to_intrinsic(f_in);
-  } else {
-    f = Eigen::VectorXd::Zero(s.tri.n_vertices());
-    f.head(nv) = f_in;
-  }
+  // refined: f is interpolated linearly onto the inserted vertices (signposts: their places on
+  // the input faces); the Dirichlet vertices are input vertices, which keep their ids
+  std::optional<solvers::RefineSettings> refine;
+  if (args.has("refine")) refine = refine_settings(args, 0.0, true);
+  const PreparedSurface s = prepare_surface(std::move(input), args, refine);
   solvers::PoissonOptions opt;
   opt.screening = args.get_double("screening", 0.0);
-  const double t0 = now_seconds();
+  const Stopwatch watch;
   const Eigen::VectorXd g =
       Eigen::Map<const Eigen::VectorXd>(dval.data(), Eigen::Index(dval.size()));
-  Eigen::VectorXd u = solvers::solve_poisson(s.tri, f, dv, g, opt);
-  progress(args, "solved in " + std::to_string(now_seconds() - t0) + " s");
-  u.conservativeResize(nv);
+  const Eigen::VectorXd u = solvers::poisson(s, f, dv, g, opt);
+  progress(args, "solved in " + std::to_string(watch.seconds()) + " s");
   if (ext == ".ply") {
     io::write_ply(out, s.input.positions, s.input.triangles, {{"u", u}});
   } else {

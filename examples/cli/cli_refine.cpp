@@ -30,151 +30,28 @@ const char* const kRefineHelp =
     "  --max-edge L         with --relax: after each pass split edges longer than L at their\n"
     "                       midpoints (the next pass relaxes the new vertices)\n";
 
-double refine_target_length(const PreparedSurface& s, const Args& args, double default_resolution) {
-  const double c = args.get_double("resolution", default_resolution);
-  if (!(c >= 0.0) || !std::isfinite(c)) {
-    throw InvalidInput("--resolution: expected a factor ≥ 0 of the mean edge length");
+solvers::RefineSettings refine_settings(const Args& args, double default_resolution,
+                                        bool need_signposts) {
+  solvers::RefineSettings r;
+  r.min_angle_degrees = args.get_double("min-angle", r.min_angle_degrees);
+  r.resolution = args.get_double("resolution", default_resolution);
+  r.max_area = args.get_double("max-area", 0.0);
+  r.max_insertions = static_cast<Index>(args.get_int("max-insertions", -1));
+  r.relax_iterations = static_cast<int>(args.get_int("relax", 0));
+  r.relax_max_edge = args.get_double("max-edge", 0.0);
+  r.need_signposts = need_signposts;
+  if (r.relax_max_edge > 0.0 && r.relax_iterations == 0) {
+    throw InvalidInput("--max-edge splits during --relax ITER");
   }
-  if (c == 0.0 || !s.input.has_faces()) return 0.0;
-  return c * intrinsic::mean_side_length(s.input.triangles, s.input.positions);
-}
-
-intrinsic::RefineOptions refine_options(const Args& args, double target_length) {
-  intrinsic::RefineOptions o;
-  o.min_angle_degrees = args.get_double("min-angle", o.min_angle_degrees);
-  o.max_area = args.get_double("max-area", 0.0);
-  if (target_length > 0.0) {
-    const double a = intrinsic::equilateral_area(target_length);
-    o.max_area = o.max_area > 0.0 ? std::min(o.max_area, a) : a;
-  }
-  o.max_insertions = static_cast<Index>(args.get_int("max-insertions", -1));
-  return o;
-}
-
-std::string refine_unsupported(const PreparedSurface& s, bool need_signposts) {
-  if (s.path == "pointcloud") {
-    return "refinement is not supported on point clouds (their tufted cover is glued from local "
-           "triangulations, with a mass of its own)";
-  }
-  if (need_signposts) {
-    return "this input took the " + s.path + " path (" + s.path_reason +
-           "): refinement then runs on the tufted cover, without signposts, so inserted "
-           "vertices have no place on the input; `ifem distance --refine` and `ifem eigen "
-           "--refine` support that, this command needs signposts (edge-manifold, orientable "
-           "meshes only)";
-  }
-  return "refinement supports edge-manifold, orientable meshes (signposts) and the tufted "
-         "cover; this input took the " +
-         s.path + " path (" + s.path_reason + ")";
+  r.validate();
+  return r;
 }
 
 namespace {
 
-// Refinement with signposts runs on the manifold Δ-complex of the input. A mesh that took the
-// tufted path only because boundary edges opposite obtuse angles kept negative weights is fine:
-// refinement splits exactly those (encroached) boundary edges.
-bool refinable(const PreparedSurface& s) {
-  return s.path != "pointcloud" && s.stats.edge_manifold() &&
-         s.path_reason.find("non-orientable") == std::string::npos && s.path_reason != "--tufted";
-}
-
-}  // namespace
-
-namespace {
-
-std::string describe(const intrinsic::RefineReport& r) {
-  std::ostringstream m;
-  m << "refined: " << r.vertices_before << " -> " << r.vertices_after << " vertices ("
-    << r.face_insertions << " circumcenters, " << r.edge_splits << " edge splits, "
-    << r.boundary_splits << " boundary splits), " << r.flips << " flips, min angle "
-    << r.min_angle_before << "° -> " << r.min_angle_after_excluding_needles << "°";
-  if (r.needle_faces) m << ", " << r.needle_faces << " needle-cone triangles left alone";
-  if (r.failed_traces) m << ", " << r.failed_traces << " bad triangles skipped (trace failed)";
-  if (r.hit_insertion_cap) {
-    m << "; STOPPED at the insertion cap, " << r.bad_faces_left << " triangles still bad";
-  }
-  return m.str();
-}
-
-std::string describe_relax(const intrinsic::RelaxReport& r) {
-  std::ostringstream m;
-  m << "relaxed: " << r.passes << " ODT passes, " << r.moved << " moves (" << r.rejected
-    << " rejected, longest " << r.max_displacement << "), ";
-  if (r.splits > 0) {
-    m << r.splits << " long edges split (longest now " << r.max_edge_after << ")"
-      << (r.hit_split_cap ? " STOPPED at the split cap" : "") << ", ";
-  }
-  m << r.flips << " flips, min angle " << r.min_angle_before << "° -> " << r.min_angle_after
-    << "°, mean min angle " << r.mean_min_angle_before << "° -> " << r.mean_min_angle_after << "°";
-  return m.str();
-}
-
-}  // namespace
-
-std::optional<intrinsic::SignpostTriangulation> refine_prepared(
-    PreparedSurface& s, const Args& args, double default_resolution, bool need_signposts,
-    intrinsic::RefineReport* report, intrinsic::RelaxReport* relax_report) {
-  const auto relax = static_cast<int>(args.get_int("relax", 0));
-  if (relax < 0) throw InvalidInput("--relax: expected a number of passes ≥ 0");
-  const double max_edge = args.get_double("max-edge", 0.0);
-  if (!(max_edge >= 0.0)) throw InvalidInput("--max-edge: expected a length ≥ 0");
-  if (max_edge > 0.0 && relax == 0) throw InvalidInput("--max-edge splits during --relax ITER");
-  const double t0 = now_seconds();
-  const double target = refine_target_length(s, args, default_resolution);
-  if (!refinable(s)) {
-    // nonmanifold / non-orientable / --tufted: refine the tufted cover itself, intrinsically
-    if (s.path != "tufted" || need_signposts) {
-      throw InvalidInput(refine_unsupported(s, need_signposts));
-    }
-    if (relax > 0) {
-      throw InvalidInput("--relax moves vertices with signposts, which the tufted cover (" +
-                         s.path_reason + ") does not have");
-    }
-    const intrinsic::RefineReport r =
-        intrinsic::delaunay_refine(s.tri, refine_options(args, target));
-    // inserted vertices count as interior for the heat method's boundary condition (the
-    // cover folds across the input's boundary edges: they are interior edges of it)
-    if (!s.boundary_vertex.empty()) s.boundary_vertex.resize(s.tri.n_vertices(), 0);
-    progress(args,
-             describe(r) + " on the tufted cover in " + std::to_string(now_seconds() - t0) + " s");
-    if (report) *report = r;
-    if (relax_report) *relax_report = intrinsic::RelaxReport{};
-    return std::nullopt;
-  }
-  intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
-                                      args.get_double("mollify", intrinsic::kDefaultMollifyEpsilon));
-  const intrinsic::RefineReport r = intrinsic::delaunay_refine(st, refine_options(args, target));
-  s.tri = st.intrinsic();
-  if (s.path != "manifold") {
-    s.path = "manifold";
-    s.path_reason = "refined (boundary edges opposite obtuse angles are split by refinement)";
-  }
-  s.boundary_vertex.clear();  // the refined triangulation's own boundary is the surface's
-  if (const Index bad = intrinsic::negative_boundary_weights(s.tri)) {
-    progress(args, "note: " + std::to_string(bad) +
-                       " boundary edges still face obtuse angles after refinement (needle cones)");
-  }
-  progress(args, describe(r) + " in " + std::to_string(now_seconds() - t0) + " s");
-  if (report) *report = r;
-  intrinsic::RelaxReport rr;
-  if (relax > 0) {
-    const double t1 = now_seconds();
-    intrinsic::RelaxOptions ro;
-    ro.iterations = relax;
-    ro.max_edge_length = max_edge;
-    rr = intrinsic::relax_inserted_vertices(st, ro);
-    progress(args, describe_relax(rr) + " in " + std::to_string(now_seconds() - t1) + " s");
-  }
-  if (relax_report) *relax_report = rr;
-  s.tri = st.intrinsic();  // the relaxed lengths (the same connectivity up to flips)
-  return st;
-}
-
-namespace {
-
-double input_min_angle(const PreparedSurface& s) {
+double input_min_angle(const io::SurfaceInput& input) {
   const auto t =
-      intrinsic::IntrinsicTriangulation::from_positions(s.input.triangles, s.input.positions);
+      intrinsic::IntrinsicTriangulation::from_positions(input.triangles, input.positions);
   double m = intrinsic::kPi;
   for (Index f = 0; f < t.n_faces(); ++f) m = std::min(m, intrinsic::min_corner_angle(t, f));
   return m * 180.0 / intrinsic::kPi;
@@ -185,12 +62,12 @@ int run(const Args& args) {
   if (!args.has("output") && !args.has("save") && !args.has("lines") && !args.has("mesh")) {
     throw InvalidInput("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
   }
-  PreparedSurface s = prepare_surface(args.positional()[0], args);
-  if (!refinable(s)) throw InvalidInput(refine_unsupported(s, true));
-  const double min_in = input_min_angle(s);
-  intrinsic::RefineReport r;
-  intrinsic::RelaxReport rr;
-  const intrinsic::SignpostTriangulation st = *refine_prepared(s, args, 0.0, true, &r, &rr);
+  // refinement with signposts (the library refuses inputs that cannot have them)
+  PreparedSurface s = prepare_surface(args.positional()[0], args, refine_settings(args, 0.0, true));
+  const double min_in = input_min_angle(s.input);
+  const intrinsic::RefineReport& r = s.refine_report;
+  const intrinsic::RelaxReport& rr = s.relax_report;
+  const intrinsic::SignpostTriangulation& st = *s.signposts;
   // everything is computed before the first file is written: no partial output on a failure
   double t0 = now_seconds();
   const bool binary = !args.has("ascii");

@@ -26,6 +26,13 @@ class NonManifoldInput : public InvalidInput {
   using InvalidInput::InvalidInput;
 };
 
+/// A gluing with no consistent orientation (a Moebius-like loop): the manifold path cannot
+/// represent it. The tufted cover accepts such inputs.
+class NonOrientableInput : public NonManifoldInput {
+ public:
+  using NonManifoldInput::NonManifoldInput;
+};
+
 /// A file that cannot be read or written: missing, unknown format, malformed, truncated.
 class IoError : public Error {
  public:

@@ -121,7 +121,7 @@ std::vector<char> orient_faces(const std::vector<Index>& tail, const std::vector
           flip[g] = want;
           stack.push_back(g);
         } else if (flip[g] != want) {
-          throw NonManifoldInput(
+          throw NonOrientableInput(
               "the gluing is non-orientable (a Moebius-like loop closes at edge " +
               edge_name(tail[h], tail[T::next(h)]) + ", faces " + std::to_string(f) + " and " +
               std::to_string(g) + "); use the tufted cover for non-orientable input");

@@ -1,22 +1,113 @@
 #include "intrinsic/surface/build_surface.h"
 
-#include <chrono>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 
+#include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
-#include "intrinsic/surface/face_analysis.h"
+#include "intrinsic/core/timer.h"
 
 namespace ifem::intrinsic {
 namespace {
-
-double now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 std::string plural(Index n, const char* what) {
   return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
 }
 
+// The tufted cover of the faces, mollified and (optionally) flipped, into s.
+void take_tufted_path(const std::vector<Triangle>& faces, const Positions& positions,
+                      const SurfaceOptions& options, SurfaceTriangulation& s) {
+  Stopwatch watch;
+  s.tri = tufted_cover(faces, positions, &s.tufted);
+  s.path = SurfacePath::kTufted;
+  s.build = BuildReport{};
+  s.build.input_faces = s.tufted.input_faces;
+  s.build.dropped_faces = s.tufted.dropped_faces;
+  s.build.unreferenced_vertices = s.tufted.unreferenced_vertices;
+  s.build.face_origin = s.tufted.parent_face;
+  s.mollify = s.tri.mollify(options.mollify_relative_epsilon);
+  s.seconds_build += watch.restart();
+  s.flips = FlipReport{};
+  if (options.intrinsic_delaunay) {
+    s.flips = s.tri.flip_to_delaunay();
+    s.seconds_flip += watch.seconds();
+  }
+}
+
+// Tries the manifold path: true when it represents the input (s filled), false with s.reason /
+// s.reason_detail saying why not. Non-orientability is only found while gluing: the typed
+// NonOrientableInput of from_positions() is that answer (edge-manifoldness is checked first,
+// from the face statistics, so no other NonManifoldInput can arrive here).
+bool try_manifold_path(const std::vector<Triangle>& faces, const Positions& positions,
+                       const SurfaceOptions& options, SurfaceTriangulation& s) {
+  Stopwatch watch;
+  try {
+    s.tri = IntrinsicTriangulation::from_positions(faces, positions, &s.build);
+  } catch (const NonOrientableInput& e) {
+    s.reason = PathReason::kNonOrientable;
+    s.reason_detail = e.what();
+    return false;
+  }
+  s.path = SurfacePath::kManifold;
+  s.reason = PathReason::kEdgeManifoldOrientable;
+  s.reason_detail = to_string(s.reason);
+  if (s.build.reoriented_faces) {
+    s.reason_detail += " (" + plural(s.build.reoriented_faces, "face") + " reoriented)";
+  }
+  s.mollify = s.tri.mollify(options.mollify_relative_epsilon);
+  s.seconds_build = watch.restart();
+  if (!options.intrinsic_delaunay) return true;
+  s.flips = s.tri.flip_to_delaunay();
+  s.seconds_flip = watch.seconds();
+  const Index bad = negative_boundary_weights(s.tri);
+  if (bad == 0) return true;
+  s.reason = PathReason::kNegativeBoundaryWeights;
+  s.reason_detail = plural(bad, "boundary edge") +
+                    " opposite obtuse angles keep negative cotan weights on the manifold path";
+  return false;
+}
+
 }  // namespace
+
+const char* to_string(SurfacePath path) {
+  switch (path) {
+    case SurfacePath::kManifold:
+      return "manifold";
+    case SurfacePath::kTufted:
+      return "tufted";
+    case SurfacePath::kPointCloud:
+      return "pointcloud";
+  }
+  return "?";
+}
+
+const char* to_string(PathReason reason) {
+  switch (reason) {
+    case PathReason::kEdgeManifoldOrientable:
+      return "edge-manifold and orientable";
+    case PathReason::kTuftedRequested:
+      return "tufted cover requested";
+    case PathReason::kNonmanifoldEdges:
+      return "nonmanifold edges";
+    case PathReason::kNonOrientable:
+      return "non-orientable gluing";
+    case PathReason::kNegativeBoundaryWeights:
+      return "boundary edges opposite obtuse angles keep negative cotan weights";
+    case PathReason::kNoFaces:
+      return "no faces: point cloud";
+    case PathReason::kPointCloudRequested:
+      return "point cloud requested";
+  }
+  return "?";
+}
+
+void SurfaceOptions::validate() const {
+  if (!(mollify_relative_epsilon >= 0.0) || !std::isfinite(mollify_relative_epsilon)) {
+    throw InvalidInput("SurfaceOptions: mollify_relative_epsilon must be finite and ≥ 0, got " +
+                       std::to_string(mollify_relative_epsilon));
+  }
+}
 
 Index negative_boundary_weights(const IntrinsicTriangulation& tri) {
   if (!tri.has_boundary()) return 0;
@@ -27,87 +118,51 @@ Index negative_boundary_weights(const IntrinsicTriangulation& tri) {
   return n;
 }
 
+std::vector<char> boundary_vertex_mask(const std::vector<Triangle>& faces, Index n_vertices) {
+  std::vector<char> mask(n_vertices, 0);
+  // sides whose vertex pair occurs once among all sides
+  std::vector<std::uint64_t> keys;
+  keys.reserve(3 * faces.size());
+  for (const Triangle& t : faces) {
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
+      keys.push_back(a << 32 | b);
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t i = 0; i < keys.size();) {
+    std::size_t j = i + 1;
+    while (j < keys.size() && keys[j] == keys[i]) ++j;
+    if (j - i == 1) {
+      mask[keys[i] >> 32] = 1;
+      mask[keys[i] & 0xffffffffu] = 1;
+    }
+    i = j;
+  }
+  return mask;
+}
+
 SurfaceTriangulation build_surface(const std::vector<Triangle>& faces, const Positions& positions,
                                    const SurfaceOptions& options) {
+  options.validate();
   SurfaceTriangulation s;
   const Index nv = checked_index(static_cast<std::size_t>(positions.rows()), "build_surface");
-  double t0 = now();
-  const FaceListStats st = analyze_faces(faces, nv);
-  s.boundary_vertex.assign(nv, 0);
-  if (st.boundary_edges > 0) {
-    // sides whose vertex pair occurs once among all sides
-    std::vector<std::pair<std::uint64_t, Index>> keys;
-    keys.reserve(3 * faces.size());
-    for (const Triangle& t : faces) {
-      if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;
-      for (int k = 0; k < 3; ++k) {
-        const std::uint64_t a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
-        keys.emplace_back(a << 32 | b, 0);
-      }
-    }
-    std::sort(keys.begin(), keys.end());
-    for (std::size_t i = 0; i < keys.size();) {
-      std::size_t j = i + 1;
-      while (j < keys.size() && keys[j].first == keys[i].first) ++j;
-      if (j - i == 1) {
-        s.boundary_vertex[keys[i].first >> 32] = 1;
-        s.boundary_vertex[keys[i].first & 0xffffffffu] = 1;
-      }
-      i = j;
-    }
-  }
-
-  std::string why_tufted;
+  s.stats = analyze_faces(faces, nv);
+  s.boundary_vertex =
+      s.stats.boundary_edges > 0 ? boundary_vertex_mask(faces, nv) : std::vector<char>(nv, 0);
   if (options.force_tufted) {
-    why_tufted = "tufted cover requested";
-  } else if (!st.edge_manifold()) {
-    why_tufted = plural(st.nonmanifold_edges, "nonmanifold edge") + ", first (" +
-                 std::to_string(st.first_nonmanifold_edge[0]) + "," +
-                 std::to_string(st.first_nonmanifold_edge[1]) + ")";
-  } else {
-    try {
-      s.tri = IntrinsicTriangulation::from_positions(faces, positions, &s.build);
-      s.path = SurfacePath::kManifold;
-      s.reason = "edge-manifold and orientable";
-      if (s.build.reoriented_faces) {
-        s.reason += " (" + plural(s.build.reoriented_faces, "face") + " reoriented)";
-      }
-      s.mollify = s.tri.mollify(options.mollify_relative_epsilon);
-      s.seconds_build = now() - t0;
-      if (options.intrinsic_delaunay) {
-        t0 = now();
-        s.flips = s.tri.flip_to_delaunay();
-        s.seconds_flip = now() - t0;
-        const Index bad = negative_boundary_weights(s.tri);
-        if (bad == 0) return s;
-        why_tufted = plural(bad, "boundary edge") +
-                     " opposite obtuse angles keep negative cotan weights on the manifold path";
-      } else {
-        return s;
-      }
-    } catch (const NonManifoldInput& e) {
-      const std::string what = e.what();
-      why_tufted =
-          what.find("non-orientable") != std::string::npos ? "non-orientable gluing" : what;
-    }
+    s.reason = PathReason::kTuftedRequested;
+    s.reason_detail = to_string(s.reason);
+  } else if (!s.stats.edge_manifold()) {
+    s.reason = PathReason::kNonmanifoldEdges;
+    s.reason_detail = plural(s.stats.nonmanifold_edges, "nonmanifold edge") + ", first (" +
+                      std::to_string(s.stats.first_nonmanifold_edge[0]) + "," +
+                      std::to_string(s.stats.first_nonmanifold_edge[1]) + ")";
+  } else if (try_manifold_path(faces, positions, options, s)) {
+    return s;
   }
-  t0 = now();
-  s.tri = tufted_cover(faces, positions, &s.tufted);
-  s.path = SurfacePath::kTufted;
-  s.reason = why_tufted;
-  s.build = BuildReport{};
-  s.build.input_faces = s.tufted.input_faces;
-  s.build.dropped_faces = s.tufted.dropped_faces;
-  s.build.unreferenced_vertices = s.tufted.unreferenced_vertices;
-  s.build.face_origin = s.tufted.parent_face;
-  s.mollify = s.tri.mollify(options.mollify_relative_epsilon);
-  s.seconds_build += now() - t0;
-  s.flips = FlipReport{};
-  if (options.intrinsic_delaunay) {
-    t0 = now();
-    s.flips = s.tri.flip_to_delaunay();
-    s.seconds_flip += now() - t0;
-  }
+  take_tufted_path(faces, positions, options, s);
   return s;
 }
 

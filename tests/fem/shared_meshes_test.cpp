@@ -60,7 +60,8 @@ TEST_P(SharedMesh, AutomaticPathHasNonNegativeWeights) {
   s.tri.validate();
   EXPECT_FALSE(s.flips.hit_flip_cap);
   if (s.path == SurfacePath::kTufted) {
-    EXPECT_FALSE(s.reason.empty());
+    EXPECT_FALSE(s.reason_detail.empty());
+    EXPECT_NE(s.reason, PathReason::kEdgeManifoldOrientable);
   }
   const fem::SparseMatrix L = fem::cotan_laplacian(s.tri);
   ASSERT_EQ(L.rows(), in.positions.rows());

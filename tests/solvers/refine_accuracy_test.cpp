@@ -94,7 +94,7 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
     const double h = intrinsic::mean_side_length(in.triangles, in.positions);
     // unrefined: what `ifem distance` does (build_surface: mollify 1e-5, intrinsic Delaunay)
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
-    ASSERT_EQ(s.path, intrinsic::SurfacePath::kManifold) << stem << ": " << s.reason;
+    ASSERT_EQ(s.path, intrinsic::SurfacePath::kManifold) << stem << ": " << s.reason_detail;
     // angle only: `--refine --resolution 0` (signposts over the same mollified input, 25°)
     intrinsic::SignpostTriangulation st(in.triangles, in.positions, intrinsic::kDefaultMollifyEpsilon);
     const intrinsic::RefineReport rep = intrinsic::delaunay_refine(st);
@@ -167,7 +167,7 @@ TEST(RefineAccuracy, TuftedCoverConrodRefinedVsExact) {
   const io::SurfaceInput in = io::read_mesh(mesh.string());
   const double h = intrinsic::mean_side_length(in.triangles, in.positions);
   const intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
-  ASSERT_EQ(s.path, intrinsic::SurfacePath::kTufted) << s.reason;
+  ASSERT_EQ(s.path, intrinsic::SurfacePath::kTufted) << s.reason_detail;
   const double area = intrinsic::total_area(s.tri);
   intrinsic::IntrinsicTriangulation refined = s.tri;
   const Accurate acc;

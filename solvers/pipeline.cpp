@@ -1,0 +1,377 @@
+#include "solvers/pipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/core/timer.h"
+#include "intrinsic/surface/face_analysis.h"
+
+namespace ifem::solvers {
+namespace {
+
+using intrinsic::PathReason;
+using intrinsic::SurfacePath;
+
+// Sends a progress line to the caller's sink, if any.
+class Progress {
+ public:
+  explicit Progress(const std::function<void(const std::string&)>& sink) : sink_(sink) {}
+  void operator()(const std::string& line) const {
+    if (sink_) sink_(line);
+  }
+
+ private:
+  const std::function<void(const std::string&)>& sink_;
+};
+
+std::string fmt(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw InvalidInput(what);
+}
+
+// ---- point clouds ---------------------------------------------------------------------------
+
+void prepare_point_cloud(const PrepareOptions& opt, PreparedSurface& s, const Progress& progress) {
+  pointcloud::Options pc;
+  pc.k = opt.knn;
+  pc.mollify_relative_epsilon = opt.mollify_relative_epsilon;
+  pc.intrinsic_delaunay = opt.intrinsic_delaunay;
+  const Index nv = s.n_input_vertices();
+  const bool with_normals = s.input.normals.rows() == nv && nv > 0;
+  s.tri = pointcloud::pointcloud_triangulation(s.input.positions, pc,
+                                               with_normals ? &s.input.normals : nullptr, &s.cloud);
+  s.path = SurfacePath::kPointCloud;
+  s.reason = s.input.has_faces() ? PathReason::kPointCloudRequested : PathReason::kNoFaces;
+  s.reason_detail = std::string(intrinsic::to_string(s.reason)) +
+                    ", k = " + std::to_string(s.cloud.k) +
+                    (s.cloud.normals_from_input ? ", file normals" : ", PCA normals");
+  s.mollify = s.cloud.mollify;
+  s.flips = s.cloud.flips;
+  s.build.unreferenced_vertices = s.cloud.isolated_points;
+  s.seconds_build = s.cloud.seconds_knn + s.cloud.seconds_local + s.cloud.seconds_cover;
+  s.seconds_flip = s.cloud.seconds_idt;
+  std::ostringstream m;
+  m << "point cloud: " << nv << " points, k = " << s.cloud.k << ", " << s.cloud.local_triangles
+    << " local triangles, " << s.cloud.isolated_points << " isolated points; kNN "
+    << s.cloud.seconds_knn << " s, local Delaunay " << s.cloud.seconds_local << " s, tufted cover "
+    << s.cloud.seconds_cover << " s, intrinsic Delaunay " << s.cloud.seconds_idt << " s ("
+    << s.flips.flips << " flips)";
+  progress(m.str());
+}
+
+// ---- meshes ---------------------------------------------------------------------------------
+
+void prepare_mesh(const PrepareOptions& opt, PreparedSurface& s, const Progress& progress) {
+  intrinsic::SurfaceOptions so;
+  so.mollify_relative_epsilon = opt.mollify_relative_epsilon;
+  so.intrinsic_delaunay = opt.intrinsic_delaunay;
+  so.force_tufted = opt.force_tufted;
+  intrinsic::SurfaceTriangulation st =
+      intrinsic::build_surface(s.input.triangles, s.input.positions, so);
+  s.tri = std::move(st.tri);
+  s.path = st.path;
+  s.reason = st.reason;
+  s.reason_detail = std::move(st.reason_detail);
+  s.stats = st.stats;
+  s.build = std::move(st.build);
+  s.tufted = std::move(st.tufted);
+  s.mollify = st.mollify;
+  s.flips = st.flips;
+  if (s.path == SurfacePath::kTufted) s.boundary_vertex = std::move(st.boundary_vertex);
+  s.seconds_build = st.seconds_build;
+  s.seconds_flip = st.seconds_flip;
+  progress("path: " + std::string(intrinsic::to_string(s.path)) + " (" + s.reason_detail + ")");
+  if (s.build.dropped_faces) {
+    progress("dropped " + std::to_string(s.build.dropped_faces) + " faces that repeat a vertex");
+  }
+  if (s.build.reoriented_faces) {
+    progress("reoriented " + std::to_string(s.build.reoriented_faces) +
+             " faces for a consistent orientation");
+  }
+  if (s.mollify.delta > 0) {
+    progress("mollified " + std::to_string(s.mollify.faces_below_margin) +
+             " faces: every edge length + " + fmt(s.mollify.delta));
+  }
+  if (opt.intrinsic_delaunay) {
+    progress("intrinsic Delaunay: " + std::to_string(s.flips.flips) + " flips");
+  }
+}
+
+// ---- refinement -----------------------------------------------------------------------------
+
+intrinsic::RefineOptions refine_options(const RefineSettings& r, double target_length) {
+  intrinsic::RefineOptions o;
+  o.min_angle_degrees = r.min_angle_degrees;
+  o.max_area = r.max_area;
+  if (target_length > 0.0) {
+    const double a = intrinsic::equilateral_area(target_length);
+    o.max_area = o.max_area > 0.0 ? std::min(o.max_area, a) : a;
+  }
+  o.max_insertions = r.max_insertions;
+  return o;
+}
+
+std::string describe(const intrinsic::RefineReport& r) {
+  std::ostringstream m;
+  m << "refined: " << r.vertices_before << " -> " << r.vertices_after << " vertices ("
+    << r.face_insertions << " circumcenters, " << r.edge_splits << " edge splits, "
+    << r.boundary_splits << " boundary splits), " << r.flips << " flips, min angle "
+    << r.min_angle_before << "° -> " << r.min_angle_after_excluding_needles << "°";
+  if (r.needle_faces) m << ", " << r.needle_faces << " needle-cone triangles left alone";
+  if (r.failed_traces) m << ", " << r.failed_traces << " bad triangles skipped (trace failed)";
+  if (r.hit_insertion_cap) {
+    m << "; STOPPED at the insertion cap, " << r.bad_faces_left << " triangles still bad";
+  }
+  return m.str();
+}
+
+std::string describe(const intrinsic::RelaxReport& r) {
+  std::ostringstream m;
+  m << "relaxed: " << r.passes << " ODT passes, " << r.moved << " moves (" << r.rejected
+    << " rejected, longest " << r.max_displacement << "), ";
+  if (r.splits > 0) {
+    m << r.splits << " long edges split (longest now " << r.max_edge_after << ")"
+      << (r.hit_split_cap ? " STOPPED at the split cap" : "") << ", ";
+  }
+  m << r.flips << " flips, min angle " << r.min_angle_before << "° -> " << r.min_angle_after
+    << "°, mean min angle " << r.mean_min_angle_before << "° -> " << r.mean_min_angle_after << "°";
+  return m.str();
+}
+
+// Why refinement cannot run on s with these settings; "" when it can.
+std::string refine_refusal(const PreparedSurface& s, const RefineSettings& r) {
+  if (s.path == SurfacePath::kPointCloud) {
+    return "refinement is not supported on point clouds (their tufted cover is glued from local "
+           "triangulations, with a mass of its own)";
+  }
+  if (s.supports_signposts()) return "";
+  const std::string took = "this input took the " + std::string(intrinsic::to_string(s.path)) +
+                           " path (" + s.reason_detail + ")";
+  if (r.need_signposts) {
+    return took +
+           ": refinement then runs on the tufted cover, without signposts, so inserted vertices "
+           "have no place on the input; distance and eigen support that, this operation needs "
+           "signposts (edge-manifold, orientable meshes only)";
+  }
+  if (r.relax_iterations > 0) {
+    return "relaxation moves vertices with signposts, which the tufted cover (" + took +
+           ") does not have";
+  }
+  return "";
+}
+
+// Refines the tufted cover itself, intrinsically (nonmanifold / non-orientable / forced).
+void refine_tufted(const RefineSettings& r, PreparedSurface& s, const Progress& progress) {
+  Stopwatch watch;
+  s.refine_report = intrinsic::delaunay_refine(s.tri, refine_options(r, s.target_edge_length));
+  // inserted vertices count as interior for the heat method's boundary condition (the cover
+  // folds across the input's boundary edges: they are interior edges of it)
+  if (!s.boundary_vertex.empty()) s.boundary_vertex.resize(s.tri.n_vertices(), 0);
+  s.seconds_refine = watch.seconds();
+  progress(describe(s.refine_report) + " on the tufted cover in " + fmt(s.seconds_refine) + " s");
+}
+
+// Refines with signposts from the input's faces (same faces, same mollification), then relaxes.
+void refine_with_signposts(const RefineSettings& r, double mollify_epsilon, PreparedSurface& s,
+                           const Progress& progress) {
+  Stopwatch watch;
+  intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions, mollify_epsilon);
+  s.refine_report = intrinsic::delaunay_refine(st, refine_options(r, s.target_edge_length));
+  if (s.path != SurfacePath::kManifold) {
+    s.path = SurfacePath::kManifold;  // the encroached boundary edges were split
+    s.reason = PathReason::kEdgeManifoldOrientable;
+    s.reason_detail = "refined (boundary edges opposite obtuse angles are split by refinement)";
+  }
+  s.boundary_vertex.clear();  // the refined triangulation's own boundary is the surface's
+  if (const Index bad = intrinsic::negative_boundary_weights(st.intrinsic())) {
+    progress("note: " + std::to_string(bad) +
+             " boundary edges still face obtuse angles after refinement (needle cones)");
+  }
+  progress(describe(s.refine_report) + " in " + fmt(watch.restart()) + " s");
+  if (r.relax_iterations > 0) {
+    intrinsic::RelaxOptions ro;
+    ro.iterations = r.relax_iterations;
+    ro.max_edge_length = r.relax_max_edge;
+    s.relax_report = intrinsic::relax_inserted_vertices(st, ro);
+    progress(describe(s.relax_report) + " in " + fmt(watch.seconds()) + " s");
+  }
+  s.tri = st.intrinsic();
+  s.signposts = std::move(st);
+}
+
+void refine(const PrepareOptions& opt, PreparedSurface& s, const Progress& progress) {
+  const RefineSettings& r = *opt.refine;
+  const std::string refusal = refine_refusal(s, r);
+  if (!refusal.empty()) throw InvalidInput(refusal);
+  s.target_edge_length = r.resolution * s.input_mean_edge_length;
+  const double seconds_flip = s.seconds_flip;
+  if (s.supports_signposts()) {
+    refine_with_signposts(r, opt.mollify_relative_epsilon, s, progress);
+  } else {
+    refine_tufted(r, s, progress);
+  }
+  s.seconds_flip = seconds_flip;
+  s.refined = true;
+}
+
+void check_input_vertex_ids(const PreparedSurface& s, const std::vector<Index>& ids,
+                            const char* what) {
+  const Index n = s.n_input_vertices();
+  for (const Index v : ids) {
+    if (v < 0 || v >= n) {
+      throw InvalidInput(std::string(what) + ": vertex " + std::to_string(v) +
+                         " out of range [0, " + std::to_string(n) + ")");
+    }
+  }
+}
+
+}  // namespace
+
+void RefineSettings::validate() const {
+  require(
+      min_angle_degrees > 0.0 && min_angle_degrees <= 30.0,
+      "RefineSettings: minimum angle must be in (0, 30] degrees, got " + fmt(min_angle_degrees));
+  require(resolution >= 0.0 && std::isfinite(resolution),
+          "RefineSettings: resolution must be finite and ≥ 0, got " + fmt(resolution));
+  require(max_area >= 0.0 && std::isfinite(max_area),
+          "RefineSettings: max_area must be finite and ≥ 0, got " + fmt(max_area));
+  require(max_insertions >= -1,
+          "RefineSettings: max_insertions must be ≥ 0 (or −1 for the default), got " +
+              std::to_string(max_insertions));
+  require(relax_iterations >= 0,
+          "RefineSettings: relax_iterations must be ≥ 0, got " + std::to_string(relax_iterations));
+  require(relax_max_edge >= 0.0 && std::isfinite(relax_max_edge),
+          "RefineSettings: relax_max_edge must be finite and ≥ 0, got " + fmt(relax_max_edge));
+  require(relax_max_edge == 0.0 || relax_iterations > 0,
+          "RefineSettings: relax_max_edge splits edges during relaxation: set relax_iterations");
+}
+
+RefineSettings accurate_distance_refinement() {
+  RefineSettings r;
+  r.resolution = RefinedDistanceSettings{}.resolution;
+  return r;
+}
+
+void PrepareOptions::validate() const {
+  require(mollify_relative_epsilon >= 0.0 && std::isfinite(mollify_relative_epsilon),
+          "PrepareOptions: mollify_relative_epsilon must be finite and ≥ 0, got " +
+              fmt(mollify_relative_epsilon));
+  require(knn >= 2, "PrepareOptions: knn must be ≥ 2, got " + std::to_string(knn));
+  require(!(force_tufted && force_pointcloud),
+          "PrepareOptions: force_tufted and force_pointcloud exclude each other");
+  if (refine) refine->validate();
+}
+
+bool PreparedSurface::supports_signposts() const {
+  return path != SurfacePath::kPointCloud && stats.edge_manifold() &&
+         (reason == PathReason::kEdgeManifoldOrientable ||
+          reason == PathReason::kNegativeBoundaryWeights);
+}
+
+PreparedSurface prepare_surface(io::SurfaceInput input, const PrepareOptions& options) {
+  options.validate();
+  const Progress progress(options.progress);
+  PreparedSurface s;
+  s.input = std::move(input);
+  s.input_mean_edge_length = intrinsic::mean_side_length(s.input.triangles, s.input.positions);
+  if (!s.input.has_faces() || options.force_pointcloud) {
+    prepare_point_cloud(options, s, progress);
+  } else {
+    prepare_mesh(options, s, progress);
+  }
+  if (options.refine) refine(options, s, progress);
+  return s;
+}
+
+PreparedSurface load_surface(const std::string& path, const PrepareOptions& options) {
+  options.validate();
+  io::SurfaceInput in = io::read_surface(path);
+  if (options.progress) {
+    options.progress("read " + path + ": " + std::to_string(in.positions.rows()) + " vertices, " +
+                     std::to_string(in.n_polygons) + " faces (" + in.format + ")");
+  }
+  return prepare_surface(std::move(in), options);
+}
+
+Eigen::VectorXd on_input_vertices(const PreparedSurface& s, const Eigen::VectorXd& values) {
+  const Index n = s.n_input_vertices();
+  require(values.size() >= n, "on_input_vertices: " + std::to_string(values.size()) +
+                                  " values for " + std::to_string(n) + " input vertices");
+  return values.head(n);
+}
+
+Eigen::MatrixXd on_input_vertices(const PreparedSurface& s, const Eigen::MatrixXd& values) {
+  const Index n = s.n_input_vertices();
+  require(values.rows() >= n, "on_input_vertices: " + std::to_string(values.rows()) + " rows for " +
+                                  std::to_string(n) + " input vertices");
+  return values.topRows(n);
+}
+
+Eigen::VectorXd from_input_vertices(const PreparedSurface& s, const Eigen::VectorXd& values) {
+  const Index n = s.n_input_vertices();
+  require(values.size() == n, "from_input_vertices: " + std::to_string(values.size()) +
+                                  " values, expected one per input vertex (" + std::to_string(n) +
+                                  ")");
+  if (s.signposts) return s.signposts->input_to_intrinsic(values);
+  require(s.tri.n_vertices() == n,
+          "from_input_vertices: the triangulation has inserted vertices without signposts "
+          "(refined on the tufted cover): input data cannot be carried onto them");
+  return values;
+}
+
+HeatDistanceOptions distance_options(const PreparedSurface& s, const DistanceSettings& settings) {
+  const RefinedDistanceSettings accurate;
+  const bool sized = s.target_edge_length > 0.0;
+  HeatDistanceOptions o;
+  o.time_factor = settings.time_factor.value_or(sized ? accurate.time_factor : 1.0);
+  o.correction_steps = settings.correction_steps.value_or(sized ? accurate.correction_steps : 0);
+  o.intrinsic_delaunay = false;  // prepare_surface already flipped (unless told not to)
+  if (s.input.has_faces() && s.path != SurfacePath::kPointCloud) {
+    // t from the input mesh's edges (more accurate than the IDT's on sliver meshes), and the
+    // input's boundary (a tufted cover has none of its own)
+    o.mean_edge_length = sized ? s.target_edge_length : s.input_mean_edge_length;
+    o.boundary_vertices = s.boundary_vertex;
+  }
+  o.validate();
+  return o;
+}
+
+Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<Index>& sources,
+                                  const DistanceSettings& settings, HeatDistanceReport* report) {
+  require(!sources.empty(), "geodesic_distance: no source vertex given");
+  check_input_vertex_ids(s, sources, "geodesic_distance: source");
+  const HeatDistanceSolver solver(s.tri, distance_options(s, settings));
+  return on_input_vertices(s, solver.compute_distance(sources, report));
+}
+
+EigenPairs eigenmodes(const PreparedSurface& s, Index k, const EigenOptions& options) {
+  require(k >= 1 && k < s.tri.n_vertices(),
+          "eigenmodes: k = " + std::to_string(k) + " must be in [1, " +
+              std::to_string(s.tri.n_vertices()) + ") (the number of vertices)");
+  EigenPairs ep = eigenpairs(s.tri, k, options);
+  ep.vectors = on_input_vertices(s, ep.vectors);
+  return ep;
+}
+
+Eigen::VectorXd poisson(const PreparedSurface& s, const Eigen::VectorXd& f,
+                        const std::vector<Index>& dirichlet_vertices,
+                        const Eigen::VectorXd& dirichlet_values, const PoissonOptions& options) {
+  check_input_vertex_ids(s, dirichlet_vertices, "poisson: Dirichlet");
+  require(dirichlet_values.size() == static_cast<Eigen::Index>(dirichlet_vertices.size()),
+          "poisson: " + std::to_string(dirichlet_values.size()) + " Dirichlet values for " +
+              std::to_string(dirichlet_vertices.size()) + " vertices");
+  const Eigen::VectorXd u = solve_poisson(s.tri, from_input_vertices(s, f), dirichlet_vertices,
+                                          dirichlet_values, options);
+  return on_input_vertices(s, u);
+}
+
+}  // namespace ifem::solvers

@@ -1,0 +1,166 @@
+// The pipeline from an input to results on its own vertices, the one way the CLI, the tests, the
+// benchmark and library users go:
+//
+//   file / arrays ──► prepare_surface(): path (manifold | tufted | point cloud), mollify,
+//                     intrinsic Delaunay flips, optional refinement (signposts or tufted cover)
+//                 ──► recipes: geodesic_distance(), eigenmodes(), poisson()
+//                 ──► results on the input's vertices, in the input's order (on_input_vertices)
+//
+// Input vertices keep their ids 0..#V_in−1 on every path; vertices inserted by refinement come
+// after them, so restricting a result to the input is taking its first #V_in entries.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "intrinsic/core/triangulation.h"
+#include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/delaunay_refine.h"
+#include "intrinsic/refine/signpost.h"
+#include "intrinsic/surface/build_surface.h"
+#include "pointcloud/pointcloud_laplacian.h"
+#include "solvers/eigen.h"
+#include "solvers/heat_distance.h"
+#include "solvers/poisson.h"
+
+namespace ifem::solvers {
+
+/// Intrinsic Delaunay refinement as part of preparing a surface.
+struct RefineSettings {
+  double min_angle_degrees = 25.0;  ///< smallest corner angle wanted, degrees, in (0, 30]
+  /// Target edge length as a multiple of h, the input's mean side length: triangles larger than
+  /// the equilateral one of side resolution·h are split. 0 = no size bound.
+  double resolution = 0.0;
+  double max_area = 0.0;        ///< also split triangles above this area (absolute); 0 = none
+  Index max_insertions = -1;    ///< cap on inserted vertices; −1 = RefineOptions' default
+  int relax_iterations = 0;     ///< ODT relaxation passes of the inserted vertices (signposts)
+  double relax_max_edge = 0.0;  ///< with relaxation: split edges longer than this (absolute)
+  /// Require signposts (inserted vertices' places on the input, needed to carry input data onto
+  /// inserted vertices and for the common subdivision): refuse the tufted path instead of
+  /// refining the cover without them.
+  bool need_signposts = false;
+  /// @throws InvalidInput naming the field and its allowed range
+  void validate() const;
+};
+
+/// The accurate distance mode's refinement (RefinedDistanceSettings: edges of about 0.4·h).
+RefineSettings accurate_distance_refinement();
+
+/// Options of prepare_surface().
+struct PrepareOptions {
+  /// Relative mollification margin (IntrinsicTriangulation::mollify), ≥ 0.
+  double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;
+  bool intrinsic_delaunay = true;        ///< flip to intrinsic Delaunay (refinement always does)
+  bool force_tufted = false;             ///< tufted cover even for an edge-manifold mesh
+  bool force_pointcloud = false;         ///< treat a mesh's vertices as a point cloud
+  int knn = 30;                          ///< neighbours per point on the point-cloud path, ≥ 2
+  std::optional<RefineSettings> refine;  ///< refine after the flips when set
+  /// Receives one progress line per stage ("read ...", "path: ...", "refined: ..."); none when
+  /// empty.
+  std::function<void(const std::string&)> progress;
+  /// @throws InvalidInput naming the field and its allowed range
+  void validate() const;
+};
+
+/// An input turned into an intrinsic triangulation, with everything chosen, repaired and
+/// counted on the way.
+struct PreparedSurface {
+  io::SurfaceInput input;  ///< as read: positions (#V_in×3) and triangles, in file order
+  intrinsic::IntrinsicTriangulation tri;  ///< #V ≥ #V_in vertices: the input's, then inserted
+  intrinsic::SurfacePath path = intrinsic::SurfacePath::kManifold;
+  intrinsic::PathReason reason = intrinsic::PathReason::kEdgeManifoldOrientable;
+  std::string reason_detail;            ///< the reason in words, for people (decide on `reason`)
+  intrinsic::FaceListStats stats;       ///< the input face list (empty for point clouds)
+  intrinsic::BuildReport build;         ///< dropped / reoriented faces, unreferenced vertices
+  intrinsic::TuftedCoverReport tufted;  ///< tufted path
+  pointcloud::Report cloud;             ///< point-cloud path
+  intrinsic::MollifyReport mollify;
+  intrinsic::FlipReport flips;
+  /// #V mask of the input's boundary vertices when the triangulation's own boundary is not the
+  /// surface's (the tufted cover has none); empty when the triangulation's boundary is right.
+  std::vector<char> boundary_vertex;
+  /// h: mean side length of the input's faces (heat step, refinement resolution); 0 without
+  /// faces.
+  double input_mean_edge_length = 0.0;
+  bool refined = false;
+  intrinsic::RefineReport refine_report;
+  intrinsic::RelaxReport relax_report;
+  /// ℓ = resolution·h when refinement had a size bound, else 0.
+  double target_edge_length = 0.0;
+  /// Refined with signposts: inserted vertices' places on the input (SignpostTriangulation).
+  std::optional<intrinsic::SignpostTriangulation> signposts;
+  double seconds_build = 0, seconds_flip = 0, seconds_refine = 0;
+
+  /// #V_in: the input's vertex count (ids 0..#V_in−1 of tri are the input's vertices).
+  Index n_input_vertices() const { return static_cast<Index>(input.positions.rows()); }
+  /// True when signposts can be built (edge-manifold, orientable mesh; a mesh that took the
+  /// tufted path only for negative boundary weights counts: refinement splits those edges).
+  bool supports_signposts() const;
+};
+
+/// Builds the intrinsic triangulation of an input on the right path, then refines it if asked:
+///  - point cloud when the input has no faces or force_pointcloud (kNN local triangulations
+///    glued into a tufted cover, knn neighbours);
+///  - otherwise intrinsic::build_surface(): manifold, or the tufted cover for nonmanifold /
+///    non-orientable meshes and for boundary edges that would keep negative weights;
+///  - refinement (options.refine): with signposts when supports_signposts(), else on the tufted
+///    cover itself (no signposts; refused when need_signposts or relaxation asks for them).
+/// @throws InvalidInput on bad options, on an input the path cannot use, or on refinement of a
+///         point cloud / of the tufted cover with need_signposts or relaxation
+PreparedSurface prepare_surface(io::SurfaceInput input, const PrepareOptions& options = {});
+
+/// Reads a file (io::read_surface) and prepares it.
+/// @throws IoError on an unreadable or malformed file, and as prepare_surface()
+PreparedSurface load_surface(const std::string& path, const PrepareOptions& options = {});
+
+/// The first #V_in entries (rows) of a per-vertex result on s.tri: its values on the input's
+/// vertices, in the input's order.
+/// @throws InvalidInput if values has fewer than #V_in entries
+Eigen::VectorXd on_input_vertices(const PreparedSurface& s, const Eigen::VectorXd& values);
+Eigen::MatrixXd on_input_vertices(const PreparedSurface& s, const Eigen::MatrixXd& values);
+
+/// Per-vertex data given on the input's vertices (#V_in) carried onto every vertex of s.tri:
+/// copied on input vertices, interpolated linearly at inserted vertices (signposts).
+/// @throws InvalidInput on a size mismatch, or if s has inserted vertices without signposts
+Eigen::VectorXd from_input_vertices(const PreparedSurface& s, const Eigen::VectorXd& values);
+
+/// Heat-method settings of geodesic_distance(); unset fields take the defaults of the surface:
+/// the accurate mode's (RefinedDistanceSettings) when it was refined with a size bound, the
+/// paper's (t = h², no correction step) otherwise.
+struct DistanceSettings {
+  std::optional<double> time_factor;    ///< m in t = m·h², > 0
+  std::optional<int> correction_steps;  ///< ≥ 0
+};
+
+/// The heat-method options geodesic_distance() uses on s: h from the input's faces (or ℓ when
+/// refined with a size bound), the input's boundary, no further flips (s is already intrinsic
+/// Delaunay). Build a HeatDistanceSolver(s.tri, distance_options(s)) for many queries.
+HeatDistanceOptions distance_options(const PreparedSurface& s,
+                                     const DistanceSettings& settings = {});
+
+/// Geodesic distance from input vertices (ids < #V_in) to every input vertex, #V_in; +inf where
+/// no source reaches, 0 at every source.
+/// @throws InvalidInput on an empty source list or an id out of [0, #V_in)
+/// @throws SolverError if a factorization fails
+Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<Index>& sources,
+                                  const DistanceSettings& settings = {},
+                                  HeatDistanceReport* report = nullptr);
+
+/// The k smallest eigenpairs of L φ = λ M φ on s.tri, eigenvectors restricted to the input's
+/// vertices (#V_in×k; M-orthonormal on s.tri, the input's rows of them).
+/// @throws InvalidInput if k < 1 or k ≥ #V; SolverError as eigenpairs()
+EigenPairs eigenmodes(const PreparedSurface& s, Index k, const EigenOptions& options = {});
+
+/// Solves (L + c·M) u = M f on s.tri with u fixed on Dirichlet input vertices; f is given on the
+/// input's vertices (#V_in) and carried onto inserted vertices (from_input_vertices). Returns u
+/// on the input's vertices, #V_in. Conventions as solve_poisson().
+/// @throws InvalidInput on sizes, ids out of [0, #V_in) or inserted vertices without signposts
+Eigen::VectorXd poisson(const PreparedSurface& s, const Eigen::VectorXd& f,
+                        const std::vector<Index>& dirichlet_vertices,
+                        const Eigen::VectorXd& dirichlet_values,
+                        const PoissonOptions& options = {});
+
+}  // namespace ifem::solvers
