@@ -1,0 +1,259 @@
+// The library pipeline (solvers/pipeline.h): the path and its reason as enums on inputs built to
+// take each path, refinement as an option of the same step, results on the input's vertices,
+// and the recipes against known answers.
+#include "solvers/pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "helpers.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/generators/mesh_generators.h"
+
+namespace ifem::solvers {
+namespace {
+
+using intrinsic::PathReason;
+using intrinsic::SurfacePath;
+
+io::SurfaceInput as_input(const intrinsic::TriangleMesh& m) {
+  io::SurfaceInput in;
+  in.positions = m.positions;
+  in.triangles = m.faces;
+  in.n_polygons = static_cast<Index>(m.faces.size());
+  return in;
+}
+
+// A Möbius strip: n quads around a half-twisted band, each split in two (non-orientable).
+intrinsic::TriangleMesh moebius(int n) {
+  intrinsic::TriangleMesh m;
+  m.positions.resize(2 * n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double t = 2.0 * intrinsic::kPi * i / n;
+    for (int s = 0; s < 2; ++s) {
+      const double w = s == 0 ? -0.3 : 0.3;
+      m.positions.row(2 * i + s) << (1 + w * std::cos(t / 2)) * std::cos(t),
+          (1 + w * std::cos(t / 2)) * std::sin(t), w * std::sin(t / 2);
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    const Index a = 2 * i, b = 2 * i + 1;
+    // the last quad closes with the two rows swapped: the half twist
+    const Index c = i + 1 < n ? 2 * (i + 1) : 1, d = i + 1 < n ? 2 * (i + 1) + 1 : 0;
+    m.faces.push_back({a, c, b});
+    m.faces.push_back({b, c, d});
+  }
+  return m;
+}
+
+// Three triangles on one edge (0,1): the simplest nonmanifold input.
+intrinsic::TriangleMesh book() {
+  intrinsic::TriangleMesh m;
+  m.positions.resize(5, 3);
+  m.positions << -1, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1;
+  m.faces = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+  return m;
+}
+
+TEST(Pipeline, PathAndReasonAreEnums) {
+  const PreparedSurface sphere = prepare_surface(as_input(intrinsic::icosphere(3)));
+  EXPECT_EQ(sphere.path, SurfacePath::kManifold);
+  EXPECT_EQ(sphere.reason, PathReason::kEdgeManifoldOrientable);
+  EXPECT_TRUE(sphere.supports_signposts());
+
+  const PreparedSurface b = prepare_surface(as_input(book()));
+  EXPECT_EQ(b.path, SurfacePath::kTufted);
+  EXPECT_EQ(b.reason, PathReason::kNonmanifoldEdges);
+  EXPECT_FALSE(b.supports_signposts());
+
+  const PreparedSurface mb = prepare_surface(as_input(moebius(24)));
+  EXPECT_EQ(mb.path, SurfacePath::kTufted);
+  EXPECT_EQ(mb.reason, PathReason::kNonOrientable);
+  EXPECT_FALSE(mb.supports_signposts());
+
+  PrepareOptions tufted;
+  tufted.force_tufted = true;
+  const PreparedSurface t = prepare_surface(as_input(intrinsic::icosphere(3)), tufted);
+  EXPECT_EQ(t.reason, PathReason::kTuftedRequested);
+  EXPECT_FALSE(t.supports_signposts());
+
+  io::SurfaceInput cloud = as_input(intrinsic::icosphere(6));
+  cloud.triangles.clear();
+  const PreparedSurface c = prepare_surface(cloud);
+  EXPECT_EQ(c.path, SurfacePath::kPointCloud);
+  EXPECT_EQ(c.reason, PathReason::kNoFaces);
+  PrepareOptions as_cloud;
+  as_cloud.force_pointcloud = true;
+  as_cloud.knn = 12;
+  const PreparedSurface c2 = prepare_surface(as_input(intrinsic::icosphere(6)), as_cloud);
+  EXPECT_EQ(c2.reason, PathReason::kPointCloudRequested);
+  EXPECT_EQ(c2.cloud.k, 12);
+  for (const PreparedSurface* s : {&sphere, &b, &mb, &t, &c, &c2}) {
+    EXPECT_FALSE(s->reason_detail.empty());
+    EXPECT_EQ(s->tri.n_vertices(), s->n_input_vertices());  // no vertex lost or renumbered
+  }
+}
+
+// A square fanned around an interior vertex close to its bottom side: the bottom triangle's 118°
+// corner at the interior vertex faces a boundary side, whose cotan weight is negative and cannot
+// be flipped away, so the mesh goes to the tufted path for its weights; refinement, which splits
+// that encroached side, brings it back to the manifold path with non-negative weights.
+TEST(Pipeline, NegativeBoundaryWeightsAreRefinable) {
+  intrinsic::TriangleMesh m;
+  m.positions.resize(5, 3);
+  m.positions << 0, 0, 0, 2, 0, 0, 2, 2, 0, 0, 2, 0, 1, 0.6, 0;
+  m.faces = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+  const PreparedSurface s = prepare_surface(as_input(m));
+  ASSERT_EQ(s.reason, PathReason::kNegativeBoundaryWeights) << s.reason_detail;
+  EXPECT_EQ(s.path, SurfacePath::kTufted);
+  EXPECT_TRUE(s.supports_signposts());
+  PrepareOptions opt;
+  opt.refine = RefineSettings{};
+  const PreparedSurface r = prepare_surface(as_input(m), opt);
+  EXPECT_EQ(r.path, SurfacePath::kManifold);
+  EXPECT_TRUE(r.signposts.has_value());
+  EXPECT_EQ(intrinsic::negative_boundary_weights(r.tri), 0);
+  EXPECT_NEAR(intrinsic::total_area(r.tri), intrinsic::total_area(s.tri), 1e-9);
+}
+
+TEST(Pipeline, RefinementKeepsInputIdsAndCarriesData) {
+  PrepareOptions opt;
+  opt.refine = RefineSettings{};
+  opt.refine->resolution = 0.5;
+  const intrinsic::TriangleMesh m = intrinsic::grid(8, 8);
+  const PreparedSurface s = prepare_surface(as_input(m), opt);
+  ASSERT_TRUE(s.refined);
+  ASSERT_GT(s.tri.n_vertices(), s.n_input_vertices());
+  EXPECT_GT(s.target_edge_length, 0.0);
+  EXPECT_NEAR(s.target_edge_length, 0.5 * s.input_mean_edge_length, 1e-15);
+  // a linear function carried onto inserted vertices stays linear (they lie on input faces)
+  Eigen::VectorXd f(s.n_input_vertices());
+  for (Index v = 0; v < f.size(); ++v) f[v] = 2 * m.positions(v, 0) - m.positions(v, 1);
+  const Eigen::VectorXd g = from_input_vertices(s, f);
+  const Positions x = s.signposts->vertex_positions();
+  for (Index v = 0; v < g.size(); ++v) ASSERT_NEAR(g[v], 2 * x(v, 0) - x(v, 1), 1e-12);
+  EXPECT_EQ(on_input_vertices(s, g), f);
+  EXPECT_THROW(on_input_vertices(s, Eigen::VectorXd(3)), InvalidInput);
+  EXPECT_THROW(from_input_vertices(s, g), InvalidInput);  // wrong size: #V, not #V_in
+}
+
+TEST(Pipeline, RefusalsAreTyped) {
+  PrepareOptions opt;
+  opt.refine = RefineSettings{};
+  opt.refine->need_signposts = true;
+  EXPECT_THROW(prepare_surface(as_input(book()), opt), InvalidInput);
+  opt.refine->need_signposts = false;
+  opt.refine->resolution = 0.3;
+  const PreparedSurface t = prepare_surface(as_input(book()), opt);  // refined on the cover
+  EXPECT_TRUE(t.refined);
+  EXPECT_FALSE(t.signposts.has_value());
+  EXPECT_GT(t.tri.n_vertices(), t.n_input_vertices());
+  // no signposts: input data cannot reach inserted vertices
+  EXPECT_THROW(from_input_vertices(t, Eigen::VectorXd::Zero(5)), InvalidInput);
+  opt.refine->relax_iterations = 1;
+  EXPECT_THROW(prepare_surface(as_input(book()), opt), InvalidInput);
+  io::SurfaceInput cloud = as_input(intrinsic::icosphere(4));
+  cloud.triangles.clear();
+  opt.refine->relax_iterations = 0;
+  EXPECT_THROW(prepare_surface(cloud, opt), InvalidInput);
+}
+
+TEST(Pipeline, OptionsAreValidated) {
+  const io::SurfaceInput in = as_input(intrinsic::icosphere(2));
+  auto with = [&](auto change) {
+    PrepareOptions o;
+    change(o);
+    return o;
+  };
+  EXPECT_THROW(prepare_surface(in, with([](PrepareOptions& o) { o.knn = 1; })), InvalidInput);
+  EXPECT_THROW(
+      prepare_surface(in, with([](PrepareOptions& o) { o.mollify_relative_epsilon = -1; })),
+      InvalidInput);
+  EXPECT_THROW(prepare_surface(
+                   in, with([](PrepareOptions& o) { o.mollify_relative_epsilon = std::nan(""); })),
+               InvalidInput);
+  EXPECT_THROW(prepare_surface(
+                   in, with([](PrepareOptions& o) { o.force_tufted = o.force_pointcloud = true; })),
+               InvalidInput);
+  for (const double angle : {0.0, -5.0, 31.0, std::nan("")}) {
+    EXPECT_THROW(prepare_surface(in, with([&](PrepareOptions& o) {
+                                   o.refine = RefineSettings{};
+                                   o.refine->min_angle_degrees = angle;
+                                 })),
+                 InvalidInput)
+        << angle;
+  }
+  EXPECT_THROW(prepare_surface(in, with([](PrepareOptions& o) {
+                                 o.refine = RefineSettings{};
+                                 o.refine->resolution = HUGE_VAL;
+                               })),
+               InvalidInput);
+  EXPECT_THROW(prepare_surface(in, with([](PrepareOptions& o) {
+                                 o.refine = RefineSettings{};
+                                 o.refine->max_insertions = -2;
+                               })),
+               InvalidInput);
+  EXPECT_THROW(prepare_surface(in, with([](PrepareOptions& o) {
+                                 o.refine = RefineSettings{};
+                                 o.refine->relax_max_edge = 0.1;  // without relaxation
+                               })),
+               InvalidInput);
+}
+
+// The recipes against known answers: distance on a flat grid is the Euclidean distance; the
+// sphere's eigenvalues are l(l+1); Poisson reproduces a harmonic (linear) function.
+TEST(Pipeline, RecipesMatchKnownAnswers) {
+  const intrinsic::TriangleMesh g = intrinsic::grid(30, 30);
+  const PreparedSurface flat = prepare_surface(as_input(g));
+  const Index centre = 15 * 31 + 15;
+  const Eigen::VectorXd d = geodesic_distance(flat, {centre});
+  ASSERT_EQ(d.size(), flat.n_input_vertices());
+  EXPECT_EQ(d[centre], 0.0);
+  double worst = 0;
+  for (Index v = 0; v < d.size(); ++v) {
+    const double exact = (g.positions.row(v) - g.positions.row(centre)).norm();
+    if (exact > 0.2 && exact < 0.45) worst = std::max(worst, std::abs(d[v] - exact) / exact);
+  }
+  EXPECT_LT(worst, 0.05);
+  // the same as the stateful solver with the recipe's options
+  const HeatDistanceSolver solver(flat.tri, distance_options(flat));
+  EXPECT_EQ(solver.compute_distance({centre}), d);
+  EXPECT_THROW(geodesic_distance(flat, {flat.n_input_vertices()}), InvalidInput);
+  EXPECT_THROW(geodesic_distance(flat, {}), InvalidInput);
+
+  const PreparedSurface sphere = prepare_surface(as_input(intrinsic::icosphere(8)));
+  const EigenPairs ep = eigenmodes(sphere, 9);
+  ASSERT_EQ(ep.vectors.rows(), sphere.n_input_vertices());
+  EXPECT_NEAR(ep.values[0], 0.0, 1e-8);
+  for (int j = 1; j < 4; ++j) EXPECT_NEAR(ep.values[j], 2.0, 0.02);
+  for (int j = 4; j < 9; ++j) EXPECT_NEAR(ep.values[j], 6.0, 0.06);
+  EXPECT_THROW(eigenmodes(sphere, 0), InvalidInput);
+  EXPECT_THROW(eigenmodes(sphere, sphere.tri.n_vertices()), InvalidInput);
+
+  // u = x on the left and right sides of a perturbed flat grid, Laplace inside: u = x (linear
+  // precision); the perturbation makes the input non-Delaunay, so the flips matter
+  intrinsic::TriangleMesh sq = test::jittered(intrinsic::grid(10, 10), 0.04);
+  sq.positions.col(2).setZero();
+  const PreparedSurface s = prepare_surface(as_input(sq));
+  EXPECT_GT(s.flips.flips, 0u);
+  std::vector<Index> fixed;
+  std::vector<double> values;
+  for (Index v = 0; v < s.n_input_vertices(); ++v) {
+    if (v % 11 == 0 || v % 11 == 10 || v < 11 || v >= 110) {  // the whole boundary
+      fixed.push_back(v);
+      values.push_back(sq.positions(v, 0));
+    }
+  }
+  const Eigen::VectorXd u =
+      poisson(s, Eigen::VectorXd::Zero(s.n_input_vertices()), fixed,
+              Eigen::Map<Eigen::VectorXd>(values.data(), Eigen::Index(values.size())));
+  ASSERT_EQ(u.size(), s.n_input_vertices());
+  for (Index v = 0; v < u.size(); ++v) EXPECT_NEAR(u[v], sq.positions(v, 0), 1e-9) << v;
+  EXPECT_THROW(poisson(s, Eigen::VectorXd::Zero(3), fixed, Eigen::VectorXd::Zero(fixed.size())),
+               InvalidInput);
+}
+
+}  // namespace
+}  // namespace ifem::solvers
