@@ -15,15 +15,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iterator>
+#include <optional>
 #include <string>
 
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/io/mesh_io.h"
-#include "intrinsic/refine/delaunay_refine.h"
-#include "intrinsic/refine/signpost.h"
-#include "intrinsic/surface/build_surface.h"
-#include "intrinsic/surface/face_analysis.h"
 #include "solvers/heat_distance.h"
+#include "solvers/pipeline.h"
 #include "test_util.h"
 
 namespace ifem::solvers {
@@ -64,13 +62,15 @@ const Case kCases[] = {
     {"spot.obj", 0, 0.02, 0.0049},
 };
 
-// `ifem distance --refine`'s refinement for settings a (resolution c) and input mean edge h.
-using Accurate = RefinedDistanceSettings;
-
-intrinsic::RefineOptions accurate_refine(const Accurate& a, double h) {
-  intrinsic::RefineOptions o;
-  o.max_area = intrinsic::equilateral_area(a.target_length(h));
-  return o;
+// The three modes, prepared by the library pipeline exactly as `ifem distance` does: plain,
+// `--refine --resolution 0` (angle only) and `--refine` (the accurate mode).
+PreparedSurface prepare(const io::SurfaceInput& in, std::optional<double> resolution) {
+  PrepareOptions o;
+  if (resolution) {
+    o.refine = RefineSettings{};
+    o.refine->resolution = *resolution;
+  }
+  return prepare_surface(in, o);
 }
 
 TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
@@ -91,25 +91,15 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
       continue;
     }
     const io::SurfaceInput in = io::read_mesh(mesh.string());
-    const double h = intrinsic::mean_side_length(in.triangles, in.positions);
-    // unrefined: what `ifem distance` does (build_surface: mollify 1e-5, intrinsic Delaunay)
-    intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
-    ASSERT_EQ(s.path, intrinsic::SurfacePath::kManifold) << stem << ": " << s.reason_detail;
-    // angle only: `--refine --resolution 0` (signposts over the same mollified input, 25°)
-    intrinsic::SignpostTriangulation st(in.triangles, in.positions, intrinsic::kDefaultMollifyEpsilon);
-    const intrinsic::RefineReport rep = intrinsic::delaunay_refine(st);
-    EXPECT_FALSE(rep.hit_insertion_cap) << stem;
-    const intrinsic::IntrinsicTriangulation& refined = st.intrinsic();
-    // accurate: `--refine`
-    const Accurate acc;
-    intrinsic::SignpostTriangulation sa(in.triangles, in.positions, intrinsic::kDefaultMollifyEpsilon);
-    const intrinsic::RefineReport rep_acc = intrinsic::delaunay_refine(sa, accurate_refine(acc, h));
-    EXPECT_FALSE(rep_acc.hit_insertion_cap) << stem;
-    HeatDistanceOptions opt;
-    opt.intrinsic_delaunay = false;  // both are Delaunay already
-    opt.mean_edge_length = h;        // the input's h for both (as the CLI)
-    const HeatDistanceSolver plain_solver(s.tri, opt), refined_solver(refined, opt);
-    const HeatDistanceSolver accurate_solver(sa.intrinsic(), acc.heat_options(h));
+    const PreparedSurface plain = prepare(in, std::nullopt);
+    ASSERT_EQ(plain.path, intrinsic::SurfacePath::kManifold) << stem << ": " << plain.reason_detail;
+    const PreparedSurface angle = prepare(in, 0.0);
+    EXPECT_FALSE(angle.refine_report.hit_insertion_cap) << stem;
+    const PreparedSurface accurate = prepare(in, RefinedDistanceSettings{}.resolution);
+    EXPECT_FALSE(accurate.refine_report.hit_insertion_cap) << stem;
+    const HeatDistanceSolver plain_solver(plain.tri, distance_options(plain)),
+        refined_solver(angle.tri, distance_options(angle)),
+        accurate_solver(accurate.tri, distance_options(accurate));
     for (; i < j; ++i) {
       const Case& c = kCases[i];
       const std::string tag = stem + ".src" + std::to_string(c.src);
@@ -117,14 +107,13 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
       const Eigen::VectorXd cgal = io::read_values((ref / (tag + ".cgal-heat.txt")).string());
       ASSERT_EQ(exact.size(), in.positions.rows());
       const Eigen::VectorXd d0 = plain_solver.compute_distance({c.src});
-      Eigen::VectorXd d1 = refined_solver.compute_distance({c.src});
-      Eigen::VectorXd d2 = accurate_solver.compute_distance({c.src});
-      d1.conservativeResize(exact.size());
-      d2.conservativeResize(exact.size());
+      const Eigen::VectorXd d1 = on_input_vertices(angle, refined_solver.compute_distance({c.src}));
+      const Eigen::VectorXd d2 =
+          on_input_vertices(accurate, accurate_solver.compute_distance({c.src}));
       const double e0 = mean_rel(d0, exact), e1 = mean_rel(d1, exact), e2 = mean_rel(d2, exact),
                    ec = mean_rel(cgal, exact);
       std::printf("%-18s %6d %7ld %7d %7d | %9.4f %9.4f %9.4f %9.4f | %.2f\n", stem.c_str(), c.src,
-                  long(exact.size()), refined.n_vertices(), sa.intrinsic().n_vertices(), e0, e1, e2,
+                  long(exact.size()), angle.tri.n_vertices(), accurate.tri.n_vertices(), e0, e1, e2,
                   ec, e2 / ec);
       EXPECT_LE(e1, c.max_angle) << tag;
       EXPECT_LE(e2, c.max_accurate) << tag;
@@ -132,18 +121,11 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
       EXPECT_LE(e2, 0.5 * e0) << tag << ": and the plain heat method's";
       if (!sweep) continue;
       for (const double res : {0.5, 0.4, 0.3}) {
-        Accurate a;
-        a.resolution = res;
-        intrinsic::SignpostTriangulation sw(in.triangles, in.positions, intrinsic::kDefaultMollifyEpsilon);
-        intrinsic::delaunay_refine(sw, accurate_refine(a, h));
-        std::printf("    c=%.2f V=%-7d", res, sw.intrinsic().n_vertices());
+        const PreparedSurface sw = prepare(in, res);
+        std::printf("    c=%.2f V=%-7d", res, sw.tri.n_vertices());
         for (const double m : {0.125, 0.25, 0.5, 1.0}) {
-          a.time_factor = m;
           for (const int steps : {0, 1}) {
-            a.correction_steps = steps;
-            Eigen::VectorXd d =
-                HeatDistanceSolver(sw.intrinsic(), a.heat_options(h)).compute_distance({c.src});
-            d.conservativeResize(exact.size());
+            const Eigen::VectorXd d = geodesic_distance(sw, {c.src}, DistanceSettings{m, steps});
             std::printf(" m=%g/%d %.4f", m, steps, mean_rel(d, exact));
           }
         }
@@ -165,33 +147,26 @@ TEST(RefineAccuracy, TuftedCoverConrodRefinedVsExact) {
   const fs::path ref = test::shared_data() / "reference";
   if (!fs::exists(mesh)) GTEST_SKIP() << "conrod.off missing";
   const io::SurfaceInput in = io::read_mesh(mesh.string());
-  const double h = intrinsic::mean_side_length(in.triangles, in.positions);
-  const intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
-  ASSERT_EQ(s.path, intrinsic::SurfacePath::kTufted) << s.reason_detail;
-  const double area = intrinsic::total_area(s.tri);
-  intrinsic::IntrinsicTriangulation refined = s.tri;
-  const Accurate acc;
-  const intrinsic::RefineReport rep = intrinsic::delaunay_refine(refined, accurate_refine(acc, h));
+  const PreparedSurface plain = prepare(in, std::nullopt);
+  ASSERT_EQ(plain.path, intrinsic::SurfacePath::kTufted) << plain.reason_detail;
+  const double area = intrinsic::total_area(plain.tri);
+  const PreparedSurface accurate = prepare(in, RefinedDistanceSettings{}.resolution);
+  ASSERT_TRUE(accurate.refined);
+  EXPECT_FALSE(accurate.signposts.has_value());  // refined on the cover itself
+  const intrinsic::RefineReport& rep = accurate.refine_report;
   EXPECT_FALSE(rep.hit_insertion_cap);
-  EXPECT_EQ(refined.multiplicity(), 2);
-  EXPECT_NEAR(intrinsic::total_area(refined), area, 1e-9 * area);
-  HeatDistanceOptions plain;
-  plain.intrinsic_delaunay = false;
-  plain.mean_edge_length = h;
-  plain.boundary_vertices = s.boundary_vertex;
-  HeatDistanceOptions fine = acc.heat_options(h);
-  fine.boundary_vertices = s.boundary_vertex;
-  if (!fine.boundary_vertices.empty()) fine.boundary_vertices.resize(refined.n_vertices(), 0);
-  const HeatDistanceSolver plain_solver(s.tri, plain), fine_solver(refined, fine);
+  EXPECT_EQ(accurate.tri.multiplicity(), 2);
+  EXPECT_NEAR(intrinsic::total_area(accurate.tri), area, 1e-9 * area);
+  const HeatDistanceSolver plain_solver(plain.tri, distance_options(plain)),
+      fine_solver(accurate.tri, distance_options(accurate));
   std::printf("conrod: V %ld -> %d on the tufted cover (%d needle faces)\n",
-              long(in.positions.rows()), refined.n_vertices(), rep.needle_faces);
+              long(in.positions.rows()), accurate.tri.n_vertices(), rep.needle_faces);
   for (const Index src : {0, 7}) {
     const std::string tag = "conrod.src" + std::to_string(src);
     const Eigen::VectorXd exact = io::read_values((ref / (tag + ".exact.txt")).string());
     const Eigen::VectorXd cgal = io::read_values((ref / (tag + ".cgal-heat.txt")).string());
     const Eigen::VectorXd d0 = plain_solver.compute_distance({src});
-    Eigen::VectorXd d1 = fine_solver.compute_distance({src});
-    d1.conservativeResize(exact.size());
+    const Eigen::VectorXd d1 = on_input_vertices(accurate, fine_solver.compute_distance({src}));
     const double e0 = mean_rel(d0, exact), e1 = mean_rel(d1, exact), ec = mean_rel(cgal, exact);
     std::printf("conrod src %d: no refine %.4f, accurate %.4f, CGAL heat %.4f (acc/CGAL %.2f)\n",
                 src, e0, e1, ec, e1 / ec);
