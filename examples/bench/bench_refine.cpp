@@ -23,6 +23,7 @@
 #include "intrinsic/surface/build_surface.h"
 #include "intrinsic/surface/face_analysis.h"
 #include "solvers/heat_distance.h"
+#include "solvers/pipeline.h"
 
 namespace ifem::bench {
 namespace {
@@ -57,32 +58,20 @@ void run_case(const std::string& name, const std::vector<Triangle>& faces, const
   std::fflush(stdout);
 }
 
-// `ifem distance --refine` on one mesh: the manifold path refines with signposts, the tufted
-// path (nonmanifold) the tufted cover itself.
+// `ifem distance --refine` on one mesh, through the library pipeline (the manifold path refines
+// with signposts, the tufted path the cover itself).
 void run_accurate(const std::string& name, const io::SurfaceInput& in, int repeat) {
-  const double h = intrinsic::mean_side_length(in.triangles, in.positions);
-  const solvers::RefinedDistanceSettings accurate;
-  intrinsic::RefineOptions ro;
-  ro.max_area = intrinsic::equilateral_area(accurate.target_length(h));
-  const solvers::HeatDistanceOptions ho = accurate.heat_options(h);
+  solvers::PrepareOptions opt;
+  opt.refine = solvers::accurate_distance_refinement();
   std::vector<double> tr, tp, tq;
   Index nv = 0;
   for (int k = 0; k < repeat; ++k) {
     double t0 = seconds_now();
-    intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
-    intrinsic::IntrinsicTriangulation tri;
-    if (s.path == intrinsic::SurfacePath::kManifold) {
-      intrinsic::SignpostTriangulation st(in.triangles, in.positions, intrinsic::kDefaultMollifyEpsilon);
-      intrinsic::delaunay_refine(st, ro);
-      tri = st.intrinsic();
-    } else {
-      tri = std::move(s.tri);
-      intrinsic::delaunay_refine(tri, ro);
-    }
+    const solvers::PreparedSurface s = solvers::prepare_surface(in, opt);
     tr.push_back(seconds_now() - t0);
-    nv = tri.n_vertices();
+    nv = s.tri.n_vertices();
     t0 = seconds_now();
-    const solvers::HeatDistanceSolver solver(tri, ho);
+    const solvers::HeatDistanceSolver solver(s.tri, solvers::distance_options(s));
     tp.push_back(seconds_now() - t0);
     t0 = seconds_now();
     const Eigen::VectorXd d = solver.compute_distance({0});
