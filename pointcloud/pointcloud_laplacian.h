@@ -16,10 +16,11 @@ namespace ifem::pointcloud {
 
 /// Settings of the point-cloud pipeline.
 struct Options {
-  int k = 30;                              ///< neighbours per point (clamped to #P − 1)
-  bool use_input_normals = true;           ///< use the given normals where finite and non-zero
-  double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;  ///< see IntrinsicTriangulation::mollify
-  bool intrinsic_delaunay = true;          ///< flip the cover to intrinsic Delaunay
+  int k = 30;                     ///< neighbours per point (clamped to #P − 1)
+  bool use_input_normals = true;  ///< use the given normals where finite and non-zero
+  double mollify_relative_epsilon =
+      intrinsic::kDefaultMollifyEpsilon;  ///< see IntrinsicTriangulation::mollify
+  bool intrinsic_delaunay = true;         ///< flip the cover to intrinsic Delaunay
   /// How the local triangles are glued (weights of triangles found in 1, 2, 3 stars):
   /// kNone 1/3, 2/3, 1 (×3 copies); kHalf 1/2, 1/2, 1 (×2); kUnion 1, 1, 1 (×1). See
   /// pointcloud_triangulation().

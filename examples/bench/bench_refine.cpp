@@ -72,7 +72,8 @@ void run_accurate(const std::string& name, const io::SurfaceInput& in, int repea
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
     intrinsic::IntrinsicTriangulation tri;
     if (s.path == intrinsic::SurfacePath::kManifold) {
-      intrinsic::SignpostTriangulation st(in.triangles, in.positions, intrinsic::kDefaultMollifyEpsilon);
+      intrinsic::SignpostTriangulation st(in.triangles, in.positions,
+                                          intrinsic::kDefaultMollifyEpsilon);
       intrinsic::delaunay_refine(st, ro);
       tri = st.intrinsic();
     } else {

@@ -96,13 +96,15 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
     ASSERT_EQ(s.path, intrinsic::SurfacePath::kManifold) << stem << ": " << s.reason;
     // angle only: `--refine --resolution 0` (signposts over the same mollified input, 25°)
-    intrinsic::SignpostTriangulation st(in.triangles, in.positions, intrinsic::kDefaultMollifyEpsilon);
+    intrinsic::SignpostTriangulation st(in.triangles, in.positions,
+                                        intrinsic::kDefaultMollifyEpsilon);
     const intrinsic::RefineReport rep = intrinsic::delaunay_refine(st);
     EXPECT_FALSE(rep.hit_insertion_cap) << stem;
     const intrinsic::IntrinsicTriangulation& refined = st.intrinsic();
     // accurate: `--refine`
     const Accurate acc;
-    intrinsic::SignpostTriangulation sa(in.triangles, in.positions, intrinsic::kDefaultMollifyEpsilon);
+    intrinsic::SignpostTriangulation sa(in.triangles, in.positions,
+                                        intrinsic::kDefaultMollifyEpsilon);
     const intrinsic::RefineReport rep_acc = intrinsic::delaunay_refine(sa, accurate_refine(acc, h));
     EXPECT_FALSE(rep_acc.hit_insertion_cap) << stem;
     HeatDistanceOptions opt;
@@ -134,7 +136,8 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
       for (const double res : {0.5, 0.4, 0.3}) {
         Accurate a;
         a.resolution = res;
-        intrinsic::SignpostTriangulation sw(in.triangles, in.positions, intrinsic::kDefaultMollifyEpsilon);
+        intrinsic::SignpostTriangulation sw(in.triangles, in.positions,
+                                            intrinsic::kDefaultMollifyEpsilon);
         intrinsic::delaunay_refine(sw, accurate_refine(a, h));
         std::printf("    c=%.2f V=%-7d", res, sw.intrinsic().n_vertices());
         for (const double m : {0.125, 0.25, 0.5, 1.0}) {
