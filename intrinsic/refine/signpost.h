@@ -77,10 +77,12 @@ class SignpostTriangulation {
   /// Builds the input triangulation from faces and positions (faces repeating a vertex are
   /// dropped, orientation repaired, as IntrinsicTriangulation::from_positions) and starts the
   /// intrinsic triangulation as a copy of it.
-  /// @param mollify_epsilon if > 0, both triangulations are mollified with it (the input's
+  /// @param mollify_relative_epsilon if > 0, both triangulations are mollified with this margin
+  ///        relative to the mean edge length (IntrinsicTriangulation::mollify; the input's
   ///        lengths are then the mollified ones; 3D output uses the positions)
+  /// @throws InvalidInput / NonManifoldInput as IntrinsicTriangulation::from_positions
   SignpostTriangulation(const std::vector<Triangle>& faces, const Positions& positions,
-                        double mollify_epsilon = 0.0, BuildReport* report = nullptr);
+                        double mollify_relative_epsilon = 0.0, BuildReport* report = nullptr);
 
   // ===== Saving and restoring (format "ifem-signpost 1", documented in signpost.cpp) =====
 
@@ -105,6 +107,7 @@ class SignpostTriangulation {
   const std::vector<Triangle>& input_faces() const { return faces_; }
   /// For each face of input(), the index of the given face it came from.
   const std::vector<Index>& input_face_origin() const { return face_origin_; }
+  /// The constructor's mollify_relative_epsilon (relative to the mean edge length).
   double mollify_epsilon() const { return mollify_epsilon_; }
   Index n_input_vertices() const { return input_.n_vertices(); }
   /// Θ_v, the total angle of intrinsic vertex v (2π at inserted interior vertices, π on the
