@@ -43,15 +43,40 @@ PclPoints read_pcd(const std::string& path);
 
 /// The point-cloud triangulation of a PCL cloud: from_pcl() then pointcloud_triangulation().
 /// Vertex i of the result is PCL point points_out->source_index[i] (pass points_out to get it).
+/// @param[out] points_out optional: the converted points (positions, normals, source_index)
+/// @param[out] report optional: what pointcloud_triangulation() did
+/// @throws InvalidInput as pointcloud_triangulation()
 intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::PointXYZ>& cloud,
                                                     const Options& options = {},
-                                                    Report* report = nullptr,
-                                                    PclPoints* points_out = nullptr);
+                                                    PclPoints* points_out = nullptr,
+                                                    Report* report = nullptr);
 
 /// Same for a PointNormal cloud (its normals are used as Options::use_input_normals says).
 intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::PointNormal>& cloud,
                                                     const Options& options = {},
-                                                    Report* report = nullptr,
+                                                    PclPoints* points_out = nullptr,
+                                                    Report* report = nullptr);
+
+/// Deprecated argument order (report before points_out; reports come last,
+/// docs/decisions.md): the implementation until the definitions in pcl_adapter.cpp move to
+/// the signatures above. Passing nullptr for both outputs is ambiguous: omit them instead.
+intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                                                    const Options& options, Report* report,
                                                     PclPoints* points_out = nullptr);
+/// Deprecated argument order, as above.
+intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::PointNormal>& cloud,
+                                                    const Options& options, Report* report,
+                                                    PclPoints* points_out = nullptr);
+
+inline intrinsic::IntrinsicTriangulation pcl_triangulation(
+    const pcl::PointCloud<pcl::PointXYZ>& cloud, const Options& options, PclPoints* points_out,
+    Report* report) {
+  return pcl_triangulation(cloud, options, report, points_out);
+}
+inline intrinsic::IntrinsicTriangulation pcl_triangulation(
+    const pcl::PointCloud<pcl::PointNormal>& cloud, const Options& options, PclPoints* points_out,
+    Report* report) {
+  return pcl_triangulation(cloud, options, report, points_out);
+}
 
 }  // namespace ifem::pointcloud

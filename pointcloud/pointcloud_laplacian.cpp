@@ -67,9 +67,9 @@ Eigen::Vector3d pca_normal(const std::vector<Eigen::Vector3d>& d) {
 }  // namespace
 
 void Options::validate() const {
-  if (k < 2) throw InvalidInput("point cloud: k must be ≥ 2, got " + std::to_string(k));
+  if (k < 2) throw InvalidInput("pointcloud::Options::k must be ≥ 2, got " + std::to_string(k));
   if (!(mollify_relative_epsilon >= 0.0) || !std::isfinite(mollify_relative_epsilon)) {
-    throw InvalidInput("point cloud: mollification margin must be finite and ≥ 0");
+    throw InvalidInput("pointcloud::Options::mollify_relative_epsilon must be finite and ≥ 0");
   }
 }
 
@@ -281,7 +281,7 @@ intrinsic::IntrinsicTriangulation pointcloud_triangulation(const Positions& poin
 
   t0 = now();
   intrinsic::IntrinsicTriangulation tri =
-      intrinsic::tufted_cover(tris, points, &rep.cover, multiplicity);
+      intrinsic::tufted_cover(tris, points, multiplicity, &rep.cover);
   rep.mollify = tri.mollify(options.mollify_relative_epsilon);
   rep.seconds_cover = now() - t0;
   rep.isolated_points = rep.cover.unreferenced_vertices;

@@ -16,16 +16,18 @@ namespace ifem::pointcloud {
 
 /// Settings of the point-cloud pipeline.
 struct Options {
-  int k = 30;                              ///< neighbours per point (clamped to #P − 1)
-  bool use_input_normals = true;           ///< use the given normals where finite and non-zero
-  double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;  ///< see IntrinsicTriangulation::mollify
-  bool intrinsic_delaunay = true;          ///< flip the cover to intrinsic Delaunay
+  int k = 30;                     ///< neighbours per point, ≥ 2 (clamped to #P − 1)
+  bool use_input_normals = true;  ///< use the given normals where finite and non-zero
+  /// Mollification margin relative to the mean edge length (IntrinsicTriangulation::mollify);
+  /// finite, ≥ 0.
+  double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;
+  bool intrinsic_delaunay = true;  ///< flip the cover to intrinsic Delaunay
   /// How the local triangles are glued (weights of triangles found in 1, 2, 3 stars):
   /// kNone 1/3, 2/3, 1 (×3 copies); kHalf 1/2, 1/2, 1 (×2); kUnion 1, 1, 1 (×1). See
   /// pointcloud_triangulation().
   enum class Merge { kNone, kHalf, kUnion };
   Merge merge = Merge::kHalf;
-  /// @throws InvalidInput if k < 2 or the margin is negative / not finite
+  /// @throws InvalidInput naming the field: k < 2, mollify_relative_epsilon negative or not finite
   void validate() const;
 };
 
@@ -35,10 +37,9 @@ struct Report {
   int k = 0;                     ///< neighbours actually used
   Index local_triangles = 0;     ///< triangles over all local triangulations (a triangle found
                                  ///< from each of its three corners counts three times)
-  Index distinct_triangles = 0;  ///< triangles glued into the cover (= local_triangles unless
-                                 ///< merge_identical_triangles)
+  Index distinct_triangles = 0;  ///< distinct triangles among them (glued once or more into
+                                 ///< the cover, as Options::merge says)
   Index triangles_in_stars[3] = {0, 0, 0};  ///< distinct triangles found in 1, 2, 3 stars
-                                            ///< (merge_identical_triangles only)
   Index starless_points = 0;  ///< points whose own neighbourhood gave no triangle: fewer than
                               ///< 3 distinct neighbours, collinear, or all at the point
   Index isolated_points = 0;  ///< points in no triangle at all: zero row in L, zero mass
@@ -48,14 +49,17 @@ struct Report {
   intrinsic::TuftedCoverReport cover;
   intrinsic::MollifyReport mollify;
   intrinsic::FlipReport flips;
-  double seconds_knn = 0, seconds_local = 0, seconds_cover = 0, seconds_idt = 0;
+  double seconds_knn = 0, seconds_local = 0, seconds_cover = 0, seconds_idt = 0;  ///< wall time
 };
 
 /// The triangles of every point's local Delaunay star, in point order: for point i, the
 /// Delaunay triangulation of its k neighbours projected to i's tangent plane (PCA of the
 /// neighbourhood, or normals[i]), the triangles incident to i, as (i, a, b) counter-clockwise
 /// about the plane's normal. Parallel (OpenMP) over points; deterministic.
+/// @param neighbours k_nearest(points, k) or any neighbour lists over the same points
 /// @param normals #P×3 or null; rows that are zero or not finite fall back to PCA
+/// @param[out] report optional: local_triangles, starless_points, coincident_points and
+///        normals_from_input are set
 std::vector<Triangle> local_triangulations(const Positions& points, const Neighbours& neighbours,
                                            const Eigen::MatrixX3d* normals = nullptr,
                                            Report* report = nullptr);
@@ -68,18 +72,18 @@ std::vector<Triangle> local_triangulations(const Positions& points, const Neighb
 /// 2/3 or 1/3; multiplicity 4): about 1.5× fewer cover faces. Where the stars agree the two give
 /// the same L and M (the flipped cover is then a covering of one intrinsic Delaunay
 /// triangulation); where two stars pick one diagonal of a quad and two the other, the four
-/// triangles weigh 1/2 each and cover the quad exactly once instead of 4/3 times. Measured:
-/// Σ mass on a 20×20 grid 360.1 (exact 361; kNone 411.4), sphere spectrum errors smaller
-/// (1500 jittered points: |λ−2| 0.011 vs 0.018, |λ−6| 0.054 vs 0.071). Worse only where a
-/// triangle is in one star alone, e.g. exact duplicate points (Σ mass ≈ 2.5× instead of 2×).
-/// Merge::kUnion (each distinct triangle once, multiplicity 2) is smallest but over-counts
-/// overlaps (grid Σ mass 720): for experiments only.
+/// triangles weigh 1/2 each and cover the quad exactly once instead of 4/3 times (measured
+/// comparison of the three: docs/decisions.md, "Point-cloud merge rule"). Merge::kUnion (each
+/// distinct triangle once, multiplicity 2) is smallest but over-counts overlaps: for
+/// experiments only.
 /// Mollified and, unless disabled, intrinsic Delaunay. Always finite; isolated points
 /// (reported) have no halfedge, hence a zero row in L and zero mass: solvers give them +inf
 /// distance / 0.
 /// @param points #P×3, finite (any number, including 0, 1, 2)
 /// @param normals optional #P×3 (e.g. from the file)
-/// @throws InvalidInput on a non-finite coordinate, bad options or a normals size mismatch
+/// @param[out] report optional: counts and stage times
+/// @throws InvalidInput on a non-finite coordinate, bad options (Options::validate()) or a
+///         normals size mismatch
 intrinsic::IntrinsicTriangulation pointcloud_triangulation(
     const Positions& points, const Options& options = {}, const Eigen::MatrixX3d* normals = nullptr,
     Report* report = nullptr);

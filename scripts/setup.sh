@@ -25,7 +25,8 @@ done
 [ "${IFEM_NO_PCL:-0}" = 1 ] && with_pcl=0
 
 packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libspectra-dev
-          libnanoflann-dev libopenblas0-pthread libgtest-dev libgmock-dev libomp-dev)
+          libnanoflann-dev libopenblas0-pthread libgtest-dev libgmock-dev libomp-dev
+          clang-format-14 python3 git)  # the last three: the style checks (ctest -L style)
 # OpenBLAS makes CHOLMOD's supernodal factorization 3–4× faster than reference BLAS.
 if [ "$with_pcl" = 1 ] && [ -f pointcloud/pcl_adapter.cpp ]; then
   packages+=(libpcl-dev)

@@ -12,28 +12,29 @@ namespace ifem::solvers {
 
 /// Options of CholeskySolver.
 struct CholeskyOptions {
-  /// Force AMD ordering (CHOLMOD nmethods = 1). METIS, CHOLMOD's default choice on large
-  /// matrices, costs more in analysis than it saves here (see DEPENDENCIES.md).
+  /// Force AMD ordering (CHOLMOD nmethods = 1) instead of CHOLMOD's default choice (METIS on
+  /// large matrices). Why: docs/DEPENDENCIES.md, "Sparse Cholesky".
   bool force_amd = true;
   /// Supernodal factorization (fast with an optimized BLAS); false = simplicial.
   bool supernodal = true;
-  /// After a supernodal factorization, convert the factor to simplicial form for the solves:
-  /// a supernodal solve calls BLAS once per (mostly small) supernode, and for one right-hand
-  /// side that overhead dominates — measured 2–3× faster solves at 56k faces, equal at 1M.
-  /// refactor() then runs a simplicial numeric factorization (slower; documented there).
+  /// After a supernodal factorization, convert the factor to simplicial form for the solves
+  /// (a supernodal solve calls BLAS once per, mostly small, supernode; measurements:
+  /// docs/decisions.md, "Cholesky: simplicial solves, one BLAS thread"). refactor() then runs
+  /// a simplicial numeric factorization (slower; documented there).
   bool simplicial_solves = true;
-  /// A factor whose reciprocal condition estimate (CHOLMOD's (min diag / max diag)² of L) is
-  /// below this is reported as numerically singular (SolverError).
+  /// A factor whose reciprocal condition estimate (CHOLMOD's (min diag / max diag)² of L,
+  /// dimensionless) is below this is reported as numerically singular (SolverError). ≥ 0.
   double min_rcond = 1e-12;
   /// BLAS threads during the numeric factorization (OpenBLAS only, see BlasThreadScope):
   /// 0 = leave the process setting. Callers that factor several matrices at once in their own
-  /// threads pass 1, or the BLAS threads of both factorizations fight for the same cores.
+  /// threads pass 1, or the BLAS threads of both factorizations fight for the same cores. ≥ 0.
   int factor_blas_threads = 0;
   /// BLAS threads during solves: one right-hand side is a chain of small triangular solves and
   /// matrix–vector products, memory bound, where OpenBLAS's threads only add synchronization
-  /// (measured: 5× faster heat-method queries at 100k faces with 1 thread on a loaded 2-core
-  /// machine, and no loss unloaded). 0 = leave the process setting.
+  /// (docs/decisions.md, "Cholesky: simplicial solves, one BLAS thread"). 0 = leave the
+  /// process setting. ≥ 0.
   int solve_blas_threads = 1;
+  /// @throws InvalidInput if min_rcond is negative or NaN or a thread count is negative
   void validate() const;
 };
 
@@ -63,7 +64,8 @@ class BlasThreadScope {
 class CholeskySolver {
  public:
   /// Analyzes and factors A (#n×#n).
-  /// @throws InvalidInput if A is not square, is empty or has a non-finite entry
+  /// @throws InvalidInput if A is not square, is empty or has a non-finite entry, or on bad
+  ///         options (CholeskyOptions::validate())
   /// @throws SolverError if A is not positive definite (naming the failing column) or CHOLMOD
   ///         fails (out of memory, ...)
   explicit CholeskySolver(const fem::SparseMatrix& A, const CholeskyOptions& options = {});

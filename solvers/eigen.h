@@ -12,14 +12,18 @@ namespace ifem::solvers {
 /// Options of eigenpairs().
 struct EigenOptions {
   /// Extra pairs computed internally and dropped, so that a degenerate eigenvalue cut by the
-  /// k-th pair is not returned with a missing copy (Lanczos can miss copies; DEPENDENCIES.md).
+  /// k-th pair is not returned with a missing copy (Lanczos can miss copies; docs/DEPENDENCIES.md,
+  /// "Spectra"). ≥ 0.
   Index extra_pairs = 6;
   /// Lanczos basis size: max(2·(k + extra) + 1, 20), capped by the number of unknowns; 0 = auto.
+  /// ≥ 0.
   Index ncv = 0;
-  Index max_iterations = 1000;
-  double tolerance = 1e-10;  ///< Spectra's relative convergence tolerance
+  Index max_iterations = 1000;  ///< Lanczos restarts before giving up (SolverError); ≥ 1
+  double tolerance = 1e-10;     ///< Spectra's relative convergence tolerance; > 0
   /// σ = −shift_scale / (total area): slightly negative so that L − σM is positive definite.
+  /// Relative (dimensionless: σ is in 1 / area units); > 0.
   double shift_scale = 1e-2;
+  /// @throws InvalidInput naming the fields and their ranges when one is out of range
   void validate() const;
 };
 
@@ -33,7 +37,8 @@ struct EigenPairs {
 /// Unreferenced vertices (no face: zero row in L and zero mass) are left out of the problem and
 /// get 0 in every eigenvector. Faces of zero area on an otherwise referenced vertex are fine.
 /// @param L #V×#V stiffness (PSD), @param mass #V lumped mass (> 0 on referenced vertices)
-/// @throws InvalidInput if k < 1 or k ≥ the number of referenced vertices, or sizes disagree
+/// @throws InvalidInput if k < 1 or k ≥ the number of referenced vertices, sizes disagree, or
+///         on bad options (EigenOptions::validate())
 /// @throws SolverError if Lanczos does not converge ("3 of 10 eigenpairs converged ...") or the
 ///         factorization of L − σM fails
 EigenPairs eigenpairs(const fem::SparseMatrix& L, const Eigen::VectorXd& mass, Index k,

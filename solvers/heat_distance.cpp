@@ -42,7 +42,7 @@ struct WeightedPoint {
 // Runs independent jobs on up to min(#jobs, #cores) threads; rethrows the first exception.
 // Used for the factorizations: CHOLMOD's supernodal factorization of a surface Laplacian is
 // mostly small dense blocks where BLAS threads gain little, so two factorizations side by side
-// (BLAS at 1 thread each) finish well before two in a row (DEPENDENCIES.md: ~1.9 s vs
+// (BLAS at 1 thread each) finish well before two in a row (docs/DEPENDENCIES.md: ~1.9 s vs
 // 2.6–3.0 s at 1M faces).
 void run_parallel(const std::vector<std::function<void()>>& jobs) {
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
@@ -93,12 +93,6 @@ void HeatDistanceOptions::validate() const {
     throw InvalidInput("HeatDistanceOptions: correction_steps must be ≥ 0, got " +
                        std::to_string(correction_steps));
   }
-}
-
-double mean_edge_length(const IntrinsicTriangulation& tri) {
-  if (tri.n_edges() == 0) return 0.0;
-  const auto& l = tri.lengths();
-  return std::accumulate(l.begin(), l.end(), 0.0) / double(l.size());
 }
 
 struct HeatDistanceSolver::Impl {

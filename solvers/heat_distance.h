@@ -7,42 +7,32 @@
 #include <memory>
 #include <vector>
 
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/core/surface_point.h"
 #include "intrinsic/core/triangulation.h"
 
 namespace ifem::solvers {
 
-/// A point on the surface: a face of the solver's triangulation and barycentric coordinates
-/// (weights of corners 0, 1, 2 of that face, i.e. of tail(3f), tail(3f+1), tail(3f+2);
-/// non-negative, summing to 1).
-struct SurfacePoint {
-  Index face = 0;
-  Eigen::Vector3d bary = Eigen::Vector3d(1.0, 0.0, 0.0);
-};
+/// A point on the surface (face + barycentric coordinates); for HeatDistanceSolver sources the
+/// face is one of triangulation()'s.
+using SurfacePoint = intrinsic::SurfacePoint;
 
 /// Options of HeatDistanceSolver.
 struct HeatDistanceOptions {
-  /// m in t = m·h²: the heat time step relative to the squared mean edge length (m > 0).
+  /// m in t = m·h²: the heat time step relative to the squared mean edge length h² (m > 0,
+  /// dimensionless; t is in squared length units).
   double time_factor = 1.0;
-  /// Which mesh gives h when mean_edge_length is 0.
-  ///
-  /// Default: the input's mean edge length (the paper's h; Sharp, Soliman & Crane 2019 also keep
-  /// the input's h on a modified triangulation). Against exact geodesics on the 13 reference
-  /// meshes (tests/solvers/reference_test.cpp, 2 sources each) it is within ~4% of CGAL's heat
-  /// method (which effectively uses the intrinsic Delaunay mesh's h) everywhere and far below it
-  /// where the input has slivers (rocketship: 0.165 vs 0.202 mean relative error; conrod). The
-  /// other rules measured — IDT mean edge, h² = 4A/(√3F) from the mean face area, median edge,
-  /// max(input, IDT), √(input·IDT), 1.1·input, Galerkin instead of lumped mass in the heat step,
-  /// Neumann-only boundary — each trade one mesh for another (e.g. the median edge wins on
-  /// armadillo, 0.0139 vs CGAL 0.0148, and loses rocketship and terrain8k; Galerkin mass halves
-  /// armadillo src0 and loses block and armadillo src8403): none is at or below CGAL on every
-  /// mesh, so the default stays the input's h (issue #3 keeps the remaining gaps open).
+  /// Which triangulation's mean edge length (intrinsic::mean_edge_length) gives h when
+  /// mean_edge_length is 0. Default kInput, the paper's h (why: docs/decisions.md, "Heat step
+  /// length"; accuracy per mesh: BENCHMARKS.md, "Heat-method accuracy").
   enum class StepLength {
     kInput,              ///< the triangulation passed in (before the solver's Delaunay flips)
     kIntrinsicDelaunay,  ///< the intrinsic Delaunay triangulation (edges are longer)
   };
   StepLength step_length = StepLength::kInput;
-  /// h itself, when > 0 (e.g. the input mesh's mean edge length when the caller hands over a
-  /// triangulation that is already intrinsic Delaunay).
+  /// h itself, when > 0: absolute, in the triangulation's length unit (e.g. the input mesh's
+  /// intrinsic::mean_side_length when the caller hands over a triangulation that is already
+  /// intrinsic Delaunay or refined). 0: computed as step_length says. ≥ 0.
   double mean_edge_length = 0.0;
   /// Flip a copy of the triangulation to intrinsic Delaunay first (flips keep vertex ids).
   bool intrinsic_delaunay = true;
@@ -59,39 +49,42 @@ struct HeatDistanceOptions {
   /// is not resolved get a zero vector field, and distances there are unreliable.
   bool resolve_underflow = true;
   /// A vertex's heat is resolved when u > resolved_heat × (max u in its component);
-  /// vertices are trusted (final) at a stage when u ≥ trusted_heat × max.
+  /// vertices are trusted (final) at a stage when u ≥ trusted_heat × max. Both relative to
+  /// that maximum: 0 < resolved_heat ≤ trusted_heat ≤ 1.
   double resolved_heat = 1e-270;
   double trusted_heat = 1e-180;
   /// Largest number of extra zero-distance constraints (several sources in one component)
   /// handled with the cached factorization (k back-substitutions); above it, vertex sources
-  /// become Dirichlet conditions of a freshly factored Poisson problem.
+  /// become Dirichlet conditions of a freshly factored Poisson problem. ≥ 0.
   Index max_constrained_sources = 64;
   /// Correction steps after the heat method: φ ← the solution of L φ = div(∇φ/|∇φ|) with the
   /// same source constraints, i.e. the method's second half applied to its own result (a
   /// fixed-point iteration of the eikonal normalization; cf. Belyaev & Fayolle, "On variational
   /// and PDE-based distance function approximations", CGF 2015). Each step costs a divergence
-  /// and one back-substitution with the cached factor. One step pays off with a small time
-  /// step on a fine mesh: `ifem distance --refine` refines to a target edge length ℓ and uses
-  /// t = ℓ²/4 with one step (tests/solvers/refine_accuracy_test.cpp has the figures); with the
-  /// paper's t = h² it does not help. Default 0 (the paper's method).
+  /// and one back-substitution with the cached factor. It pays off with a small time step on a
+  /// fine mesh (RefinedDistanceSettings), not at the paper's t = h² (docs/decisions.md,
+  /// "Accurate distance mode"). ≥ 0; default 0 (the paper's method).
   int correction_steps = 0;
-  /// @throws InvalidInput on a non-positive time factor, thresholds out of (0, 1] or negative
-  ///         correction steps
+  /// @throws InvalidInput naming the field: time_factor not > 0 and finite, mean_edge_length
+  ///         negative or not finite, thresholds not 0 < resolved_heat ≤ trusted_heat ≤ 1,
+  ///         negative max_constrained_sources or correction_steps
   void validate() const;
 };
 
 /// The accurate mode of `ifem distance --refine`: refine to edges of about ℓ = resolution·h (h =
-/// the input's mean edge length; area bound equilateral_area(ℓ), 25°), then the heat method on
-/// the refined triangulation with t = time_factor·ℓ² and correction_steps correction steps. At
-/// most half of CGAL's heat-method error on every sliver reference mesh; the sweep it was chosen
-/// from is in tests/solvers/refine_accuracy_test.cpp (IFEM_REFINE_SWEEP=1).
+/// the input's mean side length, intrinsic::mean_side_length; area bound equilateral_area(ℓ),
+/// 25°), then the heat method on the refined triangulation with t = time_factor·ℓ² and
+/// correction_steps correction steps. Its accuracy against exact geodesics and CGAL's heat
+/// method: BENCHMARKS.md, "Intrinsic Delaunay refinement" (the one place for those figures);
+/// how the constants were chosen: docs/decisions.md, "Accurate distance mode".
 struct RefinedDistanceSettings {
-  double resolution = 0.4;
-  double time_factor = 0.25;
-  int correction_steps = 1;
-  /// The target edge length ℓ for an input of mean edge length h.
+  double resolution = 0.4;    ///< c in ℓ = c·h, relative to the input's h (> 0)
+  double time_factor = 0.25;  ///< m in t = m·ℓ², relative to the target length ℓ (> 0)
+  int correction_steps = 1;   ///< HeatDistanceOptions::correction_steps (≥ 0)
+  /// The target edge length ℓ (absolute) for an input of mean side length h (absolute).
   double target_length(double h) const { return resolution * h; }
-  /// Heat options for the refined (already intrinsic Delaunay) triangulation.
+  /// Heat options for the refined (already intrinsic Delaunay) triangulation; validated by the
+  /// HeatDistanceSolver they are given to.
   HeatDistanceOptions heat_options(double h) const {
     HeatDistanceOptions o;
     o.intrinsic_delaunay = false;
@@ -109,9 +102,10 @@ struct HeatDistanceReport {
   Index constraints = 0;          ///< zero-distance constraints beyond one per component
 };
 
-/// Stateful heat-method solver: the constructor builds the intrinsic Delaunay triangulation,
-/// L, M and factors (M + tL) (twice on meshes with boundary: Neumann and Dirichlet) and the
-/// Poisson matrix L once; each compute_distance() then costs back-substitutions.
+/// Stateful heat-method solver (the one-off form is heat_distance()): the constructor builds the
+/// intrinsic Delaunay triangulation, L, M and factors (M + tL) (twice on meshes with boundary:
+/// Neumann and Dirichlet) and the Poisson matrix L once; each compute_distance() then costs
+/// back-substitutions.
 ///
 /// Method, per query: (M + tL) u = δ (δ = 1 at each vertex source, barycentric weights for a
 /// surface point); X = −∇u/|∇u| per face; L φ = div X (cached factor, pure Neumann); φ shifted
@@ -145,19 +139,23 @@ class HeatDistanceSolver {
   HeatDistanceSolver(HeatDistanceSolver&&) noexcept;
   HeatDistanceSolver& operator=(HeatDistanceSolver&&) noexcept;
 
-  /// Distance to the nearest of the given vertices, #V.
+  /// Distance to the nearest of the given vertices, #V (absolute, in the length unit).
+  /// @param sources vertex ids in [0, #V), each referenced by a face
+  /// @param[out] report optional: what the query did
   /// @throws InvalidInput on an empty set, an id out of range or an unreferenced vertex
   Eigen::VectorXd compute_distance(const std::vector<Index>& sources,
                                    HeatDistanceReport* report = nullptr) const;
 
   /// Distance to the nearest of the given surface points, #V.
+  /// @param sources points whose faces are faces of triangulation()
+  /// @param[out] report optional: what the query did
   /// @throws InvalidInput on an empty set, a face out of range or bad barycentric coordinates
   Eigen::VectorXd compute_distance_from_points(const std::vector<SurfacePoint>& sources,
                                                HeatDistanceReport* report = nullptr) const;
 
   /// The triangulation the solver works on (intrinsic Delaunay unless disabled).
   const intrinsic::IntrinsicTriangulation& triangulation() const;
-  /// The heat time step t = m·h².
+  /// The heat time step t = m·h² (squared length units).
   double time_step() const;
 
   struct Impl;
@@ -166,12 +164,14 @@ class HeatDistanceSolver {
   std::unique_ptr<Impl> impl_;
 };
 
-/// One-off: heat-method distance from vertex sources (builds a HeatDistanceSolver).
+/// One-off: heat-method distance from vertex sources (builds a HeatDistanceSolver), #V.
+/// @throws as HeatDistanceSolver's constructor and compute_distance()
 Eigen::VectorXd heat_distance(const intrinsic::IntrinsicTriangulation& tri,
                               const std::vector<Index>& sources,
                               const HeatDistanceOptions& options = {});
 
-/// Mean edge length of a triangulation.
-double mean_edge_length(const intrinsic::IntrinsicTriangulation& tri);
+/// Mean edge length of a triangulation: intrinsic::mean_edge_length (intrinsic/core/geometry.h,
+/// next to mean_side_length), kept visible here for existing callers.
+using intrinsic::mean_edge_length;
 
 }  // namespace ifem::solvers

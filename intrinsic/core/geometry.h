@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <numeric>
+#include <vector>
 
 #include "intrinsic/core/triangulation.h"
 
@@ -33,10 +35,10 @@ inline double opposite_cotan(double a, double b, double c) {
   return (b * b + c * c - a * a) / (4.0 * triangle_area(a, b, c));
 }
 
-/// Area of face f.
 /// Area of the equilateral triangle of side l (the area bound that asks for edges of about l).
 inline double equilateral_area(double l) { return 0.4330127018922193 * l * l; }  // √3/4 l²
 
+/// Area of face f.
 inline double face_area(const IntrinsicTriangulation& tri, Index f) {
   const Index h = 3 * f;
   return triangle_area(tri.halfedge_length(h), tri.halfedge_length(h + 1),
@@ -71,6 +73,29 @@ Eigen::VectorXd angle_defects(const IntrinsicTriangulation& tri);
 
 /// Per-edge cotan weight w_e = (cot α + cot β)/2 (one term on a boundary edge), #E.
 Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri);
+
+// ===== Mean lengths (the two "h"s) =====
+//
+// Two means, deliberately different: mean_edge_length() counts every edge of an intrinsic
+// triangulation once (after flips or refinement it describes that triangulation);
+// mean_side_length() counts every side of every face of a face list as given (an interior edge
+// twice), from positions: the input mesh's h, which the heat method's time step and the
+// accurate distance mode's target length use (docs/decisions.md, "Heat step length").
+
+/// Mean length over the edges of tri, each edge once (absolute, in the lengths' unit); 0 when
+/// tri has no edge.
+inline double mean_edge_length(const IntrinsicTriangulation& tri) {
+  if (tri.n_edges() == 0) return 0.0;
+  const std::vector<double>& l = tri.lengths();
+  return std::accumulate(l.begin(), l.end(), 0.0) / double(l.size());
+}
+
+/// Mean Euclidean length of the faces' sides, each side of each face counted once as given (an
+/// interior edge twice, a boundary edge once); absolute, in the positions' unit; 0 for no
+/// faces. Defined in surface/face_analysis.cpp.
+/// @param faces #F triangles over vertex ids in [0, positions.rows()) (not checked)
+/// @param positions #V×3
+double mean_side_length(const std::vector<Triangle>& faces, const Positions& positions);
 
 /// Euler characteristic V − E + F (all vertices counted, unreferenced ones included).
 inline long euler_characteristic(const IntrinsicTriangulation& tri) {

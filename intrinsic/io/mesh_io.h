@@ -44,6 +44,7 @@ std::string file_extension(const std::string& path);
 SurfaceInput read_surface(const std::string& path);
 
 /// Same, but a file without faces is an error ("no faces") — for commands that need a mesh.
+/// @throws IoError as read_surface(), and on a file without faces
 SurfaceInput read_mesh(const std::string& path);
 
 /// Writes a PLY (binary little-endian by default) with vertices, optional triangles and any
@@ -55,15 +56,20 @@ void write_ply(const std::string& path, const Positions& positions,
                const std::vector<VertexProperty>& vertex_properties = {}, bool binary = true);
 
 /// Writes a sparse matrix in Matrix Market coordinate format (general, real, 1-based), atomic.
+/// @throws IoError if the file cannot be written
 void write_matrix_market(const std::string& path, const Eigen::SparseMatrix<double>& A);
 
-/// Reads a Matrix Market coordinate real matrix (general or symmetric).
+/// Reads a Matrix Market coordinate real matrix (general, symmetric or skew-symmetric; such a
+/// file's stored triangle is mirrored), rows × cols as the header says.
+/// @throws IoError on a missing or malformed file (naming the line)
 Eigen::SparseMatrix<double> read_matrix_market(const std::string& path);
 
 /// Writes one value per line (%.17g; inf as "inf"), atomic.
+/// @throws IoError if the file cannot be written
 void write_values(const std::string& path, const Eigen::VectorXd& values);
 
 /// Reads one value per line (blank lines and '#' comments skipped; "inf"/"nan" accepted).
+/// @throws IoError on a missing file or a malformed value (naming the line)
 Eigen::VectorXd read_values(const std::string& path);
 
 }  // namespace ifem::io

@@ -477,11 +477,13 @@ RefineReport refine(Host& host, const RefineOptions& options) {
 }  // namespace
 
 RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options) {
+  options.validate();
   SignpostHost host(st);
   return refine(host, options);
 }
 
 RefineReport delaunay_refine(IntrinsicTriangulation& tri, const RefineOptions& options) {
+  options.validate();
   PlainHost host(tri);
   return refine(host, options);
 }
@@ -551,6 +553,7 @@ void split_long_edges(SignpostTriangulation& st, const RelaxOptions& options, In
 }  // namespace
 
 RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options) {
+  options.validate();
   if (options.iterations < 0) {
     throw InvalidInput("relax_inserted_vertices: iterations must be ≥ 0");
   }

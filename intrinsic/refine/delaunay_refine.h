@@ -12,10 +12,12 @@ namespace ifem::intrinsic {
 
 /// What to refine towards.
 struct RefineOptions {
-  double min_angle_degrees = 25.0;  ///< minimum corner angle wanted, in (0, 30]
-  double max_area = 0.0;            ///< also split triangles larger than this (0: no bound)
+  double min_angle_degrees = 25.0;  ///< minimum corner angle wanted, degrees, in (0, 30]
+  /// Also split triangles whose area exceeds this (absolute, in squared length units; e.g.
+  /// equilateral_area(ℓ) asks for edges of about ℓ). 0: no area bound. ≥ 0.
+  double max_area = 0.0;
   /// cap on inserted vertices (−1: 10 × #input vertices + 2000, plus 4 × (faces' area /
-  /// max_area) with an area bound: about four times the triangles that bound asks for)
+  /// max_area) with an area bound: about four times the triangles that bound asks for); ≥ −1
   Index max_insertions = -1;
   /// Split boundary edges that face an obtuse angle (encroached: the opposite vertex lies in
   /// their diametral circle, Ruppert), until none is left. Chew's angle test alone keeps e.g.
@@ -25,12 +27,13 @@ struct RefineOptions {
   /// Insert off-centers (Üngör 2004) instead of circumcenters for triangles with a small
   /// corner: the point on the way from the shortest side's midpoint to the circumcenter where
   /// the triangle on that side gets an apex angle just above the bound, when the circumcenter
-  /// is farther. Same bound and termination argument (the new vertex is farther than the
-  /// shortest side from every vertex: 1.77× it at 30°). Measured at 25°: 11% fewer
-  /// insertions over the shared corpus (rocketship 57,751 vs 62,478 vertices), but 26% more on
-  /// the needle sphere uv_sphere(40, 2000) (338,958 vs 268,974), whose rings of short sides it
-  /// copies layer by layer instead of grading away from them.
+  /// is farther. Same bound and termination argument. Fewer insertions on most meshes, more on
+  /// meshes with rings of short sides, hence off by default (docs/decisions.md, "Refinement
+  /// order and off-centers").
   bool off_centers = false;
+  /// @throws InvalidInput naming the field: min_angle_degrees outside (0, 30], max_area
+  ///         negative or not finite, max_insertions < −1
+  void validate() const;
 };
 
 /// Outcome of delaunay_refine(), counted.
@@ -48,9 +51,9 @@ struct RefineReport {
                                    ///< bound inside); per fan at a pinched vertex
   Index bad_faces_left = 0;        ///< other triangles still below the bounds at the end
   double min_angle_before = 0.0;   ///< smallest corner angle, degrees, of the input's intrinsic
-                                   ///< Delaunay triangulation... (before any insertion)
+                                   ///< Delaunay triangulation (before any insertion)
   double min_angle_after = 0.0;    ///< smallest corner angle at the end, degrees (all faces)
-  double min_angle_after_excluding_needles = 0.0;  ///< same, ignoring needle_faces
+  double min_angle_after_excluding_needles = 0.0;  ///< same, degrees, ignoring needle_faces
 };
 
 /// Refines `st` in place: flips to intrinsic Delaunay, then repeatedly takes the worst bad
@@ -58,12 +61,11 @@ struct RefineReport {
 /// intrinsic triangulation and inserts a vertex there (or splits the edge it lands on, or the
 /// boundary edge it would cross, at its midpoint), and restores the Delaunay property by
 /// flips. Worst first: triangles with a corner below the bound that an insertion can fix, by
-/// that corner, smallest first (in steps of about 0.25°; on the needle sphere uv_sphere(40,
-/// 2000) at 25° this ends at 268,974 vertices, largest-area-first at 284,725), then triangles
-/// larger than max_area or facing an encroached boundary side, largest first. Terminates on
-/// every input (the insertion cap).
-/// Input vertices keep their ids; inserted vertices are appended.
-/// @throws InvalidInput on a bound outside (0, 30] degrees or a negative max_area
+/// that corner, smallest first (in steps of about 0.25°), then triangles larger than max_area
+/// or facing an encroached boundary side, largest first (why this order: docs/decisions.md,
+/// "Refinement order and off-centers"). Terminates on every input (the insertion cap).
+/// Input vertices keep their ids; inserted vertices are appended. The surface never changes.
+/// @throws InvalidInput on bad options (RefineOptions::validate())
 RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options = {});
 
 /// The same algorithm (the same code) on a bare intrinsic triangulation, without signposts:
@@ -79,12 +81,12 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
 /// when a side without twin starts or ends at it. The multiplicity (2 for a tufted cover) is
 /// kept, and with it total_area(). On a manifold mesh the result is exactly the signpost
 /// overload's (same insertions, same lengths).
-/// @throws InvalidInput on a bound outside (0, 30] degrees or a negative max_area
+/// @throws InvalidInput on bad options (RefineOptions::validate())
 RefineReport delaunay_refine(IntrinsicTriangulation& tri, const RefineOptions& options = {});
 
 /// Optimal Delaunay triangulation (ODT) relaxation of the inserted vertices.
 struct RelaxOptions {
-  int iterations = 1;  ///< passes over the inserted vertices (each followed by Delaunay flips)
+  int iterations = 1;  ///< passes over the inserted vertices (each followed by Delaunay flips); ≥ 0
   /// Keep the smallest corner angle of each star, and the sum of its triangles' smallest
   /// angles, from decreasing: a move (or its half, or quarter) that would lower either is
   /// rejected, so the triangulation's minimum angle, and with it delaunay_refine()'s bound,
@@ -92,11 +94,15 @@ struct RelaxOptions {
   bool keep_min_angle = true;
   /// After each pass's Delaunay flips, split every edge longer than this at its midpoint (the
   /// new vertices are inserted vertices: the next pass moves them), repeated until none is left,
-  /// then flip to Delaunay again. 0: no splitting. Splits can lower the minimum angle (a
-  /// midpoint split of a Delaunay edge at worst halves the angles next to it); the report says.
+  /// then flip to Delaunay again. Absolute, in the triangulation's length unit; 0: no splitting.
+  /// Splits can lower the minimum angle (a midpoint split of a Delaunay edge at worst halves the
+  /// angles next to it); the report says.
   double max_edge_length = 0.0;
-  /// Cap on the splits, over all passes (−1: 10 × #vertices at the start).
+  /// Cap on the splits, over all passes (−1: 10 × #vertices at the start); ≥ −1.
   Index max_splits = -1;
+  /// @throws InvalidInput naming the field: iterations < 0, max_edge_length negative or not
+  ///         finite, max_splits < −1
+  void validate() const;
 };
 
 /// Outcome of relax_inserted_vertices(), counted.
@@ -108,8 +114,8 @@ struct RelaxReport {
   Index skipped_irregular = 0;    ///< inserted vertices whose star is not a disk, per pass
   Index splits = 0;               ///< edges split for max_edge_length (new inserted vertices)
   bool hit_split_cap = false;     ///< stopped splitting at max_splits with longer edges left
-  double max_edge_after = 0.0;    ///< longest edge at the end
-  double max_displacement = 0.0;  ///< longest single move
+  double max_edge_after = 0.0;    ///< longest edge at the end (absolute length)
+  double max_displacement = 0.0;  ///< longest single move (absolute length)
   std::size_t flips = 0;          ///< Delaunay flips after the passes
   double min_angle_before = 0.0, min_angle_after = 0.0;            ///< degrees, over all faces
   double mean_min_angle_before = 0.0, mean_min_angle_after = 0.0;  ///< degrees, face mean
@@ -123,9 +129,10 @@ struct RelaxReport {
 /// flips to intrinsic Delaunay, then splits edges longer than max_edge_length (if set). The
 /// surface, the input vertices' angle sums and the total area are unchanged; inserted vertices
 /// stay flat and keep their locations on the input.
+/// @throws InvalidInput on bad options (RelaxOptions::validate())
 RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options = {});
 
-/// Smallest corner angle (radians) of face f.
+/// Smallest corner angle of face f, in radians (reports give degrees).
 double min_corner_angle(const IntrinsicTriangulation& tri, Index f);
 
 }  // namespace ifem::intrinsic

@@ -14,17 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "intrinsic/core/surface_point.h"
 #include "intrinsic/core/triangulation.h"
 
 namespace ifem::intrinsic {
-
-/// A point on a triangulated surface: a face and barycentric coordinates for its corners
-/// 0, 1, 2 (corner s is the tail of halfedge 3·face + s). Vertices are represented as a face
-/// corner with coordinate 1.
-struct SurfacePoint {
-  Index face = kInvalidIndex;
-  Eigen::Vector3d bary = Eigen::Vector3d::Zero();
-};
 
 /// Result of tracing a straight line over a triangulation (trace_straight()).
 struct TraceResult {
@@ -36,18 +29,47 @@ struct TraceResult {
   std::vector<SurfacePoint> path;           ///< start, every side crossing, end (when recorded)
 };
 
+/// How trace_straight() runs.
+struct TraceOptions {
+  /// When the start is corner k of start.face (bary = e_k), k: the line may then first leave
+  /// only through the side opposite k, never along a side at rounding level. −1: no such
+  /// restriction. In {−1, 0, 1, 2}.
+  int start_corner = -1;
+  /// A line reaching a boundary side continues along it (a numerical fix for lines that run
+  /// along the boundary); false: it stops there (TraceResult::hit_boundary).
+  bool slide_on_boundary = false;
+  /// Fill TraceResult::path.
+  bool record_path = false;
+  /// Give up (throw Error) after crossing this many sides; −1: 4 × #F + 1000.
+  Index max_steps = -1;
+  /// @throws InvalidInput naming the field: start_corner outside {−1, 0, 1, 2}, max_steps < −1
+  void validate() const;
+};
+
 /// Traces the straight line leaving `start` (inside or on the boundary of start.face) in the
-/// unit direction `dir` (start.face's layout) for `distance`, unfolding across glued sides.
-/// @param start_corner when the start is corner k of start.face (bary = e_k), k: the line may
-///        then first leave only through the side opposite k, never along a side at rounding
-///        level (−1: no such restriction)
-/// @param slide_on_boundary if true, a line reaching a boundary side continues along it (a
-///        numerical fix for lines that run along the boundary); else it stops there
-/// @param record_path if true, fills TraceResult::path
+/// unit direction `dir` (start.face's layout, face_layout()) for `distance` (absolute, ≥ 0, in
+/// the length unit of tri), unfolding across glued sides.
+/// @throws InvalidInput on bad options
 /// @throws Error if the line crosses more than max_steps sides (degenerate input)
+inline TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
+                                  const Eigen::Vector2d& dir, double distance,
+                                  const TraceOptions& options = {});
+
+/// Deprecated positional form of trace_straight(tri, start, dir, distance, TraceOptions) (same
+/// meaning; max_steps has no −1 default here). The implementation until its definition in
+/// signpost.cpp takes TraceOptions; call the TraceOptions form.
 TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
                            Eigen::Vector2d dir, double distance, int start_corner,
                            bool slide_on_boundary, bool record_path, Index max_steps);
+
+inline TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
+                                  const Eigen::Vector2d& dir, double distance,
+                                  const TraceOptions& options) {
+  options.validate();
+  const Index max_steps = options.max_steps >= 0 ? options.max_steps : 4 * tri.n_faces() + 1000;
+  return trace_straight(tri, start, dir, distance, options.start_corner, options.slide_on_boundary,
+                        options.record_path, max_steps);
+}
 
 /// An intrinsic triangulation with signposts, over an input mesh kept alongside.
 class SignpostTriangulation {
@@ -55,10 +77,12 @@ class SignpostTriangulation {
   /// Builds the input triangulation from faces and positions (faces repeating a vertex are
   /// dropped, orientation repaired, as IntrinsicTriangulation::from_positions) and starts the
   /// intrinsic triangulation as a copy of it.
-  /// @param mollify_epsilon if > 0, both triangulations are mollified with it (the input's
+  /// @param mollify_relative_epsilon if > 0, both triangulations are mollified with this margin
+  ///        relative to the mean edge length (IntrinsicTriangulation::mollify; the input's
   ///        lengths are then the mollified ones; 3D output uses the positions)
+  /// @throws InvalidInput / NonManifoldInput as IntrinsicTriangulation::from_positions
   SignpostTriangulation(const std::vector<Triangle>& faces, const Positions& positions,
-                        double mollify_epsilon = 0.0, BuildReport* report = nullptr);
+                        double mollify_relative_epsilon = 0.0, BuildReport* report = nullptr);
 
   // ===== Saving and restoring (format "ifem-signpost 1", documented in signpost.cpp) =====
 
@@ -83,6 +107,7 @@ class SignpostTriangulation {
   const std::vector<Triangle>& input_faces() const { return faces_; }
   /// For each face of input(), the index of the given face it came from.
   const std::vector<Index>& input_face_origin() const { return face_origin_; }
+  /// The constructor's mollify_relative_epsilon (relative to the mean edge length).
   double mollify_epsilon() const { return mollify_epsilon_; }
   Index n_input_vertices() const { return input_.n_vertices(); }
   /// Θ_v, the total angle of intrinsic vertex v (2π at inserted interior vertices, π on the

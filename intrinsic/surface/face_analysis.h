@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "intrinsic/core/geometry.h"  // mean_side_length() lives there now
 #include "intrinsic/core/types.h"
 
 namespace ifem::intrinsic {
@@ -31,10 +32,5 @@ struct FaceListStats {
 
 /// Computes the statistics in O(F log F).
 FaceListStats analyze_faces(const std::vector<Triangle>& faces, Index n_vertices);
-
-/// Mean length of the faces' sides (each side of each face counted once, as given: an interior
-/// edge counts twice, like every side around it). The heat method's time step uses it: the
-/// input mesh's h, not the (longer) intrinsic Delaunay edges'. 0 for no faces.
-double mean_side_length(const std::vector<Triangle>& faces, const Positions& positions);
 
 }  // namespace ifem::intrinsic

@@ -42,15 +42,19 @@ struct TuftedCoverReport {
 /// cotan Laplacian and mass of the cover equal those of the mesh itself.
 /// @param faces #F triangles over vertex ids in [0, positions.rows())
 /// @param positions #V×3, finite
-/// @param[out] report optional counts
-/// @param input_multiplicity how many times the faces cover each point of the surface (1 for a
-///        mesh, 3 for the union of point-cloud local triangulations, where each triangle shows
-///        up in the neighbourhoods of its three corners); the result has multiplicity
+/// @param input_multiplicity how many times the faces cover each point of the surface (≥ 1: 1
+///        for a mesh, 3 for the union of point-cloud local triangulations, where each triangle
+///        shows up in the neighbourhoods of its three corners); the result has multiplicity
 ///        2 × input_multiplicity, so operators average over the copies
-/// @throws InvalidInput on an index out of range or a non-finite coordinate
+/// @param[out] report optional counts
+/// @throws InvalidInput on an index out of range, a non-finite coordinate or
+///         input_multiplicity < 1
 IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Positions& positions,
-                                    TuftedCoverReport* report = nullptr,
-                                    int input_multiplicity = 1);
+                                    int input_multiplicity, TuftedCoverReport* report = nullptr);
+
+/// tufted_cover() of a mesh (input_multiplicity 1).
+IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Positions& positions,
+                                    TuftedCoverReport* report = nullptr);
 
 /// Tufted cover from per-side lengths (side_lengths(f, s) = length of the side from corner s to
 /// corner s+1 of face f). Without positions there is no angle about an edge: around an edge
@@ -59,8 +63,42 @@ IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Po
 /// @throws InvalidInput on an index out of range, a negative or non-finite length, or sides of
 ///         one edge whose lengths disagree (1e-12 relative)
 IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, Index n_vertices,
+                                    const Eigen::MatrixX3d& side_lengths, int input_multiplicity,
+                                    TuftedCoverReport* report = nullptr);
+
+/// Same with input_multiplicity 1.
+IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, Index n_vertices,
                                     const Eigen::MatrixX3d& side_lengths,
-                                    TuftedCoverReport* report = nullptr,
-                                    int input_multiplicity = 1);
+                                    TuftedCoverReport* report = nullptr);
+
+/// Deprecated argument order (report before input_multiplicity; every function that returns a
+/// value takes its report last, docs/decisions.md): the implementation until the definitions in
+/// tufted_cover.cpp move to the signatures above. Call those instead.
+IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Positions& positions,
+                                    TuftedCoverReport* report, int input_multiplicity);
+/// Deprecated argument order, as above.
+IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, Index n_vertices,
+                                    const Eigen::MatrixX3d& side_lengths, TuftedCoverReport* report,
+                                    int input_multiplicity);
+
+inline IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces,
+                                           const Positions& positions, int input_multiplicity,
+                                           TuftedCoverReport* report) {
+  return tufted_cover(faces, positions, report, input_multiplicity);
+}
+inline IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces,
+                                           const Positions& positions, TuftedCoverReport* report) {
+  return tufted_cover(faces, positions, report, 1);
+}
+inline IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, Index n_vertices,
+                                           const Eigen::MatrixX3d& side_lengths,
+                                           int input_multiplicity, TuftedCoverReport* report) {
+  return tufted_cover(faces, n_vertices, side_lengths, report, input_multiplicity);
+}
+inline IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, Index n_vertices,
+                                           const Eigen::MatrixX3d& side_lengths,
+                                           TuftedCoverReport* report) {
+  return tufted_cover(faces, n_vertices, side_lengths, report, 1);
+}
 
 }  // namespace ifem::intrinsic

@@ -551,7 +551,8 @@ TEST(Refine, SharedCorpusManifoldMeshes) {
     if (in.triangles.size() > 60000) continue;  // keep the suite quick
     std::unique_ptr<SignpostTriangulation> st;
     try {
-      st = std::make_unique<SignpostTriangulation>(in.triangles, in.positions, kDefaultMollifyEpsilon);
+      st = std::make_unique<SignpostTriangulation>(in.triangles, in.positions,
+                                                   kDefaultMollifyEpsilon);
     } catch (const NonManifoldInput&) {
       continue;
     }

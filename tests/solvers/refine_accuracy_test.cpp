@@ -5,9 +5,11 @@
 //  - angle only: `--refine --resolution 0` (25°, t = h² from the input: the refined mesh's own
 //    mean edge is short and its t too small in the large triangles);
 //  - accurate: `ifem distance --refine` (25° and a size bound, edges ≈ ℓ = 0.4·h, t = ℓ²/4, one
-//    correction step φ ← ∫ ∇φ/|∇φ|). At most half of CGAL's error on every mesh here.
+//    correction step φ ← ∫ ∇φ/|∇φ|). Asserted: at most half of CGAL's error on every case here.
+// The measured figures (printed with --verbose) are kept in one place, BENCHMARKS.md,
+// "Intrinsic Delaunay refinement"; this file holds only the bounds it asserts.
 // IFEM_REFINE_SWEEP=1 also prints resolution × time factor × correction-step variants (the
-// figures the accurate mode's constants were chosen from).
+// grid the accurate mode's constants were chosen from: docs/decisions.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -41,16 +43,8 @@ struct Case {
 };
 
 // Sliver meshes (rocketship, block, fandisk; conrod is nonmanifold: the tufted test below)
-// and two clean ones for contrast. Measured (Release, this tree; mean relative error):
-//   mesh        src    no refine  angle only  accurate  CGAL heat   V: input → angle → accurate
-//   rocketship      0   0.1648     0.0176     0.0131     0.2017     28010 → 62478 → 183174
-//   rocketship  15579   0.0296     0.0367     0.0093     0.0407
-//   block           0   0.0230     0.0273     0.0096     0.0232      2132 →  3222 →  18457
-//   block        2049   0.0270     0.0309     0.0104     0.0272
-//   fandisk         0   0.0087     0.0087     0.0031     0.0087      7229 →  7236 →  65896
-//   fandisk      1274   0.0083     0.0083     0.0031     0.0083
-//   bunny_lowres    0   0.0283     0.0281     0.0077     0.0282      1839 →  1844 →  16405
-//   spot            0   0.0169     0.0169     0.0042     0.0169      2930 →  3153 →  27753
+// and two clean ones for contrast. Bounds: the figures of BENCHMARKS.md ("Intrinsic Delaunay
+// refinement") plus the margins above.
 const Case kCases[] = {
     {"rocketship.ply", 0, 0.02, 0.015},
     {"rocketship.ply", 15579, 0.042, 0.011},
@@ -136,11 +130,8 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
 }
 
 // conrod is nonmanifold (3 edges with 3+ faces): it takes the tufted path, and refinement runs
-// on the tufted cover itself, without signposts (`ifem distance --refine` there). Measured
-// (3223 → 84996 vertices, 6 needle-cone faces at the 0.8° tip):
-//   src   no refine   accurate   CGAL heat
-//     0    0.0727      0.0071     0.1039
-//     7    0.1264      0.0088     0.1779
+// on the tufted cover itself, without signposts (`ifem distance --refine` there). Figures:
+// BENCHMARKS.md, "Intrinsic Delaunay refinement" (conrod rows).
 TEST(RefineAccuracy, TuftedCoverConrodRefinedVsExact) {
   IFEM_REQUIRE_SHARED_DATA();
   const fs::path mesh = test::shared_data() / "meshes" / "conrod.off";

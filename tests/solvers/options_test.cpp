@@ -1,0 +1,116 @@
+// validate() of the solvers' options (docs/decisions.md, "Every options struct has
+// validate()"): defaults pass, out-of-range fields throw InvalidInput naming the field, and the
+// solvers reject bad options at their entry.
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <string>
+
+#include "fem/operators.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/generators/mesh_generators.h"
+#include "solvers/cholesky.h"
+#include "solvers/eigen.h"
+#include "solvers/heat_distance.h"
+#include "solvers/poisson.h"
+
+namespace ifem::solvers {
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+template <class Options>
+void expect_rejected(const Options& o, const std::string& field) {
+  try {
+    o.validate();
+    ADD_FAILURE() << "accepted bad " << field;
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
+TEST(OptionsValidate, HeatDistanceOptions) {
+  HeatDistanceOptions{}.validate();
+  RefinedDistanceSettings{}.heat_options(0.1).validate();
+  HeatDistanceOptions a;
+  a.time_factor = 0.0;
+  expect_rejected(a, "time_factor");
+  HeatDistanceOptions b;
+  b.mean_edge_length = -1.0;
+  expect_rejected(b, "mean_edge_length");
+  HeatDistanceOptions c;
+  c.resolved_heat = 1e-100;
+  c.trusted_heat = 1e-200;  // below resolved_heat
+  expect_rejected(c, "trusted_heat");
+  HeatDistanceOptions d;
+  d.correction_steps = -1;
+  expect_rejected(d, "correction_steps");
+  HeatDistanceOptions e;
+  e.max_constrained_sources = -1;
+  expect_rejected(e, "max_constrained_sources");
+}
+
+TEST(OptionsValidate, PoissonAndCholeskyOptions) {
+  PoissonOptions{}.validate();
+  PoissonOptions p;
+  p.screening = -1.0;
+  expect_rejected(p, "screening");
+  p.screening = kNan;
+  expect_rejected(p, "screening");
+  CholeskyOptions{}.validate();
+  CholeskyOptions c;
+  c.min_rcond = -1.0;
+  expect_rejected(c, "min_rcond");
+  CholeskyOptions t;
+  t.solve_blas_threads = -1;
+  expect_rejected(t, "thread");
+  PoissonOptions nested;
+  nested.cholesky.factor_blas_threads = -1;
+  expect_rejected(nested, "thread");
+}
+
+TEST(OptionsValidate, EigenOptions) {
+  EigenOptions{}.validate();
+  EigenOptions a;
+  a.extra_pairs = -1;
+  expect_rejected(a, "extra_pairs");
+  EigenOptions b;
+  b.max_iterations = 0;
+  expect_rejected(b, "max_iterations");
+  EigenOptions c;
+  c.tolerance = 0.0;
+  expect_rejected(c, "tolerance");
+  EigenOptions d;
+  d.shift_scale = -1.0;
+  expect_rejected(d, "shift_scale");
+}
+
+TEST(OptionsValidate, CheckedAtTheEntry) {
+  const auto m = intrinsic::icosphere(3);
+  const auto tri = intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
+  HeatDistanceOptions h;
+  h.time_factor = -1.0;
+  EXPECT_THROW(HeatDistanceSolver(tri, h), InvalidInput);
+  PoissonOptions p;
+  p.screening = -1.0;
+  EXPECT_THROW(PoissonSolver(tri, {0}, p), InvalidInput);
+  EigenOptions e;
+  e.tolerance = -1.0;
+  EXPECT_THROW(eigenpairs(tri, 3, e), InvalidInput);
+  CholeskyOptions c;
+  c.min_rcond = -1.0;
+  EXPECT_THROW(CholeskySolver(fem::cotan_laplacian(tri), c), InvalidInput);
+}
+
+// solvers::SurfacePoint is intrinsic::SurfacePoint; solvers::mean_edge_length the intrinsic one.
+TEST(OptionsValidate, SharedTypes) {
+  static_assert(std::is_same_v<SurfacePoint, intrinsic::SurfacePoint>);
+  const auto m = intrinsic::tetrahedron();
+  const auto tri = intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
+  EXPECT_EQ(mean_edge_length(tri), intrinsic::mean_edge_length(tri));
+  const HeatDistanceSolver solver(tri);
+  EXPECT_THROW(solver.compute_distance_from_points({SurfacePoint{}}), InvalidInput);
+}
+
+}  // namespace
+}  // namespace ifem::solvers
