@@ -1,6 +1,5 @@
 #include "cli.h"
 
-#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -15,88 +14,32 @@
 
 namespace ifem::cli {
 
-const std::set<std::string> kSurfaceFlags = {"no-delaunay", "tufted", "pointcloud", "quiet"};
-const std::set<std::string> kSurfaceOptions = {"mollify", "knn"};
-const char* const kSurfaceHelp =
-    "Surface options (any command that reads a mesh or point cloud):\n"
-    "  --mollify F     relative mollification margin: the smallest uniform length δ is added to\n"
-    "                  every edge so each triangle satisfies a+b−c ≥ F·(mean edge length)\n"
-    "                  (default 1e-5; 0 repairs only strict violations)\n"
-    "  --no-delaunay   keep the input triangulation (no intrinsic edge flips)\n"
-    "  --tufted        force the tufted cover even on an edge-manifold mesh\n"
-    "  --pointcloud    treat the input as a point cloud even if it has faces\n"
-    "  --knn K         neighbours per point for point clouds (default 30)\n"
-    "  --quiet         no progress lines on stderr\n";
-
-Args::Args(int argc, char** argv, const std::set<std::string>& flags,
-           const std::set<std::string>& options) {
-  for (int i = 0; i < argc; ++i) {
-    std::string a = argv[i];
-    if (a == "-o") a = "--output";
-    if (a == "-k") a = "--k";
-    if (a == "-h") a = "--help";
-    if (a.size() > 2 && a.compare(0, 2, "--") == 0) {
-      std::string key = a.substr(2), value;
-      const auto eq = key.find('=');
-      const bool inline_value = eq != std::string::npos;
-      if (inline_value) {
-        value = key.substr(eq + 1);
-        key = key.substr(0, eq);
-      }
-      if (key == "help" || flags.count(key)) {
-        if (inline_value) throw InvalidInput("option --" + key + " takes no value");
-        values_[key] = "";
-      } else if (options.count(key)) {
-        if (!inline_value) {
-          if (i + 1 >= argc) throw InvalidInput("option --" + key + " needs a value");
-          value = argv[++i];
-        }
-        values_[key] = value;
-      } else {
-        throw InvalidInput("unknown option --" + key + " (see --help)");
-      }
-    } else {
-      positional_.push_back(a);
-    }
-  }
+namespace {
+std::string format_default(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
 }
+}  // namespace
 
-std::string Args::get(const std::string& key, const std::string& fallback) const {
-  const auto it = values_.find(key);
-  return it == values_.end() ? fallback : it->second;
-}
-
-double Args::get_double(const std::string& key, double fallback) const {
-  if (!has(key)) return fallback;
-  const std::string s = get(key);
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || *end != '\0') throw InvalidInput("--" + key + ": '" + s + "' is not a number");
-  return v;
-}
-
-long Args::get_int(const std::string& key, long fallback) const {
-  if (!has(key)) return fallback;
-  const std::string s = get(key);
-  char* end = nullptr;
-  const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || *end != '\0') throw InvalidInput("--" + key + ": '" + s + "' is not an integer");
-  return v;
-}
-
-std::vector<long> Args::get_int_list(const std::string& key) const {
-  std::vector<long> out;
-  std::stringstream ss(get(key));
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    char* end = nullptr;
-    const long v = std::strtol(item.c_str(), &end, 10);
-    if (item.empty() || *end != '\0') {
-      throw InvalidInput("--" + key + ": '" + item + "' is not an integer");
-    }
-    out.push_back(v);
-  }
-  return out;
+OptionGroup surface_options() {
+  return {"Surface options (any command that reads a mesh or point cloud)",
+          {real("mollify", "F")
+               .at_least(0)
+               .at_most(1)
+               .defaults_to(format_default(intrinsic::kDefaultMollifyEpsilon))
+               .explain("relative mollification margin: the smallest uniform length δ is added\n"
+                        "to every edge so each triangle satisfies a+b−c ≥ F·(mean edge length)\n"
+                        "(0 repairs only strict violations)"),
+           flag("no-delaunay").explain("keep the input triangulation (no intrinsic edge flips)"),
+           flag("tufted").explain("force the tufted cover even on an edge-manifold mesh"),
+           flag("pointcloud").explain("treat the input as a point cloud even if it has faces"),
+           count("knn", "K")
+               .at_least(2)
+               .defaults_to("30")
+               .limited_by(InputLimit::kBelowPointCount)
+               .explain("neighbours per point for point clouds (< the number of points)"),
+           flag("quiet").explain("no progress lines on stderr")}};
 }
 
 double now_seconds() {
@@ -109,9 +52,7 @@ void progress(const Args& args, const std::string& line) {
 
 // .pcd goes through the optional PCL adapter; everything else through io::read_surface.
 static io::SurfaceInput read_input(const std::string& file) {
-  std::string ext = file.size() >= 4 ? file.substr(file.size() - 4) : "";
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != ".pcd") return io::read_surface(file);
+  if (io::file_extension(file) != ".pcd") return io::read_surface(file);
 #ifdef IFEM_HAVE_PCL
   pointcloud::PclPoints pts = pointcloud::read_pcd(file);
   io::SurfaceInput in;
@@ -138,14 +79,15 @@ PreparedSurface prepare_surface(const std::string& file, const Args& args) {
   const Index nv = static_cast<Index>(s.input.positions.rows());
   progress(args, "read " + file + ": " + std::to_string(nv) + " vertices, " +
                      std::to_string(s.input.n_polygons) + " faces (" + s.input.format + ")");
+  check_input_limits(args, nv, !s.input.has_faces() || args.has("pointcloud"));
   s.stats = intrinsic::analyze_faces(s.input.triangles, nv);
-  const double eps = args.get_double("mollify", intrinsic::kDefaultMollifyEpsilon);
+  const double eps = args.real("mollify");
   t0 = now_seconds();
 
   // ---- point cloud: no faces, or --pointcloud
   if (!s.input.has_faces() || args.has("pointcloud")) {
     pointcloud::Options opt;
-    opt.k = static_cast<int>(args.get_int("knn", 30));
+    opt.k = args.count("knn");
     opt.mollify_relative_epsilon = eps;
     opt.intrinsic_delaunay = !args.has("no-delaunay");
     const bool with_normals = s.input.normals.rows() == nv && nv > 0;

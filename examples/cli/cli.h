@@ -1,10 +1,9 @@
 // Shared pieces of the `ifem` command: argument parsing, the command table, and loading an
 // input into an intrinsic triangulation along the right path (manifold, tufted cover, point
-// cloud). Each subcommand lives in its own cli_<name>.cpp and is listed in ifem.cpp.
+// cloud). Each subcommand lives in its own cli_<name>.cpp and is listed in cli_commands.cpp;
+// options are declared as tables (options.h).
 #pragma once
 
-#include <map>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -12,47 +11,24 @@
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/surface/face_analysis.h"
 #include "intrinsic/surface/tufted_cover.h"
+#include "options.h"
 #include "pointcloud/pointcloud_laplacian.h"
 
 namespace ifem::cli {
 
-/// Parsed command line of one subcommand: positionals, `--key value` / `--key=value` options
-/// and value-less `--flags`. Short aliases: -o = --output, -k = --k, -h = --help.
-class Args {
- public:
-  /// @param flags the value-less options this command accepts
-  /// @param options the options that take a value
-  /// @throws InvalidInput on an unknown option or a missing value
-  Args(int argc, char** argv, const std::set<std::string>& flags,
-       const std::set<std::string>& options);
-  const std::vector<std::string>& positional() const { return positional_; }
-  bool has(const std::string& key) const { return values_.count(key) > 0; }
-  std::string get(const std::string& key, const std::string& fallback = "") const;
-  double get_double(const std::string& key, double fallback) const;
-  long get_int(const std::string& key, long fallback) const;
-  /// Comma-separated integers ("3,17,42").
-  std::vector<long> get_int_list(const std::string& key) const;
-
- private:
-  std::vector<std::string> positional_;
-  std::map<std::string, std::string> values_;
-};
-
-/// One subcommand.
+/// One subcommand: its table (parsing and help) and its body.
 struct Command {
-  std::string name;
+  CommandSpec spec;
   std::string summary;  ///< one line for `ifem --help`
-  std::string help;     ///< full text for `ifem NAME --help`
-  std::set<std::string> flags;
-  std::set<std::string> options;
   int (*run)(const Args&);
 };
 
-/// The options every command that loads a surface understands (added to its option sets).
-extern const std::set<std::string> kSurfaceFlags;    // --no-delaunay --tufted --pointcloud --quiet
-extern const std::set<std::string> kSurfaceOptions;  // --mollify --knn
-/// Help text for those options, to append to a command's help.
-extern const char* const kSurfaceHelp;
+/// Every subcommand, in the order `ifem --help` lists them (cli_commands.cpp).
+std::vector<Command> all_commands();
+
+/// The options every command that loads a surface understands (appended to its groups):
+/// --mollify --no-delaunay --tufted --pointcloud --knn --quiet.
+OptionGroup surface_options();
 
 /// An input loaded and turned into an intrinsic triangulation, with everything that was
 /// repaired or chosen along the way.
@@ -82,6 +58,9 @@ struct PreparedSurface {
 ///  - "manifold" otherwise (intrinsic::build_surface makes the mesh choice).
 /// On every path the triangulation's vertices are the input's vertices in the input's order
 /// (unreferenced / isolated ones included: zero row in L, zero mass).
+/// Options whose range depends on the input (vertex ids, -k, --knn) are checked right after
+/// reading (check_input_limits()).
+/// @throws UsageError for such an option out of range; IoError / InvalidInput from loading
 PreparedSurface prepare_surface(const std::string& file, const Args& args);
 
 /// Prints a progress line to stderr unless --quiet was given.

@@ -13,41 +13,60 @@
 
 namespace ifem::cli {
 
-const std::set<std::string> kRefineOptions = {"min-angle",      "max-area", "resolution",
-                                              "max-insertions", "relax",    "max-edge"};
-const char* const kRefineHelp =
-    "Refinement options:\n"
-    "  --min-angle A        smallest corner angle wanted, degrees, in (0, 30] (default 25)\n"
-    "  --resolution C       also refine until edges are about C·h long (h = mean edge length\n"
-    "                       of the input): triangles larger than the equilateral one of side\n"
-    "                       C·h are split (default: 0.4 for distance, none otherwise; 0 = off)\n"
-    "  --max-area X         also split triangles of area above X (default: no bound)\n"
-    "  --max-insertions N   stop after N inserted vertices (default 10 × input vertices\n"
-    "                       + 2000, plus 4 × area / (max area) with a size bound)\n"
-    "  --relax ITER         then ITER passes of optimal Delaunay (ODT) relaxation of the\n"
-    "                       inserted vertices, each moved inside its flat star on the surface\n"
-    "                       (input vertices never move; min angle kept; default 0)\n"
-    "  --max-edge L         with --relax: after each pass split edges longer than L at their\n"
-    "                       midpoints (the next pass relaxes the new vertices)\n";
+namespace {
+std::string format_default(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+}  // namespace
+
+OptionGroup refine_options_group(double resolution_default) {
+  return {
+      "Refinement options",
+      {real("min-angle", "A")
+           .above(0)
+           .at_most(30)
+           .defaults_to(format_default(intrinsic::RefineOptions{}.min_angle_degrees))
+           .explain("smallest corner angle wanted, degrees"),
+       real("resolution", "C")
+           .at_least(0)
+           .defaults_to(format_default(resolution_default))
+           .explain("also refine until edges are about C·h long (h = mean edge length\n"
+                    "of the input): triangles larger than the equilateral one of side\n"
+                    "C·h are split (0 = off)"),
+       real("max-area", "X")
+           .at_least(0)
+           .explain("also split triangles of area above X (default: no bound; 0 = none)"),
+       count("max-insertions", "N")
+           .explain("stop after N inserted vertices (default 10 × input vertices\n"
+                    "+ 2000, plus 4 × area / (max area) with a size bound)"),
+       count("relax", "ITER")
+           .defaults_to("0")
+           .explain("then ITER passes of optimal Delaunay (ODT) relaxation of the\n"
+                    "inserted vertices, each moved inside its flat star on the surface\n"
+                    "(input vertices never move; min angle kept)"),
+       real("max-edge", "L")
+           .at_least(0)
+           .explain("with --relax: after each pass split edges longer than L at their\n"
+                    "midpoints (the next pass relaxes the new vertices; default: no bound)")}};
+}
 
 double refine_target_length(const PreparedSurface& s, const Args& args, double default_resolution) {
-  const double c = args.get_double("resolution", default_resolution);
-  if (!(c >= 0.0) || !std::isfinite(c)) {
-    throw InvalidInput("--resolution: expected a factor ≥ 0 of the mean edge length");
-  }
+  const double c = args.real_or("resolution", default_resolution);  // ≥ 0, finite (table)
   if (c == 0.0 || !s.input.has_faces()) return 0.0;
   return c * intrinsic::mean_side_length(s.input.triangles, s.input.positions);
 }
 
 intrinsic::RefineOptions refine_options(const Args& args, double target_length) {
   intrinsic::RefineOptions o;
-  o.min_angle_degrees = args.get_double("min-angle", o.min_angle_degrees);
-  o.max_area = args.get_double("max-area", 0.0);
+  o.min_angle_degrees = args.real("min-angle");
+  o.max_area = args.real_or("max-area", 0.0);
   if (target_length > 0.0) {
     const double a = intrinsic::equilateral_area(target_length);
     o.max_area = o.max_area > 0.0 ? std::min(o.max_area, a) : a;
   }
-  o.max_insertions = static_cast<Index>(args.get_int("max-insertions", -1));
+  o.max_insertions = args.count_or("max-insertions", -1);  // -1: the library's cap
   return o;
 }
 
@@ -114,11 +133,9 @@ std::string describe_relax(const intrinsic::RelaxReport& r) {
 std::optional<intrinsic::SignpostTriangulation> refine_prepared(
     PreparedSurface& s, const Args& args, double default_resolution, bool need_signposts,
     intrinsic::RefineReport* report, intrinsic::RelaxReport* relax_report) {
-  const auto relax = static_cast<int>(args.get_int("relax", 0));
-  if (relax < 0) throw InvalidInput("--relax: expected a number of passes ≥ 0");
-  const double max_edge = args.get_double("max-edge", 0.0);
-  if (!(max_edge >= 0.0)) throw InvalidInput("--max-edge: expected a length ≥ 0");
-  if (max_edge > 0.0 && relax == 0) throw InvalidInput("--max-edge splits during --relax ITER");
+  const Index relax = args.count("relax");              // ≥ 0 (table)
+  const double max_edge = args.real_or("max-edge", 0.0);  // ≥ 0 (table)
+  if (max_edge > 0.0 && relax == 0) throw UsageError("--max-edge splits during --relax ITER");
   const double t0 = now_seconds();
   const double target = refine_target_length(s, args, default_resolution);
   if (!refinable(s)) {
@@ -127,7 +144,7 @@ std::optional<intrinsic::SignpostTriangulation> refine_prepared(
       throw InvalidInput(refine_unsupported(s, need_signposts));
     }
     if (relax > 0) {
-      throw InvalidInput("--relax moves vertices with signposts, which the tufted cover (" +
+      throw UsageError("--relax moves vertices with signposts, which the tufted cover (" +
                          s.path_reason + ") does not have");
     }
     const intrinsic::RefineReport r =
@@ -142,7 +159,7 @@ std::optional<intrinsic::SignpostTriangulation> refine_prepared(
     return std::nullopt;
   }
   intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
-                                      args.get_double("mollify", intrinsic::kDefaultMollifyEpsilon));
+                                      args.real("mollify"));
   const intrinsic::RefineReport r = intrinsic::delaunay_refine(st, refine_options(args, target));
   s.tri = st.intrinsic();
   if (s.path != "manifold") {
@@ -181,9 +198,8 @@ double input_min_angle(const PreparedSurface& s) {
 }
 
 int run(const Args& args) {
-  if (args.positional().size() != 1) throw InvalidInput("expected one input file (see --help)");
   if (!args.has("output") && !args.has("save") && !args.has("lines") && !args.has("mesh")) {
-    throw InvalidInput("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
+    throw UsageError("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
   }
   PreparedSurface s = prepare_surface(args.positional()[0], args);
   if (!refinable(s)) throw InvalidInput(refine_unsupported(s, true));
@@ -266,43 +282,44 @@ int run(const Args& args) {
 
 Command refine_command() {
   Command c;
-  c.name = "refine";
   c.summary = "intrinsic Delaunay refinement (min angle); common subdivision as a PLY mesh";
-  c.help = std::string(
-               "usage: ifem refine MESH [--min-angle A] [--resolution C] [--max-area X]\n"
-               "                   [--max-insertions N] [--relax ITER [--max-edge L]]\n"
-               "                   -o OUT.ply [--lines LINES.ply] [--mesh REFINED.ply]\n"
-               "                   [--save FILE.ifem] [--ascii] [surface options]\n\n"
-               "Refines the intrinsic Delaunay triangulation of MESH by inserting circumcenters\n"
-               "(Chew's second algorithm, located on the surface with signposts) until every\n"
-               "triangle has all corner angles ≥ A. The surface itself never changes: inserted\n"
-               "vertices lie on the input's triangles. Triangles whose small angle sits at a\n"
-               "cone vertex with total angle below the bound (2× it inside) cannot be fixed and\n"
-               "are left alone and counted.\n\n"
-               "  -o, --output OUT.ply   the common subdivision: the overlay of the intrinsic and\n"
-               "                         input triangulations as a triangle mesh on the input\n"
-               "                         surface (each overlay polygon fanned into triangles),\n"
-               "                         face properties 'intrinsic_face' and 'input_face'\n"
-               "                         (0-based, input faces in the file's order)\n"
-               "  --lines LINES.ply      the intrinsic edges traced over the input surface, as a\n"
-               "                         PLY line set (vertex + edge elements)\n"
-               "  --mesh FILE.ply        the refined triangulation, inserted vertices at their\n"
-               "                         positions on the surface (property 'inserted')\n"
-               "  --save FILE.ifem       the input and the intrinsic triangulation (gluing,\n"
-               "                         lengths, signposts, inserted-vertex locations) as text,\n"
-               "                         format 'ifem-signpost 1' (intrinsic/refine/signpost.cpp)\n"
-               "  --ascii                ASCII PLY instead of binary\n"
-               "Supported inputs: edge-manifold, orientable meshes, with or without boundary\n"
-               "(nonmanifold and non-orientable meshes are refined on their tufted cover by\n"
-               "`ifem distance --refine` and `ifem eigen --refine`, which need no signposts;\n"
-               "here they are an error, as are point clouds).\n\n") +
-           kRefineHelp + "\n" + kSurfaceHelp;
-  c.flags = kSurfaceFlags;
-  c.flags.insert("ascii");
-  c.options = kSurfaceOptions;
-  c.options.insert(kRefineOptions.begin(), kRefineOptions.end());
-  c.options.insert("output");
-  c.options.insert({"mesh", "lines", "save"});
+  c.spec.name = "refine";
+  c.spec.positionals = {"MESH"};
+  c.spec.prose =
+      "Refines the intrinsic Delaunay triangulation of MESH by inserting circumcenters\n"
+      "(Chew's second algorithm, located on the surface with signposts) until every\n"
+      "triangle has all corner angles ≥ A. The surface itself never changes: inserted\n"
+      "vertices lie on the input's triangles. Triangles whose small angle sits at a\n"
+      "cone vertex with total angle below the bound (2× it inside) cannot be fixed and\n"
+      "are left alone and counted. Needs at least one of -o, --lines, --mesh, --save.\n\n"
+      "Supported inputs: edge-manifold, orientable meshes, with or without boundary\n"
+      "(nonmanifold and non-orientable meshes are refined on their tufted cover by\n"
+      "`ifem distance --refine` and `ifem eigen --refine`, which need no signposts;\n"
+      "here they are an error, as are point clouds).\n";
+  c.spec.groups = {
+      {"Options",
+       {text("output", "OUT.ply")
+            .short_alias('o')
+            .with_extensions({".ply"})
+            .explain("the common subdivision: the overlay of the intrinsic and input\n"
+                     "triangulations as a triangle mesh on the input surface (each overlay\n"
+                     "polygon fanned into triangles), face properties 'intrinsic_face' and\n"
+                     "'input_face' (0-based, input faces in the file's order)"),
+        text("lines", "LINES.ply")
+            .with_extensions({".ply"})
+            .explain("the intrinsic edges traced over the input surface, as a PLY line set\n"
+                     "(vertex + edge elements)"),
+        text("mesh", "FILE.ply")
+            .with_extensions({".ply"})
+            .explain("the refined triangulation, inserted vertices at their positions on\n"
+                     "the surface (property 'inserted')"),
+        text("save", "FILE.ifem")
+            .explain("the input and the intrinsic triangulation (gluing, lengths,\n"
+                     "signposts, inserted-vertex locations) as text, format\n"
+                     "'ifem-signpost 1' (intrinsic/refine/signpost.cpp)"),
+        flag("ascii").explain("ASCII PLY instead of binary")}},
+      refine_options_group(0.0),
+      surface_options()};
   c.run = run;
   return c;
 }

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <optional>
-#include <set>
 #include <string>
 
 #include "cli.h"
@@ -12,11 +11,10 @@
 
 namespace ifem::cli {
 
-/// The options refinement understands: --min-angle, --resolution, --max-area,
-/// --max-insertions, --relax.
-extern const std::set<std::string> kRefineOptions;
-/// Help text for them (and for the --refine flag of the solver commands).
-extern const char* const kRefineHelp;
+/// The options refinement understands, appended to refine and to the solver commands:
+/// --min-angle, --resolution (shown with default `resolution_default`: refine_target_length()'s
+/// default_resolution at that command), --max-area, --max-insertions, --relax, --max-edge.
+OptionGroup refine_options_group(double resolution_default);
 
 /// The error message for a surface refinement does not support: point clouds, and, when
 /// signposts are needed, anything but the manifold path.
