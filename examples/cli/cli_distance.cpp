@@ -14,6 +14,12 @@ namespace {
 // --refine's defaults: the library's accurate mode (resolution, time factor, correction steps)
 const solvers::RefinedDistanceSettings kAccurate;
 
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 int run(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
   const std::vector<Index> sources = args.vertices("source");
@@ -59,8 +65,8 @@ int run(const Args& args) {
       ++unreachable;
     }
   }
-  std::printf("wrote %s: %d values, max distance %.6g, %d unreachable (inf)\n", out.path.c_str(), nv,
-              dmax, unreachable);
+  std::printf("wrote %s: %d values, max distance %.6g, %d unreachable (inf)\n", out.path.c_str(),
+              nv, dmax, unreachable);
   return 0;
 }
 
@@ -96,11 +102,12 @@ Command distance_command() {
                      "used by no face)"),
         real("time-factor", "m")
             .above(0)
-            .explain("t = m·h² (default 1; 0.25 with --refine); larger is smoother, smaller\n"
-                     "is sharper but noisier"),
+            .explain("t = m·h² (default 1; " + number(kAccurate.time_factor) +
+                     " with --refine); larger is smoother, smaller\nis sharper but noisier"),
         count("correction-steps", "N")
             .explain("after the heat method, N times φ ← the solution of\n"
-                     "L φ = div(∇φ/|∇φ|) (default 0; 1 with --refine)"),
+                     "L φ = div(∇φ/|∇φ|) (default 0; " +
+                     std::to_string(kAccurate.correction_steps) + " with --refine)"),
         flag("refine").explain(
             "the accurate mode: intrinsic Delaunay refinement first (25° and, by\n"
             "default, edges of about 0.4·h: ~10× the vertices), then t = m·ℓ² with\n"

@@ -12,7 +12,7 @@ namespace {
 
 int run(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
-  const Index k = args.count("k");                // ≥ 1 (table), < #V (prepare_surface)
+  const Index k = args.count("k");               // ≥ 1 (table), < #V (prepare_surface)
   PreparedSurface s = prepare_surface(args.positional()[0], args);
   // refined: input vertices keep ids 0..nv-1, so the eigenvectors restricted to them are the
   // values on the input's vertices (inserted vertices only enrich the discretization)

@@ -69,8 +69,7 @@ Command laplacian_command() {
       "Delaunay triangulation every off-diagonal entry is ≤ 0. Solve L u = M f for\n"
       "Poisson problems.\n";
   c.spec.groups = {
-      {"Options",
-       {text("output", "PREFIX").short_alias('o').mandatory().explain("output prefix")}},
+      {"Options", {text("output", "PREFIX").short_alias('o').mandatory().explain("output prefix")}},
       surface_options()};
   c.run = run;
   return c;

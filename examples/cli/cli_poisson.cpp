@@ -47,8 +47,8 @@ void read_dirichlet(const std::string& path, Index nv, std::vector<Index>& verti
                     line + "'");
     }
     if (v < 0 || v >= nv) {
-      throw InvalidInput(where + "vertex " + tokens[0] + " out of range [0, " +
-                         std::to_string(nv) + ")");
+      throw InvalidInput(where + "vertex " + tokens[0] + " out of range [0, " + std::to_string(nv) +
+                         ")");
     }
     vertices.push_back(Index(v));
     values.push_back(x);
@@ -118,9 +118,9 @@ Command poisson_command() {
                      "'#' starts a comment; any other line is an error. Example:\n"
                      "    0 1.0\n"
                      "    57 -2.5"),
-        text("rhs", "FILE").explain(
-            "f, one value per line, one line per input vertex (default 0:\n"
-            "Laplace's equation)"),
+        text("rhs", "FILE")
+            .explain("f, one value per line, one line per input vertex (default 0:\n"
+                     "Laplace's equation)"),
         real("screening", "c").at_least(0).defaults_to("0").explain("the screening c"),
         text("output", "OUT")
             .short_alias('o')

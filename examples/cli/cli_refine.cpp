@@ -22,34 +22,33 @@ std::string format_default(double v) {
 }  // namespace
 
 OptionGroup refine_options_group(double resolution_default) {
-  return {
-      "Refinement options",
-      {real("min-angle", "A")
-           .above(0)
-           .at_most(30)
-           .defaults_to(format_default(intrinsic::RefineOptions{}.min_angle_degrees))
-           .explain("smallest corner angle wanted, degrees"),
-       real("resolution", "C")
-           .at_least(0)
-           .defaults_to(format_default(resolution_default))
-           .explain("also refine until edges are about C·h long (h = mean edge length\n"
-                    "of the input): triangles larger than the equilateral one of side\n"
-                    "C·h are split (0 = off)"),
-       real("max-area", "X")
-           .at_least(0)
-           .explain("also split triangles of area above X (default: no bound; 0 = none)"),
-       count("max-insertions", "N")
-           .explain("stop after N inserted vertices (default 10 × input vertices\n"
-                    "+ 2000, plus 4 × area / (max area) with a size bound)"),
-       count("relax", "ITER")
-           .defaults_to("0")
-           .explain("then ITER passes of optimal Delaunay (ODT) relaxation of the\n"
-                    "inserted vertices, each moved inside its flat star on the surface\n"
-                    "(input vertices never move; min angle kept)"),
-       real("max-edge", "L")
-           .at_least(0)
-           .explain("with --relax: after each pass split edges longer than L at their\n"
-                    "midpoints (the next pass relaxes the new vertices; default: no bound)")}};
+  return {"Refinement options",
+          {real("min-angle", "A")
+               .above(0)
+               .at_most(30)
+               .defaults_to(format_default(intrinsic::RefineOptions{}.min_angle_degrees))
+               .explain("smallest corner angle wanted, degrees"),
+           real("resolution", "C")
+               .at_least(0)
+               .defaults_to(format_default(resolution_default))
+               .explain("also refine until edges are about C·h long (h = mean edge length\n"
+                        "of the input): triangles larger than the equilateral one of side\n"
+                        "C·h are split (0 = off)"),
+           real("max-area", "X")
+               .at_least(0)
+               .explain("also split triangles of area above X (default: no bound; 0 = none)"),
+           count("max-insertions", "N")
+               .explain("stop after N inserted vertices (default 10 × input vertices\n"
+                        "+ 2000, plus 4 × area / (max area) with a size bound)"),
+           count("relax", "ITER")
+               .defaults_to("0")
+               .explain("then ITER passes of optimal Delaunay (ODT) relaxation of the\n"
+                        "inserted vertices, each moved inside its flat star on the surface\n"
+                        "(input vertices never move; min angle kept)"),
+           real("max-edge", "L")
+               .at_least(0)
+               .explain("with --relax: after each pass split edges longer than L at their\n"
+                        "midpoints (the next pass relaxes the new vertices; default: no bound)")}};
 }
 
 double refine_target_length(const PreparedSurface& s, const Args& args, double default_resolution) {
@@ -133,7 +132,7 @@ std::string describe_relax(const intrinsic::RelaxReport& r) {
 std::optional<intrinsic::SignpostTriangulation> refine_prepared(
     PreparedSurface& s, const Args& args, double default_resolution, bool need_signposts,
     intrinsic::RefineReport* report, intrinsic::RelaxReport* relax_report) {
-  const Index relax = args.count("relax");              // ≥ 0 (table)
+  const Index relax = args.count("relax");                // ≥ 0 (table)
   const double max_edge = args.real_or("max-edge", 0.0);  // ≥ 0 (table)
   if (max_edge > 0.0 && relax == 0) throw UsageError("--max-edge splits during --relax ITER");
   const double t0 = now_seconds();
@@ -145,7 +144,7 @@ std::optional<intrinsic::SignpostTriangulation> refine_prepared(
     }
     if (relax > 0) {
       throw UsageError("--relax moves vertices with signposts, which the tufted cover (" +
-                         s.path_reason + ") does not have");
+                       s.path_reason + ") does not have");
     }
     const intrinsic::RefineReport r =
         intrinsic::delaunay_refine(s.tri, refine_options(args, target));
@@ -158,8 +157,7 @@ std::optional<intrinsic::SignpostTriangulation> refine_prepared(
     if (relax_report) *relax_report = intrinsic::RelaxReport{};
     return std::nullopt;
   }
-  intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
-                                      args.real("mollify"));
+  intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions, args.real("mollify"));
   const intrinsic::RefineReport r = intrinsic::delaunay_refine(st, refine_options(args, target));
   s.tri = st.intrinsic();
   if (s.path != "manifold") {

@@ -274,9 +274,9 @@ Args::Args(const CommandSpec& command, int argc, const char* const* argv)
     }
     if (!inline_value) {
       // "-o --quiet": the next word is an option, not this one's value
-      const bool next_is_option =
-          i + 1 < argc && std::string(argv[i + 1]).compare(0, 2, "--") == 0 &&
-          std::string(argv[i + 1]).size() > 2;
+      const bool next_is_option = i + 1 < argc &&
+                                  std::string(argv[i + 1]).compare(0, 2, "--") == 0 &&
+                                  std::string(argv[i + 1]).size() > 2;
       if (i + 1 >= argc || next_is_option) {
         throw UsageError("option " + s->display() + " needs a value (" + s->placeholder + ": " +
                          s->describe_range() + ")");
@@ -304,9 +304,8 @@ void Args::set(const OptionSpec& spec, const std::string& value) {
       break;
     case Kind::kText:
       if (value.empty()) fail_value(spec, value, "empty value");
-      if (!spec.extensions.empty() &&
-          std::find(spec.extensions.begin(), spec.extensions.end(), extension(value)) ==
-              spec.extensions.end()) {
+      if (!spec.extensions.empty() && std::find(spec.extensions.begin(), spec.extensions.end(),
+                                                extension(value)) == spec.extensions.end()) {
         throw UsageError(spec.display() + " '" + value + "': the output must end in " +
                          join(spec.extensions, " or "));
       }
@@ -391,9 +390,14 @@ std::vector<Index> Args::vertices(const std::string& name) const {
 
 void check_input_limits(const Args& args, Index n_vertices, bool pointcloud) {
   for (const OptionSpec& s : args.specs()) {
-    if (s.input_limit == InputLimit::kNone || !args.has(s.name)) continue;
+    if (s.input_limit == InputLimit::kNone) continue;
+    // a default counts too (-k 10 on a 5-vertex mesh), except --knn's: the library clamps it
+    const bool use_default =
+        !s.default_value.empty() && s.input_limit != InputLimit::kBelowPointCount;
+    if (!args.has(s.name) && !use_default) continue;
     if (s.input_limit == InputLimit::kBelowPointCount && !pointcloud) continue;
-    const std::string what = s.input_limit == InputLimit::kBelowPointCount ? " points" : " vertices";
+    const std::string what =
+        s.input_limit == InputLimit::kBelowPointCount ? " points" : " vertices";
     const std::vector<Index> values = s.kind == Kind::kVertexList
                                           ? args.vertices(s.name)
                                           : std::vector<Index>{args.count(s.name)};

@@ -42,10 +42,10 @@ enum class InputLimit {
 /// One option of one command, as data. Build with the factories below and chain modifiers:
 ///   count("k", "K").short_alias('k').at_least(1).defaults_to("10").explain("...")
 struct OptionSpec {
-  std::string name;         ///< long name without "--" ("output")
-  char alias = 0;           ///< short alias ('o' for -o), 0 for none
-  Kind kind = Kind::kFlag;  ///< how the value is parsed
-  std::string placeholder;  ///< the value's name in help ("OUT", "K")
+  std::string name;           ///< long name without "--" ("output")
+  char alias = 0;             ///< short alias ('o' for -o), 0 for none
+  Kind kind = Kind::kFlag;    ///< how the value is parsed
+  std::string placeholder;    ///< the value's name in help ("OUT", "K")
   std::string default_value;  ///< parsed like a command-line value and shown in help; "" = none
   std::string help;           ///< help text; '\n' separates lines
   double lo = -std::numeric_limits<double>::infinity();  ///< lower bound of the value
@@ -91,11 +91,11 @@ struct OptionGroup {
 
 /// Everything the parser and the help need to know about one command.
 struct CommandSpec {
-  std::string name;                     ///< "distance"
+  std::string name;                      ///< "distance"
   std::vector<std::string> positionals;  ///< placeholders of the required positional arguments
-  std::string prose;                    ///< what the command does, between usage and options
-  std::vector<OptionGroup> groups;      ///< the first one is the command's own ("Options")
-  std::string epilogue;                 ///< examples etc., after the option list
+  std::string prose;                     ///< what the command does, between usage and options
+  std::vector<OptionGroup> groups;       ///< the first one is the command's own ("Options")
+  std::string epilogue;                  ///< examples etc., after the option list
 };
 
 /// The generated `ifem NAME --help`: usage line (positionals, required options), the prose,
@@ -154,7 +154,8 @@ class Args {
   std::map<std::string, std::string> values_;
 };
 
-/// Checks every option with an InputLimit that was given against the loaded input: #V
+/// Checks every option with an InputLimit that was given (or has a default, except
+/// kBelowPointCount: the point-cloud pipeline clamps its default) against the loaded input: #V
 /// vertices (`n_vertices`), on the point-cloud path when `pointcloud`.
 /// @throws UsageError naming the option, the value and the limit
 void check_input_limits(const Args& args, Index n_vertices, bool pointcloud);
