@@ -18,13 +18,13 @@ CommandSpec test_spec() {
   spec.name = "demo";
   spec.positionals = {"MESH"};
   spec.prose = "A command for tests.\n";
-  spec.groups = {{"Options",
-                  {count("k", "K").short_alias('k').at_least(1).defaults_to("10").explain("k"),
-                   vertex_list("source", "I").explain("ids"),
-                   real("angle", "A").above(0).at_most(30).defaults_to("25").explain("angle"),
-                   text("output", "OUT").short_alias('o').mandatory().with_extensions(
-                       {".ply", ".txt"}),
-                   flag("fast").explain("go fast")}}};
+  spec.groups = {
+      {"Options",
+       {count("k", "K").short_alias('k').at_least(1).defaults_to("10").explain("k"),
+        vertex_list("source", "I").explain("ids"),
+        real("angle", "A").above(0).at_most(30).defaults_to("25").explain("angle"),
+        text("output", "OUT").short_alias('o').mandatory().with_extensions({".ply", ".txt"}),
+        flag("fast").explain("go fast")}}};
   return spec;
 }
 
@@ -45,8 +45,8 @@ std::string usage_error(const std::vector<std::string>& words) {
 }
 
 TEST(Parse, TypedValuesAndDefaults) {
-  const Args a = parse({"m.obj", "-k", "7", "--source=3,17,42", "--angle", "+12.5", "-o", "x.PLY",
-                        "--fast"});
+  const Args a =
+      parse({"m.obj", "-k", "7", "--source=3,17,42", "--angle", "+12.5", "-o", "x.PLY", "--fast"});
   EXPECT_EQ(a.positional(), std::vector<std::string>{"m.obj"});
   EXPECT_EQ(a.count("k"), 7);
   EXPECT_EQ(a.vertices("source"), (std::vector<Index>{3, 17, 42}));
@@ -80,8 +80,8 @@ TEST(Parse, VertexListsAreCheckedItemByItem) {
 }
 
 TEST(Parse, RealsMustBeFiniteAndInRange) {
-  for (const char* v : {"1e400", "-1e400", "nan", "inf", "-inf", "", "abc", "3x", "0", "-1",
-                        "30.0001", "0x1p3"}) {
+  for (const char* v :
+       {"1e400", "-1e400", "nan", "inf", "-inf", "", "abc", "3x", "0", "-1", "30.0001", "0x1p3"}) {
     const std::string msg = usage_error({"m", "--angle", v, "-o", "x.ply"});
     EXPECT_NE(msg.find("--angle '" + std::string(v) + "'"), std::string::npos) << msg;
     EXPECT_NE(msg.find("(0, 30]"), std::string::npos) << v << ": " << msg;
@@ -182,10 +182,12 @@ TEST(Tables, DefaultsAreValidValues) {
 TEST(Json, EscapesEverything) {
   EXPECT_EQ(json_quote("a\"b\\c"), "\"a\\\"b\\\\c\"");
   EXPECT_EQ(json_quote("\n\t\x01\x7f"), "\"\\n\\t\\u0001\\u007f\"");
-  EXPECT_EQ(json_quote("naïve €"), "\"naïve €\"");                    // valid UTF-8 kept
-  EXPECT_EQ(json_quote("a\xff" "b"), "\"a\\ufffdb\"");                // invalid byte
-  EXPECT_EQ(json_quote("\xc3"), "\"\\ufffd\"");                       // truncated sequence
-  EXPECT_EQ(json_quote("\xc0\xaf"), "\"\\ufffd\\ufffd\"");            // overlong
+  EXPECT_EQ(json_quote("naïve €"), "\"naïve €\"");  // valid UTF-8 kept
+  EXPECT_EQ(json_quote("a\xff"
+                       "b"),
+            "\"a\\ufffdb\"");                                          // invalid byte
+  EXPECT_EQ(json_quote("\xc3"), "\"\\ufffd\"");                        // truncated sequence
+  EXPECT_EQ(json_quote("\xc0\xaf"), "\"\\ufffd\\ufffd\"");             // overlong
   EXPECT_EQ(json_quote("\xed\xa0\x80"), "\"\\ufffd\\ufffd\\ufffd\"");  // surrogate
   EXPECT_EQ(json_quote(std::string("a\0b", 3)), "\"a\\u0000b\"");
 }
