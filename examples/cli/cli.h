@@ -1,66 +1,44 @@
 // Shared pieces of the `ifem` command: argument parsing, the command table, and loading an
 // input into an intrinsic triangulation along the right path (manifold, tufted cover, point
-// cloud). Each subcommand lives in its own cli_<name>.cpp and is listed in ifem.cpp.
+// cloud). Each subcommand lives in its own cli_<name>.cpp and is listed in cli_commands.cpp;
+// options are declared as tables (options.h).
 #pragma once
 
-#include <map>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
 #include "intrinsic/io/mesh_io.h"
+#include "options.h"
 #include "solvers/pipeline.h"
 
 namespace ifem::cli {
 
-/// Parsed command line of one subcommand: positionals, `--key value` / `--key=value` options
-/// and value-less `--flags`. Short aliases: -o = --output, -k = --k, -h = --help.
-class Args {
- public:
-  /// @param flags the value-less options this command accepts
-  /// @param options the options that take a value
-  /// @throws InvalidInput on an unknown option or a missing value
-  Args(int argc, char** argv, const std::set<std::string>& flags,
-       const std::set<std::string>& options);
-  const std::vector<std::string>& positional() const { return positional_; }
-  bool has(const std::string& key) const { return values_.count(key) > 0; }
-  std::string get(const std::string& key, const std::string& fallback = "") const;
-  double get_double(const std::string& key, double fallback) const;
-  long get_int(const std::string& key, long fallback) const;
-  /// Comma-separated integers ("3,17,42").
-  std::vector<long> get_int_list(const std::string& key) const;
-
- private:
-  std::vector<std::string> positional_;
-  std::map<std::string, std::string> values_;
-};
-
-/// One subcommand.
+/// One subcommand: its table (parsing and help) and its body.
 struct Command {
-  std::string name;
+  CommandSpec spec;
   std::string summary;  ///< one line for `ifem --help`
-  std::string help;     ///< full text for `ifem NAME --help`
-  std::set<std::string> flags;
-  std::set<std::string> options;
   int (*run)(const Args&);
 };
 
-/// The options every command that loads a surface understands (added to its option sets).
-extern const std::set<std::string> kSurfaceFlags;    // --no-delaunay --tufted --pointcloud --quiet
-extern const std::set<std::string> kSurfaceOptions;  // --mollify --knn
-/// Help text for those options, to append to a command's help.
-extern const char* const kSurfaceHelp;
+/// Every subcommand, in the order `ifem --help` lists them (cli_commands.cpp).
+std::vector<Command> all_commands();
+
+/// The options every command that loads a surface understands (appended to its groups):
+/// --mollify --no-delaunay --tufted --pointcloud --knn --quiet.
+OptionGroup surface_options();
 
 /// The library's prepared surface (solvers/pipeline.h): the CLI adds no state of its own.
 using PreparedSurface = solvers::PreparedSurface;
 
 /// The library's PrepareOptions from the surface options (--mollify, --no-delaunay, --tufted,
-/// --pointcloud, --knn) and the progress sink (stderr unless --quiet).
+/// --pointcloud, --knn), with the progress sink (stderr unless --quiet).
 solvers::PrepareOptions prepare_options(const Args& args);
 
-/// Reads `file` (.pcd through the optional PCL adapter, anything else through io::read_surface)
-/// and prints one progress line.
+/// Reads `file` (.pcd through the optional PCL adapter, anything else through
+/// io::read_surface), prints one progress line, and checks the options whose range depends on
+/// the input (vertex ids, -k, --knn: check_input_limits()).
+/// @throws UsageError for such an option out of range; IoError from reading
 io::SurfaceInput read_input(const std::string& file, const Args& args);
 
 /// solvers::prepare_surface() of an input read by read_input(), with the command line's surface
@@ -76,8 +54,5 @@ PreparedSurface prepare_surface(const std::string& file, const Args& args,
 
 /// Prints a progress line to stderr unless --quiet was given.
 void progress(const Args& args, const std::string& line);
-
-/// Wall-clock seconds since an arbitrary epoch.
-double now_seconds();
 
 }  // namespace ifem::cli

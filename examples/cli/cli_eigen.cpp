@@ -4,37 +4,33 @@
 
 #include "cli.h"
 #include "cli_refine.h"
-#include "cli_solver_util.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
+#include "results.h"
 #include "solvers/eigen.h"
 
 namespace ifem::cli {
 namespace {
 
 int run(const Args& args) {
-  if (args.positional().size() != 1) throw InvalidInput("expected one input file (see --help)");
-  if (!args.has("output")) throw InvalidInput("missing -o OUT.ply (see --help)");
-  const std::string out = args.get("output");
-  if (extension_of(out) != ".ply") throw InvalidInput("-o " + out + ": the output must be .ply");
-  const long k = args.get_int("k", 10);
-  if (k < 1) throw InvalidInput("-k must be ≥ 1");
+  const ResultOutput out = result_output(args);  // checked before any computation
+  const Index k = args.count("k");               // ≥ 1 (table), < #V (prepare_surface)
   // refined: input vertices keep ids 0..#V_in-1, so the eigenvectors restricted to them are the
   // values on the input's vertices (inserted vertices only enrich the discretization)
   std::optional<solvers::RefineSettings> refine;
   if (args.has("refine")) refine = refine_settings(args, 0.0, false);
   const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);
   const Stopwatch watch;
-  const solvers::EigenPairs ep = solvers::eigenmodes(s, Index(k));
+  const solvers::EigenPairs ep = solvers::eigenmodes(s, k);  // vectors on the input's vertices
   progress(args, "eigenpairs in " + std::to_string(watch.seconds()) + " s");
   std::vector<io::VertexProperty> props;
-  for (long j = 0; j < k; ++j) props.push_back({"phi" + std::to_string(j), ep.vectors.col(j)});
-  io::write_ply(out, s.input.positions, s.input.triangles, props);
-  const std::string values_path = out.substr(0, out.size() - 4) + ".eigenvalues.txt";
+  for (Index j = 0; j < k; ++j) props.push_back({"phi" + std::to_string(j), ep.vectors.col(j)});
+  write_results(out, s, props);
+  const std::string values_path = out.path.substr(0, out.path.size() - 4) + ".eigenvalues.txt";
   io::write_values(values_path, ep.values);
-  std::printf("wrote %s (phi0..phi%ld) and %s\neigenvalues:", out.c_str(), k - 1,
+  std::printf("wrote %s (phi0..phi%d) and %s\neigenvalues:", out.path.c_str(), k - 1,
               values_path.c_str());
-  for (long j = 0; j < k; ++j) std::printf(" %.10g", ep.values[j]);
+  for (Index j = 0; j < k; ++j) std::printf(" %.10g", ep.values[j]);
   std::printf("\n");
   return 0;
 }
@@ -43,31 +39,37 @@ int run(const Args& args) {
 
 Command eigen_command() {
   Command c;
-  c.name = "eigen";
   c.summary = "smallest Laplace–Beltrami eigenpairs (L φ = λ M φ) as PLY properties";
-  c.help = std::string(
-               "usage: ifem eigen MESH -k K -o OUT.ply [--refine [refinement options]] "
-               "[surface options]\n\n"
-               "Computes the K smallest eigenvalues λ and eigenvectors φ of L φ = λ M φ (L the\n"
-               "intrinsic Delaunay cotan Laplacian, PSD; M the lumped mass) by shift-invert\n"
-               "Lanczos with a sparse Cholesky factor.\n"
-               "  λ ascending, ≥ 0; λ = 0 once per connected component (constant φ).\n"
-               "  φ M-orthonormal: Σ_i M_ii φ_a(i) φ_b(i) = δ_ab (sign arbitrary).\n"
-               "  Vertices used by no face get 0 in every φ.\n\n"
-               "  -k K                 number of eigenpairs (default 10)\n"
-               "  -o, --output OUT.ply the input mesh with per-vertex properties phi0..phiK-1,\n"
-               "                       in the input's vertex order; the eigenvalues go to\n"
-               "                       OUT.eigenvalues.txt (one per line) and to stdout\n\n"
-               "  --refine             intrinsic Delaunay refinement first (options below); λ and\n"
-               "                       φ are of the refined triangulation, φ reported on the\n"
-               "                       input's vertices (manifold path only)\n\n"
-               "example: ifem eigen spot.obj -k 20 -o spot_modes.ply\n\n") +
-           kRefineHelp + "\n" + kSurfaceHelp;
-  c.flags = kSurfaceFlags;
-  c.flags.insert("refine");
-  c.options = kSurfaceOptions;
-  c.options.insert({"output", "k"});
-  c.options.insert(kRefineOptions.begin(), kRefineOptions.end());
+  c.spec.name = "eigen";
+  c.spec.positionals = {"MESH"};
+  c.spec.prose =
+      "Computes the K smallest eigenvalues λ and eigenvectors φ of L φ = λ M φ (L the\n"
+      "intrinsic Delaunay cotan Laplacian, PSD; M the lumped mass) by shift-invert\n"
+      "Lanczos with a sparse Cholesky factor.\n"
+      "  λ ascending, ≥ 0; λ = 0 once per connected component (constant φ).\n"
+      "  φ M-orthonormal: Σ_i M_ii φ_a(i) φ_b(i) = δ_ab (sign arbitrary).\n"
+      "  Vertices used by no face get 0 in every φ.\n";
+  c.spec.groups = {
+      {"Options",
+       {count("k", "K")
+            .short_alias('k')
+            .at_least(1)
+            .defaults_to("10")
+            .limited_by(InputLimit::kBelowVertexCount)
+            .explain("number of eigenpairs (< the number of input vertices)"),
+        text("output", "OUT.ply")
+            .short_alias('o')
+            .mandatory()
+            .with_extensions({".ply"})
+            .explain("the input mesh with per-vertex properties phi0..phiK-1, in the\n"
+                     "input's vertex order; the eigenvalues go to OUT.eigenvalues.txt\n"
+                     "(one per line) and to stdout"),
+        flag("refine").explain(
+            "intrinsic Delaunay refinement first (options below); λ and φ are of the\n"
+            "refined triangulation, φ reported on the input's vertices")}},
+      refine_options_group(0.0),
+      surface_options()};
+  c.spec.epilogue = "example: ifem eigen spot.obj -k 20 -o spot_modes.ply\n";
   c.run = run;
   return c;
 }

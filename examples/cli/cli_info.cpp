@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
+#include "json.h"
 
 namespace ifem::cli {
 namespace {
@@ -36,19 +37,32 @@ int print_pointcloud(const std::string& file, const PreparedSurface& s, bool jso
   const pointcloud::Report& c = s.cloud;
   const double area = intrinsic::total_area(s.tri);
   if (json) {
-    std::printf(
-        "{\"file\": \"%s\", \"format\": \"%s\", \"points\": %d, \"k\": %d, "
-        "\"local_triangles\": %d, \"isolated_points\": %d, \"first_isolated_point\": %d, "
-        "\"starless_points\": %d, \"coincident_points\": %d, \"normals_from_file\": %d, "
-        "\"cover_faces\": %d, \"cover_edges\": %d, \"nonmanifold_edges\": %d, "
-        "\"area\": %.9g, \"mollify_delta\": %.6g, \"flips_to_idt\": %zu, "
-        "\"seconds_knn\": %.4g, \"seconds_local\": %.4g, \"seconds_cover\": %.4g, "
-        "\"seconds_idt\": %.4g, \"path\": \"%s\", \"path_reason\": \"%s\"}\n",
-        file.c_str(), s.input.format.c_str(), c.points, c.k, c.local_triangles, c.isolated_points,
-        c.first_isolated_point, c.starless_points, c.coincident_points, c.normals_from_input,
-        s.tri.n_faces(), s.tri.n_edges(), c.cover.nonmanifold_edges, area, c.mollify.delta,
-        c.flips.flips, c.seconds_knn, c.seconds_local, c.seconds_cover, c.seconds_idt,
-        intrinsic::to_string(s.path), s.reason_detail.c_str());
+    JsonWriter w;
+    w.begin_object()
+        .field("file", file)
+        .field("format", s.input.format)
+        .field("points", c.points)
+        .field("k", c.k)
+        .field("local_triangles", c.local_triangles)
+        .field("isolated_points", c.isolated_points)
+        .field("first_isolated_point", c.first_isolated_point)
+        .field("starless_points", c.starless_points)
+        .field("coincident_points", c.coincident_points)
+        .field("normals_from_file", c.normals_from_input)
+        .field("cover_faces", s.tri.n_faces())
+        .field("cover_edges", s.tri.n_edges())
+        .field("nonmanifold_edges", c.cover.nonmanifold_edges)
+        .field("area", area)
+        .field("mollify_delta", c.mollify.delta)
+        .field("flips_to_idt", c.flips.flips)
+        .field("seconds_knn", c.seconds_knn)
+        .field("seconds_local", c.seconds_local)
+        .field("seconds_cover", c.seconds_cover)
+        .field("seconds_idt", c.seconds_idt)
+        .field("path", intrinsic::to_string(s.path))
+        .field("path_reason", s.reason_detail)
+        .end_object();
+    std::printf("%s\n", w.str().c_str());
     return 0;
   }
   std::printf("%s (%s)\n", file.c_str(), s.input.format.c_str());
@@ -76,7 +90,6 @@ int print_pointcloud(const std::string& file, const PreparedSurface& s, bool jso
 }
 
 int run(const Args& args) {
-  if (args.positional().size() != 1) throw InvalidInput("expected one input file (see --help)");
   const std::string file = args.positional()[0];
   // Always flip here: info reports the flip count; --no-delaunay only skips it.
   PreparedSurface s = prepare_surface(file, args);
@@ -100,23 +113,39 @@ int run(const Args& args) {
   const long genus2 = 2L * st.components - chi - st.boundary_loops;  // 2g, orientable surfaces
   const double share = tri.n_edges() ? double(a.non_delaunay_edges) / input.n_edges() : 0.0;
   if (args.has("json")) {
-    std::printf(
-        "{\"file\": \"%s\", \"format\": \"%s\", \"vertices\": %d, \"edges\": %d, \"faces\": %d, "
-        "\"polygons\": %d, \"unreferenced_vertices\": %d, \"boundary_edges\": %d, "
-        "\"boundary_loops\": %d, \"components\": %d, \"euler_characteristic\": %ld, "
-        "\"genus\": %s, \"nonmanifold_edges\": %d, \"nonmanifold_vertices\": %d, "
-        "\"dropped_degenerate_faces\": %d, \"duplicate_faces\": %d, \"reoriented_faces\": %d, "
-        "\"min_angle_deg\": %.6g, \"max_angle_deg\": %.6g, \"non_delaunay_share\": %.6g, "
-        "\"flips_to_idt\": %zu, \"mollify_delta\": %.6g, \"path\": \"%s\", \"path_reason\": "
-        "\"%s\"}\n",
-        file.c_str(), s.input.format.c_str(), tri.n_vertices(), st.edges,
-        tri.n_faces() / tri.multiplicity(), s.input.n_polygons, st.unreferenced_vertices,
-        st.boundary_edges, st.boundary_loops, st.components, chi,
-        (orientable && genus2 >= 0 && genus2 % 2 == 0) ? std::to_string(genus2 / 2).c_str()
-                                                       : "null",
-        st.nonmanifold_edges, st.nonmanifold_vertices, s.build.dropped_faces, st.duplicate_faces,
-        s.build.reoriented_faces, a.min_deg, a.max_deg, share, s.flips.flips, s.mollify.delta,
-        intrinsic::to_string(s.path), s.reason_detail.c_str());
+    JsonWriter w;
+    w.begin_object()
+        .field("file", file)
+        .field("format", s.input.format)
+        .field("vertices", tri.n_vertices())
+        .field("edges", st.edges)
+        .field("faces", tri.n_faces() / tri.multiplicity())
+        .field("polygons", s.input.n_polygons)
+        .field("unreferenced_vertices", st.unreferenced_vertices)
+        .field("boundary_edges", st.boundary_edges)
+        .field("boundary_loops", st.boundary_loops)
+        .field("components", st.components)
+        .field("euler_characteristic", chi)
+        .key("genus");
+    if (orientable && genus2 >= 0 && genus2 % 2 == 0) {
+      w.value(genus2 / 2);
+    } else {
+      w.null();
+    }
+    w.field("nonmanifold_edges", st.nonmanifold_edges)
+        .field("nonmanifold_vertices", st.nonmanifold_vertices)
+        .field("dropped_degenerate_faces", s.build.dropped_faces)
+        .field("duplicate_faces", st.duplicate_faces)
+        .field("reoriented_faces", s.build.reoriented_faces)
+        .field("min_angle_deg", a.min_deg)
+        .field("max_angle_deg", a.max_deg)
+        .field("non_delaunay_share", share)
+        .field("flips_to_idt", s.flips.flips)
+        .field("mollify_delta", s.mollify.delta)
+        .field("path", intrinsic::to_string(s.path))
+        .field("path_reason", s.reason_detail)
+        .end_object();
+    std::printf("%s\n", w.str().c_str());
     return 0;
   }
   std::printf("%s (%s)\n", file.c_str(), s.input.format.c_str());
@@ -143,22 +172,18 @@ int run(const Args& args) {
 
 Command info_command() {
   Command c;
-  c.name = "info";
   c.summary = "describe a mesh: counts, topology, defects, angles, flips to intrinsic Delaunay";
-  c.help =
-      std::string(
-          "usage: ifem info MESH|POINTCLOUD [--json] [surface options]\n\n"
-          "Prints vertex/edge/face counts, components, boundary loops, Euler characteristic\n"
-          "and genus, nonmanifold edges and vertices, what was repaired (degenerate faces\n"
-          "dropped, faces reoriented), min/max corner angle and the share of non-Delaunay\n"
-          "edges of the input, the flips to the intrinsic Delaunay triangulation, and which\n"
-          "path (manifold / tufted cover / point cloud) ifem takes for this input and why.\n"
-          "On a point cloud: point count, k, local triangles, isolated points, stage times.\n\n"
-          "  --json          one JSON object on stdout instead of text\n\n") +
-      kSurfaceHelp;
-  c.flags = kSurfaceFlags;
-  c.flags.insert("json");
-  c.options = kSurfaceOptions;
+  c.spec.name = "info";
+  c.spec.positionals = {"MESH|POINTCLOUD"};
+  c.spec.prose =
+      "Prints vertex/edge/face counts, components, boundary loops, Euler characteristic\n"
+      "and genus, nonmanifold edges and vertices, what was repaired (degenerate faces\n"
+      "dropped, faces reoriented), min/max corner angle and the share of non-Delaunay\n"
+      "edges of the input, the flips to the intrinsic Delaunay triangulation, and which\n"
+      "path (manifold / tufted cover / point cloud) ifem takes for this input and why.\n"
+      "On a point cloud: point count, k, local triangles, isolated points, stage times.\n";
+  c.spec.groups = {{"Options", {flag("json").explain("one JSON object on stdout instead of text")}},
+                   surface_options()};
   c.run = run;
   return c;
 }

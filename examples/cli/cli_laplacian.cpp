@@ -6,19 +6,18 @@
 #include "cli.h"
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/timer.h"
 
 namespace ifem::cli {
 namespace {
 
 int run(const Args& args) {
-  if (args.positional().size() != 1) throw InvalidInput("expected one input file (see --help)");
-  if (!args.has("output")) throw InvalidInput("missing -o PREFIX (see --help)");
   const std::string prefix = args.get("output");
   PreparedSurface s = prepare_surface(args.positional()[0], args);
-  const double t0 = now_seconds();
+  const Stopwatch watch;
   const fem::SparseMatrix L = fem::cotan_laplacian(s.tri);
   const Eigen::VectorXd m = fem::lumped_mass(s.tri);
-  progress(args, "assembled L and M in " + std::to_string(now_seconds() - t0) + " s");
+  progress(args, "assembled L and M in " + std::to_string(watch.seconds()) + " s");
   fem::SparseMatrix M(m.size(), m.size());
   M.reserve(Eigen::VectorXi::Ones(m.size()));
   for (Eigen::Index i = 0; i < m.size(); ++i) M.insert(i, i) = m[i];
@@ -58,23 +57,21 @@ int run(const Args& args) {
 
 Command laplacian_command() {
   Command c;
-  c.name = "laplacian";
   c.summary = "write the intrinsic Delaunay cotan Laplacian L and lumped mass M (Matrix Market)";
-  c.help = std::string(
-               "usage: ifem laplacian MESH -o PREFIX [surface options]\n\n"
-               "Writes PREFIX_L.mtx (cotan Laplacian) and PREFIX_M.mtx (lumped mass, diagonal),\n"
-               "Matrix Market coordinate format, 1-based, rows and columns = the input's vertices\n"
-               "in the input's order (size = input vertex count, unreferenced vertices included\n"
-               "with a zero row and zero mass).\n\n"
-               "Sign convention: L is symmetric positive semi-definite (positive diagonal,\n"
-               "L·1 = 0), the FEM stiffness matrix; libigl's cotmatrix is −L. On the intrinsic\n"
-               "Delaunay triangulation every off-diagonal entry is ≤ 0. Solve L u = M f for\n"
-               "Poisson problems.\n\n"
-               "  -o, --output PREFIX   output prefix\n\n") +
-           kSurfaceHelp;
-  c.flags = kSurfaceFlags;
-  c.options = kSurfaceOptions;
-  c.options.insert("output");
+  c.spec.name = "laplacian";
+  c.spec.positionals = {"MESH"};
+  c.spec.prose =
+      "Writes PREFIX_L.mtx (cotan Laplacian) and PREFIX_M.mtx (lumped mass, diagonal),\n"
+      "Matrix Market coordinate format, 1-based, rows and columns = the input's vertices\n"
+      "in the input's order (size = input vertex count, unreferenced vertices included\n"
+      "with a zero row and zero mass).\n\n"
+      "Sign convention: L is symmetric positive semi-definite (positive diagonal,\n"
+      "L·1 = 0), the FEM stiffness matrix; libigl's cotmatrix is −L. On the intrinsic\n"
+      "Delaunay triangulation every off-diagonal entry is ≤ 0. Solve L u = M f for\n"
+      "Poisson problems.\n";
+  c.spec.groups = {
+      {"Options", {text("output", "PREFIX").short_alias('o').mandatory().explain("output prefix")}},
+      surface_options()};
   c.run = run;
   return c;
 }

@@ -1,4 +1,6 @@
 // `ifem poisson`: L u = M f with Dirichlet values on chosen vertices.
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <optional>
@@ -7,15 +9,25 @@
 
 #include "cli.h"
 #include "cli_refine.h"
-#include "cli_solver_util.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
+#include "results.h"
 #include "solvers/poisson.h"
 
 namespace ifem::cli {
 namespace {
 
-// "vertex value" lines; '#' comments and blank lines skipped.
+// One whole token as a vertex id / finite number; false on anything else (no partial parse).
+bool parse_token(const std::string& t, long long& v) {
+  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  return ec == std::errc() && ptr == t.data() + t.size();
+}
+bool parse_token(const std::string& t, double& x) {
+  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
+  return ec == std::errc() && ptr == t.data() + t.size() && std::isfinite(x);
+}
+
+// "vertex value" lines; '#' comments and blank lines skipped, anything else is an error.
 void read_dirichlet(const std::string& path, Index nv, std::vector<Index>& vertices,
                     std::vector<double>& values) {
   std::ifstream in(path);
@@ -27,16 +39,19 @@ void read_dirichlet(const std::string& path, Index nv, std::vector<Index>& verti
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
     std::istringstream ss(line);
-    long v;
-    double x;
-    if (!(ss >> v)) continue;  // blank
-    std::string rest;
-    if (!(ss >> x) || (ss >> rest)) {
-      throw IoError(path + ":" + std::to_string(lineno) + ": expected 'vertex value'");
+    std::vector<std::string> tokens;
+    for (std::string t; ss >> t;) tokens.push_back(t);
+    if (tokens.empty()) continue;  // blank or comment
+    const std::string where = path + ":" + std::to_string(lineno) + ": ";
+    long long v = 0;
+    double x = 0;
+    if (tokens.size() != 2 || !parse_token(tokens[0], v) || !parse_token(tokens[1], x)) {
+      throw IoError(where + "expected 'vertex value' (a vertex id and a finite number), got '" +
+                    line + "'");
     }
     if (v < 0 || v >= nv) {
-      throw InvalidInput(path + ":" + std::to_string(lineno) + ": vertex " + std::to_string(v) +
-                         " out of range [0, " + std::to_string(nv) + ")");
+      throw InvalidInput(where + "vertex " + tokens[0] + " out of range [0, " + std::to_string(nv) +
+                         ")");
     }
     vertices.push_back(Index(v));
     values.push_back(x);
@@ -44,11 +59,7 @@ void read_dirichlet(const std::string& path, Index nv, std::vector<Index>& verti
 }
 
 int run(const Args& args) {
-  if (args.positional().size() != 1) throw InvalidInput("expected one input file (see --help)");
-  if (!args.has("output")) throw InvalidInput("missing -o OUT (see --help)");
-  const std::string out = args.get("output");
-  const std::string ext = extension_of(out);
-  if (ext != ".ply" && ext != ".txt") throw InvalidInput("-o " + out + ": use .ply or .txt");
+  const ResultOutput out = result_output(args);  // checked before any computation
   // read the data before the (slow) preparation and refinement so bad files fail fast
   io::SurfaceInput input = read_input(args.positional()[0], args);
   const Index nv = static_cast<Index>(input.positions.rows());
@@ -63,24 +74,20 @@ int run(const Args& args) {
   std::vector<Index> dv;
   std::vector<double> dval;
   if (args.has("dirichlet")) read_dirichlet(args.get("dirichlet"), nv, dv, dval);
-  // refined: f is interpolated linearly onto the inserted vertices (signposts: their places on
-  // the input faces); the Dirichlet vertices are input vertices, which keep their ids
+  // refined (signposts needed): f is interpolated linearly onto the inserted vertices, which lie
+  // on input faces; the Dirichlet vertices are input vertices, which keep their ids
   std::optional<solvers::RefineSettings> refine;
   if (args.has("refine")) refine = refine_settings(args, 0.0, true);
   const PreparedSurface s = prepare_surface(std::move(input), args, refine);
   solvers::PoissonOptions opt;
-  opt.screening = args.get_double("screening", 0.0);
+  opt.screening = args.real("screening");
   const Stopwatch watch;
   const Eigen::VectorXd g =
       Eigen::Map<const Eigen::VectorXd>(dval.data(), Eigen::Index(dval.size()));
-  const Eigen::VectorXd u = solvers::poisson(s, f, dv, g, opt);
+  const Eigen::VectorXd u = solvers::poisson(s, f, dv, g, opt);  // on the input's vertices
   progress(args, "solved in " + std::to_string(watch.seconds()) + " s");
-  if (ext == ".ply") {
-    io::write_ply(out, s.input.positions, s.input.triangles, {{"u", u}});
-  } else {
-    io::write_values(out, u);
-  }
-  std::printf("wrote %s: %d values, %zu Dirichlet vertices%s\n", out.c_str(), nv, dv.size(),
+  write_results(out, s, {{"u", u}});
+  std::printf("wrote %s: %d values, %zu Dirichlet vertices%s\n", out.path.c_str(), nv, dv.size(),
               dv.empty() && opt.screening == 0 ? " (none: zero-mean solution per component)" : "");
   return 0;
 }
@@ -89,38 +96,41 @@ int run(const Args& args) {
 
 Command poisson_command() {
   Command c;
-  c.name = "poisson";
   c.summary = "solve (L + cM) u = M f with Dirichlet values on any vertices";
-  c.help = std::string(
-               "usage: ifem poisson MESH [--dirichlet FILE] [--rhs FILE] [--screening c] -o OUT "
-               "[--refine [refinement options]] [surface options]\n\n"
-               "Solves the Poisson problem −Δu = f, i.e. L u = M f (L the intrinsic Delaunay\n"
-               "cotan Laplacian, PSD; M the lumped mass), or the screened problem\n"
-               "(L + cM) u = M f, with u fixed on the Dirichlet vertices and natural (zero\n"
-               "Neumann) conditions everywhere else, including on the mesh boundary.\n\n"
-               "  --dirichlet FILE   lines 'vertex value' (0-based input vertex id, then the\n"
-               "                     value); '#' starts a comment. Example:\n"
-               "                         0 1.0\n"
-               "                         57 -2.5\n"
-               "  --rhs FILE         f, one value per line, one line per input vertex (default 0:\n"
-               "                     Laplace's equation)\n"
-               "  --screening c      c ≥ 0 (default 0)\n"
-               "  -o, --output OUT   OUT.ply (mesh + per-vertex property 'u') or OUT.txt (one\n"
-               "                     value per line), in the input's vertex order\n\n"
-               "Without Dirichlet data (and c = 0) a connected component is pure Neumann: f is\n"
-               "made compatible by removing its mass-weighted mean and the zero-mean solution is\n"
-               "returned. Vertices used by no face get 0 (or their Dirichlet value).\n\n"
-               "  --refine           intrinsic Delaunay refinement first (options below): f is\n"
-               "                     interpolated linearly onto inserted vertices, the Dirichlet\n"
-               "                     vertices stay input vertices, u is reported on the input's\n"
-               "                     vertices (manifold path only)\n\n"
-               "example: ifem poisson disk.obj --dirichlet bc.txt -o u.ply\n\n") +
-           kRefineHelp + "\n" + kSurfaceHelp;
-  c.flags = kSurfaceFlags;
-  c.flags.insert("refine");
-  c.options = kSurfaceOptions;
-  c.options.insert({"output", "dirichlet", "rhs", "screening"});
-  c.options.insert(kRefineOptions.begin(), kRefineOptions.end());
+  c.spec.name = "poisson";
+  c.spec.positionals = {"MESH"};
+  c.spec.prose =
+      "Solves the Poisson problem −Δu = f, i.e. L u = M f (L the intrinsic Delaunay\n"
+      "cotan Laplacian, PSD; M the lumped mass), or the screened problem\n"
+      "(L + cM) u = M f, with u fixed on the Dirichlet vertices and natural (zero\n"
+      "Neumann) conditions everywhere else, including on the mesh boundary.\n\n"
+      "Without Dirichlet data (and c = 0) a connected component is pure Neumann: f is\n"
+      "made compatible by removing its mass-weighted mean and the zero-mean solution is\n"
+      "returned. Vertices used by no face get 0 (or their Dirichlet value).\n";
+  c.spec.groups = {
+      {"Options",
+       {text("dirichlet", "FILE")
+            .explain("lines 'vertex value' (0-based input vertex id, then a finite value);\n"
+                     "'#' starts a comment; any other line is an error. Example:\n"
+                     "    0 1.0\n"
+                     "    57 -2.5"),
+        text("rhs", "FILE")
+            .explain("f, one value per line, one line per input vertex (default 0:\n"
+                     "Laplace's equation)"),
+        real("screening", "c").at_least(0).defaults_to("0").explain("the screening c"),
+        text("output", "OUT")
+            .short_alias('o')
+            .mandatory()
+            .with_extensions({".ply", ".txt"})
+            .explain("OUT.ply (mesh + per-vertex property 'u') or OUT.txt (one value per\n"
+                     "line), in the input's vertex order"),
+        flag("refine").explain(
+            "intrinsic Delaunay refinement first (options below): f is interpolated\n"
+            "linearly onto inserted vertices, the Dirichlet vertices stay input\n"
+            "vertices, u is reported on the input's vertices (manifold path only)")}},
+      refine_options_group(0.0),
+      surface_options()};
+  c.spec.epilogue = "example: ifem poisson disk.obj --dirichlet bc.txt -o u.ply\n";
   c.run = run;
   return c;
 }

@@ -8,40 +8,60 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
-#include "intrinsic/surface/build_surface.h"
-#include "intrinsic/surface/face_analysis.h"
+#include "intrinsic/core/timer.h"
 
 namespace ifem::cli {
 
-const std::set<std::string> kRefineOptions = {"min-angle",      "max-area", "resolution",
-                                              "max-insertions", "relax",    "max-edge"};
-const char* const kRefineHelp =
-    "Refinement options:\n"
-    "  --min-angle A        smallest corner angle wanted, degrees, in (0, 30] (default 25)\n"
-    "  --resolution C       also refine until edges are about C·h long (h = mean edge length\n"
-    "                       of the input): triangles larger than the equilateral one of side\n"
-    "                       C·h are split (default: 0.4 for distance, none otherwise; 0 = off)\n"
-    "  --max-area X         also split triangles of area above X (default: no bound)\n"
-    "  --max-insertions N   stop after N inserted vertices (default 10 × input vertices\n"
-    "                       + 2000, plus 4 × area / (max area) with a size bound)\n"
-    "  --relax ITER         then ITER passes of optimal Delaunay (ODT) relaxation of the\n"
-    "                       inserted vertices, each moved inside its flat star on the surface\n"
-    "                       (input vertices never move; min angle kept; default 0)\n"
-    "  --max-edge L         with --relax: after each pass split edges longer than L at their\n"
-    "                       midpoints (the next pass relaxes the new vertices)\n";
+namespace {
+std::string format_default(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+}  // namespace
+
+OptionGroup refine_options_group(double resolution_default) {
+  return {"Refinement options",
+          {real("min-angle", "A")
+               .above(0)
+               .at_most(30)
+               .defaults_to(format_default(intrinsic::RefineOptions{}.min_angle_degrees))
+               .explain("smallest corner angle wanted, degrees"),
+           real("resolution", "C")
+               .at_least(0)
+               .defaults_to(format_default(resolution_default))
+               .explain("also refine until edges are about C·h long (h = mean edge length\n"
+                        "of the input): triangles larger than the equilateral one of side\n"
+                        "C·h are split (0 = off)"),
+           real("max-area", "X")
+               .at_least(0)
+               .explain("also split triangles of area above X (default: no bound; 0 = none)"),
+           count("max-insertions", "N")
+               .explain("stop after N inserted vertices (default 10 × input vertices\n"
+                        "+ 2000, plus 4 × area / (max area) with a size bound)"),
+           count("relax", "ITER")
+               .defaults_to("0")
+               .explain("then ITER passes of optimal Delaunay (ODT) relaxation of the\n"
+                        "inserted vertices, each moved inside its flat star on the surface\n"
+                        "(input vertices never move; min angle kept)"),
+           real("max-edge", "L")
+               .at_least(0)
+               .explain("with --relax: after each pass split edges longer than L at their\n"
+                        "midpoints (the next pass relaxes the new vertices; default: no bound)")}};
+}
 
 solvers::RefineSettings refine_settings(const Args& args, double default_resolution,
                                         bool need_signposts) {
-  solvers::RefineSettings r;
-  r.min_angle_degrees = args.get_double("min-angle", r.min_angle_degrees);
-  r.resolution = args.get_double("resolution", default_resolution);
-  r.max_area = args.get_double("max-area", 0.0);
-  r.max_insertions = static_cast<Index>(args.get_int("max-insertions", -1));
-  r.relax_iterations = static_cast<int>(args.get_int("relax", 0));
-  r.relax_max_edge = args.get_double("max-edge", 0.0);
+  solvers::RefineSettings r;  // every value below is range-checked by the option table
+  r.min_angle_degrees = args.real("min-angle");
+  r.resolution = args.real_or("resolution", default_resolution);
+  r.max_area = args.real_or("max-area", 0.0);
+  r.max_insertions = args.count_or("max-insertions", -1);  // -1: the library's cap
+  r.relax_iterations = args.count("relax");
+  r.relax_max_edge = args.real_or("max-edge", 0.0);
   r.need_signposts = need_signposts;
   if (r.relax_max_edge > 0.0 && r.relax_iterations == 0) {
-    throw InvalidInput("--max-edge splits during --relax ITER");
+    throw UsageError("--max-edge splits during --relax ITER");
   }
   r.validate();
   return r;
@@ -58,31 +78,31 @@ double input_min_angle(const io::SurfaceInput& input) {
 }
 
 int run(const Args& args) {
-  if (args.positional().size() != 1) throw InvalidInput("expected one input file (see --help)");
   if (!args.has("output") && !args.has("save") && !args.has("lines") && !args.has("mesh")) {
-    throw InvalidInput("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
+    throw UsageError("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
   }
   // refinement with signposts (the library refuses inputs that cannot have them)
-  PreparedSurface s = prepare_surface(args.positional()[0], args, refine_settings(args, 0.0, true));
+  const PreparedSurface s =
+      prepare_surface(args.positional()[0], args, refine_settings(args, 0.0, true));
   const double min_in = input_min_angle(s.input);
   const intrinsic::RefineReport& r = s.refine_report;
   const intrinsic::RelaxReport& rr = s.relax_report;
   const intrinsic::SignpostTriangulation& st = *s.signposts;
   // everything is computed before the first file is written: no partial output on a failure
-  double t0 = now_seconds();
+  Stopwatch watch;
   const bool binary = !args.has("ascii");
   intrinsic::CommonSubdivision cs;
   if (args.has("output")) {
     cs = intrinsic::common_subdivision(st);
     progress(args, "common subdivision: " + std::to_string(cs.faces.size()) + " triangles in " +
-                       std::to_string(now_seconds() - t0) + " s");
+                       std::to_string(watch.restart()) + " s");
   }
   std::vector<std::vector<Eigen::Vector3d>> lines;
   if (args.has("lines")) {
-    t0 = now_seconds();
+    watch.restart();
     lines = st.traced_edges_3d();
     progress(args, "traced " + std::to_string(lines.size()) +
-                       " intrinsic edges over the input in " + std::to_string(now_seconds() - t0) +
+                       " intrinsic edges over the input in " + std::to_string(watch.seconds()) +
                        " s");
   }
   std::vector<Triangle> faces;
@@ -143,43 +163,44 @@ int run(const Args& args) {
 
 Command refine_command() {
   Command c;
-  c.name = "refine";
   c.summary = "intrinsic Delaunay refinement (min angle); common subdivision as a PLY mesh";
-  c.help = std::string(
-               "usage: ifem refine MESH [--min-angle A] [--resolution C] [--max-area X]\n"
-               "                   [--max-insertions N] [--relax ITER [--max-edge L]]\n"
-               "                   -o OUT.ply [--lines LINES.ply] [--mesh REFINED.ply]\n"
-               "                   [--save FILE.ifem] [--ascii] [surface options]\n\n"
-               "Refines the intrinsic Delaunay triangulation of MESH by inserting circumcenters\n"
-               "(Chew's second algorithm, located on the surface with signposts) until every\n"
-               "triangle has all corner angles ≥ A. The surface itself never changes: inserted\n"
-               "vertices lie on the input's triangles. Triangles whose small angle sits at a\n"
-               "cone vertex with total angle below the bound (2× it inside) cannot be fixed and\n"
-               "are left alone and counted.\n\n"
-               "  -o, --output OUT.ply   the common subdivision: the overlay of the intrinsic and\n"
-               "                         input triangulations as a triangle mesh on the input\n"
-               "                         surface (each overlay polygon fanned into triangles),\n"
-               "                         face properties 'intrinsic_face' and 'input_face'\n"
-               "                         (0-based, input faces in the file's order)\n"
-               "  --lines LINES.ply      the intrinsic edges traced over the input surface, as a\n"
-               "                         PLY line set (vertex + edge elements)\n"
-               "  --mesh FILE.ply        the refined triangulation, inserted vertices at their\n"
-               "                         positions on the surface (property 'inserted')\n"
-               "  --save FILE.ifem       the input and the intrinsic triangulation (gluing,\n"
-               "                         lengths, signposts, inserted-vertex locations) as text,\n"
-               "                         format 'ifem-signpost 1' (intrinsic/refine/signpost.cpp)\n"
-               "  --ascii                ASCII PLY instead of binary\n"
-               "Supported inputs: edge-manifold, orientable meshes, with or without boundary\n"
-               "(nonmanifold and non-orientable meshes are refined on their tufted cover by\n"
-               "`ifem distance --refine` and `ifem eigen --refine`, which need no signposts;\n"
-               "here they are an error, as are point clouds).\n\n") +
-           kRefineHelp + "\n" + kSurfaceHelp;
-  c.flags = kSurfaceFlags;
-  c.flags.insert("ascii");
-  c.options = kSurfaceOptions;
-  c.options.insert(kRefineOptions.begin(), kRefineOptions.end());
-  c.options.insert("output");
-  c.options.insert({"mesh", "lines", "save"});
+  c.spec.name = "refine";
+  c.spec.positionals = {"MESH"};
+  c.spec.prose =
+      "Refines the intrinsic Delaunay triangulation of MESH by inserting circumcenters\n"
+      "(Chew's second algorithm, located on the surface with signposts) until every\n"
+      "triangle has all corner angles ≥ A. The surface itself never changes: inserted\n"
+      "vertices lie on the input's triangles. Triangles whose small angle sits at a\n"
+      "cone vertex with total angle below the bound (2× it inside) cannot be fixed and\n"
+      "are left alone and counted. Needs at least one of -o, --lines, --mesh, --save.\n\n"
+      "Supported inputs: edge-manifold, orientable meshes, with or without boundary\n"
+      "(nonmanifold and non-orientable meshes are refined on their tufted cover by\n"
+      "`ifem distance --refine` and `ifem eigen --refine`, which need no signposts;\n"
+      "here they are an error, as are point clouds).\n";
+  c.spec.groups = {
+      {"Options",
+       {text("output", "OUT.ply")
+            .short_alias('o')
+            .with_extensions({".ply"})
+            .explain("the common subdivision: the overlay of the intrinsic and input\n"
+                     "triangulations as a triangle mesh on the input surface (each overlay\n"
+                     "polygon fanned into triangles), face properties 'intrinsic_face' and\n"
+                     "'input_face' (0-based, input faces in the file's order)"),
+        text("lines", "LINES.ply")
+            .with_extensions({".ply"})
+            .explain("the intrinsic edges traced over the input surface, as a PLY line set\n"
+                     "(vertex + edge elements)"),
+        text("mesh", "FILE.ply")
+            .with_extensions({".ply"})
+            .explain("the refined triangulation, inserted vertices at their positions on\n"
+                     "the surface (property 'inserted')"),
+        text("save", "FILE.ifem")
+            .explain("the input and the intrinsic triangulation (gluing, lengths,\n"
+                     "signposts, inserted-vertex locations) as text, format\n"
+                     "'ifem-signpost 1' (intrinsic/refine/signpost.cpp)"),
+        flag("ascii").explain("ASCII PLY instead of binary")}},
+      refine_options_group(0.0),
+      surface_options()};
   c.run = run;
   return c;
 }

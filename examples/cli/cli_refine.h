@@ -3,7 +3,6 @@
 // (solvers::prepare_surface with PrepareOptions::refine).
 #pragma once
 
-#include <set>
 #include <string>
 
 #include "cli.h"
@@ -11,16 +10,15 @@
 
 namespace ifem::cli {
 
-/// The options refinement understands: --min-angle, --resolution, --max-area,
-/// --max-insertions, --relax, --max-edge.
-extern const std::set<std::string> kRefineOptions;
-/// Help text for them (and for the --refine flag of the solver commands).
-extern const char* const kRefineHelp;
+/// The options refinement understands, appended to refine and to the solver commands:
+/// --min-angle, --resolution (shown with default `resolution_default`: refine_settings()'
+/// default_resolution at that command), --max-area, --max-insertions, --relax, --max-edge.
+OptionGroup refine_options_group(double resolution_default);
 
-/// The library's refinement settings from the command line: --min-angle (default 25),
-/// --resolution (default `default_resolution`; × the input's mean edge length), --max-area,
-/// --max-insertions, --relax ITER, --max-edge L; `need_signposts` refuses the tufted path.
-/// @throws InvalidInput on values out of range (RefineSettings::validate)
+/// The library's refinement settings from the command line: --min-angle, --resolution
+/// (default `default_resolution`; × the input's mean edge length), --max-area, --max-insertions,
+/// --relax ITER, --max-edge L; `need_signposts` refuses the tufted path (library message).
+/// @throws UsageError on --max-edge without --relax
 solvers::RefineSettings refine_settings(const Args& args, double default_resolution,
                                         bool need_signposts);
 

@@ -1,0 +1,18 @@
+// The list of `ifem` subcommands (one function per subcommand, each in its cli_<name>.cpp).
+#include "cli.h"
+
+namespace ifem::cli {
+
+Command info_command();
+Command laplacian_command();
+Command refine_command();
+Command distance_command();
+Command eigen_command();
+Command poisson_command();
+
+std::vector<Command> all_commands() {
+  return {info_command(),     laplacian_command(), refine_command(),
+          distance_command(), eigen_command(),     poisson_command()};
+}
+
+}  // namespace ifem::cli

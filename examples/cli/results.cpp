@@ -1,0 +1,48 @@
+#include "results.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "intrinsic/io/mesh_io.h"
+
+namespace ifem::cli {
+
+ResultOutput result_output(const Args& args, const std::string& name) {
+  const OptionSpec& spec = args.spec(name);
+  const std::vector<std::string>& allowed = spec.extensions;
+  if (!args.has(name)) {
+    throw UsageError("missing " + spec.display() + " " + spec.placeholder + " (see --help)");
+  }
+  ResultOutput out;
+  out.path = args.get(name);
+  const std::string ext = io::file_extension(out.path);
+  if (std::find(allowed.begin(), allowed.end(), ext) == allowed.end()) {
+    std::string list;
+    for (std::size_t i = 0; i < allowed.size(); ++i) {
+      list += (i == 0 ? "" : i + 1 == allowed.size() ? " or " : ", ") + allowed[i];
+    }
+    throw UsageError(spec.display() + " '" + out.path + "': the output must end in " + list);
+  }
+  out.ply = ext == ".ply";
+  return out;
+}
+
+void write_results(const ResultOutput& out, const PreparedSurface& s,
+                   const std::vector<io::VertexProperty>& properties) {
+  const Eigen::Index nv = s.input.positions.rows();
+  std::vector<io::VertexProperty> on_input;
+  for (const io::VertexProperty& p : properties) {
+    if (p.values.size() < nv) {
+      throw std::logic_error("write_results: '" + p.name + "' has fewer values than vertices");
+    }
+    on_input.push_back({p.name, p.values.head(nv)});
+  }
+  if (out.ply) {
+    io::write_ply(out.path, s.input.positions, s.input.triangles, on_input);
+    return;
+  }
+  if (on_input.size() != 1) throw std::logic_error("write_results: a .txt holds one value");
+  io::write_values(out.path, on_input[0].values);
+}
+
+}  // namespace ifem::cli

@@ -1,0 +1,32 @@
+// The one writer of per-vertex results (distance, poisson, eigen): the input mesh with PLY
+// vertex properties, or one value per line in a .txt. The output's extension is checked when
+// the command starts, before any computation (result_output()).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cli.h"
+
+namespace ifem::cli {
+
+/// Where and how a command writes its per-vertex results.
+struct ResultOutput {
+  std::string path;
+  bool ply = true;  ///< .ply: the input mesh + vertex properties; else .txt: one value a line
+};
+
+/// The option `name`'s path (normally "output"), its extension checked against the option's
+/// table entry (OptionSpec::extensions: {".ply"} or {".ply", ".txt"}).
+/// @throws UsageError when the option is missing or has another extension
+ResultOutput result_output(const Args& args, const std::string& name = "output");
+
+/// Writes per-vertex results: each property's first #V values (the input's vertices, in the
+/// input's order; the triangulation's further vertices are refinement's and are dropped).
+/// .ply: the input positions and faces with every property; .txt: exactly one property.
+/// @throws std::logic_error if a property has fewer than #V values or a .txt gets several
+/// @throws IoError if the file cannot be written
+void write_results(const ResultOutput& out, const PreparedSurface& s,
+                   const std::vector<io::VertexProperty>& properties);
+
+}  // namespace ifem::cli
