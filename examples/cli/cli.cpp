@@ -12,20 +12,12 @@
 
 namespace ifem::cli {
 
-namespace {
-std::string format_default(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-}  // namespace
-
 OptionGroup surface_options() {
   return {"Surface options (any command that reads a mesh or point cloud)",
           {real("mollify", "F")
                .at_least(0)
                .at_most(1)
-               .defaults_to(format_default(intrinsic::kDefaultMollifyEpsilon))
+               .defaults_to(format_number(intrinsic::kDefaultMollifyEpsilon))
                .explain("relative mollification margin: the smallest uniform length δ is added\n"
                         "to every edge so each triangle satisfies a+b−c ≥ F·(mean edge length)\n"
                         "(0 repairs only strict violations)"),

@@ -16,12 +16,6 @@ namespace {
 // --refine's defaults: the library's accurate mode (resolution, time factor, correction steps)
 const solvers::RefinedDistanceSettings kAccurate;
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 int run(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
   const std::vector<Index> sources = args.vertices("source");
@@ -39,10 +33,11 @@ int run(const Args& args) {
   const Stopwatch watch;
   solvers::HeatDistanceReport rep;
   const Eigen::VectorXd d = solvers::geodesic_distance(s, sources, settings, &rep);
-  progress(args, "heat method: t = " + number(heat.time_factor) + "·h² (h = " +
-                     number(heat.mean_edge_length) + "), " + std::to_string(heat.correction_steps) +
-                     " correction steps, " + std::to_string(rep.stages) + " stage" +
-                     (rep.stages > 1 ? "s" : "") + ", " + number(watch.seconds()) + " s");
+  progress(args, "heat method: t = " + format_number(heat.time_factor) +
+                     "·h² (h = " + format_number(heat.mean_edge_length) + "), " +
+                     std::to_string(heat.correction_steps) + " correction steps, " +
+                     std::to_string(rep.stages) + " stage" + (rep.stages > 1 ? "s" : "") + ", " +
+                     format_number(watch.seconds()) + " s");
   write_results(out, s, {{"distance", d}});
   Index unreachable = 0;
   double dmax = 0.0;
@@ -90,7 +85,7 @@ Command distance_command() {
                      "used by no face)"),
         real("time-factor", "m")
             .above(0)
-            .explain("t = m·h² (default 1; " + number(kAccurate.time_factor) +
+            .explain("t = m·h² (default 1; " + format_number(kAccurate.time_factor) +
                      " with --refine); larger is smoother, smaller\nis sharper but noisier"),
         count("correction-steps", "N")
             .explain("after the heat method, N times φ ← the solution of\n"

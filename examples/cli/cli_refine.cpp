@@ -12,24 +12,16 @@
 
 namespace ifem::cli {
 
-namespace {
-std::string format_default(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-}  // namespace
-
 OptionGroup refine_options_group(double resolution_default) {
   return {"Refinement options",
           {real("min-angle", "A")
                .above(0)
                .at_most(30)
-               .defaults_to(format_default(intrinsic::RefineOptions{}.min_angle_degrees))
+               .defaults_to(format_number(intrinsic::RefineOptions{}.min_angle_degrees))
                .explain("smallest corner angle wanted, degrees"),
            real("resolution", "C")
                .at_least(0)
-               .defaults_to(format_default(resolution_default))
+               .defaults_to(format_number(resolution_default))
                .explain("also refine until edges are about C·h long (h = mean edge length\n"
                         "of the input): triangles larger than the equilateral one of side\n"
                         "C·h are split (0 = off)"),

@@ -8,33 +8,14 @@
 #include <stdexcept>
 #include <utility>
 
+#include "intrinsic/io/mesh_io.h"
+
 namespace ifem::cli {
 namespace {
 
 constexpr long long kIndexMin = std::numeric_limits<Index>::min();
 constexpr long long kIndexMax = std::numeric_limits<Index>::max();
 constexpr std::size_t kHelpColumn = 25;  // where an option's help text starts
-
-std::string format_number(double v) {
-  if (std::isinf(v)) return v > 0 ? "∞" : "-∞";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
-
-std::string to_lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-// The lowercased extension of a path's file name, with its dot ("" when none).
-std::string extension(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-  const auto dot = base.find_last_of('.');
-  if (dot == std::string::npos || dot == 0) return "";
-  return to_lower(base.substr(dot));
-}
 
 std::string join(const std::vector<std::string>& items, const std::string& last_sep) {
   std::string out;
@@ -154,6 +135,13 @@ std::string OptionSpec::describe_range() const {
                                 : "a path ending in " + join(extensions, " or ");
   }
   return "";
+}
+
+std::string format_number(double v) {
+  if (std::isinf(v)) return v > 0 ? "∞" : "-∞";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
 }
 
 OptionSpec flag(std::string name) {
@@ -304,8 +292,9 @@ void Args::set(const OptionSpec& spec, const std::string& value) {
       break;
     case Kind::kText:
       if (value.empty()) fail_value(spec, value, "empty value");
-      if (!spec.extensions.empty() && std::find(spec.extensions.begin(), spec.extensions.end(),
-                                                extension(value)) == spec.extensions.end()) {
+      if (!spec.extensions.empty() &&
+          std::find(spec.extensions.begin(), spec.extensions.end(), io::file_extension(value)) ==
+              spec.extensions.end()) {
         throw UsageError(spec.display() + " '" + value + "': the output must end in " +
                          join(spec.extensions, " or "));
       }

@@ -75,6 +75,9 @@ struct OptionSpec {
   long long int_hi() const;
 };
 
+/// A number as help text, messages and progress lines show it (1e-05, 0.4, 25, ∞).
+std::string format_number(double v);
+
 OptionSpec flag(std::string name);
 OptionSpec count(std::string name, std::string placeholder);  ///< integer, default range ≥ 0
 OptionSpec vertex(std::string name, std::string placeholder);
