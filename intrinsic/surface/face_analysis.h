@@ -32,6 +32,10 @@ struct FaceListStats {
 /// Computes the statistics in O(F log F).
 FaceListStats analyze_faces(const std::vector<Triangle>& faces, Index n_vertices);
 
+/// Per vertex (#V): 1 if the vertex is an end of a boundary edge (a vertex pair that exactly one
+/// side of the non-degenerate faces joins), else 0. Precondition: ids in [0, n_vertices).
+std::vector<char> boundary_vertex_mask(const std::vector<Triangle>& faces, Index n_vertices);
+
 /// Mean length of the faces' sides (each side of each face counted once, as given: an interior
 /// edge counts twice, like every side around it). The heat method's time step uses it: the
 /// input mesh's h, not the (longer) intrinsic Delaunay edges'. 0 for no faces.
