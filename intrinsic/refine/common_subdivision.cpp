@@ -1,5 +1,7 @@
 // Export of the common subdivision: traced intrinsic edges as a PLY line set, and the overlay
 // of the intrinsic and input triangulations as a triangle mesh.
+#include "intrinsic/refine/common_subdivision.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,7 +15,6 @@
 
 #include "intrinsic/core/first_error.h"
 #include "intrinsic/io/detail.h"
-#include "intrinsic/refine/signpost.h"
 
 namespace ifem::intrinsic {
 

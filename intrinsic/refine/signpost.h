@@ -44,7 +44,7 @@ struct TraceResult {
 /// @param slide_on_boundary if true, a line reaching a boundary side continues along it (a
 ///        numerical fix for lines that run along the boundary); else it stops there
 /// @param record_path if true, fills TraceResult::path
-/// @throws Error if the line crosses more than max_steps sides (degenerate input)
+/// @throws TraceError if the line crosses more than max_steps sides (degenerate input)
 TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
                            Eigen::Vector2d dir, double distance, int start_corner,
                            bool slide_on_boundary, bool record_path, Index max_steps);
@@ -187,34 +187,8 @@ class SignpostTriangulation {
                                          // of its location face) of signpost direction 0
 };
 
-/// The common subdivision of a signpost triangulation: the overlay of the intrinsic and the
-/// input triangulations, as a 3D triangle mesh on the input surface. Each of its polygons (the
-/// intersection of one intrinsic face with one input face, convex) is split into a fan of
-/// triangles, which record both faces. Its total area is the input's.
-struct CommonSubdivision {
-  Positions positions;  ///< vertices: input vertices first (same ids), then
-                        ///< inserted intrinsic vertices, then edge crossings
-  std::vector<Triangle> faces;
-  std::vector<Index> intrinsic_face;  ///< per face: the intrinsic face it lies in
-  std::vector<Index> input_face;      ///< per face: the input face, as an index into the
-                                      ///< faces given (SignpostTriangulation::input_faces())
-};
-
-/// Builds the common subdivision by tracing every intrinsic edge over the input and cutting
-/// each input face along the traced segments. @throws Error when a trace fails
-CommonSubdivision common_subdivision(const SignpostTriangulation& st);
-
-/// Writes a common subdivision as a PLY triangle mesh with face properties `intrinsic_face`
-/// and `input_face` (int). Atomic. @throws IoError if the file cannot be written
-void write_common_subdivision_ply(const std::string& path, const CommonSubdivision& cs,
-                                  bool binary = true);
-
-/// Writes polylines (e.g. SignpostTriangulation::traced_edges_3d()) as a PLY line set:
-/// vertices (x, y, z as double) and edges (vertex1, vertex2 as int), binary little-endian or
-/// ASCII; opens in MeshLab, ParaView, Polyscope. Atomic (writes path.tmp, then renames).
-/// @throws IoError if the file cannot be written
-void write_polylines_ply(const std::string& path,
-                         const std::vector<std::vector<Eigen::Vector3d>>& polylines,
-                         bool binary = true);
-
 }  // namespace ifem::intrinsic
+
+// The common subdivision and the PLY writers used to be declared here: kept visible to callers
+// that include only signpost.h.
+#include "intrinsic/refine/common_subdivision.h"  // IWYU pragma: export

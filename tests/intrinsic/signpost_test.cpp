@@ -17,6 +17,7 @@
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/common_subdivision.h"
 #include "intrinsic/refine/delaunay_refine.h"
 #include "intrinsic/surface/tufted_cover.h"
 
@@ -551,7 +552,8 @@ TEST(Refine, SharedCorpusManifoldMeshes) {
     if (in.triangles.size() > 60000) continue;  // keep the suite quick
     std::unique_ptr<SignpostTriangulation> st;
     try {
-      st = std::make_unique<SignpostTriangulation>(in.triangles, in.positions, kDefaultMollifyEpsilon);
+      st = std::make_unique<SignpostTriangulation>(in.triangles, in.positions,
+                                                   kDefaultMollifyEpsilon);
     } catch (const NonManifoldInput&) {
       continue;
     }
