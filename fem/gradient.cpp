@@ -28,8 +28,9 @@ Layout layout(const IntrinsicTriangulation& tri, Index f) {
   const double area = intrinsic::triangle_area(l0, l1, l2);
   Layout L{l0, 0.0, 0.0, area};
   if (l0 > 0.0) {
-    L.x = (l0 * l0 + l2 * l2 - l1 * l1) / (2.0 * l0);
-    L.y = 2.0 * area / l0;  // stable from Heron, never NaN
+    const Eigen::Vector2d apex = intrinsic::triangle_apex(l0, l1, l2);
+    L.x = apex.x();
+    L.y = apex.y();  // stable from Heron, never NaN
   }
   return L;
 }

@@ -3,12 +3,12 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 #include <utility>
 
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/timer.h"
 #include "pointcloud/local_delaunay.h"
 
 #ifdef _OPENMP
@@ -17,10 +17,6 @@
 
 namespace ifem::pointcloud {
 namespace {
-
-double now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 int thread_count() {
 #ifdef _OPENMP
@@ -254,12 +250,12 @@ intrinsic::IntrinsicTriangulation pointcloud_triangulation(const Positions& poin
   }
   Report rep;
   rep.points = n;
-  double t0 = now();
+  Stopwatch watch;
   const Neighbours nb = k_nearest(points, options.k);
   rep.k = nb.k;
-  rep.seconds_knn = now() - t0;
+  rep.seconds_knn = watch.seconds();
 
-  t0 = now();
+  watch.restart();
   std::vector<Triangle> tris;
   int multiplicity = 3;
   {
@@ -277,13 +273,13 @@ intrinsic::IntrinsicTriangulation pointcloud_triangulation(const Positions& poin
       tris = std::move(st.tris);
     }
   }
-  rep.seconds_local = now() - t0;
+  rep.seconds_local = watch.seconds();
 
-  t0 = now();
+  watch.restart();
   intrinsic::IntrinsicTriangulation tri =
       intrinsic::tufted_cover(tris, points, multiplicity, &rep.cover);
   rep.mollify = tri.mollify(options.mollify_relative_epsilon);
-  rep.seconds_cover = now() - t0;
+  rep.seconds_cover = watch.seconds();
   rep.isolated_points = rep.cover.unreferenced_vertices;
   for (Index i = 0; i < n; ++i) {
     if (tri.vertex_halfedge(i) == kInvalidIndex) {
@@ -295,9 +291,9 @@ intrinsic::IntrinsicTriangulation pointcloud_triangulation(const Positions& poin
   rep.cover.parent_face.shrink_to_fit();
 
   if (options.intrinsic_delaunay) {
-    t0 = now();
+    watch.restart();
     rep.flips = tri.flip_to_delaunay();
-    rep.seconds_idt = now() - t0;
+    rep.seconds_idt = watch.seconds();
   }
   if (report) *report = std::move(rep);
   return tri;

@@ -17,6 +17,7 @@
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/core/union_find.h"
 #include "solvers/cholesky.h"
 #include "solvers/components.h"
 #include "solvers/poisson.h"
@@ -475,34 +476,27 @@ void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pt
     }
     // region: resolved faces with an unknown vertex; drop pieces without a known vertex
     std::vector<char> use_face(nf, 0);
-    std::vector<Index> parent(nv);
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&](Index v) {
-      while (parent[v] != v) v = parent[v] = parent[parent[v]];
-      return v;
-    };
+    UnionFind pieces(nv);
     for (Index f = 0; f < nf; ++f) {
       const Index a = tail[3 * f], b = tail[3 * f + 1], c = tail[3 * f + 2];
       if (!(resolved[a] && resolved[b] && resolved[c])) continue;
       if (known[a] && known[b] && known[c]) continue;
       use_face[f] = 1;
-      const Index ra = find(a), rb = find(b);
-      if (ra != rb) parent[rb] = ra;
-      const Index ra2 = find(a), rc = find(c);
-      if (ra2 != rc) parent[rc] = ra2;
+      pieces.unite(a, b);
+      pieces.unite(a, c);
     }
     std::vector<char> piece_known(nv, 0);
     for (Index f = 0; f < nf; ++f) {
       if (!use_face[f]) continue;
       for (int i = 0; i < 3; ++i) {
-        if (known[tail[3 * f + i]]) piece_known[find(tail[3 * f + i])] = 1;
+        if (known[tail[3 * f + i]]) piece_known[pieces.find(tail[3 * f + i])] = 1;
       }
     }
     std::vector<Index> unknown_id(nv, kInvalidIndex);
     std::vector<Index> unknown_vertex;
     for (Index f = 0; f < nf; ++f) {
       if (!use_face[f]) continue;
-      if (!piece_known[find(tail[3 * f])]) {
+      if (!piece_known[pieces.find(tail[3 * f])]) {
         use_face[f] = 0;
         continue;
       }

@@ -39,6 +39,15 @@ class IoError : public Error {
   using Error::Error;
 };
 
+/// A straight-line trace over a surface (signposts: locating an inserted vertex, tracing an
+/// intrinsic edge over the input) that could not finish: it crossed more sides than any
+/// straight line of that length can (degenerate geometry, rounding loops). Refinement counts
+/// these and goes on; everywhere else they propagate.
+class TraceError : public Error {
+ public:
+  using Error::Error;
+};
+
 /// A numerical failure: a matrix that is not positive definite, an eigensolver that did
 /// not converge.
 class SolverError : public Error {

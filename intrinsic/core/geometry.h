@@ -35,6 +35,14 @@ inline double opposite_cotan(double a, double b, double c) {
   return (b * b + c * c - a * a) / (4.0 * triangle_area(a, b, c));
 }
 
+/// The planar layout of a triangle from its lengths: with its base from (0, 0) to (base, 0),
+/// the third corner at distance `from_end` from (base, 0) and `from_origin` from (0, 0), on the
+/// side y ≥ 0 (y from the stable area, never NaN). Precondition: base > 0.
+inline Eigen::Vector2d triangle_apex(double base, double from_end, double from_origin) {
+  return {(base * base + from_origin * from_origin - from_end * from_end) / (2.0 * base),
+          2.0 * triangle_area(base, from_end, from_origin) / base};
+}
+
 /// Area of the equilateral triangle of side l (the area bound that asks for edges of about l).
 inline double equilateral_area(double l) { return 0.4330127018922193 * l * l; }  // √3/4 l²
 

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/core/side_pairs.h"
 
 namespace ifem {
 
@@ -35,61 +36,32 @@ std::string edge_name(Index a, Index b) {
 
 // Pairs up the sides of the triangles `tail` (3 per face) that join the same two vertices.
 // Output: partner[h] = the other side of h's edge or kInvalidIndex, same_dir[h] = 1 if the
-// partner runs in the same direction as h. Buckets halfedges by their smaller vertex (a
-// counting sort, linear time), then sorts each small bucket by the larger vertex.
+// partner runs in the same direction as h.
+// @throws NonManifoldInput on the first (by vertex pair) edge with 3+ sides
 void pair_sides(const std::vector<Index>& tail, Index n_vertices, std::vector<Index>& partner,
                 std::vector<char>& same_dir) {
   const Index nh = static_cast<Index>(tail.size());
-  std::vector<Index> start(static_cast<std::size_t>(n_vertices) + 1, 0);
-  for (Index h = 0; h < nh; ++h) {
-    ++start[std::min(tail[h], tail[T::next(h)]) + 1];
-  }
-  for (Index v = 0; v < n_vertices; ++v) start[v + 1] += start[v];
-  // key = (larger vertex, halfedge) packed in 64 bits: sorting keys needs no indirection
-  std::vector<std::uint64_t> order(nh);
-  {
-    std::vector<Index> fill(start.begin(), start.end() - 1);
-    for (Index h = 0; h < nh; ++h) {
-      const Index a = tail[h], b = tail[T::next(h)];
-      order[fill[std::min(a, b)]++] =
-          static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(h);
-    }
-  }
+  const SideGroups groups = group_sides(tail, n_vertices);
   partner.assign(nh, kInvalidIndex);
   same_dir.assign(nh, 0);
-  for (Index v = 0; v < n_vertices; ++v) {
-    std::uint64_t* b = order.data() + start[v];
-    std::uint64_t* e = order.data() + start[v + 1];
-    // buckets are small (about the vertex degree): insertion sort
-    for (std::uint64_t* i = b + 1; i < e; ++i) {
-      const std::uint64_t x = *i;
-      std::uint64_t* j = i;
-      for (; j > b && *(j - 1) > x; --j) *j = *(j - 1);
-      *j = x;
+  for (Index g = 0; g < groups.n_groups(); ++g) {
+    const Index n = groups.size(g);
+    const Index* x = groups.begin(g);
+    if (n > 2) {
+      std::ostringstream s;
+      s << "edge " << edge_name(groups.lo[g], groups.hi[g]) << " has " << n
+        << " incident faces (faces";
+      for (Index k = 0; k < n && k < 6; ++k) s << " " << T::face(x[k]);
+      s << (n > 6 ? " ..." : "") << "); use the tufted cover for nonmanifold input";
+      throw NonManifoldInput(s.str());
     }
-    for (std::uint64_t* i = b; i < e;) {
-      const std::uint64_t hi = *i >> 32;
-      std::uint64_t* j = i + 1;
-      while (j < e && (*j >> 32) == hi) ++j;
-      const std::ptrdiff_t n = j - i;
-      auto half = [](std::uint64_t k) { return static_cast<Index>(k & 0xffffffffu); };
-      if (n > 2) {
-        std::ostringstream s;
-        s << "edge " << edge_name(v, static_cast<Index>(hi)) << " has " << n
-          << " incident faces (faces";
-        for (std::uint64_t* k = i; k < j && k < i + 6; ++k) s << " " << T::face(half(*k));
-        s << (n > 6 ? " ..." : "") << "); use the tufted cover for nonmanifold input";
-        throw NonManifoldInput(s.str());
-      }
-      if (n == 2) {
-        const Index h0 = half(i[0]), h1 = half(i[1]);
-        partner[h0] = h1;
-        partner[h1] = h0;
-        const char same = tail[h0] == tail[h1];
-        same_dir[h0] = same;
-        same_dir[h1] = same;
-      }
-      i = j;
+    if (n == 2) {
+      const Index h0 = x[0], h1 = x[1];
+      partner[h0] = h1;
+      partner[h1] = h0;
+      const char same = tail[h0] == tail[h1];
+      same_dir[h0] = same;
+      same_dir[h1] = same;
     }
   }
 }
@@ -137,10 +109,9 @@ std::vector<char> orient_faces(const std::vector<Index>& tail, const std::vector
 // diagonal, or NaN when the diamond is not strictly convex (the flip would not be a
 // triangulation of the same surface).
 double flipped_length(double l_ab, double l_bc, double l_ca, double l_ad, double l_db) {
-  const double cx = (l_ab * l_ab + l_ca * l_ca - l_bc * l_bc) / (2.0 * l_ab);
-  const double cy = 2.0 * triangle_area(l_ab, l_bc, l_ca) / l_ab;
-  const double dx = (l_ab * l_ab + l_ad * l_ad - l_db * l_db) / (2.0 * l_ab);
-  const double dy = -2.0 * triangle_area(l_ab, l_ad, l_db) / l_ab;
+  const Eigen::Vector2d c = triangle_apex(l_ab, l_bc, l_ca);
+  const Eigen::Vector2d d_above = triangle_apex(l_ab, l_db, l_ad);  // d mirrored below ab
+  const double cx = c.x(), cy = c.y(), dx = d_above.x(), dy = -d_above.y();
   // where segment cd crosses the line of ab: strictly between a and b iff convex
   const double x = cx + (dx - cx) * cy / (cy - dy);
   if (!(x > 0.0 && x < l_ab)) return std::numeric_limits<double>::quiet_NaN();
@@ -154,8 +125,7 @@ void face_layout(const IntrinsicTriangulation& tri, Index f, Eigen::Vector2d p[3
                l2 = tri.halfedge_length(3 * f + 2);
   p[0] = Eigen::Vector2d::Zero();
   p[1] = Eigen::Vector2d(l0, 0.0);
-  p[2] = Eigen::Vector2d((l0 * l0 + l2 * l2 - l1 * l1) / (2.0 * l0),
-                         2.0 * triangle_area(l0, l1, l2) / l0);
+  p[2] = triangle_apex(l0, l1, l2);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -219,7 +189,7 @@ IntrinsicTriangulation IntrinsicTriangulation::from_side_lengths(
                            std::to_string(s) + " has invalid length " + std::to_string(l));
       }
     }
-    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+    if (repeats_vertex(t)) {
       ++rep.dropped_faces;
       continue;
     }

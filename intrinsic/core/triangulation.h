@@ -192,7 +192,16 @@ class IntrinsicTriangulation {
   ///   face g2  = (m, a, d): 3g2 m→a, 3g2+1 a→d (old t1), 3g2+2 d→m
   /// On a boundary edge only face(h) and g1 exist (3g1 is then a boundary side). New edges,
   /// in order: m–b, m–c, then (interior only) m–d. l_mc / l_md are the new diagonals.
+  /// @throws InvalidInput if e is out of range or !can_split_edge(e) (ask first)
   Index split_edge(Index e, double t, double l_mc, double l_md);
+
+  /// True when split_edge(e, ...) can split edge e: false for an edge whose two sides lie in
+  /// one face (a self-glued side), the one layout the O(1) rewrite does not handle.
+  /// Precondition: e in [0, n_edges()).
+  bool can_split_edge(Index e) const {
+    const Index h = edge_halfedge_[e];
+    return twin_[h] == kInvalidIndex || face(twin_[h]) != face(h);
+  }
 
   /// Splits edge e at fraction t ∈ (0, 1) as above, with the new diagonals l_mc / l_md
   /// measured in the 2D layouts of the one or two faces of e (boundary edges included).

@@ -1,5 +1,7 @@
 // Export of the common subdivision: traced intrinsic edges as a PLY line set, and the overlay
 // of the intrinsic and input triangulations as a triangle mesh.
+#include "intrinsic/refine/common_subdivision.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -11,8 +13,8 @@
 #include <utility>
 #include <vector>
 
+#include "intrinsic/core/first_error.h"
 #include "intrinsic/io/detail.h"
-#include "intrinsic/refine/signpost.h"
 
 namespace ifem::intrinsic {
 
@@ -700,7 +702,7 @@ CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
   // ---- trace every edge (from the halfedge trace_edge() would use)
   std::vector<Index> traced(ne);
   std::vector<std::vector<SurfacePoint>> paths(ne);
-  std::string failure;
+  FirstError failure;  // transport out of the OpenMP loop: any Error ends the call
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index e = 0; e < ne; ++e) {
     Index h = tri.edge_halfedge(e);
@@ -709,14 +711,13 @@ CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
     try {
       paths[e] = st.trace_halfedge(h);
     } catch (const Error& err) {
-#pragma omp critical(ifem_common_subdivision_failure)
-      if (failure.empty()) failure = "edge " + std::to_string(e) + ": " + err.what();
+      failure.record(err, "edge " + std::to_string(e));
     }
   }
-  if (!failure.empty()) throw Error("common_subdivision: " + failure);
-    // A trace leaving (or reaching) a vertex that lies on an input side records a crossing at the
-    // vertex itself: drop it, so that the vertex is the path's end in the face the segment really
-    // runs in (else that face gets a second node at the vertex's place and overlapping pieces).
+  failure.rethrow_if_any("common_subdivision");
+  // A trace leaving (or reaching) a vertex that lies on an input side records a crossing at the
+  // vertex itself: drop it, so that the vertex is the path's end in the face the segment really
+  // runs in (else that face gets a second node at the vertex's place and overlapping pieces).
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index e = 0; e < ne; ++e) {
     auto& path = paths[e];

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -245,57 +246,91 @@ class BadFaceQueue {
 // (Üngör 2004); 0.95 as in Shewchuk's Triangle, so that the new triangle is just above it.
 constexpr double kOffCenterFactor = 0.95;
 
+// Chew's second algorithm over a host (see above), in named steps: the constructor checks the
+// options and sets the insertion cap, run() makes the triangulation Delaunay, queues the bad
+// faces and inserts until none is left (or the cap), then measures the result.
 template <class Host>
-RefineReport refine(Host& host, const RefineOptions& options) {
-  const double deg = kPi / 180.0;
-  if (!(options.min_angle_degrees > 0.0 && options.min_angle_degrees <= 30.0)) {
-    throw InvalidInput("delaunay_refine: minimum angle must be in (0, 30] degrees, got " +
-                       std::to_string(options.min_angle_degrees));
-  }
-  if (!(options.max_area >= 0.0)) {
-    throw InvalidInput("delaunay_refine: max_area must be ≥ 0");
-  }
-  const double bound = options.min_angle_degrees * deg;
-  const double max_area = options.max_area > 0.0 ? options.max_area : 0.0;
-  const IntrinsicTriangulation& tri = host.tri();
-  RefineReport rep;
-  rep.vertices_before = tri.n_vertices();
-  Index cap = options.max_insertions;
-  if (cap < 0) {
-    // 10 per input vertex, plus 2000 for the rings a tiny (mollified, degenerate) feature of a
-    // small mesh needs (cgal_fused_vertices.off: 40 vertices, 855 insertions), and room for
-    // 4× the triangles a size bound asks for
-    double c = 10.0 * std::max<Index>(tri.n_vertices(), 10) + 2000.0;
-    if (max_area > 0.0) c += 4.0 * total_area(tri) * tri.multiplicity() / max_area;
-    cap = static_cast<Index>(std::min(c, 1.5e9));
+class Refiner {
+ public:
+  Refiner(Host& host, const RefineOptions& options)
+      : host_(host), tri_(host.tri()), options_(options) {
+    if (!(options.min_angle_degrees > 0.0 && options.min_angle_degrees <= 30.0)) {
+      throw InvalidInput("delaunay_refine: minimum angle must be in (0, 30] degrees, got " +
+                         std::to_string(options.min_angle_degrees));
+    }
+    if (!(options.max_area >= 0.0)) {
+      throw InvalidInput("delaunay_refine: max_area must be ≥ 0");
+    }
+    bound_ = options.min_angle_degrees * kDeg;
+    cos_bound_ = std::cos(bound_);
+    max_area_ = options.max_area > 0.0 ? options.max_area : 0.0;
+    rep_.vertices_before = tri_.n_vertices();
+    cap_ = insertion_cap();
   }
 
-  rep.flips += host.flip_to_delaunay().flips;
-  double before = kPi;
-  for (Index f = 0; f < tri.n_faces(); ++f) before = std::min(before, min_corner_angle(tri, f));
-  rep.min_angle_before = before / deg;
+  RefineReport run() {
+    rep_.flips += host_.flip_to_delaunay().flips;
+    double before = kPi;
+    for (Index f = 0; f < tri_.n_faces(); ++f) before = std::min(before, min_corner_angle(tri_, f));
+    rep_.min_angle_before = before / kDeg;
+    cones_.emplace(tri_, bound_);
+    BadFaceQueue queue(tri_.n_faces());
+    for (Index f = 0; f < tri_.n_faces(); ++f) {
+      const Verdict v = classify(f);
+      if (v.kind == 1) queue.push(f, v.bucket);
+    }
+    for (Index f = queue.pop(); f != kInvalidIndex; f = queue.pop()) {
+      const Verdict verdict = classify(f);
+      if (verdict.kind != 1) continue;
+      if (rep_.insertions >= cap_) {
+        rep_.hit_insertion_cap = true;
+        break;
+      }
+      const Index v = insert_for(f, verdict);
+      if (v == kInvalidIndex) continue;
+      ++rep_.insertions;
+      restore_delaunay_around(v, queue);
+    }
+    measure_result();
+    return rep_;
+  }
 
-  Cones cones(tri, bound);
+ private:
+  static constexpr double kDeg = kPi / 180.0;
+
   // kind 0 = good, 1 = bad, 2 = needle (every small corner unfixable); a bad face's queue
-  // bucket. The angle θ at a corner is below the bound iff its cosine b² + c² − a² over 2bc is
-  // above cos(bound), and sin²(θ/2) = (a² − (b − c)²) / 4bc: no trigonometry.
+  // bucket.
   struct Verdict {
     int kind = 0;
     int bucket = 0;
   };
-  const double cos_bound = std::cos(bound);
-  auto classify = [&](Index f) {
+
+  // the cap on insertions: options.max_insertions, or 10 per input vertex, plus 2000 for the
+  // rings a tiny (mollified, degenerate) feature of a small mesh needs
+  // (cgal_fused_vertices.off: 40 vertices, 855 insertions), and room for 4× the triangles a
+  // size bound asks for
+  Index insertion_cap() const {
+    if (options_.max_insertions >= 0) return options_.max_insertions;
+    double c = 10.0 * std::max<Index>(tri_.n_vertices(), 10) + 2000.0;
+    if (max_area_ > 0.0) c += 4.0 * total_area(tri_) * tri_.multiplicity() / max_area_;
+    return static_cast<Index>(std::min(c, 1.5e9));
+  }
+
+  // Whether face f needs an insertion and how urgently. The angle θ at a corner is below the
+  // bound iff its cosine b² + c² − a² over 2bc is above cos(bound), and
+  // sin²(θ/2) = (a² − (b − c)²) / 4bc: no trigonometry.
+  Verdict classify(Index f) {
     Verdict v;
     bool small = false;
     double worst = 2.0;  // sin(θ/2) of the smallest fixable small corner
-    const double l[3] = {tri.halfedge_length(3 * f), tri.halfedge_length(3 * f + 1),
-                         tri.halfedge_length(3 * f + 2)};
+    const double l[3] = {tri_.halfedge_length(3 * f), tri_.halfedge_length(3 * f + 1),
+                         tri_.halfedge_length(3 * f + 2)};
     for (int k = 0; k < 3; ++k) {
       // corner k sits between sides k and k+2, opposite side k+1
       const double b = l[k], c = l[(k + 2) % 3], a = l[(k + 1) % 3];
-      if (b * b + c * c - a * a > cos_bound * 2.0 * b * c) {
+      if (b * b + c * c - a * a > cos_bound_ * 2.0 * b * c) {
         small = true;
-        if (!cones.unfixable(tri, 3 * f + k)) {
+        if (!cones_->unfixable(tri_, 3 * f + k)) {
           const double s2 = (a * a - (b - c) * (b - c)) / (4.0 * b * c);
           worst = std::min(worst, std::sqrt(std::max(s2, 0.0)));
         }
@@ -306,54 +341,40 @@ RefineReport refine(Host& host, const RefineOptions& options) {
       v.bucket = angle_bucket(worst);
       return v;
     }
-    if (max_area > 0.0) {
-      const double area = face_area(tri, f);
-      if (area > max_area) {
+    if (max_area_ > 0.0) {
+      const double area = face_area(tri_, f);
+      if (area > max_area_) {
         v.bucket = area_bucket(area);
         return v;
       }
     }
-    if (options.split_encroached_boundary) {
+    if (options_.split_encroached_boundary) {
       for (int k = 0; k < 3; ++k) {
         // side k faces the corner k+2: obtuse there ⇔ b² + c² < a²; its circumcenter then lies
         // across side k, so inserting it splits that boundary edge
         // (only for an interior apex: an apex on the boundary can cascade, as in Ruppert's
         // small-input-angle case)
-        if (tri.twin(3 * f + k) != kInvalidIndex) continue;
-        if (cones.is_boundary(tri.tail(3 * f + (k + 2) % 3))) continue;
+        if (tri_.twin(3 * f + k) != kInvalidIndex) continue;
+        if (cones_->is_boundary(tri_.tail(3 * f + (k + 2) % 3))) continue;
         const double a = l[k], b = l[(k + 1) % 3], c = l[(k + 2) % 3];
         if (b * b + c * c - a * a < -1e-12 * (b * b + c * c)) {
-          v.bucket = area_bucket(face_area(tri, f));
+          v.bucket = area_bucket(face_area(tri_, f));
           return v;
         }
       }
     }
     v.kind = small ? 2 : 0;
     return v;
-  };
-
-  BadFaceQueue queue(tri.n_faces());
-  for (Index f = 0; f < tri.n_faces(); ++f) {
-    const Verdict v = classify(f);
-    if (v.kind == 1) queue.push(f, v.bucket);
   }
-  std::vector<Index> touched, flip_queue;
-  Eigen::Vector2d p[3];
-  for (Index f = queue.pop(); f != kInvalidIndex; f = queue.pop()) {
-    const Verdict verdict = classify(f);
-    if (verdict.kind != 1) continue;
-    if (rep.insertions >= cap) {
-      rep.hit_insertion_cap = true;
-      break;
-    }
-    // circumcenter in f's layout (or the off-center), and the straight line to it from the
-    // centroid
-    face_layout(tri, f, p);
+
+  // The point to insert for bad face f in its layout p: the circumcenter, or the off-center
+  // for an angle-bad face when asked.
+  Eigen::Vector2d target_point(const Eigen::Vector2d p[3], const Verdict& verdict) const {
     const Eigen::Vector2d b = p[1], c = p[2];
     const double dd = 2.0 * (b.x() * c.y() - b.y() * c.x());
     Eigen::Vector2d target((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / dd,
                            (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / dd);
-    if (options.off_centers && verdict.bucket >= kAreaBuckets) {
+    if (options_.off_centers && verdict.bucket >= kAreaBuckets) {
       int s = 0;  // shortest side
       for (int k = 1; k < 3; ++k) {
         if ((p[(k + 1) % 3] - p[k]).squaredNorm() < (p[(s + 1) % 3] - p[s]).squaredNorm()) s = k;
@@ -361,117 +382,155 @@ RefineReport refine(Host& host, const RefineOptions& options) {
       const Eigen::Vector2d m = 0.5 * (p[s] + p[(s + 1) % 3]);
       const double to_cc = (target - m).norm();
       const double h =
-          kOffCenterFactor * 0.5 * (p[(s + 1) % 3] - p[s]).norm() / std::tan(0.5 * bound);
+          kOffCenterFactor * 0.5 * (p[(s + 1) % 3] - p[s]).norm() / std::tan(0.5 * bound_);
       if (h < to_cc) target = m + (h / to_cc) * (target - m);
     }
+    return target;
+  }
+
+  // Traces from f's centroid to its target point and inserts a vertex where the trace ends
+  // (in a face, on a side, or at a boundary edge it splits). Returns the new vertex, or
+  // kInvalidIndex when the trace or the insertion failed (counted in failed_traces).
+  Index insert_for(Index f, const Verdict& verdict) {
+    Eigen::Vector2d p[3];
+    face_layout(tri_, f, p);
+    const Eigen::Vector2d target = target_point(p, verdict);
     const Eigen::Vector2d centroid = (p[0] + p[1] + p[2]) / 3.0;
     const Eigen::Vector2d w = target - centroid;
     const double dist = w.norm();
     if (!std::isfinite(dist) || !(dist > 0.0)) {
-      ++rep.failed_traces;
-      continue;
+      ++rep_.failed_traces;
+      return kInvalidIndex;
     }
     SurfacePoint start;
     start.face = f;
     start.bary = Eigen::Vector3d::Constant(1.0 / 3.0);
-    TraceResult r;
     try {
-      r = trace_straight(tri, start, w / dist, dist, -1, false, false, 4 * tri.n_faces() + 1000);
-    } catch (const Error&) {
-      ++rep.failed_traces;
-      continue;
-    }
-    Index v;
-    bool on_boundary = false;
-    try {
-      if (r.hit_boundary) {
-        v = host.split_edge(tri.edge(r.boundary_halfedge), 0.5);
-        ++rep.boundary_splits;
-        on_boundary = true;
-      } else {
-        const Index g = r.end.face;
-        const Eigen::Vector3d& bary = r.end.bary;
-        int k = 0;
-        for (int j = 1; j < 3; ++j) {
-          if (bary[j] < bary[k]) k = j;
-        }
-        // Chew: a circumcenter inside the diametral circle of a boundary side of the face it
-        // lands in splits that side at its midpoint instead
-        Index encroached = kInvalidIndex;
-        face_layout(tri, g, p);
-        const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
-        for (int s = 0; s < 3; ++s) {
-          if (tri.twin(3 * g + s) != kInvalidIndex) continue;
-          if ((p[s] - x).dot(p[(s + 1) % 3] - x) < 0.0) encroached = 3 * g + s;
-        }
-        if (encroached != kInvalidIndex) {
-          v = host.split_edge(tri.edge(encroached), 0.5);
-          ++rep.boundary_splits;
-          on_boundary = true;
-        } else if (bary[k] < 1e-9) {
-          // on (or within rounding of) a side: split that edge
-          const int s = (k + 1) % 3;
-          const Index h = 3 * g + s;
-          const Index e = tri.edge(h);
-          double u = bary[(s + 1) % 3] / (bary[s] + bary[(s + 1) % 3]);
-          if (tri.edge_halfedge(e) != h) u = 1.0 - u;
-          if (tri.is_boundary_edge(e)) {
-            u = 0.5;
-            ++rep.boundary_splits;
-            on_boundary = true;
-          } else {
-            ++rep.edge_splits;
-          }
-          v = host.split_edge(e, std::clamp(u, 1e-3, 1.0 - 1e-3));
-        } else {
-          v = host.insert_vertex(g, bary);
-          ++rep.face_insertions;
-        }
+      const TraceResult r =
+          trace_straight(tri_, start, w / dist, dist, -1, false, false, 4 * tri_.n_faces() + 1000);
+      bool on_boundary = false;
+      const Index v = insert_at(r, &on_boundary);
+      if (v == kInvalidIndex) {
+        ++rep_.failed_traces;
+        return kInvalidIndex;
       }
-    } catch (const Error&) {
-      ++rep.failed_traces;
-      continue;
+      cones_->add_vertex(v, on_boundary);
+      return v;
+    } catch (const TraceError&) {  // the trace, or locating the new vertex (signposts)
+      ++rep_.failed_traces;
+      return kInvalidIndex;
     }
-    ++rep.insertions;
-    cones.add_vertex(v, on_boundary);
-    // restore Delaunay around v: the sides opposite v, then whatever flips reach
-    touched.clear();
-    flip_queue.clear();
-    const Index h0 = tri.vertex_halfedge(v);
+  }
+
+  // Inserts at the end of trace r: splits the boundary edge it hit, a boundary side whose
+  // diametral circle the point encroaches (Chew), the side it lies on (within rounding), or
+  // inserts in the face. kInvalidIndex when the edge to split cannot be split.
+  Index insert_at(const TraceResult& r, bool* on_boundary) {
+    if (r.hit_boundary) return split_boundary(tri_.edge(r.boundary_halfedge), on_boundary);
+    const Index g = r.end.face;
+    const Eigen::Vector3d& bary = r.end.bary;
+    int k = 0;
+    for (int j = 1; j < 3; ++j) {
+      if (bary[j] < bary[k]) k = j;
+    }
+    // Chew: a circumcenter inside the diametral circle of a boundary side of the face it
+    // lands in splits that side at its midpoint instead
+    Index encroached = kInvalidIndex;
+    Eigen::Vector2d p[3];
+    face_layout(tri_, g, p);
+    const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
+    for (int s = 0; s < 3; ++s) {
+      if (tri_.twin(3 * g + s) != kInvalidIndex) continue;
+      if ((p[s] - x).dot(p[(s + 1) % 3] - x) < 0.0) encroached = 3 * g + s;
+    }
+    if (encroached != kInvalidIndex) return split_boundary(tri_.edge(encroached), on_boundary);
+    if (bary[k] < 1e-9) {
+      // on (or within rounding of) a side: split that edge
+      const int s = (k + 1) % 3;
+      const Index h = 3 * g + s;
+      const Index e = tri_.edge(h);
+      double u = bary[(s + 1) % 3] / (bary[s] + bary[(s + 1) % 3]);
+      if (tri_.edge_halfedge(e) != h) u = 1.0 - u;
+      if (tri_.is_boundary_edge(e)) {
+        u = 0.5;
+        ++rep_.boundary_splits;
+        *on_boundary = true;
+      } else {
+        ++rep_.edge_splits;
+      }
+      if (!tri_.can_split_edge(e)) return kInvalidIndex;
+      return host_.split_edge(e, std::clamp(u, 1e-3, 1.0 - 1e-3));
+    }
+    const Index v = host_.insert_vertex(g, bary);
+    ++rep_.face_insertions;
+    return v;
+  }
+
+  // Splits boundary edge e at its midpoint (kInvalidIndex if it cannot be split).
+  Index split_boundary(Index e, bool* on_boundary) {
+    if (!tri_.can_split_edge(e)) return kInvalidIndex;
+    const Index v = host_.split_edge(e, 0.5);
+    ++rep_.boundary_splits;
+    *on_boundary = true;
+    return v;
+  }
+
+  // Restores Delaunay around the new vertex v (the sides opposite v, then whatever flips
+  // reach) and queues the faces it touched that are bad.
+  void restore_delaunay_around(Index v, BadFaceQueue& queue) {
+    touched_.clear();
+    flip_queue_.clear();
+    const Index h0 = tri_.vertex_halfedge(v);
     Index h = h0;
     for (int guard = 0; guard < 64; ++guard) {
-      touched.push_back(T::face(h));
-      flip_queue.push_back(tri.edge(T::next(h)));
-      const Index n = tri.twin(T::prev(h));
+      touched_.push_back(T::face(h));
+      flip_queue_.push_back(tri_.edge(T::next(h)));
+      const Index n = tri_.twin(T::prev(h));
       if (n == kInvalidIndex || n == h0) break;
       h = n;
     }
-    rep.flips += host.flip_to_delaunay_from(flip_queue, &touched).flips;
-    std::sort(touched.begin(), touched.end());
-    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-    for (const Index x : touched) {
+    rep_.flips += host_.flip_to_delaunay_from(flip_queue_, &touched_).flips;
+    std::sort(touched_.begin(), touched_.end());
+    touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
+    for (const Index x : touched_) {
       const Verdict vx = classify(x);
       if (vx.kind == 1) queue.push(x, vx.bucket);
     }
   }
 
-  rep.vertices_after = tri.n_vertices();
-  rep.insertions = rep.vertices_after - rep.vertices_before;
-  double after = kPi, after_ok = kPi;
-  for (Index f = 0; f < tri.n_faces(); ++f) {
-    const double a = min_corner_angle(tri, f);
-    after = std::min(after, a);
-    const int c = classify(f).kind;
-    if (c == 2) {
-      ++rep.needle_faces;
-    } else {
-      after_ok = std::min(after_ok, a);
-      if (c == 1) ++rep.bad_faces_left;
+  // The report's final counts and angles.
+  void measure_result() {
+    rep_.vertices_after = tri_.n_vertices();
+    rep_.insertions = rep_.vertices_after - rep_.vertices_before;
+    double after = kPi, after_ok = kPi;
+    for (Index f = 0; f < tri_.n_faces(); ++f) {
+      const double a = min_corner_angle(tri_, f);
+      after = std::min(after, a);
+      const int c = classify(f).kind;
+      if (c == 2) {
+        ++rep_.needle_faces;
+      } else {
+        after_ok = std::min(after_ok, a);
+        if (c == 1) ++rep_.bad_faces_left;
+      }
     }
+    rep_.min_angle_after = after / kDeg;
+    rep_.min_angle_after_excluding_needles = after_ok / kDeg;
   }
-  rep.min_angle_after = after / deg;
-  rep.min_angle_after_excluding_needles = after_ok / deg;
-  return rep;
+
+  Host& host_;
+  const IntrinsicTriangulation& tri_;
+  const RefineOptions& options_;
+  double bound_ = 0.0, cos_bound_ = 1.0, max_area_ = 0.0;
+  Index cap_ = 0;
+  RefineReport rep_;
+  std::optional<Cones> cones_;  // made after the first Delaunay flips
+  std::vector<Index> touched_, flip_queue_;
+};
+
+template <class Host>
+RefineReport refine(Host& host, const RefineOptions& options) {
+  return Refiner<Host>(host, options).run();
 }
 
 }  // namespace
@@ -537,10 +596,11 @@ void split_long_edges(SignpostTriangulation& st, const RelaxOptions& options, In
         break;
       }
       if (!(tri.length(e) > options.max_edge_length)) continue;
+      if (!tri.can_split_edge(e)) continue;  // an edge with both sides in one face
       try {
         st.split_edge(e, 0.5);
-      } catch (const Error&) {
-        continue;  // e.g. an edge with both sides in one face
+      } catch (const TraceError&) {
+        continue;  // the midpoint could not be located on the input: not counted as a split
       }
       ++rep.splits;
       split_any = true;

@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "intrinsic/core/first_error.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/io/detail.h"
 
@@ -48,8 +49,8 @@ TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint
   };
   for (Index step = 0;; ++step) {
     if (step > max_steps) {
-      throw Error("trace: gave up after " + std::to_string(max_steps) +
-                  " side crossings (degenerate geometry near face " + std::to_string(f) + ")");
+      throw TraceError("trace: gave up after " + std::to_string(max_steps) +
+                       " side crossings (degenerate geometry near face " + std::to_string(f) + ")");
     }
     // barycentric velocity of the unit direction d (Σ db = 0, Σ db_i p_i = d)
     const double db2 = d.y() / p[2].y();
@@ -360,15 +361,15 @@ std::vector<SurfacePoint> SignpostTriangulation::trace_halfedge(Index h) const {
 
 std::vector<std::vector<Eigen::Vector3d>> SignpostTriangulation::traced_edges_3d() const {
   std::vector<std::vector<Eigen::Vector3d>> out(tri_.n_edges());
-  std::string failure;  // exceptions may not leave an OpenMP loop: rethrown after it
+  FirstError
+      failure;  // transport out of the OpenMP loop, not control flow: any Error ends the call
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index e = 0; e < tri_.n_edges(); ++e) {
     std::vector<SurfacePoint> path;
     try {
       path = trace_edge(e);
     } catch (const Error& err) {
-#pragma omp critical(ifem_signpost_trace_failure)
-      if (failure.empty()) failure = "edge " + std::to_string(e) + ": " + err.what();
+      failure.record(err, "edge " + std::to_string(e));
       continue;
     }
     auto& line = out[e];
@@ -378,7 +379,7 @@ std::vector<std::vector<Eigen::Vector3d>> SignpostTriangulation::traced_edges_3d
       if (line.empty() || (x - line.back()).squaredNorm() > 0.0) line.push_back(x);
     }
   }
-  if (!failure.empty()) throw Error("traced_edges_3d: " + failure);
+  failure.rethrow_if_any("traced_edges_3d");
   return out;
 }
 
@@ -508,7 +509,7 @@ bool SignpostTriangulation::move_inserted_vertex(Index v, const Eigen::Vector2d&
   TraceResult r;
   try {
     r = trace_from_vertex(v, theta, dist, false);
-  } catch (const Error&) {
+  } catch (const TraceError&) {  // the move is refused, the vertex stays where it was
     return false;
   }
   if (r.hit_boundary || r.end.face == kInvalidIndex) return false;

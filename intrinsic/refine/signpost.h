@@ -40,7 +40,7 @@ struct TraceOptions {
   bool slide_on_boundary = false;
   /// Fill TraceResult::path.
   bool record_path = false;
-  /// Give up (throw Error) after crossing this many sides; −1: 4 × #F + 1000.
+  /// Give up (throw TraceError) after crossing this many sides; −1: 4 × #F + 1000.
   Index max_steps = -1;
   /// @throws InvalidInput naming the field: start_corner outside {−1, 0, 1, 2}, max_steps < −1
   void validate() const;
@@ -50,7 +50,7 @@ struct TraceOptions {
 /// unit direction `dir` (start.face's layout, face_layout()) for `distance` (absolute, ≥ 0, in
 /// the length unit of tri), unfolding across glued sides.
 /// @throws InvalidInput on bad options
-/// @throws Error if the line crosses more than max_steps sides (degenerate input)
+/// @throws TraceError if the line crosses more than max_steps sides (degenerate input)
 inline TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
                                   const Eigen::Vector2d& dir, double distance,
                                   const TraceOptions& options = {});
@@ -167,7 +167,7 @@ class SignpostTriangulation {
   /// Traces intrinsic edge e over the input surface: a polyline of input surface points from
   /// one endpoint to the other (every input side crossed), starting at an endpoint that is an
   /// input vertex when there is one.
-  /// @throws Error when tracing fails (too many crossings on a degenerate input)
+  /// @throws TraceError when tracing fails (too many crossings on a degenerate input)
   std::vector<SurfacePoint> trace_edge(Index e) const;
   /// Traces intrinsic halfedge h from its tail to its head: the segment between path[i] and
   /// path[i+1] lies in input face path[i].face (path[i+1] may be expressed in the next face).
@@ -212,34 +212,8 @@ class SignpostTriangulation {
                                          // of its location face) of signpost direction 0
 };
 
-/// The common subdivision of a signpost triangulation: the overlay of the intrinsic and the
-/// input triangulations, as a 3D triangle mesh on the input surface. Each of its polygons (the
-/// intersection of one intrinsic face with one input face, convex) is split into a fan of
-/// triangles, which record both faces. Its total area is the input's.
-struct CommonSubdivision {
-  Positions positions;  ///< vertices: input vertices first (same ids), then
-                        ///< inserted intrinsic vertices, then edge crossings
-  std::vector<Triangle> faces;
-  std::vector<Index> intrinsic_face;  ///< per face: the intrinsic face it lies in
-  std::vector<Index> input_face;      ///< per face: the input face, as an index into the
-                                      ///< faces given (SignpostTriangulation::input_faces())
-};
-
-/// Builds the common subdivision by tracing every intrinsic edge over the input and cutting
-/// each input face along the traced segments. @throws Error when a trace fails
-CommonSubdivision common_subdivision(const SignpostTriangulation& st);
-
-/// Writes a common subdivision as a PLY triangle mesh with face properties `intrinsic_face`
-/// and `input_face` (int). Atomic. @throws IoError if the file cannot be written
-void write_common_subdivision_ply(const std::string& path, const CommonSubdivision& cs,
-                                  bool binary = true);
-
-/// Writes polylines (e.g. SignpostTriangulation::traced_edges_3d()) as a PLY line set:
-/// vertices (x, y, z as double) and edges (vertex1, vertex2 as int), binary little-endian or
-/// ASCII; opens in MeshLab, ParaView, Polyscope. Atomic (writes path.tmp, then renames).
-/// @throws IoError if the file cannot be written
-void write_polylines_ply(const std::string& path,
-                         const std::vector<std::vector<Eigen::Vector3d>>& polylines,
-                         bool binary = true);
-
 }  // namespace ifem::intrinsic
+
+// The common subdivision and the PLY writers used to be declared here: kept visible to callers
+// that include only signpost.h.
+#include "intrinsic/refine/common_subdivision.h"  // IWYU pragma: export

@@ -118,31 +118,6 @@ Index negative_boundary_weights(const IntrinsicTriangulation& tri) {
   return n;
 }
 
-std::vector<char> boundary_vertex_mask(const std::vector<Triangle>& faces, Index n_vertices) {
-  std::vector<char> mask(n_vertices, 0);
-  // sides whose vertex pair occurs once among all sides
-  std::vector<std::uint64_t> keys;
-  keys.reserve(3 * faces.size());
-  for (const Triangle& t : faces) {
-    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;
-    for (int k = 0; k < 3; ++k) {
-      const std::uint64_t a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
-      keys.push_back(a << 32 | b);
-    }
-  }
-  std::sort(keys.begin(), keys.end());
-  for (std::size_t i = 0; i < keys.size();) {
-    std::size_t j = i + 1;
-    while (j < keys.size() && keys[j] == keys[i]) ++j;
-    if (j - i == 1) {
-      mask[keys[i] >> 32] = 1;
-      mask[keys[i] & 0xffffffffu] = 1;
-    }
-    i = j;
-  }
-  return mask;
-}
-
 SurfaceTriangulation build_surface(const std::vector<Triangle>& faces, const Positions& positions,
                                    const SurfaceOptions& options) {
   options.validate();

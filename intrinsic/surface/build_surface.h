@@ -85,8 +85,4 @@ SurfaceTriangulation build_surface(const std::vector<Triangle>& faces, const Pos
 /// the largest weight).
 Index negative_boundary_weights(const IntrinsicTriangulation& tri);
 
-/// #V mask (1 = on the boundary) of the vertices of sides that no other side of the face list
-/// joins the same two vertices; faces that repeat a vertex are ignored.
-std::vector<char> boundary_vertex_mask(const std::vector<Triangle>& faces, Index n_vertices);
-
 }  // namespace ifem::intrinsic

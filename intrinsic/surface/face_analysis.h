@@ -33,4 +33,8 @@ struct FaceListStats {
 /// Computes the statistics in O(F log F).
 FaceListStats analyze_faces(const std::vector<Triangle>& faces, Index n_vertices);
 
+/// Per vertex (#V): 1 if the vertex is an end of a boundary edge (a vertex pair that exactly one
+/// side of the non-degenerate faces joins), else 0. Precondition: ids in [0, n_vertices).
+std::vector<char> boundary_vertex_mask(const std::vector<Triangle>& faces, Index n_vertices);
+
 }  // namespace ifem::intrinsic

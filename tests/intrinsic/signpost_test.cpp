@@ -17,6 +17,7 @@
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/common_subdivision.h"
 #include "intrinsic/refine/delaunay_refine.h"
 #include "intrinsic/surface/tufted_cover.h"
 

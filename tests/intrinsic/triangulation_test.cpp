@@ -310,5 +310,17 @@ TEST(Triangulation, SignpostSaveLoadKeepsEdgeIds) {
   EXPECT_GT(moved, 0) << "the test needs a numbering that is not in halfedge order";
 }
 
+TEST(Triangulation, CanSplitEdgeAnswersBeforeSplitEdgeWouldRefuse) {
+  // one face (a, b, a) whose sides a→b and b→a are glued: the edge has both sides in one face
+  const IntrinsicTriangulation tri =
+      IntrinsicTriangulation::from_gluing({0, 1, 0}, {1, 0, kInvalidIndex}, {1.0, 1.0, 1.0}, 2);
+  const Index self_glued = tri.edge(0);
+  const Index boundary = tri.edge(2);
+  EXPECT_FALSE(tri.can_split_edge(self_glued));
+  EXPECT_TRUE(tri.can_split_edge(boundary));
+  IntrinsicTriangulation copy = tri;
+  EXPECT_THROW(copy.split_edge(self_glued, 0.5), InvalidInput);
+}
+
 }  // namespace
 }  // namespace ifem::intrinsic
