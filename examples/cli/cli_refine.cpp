@@ -69,67 +69,75 @@ double input_min_angle(const io::SurfaceInput& input) {
   return m * 180.0 / intrinsic::kPi;
 }
 
-int run(const Args& args) {
-  if (!args.has("output") && !args.has("save") && !args.has("lines") && !args.has("mesh")) {
-    throw UsageError("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
-  }
-  // refinement with signposts (the library refuses inputs that cannot have them)
-  const PreparedSurface s =
-      prepare_surface(args.positional()[0], args, refine_settings(args, 0.0, true));
-  const double min_in = input_min_angle(s.input);
-  const intrinsic::RefineReport& r = s.refine_report;
-  const intrinsic::RelaxReport& rr = s.relax_report;
-  const intrinsic::SignpostTriangulation& st = *s.signposts;
-  // everything is computed before the first file is written: no partial output on a failure
+// Everything `ifem refine` writes, computed before the first file is written (no partial
+// output on a failure).
+struct RefineOutputs {
+  intrinsic::CommonSubdivision overlay;                    ///< -o
+  std::vector<std::vector<Eigen::Vector3d>> traced_edges;  ///< --lines
+  std::vector<Triangle> faces;                             ///< --mesh: the refined faces
+  Eigen::VectorXd inserted;                                ///< --mesh: 1 on inserted vertices
+};
+
+RefineOutputs compute_outputs(const Args& args, const intrinsic::SignpostTriangulation& st) {
+  RefineOutputs o;
   Stopwatch watch;
-  const bool binary = !args.has("ascii");
-  intrinsic::CommonSubdivision cs;
   if (args.has("output")) {
-    cs = intrinsic::common_subdivision(st);
-    progress(args, "common subdivision: " + std::to_string(cs.faces.size()) + " triangles in " +
-                       std::to_string(watch.restart()) + " s");
+    o.overlay = intrinsic::common_subdivision(st);
+    progress(args, "common subdivision: " + std::to_string(o.overlay.faces.size()) +
+                       " triangles in " + std::to_string(watch.restart()) + " s");
   }
-  std::vector<std::vector<Eigen::Vector3d>> lines;
   if (args.has("lines")) {
-    watch.restart();
-    lines = st.traced_edges_3d();
-    progress(args, "traced " + std::to_string(lines.size()) +
-                       " intrinsic edges over the input in " + std::to_string(watch.seconds()) +
+    o.traced_edges = st.traced_edges_3d();
+    progress(args, "traced " + std::to_string(o.traced_edges.size()) +
+                       " intrinsic edges over the input in " + std::to_string(watch.restart()) +
                        " s");
   }
-  std::vector<Triangle> faces;
-  Eigen::VectorXd inserted;
-  const auto& tri = st.intrinsic();
   if (args.has("mesh")) {
-    faces.resize(tri.n_faces());
+    const auto& tri = st.intrinsic();
+    o.faces.resize(tri.n_faces());
     for (Index f = 0; f < tri.n_faces(); ++f) {
-      faces[f] = {tri.tail(3 * f), tri.tail(3 * f + 1), tri.tail(3 * f + 2)};
+      o.faces[f] = {tri.tail(3 * f), tri.tail(3 * f + 1), tri.tail(3 * f + 2)};
     }
-    inserted.resize(tri.n_vertices());
-    for (Index v = 0; v < tri.n_vertices(); ++v) inserted[v] = v >= st.n_input_vertices();
+    o.inserted.resize(tri.n_vertices());
+    for (Index v = 0; v < tri.n_vertices(); ++v) o.inserted[v] = v >= st.n_input_vertices();
   }
+  return o;
+}
+
+// Writes the requested files; returns one line per file for the summary.
+std::vector<std::string> write_outputs(const Args& args, const intrinsic::SignpostTriangulation& st,
+                                       const RefineOutputs& o) {
+  const bool binary = !args.has("ascii");
   std::vector<std::string> wrote;
   if (args.has("output")) {
-    intrinsic::write_common_subdivision_ply(args.get("output"), cs, binary);
+    intrinsic::write_common_subdivision_ply(args.get("output"), o.overlay, binary);
     wrote.push_back(args.get("output") + " (common subdivision, " +
-                    std::to_string(cs.faces.size()) + " triangles)");
+                    std::to_string(o.overlay.faces.size()) + " triangles)");
   }
   if (args.has("lines")) {
-    intrinsic::write_polylines_ply(args.get("lines"), lines, binary);
-    wrote.push_back(args.get("lines") + " (" + std::to_string(lines.size()) +
+    intrinsic::write_polylines_ply(args.get("lines"), o.traced_edges, binary);
+    wrote.push_back(args.get("lines") + " (" + std::to_string(o.traced_edges.size()) +
                     " traced edges, PLY line set)");
   }
   if (args.has("mesh")) {
-    io::write_ply(args.get("mesh"), st.vertex_positions(), faces, {{"inserted", inserted}}, binary);
+    io::write_ply(args.get("mesh"), st.vertex_positions(), o.faces, {{"inserted", o.inserted}},
+                  binary);
     wrote.push_back(args.get("mesh") + " (refined triangulation)");
   }
   if (args.has("save")) {
     st.save(args.get("save"));
     wrote.push_back(args.get("save") + " (intrinsic triangulation, ifem-signpost 1)");
   }
+  return wrote;
+}
+
+// The summary on stdout: vertex counts, angles before and after, relaxation, the cap.
+void print_summary(const PreparedSurface& s, double min_angle_input) {
+  const intrinsic::RefineReport& r = s.refine_report;
+  const intrinsic::RelaxReport& rr = s.relax_report;
   std::printf("vertices: %d input -> %d refined (%d inserted)\n", r.vertices_before,
               r.vertices_after, r.insertions);
-  std::printf("min angle: %.3f° input, %.3f° intrinsic Delaunay, %.3f° refined", min_in,
+  std::printf("min angle: %.3f° input, %.3f° intrinsic Delaunay, %.3f° refined", min_angle_input,
               r.min_angle_before, r.min_angle_after_excluding_needles);
   if (r.needle_faces) {
     std::printf(" (%d needle-cone triangles left alone; %.3f° with them)", r.needle_faces,
@@ -147,6 +155,18 @@ int run(const Args& args) {
     std::printf("stopped at the insertion cap: %d triangles still below the bounds\n",
                 r.bad_faces_left);
   }
+}
+
+int run(const Args& args) {
+  if (!args.has("output") && !args.has("save") && !args.has("lines") && !args.has("mesh")) {
+    throw UsageError("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
+  }
+  // refinement with signposts (the library refuses inputs that cannot have them)
+  const PreparedSurface s =
+      prepare_surface(args.positional()[0], args, refine_settings(args, 0.0, true));
+  const RefineOutputs outputs = compute_outputs(args, *s.signposts);
+  const std::vector<std::string> wrote = write_outputs(args, *s.signposts, outputs);
+  print_summary(s, input_min_angle(s.input));
   for (const std::string& w : wrote) std::printf("wrote %s\n", w.c_str());
   return 0;
 }
