@@ -38,22 +38,20 @@ double mean_rel(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) {
 struct Case {
   const char* mesh;  // file name in ../shared/data/meshes
   Index src;
-  double max_angle;     // bound on the angle-only refined error: measured + ~20%
-  double max_accurate;  // bound on the accurate mode's error: measured + ~10%, ≤ CGAL / 2
+  // Bounds relative to the baseline, CGAL's heat method on the same reference (so they stay
+  // right if a reference is regenerated): the measured ratio (BENCHMARKS.md, "Intrinsic Delaunay
+  // refinement") + ~10%.
+  double angle_vs_cgal;     // angle-only refinement's error / CGAL's
+  double accurate_vs_cgal;  // the accurate mode's error / CGAL's (≤ 0.5: half of CGAL's)
 };
 
 // Sliver meshes (rocketship, block, fandisk; conrod is nonmanifold: the tufted test below)
-// and two clean ones for contrast. Bounds: the figures of BENCHMARKS.md ("Intrinsic Delaunay
-// refinement") plus the margins above.
+// and two clean ones for contrast.
 const Case kCases[] = {
-    {"rocketship.ply", 0, 0.02, 0.015},
-    {"rocketship.ply", 15579, 0.042, 0.011},
-    {"block.off", 0, 0.032, 0.011},
-    {"block.off", 2049, 0.036, 0.012},
-    {"fandisk.off", 0, 0.0105, 0.0036},
-    {"fandisk.off", 1274, 0.01, 0.0036},
-    {"bunny_npm_lowres.obj", 0, 0.034, 0.009},
-    {"spot.obj", 0, 0.02, 0.0049},
+    {"rocketship.ply", 0, 0.1, 0.075},     {"rocketship.ply", 15579, 1.0, 0.25},
+    {"block.off", 0, 1.3, 0.45},           {"block.off", 2049, 1.25, 0.42},
+    {"fandisk.off", 0, 1.1, 0.4},          {"fandisk.off", 1274, 1.1, 0.41},
+    {"bunny_npm_lowres.obj", 0, 1.1, 0.3}, {"spot.obj", 0, 1.1, 0.28},
 };
 
 // The three modes, prepared by the library pipeline exactly as `ifem distance` does: plain,
@@ -109,8 +107,8 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
       std::printf("%-18s %6d %7ld %7d %7d | %9.4f %9.4f %9.4f %9.4f | %.2f\n", stem.c_str(), c.src,
                   long(exact.size()), angle.tri.n_vertices(), accurate.tri.n_vertices(), e0, e1, e2,
                   ec, e2 / ec);
-      EXPECT_LE(e1, c.max_angle) << tag;
-      EXPECT_LE(e2, c.max_accurate) << tag;
+      EXPECT_LE(e1, c.angle_vs_cgal * ec) << tag;
+      EXPECT_LE(e2, c.accurate_vs_cgal * ec) << tag;
       EXPECT_LE(e2, 0.5 * ec) << tag << ": the accurate mode must halve CGAL's error";
       EXPECT_LE(e2, 0.5 * e0) << tag << ": and the plain heat method's";
       if (!sweep) continue;
@@ -162,7 +160,7 @@ TEST(RefineAccuracy, TuftedCoverConrodRefinedVsExact) {
     std::printf("conrod src %d: no refine %.4f, accurate %.4f, CGAL heat %.4f (acc/CGAL %.2f)\n",
                 src, e0, e1, ec, e1 / ec);
     EXPECT_LE(e1, 0.5 * ec) << tag << ": the accurate mode must halve CGAL's error";
-    EXPECT_LE(e1, 0.012) << tag;
+    EXPECT_LE(e1, 0.08 * ec) << tag;  // measured 0.07 and 0.05 of CGAL's error
   }
 }
 
