@@ -282,7 +282,7 @@ PreparedSurface prepare_surface(io::SurfaceInput input, const PrepareOptions& op
   const Progress progress(options.progress);
   PreparedSurface s;
   s.input = std::move(input);
-  s.input_mean_edge_length = intrinsic::mean_side_length(s.input.triangles, s.input.positions);
+  s.input_mean_edge_length = intrinsic::robust_side_length(s.input.triangles, s.input.positions);
   if (!s.input.has_faces() || options.force_pointcloud) {
     prepare_point_cloud(options, s, progress);
   } else {

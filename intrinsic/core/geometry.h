@@ -105,6 +105,21 @@ inline double mean_edge_length(const IntrinsicTriangulation& tri) {
 /// @param positions #V×3
 double mean_side_length(const std::vector<Triangle>& faces, const Positions& positions);
 
+/// A length scale of a set of lengths that a few outliers cannot move: the mean of the lengths,
+/// each clipped to at most kOutlierClip × their 99th percentile. Equal to the mean unless a
+/// length exceeds 4× the 99th percentile (true of every corpus mesh, CAD meshes whose sides span
+/// 200× included); the sides of a far outlier vertex (a spike 1e9 long on a 35-unit model, fewer
+/// than 1% of the sides) then add at most kOutlierClip × p99 each to the sum.
+/// The heat method's time step, the refinement resolution's h and the mollification margin use
+/// it (docs/decisions.md, "Robust length scale"). 0 for an empty set. O(n).
+double robust_mean_length(std::vector<double> lengths);
+inline constexpr double kOutlierClip = 4.0;
+
+/// robust_mean_length() of the faces' sides as given (each side of each face once), from
+/// positions; the input mesh's h. Defined in surface/face_analysis.cpp (robust_mean_length in
+/// core/triangulation.cpp).
+double robust_side_length(const std::vector<Triangle>& faces, const Positions& positions);
+
 /// Euler characteristic V − E + F (all vertices counted, unreferenced ones included).
 inline long euler_characteristic(const IntrinsicTriangulation& tri) {
   return static_cast<long>(tri.n_vertices()) - tri.n_edges() + tri.n_faces();

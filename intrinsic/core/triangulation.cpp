@@ -523,10 +523,8 @@ MollifyReport IntrinsicTriangulation::mollify(double relative_epsilon) {
                        std::to_string(relative_epsilon));
   }
   if (length_.empty()) return rep;
-  double mean = 0.0;  // divided as it goes, so huge lengths cannot overflow the sum
-  const double inv_n = 1.0 / static_cast<double>(length_.size());
-  for (const double l : length_) mean += l * inv_n;
-  rep.epsilon = relative_epsilon * mean;
+  // the scale is robust: one far outlier vertex must not inflate the margin of every triangle
+  rep.epsilon = relative_epsilon * robust_mean_length(length_);
   double delta = 0.0;
   const Index nf = n_faces();
   for (Index f = 0; f < nf; ++f) {
@@ -604,6 +602,17 @@ void IntrinsicTriangulation::validate() const {
 
 // ---------------------------------------------------------------------------------------------
 // Derived geometry
+
+double robust_mean_length(std::vector<double> lengths) {
+  if (lengths.empty()) return 0.0;
+  const auto p99 = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() * 99 / 100);
+  std::nth_element(lengths.begin(), p99, lengths.end());
+  const double cap = kOutlierClip * *p99;
+  double mean = 0.0;  // divided as it goes: huge lengths cannot overflow the sum
+  const double inv_n = 1.0 / static_cast<double>(lengths.size());
+  for (const double l : lengths) mean += std::min(l, cap) * inv_n;
+  return mean;
+}
 
 double total_area(const IntrinsicTriangulation& tri) {
   double sum = 0.0;

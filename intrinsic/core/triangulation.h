@@ -22,7 +22,8 @@ struct BuildReport {
 };
 
 /// The mollification margin used everywhere unless a caller asks otherwise: every triangle is
-/// made to satisfy a + b − c ≥ kDefaultMollifyEpsilon × (mean edge length) (Sharp & Crane 2020).
+/// made to satisfy a + b − c ≥ kDefaultMollifyEpsilon × (robust mean edge length, geometry.h
+/// robust_mean_length) (Sharp & Crane 2020).
 inline constexpr double kDefaultMollifyEpsilon = 1e-5;
 
 /// Outcome of mollify(): the uniform length increment that was added to every edge.
@@ -162,7 +163,9 @@ class IntrinsicTriangulation {
                                    const std::function<bool(Index)>& flip);
 
   /// Adds the smallest uniform δ ≥ 0 to every edge length so that every face satisfies
-  /// a + b − c ≥ ε for all three orderings, ε = relative_epsilon × mean edge length
+  /// a + b − c ≥ ε for all three orderings, ε = relative_epsilon × robust_mean_length(edge lengths)
+  /// (the mean with lengths clipped at kOutlierClip × their 99th percentile: one far outlier vertex
+  /// does not inflate every triangle's margin)
   /// (Sharp & Crane 2020, §4.5). Geometry unchanged when no face is below the margin.
   MollifyReport mollify(double relative_epsilon = kDefaultMollifyEpsilon);
 

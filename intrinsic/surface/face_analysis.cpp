@@ -127,4 +127,15 @@ double mean_side_length(const std::vector<Triangle>& faces, const Positions& pos
   return n ? sum / static_cast<double>(n) : 0.0;
 }
 
+double robust_side_length(const std::vector<Triangle>& faces, const Positions& positions) {
+  std::vector<double> sides;
+  sides.reserve(3 * faces.size());
+  for (const Triangle& t : faces) {
+    for (int i = 0; i < 3; ++i) {
+      sides.push_back((positions.row(t[i]) - positions.row(t[(i + 1) % 3])).norm());
+    }
+  }
+  return robust_mean_length(std::move(sides));
+}
+
 }  // namespace ifem::intrinsic
