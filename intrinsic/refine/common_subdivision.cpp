@@ -275,9 +275,18 @@ class FaceAssembler {
 
  private:
   int node(Index id, Eigen::Vector3d b, int role);
+  void start_face(Index g);
+  void gather_segments(Index g);
   void add_edge(int a, int b, Index lab_ab, Index lab_ba, bool may_repeat);
   void label_sides(Index g);
+  void add_inner_edges();
+  void lay_out(Index g);
   void build_adjacency();
+  void fill_slots();
+  void sort_neighbours(int i);
+  bool sort_by_pseudo_angle(int i, int s0, int deg);
+  void sort_by_atan2(int i, int s0, int s1);
+  void link_faces();
   void walk(Index g, Chunk& out, FaceSides* sides);
   // bucket of the nodes with coordinate j below kSideTol, by their coordinate j + 2: cells
   // 2^-30 wide (monotone in t; t ≥ −1e-9 here, so cells are ≥ −1 and the cast is a floor)
@@ -289,6 +298,10 @@ class FaceAssembler {
     return (b[0] == 0.0) + (b[1] == 0.0) + (b[2] == 0.0) >= 2;
   }
   static std::int64_t cell_of(double t) { return std::int64_t(t * 1073741824.0 + 1.0) - 1; }
+  // orders (angle, slot) pairs by angle
+  static bool by_angle(const std::pair<double, int>& u, const std::pair<double, int>& v) {
+    return u.first < v.first;
+  }
 
   const Inputs& x_;
   Index cv_[3] = {kInvalidIndex, kInvalidIndex, kInvalidIndex};
@@ -446,6 +459,19 @@ void FaceAssembler::label_sides(Index g) {
 // every directed edge a→b the next one on the face to its left: b→c, c the neighbour of b
 // before a.
 void FaceAssembler::build_adjacency() {
+  fill_slots();
+  const std::size_t n_slots = nbr_.size();
+  slot_of_.resize(n_slots);  // per directed edge (2 i + direction): its sorted slot
+  nbr2_.resize(n_slots);
+  half2_.resize(n_slots);
+  for (int i = 0; i < int(gid_.size()); ++i) sort_neighbours(i);
+  nbr_.swap(nbr2_);
+  link_faces();
+}
+
+// Slots of the directed edges leaving each node (first_), in the order the edges were added:
+// their heads (nbr_) and directed edge ids 2 i (a→b) or 2 i + 1 (b→a) (half_).
+void FaceAssembler::fill_slots() {
   const int nl = int(gid_.size());
   first_.assign(std::size_t(nl) + 1, 0);
   for (const auto& [a, b] : edges_) {
@@ -465,82 +491,91 @@ void FaceAssembler::build_adjacency() {
     half_[std::size_t(sa)] = int(2 * i);  // a→b
     half_[std::size_t(sb)] = int(2 * i + 1);
   }
-  slot_of_.resize(n_slots);  // per directed edge (2 i + direction): its sorted slot
-  nbr2_.resize(n_slots);
-  half2_.resize(n_slots);
-  auto by_angle = [](const std::pair<double, int>& u, const std::pair<double, int>& v) {
-    return u.first < v.first;
-  };
-  for (int i = 0; i < nl; ++i) {
-    const int s0 = first_[std::size_t(i)], s1 = first_[std::size_t(i) + 1];
-    if (s1 - s0 < 2) {
-      for (int s = s0; s < s1; ++s) {
-        nbr2_[std::size_t(s)] = nbr_[std::size_t(s)];
-        half2_[std::size_t(s)] = half_[std::size_t(s)];
-        slot_of_[std::size_t(half_[std::size_t(s)])] = s;
-      }
-      continue;
+}
+
+// Writes node i's slots in counter-clockwise order into nbr2_ and half2_, and their new
+// places into slot_of_.
+void FaceAssembler::sort_neighbours(int i) {
+  const int s0 = first_[std::size_t(i)], s1 = first_[std::size_t(i) + 1];
+  if (s1 - s0 < 2) {
+    for (int s = s0; s < s1; ++s) {
+      nbr2_[std::size_t(s)] = nbr_[std::size_t(s)];
+      half2_[std::size_t(s)] = half_[std::size_t(s)];
+      slot_of_[std::size_t(half_[std::size_t(s)])] = s;
     }
-    // Sorted by a pseudo-angle first: increasing with atan2 on (−π, π] (from −π at y = −0,
-    // x < 0), |d key / d angle| ∈ [1/2, 1]. Where all neighbours' keys differ by more than
-    // 1e-12, their atan2 (a few ulp off at most) differ too and come in the same order: that order
-    // is the only one a sort by atan2 can return. Otherwise (near ties, zero vectors) sort by atan2
-    // itself, from the order added, as the comparisons then decide.
-    const int deg = s1 - s0;
-    key_.resize(std::size_t(deg));
-    order_.resize(std::size_t(deg));
-    bool exact = true;
+    return;
+  }
+  const int deg = s1 - s0;
+  if (!sort_by_pseudo_angle(i, s0, deg)) sort_by_atan2(i, s0, s1);
+  for (int r = 0; r < deg; ++r) {
+    const std::size_t from = std::size_t(order_[std::size_t(r)]), to = std::size_t(s0 + r);
+    nbr2_[to] = nbr_[from];
+    half2_[to] = half_[from];
+    slot_of_[std::size_t(half_[from])] = int(to);
+  }
+}
+
+// Sorts node i's slots s0 .. s0 + deg - 1 into order_ by a pseudo-angle: increasing with atan2
+// on (−π, π] (from −π at y = −0, x < 0), |d key / d angle| ∈ [1/2, 1]. Where all neighbours'
+// keys differ by more than 1e-12, their atan2 (a few ulp off at most) differ too and come in the
+// same order: that order is the only one a sort by atan2 can return, and this returns true.
+// Otherwise (near ties, zero vectors) false: the order must come from atan2 itself.
+bool FaceAssembler::sort_by_pseudo_angle(int i, int s0, int deg) {
+  key_.resize(std::size_t(deg));
+  order_.resize(std::size_t(deg));
+  bool exact = true;
+  for (int r = 0; r < deg; ++r) {
+    const Eigen::Vector2d d = p_[std::size_t(nbr_[std::size_t(s0 + r)])] - p_[std::size_t(i)];
+    const double l1 = std::abs(d.x()) + std::abs(d.y());
+    if (!(l1 > 0.0) || !std::isfinite(l1)) exact = false;
+    const double key = 1.0 - d.x() / l1;  // [0, 2] on the upper half plane
+    key_[std::size_t(r)] = std::signbit(d.y()) ? -key : key;
+    order_[std::size_t(r)] = s0 + r;
+  }
+  if (!exact) return false;
+  if (deg <= 16) {  // insertion sort (degrees are mostly 2 or 3)
+    for (int r = 1; r < deg; ++r) {
+      const double k = key_[std::size_t(r)];
+      const int o = order_[std::size_t(r)];
+      int q = r;
+      for (; q > 0 && key_[std::size_t(q - 1)] > k; --q) {
+        key_[std::size_t(q)] = key_[std::size_t(q - 1)];
+        order_[std::size_t(q)] = order_[std::size_t(q - 1)];
+      }
+      key_[std::size_t(q)] = k;
+      order_[std::size_t(q)] = o;
+    }
+  } else {
+    ang_.clear();
+    for (int r = 0; r < deg; ++r) ang_.emplace_back(key_[std::size_t(r)], order_[std::size_t(r)]);
+    std::sort(ang_.begin(), ang_.end(), by_angle);
     for (int r = 0; r < deg; ++r) {
-      const Eigen::Vector2d d = p_[std::size_t(nbr_[std::size_t(s0 + r)])] - p_[std::size_t(i)];
-      const double l1 = std::abs(d.x()) + std::abs(d.y());
-      if (!(l1 > 0.0) || !std::isfinite(l1)) exact = false;
-      const double key = 1.0 - d.x() / l1;  // [0, 2] on the upper half plane
-      key_[std::size_t(r)] = std::signbit(d.y()) ? -key : key;
-      order_[std::size_t(r)] = s0 + r;
-    }
-    if (exact && deg <= 16) {  // insertion sort (degrees are mostly 2 or 3)
-      for (int r = 1; r < deg; ++r) {
-        const double k = key_[std::size_t(r)];
-        const int o = order_[std::size_t(r)];
-        int q = r;
-        for (; q > 0 && key_[std::size_t(q - 1)] > k; --q) {
-          key_[std::size_t(q)] = key_[std::size_t(q - 1)];
-          order_[std::size_t(q)] = order_[std::size_t(q - 1)];
-        }
-        key_[std::size_t(q)] = k;
-        order_[std::size_t(q)] = o;
-      }
-    } else if (exact) {
-      ang_.clear();
-      for (int r = 0; r < deg; ++r) ang_.emplace_back(key_[std::size_t(r)], order_[std::size_t(r)]);
-      std::sort(ang_.begin(), ang_.end(), by_angle);
-      for (int r = 0; r < deg; ++r) {
-        key_[std::size_t(r)] = ang_[std::size_t(r)].first;
-        order_[std::size_t(r)] = ang_[std::size_t(r)].second;
-      }
-    }
-    if (exact) {  // the order is atan2's if the keys are apart
-      for (int r = 1; r < deg; ++r) {
-        if (!(key_[std::size_t(r)] - key_[std::size_t(r - 1)] > 1e-12)) exact = false;
-      }
-    }
-    if (!exact) {
-      ang_.clear();
-      for (int s = s0; s < s1; ++s) {
-        const Eigen::Vector2d d = p_[std::size_t(nbr_[std::size_t(s)])] - p_[std::size_t(i)];
-        ang_.emplace_back(std::atan2(d.y(), d.x()), s);
-      }
-      std::sort(ang_.begin(), ang_.end(), by_angle);
-      for (int r = 0; r < deg; ++r) order_[std::size_t(r)] = ang_[std::size_t(r)].second;
-    }
-    for (int r = 0; r < deg; ++r) {
-      const std::size_t from = std::size_t(order_[std::size_t(r)]), to = std::size_t(s0 + r);
-      nbr2_[to] = nbr_[from];
-      half2_[to] = half_[from];
-      slot_of_[std::size_t(half_[from])] = int(to);
+      key_[std::size_t(r)] = ang_[std::size_t(r)].first;
+      order_[std::size_t(r)] = ang_[std::size_t(r)].second;
     }
   }
-  nbr_.swap(nbr2_);
+  for (int r = 1; r < deg; ++r) {  // the order is atan2's if the keys are apart
+    if (!(key_[std::size_t(r)] - key_[std::size_t(r - 1)] > 1e-12)) return false;
+  }
+  return true;
+}
+
+// Sorts node i's slots s0 .. s1 - 1 into order_ by atan2, from the order added (as the
+// comparisons of a sort by atan2 decide near ties).
+void FaceAssembler::sort_by_atan2(int i, int s0, int s1) {
+  ang_.clear();
+  for (int s = s0; s < s1; ++s) {
+    const Eigen::Vector2d d = p_[std::size_t(nbr_[std::size_t(s)])] - p_[std::size_t(i)];
+    ang_.emplace_back(std::atan2(d.y(), d.x()), s);
+  }
+  std::sort(ang_.begin(), ang_.end(), by_angle);
+  for (int r = 0; r < s1 - s0; ++r) order_[std::size_t(r)] = ang_[std::size_t(r)].second;
+}
+
+// Per slot (sorted): the label left of its directed edge a→b, and the next directed edge
+// around that face, b→c with c the neighbour of b before a.
+void FaceAssembler::link_faces() {
+  const std::size_t n_slots = nbr_.size();
   left_.resize(n_slots);
   next_.resize(n_slots);
   for (std::size_t s = 0; s < n_slots; ++s) {
@@ -610,7 +645,20 @@ void FaceAssembler::walk(Index g, Chunk& out, FaceSides* sides) {
 }
 
 void FaceAssembler::assemble(Index g, Chunk& out, FaceSides* sides) {
-  const IntrinsicTriangulation& tri = *x_.tri;
+  start_face(g);
+  gather_segments(g);
+  edges_.clear();
+  edge_labels_.clear();
+  edge_seen_.reset(2 * gid_.size() + inner_.size() + 3);
+  label_sides(g);
+  add_inner_edges();
+  lay_out(g);
+  build_adjacency();
+  walk(g, out, sides);
+}
+
+// Clears the buffers for input face g (sized for its segments) and makes its corner nodes.
+void FaceAssembler::start_face(Index g) {
   const IntrinsicTriangulation& in = *x_.in;
   for (int k = 0; k < 3; ++k) cv_[k] = in.tail(3 * g + k);
   const Index s_begin = (*x_.seg_begin)[g], s_end = (*x_.seg_begin)[g + 1];
@@ -622,6 +670,13 @@ void FaceAssembler::assemble(Index g, Chunk& out, FaceSides* sides) {
   local_.reset(max_nodes);
   bucket_.reset(2 * max_nodes);
   for (int k = 0; k < 3; ++k) node(cv_[k], Eigen::Vector3d::Unit(k), 0);
+}
+
+// Makes the nodes of g's traced segments and keeps those not along a side of g (inner_, with
+// their intrinsic halfedges in inner_h_).
+void FaceAssembler::gather_segments(Index g) {
+  const IntrinsicTriangulation& in = *x_.in;
+  const Index s_begin = (*x_.seg_begin)[g], s_end = (*x_.seg_begin)[g + 1];
   inner_.clear();
   inner_h_.clear();
   SegmentRef prev{kInvalidIndex, kInvalidIndex};
@@ -664,10 +719,11 @@ void FaceAssembler::assemble(Index g, Chunk& out, FaceSides* sides) {
     inner_.emplace_back(a, b);
     inner_h_.push_back(h);
   }
-  edges_.clear();
-  edge_labels_.clear();
-  edge_seen_.reset(2 * gid_.size() + inner_.size() + 3);
-  label_sides(g);
+}
+
+// Adds the inner segments as edges labelled with the intrinsic faces on their two sides.
+void FaceAssembler::add_inner_edges() {
+  const IntrinsicTriangulation& tri = *x_.tri;
   // two segments with the same ends need both ends shared by two segments or more
   uses_.assign(gid_.size(), 0);
   for (const auto& [a, b] : inner_) {
@@ -680,15 +736,16 @@ void FaceAssembler::assemble(Index g, Chunk& out, FaceSides* sides) {
     add_edge(a, b, T::face(h), tri.twin(h) == kInvalidIndex ? -1 : T::face(tri.twin(h)),
              uses_[std::size_t(a)] > 1 && uses_[std::size_t(b)] > 1);
   }
-  // 2D positions in g's layout
+}
+
+// The nodes' 2D positions in g's layout (p_).
+void FaceAssembler::lay_out(Index g) {
   Eigen::Vector2d corner[3];
-  face_layout(in, g, corner);
+  face_layout(*x_.in, g, corner);
   p_.resize(gid_.size());
   for (std::size_t i = 0; i < gid_.size(); ++i) {
     p_[i] = bary_[i][0] * corner[0] + bary_[i][1] * corner[1] + bary_[i][2] * corner[2];
   }
-  build_adjacency();
-  walk(g, out, sides);
 }
 
 }  // namespace
