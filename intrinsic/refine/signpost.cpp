@@ -25,6 +25,71 @@ inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 
 Index trace_cap(const IntrinsicTriangulation& tri) { return 4 * tri.n_faces() + 1000; }
 
+// Clamps barycentric coordinates to ≥ 0 and rescales them to sum 1 (unless all are zero).
+void clamp_normalize(Eigen::Vector3d& x) {
+  x = x.cwiseMax(0.0);
+  const double s = x.sum();
+  if (s > 0.0) x /= s;
+}
+
+// Barycentric velocity of the unit direction d in a face laid out at p (Σ db = 0,
+// Σ db_i p_i = d).
+Eigen::Vector3d barycentric_velocity(const Eigen::Vector2d p[3], const Eigen::Vector2d& d) {
+  const double db2 = d.y() / p[2].y();
+  const double db1 = (d.x() - db2 * p[2].x()) / p[1].x();
+  return Eigen::Vector3d(-db1 - db2, db1, db2);
+}
+
+// The coordinate k that a line from b with barycentric velocity db drives to zero first (it
+// leaves the face through side k + 1), skipping k = excl and, when only ≥ 0, every k but only;
+// -1 if none. t_exit: the distance to it (infinity if none).
+int first_exit(const Eigen::Vector3d& b, const Eigen::Vector3d& db, int excl, int only,
+               double& t_exit) {
+  const double tol = 1e-12 * db.cwiseAbs().maxCoeff();
+  int k_exit = -1;
+  t_exit = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    if (k == excl || (only >= 0 && k != only) || !(db[k] < -tol)) continue;
+    const double t = std::max(b[k], 0.0) / -db[k];
+    if (t < t_exit) {
+      t_exit = t;
+      k_exit = k;
+    }
+  }
+  return k_exit;
+}
+
+// Ends the trace at (f, b) heading d.
+void finish_trace(TraceResult& r, Index f, const Eigen::Vector3d& b, const Eigen::Vector2d& d,
+                  bool record_path) {
+  r.end = {f, b};
+  r.direction = d;
+  if (record_path) r.path.push_back(r.end);
+}
+
+// Carries the line across side s of face f (unit vector e along it, crossed at b) into the
+// face of its twin tw: f, b, d and p (the layout) become that face's, excl its side's
+// opposite corner.
+void unfold_across(const IntrinsicTriangulation& tri, Index tw, int s, const Eigen::Vector2d& e,
+                   Index& f, Eigen::Vector3d& b, Eigen::Vector2d& d, Eigen::Vector2d p[3],
+                   int& excl) {
+  const int s1 = (s + 1) % 3;
+  const double cs = d.dot(e), sn = cross2(e, d);
+  const double u = b[s1] / (b[s] + b[s1]);
+  const Index g = T::face(tw);
+  const int s2 = T::side(tw);
+  Eigen::Vector3d nb = Eigen::Vector3d::Zero();
+  nb[s2] = u;
+  nb[(s2 + 1) % 3] = 1.0 - u;
+  face_layout(tri, g, p);
+  const Eigen::Vector2d e2 = (p[(s2 + 1) % 3] - p[s2]).normalized();
+  const Eigen::Vector2d e2perp(-e2.y(), e2.x());
+  d = -(cs * e2 + sn * e2perp);
+  f = g;
+  b = nb;
+  excl = (s2 + 2) % 3;
+}
+
 }  // namespace
 
 TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
@@ -42,45 +107,26 @@ TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint
   if (record_path) r.path.push_back(start);
   Eigen::Vector2d p[3];
   face_layout(tri, f, p);
-  auto normalize = [](Eigen::Vector3d& x) {
-    x = x.cwiseMax(0.0);
-    const double s = x.sum();
-    if (s > 0.0) x /= s;
-  };
   for (Index step = 0;; ++step) {
     if (step > max_steps) {
       throw TraceError("trace: gave up after " + std::to_string(max_steps) +
                        " side crossings (degenerate geometry near face " + std::to_string(f) + ")");
     }
-    // barycentric velocity of the unit direction d (Σ db = 0, Σ db_i p_i = d)
-    const double db2 = d.y() / p[2].y();
-    const double db1 = (d.x() - db2 * p[2].x()) / p[1].x();
-    const Eigen::Vector3d db(-db1 - db2, db1, db2);
-    const double tol = 1e-12 * db.cwiseAbs().maxCoeff();
-    int k_exit = -1;
-    double t_exit = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 3; ++k) {
-      if (k == excl || (only >= 0 && k != only) || !(db[k] < -tol)) continue;
-      const double t = std::max(b[k], 0.0) / -db[k];
-      if (t < t_exit) {
-        t_exit = t;
-        k_exit = k;
-      }
-    }
+    const Eigen::Vector3d db = barycentric_velocity(p, d);
+    double t_exit = 0.0;
+    const int k_exit = first_exit(b, db, excl, only, t_exit);
     // ending within rounding of a side (typically at the far vertex): end, do not cross
     if (k_exit < 0 || rem <= t_exit + end_slack) {
       const double t_end = std::min(rem, t_exit);
       if (std::isfinite(t_end) && db.allFinite()) b += t_end * db;
-      normalize(b);
-      r.end = {f, b};
-      r.direction = d;
-      if (record_path) r.path.push_back(r.end);
+      clamp_normalize(b);
+      finish_trace(r, f, b, d, record_path);
       return r;
     }
     only = -1;
     b += t_exit * db;
     b[k_exit] = 0.0;
-    normalize(b);
+    clamp_normalize(b);
     rem -= t_exit;
     const int s = (k_exit + 1) % 3, s1 = (s + 1) % 3;
     const Index he = 3 * f + s;
@@ -98,25 +144,10 @@ TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint
       }
       r.hit_boundary = true;
       r.boundary_halfedge = he;
-      r.end = {f, b};
-      r.direction = d;
-      if (record_path) r.path.push_back(r.end);
+      finish_trace(r, f, b, d, record_path);
       return r;
     }
-    const double cs = d.dot(e), sn = cross2(e, d);
-    const double u = b[s1] / (b[s] + b[s1]);
-    const Index g = T::face(tw);
-    const int s2 = T::side(tw);
-    Eigen::Vector3d nb = Eigen::Vector3d::Zero();
-    nb[s2] = u;
-    nb[(s2 + 1) % 3] = 1.0 - u;
-    face_layout(tri, g, p);
-    const Eigen::Vector2d e2 = (p[(s2 + 1) % 3] - p[s2]).normalized();
-    const Eigen::Vector2d e2perp(-e2.y(), e2.x());
-    d = -(cs * e2 + sn * e2perp);
-    f = g;
-    b = nb;
-    excl = (s2 + 2) % 3;
+    unfold_across(tri, tw, s, e, f, b, d, p, excl);
     if (record_path) r.path.push_back({f, b});
   }
 }
