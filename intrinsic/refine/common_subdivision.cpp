@@ -275,9 +275,18 @@ class FaceAssembler {
 
  private:
   int node(Index id, Eigen::Vector3d b, int role);
+  void start_face(Index g);
+  void gather_segments(Index g);
   void add_edge(int a, int b, Index lab_ab, Index lab_ba, bool may_repeat);
   void label_sides(Index g);
+  void add_inner_edges();
+  void lay_out(Index g);
   void build_adjacency();
+  void fill_slots();
+  void sort_neighbours(int i);
+  bool sort_by_pseudo_angle(int i, int s0, int deg);
+  void sort_by_atan2(int i, int s0, int s1);
+  void link_faces();
   void walk(Index g, Chunk& out, FaceSides* sides);
   // bucket of the nodes with coordinate j below kSideTol, by their coordinate j + 2: cells
   // 2^-30 wide (monotone in t; t ≥ −1e-9 here, so cells are ≥ −1 and the cast is a floor)
@@ -289,6 +298,10 @@ class FaceAssembler {
     return (b[0] == 0.0) + (b[1] == 0.0) + (b[2] == 0.0) >= 2;
   }
   static std::int64_t cell_of(double t) { return std::int64_t(t * 1073741824.0 + 1.0) - 1; }
+  // orders (angle, slot) pairs by angle
+  static bool by_angle(const std::pair<double, int>& u, const std::pair<double, int>& v) {
+    return u.first < v.first;
+  }
 
   const Inputs& x_;
   Index cv_[3] = {kInvalidIndex, kInvalidIndex, kInvalidIndex};
@@ -446,6 +459,19 @@ void FaceAssembler::label_sides(Index g) {
 // every directed edge a→b the next one on the face to its left: b→c, c the neighbour of b
 // before a.
 void FaceAssembler::build_adjacency() {
+  fill_slots();
+  const std::size_t n_slots = nbr_.size();
+  slot_of_.resize(n_slots);  // per directed edge (2 i + direction): its sorted slot
+  nbr2_.resize(n_slots);
+  half2_.resize(n_slots);
+  for (int i = 0; i < int(gid_.size()); ++i) sort_neighbours(i);
+  nbr_.swap(nbr2_);
+  link_faces();
+}
+
+// Slots of the directed edges leaving each node (first_), in the order the edges were added:
+// their heads (nbr_) and directed edge ids 2 i (a→b) or 2 i + 1 (b→a) (half_).
+void FaceAssembler::fill_slots() {
   const int nl = int(gid_.size());
   first_.assign(std::size_t(nl) + 1, 0);
   for (const auto& [a, b] : edges_) {
@@ -465,82 +491,91 @@ void FaceAssembler::build_adjacency() {
     half_[std::size_t(sa)] = int(2 * i);  // a→b
     half_[std::size_t(sb)] = int(2 * i + 1);
   }
-  slot_of_.resize(n_slots);  // per directed edge (2 i + direction): its sorted slot
-  nbr2_.resize(n_slots);
-  half2_.resize(n_slots);
-  auto by_angle = [](const std::pair<double, int>& u, const std::pair<double, int>& v) {
-    return u.first < v.first;
-  };
-  for (int i = 0; i < nl; ++i) {
-    const int s0 = first_[std::size_t(i)], s1 = first_[std::size_t(i) + 1];
-    if (s1 - s0 < 2) {
-      for (int s = s0; s < s1; ++s) {
-        nbr2_[std::size_t(s)] = nbr_[std::size_t(s)];
-        half2_[std::size_t(s)] = half_[std::size_t(s)];
-        slot_of_[std::size_t(half_[std::size_t(s)])] = s;
-      }
-      continue;
+}
+
+// Writes node i's slots in counter-clockwise order into nbr2_ and half2_, and their new
+// places into slot_of_.
+void FaceAssembler::sort_neighbours(int i) {
+  const int s0 = first_[std::size_t(i)], s1 = first_[std::size_t(i) + 1];
+  if (s1 - s0 < 2) {
+    for (int s = s0; s < s1; ++s) {
+      nbr2_[std::size_t(s)] = nbr_[std::size_t(s)];
+      half2_[std::size_t(s)] = half_[std::size_t(s)];
+      slot_of_[std::size_t(half_[std::size_t(s)])] = s;
     }
-    // Sorted by a pseudo-angle first: increasing with atan2 on (−π, π] (from −π at y = −0,
-    // x < 0), |d key / d angle| ∈ [1/2, 1]. Where all neighbours' keys differ by more than
-    // 1e-12, their atan2 (a few ulp off at most) differ too and come in the same order: that order
-    // is the only one a sort by atan2 can return. Otherwise (near ties, zero vectors) sort by atan2
-    // itself, from the order added, as the comparisons then decide.
-    const int deg = s1 - s0;
-    key_.resize(std::size_t(deg));
-    order_.resize(std::size_t(deg));
-    bool exact = true;
+    return;
+  }
+  const int deg = s1 - s0;
+  if (!sort_by_pseudo_angle(i, s0, deg)) sort_by_atan2(i, s0, s1);
+  for (int r = 0; r < deg; ++r) {
+    const std::size_t from = std::size_t(order_[std::size_t(r)]), to = std::size_t(s0 + r);
+    nbr2_[to] = nbr_[from];
+    half2_[to] = half_[from];
+    slot_of_[std::size_t(half_[from])] = int(to);
+  }
+}
+
+// Sorts node i's slots s0 .. s0 + deg - 1 into order_ by a pseudo-angle: increasing with atan2
+// on (−π, π] (from −π at y = −0, x < 0), |d key / d angle| ∈ [1/2, 1]. Where all neighbours'
+// keys differ by more than 1e-12, their atan2 (a few ulp off at most) differ too and come in the
+// same order: that order is the only one a sort by atan2 can return, and this returns true.
+// Otherwise (near ties, zero vectors) false: the order must come from atan2 itself.
+bool FaceAssembler::sort_by_pseudo_angle(int i, int s0, int deg) {
+  key_.resize(std::size_t(deg));
+  order_.resize(std::size_t(deg));
+  bool exact = true;
+  for (int r = 0; r < deg; ++r) {
+    const Eigen::Vector2d d = p_[std::size_t(nbr_[std::size_t(s0 + r)])] - p_[std::size_t(i)];
+    const double l1 = std::abs(d.x()) + std::abs(d.y());
+    if (!(l1 > 0.0) || !std::isfinite(l1)) exact = false;
+    const double key = 1.0 - d.x() / l1;  // [0, 2] on the upper half plane
+    key_[std::size_t(r)] = std::signbit(d.y()) ? -key : key;
+    order_[std::size_t(r)] = s0 + r;
+  }
+  if (!exact) return false;
+  if (deg <= 16) {  // insertion sort (degrees are mostly 2 or 3)
+    for (int r = 1; r < deg; ++r) {
+      const double k = key_[std::size_t(r)];
+      const int o = order_[std::size_t(r)];
+      int q = r;
+      for (; q > 0 && key_[std::size_t(q - 1)] > k; --q) {
+        key_[std::size_t(q)] = key_[std::size_t(q - 1)];
+        order_[std::size_t(q)] = order_[std::size_t(q - 1)];
+      }
+      key_[std::size_t(q)] = k;
+      order_[std::size_t(q)] = o;
+    }
+  } else {
+    ang_.clear();
+    for (int r = 0; r < deg; ++r) ang_.emplace_back(key_[std::size_t(r)], order_[std::size_t(r)]);
+    std::sort(ang_.begin(), ang_.end(), by_angle);
     for (int r = 0; r < deg; ++r) {
-      const Eigen::Vector2d d = p_[std::size_t(nbr_[std::size_t(s0 + r)])] - p_[std::size_t(i)];
-      const double l1 = std::abs(d.x()) + std::abs(d.y());
-      if (!(l1 > 0.0) || !std::isfinite(l1)) exact = false;
-      const double key = 1.0 - d.x() / l1;  // [0, 2] on the upper half plane
-      key_[std::size_t(r)] = std::signbit(d.y()) ? -key : key;
-      order_[std::size_t(r)] = s0 + r;
-    }
-    if (exact && deg <= 16) {  // insertion sort (degrees are mostly 2 or 3)
-      for (int r = 1; r < deg; ++r) {
-        const double k = key_[std::size_t(r)];
-        const int o = order_[std::size_t(r)];
-        int q = r;
-        for (; q > 0 && key_[std::size_t(q - 1)] > k; --q) {
-          key_[std::size_t(q)] = key_[std::size_t(q - 1)];
-          order_[std::size_t(q)] = order_[std::size_t(q - 1)];
-        }
-        key_[std::size_t(q)] = k;
-        order_[std::size_t(q)] = o;
-      }
-    } else if (exact) {
-      ang_.clear();
-      for (int r = 0; r < deg; ++r) ang_.emplace_back(key_[std::size_t(r)], order_[std::size_t(r)]);
-      std::sort(ang_.begin(), ang_.end(), by_angle);
-      for (int r = 0; r < deg; ++r) {
-        key_[std::size_t(r)] = ang_[std::size_t(r)].first;
-        order_[std::size_t(r)] = ang_[std::size_t(r)].second;
-      }
-    }
-    if (exact) {  // the order is atan2's if the keys are apart
-      for (int r = 1; r < deg; ++r) {
-        if (!(key_[std::size_t(r)] - key_[std::size_t(r - 1)] > 1e-12)) exact = false;
-      }
-    }
-    if (!exact) {
-      ang_.clear();
-      for (int s = s0; s < s1; ++s) {
-        const Eigen::Vector2d d = p_[std::size_t(nbr_[std::size_t(s)])] - p_[std::size_t(i)];
-        ang_.emplace_back(std::atan2(d.y(), d.x()), s);
-      }
-      std::sort(ang_.begin(), ang_.end(), by_angle);
-      for (int r = 0; r < deg; ++r) order_[std::size_t(r)] = ang_[std::size_t(r)].second;
-    }
-    for (int r = 0; r < deg; ++r) {
-      const std::size_t from = std::size_t(order_[std::size_t(r)]), to = std::size_t(s0 + r);
-      nbr2_[to] = nbr_[from];
-      half2_[to] = half_[from];
-      slot_of_[std::size_t(half_[from])] = int(to);
+      key_[std::size_t(r)] = ang_[std::size_t(r)].first;
+      order_[std::size_t(r)] = ang_[std::size_t(r)].second;
     }
   }
-  nbr_.swap(nbr2_);
+  for (int r = 1; r < deg; ++r) {  // the order is atan2's if the keys are apart
+    if (!(key_[std::size_t(r)] - key_[std::size_t(r - 1)] > 1e-12)) return false;
+  }
+  return true;
+}
+
+// Sorts node i's slots s0 .. s1 - 1 into order_ by atan2, from the order added (as the
+// comparisons of a sort by atan2 decide near ties).
+void FaceAssembler::sort_by_atan2(int i, int s0, int s1) {
+  ang_.clear();
+  for (int s = s0; s < s1; ++s) {
+    const Eigen::Vector2d d = p_[std::size_t(nbr_[std::size_t(s)])] - p_[std::size_t(i)];
+    ang_.emplace_back(std::atan2(d.y(), d.x()), s);
+  }
+  std::sort(ang_.begin(), ang_.end(), by_angle);
+  for (int r = 0; r < s1 - s0; ++r) order_[std::size_t(r)] = ang_[std::size_t(r)].second;
+}
+
+// Per slot (sorted): the label left of its directed edge a→b, and the next directed edge
+// around that face, b→c with c the neighbour of b before a.
+void FaceAssembler::link_faces() {
+  const std::size_t n_slots = nbr_.size();
   left_.resize(n_slots);
   next_.resize(n_slots);
   for (std::size_t s = 0; s < n_slots; ++s) {
@@ -610,7 +645,20 @@ void FaceAssembler::walk(Index g, Chunk& out, FaceSides* sides) {
 }
 
 void FaceAssembler::assemble(Index g, Chunk& out, FaceSides* sides) {
-  const IntrinsicTriangulation& tri = *x_.tri;
+  start_face(g);
+  gather_segments(g);
+  edges_.clear();
+  edge_labels_.clear();
+  edge_seen_.reset(2 * gid_.size() + inner_.size() + 3);
+  label_sides(g);
+  add_inner_edges();
+  lay_out(g);
+  build_adjacency();
+  walk(g, out, sides);
+}
+
+// Clears the buffers for input face g (sized for its segments) and makes its corner nodes.
+void FaceAssembler::start_face(Index g) {
   const IntrinsicTriangulation& in = *x_.in;
   for (int k = 0; k < 3; ++k) cv_[k] = in.tail(3 * g + k);
   const Index s_begin = (*x_.seg_begin)[g], s_end = (*x_.seg_begin)[g + 1];
@@ -622,6 +670,13 @@ void FaceAssembler::assemble(Index g, Chunk& out, FaceSides* sides) {
   local_.reset(max_nodes);
   bucket_.reset(2 * max_nodes);
   for (int k = 0; k < 3; ++k) node(cv_[k], Eigen::Vector3d::Unit(k), 0);
+}
+
+// Makes the nodes of g's traced segments and keeps those not along a side of g (inner_, with
+// their intrinsic halfedges in inner_h_).
+void FaceAssembler::gather_segments(Index g) {
+  const IntrinsicTriangulation& in = *x_.in;
+  const Index s_begin = (*x_.seg_begin)[g], s_end = (*x_.seg_begin)[g + 1];
   inner_.clear();
   inner_h_.clear();
   SegmentRef prev{kInvalidIndex, kInvalidIndex};
@@ -664,10 +719,11 @@ void FaceAssembler::assemble(Index g, Chunk& out, FaceSides* sides) {
     inner_.emplace_back(a, b);
     inner_h_.push_back(h);
   }
-  edges_.clear();
-  edge_labels_.clear();
-  edge_seen_.reset(2 * gid_.size() + inner_.size() + 3);
-  label_sides(g);
+}
+
+// Adds the inner segments as edges labelled with the intrinsic faces on their two sides.
+void FaceAssembler::add_inner_edges() {
+  const IntrinsicTriangulation& tri = *x_.tri;
   // two segments with the same ends need both ends shared by two segments or more
   uses_.assign(gid_.size(), 0);
   for (const auto& [a, b] : inner_) {
@@ -680,44 +736,54 @@ void FaceAssembler::assemble(Index g, Chunk& out, FaceSides* sides) {
     add_edge(a, b, T::face(h), tri.twin(h) == kInvalidIndex ? -1 : T::face(tri.twin(h)),
              uses_[std::size_t(a)] > 1 && uses_[std::size_t(b)] > 1);
   }
-  // 2D positions in g's layout
+}
+
+// The nodes' 2D positions in g's layout (p_).
+void FaceAssembler::lay_out(Index g) {
   Eigen::Vector2d corner[3];
-  face_layout(in, g, corner);
+  face_layout(*x_.in, g, corner);
   p_.resize(gid_.size());
   for (std::size_t i = 0; i < gid_.size(); ++i) {
     p_[i] = bary_[i][0] * corner[0] + bary_[i][1] * corner[1] + bary_[i][2] * corner[2];
   }
-  build_adjacency();
-  walk(g, out, sides);
 }
 
-}  // namespace
+// ---- The phases of common_subdivision().
 
-CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
+// Every intrinsic edge traced over the input.
+struct Traces {
+  std::vector<Index> traced;                     // per edge: the halfedge traced
+  std::vector<std::vector<SurfacePoint>> paths;  // per edge: its path over the input
+};
+
+// Traces every edge from the halfedge trace_edge() would use; any failed trace ends the call.
+Traces trace_edges(const SignpostTriangulation& st) {
   const IntrinsicTriangulation& tri = st.intrinsic();
-  const IntrinsicTriangulation& in = st.input();
-  const Index n_in = st.n_input_vertices(), nvi = tri.n_vertices(), ne = tri.n_edges();
-  const Index nf = in.n_faces();
-
-  // ---- trace every edge (from the halfedge trace_edge() would use)
-  std::vector<Index> traced(ne);
-  std::vector<std::vector<SurfacePoint>> paths(ne);
+  const Index n_in = st.n_input_vertices(), ne = tri.n_edges();
+  Traces t{std::vector<Index>(ne), std::vector<std::vector<SurfacePoint>>(ne)};
   FirstError failure;  // transport out of the OpenMP loop: any Error ends the call
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index e = 0; e < ne; ++e) {
     Index h = tri.edge_halfedge(e);
     if (tri.tail(h) >= n_in && tri.head(h) < n_in && tri.twin(h) != kInvalidIndex) h = tri.twin(h);
-    traced[e] = h;
+    t.traced[e] = h;
     try {
-      paths[e] = st.trace_halfedge(h);
+      t.paths[e] = st.trace_halfedge(h);
     } catch (const Error& err) {
       failure.record(err, "edge " + std::to_string(e));
     }
   }
   failure.rethrow_if_any("common_subdivision");
-  // A trace leaving (or reaching) a vertex that lies on an input side records a crossing at the
-  // vertex itself: drop it, so that the vertex is the path's end in the face the segment really
-  // runs in (else that face gets a second node at the vertex's place and overlapping pieces).
+  return t;
+}
+
+// A trace leaving (or reaching) a vertex that lies on an input side records a crossing at the
+// vertex itself: drops it, so that the vertex is the path's end in the face the segment really
+// runs in (else that face gets a second node at the vertex's place and overlapping pieces).
+void drop_crossings_at_ends(const SignpostTriangulation& st,
+                            std::vector<std::vector<SurfacePoint>>& paths) {
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  const Index ne = tri.n_edges();
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index e = 0; e < ne; ++e) {
     auto& path = paths[e];
@@ -728,98 +794,128 @@ CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
     while (path.size() > 2 && same_place(path[0], path[1])) path.erase(path.begin());
     while (path.size() > 2 && same_place(path[path.size() - 2], path.back())) path.pop_back();
   }
+}
 
-  // ---- node ids: input vertices, inserted vertices, then one per interior path point; segments
-  std::vector<Index> offset(ne + 1, 0), seg_offset(ne + 1, 0);
+// Node ids: input vertices, inserted vertices, then one per interior path point; segments.
+struct Numbering {
+  std::vector<Index> offset;      // per edge, + 1: its first interior path point (node nvi + it)
+  std::vector<Index> seg_offset;  // per edge, + 1: its first segment
+  Index n_points = 0;             // path point nodes
+  Index n_segs = 0;
+};
+
+// Numbers the interior path points and the segments edge by edge.
+Numbering number_path_points(const std::vector<std::vector<SurfacePoint>>& paths) {
+  const Index ne = Index(paths.size());
+  Numbering num{std::vector<Index>(ne + 1, 0), std::vector<Index>(ne + 1, 0)};
   for (Index e = 0; e < ne; ++e) {
     const std::size_t n = paths[e].size();
-    offset[e + 1] = offset[e] + Index(std::max<std::size_t>(n, 2) - 2);
-    seg_offset[e + 1] = seg_offset[e] + Index(std::max<std::size_t>(n, 1) - 1);
+    num.offset[e + 1] = num.offset[e] + Index(std::max<std::size_t>(n, 2) - 2);
+    num.seg_offset[e + 1] = num.seg_offset[e] + Index(std::max<std::size_t>(n, 1) - 1);
   }
-  const Index n_points = offset[ne];  // path point nodes
-  const Index n_segs = seg_offset[ne];
-  const bool parallel = n_segs >= kParallelMin;
+  num.n_points = num.offset[ne];
+  num.n_segs = num.seg_offset[ne];
+  return num;
+}
 
-  // ---- per segment its input face; intrinsic edges that run along an input side label that
-  //      side on both of its faces (the trace records such a segment in one of the two faces
-  //      only). A face's labels are in the order of (face of the segment, edge, segment, side,
-  //      that face first).
-  struct LabelRecord {
-    Index target, g, e, i;
-    int k, other;
-    SideLabel label;
-    bool operator<(const LabelRecord& r) const {
-      return std::tie(g, e, i, k, other) < std::tie(r.g, r.e, r.i, r.k, r.other);
+// A side label for input face `target`, with the key that orders a face's labels: (face of the
+// segment, edge, segment, side, that face first).
+struct LabelRecord {
+  Index target, g, e, i;
+  int k, other;
+  SideLabel label;
+  bool operator<(const LabelRecord& r) const {
+    return std::tie(g, e, i, k, other) < std::tie(r.g, r.e, r.i, r.k, r.other);
+  }
+};
+
+// The coordinates of a node (id, b) in face g that are zero once snapped, as a bit mask (a
+// corner id is its corner; others: below kSideTol).
+int zero_mask(const IntrinsicTriangulation& in, Index id, Index g, const Eigen::Vector3d& b) {
+  for (int k = 0; k < 3; ++k) {
+    if (id == in.tail(3 * g + k)) return 7 & ~(1 << k);
+  }
+  return (b[0] < kSideTol ? 1 : 0) | (b[1] < kSideTol ? 2 : 0) | (b[2] < kSideTol ? 4 : 0);
+}
+
+// The barycentric coordinates of a node (id, b) in face g once snapped to a corner or sides.
+Eigen::Vector3d snapped(const IntrinsicTriangulation& in, Index id, Index g, Eigen::Vector3d b) {
+  for (int k = 0; k < 3; ++k) {
+    if (id == in.tail(3 * g + k)) return Eigen::Vector3d(Eigen::Vector3d::Unit(k));
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (b[k] < kSideTol) b[k] = 0.0;
+  }
+  return Eigen::Vector3d(b / b.sum());
+}
+
+// Appends the side labels of segment i of edge e (traced from h, in face g, from snapped ba to
+// snapped bs) for each side of g it runs along: for g and for the face across that side.
+void add_side_labels(const IntrinsicTriangulation& tri, const IntrinsicTriangulation& in, Index h,
+                     Index e, Index i, Index g, const Eigen::Vector3d& ba,
+                     const Eigen::Vector3d& bs, std::vector<LabelRecord>& out) {
+  for (int k = 0; k < 3; ++k) {
+    if (ba[(k + 2) % 3] != 0.0 || bs[(k + 2) % 3] != 0.0) continue;
+    const double ta = ba[(k + 1) % 3], tb = bs[(k + 1) % 3];
+    if (ta == tb) continue;
+    const Index tw_h = tri.twin(h);
+    const Index left_face = T::face(h);
+    const Index right_face = tw_h == kInvalidIndex ? kInvalidIndex : T::face(tw_h);
+    // g's interior is left of its side run corner k → k+1 (t increasing)
+    out.push_back({g,
+                   g,
+                   e,
+                   i,
+                   k,
+                   0,
+                   {k, std::min(ta, tb), std::max(ta, tb), ta < tb ? left_face : right_face}});
+    const Index tw = in.twin(3 * g + k);
+    if (tw != kInvalidIndex) {
+      out.push_back({T::face(tw),
+                     g,
+                     e,
+                     i,
+                     k,
+                     1,
+                     {int(T::side(tw)), 1.0 - std::max(ta, tb), 1.0 - std::min(ta, tb),
+                      ta < tb ? right_face : left_face}});
     }
-  };
-  std::vector<Index> seg_face(n_segs);
+  }
+}
+
+// Per segment its input face (seg_face); intrinsic edges that run along an input side label
+// that side on both of its faces (the trace records such a segment in one of the two faces
+// only): their records, unordered. @throws Error when a path jumps between faces
+std::vector<LabelRecord> collect_label_records(const SignpostTriangulation& st,
+                                               const Traces& traces, const Numbering& num,
+                                               bool parallel, std::vector<Index>& seg_face) {
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  const IntrinsicTriangulation& in = st.input();
+  const Index nvi = tri.n_vertices(), ne = tri.n_edges();
   std::vector<LabelRecord> records;
   bool jumps = false;
-  // coordinates that are zero once snapped (a corner id is its corner; others: below kSideTol)
-  auto zero_mask = [&](Index id, Index g, const Eigen::Vector3d& b) {
-    for (int k = 0; k < 3; ++k) {
-      if (id == in.tail(3 * g + k)) return 7 & ~(1 << k);
-    }
-    return (b[0] < kSideTol ? 1 : 0) | (b[1] < kSideTol ? 2 : 0) | (b[2] < kSideTol ? 4 : 0);
-  };
-  auto snapped = [&](Index id, Index g, Eigen::Vector3d b) {
-    for (int k = 0; k < 3; ++k) {
-      if (id == in.tail(3 * g + k)) return Eigen::Vector3d(Eigen::Vector3d::Unit(k));
-    }
-    for (int k = 0; k < 3; ++k) {
-      if (b[k] < kSideTol) b[k] = 0.0;
-    }
-    return Eigen::Vector3d(b / b.sum());
-  };
 #pragma omp parallel if (parallel)
   {
     std::vector<LabelRecord> mine;
     bool my_jumps = false;
 #pragma omp for schedule(dynamic, 1024) nowait
     for (Index e = 0; e < ne; ++e) {
-      const auto& path = paths[e];
-      const Index h = traced[e];
+      const auto& path = traces.paths[e];
+      const Index h = traces.traced[e];
       const std::size_t n = path.size();
       for (std::size_t i = 0; i + 1 < n; ++i) {
         const Index g = path[i].face;
-        seg_face[std::size_t(seg_offset[e]) + i] = g;
+        seg_face[std::size_t(num.seg_offset[e]) + i] = g;
         Eigen::Vector3d bb;
         if (!to_face(in, path[i + 1], g, bb)) {
           my_jumps = true;
           continue;
         }
-        const Index ia = i == 0 ? tri.tail(h) : nvi + offset[e] + Index(i - 1);
-        const Index ib = i + 2 == n ? tri.head(h) : nvi + offset[e] + Index(i);
-        if ((zero_mask(ia, g, path[i].bary) & zero_mask(ib, g, bb)) == 0) continue;
-        const Eigen::Vector3d ba = snapped(ia, g, path[i].bary), bs = snapped(ib, g, bb);
-        for (int k = 0; k < 3; ++k) {
-          if (ba[(k + 2) % 3] != 0.0 || bs[(k + 2) % 3] != 0.0) continue;
-          const double ta = ba[(k + 1) % 3], tb = bs[(k + 1) % 3];
-          if (ta == tb) continue;
-          const Index tw_h = tri.twin(h);
-          const Index left_face = T::face(h);
-          const Index right_face = tw_h == kInvalidIndex ? kInvalidIndex : T::face(tw_h);
-          // g's interior is left of its side run corner k → k+1 (t increasing)
-          mine.push_back(
-              {g,
-               g,
-               e,
-               Index(i),
-               k,
-               0,
-               {k, std::min(ta, tb), std::max(ta, tb), ta < tb ? left_face : right_face}});
-          const Index tw = in.twin(3 * g + k);
-          if (tw != kInvalidIndex) {
-            mine.push_back({T::face(tw),
-                            g,
-                            e,
-                            Index(i),
-                            k,
-                            1,
-                            {int(T::side(tw)), 1.0 - std::max(ta, tb), 1.0 - std::min(ta, tb),
-                             ta < tb ? right_face : left_face}});
-          }
-        }
+        const Index ia = i == 0 ? tri.tail(h) : nvi + num.offset[e] + Index(i - 1);
+        const Index ib = i + 2 == n ? tri.head(h) : nvi + num.offset[e] + Index(i);
+        if ((zero_mask(in, ia, g, path[i].bary) & zero_mask(in, ib, g, bb)) == 0) continue;
+        add_side_labels(tri, in, h, e, Index(i), g, snapped(in, ia, g, path[i].bary),
+                        snapped(in, ib, g, bb), mine);
       }
     }
 #pragma omp critical(ifem_common_subdivision_records)
@@ -829,47 +925,62 @@ CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
     }
   }
   if (jumps) throw Error("common_subdivision: traced path jumps between faces");
-  std::vector<Index> label_begin(std::size_t(nf) + 1, 0);
+  return records;
+}
+
+// The side labels grouped by input face (label_begin: per face, + 1), each face's in the
+// order of its records' key.
+void group_labels(const std::vector<LabelRecord>& records, Index nf,
+                  std::vector<Index>& label_begin, std::vector<SideLabel>& labels) {
+  label_begin.assign(std::size_t(nf) + 1, 0);
   for (const LabelRecord& r : records) ++label_begin[std::size_t(r.target) + 1];
   for (Index g = 0; g < nf; ++g) label_begin[g + 1] += label_begin[g];
-  std::vector<SideLabel> labels(records.size());
-  {
-    std::vector<LabelRecord> by_face(records.size());
-    std::vector<Index> fill(label_begin.begin(), label_begin.end() - 1);
-    for (const LabelRecord& r : records) by_face[std::size_t(fill[r.target]++)] = r;
-    for (Index g = 0; g < nf; ++g) {
-      const auto first = by_face.begin() + label_begin[g];
-      const auto last = by_face.begin() + label_begin[g + 1];
-      std::sort(first, last);
-      for (auto it = first; it != last; ++it) labels[std::size_t(it - by_face.begin())] = it->label;
-    }
+  labels.resize(records.size());
+  std::vector<LabelRecord> by_face(records.size());
+  std::vector<Index> fill(label_begin.begin(), label_begin.end() - 1);
+  for (const LabelRecord& r : records) by_face[std::size_t(fill[r.target]++)] = r;
+  for (Index g = 0; g < nf; ++g) {
+    const auto first = by_face.begin() + label_begin[g];
+    const auto last = by_face.begin() + label_begin[g + 1];
+    std::sort(first, last);
+    for (auto it = first; it != last; ++it) labels[std::size_t(it - by_face.begin())] = it->label;
   }
-  std::vector<LabelRecord>().swap(records);
-  // segments grouped by input face, in the order of (edge, segment)
-  std::vector<Index> seg_begin(std::size_t(nf) + 1, 0);
+}
+
+// The segments grouped by input face (seg_begin: per face, + 1), in the order of (edge,
+// segment).
+void group_segments(const std::vector<Index>& seg_face, const std::vector<Index>& seg_offset,
+                    Index nf, std::vector<Index>& seg_begin, std::vector<SegmentRef>& segs) {
+  const Index ne = Index(seg_offset.size()) - 1;
+  seg_begin.assign(std::size_t(nf) + 1, 0);
   for (const Index g : seg_face) ++seg_begin[std::size_t(g) + 1];
   for (Index g = 0; g < nf; ++g) seg_begin[g + 1] += seg_begin[g];
-  std::vector<SegmentRef> segs(n_segs);
-  {
-    std::vector<Index> fill(seg_begin.begin(), seg_begin.end() - 1);
-    for (Index e = 0; e < ne; ++e) {
-      for (Index s = seg_offset[e]; s < seg_offset[e + 1]; ++s) {
-        segs[std::size_t(fill[seg_face[std::size_t(s)]]++)] = {e, s - seg_offset[e]};
-      }
+  segs.resize(seg_face.size());
+  std::vector<Index> fill(seg_begin.begin(), seg_begin.end() - 1);
+  for (Index e = 0; e < ne; ++e) {
+    for (Index s = seg_offset[e]; s < seg_offset[e + 1]; ++s) {
+      segs[std::size_t(fill[seg_face[std::size_t(s)]]++)] = {e, s - seg_offset[e]};
     }
   }
-  std::vector<Index>().swap(seg_face);
+}
+
+// Each traced edge as the per-face assembly reads it.
+std::vector<EdgePath> make_edge_paths(const IntrinsicTriangulation& tri, const Traces& traces,
+                                      const Numbering& num) {
+  const Index nvi = tri.n_vertices(), ne = tri.n_edges();
   std::vector<EdgePath> edge_paths(std::size_t(ne), EdgePath{});
   for (Index e = 0; e < ne; ++e) {
-    const Index h = traced[e];
-    edge_paths[e] = {
-        paths[e].data(), Index(paths[e].size()), nvi + offset[e], tri.tail(h), tri.head(h), h};
+    const Index h = traces.traced[e];
+    const std::vector<SurfacePoint>& path = traces.paths[e];
+    edge_paths[e] = {path.data(), Index(path.size()), nvi + num.offset[e],
+                     tri.tail(h), tri.head(h),        h};
   }
+  return edge_paths;
+}
 
-  // ---- per input face: planar graph, its bounded faces
-  std::vector<unsigned char> created(2 * std::size_t(n_points), 0);
-  const Inputs inputs{&tri,  &in,          nvi,     &edge_paths, &seg_begin,
-                      &segs, &label_begin, &labels, &created};
+// Per input face its planar graph and bounded faces, in chunks of kChunkFaces faces.
+std::vector<Chunk> assemble_faces(const Inputs& inputs, Index nf, bool parallel) {
+  const std::vector<Index>& seg_begin = *inputs.seg_begin;
   const Index n_chunks = (nf + kChunkFaces - 1) / kChunkFaces;
   std::vector<Chunk> chunks(std::size_t(n_chunks), Chunk{});
 #pragma omp parallel if (parallel)
@@ -891,106 +1002,138 @@ CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
       out.face_poly_begin.push_back(Index(out.polys.size()));
     }
   }
-  auto face_polys = [&](Index g) {  // (chunk, first polygon, end)
-    const Chunk& c = chunks[std::size_t(g / kChunkFaces)];
-    const Index r = g % kChunkFaces;
-    return std::make_tuple(g / kChunkFaces, c.face_poly_begin[std::size_t(r)],
-                           c.face_poly_begin[std::size_t(r) + 1]);
-  };
+  return chunks;
+}
 
-  // ---- labels across input sides, for polygons with no traced segment on their boundary
+// The polygons of input face g: (chunk, first polygon, end) in that chunk.
+std::tuple<Index, Index, Index> face_polys(const std::vector<Chunk>& chunks, Index g) {
+  const Chunk& c = chunks[std::size_t(g / kChunkFaces)];
+  const Index r = g % kChunkFaces;
+  return std::make_tuple(g / kChunkFaces, c.face_poly_begin[std::size_t(r)],
+                         c.face_poly_begin[std::size_t(r) + 1]);
+}
+
+// The polygon sides of the faces in `faces` and of their neighbours (assembled again); the
+// other faces' entries stay empty.
+std::vector<FaceSides> sides_near(const Inputs& inputs, Index nf, const std::vector<Chunk>& chunks,
+                                  const std::vector<Index>& faces) {
+  const IntrinsicTriangulation& in = *inputs.in;
+  std::vector<FaceSides> sides(static_cast<std::size_t>(nf));
+  std::vector<char> has_sides(std::size_t(nf), 0);
+  FaceAssembler assembler(inputs);
+  Chunk scratch;
+  auto need = [&](Index g) {
+    if (has_sides[std::size_t(g)]) return;
+    has_sides[std::size_t(g)] = 1;
+    scratch.polys.clear();
+    scratch.nodes.clear();
+    scratch.unlabeled_faces.clear();
+    sides[std::size_t(g)].begin.assign(1, 0);
+    assembler.assemble(g, scratch, &sides[std::size_t(g)]);
+    const auto [c, p0, p1] = face_polys(chunks, g);
+    if (Index(scratch.polys.size()) != p1 - p0) {
+      throw Error("common_subdivision: face " + std::to_string(g) + " assembled differently");
+    }
+  };
+  for (const Index g : faces) {
+    need(g);
+    for (int k = 0; k < 3; ++k) {
+      if (in.twin(3 * g + k) != kInvalidIndex) need(T::face(in.twin(3 * g + k)));
+    }
+  }
+  return sides;
+}
+
+// The label across side run `run` of a polygon of face g: that of the last labelled polygon of
+// the neighbouring face whose side run holds the run's midpoint, or -1.
+Index label_across(const IntrinsicTriangulation& in, const std::vector<Chunk>& chunks,
+                   const std::vector<FaceSides>& sides, Index g, const SideRun& run) {
+  const Index tw = in.twin(3 * g + run.k);
+  if (tw == kInvalidIndex) return kInvalidIndex;
+  const double t = 1.0 - 0.5 * (run.t0 + run.t1);
+  const int k2 = int(T::side(tw));
+  const Index g2 = T::face(tw);
+  const auto [c2, q0, q1] = face_polys(chunks, g2);
+  const FaceSides& fs2 = sides[std::size_t(g2)];
+  Index label = kInvalidIndex;
+  for (Index q = q0; q < q1; ++q) {
+    const Index lab_q = chunks[std::size_t(c2)].polys[std::size_t(q)].label;
+    if (lab_q < 0) continue;
+    const Index r0 = fs2.begin[std::size_t(q - q0)];
+    for (Index r3 = r0; r3 < fs2.begin[std::size_t(q - q0) + 1]; ++r3) {
+      const SideRun& run3 = fs2.runs[std::size_t(r3)];
+      if (run3.k == k2 && run3.t0 <= t && t <= run3.t1) label = lab_q;
+    }
+  }
+  return label;
+}
+
+// Labels across input sides, for polygons with no traced segment on their boundary: repeated
+// until no polygon gains one.
+void label_across_sides(const Inputs& inputs, Index nf, std::vector<Chunk>& chunks) {
+  const IntrinsicTriangulation& in = *inputs.in;
   std::vector<Index> unlabeled_faces;
   for (const Chunk& c : chunks) {
     unlabeled_faces.insert(unlabeled_faces.end(), c.unlabeled_faces.begin(),
                            c.unlabeled_faces.end());
   }
-  if (!unlabeled_faces.empty()) {
-    // the sides of the polygons of these faces and of their neighbours (assembled again)
-    std::vector<FaceSides> sides(static_cast<std::size_t>(nf));
-    std::vector<char> has_sides(std::size_t(nf), 0);
-    FaceAssembler assembler(inputs);
-    Chunk scratch;
-    auto need = [&](Index g) {
-      if (has_sides[std::size_t(g)]) return;
-      has_sides[std::size_t(g)] = 1;
-      scratch.polys.clear();
-      scratch.nodes.clear();
-      scratch.unlabeled_faces.clear();
-      sides[std::size_t(g)].begin.assign(1, 0);
-      assembler.assemble(g, scratch, &sides[std::size_t(g)]);
-      const auto [c, p0, p1] = face_polys(g);
-      if (Index(scratch.polys.size()) != p1 - p0) {
-        throw Error("common_subdivision: face " + std::to_string(g) + " assembled differently");
-      }
-    };
+  if (unlabeled_faces.empty()) return;
+  const std::vector<FaceSides> sides = sides_near(inputs, nf, chunks, unlabeled_faces);
+  for (bool progress = true; progress;) {
+    progress = false;
     for (const Index g : unlabeled_faces) {
-      need(g);
-      for (int k = 0; k < 3; ++k) {
-        if (in.twin(3 * g + k) != kInvalidIndex) need(T::face(in.twin(3 * g + k)));
-      }
-    }
-    for (bool progress = true; progress;) {
-      progress = false;
-      for (const Index g : unlabeled_faces) {
-        const auto [c, p0, p1] = face_polys(g);
-        const FaceSides& fs = sides[std::size_t(g)];
-        for (Index pi = p0; pi < p1; ++pi) {
-          Index& label = chunks[std::size_t(c)].polys[std::size_t(pi)].label;
-          if (label >= 0) continue;
-          const Index r_end = fs.begin[std::size_t(pi - p0) + 1];
-          for (Index ri = fs.begin[std::size_t(pi - p0)]; ri < r_end; ++ri) {
-            const SideRun& run = fs.runs[std::size_t(ri)];
-            const Index tw = in.twin(3 * g + run.k);
-            if (tw == kInvalidIndex) continue;
-            const double t = 1.0 - 0.5 * (run.t0 + run.t1);
-            const int k2 = int(T::side(tw));
-            const Index g2 = T::face(tw);
-            const auto [c2, q0, q1] = face_polys(g2);
-            const FaceSides& fs2 = sides[std::size_t(g2)];
-            for (Index q = q0; q < q1; ++q) {
-              const Index lab_q = chunks[std::size_t(c2)].polys[std::size_t(q)].label;
-              if (lab_q < 0) continue;
-              const Index r0 = fs2.begin[std::size_t(q - q0)];
-              for (Index r3 = r0; r3 < fs2.begin[std::size_t(q - q0) + 1]; ++r3) {
-                const SideRun& run3 = fs2.runs[std::size_t(r3)];
-                if (run3.k == k2 && run3.t0 <= t && t <= run3.t1) label = lab_q;
-              }
-            }
-            if (label >= 0) break;
+      const auto [c, p0, p1] = face_polys(chunks, g);
+      const FaceSides& fs = sides[std::size_t(g)];
+      for (Index pi = p0; pi < p1; ++pi) {
+        Index& label = chunks[std::size_t(c)].polys[std::size_t(pi)].label;
+        if (label >= 0) continue;
+        const Index r_end = fs.begin[std::size_t(pi - p0) + 1];
+        for (Index ri = fs.begin[std::size_t(pi - p0)]; ri < r_end; ++ri) {
+          const Index found = label_across(in, chunks, sides, g, fs.runs[std::size_t(ri)]);
+          if (found >= 0) {
+            label = found;
+            break;
           }
-          if (label >= 0) progress = true;
         }
+        if (label >= 0) progress = true;
       }
     }
   }
+}
 
-  // ---- output: compact nodes (input vertices keep their ids), fan polygons
-  // A path point is a node if a face made it one; its position is the one in the first such
-  // face (the face of the segment it starts, or of the one it ends, whichever is lower).
+// Output node ids: intrinsic vertices keep theirs, then the path points some face made a node,
+// in order; n_out: their number.
+std::vector<Index> output_ids(Index nvi, Index n_points, const std::vector<unsigned char>& created,
+                              Index& n_out) {
   std::vector<Index> id(std::size_t(nvi) + std::size_t(n_points), kInvalidIndex);
   for (Index v = 0; v < nvi; ++v) id[v] = v;
-  Index n_out = nvi;
+  n_out = nvi;
   for (Index q = 0; q < n_points; ++q) {
     if (created[2 * std::size_t(q)] || created[2 * std::size_t(q) + 1]) {
       id[std::size_t(nvi + q)] = n_out++;
     }
   }
-  std::vector<std::size_t> face_base(std::size_t(n_chunks) + 1, 0), extra_base(face_base);
-  for (Index c = 0; c < n_chunks; ++c) {
-    face_base[c + 1] = face_base[c] + chunks[std::size_t(c)].n_out_faces;
-    extra_base[c + 1] = extra_base[c] + chunks[std::size_t(c)].n_extra;
-  }
-  CommonSubdivision cs;
-  cs.positions.resize(n_out + Index(extra_base[n_chunks]), 3);
-  for (Index v = 0; v < n_in; ++v) cs.positions.row(v) = st.input_positions().row(v);
+  return id;
+}
+
+// Positions of the vertices (rows 0 .. nvi - 1) and of the path point nodes: a path point's
+// is the one in the first face that made it a node (the face of the segment it starts, or of
+// the one it ends, whichever is lower).
+void place_nodes(const SignpostTriangulation& st, const Traces& traces, const Numbering& num,
+                 const std::vector<unsigned char>& created, const std::vector<Index>& id,
+                 bool parallel, Positions& positions) {
+  const IntrinsicTriangulation& in = st.input();
+  const Index n_in = st.n_input_vertices(), nvi = st.intrinsic().n_vertices();
+  const Index ne = Index(traces.paths.size());
+  for (Index v = 0; v < n_in; ++v) positions.row(v) = st.input_positions().row(v);
   for (Index v = n_in; v < nvi; ++v) {
-    cs.positions.row(v) = st.position(st.vertex_location(v)).transpose();
+    positions.row(v) = st.position(st.vertex_location(v)).transpose();
   }
 #pragma omp parallel for schedule(dynamic, 1024) if (parallel)
   for (Index e = 0; e < ne; ++e) {
-    const auto& path = paths[e];
+    const auto& path = traces.paths[e];
     for (std::size_t i = 1; i + 1 < path.size(); ++i) {
-      const std::size_t q = std::size_t(offset[e]) + i - 1;
+      const std::size_t q = std::size_t(num.offset[e]) + i - 1;
       const bool as_start = created[2 * q], as_end = created[2 * q + 1];
       if (!as_start && !as_end) continue;
       const Index g_start = path[i].face, g_end = path[i - 1].face;
@@ -1007,19 +1150,20 @@ CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
       for (int k = 0; k < 3; ++k) {
         x += b[k] * st.input_positions().row(in.tail(3 * g + k)).transpose();
       }
-      cs.positions.row(id[std::size_t(nvi) + q]) = x.transpose();
+      positions.row(id[std::size_t(nvi) + q]) = x.transpose();
     }
   }
-#pragma omp parallel sections if (parallel)
-  {
-#pragma omp section
-    cs.faces.resize(face_base[n_chunks]);
-#pragma omp section
-    {
-      cs.intrinsic_face.resize(face_base[n_chunks]);
-      cs.input_face.resize(face_base[n_chunks]);
-    }
-  }
+}
+
+// Fans the polygons of the chunks into cs.faces (already sized): a triangle as it is, a larger
+// polygon around its centroid (a new vertex from n_out + its chunk's extra_base on), with
+// face_base: per chunk, + 1, its first output face.
+void emit_polygons(const SignpostTriangulation& st, const std::vector<Chunk>& chunks,
+                   const std::vector<Index>& id, Index n_out,
+                   const std::vector<std::size_t>& face_base,
+                   const std::vector<std::size_t>& extra_base, bool parallel,
+                   CommonSubdivision& cs) {
+  const Index n_chunks = Index(chunks.size());
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
   for (Index c = 0; c < n_chunks; ++c) {
     const Chunk& chunk = chunks[std::size_t(c)];
@@ -1051,7 +1195,69 @@ CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
       ++ci;
     }
   }
+}
+
+// The output mesh: compact nodes (input vertices keep their ids), fanned polygons.
+CommonSubdivision make_output(const SignpostTriangulation& st, const Traces& traces,
+                              const Numbering& num, const std::vector<unsigned char>& created,
+                              const std::vector<Chunk>& chunks, bool parallel) {
+  const Index nvi = st.intrinsic().n_vertices();
+  const Index n_chunks = Index(chunks.size());
+  Index n_out = 0;
+  const std::vector<Index> id = output_ids(nvi, num.n_points, created, n_out);
+  std::vector<std::size_t> face_base(std::size_t(n_chunks) + 1, 0), extra_base(face_base);
+  for (Index c = 0; c < n_chunks; ++c) {
+    face_base[c + 1] = face_base[c] + chunks[std::size_t(c)].n_out_faces;
+    extra_base[c + 1] = extra_base[c] + chunks[std::size_t(c)].n_extra;
+  }
+  CommonSubdivision cs;
+  cs.positions.resize(n_out + Index(extra_base[n_chunks]), 3);
+  place_nodes(st, traces, num, created, id, parallel, cs.positions);
+#pragma omp parallel sections if (parallel)
+  {
+#pragma omp section
+    cs.faces.resize(face_base[n_chunks]);
+#pragma omp section
+    {
+      cs.intrinsic_face.resize(face_base[n_chunks]);
+      cs.input_face.resize(face_base[n_chunks]);
+    }
+  }
+  emit_polygons(st, chunks, id, n_out, face_base, extra_base, parallel, cs);
   return cs;
+}
+
+}  // namespace
+
+CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  const IntrinsicTriangulation& in = st.input();
+  const Index nf = in.n_faces();
+  // ---- trace every edge
+  Traces traces = trace_edges(st);
+  drop_crossings_at_ends(st, traces.paths);
+  // ---- node ids and segments
+  const Numbering num = number_path_points(traces.paths);
+  const bool parallel = num.n_segs >= kParallelMin;
+  // ---- per segment its input face; side labels grouped by face
+  std::vector<Index> seg_face(num.n_segs);
+  std::vector<Index> label_begin;
+  std::vector<SideLabel> labels;
+  group_labels(collect_label_records(st, traces, num, parallel, seg_face), nf, label_begin, labels);
+  // ---- segments grouped by input face
+  std::vector<Index> seg_begin;
+  std::vector<SegmentRef> segs;
+  group_segments(seg_face, num.seg_offset, nf, seg_begin, segs);
+  std::vector<Index>().swap(seg_face);
+  const std::vector<EdgePath> edge_paths = make_edge_paths(tri, traces, num);
+  // ---- per input face: planar graph, its bounded faces; labels across input sides
+  std::vector<unsigned char> created(2 * std::size_t(num.n_points), 0);
+  const Inputs inputs{&tri,  &in,          tri.n_vertices(), &edge_paths, &seg_begin,
+                      &segs, &label_begin, &labels,          &created};
+  std::vector<Chunk> chunks = assemble_faces(inputs, nf, parallel);
+  label_across_sides(inputs, nf, chunks);
+  // ---- output
+  return make_output(st, traces, num, created, chunks, parallel);
 }
 
 void write_common_subdivision_ply(const std::string& path, const CommonSubdivision& cs,

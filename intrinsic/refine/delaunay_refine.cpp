@@ -610,9 +610,8 @@ void split_long_edges(SignpostTriangulation& st, const RelaxOptions& options, In
   }
 }
 
-}  // namespace
-
-RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options) {
+// Throws InvalidInput for options relax_inserted_vertices() cannot use.
+void check_relax_options(const RelaxOptions& options) {
   options.validate();
   if (options.iterations < 0) {
     throw InvalidInput("relax_inserted_vertices: iterations must be ≥ 0");
@@ -620,6 +619,87 @@ RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOption
   if (!(options.max_edge_length >= 0.0)) {
     throw InvalidInput("relax_inserted_vertices: max_edge_length must be ≥ 0");
   }
+}
+
+// The ODT target of a vertex at the origin with the flattened ring `ring`: the area-weighted
+// mean of the circumcenters of (origin, ring[i], ring[i+1]); old_min and old_sum: the smallest
+// and the sum of the triangles' smallest angles. False if a triangle or the star is not
+// positively oriented.
+bool odt_target(const std::vector<Eigen::Vector2d>& ring, Eigen::Vector2d& target, double& old_min,
+                double& old_sum) {
+  const Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+  const std::size_t n = ring.size();
+  Eigen::Vector2d acc = Eigen::Vector2d::Zero();
+  double area = 0.0;
+  old_min = kPi;
+  old_sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d& b = ring[i];
+    const Eigen::Vector2d& c = ring[(i + 1) % n];
+    const double dd = 2.0 * cross2(b, c);
+    if (!(dd > 0.0)) return false;
+    const Eigen::Vector2d cc((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / dd,
+                             (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / dd);
+    acc += 0.25 * dd * cc;  // area = dd / 4
+    area += 0.25 * dd;
+    const double a = planar_min_angle(origin, b, c);
+    old_min = std::min(old_min, a);
+    old_sum += a;
+  }
+  if (!(area > 0.0)) return false;
+  target = acc / area;
+  return true;
+}
+
+// Whether the vertex at p keeps the smallest and the sum of its triangles' smallest angles at
+// least old_min and old_sum.
+bool keeps_min_angles(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& ring,
+                      double old_min, double old_sum) {
+  const std::size_t n = ring.size();
+  double new_min = kPi, new_sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = planar_min_angle(p, ring[i], ring[(i + 1) % n]);
+    new_min = std::min(new_min, a);
+    new_sum += a;
+  }
+  return new_min >= old_min && new_sum >= old_sum;
+}
+
+// Moves inserted vertex v toward its ODT target (the whole way, half, a quarter: the first
+// allowed); counts it as moved or rejected.
+void relax_vertex(SignpostTriangulation& st, Index v, const RelaxOptions& options,
+                  std::vector<Index>& spokes, std::vector<Eigen::Vector2d>& ring,
+                  RelaxReport& rep) {
+  if (st.is_boundary_vertex(v)) {
+    ++rep.skipped_boundary;
+    return;
+  }
+  Eigen::Vector2d target;
+  double old_min = kPi, old_sum = 0.0;
+  if (!st.inserted_vertex_star(v, &spokes, &ring) || !odt_target(ring, target, old_min, old_sum)) {
+    ++rep.skipped_irregular;
+    return;
+  }
+  if (!target.allFinite()) {
+    ++rep.rejected;
+    return;
+  }
+  for (const double fraction : {1.0, 0.5, 0.25}) {
+    const Eigen::Vector2d p = fraction * target;
+    if (options.keep_min_angle && !keeps_min_angles(p, ring, old_min, old_sum)) continue;
+    if (st.move_inserted_vertex(v, p)) {
+      ++rep.moved;
+      rep.max_displacement = std::max(rep.max_displacement, p.norm());
+      return;
+    }
+  }
+  ++rep.rejected;
+}
+
+}  // namespace
+
+RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options) {
+  check_relax_options(options);
   const IntrinsicTriangulation& tri = st.intrinsic();
   RelaxReport rep;
   const Index split_cap =
@@ -627,71 +707,10 @@ RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOption
   angle_stats(tri, rep.min_angle_before, rep.mean_min_angle_before);
   std::vector<Index> spokes;
   std::vector<Eigen::Vector2d> ring;
-  const Eigen::Vector2d origin = Eigen::Vector2d::Zero();
   for (int pass = 0; pass < options.iterations; ++pass) {
     ++rep.passes;
     for (Index v = st.n_input_vertices(); v < tri.n_vertices(); ++v) {
-      if (st.is_boundary_vertex(v)) {
-        ++rep.skipped_boundary;
-        continue;
-      }
-      if (!st.inserted_vertex_star(v, &spokes, &ring)) {
-        ++rep.skipped_irregular;
-        continue;
-      }
-      // area-weighted mean of the circumcenters of (v, ring[i], ring[i+1]), v at the origin
-      const std::size_t n = ring.size();
-      Eigen::Vector2d acc = Eigen::Vector2d::Zero();
-      double area = 0.0, old_min = kPi, old_sum = 0.0;
-      bool ok = true;
-      for (std::size_t i = 0; i < n; ++i) {
-        const Eigen::Vector2d& b = ring[i];
-        const Eigen::Vector2d& c = ring[(i + 1) % n];
-        const double dd = 2.0 * cross2(b, c);
-        if (!(dd > 0.0)) {
-          ok = false;
-          break;
-        }
-        const Eigen::Vector2d cc((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / dd,
-                                 (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / dd);
-        acc += 0.25 * dd * cc;  // area = dd / 4
-        area += 0.25 * dd;
-        const double a = planar_min_angle(origin, b, c);
-        old_min = std::min(old_min, a);
-        old_sum += a;
-      }
-      if (!ok || !(area > 0.0)) {
-        ++rep.skipped_irregular;
-        continue;
-      }
-      const Eigen::Vector2d target = acc / area;
-      if (!target.allFinite()) {
-        ++rep.rejected;
-        continue;
-      }
-      bool moved = false;
-      for (const double fraction : {1.0, 0.5, 0.25}) {
-        const Eigen::Vector2d p = fraction * target;
-        if (options.keep_min_angle) {
-          double new_min = kPi, new_sum = 0.0;
-          for (std::size_t i = 0; i < n; ++i) {
-            const double a = planar_min_angle(p, ring[i], ring[(i + 1) % n]);
-            new_min = std::min(new_min, a);
-            new_sum += a;
-          }
-          if (!(new_min >= old_min && new_sum >= old_sum)) continue;
-        }
-        if (st.move_inserted_vertex(v, p)) {
-          moved = true;
-          rep.max_displacement = std::max(rep.max_displacement, p.norm());
-          break;
-        }
-      }
-      if (moved) {
-        ++rep.moved;
-      } else {
-        ++rep.rejected;
-      }
+      relax_vertex(st, v, options, spokes, ring, rep);
     }
     rep.flips += st.flip_to_delaunay().flips;
     if (options.max_edge_length > 0.0) split_long_edges(st, options, split_cap, rep);

@@ -4,9 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <utility>
 
@@ -25,6 +23,71 @@ inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 
 Index trace_cap(const IntrinsicTriangulation& tri) { return 4 * tri.n_faces() + 1000; }
 
+// Clamps barycentric coordinates to ≥ 0 and rescales them to sum 1 (unless all are zero).
+void clamp_normalize(Eigen::Vector3d& x) {
+  x = x.cwiseMax(0.0);
+  const double s = x.sum();
+  if (s > 0.0) x /= s;
+}
+
+// Barycentric velocity of the unit direction d in a face laid out at p (Σ db = 0,
+// Σ db_i p_i = d).
+Eigen::Vector3d barycentric_velocity(const Eigen::Vector2d p[3], const Eigen::Vector2d& d) {
+  const double db2 = d.y() / p[2].y();
+  const double db1 = (d.x() - db2 * p[2].x()) / p[1].x();
+  return Eigen::Vector3d(-db1 - db2, db1, db2);
+}
+
+// The coordinate k that a line from b with barycentric velocity db drives to zero first (it
+// leaves the face through side k + 1), skipping k = excl and, when only ≥ 0, every k but only;
+// -1 if none. t_exit: the distance to it (infinity if none).
+int first_exit(const Eigen::Vector3d& b, const Eigen::Vector3d& db, int excl, int only,
+               double& t_exit) {
+  const double tol = 1e-12 * db.cwiseAbs().maxCoeff();
+  int k_exit = -1;
+  t_exit = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    if (k == excl || (only >= 0 && k != only) || !(db[k] < -tol)) continue;
+    const double t = std::max(b[k], 0.0) / -db[k];
+    if (t < t_exit) {
+      t_exit = t;
+      k_exit = k;
+    }
+  }
+  return k_exit;
+}
+
+// Ends the trace at (f, b) heading d.
+void finish_trace(TraceResult& r, Index f, const Eigen::Vector3d& b, const Eigen::Vector2d& d,
+                  bool record_path) {
+  r.end = {f, b};
+  r.direction = d;
+  if (record_path) r.path.push_back(r.end);
+}
+
+// Carries the line across side s of face f (unit vector e along it, crossed at b) into the
+// face of its twin tw: f, b, d and p (the layout) become that face's, excl its side's
+// opposite corner.
+void unfold_across(const IntrinsicTriangulation& tri, Index tw, int s, const Eigen::Vector2d& e,
+                   Index& f, Eigen::Vector3d& b, Eigen::Vector2d& d, Eigen::Vector2d p[3],
+                   int& excl) {
+  const int s1 = (s + 1) % 3;
+  const double cs = d.dot(e), sn = cross2(e, d);
+  const double u = b[s1] / (b[s] + b[s1]);
+  const Index g = T::face(tw);
+  const int s2 = T::side(tw);
+  Eigen::Vector3d nb = Eigen::Vector3d::Zero();
+  nb[s2] = u;
+  nb[(s2 + 1) % 3] = 1.0 - u;
+  face_layout(tri, g, p);
+  const Eigen::Vector2d e2 = (p[(s2 + 1) % 3] - p[s2]).normalized();
+  const Eigen::Vector2d e2perp(-e2.y(), e2.x());
+  d = -(cs * e2 + sn * e2perp);
+  f = g;
+  b = nb;
+  excl = (s2 + 2) % 3;
+}
+
 }  // namespace
 
 TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
@@ -42,45 +105,26 @@ TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint
   if (record_path) r.path.push_back(start);
   Eigen::Vector2d p[3];
   face_layout(tri, f, p);
-  auto normalize = [](Eigen::Vector3d& x) {
-    x = x.cwiseMax(0.0);
-    const double s = x.sum();
-    if (s > 0.0) x /= s;
-  };
   for (Index step = 0;; ++step) {
     if (step > max_steps) {
       throw TraceError("trace: gave up after " + std::to_string(max_steps) +
                        " side crossings (degenerate geometry near face " + std::to_string(f) + ")");
     }
-    // barycentric velocity of the unit direction d (Σ db = 0, Σ db_i p_i = d)
-    const double db2 = d.y() / p[2].y();
-    const double db1 = (d.x() - db2 * p[2].x()) / p[1].x();
-    const Eigen::Vector3d db(-db1 - db2, db1, db2);
-    const double tol = 1e-12 * db.cwiseAbs().maxCoeff();
-    int k_exit = -1;
-    double t_exit = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 3; ++k) {
-      if (k == excl || (only >= 0 && k != only) || !(db[k] < -tol)) continue;
-      const double t = std::max(b[k], 0.0) / -db[k];
-      if (t < t_exit) {
-        t_exit = t;
-        k_exit = k;
-      }
-    }
+    const Eigen::Vector3d db = barycentric_velocity(p, d);
+    double t_exit = 0.0;
+    const int k_exit = first_exit(b, db, excl, only, t_exit);
     // ending within rounding of a side (typically at the far vertex): end, do not cross
     if (k_exit < 0 || rem <= t_exit + end_slack) {
       const double t_end = std::min(rem, t_exit);
       if (std::isfinite(t_end) && db.allFinite()) b += t_end * db;
-      normalize(b);
-      r.end = {f, b};
-      r.direction = d;
-      if (record_path) r.path.push_back(r.end);
+      clamp_normalize(b);
+      finish_trace(r, f, b, d, record_path);
       return r;
     }
     only = -1;
     b += t_exit * db;
     b[k_exit] = 0.0;
-    normalize(b);
+    clamp_normalize(b);
     rem -= t_exit;
     const int s = (k_exit + 1) % 3, s1 = (s + 1) % 3;
     const Index he = 3 * f + s;
@@ -98,25 +142,10 @@ TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint
       }
       r.hit_boundary = true;
       r.boundary_halfedge = he;
-      r.end = {f, b};
-      r.direction = d;
-      if (record_path) r.path.push_back(r.end);
+      finish_trace(r, f, b, d, record_path);
       return r;
     }
-    const double cs = d.dot(e), sn = cross2(e, d);
-    const double u = b[s1] / (b[s] + b[s1]);
-    const Index g = T::face(tw);
-    const int s2 = T::side(tw);
-    Eigen::Vector3d nb = Eigen::Vector3d::Zero();
-    nb[s2] = u;
-    nb[(s2 + 1) % 3] = 1.0 - u;
-    face_layout(tri, g, p);
-    const Eigen::Vector2d e2 = (p[(s2 + 1) % 3] - p[s2]).normalized();
-    const Eigen::Vector2d e2perp(-e2.y(), e2.x());
-    d = -(cs * e2 + sn * e2perp);
-    f = g;
-    b = nb;
-    excl = (s2 + 2) % 3;
+    unfold_across(tri, tw, s, e, f, b, d, p, excl);
     if (record_path) r.path.push_back({f, b});
   }
 }
@@ -610,69 +639,75 @@ void SignpostTriangulation::save(const std::string& path) const {
 
 namespace {
 
-// Line reader for load(): skips blank lines and '#' comments, names the line in errors.
-class LineReader {
+// Record reader for load(), on the text cursor the mesh readers use: one record per line, blank
+// lines and '#' comments skipped; errors are IoError naming the file and the line.
+class RecordReader {
  public:
-  LineReader(const std::string& path) : path_(path), in_(path) {
-    if (!in_) throw IoError(path + ": cannot open");
+  explicit RecordReader(const std::string& path)
+      : path_(path),
+        bytes_(io::detail::read_file(path)),
+        c_(path_, bytes_.data(), bytes_.data() + bytes_.size()) {}
+
+  // Moves to the next record (a line with content); `what` names it when the file ends first.
+  void next(const char* what) {
+    if (started_) c_.next_line();
+    started_ = true;
+    if (!c_.next_content_line()) fail(std::string("unexpected end of file, expected ") + what);
   }
-  std::istringstream next(const char* what) {
-    std::string line;
-    while (std::getline(in_, line)) {
-      ++lineno_;
-      if (line.empty() || line[0] == '#') continue;
-      return std::istringstream(line);
-    }
-    throw IoError(path_ + ": unexpected end of file, expected " + what);
-  }
-  [[noreturn]] void fail(const std::string& msg) const {
-    throw IoError(path_ + ":" + std::to_string(lineno_) + ": " + msg);
-  }
+  // The next word of the current record (empty at its end).
+  std::string word() { return std::string(c_.token()); }
+  long integer(const std::string& what) { return long(c_.integer(what.c_str())); }
+  double number(const std::string& what) { return c_.number(what.c_str()); }
+  [[noreturn]] void fail(const std::string& msg) const { c_.fail(msg); }
+  // The next record is `word`, followed by one or two counts when a (and b) are given.
   void keyword(const char* word, long* a = nullptr, long* b = nullptr) {
-    std::istringstream ss = next(word);
-    std::string w;
-    ss >> w;
+    next(word);
+    const std::string w = this->word();
     if (w != word) fail(std::string("expected '") + word + "', got '" + w + "'");
-    if (a && !(ss >> *a)) fail(std::string("'") + word + "' needs a count");
-    if (b && !(ss >> *b)) fail(std::string("'") + word + "' needs two counts");
+    if (a) *a = integer(std::string("the count of '") + word + "'");
+    if (b) *b = integer(std::string("the second count of '") + word + "'");
   }
+  // The next record is exactly the values x... (integers into long, numbers into double).
   template <class... X>
   void values(const char* what, X&... x) {
-    std::istringstream ss = next(what);
-    std::string rest;
-    if (!((ss >> x) && ...) || (ss >> rest)) fail(std::string("expected ") + what);
+    next(what);
+    (read(what, x), ...);
+    if (!c_.at_line_end()) fail(std::string("expected ") + what + ", got more on the line");
   }
 
  private:
+  void read(const char* what, long& x) { x = integer(what); }
+  void read(const char* what, double& x) { x = number(what); }
+
   std::string path_;
-  std::ifstream in_;
-  long lineno_ = 0;
+  std::string bytes_;
+  io::detail::TextCursor c_;
+  bool started_ = false;
 };
 
-}  // namespace
+// The header ("ifem-signpost 1") and the mollification record; returns the mollification.
+double read_header(RecordReader& r) {
+  r.next("header");
+  if (r.word() != "ifem-signpost") r.fail("not an ifem-signpost file");
+  const long version = r.integer("the version");
+  if (version != 1) r.fail("unsupported version " + std::to_string(version) + " (this reads 1)");
+  r.next("mollify");
+  if (r.word() != "mollify") r.fail("expected 'mollify EPS'");
+  const double eps = r.number("EPS of 'mollify EPS'");
+  if (!(eps >= 0)) r.fail("expected 'mollify EPS' with EPS >= 0");
+  return eps;
+}
 
-SignpostTriangulation SignpostTriangulation::load(const std::string& path) {
-  LineReader r(path);
-  {
-    std::istringstream ss = r.next("header");
-    std::string magic;
-    int version = 0;
-    ss >> magic >> version;
-    if (magic != "ifem-signpost") r.fail("not an ifem-signpost file");
-    if (version != 1) r.fail("unsupported version " + std::to_string(version) + " (this reads 1)");
-  }
-  std::istringstream ms = r.next("mollify");
-  std::string w;
-  double eps = 0;
-  if (!(ms >> w >> eps) || w != "mollify" || !(eps >= 0)) r.fail("expected 'mollify EPS'");
+// The input vertices and faces, as given.
+void read_input(RecordReader& r, Positions& x, std::vector<Triangle>& faces) {
   long nv = 0, nf = 0;
   r.keyword("input_vertices", &nv);
   if (nv < 0 || nv > std::numeric_limits<Index>::max()) r.fail("bad vertex count");
-  Positions x(nv, 3);
+  x.resize(nv, 3);
   for (long v = 0; v < nv; ++v) r.values("'x y z'", x(v, 0), x(v, 1), x(v, 2));
   r.keyword("input_faces", &nf);
   if (nf < 0 || nf > std::numeric_limits<Index>::max() / 3) r.fail("bad face count");
-  std::vector<Triangle> faces(nf);
+  faces.resize(nf);
   for (long f = 0; f < nf; ++f) {
     long a, b, c;
     r.values("'a b c'", a, b, c);
@@ -681,69 +716,113 @@ SignpostTriangulation SignpostTriangulation::load(const std::string& path) {
     }
     faces[f] = {Index(a), Index(b), Index(c)};
   }
-  long nvi = 0, nfi = 0;
-  r.keyword("intrinsic", &nvi, &nfi);
-  if (nvi < nv || nfi < 0 || nfi > std::numeric_limits<Index>::max() / 3 ||
-      nvi > std::numeric_limits<Index>::max()) {
+}
+
+// The intrinsic triangulation's halfedge records.
+struct GluingRecords {
+  long nvi = 0;                   // intrinsic vertices
+  std::vector<Index> tail, twin;  // per halfedge
+  std::vector<double> len, dir;   // per halfedge: length, signpost
+};
+
+// The intrinsic counts (at least the nv input vertices) and the halfedge records.
+GluingRecords read_halfedges(RecordReader& r, long nv) {
+  GluingRecords gl;
+  long nfi = 0;
+  r.keyword("intrinsic", &gl.nvi, &nfi);
+  if (gl.nvi < nv || nfi < 0 || nfi > std::numeric_limits<Index>::max() / 3 ||
+      gl.nvi > std::numeric_limits<Index>::max()) {
     r.fail("bad intrinsic counts");
   }
   r.keyword("halfedges");
   const long nh = 3 * nfi;
-  std::vector<Index> tail(nh), twin(nh);
-  std::vector<double> len(nh), dir(nh);
+  gl.tail.resize(nh);
+  gl.twin.resize(nh);
+  gl.len.resize(nh);
+  gl.dir.resize(nh);
   for (long h = 0; h < nh; ++h) {
     long t, tw;
-    r.values("'tail twin length direction'", t, tw, len[h], dir[h]);
-    if (t < 0 || t >= nvi || tw < -1 || tw >= nh) r.fail("halfedge id out of range");
-    tail[h] = Index(t);
-    twin[h] = tw < 0 ? kInvalidIndex : Index(tw);
+    r.values("'tail twin length direction'", t, tw, gl.len[h], gl.dir[h]);
+    if (t < 0 || t >= gl.nvi || tw < -1 || tw >= nh) r.fail("halfedge id out of range");
+    gl.tail[h] = Index(t);
+    gl.twin[h] = tw < 0 ? kInvalidIndex : Index(tw);
   }
-  r.keyword("vertices");
-  SignpostTriangulation st(faces, x, eps);
-  if (st.input_.n_vertices() != Index(nv)) r.fail("input vertex count mismatch");
-  st.angle_sum_.resize(nvi);
-  st.boundary_.resize(nvi);
-  st.location_.resize(nvi);
-  st.frame_.resize(nvi);
+  return gl;
+}
+
+// The per-vertex records of the intrinsic vertices.
+struct VertexRecords {
+  std::vector<double> angle_sum;
+  std::vector<char> boundary;
+  std::vector<SurfacePoint> location;  // on the input, face -1 for none
+  std::vector<double> frame;
+};
+
+// The records of nvi intrinsic vertices, located in faces of an input with n_input_faces.
+VertexRecords read_vertex_records(RecordReader& r, long nvi, Index n_input_faces) {
+  VertexRecords vr;
+  vr.angle_sum.resize(nvi);
+  vr.boundary.resize(nvi);
+  vr.location.resize(nvi);
+  vr.frame.resize(nvi);
   for (long v = 0; v < nvi; ++v) {
     long b, f;
-    SurfacePoint& p = st.location_[v];
-    r.values("'angle_sum boundary face b0 b1 b2 frame'", st.angle_sum_[v], b, f, p.bary[0],
-             p.bary[1], p.bary[2], st.frame_[v]);
-    if (f < -1 || f >= st.input_.n_faces()) r.fail("location face out of range");
-    st.boundary_[v] = char(b != 0);
+    SurfacePoint& p = vr.location[v];
+    r.values("'angle_sum boundary face b0 b1 b2 frame'", vr.angle_sum[v], b, f, p.bary[0],
+             p.bary[1], p.bary[2], vr.frame[v]);
+    if (f < -1 || f >= n_input_faces) r.fail("location face out of range");
+    vr.boundary[v] = char(b != 0);
     p.face = f < 0 ? kInvalidIndex : Index(f);
   }
-  std::vector<Index> edge_halfedge;
-  bool has_edges = false;
-  {
-    std::istringstream ss = r.next("'edges NE' or 'end'");
-    std::string word;
-    ss >> word;
-    if (word == "edges") {
-      long ne = 0;
-      if (!(ss >> ne) || ne < 0 || ne > nh) r.fail("'edges' needs a count");
-      edge_halfedge.resize(ne);
-      for (long e = 0; e < ne; ++e) {
-        long h;
-        r.values("'h'", h);
-        if (h < 0 || h >= nh) r.fail("halfedge id out of range");
-        edge_halfedge[e] = Index(h);
-      }
-      has_edges = true;
-      r.keyword("end");
-    } else if (word != "end") {
-      r.fail("expected 'edges' or 'end', got '" + word + "'");
-    }
+  return vr;
+}
+
+// The optional edges section (edge e's halfedge, of nh) and 'end'; false without the section.
+bool read_edges(RecordReader& r, long nh, std::vector<Index>& edge_halfedge) {
+  r.next("'edges NE' or 'end'");
+  const std::string word = r.word();
+  if (word == "end") return false;
+  if (word != "edges") r.fail("expected 'edges' or 'end', got '" + word + "'");
+  const long ne = r.integer("the count of 'edges'");
+  if (ne < 0 || ne > nh) r.fail("bad edge count");
+  edge_halfedge.resize(ne);
+  for (long e = 0; e < ne; ++e) {
+    long h;
+    r.values("'h'", h);
+    if (h < 0 || h >= nh) r.fail("halfedge id out of range");
+    edge_halfedge[e] = Index(h);
   }
+  r.keyword("end");
+  return true;
+}
+
+}  // namespace
+
+SignpostTriangulation SignpostTriangulation::load(const std::string& path) {
+  RecordReader r(path);
+  const double eps = read_header(r);
+  Positions x;
+  std::vector<Triangle> faces;
+  read_input(r, x, faces);
+  GluingRecords gl = read_halfedges(r, long(x.rows()));
+  r.keyword("vertices");
+  SignpostTriangulation st(faces, x, eps);
+  if (st.input_.n_vertices() != Index(x.rows())) r.fail("input vertex count mismatch");
+  VertexRecords vr = read_vertex_records(r, gl.nvi, st.input_.n_faces());
+  st.angle_sum_ = std::move(vr.angle_sum);
+  st.boundary_ = std::move(vr.boundary);
+  st.location_ = std::move(vr.location);
+  st.frame_ = std::move(vr.frame);
+  std::vector<Index> edge_halfedge;
+  const bool has_edges = read_edges(r, long(gl.tail.size()), edge_halfedge);
   try {
-    st.tri_ =
-        IntrinsicTriangulation::from_gluing(std::move(tail), std::move(twin), len, Index(nvi));
+    st.tri_ = IntrinsicTriangulation::from_gluing(std::move(gl.tail), std::move(gl.twin), gl.len,
+                                                  Index(gl.nvi));
     if (has_edges) st.tri_.renumber_edges(edge_halfedge);
   } catch (const InvalidInput& e) {
     throw IoError(path + ": intrinsic triangulation: " + e.what());
   }
-  st.direction_ = std::move(dir);
+  st.direction_ = std::move(gl.dir);
   return st;
 }
 

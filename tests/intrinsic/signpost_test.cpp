@@ -897,6 +897,14 @@ TEST(SignpostSave, MalformedFilesNameTheProblem) {
   EXPECT_THROW(SignpostTriangulation::load(tmp.string()), IoError);
   write("ifem-signpost 1\nmollify 0\ninput_vertices 3\n0 0 0\n1 0 0\n");
   EXPECT_THROW(SignpostTriangulation::load(tmp.string()), IoError);
+  write("ifem-signpost 1\n# comment\nmollify 0\ninput_vertices 2\n0 0 0\n1 0 x\n");
+  try {
+    SignpostTriangulation::load(tmp.string());
+    ADD_FAILURE() << "a malformed number loaded";
+  } catch (const IoError& e) {  // names the file and the line
+    EXPECT_NE(std::string(e.what()).find(tmp.string() + ", line 6:"), std::string::npos)
+        << e.what();
+  }
   std::filesystem::remove(tmp);
   EXPECT_THROW(SignpostTriangulation::load(tmp.string()), IoError);
 }
