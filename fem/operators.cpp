@@ -1,6 +1,7 @@
 #include "fem/operators.h"
 
 #include <algorithm>
+#include <utility>
 #include <vector>
 
 #include "intrinsic/core/geometry.h"
@@ -13,33 +14,39 @@ SparseMatrix cotan_laplacian(const IntrinsicTriangulation& tri) {
   return laplacian_from_weights(tri, intrinsic::cotan_weights(tri));
 }
 
-SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri, const Eigen::VectorXd& w) {
-  // Direct CSC assembly (no triplets): count entries per column, scatter each edge's two
-  // off-diagonal entries straight into the matrix arrays, then sort each (small) column by row
-  // in parallel, merging parallel edges (multi-edges of a Δ-complex); the diagonal goes last.
+namespace {
+
+// The two end vertices of edge e (equal for a self-edge).
+inline std::pair<Index, Index> edge_ends(const IntrinsicTriangulation& tri,
+                                         const std::vector<Index>& tails, Index e) {
+  const Index h = tri.edge_halfedge(e);
+  return {tails[h], tails[IntrinsicTriangulation::next(h)]};
+}
+
+// Column starts of L: one slot per edge end plus one for the diagonal, as a prefix sum in outer.
+void count_columns(const IntrinsicTriangulation& tri, const std::vector<Index>& tails, int* outer) {
   const Index nv = tri.n_vertices();
-  const Index ne = tri.n_edges();
-  const double scale = 1.0 / tri.multiplicity();
-  const auto& tails = tri.tails();
-  SparseMatrix L(nv, nv);
-  int* outer = L.outerIndexPtr();
   std::fill(outer, outer + nv + 1, 0);
-  for (Index e = 0; e < ne; ++e) {
-    const Index h = tri.edge_halfedge(e);
-    const Index i = tails[h], j = tails[IntrinsicTriangulation::next(h)];
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const auto [i, j] = edge_ends(tri, tails, e);
     if (i == j) continue;  // a self-edge adds w and subtracts it again: nothing
     ++outer[i + 1];
     ++outer[j + 1];
   }
   for (Index v = 0; v < nv; ++v) outer[v + 1] += outer[v] + 1;  // +1: the diagonal
-  L.resizeNonZeros(outer[nv]);
-  int* inner = L.innerIndexPtr();
-  double* value = L.valuePtr();
-  std::vector<int> fill(outer, outer + nv);
-  Eigen::VectorXd diag = Eigen::VectorXd::Zero(nv);
-  for (Index e = 0; e < ne; ++e) {
-    const Index h = tri.edge_halfedge(e);
-    const Index i = tails[h], j = tails[IntrinsicTriangulation::next(h)];
+}
+
+// Scatters each edge's two off-diagonal entries into their columns (unsorted); returns each
+// column's fill end in fill and the accumulated diagonal in diag.
+void scatter_edges(const IntrinsicTriangulation& tri, const std::vector<Index>& tails,
+                   const Eigen::VectorXd& w, const int* outer, int* inner, double* value,
+                   std::vector<int>& fill, Eigen::VectorXd& diag) {
+  const Index nv = tri.n_vertices();
+  const double scale = 1.0 / tri.multiplicity();
+  fill.assign(outer, outer + nv);
+  diag = Eigen::VectorXd::Zero(nv);
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const auto [i, j] = edge_ends(tri, tails, e);
     if (i == j) continue;
     const double we = scale * w[e];
     inner[fill[j]] = i;
@@ -49,37 +56,38 @@ SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri, const Eig
     diag[i] += we;
     diag[j] += we;
   }
-  std::vector<int> count(nv);
-#pragma omp parallel for schedule(static) if (nv > kParallelMin)
-  for (Index v = 0; v < nv; ++v) {
-    int* r = inner + outer[v];
-    double* x = value + outer[v];
-    int n = fill[v] - outer[v];
-    r[n] = v;  // the diagonal
-    x[n++] = diag[v];
-    for (int a = 1; a < n; ++a) {  // insertion sort by row: columns hold ~7 entries
-      const int ra = r[a];
-      const double xa = x[a];
-      int b = a;
-      for (; b > 0 && r[b - 1] > ra; --b) {
-        r[b] = r[b - 1];
-        x[b] = x[b - 1];
-      }
-      r[b] = ra;
-      x[b] = xa;
+}
+
+// Sorts one column's n entries (r, x) by row and merges equal rows (parallel edges); returns
+// the merged count.
+inline int sort_and_merge_column(int* r, double* x, int n) {
+  for (int a = 1; a < n; ++a) {  // insertion sort by row: columns hold ~7 entries
+    const int ra = r[a];
+    const double xa = x[a];
+    int b = a;
+    for (; b > 0 && r[b - 1] > ra; --b) {
+      r[b] = r[b - 1];
+      x[b] = x[b - 1];
     }
-    int m = 0;
-    for (int a = 0; a < n; ++a) {
-      if (m > 0 && r[m - 1] == r[a]) {
-        x[m - 1] += x[a];
-      } else {
-        r[m] = r[a];
-        x[m++] = x[a];
-      }
-    }
-    count[v] = m;
+    r[b] = ra;
+    x[b] = xa;
   }
-  // squeeze out what merged multi-edges freed (nothing moves on an ordinary mesh)
+  int m = 0;
+  for (int a = 0; a < n; ++a) {
+    if (m > 0 && r[m - 1] == r[a]) {
+      x[m - 1] += x[a];
+    } else {
+      r[m] = r[a];
+      x[m++] = x[a];
+    }
+  }
+  return m;
+}
+
+// Squeezes out the slots merged multi-edges freed (nothing moves on an ordinary mesh); returns
+// the final number of nonzeros.
+int squeeze_columns(Index nv, const std::vector<int>& count, int* outer, int* inner,
+                    double* value) {
   int out = 0;
   for (Index v = 0; v < nv; ++v) {
     const int begin = outer[v];
@@ -91,7 +99,37 @@ SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri, const Eig
     out += count[v];
   }
   outer[nv] = out;
-  L.data().resize(out);
+  return out;
+}
+
+}  // namespace
+
+SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri, const Eigen::VectorXd& w) {
+  // Direct CSC assembly (no triplets): count entries per column, scatter each edge's two
+  // off-diagonal entries straight into the matrix arrays, then sort each (small) column by row
+  // in parallel, merging parallel edges (multi-edges of a Δ-complex); the diagonal goes last.
+  const Index nv = tri.n_vertices();
+  const auto& tails = tri.tails();
+  SparseMatrix L(nv, nv);
+  int* outer = L.outerIndexPtr();
+  count_columns(tri, tails, outer);
+  L.resizeNonZeros(outer[nv]);
+  int* inner = L.innerIndexPtr();
+  double* value = L.valuePtr();
+  std::vector<int> fill;
+  Eigen::VectorXd diag;
+  scatter_edges(tri, tails, w, outer, inner, value, fill, diag);
+  std::vector<int> count(nv);
+#pragma omp parallel for schedule(static) if (nv > kParallelMin)
+  for (Index v = 0; v < nv; ++v) {
+    int* r = inner + outer[v];
+    double* x = value + outer[v];
+    int n = fill[v] - outer[v];
+    r[n] = v;  // the diagonal
+    x[n++] = diag[v];
+    count[v] = sort_and_merge_column(r, x, n);
+  }
+  L.data().resize(squeeze_columns(nv, count, outer, inner, value));
   return L;
 }
 

@@ -78,9 +78,8 @@ struct Stars {
   std::vector<Triangle> tris;
 };
 
-Stars compute_stars(const Positions& points, const Neighbours& nb, const Eigen::MatrixX3d* normals,
-                    Report* report) {
-  const Index n = static_cast<Index>(points.rows());
+// Refuses a neighbour table or a normal array that does not match the points.
+void check_star_inputs(Index n, const Neighbours& nb, const Eigen::MatrixX3d* normals) {
   if (nb.k > 0 && nb.ids.size() != static_cast<std::size_t>(nb.k) * n) {
     throw InvalidInput("local_triangulations: neighbour table does not match the points");
   }
@@ -88,73 +87,71 @@ Stars compute_stars(const Positions& points, const Neighbours& nb, const Eigen::
     throw InvalidInput("local_triangulations: " + std::to_string(normals->rows()) +
                        " normals for " + std::to_string(n) + " points");
   }
-  const int nt = thread_count();
-  std::vector<std::vector<Triangle>> per_thread(nt);
-  // points are visited in the kNN's spatial order when available (cache locality); each point's
-  // star is written to its thread's buffer and found again through (thread, position)
-  const bool spatial = nb.spatial_order.size() == static_cast<std::size_t>(n);
-  std::vector<std::pair<int, std::size_t>> where(spatial ? n : 0);
-  Stars st;
-  st.offset.assign(static_cast<std::size_t>(n) + 1, 0);
-  Index starless = 0, from_normals = 0, coincident = 0;
-  const int k = nb.k;
-#pragma omp parallel reduction(+ : starless, from_normals, coincident)
-  {
-    const int tid = thread_id();
-    std::vector<Triangle>& out = per_thread[tid];
-    out.reserve(7 * static_cast<std::size_t>(n) / nt + 64);
-    std::vector<Eigen::Vector3d> d(k);
-    std::vector<Eigen::Vector2d> q(k);
-    std::vector<std::array<int, 2>> star;
-    StarWorkspace ws;
-    // static schedule: without a spatial order, thread t gets the t-th contiguous block, so
-    // concatenating the per-thread lists in thread order gives point order
-#pragma omp for schedule(static)
-    for (Index t = 0; t < n; ++t) {
-      const Index i = spatial ? nb.spatial_order[t] : t;
-      if (spatial) where[i] = {tid, out.size()};
-      const Index* nbr = nb.of(i);
-      const Eigen::Vector3d pi = points.row(i).transpose();
-      double r = 0.0;
-      bool has_coincident = false;
-      for (int j = 0; j < k; ++j) {
-        d[j] = points.row(nbr[j]).transpose() - pi;
-        const double l = d[j].norm();
-        r = std::max(r, l);
-        if (l == 0.0) has_coincident = true;
-      }
-      coincident += has_coincident;
-      star.clear();
-      if (k >= 2 && r > 0.0 && std::isfinite(r)) {
-        const double inv_r = 1.0 / r;
-        for (int j = 0; j < k; ++j) d[j] *= inv_r;
-        Eigen::Vector3d nrm;
-        bool have = false;
-        if (normals) {
-          nrm = normals->row(i).transpose();
-          const double l = nrm.norm();
-          if (l > 0.0 && std::isfinite(l)) {
-            nrm /= l;
-            have = true;
-            ++from_normals;
-          }
-        }
-        if (!have) nrm = pca_normal(d);
-        // tangent basis: t1 ⟂ n from the axis least aligned with n
-        int axis = 0;
-        if (std::abs(nrm[1]) < std::abs(nrm[axis])) axis = 1;
-        if (std::abs(nrm[2]) < std::abs(nrm[axis])) axis = 2;
-        const Eigen::Vector3d t1 = nrm.cross(Eigen::Vector3d::Unit(axis)).normalized();
-        const Eigen::Vector3d t2 = nrm.cross(t1);
-        for (int j = 0; j < k; ++j) q[j] = Eigen::Vector2d(d[j].dot(t1), d[j].dot(t2));
-        delaunay_star(q, star, ws);
-      }
-      if (star.empty()) ++starless;
-      st.offset[i + 1] = static_cast<Index>(star.size());
-      for (const auto& ab : star) out.push_back({i, nbr[ab[0]], nbr[ab[1]]});
+}
+
+// One thread's scratch memory for point stars, reused across points (no allocation per point).
+struct StarScratch {
+  explicit StarScratch(int k) : d(k), q(k) {}
+  std::vector<Eigen::Vector3d> d;  // neighbour offsets, scaled by 1 / their largest length
+  std::vector<Eigen::Vector2d> q;  // the offsets in the tangent plane
+  std::vector<std::array<int, 2>> star;
+  StarWorkspace ws;
+};
+
+// Unit normal at point i: the input normal when usable (counted in from_normals), otherwise
+// PCA of the scaled offsets d.
+Eigen::Vector3d star_normal(const Eigen::MatrixX3d* normals, Index i,
+                            const std::vector<Eigen::Vector3d>& d, Index& from_normals) {
+  if (normals) {
+    Eigen::Vector3d nrm = normals->row(i).transpose();
+    const double l = nrm.norm();
+    if (l > 0.0 && std::isfinite(l)) {
+      nrm /= l;
+      ++from_normals;
+      return nrm;
     }
   }
-  for (Index i = 0; i < n; ++i) st.offset[i + 1] += st.offset[i];
+  return pca_normal(d);
+}
+
+// Projects the k offsets d onto the plane ⟂ nrm (t1 from the axis least aligned with nrm).
+void project_to_tangent_plane(const Eigen::Vector3d& nrm, int k, StarScratch& s) {
+  int axis = 0;
+  if (std::abs(nrm[1]) < std::abs(nrm[axis])) axis = 1;
+  if (std::abs(nrm[2]) < std::abs(nrm[axis])) axis = 2;
+  const Eigen::Vector3d t1 = nrm.cross(Eigen::Vector3d::Unit(axis)).normalized();
+  const Eigen::Vector3d t2 = nrm.cross(t1);
+  for (int j = 0; j < k; ++j) s.q[j] = Eigen::Vector2d(s.d[j].dot(t1), s.d[j].dot(t2));
+}
+
+// Point i's Delaunay star among its k neighbours nbr, as index pairs into nbr in s.star (empty
+// when the neighbourhood is degenerate); returns whether a neighbour coincides with point i.
+bool point_star(const Positions& points, const Eigen::MatrixX3d* normals, Index i, const Index* nbr,
+                int k, StarScratch& s, Index& from_normals) {
+  const Eigen::Vector3d pi = points.row(i).transpose();
+  double r = 0.0;
+  bool has_coincident = false;
+  for (int j = 0; j < k; ++j) {
+    s.d[j] = points.row(nbr[j]).transpose() - pi;
+    const double l = s.d[j].norm();
+    r = std::max(r, l);
+    if (l == 0.0) has_coincident = true;
+  }
+  s.star.clear();
+  if (k >= 2 && r > 0.0 && std::isfinite(r)) {
+    const double inv_r = 1.0 / r;
+    for (int j = 0; j < k; ++j) s.d[j] *= inv_r;
+    project_to_tangent_plane(star_normal(normals, i, s.d, from_normals), k, s);
+    delaunay_star(s.q, s.star, s.ws);
+  }
+  return has_coincident;
+}
+
+// Concatenates the per-thread star triangles into st.tris in point order (st.offset already
+// holds the prefix sums); where[i] = (thread, position) of point i's star when spatial.
+void gather_stars(std::vector<std::vector<Triangle>>& per_thread,
+                  const std::vector<std::pair<int, std::size_t>>& where, bool spatial, Stars& st) {
+  const Index n = static_cast<Index>(st.offset.size()) - 1;
   if (spatial) {
     st.tris.resize(st.offset[n]);
 #pragma omp parallel for schedule(static) if (n > kParallelMin)
@@ -170,6 +167,43 @@ Stars compute_stars(const Positions& points, const Neighbours& nb, const Eigen::
       std::vector<Triangle>().swap(v);
     }
   }
+}
+
+Stars compute_stars(const Positions& points, const Neighbours& nb, const Eigen::MatrixX3d* normals,
+                    Report* report) {
+  const Index n = static_cast<Index>(points.rows());
+  check_star_inputs(n, nb, normals);
+  const int nt = thread_count();
+  std::vector<std::vector<Triangle>> per_thread(nt);
+  // points are visited in the kNN's spatial order when available (cache locality); each point's
+  // star is written to its thread's buffer and found again through (thread, position)
+  const bool spatial = nb.spatial_order.size() == static_cast<std::size_t>(n);
+  std::vector<std::pair<int, std::size_t>> where(spatial ? n : 0);
+  Stars st;
+  st.offset.assign(static_cast<std::size_t>(n) + 1, 0);
+  Index starless = 0, from_normals = 0, coincident = 0;
+  const int k = nb.k;
+#pragma omp parallel reduction(+ : starless, from_normals, coincident)
+  {
+    const int tid = thread_id();
+    std::vector<Triangle>& out = per_thread[tid];
+    out.reserve(7 * static_cast<std::size_t>(n) / nt + 64);
+    StarScratch scratch(k);
+    // static schedule: without a spatial order, thread t gets the t-th contiguous block, so
+    // concatenating the per-thread lists in thread order gives point order
+#pragma omp for schedule(static)
+    for (Index t = 0; t < n; ++t) {
+      const Index i = spatial ? nb.spatial_order[t] : t;
+      if (spatial) where[i] = {tid, out.size()};
+      const Index* nbr = nb.of(i);
+      coincident += point_star(points, normals, i, nbr, k, scratch, from_normals);
+      if (scratch.star.empty()) ++starless;
+      st.offset[i + 1] = static_cast<Index>(scratch.star.size());
+      for (const auto& ab : scratch.star) out.push_back({i, nbr[ab[0]], nbr[ab[1]]});
+    }
+  }
+  for (Index i = 0; i < n; ++i) st.offset[i + 1] += st.offset[i];
+  gather_stars(per_thread, where, spatial, st);
   if (report) {
     report->local_triangles = checked_index(st.tris.size(), "local_triangulations");
     report->starless_points = starless;

@@ -155,6 +155,31 @@ struct HeatDistanceSolver::Impl {
                                        const std::vector<char>& use_face) const;
   void later_stages(const std::vector<WeightedPoint>& pts, const std::vector<char>& src_comp,
                     Eigen::VectorXd& phi, std::vector<char>& known, HeatDistanceReport& rep) const;
+
+  // One later stage's heat thresholds, per vertex of a component with a source (others 0), and
+  // per component whether every unknown vertex in it is resolved.
+  struct StageHeat {
+    std::vector<char> resolved, trusted, comp_done;
+  };
+  // One later stage's region: resolved faces with an unknown vertex, in pieces that touch the
+  // known region, and its unknown vertices numbered in face order.
+  struct StageRegion {
+    std::vector<char> use_face;
+    std::vector<Index> unknown_id;  // vertex → unknown, or kInvalidIndex
+    std::vector<Index> unknown_vertex;
+  };
+  // Vertices of components with a source whose distance is not known yet.
+  Index count_unknown(const std::vector<char>& src_comp, const std::vector<char>& known) const;
+  // Unit heat on the known vertices of faces that straddle the known region's frontier.
+  Eigen::VectorXd frontier_delta(const std::vector<char>& known) const;
+  // Resolved / trusted marks of the heat u and the components it resolves completely.
+  StageHeat classify_heat(const Eigen::VectorXd& u, const std::vector<char>& src_comp,
+                          const std::vector<char>& known) const;
+  // The region of a later stage (faces all resolved, not all known, connected to a known vertex).
+  StageRegion stage_region(const std::vector<char>& resolved, const std::vector<char>& known) const;
+  // φ on the region's unknowns: L φ = div(−∇u/|∇u|) over its faces, known φ as Dirichlet values.
+  Eigen::VectorXd solve_region(const StageRegion& region, const Eigen::VectorXd& u,
+                               const Eigen::VectorXd& phi) const;
 };
 
 HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
@@ -434,127 +459,158 @@ Eigen::VectorXd HeatDistanceSolver::Impl::integrate_unit_field(
   return phi;
 }
 
+Index HeatDistanceSolver::Impl::count_unknown(const std::vector<char>& src_comp,
+                                              const std::vector<char>& known) const {
+  Index r = 0;
+  for (Index v = 0; v < tri.n_vertices(); ++v) {
+    const Index c = comps.label[v];
+    if (c != kInvalidIndex && src_comp[c] && !known[v]) ++r;
+  }
+  return r;
+}
+
+Eigen::VectorXd HeatDistanceSolver::Impl::frontier_delta(const std::vector<char>& known) const {
+  const auto& tail = tri.tails();
+  Eigen::VectorXd delta = Eigen::VectorXd::Zero(tri.n_vertices());
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    const Index a = tail[3 * f], b = tail[3 * f + 1], c = tail[3 * f + 2];
+    const int k = known[a] + known[b] + known[c];
+    if (k == 0 || k == 3) continue;
+    if (known[a]) delta[a] = 1.0;
+    if (known[b]) delta[b] = 1.0;
+    if (known[c]) delta[c] = 1.0;
+  }
+  return delta;
+}
+
+HeatDistanceSolver::Impl::StageHeat HeatDistanceSolver::Impl::classify_heat(
+    const Eigen::VectorXd& u, const std::vector<char>& src_comp,
+    const std::vector<char>& known) const {
+  const Index nv = tri.n_vertices();
+  const std::vector<double> mx = component_max(u);
+  StageHeat sh;
+  sh.resolved.assign(nv, 0);
+  sh.trusted.assign(nv, 0);
+  sh.comp_done.assign(comps.count, 1);
+  for (Index v = 0; v < nv; ++v) {
+    const Index c = comps.label[v];
+    if (c == kInvalidIndex || !src_comp[c]) continue;
+    sh.resolved[v] = u[v] > std::max(opt.resolved_heat * mx[c], kAbsoluteHeatFloor);
+    sh.trusted[v] = u[v] >= std::max(opt.trusted_heat * mx[c], kAbsoluteHeatFloor);
+    if (!known[v] && !sh.resolved[v]) sh.comp_done[c] = 0;
+  }
+  return sh;
+}
+
+HeatDistanceSolver::Impl::StageRegion HeatDistanceSolver::Impl::stage_region(
+    const std::vector<char>& resolved, const std::vector<char>& known) const {
+  const Index nv = tri.n_vertices();
+  const Index nf = tri.n_faces();
+  const auto& tail = tri.tails();
+  // resolved faces with an unknown vertex; drop pieces without a known vertex
+  StageRegion region;
+  std::vector<char>& use_face = region.use_face;
+  use_face.assign(nf, 0);
+  UnionFind pieces(nv);
+  for (Index f = 0; f < nf; ++f) {
+    const Index a = tail[3 * f], b = tail[3 * f + 1], c = tail[3 * f + 2];
+    if (!(resolved[a] && resolved[b] && resolved[c])) continue;
+    if (known[a] && known[b] && known[c]) continue;
+    use_face[f] = 1;
+    pieces.unite(a, b);
+    pieces.unite(a, c);
+  }
+  std::vector<char> piece_known(nv, 0);
+  for (Index f = 0; f < nf; ++f) {
+    if (!use_face[f]) continue;
+    for (int i = 0; i < 3; ++i) {
+      if (known[tail[3 * f + i]]) piece_known[pieces.find(tail[3 * f + i])] = 1;
+    }
+  }
+  region.unknown_id.assign(nv, kInvalidIndex);
+  for (Index f = 0; f < nf; ++f) {
+    if (!use_face[f]) continue;
+    if (!piece_known[pieces.find(tail[3 * f])]) {
+      use_face[f] = 0;
+      continue;
+    }
+    for (int i = 0; i < 3; ++i) {
+      const Index v = tail[3 * f + i];
+      if (!known[v] && region.unknown_id[v] == kInvalidIndex) {
+        region.unknown_id[v] = Index(region.unknown_vertex.size());
+        region.unknown_vertex.push_back(v);
+      }
+    }
+  }
+  return region;
+}
+
+Eigen::VectorXd HeatDistanceSolver::Impl::solve_region(const StageRegion& region,
+                                                       const Eigen::VectorXd& u,
+                                                       const Eigen::VectorXd& phi) const {
+  // stiffness from the region's faces, Dirichlet = known values
+  const Eigen::VectorXd div = fem::divergence_of_unit_gradient(tri, u, &region.use_face);
+  const Index nu = Index(region.unknown_vertex.size());
+  Eigen::VectorXd rhs(nu);
+  for (Index i = 0; i < nu; ++i) rhs[i] = div[region.unknown_vertex[i]];
+  std::vector<Eigen::Triplet<double>> trip;
+  const double s = 0.5 / tri.multiplicity();
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    if (!region.use_face[f]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Index h = 3 * f + k;
+      const Index i = tri.tail(h), j = tri.head(h);
+      if (i == j) continue;
+      const double w = s * intrinsic::halfedge_cotan(tri, h);
+      const Index ui = region.unknown_id[i], uj = region.unknown_id[j];
+      if (ui != kInvalidIndex) {
+        trip.emplace_back(ui, ui, w);
+        if (uj != kInvalidIndex) {
+          trip.emplace_back(ui, uj, -w);
+        } else {
+          rhs[ui] += w * phi[j];
+        }
+      }
+      if (uj != kInvalidIndex) {
+        trip.emplace_back(uj, uj, w);
+        if (ui != kInvalidIndex) {
+          trip.emplace_back(uj, ui, -w);
+        } else {
+          rhs[uj] += w * phi[i];
+        }
+      }
+    }
+  }
+  fem::SparseMatrix A(nu, nu);
+  A.setFromTriplets(trip.begin(), trip.end());
+  A.makeCompressed();
+  const CholeskySolver chol(A);
+  return chol.solve(rhs);
+}
+
 void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pts,
                                             const std::vector<char>& src_comp, Eigen::VectorXd& phi,
                                             std::vector<char>& known,
                                             HeatDistanceReport& rep) const {
   (void)pts;
-  const Index nv = tri.n_vertices();
-  const Index nf = tri.n_faces();
-  const auto& tail = tri.tails();
-  auto remaining = [&]() {
-    Index r = 0;
-    for (Index v = 0; v < nv; ++v) {
-      const Index c = comps.label[v];
-      if (c != kInvalidIndex && src_comp[c] && !known[v]) ++r;
-    }
-    return r;
-  };
-  Index left = remaining();
+  Index left = count_unknown(src_comp, known);
   while (left > 0) {
     ++rep.stages;
     // heat from the frontier of the known region
-    Eigen::VectorXd delta = Eigen::VectorXd::Zero(nv);
-    for (Index f = 0; f < nf; ++f) {
-      const Index a = tail[3 * f], b = tail[3 * f + 1], c = tail[3 * f + 2];
-      const int k = known[a] + known[b] + known[c];
-      if (k == 0 || k == 3) continue;
-      if (known[a]) delta[a] = 1.0;
-      if (known[b]) delta[b] = 1.0;
-      if (known[c]) delta[c] = 1.0;
-    }
-    const Eigen::VectorXd u = heat(delta);
-    const std::vector<double> mx = component_max(u);
-    std::vector<char> resolved(nv, 0), trusted(nv, 0);
-    std::vector<char> comp_done(comps.count, 1);
-    for (Index v = 0; v < nv; ++v) {
-      const Index c = comps.label[v];
-      if (c == kInvalidIndex || !src_comp[c]) continue;
-      resolved[v] = u[v] > std::max(opt.resolved_heat * mx[c], kAbsoluteHeatFloor);
-      trusted[v] = u[v] >= std::max(opt.trusted_heat * mx[c], kAbsoluteHeatFloor);
-      if (!known[v] && !resolved[v]) comp_done[c] = 0;
-    }
-    // region: resolved faces with an unknown vertex; drop pieces without a known vertex
-    std::vector<char> use_face(nf, 0);
-    UnionFind pieces(nv);
-    for (Index f = 0; f < nf; ++f) {
-      const Index a = tail[3 * f], b = tail[3 * f + 1], c = tail[3 * f + 2];
-      if (!(resolved[a] && resolved[b] && resolved[c])) continue;
-      if (known[a] && known[b] && known[c]) continue;
-      use_face[f] = 1;
-      pieces.unite(a, b);
-      pieces.unite(a, c);
-    }
-    std::vector<char> piece_known(nv, 0);
-    for (Index f = 0; f < nf; ++f) {
-      if (!use_face[f]) continue;
-      for (int i = 0; i < 3; ++i) {
-        if (known[tail[3 * f + i]]) piece_known[pieces.find(tail[3 * f + i])] = 1;
-      }
-    }
-    std::vector<Index> unknown_id(nv, kInvalidIndex);
-    std::vector<Index> unknown_vertex;
-    for (Index f = 0; f < nf; ++f) {
-      if (!use_face[f]) continue;
-      if (!piece_known[pieces.find(tail[3 * f])]) {
-        use_face[f] = 0;
-        continue;
-      }
-      for (int i = 0; i < 3; ++i) {
-        const Index v = tail[3 * f + i];
-        if (!known[v] && unknown_id[v] == kInvalidIndex) {
-          unknown_id[v] = Index(unknown_vertex.size());
-          unknown_vertex.push_back(v);
-        }
-      }
-    }
-    if (unknown_vertex.empty()) {
+    const Eigen::VectorXd u = heat(frontier_delta(known));
+    const StageHeat sh = classify_heat(u, src_comp, known);
+    const StageRegion region = stage_region(sh.resolved, known);
+    if (region.unknown_vertex.empty()) {
       throw SolverError("heat distance: the heat does not reach " + std::to_string(left) +
                         " vertices beyond stage " + std::to_string(rep.stages - 1) +
                         " (no resolved face next to the known region)");
     }
-    // Poisson on the region: stiffness from its faces, Dirichlet = known values
-    const Eigen::VectorXd div = fem::divergence_of_unit_gradient(tri, u, &use_face);
-    const Index nu = Index(unknown_vertex.size());
-    Eigen::VectorXd rhs(nu);
-    for (Index i = 0; i < nu; ++i) rhs[i] = div[unknown_vertex[i]];
-    std::vector<Eigen::Triplet<double>> trip;
-    const double s = 0.5 / tri.multiplicity();
-    for (Index f = 0; f < nf; ++f) {
-      if (!use_face[f]) continue;
-      for (int k = 0; k < 3; ++k) {
-        const Index h = 3 * f + k;
-        const Index i = tri.tail(h), j = tri.head(h);
-        if (i == j) continue;
-        const double w = s * intrinsic::halfedge_cotan(tri, h);
-        const Index ui = unknown_id[i], uj = unknown_id[j];
-        if (ui != kInvalidIndex) {
-          trip.emplace_back(ui, ui, w);
-          if (uj != kInvalidIndex) {
-            trip.emplace_back(ui, uj, -w);
-          } else {
-            rhs[ui] += w * phi[j];
-          }
-        }
-        if (uj != kInvalidIndex) {
-          trip.emplace_back(uj, uj, w);
-          if (ui != kInvalidIndex) {
-            trip.emplace_back(uj, ui, -w);
-          } else {
-            rhs[uj] += w * phi[i];
-          }
-        }
-      }
-    }
-    fem::SparseMatrix A(nu, nu);
-    A.setFromTriplets(trip.begin(), trip.end());
-    A.makeCompressed();
-    const CholeskySolver chol(A);
-    const Eigen::VectorXd y = chol.solve(rhs);
+    // Poisson on the region; keep the trusted values (all, where the component is resolved)
+    const Eigen::VectorXd y = solve_region(region, u, phi);
     Index added = 0;
-    for (Index i = 0; i < nu; ++i) {
-      const Index v = unknown_vertex[i];
-      if (trusted[v] || comp_done[comps.label[v]]) {
+    for (Index i = 0; i < Index(region.unknown_vertex.size()); ++i) {
+      const Index v = region.unknown_vertex[i];
+      if (sh.trusted[v] || sh.comp_done[comps.label[v]]) {
         known[v] = 1;
         phi[v] = y[i];
         ++added;
@@ -564,7 +620,7 @@ void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pt
       throw SolverError("heat distance: no progress at stage " + std::to_string(rep.stages) + " (" +
                         std::to_string(left) + " vertices left)");
     }
-    left = remaining();
+    left = count_unknown(src_comp, known);
   }
 }
 

@@ -111,6 +111,123 @@ struct PoissonSolver::Impl {
     }
     return X;
   }
+
+  // Checks the Dirichlet vertices (in range, each once) and marks them, and the components
+  // that hold one.
+  void mark_dirichlet(const std::vector<Index>& given, std::vector<char>& is_dirichlet,
+                      std::vector<char>& comp_has_dirichlet) const {
+    is_dirichlet.assign(n, 0);
+    comp_has_dirichlet.assign(comps.count, 0);
+    for (const Index v : given) {
+      if (v < 0 || v >= n) {
+        throw InvalidInput("PoissonSolver: Dirichlet vertex " + std::to_string(v) +
+                           " out of range [0, " + std::to_string(n) + ")");
+      }
+      if (is_dirichlet[v]) {
+        throw InvalidInput("PoissonSolver: Dirichlet vertex " + std::to_string(v) + " given twice");
+      }
+      is_dirichlet[v] = 1;
+      if (comps.label[v] != kInvalidIndex) comp_has_dirichlet[comps.label[v]] = 1;
+    }
+  }
+
+  // Pure-Neumann components (unscreened, no Dirichlet vertex): pins their lowest vertex to 0
+  // (shifted to zero mean after each solve) in pinned; sets floating and comp_mass.
+  void pin_floating_components(const std::vector<char>& comp_has_dirichlet,
+                               std::vector<char>& pinned) {
+    floating.assign(comps.count, 0);
+    comp_mass.assign(comps.count, 0.0);
+    bool any = false;
+    std::vector<char> done(comps.count, 0);
+    for (Index v = 0; v < n; ++v) {
+      const Index c = comps.label[v];
+      if (c == kInvalidIndex) continue;
+      comp_mass[c] += mass[v];
+      if (comp_has_dirichlet[c] || done[c]) continue;
+      done[c] = 1;
+      pinned[v] = 1;
+      floating[c] = 1;
+      any = true;
+    }
+    if (!any) floating.clear();
+  }
+
+  // Numbers the unknowns: vertices in a component, neither Dirichlet nor pinned, in vertex order.
+  void number_unknowns(const std::vector<char>& is_dirichlet, const std::vector<char>& pinned) {
+    unknown.assign(n, kInvalidIndex);
+    for (Index v = 0; v < n; ++v) {
+      if (comps.label[v] == kInvalidIndex || is_dirichlet[v] || pinned[v]) continue;
+      unknown[v] = static_cast<Index>(unknown_vertex.size());
+      unknown_vertex.push_back(v);
+    }
+  }
+
+  // Lower triangle of A_uu = (L + c M) restricted to the unknowns (all CHOLMOD reads), column by
+  // column from L's columns. Unknown ids increase with vertex ids, so rows stay sorted; the
+  // diagonal comes first in each column and always exists (+ c·m).
+  fem::SparseMatrix assemble_unknown_block(const fem::SparseMatrix& L, double c) const {
+    const Index nu = static_cast<Index>(unknown_vertex.size());
+    fem::SparseMatrix A(nu, nu);
+    int* outer = A.outerIndexPtr();
+    outer[0] = 0;
+    for (Index u = 0; u < nu; ++u) {
+      const Index j = unknown_vertex[u];
+      int count = 1;  // the diagonal
+      for (fem::SparseMatrix::InnerIterator it(L, j); it; ++it) {
+        if (it.row() > j && unknown[it.row()] != kInvalidIndex) ++count;
+      }
+      outer[u + 1] = outer[u] + count;
+    }
+    A.resizeNonZeros(outer[nu]);
+    int* inner = A.innerIndexPtr();
+    double* value = A.valuePtr();
+#pragma omp parallel for schedule(static) if (nu >= 10000)
+    for (Index u = 0; u < nu; ++u) {
+      const Index j = unknown_vertex[u];
+      int k = outer[u];
+      inner[k] = u;
+      value[k] = c * mass[j];
+      const int diag = k++;
+      for (fem::SparseMatrix::InnerIterator it(L, j); it; ++it) {
+        const Index i = it.row();
+        if (i == j) {
+          value[diag] += it.value();
+        } else if (i > j && unknown[i] != kInvalidIndex) {
+          inner[k] = unknown[i];
+          value[k++] = it.value();
+        }
+      }
+    }
+    return A;
+  }
+
+  // The coupling A_ud (unknown rows × Dirichlet columns) from L's Dirichlet columns.
+  void assemble_coupling(const fem::SparseMatrix& L) {
+    const Index nu = static_cast<Index>(unknown_vertex.size());
+    const Index nd = static_cast<Index>(dirichlet.size());
+    A_ud.resize(nu, nd);
+    int* outer = A_ud.outerIndexPtr();
+    outer[0] = 0;
+    for (Index d = 0; d < nd; ++d) {
+      int count = 0;
+      for (fem::SparseMatrix::InnerIterator it(L, dirichlet[d]); it; ++it) {
+        if (unknown[it.row()] != kInvalidIndex) ++count;
+      }
+      outer[d + 1] = outer[d] + count;
+    }
+    A_ud.resizeNonZeros(outer[nd]);
+    int* inner = A_ud.innerIndexPtr();
+    double* value = A_ud.valuePtr();
+    for (Index d = 0; d < nd; ++d) {
+      int k = outer[d];
+      for (fem::SparseMatrix::InnerIterator it(L, dirichlet[d]); it; ++it) {
+        const Index ui = unknown[it.row()];
+        if (ui == kInvalidIndex) continue;
+        inner[k] = ui;
+        value[k++] = it.value();
+      }
+    }
+  }
 };
 
 PoissonSolver::PoissonSolver(const intrinsic::IntrinsicTriangulation& tri,
@@ -131,111 +248,19 @@ PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& 
   im.n = n;
   im.comps = comps;
   im.mass = mass;
-  std::vector<char> is_dirichlet(n, 0);
-  std::vector<char> comp_has_dirichlet(comps.count, 0);
-  for (const Index v : dirichlet) {
-    if (v < 0 || v >= n) {
-      throw InvalidInput("PoissonSolver: Dirichlet vertex " + std::to_string(v) +
-                         " out of range [0, " + std::to_string(n) + ")");
-    }
-    if (is_dirichlet[v]) {
-      throw InvalidInput("PoissonSolver: Dirichlet vertex " + std::to_string(v) + " given twice");
-    }
-    is_dirichlet[v] = 1;
-    if (comps.label[v] != kInvalidIndex) comp_has_dirichlet[comps.label[v]] = 1;
-  }
+  std::vector<char> is_dirichlet;
+  std::vector<char> comp_has_dirichlet;
+  im.mark_dirichlet(dirichlet, is_dirichlet, comp_has_dirichlet);
   im.dirichlet = std::move(dirichlet);
   // pure-Neumann components: pin their lowest vertex to 0, shift to zero mean afterwards
   std::vector<char> pinned(n, 0);
-  if (options.screening == 0.0) {
-    im.floating.assign(comps.count, 0);
-    im.comp_mass.assign(comps.count, 0.0);
-    bool any = false;
-    std::vector<char> done(comps.count, 0);
-    for (Index v = 0; v < n; ++v) {
-      const Index c = comps.label[v];
-      if (c == kInvalidIndex) continue;
-      im.comp_mass[c] += mass[v];
-      if (comp_has_dirichlet[c] || done[c]) continue;
-      done[c] = 1;
-      pinned[v] = 1;
-      im.floating[c] = 1;
-      any = true;
-    }
-    if (!any) im.floating.clear();
-  }
-  im.unknown.assign(n, kInvalidIndex);
-  for (Index v = 0; v < n; ++v) {
-    if (comps.label[v] == kInvalidIndex || is_dirichlet[v] || pinned[v]) continue;
-    im.unknown[v] = static_cast<Index>(im.unknown_vertex.size());
-    im.unknown_vertex.push_back(v);
-  }
-  const Index nu = static_cast<Index>(im.unknown_vertex.size());
+  if (options.screening == 0.0) im.pin_floating_components(comp_has_dirichlet, pinned);
+  im.number_unknowns(is_dirichlet, pinned);
   // Direct CSC assembly, no triplets (sorting triplets cost more than half a
-  // factorization at 100k faces):
-  // A_uu's lower triangle (all CHOLMOD reads), column by column from L's columns, and the
-  // coupling A_ud (unknown rows × Dirichlet columns). Unknown ids increase with vertex ids, so
-  // rows stay sorted. The diagonal comes first in each lower column and always exists (+ c·m).
-  const double c = options.screening;
-  fem::SparseMatrix A(nu, nu);
-  {
-    int* outer = A.outerIndexPtr();
-    outer[0] = 0;
-    for (Index u = 0; u < nu; ++u) {
-      const Index j = im.unknown_vertex[u];
-      int count = 1;  // the diagonal
-      for (fem::SparseMatrix::InnerIterator it(L, j); it; ++it) {
-        if (it.row() > j && im.unknown[it.row()] != kInvalidIndex) ++count;
-      }
-      outer[u + 1] = outer[u] + count;
-    }
-    A.resizeNonZeros(outer[nu]);
-    int* inner = A.innerIndexPtr();
-    double* value = A.valuePtr();
-#pragma omp parallel for schedule(static) if (nu >= 10000)
-    for (Index u = 0; u < nu; ++u) {
-      const Index j = im.unknown_vertex[u];
-      int k = outer[u];
-      inner[k] = u;
-      value[k] = c * mass[j];
-      const int diag = k++;
-      for (fem::SparseMatrix::InnerIterator it(L, j); it; ++it) {
-        const Index i = it.row();
-        if (i == j) {
-          value[diag] += it.value();
-        } else if (i > j && im.unknown[i] != kInvalidIndex) {
-          inner[k] = im.unknown[i];
-          value[k++] = it.value();
-        }
-      }
-    }
-  }
-  const Index nd = static_cast<Index>(im.dirichlet.size());
-  im.A_ud.resize(nu, nd);
-  {
-    int* outer = im.A_ud.outerIndexPtr();
-    outer[0] = 0;
-    for (Index d = 0; d < nd; ++d) {
-      int count = 0;
-      for (fem::SparseMatrix::InnerIterator it(L, im.dirichlet[d]); it; ++it) {
-        if (im.unknown[it.row()] != kInvalidIndex) ++count;
-      }
-      outer[d + 1] = outer[d] + count;
-    }
-    im.A_ud.resizeNonZeros(outer[nd]);
-    int* inner = im.A_ud.innerIndexPtr();
-    double* value = im.A_ud.valuePtr();
-    for (Index d = 0; d < nd; ++d) {
-      int k = outer[d];
-      for (fem::SparseMatrix::InnerIterator it(L, im.dirichlet[d]); it; ++it) {
-        const Index ui = im.unknown[it.row()];
-        if (ui == kInvalidIndex) continue;
-        inner[k] = ui;
-        value[k++] = it.value();
-      }
-    }
-  }
-  if (nu > 0) im.chol.emplace(A, options.cholesky);
+  // factorization at 100k faces).
+  const fem::SparseMatrix A = im.assemble_unknown_block(L, options.screening);
+  im.assemble_coupling(L);
+  if (!im.unknown_vertex.empty()) im.chol.emplace(A, options.cholesky);
 }
 
 PoissonSolver::~PoissonSolver() = default;

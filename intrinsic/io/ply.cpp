@@ -350,120 +350,177 @@ void add_strip(PolygonSink& sink, const std::vector<Index>& strip, std::size_t w
   }
 }
 
-template <class Source>
-void read_body(const std::string& path, const PlyHeader& h, Source& src, SurfaceInput& out) {
-  PolygonSink sink(out);
-  std::vector<double> xyz;
-  std::vector<double> nxyz;
-  std::vector<std::vector<double>> extra;
-  std::vector<Index> list;
-  std::vector<std::string> extra_names;
-  bool has_normals = false;
-  Index n_vertices = -1;
-  for (const PlyElement& e : h.elements) {
-    Kind kind = Kind::kOther;
-    if (e.name == "vertex") kind = Kind::kVertex;
-    if (e.name == "face") kind = Kind::kFace;
-    if (e.name == "tristrips") kind = Kind::kTristrips;
-    if (kind == Kind::kVertex && n_vertices >= 0) {
-      fail_line(path, e.line, "more than one vertex element");
+/// What the reader does with an element: vertices, faces, triangle strips or nothing.
+Kind element_kind(const PlyElement& e) {
+  if (e.name == "vertex") return Kind::kVertex;
+  if (e.name == "face") return Kind::kFace;
+  if (e.name == "tristrips") return Kind::kTristrips;
+  return Kind::kOther;
+}
+
+/// The property index of the vertex_indices (or vertex_index) list of a face or strip element.
+int index_list_property(const std::string& path, const PlyElement& e) {
+  int index_list = -1;
+  for (std::size_t p = 0; p < e.properties.size(); ++p) {
+    const auto& name = e.properties[p].name;
+    if (e.properties[p].is_list && (name == "vertex_indices" || name == "vertex_index")) {
+      index_list = static_cast<int>(p);
     }
-    VertexLayout layout;
+  }
+  if (index_list < 0) {
+    fail_line(path, e.line, "element '" + e.name + "' has no vertex_indices list");
+  }
+  return index_list;
+}
+
+/// Reads the body of a PLY file element by element from a Source (AsciiSource or BinarySource)
+/// into vertex arrays and a PolygonSink; finish() moves them into the SurfaceInput.
+template <class Source>
+class BodyReader {
+ public:
+  BodyReader(const std::string& path, Source& src, SurfaceInput& out)
+      : path_(path), src_(src), out_(out), sink_(out) {}
+
+  /// Reads all items of element e (vertex, face, tristrips; others are skipped).
+  void read_element(const PlyElement& e) {
+    const Kind kind = element_kind(e);
+    if (kind == Kind::kVertex && n_vertices_ >= 0) {
+      fail_line(path_, e.line, "more than one vertex element");
+    }
+    layout_ = VertexLayout();
     int index_list = -1;
     if (kind == Kind::kVertex) {
-      layout = vertex_layout(path, e);
-      const auto n = static_cast<std::size_t>(e.count);  // checked against the file size
-      xyz.resize(3 * n);
-      if (layout.has_normals) nxyz.resize(3 * n);
-      extra.assign(layout.extra_names.size(), std::vector<double>(n));
-      extra_names = layout.extra_names;
-      has_normals = layout.has_normals;
-      n_vertices = static_cast<Index>(e.count);
+      begin_vertices(e);
     } else if (kind != Kind::kOther) {
-      for (std::size_t p = 0; p < e.properties.size(); ++p) {
-        const auto& name = e.properties[p].name;
-        if (e.properties[p].is_list && (name == "vertex_indices" || name == "vertex_index")) {
-          index_list = static_cast<int>(p);
-        }
-      }
-      if (index_list < 0) {
-        fail_line(path, e.line, "element '" + e.name + "' has no vertex_indices list");
-      }
+      index_list = index_list_property(path_, e);
       if (kind == Kind::kFace) {
-        out.triangles.reserve(out.triangles.size() + e.count);
-        out.triangle_polygon.reserve(out.triangle_polygon.size() + e.count);
+        out_.triangles.reserve(out_.triangles.size() + e.count);
+        out_.triangle_polygon.reserve(out_.triangle_polygon.size() + e.count);
       }
     }
     for (std::uint64_t i = 0; i < e.count; ++i) {
-      src.begin_item(e.name.c_str(), i);
-      const std::size_t item_where = src.where();
+      src_.begin_item(e.name.c_str(), i);
+      const std::size_t item_where = src_.where();
       for (std::size_t p = 0; p < e.properties.size(); ++p) {
         const PlyProperty& prop = e.properties[p];
         if (!prop.is_list) {
-          if (kind != Kind::kVertex || layout.target[p] < 0) {
-            src.skip(prop.type);
-            continue;
-          }
-          const double v = src.scalar(prop.type);
-          const int t = layout.target[p];
-          if (t < 3) {
-            xyz[3 * i + t] = v;
-          } else if (t < 6) {
-            nxyz[3 * i + t - 3] = v;
-          } else {
-            extra[t - 6][i] = v;
-          }
-          continue;
-        }
-        const std::size_t list_where = src.where();
-        const std::int64_t n = src.integer(prop.count_type);
-        if (n < 0) src.fail(list_where, "negative list length " + std::to_string(n));
-        src.check_list(n, prop.type, list_where);
-        if (static_cast<int>(p) != index_list) {
-          for (std::int64_t k = 0; k < n; ++k) src.skip(prop.type);
-          continue;
-        }
-        list.clear();
-        for (std::int64_t k = 0; k < n; ++k) {
-          const std::size_t at = src.where();
-          const std::int64_t v = src.integer(prop.type);
-          const bool restart = kind == Kind::kTristrips && v == -1;
-          if ((v < 0 && !restart) || v > std::numeric_limits<Index>::max()) {
-            src.fail(at, "face index " + std::to_string(v) + " out of range in element '" + e.name +
-                             "' #" + std::to_string(i));
-          }
-          list.push_back(static_cast<Index>(v));
-        }
-        if (kind == Kind::kTristrips) {
-          add_strip(sink, list, list_where);
+          read_scalar(kind, prop, p, i);
         } else {
-          if (n < 3) {
-            src.fail(list_where, "face #" + std::to_string(i) + " has " + std::to_string(n) +
-                                     " vertices (at least 3 needed)");
-          }
-          sink.add(list.data(), list.size(), list_where);
+          read_list(e, kind, prop, static_cast<int>(p) == index_list, i);
         }
       }
-      if (kind == Kind::kVertex) {
-        for (int k = 0; k < 3; ++k) {
-          if (!std::isfinite(xyz[3 * i + k])) {
-            src.fail(item_where, "NaN or infinite coordinate in vertex #" + std::to_string(i));
-          }
-        }
+      if (kind == Kind::kVertex) check_finite(i, item_where);
+    }
+  }
+
+  /// Moves positions, normals and extra vertex properties into the output; checks the indices.
+  void finish() {
+    set_positions(out_, xyz_);
+    out_.normals.resize(0, 3);
+    if (has_normals_) set_normals(out_, nxyz_);
+    for (std::size_t k = 0; k < extra_.size(); ++k) {
+      VertexProperty property;
+      property.name = extra_names_[k];
+      property.values = Eigen::Map<const Eigen::VectorXd>(
+          extra_[k].data(), static_cast<Eigen::Index>(extra_[k].size()));
+      out_.vertex_properties.push_back(std::move(property));
+    }
+    check_max_index(path_, sink_, std::max<Index>(n_vertices_, 0), Source::kBinary);
+  }
+
+ private:
+  /// Lays out the vertex element's properties and sizes the vertex arrays.
+  void begin_vertices(const PlyElement& e) {
+    layout_ = vertex_layout(path_, e);
+    const auto n = static_cast<std::size_t>(e.count);  // checked against the file size
+    xyz_.resize(3 * n);
+    if (layout_.has_normals) nxyz_.resize(3 * n);
+    extra_.assign(layout_.extra_names.size(), std::vector<double>(n));
+    extra_names_ = layout_.extra_names;
+    has_normals_ = layout_.has_normals;
+    n_vertices_ = static_cast<Index>(e.count);
+  }
+
+  /// Reads (or skips) scalar property p of item i into its vertex array slot.
+  void read_scalar(Kind kind, const PlyProperty& prop, std::size_t p, std::uint64_t i) {
+    if (kind != Kind::kVertex || layout_.target[p] < 0) {
+      src_.skip(prop.type);
+      return;
+    }
+    const double v = src_.scalar(prop.type);
+    const int t = layout_.target[p];
+    if (t < 3) {
+      xyz_[3 * i + t] = v;
+    } else if (t < 6) {
+      nxyz_[3 * i + t - 3] = v;
+    } else {
+      extra_[t - 6][i] = v;
+    }
+  }
+
+  /// Reads a list property of item i: skipped unless it is the index list, which becomes a
+  /// polygon (face) or a strip of triangles (tristrips).
+  void read_list(const PlyElement& e, Kind kind, const PlyProperty& prop, bool is_index_list,
+                 std::uint64_t i) {
+    const std::size_t list_where = src_.where();
+    const std::int64_t n = src_.integer(prop.count_type);
+    if (n < 0) src_.fail(list_where, "negative list length " + std::to_string(n));
+    src_.check_list(n, prop.type, list_where);
+    if (!is_index_list) {
+      for (std::int64_t k = 0; k < n; ++k) src_.skip(prop.type);
+      return;
+    }
+    list_.clear();
+    for (std::int64_t k = 0; k < n; ++k) {
+      const std::size_t at = src_.where();
+      const std::int64_t v = src_.integer(prop.type);
+      const bool restart = kind == Kind::kTristrips && v == -1;
+      if ((v < 0 && !restart) || v > std::numeric_limits<Index>::max()) {
+        src_.fail(at, "face index " + std::to_string(v) + " out of range in element '" + e.name +
+                          "' #" + std::to_string(i));
+      }
+      list_.push_back(static_cast<Index>(v));
+    }
+    if (kind == Kind::kTristrips) {
+      add_strip(sink_, list_, list_where);
+    } else {
+      if (n < 3) {
+        src_.fail(list_where, "face #" + std::to_string(i) + " has " + std::to_string(n) +
+                                  " vertices (at least 3 needed)");
+      }
+      sink_.add(list_.data(), list_.size(), list_where);
+    }
+  }
+
+  /// Fails on a NaN or infinite coordinate of vertex i.
+  void check_finite(std::uint64_t i, std::size_t item_where) {
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(xyz_[3 * i + k])) {
+        src_.fail(item_where, "NaN or infinite coordinate in vertex #" + std::to_string(i));
       }
     }
   }
-  set_positions(out, xyz);
-  out.normals.resize(0, 3);
-  if (has_normals) set_normals(out, nxyz);
-  for (std::size_t k = 0; k < extra.size(); ++k) {
-    VertexProperty property;
-    property.name = extra_names[k];
-    property.values = Eigen::Map<const Eigen::VectorXd>(extra[k].data(),
-                                                        static_cast<Eigen::Index>(extra[k].size()));
-    out.vertex_properties.push_back(std::move(property));
-  }
-  check_max_index(path, sink, std::max<Index>(n_vertices, 0), Source::kBinary);
+
+  const std::string& path_;
+  Source& src_;
+  SurfaceInput& out_;
+  PolygonSink sink_;
+  VertexLayout layout_;  // of the element being read (empty unless it is the vertex element)
+  std::vector<double> xyz_;
+  std::vector<double> nxyz_;
+  std::vector<std::vector<double>> extra_;
+  std::vector<std::string> extra_names_;
+  std::vector<Index> list_;  // index list of the current face or strip, reused
+  bool has_normals_ = false;
+  Index n_vertices_ = -1;
+};
+
+/// Reads all elements of the body into out.
+template <class Source>
+void read_body(const std::string& path, const PlyHeader& h, Source& src, SurfaceInput& out) {
+  BodyReader<Source> reader(path, src, out);
+  for (const PlyElement& e : h.elements) reader.read_element(e);
+  reader.finish();
 }
 
 }  // namespace

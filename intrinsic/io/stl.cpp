@@ -80,86 +80,100 @@ std::vector<Index> weld(const std::vector<double>& corners, std::vector<double>&
   return vertex;
 }
 
+/// The raw corners of an STL file, facet by facet, before welding.
+struct StlFacets {
+  std::vector<double> corners;           // x, y, z of every corner, in file order
+  std::vector<std::size_t> facet_sizes;  // corners per facet
+  std::vector<std::size_t> facet_where;  // line or byte offset of each facet
+};
+
+/// Reads the triangles of a binary STL (size and count checked, coordinates finite).
+void read_binary_facets(const std::string& path, const std::string& bytes, StlFacets& in) {
+  if (bytes.size() < kBinaryHeader) {
+    fail_offset(path, bytes.size(),
+                "truncated binary STL: the header needs 84 bytes, the file "
+                "has " +
+                    std::to_string(bytes.size()));
+  }
+  const std::uint64_t n = load_u32_le(bytes.data() + 80);
+  const std::uint64_t complete = (bytes.size() - kBinaryHeader) / kBinaryTriangle;
+  if (complete < n) {
+    fail_offset(path, kBinaryHeader + kBinaryTriangle * complete,
+                "truncated binary STL: the header declares " + std::to_string(n) +
+                    " triangles, the file holds " + std::to_string(complete));
+  }
+  checked_index(3 * n, "read_stl: corner count");
+  in.corners.reserve(9 * n);
+  in.facet_sizes.assign(n, 3);
+  in.facet_where.resize(n);
+  for (std::uint64_t t = 0; t < n; ++t) {
+    const std::size_t at = kBinaryHeader + kBinaryTriangle * t;
+    in.facet_where[t] = at;
+    for (int k = 0; k < 9; ++k) {
+      const double v = load_f32_le(bytes.data() + at + 12 + 4 * k);
+      if (!std::isfinite(v)) {
+        fail_offset(path, at + 12 + 4 * k,
+                    "NaN or infinite coordinate in triangle #" + std::to_string(t));
+      }
+      in.corners.push_back(v);
+    }
+  }
+}
+
+/// Reads the facets of an ASCII STL (solid / facet / outer loop / vertex ... keywords).
+void read_ascii_facets(const std::string& path, const std::string& bytes, StlFacets& in) {
+  TextCursor c(path, bytes.data(), bytes.data() + bytes.size(), '\0');
+  bool in_facet = false;
+  std::size_t facet_corners = 0;
+  while (c.next_content_line()) {
+    const std::string_view keyword = c.token();
+    if (keyword == "facet") {
+      if (in_facet) c.fail("'facet' inside a facet (missing 'endfacet')");
+      in_facet = true;
+      facet_corners = 0;
+      in.facet_where.push_back(c.line());
+    } else if (keyword == "vertex") {
+      if (!in_facet) c.fail("'vertex' outside a facet");
+      in.corners.push_back(c.number("x coordinate"));
+      in.corners.push_back(c.number("y coordinate"));
+      in.corners.push_back(c.number("z coordinate"));
+      ++facet_corners;
+    } else if (keyword == "endfacet") {
+      if (!in_facet) c.fail("'endfacet' without 'facet'");
+      if (facet_corners < 3) {
+        c.fail("facet with " + std::to_string(facet_corners) + " vertices (at least 3 needed)");
+      }
+      in.facet_sizes.push_back(facet_corners);
+      in_facet = false;
+    } else if (keyword != "solid" && keyword != "endsolid" && keyword != "outer" &&
+               keyword != "endloop") {
+      c.fail("unexpected keyword " + quoted(keyword) + " in ASCII STL");
+    }
+    c.next_line();
+  }
+  if (in_facet) c.fail("the file ends inside a facet (truncated?)");
+}
+
 }  // namespace
 
 SurfaceInput read_stl(const std::string& path, const std::string& bytes) {
   SurfaceInput out;
-  std::vector<double> corners;
-  std::vector<std::size_t> facet_sizes;  // corners per facet
-  std::vector<std::size_t> facet_where;  // line or byte offset of each facet
-  const bool binary = is_binary_stl(bytes);
-  if (binary) {
+  StlFacets in;
+  if (is_binary_stl(bytes)) {
     out.format = "stl-binary";
-    if (bytes.size() < kBinaryHeader) {
-      fail_offset(path, bytes.size(),
-                  "truncated binary STL: the header needs 84 bytes, the file "
-                  "has " +
-                      std::to_string(bytes.size()));
-    }
-    const std::uint64_t n = load_u32_le(bytes.data() + 80);
-    const std::uint64_t complete = (bytes.size() - kBinaryHeader) / kBinaryTriangle;
-    if (complete < n) {
-      fail_offset(path, kBinaryHeader + kBinaryTriangle * complete,
-                  "truncated binary STL: the header declares " + std::to_string(n) +
-                      " triangles, the file holds " + std::to_string(complete));
-    }
-    checked_index(3 * n, "read_stl: corner count");
-    corners.reserve(9 * n);
-    facet_sizes.assign(n, 3);
-    facet_where.resize(n);
-    for (std::uint64_t t = 0; t < n; ++t) {
-      const std::size_t at = kBinaryHeader + kBinaryTriangle * t;
-      facet_where[t] = at;
-      for (int k = 0; k < 9; ++k) {
-        const double v = load_f32_le(bytes.data() + at + 12 + 4 * k);
-        if (!std::isfinite(v)) {
-          fail_offset(path, at + 12 + 4 * k,
-                      "NaN or infinite coordinate in triangle #" + std::to_string(t));
-        }
-        corners.push_back(v);
-      }
-    }
+    read_binary_facets(path, bytes, in);
   } else {
     out.format = "stl-ascii";
-    TextCursor c(path, bytes.data(), bytes.data() + bytes.size(), '\0');
-    bool in_facet = false;
-    std::size_t facet_corners = 0;
-    while (c.next_content_line()) {
-      const std::string_view keyword = c.token();
-      if (keyword == "facet") {
-        if (in_facet) c.fail("'facet' inside a facet (missing 'endfacet')");
-        in_facet = true;
-        facet_corners = 0;
-        facet_where.push_back(c.line());
-      } else if (keyword == "vertex") {
-        if (!in_facet) c.fail("'vertex' outside a facet");
-        corners.push_back(c.number("x coordinate"));
-        corners.push_back(c.number("y coordinate"));
-        corners.push_back(c.number("z coordinate"));
-        ++facet_corners;
-      } else if (keyword == "endfacet") {
-        if (!in_facet) c.fail("'endfacet' without 'facet'");
-        if (facet_corners < 3) {
-          c.fail("facet with " + std::to_string(facet_corners) + " vertices (at least 3 needed)");
-        }
-        facet_sizes.push_back(facet_corners);
-        in_facet = false;
-      } else if (keyword != "solid" && keyword != "endsolid" && keyword != "outer" &&
-                 keyword != "endloop") {
-        c.fail("unexpected keyword " + quoted(keyword) + " in ASCII STL");
-      }
-      c.next_line();
-    }
-    if (in_facet) c.fail("the file ends inside a facet (truncated?)");
+    read_ascii_facets(path, bytes, in);
   }
   std::vector<double> xyz;
-  const std::vector<Index> vertex = weld(corners, xyz);
+  const std::vector<Index> vertex = weld(in.corners, xyz);
   out.welded_vertices = checked_index(vertex.size() - xyz.size() / 3, "read_stl");
   PolygonSink sink(out);
   std::size_t first = 0;
-  for (std::size_t f = 0; f < facet_sizes.size(); ++f) {
-    sink.add(vertex.data() + first, facet_sizes[f], facet_where[f]);
-    first += facet_sizes[f];
+  for (std::size_t f = 0; f < in.facet_sizes.size(); ++f) {
+    sink.add(vertex.data() + first, in.facet_sizes[f], in.facet_where[f]);
+    first += in.facet_sizes[f];
   }
   set_positions(out, xyz);
   out.normals.resize(0, 3);
