@@ -153,8 +153,7 @@ class EarClipper {
 
  private:
   /// Whether corner c lies on the inner side of the directed side a→b (about the normal).
-  bool left_of(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-               const Eigen::Vector3d& c) const {
+  bool left_of(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) const {
     return (b - a).cross(c - a).dot(normal_) >= 0;
   }
   EarRank rank(std::size_t i) const {
