@@ -154,7 +154,10 @@ class TextCursor {
   std::size_t line_;
 };
 
-/// Collects polygons, fan-triangulates them and remembers the largest index seen and where.
+/// Collects polygons and remembers the largest index seen and where. Each polygon is stored as
+/// its fan (v0, vk, vk+1), contiguous in `triangles` with one `triangle_polygon` id: an exact
+/// encoding of its corners while positions may still be unknown (OBJ `v` lines can follow `f`
+/// lines). read_surface() then calls triangulate_polygons(), which replaces each fan.
 class PolygonSink {
  public:
   explicit PolygonSink(SurfaceInput& out) : out_(out) {}
@@ -191,6 +194,16 @@ class PolygonSink {
 /// `index_base` is added to the index in the message (1 for OBJ).
 void check_max_index(const std::string& path, const PolygonSink& sink, Index n_vertices,
                      bool binary, int index_base = 0);
+
+/// Re-triangulates every polygon of more than 3 corners that the sink stored as a fan, once all
+/// positions and all polygon sides are known, in place (same triangle count and
+/// triangle_polygon): no new diagonal coincides with a side of any polygon or with a diagonal
+/// chosen before (so no triangle repeats and no edge gains faces the polygons did not imply),
+/// short diagonals preferred; polygons that repeat a vertex keep their fan. Linear time:
+/// polygons of up to 32 corners are ear-clipped (best ear first: no collision, then a convex
+/// ear holding no other corner, then the shortest diagonal), larger ones become a fan from one
+/// of a few apexes. Indices must be in range (the readers check them first).
+void triangulate_polygons(SurfaceInput& s);
 
 /// Moves flat xyz triples into `out.positions` (and normals when given).
 void set_positions(SurfaceInput& out, const std::vector<double>& xyz);

@@ -61,6 +61,7 @@ SurfaceInput read_surface(const std::string& path) {
   }
   const std::string bytes = detail::read_file(path);
   SurfaceInput s = reader(path, bytes);
+  detail::triangulate_polygons(s);
   if (s.positions.rows() == 0) fail_file(path, "no vertices (empty " + s.format + " file)");
   return s;
 }

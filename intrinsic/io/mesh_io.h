@@ -20,10 +20,16 @@ struct VertexProperty {
   Eigen::VectorXd values;  ///< #V
 };
 
-/// What a file held, as given: positions in file order and polygons fan-triangulated.
+/// What a file held, as given: positions in file order and polygons triangulated.
 struct SurfaceInput {
-  Positions positions;                  ///< #V×3, file order
-  std::vector<Triangle> triangles;      ///< polygons fan-triangulated (v0, vi, vi+1)
+  Positions positions;  ///< #V×3, file order
+  /// Triangles in polygon order, each oriented like its polygon; a triangle is kept as is. A
+  /// polygon of n > 3 corners gives n − 2 triangles whose diagonals never coincide with a side
+  /// of any polygon in the file or a diagonal chosen for an earlier polygon — so no triangle
+  /// repeats and no edge gets more faces than the polygons imply — preferring short diagonals
+  /// (a quad takes the shorter valid diagonal; ties keep the fan from its first corner).
+  /// Polygons that repeat a vertex are fanned from their first corner (v0, vi, vi+1).
+  std::vector<Triangle> triangles;
   std::vector<Index> triangle_polygon;  ///< #T: index of the file polygon each triangle came from
   Index n_polygons = 0;                 ///< polygons in the file (faces, strips decoded)
   Index n_non_triangles = 0;            ///< polygons with more than 3 corners

@@ -89,7 +89,7 @@ std::vector<Triangle> tris(std::initializer_list<Triangle> t) { return t; }
 
 // ---------------------------------------------------------------------------------- OBJ
 
-TEST_F(MeshIo, ObjPolygonsFanTriangulatedAndExtrasIgnored) {
+TEST_F(MeshIo, ObjPolygonsTriangulatedAndExtrasIgnored) {
   const auto p = write("a.obj",
                        "# comment\n"
                        "mtllib a.mtl\n"
@@ -113,7 +113,10 @@ TEST_F(MeshIo, ObjPolygonsFanTriangulatedAndExtrasIgnored) {
   ASSERT_EQ(s.positions.rows(), 5);
   EXPECT_EQ(s.positions(2, 1), 1.0);
   EXPECT_EQ(s.positions(4, 0), 0.5);
-  EXPECT_EQ(s.triangles, tris({{0, 1, 2}, {0, 2, 3}, {3, 2, 4}, {0, 1, 2}, {0, 2, 4}, {0, 4, 3}}));
+  // The square keeps the fan from its first corner (equal diagonals; 0–2 is no polygon's side).
+  // The pentagon 0 1 2 4 3 may not reuse 0–2 (its fan would repeat triangle (0,1,2)): it takes
+  // the diagonals 1–3 and 1–4 instead, same orientation and area.
+  EXPECT_EQ(s.triangles, tris({{0, 1, 2}, {0, 2, 3}, {3, 2, 4}, {3, 0, 1}, {1, 2, 4}, {1, 4, 3}}));
   EXPECT_EQ(s.triangle_polygon, (std::vector<Index>{0, 0, 1, 2, 2, 2}));
   EXPECT_EQ(s.n_polygons, 3);
   EXPECT_EQ(s.n_non_triangles, 2);
@@ -170,7 +173,9 @@ TEST_F(MeshIo, OffHeadersCommentsAndColours) {
   SurfaceInput s = read_surface(plain);
   EXPECT_EQ(s.format, "off");
   EXPECT_EQ(s.positions.rows(), 4);
-  EXPECT_EQ(s.triangles, tris({{0, 1, 2}, {0, 2, 3}, {0, 2, 3}}));
+  // 0–2 is a side of the triangle 0 2 3, so the quad takes the other diagonal, 1–3 (the fan
+  // from 0 would repeat the triangle (0,2,3)).
+  EXPECT_EQ(s.triangles, tris({{1, 2, 3}, {0, 1, 3}, {0, 2, 3}}));
   EXPECT_EQ(s.n_polygons, 2);
   EXPECT_EQ(s.n_non_triangles, 1);
 
