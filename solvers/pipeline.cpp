@@ -223,6 +223,51 @@ void refine(const PrepareOptions& opt, PreparedSurface& s, const Progress& progr
   s.refined = true;
 }
 
+// Ill-conditioning a factorization cannot survive, in words the user can act on: a cotan weight
+// many orders of magnitude above the typical one (needle triangles), and the input vertex with
+// the longest side relative to the typical side (in practice a stray vertex far from its
+// neighbours, e.g. a wrong coordinate). "" when no weight stands out.
+std::string conditioning_hint(const PreparedSurface& s) {
+  const Eigen::VectorXd w = intrinsic::cotan_weights(s.tri);
+  if (w.size() == 0 || !w.allFinite()) return "";
+  std::vector<double> magnitudes(w.data(), w.data() + w.size());
+  for (double& m : magnitudes) m = std::abs(m);
+  const double largest = *std::max_element(magnitudes.begin(), magnitudes.end());
+  const double ratio = largest / intrinsic::robust_mean_length(magnitudes);
+  if (!(ratio > 1e6)) return "";
+  std::ostringstream m;
+  m << "; the largest cotan weight is " << ratio << "x the typical one (needle triangles)";
+  // the stray vertex: the one with the most sides over 100x the typical side (all of its own
+  // sides are; its neighbours have two each)
+  const double h = s.input_mean_edge_length;
+  std::vector<Index> long_sides(s.n_input_vertices(), 0);
+  double longest = 0.0;
+  for (const Triangle& t : s.input.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const Index a = t[k], b = t[(k + 1) % 3];
+      const double l = (s.input.positions.row(a) - s.input.positions.row(b)).norm();
+      longest = std::max(longest, l);
+      if (h > 0.0 && l > 100.0 * h) ++long_sides[a], ++long_sides[b];
+    }
+  }
+  const auto far = std::max_element(long_sides.begin(), long_sides.end());
+  if (far != long_sides.end() && *far > 0) {
+    m << "; input vertex " << (far - long_sides.begin()) << " has sides up to " << longest / h
+      << "x the typical side length: a stray vertex far from its neighbours? Move or remove it";
+  }
+  return m.str();
+}
+
+// Runs a solve; a factorization failure gets the conditioning hint appended.
+template <class F>
+auto with_hint(const PreparedSurface& s, F&& solve) -> decltype(solve()) {
+  try {
+    return solve();
+  } catch (const SolverError& e) {
+    throw SolverError(e.what() + conditioning_hint(s));
+  }
+}
+
 void check_input_vertex_ids(const PreparedSurface& s, const std::vector<Index>& ids,
                             const char* what) {
   const Index n = s.n_input_vertices();
@@ -349,15 +394,17 @@ Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<In
                                   const DistanceSettings& settings, HeatDistanceReport* report) {
   require(!sources.empty(), "geodesic_distance: no source vertex given");
   check_input_vertex_ids(s, sources, "geodesic_distance: source");
-  const HeatDistanceSolver solver(s.tri, distance_options(s, settings));
-  return on_input_vertices(s, solver.compute_distance(sources, report));
+  return with_hint(s, [&] {
+    const HeatDistanceSolver solver(s.tri, distance_options(s, settings));
+    return on_input_vertices(s, solver.compute_distance(sources, report));
+  });
 }
 
 EigenPairs eigenmodes(const PreparedSurface& s, Index k, const EigenOptions& options) {
   require(k >= 1 && k < s.tri.n_vertices(),
           "eigenmodes: k = " + std::to_string(k) + " must be in [1, " +
               std::to_string(s.tri.n_vertices()) + ") (the number of vertices)");
-  EigenPairs ep = eigenpairs(s.tri, k, options);
+  EigenPairs ep = with_hint(s, [&] { return eigenpairs(s.tri, k, options); });
   ep.vectors = on_input_vertices(s, ep.vectors);
   return ep;
 }
