@@ -26,7 +26,8 @@ done
 
 packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libspectra-dev
           libnanoflann-dev libopenblas0-pthread libgtest-dev libgmock-dev libomp-dev
-          clang-format-14 python3 git)  # the last three: the style checks (ctest -L style)
+          clang-format-14 python3 git   # these three: the style checks (ctest -L style)
+          clang libclang-rt-14-dev)     # the fuzz build (scripts/fuzz.sh): libFuzzer runtime
 # OpenBLAS makes CHOLMOD's supernodal factorization 3–4× faster than reference BLAS.
 if [ "$with_pcl" = 1 ] && [ -f pointcloud/pcl_adapter.cpp ]; then
   packages+=(libpcl-dev)
