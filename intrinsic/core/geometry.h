@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <vector>
@@ -13,25 +14,59 @@ namespace ifem::intrinsic {
 
 inline constexpr double kPi = 3.14159265358979323846;
 
-/// Area of a triangle with side lengths a, b, c by Kahan's stable Heron formula; 0 when the
-/// lengths violate the triangle inequality (never NaN for finite non-negative input).
+/// The power of two nearest above x's magnitude (2^e with x < 2^e ≤ 2x for x > 0; 1 for x = 0 or
+/// a non-finite x). Dividing lengths by it is exact, so formulas on the scaled lengths give the
+/// same bits at every scale 2^k and never over- or underflow in squaring.
+inline double power_of_two_scale(double x) {
+  if (!(x > 0.0) || !std::isfinite(x)) return 1.0;
+  int e = 0;
+  std::frexp(x, &e);  // x = m·2^e, m in [0.5, 1)
+  return std::ldexp(1.0, e);
+}
+
+/// Euclidean distance between two points given as xyz triples, for any finite coordinates: the
+/// plain formula when its sum of squares is comfortably inside the double range, else the same
+/// on coordinates scaled by a power of two (exact), so neither the difference nor its square
+/// over- or underflows. Scaling both points by 2^k scales the result by exactly 2^k.
+inline double side_length(const double* pa, const double* pb) {
+  const double dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2];
+  const double q = dx * dx + dy * dy + dz * dz;
+  if (q > 1e-290 && q < 1e290) return std::sqrt(q);
+  double m = 0.0;
+  for (int k = 0; k < 3; ++k) m = std::max({m, std::abs(pa[k]), std::abs(pb[k])});
+  const double s = power_of_two_scale(m);
+  const double ex = pa[0] / s - pb[0] / s, ey = pa[1] / s - pb[1] / s, ez = pa[2] / s - pb[2] / s;
+  return std::sqrt(ex * ex + ey * ey + ez * ez) * s;
+}
+
+/// Area of a triangle with side lengths a, b, c by Kahan's stable Heron formula, evaluated on
+/// the lengths scaled by a power of two so that squaring cannot overflow or underflow (the result
+/// overflows to inf, or underflows to 0, only when the area itself is not representable); 0 when
+/// the lengths violate the triangle inequality (never NaN for finite non-negative input).
 inline double triangle_area(double a, double b, double c) {
   // sort so that a >= b >= c
   if (a < b) std::swap(a, b);
   if (a < c) std::swap(a, c);
   if (b < c) std::swap(b, c);
+  const double s = power_of_two_scale(a);
+  a /= s, b /= s, c /= s;
   const double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
-  return p > 0.0 ? 0.25 * std::sqrt(p) : 0.0;
+  return p > 0.0 ? (0.25 * std::sqrt(p)) * s * s : 0.0;
 }
 
 /// Angle opposite side a in a triangle with sides a, b, c, in [0, π]; atan2 form, accurate for
-/// needles and caps alike.
+/// needles and caps alike, and the same at every scale (lengths scaled by a power of two).
 inline double opposite_angle(double a, double b, double c) {
+  const double s = power_of_two_scale(std::max({a, b, c}));
+  a /= s, b /= s, c /= s;
   return std::atan2(4.0 * triangle_area(a, b, c), b * b + c * c - a * a);
 }
 
-/// Cotangent of the angle opposite side a; ±inf for a degenerate triangle.
+/// Cotangent of the angle opposite side a (dimensionless: the same at every scale); ±inf for a
+/// degenerate triangle.
 inline double opposite_cotan(double a, double b, double c) {
+  const double s = power_of_two_scale(std::max({a, b, c}));
+  a /= s, b /= s, c /= s;
   return (b * b + c * c - a * a) / (4.0 * triangle_area(a, b, c));
 }
 
@@ -39,8 +74,12 @@ inline double opposite_cotan(double a, double b, double c) {
 /// the third corner at distance `from_end` from (base, 0) and `from_origin` from (0, 0), on the
 /// side y ≥ 0 (y from the stable area, never NaN). Precondition: base > 0.
 inline Eigen::Vector2d triangle_apex(double base, double from_end, double from_origin) {
-  return {(base * base + from_origin * from_origin - from_end * from_end) / (2.0 * base),
-          2.0 * triangle_area(base, from_end, from_origin) / base};
+  const double s = power_of_two_scale(std::max({base, from_end, from_origin}));
+  base /= s, from_end /= s, from_origin /= s;
+  return Eigen::Vector2d(
+             (base * base + from_origin * from_origin - from_end * from_end) / (2.0 * base),
+             2.0 * triangle_area(base, from_end, from_origin) / base) *
+         s;
 }
 
 /// Area of the equilateral triangle of side l (the area bound that asks for edges of about l).

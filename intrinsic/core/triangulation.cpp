@@ -109,13 +109,16 @@ std::vector<char> orient_faces(const std::vector<Index>& tail, const std::vector
 // diagonal, or NaN when the diamond is not strictly convex (the flip would not be a
 // triangulation of the same surface).
 double flipped_length(double l_ab, double l_bc, double l_ca, double l_ad, double l_db) {
+  // on lengths scaled by a power of two (exact): the same flips at every scale, no overflow
+  const double s = power_of_two_scale(std::max({l_ab, l_bc, l_ca, l_ad, l_db}));
+  l_ab /= s, l_bc /= s, l_ca /= s, l_ad /= s, l_db /= s;
   const Eigen::Vector2d c = triangle_apex(l_ab, l_bc, l_ca);
   const Eigen::Vector2d d_above = triangle_apex(l_ab, l_db, l_ad);  // d mirrored below ab
   const double cx = c.x(), cy = c.y(), dx = d_above.x(), dy = -d_above.y();
   // where segment cd crosses the line of ab: strictly between a and b iff convex
   const double x = cx + (dx - cx) * cy / (cy - dy);
   if (!(x > 0.0 && x < l_ab)) return std::numeric_limits<double>::quiet_NaN();
-  return std::hypot(cx - dx, cy - dy);
+  return std::hypot(cx - dx, cy - dy) * s;
 }
 
 }  // namespace
@@ -151,10 +154,7 @@ IntrinsicTriangulation IntrinsicTriangulation::from_positions(const std::vector<
                            std::to_string(a < 0 || a >= nv ? a : b) + " out of range [0, " +
                            std::to_string(nv) + ")");
       }
-      const auto d = positions.row(a) - positions.row(b);
-      double l = d.norm();
-      if (!std::isfinite(l)) l = d.stableNorm();  // huge coordinates: avoid overflow in x²
-      side(f, s) = l;
+      side(f, s) = side_length(positions.row(a).data(), positions.row(b).data());
     }
   }
   return from_side_lengths(faces, nv, side, report);

@@ -197,6 +197,10 @@ Eigen::SparseMatrix<double> read_matrix_market(const std::string& path) {
   if (rows < 0 || cols < 0 || rows > kMaxIndex || cols > kMaxIndex) {
     c.fail("matrix size out of range");
   }
+  if ((symmetric || skew) && rows != cols) {
+    c.fail("a " + std::string(symmetry) + " matrix must be square, the size line says " +
+           std::to_string(rows) + "x" + std::to_string(cols));
+  }
   // Each entry takes at least 5 characters ("1 1\n" for pattern): refuse before allocating.
   if (nnz < 0 || nnz > static_cast<std::int64_t>(c.remaining() / 4 + 1)) {
     c.fail("header declares " + std::to_string(nnz) + " entries but only " +

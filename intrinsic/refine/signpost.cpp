@@ -659,6 +659,14 @@ class RecordReader {
   long integer(const std::string& what) { return long(c_.integer(what.c_str())); }
   double number(const std::string& what) { return c_.number(what.c_str()); }
   [[noreturn]] void fail(const std::string& msg) const { c_.fail(msg); }
+  // Refuses a declared count of records that the rest of the file cannot hold (each record
+  // takes at least min_bytes), before anything is allocated for them.
+  void expect_records(long count, std::size_t min_bytes, const char* what) const {
+    if (count > static_cast<long>(c_.remaining() / min_bytes + 1)) {
+      fail(std::string("the file declares ") + std::to_string(count) + " " + what +
+           " but is too short to hold them");
+    }
+  }
   // The next record is `word`, followed by one or two counts when a (and b) are given.
   void keyword(const char* word, long* a = nullptr, long* b = nullptr) {
     next(word);
@@ -703,10 +711,12 @@ void read_input(RecordReader& r, Positions& x, std::vector<Triangle>& faces) {
   long nv = 0, nf = 0;
   r.keyword("input_vertices", &nv);
   if (nv < 0 || nv > std::numeric_limits<Index>::max()) r.fail("bad vertex count");
+  r.expect_records(nv, 6, "input vertices");  // "x y z\n"
   x.resize(nv, 3);
   for (long v = 0; v < nv; ++v) r.values("'x y z'", x(v, 0), x(v, 1), x(v, 2));
   r.keyword("input_faces", &nf);
   if (nf < 0 || nf > std::numeric_limits<Index>::max() / 3) r.fail("bad face count");
+  r.expect_records(nf, 6, "input faces");  // "a b c\n"
   faces.resize(nf);
   for (long f = 0; f < nf; ++f) {
     long a, b, c;
@@ -736,6 +746,7 @@ GluingRecords read_halfedges(RecordReader& r, long nv) {
   }
   r.keyword("halfedges");
   const long nh = 3 * nfi;
+  r.expect_records(nh, 8, "halfedges");  // "t w l d\n"
   gl.tail.resize(nh);
   gl.twin.resize(nh);
   gl.len.resize(nh);
@@ -761,6 +772,7 @@ struct VertexRecords {
 // The records of nvi intrinsic vertices, located in faces of an input with n_input_faces.
 VertexRecords read_vertex_records(RecordReader& r, long nvi, Index n_input_faces) {
   VertexRecords vr;
+  r.expect_records(nvi, 14, "intrinsic vertex records");  // "s b f b0 b1 b2 r\n"
   vr.angle_sum.resize(nvi);
   vr.boundary.resize(nvi);
   vr.location.resize(nvi);
@@ -785,6 +797,7 @@ bool read_edges(RecordReader& r, long nh, std::vector<Index>& edge_halfedge) {
   if (word != "edges") r.fail("expected 'edges' or 'end', got '" + word + "'");
   const long ne = r.integer("the count of 'edges'");
   if (ne < 0 || ne > nh) r.fail("bad edge count");
+  r.expect_records(ne, 2, "edges");  // "h\n"
   edge_halfedge.resize(ne);
   for (long e = 0; e < ne; ++e) {
     long h;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 
+#include "intrinsic/core/geometry.h"
 #include "intrinsic/core/side_pairs.h"
 #include "intrinsic/core/union_find.h"
 
@@ -116,15 +117,15 @@ std::vector<char> boundary_vertex_mask(const std::vector<Triangle>& faces, Index
 }
 
 double mean_side_length(const std::vector<Triangle>& faces, const Positions& positions) {
-  double sum = 0.0;
-  std::size_t n = 0;
+  if (faces.empty()) return 0.0;
+  double mean = 0.0;  // divided as it goes: huge lengths cannot overflow the sum
+  const double inv_n = 1.0 / (3.0 * static_cast<double>(faces.size()));
   for (const Triangle& t : faces) {
     for (int i = 0; i < 3; ++i) {
-      sum += (positions.row(t[i]) - positions.row(t[(i + 1) % 3])).norm();
-      ++n;
+      mean += side_length(positions.row(t[i]).data(), positions.row(t[(i + 1) % 3]).data()) * inv_n;
     }
   }
-  return n ? sum / static_cast<double>(n) : 0.0;
+  return mean;
 }
 
 double robust_side_length(const std::vector<Triangle>& faces, const Positions& positions) {
@@ -132,7 +133,8 @@ double robust_side_length(const std::vector<Triangle>& faces, const Positions& p
   sides.reserve(3 * faces.size());
   for (const Triangle& t : faces) {
     for (int i = 0; i < 3; ++i) {
-      sides.push_back((positions.row(t[i]) - positions.row(t[(i + 1) % 3])).norm());
+      sides.push_back(
+          side_length(positions.row(t[i]).data(), positions.row(t[(i + 1) % 3]).data()));
     }
   }
   return robust_mean_length(std::move(sides));

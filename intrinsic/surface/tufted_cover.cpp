@@ -8,6 +8,7 @@
 #include <tuple>
 #include <utility>
 
+#include "intrinsic/core/geometry.h"
 #include "intrinsic/core/side_pairs.h"
 
 namespace ifem::intrinsic {
@@ -263,14 +264,8 @@ IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Po
         side(f, s) = -1.0;  // reported with the face id by build_cover
         continue;
       }
-      const double* pa = xyz + 3 * static_cast<std::size_t>(a);
-      const double* pb = xyz + 3 * static_cast<std::size_t>(b);
-      const double dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2];
-      double l = std::sqrt(dx * dx + dy * dy + dz * dz);
-      if (!std::isfinite(l)) {  // huge coordinates: avoid overflow in x²
-        l = (positions.row(a) - positions.row(b)).stableNorm();
-      }
-      side(f, s) = l;
+      side(f, s) =
+          side_length(xyz + 3 * static_cast<std::size_t>(a), xyz + 3 * static_cast<std::size_t>(b));
     }
   }
   return build_cover(faces, nv, side, &positions, report, input_multiplicity);
