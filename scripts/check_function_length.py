@@ -34,6 +34,20 @@ def waived(lines, first):
     return False
 
 
+def skip_braces(code, i, line):
+    """From the "{" at code[i]: the index past its matching "}" and the line number there."""
+    depth, j = 1, i + 1
+    while j < len(code) and depth:
+        if code[j] == "{":
+            depth += 1
+        elif code[j] == "}":
+            depth -= 1
+        elif code[j] == "\n":
+            line += 1
+        j += 1
+    return j, line
+
+
 def functions(code):
     """(name, first line, last line) of every function definition in stripped code."""
     out = []
@@ -77,32 +91,12 @@ def functions(code):
         elif "(" in head and "=" not in head[: max(0, top_level_index(head, "("))]:
             m = re.search(r"([~\w:]+|operator\s*\S+)\s*$", head[: top_level_index(head, "(")])
             name = m.group(1) if m else "?"
-            # skip to the matching brace
-            depth, j, end_line = 1, i + 1, line
-            while j < n and depth:
-                if code[j] == "{":
-                    depth += 1
-                elif code[j] == "}":
-                    depth -= 1
-                elif code[j] == "\n":
-                    end_line += 1
-                j += 1
-            out.append((name, start, end_line))
-            line = end_line
-            i = j
+            i, line = skip_braces(code, i, line)
+            out.append((name, start, line))
             continue
         else:
             # initializer, control block or anything else: skip its braces
-            depth, j = 1, i + 1
-            while j < n and depth:
-                if code[j] == "{":
-                    depth += 1
-                elif code[j] == "}":
-                    depth -= 1
-                elif code[j] == "\n":
-                    line += 1
-                j += 1
-            i = j
+            i, line = skip_braces(code, i, line)
             continue
         i += 1
     return out

@@ -6,9 +6,11 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
+#include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/generators/mesh_generators.h"
@@ -39,6 +41,29 @@ inline bool skip_in_quick_run(const std::filesystem::path& file) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(file, ec);
   return !ec && size > (1u << 20);
+}
+
+/// Expects `o.validate()` to throw InvalidInput whose message names `field` (docs/decisions.md,
+/// "Every options struct has validate()").
+template <class Options>
+void expect_rejected(const Options& o, const std::string& field) {
+  try {
+    o.validate();
+    ADD_FAILURE() << "accepted bad " << field;
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
+/// expect_rejected() on default Options with `member` set to each of `values` in turn.
+template <class Options, class T, class V>
+void expect_each_rejected(T Options::*member, std::initializer_list<V> values,
+                          const std::string& field) {
+  for (const V& v : values) {
+    Options o;
+    o.*member = v;
+    expect_rejected(o, field);
+  }
 }
 
 #define IFEM_REQUIRE_SHARED_DATA()                                                 \

@@ -32,15 +32,34 @@ AngleStats angle_stats(const intrinsic::IntrinsicTriangulation& tri) {
   return a;
 }
 
+// Opens the JSON object with the fields every input has: the file and its format.
+JsonWriter& begin_json(JsonWriter& w, const std::string& file, const PreparedSurface& s) {
+  return w.begin_object().field("file", file).field("format", s.input.format);
+}
+
+// Closes the JSON object with the path ifem takes and why, and prints it.
+void print_json(JsonWriter& w, const PreparedSurface& s) {
+  w.field("path", intrinsic::to_string(s.path)).field("path_reason", s.reason_detail).end_object();
+  std::printf("%s\n", w.str().c_str());
+}
+
+// The first line of the text report: the file and its format.
+void print_text_header(const std::string& file, const PreparedSurface& s) {
+  std::printf("%s (%s)\n", file.c_str(), s.input.format.c_str());
+}
+
+// The last line of the text report: the path ifem takes and why.
+void print_text_path(const PreparedSurface& s) {
+  std::printf("  path: %s (%s)\n", intrinsic::to_string(s.path), s.reason_detail.c_str());
+}
+
 // `ifem info` on a point cloud: counts and what the local triangulations produced.
 int print_pointcloud(const std::string& file, const PreparedSurface& s, bool json) {
   const pointcloud::Report& c = s.cloud;
   const double area = intrinsic::total_area(s.tri);
   if (json) {
     JsonWriter w;
-    w.begin_object()
-        .field("file", file)
-        .field("format", s.input.format)
+    begin_json(w, file, s)
         .field("points", c.points)
         .field("k", c.k)
         .field("local_triangles", c.local_triangles)
@@ -58,14 +77,11 @@ int print_pointcloud(const std::string& file, const PreparedSurface& s, bool jso
         .field("seconds_knn", c.seconds_knn)
         .field("seconds_local", c.seconds_local)
         .field("seconds_cover", c.seconds_cover)
-        .field("seconds_idt", c.seconds_idt)
-        .field("path", intrinsic::to_string(s.path))
-        .field("path_reason", s.reason_detail)
-        .end_object();
-    std::printf("%s\n", w.str().c_str());
+        .field("seconds_idt", c.seconds_idt);
+    print_json(w, s);
     return 0;
   }
-  std::printf("%s (%s)\n", file.c_str(), s.input.format.c_str());
+  print_text_header(file, s);
   std::printf("  points %d, k = %d neighbours, normals from the file on %d points\n", c.points, c.k,
               c.normals_from_input);
   std::printf(
@@ -85,7 +101,7 @@ int print_pointcloud(const std::string& file, const PreparedSurface& s, bool jso
   std::printf("  intrinsic Delaunay: %zu flips\n", c.flips.flips);
   std::printf("  time: kNN %.3g s, local Delaunay %.3g s, tufted cover %.3g s, flips %.3g s\n",
               c.seconds_knn, c.seconds_local, c.seconds_cover, c.seconds_idt);
-  std::printf("  path: %s (%s)\n", intrinsic::to_string(s.path), s.reason_detail.c_str());
+  print_text_path(s);
   return 0;
 }
 
@@ -114,9 +130,7 @@ int run(const Args& args) {
   const double share = tri.n_edges() ? double(a.non_delaunay_edges) / input.n_edges() : 0.0;
   if (args.has("json")) {
     JsonWriter w;
-    w.begin_object()
-        .field("file", file)
-        .field("format", s.input.format)
+    begin_json(w, file, s)
         .field("vertices", tri.n_vertices())
         .field("edges", st.edges)
         .field("faces", tri.n_faces() / tri.multiplicity())
@@ -141,14 +155,11 @@ int run(const Args& args) {
         .field("max_angle_deg", a.max_deg)
         .field("non_delaunay_share", share)
         .field("flips_to_idt", s.flips.flips)
-        .field("mollify_delta", s.mollify.delta)
-        .field("path", intrinsic::to_string(s.path))
-        .field("path_reason", s.reason_detail)
-        .end_object();
-    std::printf("%s\n", w.str().c_str());
+        .field("mollify_delta", s.mollify.delta);
+    print_json(w, s);
     return 0;
   }
-  std::printf("%s (%s)\n", file.c_str(), s.input.format.c_str());
+  print_text_header(file, s);
   std::printf("  vertices %d (unreferenced %d), edges %d, faces %d (from %d polygons)\n",
               tri.n_vertices(), st.unreferenced_vertices, st.edges,
               tri.n_faces() / tri.multiplicity(), s.input.n_polygons);
@@ -164,7 +175,7 @@ int run(const Args& args) {
   std::printf("  mollification δ = %.3g (margin ε = %.3g, %d faces below it)\n", s.mollify.delta,
               s.mollify.epsilon, s.mollify.faces_below_margin);
   std::printf("  intrinsic Delaunay: %zu flips\n", s.flips.flips);
-  std::printf("  path: %s (%s)\n", intrinsic::to_string(s.path), s.reason_detail.c_str());
+  print_text_path(s);
   return 0;
 }
 

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "helpers.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/surface_point.h"
@@ -22,64 +23,32 @@ namespace {
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Expects validate() to throw InvalidInput whose message contains `field`.
-template <class Options>
-void expect_rejected(const Options& o, const std::string& field) {
-  try {
-    o.validate();
-    ADD_FAILURE() << "accepted bad " << field;
-  } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
-  }
-}
+using test::expect_each_rejected;
 
 TEST(OptionsValidate, RefineOptions) {
   RefineOptions{}.validate();
-  for (double a : {0.0, -1.0, 30.5, kNan}) {
-    RefineOptions o;
-    o.min_angle_degrees = a;
-    expect_rejected(o, "min_angle_degrees");
-  }
+  expect_each_rejected(&RefineOptions::min_angle_degrees, {0.0, -1.0, 30.5, kNan},
+                       "min_angle_degrees");
   RefineOptions ok;
   ok.min_angle_degrees = 30.0;
   ok.max_area = 0.5;
   ok.max_insertions = -1;
   ok.validate();
-  for (double a : {-1e-9, kNan, kInf}) {
-    RefineOptions o;
-    o.max_area = a;
-    expect_rejected(o, "max_area");
-  }
-  RefineOptions o;
-  o.max_insertions = -2;
-  expect_rejected(o, "max_insertions");
+  expect_each_rejected(&RefineOptions::max_area, {-1e-9, kNan, kInf}, "max_area");
+  expect_each_rejected(&RefineOptions::max_insertions, {-2}, "max_insertions");
 }
 
 TEST(OptionsValidate, RelaxOptions) {
   RelaxOptions{}.validate();
-  RelaxOptions a;
-  a.iterations = -1;
-  expect_rejected(a, "iterations");
-  for (double l : {-1.0, kNan, kInf}) {
-    RelaxOptions o;
-    o.max_edge_length = l;
-    expect_rejected(o, "max_edge_length");
-  }
-  RelaxOptions s;
-  s.max_splits = -2;
-  expect_rejected(s, "max_splits");
+  expect_each_rejected(&RelaxOptions::iterations, {-1}, "iterations");
+  expect_each_rejected(&RelaxOptions::max_edge_length, {-1.0, kNan, kInf}, "max_edge_length");
+  expect_each_rejected(&RelaxOptions::max_splits, {-2}, "max_splits");
 }
 
 TEST(OptionsValidate, TraceOptions) {
   TraceOptions{}.validate();
-  for (int c : {-2, 3}) {
-    TraceOptions o;
-    o.start_corner = c;
-    expect_rejected(o, "start_corner");
-  }
-  TraceOptions o;
-  o.max_steps = -2;
-  expect_rejected(o, "max_steps");
+  expect_each_rejected(&TraceOptions::start_corner, {-2, 3}, "start_corner");
+  expect_each_rejected(&TraceOptions::max_steps, {-2}, "max_steps");
 }
 
 TEST(OptionsValidate, CheckedAtTheEntry) {

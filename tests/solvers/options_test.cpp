@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fem/operators.h"
+#include "helpers.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "solvers/cholesky.h"
@@ -19,51 +20,29 @@ namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-template <class Options>
-void expect_rejected(const Options& o, const std::string& field) {
-  try {
-    o.validate();
-    ADD_FAILURE() << "accepted bad " << field;
-  } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
-  }
-}
+using test::expect_each_rejected;
+using test::expect_rejected;
 
 TEST(OptionsValidate, HeatDistanceOptions) {
   HeatDistanceOptions{}.validate();
   RefinedDistanceSettings{}.heat_options(0.1).validate();
-  HeatDistanceOptions a;
-  a.time_factor = 0.0;
-  expect_rejected(a, "time_factor");
-  HeatDistanceOptions b;
-  b.mean_edge_length = -1.0;
-  expect_rejected(b, "mean_edge_length");
+  expect_each_rejected(&HeatDistanceOptions::time_factor, {0.0}, "time_factor");
+  expect_each_rejected(&HeatDistanceOptions::mean_edge_length, {-1.0}, "mean_edge_length");
   HeatDistanceOptions c;
   c.resolved_heat = 1e-100;
   c.trusted_heat = 1e-200;  // below resolved_heat
   expect_rejected(c, "trusted_heat");
-  HeatDistanceOptions d;
-  d.correction_steps = -1;
-  expect_rejected(d, "correction_steps");
-  HeatDistanceOptions e;
-  e.max_constrained_sources = -1;
-  expect_rejected(e, "max_constrained_sources");
+  expect_each_rejected(&HeatDistanceOptions::correction_steps, {-1}, "correction_steps");
+  expect_each_rejected(&HeatDistanceOptions::max_constrained_sources, {-1},
+                       "max_constrained_sources");
 }
 
 TEST(OptionsValidate, PoissonAndCholeskyOptions) {
   PoissonOptions{}.validate();
-  PoissonOptions p;
-  p.screening = -1.0;
-  expect_rejected(p, "screening");
-  p.screening = kNan;
-  expect_rejected(p, "screening");
+  expect_each_rejected(&PoissonOptions::screening, {-1.0, kNan}, "screening");
   CholeskyOptions{}.validate();
-  CholeskyOptions c;
-  c.min_rcond = -1.0;
-  expect_rejected(c, "min_rcond");
-  CholeskyOptions t;
-  t.solve_blas_threads = -1;
-  expect_rejected(t, "thread");
+  expect_each_rejected(&CholeskyOptions::min_rcond, {-1.0}, "min_rcond");
+  expect_each_rejected(&CholeskyOptions::solve_blas_threads, {-1}, "thread");
   PoissonOptions nested;
   nested.cholesky.factor_blas_threads = -1;
   expect_rejected(nested, "thread");
@@ -71,18 +50,10 @@ TEST(OptionsValidate, PoissonAndCholeskyOptions) {
 
 TEST(OptionsValidate, EigenOptions) {
   EigenOptions{}.validate();
-  EigenOptions a;
-  a.extra_pairs = -1;
-  expect_rejected(a, "extra_pairs");
-  EigenOptions b;
-  b.max_iterations = 0;
-  expect_rejected(b, "max_iterations");
-  EigenOptions c;
-  c.tolerance = 0.0;
-  expect_rejected(c, "tolerance");
-  EigenOptions d;
-  d.shift_scale = -1.0;
-  expect_rejected(d, "shift_scale");
+  expect_each_rejected(&EigenOptions::extra_pairs, {-1}, "extra_pairs");
+  expect_each_rejected(&EigenOptions::max_iterations, {0}, "max_iterations");
+  expect_each_rejected(&EigenOptions::tolerance, {0.0}, "tolerance");
+  expect_each_rejected(&EigenOptions::shift_scale, {-1.0}, "shift_scale");
 }
 
 TEST(OptionsValidate, CheckedAtTheEntry) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <regex>
 #include <set>
 
@@ -26,6 +27,38 @@ namespace fs = std::filesystem;
 using test::Rel;
 using test::relative_error;
 
+// One reference file <stem>.src<N>.exact.txt of ../shared/data/reference: its mesh's stem and
+// the source vertex N.
+struct Reference {
+  std::string stem;
+  std::string src_text;  // N as in the file name
+  Index src = 0;
+};
+
+// The reference that `p` names; nothing for other files.
+std::optional<Reference> parse_reference(const fs::path& p) {
+  static const std::regex name(R"((.+)\.src(\d+)\.exact\.txt)");
+  std::smatch mt;
+  const std::string fname = p.filename().string();
+  if (!std::regex_match(fname, mt, name)) return std::nullopt;
+  return Reference{mt[1].str(), mt[2].str(), Index(std::stol(mt[2]))};
+}
+
+// The mesh of ../shared/data/meshes with this stem; empty when there is none.
+fs::path shared_mesh(const std::string& stem) {
+  fs::path mesh;
+  for (const auto& m : test::shared_files("meshes")) {
+    if (m.stem().string() == stem) mesh = m;
+  }
+  return mesh;
+}
+
+// CGAL's heat-method distances next to the exact reference `p`.
+Eigen::VectorXd read_cgal_heat(const fs::path& p, const Reference& ref) {
+  return io::read_values(
+      (p.parent_path() / (ref.stem + ".src" + ref.src_text + ".cgal-heat.txt")).string());
+}
+
 // Per mesh and source, the mean relative error of `ifem distance` (the library pipeline:
 // prepare_surface + geodesic_distance) against CGAL's heat method on the same reference: at most
 // CGAL's on the sliver / nonmanifold meshes, where intrinsic Delaunay is the point, and within 6%
@@ -42,22 +75,17 @@ TEST(SolversReference, HeatDistanceVsExact) {
   const bool run_large = std::getenv("IFEM_TEST_LARGE") != nullptr;
   std::printf("%-22s %6s %8s | %9s %9s | %9s %9s | %9s | %s\n", "mesh", "src", "V", "mean_rel",
               "max_rel", "cgal_mean", "cgal_max", "h=IDT", "note");
-  const std::regex name(R"((.+)\.src(\d+)\.exact\.txt)");
   int checked = 0;
   for (const fs::path& p : test::shared_files("reference")) {
-    std::smatch mt;
-    const std::string fname = p.filename().string();
-    if (!std::regex_match(fname, mt, name)) continue;
-    const std::string stem = mt[1];
-    const Index src = Index(std::stol(mt[2]));
+    const std::optional<Reference> ref = parse_reference(p);
+    if (!ref) continue;
+    const std::string& stem = ref->stem;
+    const Index src = ref->src;
     if (stem == "igea_268k" && !run_large) {
       std::printf("%-22s %6d   skipped (large; set IFEM_TEST_LARGE=1)\n", stem.c_str(), src);
       continue;
     }
-    fs::path mesh;
-    for (const auto& m : test::shared_files("meshes")) {
-      if (m.stem().string() == stem) mesh = m;
-    }
+    const fs::path mesh = shared_mesh(stem);
     ASSERT_FALSE(mesh.empty()) << stem;
     if (test::skip_in_quick_run(mesh)) {
       std::printf("%-22s %6d   skipped (large; IFEM_TEST_QUICK)\n", stem.c_str(), src);
@@ -65,8 +93,7 @@ TEST(SolversReference, HeatDistanceVsExact) {
     }
     const io::SurfaceInput in = io::read_mesh(mesh.string());
     const Eigen::VectorXd exact = io::read_values(p.string());
-    const Eigen::VectorXd cgal = io::read_values(
-        (p.parent_path() / (stem + ".src" + mt[2].str() + ".cgal-heat.txt")).string());
+    const Eigen::VectorXd cgal = read_cgal_heat(p, *ref);
     ASSERT_EQ(exact.size(), in.positions.rows());
     const PreparedSurface s = prepare_surface(in);
     const intrinsic::IntrinsicTriangulation& tri = s.tri;
@@ -105,23 +132,18 @@ TEST(SolversReference, HeatDistanceVsExact) {
 // default (~80 s); run with --gtest_also_run_disabled_tests --gtest_filter=*StepLengthSweep*.
 TEST(SolversReference, DISABLED_StepLengthSweep) {
   IFEM_REQUIRE_SHARED_DATA();
-  const std::regex name(R"((.+)\.src(\d+)\.exact\.txt)");
   std::printf("%-20s %6s | %7s | %7s %7s %7s %7s %7s %7s %7s | h_in h_idt h_area h_med\n", "mesh",
               "src", "cgal", "input", "idt", "area", "median", "max", "sqrtio", "in*1.1");
   for (const fs::path& p : test::shared_files("reference")) {
-    std::smatch mt;
-    const std::string fname = p.filename().string();
-    if (!std::regex_match(fname, mt, name)) continue;
-    const std::string stem = mt[1];
-    const Index src = Index(std::stol(mt[2]));
+    const std::optional<Reference> ref = parse_reference(p);
+    if (!ref) continue;
+    const std::string& stem = ref->stem;
+    const Index src = ref->src;
     if (stem == "igea_268k" && !std::getenv("IFEM_TEST_LARGE")) continue;
-    fs::path mesh;
-    for (const auto& m : test::shared_files("meshes"))
-      if (m.stem().string() == stem) mesh = m;
+    const fs::path mesh = shared_mesh(stem);
     const io::SurfaceInput in = io::read_mesh(mesh.string());
     const Eigen::VectorXd exact = io::read_values(p.string());
-    const Eigen::VectorXd cgal = io::read_values(
-        (p.parent_path() / (stem + ".src" + mt[2].str() + ".cgal-heat.txt")).string());
+    const Eigen::VectorXd cgal = read_cgal_heat(p, *ref);
     intrinsic::SurfaceTriangulation s = intrinsic::build_surface(in.triangles, in.positions);
     const double h_in = intrinsic::mean_side_length(in.triangles, in.positions);
     const double h_idt = mean_edge_length(s.tri);
@@ -161,9 +183,7 @@ TEST(SolversReference, DISABLED_BoundarySweep) {
                                                                      {"stanford_bunny_scan", 0},
                                                                      {"camelhead", 0},
                                                                      {"camelhead", 9741}}) {
-    fs::path mesh;
-    for (const auto& m : test::shared_files("meshes"))
-      if (m.stem().string() == stem) mesh = m;
+    const fs::path mesh = shared_mesh(stem);
     const io::SurfaceInput in = io::read_mesh(mesh.string());
     fs::path ref = mesh.parent_path().parent_path() / "reference";
     const Eigen::VectorXd exact =
