@@ -1,9 +1,13 @@
 #include "fem/operators.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 
 namespace ifem::fem {
@@ -11,7 +15,18 @@ namespace ifem::fem {
 using intrinsic::IntrinsicTriangulation;
 
 SparseMatrix cotan_laplacian(const IntrinsicTriangulation& tri) {
-  return laplacian_from_weights(tri, intrinsic::cotan_weights(tri));
+  const Eigen::VectorXd w = intrinsic::cotan_weights(tri);
+  for (Index e = 0; e < w.size(); ++e) {
+    if (!std::isfinite(w[e])) {
+      const Index h = tri.edge_halfedge(e);
+      throw Error("cotan_laplacian: the weight of edge " + std::to_string(e) + " (" +
+                  std::to_string(tri.tail(h)) + "," +
+                  std::to_string(tri.tail(IntrinsicTriangulation::next(h))) +
+                  ") is not finite: face " + std::to_string(IntrinsicTriangulation::face(h)) +
+                  " or its neighbour has zero area (mollify the triangulation first)");
+    }
+  }
+  return laplacian_from_weights(tri, w);
 }
 
 namespace {
@@ -141,8 +156,32 @@ Eigen::VectorXd face_areas(const IntrinsicTriangulation& tri) {
   return a;
 }
 
+namespace {
+
+// Face areas must be representable: at lengths beyond ~1e154 they overflow, below ~1e-154 they
+// underflow to 0 although the face is a real triangle (its normalized area is positive). Either
+// way the mass would be silently wrong (inf or 0): refuse, naming the face.
+void require_representable(const IntrinsicTriangulation& tri, const Eigen::VectorXd& area) {
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    if (std::isfinite(area[f]) && area[f] >= std::numeric_limits<double>::min()) continue;
+    double l[3];
+    for (int k = 0; k < 3; ++k) l[k] = tri.halfedge_length(3 * f + k);
+    const double scale = intrinsic::power_of_two_scale(std::max({l[0], l[1], l[2]}));
+    if (std::isfinite(area[f]) &&
+        !(intrinsic::triangle_area(l[0] / scale, l[1] / scale, l[2] / scale) > 0.0)) {
+      continue;  // a degenerate face: zero area is its true area
+    }
+    throw Error("mass matrix: the area of face " + std::to_string(f) + " (edge lengths around " +
+                std::to_string(l[0]) + ") is not representable in double precision; scale the " +
+                "input towards unit size (distances are computed scale-free, mass is not)");
+  }
+}
+
+}  // namespace
+
 Eigen::VectorXd lumped_mass(const IntrinsicTriangulation& tri) {
   const Eigen::VectorXd area = face_areas(tri);
+  require_representable(tri, area);
   Eigen::VectorXd m = Eigen::VectorXd::Zero(tri.n_vertices());
   const double third = 1.0 / (3.0 * tri.multiplicity());
   const auto& tail = tri.tails();
@@ -157,6 +196,7 @@ Eigen::VectorXd lumped_mass(const IntrinsicTriangulation& tri) {
 
 SparseMatrix galerkin_mass(const IntrinsicTriangulation& tri) {
   const Eigen::VectorXd area = face_areas(tri);
+  require_representable(tri, area);
   std::vector<Eigen::Triplet<double>> trip;
   trip.reserve(9 * static_cast<std::size_t>(tri.n_faces()));
   const double s = 1.0 / tri.multiplicity();

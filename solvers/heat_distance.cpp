@@ -102,7 +102,8 @@ struct HeatDistanceSolver::Impl {
   Components comps;
   fem::SparseMatrix L;
   Eigen::VectorXd mass;
-  double t = 0.0;
+  double t = 0.0;      // time step, in units of scale²
+  double scale = 1.0;  // tri's lengths are the input's divided by scale (a power of two)
   std::optional<PoissonSolver> heat_neumann;    // (M + tL), Neumann
   std::optional<PoissonSolver> heat_dirichlet;  // (M + tL), u = 0 on the boundary
   std::optional<PoissonSolver> poisson;         // L, pure Neumann per component
@@ -198,6 +199,11 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
                                                                        : mean_edge_length(im.tri);
   }
   if (!(h > 0.0)) throw InvalidInput("HeatDistanceSolver: mean edge length is 0");
+  // Work in units of a power of two near h (exact): masses h², time steps and factors stay in
+  // the double range for inputs from 1e-300 to 1e300, and the result is the same at every scale.
+  im.scale = intrinsic::power_of_two_scale(h);
+  for (Index e = 0; e < im.tri.n_edges(); ++e) im.tri.set_length(e, im.tri.length(e) / im.scale);
+  h /= im.scale;
   im.t = options.time_factor * h * h;
   im.comps = connected_components(im.tri);
   im.L = fem::cotan_laplacian(im.tri);
@@ -246,7 +252,8 @@ HeatDistanceSolver::HeatDistanceSolver(HeatDistanceSolver&&) noexcept = default;
 HeatDistanceSolver& HeatDistanceSolver::operator=(HeatDistanceSolver&&) noexcept = default;
 
 const IntrinsicTriangulation& HeatDistanceSolver::triangulation() const { return impl_->tri; }
-double HeatDistanceSolver::time_step() const { return impl_->t; }
+double HeatDistanceSolver::length_scale() const { return impl_->scale; }
+double HeatDistanceSolver::time_step() const { return impl_->t * impl_->scale * impl_->scale; }
 
 Eigen::VectorXd HeatDistanceSolver::compute_distance(const std::vector<Index>& sources,
                                                      HeatDistanceReport* report) const {
@@ -271,7 +278,7 @@ Eigen::VectorXd HeatDistanceSolver::compute_distance(const std::vector<Index>& s
     p.weight[0] = 1.0;
     pts.push_back(p);
   }
-  return im.distance(pts, report);
+  return im.distance(pts, report) * im.scale;
 }
 
 Eigen::VectorXd HeatDistanceSolver::compute_distance_from_points(
@@ -302,7 +309,7 @@ Eigen::VectorXd HeatDistanceSolver::compute_distance_from_points(
     }
     pts.push_back(p);
   }
-  return im.distance(pts, report);
+  return im.distance(pts, report) * im.scale;
 }
 
 Eigen::VectorXd HeatDistanceSolver::Impl::distance(const std::vector<WeightedPoint>& pts,

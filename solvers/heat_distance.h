@@ -153,8 +153,14 @@ class HeatDistanceSolver {
   Eigen::VectorXd compute_distance_from_points(const std::vector<SurfacePoint>& sources,
                                                HeatDistanceReport* report = nullptr) const;
 
-  /// The triangulation the solver works on (intrinsic Delaunay unless disabled).
+  /// The triangulation the solver works on (intrinsic Delaunay unless disabled), its lengths
+  /// divided by length_scale(): the solver works in units of a power of two near h, so its
+  /// masses, time step and factors stay in the double range at any input scale (1e-300..1e300)
+  /// and its results are the same at every scale 2^k. Connectivity and face ids are the input's.
   const intrinsic::IntrinsicTriangulation& triangulation() const;
+  /// The power of two that triangulation()'s lengths are divided by (distances are multiplied
+  /// back by it).
+  double length_scale() const;
   /// The heat time step t = m·h² (squared length units).
   double time_step() const;
 

@@ -1,6 +1,7 @@
 #include "solvers/pipeline.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -268,6 +269,47 @@ auto with_hint(const PreparedSurface& s, F&& solve) -> decltype(solve()) {
   }
 }
 
+// True when some face has a positive area, judged on its lengths normalized by a power of two
+// (so that a tiny but real surface, coordinates near 1e-300, counts).
+bool has_positive_area(const std::vector<std::array<double, 3>>& face_lengths) {
+  for (const auto& l : face_lengths) {
+    const double scale = intrinsic::power_of_two_scale(std::max({l[0], l[1], l[2]}));
+    if (intrinsic::triangle_area(l[0] / scale, l[1] / scale, l[2] / scale) > 0.0) return true;
+  }
+  return false;
+}
+
+// One clear error for inputs with nothing to compute on: all vertices coincide, every face is
+// degenerate (judged on the input, before mollification makes slivers out of it), a cloud
+// whose points give no local triangle.
+void require_surface(const PreparedSurface& s) {
+  std::vector<std::array<double, 3>> lengths;
+  if (s.path == SurfacePath::kPointCloud) {
+    for (Index f = 0; f < s.tri.n_faces(); ++f) {
+      lengths.push_back({s.tri.halfedge_length(3 * f), s.tri.halfedge_length(3 * f + 1),
+                         s.tri.halfedge_length(3 * f + 2)});
+    }
+  } else {
+    for (const Triangle& t : s.input.triangles) {
+      std::array<double, 3> l;
+      for (int k = 0; k < 3; ++k) {
+        l[k] = intrinsic::side_length(s.input.positions.row(t[k]).data(),
+                                      s.input.positions.row(t[(k + 1) % 3]).data());
+      }
+      lengths.push_back(l);
+    }
+  }
+  if (has_positive_area(lengths)) return;
+  throw InvalidInput(
+      "the input has no surface to compute on: " +
+      std::string(s.path == SurfacePath::kPointCloud
+                      ? "its points give no local triangle (fewer than 3 distinct points, or all "
+                        "on one line?)"
+                      : "zero total area (all vertices coincide, or every face is degenerate)") +
+      "; " + std::to_string(s.n_input_vertices()) + " vertices, " +
+      std::to_string(s.input.triangles.size()) + " triangles read");
+}
+
 void check_input_vertex_ids(const PreparedSurface& s, const std::vector<Index>& ids,
                             const char* what) {
   const Index n = s.n_input_vertices();
@@ -333,6 +375,7 @@ PreparedSurface prepare_surface(io::SurfaceInput input, const PrepareOptions& op
   } else {
     prepare_mesh(options, s, progress);
   }
+  require_surface(s);
   if (options.refine) refine(options, s, progress);
   return s;
 }

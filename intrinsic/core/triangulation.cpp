@@ -641,8 +641,12 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
   std::vector<double> cot(tri.n_halfedges());
 #pragma omp parallel for schedule(static) if (nf > kParallelMin)
   for (Index f = 0; f < nf; ++f) {
-    const double l0 = tri.halfedge_length(3 * f), l1 = tri.halfedge_length(3 * f + 1),
-                 l2 = tri.halfedge_length(3 * f + 2);
+    // on lengths normalized by a power of two (exact): cotangents are dimensionless, so the
+    // weights are the same bits at every scale and squares never over- or underflow
+    double l0 = tri.halfedge_length(3 * f), l1 = tri.halfedge_length(3 * f + 1),
+           l2 = tri.halfedge_length(3 * f + 2);
+    const double scale = power_of_two_scale(std::max({l0, l1, l2}));
+    l0 /= scale, l1 /= scale, l2 /= scale;
     const double inv4a = 0.25 / triangle_area(l0, l1, l2);
     const double s0 = l0 * l0, s1 = l1 * l1, s2 = l2 * l2;
     cot[3 * f] = (s1 + s2 - s0) * inv4a;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "fem/operators.h"
 #include "helpers.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
@@ -306,6 +307,67 @@ TEST(Pipeline, OneFarOutlierVertexDoesNotMoveTheRest) {
   } catch (const SolverError& e) {
     EXPECT_NE(std::string(e.what()).find("input vertex 700 has sides up to"), std::string::npos)
         << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ifem::solvers
+
+namespace ifem::solvers {
+namespace {
+
+double max_abs(const fem::SparseMatrix& A) {
+  double m = 0.0;
+  for (int k = 0; k < A.outerSize(); ++k) {
+    for (fem::SparseMatrix::InnerIterator it(A, k); it; ++it) m = std::max(m, std::abs(it.value()));
+  }
+  return m;
+}
+
+// Uniform scaling of the input, from 2^-900 to 2^900 and by non-powers of two 1e±250, leaves the
+// Laplacian as it is (cotan weights are dimensionless) and scales distances by the factor: no
+// length, area or weight over- or underflows on the way (lengths, angles, flips and the heat
+// solver all work on power-of-two-normalized lengths). Powers of two give the same bits.
+TEST(Pipeline, ScaleFree) {
+  const intrinsic::TriangleMesh m = test::jittered(intrinsic::icosphere(6), 0.05);
+  const PreparedSurface unit = prepare_surface(as_input(m));
+  const fem::SparseMatrix L0 = fem::cotan_laplacian(unit.tri);
+  const Eigen::VectorXd d0 = geodesic_distance(unit, {0});
+  for (const double factor : {std::ldexp(1.0, 900), std::ldexp(1.0, -900), 1e250, 1e-250}) {
+    intrinsic::TriangleMesh scaled = m;
+    scaled.positions *= factor;
+    const PreparedSurface s = prepare_surface(as_input(scaled));
+    EXPECT_EQ(s.flips.flips, unit.flips.flips) << factor;
+    const fem::SparseMatrix L = fem::cotan_laplacian(s.tri);
+    ASSERT_EQ(L.nonZeros(), L0.nonZeros()) << factor;
+    EXPECT_LE(max_abs(fem::SparseMatrix(L - L0)), 1e-12 * max_abs(L0)) << factor;
+    const Eigen::VectorXd d = geodesic_distance(s, {0});
+    ASSERT_TRUE(d.allFinite()) << factor;
+    EXPECT_LE((d / factor - d0).cwiseAbs().maxCoeff(), 1e-9 * d0.maxCoeff()) << factor;
+    int exponent = 0;
+    if (std::frexp(factor, &exponent) == 0.5) {  // a power of two: exactly the same numbers
+      EXPECT_EQ(max_abs(fem::SparseMatrix(L - L0)), 0.0) << factor;
+      EXPECT_EQ(d / factor, d0) << factor;
+    }
+  }
+}
+
+// Inputs with nothing to compute on get one clear error, not NaN or a solver failure later.
+TEST(Pipeline, NoSurfaceIsOneClearError) {
+  intrinsic::TriangleMesh same = intrinsic::icosphere(2);
+  same.positions.rowwise() = Eigen::RowVector3d(1.5, -2.0, 3.0).replicate(1, 1).row(0);
+  intrinsic::TriangleMesh line = intrinsic::grid(4, 4);
+  line.positions.col(1).setZero();  // every face collinear
+  io::SurfaceInput cloud = as_input(same);
+  cloud.triangles.clear();
+  for (const io::SurfaceInput& in : {as_input(same), as_input(line), cloud}) {
+    try {
+      prepare_surface(in);
+      ADD_FAILURE() << "accepted an input without a surface";
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("no surface to compute on"), std::string::npos)
+          << e.what();
+    }
   }
 }
 
