@@ -70,6 +70,13 @@ int run(const Args& args) {
       throw InvalidInput("--rhs " + args.get("rhs") + ": " + std::to_string(f.size()) +
                          " values, expected one per input vertex (" + std::to_string(nv) + ")");
     }
+    for (Index v = 0; v < nv; ++v) {
+      if (!std::isfinite(f[v])) {
+        throw IoError("--rhs " + args.get("rhs") + ": value " + std::to_string(v + 1) +
+                      " (vertex " + std::to_string(v) + ") is " + format_number(f[v]) +
+                      ", not a finite number");
+      }
+    }
   }
   std::vector<Index> dv;
   std::vector<double> dval;

@@ -7,6 +7,41 @@
 
 namespace ifem::io::detail {
 
+namespace {
+
+// The nf face lines ("n i0 i1 ... [colour]") into out's polygons; nothing may follow them.
+void read_off_faces(TextCursor& c, std::int64_t nf, std::int64_t nv, SurfaceInput& out) {
+  PolygonSink sink(out);
+  std::vector<Index> polygon;
+  for (std::int64_t f = 0; f < nf; ++f) {
+    if (!c.next_content_line()) {
+      c.fail("file ends after " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
+    }
+    const std::int64_t n = c.integer("face vertex count");
+    if (n < 3) c.fail("face with " + std::to_string(n) + " vertices (at least 3 needed)");
+    if (n > static_cast<std::int64_t>(c.remaining())) {
+      c.fail("face vertex count " + std::to_string(n) + " too large");
+    }
+    polygon.clear();
+    for (std::int64_t k = 0; k < n; ++k) {
+      const std::int64_t v = c.integer("face index");
+      if (v < 0 || v >= nv) {
+        c.fail("face index " + std::to_string(v) + " out of range (the file has " +
+               std::to_string(nv) + " vertices)");
+      }
+      polygon.push_back(static_cast<Index>(v));
+    }
+    sink.add(polygon.data(), polygon.size(), c.line());
+    c.next_line();  // per-face colour columns are ignored
+  }
+  if (c.next_content_line()) {  // a header that undercounts would silently drop faces
+    c.fail("the header declares " + std::to_string(nf) +
+           " faces but the file goes on after them (a wrong face count in the header?)");
+  }
+}
+
+}  // namespace
+
 SurfaceInput read_off(const std::string& path, const std::string& bytes) {
   SurfaceInput out;
   out.format = "off";
@@ -58,27 +93,7 @@ SurfaceInput read_off(const std::string& path, const std::string& bytes) {
     }
     c.next_line();  // colours and texture coordinates are ignored
   }
-  PolygonSink sink(out);
-  std::vector<Index> polygon;
-  for (std::int64_t f = 0; f < nf; ++f) {
-    if (!c.next_content_line()) {
-      c.fail("file ends after " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
-    }
-    const std::int64_t n = c.integer("face vertex count");
-    if (n < 3) c.fail("face with " + std::to_string(n) + " vertices (at least 3 needed)");
-    if (n > end - c.pos()) c.fail("face vertex count " + std::to_string(n) + " too large");
-    polygon.clear();
-    for (std::int64_t k = 0; k < n; ++k) {
-      const std::int64_t v = c.integer("face index");
-      if (v < 0 || v >= nv) {
-        c.fail("face index " + std::to_string(v) + " out of range (the file has " +
-               std::to_string(nv) + " vertices)");
-      }
-      polygon.push_back(static_cast<Index>(v));
-    }
-    sink.add(polygon.data(), polygon.size(), c.line());
-    c.next_line();  // per-face colour columns are ignored
-  }
+  read_off_faces(c, nf, nv, out);
   set_positions(out, xyz);
   out.normals.resize(0, 3);
   if (has_normals) set_normals(out, nxyz);

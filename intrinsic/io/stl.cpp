@@ -102,6 +102,11 @@ void read_binary_facets(const std::string& path, const std::string& bytes, StlFa
                 "truncated binary STL: the header declares " + std::to_string(n) +
                     " triangles, the file holds " + std::to_string(complete));
   }
+  if (complete > n) {  // a header that undercounts would silently drop triangles
+    fail_offset(path, kBinaryHeader + kBinaryTriangle * n,
+                "the header declares " + std::to_string(n) + " triangles but the file holds " +
+                    std::to_string(complete));
+  }
   checked_index(3 * n, "read_stl: corner count");
   in.corners.reserve(9 * n);
   in.facet_sizes.assign(n, 3);

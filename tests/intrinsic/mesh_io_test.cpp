@@ -666,6 +666,27 @@ TEST_F(MeshIo, MatrixMarketRoundTripAndSymmetric) {
   expect_io_error([&] { read_matrix_market(banner); }, {"banner.mtx", "line 1", "MatrixMarket"});
 }
 
+// Header counts that disagree with the content are errors with the numbers, never a silent
+// partial read: an OFF or binary STL whose header declares fewer faces than the file holds, and
+// a symmetric Matrix Market file whose size line is not square.
+TEST_F(MeshIo, HeaderCountsMustMatchTheContent) {
+  const auto off = write("under.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n");
+  expect_read_error(off, "line 8", "declares 1 faces but the file goes on");
+  std::string stl(80, ' ');
+  const std::uint32_t declared = 1;
+  stl.append(reinterpret_cast<const char*>(&declared), 4);
+  for (int t = 0; t < 2; ++t) {
+    float tri[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, float(t)};
+    stl.append(reinterpret_cast<const char*>(tri), sizeof tri);
+    stl.append(2, '\0');
+  }
+  expect_read_error(write("under.stl", stl), "134", "declares 1 triangles but the file holds 2");
+  const auto skew = write("skew.mtx",
+                          "%%MatrixMarket matrix coordinate real skew-symmetric\n"
+                          "4 3 1\n2 1 1\n");
+  expect_io_error([&] { read_matrix_market(skew); }, {"skew.mtx", "must be square", "4x3"});
+}
+
 TEST_F(MeshIo, ValuesRoundTrip) {
   Eigen::VectorXd v(7);
   v << 1.0 / 3.0, -0.0, 1e-310, std::numeric_limits<double>::infinity(),
