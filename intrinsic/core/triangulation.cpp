@@ -345,9 +345,14 @@ bool IntrinsicTriangulation::is_delaunay(Index e) const {
   if (t == kInvalidIndex) return true;
   // α + β > π  ⇔  sin(α + β) < 0, and sin(α+β)·(b1 c1 b2 c2) = A1·q2 + A2·q1 with
   // q = b² + c² − a² (law of cosines) and A the areas. Flip only past a small tolerance.
-  const double a = length_[e];
-  const double b1 = halfedge_length(next(h)), c1 = halfedge_length(prev(h));
-  const double b2 = halfedge_length(next(t)), c2 = halfedge_length(prev(t));
+  // on the diamond's lengths normalized by a power of two (exact): the same decision at every
+  // scale, and the fourth powers below never over- or underflow
+  const double scale =
+      power_of_two_scale(std::max({length_[e], halfedge_length(next(h)), halfedge_length(prev(h)),
+                                   halfedge_length(next(t)), halfedge_length(prev(t))}));
+  const double a = length_[e] / scale;
+  const double b1 = halfedge_length(next(h)) / scale, c1 = halfedge_length(prev(h)) / scale;
+  const double b2 = halfedge_length(next(t)) / scale, c2 = halfedge_length(prev(t)) / scale;
   const double q1 = b1 * b1 + c1 * c1 - a * a;
   const double q2 = b2 * b2 + c2 * c2 - a * a;
   const double s = triangle_area(a, b1, c1) * q2 + triangle_area(a, b2, c2) * q1;
