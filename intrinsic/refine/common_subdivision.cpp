@@ -767,10 +767,11 @@ Traces trace_edges(const SignpostTriangulation& st) {
     Index h = tri.edge_halfedge(e);
     if (tri.tail(h) >= n_in && tri.head(h) < n_in && tri.twin(h) != kInvalidIndex) h = tri.twin(h);
     t.traced[e] = h;
+    if (failure.failed()) continue;  // the call fails: no more paths (their memory) needed
     try {
       t.paths[e] = st.trace_halfedge(h);
-    } catch (const Error& err) {
-      failure.record(err, "edge " + std::to_string(e));
+    } catch (...) {
+      failure.record_current("edge " + std::to_string(e));
     }
   }
   failure.rethrow_if_any("common_subdivision");
