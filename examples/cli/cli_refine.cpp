@@ -89,7 +89,7 @@ RefineOutputs compute_outputs(const Args& args, const intrinsic::SignpostTriangu
   RefineOutputs o;
   Stopwatch watch;
   if (args.has("output")) {
-    o.overlay = intrinsic::common_subdivision(st);
+    o.overlay = intrinsic::common_subdivision(st, args.real_or("memory-budget", 0.0) * 1e9);
     progress(args, "common subdivision: " + std::to_string(o.overlay.faces.size()) +
                        " triangles in " + std::to_string(watch.restart()) + " s");
   }

@@ -518,14 +518,34 @@ class Refiner {
     rep_.flips += host_.flip_to_delaunay_from(flip_queue_, &touched_).flips;
     std::sort(touched_.begin(), touched_.end());
     touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
+    for (const Index x : touched_) check_face(x, "after inserting vertex " + std::to_string(v));
     for (const Index x : touched_) {
       const Verdict vx = classify(x);
       if (vx.kind == 1) queue.push(x, vx.bucket);
     }
   }
 
-  // The report's final counts and angles.
+  // Throws Error naming face f and `when` unless f's side lengths are finite and positive and
+  // its area is: the Laplacian and mass matrix of the result must be finite.
+  void check_face(Index f, const std::string& when) const {
+    const double a = tri_.halfedge_length(3 * f), b = tri_.halfedge_length(3 * f + 1),
+                 c = tri_.halfedge_length(3 * f + 2);
+    const double area = face_area(tri_, f);
+    if (std::isfinite(a) && std::isfinite(b) && std::isfinite(c) && a > 0.0 && b > 0.0 && c > 0.0 &&
+        std::isfinite(area) && area > 0.0) {
+      return;
+    }
+    std::ostringstream m;
+    m << "delaunay_refine: " << when << " (insertion " << rep_.insertions << "), face " << f
+      << " has side lengths " << a << ", " << b << ", " << c << " and area " << area
+      << ": its cotan weights and mass would not be finite. The input is degenerate there "
+      << "(coincident vertices, zero-area faces); repair it or raise the mollification";
+    throw Error(m.str());
+  }
+
+  // The report's final counts and angles; every face checked (check_face()).
   void measure_result() {
+    for (Index f = 0; f < tri_.n_faces(); ++f) check_face(f, "at the end of refinement");
     rep_.vertices_after = tri_.n_vertices();
     rep_.insertions = rep_.vertices_after - rep_.vertices_before;
     double after = kPi, after_ok = kPi;
