@@ -776,7 +776,8 @@ Traces trace_edges(const SignpostTriangulation& st, double budget, std::size_t& 
   const IntrinsicTriangulation& tri = st.intrinsic();
   const Index n_in = st.n_input_vertices(), ne = tri.n_edges();
   Traces t{std::vector<Index>(ne), std::vector<std::vector<SurfacePoint>>(ne)};
-  const double max_points = budget / kSubdivisionBytesPerCrossing;
+  const double max_points = budget / kSubdivisionBytesPerCrossing - double(tri.n_vertices()) -
+                            double(st.input().n_faces());
   std::atomic<std::size_t> points{0};
   FirstError failure;  // transport out of the OpenMP loop: any exception ends the call
 #pragma omp parallel for schedule(dynamic, 256)

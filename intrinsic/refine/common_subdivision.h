@@ -26,10 +26,10 @@ struct CommonSubdivision {
   std::size_t crossings = 0;          ///< C below: path points inside the intrinsic edges
 };
 
-/// Bytes the common subdivision costs per traced path point, at its peak (paths, segments,
-/// per-face planar graphs, output): measured 150–200 on lato000 and rocketship
-/// (`ifem_bench refine`, "common subd. peak"); rounded up.
-inline constexpr double kSubdivisionBytesPerCrossing = 256.0;
+/// Bytes the common subdivision costs at its peak (paths, segments, per-face planar graphs,
+/// output) per unit of C + n_V + n_F_in (below): measured 479 on lato000 and 273 on rocketship
+/// (`ifem_bench refine`, "common subdivision peak memory"); rounded up.
+inline constexpr double kSubdivisionBytesPerCrossing = 512.0;
 
 /// Builds the common subdivision by tracing every intrinsic edge over the input and cutting
 /// each input face along the traced segments.
@@ -40,7 +40,7 @@ inline constexpr double kSubdivisionBytesPerCrossing = 256.0;
 /// the polygons (every polygon's nodes are path points, intrinsic vertices or input corners, each
 /// shared by at most a bounded number of polygons), and it is built in memory about
 /// kSubdivisionBytesPerCrossing × (C + n_V + n_F_in). The traces are counted as they are made:
-/// when C × kSubdivisionBytesPerCrossing would exceed `max_memory_bytes` (0:
+/// when that would exceed `max_memory_bytes` (0:
 /// default_memory_budget()), the call stops tracing and throws InvalidInput stating C so far
 /// and the budget. A trace that fails (TraceError: a straight line crossing more than 4 × n_F_in
 /// + 1000 sides, on degenerate input) stops the others too.
