@@ -118,6 +118,7 @@ intrinsic::RefineOptions refine_options(const RefineSettings& r, double target_l
     o.max_area = o.max_area > 0.0 ? std::min(o.max_area, a) : a;
   }
   o.max_insertions = r.max_insertions;
+  o.max_memory_bytes = r.max_memory_bytes;
   return o;
 }
 
@@ -214,6 +215,7 @@ void refine(const PrepareOptions& opt, PreparedSurface& s, const Progress& progr
   const std::string refusal = refine_refusal(s, r);
   if (!refusal.empty()) throw InvalidInput(refusal);
   s.target_edge_length = r.resolution * s.input_mean_edge_length;
+  intrinsic::check_refinement_budget(s.tri, refine_options(r, s.target_edge_length));
   const double seconds_flip = s.seconds_flip;
   if (s.supports_signposts()) {
     refine_with_signposts(r, opt.mollify_relative_epsilon, s, progress);
@@ -340,6 +342,9 @@ void RefineSettings::validate() const {
           "RefineSettings: relax_max_edge must be finite and ≥ 0, got " + fmt(relax_max_edge));
   require(relax_max_edge == 0.0 || relax_iterations > 0,
           "RefineSettings: relax_max_edge splits edges during relaxation: set relax_iterations");
+  require(
+      max_memory_bytes >= 0.0,
+      "RefineSettings: max_memory_bytes must be ≥ 0 (0: automatic), got " + fmt(max_memory_bytes));
 }
 
 RefineSettings accurate_distance_refinement() {

@@ -42,6 +42,10 @@ struct RefineSettings {
   /// inserted vertices and for the common subdivision): refuse the tufted path instead of
   /// refining the cover without them.
   bool need_signposts = false;
+  /// Memory budget, bytes (RefineOptions::max_memory_bytes): a request whose estimate
+  /// (intrinsic::estimate_refinement()) exceeds it is refused up front. 0: half the physical
+  /// memory (or 80% of ulimit -v); +∞: none.
+  double max_memory_bytes = 0.0;
   /// @throws InvalidInput naming the field and its allowed range
   void validate() const;
 };

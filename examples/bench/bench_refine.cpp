@@ -9,8 +9,11 @@
 //
 //   ifem_bench refine [--repeat 5] [--min-angle 25] [--off-centers 0|1]
 //                     [--data ../shared/data/meshes]
+#include <malloc.h>
+
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -18,6 +21,7 @@
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/common_subdivision.h"
 #include "intrinsic/refine/delaunay_refine.h"
 #include "intrinsic/refine/signpost.h"
 #include "intrinsic/surface/build_surface.h"
@@ -85,6 +89,42 @@ void run_accurate(const std::string& name, const io::SurfaceInput& in, int repea
   std::fflush(stdout);
 }
 
+// Resident set size now, MiB (VmRSS).
+double rss_mib() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  }
+  return 0.0;
+}
+
+// The common subdivision's peak memory (VmHWM after resetting it, minus the RSS before) against
+// its bound kSubdivisionBytesPerCrossing × (C + V + F_in), after refinement to the angle bound.
+void run_subdivision_memory(const std::string& name, const io::SurfaceInput& in) {
+  intrinsic::SignpostTriangulation st(in.triangles, in.positions,
+                                      intrinsic::kDefaultMollifyEpsilon);
+  intrinsic::delaunay_refine(st);
+  malloc_trim(0);  // freed heap back to the system: the RSS below is what is in use
+  {
+    std::ofstream reset("/proc/self/clear_refs");
+    reset << "5";  // resets VmHWM to the current RSS (Linux ≥ 4.0)
+  }
+  const double before = rss_mib();
+  const double t0 = seconds_now();
+  const intrinsic::CommonSubdivision cs = intrinsic::common_subdivision(st);
+  const double t = seconds_now() - t0;
+  const double peak = peak_rss_mib() - before;
+  const double n =
+      double(cs.crossings) + double(st.intrinsic().n_vertices()) + double(in.triangles.size());
+  const double bound = intrinsic::kSubdivisionBytesPerCrossing * n / (1024.0 * 1024.0);
+  std::printf(
+      "%-22s common subd. %7.3f s  crossings C %9zu  faces %9zu  peak %7.1f MiB  bound %7.1f "
+      "MiB  (%.0f bytes per C + V + F_in)\n",
+      name.c_str(), t, cs.crossings, cs.faces.size(), peak, bound, peak * 1048576.0 / n);
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int refine(int argc, char** argv) {
@@ -106,6 +146,15 @@ int refine(int argc, char** argv) {
   }
   const intrinsic::TriangleMesh m = intrinsic::uv_sphere(40, 2000);  // 156,000 faces
   run_case("uv_sphere(40, 2000)", m.faces, m.positions, repeat, opt);
+  std::printf("common subdivision peak memory vs its bound (angle bound only, once)\n");
+  for (const char* file : {"lato000_rangescan.ply", "rocketship.ply"}) {
+    const std::filesystem::path path = std::filesystem::path(data) / file;
+    if (!std::filesystem::exists(path)) {
+      std::printf("%-22s (missing: %s)\n", file, path.string().c_str());
+      continue;
+    }
+    run_subdivision_memory(file, io::read_mesh(path.string()));
+  }
   std::printf("accurate distance (ifem distance --refine), median of %d runs\n", repeat);
   for (const char* file : {"spot.obj", "fandisk.off", "rocketship.ply", "conrod.off"}) {
     const std::filesystem::path path = std::filesystem::path(data) / file;

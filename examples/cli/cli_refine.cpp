@@ -31,6 +31,12 @@ OptionGroup refine_options_group(double resolution_default) {
            count("max-insertions", "N")
                .explain("stop after N inserted vertices (default 10 × input vertices\n"
                         "+ 2000, plus 4 × area / (max area) with a size bound)"),
+           real("memory-budget", "GB")
+               .above(0)
+               .explain("refuse a refinement whose estimated memory (about 4 KiB per\n"
+                        "vertex, see the message) exceeds GB gigabytes, and stop\n"
+                        "inserting there (default: half the physical memory, or 80%\n"
+                        "of ulimit -v)"),
            count("relax", "ITER")
                .defaults_to("0")
                .explain("then ITER passes of optimal Delaunay (ODT) relaxation of the\n"
@@ -52,6 +58,7 @@ solvers::RefineSettings refine_settings(const Args& args, double default_resolut
   r.relax_iterations = args.count("relax");
   r.relax_max_edge = args.real_or("max-edge", 0.0);
   r.need_signposts = need_signposts;
+  r.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;  // 0: the library's default
   if (r.relax_max_edge > 0.0 && r.relax_iterations == 0) {
     throw UsageError("--max-edge splits during --relax ITER");
   }
@@ -82,7 +89,7 @@ RefineOutputs compute_outputs(const Args& args, const intrinsic::SignpostTriangu
   RefineOutputs o;
   Stopwatch watch;
   if (args.has("output")) {
-    o.overlay = intrinsic::common_subdivision(st);
+    o.overlay = intrinsic::common_subdivision(st, args.real_or("memory-budget", 0.0) * 1e9);
     progress(args, "common subdivision: " + std::to_string(o.overlay.faces.size()) +
                        " triangles in " + std::to_string(watch.restart()) + " s");
   }

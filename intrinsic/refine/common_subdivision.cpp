@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <iomanip>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -15,6 +18,7 @@
 
 #include "intrinsic/core/first_error.h"
 #include "intrinsic/io/detail.h"
+#include "intrinsic/refine/delaunay_refine.h"
 
 namespace ifem::intrinsic {
 
@@ -756,24 +760,43 @@ struct Traces {
   std::vector<std::vector<SurfacePoint>> paths;  // per edge: its path over the input
 };
 
-// Traces every edge from the halfedge trace_edge() would use; any failed trace ends the call.
-Traces trace_edges(const SignpostTriangulation& st) {
+// Throws InvalidInput: the paths traced so far have `points` points, more than max_points.
+void throw_over_budget(std::size_t points, double max_points, double budget) {
+  std::ostringstream m;
+  m << std::setprecision(3) << "the traced intrinsic edges cross the input " << double(points)
+    << " times (so far), more than the memory budget of " << budget / 1e9 << " GB pays for ("
+    << max_points << " at " << kSubdivisionBytesPerCrossing
+    << " bytes each): refine less, or raise the budget (max_memory_bytes, `--memory-budget`)";
+  throw InvalidInput(m.str());
+}
+
+// Traces every edge from the halfedge trace_edge() would use, counting path points against
+// the budget; any failed trace (or the budget) ends the call, and the other threads stop.
+Traces trace_edges(const SignpostTriangulation& st, double budget, std::size_t& crossings) {
   const IntrinsicTriangulation& tri = st.intrinsic();
   const Index n_in = st.n_input_vertices(), ne = tri.n_edges();
   Traces t{std::vector<Index>(ne), std::vector<std::vector<SurfacePoint>>(ne)};
-  FirstError failure;  // transport out of the OpenMP loop: any Error ends the call
+  const double max_points = budget / kSubdivisionBytesPerCrossing - double(tri.n_vertices()) -
+                            double(st.input().n_faces());
+  std::atomic<std::size_t> points{0};
+  FirstError failure;  // transport out of the OpenMP loop: any exception ends the call
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index e = 0; e < ne; ++e) {
     Index h = tri.edge_halfedge(e);
     if (tri.tail(h) >= n_in && tri.head(h) < n_in && tri.twin(h) != kInvalidIndex) h = tri.twin(h);
     t.traced[e] = h;
+    if (failure.failed()) continue;  // the call fails: no more paths (their memory) needed
     try {
       t.paths[e] = st.trace_halfedge(h);
-    } catch (const Error& err) {
-      failure.record(err, "edge " + std::to_string(e));
+      const std::size_t n = t.paths[e].size() >= 2 ? t.paths[e].size() - 2 : 0;
+      const std::size_t total = points.fetch_add(n) + n;
+      if (double(total) > max_points) throw_over_budget(total, max_points, budget);
+    } catch (...) {
+      failure.record_current("edge " + std::to_string(e));
     }
   }
   failure.rethrow_if_any("common_subdivision");
+  crossings = points.load();
   return t;
 }
 
@@ -883,47 +906,66 @@ void add_side_labels(const IntrinsicTriangulation& tri, const IntrinsicTriangula
   }
 }
 
+// The side label records of traced edge e (collect_label_records()), appended to `mine`.
+void label_records_of_edge(const SignpostTriangulation& st, const Traces& traces,
+                           const Numbering& num, Index e, std::vector<Index>& seg_face,
+                           std::vector<LabelRecord>& mine, bool& my_jumps) {
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  const IntrinsicTriangulation& in = st.input();
+  const Index nvi = tri.n_vertices();
+  const auto& path = traces.paths[e];
+  const Index h = traces.traced[e];
+  const std::size_t n = path.size();
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const Index g = path[i].face;
+    seg_face[std::size_t(num.seg_offset[e]) + i] = g;
+    Eigen::Vector3d bb;
+    if (!to_face(in, path[i + 1], g, bb)) {
+      my_jumps = true;
+      continue;
+    }
+    const Index ia = i == 0 ? tri.tail(h) : nvi + num.offset[e] + Index(i - 1);
+    const Index ib = i + 2 == n ? tri.head(h) : nvi + num.offset[e] + Index(i);
+    if ((zero_mask(in, ia, g, path[i].bary) & zero_mask(in, ib, g, bb)) == 0) continue;
+    add_side_labels(tri, in, h, e, Index(i), g, snapped(in, ia, g, path[i].bary),
+                    snapped(in, ib, g, bb), mine);
+  }
+}
+
 // Per segment its input face (seg_face); intrinsic edges that run along an input side label
 // that side on both of its faces (the trace records such a segment in one of the two faces
 // only): their records, unordered. @throws Error when a path jumps between faces
 std::vector<LabelRecord> collect_label_records(const SignpostTriangulation& st,
                                                const Traces& traces, const Numbering& num,
                                                bool parallel, std::vector<Index>& seg_face) {
-  const IntrinsicTriangulation& tri = st.intrinsic();
-  const IntrinsicTriangulation& in = st.input();
-  const Index nvi = tri.n_vertices(), ne = tri.n_edges();
+  const Index ne = st.intrinsic().n_edges();
   std::vector<LabelRecord> records;
   bool jumps = false;
+  FirstError failure;  // std::bad_alloc may not leave the region
 #pragma omp parallel if (parallel)
   {
     std::vector<LabelRecord> mine;
     bool my_jumps = false;
 #pragma omp for schedule(dynamic, 1024) nowait
     for (Index e = 0; e < ne; ++e) {
-      const auto& path = traces.paths[e];
-      const Index h = traces.traced[e];
-      const std::size_t n = path.size();
-      for (std::size_t i = 0; i + 1 < n; ++i) {
-        const Index g = path[i].face;
-        seg_face[std::size_t(num.seg_offset[e]) + i] = g;
-        Eigen::Vector3d bb;
-        if (!to_face(in, path[i + 1], g, bb)) {
-          my_jumps = true;
-          continue;
-        }
-        const Index ia = i == 0 ? tri.tail(h) : nvi + num.offset[e] + Index(i - 1);
-        const Index ib = i + 2 == n ? tri.head(h) : nvi + num.offset[e] + Index(i);
-        if ((zero_mask(in, ia, g, path[i].bary) & zero_mask(in, ib, g, bb)) == 0) continue;
-        add_side_labels(tri, in, h, e, Index(i), g, snapped(in, ia, g, path[i].bary),
-                        snapped(in, ib, g, bb), mine);
+      if (failure.failed()) continue;
+      try {
+        label_records_of_edge(st, traces, num, e, seg_face, mine, my_jumps);
+      } catch (...) {
+        failure.record_current("edge " + std::to_string(e));
       }
     }
 #pragma omp critical(ifem_common_subdivision_records)
     {
-      records.insert(records.end(), mine.begin(), mine.end());
+      try {
+        records.insert(records.end(), mine.begin(), mine.end());
+      } catch (...) {
+        failure.record_current("merging the side labels");
+      }
       jumps = jumps || my_jumps;
     }
   }
+  failure.rethrow_if_any("common_subdivision");
   if (jumps) throw Error("common_subdivision: traced path jumps between faces");
   return records;
 }
@@ -978,30 +1020,41 @@ std::vector<EdgePath> make_edge_paths(const IntrinsicTriangulation& tri, const T
   return edge_paths;
 }
 
+// The input faces of chunk c assembled into `out`.
+void assemble_chunk(const Inputs& inputs, Index nf, Index c, FaceAssembler& assembler, Chunk& out) {
+  const std::vector<Index>& seg_begin = *inputs.seg_begin;
+  const Index g0 = c * kChunkFaces, g1 = std::min(nf, g0 + kChunkFaces);
+  out.face_poly_begin.reserve(std::size_t(g1 - g0) + 1);
+  // typically a polygon per segment and face, with 2 nodes per segment and 3 per face
+  const std::size_t n_seg = std::size_t(seg_begin[g1] - seg_begin[g0]);
+  out.polys.reserve(n_seg / 2 + std::size_t(g1 - g0) + 16);
+  out.nodes.reserve(2 * n_seg + 3 * std::size_t(g1 - g0) + 64);
+  for (Index g = g0; g < g1; ++g) {
+    out.face_poly_begin.push_back(Index(out.polys.size()));
+    assembler.assemble(g, out, nullptr);
+  }
+  out.face_poly_begin.push_back(Index(out.polys.size()));
+}
+
 // Per input face its planar graph and bounded faces, in chunks of kChunkFaces faces.
 std::vector<Chunk> assemble_faces(const Inputs& inputs, Index nf, bool parallel) {
-  const std::vector<Index>& seg_begin = *inputs.seg_begin;
   const Index n_chunks = (nf + kChunkFaces - 1) / kChunkFaces;
   std::vector<Chunk> chunks(std::size_t(n_chunks), Chunk{});
+  FirstError failure;  // std::bad_alloc may not leave the region
 #pragma omp parallel if (parallel)
   {
     FaceAssembler assembler(inputs);
 #pragma omp for schedule(dynamic, 1)
     for (Index c = 0; c < n_chunks; ++c) {
-      Chunk& out = chunks[std::size_t(c)];
-      const Index g0 = c * kChunkFaces, g1 = std::min(nf, g0 + kChunkFaces);
-      out.face_poly_begin.reserve(std::size_t(g1 - g0) + 1);
-      // typically a polygon per segment and face, with 2 nodes per segment and 3 per face
-      const std::size_t n_seg = std::size_t(seg_begin[g1] - seg_begin[g0]);
-      out.polys.reserve(n_seg / 2 + std::size_t(g1 - g0) + 16);
-      out.nodes.reserve(2 * n_seg + 3 * std::size_t(g1 - g0) + 64);
-      for (Index g = g0; g < g1; ++g) {
-        out.face_poly_begin.push_back(Index(out.polys.size()));
-        assembler.assemble(g, out, nullptr);
+      if (failure.failed()) continue;
+      try {
+        assemble_chunk(inputs, nf, c, assembler, chunks[std::size_t(c)]);
+      } catch (...) {
+        failure.record_current("input faces from " + std::to_string(c * kChunkFaces));
       }
-      out.face_poly_begin.push_back(Index(out.polys.size()));
     }
   }
+  failure.rethrow_if_any("common_subdivision");
   return chunks;
 }
 
@@ -1213,28 +1266,27 @@ CommonSubdivision make_output(const SignpostTriangulation& st, const Traces& tra
   CommonSubdivision cs;
   cs.positions.resize(n_out + Index(extra_base[n_chunks]), 3);
   place_nodes(st, traces, num, created, id, parallel, cs.positions);
-#pragma omp parallel sections if (parallel)
-  {
-#pragma omp section
-    cs.faces.resize(face_base[n_chunks]);
-#pragma omp section
-    {
-      cs.intrinsic_face.resize(face_base[n_chunks]);
-      cs.input_face.resize(face_base[n_chunks]);
-    }
-  }
+  // sequential: an allocation failure (std::bad_alloc) may not leave an OpenMP region
+  cs.faces.resize(face_base[n_chunks]);
+  cs.intrinsic_face.resize(face_base[n_chunks]);
+  cs.input_face.resize(face_base[n_chunks]);
   emit_polygons(st, chunks, id, n_out, face_base, extra_base, parallel, cs);
   return cs;
 }
 
 }  // namespace
 
-CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
+CommonSubdivision common_subdivision(const SignpostTriangulation& st, double max_memory_bytes) {
+  if (!(max_memory_bytes >= 0.0)) {
+    throw InvalidInput("common_subdivision: max_memory_bytes must be ≥ 0 (0: automatic)");
+  }
   const IntrinsicTriangulation& tri = st.intrinsic();
   const IntrinsicTriangulation& in = st.input();
   const Index nf = in.n_faces();
   // ---- trace every edge
-  Traces traces = trace_edges(st);
+  std::size_t crossings = 0;
+  Traces traces = trace_edges(
+      st, max_memory_bytes > 0.0 ? max_memory_bytes : default_memory_budget(), crossings);
   drop_crossings_at_ends(st, traces.paths);
   // ---- node ids and segments
   const Numbering num = number_path_points(traces.paths);
@@ -1257,7 +1309,9 @@ CommonSubdivision common_subdivision(const SignpostTriangulation& st) {
   std::vector<Chunk> chunks = assemble_faces(inputs, nf, parallel);
   label_across_sides(inputs, nf, chunks);
   // ---- output
-  return make_output(st, traces, num, created, chunks, parallel);
+  CommonSubdivision cs = make_output(st, traces, num, created, chunks, parallel);
+  cs.crossings = crossings;
+  return cs;
 }
 
 void write_common_subdivision_ply(const std::string& path, const CommonSubdivision& cs,

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -22,11 +23,30 @@ struct CommonSubdivision {
   std::vector<Index> intrinsic_face;  ///< per face: the intrinsic face it lies in
   std::vector<Index> input_face;      ///< per face: the input face, as an index into the
                                       ///< faces given (SignpostTriangulation::input_faces())
+  std::size_t crossings = 0;          ///< C below: path points inside the intrinsic edges
 };
 
+/// Bytes the common subdivision costs at its peak (paths, segments, per-face planar graphs,
+/// output) per unit of C + n_V + n_F_in (below): measured 479 on lato000 and 273 on rocketship
+/// (`ifem_bench refine`, "common subdivision peak memory"); rounded up.
+inline constexpr double kSubdivisionBytesPerCrossing = 512.0;
+
 /// Builds the common subdivision by tracing every intrinsic edge over the input and cutting
-/// each input face along the traced segments. @throws TraceError when a trace fails
-CommonSubdivision common_subdivision(const SignpostTriangulation& st);
+/// each input face along the traced segments.
+///
+/// Size: let C = Σ over intrinsic edges e of the points inside e's traced path (the input
+/// edges e crosses, plus the input vertices it runs through). Then the output has at most
+/// n_V + C + P vertices and at most Σ_P (|P| − 2 or |P|) ≤ 3 (C + n_F_in + E_int) triangles, P
+/// the polygons (every polygon's nodes are path points, intrinsic vertices or input corners, each
+/// shared by at most a bounded number of polygons), and it is built in memory about
+/// kSubdivisionBytesPerCrossing × (C + n_V + n_F_in). The traces are counted as they are made:
+/// when that would exceed `max_memory_bytes` (0:
+/// default_memory_budget()), the call stops tracing and throws InvalidInput stating C so far
+/// and the budget. A trace that fails (TraceError: a straight line crossing more than 4 × n_F_in
+/// + 1000 sides, on degenerate input) stops the others too.
+/// @throws TraceError when a trace fails; InvalidInput over the memory budget
+CommonSubdivision common_subdivision(const SignpostTriangulation& st,
+                                     double max_memory_bytes = 0.0);
 
 /// Writes a common subdivision as a PLY triangle mesh with face properties `intrinsic_face`
 /// and `input_face` (int). Atomic. @throws IoError if the file cannot be written

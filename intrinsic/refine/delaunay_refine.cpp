@@ -1,9 +1,14 @@
 #include "intrinsic/refine/delaunay_refine.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iomanip>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -13,6 +18,10 @@ namespace ifem::intrinsic {
 namespace {
 
 using T = IntrinsicTriangulation;
+
+// Triangles per (area / max_area) of a triangulation refined to max_area, over 2 (vertices):
+// estimate_refinement()'s size term.
+constexpr double kSizeTermFactor = 0.65;
 
 // The refinement algorithm below is written once, over a "host": the triangulation it refines
 // and the operations that change it. Two hosts: signposts (every operation also keeps the
@@ -241,6 +250,22 @@ class BadFaceQueue {
   int top_ = -1;
 };
 
+// The insertion cap: options.max_insertions, or 10 per input vertex, plus 2000 for the
+// rings a tiny (mollified, degenerate) feature of a small mesh needs
+// (cgal_fused_vertices.off: 40 vertices, 855 insertions), and room for 4× the triangles a
+// size bound asks for.
+double insertion_cap_for(const IntrinsicTriangulation& tri, const RefineOptions& options) {
+  if (options.max_insertions >= 0) return double(options.max_insertions);
+  double c = 10.0 * double(std::max<Index>(tri.n_vertices(), 10)) + 2000.0;
+  if (options.max_area > 0.0) c += 4.0 * total_area(tri) * tri.multiplicity() / options.max_area;
+  return std::min(c, 1.5e9);
+}
+
+// options.max_memory_bytes, or the default budget when 0.
+double memory_budget(const RefineOptions& options) {
+  return options.max_memory_bytes > 0.0 ? options.max_memory_bytes : default_memory_budget();
+}
+
 // How far from the midpoint of a bad face's shortest side an off-center goes, as a fraction of
 // the distance at which the isosceles triangle on that side has exactly the bound at its apex
 // (Üngör 2004); 0.95 as in Shewchuk's Triangle, so that the new triangle is just above it.
@@ -309,11 +334,12 @@ class Refiner {
   // rings a tiny (mollified, degenerate) feature of a small mesh needs
   // (cgal_fused_vertices.off: 40 vertices, 855 insertions), and room for 4× the triangles a
   // size bound asks for
+  // (insertion_cap_for()), and no more than the memory budget pays for
   Index insertion_cap() const {
-    if (options_.max_insertions >= 0) return options_.max_insertions;
-    double c = 10.0 * std::max<Index>(tri_.n_vertices(), 10) + 2000.0;
-    if (max_area_ > 0.0) c += 4.0 * total_area(tri_) * tri_.multiplicity() / max_area_;
-    return static_cast<Index>(std::min(c, 1.5e9));
+    const double cap = insertion_cap_for(tri_, options_);
+    const double affordable =
+        memory_budget(options_) / kRefineBytesPerVertex - double(tri_.n_vertices());
+    return static_cast<Index>(std::max(0.0, std::min(cap, affordable)));
   }
 
   // Whether face f needs an insertion and how urgently. The angle θ at a corner is below the
@@ -492,14 +518,34 @@ class Refiner {
     rep_.flips += host_.flip_to_delaunay_from(flip_queue_, &touched_).flips;
     std::sort(touched_.begin(), touched_.end());
     touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
+    for (const Index x : touched_) check_face(x, "after inserting vertex " + std::to_string(v));
     for (const Index x : touched_) {
       const Verdict vx = classify(x);
       if (vx.kind == 1) queue.push(x, vx.bucket);
     }
   }
 
-  // The report's final counts and angles.
+  // Throws Error naming face f and `when` unless f's side lengths are finite and positive and
+  // its area is: the Laplacian and mass matrix of the result must be finite.
+  void check_face(Index f, const std::string& when) const {
+    const double a = tri_.halfedge_length(3 * f), b = tri_.halfedge_length(3 * f + 1),
+                 c = tri_.halfedge_length(3 * f + 2);
+    const double area = face_area(tri_, f);
+    if (std::isfinite(a) && std::isfinite(b) && std::isfinite(c) && a > 0.0 && b > 0.0 && c > 0.0 &&
+        std::isfinite(area) && area > 0.0) {
+      return;
+    }
+    std::ostringstream m;
+    m << "delaunay_refine: " << when << " (insertion " << rep_.insertions << "), face " << f
+      << " has side lengths " << a << ", " << b << ", " << c << " and area " << area
+      << ": its cotan weights and mass would not be finite. The input is degenerate there "
+      << "(coincident vertices, zero-area faces); repair it or raise the mollification";
+    throw Error(m.str());
+  }
+
+  // The report's final counts and angles; every face checked (check_face()).
   void measure_result() {
+    for (Index f = 0; f < tri_.n_faces(); ++f) check_face(f, "at the end of refinement");
     rep_.vertices_after = tri_.n_vertices();
     rep_.insertions = rep_.vertices_after - rep_.vertices_before;
     double after = kPi, after_ok = kPi;
@@ -535,14 +581,62 @@ RefineReport refine(Host& host, const RefineOptions& options) {
 
 }  // namespace
 
-RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options) {
+double default_memory_budget() {
+  double budget = 4.0 * 1024 * 1024 * 1024;
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  if (pages > 0 && page > 0) budget = 0.5 * double(pages) * double(page);
+  rlimit lim{};
+  if (getrlimit(RLIMIT_AS, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY) {
+    budget = std::min(budget, 0.8 * double(lim.rlim_cur));
+  }
+  return budget;
+}
+
+RefineEstimate estimate_refinement(const IntrinsicTriangulation& tri,
+                                   const RefineOptions& options) {
   options.validate();
+  RefineEstimate e;
+  const double n_v = double(tri.n_vertices());
+  if (options.max_area > 0.0) {
+    e.size_term = kSizeTermFactor * total_area(tri) * tri.multiplicity() / options.max_area;
+  }
+  e.angle_term = n_v;
+  e.insertions = std::min(std::max(e.size_term, e.angle_term), insertion_cap_for(tri, options));
+  e.vertices = n_v + e.insertions;
+  e.bytes = e.vertices * kRefineBytesPerVertex;
+  e.budget = memory_budget(options);
+  return e;
+}
+
+void check_refinement_budget(const IntrinsicTriangulation& tri, const RefineOptions& options) {
+  const RefineEstimate e = estimate_refinement(tri, options);
+  if (!(e.bytes > e.budget)) return;
+  auto gb = [](double bytes) {
+    std::ostringstream m;
+    m << std::setprecision(3) << bytes / 1e9 << " GB";
+    return m.str();
+  };
+  std::ostringstream m;
+  m << std::setprecision(3) << "refinement would insert about " << e.insertions << " vertices ("
+    << e.vertices << " in all; the size bound asks for about " << e.size_term
+    << ", the angle bound about " << e.angle_term << ", at most the insertion cap "
+    << insertion_cap_for(tri, options) << "), about " << gb(e.bytes) << " at "
+    << kRefineBytesPerVertex / 1024 << " KiB per vertex, above the memory budget of "
+    << gb(e.budget) << ". Ask for less (a larger resolution or max area, a smaller minimum "
+    << "angle) or raise the budget: RefineOptions::max_memory_bytes / RefineSettings::"
+    << "max_memory_bytes, `--memory-budget GB` in the CLI (default: half the physical memory, "
+    << "or 80% of ulimit -v)";
+  throw InvalidInput(m.str());
+}
+
+RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options) {
+  check_refinement_budget(st.intrinsic(), options);
   SignpostHost host(st);
   return refine(host, options);
 }
 
 RefineReport delaunay_refine(IntrinsicTriangulation& tri, const RefineOptions& options) {
-  options.validate();
+  check_refinement_budget(tri, options);
   PlainHost host(tri);
   return refine(host, options);
 }

@@ -31,10 +31,60 @@ struct RefineOptions {
   /// meshes with rings of short sides, hence off by default (docs/decisions.md, "Refinement
   /// order and off-centers").
   bool off_centers = false;
+  /// Memory budget, bytes, for the refined triangulation and what is built on it (see
+  /// estimate_refinement()): a request whose estimate exceeds it is refused before any work,
+  /// and refinement stops (hit_insertion_cap) where the vertices would cost more than it.
+  /// 0: default_memory_budget(); +∞: no budget. ≥ 0.
+  double max_memory_bytes = 0.0;
   /// @throws InvalidInput naming the field: min_angle_degrees outside (0, 30], max_area
-  ///         negative or not finite, max_insertions < −1
+  ///         negative or not finite, max_insertions < −1, max_memory_bytes negative or NaN
   void validate() const;
 };
+
+/// Bytes one vertex of a refined triangulation costs, all told: the intrinsic triangulation
+/// and its signposts (about 1 KiB), the Laplacian, and a later sparse Cholesky factorization
+/// of it (the rest). Measured as peak RSS / vertices of `ifem distance --refine`: 3.4–3.9 KiB
+/// on spot (0.44 M and 1.8 M vertices), armadillo (1.6 M), igea (0.53 M); `ifem refine`'s
+/// common subdivision on lato000 (1.4 M vertices) 3.4 KiB. Rounded up.
+inline constexpr double kRefineBytesPerVertex = 4096.0;
+
+/// The default memory budget: half the machine's physical memory (sysconf(_SC_PHYS_PAGES) ×
+/// page size), or 80% of the process's address-space limit (ulimit -v, RLIMIT_AS) when that is
+/// lower. 4 GiB when neither can be read.
+double default_memory_budget();
+
+/// What a refinement request will cost, estimated before refining (time: one pass over the
+/// faces).
+///   size term:  S = 0.65 × A / max_area         (A: the faces' total area; 0 without a bound)
+///   angle term: G = n_V                          (n_V: vertices before refinement)
+///   insertions: I = min(max(S, G), cap)          (cap: the insertion cap, max_insertions)
+///   vertices:   V = n_V + I;   bytes: B = V × kRefineBytesPerVertex
+/// S: a Delaunay-refined triangulation whose triangles are all below max_area has about
+/// 1.3 × A / max_area triangles, half as many vertices. G: refining to the angle bound alone
+/// inserted at most 1.23 × n_V on the corpus (rocketship; lato000 0.015, teapot 0.75); the
+/// size-driven insertions fix most bad angles too, hence the max. Measured, estimate / actual
+/// insertions: spot (resolution 0.1) 0.86, armadillo (0.5) 1.03, igea (0.4) 1.05, bunny (0.3)
+/// 0.91, rocketship (angle only) 0.81; over on meshes of uneven edges: teapot_unwelded (0.3)
+/// 1.7, lato000 (0.5) 2.15. The insertion cap bounds every input's insertions, and with them
+/// the memory (delaunay_refine() stops at the budget).
+struct RefineEstimate {
+  double size_term = 0.0, angle_term = 0.0;
+  double insertions = 0.0;  ///< I above
+  double vertices = 0.0;    ///< V above
+  double bytes = 0.0;       ///< B above
+  double budget = 0.0;      ///< the budget it is compared with (max_memory_bytes or default)
+};
+
+/// The estimate above for refining `tri` with `options` (validated first).
+/// @throws InvalidInput on bad options
+RefineEstimate estimate_refinement(const IntrinsicTriangulation& tri, const RefineOptions& options);
+
+/// Refuses a request whose estimate exceeds the budget: throws InvalidInput stating the
+/// estimate (vertices, memory), the budget and what overrides it (RefineOptions::
+/// max_memory_bytes, `--memory-budget GB` in the CLI) or asks for less. Called by
+/// delaunay_refine() before any work; callers may call it earlier (before building signposts).
+/// @throws InvalidInput as said, or on bad options
+void check_refinement_budget(const IntrinsicTriangulation& tri, const RefineOptions& options);
 
 /// Outcome of delaunay_refine(), counted.
 struct RefineReport {

@@ -28,6 +28,11 @@ void RefineOptions::validate() const {
     throw InvalidInput("RefineOptions::max_insertions must be ≥ −1 (−1: automatic), got " +
                        std::to_string(max_insertions));
   }
+  if (!(max_memory_bytes >= 0.0)) {
+    throw InvalidInput(
+        "RefineOptions::max_memory_bytes must be ≥ 0 (0: automatic, ∞: no budget), got " +
+        str(max_memory_bytes));
+  }
 }
 
 void RelaxOptions::validate() const {

@@ -390,22 +390,20 @@ std::vector<SurfacePoint> SignpostTriangulation::trace_halfedge(Index h) const {
 
 std::vector<std::vector<Eigen::Vector3d>> SignpostTriangulation::traced_edges_3d() const {
   std::vector<std::vector<Eigen::Vector3d>> out(tri_.n_edges());
-  FirstError
-      failure;  // transport out of the OpenMP loop, not control flow: any Error ends the call
+  FirstError failure;  // transport out of the OpenMP loop: any exception ends the call
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index e = 0; e < tri_.n_edges(); ++e) {
-    std::vector<SurfacePoint> path;
+    if (failure.failed()) continue;
     try {
-      path = trace_edge(e);
-    } catch (const Error& err) {
-      failure.record(err, "edge " + std::to_string(e));
-      continue;
-    }
-    auto& line = out[e];
-    line.reserve(path.size());
-    for (const SurfacePoint& p : path) {
-      const Eigen::Vector3d x = position(p);
-      if (line.empty() || (x - line.back()).squaredNorm() > 0.0) line.push_back(x);
+      const std::vector<SurfacePoint> path = trace_edge(e);
+      auto& line = out[e];
+      line.reserve(path.size());
+      for (const SurfacePoint& p : path) {
+        const Eigen::Vector3d x = position(p);
+        if (line.empty() || (x - line.back()).squaredNorm() > 0.0) line.push_back(x);
+      }
+    } catch (...) {
+      failure.record_current("edge " + std::to_string(e));
     }
   }
   failure.rethrow_if_any("traced_edges_3d");
