@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <utility>
@@ -171,9 +172,11 @@ void require_representable(const IntrinsicTriangulation& tri, const Eigen::Vecto
         !(intrinsic::triangle_area(l[0] / scale, l[1] / scale, l[2] / scale) > 0.0)) {
       continue;  // a degenerate face: zero area is its true area
     }
+    char length[32];
+    std::snprintf(length, sizeof length, "%.3g", l[0]);
     throw Error("mass matrix: the area of face " + std::to_string(f) + " (edge lengths around " +
-                std::to_string(l[0]) + ") is not representable in double precision; scale the " +
-                "input towards unit size (distances are computed scale-free, mass is not)");
+                length + ") is not representable in double precision; scale the input towards " +
+                "unit size (distances are computed scale-free, mass is not)");
   }
 }
 

@@ -4,6 +4,7 @@
 // wrong (cli::UsageError: unknown option, bad value, value out of range), 3 internal error.
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,13 @@ int main(int argc, char** argv) {
       return kExitUsage;
     } catch (const ifem::Error& e) {
       std::fprintf(stderr, "ifem %s: error: %s\n", name.c_str(), e.what());
+      return kExitFailure;
+    } catch (const std::bad_alloc&) {
+      std::fprintf(stderr,
+                   "ifem %s: error: out of memory (the input, or what refinement would make of "
+                   "it, needs more than this machine or `ulimit -v` allows; refinement checks "
+                   "--memory-budget up front, the rest does not)\n",
+                   name.c_str());
       return kExitFailure;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "ifem %s: internal error: %s\n", name.c_str(), e.what());
