@@ -312,6 +312,21 @@ void require_surface(const PreparedSurface& s) {
       std::to_string(s.input.triangles.size()) + " triangles read");
 }
 
+// The last line of defence before a result leaves the library: a NaN (or an inf where none is
+// allowed) is an error naming the stage and the vertex, never an output.
+void require_finite(const Eigen::MatrixXd& values, const char* stage, bool inf_allowed) {
+  for (Eigen::Index j = 0; j < values.cols(); ++j) {
+    for (Eigen::Index v = 0; v < values.rows(); ++v) {
+      const double x = values(v, j);
+      if (std::isnan(x) || (!inf_allowed && std::isinf(x))) {
+        throw SolverError(std::string(stage) + ": the value at vertex " + std::to_string(v) +
+                          (values.cols() > 1 ? " (column " + std::to_string(j) + ")" : "") +
+                          " is " + fmt(x) + "; the operators of this input are degenerate there");
+      }
+    }
+  }
+}
+
 void check_input_vertex_ids(const PreparedSurface& s, const std::vector<Index>& ids,
                             const char* what) {
   const Index n = s.n_input_vertices();
@@ -444,7 +459,9 @@ Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<In
   check_input_vertex_ids(s, sources, "geodesic_distance: source");
   return with_hint(s, [&] {
     const HeatDistanceSolver solver(s.tri, distance_options(s, settings));
-    return on_input_vertices(s, solver.compute_distance(sources, report));
+    Eigen::VectorXd d = on_input_vertices(s, solver.compute_distance(sources, report));
+    require_finite(d, "geodesic_distance", true);  // +inf: unreachable, by convention
+    return d;
   });
 }
 
@@ -454,6 +471,8 @@ EigenPairs eigenmodes(const PreparedSurface& s, Index k, const EigenOptions& opt
               std::to_string(s.tri.n_vertices()) + ") (the number of vertices)");
   EigenPairs ep = with_hint(s, [&] { return eigenpairs(s.tri, k, options); });
   ep.vectors = on_input_vertices(s, ep.vectors);
+  require_finite(ep.values, "eigenmodes (eigenvalues)", false);
+  require_finite(ep.vectors, "eigenmodes (eigenvectors)", false);
   return ep;
 }
 
@@ -466,7 +485,9 @@ Eigen::VectorXd poisson(const PreparedSurface& s, const Eigen::VectorXd& f,
               std::to_string(dirichlet_vertices.size()) + " vertices");
   const Eigen::VectorXd u = solve_poisson(s.tri, from_input_vertices(s, f), dirichlet_vertices,
                                           dirichlet_values, options);
-  return on_input_vertices(s, u);
+  Eigen::VectorXd result = on_input_vertices(s, u);
+  require_finite(result, "poisson", false);
+  return result;
 }
 
 }  // namespace ifem::solvers
