@@ -10,6 +10,9 @@
 # Corpora grow in build-fuzz/corpus/<harness>/ (kept between runs; delete to start over from
 # the seeds). FUZZ_JOBS=N runs N harnesses at a time (default 1). Known open UBSan reports are
 # suppressed through tests/fuzz/ubsan.supp; IFEM_FUZZ_STRICT=1 reports them too.
+# FUZZ_RUNS=N stops each harness after N inputs (SECONDS stays an upper bound) and FUZZ_SEED=S
+# fixes libFuzzer's random seed: from the committed seeds that makes a run repeatable, which is
+# what CI uses (a green CI cannot turn red by luck); longer random runs find the new bugs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
@@ -57,7 +60,10 @@ run_one() {
   cp -n $(seeds_of "$h") "$corpus"/
   local status=0
   # shellcheck disable=SC2046
-  "$bin" "$corpus" $(dict_of "$h") -max_total_time="$seconds" -max_len=65536 \
+  local repeatable=()
+  [ -n "${FUZZ_RUNS:-}" ] && repeatable+=(-runs="$FUZZ_RUNS")
+  [ -n "${FUZZ_SEED:-}" ] && repeatable+=(-seed="$FUZZ_SEED")
+  "$bin" "$corpus" $(dict_of "$h") "${repeatable[@]}" -max_total_time="$seconds" -max_len=65536 \
     -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 -print_final_stats=1 \
     -artifact_prefix="$art/" >"$log" 2>&1 || status=$?
   local execs cov ft
@@ -71,7 +77,7 @@ run_one() {
     grep -m1 -E 'ERROR: |runtime error|fuzz: ' "$log" || tail -5 "$log"
     return 1
   fi
-  echo "fuzz: $h ok: ${execs:-?} execs in ${seconds} s, cov ${cov:-?} edges, ft ${ft:-?}, corpus $(find "$corpus" -type f | wc -l) files"
+  echo "fuzz: $h ok: ${execs:-?} execs (limit ${FUZZ_RUNS:-none} runs, ${seconds} s), cov ${cov:-?} edges, ft ${ft:-?}, corpus $(find "$corpus" -type f | wc -l) files"
 }
 
 failed=0

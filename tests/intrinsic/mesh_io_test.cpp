@@ -685,6 +685,11 @@ TEST_F(MeshIo, HeaderCountsMustMatchTheContent) {
                           "%%MatrixMarket matrix coordinate real skew-symmetric\n"
                           "4 3 1\n2 1 1\n");
   expect_io_error([&] { read_matrix_market(skew); }, {"skew.mtx", "must be square", "4x3"});
+  const auto huge = write("huge_size.mtx",
+                          "%%MatrixMarket matrix coordinate pattern general\n"
+                          "1031883662 8 2\n1 3\n2 1\n");
+  expect_io_error([&] { read_matrix_market(huge); },
+                  {"huge_size.mtx", "too large for its entries"});
 }
 
 TEST_F(MeshIo, ValuesRoundTrip) {
