@@ -197,14 +197,6 @@ Eigen::SparseMatrix<double> read_matrix_market(const std::string& path) {
   if (rows < 0 || cols < 0 || rows > kMaxIndex || cols > kMaxIndex) {
     c.fail("matrix size out of range");
   }
-  // Eigen's assembly allocates one slot per row and per column: a size line far out of
-  // proportion to the entries (1e9 rows for 2 entries) would allocate gigabytes for nothing.
-  if (rows + cols > 16 * (nnz + 1000000)) {
-    c.fail("the size line declares " + std::to_string(rows) + "x" + std::to_string(cols) + " for " +
-           std::to_string(nnz) +
-           " entries: too large for its entries (more than 16 rows and columns per entry "
-           "beyond the first million)");
-  }
   if ((symmetric || skew) && rows != cols) {
     c.fail("a " + std::string(symmetry) + " matrix must be square, the size line says " +
            std::to_string(rows) + "x" + std::to_string(cols));
@@ -213,6 +205,14 @@ Eigen::SparseMatrix<double> read_matrix_market(const std::string& path) {
   if (nnz < 0 || nnz > static_cast<std::int64_t>(c.remaining() / 4 + 1)) {
     c.fail("header declares " + std::to_string(nnz) + " entries but only " +
            std::to_string(c.remaining()) + " bytes follow (truncated?)");
+  }
+  // Eigen's assembly allocates one slot per row and per column: a size line far out of
+  // proportion to the entries (1e9 rows for 2 entries) would allocate gigabytes for nothing.
+  if (rows + cols > 16 * (nnz + 1000000)) {
+    c.fail("the size line declares " + std::to_string(rows) + "x" + std::to_string(cols) + " for " +
+           std::to_string(nnz) +
+           " entries: too large for its entries (more than 16 rows and columns per entry "
+           "beyond the first million)");
   }
   c.next_line();
   std::vector<Eigen::Triplet<double>> triplets;
