@@ -24,6 +24,15 @@ inline double power_of_two_scale(double x) {
   return std::ldexp(1.0, e);
 }
 
+/// The divisor that brings lengths up to m into a range where squares and fourth powers cannot
+/// over- or underflow: 1 when m is already in [2^-200, 2^200] (no work on the hot paths),
+/// power_of_two_scale(m) otherwise. Either way the result is a power of two, so dividing by it
+/// is exact and the formulas give the same bits, up to the power of two, at every scale.
+inline double length_normalizer(double m) {
+  constexpr double kLow = 0x1p-200, kHigh = 0x1p200;
+  return m >= kLow && m <= kHigh ? 1.0 : power_of_two_scale(m);
+}
+
 /// Euclidean distance between two points given as xyz triples, for any finite coordinates: the
 /// plain formula when its sum of squares is comfortably inside the double range, else the same
 /// on coordinates scaled by a power of two (exact), so neither the difference nor its square
@@ -48,8 +57,8 @@ inline double triangle_area(double a, double b, double c) {
   if (a < b) std::swap(a, b);
   if (a < c) std::swap(a, c);
   if (b < c) std::swap(b, c);
-  const double s = power_of_two_scale(a);
-  a /= s, b /= s, c /= s;
+  const double s = length_normalizer(a);
+  if (s != 1.0) a /= s, b /= s, c /= s;
   const double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
   return p > 0.0 ? (0.25 * std::sqrt(p)) * s * s : 0.0;
 }
@@ -57,16 +66,16 @@ inline double triangle_area(double a, double b, double c) {
 /// Angle opposite side a in a triangle with sides a, b, c, in [0, π]; atan2 form, accurate for
 /// needles and caps alike, and the same at every scale (lengths scaled by a power of two).
 inline double opposite_angle(double a, double b, double c) {
-  const double s = power_of_two_scale(std::max({a, b, c}));
-  a /= s, b /= s, c /= s;
+  const double s = length_normalizer(std::max({a, b, c}));
+  if (s != 1.0) a /= s, b /= s, c /= s;
   return std::atan2(4.0 * triangle_area(a, b, c), b * b + c * c - a * a);
 }
 
 /// Cotangent of the angle opposite side a (dimensionless: the same at every scale); ±inf for a
 /// degenerate triangle.
 inline double opposite_cotan(double a, double b, double c) {
-  const double s = power_of_two_scale(std::max({a, b, c}));
-  a /= s, b /= s, c /= s;
+  const double s = length_normalizer(std::max({a, b, c}));
+  if (s != 1.0) a /= s, b /= s, c /= s;
   return (b * b + c * c - a * a) / (4.0 * triangle_area(a, b, c));
 }
 
@@ -74,8 +83,8 @@ inline double opposite_cotan(double a, double b, double c) {
 /// the third corner at distance `from_end` from (base, 0) and `from_origin` from (0, 0), on the
 /// side y ≥ 0 (y from the stable area, never NaN). Precondition: base > 0.
 inline Eigen::Vector2d triangle_apex(double base, double from_end, double from_origin) {
-  const double s = power_of_two_scale(std::max({base, from_end, from_origin}));
-  base /= s, from_end /= s, from_origin /= s;
+  const double s = length_normalizer(std::max({base, from_end, from_origin}));
+  if (s != 1.0) base /= s, from_end /= s, from_origin /= s;
   return Eigen::Vector2d(
              (base * base + from_origin * from_origin - from_end * from_end) / (2.0 * base),
              2.0 * triangle_area(base, from_end, from_origin) / base) *

@@ -110,8 +110,8 @@ std::vector<char> orient_faces(const std::vector<Index>& tail, const std::vector
 // triangulation of the same surface).
 double flipped_length(double l_ab, double l_bc, double l_ca, double l_ad, double l_db) {
   // on lengths scaled by a power of two (exact): the same flips at every scale, no overflow
-  const double s = power_of_two_scale(std::max({l_ab, l_bc, l_ca, l_ad, l_db}));
-  l_ab /= s, l_bc /= s, l_ca /= s, l_ad /= s, l_db /= s;
+  const double s = length_normalizer(std::max({l_ab, l_bc, l_ca, l_ad, l_db}));
+  if (s != 1.0) l_ab /= s, l_bc /= s, l_ca /= s, l_ad /= s, l_db /= s;
   const Eigen::Vector2d c = triangle_apex(l_ab, l_bc, l_ca);
   const Eigen::Vector2d d_above = triangle_apex(l_ab, l_db, l_ad);  // d mirrored below ab
   const double cx = c.x(), cy = c.y(), dx = d_above.x(), dy = -d_above.y();
@@ -347,12 +347,11 @@ bool IntrinsicTriangulation::is_delaunay(Index e) const {
   // q = b² + c² − a² (law of cosines) and A the areas. Flip only past a small tolerance.
   // on the diamond's lengths normalized by a power of two (exact): the same decision at every
   // scale, and the fourth powers below never over- or underflow
-  const double scale =
-      power_of_two_scale(std::max({length_[e], halfedge_length(next(h)), halfedge_length(prev(h)),
-                                   halfedge_length(next(t)), halfedge_length(prev(t))}));
-  const double a = length_[e] / scale;
-  const double b1 = halfedge_length(next(h)) / scale, c1 = halfedge_length(prev(h)) / scale;
-  const double b2 = halfedge_length(next(t)) / scale, c2 = halfedge_length(prev(t)) / scale;
+  double a = length_[e];
+  double b1 = halfedge_length(next(h)), c1 = halfedge_length(prev(h));
+  double b2 = halfedge_length(next(t)), c2 = halfedge_length(prev(t));
+  const double scale = length_normalizer(std::max({a, b1, c1, b2, c2}));
+  if (scale != 1.0) a /= scale, b1 /= scale, c1 /= scale, b2 /= scale, c2 /= scale;
   const double q1 = b1 * b1 + c1 * c1 - a * a;
   const double q2 = b2 * b2 + c2 * c2 - a * a;
   const double s = triangle_area(a, b1, c1) * q2 + triangle_area(a, b2, c2) * q1;
@@ -650,8 +649,8 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
     // weights are the same bits at every scale and squares never over- or underflow
     double l0 = tri.halfedge_length(3 * f), l1 = tri.halfedge_length(3 * f + 1),
            l2 = tri.halfedge_length(3 * f + 2);
-    const double scale = power_of_two_scale(std::max({l0, l1, l2}));
-    l0 /= scale, l1 /= scale, l2 /= scale;
+    const double scale = length_normalizer(std::max({l0, l1, l2}));
+    if (scale != 1.0) l0 /= scale, l1 /= scale, l2 /= scale;
     const double inv4a = 0.25 / triangle_area(l0, l1, l2);
     const double s0 = l0 * l0, s1 = l1 * l1, s2 = l2 * l2;
     cot[3 * f] = (s1 + s2 - s0) * inv4a;
