@@ -31,8 +31,9 @@ struct HeatDistanceOptions {
   };
   StepLength step_length = StepLength::kInput;
   /// h itself, when > 0: absolute, in the triangulation's length unit (e.g. the input mesh's
-  /// intrinsic::mean_side_length when the caller hands over a triangulation that is already
-  /// intrinsic Delaunay or refined). 0: computed as step_length says. ≥ 0.
+  /// intrinsic::robust_side_length, as solvers::distance_options sets it, when the caller hands
+  /// over a triangulation that is already intrinsic Delaunay or refined). 0: computed as
+  /// step_length says. ≥ 0.
   double mean_edge_length = 0.0;
   /// Flip a copy of the triangulation to intrinsic Delaunay first (flips keep vertex ids).
   bool intrinsic_delaunay = true;
@@ -72,11 +73,11 @@ struct HeatDistanceOptions {
 };
 
 /// The accurate mode of `ifem distance --refine`: refine to edges of about ℓ = resolution·h (h =
-/// the input's mean side length, intrinsic::mean_side_length; area bound equilateral_area(ℓ),
-/// 25°), then the heat method on the refined triangulation with t = time_factor·ℓ² and
-/// correction_steps correction steps. Its accuracy against exact geodesics and CGAL's heat
-/// method: BENCHMARKS.md, "Intrinsic Delaunay refinement" (the one place for those figures);
-/// how the constants were chosen: docs/decisions.md, "Accurate distance mode".
+/// the input's robust mean side length, intrinsic::robust_side_length; area bound
+/// equilateral_area(ℓ), 25°), then the heat method on the refined triangulation with t =
+/// time_factor·ℓ² and correction_steps correction steps. Its accuracy against exact geodesics and
+/// CGAL's heat method: BENCHMARKS.md, "Intrinsic Delaunay refinement" (the one place for those
+/// figures); how the constants were chosen: docs/decisions.md, "Accurate distance mode".
 struct RefinedDistanceSettings {
   double resolution = 0.4;    ///< c in ℓ = c·h, relative to the input's h (> 0)
   double time_factor = 0.25;  ///< m in t = m·ℓ², relative to the target length ℓ (> 0)

@@ -135,8 +135,9 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri);
 // Two means, deliberately different: mean_edge_length() counts every edge of an intrinsic
 // triangulation once (after flips or refinement it describes that triangulation);
 // mean_side_length() counts every side of every face of a face list as given (an interior edge
-// twice), from positions: the input mesh's h, which the heat method's time step and the
-// accurate distance mode's target length use (docs/decisions.md, "Heat step length").
+// twice), from positions. The input mesh's h that the pipeline uses (heat time step, refinement
+// target length, mollification margin) is robust_side_length(), the same mean with outliers
+// clipped (docs/decisions.md, "Heat step length" and "Robust length scale").
 
 /// Mean length over the edges of tri, each edge once (absolute, in the lengths' unit); 0 when
 /// tri has no edge.
