@@ -9,6 +9,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/refine/delaunay_refine.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -124,6 +125,49 @@ TEST(FlipGeodesic, IcospherePathBetweenChordAndDijkstra) {
   EXPECT_NO_THROW(st.intrinsic().validate());
   const std::vector<Eigen::Vector3d> line = path_polyline(st, path);
   EXPECT_NEAR(polyline_length(line), rep.final_length, 1e-6 * rep.final_length);
+}
+
+// On a refined intrinsic triangulation (inserted vertices, Delaunay flips), a path between two
+// inserted vertices of a flat region is still the straight segment, and traces onto the input.
+TEST(FlipGeodesic, RefinedFlatTriangulationWithInsertedEndpoints) {
+  const TriangleMesh m = flat_jittered_grid(6, 0.6, 3);
+  SignpostTriangulation st(m.faces, m.positions);
+  st.flip_to_delaunay();
+  const Index a = st.insert_vertex(7, Eigen::Vector3d(0.2, 0.3, 0.5));
+  const Index b = st.insert_vertex(50, Eigen::Vector3d(0.6, 0.3, 0.1));
+  delaunay_refine(st);
+  EdgePath path = shortest_edge_path(st, a, b);
+  const FlipOutReport rep = shorten(st, path);
+  const Positions x = st.vertex_positions();
+  const double euclid = (x.row(a) - x.row(b)).norm();
+  EXPECT_EQ(rep.stopped_by, FlipOutStop::kConverged);
+  EXPECT_NEAR(rep.final_length, euclid, 1e-9 * euclid);
+  EXPECT_NO_THROW(st.intrinsic().validate());
+  const std::vector<Eigen::Vector3d> line = path_polyline(st, path);
+  EXPECT_NEAR(polyline_length(line), rep.final_length, 1e-6 * rep.final_length);
+}
+
+// The iteration cap stops early (and is reported); a path with a backtrack loses it.
+TEST(FlipGeodesic, IterationCapAndBacktrack) {
+  const TriangleMesh m = flat_jittered_grid(8, 0.6, 5);
+  SignpostTriangulation st(m.faces, m.positions);
+  EdgePath path = shortest_edge_path(st, 10, 70);
+  FlipOutOptions opt;
+  opt.max_iterations = 0;
+  const FlipOutReport capped = shorten(st, path, opt);
+  EXPECT_EQ(capped.stopped_by, FlipOutStop::kIterationCap);
+  EXPECT_EQ(capped.iterations, 0);
+  EXPECT_EQ(capped.final_length, capped.initial_length);
+  // append a step and its reverse: the path must come back to the same geodesic
+  const double before = shorten(st, path).final_length;
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  const Index h = tri.vertex_halfedge(70);
+  const PathStep out = {tri.edge(h), tri.edge_halfedge(tri.edge(h)) == h};
+  const Index mid = static_cast<Index>(path.steps.size()) - 1;
+  path.steps.insert(path.steps.begin() + mid + 1, {out, {out.edge, !out.forward}});
+  const FlipOutReport rep = shorten(st, path);
+  EXPECT_EQ(rep.stopped_by, FlipOutStop::kConverged);
+  EXPECT_NEAR(rep.final_length, before, 1e-12 * before);
 }
 
 TEST(FlipGeodesic, UnreachableAndBadInputThrow) {
