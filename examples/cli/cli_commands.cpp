@@ -9,10 +9,11 @@ Command refine_command();
 Command distance_command();
 Command eigen_command();
 Command poisson_command();
+Command geodesic_command();
 
 std::vector<Command> all_commands() {
-  return {info_command(),     laplacian_command(), refine_command(),
-          distance_command(), eigen_command(),     poisson_command()};
+  return {info_command(),  laplacian_command(), refine_command(),  distance_command(),
+          eigen_command(), poisson_command(),   geodesic_command()};
 }
 
 }  // namespace ifem::cli
