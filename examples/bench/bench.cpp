@@ -12,6 +12,7 @@ int foundation(int argc, char** argv);
 int solvers(int argc, char** argv);
 int pointcloud(int argc, char** argv);
 int refine(int argc, char** argv);
+int geodesic(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -30,6 +31,8 @@ const Section kSections[] = {
      ifem::bench::pointcloud},
     {"refine", "intrinsic Delaunay refinement: rocketship, needle uv sphere, igea",
      ifem::bench::refine},
+    {"geodesic", "FlipOut geodesic paths on icospheres 8..128 (build, path, trace)",
+     ifem::bench::geodesic},
     {"solvers", "heat distance precompute + query 10k..1M faces; k = 10, 50 eigenpairs",
      ifem::bench::solvers},
 };

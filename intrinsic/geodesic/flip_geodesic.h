@@ -1,15 +1,20 @@
 // Geodesic paths by edge flips: FlipOut (Sharp & Crane 2020, "You Can Find Geodesic Paths in
-// Triangle Meshes by Just Flipping Edges"). A path made of intrinsic edges is shortened by
+// Triangle Meshes by Just Flipping Edges"). A curve made of intrinsic edges is shortened by
 // flipping the edges inside a wedge where it bends by less than π, until it can be rerouted
-// along the wedge's outer boundary; at convergence every wedge angle at an interior path vertex
-// is ≥ π − ε on both sides, so the path is a locally shortest (geodesic) path on the surface.
-// All flips go through SignpostTriangulation::flip_edge, so the path can be traced over the
-// input mesh afterwards.
+// along the wedge's outer boundary; at convergence every wedge angle at an interior curve vertex
+// is ≥ π − ε on both sides, so the curve is a locally shortest (geodesic) curve on the surface.
+// All flips go through SignpostTriangulation::flip_edge, so the curves can be traced over the
+// input mesh afterwards, and the triangulation left behind has the curves among its edges
+// (curve_edge_flags()): a triangulation conforming to the curves.
+//
+// Units: lengths in the unit of the triangulation's edge lengths; angles in radians.
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
+#include "intrinsic/core/surface_point.h"
 #include "intrinsic/core/types.h"
 #include "intrinsic/refine/signpost.h"
 
@@ -23,10 +28,17 @@ struct PathStep {
   bool forward = true;
 };
 
-/// An open path along intrinsic edges: steps[i] ends where steps[i+1] starts (by halfedge
-/// identity, so self-edges and repeated vertices are fine). Empty: a single vertex.
+/// A curve along intrinsic edges: steps[i] ends where steps[i+1] starts (by halfedge identity,
+/// so self-edges and repeated vertices are fine). `closed`: a loop, the last step ends where
+/// the first starts. `pinned`: vertices the curve must keep passing through, as indices of the
+/// joint they sit at (joint i is where steps[i−1] meets steps[i]; for a loop joint 0 is where
+/// the last step meets the first); a pinned joint may stay bent. The two ends of an open path
+/// are always fixed. An open path with no steps is a single vertex; a loop with none has
+/// shrunk to a point.
 struct EdgePath {
   std::vector<PathStep> steps;
+  bool closed = false;
+  std::vector<Index> pinned;
 };
 
 /// The halfedge that traverses `step` in its direction, or kInvalidIndex when it runs against a
@@ -36,67 +48,162 @@ Index step_halfedge(const IntrinsicTriangulation& tri, const PathStep& step);
 Index step_tail(const IntrinsicTriangulation& tri, const PathStep& step);
 Index step_head(const IntrinsicTriangulation& tri, const PathStep& step);
 
+/// The vertices a path passes through, in order (#steps + 1 entries for an open path, #steps
+/// for a loop).
+std::vector<Index> path_vertices(const IntrinsicTriangulation& tri, const EdgePath& path);
+
 /// Sum of the intrinsic lengths of the path's steps (length unit of tri).
 double path_length(const IntrinsicTriangulation& tri, const EdgePath& path);
 
 /// A shortest path from vertex a to vertex b along intrinsic edges (Dijkstra on edge lengths).
 /// @throws InvalidInput if a or b is out of range, a == b, or b is not reachable from a (they
 ///         lie on different connected components)
+EdgePath shortest_edge_path(const IntrinsicTriangulation& tri, Index a, Index b);
 EdgePath shortest_edge_path(const SignpostTriangulation& st, Index a, Index b);
 
-/// The two wedge angles at the vertex between steps[i − 1] and steps[i] (1 ≤ i < #steps): the
-/// angle swept counter-clockwise from the outgoing step to the reversed incoming one ([0]) and
-/// from the reversed incoming step to the outgoing one ([1]), each a sum of corner angles
-/// (radians); together they make the vertex's total angle. A wedge that would sweep over the
-/// boundary is +∞: at a boundary vertex only the wedge on the interior side counts (a path may
-/// hug the boundary). Both are 0 at a backtrack (steps i − 1 and i: one edge, both ways).
+/// How edge_path_through() joins two consecutive vertices.
+enum class JoinBy {
+  kDijkstra,     ///< always a shortest edge path
+  kDirectEdges,  ///< the edge between them when they are adjacent (on an unflipped signpost
+                 ///< triangulation: the input edge), else a shortest edge path
+};
+
+/// A path through `vertices` in order (≥ 2 of them, for a loop too: its last vertex is joined
+/// back to the first), every consecutive pair joined as `join` says. With `pin`, every given vertex
+/// except the two ends of an open path becomes a pinned joint (a path through waypoints);
+/// without it only the ends of an open path stay (the vertices shape the initial curve only).
+/// @throws InvalidInput naming the offending position: a vertex out of range, two equal
+///         consecutive vertices (also last/first of a loop), fewer vertices than needed, or
+///         two consecutive vertices on different connected components
+EdgePath edge_path_through(const IntrinsicTriangulation& tri, const std::vector<Index>& vertices,
+                           bool closed, bool pin, JoinBy join = JoinBy::kDijkstra);
+
+/// The two wedge angles at joint i of the path (see EdgePath; 1 ≤ i < #steps for an open
+/// path, 0 ≤ i < #steps for a loop): [0] swept counter-clockwise from the outgoing step to the
+/// reversed incoming one, [1] from the reversed incoming step to the outgoing one, each a sum
+/// of corner angles (radians); together they make the vertex's total angle. A wedge that would
+/// sweep over the boundary is +∞: at a boundary vertex only the wedge on the interior side
+/// counts (a path may hug the boundary). Both are 0 at a backtrack (steps i − 1 and i: one
+/// edge, both ways).
 Eigen::Vector2d wedge_angles(const IntrinsicTriangulation& tri, const EdgePath& path, Index i);
 
-/// The smallest wedge angle over all interior path vertices (+∞ if there is none).
+/// The smallest wedge angle over all joints that are not pinned (+∞ if there is none).
 double min_wedge_angle(const IntrinsicTriangulation& tri, const EdgePath& path);
 
 /// How shorten() runs.
 struct FlipOutOptions {
-  /// Converged when every wedge angle at an interior path vertex is ≥ π − angle_epsilon
-  /// (radians, in [0, π)). At a boundary vertex only the wedge not containing the boundary is
-  /// straightened (wedge_angles()).
+  /// Converged when every wedge angle at an unpinned joint is ≥ π − angle_epsilon (radians, in
+  /// [0, π)). At a boundary vertex only the wedge not containing the boundary counts.
   double angle_epsilon = 1e-6;
-  /// At most this many reroutes (FlipOut steps); −1: 10 × #E + 1000.
+  /// At most this many reroutes (FlipOut steps) in all; −1: 10 × #E + 1000.
   Index max_iterations = -1;
-  /// Stop when a reroute shortens the path by less than this fraction of its length (≥ 0).
-  double min_relative_decrease = 1e-12;
+  /// Stop when a round of reroutes (as many as the curves have joints, at least 100) shortens
+  /// the curves by less than this fraction of their length (in [0, 1)); 0: never.
+  double min_relative_decrease = 1e-14;
   /// @throws InvalidInput naming the field on a value outside its range
   void validate() const;
 };
 
 /// Why shorten() stopped.
 enum class FlipOutStop {
-  kConverged,     ///< all wedge angles ≥ π − ε
+  kConverged,     ///< every unpinned wedge angle ≥ π − ε
   kIterationCap,  ///< max_iterations reroutes done
-  kNoProgress,    ///< a reroute gained too little, or every bent wedge was blocked (its
-                  ///< interior edges belong to the path or cannot be flipped)
+  kNoProgress,    ///< a round of reroutes gained less than min_relative_decrease
+  kBlocked,       ///< the remaining bends cannot be straightened: their wedges hold edges of
+                  ///< curves (straightening would cross them) or edges that cannot be flipped
 };
+
+/// A readable name for a FlipOutStop ("converged", "iteration cap", ...).
+const char* to_string(FlipOutStop stop);
 
 /// What shorten() did.
 struct FlipOutReport {
-  double initial_length = 0.0;
+  double initial_length = 0.0;  ///< total over all curves
   double final_length = 0.0;
   Index flips = 0;       ///< edge flips performed
-  Index iterations = 0;  ///< reroutes performed
+  Index iterations = 0;  ///< reroutes performed (backtracks removed included)
   FlipOutStop stopped_by = FlipOutStop::kConverged;
+  Index blocked_joints = 0;             ///< bent joints left unstraightened (kBlocked)
+  std::vector<double> lengths;          ///< per curve, final
+  std::vector<Index> collapsed_loops;   ///< loops that shrank to a point (no steps left) or to
+                                        ///< a self-edge around one vertex it cannot pass:
+                                        ///< contractible loops; reported, never spun on
 };
 
-/// Shortens `path` (an open edge path of st.intrinsic()) by FlipOut, always at the currently
-/// smallest wedge angle first. Flips edges of st (the surface is unchanged; the triangulation
-/// and signposts change); the path's endpoints stay fixed and its length never increases.
-/// @throws InvalidInput on bad options or a path whose steps are not consecutive
+/// Shortens `paths` together by FlipOut, always at the currently smallest wedge angle first
+/// (a network: curves may share vertices and edges but must not cross transversely; a wedge
+/// holding an edge of any curve is not flipped, so no new crossing appears). Edges flagged in
+/// `fixed_edges` (#E of st.intrinsic(), when given) are never flipped either (constraints).
+/// Flips edges of st (the surface is unchanged; the triangulation and signposts change); the
+/// ends of open paths and pinned joints stay, every curve's length never increases.
+/// @throws InvalidInput on bad options or a path whose steps are not consecutive (naming the
+///         curve and step), a pinned joint out of range, or fixed_edges of the wrong size
+FlipOutReport shorten(SignpostTriangulation& st, std::vector<EdgePath>& paths,
+                      const FlipOutOptions& options = {},
+                      const std::vector<char>* fixed_edges = nullptr);
+/// One curve (same contract).
 FlipOutReport shorten(SignpostTriangulation& st, EdgePath& path,
                       const FlipOutOptions& options = {});
 
-/// The path as a polyline of 3D points on the input surface: every step traced over the input
-/// with the signposts (SignpostTriangulation::trace_halfedge), joints shared. Its 3D length
-/// equals path_length() up to tracing round-off (and the mollification, if any).
+/// #E flags of st.intrinsic(): 1 on every edge some path runs along (the curves as edges of the
+/// triangulation, for code that must keep them: e.g. as constraints of later flips).
+std::vector<char> curve_edge_flags(const IntrinsicTriangulation& tri,
+                                   const std::vector<EdgePath>& paths);
+
+/// The path as points of the input surface: every step traced over the input with the
+/// signposts (SignpostTriangulation::trace_halfedge), joints shared; a loop repeats its first
+/// point at the end. Faces refer to st.input().
 /// @throws TraceError when a step cannot be traced
+std::vector<SurfacePoint> path_surface_points(const SignpostTriangulation& st,
+                                              const EdgePath& path);
+/// The same as 3D positions. Its 3D length equals path_length() up to tracing round-off (and
+/// the mollification, if any).
 std::vector<Eigen::Vector3d> path_polyline(const SignpostTriangulation& st, const EdgePath& path);
+
+/// Inserts a point of the input surface (face of st.input(), barycentric coordinates ≥ 0
+/// summing to 1 within 1e-9) as an intrinsic vertex and returns its id: an existing vertex when
+/// the point is one (within `snap` of it, relative to the face's longest side), a split of the
+/// intrinsic edge it lies on, else a new vertex inside an intrinsic face. Works on any state
+/// of st (flips and earlier insertions): the point is found by tracing from an input corner.
+/// @throws InvalidInput naming the face or coordinates when they are out of range
+/// @throws TraceError when the trace fails (degenerate input)
+Index insert_surface_point(SignpostTriangulation& st, const SurfacePoint& input_point,
+                           double snap = 1e-9);
+
+/// A geodesic Bézier curve by de Casteljau subdivision with geodesic segments (Sharp & Crane
+/// 2020, after Morera, Carvalho & Velho 2008): each round replaces every Bézier piece of
+/// degree d by its two halves at t = 1/2, the midpoints taken halfway along FlipOut geodesics
+/// between the previous points (inserted as vertices, splitting an edge); after `rounds` rounds
+/// the control polygon (d·2^rounds + 1 points), joined by FlipOut geodesics pinned at every
+/// control point, is the curve.
+struct BezierCurve {
+  EdgePath path;                 ///< the final control polygon, pinned at every control point
+  std::vector<Index> controls;   ///< its control points (intrinsic vertex ids), in order
+  Index inserted_vertices = 0;   ///< midpoints inserted
+  FlipOutReport report;          ///< of the final shortening
+};
+/// @param control ≥ 2 intrinsic vertex ids (degree = #control − 1); consecutive ones distinct
+/// @param rounds ≥ 0 (0: the geodesic control polygon itself); at most 16
+/// @throws InvalidInput on bad control points or rounds, or points on different components
+BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& control, int rounds,
+                         const FlipOutOptions& options = {});
+
+/// Single-source geodesics (Sharp & Crane 2020, §6.4; thesis proposal §5.3): a Dijkstra search
+/// from `source` that makes every accepted path a geodesic by FlipOut before accepting it,
+/// holding the paths accepted earlier fixed (their edges are never flipped), so that at the end
+/// the triangulation contains a geodesic from the source to every reached vertex as an edge
+/// path. Lengths are those geodesics' lengths: ≥ the exact distance, equal to it whenever the
+/// geodesic found is the shortest one (most vertices in practice; not guaranteed).
+struct SingleSourceGeodesics {
+  Eigen::VectorXd length;         ///< #V (intrinsic vertices at the call): +∞ where unreachable
+  std::vector<EdgePath> paths;    ///< #V: the geodesic to each vertex (empty: source, unreached)
+  std::vector<char> tree_edges;   ///< #E: edges some accepted path runs along
+  Index flips = 0;
+  Index iterations = 0;
+  Index blocked = 0;              ///< vertices whose path was left bent (a blocked wedge)
+};
+/// @throws InvalidInput if source is out of range or options are invalid
+SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index source,
+                                              const FlipOutOptions& options = {});
 
 }  // namespace ifem::intrinsic
