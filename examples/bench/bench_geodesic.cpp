@@ -58,8 +58,9 @@ int geodesic(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 5));
   const int max_n = int(int_option(argc, argv, "--max-n", 128));
   std::printf("## FlipOut geodesic paths (median of %d runs)\n\n", repeat);
-  std::printf("| mesh | faces | build s | path s | trace s | flips | reroutes | "
-              "Dijkstra/arc | FlipOut/arc | converged |\n");
+  std::printf(
+      "| mesh | faces | build s | path s | trace s | flips | reroutes | "
+      "Dijkstra/arc | FlipOut/arc | converged |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (int n = 8; n <= max_n; n *= 2) run_case(n, repeat);
   return 0;

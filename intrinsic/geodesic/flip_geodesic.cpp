@@ -196,10 +196,14 @@ void FlipOutOptions::validate() const {
 
 const char* to_string(FlipOutStop stop) {
   switch (stop) {
-    case FlipOutStop::kConverged: return "converged";
-    case FlipOutStop::kIterationCap: return "iteration cap";
-    case FlipOutStop::kNoProgress: return "no progress";
-    case FlipOutStop::kBlocked: return "blocked";
+    case FlipOutStop::kConverged:
+      return "converged";
+    case FlipOutStop::kIterationCap:
+      return "iteration cap";
+    case FlipOutStop::kNoProgress:
+      return "no progress";
+    case FlipOutStop::kBlocked:
+      return "blocked";
   }
   return "unknown";
 }
@@ -244,6 +248,10 @@ std::vector<SurfacePoint> path_surface_points(const SignpostTriangulation& st,
   for (const PathStep& s : path.steps) {
     std::vector<SurfacePoint> pts = st.trace_halfedge(tri.edge_halfedge(s.edge));
     if (!s.forward) std::reverse(pts.begin(), pts.end());
+    // the ends are vertices: their own locations, not where a long trace lands (off by
+    // round-off that grows with the number of sides crossed)
+    pts.front() = st.vertex_location(step_tail(tri, s));
+    pts.back() = st.vertex_location(step_head(tri, s));
     line.insert(line.end(), pts.begin() + (line.empty() ? 0 : 1), pts.end());
   }
   return line;

@@ -123,11 +123,11 @@ struct FlipOutReport {
   Index flips = 0;       ///< edge flips performed
   Index iterations = 0;  ///< reroutes performed (backtracks removed included)
   FlipOutStop stopped_by = FlipOutStop::kConverged;
-  Index blocked_joints = 0;             ///< bent joints left unstraightened (kBlocked)
-  std::vector<double> lengths;          ///< per curve, final
-  std::vector<Index> collapsed_loops;   ///< loops that shrank to a point (no steps left) or to
-                                        ///< a self-edge around one vertex it cannot pass:
-                                        ///< contractible loops; reported, never spun on
+  Index blocked_joints = 0;            ///< bent joints left unstraightened (kBlocked)
+  std::vector<double> lengths;         ///< per curve, final
+  std::vector<Index> collapsed_loops;  ///< loops that shrank to a point (no steps left) or to
+                                       ///< a self-edge around one vertex it cannot pass:
+                                       ///< contractible loops; reported, never spun on
 };
 
 /// Shortens `paths` together by FlipOut, always at the currently smallest wedge angle first
@@ -178,10 +178,10 @@ Index insert_surface_point(SignpostTriangulation& st, const SurfacePoint& input_
 /// the control polygon (d·2^rounds + 1 points), joined by FlipOut geodesics pinned at every
 /// control point, is the curve.
 struct BezierCurve {
-  EdgePath path;                 ///< the final control polygon, pinned at every control point
-  std::vector<Index> controls;   ///< its control points (intrinsic vertex ids), in order
-  Index inserted_vertices = 0;   ///< midpoints inserted
-  FlipOutReport report;          ///< of the final shortening
+  EdgePath path;                ///< the final control polygon, pinned at every control point
+  std::vector<Index> controls;  ///< its control points (intrinsic vertex ids), in order
+  Index inserted_vertices = 0;  ///< midpoints inserted
+  FlipOutReport report;         ///< of the final shortening
 };
 /// @param control ≥ 2 intrinsic vertex ids (degree = #control − 1); consecutive ones distinct
 /// @param rounds ≥ 0 (0: the geodesic control polygon itself); at most 16
@@ -196,12 +196,12 @@ BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& co
 /// path. Lengths are those geodesics' lengths: ≥ the exact distance, equal to it whenever the
 /// geodesic found is the shortest one (most vertices in practice; not guaranteed).
 struct SingleSourceGeodesics {
-  Eigen::VectorXd length;         ///< #V (intrinsic vertices at the call): +∞ where unreachable
-  std::vector<EdgePath> paths;    ///< #V: the geodesic to each vertex (empty: source, unreached)
-  std::vector<char> tree_edges;   ///< #E: edges some accepted path runs along
+  Eigen::VectorXd length;        ///< #V (intrinsic vertices at the call): +∞ where unreachable
+  std::vector<EdgePath> paths;   ///< #V: the geodesic to each vertex (empty: source, unreached)
+  std::vector<char> tree_edges;  ///< #E: edges some accepted path runs along
   Index flips = 0;
   Index iterations = 0;
-  Index blocked = 0;              ///< vertices whose path was left bent (a blocked wedge)
+  Index blocked = 0;  ///< vertices whose path was left bent (a blocked wedge)
 };
 /// @throws InvalidInput if source is out of range or options are invalid
 SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index source,

@@ -61,7 +61,8 @@ Index wedge_holding(const SignpostTriangulation& st, Index v, double phi) {
 
 // Where a point of the input lies on the intrinsic triangulation: traced from input corner k
 // of input face f, at distance and angle taken in f's layout.
-SurfacePoint locate_input_point(const SignpostTriangulation& st, Index f, const Eigen::Vector3d& b) {
+SurfacePoint locate_input_point(const SignpostTriangulation& st, Index f,
+                                const Eigen::Vector3d& b) {
   Eigen::Vector2d p[3];
   face_layout(st.input(), f, p);
   const Eigen::Vector2d x = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
@@ -86,7 +87,8 @@ SurfacePoint locate_input_point(const SignpostTriangulation& st, Index f, const 
   start.bary[s] = 1.0;
   TraceOptions o;
   o.start_corner = s;
-  const Eigen::Vector2d dir = std::cos(turn) * ed + std::sin(turn) * Eigen::Vector2d(-ed.y(), ed.x());
+  const Eigen::Vector2d dir =
+      std::cos(turn) * ed + std::sin(turn) * Eigen::Vector2d(-ed.y(), ed.x());
   return trace_straight(tri, start, dir, w.norm(), o).end;
 }
 
@@ -172,6 +174,39 @@ std::vector<Index> split_piece(SignpostTriangulation& st, std::vector<Index> c,
   return left;
 }
 
+// Rounds of "shorten, then take a shorter accepted prefix" per vertex in single-source
+// geodesics.
+constexpr int kMaxSplices = 8;
+
+// If the path passes an accepted vertex y whose geodesic is shorter than the path's part up to
+// y, replaces that part by y's geodesic (the best such y) and returns true. A path held up at a
+// wedge by an earlier geodesic (it cannot cross it) usually has such a y: the vertex where it
+// meets that geodesic.
+bool splice_shorter_prefix(const T& tri, const SingleSourceGeodesics& g,
+                           const std::vector<char>& accepted, EdgePath* path) {
+  const std::vector<Index> pv = path_vertices(tri, *path);
+  const double total = path_length(tri, *path);
+  double prefix = 0.0, best_gain = -1e-12 * total;  // equal lengths too: the other side of a cone
+  std::size_t best = 0;
+  for (std::size_t k = 1; k + 1 < pv.size(); ++k) {
+    prefix += tri.length(path->steps[k - 1].edge);
+    const double gain = prefix - g.length[pv[k]];
+    if (!accepted[pv[k]] || gain < best_gain) continue;
+    const std::vector<PathStep>& to = g.paths[pv[k]].steps;
+    const bool same =
+        to.size() == k && std::equal(to.begin(), to.end(), path->steps.begin(),
+                                     [](const PathStep& a, const PathStep& b) {
+                                       return a.edge == b.edge && a.forward == b.forward;
+                                     });
+    if (!same) best_gain = gain, best = k;
+  }
+  if (best == 0) return false;
+  EdgePath spliced = g.paths[pv[best]];
+  spliced.steps.insert(spliced.steps.end(), path->steps.begin() + best, path->steps.end());
+  *path = std::move(spliced);
+  return true;
+}
+
 }  // namespace
 
 BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& control, int rounds,
@@ -221,7 +256,8 @@ SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index s
   };
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   auto offer = [&](Index e, Index from, Index to) {
-    if (accepted[from] && !accepted[to]) queue.push({out.length[from] + tri.length(e), to, from, e});
+    if (accepted[from] && !accepted[to])
+      queue.push({out.length[from] + tri.length(e), to, from, e});
   };
   std::vector<int> uses(tri.n_edges(), 0);
   detail::FlipNetwork net(st, uses, nullptr);
@@ -246,13 +282,18 @@ SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index s
     if (!along && !(tri.head(h) == top.parent && tri.tail(h) == top.v)) continue;  // flipped
     EdgePath path = out.paths[top.parent];
     path.steps.push_back({top.edge, along});
-    net.release_curves();
-    net.add(path, top.v);
-    rep = {};
-    net.run(options, rep);
-    out.paths[top.v] = net.extract(0);
-    out.iterations += rep.iterations;
+    for (int attempt = 0; attempt < kMaxSplices; ++attempt) {
+      net.add(path, top.v);
+      rep = {};
+      net.run(options, rep);
+      path = net.extract(0);
+      out.iterations += rep.iterations;
+      if (!splice_shorter_prefix(tri, out, accepted, &path)) break;
+      net.drop_curves();
+    }
+    net.release_curves();  // the accepted path stays counted: an obstacle from now on
     if (rep.stopped_by != FlipOutStop::kConverged) ++out.blocked;
+    out.paths[top.v] = std::move(path);
     accept(top.v, rep.final_length);
   }
   out.flips = rep.flips;

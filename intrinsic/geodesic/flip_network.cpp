@@ -20,6 +20,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 PathStep reversed(const PathStep& s) { return {s.edge, !s.forward}; }
 
+// A wedge edge is flipped when the angle β at its far end is below π by more than this
+// (radians): a diamond whose β is π up to round-off (collinear corners, as along a straight
+// boundary) would flip into a triangle of zero area, and lengths laid out from it drift.
+constexpr double kFlatSlack = 1e-12;
+
 // The step that traverses halfedge h along it.
 PathStep step_along(const T& tri, Index h) {
   const Index e = tri.edge(h);
@@ -92,7 +97,8 @@ Index FlipNetwork::add(const EdgePath& path, Index id) {
                          std::to_string(s.edge));
     }
     const bool wraps = path.closed && i + 1 == n;
-    if ((i + 1 < n || wraps) && step_head(tri, s) != step_tail(tri, path.steps[wraps ? 0 : i + 1])) {
+    if ((i + 1 < n || wraps) &&
+        step_head(tri, s) != step_tail(tri, path.steps[wraps ? 0 : i + 1])) {
       throw InvalidInput(where + "steps " + std::to_string(i) + " and " +
                          std::to_string(wraps ? 0 : i + 1) + " are not consecutive");
     }
@@ -122,6 +128,13 @@ void FlipNetwork::release_curves() {
   nodes_.clear();
   curves_.clear();
   queue_ = {};
+}
+
+void FlipNetwork::drop_curves() {
+  for (const Node& n : nodes_) {
+    if (n.alive) --uses_[n.step.edge];
+  }
+  release_curves();
 }
 
 bool FlipNetwork::is_joint(Index a) const {
@@ -185,7 +198,7 @@ std::vector<Index> FlipNetwork::flip_wedge(Index a, int side) {
   for (std::size_t guard = w.size(); guard > 0 && !w.empty(); --guard) {
     bool flipped = false, refused = false;
     for (std::size_t j = 1; j < w.size() && !flipped; ++j) {
-      if (beta(tri, w, j) >= kPi) continue;
+      if (beta(tri, w, j) >= kPi - kFlatSlack) continue;
       const Index e = tri.edge(w[j]);
       if (st_.flip_edge(e)) {
         flipped = true;
@@ -291,8 +304,8 @@ void FlipNetwork::finish(FlipOutReport& rep) const {
 void FlipNetwork::run(const FlipOutOptions& options, FlipOutReport& rep) {
   options.validate();
   limit_ = kPi - options.angle_epsilon;
-  const Index cap = options.max_iterations >= 0 ? options.max_iterations
-                                                : 10 * st_.intrinsic().n_edges() + 1000;
+  const Index cap =
+      options.max_iterations >= 0 ? options.max_iterations : 10 * st_.intrinsic().n_edges() + 1000;
   rep.initial_length = 0.0;
   for (const Curve& c : curves_) rep.initial_length += c.length;
   auto total = [this] {

@@ -34,6 +34,8 @@ class FlipNetwork {
   Index add(const EdgePath& path, Index id_for_messages);
   /// Forgets every curve without uncounting their steps (they stay as obstacles).
   void release_curves();
+  /// Forgets every curve and uncounts its steps.
+  void drop_curves();
   /// Shortens all curves; fills the report's counts, stop reason, lengths and collapsed loops.
   void run(const FlipOutOptions& options, FlipOutReport& report);
   /// The current curve c as an EdgePath (pinned joints renumbered).

@@ -196,5 +196,302 @@ TEST(FlipGeodesic, UnreachableAndBadInputThrow) {
   EXPECT_THROW(shorten(st, broken), InvalidInput);
 }
 
+// An open tube around the z axis, n around and m + 1 rings, radius r(z) = 1 + 4 (z − 1/2)²: an
+// hourglass whose waist ring (z = 1/2, m even) is the shortest loop around it.
+TriangleMesh hourglass(int n, int m) {
+  TriangleMesh t;
+  t.positions.resize(n * (m + 1), 3);
+  for (int j = 0; j <= m; ++j) {
+    const double z = double(j) / m, r = 1.0 + 4.0 * (z - 0.5) * (z - 0.5);
+    for (int i = 0; i < n; ++i) {
+      const double a = 2.0 * kPi * (i + 0.5 * (j % 2)) / n;
+      t.positions.row(j * n + i) << r * std::cos(a), r * std::sin(a), z;
+    }
+  }
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const Index a = j * n + i, b = j * n + (i + 1) % n, c = (j + 1) * n + i,
+                  d = (j + 1) * n + (i + 1) % n;
+      if (j % 2 == 0) {
+        t.faces.push_back({a, b, c});
+        t.faces.push_back({b, d, c});
+      } else {
+        t.faces.push_back({a, d, c});
+        t.faces.push_back({a, b, d});
+      }
+    }
+  }
+  return t;
+}
+
+// Flips keep the surface: every input vertex's total angle, summed over the current
+// triangulation's corners, is still the input's (to 1e-9 radians).
+void expect_angle_sums_kept(const SignpostTriangulation& st) {
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  std::vector<double> sum(tri.n_vertices(), 0.0);
+  for (Index h = 0; h < tri.n_halfedges(); ++h) sum[tri.tail(h)] += corner_angle(tri, h);
+  for (Index v = 0; v < st.n_input_vertices(); ++v) {
+    EXPECT_NEAR(sum[v], st.vertex_angle_sum(v), 1e-9) << "vertex " << v;
+  }
+}
+
+// Every joint of a converged curve that is not pinned bends by no less than π − ε on both sides.
+void expect_straight(const IntrinsicTriangulation& tri, const EdgePath& p, double eps) {
+  EXPECT_GE(min_wedge_angle(tri, p), kPi - eps);
+}
+
+TEST(FlipGeodesic, LoopAroundHourglassShrinksToTheWaist) {
+  const int n = 24, m = 8;
+  const TriangleMesh t = hourglass(n, m);
+  SignpostTriangulation st(t.faces, t.positions);
+  std::vector<Index> ring;  // the top ring, as the initial loop
+  for (int i = 0; i < n; i += 3) ring.push_back(m * n + i);
+  EdgePath loop = edge_path_through(st.intrinsic(), ring, true, false);
+  const double sum0 = total_area(st.intrinsic());
+  const FlipOutReport rep = shorten(st, loop);
+  const double waist = n * 2.0 * std::sin(kPi / n);  // the waist ring's polygon, r = 1
+  EXPECT_EQ(rep.stopped_by, FlipOutStop::kConverged) << to_string(rep.stopped_by);
+  EXPECT_TRUE(rep.collapsed_loops.empty());
+  EXPECT_TRUE(loop.closed);
+  EXPECT_NEAR(rep.final_length, waist, 1e-9 * waist);
+  EXPECT_LT(rep.final_length, rep.initial_length);
+  expect_straight(st.intrinsic(), loop, FlipOutOptions{}.angle_epsilon);
+  EXPECT_NEAR(total_area(st.intrinsic()), sum0, 1e-9 * sum0);
+  expect_angle_sums_kept(st);
+  const std::vector<Eigen::Vector3d> line = path_polyline(st, loop);
+  EXPECT_LT((line.front() - line.back()).norm(), 1e-9);
+  EXPECT_NEAR(polyline_length(line), rep.final_length, 1e-6 * rep.final_length);
+  for (const Eigen::Vector3d& x : line) EXPECT_NEAR(x.z(), 0.5, 1e-9);
+}
+
+// A loop around one vertex of a sphere is contractible: it shrinks until it cannot go on, and
+// is reported as collapsed (never spun on), whatever the cap.
+TEST(FlipGeodesic, ContractibleLoopTerminatesAndIsReported) {
+  const TriangleMesh t = icosphere(4);
+  for (const Index centre : {Index(0), Index(17), Index(100)}) {
+    SignpostTriangulation st(t.faces, t.positions);
+    std::vector<Index> ring;
+    const IntrinsicTriangulation& tri = st.intrinsic();
+    const Index h0 = tri.vertex_halfedge(centre);
+    for (Index x = h0;;) {
+      ring.push_back(tri.head(x));
+      x = tri.twin(IntrinsicTriangulation::prev(x));
+      if (x == h0) break;
+    }
+    EdgePath loop = edge_path_through(tri, ring, true, false);
+    const double area = total_area(tri);
+    const FlipOutReport rep = shorten(st, loop);
+    EXPECT_EQ(rep.collapsed_loops, std::vector<Index>{0}) << centre;
+    EXPECT_NE(rep.stopped_by, FlipOutStop::kIterationCap) << centre;
+    EXPECT_LT(rep.final_length, 0.5 * rep.initial_length) << centre;
+    EXPECT_NO_THROW(st.intrinsic().validate());
+    EXPECT_NEAR(total_area(st.intrinsic()), area, 1e-9 * area);
+    expect_angle_sums_kept(st);
+  }
+}
+
+// Two curves sharing an endpoint straighten to their segments; a curve routed around the end of
+// another keeps going around it (no new crossing): it wraps at that end vertex.
+TEST(FlipGeodesic, NetworkStaysNoncrossing) {
+  const TriangleMesh m = grid(10, 10);  // 11 × 11 vertices at multiples of 0.1
+  auto id = [](int i, int j) { return Index(j * 11 + i); };
+  SignpostTriangulation st(m.faces, m.positions);
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  std::vector<EdgePath> net = {
+      edge_path_through(tri, {id(3, 5), id(7, 5)}, false, false),            // A
+      edge_path_through(tri, {id(5, 3), id(9, 5), id(5, 7)}, false, false),  // B, around A
+      edge_path_through(tri, {id(3, 5), id(1, 9)}, false, false)};           // C, shares A's end
+  const FlipOutReport rep = shorten(st, net);
+  EXPECT_NEAR(rep.lengths[0], 0.4, 1e-9);
+  EXPECT_NEAR(rep.lengths[1], 2.0 * std::sqrt(0.08), 1e-9);  // wraps at (0.7, 0.5)
+  EXPECT_NEAR(rep.lengths[2], std::sqrt(0.2 * 0.2 + 0.4 * 0.4), 1e-9);
+  const std::vector<Index> bv = path_vertices(tri, net[1]);
+  EXPECT_NE(std::find(bv.begin(), bv.end(), id(7, 5)), bv.end());
+  // without A, B straightens through it
+  SignpostTriangulation alone(m.faces, m.positions);
+  EdgePath b = edge_path_through(alone.intrinsic(), {id(5, 3), id(9, 5), id(5, 7)}, false, false);
+  EXPECT_NEAR(shorten(alone, b).final_length, 0.4, 1e-9);
+  const std::vector<char> flags = curve_edge_flags(tri, net);
+  for (const EdgePath& p : net) {
+    for (const PathStep& s : p.steps) EXPECT_EQ(flags[s.edge], 1);
+  }
+}
+
+// Pinned waypoints stay on the path; the pieces between them are straight.
+TEST(FlipGeodesic, PinnedWaypointsStay) {
+  const TriangleMesh m = flat_jittered_grid(10, 0.5, 9);
+  SignpostTriangulation st(m.faces, m.positions);
+  const std::vector<Index> via = {0, 55, 9, 99};
+  EdgePath p = edge_path_through(st.intrinsic(), via, false, true, JoinBy::kDirectEdges);
+  ASSERT_EQ(p.pinned.size(), 2u);
+  const FlipOutReport rep = shorten(st, p);
+  double expect = 0.0;
+  for (std::size_t i = 0; i + 1 < via.size(); ++i) {
+    expect += (m.positions.row(via[i]) - m.positions.row(via[i + 1])).norm();
+  }
+  EXPECT_EQ(rep.stopped_by, FlipOutStop::kConverged);
+  EXPECT_NEAR(rep.final_length, expect, 1e-9 * expect);
+  const std::vector<Index> pv = path_vertices(st.intrinsic(), p);
+  for (const Index v : via) EXPECT_NE(std::find(pv.begin(), pv.end(), v), pv.end()) << v;
+  for (const Index j : p.pinned) {
+    EXPECT_TRUE(pv[j] == 55 || pv[j] == 9) << pv[j];
+  }
+}
+
+// Endpoints anywhere on the surface: inserted as vertices (inside a face, on an edge, at a
+// vertex), traced back to the same 3D points; the path between them is the segment.
+TEST(FlipGeodesic, SurfacePointEndpoints) {
+  const TriangleMesh m = flat_jittered_grid(8, 0.5, 4);
+  SignpostTriangulation st(m.faces, m.positions);
+  auto point = [&](Index f, Eigen::Vector3d b) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) x += b[k] * m.positions.row(m.faces[f][k]).transpose();
+    return x;
+  };
+  const SurfacePoint in_face{20, {0.2, 0.3, 0.5}}, on_edge{75, {0.0, 0.4, 0.6}},
+      at_vertex{40, {0.0, 1.0, 0.0}}, second_in_face{20, {0.6, 0.3, 0.1}};
+  const Index nv = st.intrinsic().n_vertices();
+  const Index a = insert_surface_point(st, in_face);
+  const Index b = insert_surface_point(st, on_edge);
+  const Index c = insert_surface_point(st, at_vertex);
+  const Index d = insert_surface_point(st, second_in_face);  // the face is split already
+  EXPECT_EQ(a, nv);
+  EXPECT_EQ(b, nv + 1);
+  EXPECT_EQ(c, m.faces[40][1]);
+  EXPECT_EQ(d, nv + 2);
+  EXPECT_EQ(insert_surface_point(st, in_face), a);  // the same point again: the same vertex
+  const Positions x = st.vertex_positions();
+  EXPECT_LT((x.row(a).transpose() - point(20, in_face.bary)).norm(), 1e-12);
+  EXPECT_LT((x.row(b).transpose() - point(75, on_edge.bary)).norm(), 1e-12);
+  EXPECT_LT((x.row(d).transpose() - point(20, second_in_face.bary)).norm(), 1e-12);
+  for (const auto& [s, t] : std::vector<std::pair<Index, Index>>{{a, b}, {b, d}, {d, c}}) {
+    EdgePath p = shortest_edge_path(st, s, t);
+    const FlipOutReport rep = shorten(st, p);
+    const double euclid = (x.row(s) - x.row(t)).norm();
+    EXPECT_NEAR(rep.final_length, euclid, 1e-9 * euclid);
+    const std::vector<Eigen::Vector3d> line = path_polyline(st, p);
+    EXPECT_LT((line.front() - x.row(s).transpose()).norm(), 1e-9);
+    EXPECT_LT((line.back() - x.row(t).transpose()).norm(), 1e-9);
+  }
+  EXPECT_THROW(insert_surface_point(st, {int(st.input().n_faces()), {1, 0, 0}}), InvalidInput);
+  EXPECT_THROW(insert_surface_point(st, {0, {0.5, 0.6, 0.1}}), InvalidInput);
+  EXPECT_THROW(insert_surface_point(st, {0, {-0.5, 1.0, 0.5}}), InvalidInput);
+}
+
+// Collinear control points on a flat mesh: the Bézier curve is the segment between the ends,
+// whatever the degree and the rounds.
+TEST(FlipGeodesic, BezierWithCollinearControlsIsTheSegment) {
+  const TriangleMesh m = grid(12, 12);  // 13 × 13 vertices
+  auto id = [](int i, int j) { return Index(j * 13 + i); };
+  for (const int rounds : {0, 1, 3}) {
+    for (const std::vector<Index>& ctrl : std::vector<std::vector<Index>>{
+             {id(1, 1), id(4, 4), id(8, 8), id(11, 11)}, {id(0, 6), id(6, 6), id(12, 6)}}) {
+      SignpostTriangulation st(m.faces, m.positions);
+      const BezierCurve c = bezier_curve(st, ctrl, rounds);
+      const double seg = (m.positions.row(ctrl.front()) - m.positions.row(ctrl.back())).norm();
+      EXPECT_NEAR(c.report.final_length, seg, 1e-9 * seg) << rounds;
+      EXPECT_EQ(c.controls.front(), ctrl.front());
+      EXPECT_EQ(c.controls.back(), ctrl.back());
+      const std::vector<Eigen::Vector3d> line = path_polyline(st, c.path);
+      EXPECT_NEAR(polyline_length(line), seg, 1e-9 * seg);
+    }
+  }
+}
+
+// A curved control polygon: more rounds, more control points; the curve stays between the
+// chord and the control polygon in length, and a quadratic curve on the plane matches the
+// exact Bézier curve's length.
+TEST(FlipGeodesic, BezierQuadraticOnThePlane) {
+  const TriangleMesh m = flat_jittered_grid(25, 0.4, 2);  // 26 × 26 vertices
+  const Index a = 2 * 26 + 2, b = 22 * 26 + 12, c = 2 * 26 + 22;
+  SignpostTriangulation st(m.faces, m.positions);
+  const BezierCurve curve = bezier_curve(st, {a, b, c}, 4);
+  EXPECT_EQ(curve.controls.size(), 2u * 16 + 1);
+  const Eigen::Vector2d p0 = m.positions.row(a).head<2>(), p1 = m.positions.row(b).head<2>(),
+                        p2 = m.positions.row(c).head<2>();
+  double exact = 0.0;  // arc length of the planar quadratic Bézier, by fine sampling
+  Eigen::Vector2d last = p0;
+  for (int k = 1; k <= 20000; ++k) {
+    const double t = k / 20000.0;
+    const Eigen::Vector2d q = (1 - t) * (1 - t) * p0 + 2 * t * (1 - t) * p1 + t * t * p2;
+    exact += (q - last).norm();
+    last = q;
+  }
+  EXPECT_NEAR(curve.report.final_length, exact, 2e-3 * exact);
+  EXPECT_GT(curve.inserted_vertices, 0);
+  EXPECT_NO_THROW(st.intrinsic().validate());
+  EXPECT_THROW(bezier_curve(st, {a}, 2), InvalidInput);
+  EXPECT_THROW(bezier_curve(st, {a, a, b}, 2), InvalidInput);
+  EXPECT_THROW(bezier_curve(st, {a, b}, -1), InvalidInput);
+}
+
+// Single-source geodesics on a flat convex mesh are the straight segments from the source;
+// the triangulation holds every one of them as an edge path.
+TEST(FlipGeodesic, SingleSourceOnFlatMeshIsEuclidean) {
+  const TriangleMesh m = flat_jittered_grid(14, 0.6, 12);
+  for (const Index src : {Index(0), Index(7 * 15 + 6), Index(15 * 5 - 1)}) {
+    SignpostTriangulation st(m.faces, m.positions);
+    const double area = total_area(st.intrinsic());
+    const SingleSourceGeodesics g = single_source_geodesics(st, src);
+    EXPECT_EQ(g.blocked, 0);
+    for (Index v = 0; v < m.positions.rows(); ++v) {
+      const double euclid = (m.positions.row(v) - m.positions.row(src)).norm();
+      ASSERT_NEAR(g.length[v], euclid, 1e-9 * std::max(euclid, 1.0)) << src << " → " << v;
+      const EdgePath& p = g.paths[v];
+      EXPECT_NEAR(path_length(st.intrinsic(), p), g.length[v], 1e-12);
+      if (v == src) continue;
+      ASSERT_FALSE(p.steps.empty());
+      EXPECT_EQ(step_tail(st.intrinsic(), p.steps.front()), src);
+      EXPECT_EQ(step_head(st.intrinsic(), p.steps.back()), v);
+      for (const PathStep& s : p.steps) EXPECT_EQ(g.tree_edges[s.edge], 1);
+    }
+    EXPECT_NO_THROW(st.intrinsic().validate());
+    EXPECT_NEAR(total_area(st.intrinsic()), area, 1e-9 * area);
+    expect_angle_sums_kept(st);
+  }
+}
+
+// On a closed curved surface every length is a geodesic's: at least the chord, and on a sphere
+// at least the distance along the inscribed polyhedron's shortest path (FlipOut's own two-point
+// path is a geodesic too, so single-source cannot beat it by more than round-off); a second
+// component stays unreachable.
+TEST(FlipGeodesic, SingleSourceOnASphere) {
+  const TriangleMesh t = icosphere(6);
+  SignpostTriangulation st(t.faces, t.positions);
+  const SingleSourceGeodesics g = single_source_geodesics(st, 0);
+  int equal = 0, checked = 0;
+  for (Index v = 1; v < t.positions.rows(); v += 7) {
+    const double chord = (t.positions.row(v) - t.positions.row(0)).norm();
+    EXPECT_GE(g.length[v], chord * (1 - 1e-12));
+    EXPECT_LE(g.length[v], 2.0 * std::asin(std::min(1.0, chord / 2.0)) * (1 + 1e-12));
+    SignpostTriangulation other(t.faces, t.positions);
+    EdgePath p = shortest_edge_path(other, 0, v);
+    const double two_point = shorten(other, p).final_length;
+    ++checked;
+    if (std::abs(two_point - g.length[v]) <= 1e-9 * two_point) ++equal;
+    EXPECT_LE(g.length[v], two_point * (1 + 1e-9)) << v;  // never a longer geodesic here
+  }
+  std::printf(
+      "single-source vs two-point FlipOut on icosphere(6): %d of %d equal (the others "
+      "shorter), %d blocked\n",
+      equal, checked, int(g.blocked));
+  EXPECT_EQ(g.blocked, 0);
+  EXPECT_THROW(single_source_geodesics(st, -1), InvalidInput);
+}
+
+TEST(FlipGeodesic, PathThroughChecksItsVertices) {
+  const TriangleMesh m = grid(3, 3);  // 16 vertices
+  SignpostTriangulation st(m.faces, m.positions);
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  EXPECT_THROW(edge_path_through(tri, {0, 5, 5, 9}, false, true), InvalidInput);
+  EXPECT_THROW(edge_path_through(tri, {0, 5, 0}, true, false), InvalidInput);
+  EXPECT_THROW(edge_path_through(tri, {0, 16}, false, false), InvalidInput);
+  EXPECT_THROW(edge_path_through(tri, {3}, false, false), InvalidInput);
+  const EdgePath p = edge_path_through(tri, {0, 1, 2, 3}, false, false, JoinBy::kDirectEdges);
+  EXPECT_EQ(p.steps.size(), 3u);
+  const std::vector<Index> pv = path_vertices(tri, p);
+  EXPECT_EQ(pv, (std::vector<Index>{0, 1, 2, 3}));
+}
+
 }  // namespace
 }  // namespace ifem::intrinsic
