@@ -16,6 +16,7 @@
 
 #include "cli.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
 #include "intrinsic/core/timer.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/io/detail.h"
@@ -213,11 +214,31 @@ void check_points(const std::vector<CurveSpec>& curves, const io::SurfaceInput& 
   }
 }
 
+// True when some face of the input has positive area (judged before mollification, which
+// would make slivers out of degenerate faces), as the solver commands' pipeline judges it.
+bool has_area(const io::SurfaceInput& in) {
+  for (const Triangle& t : in.triangles) {
+    double l[3];
+    for (int k = 0; k < 3; ++k) {
+      l[k] = intrinsic::side_length(in.positions.row(t[k]).data(),
+                                    in.positions.row(t[(k + 1) % 3]).data());
+    }
+    const double scale = intrinsic::power_of_two_scale(std::max({l[0], l[1], l[2]}));
+    if (intrinsic::triangle_area(l[0] / scale, l[1] / scale, l[2] / scale) > 0.0) return true;
+  }
+  return false;
+}
+
 // The signpost triangulation of the input; a nonmanifold or non-orientable mesh is refused
 // with what FlipOut needs (the library's message names the offending edge).
 SignpostTriangulation build_signposts(const io::SurfaceInput& in, const Args& args) {
   if (!in.has_faces()) {
     throw InvalidInput("geodesic needs a triangle mesh (the input has no faces: a point cloud)");
+  }
+  if (!has_area(in)) {
+    throw InvalidInput(
+        "the input has no surface to compute on: zero total area (all vertices coincide, or "
+        "every face is degenerate)");
   }
   try {
     return SignpostTriangulation(in.triangles, in.positions, args.real("mollify"));
@@ -317,8 +338,12 @@ CurveRun shorten_curves(SignpostTriangulation& st, const std::vector<CurveSpec>&
   CurveRun run;
   std::vector<EdgePath> paths;
   for (std::size_t c = 0; c < specs.size(); ++c) {
-    paths.push_back(intrinsic::edge_path_through(st.intrinsic(), ids[c], specs[c].closed,
-                                                 specs[c].pin, intrinsic::JoinBy::kDijkstra));
+    try {
+      paths.push_back(intrinsic::edge_path_through(st.intrinsic(), ids[c], specs[c].closed,
+                                                   specs[c].pin, intrinsic::JoinBy::kDijkstra));
+    } catch (const InvalidInput& e) {  // e.g. points on different components: say which curve
+      throw InvalidInput(specs[c].where + ": " + e.what());
+    }
     CurveResult r;
     r.label = curve_label(specs[c]);
     r.initial_length = intrinsic::path_length(st.intrinsic(), paths.back());
