@@ -162,8 +162,9 @@ std::vector<Eigen::Vector3d> path_polyline(const SignpostTriangulation& st, cons
 
 /// Inserts a point of the input surface (face of st.input(), barycentric coordinates ≥ 0
 /// summing to 1 within 1e-9) as an intrinsic vertex and returns its id: an existing vertex when
-/// the point is one (within `snap` of it, relative to the face's longest side), a split of the
-/// intrinsic edge it lies on, else a new vertex inside an intrinsic face. Works on any state
+/// the point is one (a barycentric coordinate ≥ 1 − `snap`, in the input face or in the
+/// intrinsic face it lands in), a split of the intrinsic edge it lies on (a coordinate ≤ snap),
+/// else a new vertex inside an intrinsic face. Works on any state
 /// of st (flips and earlier insertions): the point is found by tracing from an input corner.
 /// @throws InvalidInput naming the face or coordinates when they are out of range
 /// @throws TraceError when the trace fails (degenerate input)

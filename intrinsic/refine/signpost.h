@@ -116,6 +116,12 @@ class SignpostTriangulation {
   bool is_boundary_vertex(Index v) const { return boundary_[v] != 0; }
   /// Signpost of intrinsic halfedge h: its direction at its tail, in [0, Θ_tail].
   double halfedge_direction(Index h) const { return direction_[h]; }
+  /// Signpost of input halfedge h (of input()): its direction at its tail, in the same angular
+  /// coordinate as the intrinsic signposts at that (input) vertex.
+  double input_halfedge_direction(Index h) const { return input_direction_[h]; }
+  /// Angle a as a signpost direction at intrinsic vertex v: modulo Θ_v into [0, Θ_v) at an
+  /// interior vertex, clamped to [0, Θ_v] at a boundary vertex.
+  double wrap_direction(Index v, double a) const { return wrap(v, a); }
   /// Where intrinsic vertex v lies on the input (an input face and barycentric coordinates).
   const SurfacePoint& vertex_location(Index v) const { return location_[v]; }
   /// 3D position of a point of the input surface.

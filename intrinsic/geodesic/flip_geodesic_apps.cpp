@@ -1,0 +1,264 @@
+// What FlipOut is used for (flip_geodesic.h): surface points as path ends, geodesic Bézier
+// curves by de Casteljau subdivision, and single-source geodesics.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <string>
+
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/geodesic/flip_geodesic.h"
+#include "intrinsic/geodesic/flip_network.h"
+
+namespace ifem::intrinsic {
+
+namespace {
+
+using T = IntrinsicTriangulation;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// Calls f(edge, neighbour) for every edge at v (around its fan; both boundary edges included).
+template <typename F>
+void for_each_edge_at(const T& tri, Index v, F&& f) {
+  const Index h0 = tri.vertex_halfedge(v);
+  if (h0 == kInvalidIndex) return;
+  Index x = h0;
+  for (Index guard = 0; guard <= tri.n_halfedges(); ++guard) {
+    f(tri.edge(x), tri.head(x));
+    const Index n = tri.twin(T::prev(x));
+    if (n == kInvalidIndex) {  // the fan's last side enters v along the boundary
+      f(tri.edge(T::prev(x)), tri.tail(T::prev(x)));
+      return;
+    }
+    if (n == h0) return;
+    x = n;
+  }
+}
+
+// The outgoing intrinsic halfedge of input vertex v whose wedge holds signpost direction phi.
+Index wedge_holding(const SignpostTriangulation& st, Index v, double phi) {
+  const T& tri = st.intrinsic();
+  Index best = kInvalidIndex;
+  double gap = kInf;
+  const Index h0 = tri.vertex_halfedge(v);
+  Index x = h0;
+  for (Index guard = 0; x != kInvalidIndex && guard <= tri.n_halfedges(); ++guard) {
+    const double a0 = st.halfedge_direction(x), a1 = a0 + corner_angle(tri, x);
+    if (phi >= a0 && phi < a1) return x;
+    const double g = phi < a0 ? a0 - phi : phi - a1;
+    if (g < gap) gap = g, best = x;
+    x = tri.twin(T::prev(x));
+    if (x == h0) break;
+  }
+  return best;
+}
+
+// Where a point of the input lies on the intrinsic triangulation: traced from input corner k
+// of input face f, at distance and angle taken in f's layout.
+SurfacePoint locate_input_point(const SignpostTriangulation& st, Index f, const Eigen::Vector3d& b) {
+  Eigen::Vector2d p[3];
+  face_layout(st.input(), f, p);
+  const Eigen::Vector2d x = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
+  int k = 0;
+  for (int j = 1; j < 3; ++j) {
+    if ((x - p[j]).squaredNorm() < (x - p[k]).squaredNorm()) k = j;
+  }
+  const Index v = st.input().tail(3 * f + k);
+  const Eigen::Vector2d w = x - p[k], e = p[(k + 1) % 3] - p[k];
+  const double alpha = std::atan2(cross2(e, w), e.dot(w));
+  const double phi = st.wrap_direction(v, st.input_halfedge_direction(3 * f + k) + alpha);
+  const Index h = wedge_holding(st, v, phi);
+  if (h == kInvalidIndex) throw InvalidInput("input vertex " + std::to_string(v) + " has no faces");
+  const T& tri = st.intrinsic();
+  Eigen::Vector2d q[3];
+  face_layout(tri, T::face(h), q);
+  const int s = static_cast<int>(T::side(h));
+  const Eigen::Vector2d ed = (q[(s + 1) % 3] - q[s]).normalized();
+  const double turn = std::clamp(phi - st.halfedge_direction(h), 0.0, corner_angle(tri, h));
+  SurfacePoint start;
+  start.face = T::face(h);
+  start.bary[s] = 1.0;
+  TraceOptions o;
+  o.start_corner = s;
+  const Eigen::Vector2d dir = std::cos(turn) * ed + std::sin(turn) * Eigen::Vector2d(-ed.y(), ed.x());
+  return trace_straight(tri, start, dir, w.norm(), o).end;
+}
+
+}  // namespace
+
+Index insert_surface_point(SignpostTriangulation& st, const SurfacePoint& p, double snap) {
+  const T& in = st.input();
+  if (p.face < 0 || p.face >= in.n_faces()) {
+    throw InvalidInput("surface point: face " + std::to_string(p.face) + " is out of range [0, " +
+                       std::to_string(in.n_faces()) + ")");
+  }
+  const Eigen::Vector3d& b = p.bary;
+  if (!b.allFinite() || b.minCoeff() < -1e-12 || std::abs(b.sum() - 1.0) > 1e-9) {
+    throw InvalidInput("surface point in face " + std::to_string(p.face) +
+                       ": barycentric coordinates must be ≥ 0 and sum to 1");
+  }
+  const Eigen::Vector3d bc = b.cwiseMax(0.0) / b.cwiseMax(0.0).sum();
+  Eigen::Index k = 0;
+  if (bc.maxCoeff(&k) >= 1.0 - snap) return in.tail(3 * p.face + k);
+  const SurfacePoint at = locate_input_point(st, p.face, bc);
+  const T& tri = st.intrinsic();
+  const Eigen::Vector3d& q = at.bary;
+  Eigen::Index c = 0;
+  if (q.maxCoeff(&c) >= 1.0 - snap) return tri.tail(3 * at.face + c);
+  if (q.minCoeff(&c) <= snap) {  // on the side opposite corner c
+    const Index hs = 3 * at.face + (c + 1) % 3;
+    const double u = q[(c + 1) % 3], w = q[(c + 2) % 3];
+    const Index e = tri.edge(hs);
+    const double t = tri.edge_halfedge(e) == hs ? w / (u + w) : u / (u + w);
+    if (tri.can_split_edge(e)) return st.split_edge(e, t);
+  }
+  return st.insert_vertex(at.face, q.cwiseMax(snap) / q.cwiseMax(snap).sum());
+}
+
+namespace {
+
+// A FlipOut geodesic between two vertices (on the current triangulation; flips it).
+EdgePath geodesic_between(SignpostTriangulation& st, Index a, Index b, const FlipOutOptions& o) {
+  EdgePath p = shortest_edge_path(st.intrinsic(), a, b);
+  shorten(st, p, o);
+  return p;
+}
+
+// The vertex halfway along the geodesic from a to b: an existing vertex within 1e-9 of the
+// length, else a new one splitting the edge there (counted in *inserted).
+Index midpoint(SignpostTriangulation& st, Index a, Index b, const FlipOutOptions& o,
+               Index* inserted) {
+  if (a == b) return a;
+  const EdgePath p = geodesic_between(st, a, b, o);
+  const T& tri = st.intrinsic();
+  const double half = 0.5 * path_length(tri, p);
+  double before = 0.0;
+  for (const PathStep& s : p.steps) {
+    const double l = tri.length(s.edge);
+    if (before + l < half) {
+      before += l;
+      continue;
+    }
+    const double t = (half - before) / l;
+    if (t <= 1e-9) return step_tail(tri, s);
+    if (t >= 1.0 - 1e-9 || !tri.can_split_edge(s.edge)) return step_head(tri, s);
+    ++*inserted;
+    return st.split_edge(s.edge, s.forward ? t : 1.0 - t);
+  }
+  return b;
+}
+
+// One de Casteljau step at t = 1/2 of the piece `c` (d + 1 points): its two halves, joined
+// (2d + 1 points).
+std::vector<Index> split_piece(SignpostTriangulation& st, std::vector<Index> c,
+                               const FlipOutOptions& o, Index* inserted) {
+  std::vector<Index> left{c.front()}, right{c.back()};
+  while (c.size() > 1) {
+    std::vector<Index> next;
+    for (std::size_t i = 0; i + 1 < c.size(); ++i) {
+      next.push_back(midpoint(st, c[i], c[i + 1], o, inserted));
+    }
+    c = std::move(next);
+    left.push_back(c.front());
+    right.push_back(c.back());
+  }
+  left.insert(left.end(), right.rbegin() + 1, right.rend());
+  return left;
+}
+
+}  // namespace
+
+BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& control, int rounds,
+                         const FlipOutOptions& options) {
+  options.validate();
+  if (rounds < 0 || rounds > 16) {
+    throw InvalidInput("bezier_curve: rounds must be in [0, 16], got " + std::to_string(rounds));
+  }
+  // validates the points (range, consecutive repeats, components) before anything is flipped
+  (void)edge_path_through(st.intrinsic(), control, false, true);
+  const std::size_t d = control.size() - 1;
+  BezierCurve out;
+  std::vector<Index> pts = control;
+  for (int r = 0; r < rounds; ++r) {
+    std::vector<Index> next{pts.front()};
+    for (std::size_t k = 0; k + d < pts.size(); k += d) {
+      const std::vector<Index> piece(pts.begin() + k, pts.begin() + k + d + 1);
+      const std::vector<Index> halves = split_piece(st, piece, options, &out.inserted_vertices);
+      next.insert(next.end(), halves.begin() + 1, halves.end());
+    }
+    pts = std::move(next);
+  }
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  out.controls = pts;
+  out.path = edge_path_through(st.intrinsic(), pts, false, true);
+  out.report = shorten(st, out.path, options);
+  return out;
+}
+
+SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index source,
+                                              const FlipOutOptions& options) {
+  options.validate();
+  const T& tri = st.intrinsic();
+  const Index nv = tri.n_vertices();
+  if (source < 0 || source >= nv) {
+    throw InvalidInput("single_source_geodesics: source " + std::to_string(source) +
+                       " is out of range [0, " + std::to_string(nv) + ")");
+  }
+  SingleSourceGeodesics out;
+  out.length = Eigen::VectorXd::Constant(nv, kInf);
+  out.paths.resize(nv);
+  std::vector<char> accepted(nv, 0);
+  struct Entry {
+    double d;
+    Index v, parent, edge;
+    bool operator>(const Entry& o) const { return d > o.d; }
+  };
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  auto offer = [&](Index e, Index from, Index to) {
+    if (accepted[from] && !accepted[to]) queue.push({out.length[from] + tri.length(e), to, from, e});
+  };
+  std::vector<int> uses(tri.n_edges(), 0);
+  detail::FlipNetwork net(st, uses, nullptr);
+  net.on_flip = [&](Index e) {  // a flip may join the accepted region to a new vertex
+    const Index h = tri.edge_halfedge(e);
+    offer(e, tri.tail(h), tri.head(h));
+    offer(e, tri.head(h), tri.tail(h));
+  };
+  auto accept = [&](Index v, double length) {
+    accepted[v] = 1;
+    out.length[v] = length;
+    for_each_edge_at(tri, v, [&](Index e, Index u) { offer(e, v, u); });
+  };
+  accept(source, 0.0);
+  FlipOutReport rep;
+  while (!queue.empty()) {
+    const Entry top = queue.top();
+    queue.pop();
+    if (accepted[top.v]) continue;
+    const Index h = tri.edge_halfedge(top.edge);
+    const bool along = tri.tail(h) == top.parent && tri.head(h) == top.v;
+    if (!along && !(tri.head(h) == top.parent && tri.tail(h) == top.v)) continue;  // flipped
+    EdgePath path = out.paths[top.parent];
+    path.steps.push_back({top.edge, along});
+    net.release_curves();
+    net.add(path, top.v);
+    rep = {};
+    net.run(options, rep);
+    out.paths[top.v] = net.extract(0);
+    out.iterations += rep.iterations;
+    if (rep.stopped_by != FlipOutStop::kConverged) ++out.blocked;
+    accept(top.v, rep.final_length);
+  }
+  out.flips = rep.flips;
+  out.tree_edges.assign(tri.n_edges(), 0);
+  for (Index e = 0; e < tri.n_edges(); ++e) out.tree_edges[e] = uses[e] > 0 ? 1 : 0;
+  return out;
+}
+
+}  // namespace ifem::intrinsic

@@ -1,0 +1,369 @@
+// The FlipOut engine (flip_network.h). Walks are by halfedge identity throughout: in a
+// Δ-complex a vertex can appear several times around a wedge, so no vertex comparison decides
+// anything here.
+#include "intrinsic/geodesic/flip_network.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
+
+namespace ifem::intrinsic::detail {
+
+namespace {
+
+using T = IntrinsicTriangulation;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+PathStep reversed(const PathStep& s) { return {s.edge, !s.forward}; }
+
+// The step that traverses halfedge h along it.
+PathStep step_along(const T& tri, Index h) {
+  const Index e = tri.edge(h);
+  return {e, tri.edge_halfedge(e) == h};
+}
+
+// Angle inside the wedge at the far end of its interior edge w[i] (0 < i < #w).
+double beta(const T& tri, const std::vector<Index>& w, std::size_t i) {
+  return corner_angle(tri, T::prev(w[i - 1])) + corner_angle(tri, T::next(w[i]));
+}
+
+}  // namespace
+
+std::vector<Index> wedge_faces(const IntrinsicTriangulation& tri, Index start, Index end) {
+  if (start == kInvalidIndex || end == kInvalidIndex) return {};
+  std::vector<Index> w{start};
+  for (Index x = start; T::prev(x) != end;) {
+    x = tri.twin(T::prev(x));
+    if (x == kInvalidIndex || static_cast<Index>(w.size()) > tri.n_halfedges()) return {};
+    w.push_back(x);
+  }
+  return w;
+}
+
+double wedge_angle(const IntrinsicTriangulation& tri, const std::vector<Index>& w) {
+  if (w.empty()) return kInf;
+  double a = 0.0;
+  for (const Index x : w) a += corner_angle(tri, x);
+  return a;
+}
+
+std::vector<Index> joint_wedge(const IntrinsicTriangulation& tri, const PathStep& in,
+                               const PathStep& out, int side) {
+  if (side == 0) return wedge_faces(tri, step_halfedge(tri, out), step_halfedge(tri, in));
+  return wedge_faces(tri, step_halfedge(tri, reversed(in)), step_halfedge(tri, reversed(out)));
+}
+
+FlipNetwork::FlipNetwork(SignpostTriangulation& st, std::vector<int>& uses,
+                         const std::vector<char>* fixed)
+    : st_(st), uses_(uses), fixed_(fixed) {
+  uses_.resize(st.intrinsic().n_edges(), 0);
+}
+
+Index FlipNetwork::new_node(const PathStep& s, Index curve) {
+  Node n;
+  n.step = s;
+  n.curve = curve;
+  nodes_.push_back(n);
+  ++uses_[s.edge];
+  curves_[curve].length += st_.intrinsic().length(s.edge);
+  return static_cast<Index>(nodes_.size()) - 1;
+}
+
+void FlipNetwork::link(Index a, Index b) {
+  if (a != kInvalidIndex) {
+    nodes_[a].next = b;
+    ++nodes_[a].stamp;
+  }
+  if (b != kInvalidIndex) nodes_[b].prev = a;
+}
+
+Index FlipNetwork::add(const EdgePath& path, Index id) {
+  const T& tri = st_.intrinsic();
+  const Index n = static_cast<Index>(path.steps.size());
+  const std::string where = "curve " + std::to_string(id) + ": ";
+  for (Index i = 0; i < n; ++i) {
+    const PathStep& s = path.steps[i];
+    if (s.edge < 0 || s.edge >= tri.n_edges()) {
+      throw InvalidInput(where + "step " + std::to_string(i) + " has no edge " +
+                         std::to_string(s.edge));
+    }
+    const bool wraps = path.closed && i + 1 == n;
+    if ((i + 1 < n || wraps) && step_head(tri, s) != step_tail(tri, path.steps[wraps ? 0 : i + 1])) {
+      throw InvalidInput(where + "steps " + std::to_string(i) + " and " +
+                         std::to_string(wraps ? 0 : i + 1) + " are not consecutive");
+    }
+  }
+  const Index c = static_cast<Index>(curves_.size());
+  curves_.push_back({kInvalidIndex, path.closed, 0.0});
+  std::vector<Index> ids;
+  for (const PathStep& s : path.steps) {
+    ids.push_back(new_node(s, c));
+    if (ids.size() > 1) link(ids[ids.size() - 2], ids.back());
+  }
+  if (!ids.empty()) {
+    curves_[c].first = ids.front();
+    if (path.closed) link(ids.back(), ids.front());
+  }
+  for (const Index j : path.pinned) {
+    const bool ok = path.closed ? (j >= 0 && j < n) : (j >= 1 && j < n);
+    if (!ok) {
+      throw InvalidInput(where + "pinned joint " + std::to_string(j) + " out of range");
+    }
+    nodes_[ids[j == 0 ? n - 1 : j - 1]].pin_head = true;
+  }
+  return c;
+}
+
+void FlipNetwork::release_curves() {
+  nodes_.clear();
+  curves_.clear();
+  queue_ = {};
+}
+
+bool FlipNetwork::is_joint(Index a) const {
+  return a != kInvalidIndex && nodes_[a].alive && nodes_[a].next != kInvalidIndex;
+}
+
+std::vector<Index> FlipNetwork::joint_wedge(Index a, int side) const {
+  return detail::joint_wedge(st_.intrinsic(), nodes_[a].step, nodes_[nodes_[a].next].step, side);
+}
+
+Eigen::Vector2d FlipNetwork::joint_angles(Index a) const {
+  const PathStep& in = nodes_[a].step;
+  const PathStep& out = nodes_[nodes_[a].next].step;
+  if (a != nodes_[a].next && in.edge == out.edge && in.forward != out.forward) return {0.0, 0.0};
+  const T& tri = st_.intrinsic();
+  return {wedge_angle(tri, joint_wedge(a, 0)), wedge_angle(tri, joint_wedge(a, 1))};
+}
+
+void FlipNetwork::push_joint(Index a) {
+  if (!is_joint(a) || nodes_[a].pin_head) return;
+  const double m = joint_angles(a).minCoeff();
+  if (m < limit_) queue_.push({m, a, nodes_[a].stamp});
+}
+
+bool FlipNetwork::remove_backtrack(Index a) {
+  const Index b = nodes_[a].next;
+  const PathStep& in = nodes_[a].step;
+  const PathStep& out = nodes_[b].step;
+  if (a == b || in.edge != out.edge || in.forward == out.forward) return false;
+  Curve& c = curves_[nodes_[a].curve];
+  const Index p = nodes_[a].prev, n = nodes_[b].next;
+  uses_[in.edge] -= 2;
+  c.length -= 2.0 * st_.intrinsic().length(in.edge);
+  for (const Index x : {a, b}) {
+    nodes_[x].alive = false;
+    ++nodes_[x].stamp;
+  }
+  if (c.closed && p == b) {  // a two-step loop back and forth: shrunk to a point
+    c.first = kInvalidIndex;
+    c.length = 0.0;
+    return true;
+  }
+  if (p != kInvalidIndex) nodes_[p].pin_head = nodes_[p].pin_head || nodes_[b].pin_head;
+  link(p, n);
+  if (c.first == a || c.first == b) c.first = n;  // open: a was first; loop: any node will do
+  push_joint(p);
+  return true;
+}
+
+// Flips the wedge's interior edges whose angle β at their far end is < π (their diamonds are
+// then convex: the wedge angle is < π too) until none is left. Returns the final wedge, or an
+// empty one when the wedge holds a curve edge or a fixed edge (straightening would cross it),
+// or an edge with β < π that cannot be flipped.
+std::vector<Index> FlipNetwork::flip_wedge(Index a, int side) {
+  const T& tri = st_.intrinsic();
+  std::vector<Index> w = joint_wedge(a, side);
+  for (std::size_t j = 1; j < w.size(); ++j) {
+    const Index e = tri.edge(w[j]);
+    if (uses_[e] > 0 || (fixed_ != nullptr && (*fixed_)[e] != 0)) return {};
+  }
+  for (std::size_t guard = w.size(); guard > 0 && !w.empty(); --guard) {
+    bool flipped = false, refused = false;
+    for (std::size_t j = 1; j < w.size() && !flipped; ++j) {
+      if (beta(tri, w, j) >= kPi) continue;
+      const Index e = tri.edge(w[j]);
+      if (st_.flip_edge(e)) {
+        flipped = true;
+        ++flips_;
+        if (on_flip) on_flip(e);
+      } else {
+        refused = true;
+      }
+    }
+    if (!flipped) return refused ? std::vector<Index>{} : w;
+    w = joint_wedge(a, side);
+  }
+  return {};
+}
+
+// Replaces the steps of joint a (a and its next) by the outer boundary of wedge w.
+void FlipNetwork::reroute(Index a, int side, const std::vector<Index>& w) {
+  const T& tri = st_.intrinsic();
+  std::vector<PathStep> chain;
+  for (const Index x : w) chain.push_back(step_along(tri, T::next(x)));
+  if (side == 0) {  // the chain runs from the outgoing step's head to the incoming step's tail
+    std::reverse(chain.begin(), chain.end());
+    for (PathStep& c : chain) c = reversed(c);
+  }
+  const Index b = nodes_[a].next;
+  const Index ci = nodes_[a].curve;
+  const bool whole = curves_[ci].closed && (a == b || nodes_[a].prev == b);
+  const Index p = whole ? kInvalidIndex : nodes_[a].prev;
+  const Index n = whole ? kInvalidIndex : nodes_[b].next;
+  const bool pin = nodes_[b].pin_head && !whole;
+  for (const Index x : {a, b}) {
+    if (!nodes_[x].alive) continue;  // a == b: one node
+    --uses_[nodes_[x].step.edge];
+    curves_[ci].length -= tri.length(nodes_[x].step.edge);
+    nodes_[x].alive = false;
+    ++nodes_[x].stamp;
+  }
+  Index last = p, first_new = kInvalidIndex;
+  for (const PathStep& s : chain) {
+    const Index x = new_node(s, ci);
+    if (first_new == kInvalidIndex) first_new = x;
+    link(last, x);
+    last = x;
+  }
+  nodes_[last].pin_head = pin;
+  link(last, whole ? first_new : n);
+  Curve& c = curves_[ci];
+  if (whole || c.first == a || c.first == b) c.first = first_new;
+  push_joint(p);
+  for (Index x = first_new;; x = nodes_[x].next) {
+    push_joint(x);
+    if (x == last) break;
+  }
+}
+
+// One FlipOut at joint a, on its smaller bent side first; false if both are blocked.
+bool FlipNetwork::straighten(Index a) {
+  if (!is_joint(a) || nodes_[a].pin_head) return false;
+  if (remove_backtrack(a)) return true;
+  const Eigen::Vector2d angles = joint_angles(a);
+  const int first = angles[0] <= angles[1] ? 0 : 1;
+  for (const int side : {first, 1 - first}) {
+    if (!(angles[side] < limit_)) continue;
+    const std::vector<Index> w = flip_wedge(a, side);
+    if (w.empty()) continue;
+    reroute(a, side, w);
+    return true;
+  }
+  return false;
+}
+
+Index FlipNetwork::push_all_bends() {
+  const std::size_t before = queue_.size();
+  for (const Curve& c : curves_) {
+    if (c.first == kInvalidIndex) continue;
+    Index x = c.first;
+    do {
+      push_joint(x);
+      x = nodes_[x].next;
+    } while (x != kInvalidIndex && x != c.first);
+  }
+  return static_cast<Index>(queue_.size() - before);
+}
+
+void FlipNetwork::finish(FlipOutReport& rep) const {
+  rep.lengths.clear();
+  rep.collapsed_loops.clear();
+  rep.final_length = 0.0;
+  for (Index ci = 0; ci < n_curves(); ++ci) {
+    const EdgePath p = extract(ci);
+    const double l = path_length(st_.intrinsic(), p);
+    rep.lengths.push_back(l);
+    rep.final_length += l;
+    if (!p.closed) continue;
+    const bool point = p.steps.empty();
+    const bool stuck_self_edge =
+        p.steps.size() == 1 && wedge_angles(st_.intrinsic(), p, 0).minCoeff() < limit_;
+    if (point || stuck_self_edge) rep.collapsed_loops.push_back(ci);
+  }
+  rep.flips = flips_;
+}
+
+void FlipNetwork::run(const FlipOutOptions& options, FlipOutReport& rep) {
+  options.validate();
+  limit_ = kPi - options.angle_epsilon;
+  const Index cap = options.max_iterations >= 0 ? options.max_iterations
+                                                : 10 * st_.intrinsic().n_edges() + 1000;
+  rep.initial_length = 0.0;
+  for (const Curve& c : curves_) rep.initial_length += c.length;
+  auto total = [this] {
+    double s = 0.0;
+    for (const Curve& c : curves_) s += c.length;
+    return s;
+  };
+  const Index round = std::max<Index>(100, static_cast<Index>(nodes_.size()));
+  double mark = rep.initial_length;
+  Index since_mark = 0, successes = 0;
+  push_all_bends();
+  rep.stopped_by = FlipOutStop::kConverged;
+  for (bool done = false; !done;) {
+    while (!queue_.empty() && !done) {
+      const Bend b = queue_.top();
+      queue_.pop();
+      if (!is_joint(b.node) || nodes_[b.node].stamp != b.stamp || nodes_[b.node].pin_head) continue;
+      const double m = joint_angles(b.node).minCoeff();
+      if (!(m < limit_)) continue;
+      if (m > b.angle) {  // the key is stale (flips elsewhere opened this joint): requeue
+        queue_.push({m, b.node, b.stamp});
+        continue;
+      }
+      if (rep.iterations >= cap) {
+        rep.stopped_by = FlipOutStop::kIterationCap;
+        done = true;
+        break;
+      }
+      if (!straighten(b.node)) continue;
+      ++rep.iterations;
+      ++successes;
+      if (++since_mark >= round) {
+        const double now = total();
+        if (mark - now < options.min_relative_decrease * mark) {
+          rep.stopped_by = FlipOutStop::kNoProgress;
+          done = true;
+        }
+        mark = now;
+        since_mark = 0;
+      }
+    }
+    if (done) break;
+    const Index bent = push_all_bends();  // bends opened by flips elsewhere, and blocked ones
+    if (bent == 0) break;
+    if (successes == 0) {
+      rep.stopped_by = FlipOutStop::kBlocked;
+      rep.blocked_joints = bent;
+      break;
+    }
+    successes = 0;
+  }
+  queue_ = {};
+  finish(rep);
+}
+
+EdgePath FlipNetwork::extract(Index ci) const {
+  EdgePath p;
+  p.closed = curves_[ci].closed;
+  const Index first = curves_[ci].first;
+  if (first == kInvalidIndex) return p;
+  Index x = first;
+  do {
+    p.steps.push_back(nodes_[x].step);
+    if (nodes_[x].pin_head && nodes_[x].next != kInvalidIndex) {
+      const Index k = static_cast<Index>(p.steps.size());
+      p.pinned.push_back(nodes_[x].next == first ? 0 : k);
+    }
+    x = nodes_[x].next;
+  } while (x != kInvalidIndex && x != first);
+  std::sort(p.pinned.begin(), p.pinned.end());
+  return p;
+}
+
+}  // namespace ifem::intrinsic::detail

@@ -1,0 +1,89 @@
+// The FlipOut engine behind shorten(), bezier_curve() and single_source_geodesics() (internal:
+// include flip_geodesic.h). Curves are held as linked lists of steps so that a reroute splices
+// in O(chain) and a priority queue of joints (smallest wedge angle first, lazily re-validated)
+// finds the next bend without rescanning the curves.
+#pragma once
+
+#include <functional>
+#include <queue>
+#include <vector>
+
+#include "intrinsic/geodesic/flip_geodesic.h"
+
+namespace ifem::intrinsic::detail {
+
+/// The faces swept counter-clockwise around a vertex b from the edge of `start` (a halfedge
+/// leaving b) to the edge of `end` (a halfedge entering b), each given by its halfedge x leaving
+/// b (face(x) spans from x to prev(x)). Empty if either is invalid, a boundary side is met
+/// first, or the walk does not close.
+std::vector<Index> wedge_faces(const IntrinsicTriangulation& tri, Index start, Index end);
+/// Sum of the corner angles at b of a wedge (+∞ for an empty one).
+double wedge_angle(const IntrinsicTriangulation& tri, const std::vector<Index>& w);
+/// The wedge of side `side` at the joint of steps `in` → `out` (see wedge_angles()).
+std::vector<Index> joint_wedge(const IntrinsicTriangulation& tri, const PathStep& in,
+                               const PathStep& out, int side);
+
+class FlipNetwork {
+ public:
+  /// `uses`: #E counts of curve steps per edge, shared with the caller (single-source geodesics
+  /// keeps the accepted paths counted across runs); `fixed`: optional #E flags never flipped.
+  FlipNetwork(SignpostTriangulation& st, std::vector<int>& uses, const std::vector<char>* fixed);
+
+  /// Adds a curve (its steps are counted in uses); returns its id. @throws InvalidInput if the
+  /// steps are not consecutive or a pinned joint is out of range
+  Index add(const EdgePath& path, Index id_for_messages);
+  /// Forgets every curve without uncounting their steps (they stay as obstacles).
+  void release_curves();
+  /// Shortens all curves; fills the report's counts, stop reason, lengths and collapsed loops.
+  void run(const FlipOutOptions& options, FlipOutReport& report);
+  /// The current curve c as an EdgePath (pinned joints renumbered).
+  EdgePath extract(Index c) const;
+  Index n_curves() const { return static_cast<Index>(curves_.size()); }
+  /// Called after every successful flip with the flipped edge.
+  std::function<void(Index)> on_flip;
+
+ private:
+  struct Node {
+    PathStep step;
+    Index prev = kInvalidIndex, next = kInvalidIndex;
+    Index curve = kInvalidIndex;
+    unsigned stamp = 0;     // changes whenever the joint at this node's head changes
+    bool pin_head = false;  // the joint at this node's head is pinned
+    bool alive = true;
+  };
+  struct Curve {
+    Index first = kInvalidIndex;  // kInvalidIndex: no steps
+    bool closed = false;
+    double length = 0.0;
+  };
+  struct Bend {
+    double angle;
+    Index node;
+    unsigned stamp;
+    bool operator>(const Bend& o) const { return angle > o.angle; }
+  };
+
+  bool is_joint(Index a) const;
+  Eigen::Vector2d joint_angles(Index a) const;
+  std::vector<Index> joint_wedge(Index a, int side) const;
+  void push_joint(Index a);
+  Index new_node(const PathStep& s, Index curve);
+  void link(Index a, Index b);
+  bool remove_backtrack(Index a);
+  std::vector<Index> flip_wedge(Index a, int side);
+  void reroute(Index a, int side, const std::vector<Index>& wedge);
+  bool straighten(Index a);
+  Index push_all_bends();
+  void finish(FlipOutReport& report) const;
+
+  SignpostTriangulation& st_;
+  std::vector<int>& uses_;
+  const std::vector<char>* fixed_;
+  std::vector<Node> nodes_;
+  std::vector<Curve> curves_;
+  std::priority_queue<Bend, std::vector<Bend>, std::greater<Bend>> queue_;
+  double limit_ = 0.0;  // π − ε
+  Index flips_ = 0;
+};
+
+}  // namespace ifem::intrinsic::detail
