@@ -424,7 +424,7 @@ void write_curves(const std::string& path, const std::vector<CurveResult>& curve
       if (c.polyline.size() >= 2) lines.push_back(c.polyline);
     }
     intrinsic::write_polylines_ply(path, lines, false,
-                                   "ifem geodesic: curves on the input surface");
+                                   "geodesic curves on the input surface (ifem geodesic)");
   } else {
     io::detail::write_file_atomically(path,
                                       ext == ".obj" ? curves_obj(curves) : curves_txt(curves));
@@ -438,7 +438,9 @@ void print_curves(const CurveRun& run, double seconds) {
     const CurveResult& r = run.curves[c];
     std::printf("curve %zu (%s): length %.12g -> %.12g, %zu points%s\n", c + 1, r.label.c_str(),
                 r.initial_length, r.final_length, r.polyline.size(),
-                r.collapsed ? "; collapsed: a contractible loop shrank to a point" : "");
+                r.collapsed
+                    ? "; collapsed: a contractible loop shrank to a point or around one vertex"
+                    : "");
   }
   const FlipOutReport& rep = run.report;
   std::printf("FlipOut: %d flips, %d iterations, stopped: %s", rep.flips, rep.iterations,
