@@ -1,14 +1,26 @@
-// `ifem geodesic`: a geodesic path through given vertices by FlipOut (edge flips on a signpost
-// intrinsic triangulation), written as an OBJ polyline on the input surface.
+// `ifem geodesic`: geodesic paths, loops, curve networks and Bézier curves by FlipOut (edge
+// flips on a signpost intrinsic triangulation), traced over the input surface; or the lengths
+// of single-source geodesics to every vertex.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "cli.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
 #include "intrinsic/core/timer.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
+#include "intrinsic/io/detail.h"
+#include "intrinsic/refine/common_subdivision.h"
 #include "results.h"
 
 namespace ifem::cli {
@@ -17,93 +29,581 @@ namespace {
 using intrinsic::EdgePath;
 using intrinsic::FlipOutReport;
 using intrinsic::SignpostTriangulation;
+using Polyline = std::vector<Eigen::Vector3d>;
 
-// Atomic (path.tmp, then rename): no partial file on an error.
-void write_polyline_obj(const std::string& path, const std::vector<Eigen::Vector3d>& line) {
-  const std::string tmp = path + ".tmp";
-  std::ofstream f(tmp);
-  if (!f) throw IoError(path + ": cannot open for writing");
-  f.precision(17);
-  f << "# ifem geodesic: " << line.size() << " points\n";
-  for (const Eigen::Vector3d& p : line) f << "v " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
-  f << 'l';
-  for (std::size_t i = 0; i < line.size(); ++i) f << ' ' << i + 1;
-  f << '\n';
-  f.close();
-  if (!f || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw IoError(path + ": write failed");
+// A point as the user names it: an input vertex, or a point of a face of the mesh file.
+struct PointSpec {
+  Index vertex = kInvalidIndex;  // input vertex id; kInvalidIndex for a face point
+  Index face = kInvalidIndex;    // face of the file, 0-based
+  double u = 0.0, v = 0.0;       // barycentric coordinates (1 − u − v, u, v) of its corners
+  std::string token;             // as given, for messages
+};
+
+// One curve as the user asks for it, and where it was asked for (for messages).
+struct CurveSpec {
+  std::vector<PointSpec> points;
+  bool closed = false;
+  bool pin = true;    // keep every given point on the curve (open paths always do)
+  std::string where;  // "--path" or "FILE:LINE"
+  bool usage = true;  // a bad point is a command-line error (exit 2), not a file's (exit 1)
+};
+
+// A curve once shortened: its lengths and its trace over the input.
+struct CurveResult {
+  std::string label;  // "path through 3 points"
+  double initial_length = 0.0;
+  double final_length = 0.0;
+  bool closed = false;
+  bool collapsed = false;  // a loop that shrank to a point (or a self-edge around one vertex)
+  Polyline polyline;       // a loop repeats its first point at the end
+};
+
+// What a curve command computed, everything before the output is written.
+struct CurveRun {
+  std::vector<CurveResult> curves;
+  FlipOutReport report;
+  std::string extra;  // a line about the curves' making (Bézier control points), or ""
+};
+
+// One whole token as an integer / a finite number (no partial parse).
+bool whole_integer(const std::string& t, long long& v) {
+  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  return !t.empty() && ec == std::errc() && ptr == t.data() + t.size();
+}
+bool whole_real(const std::string& t, double& x) {
+  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
+  return !t.empty() && ec == std::errc() && ptr == t.data() + t.size() && std::isfinite(x);
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(s);
+  while (std::getline(in, part, sep)) parts.push_back(part);
+  if (!s.empty() && s.back() == sep) parts.emplace_back();
+  if (s.empty()) parts.emplace_back();
+  return parts;
+}
+
+// face:F:u:v into p; "" on success, else what is wrong with it.
+std::string parse_face_point(const std::string& token, PointSpec& p) {
+  const std::vector<std::string> f = split(token, ':');
+  long long face = 0;
+  if (f.size() != 4 || !whole_integer(f[1], face) || face < 0 ||
+      face > std::numeric_limits<Index>::max() || !whole_real(f[2], p.u) ||
+      !whole_real(f[3], p.v)) {
+    return "'" + token +
+           "' is not a face point: expected face:F:u:v (F a 0-based face index, u and v "
+           "finite numbers)";
+  }
+  if (p.u < 0.0 || p.v < 0.0 || p.u + p.v > 1.0 + 1e-12) {
+    return "'" + token +
+           "': the barycentric coordinates (1 − u − v, u, v) must be ≥ 0 (u, v ≥ 0, u + v ≤ 1)";
+  }
+  p.face = static_cast<Index>(face);
+  return "";
+}
+
+// One point token (a vertex id or face:F:u:v) into p; "" on success, else what is wrong.
+std::string parse_point(const std::string& token, PointSpec& p) {
+  p = PointSpec{};
+  p.token = token;
+  if (token.rfind("face:", 0) == 0) return parse_face_point(token, p);
+  long long id = 0;
+  if (!whole_integer(token, id) || id < 0 || id > std::numeric_limits<Index>::max()) {
+    return "'" + token + "' is not a point: expected a vertex id (an integer ≥ 0) or face:F:u:v";
+  }
+  p.vertex = static_cast<Index>(id);
+  return "";
+}
+
+// "" when no two consecutive points of c (last and first of a loop too) are the same point,
+// else which ones are.
+std::string repeated_point(const CurveSpec& c) {
+  const std::size_t n = c.points.size();
+  for (std::size_t k = 0; k < (c.closed ? n : n - 1); ++k) {
+    const PointSpec& a = c.points[k];
+    const PointSpec& b = c.points[(k + 1) % n];
+    if (a.vertex == b.vertex && a.face == b.face && a.u == b.u && a.v == b.v) {
+      return "points " + std::to_string(k + 1) + " and " + std::to_string((k + 1) % n + 1) +
+             " are the same point '" + a.token + "' (consecutive points must differ)";
+    }
+  }
+  return "";
+}
+
+// --path P0,P1[,...] as one curve (checked before the mesh is read).
+CurveSpec path_option(const Args& args) {
+  CurveSpec c;
+  c.where = "--path";
+  c.closed = args.has("loop");
+  c.pin = !c.closed || args.has("pin");
+  const std::string given = args.get("path");
+  for (const std::string& token : split(given, ',')) {
+    PointSpec p;
+    const std::string problem = parse_point(token, p);
+    if (!problem.empty()) throw UsageError("--path '" + given + "': " + problem);
+    c.points.push_back(p);
+  }
+  if (c.points.size() < 2) {
+    throw UsageError("--path '" + given + "': needs at least two points (comma separated)");
+  }
+  const std::string repeated = repeated_point(c);
+  if (!repeated.empty()) throw UsageError("--path '" + given + "': " + repeated);
+  return c;
+}
+
+// The --network file: `path P0 P1 ...` / `loop P0 P1 ...` lines, '#' comments and blank lines
+// skipped; anything else is an error at FILE:LINE.
+std::vector<CurveSpec> read_network(const std::string& file, bool pin_loops) {
+  std::ifstream in(file);
+  if (!in) throw IoError(file + ": cannot open");
+  std::vector<CurveSpec> curves;
+  std::string line;
+  for (long lineno = 1; std::getline(in, line); ++lineno) {
+    const std::string where = file + ":" + std::to_string(lineno);
+    const auto hash = line.find('#');
+    std::istringstream ss(hash == std::string::npos ? line : line.substr(0, hash));
+    std::vector<std::string> tokens;
+    for (std::string t; ss >> t;) tokens.push_back(t);
+    if (tokens.empty()) continue;
+    if ((tokens[0] != "path" && tokens[0] != "loop") || tokens.size() < 3) {
+      throw IoError(where + ": expected 'path P0 P1 ...' or 'loop P0 P1 ...' (at least two " +
+                    "points), got '" + line + "'");
+    }
+    CurveSpec c;
+    c.where = where;
+    c.usage = false;
+    c.closed = tokens[0] == "loop";
+    c.pin = !c.closed || pin_loops;
+    for (std::size_t k = 1; k < tokens.size(); ++k) {
+      PointSpec p;
+      const std::string problem = parse_point(tokens[k], p);
+      if (!problem.empty()) throw IoError(where + ": " + problem);
+      c.points.push_back(p);
+    }
+    const std::string repeated = repeated_point(c);
+    if (!repeated.empty()) throw IoError(where + ": " + repeated);
+    curves.push_back(std::move(c));
+  }
+  if (curves.empty()) throw IoError(file + ": no curves (expected 'path ...' or 'loop ...' lines)");
+  return curves;
+}
+
+// Every point names a vertex / face of the input (and face points a triangle mesh).
+void check_points(const std::vector<CurveSpec>& curves, const io::SurfaceInput& in) {
+  const Index nv = static_cast<Index>(in.positions.rows());
+  const Index nf = static_cast<Index>(in.triangles.size());
+  for (const CurveSpec& c : curves) {
+    for (const PointSpec& p : c.points) {
+      std::string problem;
+      if (p.vertex != kInvalidIndex && p.vertex >= nv) {
+        problem = "vertex " + std::to_string(p.vertex) + " out of range [0, " + std::to_string(nv) +
+                  ") (the input has " + std::to_string(nv) + " vertices)";
+      } else if (p.vertex == kInvalidIndex && in.n_non_triangles > 0) {
+        problem = "'" + p.token + "': face points need a triangle mesh (the file has " +
+                  std::to_string(in.n_non_triangles) + " faces with more than 3 corners)";
+      } else if (p.vertex == kInvalidIndex && p.face >= nf) {
+        problem = "'" + p.token + "': face " + std::to_string(p.face) + " out of range [0, " +
+                  std::to_string(nf) + ") (the input has " + std::to_string(nf) + " faces)";
+      }
+      if (problem.empty()) continue;
+      if (c.usage) throw UsageError(c.where + " " + problem);
+      throw InvalidInput(c.where + ": " + problem);
+    }
   }
 }
 
-// Shortens the edge path between two waypoints and appends its trace to `line` (traced right
-// away: later segments flip edges this one used).
-double add_segment(SignpostTriangulation& st, Index a, Index b, const Args& args,
-                   std::vector<Eigen::Vector3d>* line) {
-  EdgePath path = intrinsic::shortest_edge_path(st, a, b);
-  const FlipOutReport rep = intrinsic::shorten(st, path);
-  const std::vector<Eigen::Vector3d> seg = intrinsic::path_polyline(st, path);
-  line->insert(line->end(), seg.begin() + (line->empty() ? 0 : 1), seg.end());
-  progress(args,
-           std::to_string(a) + " → " + std::to_string(b) + ": edge path " +
-               format_number(rep.initial_length) + " → geodesic " +
-               format_number(rep.final_length) + " (" + std::to_string(rep.flips) + " flips, " +
-               std::to_string(rep.iterations) + " reroutes" +
-               (rep.stopped_by == intrinsic::FlipOutStop::kConverged ? "" : ", not converged") +
-               ")");
-  return rep.final_length;
+// True when some face of the input has positive area (judged before mollification, which
+// would make slivers out of degenerate faces), as the solver commands' pipeline judges it.
+bool has_area(const io::SurfaceInput& in) {
+  for (const Triangle& t : in.triangles) {
+    double l[3];
+    for (int k = 0; k < 3; ++k) {
+      l[k] = intrinsic::side_length(in.positions.row(t[k]).data(),
+                                    in.positions.row(t[(k + 1) % 3]).data());
+    }
+    const double scale = intrinsic::power_of_two_scale(std::max({l[0], l[1], l[2]}));
+    if (intrinsic::triangle_area(l[0] / scale, l[1] / scale, l[2] / scale) > 0.0) return true;
+  }
+  return false;
+}
+
+// The signpost triangulation of the input; a nonmanifold or non-orientable mesh is refused
+// with what FlipOut needs (the library's message names the offending edge).
+SignpostTriangulation build_signposts(const io::SurfaceInput& in, const Args& args) {
+  if (!in.has_faces()) {
+    throw InvalidInput("geodesic needs a triangle mesh (the input has no faces: a point cloud)");
+  }
+  if (!has_area(in)) {
+    throw InvalidInput(
+        "the input has no surface to compute on: zero total area (all vertices coincide, or "
+        "every face is degenerate)");
+  }
+  try {
+    return SignpostTriangulation(in.triangles, in.positions, args.real("mollify"));
+  } catch (const NonManifoldInput& e) {
+    std::string why = e.what();
+    const std::size_t advice = why.find("; use the tufted cover");
+    if (advice != std::string::npos) why.resize(advice);
+    throw NonManifoldInput(
+        "FlipOut needs an edge-manifold, orientable surface (signposts; the tufted cover has "
+        "no meaningful paths), and this mesh is not: " +
+        why);
+  }
+}
+
+// p (a face point) as a point of st.input(): its face of the file mapped through
+// input_face_origin(), its coordinates matched corner by corner (faces may be reoriented).
+intrinsic::SurfacePoint input_point(const SignpostTriangulation& st, const io::SurfaceInput& in,
+                                    const std::vector<Index>& input_face, const PointSpec& p) {
+  const Index f = input_face[p.face];
+  if (f == kInvalidIndex) {
+    throw InvalidInput("'" + p.token + "': face " + std::to_string(p.face) +
+                       " is not part of the surface (it repeats a vertex and was dropped)");
+  }
+  const Triangle& given = in.triangles[p.face];
+  const double w[3] = {std::max(0.0, 1.0 - p.u - p.v), p.u, p.v};
+  intrinsic::SurfacePoint sp;
+  sp.face = f;
+  for (int s = 0; s < 3; ++s) {
+    const Index corner = st.input().tail(3 * f + s);
+    for (int k = 0; k < 3; ++k) {
+      if (given[k] == corner) sp.bary[s] = w[k];
+    }
+  }
+  sp.bary /= sp.bary.sum();
+  return sp;
+}
+
+std::string format_point(const Eigen::Vector3d& x) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.9g %.9g %.9g)", x[0], x[1], x[2]);
+  return buf;
+}
+
+// The intrinsic vertex ids of every curve's points: input vertices as given, face points
+// inserted (all before any path is built; the same face point twice is one vertex), each
+// inserted point reported on stdout.
+std::vector<std::vector<Index>> insert_points(SignpostTriangulation& st, const io::SurfaceInput& in,
+                                              const std::vector<CurveSpec>& curves) {
+  std::vector<Index> input_face(in.triangles.size(), kInvalidIndex);
+  const std::vector<Index>& origin = st.input_face_origin();
+  for (std::size_t f = 0; f < origin.size(); ++f) input_face[origin[f]] = static_cast<Index>(f);
+  std::map<std::tuple<Index, double, double>, Index> inserted;
+  std::vector<std::vector<Index>> ids(curves.size());
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    for (const PointSpec& p : curves[c].points) {
+      if (p.vertex != kInvalidIndex) {
+        ids[c].push_back(p.vertex);
+        continue;
+      }
+      const auto key = std::make_tuple(p.face, p.u, p.v);
+      auto it = inserted.find(key);
+      if (it == inserted.end()) {
+        const Index before = st.intrinsic().n_vertices();
+        const Index v = intrinsic::insert_surface_point(st, input_point(st, in, input_face, p));
+        it = inserted.emplace(key, v).first;
+        std::printf("%s %s as vertex %d at %s\n", v >= before ? "inserted" : "snapped",
+                    p.token.c_str(), v, format_point(st.position(st.vertex_location(v))).c_str());
+      }
+      ids[c].push_back(it->second);
+    }
+  }
+  return ids;
+}
+
+std::string curve_label(const CurveSpec& c) {
+  return std::string(c.closed ? "loop" : "path") + " through " + std::to_string(c.points.size()) +
+         " points" + (c.closed && c.pin ? ", pinned" : "") + (c.usage ? "" : " (" + c.where + ")");
+}
+
+// Traces the shortened curves over the input (tracing flips nothing: any order is fine).
+void trace_curves(const SignpostTriangulation& st, const std::vector<EdgePath>& paths,
+                  CurveRun& run) {
+  std::vector<char> collapsed(paths.size(), 0);
+  for (const Index c : run.report.collapsed_loops) collapsed[c] = 1;
+  for (std::size_t c = 0; c < paths.size(); ++c) {
+    CurveResult& r = run.curves[c];
+    r.closed = paths[c].closed;
+    r.collapsed = collapsed[c] != 0;
+    r.final_length = intrinsic::path_length(st.intrinsic(), paths[c]);
+    if (!paths[c].steps.empty()) r.polyline = intrinsic::path_polyline(st, paths[c]);
+  }
+}
+
+// --path / --loop / --network: the edge paths through the points, shortened together.
+CurveRun shorten_curves(SignpostTriangulation& st, const std::vector<CurveSpec>& specs,
+                        const std::vector<std::vector<Index>>& ids) {
+  CurveRun run;
+  std::vector<EdgePath> paths;
+  for (std::size_t c = 0; c < specs.size(); ++c) {
+    try {
+      paths.push_back(intrinsic::edge_path_through(st.intrinsic(), ids[c], specs[c].closed,
+                                                   specs[c].pin, intrinsic::JoinBy::kDijkstra));
+    } catch (const InvalidInput& e) {  // e.g. points on different components: say which curve
+      throw InvalidInput(specs[c].where + ": " + e.what());
+    }
+    CurveResult r;
+    r.label = curve_label(specs[c]);
+    r.initial_length = intrinsic::path_length(st.intrinsic(), paths.back());
+    run.curves.push_back(r);
+  }
+  run.report = intrinsic::shorten(st, paths);
+  trace_curves(st, paths, run);
+  return run;
+}
+
+// --bezier ROUNDS: --path's points are the control points of one geodesic Bézier curve.
+CurveRun bezier(SignpostTriangulation& st, const std::vector<Index>& control, int rounds) {
+  intrinsic::BezierCurve b = intrinsic::bezier_curve(st, control, rounds);
+  CurveRun run;
+  run.report = b.report;
+  CurveResult r;
+  r.label = "Bézier curve of degree " + std::to_string(control.size() - 1) + ", " +
+            std::to_string(rounds) + " rounds";
+  r.initial_length = b.report.initial_length;
+  run.curves.push_back(r);
+  trace_curves(st, {b.path}, run);
+  run.extra = "Bézier: " + std::to_string(b.controls.size()) + " control points after " +
+              std::to_string(rounds) + " rounds of de Casteljau subdivision, " +
+              std::to_string(b.inserted_vertices) + " midpoints inserted";
+  return run;
+}
+
+// One curve per `l` line; a loop's repeated end point is its first index again.
+std::string curves_obj(const std::vector<CurveResult>& curves) {
+  std::string out = "# ifem geodesic: " + std::to_string(curves.size()) + " curves\n";
+  std::string lines;
+  std::size_t base = 0;
+  for (const CurveResult& c : curves) {
+    if (c.polyline.size() < 2) continue;
+    const std::size_t n = c.polyline.size() - (c.closed ? 1 : 0);
+    lines += 'l';
+    for (std::size_t i = 0; i < n; ++i) {
+      out += 'v';
+      for (int d = 0; d < 3; ++d) {
+        out += ' ';
+        io::detail::append_double(out, c.polyline[i][d]);
+      }
+      out += '\n';
+      lines += ' ' + std::to_string(base + i + 1);
+    }
+    if (c.closed) lines += ' ' + std::to_string(base + 1);
+    lines += '\n';
+    base += n;
+  }
+  return out + lines;
+}
+
+// One `x y z` line per point, an empty line between curves.
+std::string curves_txt(const std::vector<CurveResult>& curves) {
+  std::string out;
+  bool first = true;
+  for (const CurveResult& c : curves) {
+    if (c.polyline.empty()) continue;
+    if (!first) out += '\n';
+    first = false;
+    for (const Eigen::Vector3d& x : c.polyline) {
+      for (int d = 0; d < 3; ++d) {
+        if (d > 0) out += ' ';
+        io::detail::append_double(out, x[d]);
+      }
+      out += '\n';
+    }
+  }
+  return out;
+}
+
+// Atomic in every format (path.tmp, then rename): no partial file on an error.
+void write_curves(const std::string& path, const std::vector<CurveResult>& curves) {
+  const std::string ext = io::file_extension(path);
+  if (ext == ".ply") {
+    std::vector<Polyline> lines;
+    for (const CurveResult& c : curves) {
+      if (c.polyline.size() >= 2) lines.push_back(c.polyline);
+    }
+    intrinsic::write_polylines_ply(path, lines, false,
+                                   "geodesic curves on the input surface (ifem geodesic)");
+  } else {
+    io::detail::write_file_atomically(path,
+                                      ext == ".obj" ? curves_obj(curves) : curves_txt(curves));
+  }
+}
+
+// Per curve its lengths, then what FlipOut did; collapsed loops said so.
+void print_curves(const CurveRun& run, double seconds) {
+  if (!run.extra.empty()) std::printf("%s\n", run.extra.c_str());
+  for (std::size_t c = 0; c < run.curves.size(); ++c) {
+    const CurveResult& r = run.curves[c];
+    std::printf("curve %zu (%s): length %.12g -> %.12g, %zu points%s\n", c + 1, r.label.c_str(),
+                r.initial_length, r.final_length, r.polyline.size(),
+                r.collapsed
+                    ? "; collapsed: a contractible loop shrank to a point or around one vertex"
+                    : "");
+  }
+  const FlipOutReport& rep = run.report;
+  std::printf("FlipOut: %d flips, %d iterations, stopped: %s", rep.flips, rep.iterations,
+              intrinsic::to_string(rep.stopped_by));
+  if (rep.blocked_joints > 0) std::printf(" (%d bent joints left)", rep.blocked_joints);
+  std::printf(", %.3g s\n", seconds);
+}
+
+void check_modes(const Args& args) {
+  const int modes = args.has("path") + args.has("network") + args.has("all-from");
+  if (modes != 1) {
+    throw UsageError("give exactly one of --path, --network, --all-from (see --help)");
+  }
+  if (args.has("loop") && !args.has("path")) {
+    throw UsageError("--loop closes the --path curve (in a --network file, write 'loop' lines)");
+  }
+  if (args.has("bezier") && (!args.has("path") || args.has("loop"))) {
+    throw UsageError("--bezier takes --path's points as control points of an open curve");
+  }
+  if (args.has("pin") && !args.has("loop") && !args.has("network")) {
+    throw UsageError("--pin keeps a loop's points (--loop, or the loop lines of --network)");
+  }
+  const bool txt_or_ply = io::file_extension(args.get("output")) != ".obj";
+  if (args.has("all-from") && !txt_or_ply) {
+    throw UsageError("--output '" + args.get("output") +
+                     "': --all-from writes one length per vertex, to a .ply or .txt");
+  }
+}
+
+// --all-from S: single-source geodesic lengths, one per input vertex.
+int run_all_from(const Args& args, const io::SurfaceInput& in, const ResultOutput& out) {
+  SignpostTriangulation st = build_signposts(in, args);
+  const Index nv = static_cast<Index>(in.positions.rows());
+  const Index source = args.count("all-from");
+  const Stopwatch watch;
+  const intrinsic::SingleSourceGeodesics g = intrinsic::single_source_geodesics(st, source);
+  const double seconds = watch.seconds();
+  Eigen::VectorXd length = g.length.head(nv);
+  Index unreachable = 0;
+  double longest = 0.0;
+  for (Index v = 0; v < nv; ++v) {
+    if (std::isfinite(length[v])) {
+      longest = std::max(longest, length[v]);
+    } else {
+      ++unreachable;
+    }
+  }
+  std::printf(
+      "single-source geodesics from vertex %d: %d flips, %d iterations, %d paths left bent, "
+      "%.3g s\n",
+      source, g.flips, g.iterations, g.blocked, seconds);
+  write_results(out, in, {{"geodesic_length", length}});
+  std::printf("wrote %s: %d values, max length %.9g, %d unreachable (inf)\n", out.path.c_str(), nv,
+              longest, unreachable);
+  return 0;
 }
 
 int run(const Args& args) {
-  const std::string out = result_output(args).path;  // checked before any computation
-  const std::vector<Index> through = args.vertices("path");
-  if (through.size() < 2) throw UsageError("--path needs at least two vertices");
-  const io::SurfaceInput in = read_input(args.positional()[0], args);
-  if (!in.has_faces()) throw UsageError("geodesic needs a triangle mesh (the input has no faces)");
-  const Stopwatch watch;
-  SignpostTriangulation st(in.triangles, in.positions, args.real("mollify"));
-  std::vector<Eigen::Vector3d> line;
+  const ResultOutput out = result_output(args);  // checked before any computation
+  check_modes(args);
+  std::vector<CurveSpec> specs;
+  if (args.has("path")) specs.push_back(path_option(args));
+  const io::SurfaceInput in = read_input(args.positional()[0], args);  // --all-from < #V
+  if (args.has("all-from")) return run_all_from(args, in, out);
+  if (args.has("network")) specs = read_network(args.get("network"), args.has("pin"));
+  check_points(specs, in);
+  Stopwatch watch;
+  SignpostTriangulation st = build_signposts(in, args);
+  progress(args, "signpost triangulation: " + std::to_string(st.intrinsic().n_faces()) +
+                     " faces in " + std::to_string(watch.restart()) + " s");
+  const std::vector<std::vector<Index>> ids = insert_points(st, in, specs);
+  const CurveRun run = args.has("bezier") ? bezier(st, ids[0], args.count("bezier"))
+                                          : shorten_curves(st, specs, ids);
+  const double seconds = watch.seconds();
+  print_curves(run, seconds);
+  write_curves(out.path, run.curves);
+  std::size_t points = 0;
   double length = 0.0;
-  for (std::size_t k = 0; k + 1 < through.size(); ++k) {
-    length += add_segment(st, through[k], through[k + 1], args, &line);
+  for (const CurveResult& c : run.curves) {
+    points += c.polyline.size();
+    length += c.final_length;
   }
-  write_polyline_obj(out, line);
-  std::printf("wrote %s: %zu points, length %.9g (%.3g s)\n", out.c_str(), line.size(), length,
-              watch.seconds());
+  std::printf("wrote %s: %zu curve%s, %zu points, length %.12g\n", out.path.c_str(),
+              run.curves.size(), run.curves.size() == 1 ? "" : "s", points, length);
   return 0;
+}
+
+const char* const kProse =
+    "Geodesic curves on a triangle mesh by FlipOut (Sharp & Crane 2020, \"You Can Find\n"
+    "Geodesic Paths in Triangle Meshes by Just Flipping Edges\"). A curve starts as a\n"
+    "shortest path along mesh edges; wherever it bends by less than π, the intrinsic\n"
+    "edges inside the bend are flipped until it can run straight across, so it ends\n"
+    "up a geodesic (locally shortest; not always the globally shortest one). The\n"
+    "surface never changes: the curves are traced over the input and written as\n"
+    "polylines of points on its faces.\n\n"
+    "Points (P): a vertex id (0-based, the file's vertex order), or a point inside a\n"
+    "face, face:F:u:v (F: 0-based face of the file; barycentric coordinates\n"
+    "(1−u−v, u, v) for its corners in the file's order; u, v ≥ 0, u + v ≤ 1). Face\n"
+    "points are inserted as vertices first and reported (id, position).\n\n"
+    "Give exactly one of --path, --network, --all-from. Needs an edge-manifold,\n"
+    "orientable triangle mesh (with or without boundary); nonmanifold and\n"
+    "non-orientable meshes and point clouds are refused.\n";
+
+const char* const kEpilogue =
+    "Network file (--network): one curve per line, 'path P0 P1 ...' (an open geodesic\n"
+    "through the points, kept at each) or 'loop P0 P1 ...' (a closed one, free to\n"
+    "move off its points unless --pin); points as above, whitespace separated; '#'\n"
+    "starts a comment, blank lines are skipped. All curves are shortened together and\n"
+    "never cross each other; they may share points.\n\n"
+    "Output: stdout has each curve's length before (edge path) and after FlipOut,\n"
+    "the flips, iterations, why it stopped and the time.\n\n"
+    "examples:\n"
+    "  ifem geodesic bunny.obj --path 0,500,1200 -o path.obj\n"
+    "  ifem geodesic torus.obj --path 10,200,350 --loop -o loop.ply\n"
+    "  ifem geodesic bunny.obj --path face:12:0.3:0.3,800,1500 --bezier 4 -o curve.txt\n"
+    "  ifem geodesic bunny.obj --network curves.txt -o net.obj\n"
+    "  ifem geodesic bunny.obj --all-from 0 -o lengths.ply\n";
+
+OptionGroup geodesic_options() {
+  return {"Options",
+          {text("path", "P0,P1[,...]")
+               .explain("the curve's points, in order (comma separated; see Points): a geodesic\n"
+                        "through them, kept at every one (it may bend there)"),
+           flag("loop").explain("with --path: a closed curve through the points, shortened freely\n"
+                                "(the points only shape its start) unless --pin"),
+           flag("pin").explain("loops keep passing through their points (--loop, network loops)"),
+           count("bezier", "ROUNDS")
+               .at_most(16)
+               .explain("with --path: a geodesic Bézier curve with --path's points as control\n"
+                        "points, ROUNDS rounds of de Casteljau subdivision (0: the geodesic\n"
+                        "control polygon)"),
+           text("network", "FILE").explain("curves from FILE (format below), shortened together"),
+           vertex("all-from", "S")
+               .limited_by(InputLimit::kBelowVertexCount)
+               .explain("single-source geodesics: a geodesic from vertex S to every vertex\n"
+                        "(Dijkstra with FlipOut at the frontier); their lengths, one per vertex"),
+           text("output", "OUT")
+               .short_alias('o')
+               .mandatory()
+               .with_extensions({".obj", ".ply", ".txt"})
+               .explain("curves: OUT.obj ('v' lines, one 'l' line per curve; a loop repeats\n"
+                        "its first point), OUT.ply (ASCII: vertices + 'edge' elements), OUT.txt\n"
+                        "(one 'x y z' a line, an empty line between curves). --all-from:\n"
+                        "OUT.ply (the mesh, vertex property 'geodesic_length') or OUT.txt (one\n"
+                        "length a line, input vertex order; 'inf' where unreachable)"),
+           real("mollify", "F")
+               .at_least(0)
+               .at_most(1)
+               .defaults_to(format_number(intrinsic::kDefaultMollifyEpsilon))
+               .explain("relative mollification margin (as other commands' --mollify)"),
+           flag("quiet").explain("no progress lines on stderr")}};
 }
 
 }  // namespace
 
 Command geodesic_command() {
   Command c;
-  c.summary = "geodesic path through given vertices (FlipOut edge flips)";
+  c.summary = "geodesic paths, loops, networks, Bézier curves; single-source (FlipOut)";
   c.spec.name = "geodesic";
   c.spec.positionals = {"MESH"};
-  c.spec.prose =
-      "A locally shortest (geodesic) path through the given vertices, in order, by\n"
-      "FlipOut (Sharp & Crane 2020): a shortest edge path (Dijkstra) between each two\n"
-      "consecutive vertices, shortened by intrinsic edge flips until it bends by no\n"
-      "less than π on either side at every vertex it passes, then traced over the\n"
-      "input surface. The given vertices stay on the path (it may bend there). Needs\n"
-      "an edge-manifold, orientable triangle mesh.\n";
-  c.spec.groups = {
-      {"Options",
-       {vertex_list("path", "V0,V1[,V2,...]")
-            .mandatory()
-            .explain("0-based vertex ids of the input the path runs through, in order"),
-        text("output", "OUT")
-            .short_alias('o')
-            .mandatory()
-            .with_extensions({".obj"})
-            .explain("OUT.obj: the path's points on the surface ('v' lines) and one 'l' line"),
-        real("mollify", "F")
-            .at_least(0)
-            .at_most(1)
-            .defaults_to(format_number(intrinsic::kDefaultMollifyEpsilon))
-            .explain("relative mollification margin (as other commands' --mollify)"),
-        flag("quiet").explain("no progress lines on stderr")}}};
-  c.spec.epilogue = "example: ifem geodesic bunny.obj --path 0,500,1200 -o path.obj\n";
+  c.spec.prose = kProse;
+  c.spec.groups = {geodesic_options()};
+  c.spec.epilogue = kEpilogue;
   c.run = run;
   return c;
 }

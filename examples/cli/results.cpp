@@ -29,7 +29,12 @@ ResultOutput result_output(const Args& args, const std::string& name) {
 
 void write_results(const ResultOutput& out, const PreparedSurface& s,
                    const std::vector<io::VertexProperty>& properties) {
-  const Eigen::Index nv = s.input.positions.rows();
+  write_results(out, s.input, properties);
+}
+
+void write_results(const ResultOutput& out, const io::SurfaceInput& input,
+                   const std::vector<io::VertexProperty>& properties) {
+  const Eigen::Index nv = input.positions.rows();
   std::vector<io::VertexProperty> on_input;
   for (const io::VertexProperty& p : properties) {
     if (p.values.size() < nv) {
@@ -38,7 +43,7 @@ void write_results(const ResultOutput& out, const PreparedSurface& s,
     on_input.push_back({p.name, p.values.head(nv)});
   }
   if (out.ply) {
-    io::write_ply(out.path, s.input.positions, s.input.triangles, on_input);
+    io::write_ply(out.path, input.positions, input.triangles, on_input);
     return;
   }
   if (on_input.size() != 1) throw std::logic_error("write_results: a .txt holds one value");

@@ -23,7 +23,8 @@
 namespace ifem::intrinsic {
 
 void write_polylines_ply(const std::string& path,
-                         const std::vector<std::vector<Eigen::Vector3d>>& polylines, bool binary) {
+                         const std::vector<std::vector<Eigen::Vector3d>>& polylines, bool binary,
+                         const std::string& comment) {
   std::size_t nv = 0, ne = 0;
   for (const auto& line : polylines) {
     nv += line.size();
@@ -34,10 +35,10 @@ void write_polylines_ply(const std::string& path,
   }
   std::FILE* f = io::detail::open_temporary(path, binary);
   std::fprintf(f,
-               "ply\nformat %s 1.0\ncomment ifem: traced intrinsic edges over the input surface\n"
+               "ply\nformat %s 1.0\ncomment ifem: %s\n"
                "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n"
                "element edge %zu\nproperty int vertex1\nproperty int vertex2\nend_header\n",
-               binary ? "binary_little_endian" : "ascii", nv, ne);
+               binary ? "binary_little_endian" : "ascii", comment.c_str(), nv, ne);
   for (const auto& line : polylines) {
     for (const Eigen::Vector3d& x : line) {
       if (binary) {

@@ -56,9 +56,11 @@ void write_common_subdivision_ply(const std::string& path, const CommonSubdivisi
 /// Writes polylines (e.g. SignpostTriangulation::traced_edges_3d()) as a PLY line set:
 /// vertices (x, y, z as double) and edges (vertex1, vertex2 as int), binary little-endian or
 /// ASCII; opens in MeshLab, ParaView, Polyscope. Atomic (writes path.tmp, then renames).
+/// `comment`: the header's comment line (what the lines are).
 /// @throws IoError if the file cannot be written
-void write_polylines_ply(const std::string& path,
-                         const std::vector<std::vector<Eigen::Vector3d>>& polylines,
-                         bool binary = true);
+void write_polylines_ply(
+    const std::string& path, const std::vector<std::vector<Eigen::Vector3d>>& polylines,
+    bool binary = true,
+    const std::string& comment = "traced intrinsic edges over the input surface");
 
 }  // namespace ifem::intrinsic
