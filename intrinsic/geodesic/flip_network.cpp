@@ -150,7 +150,12 @@ Eigen::Vector2d FlipNetwork::joint_angles(Index a) const {
   const PathStep& out = nodes_[nodes_[a].next].step;
   if (a != nodes_[a].next && in.edge == out.edge && in.forward != out.forward) return {0.0, 0.0};
   const T& tri = st_.intrinsic();
-  return {wedge_angle(tri, joint_wedge(a, 0)), wedge_angle(tri, joint_wedge(a, 1))};
+  const double side0 = wedge_angle(tri, joint_wedge(a, 0));
+  const Index b = step_head(tri, in);
+  if (std::isfinite(side0) && !st_.is_boundary_vertex(b)) {
+    return {side0, st_.vertex_angle_sum(b) - side0};  // the two wedges make the whole fan
+  }
+  return {side0, wedge_angle(tri, joint_wedge(a, 1))};
 }
 
 void FlipNetwork::push_joint(Index a) {
@@ -254,11 +259,11 @@ void FlipNetwork::reroute(Index a, int side, const std::vector<Index>& w) {
   }
 }
 
-// One FlipOut at joint a, on its smaller bent side first; false if both are blocked.
-bool FlipNetwork::straighten(Index a) {
+// One FlipOut at joint a (its wedge angles given), on its smaller bent side first; false if both
+// are blocked.
+bool FlipNetwork::straighten(Index a, const Eigen::Vector2d& angles) {
   if (!is_joint(a) || nodes_[a].pin_head) return false;
   if (remove_backtrack(a)) return true;
-  const Eigen::Vector2d angles = joint_angles(a);
   const int first = angles[0] <= angles[1] ? 0 : 1;
   for (const int side : {first, 1 - first}) {
     if (!(angles[side] < limit_)) continue;
@@ -323,7 +328,8 @@ void FlipNetwork::run(const FlipOutOptions& options, FlipOutReport& rep) {
       const Bend b = queue_.top();
       queue_.pop();
       if (!is_joint(b.node) || nodes_[b.node].stamp != b.stamp || nodes_[b.node].pin_head) continue;
-      const double m = joint_angles(b.node).minCoeff();
+      const Eigen::Vector2d angles = joint_angles(b.node);
+      const double m = angles.minCoeff();
       if (!(m < limit_)) continue;
       if (m > b.angle) {  // the key is stale (flips elsewhere opened this joint): requeue
         queue_.push({m, b.node, b.stamp});
@@ -334,7 +340,7 @@ void FlipNetwork::run(const FlipOutOptions& options, FlipOutReport& rep) {
         done = true;
         break;
       }
-      if (!straighten(b.node)) continue;
+      if (!straighten(b.node, angles)) continue;
       ++rep.iterations;
       ++successes;
       if (++since_mark >= round) {

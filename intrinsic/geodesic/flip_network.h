@@ -74,7 +74,7 @@ class FlipNetwork {
   bool remove_backtrack(Index a);
   std::vector<Index> flip_wedge(Index a, int side);
   void reroute(Index a, int side, const std::vector<Index>& wedge);
-  bool straighten(Index a);
+  bool straighten(Index a, const Eigen::Vector2d& angles);
   Index push_all_bends();
   void finish(FlipOutReport& report) const;
 
