@@ -23,9 +23,35 @@ double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
 }
 
-// Calls f(edge, neighbour) for every edge at v (around its fan; both boundary edges included).
+// Vertices with more than one fan (an edge-manifold surface pinched at a vertex): a walk around
+// one fan misses the others. Flips never change how many fans a vertex has.
+std::vector<char> pinched_vertices(const T& tri) {
+  std::vector<Index> outgoing(tri.n_vertices(), 0), in_fan(tri.n_vertices(), 0);
+  for (Index h = 0; h < tri.n_halfedges(); ++h) ++outgoing[tri.tail(h)];
+  for (Index v = 0; v < tri.n_vertices(); ++v) {
+    const Index h0 = tri.vertex_halfedge(v);
+    for (Index x = h0; x != kInvalidIndex && in_fan[v] <= outgoing[v];) {
+      ++in_fan[v];
+      x = tri.twin(T::prev(x));
+      if (x == h0) break;
+    }
+  }
+  std::vector<char> pinched(tri.n_vertices(), 0);
+  for (Index v = 0; v < tri.n_vertices(); ++v) pinched[v] = in_fan[v] != outgoing[v] ? 1 : 0;
+  return pinched;
+}
+
+// Calls f(edge, neighbour) for every edge at v: around its fan (both boundary edges included),
+// or, at a pinched vertex, by a scan of all halfedges (rare: O(#H) there).
 template <typename F>
-void for_each_edge_at(const T& tri, Index v, F&& f) {
+void for_each_edge_at(const T& tri, Index v, bool pinched, F&& f) {
+  if (pinched) {
+    for (Index h = 0; h < tri.n_halfedges(); ++h) {
+      if (tri.tail(h) == v) f(tri.edge(h), tri.head(h));
+      if (tri.head(h) == v && tri.twin(h) == kInvalidIndex) f(tri.edge(h), tri.tail(h));
+    }
+    return;
+  }
   const Index h0 = tri.vertex_halfedge(v);
   if (h0 == kInvalidIndex) return;
   Index x = h0;
@@ -266,10 +292,11 @@ SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index s
     offer(e, tri.tail(h), tri.head(h));
     offer(e, tri.head(h), tri.tail(h));
   };
+  const std::vector<char> pinched = pinched_vertices(tri);
   auto accept = [&](Index v, double length) {
     accepted[v] = 1;
     out.length[v] = length;
-    for_each_edge_at(tri, v, [&](Index e, Index u) { offer(e, v, u); });
+    for_each_edge_at(tri, v, pinched[v] != 0, [&](Index e, Index u) { offer(e, v, u); });
   };
   accept(source, 0.0);
   FlipOutReport rep;

@@ -479,6 +479,27 @@ TEST(FlipGeodesic, SingleSourceOnASphere) {
   EXPECT_THROW(single_source_geodesics(st, -1), InvalidInput);
 }
 
+// Two tetrahedra sharing one vertex (edge-manifold, pinched there): single-source geodesics
+// cross the pinch, as the two-point search does; in a tetrahedron every vertex is adjacent, so
+// a far vertex's length is the two edges through the shared vertex.
+TEST(FlipGeodesic, SingleSourceCrossesAPinchedVertex) {
+  const TriangleMesh t = tetrahedron();
+  const Index n = static_cast<Index>(t.positions.rows());
+  Positions x(2 * n - 1, 3);
+  x.topRows(n) = t.positions;
+  auto twin_id = [n](Index i) { return i == 0 ? Index(0) : n + i - 1; };
+  for (Index i = 1; i < n; ++i) x.row(twin_id(i)) = 2 * t.positions.row(0) - t.positions.row(i);
+  std::vector<Triangle> faces = t.faces;
+  for (const Triangle& f : t.faces) faces.push_back({twin_id(f[0]), twin_id(f[2]), twin_id(f[1])});
+  SignpostTriangulation st(faces, x, 0.0);
+  const SingleSourceGeodesics g = single_source_geodesics(st, 1);
+  const double to_pinch = (x.row(1) - x.row(0)).norm();
+  for (Index i = 1; i < n; ++i) {
+    const double expect = to_pinch + (x.row(twin_id(i)) - x.row(0)).norm();
+    EXPECT_NEAR(g.length[twin_id(i)], expect, 1e-12 * expect) << twin_id(i);
+  }
+}
+
 TEST(FlipGeodesic, PathThroughChecksItsVertices) {
   const TriangleMesh m = grid(3, 3);  // 16 vertices
   SignpostTriangulation st(m.faces, m.positions);
