@@ -79,6 +79,12 @@ inline double opposite_cotan(double a, double b, double c) {
   return (b * b + c * c - a * a) / (4.0 * triangle_area(a, b, c));
 }
 
+/// The z component of the cross product of two plane vectors: > 0 when b turns
+/// counter-clockwise from a.
+inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
 /// The planar layout of a triangle from its lengths: with its base from (0, 0) to (base, 0),
 /// the third corner at distance `from_end` from (base, 0) and `from_origin` from (0, 0), on the
 /// side y ≥ 0 (y from the stable area, never NaN). Precondition: base > 0.

@@ -19,10 +19,6 @@ namespace {
 using T = IntrinsicTriangulation;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
 // Vertices with more than one fan (an edge-manifold surface pinched at a vertex): a walk around
 // one fan misses the others. Flips never change how many fans a vertex has.
 std::vector<char> pinched_vertices(const T& tri) {

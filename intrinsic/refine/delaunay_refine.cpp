@@ -643,10 +643,6 @@ RefineReport delaunay_refine(IntrinsicTriangulation& tri, const RefineOptions& o
 
 namespace {
 
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
 // smallest corner angle of the planar triangle (a, b, c)
 double planar_min_angle(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                         const Eigen::Vector2d& c) {

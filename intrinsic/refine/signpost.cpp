@@ -17,10 +17,6 @@ namespace {
 
 using T = IntrinsicTriangulation;
 
-inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
 Index trace_cap(const IntrinsicTriangulation& tri) { return 4 * tri.n_faces() + 1000; }
 
 // Clamps barycentric coordinates to ≥ 0 and rescales them to sum 1 (unless all are zero).
