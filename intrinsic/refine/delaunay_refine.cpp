@@ -32,28 +32,35 @@ constexpr double kSizeTermFactor = 0.65;
 //   Index insert_vertex(Index f, const Eigen::Vector3d& bary);
 //   Index split_edge(Index e, double t);
 
+// Both hosts take the constrained edges' flags (may be null): their flips never flip those.
 class SignpostHost {
  public:
-  explicit SignpostHost(SignpostTriangulation& st) : st_(st) {}
+  SignpostHost(SignpostTriangulation& st, const std::vector<char>* fixed)
+      : st_(st), fixed_(fixed) {}
   const IntrinsicTriangulation& tri() const { return st_.intrinsic(); }
-  FlipReport flip_to_delaunay() { return st_.flip_to_delaunay(); }
+  FlipReport flip_to_delaunay() {
+    return fixed_ ? st_.flip_to_delaunay(*fixed_) : st_.flip_to_delaunay();
+  }
   FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched) {
-    return st_.flip_to_delaunay_from(queue, touched);
+    return fixed_ ? st_.flip_to_delaunay_from(queue, touched, *fixed_)
+                  : st_.flip_to_delaunay_from(queue, touched);
   }
   Index insert_vertex(Index f, const Eigen::Vector3d& bary) { return st_.insert_vertex(f, bary); }
   Index split_edge(Index e, double t) { return st_.split_edge(e, t); }
 
  private:
   SignpostTriangulation& st_;
+  const std::vector<char>* fixed_;
 };
 
 class PlainHost {
  public:
-  explicit PlainHost(IntrinsicTriangulation& tri) : tri_(tri) {}
+  PlainHost(IntrinsicTriangulation& tri, const std::vector<char>* fixed)
+      : tri_(tri), fixed_(fixed) {}
   const IntrinsicTriangulation& tri() const { return tri_; }
-  FlipReport flip_to_delaunay() { return tri_.flip_to_delaunay(); }
+  FlipReport flip_to_delaunay() { return tri_.flip_to_delaunay(flipper()); }
   FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched) {
-    return tri_.flip_to_delaunay_from(queue, touched);
+    return tri_.flip_to_delaunay_from(queue, touched, flipper());
   }
   Index insert_vertex(Index f, const Eigen::Vector3d& bary) {
     return tri_.insert_vertex_in_face(f, bary);
@@ -61,7 +68,29 @@ class PlainHost {
   Index split_edge(Index e, double t) { return tri_.split_edge(e, t); }
 
  private:
+  std::function<bool(Index)> flipper() {
+    return [this](Index e) {
+      const bool fixed = fixed_ && e < static_cast<Index>(fixed_->size()) && (*fixed_)[e];
+      return !fixed && tri_.flip_edge(e);
+    };
+  }
   IntrinsicTriangulation& tri_;
+  const std::vector<char>* fixed_;
+};
+
+// Sides a fan, a trace or an encroachment test stops at: boundary sides and the sides of
+// constrained edges (flags may be null).
+struct Barriers {
+  const IntrinsicTriangulation& tri;
+  const std::vector<char>* flags;
+  bool constrained(Index e) const {
+    return flags && e < static_cast<Index>(flags->size()) && (*flags)[e];
+  }
+  bool operator()(Index h) const {
+    return tri.twin(h) == kInvalidIndex || constrained(tri.edge(h));
+  }
+  // the side glued to h, or kInvalidIndex at a barrier
+  Index across(Index h) const { return (*this)(h) ? kInvalidIndex : tri.twin(h); }
 };
 
 // Total angle of the fan (cone) that the corner at tail(h) belongs to, and whether that fan
@@ -70,7 +99,8 @@ class PlainHost {
 // points at once. Returns a value ≥ `limit` as soon as it is known to reach it (then
 // `boundary` may be incomplete): first from the corners' cosines alone (one corner above the
 // limit), then by adding up the angles.
-double fan_angle(const IntrinsicTriangulation& tri, Index h, double limit, bool* boundary) {
+double fan_angle(const Barriers& bar, Index h, double limit, bool* boundary) {
+  const IntrinsicTriangulation& tri = bar.tri;
   const double cos_limit = std::cos(std::min(limit, kPi));
   const Index guard = tri.n_halfedges();
   // visits the corners of h's fan (counter-clockwise from h, then clockwise if open) until
@@ -79,15 +109,15 @@ double fan_angle(const IntrinsicTriangulation& tri, Index h, double limit, bool*
     Index x = h;
     for (Index k = 0; k < guard; ++k) {
       if (!f(x)) return false;
-      x = tri.twin(T::prev(x));
+      x = bar.across(T::prev(x));
       if (x == h) return true;
       if (x == kInvalidIndex) break;
     }
-    x = tri.twin(h);
+    x = bar.across(h);
     for (Index k = 0; k < guard && x != kInvalidIndex; ++k) {
       x = T::next(x);
       if (!f(x)) return false;
-      x = tri.twin(x);
+      x = bar.across(x);
     }
     return true;
   };
@@ -100,7 +130,7 @@ double fan_angle(const IntrinsicTriangulation& tri, Index h, double limit, bool*
   double sum = 0.0;
   *boundary = false;
   walk([&](Index x) {
-    if (tri.twin(x) == kInvalidIndex || tri.twin(T::prev(x)) == kInvalidIndex) *boundary = true;
+    if (bar(x) || bar(T::prev(x))) *boundary = true;
     sum += corner_angle(tri, x);
     return sum < limit;
   });
@@ -118,7 +148,10 @@ double fan_angle(const IntrinsicTriangulation& tri, Index h, double limit, bool*
 // which on an ordinary mesh stops at the next corner.
 class Cones {
  public:
-  Cones(const IntrinsicTriangulation& tri, double bound) : bound_(bound) {
+  // constraints (flags, may be null) split fans like the boundary does
+  Cones(const IntrinsicTriangulation& tri, double bound, const std::vector<char>* flags)
+      : bound_(bound), flags_(flags) {
+    const Barriers bar{tri, flags};
     const Index nv = tri.n_vertices(), nf = tri.n_faces(), nh = tri.n_halfedges();
     state_.assign(nv, 0);
     boundary_.assign(nv, 0);
@@ -128,7 +161,7 @@ class Cones {
                            tri.halfedge_length(3 * f + 2)};
       for (int k = 0; k < 3; ++k) {
         const Index h = 3 * f + k;
-        if (tri.twin(h) == kInvalidIndex) boundary_[tri.tail(h)] = boundary_[tri.head(h)] = 1;
+        if (bar(h)) boundary_[tri.tail(h)] = boundary_[tri.head(h)] = 1;
         const double b = l[k], c = l[(k + 2) % 3], a = l[(k + 1) % 3];
         if (b * b + c * c - a * a > cos_bound * 2.0 * b * c) state_[tri.tail(h)] = kCached;
       }
@@ -137,17 +170,17 @@ class Cones {
     for (Index h = 0; h < nh; ++h) {
       if (seen[h] || !(state_[tri.tail(h)] & kCached)) continue;
       bool fan_boundary = false;
-      const double theta = fan_angle(tri, h, 2.0 * bound_, &fan_boundary);
+      const double theta = fan_angle(bar, h, 2.0 * bound_, &fan_boundary);
       state_[tri.tail(h)] |= unfixable(theta, fan_boundary) ? kSomeUnfixable : kSomeFixable;
       Index x = h;  // mark the fan's corners (from h both ways)
       for (Index k = 0; k < nh && x != kInvalidIndex && !seen[x]; ++k) {
         seen[x] = 1;
-        x = tri.twin(T::prev(x));
+        x = bar.across(T::prev(x));
       }
-      x = tri.twin(h);
+      x = bar.across(h);
       for (Index k = 0; k < nh && x != kInvalidIndex && !seen[T::next(x)]; ++k) {
         seen[T::next(x)] = 1;
-        x = tri.twin(T::next(x));
+        x = bar.across(T::next(x));
       }
     }
   }
@@ -158,10 +191,10 @@ class Cones {
     const char known = state_[v] & (kSomeUnfixable | kSomeFixable);
     if (known == kSomeUnfixable || known == kSomeFixable) return known == kSomeUnfixable;
     bool fan_boundary = false;  // not cached, or fans of both kinds
-    const double theta = fan_angle(tri, h, 2.0 * bound_, &fan_boundary);
+    const double theta = fan_angle(Barriers{tri, flags_}, h, 2.0 * bound_, &fan_boundary);
     return unfixable(theta, fan_boundary);
   }
-  /// A vertex with a side without twin starting or ending at it.
+  /// A vertex with a side without twin (or a constrained edge) starting or ending at it.
   bool is_boundary(Index v) const { return boundary_[v] != 0; }
   /// Records inserted vertex v (flat: never a needle).
   void add_vertex(Index v, bool boundary) {
@@ -175,6 +208,7 @@ class Cones {
     return boundary ? theta < bound_ : theta < 2.0 * bound_;
   }
   double bound_;
+  const std::vector<char>* flags_;
   std::vector<char> state_;     // per input vertex: kCached, and which kinds of fans it has
   std::vector<char> boundary_;  // per vertex
 };
@@ -277,8 +311,13 @@ constexpr double kOffCenterFactor = 0.95;
 template <class Host>
 class Refiner {
  public:
-  Refiner(Host& host, const RefineOptions& options)
-      : host_(host), tri_(host.tri()), options_(options) {
+  Refiner(Host& host, const RefineOptions& options, EdgeConstraints* constraints)
+      : host_(host),
+        tri_(host.tri()),
+        options_(options),
+        cons_(constraints),
+        flags_(constraints ? constraints->flags : nullptr),
+        bar_{host.tri(), flags_} {
     if (!(options.min_angle_degrees > 0.0 && options.min_angle_degrees <= 30.0)) {
       throw InvalidInput("delaunay_refine: minimum angle must be in (0, 30] degrees, got " +
                          std::to_string(options.min_angle_degrees));
@@ -294,11 +333,12 @@ class Refiner {
   }
 
   RefineReport run() {
+    grow_flags();
     rep_.flips += host_.flip_to_delaunay().flips;
     double before = kPi;
     for (Index f = 0; f < tri_.n_faces(); ++f) before = std::min(before, min_corner_angle(tri_, f));
     rep_.min_angle_before = before / kDeg;
-    cones_.emplace(tri_, bound_);
+    cones_.emplace(tri_, bound_, flags_);
     BadFaceQueue queue(tri_.n_faces());
     for (Index f = 0; f < tri_.n_faces(); ++f) {
       const Verdict v = classify(f);
@@ -380,7 +420,7 @@ class Refiner {
         // across side k, so inserting it splits that boundary edge
         // (only for an interior apex: an apex on the boundary can cascade, as in Ruppert's
         // small-input-angle case)
-        if (tri_.twin(3 * f + k) != kInvalidIndex) continue;
+        if (!bar_(3 * f + k)) continue;
         if (cones_->is_boundary(tri_.tail(3 * f + (k + 2) % 3))) continue;
         const double a = l[k], b = l[(k + 1) % 3], c = l[(k + 2) % 3];
         if (b * b + c * c - a * a < -1e-12 * (b * b + c * c)) {
@@ -432,8 +472,8 @@ class Refiner {
     start.face = f;
     start.bary = Eigen::Vector3d::Constant(1.0 / 3.0);
     try {
-      const TraceResult r =
-          trace_straight(tri_, start, w / dist, dist, -1, false, false, 4 * tri_.n_faces() + 1000);
+      const TraceResult r = trace_straight(tri_, start, w / dist, dist, -1, false, false,
+                                           4 * tri_.n_faces() + 1000, flags_);
       bool on_boundary = false;
       const Index v = insert_at(r, &on_boundary);
       if (v == kInvalidIndex) {
@@ -466,7 +506,7 @@ class Refiner {
     face_layout(tri_, g, p);
     const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
     for (int s = 0; s < 3; ++s) {
-      if (tri_.twin(3 * g + s) != kInvalidIndex) continue;
+      if (!bar_(3 * g + s)) continue;
       if ((p[s] - x).dot(p[(s + 1) % 3] - x) < 0.0) encroached = 3 * g + s;
     }
     if (encroached != kInvalidIndex) return split_boundary(tri_.edge(encroached), on_boundary);
@@ -477,28 +517,42 @@ class Refiner {
       const Index e = tri_.edge(h);
       double u = bary[(s + 1) % 3] / (bary[s] + bary[(s + 1) % 3]);
       if (tri_.edge_halfedge(e) != h) u = 1.0 - u;
-      if (tri_.is_boundary_edge(e)) {
-        u = 0.5;
-        ++rep_.boundary_splits;
-        *on_boundary = true;
-      } else {
-        ++rep_.edge_splits;
-      }
+      if (bar_(h)) return split_boundary(e, on_boundary);
+      ++rep_.edge_splits;
       if (!tri_.can_split_edge(e)) return kInvalidIndex;
-      return host_.split_edge(e, std::clamp(u, 1e-3, 1.0 - 1e-3));
+      return split(e, std::clamp(u, 1e-3, 1.0 - 1e-3));
     }
     const Index v = host_.insert_vertex(g, bary);
+    grow_flags();
     ++rep_.face_insertions;
     return v;
   }
 
-  // Splits boundary edge e at its midpoint (kInvalidIndex if it cannot be split).
+  // Splits edge e at fraction t (host), keeping the constraints: the flags grow with the new
+  // edges, and the half of a constrained edge beyond the new vertex is constrained too.
+  Index split(Index e, double t) {
+    const bool constrained = bar_.constrained(e);
+    const Index new_edge = tri_.n_edges();  // split_edge's first new edge: new vertex → old head
+    const Index v = host_.split_edge(e, t);
+    grow_flags();
+    if (constrained) {
+      (*flags_)[new_edge] = 1;
+      if (cons_->on_split) cons_->on_split(e, new_edge, v, t);
+    }
+    return v;
+  }
+
+  void grow_flags() {
+    if (flags_) flags_->resize(static_cast<std::size_t>(tri_.n_edges()), 0);
+  }
+
+  // Splits boundary or constrained edge e at its midpoint (kInvalidIndex if it cannot be
+  // split).
   Index split_boundary(Index e, bool* on_boundary) {
     if (!tri_.can_split_edge(e)) return kInvalidIndex;
-    const Index v = host_.split_edge(e, 0.5);
-    ++rep_.boundary_splits;
+    ++(tri_.is_boundary_edge(e) ? rep_.boundary_splits : rep_.constrained_splits);
     *on_boundary = true;
-    return v;
+    return split(e, 0.5);
   }
 
   // Restores Delaunay around the new vertex v (the sides opposite v, then whatever flips
@@ -567,6 +621,9 @@ class Refiner {
   Host& host_;
   const IntrinsicTriangulation& tri_;
   const RefineOptions& options_;
+  EdgeConstraints* cons_;     // may be null
+  std::vector<char>* flags_;  // cons_->flags, or null
+  Barriers bar_;
   double bound_ = 0.0, cos_bound_ = 1.0, max_area_ = 0.0;
   Index cap_ = 0;
   RefineReport rep_;
@@ -575,8 +632,8 @@ class Refiner {
 };
 
 template <class Host>
-RefineReport refine(Host& host, const RefineOptions& options) {
-  return Refiner<Host>(host, options).run();
+RefineReport refine(Host& host, const RefineOptions& options, EdgeConstraints* constraints) {
+  return Refiner<Host>(host, options, constraints).run();
 }
 
 }  // namespace
@@ -629,16 +686,18 @@ void check_refinement_budget(const IntrinsicTriangulation& tri, const RefineOpti
   throw InvalidInput(m.str());
 }
 
-RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options) {
+RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options,
+                             EdgeConstraints* constraints) {
   check_refinement_budget(st.intrinsic(), options);
-  SignpostHost host(st);
-  return refine(host, options);
+  SignpostHost host(st, constraints ? constraints->flags : nullptr);
+  return refine(host, options, constraints);
 }
 
-RefineReport delaunay_refine(IntrinsicTriangulation& tri, const RefineOptions& options) {
+RefineReport delaunay_refine(IntrinsicTriangulation& tri, const RefineOptions& options,
+                             EdgeConstraints* constraints) {
   check_refinement_budget(tri, options);
-  PlainHost host(tri);
-  return refine(host, options);
+  PlainHost host(tri, constraints ? constraints->flags : nullptr);
+  return refine(host, options, constraints);
 }
 
 namespace {

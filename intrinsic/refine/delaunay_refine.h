@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
+#include <vector>
 
 #include "intrinsic/refine/signpost.h"
 
@@ -39,6 +41,28 @@ struct RefineOptions {
   /// @throws InvalidInput naming the field: min_angle_degrees outside (0, 30], max_area
   ///         negative or not finite, max_insertions < −1, max_memory_bytes negative or NaN
   void validate() const;
+};
+
+/// Edges that must stay edges of the triangulation (constraints: curves drawn on the surface).
+/// Delaunay flips never flip them, and refinement never crosses them: a point that would land
+/// across a constrained edge, or inside its diametral circle, splits that edge at its midpoint
+/// instead (as boundary edges are split), and a constrained edge facing an obtuse angle is split
+/// too (split_encroached_boundary), so the result is a constrained Delaunay triangulation whose
+/// cotan weights are non-negative except at the documented exceptions (small angles between
+/// constraints, RefineReport::needle_faces). Corners between two constrained (or boundary) edges
+/// at a vertex form their own fan: one below the bound is left alone, as a boundary needle.
+struct EdgeConstraints {
+  /// #E flags, 1 on a constrained edge (entries past the end count as 0). delaunay_refine()
+  /// grows it to the new edge count after every insertion; the halves of a split constrained
+  /// edge are both constrained.
+  std::vector<char>* flags = nullptr;
+  /// Called after delaunay_refine() split constrained edge e at a new vertex v, at fraction t of
+  /// its length from the tail of edge_halfedge(e) as it was: e now runs from that tail to v (the
+  /// same direction), new_edge from v to the old head. May be empty.
+  std::function<void(Index e, Index new_edge, Index v, double t)> on_split;
+  bool is_constrained(Index e) const {
+    return flags != nullptr && e >= 0 && e < static_cast<Index>(flags->size()) && (*flags)[e];
+  }
 };
 
 /// Bytes one vertex of a refined triangulation costs, all told: the intrinsic triangulation
@@ -93,6 +117,7 @@ struct RefineReport {
   Index face_insertions = 0;       ///< circumcenters inserted inside a face
   Index edge_splits = 0;           ///< circumcenters that landed on an interior edge
   Index boundary_splits = 0;       ///< boundary edges split (circumcenter across the boundary)
+  Index constrained_splits = 0;    ///< constrained edges split (point across or encroaching one)
   Index failed_traces = 0;         ///< bad triangles skipped because tracing failed
   std::size_t flips = 0;           ///< edge flips (initial Delaunay + after insertions)
   bool hit_insertion_cap = false;  ///< stopped by max_insertions
@@ -115,8 +140,11 @@ struct RefineReport {
 /// or facing an encroached boundary side, largest first (why this order: docs/decisions.md,
 /// "Refinement order and off-centers"). Terminates on every input (the insertion cap).
 /// Input vertices keep their ids; inserted vertices are appended. The surface never changes.
+/// With `constraints`, constrained refinement (EdgeConstraints): constrained edges are never
+/// flipped or crossed, only split; the report's constrained_splits counts those splits.
 /// @throws InvalidInput on bad options (RefineOptions::validate())
-RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options = {});
+RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options = {},
+                             EdgeConstraints* constraints = nullptr);
 
 /// The same algorithm (the same code) on a bare intrinsic triangulation, without signposts:
 /// any Δ-complex — the tufted cover of a nonmanifold mesh or point cloud, or a plain manifold
@@ -131,8 +159,10 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
 /// when a side without twin starts or ends at it. The multiplicity (2 for a tufted cover) is
 /// kept, and with it total_area(). On a manifold mesh the result is exactly the signpost
 /// overload's (same insertions, same lengths).
+/// Constraints as in the signpost overload.
 /// @throws InvalidInput on bad options (RefineOptions::validate())
-RefineReport delaunay_refine(IntrinsicTriangulation& tri, const RefineOptions& options = {});
+RefineReport delaunay_refine(IntrinsicTriangulation& tri, const RefineOptions& options = {},
+                             EdgeConstraints* constraints = nullptr);
 
 /// Optimal Delaunay triangulation (ODT) relaxation of the inserted vertices.
 struct RelaxOptions {

@@ -88,7 +88,8 @@ void unfold_across(const IntrinsicTriangulation& tri, Index tw, int s, const Eig
 
 TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
                            Eigen::Vector2d dir, double distance, int start_corner,
-                           bool slide_on_boundary, bool record_path, Index max_steps) {
+                           bool slide_on_boundary, bool record_path, Index max_steps,
+                           const std::vector<char>* stop_edges) {
   TraceResult r;
   Index f = start.face;
   Eigen::Vector3d b = start.bary;
@@ -126,6 +127,14 @@ TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint
     const Index he = 3 * f + s;
     const Index tw = tri.twin(he);
     const Eigen::Vector2d e = (p[s1] - p[s]).normalized();
+    const Index edge_crossed = tri.edge(he);
+    if (tw != kInvalidIndex && stop_edges != nullptr &&
+        edge_crossed < static_cast<Index>(stop_edges->size()) && (*stop_edges)[edge_crossed]) {
+      r.hit_boundary = true;
+      r.boundary_halfedge = he;
+      finish_trace(r, f, b, d, record_path);
+      return r;
+    }
     if (tw == kInvalidIndex) {
       const double c = d.dot(e);
       if (slide_on_boundary && c != 0.0 && r.slides < max_steps) {
@@ -275,6 +284,25 @@ FlipReport SignpostTriangulation::flip_to_delaunay_from(std::vector<Index> queue
 
 FlipReport SignpostTriangulation::flip_to_delaunay() {
   return tri_.flip_to_delaunay([this](Index e) { return flip_edge(e); });
+}
+
+namespace {
+bool is_fixed(const std::vector<char>& fixed, Index e) {
+  return e < static_cast<Index>(fixed.size()) && fixed[e] != 0;
+}
+}  // namespace
+
+FlipReport SignpostTriangulation::flip_to_delaunay(const std::vector<char>& fixed_edges) {
+  return tri_.flip_to_delaunay(
+      [this, &fixed_edges](Index e) { return !is_fixed(fixed_edges, e) && flip_edge(e); });
+}
+
+FlipReport SignpostTriangulation::flip_to_delaunay_from(std::vector<Index> queue,
+                                                        std::vector<Index>* touched,
+                                                        const std::vector<char>& fixed_edges) {
+  return tri_.flip_to_delaunay_from(std::move(queue), touched, [this, &fixed_edges](Index e) {
+    return !is_fixed(fixed_edges, e) && flip_edge(e);
+  });
 }
 
 // ---------------------------------------------------------------------------------------------

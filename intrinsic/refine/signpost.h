@@ -23,8 +23,9 @@ namespace ifem::intrinsic {
 struct TraceResult {
   SurfacePoint end;                         ///< where the line ended
   Eigen::Vector2d direction;                ///< unit direction at the end, in end.face's layout
-  bool hit_boundary = false;                ///< stopped at a boundary side (when not sliding)
-  Index boundary_halfedge = kInvalidIndex;  ///< the boundary side it stopped at
+  bool hit_boundary = false;                ///< stopped at a boundary side (when not sliding) or
+                                            ///< at a side of a stop edge (TraceOptions)
+  Index boundary_halfedge = kInvalidIndex;  ///< the side it stopped at
   Index slides = 0;                         ///< times the line was slid along a boundary side
   std::vector<SurfacePoint> path;           ///< start, every side crossing, end (when recorded)
 };
@@ -42,6 +43,9 @@ struct TraceOptions {
   bool record_path = false;
   /// Give up (throw TraceError) after crossing this many sides; −1: 4 × #F + 1000.
   Index max_steps = -1;
+  /// #E flags (may be shorter: missing entries are 0): the line stops at a side of a flagged
+  /// edge as at a boundary side (hit_boundary, no sliding), e.g. at constrained edges.
+  const std::vector<char>* stop_edges = nullptr;
   /// @throws InvalidInput naming the field: start_corner outside {−1, 0, 1, 2}, max_steps < −1
   void validate() const;
 };
@@ -60,7 +64,8 @@ inline TraceResult trace_straight(const IntrinsicTriangulation& tri, const Surfa
 /// signpost.cpp takes TraceOptions; call the TraceOptions form.
 TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
                            Eigen::Vector2d dir, double distance, int start_corner,
-                           bool slide_on_boundary, bool record_path, Index max_steps);
+                           bool slide_on_boundary, bool record_path, Index max_steps,
+                           const std::vector<char>* stop_edges = nullptr);
 
 inline TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint& start,
                                   const Eigen::Vector2d& dir, double distance,
@@ -68,7 +73,7 @@ inline TraceResult trace_straight(const IntrinsicTriangulation& tri, const Surfa
   options.validate();
   const Index max_steps = options.max_steps >= 0 ? options.max_steps : 4 * tri.n_faces() + 1000;
   return trace_straight(tri, start, dir, distance, options.start_corner, options.slide_on_boundary,
-                        options.record_path, max_steps);
+                        options.record_path, max_steps, options.stop_edges);
 }
 
 /// An intrinsic triangulation with signposts, over an input mesh kept alongside.
@@ -140,6 +145,11 @@ class SignpostTriangulation {
   /// insertion, IntrinsicTriangulation::flip_to_delaunay_from), updating the signposts;
   /// appends every face a flip touched to `touched` when given.
   FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched);
+  /// The same two, never flipping an edge e whose fixed_edges[e] is nonzero (entries past the
+  /// end count as 0): constrained edges stay (counted as unflippable when not Delaunay).
+  FlipReport flip_to_delaunay(const std::vector<char>& fixed_edges);
+  FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched,
+                                   const std::vector<char>& fixed_edges);
 
   /// Inserts a vertex in intrinsic face f at barycentric coordinates `bary` (all > 0) and
   /// locates it on the input; returns its id (n_vertices() before the call).
