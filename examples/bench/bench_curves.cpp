@@ -2,8 +2,9 @@
 // icospheres of about 10k, 100k and 1M faces, with 1, 10 and 100 geodesic paths through 3
 // vertices each and 1 and 10 closed loops through 3 vertices each (medians over --repeat runs):
 //  - insertion (prepare_curve_surface without refinement): its wall time, its seconds_curves
-//    (signpost triangulation + FlipOut + marking; the signposts alone are timed apart, on the
-//    same mesh) and surface.seconds_flip (the constrained Delaunay flips);
+//    (signpost triangulation + FlipOut + marking), intrinsic::insert_curves alone (FlipOut +
+//    marking, timed apart on a fresh signpost triangulation; the signposts alone are timed once
+//    per mesh) and surface.seconds_flip (the constrained Delaunay flips);
 //  - constrained refinement (--min-angle 25, --resolution 1.0: triangles larger than the
 //    equilateral one of side h are split): surface.seconds_refine;
 //  - the solves, on the constrained and on the refined triangulation: curve_poisson (curve c
@@ -21,18 +22,21 @@
 //
 //   ifem_bench curves [--repeat 3] [--min-faces 0] [--max-faces 1100000]
 //                     [--max-refine-faces 1100000] [--min-angle 25] [--resolution 1.0]
+//                     [--curves N (only the cases with N curves)] [--solves 0|1]
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
 #include <cstdint>
 #include <cstdio>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include "bench_util.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/geodesic/curve_network.h"
 #include "intrinsic/refine/signpost.h"
 #include "solvers/curves.h"
 
@@ -187,6 +191,21 @@ CurveSurface prepare_timed(const intrinsic::TriangleMesh& m,
   return s;
 }
 
+// intrinsic::insert_curves alone (FlipOut + marking) on a fresh signpost triangulation: median.
+double insert_seconds(const intrinsic::TriangleMesh& m, const std::vector<CurveCondition>& curves,
+                      int repeat) {
+  std::vector<intrinsic::CurveSpec> specs;
+  for (const CurveCondition& c : curves) specs.push_back({c.vertices, c.shape, c.bezier_rounds});
+  std::vector<double> t;
+  for (int r = 0; r < repeat; ++r) {
+    intrinsic::SignpostTriangulation st(m.faces, m.positions, intrinsic::kDefaultMollifyEpsilon);
+    const double t0 = seconds_now();
+    (void)intrinsic::insert_curves(st, specs);
+    t.push_back(seconds_now() - t0);
+  }
+  return median(t);
+}
+
 // Every vertex of every curve (sorted, unique) and the value its curve holds there.
 void curve_vertices(const CurveSurface& s, std::vector<Index>& ids, Eigen::VectorXd& values) {
   std::vector<std::pair<Index, double>> vs;
@@ -206,13 +225,45 @@ void curve_vertices(const CurveSurface& s, std::vector<Index>& ids, Eigen::Vecto
   }
 }
 
+// Medians of two timed calls and of their per-run ratio a / b.
+struct PairTimes {
+  double a = 0, b = 0, ratio = 0;
+};
+
+// Times a() and b() `repeat` times each, alternating which of the two runs first (the first of
+// a pair may pay for memory the second gets back from the allocator).
+template <class A, class B>
+PairTimes time_pair(int repeat, A&& a, B&& b) {
+  std::vector<double> ta, tb, q;
+  for (int r = 0; r < repeat; ++r) {
+    double x = 0.0, y = 0.0;
+    auto run_a = [&] {
+      const double t0 = seconds_now();
+      a();
+      x = seconds_now() - t0;
+    };
+    auto run_b = [&] {
+      const double t0 = seconds_now();
+      b();
+      y = seconds_now() - t0;
+    };
+    if (r % 2 == 0) {
+      run_a(), run_b();
+    } else {
+      run_b(), run_a();
+    }
+    ta.push_back(x), tb.push_back(y), q.push_back(x / y);
+  }
+  return {median(ta), median(tb), median(q)};
+}
+
 struct SolveTimes {
-  double poisson_curves = 0, poisson_plain = 0, distance_curves = 0, distance_plain = 0;
+  PairTimes poisson, distance;
   double poisson_diff = 0, distance_diff = 0;
   Index vertices = 0, dirichlet = 0;
 };
 
-// The constrained solves against the unconstrained ones on the same triangulation, alternately.
+// The constrained solves against the unconstrained ones on the same triangulation.
 SolveTimes solve_timed(const CurveSurface& s, int repeat) {
   const solvers::PreparedSurface& p = s.surface;
   const Eigen::VectorXd f_in = p.input.positions.col(2);
@@ -220,28 +271,21 @@ SolveTimes solve_timed(const CurveSurface& s, int repeat) {
   std::vector<Index> ids;
   Eigen::VectorXd g;
   curve_vertices(s, ids, g);
-  std::vector<double> pc, pp, dc, dp;
+  solvers::CurvePoissonResult res;
+  Eigen::VectorXd u, d1, d2;
   SolveTimes out;
-  for (int r = 0; r < repeat; ++r) {
-    double t0 = seconds_now();
-    const solvers::CurvePoissonResult res = solvers::curve_poisson(s, f_in);
-    pc.push_back(seconds_now() - t0);
-    t0 = seconds_now();
-    const Eigen::VectorXd u = solvers::solve_poisson(p.tri, f_all, ids, g);
-    pp.push_back(seconds_now() - t0);
-    t0 = seconds_now();
-    const Eigen::VectorXd d1 = solvers::curve_distance(s);
-    dc.push_back(seconds_now() - t0);
-    t0 = seconds_now();
-    const solvers::HeatDistanceSolver heat(p.tri, solvers::distance_options(p));
-    const Eigen::VectorXd d2 = solvers::on_input_vertices(p, heat.compute_distance(ids));
-    dp.push_back(seconds_now() - t0);
-    out.poisson_diff = (res.u_intrinsic - u).cwiseAbs().maxCoeff();
-    out.distance_diff = (d1 - d2).cwiseAbs().maxCoeff();
-    out.dirichlet = res.dirichlet_vertices;
-  }
-  out.poisson_curves = median(pc), out.poisson_plain = median(pp);
-  out.distance_curves = median(dc), out.distance_plain = median(dp);
+  out.poisson = time_pair(
+      repeat, [&] { res = solvers::curve_poisson(s, f_in); },
+      [&] { u = solvers::solve_poisson(p.tri, f_all, ids, g); });
+  out.distance = time_pair(
+      repeat, [&] { d1 = solvers::curve_distance(s); },
+      [&] {
+        const solvers::HeatDistanceSolver heat(p.tri, solvers::distance_options(p));
+        d2 = solvers::on_input_vertices(p, heat.compute_distance(ids));
+      });
+  out.poisson_diff = (res.u_intrinsic - u).cwiseAbs().maxCoeff();
+  out.distance_diff = (d1 - d2).cwiseAbs().maxCoeff();
+  out.dirichlet = res.dirichlet_vertices;
   out.vertices = p.tri.n_vertices();
   return out;
 }
@@ -274,13 +318,15 @@ Index curve_edge_count(const CurveSurface& s) {
 
 struct Settings {
   int repeat = 3;
+  int only_curves = 0;  // run only the cases with this many curves (0: all)
+  bool solves = true;
   long max_refine_faces = 1100000;
   solvers::RefineSettings refine;
 };
 
 // The tables' rows, filled case by case (and echoed to stderr as they come).
 struct Tables {
-  std::vector<std::string> insert, refine, solve;
+  std::vector<std::string> insert, refine, solve, notes;
   void add(std::vector<std::string>& to, const std::string& row) {
     to.push_back(row);
     std::fprintf(stderr, "%s\n", row.c_str());
@@ -298,13 +344,12 @@ std::string solve_row(const MeshInfo& mi, const Case& k, const char* tri, const 
   return format(
       "| %s | %s | %s | %s | %s | %.4f | %.4f | **%.2f** | %.1e | %.4f | %.4f | **%.2f** | %.1e |",
       mi.label.c_str(), k.name().c_str(), tri, grouped(t.vertices).c_str(),
-      grouped(t.dirichlet).c_str(), t.poisson_curves, t.poisson_plain,
-      t.poisson_curves / t.poisson_plain, t.poisson_diff, t.distance_curves, t.distance_plain,
-      t.distance_curves / t.distance_plain, t.distance_diff);
+      grouped(t.dirichlet).c_str(), t.poisson.a, t.poisson.b, t.poisson.ratio, t.poisson_diff,
+      t.distance.a, t.distance.b, t.distance.ratio, t.distance_diff);
 }
 
 void insertion_rows(const MeshInfo& mi, const Case& k, const CurveSurface& s, const PrepareTimes& t,
-                    int tries, double gap, Tables& out) {
+                    double insert, int tries, double gap, Tables& out) {
   const intrinsic::FlipOutReport& fo = s.network.flipout;
   const double curves = median(t.curves);
   std::string stop = intrinsic::to_string(fo.stopped_by);
@@ -313,7 +358,7 @@ void insertion_rows(const MeshInfo& mi, const Case& k, const CurveSurface& s, co
           format("| %s | %s | %s | %.4f | %.4f | %.4f | %.4f | %s | %s | %s | %s | %d | %.3f | "
                  "%.0f |",
                  mi.label.c_str(), grouped(mi.faces).c_str(), k.name().c_str(), median(t.wall),
-                 curves, curves - mi.seconds_signposts, median(t.flip), grouped(fo.flips).c_str(),
+                 curves, insert, median(t.flip), grouped(fo.flips).c_str(),
                  grouped(s.constrained_flips.flips).c_str(), grouped(curve_edge_count(s)).c_str(),
                  stop.c_str(), tries, gap, peak_rss_mib()));
 }
@@ -341,8 +386,8 @@ void run_case(const intrinsic::TriangleMesh& m, const MeshInfo& mi, const Case& 
   {
     PrepareTimes t;
     const CurveSurface s = prepare_timed(m, curves, {}, set.repeat, t);
-    insertion_rows(mi, k, s, t, tries, gap, out);
-    out.add(out.solve, solve_row(mi, k, "constrained", solve_timed(s, set.repeat)));
+    insertion_rows(mi, k, s, t, insert_seconds(m, curves, set.repeat), tries, gap, out);
+    if (set.solves) out.add(out.solve, solve_row(mi, k, "constrained", solve_timed(s, set.repeat)));
   }
   if (mi.faces > set.max_refine_faces) return;
   solvers::CurveSurfaceOptions opt;
@@ -350,16 +395,18 @@ void run_case(const intrinsic::TriangleMesh& m, const MeshInfo& mi, const Case& 
   PrepareTimes t;
   const CurveSurface s = prepare_timed(m, curves, opt, set.repeat, t);
   refine_row(mi, k, s, t, out);
-  out.add(out.solve, solve_row(mi, k, "refined", solve_timed(s, set.repeat)));
+  if (set.solves) out.add(out.solve, solve_row(mi, k, "refined", solve_timed(s, set.repeat)));
 }
 
 void print_tables(const Settings& set, const Tables& t) {
   std::printf("## Inserting the curves (median of %d runs)\n\n", set.repeat);
   std::printf(
-      "| mesh | faces | curves | prepare s | curves s | FlipOut + marking s | constrained flips s "
+      "| mesh | faces | curves | prepare s | curves s | insert_curves s | constrained flips s "
       "| FlipOut flips | Delaunay flips | curve edges | FlipOut stop | layouts | gap rad | peak "
       "MiB |\n|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n");
   for (const std::string& r : t.insert) std::printf("%s\n", r.c_str());
+  std::printf("\n");
+  for (const std::string& r : t.notes) std::printf("%s\n", r.c_str());
   std::printf("\n## Constrained refinement, %.0f° and resolution %.2g (median of %d runs)\n\n",
               set.refine.min_angle_degrees, set.refine.resolution, set.repeat);
   std::printf(
@@ -395,6 +442,8 @@ int curves(int argc, char** argv) {
   set.max_refine_faces = int_option(argc, argv, "--max-refine-faces", 1100000);
   set.refine.min_angle_degrees = std::stod(string_option(argc, argv, "--min-angle", "25"));
   set.refine.resolution = std::stod(string_option(argc, argv, "--resolution", "1.0"));
+  set.only_curves = int(int_option(argc, argv, "--curves", 0));
+  set.solves = int_option(argc, argv, "--solves", 1) != 0;
   {
     std::ifstream load("/proc/loadavg");
     std::string l1, l5, l15;
@@ -408,9 +457,11 @@ int curves(int argc, char** argv) {
     if (faces < min_faces || faces > max_faces) continue;
     const intrinsic::TriangleMesh m = intrinsic::icosphere(n);
     MeshInfo mi{"icosphere(" + std::to_string(n) + ")", faces, signpost_seconds(m, set.repeat)};
-    std::fprintf(stderr, "%s: signpost triangulation %.4f s\n", mi.label.c_str(),
-                 mi.seconds_signposts);
-    for (const Case& k : cases) run_case(m, mi, k, set, tables);
+    tables.add(tables.notes, format("- %s: the signpost triangulation alone %.4f s",
+                                    mi.label.c_str(), mi.seconds_signposts));
+    for (const Case& k : cases) {
+      if (set.only_curves == 0 || k.n == set.only_curves) run_case(m, mi, k, set, tables);
+    }
   }
   print_tables(set, tables);
   return 0;
