@@ -77,18 +77,16 @@ struct CurveSurfaceOptions {
 
 /// A surface with curves as edges of its intrinsic triangulation.
 struct CurveSurface {
-  io::SurfaceInput input;               ///< as read (#V_in positions, triangles)
-  intrinsic::BuildReport build;         ///< dropped / reoriented faces
-  std::vector<CurveCondition> curves;   ///< as given
-  intrinsic::SignpostTriangulation st;  ///< constrained intrinsic Delaunay (maybe refined)
-  intrinsic::CurveNetwork network;      ///< the curves as constrained edges of st
-  intrinsic::FlipReport flips;          ///< constrained Delaunay flips after the curves
-  bool refined = false;
-  intrinsic::RefineReport refine_report;  ///< when refined
-  intrinsic::CotanSigns signs;            ///< cotan weights' signs at the end
-  double input_mean_edge_length = 0.0;    ///< h (robust mean side length of the input)
-  double seconds_curves = 0, seconds_flip = 0, seconds_refine = 0;
-  Index n_input_vertices() const { return static_cast<Index>(input.positions.rows()); }
+  /// The input, its reports and h, as prepare_surface() gives them, with `tri` the constrained
+  /// intrinsic Delaunay triangulation (refined when asked; slits not cut: curve_poisson() cuts a
+  /// copy) and `signposts` its signposts.
+  PreparedSurface surface;
+  std::vector<CurveCondition> curves;       ///< as given
+  intrinsic::CurveNetwork network;          ///< the curves as constrained edges of surface.tri
+  intrinsic::FlipReport constrained_flips;  ///< constrained Delaunay flips after the curves
+  intrinsic::CotanSigns signs;              ///< cotan weights' signs at the end
+  double seconds_curves = 0;
+  Index n_input_vertices() const { return surface.n_input_vertices(); }
 };
 
 /// Builds the signpost triangulation of an edge-manifold, orientable mesh, inserts the curves

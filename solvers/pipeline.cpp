@@ -109,32 +109,7 @@ void prepare_mesh(const PrepareOptions& opt, PreparedSurface& s, const Progress&
 
 // ---- refinement -----------------------------------------------------------------------------
 
-intrinsic::RefineOptions refine_options(const RefineSettings& r, double target_length) {
-  intrinsic::RefineOptions o;
-  o.min_angle_degrees = r.min_angle_degrees;
-  o.max_area = r.max_area;
-  if (target_length > 0.0) {
-    const double a = intrinsic::equilateral_area(target_length);
-    o.max_area = o.max_area > 0.0 ? std::min(o.max_area, a) : a;
-  }
-  o.max_insertions = r.max_insertions;
-  o.max_memory_bytes = r.max_memory_bytes;
-  return o;
-}
-
-std::string describe(const intrinsic::RefineReport& r) {
-  std::ostringstream m;
-  m << "refined: " << r.vertices_before << " -> " << r.vertices_after << " vertices ("
-    << r.face_insertions << " circumcenters, " << r.edge_splits << " edge splits, "
-    << r.boundary_splits << " boundary splits), " << r.flips << " flips, min angle "
-    << r.min_angle_before << "° -> " << r.min_angle_after_excluding_needles << "°";
-  if (r.needle_faces) m << ", " << r.needle_faces << " needle-cone triangles left alone";
-  if (r.failed_traces) m << ", " << r.failed_traces << " bad triangles skipped (trace failed)";
-  if (r.hit_insertion_cap) {
-    m << "; STOPPED at the insertion cap, " << r.bad_faces_left << " triangles still bad";
-  }
-  return m.str();
-}
+using solvers::describe;  // the RefineReport one (public), beside this overload
 
 std::string describe(const intrinsic::RelaxReport& r) {
   std::ostringstream m;
@@ -339,6 +314,35 @@ void check_input_vertex_ids(const PreparedSurface& s, const std::vector<Index>& 
 }
 
 }  // namespace
+
+intrinsic::RefineOptions refine_options(const RefineSettings& r, double target_length) {
+  intrinsic::RefineOptions o;
+  o.min_angle_degrees = r.min_angle_degrees;
+  o.max_area = r.max_area;
+  if (target_length > 0.0) {
+    const double a = intrinsic::equilateral_area(target_length);
+    o.max_area = o.max_area > 0.0 ? std::min(o.max_area, a) : a;
+  }
+  o.max_insertions = r.max_insertions;
+  o.max_memory_bytes = r.max_memory_bytes;
+  return o;
+}
+
+std::string describe(const intrinsic::RefineReport& r) {
+  std::ostringstream m;
+  m << "refined: " << r.vertices_before << " -> " << r.vertices_after << " vertices ("
+    << r.face_insertions << " circumcenters, " << r.edge_splits << " edge splits, "
+    << r.boundary_splits << " boundary splits";
+  if (r.constrained_splits) m << ", " << r.constrained_splits << " curve splits";
+  m << "), " << r.flips << " flips, min angle " << r.min_angle_before << "° -> "
+    << r.min_angle_after_excluding_needles << "°";
+  if (r.needle_faces) m << ", " << r.needle_faces << " needle-cone triangles left alone";
+  if (r.failed_traces) m << ", " << r.failed_traces << " bad triangles skipped (trace failed)";
+  if (r.hit_insertion_cap) {
+    m << "; STOPPED at the insertion cap, " << r.bad_faces_left << " triangles still bad";
+  }
+  return m.str();
+}
 
 void RefineSettings::validate() const {
   require(

@@ -50,6 +50,13 @@ struct RefineSettings {
   void validate() const;
 };
 
+/// The refinement options for settings r with target edge length ℓ (absolute; 0: none): the
+/// area bound is the smaller of r.max_area and equilateral_area(ℓ).
+intrinsic::RefineOptions refine_options(const RefineSettings& r, double target_length);
+
+/// One line for people: what a refinement did (vertices, insertions, flips, angles, caps).
+std::string describe(const intrinsic::RefineReport& r);
+
 /// The accurate distance mode's refinement (RefinedDistanceSettings: edges of about 0.4·h).
 RefineSettings accurate_distance_refinement();
 

@@ -57,8 +57,9 @@ struct CurveNetwork {
   FlipOutReport flipout;       ///< of shortening the paths and loops together
   Index bezier_midpoints = 0;  ///< vertices inserted by Bézier subdivision
   Index n_curves() const { return static_cast<Index>(first_edge.size()); }
-  /// The constraint set for delaunay_refine() / flips, updating this network on splits.
-  EdgeConstraints constraints();
+  /// The constraint set for delaunay_refine() on tri (the triangulation the network lives in),
+  /// updating this network on splits. Both must outlive its use, at the same addresses.
+  EdgeConstraints constraints(const IntrinsicTriangulation& tri);
 };
 
 /// Makes the curves edges of st and marks them: Bézier curves first (each with the earlier ones

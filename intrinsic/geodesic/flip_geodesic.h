@@ -185,9 +185,13 @@ struct BezierCurve {
 };
 /// @param control ≥ 2 intrinsic vertex ids (degree = #control − 1); consecutive ones distinct
 /// @param rounds ≥ 0 (0: the geodesic control polygon itself); at most 16
+/// @param fixed_edges optional #E flags (shorter is fine: missing entries are 0) of edges never
+///        flipped or split (other curves already in the triangulation): a midpoint that would
+///        split one snaps to its nearer end
 /// @throws InvalidInput on bad control points or rounds, or points on different components
 BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& control, int rounds,
-                         const FlipOutOptions& options = {});
+                         const FlipOutOptions& options = {},
+                         const std::vector<char>* fixed_edges = nullptr);
 
 /// Single-source geodesics (Sharp & Crane 2020, §6.4; thesis proposal §5.3): a Dijkstra search
 /// from `source` that makes every accepted path a geodesic by FlipOut before accepting it,

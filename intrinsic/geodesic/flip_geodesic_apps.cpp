@@ -147,19 +147,34 @@ Index insert_surface_point(SignpostTriangulation& st, const SurfacePoint& p, dou
 
 namespace {
 
+// Edges a Bézier construction must not flip or split (other curves), grown with the
+// triangulation's edges (new edges are free); empty: none.
+struct FixedEdges {
+  std::vector<char> flags;
+  bool any = false;
+  const std::vector<char>* grown(const IntrinsicTriangulation& tri) {
+    if (!any) return nullptr;
+    flags.resize(static_cast<std::size_t>(tri.n_edges()), 0);
+    return &flags;
+  }
+  bool operator()(Index e) const { return any && e < static_cast<Index>(flags.size()) && flags[e]; }
+};
+
 // A FlipOut geodesic between two vertices (on the current triangulation; flips it).
-EdgePath geodesic_between(SignpostTriangulation& st, Index a, Index b, const FlipOutOptions& o) {
-  EdgePath p = shortest_edge_path(st.intrinsic(), a, b);
-  shorten(st, p, o);
-  return p;
+EdgePath geodesic_between(SignpostTriangulation& st, Index a, Index b, const FlipOutOptions& o,
+                          FixedEdges& fixed) {
+  std::vector<EdgePath> p{shortest_edge_path(st.intrinsic(), a, b)};
+  shorten(st, p, o, fixed.grown(st.intrinsic()));
+  return p[0];
 }
 
 // The vertex halfway along the geodesic from a to b: an existing vertex within 1e-9 of the
 // length, else a new one splitting the edge there (counted in *inserted).
+// A fixed edge is never split: the midpoint snaps to its nearer end.
 Index midpoint(SignpostTriangulation& st, Index a, Index b, const FlipOutOptions& o,
-               Index* inserted) {
+               FixedEdges& fixed, Index* inserted) {
   if (a == b) return a;
-  const EdgePath p = geodesic_between(st, a, b, o);
+  const EdgePath p = geodesic_between(st, a, b, o, fixed);
   const T& tri = st.intrinsic();
   const double half = 0.5 * path_length(tri, p);
   double before = 0.0;
@@ -170,8 +185,8 @@ Index midpoint(SignpostTriangulation& st, Index a, Index b, const FlipOutOptions
       continue;
     }
     const double t = (half - before) / l;
-    if (t <= 1e-9) return step_tail(tri, s);
-    if (t >= 1.0 - 1e-9 || !tri.can_split_edge(s.edge)) return step_head(tri, s);
+    if (t <= 1e-9 || (fixed(s.edge) && t < 0.5)) return step_tail(tri, s);
+    if (t >= 1.0 - 1e-9 || !tri.can_split_edge(s.edge) || fixed(s.edge)) return step_head(tri, s);
     ++*inserted;
     return st.split_edge(s.edge, s.forward ? t : 1.0 - t);
   }
@@ -181,12 +196,12 @@ Index midpoint(SignpostTriangulation& st, Index a, Index b, const FlipOutOptions
 // One de Casteljau step at t = 1/2 of the piece `c` (d + 1 points): its two halves, joined
 // (2d + 1 points).
 std::vector<Index> split_piece(SignpostTriangulation& st, std::vector<Index> c,
-                               const FlipOutOptions& o, Index* inserted) {
+                               const FlipOutOptions& o, FixedEdges& fixed, Index* inserted) {
   std::vector<Index> left{c.front()}, right{c.back()};
   while (c.size() > 1) {
     std::vector<Index> next;
     for (std::size_t i = 0; i + 1 < c.size(); ++i) {
-      next.push_back(midpoint(st, c[i], c[i + 1], o, inserted));
+      next.push_back(midpoint(st, c[i], c[i + 1], o, fixed, inserted));
     }
     c = std::move(next);
     left.push_back(c.front());
@@ -232,8 +247,10 @@ bool splice_shorter_prefix(const T& tri, const SingleSourceGeodesics& g,
 }  // namespace
 
 BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& control, int rounds,
-                         const FlipOutOptions& options) {
+                         const FlipOutOptions& options, const std::vector<char>* fixed_edges) {
   options.validate();
+  FixedEdges fixed;
+  if (fixed_edges) fixed.flags = *fixed_edges, fixed.any = true;
   if (rounds < 0 || rounds > 16) {
     throw InvalidInput("bezier_curve: rounds must be in [0, 16], got " + std::to_string(rounds));
   }
@@ -246,15 +263,17 @@ BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& co
     std::vector<Index> next{pts.front()};
     for (std::size_t k = 0; k + d < pts.size(); k += d) {
       const std::vector<Index> piece(pts.begin() + k, pts.begin() + k + d + 1);
-      const std::vector<Index> halves = split_piece(st, piece, options, &out.inserted_vertices);
+      const std::vector<Index> halves =
+          split_piece(st, piece, options, fixed, &out.inserted_vertices);
       next.insert(next.end(), halves.begin() + 1, halves.end());
     }
     pts = std::move(next);
   }
   pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
   out.controls = pts;
-  out.path = edge_path_through(st.intrinsic(), pts, false, true);
-  out.report = shorten(st, out.path, options);
+  std::vector<EdgePath> paths{edge_path_through(st.intrinsic(), pts, false, true)};
+  out.report = shorten(st, paths, options, fixed.grown(st.intrinsic()));
+  out.path = std::move(paths[0]);
   return out;
 }
 

@@ -1,0 +1,326 @@
+#include "solvers/curves.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/timer.h"
+#include "intrinsic/core/union_find.h"
+
+namespace ifem::solvers {
+namespace {
+
+using T = intrinsic::IntrinsicTriangulation;
+
+void report(const CurveSurfaceOptions& o, const std::string& line) {
+  if (o.progress) o.progress(line);
+}
+
+intrinsic::CurveSpec to_spec(const CurveCondition& c) {
+  intrinsic::CurveSpec s;
+  s.vertices = c.vertices;
+  s.shape = c.shape;
+  s.bezier_rounds = c.bezier_rounds;
+  return s;
+}
+
+// Replaces "curve i" at the start of a library message by the curve's origin.
+std::string with_origins(const std::string& what, const std::vector<CurveCondition>& curves) {
+  std::string m = what;
+  for (std::size_t i = curves.size(); i-- > 0;) {
+    const std::string key = "curve " + std::to_string(i);
+    for (std::size_t at = m.find(key); at != std::string::npos; at = m.find(key, at + 1)) {
+      const std::size_t end = at + key.size();
+      if (end < m.size() && std::isdigit(static_cast<unsigned char>(m[end]))) continue;
+      if (!curves[i].origin.empty()) m.replace(at, key.size(), "curve at " + curves[i].origin);
+      break;
+    }
+  }
+  return m;
+}
+
+// The value of data `vals` (1 value, or one per control point, wrapping for a loop) at arc
+// length s, linear in arc length between the control points' arc lengths `ctrl`.
+double value_at(const std::vector<double>& vals, const std::vector<double>& ctrl, double s) {
+  if (vals.size() == 1 || ctrl.size() < 2) return vals.front();
+  std::size_t i = 0;
+  while (i + 2 < ctrl.size() && s > ctrl[i + 1]) ++i;
+  const double a = vals[i % vals.size()], b = vals[(i + 1) % vals.size()];
+  const double span = ctrl[i + 1] - ctrl[i];
+  const double t = span > 0.0 ? std::clamp((s - ctrl[i]) / span, 0.0, 1.0) : 0.0;
+  return a + t * (b - a);
+}
+
+// The triangulation cut open along the slits: every vertex whose corners fall apart into
+// several fans once the slit edges are unglued gets one copy per fan (the first keeps its id,
+// the others are appended; origin maps copies back).
+struct CutOpen {
+  T tri;
+  std::vector<Index> corner_vertex;  // #H: the (possibly copied) vertex at each corner
+  std::vector<Index> origin;         // #V of tri: the vertex of the uncut triangulation
+  Index copies = 0;
+};
+
+CutOpen cut_open(const T& base, const std::vector<char>& cut) {
+  const Index nh = base.n_halfedges(), nv = base.n_vertices();
+  CutOpen out;
+  auto is_cut = [&](Index h) { return cut[base.edge(h)] != 0; };
+  UnionFind corners(nh);
+  for (Index h = 0; h < nh; ++h) {
+    const Index t = base.twin(h);
+    if (t == kInvalidIndex || is_cut(h)) continue;
+    corners.unite(h, T::next(t));
+    corners.unite(T::next(h), t);
+  }
+  std::vector<Index> id(nh, kInvalidIndex);
+  std::vector<char> taken(nv, 0);
+  out.origin.resize(nv);
+  for (Index v = 0; v < nv; ++v) out.origin[v] = v;
+  out.corner_vertex.resize(nh);
+  std::vector<Index> twin(nh);
+  std::vector<double> length(nh);
+  for (Index h = 0; h < nh; ++h) {
+    const Index r = corners.find(h), v = base.tail(h);
+    if (id[r] == kInvalidIndex) {
+      id[r] = taken[v] ? static_cast<Index>(out.origin.size()) : v;
+      if (taken[v]) out.origin.push_back(v), ++out.copies;
+      taken[v] = 1;
+    }
+    out.corner_vertex[h] = id[r];
+    twin[h] = is_cut(h) ? kInvalidIndex : base.twin(h);
+    length[h] = base.halfedge_length(h);
+  }
+  if (out.copies == 0) {
+    out.tri = base;
+    return out;
+  }
+  out.tri = T::from_gluing(out.corner_vertex, std::move(twin), length,
+                           static_cast<Index>(out.origin.size()));
+  return out;
+}
+
+// Dirichlet values gathered per vertex of the cut triangulation: every curve puts its value (per
+// side) on the corners next to its edges; vertices that get different values take the mean.
+struct CurveValues {
+  std::vector<double> sum, lo, hi;
+  std::vector<int> count;
+  explicit CurveValues(Index n) : sum(n, 0.0), lo(n, 0.0), hi(n, 0.0), count(n, 0) {}
+  void add(Index v, double x) {
+    lo[v] = count[v] ? std::min(lo[v], x) : x;
+    hi[v] = count[v] ? std::max(hi[v], x) : x;
+    sum[v] += x;
+    ++count[v];
+  }
+};
+
+void gather_curve_values(const CurveSurface& s, const CutOpen& cut, CurveValues& cv) {
+  const T& base = s.surface.tri;
+  for (Index c = 0; c < s.network.n_curves(); ++c) {
+    const CurveCondition& cc = s.curves[c];
+    const std::vector<double>& ctrl = s.network.control_arclength[c];
+    const std::vector<double>& right = cc.slit ? cc.right_values : cc.values;
+    const intrinsic::CurveChain ch = intrinsic::curve_chain(base, s.network, c);
+    for (std::size_t i = 0; i < ch.edges.size(); ++i) {
+      const Index hl = ch.left_halfedges[i];
+      const Index h0 = base.edge_halfedge(ch.edges[i]);
+      const Index hr = hl == kInvalidIndex ? h0 : base.twin(hl);
+      const double a = ch.arclength[i], b = ch.arclength[i + 1];
+      if (hl != kInvalidIndex) {  // left face: its corners at the step's tail and head
+        cv.add(cut.corner_vertex[hl], value_at(cc.values, ctrl, a));
+        cv.add(cut.corner_vertex[T::next(hl)], value_at(cc.values, ctrl, b));
+      }
+      if (hr != kInvalidIndex) {  // right face runs head → tail
+        cv.add(cut.corner_vertex[hr], value_at(right, ctrl, b));
+        cv.add(cut.corner_vertex[T::next(hr)], value_at(right, ctrl, a));
+      }
+    }
+  }
+}
+
+// Inserts the curves, flips to the constrained Delaunay triangulation and refines (constrained)
+// when asked; fills out.network, out.surface.tri / signposts and the reports.
+void build_constrained(const CurveSurfaceOptions& opt, CurveSurface& out) {
+  PreparedSurface& s = out.surface;
+  Stopwatch watch;
+  intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
+                                      opt.mollify_relative_epsilon);
+  std::vector<intrinsic::CurveSpec> specs;
+  for (const CurveCondition& c : out.curves) specs.push_back(to_spec(c));
+  try {
+    out.network = intrinsic::insert_curves(st, specs, opt.flipout);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(with_origins(e.what(), out.curves));
+  }
+  const intrinsic::FlipOutReport& fo = out.network.flipout;
+  out.seconds_curves = watch.restart();
+  std::ostringstream m;
+  m << "curves: " << out.curves.size() << " inserted (" << fo.flips << " FlipOut flips, "
+    << out.network.bezier_midpoints << " Bézier midpoints; " << intrinsic::to_string(fo.stopped_by)
+    << (fo.blocked_joints ? ", " + std::to_string(fo.blocked_joints) + " bent joints left" : "")
+    << ") in " << out.seconds_curves << " s";
+  report(opt, m.str());
+  out.constrained_flips = intrinsic::flip_to_constrained_delaunay(st, out.network);
+  s.seconds_flip = watch.restart();
+  report(opt, "constrained Delaunay: " + std::to_string(out.constrained_flips.flips) + " flips");
+  if (opt.refine) {
+    s.target_edge_length = opt.refine->resolution * s.input_mean_edge_length;
+    intrinsic::EdgeConstraints ec = out.network.constraints(st.intrinsic());
+    s.refine_report =
+        intrinsic::delaunay_refine(st, refine_options(*opt.refine, s.target_edge_length), &ec);
+    s.refined = true;
+    s.seconds_refine = watch.restart();
+    report(opt, describe(s.refine_report) + " in " + std::to_string(s.seconds_refine) + " s");
+  }
+  const std::size_t ne = static_cast<std::size_t>(st.intrinsic().n_edges());
+  out.network.constrained.resize(ne, 0);
+  out.network.edges.resize(ne);
+  out.signs = intrinsic::cotan_signs(st.intrinsic(), out.network.constrained);
+  s.tri = st.intrinsic();
+  s.signposts = std::move(st);
+}
+
+}  // namespace
+
+CurveSurface prepare_curve_surface(io::SurfaceInput input, std::vector<CurveCondition> curves,
+                                   const CurveSurfaceOptions& options) {
+  if (options.refine) {
+    options.refine->validate();
+    if (options.refine->relax_iterations > 0) {
+      throw InvalidInput(
+          "curves: relaxation is not offered with curves (it would move vertices off them)");
+    }
+  }
+  if (!input.has_faces()) {
+    throw InvalidInput("curves need a triangle mesh: this input has no faces (a point cloud)");
+  }
+  validate_curves(curves, static_cast<Index>(input.positions.rows()), false);
+  PrepareOptions po;
+  po.mollify_relative_epsilon = options.mollify_relative_epsilon;
+  po.intrinsic_delaunay = false;
+  po.progress = options.progress;
+  CurveSurface out;
+  out.surface = prepare_surface(std::move(input), po);
+  PreparedSurface& s = out.surface;
+  if (!s.supports_signposts()) {
+    throw InvalidInput(std::string("curves need an edge-manifold, orientable mesh (they are drawn "
+                                   "with signposts): this input took the ") +
+                       intrinsic::to_string(s.path) + " path (" + s.reason_detail + ")");
+  }
+  s.path = intrinsic::SurfacePath::kManifold;  // signposts on the input's own faces
+  s.reason = intrinsic::PathReason::kEdgeManifoldOrientable;
+  s.boundary_vertex.clear();
+  out.curves = std::move(curves);
+  build_constrained(options, out);
+  return out;
+}
+
+CurvePoissonResult curve_poisson(const CurveSurface& s, const Eigen::VectorXd& f,
+                                 const std::vector<Index>& dirichlet_vertices,
+                                 const Eigen::VectorXd& dirichlet_values,
+                                 const PoissonOptions& options) {
+  const Index n_in = s.n_input_vertices();
+  validate_curves(s.curves, n_in, true);
+  if (dirichlet_values.size() != static_cast<Eigen::Index>(dirichlet_vertices.size())) {
+    throw InvalidInput("curve_poisson: " + std::to_string(dirichlet_values.size()) +
+                       " Dirichlet values for " + std::to_string(dirichlet_vertices.size()) +
+                       " vertices");
+  }
+  const T& base = s.surface.tri;
+  std::vector<char> slit(base.n_edges(), 0);
+  for (Index e = 0; e < base.n_edges(); ++e) {
+    const Index c = s.network.edges[e].curve;
+    slit[e] = c != kInvalidIndex && s.curves[c].slit ? 1 : 0;
+  }
+  const CutOpen cut = cut_open(base, slit);
+  const Index nc = cut.tri.n_vertices();
+  CurveValues cv(nc);
+  gather_curve_values(s, cut, cv);
+  CurvePoissonResult out;
+  out.slit_copies = cut.copies;
+  std::vector<Index> dv;
+  std::vector<double> dval;
+  for (Index v = 0; v < nc; ++v) {
+    if (!cv.count[v]) continue;
+    dv.push_back(v);
+    dval.push_back(cv.sum[v] / cv.count[v]);
+    const double scale = std::max({1.0, std::abs(cv.lo[v]), std::abs(cv.hi[v])});
+    if (cv.hi[v] - cv.lo[v] > 1e-12 * scale) ++out.conflicting_vertices;
+  }
+  std::vector<char> on_curve(base.n_vertices(), 0);
+  for (Index x = 0; x < nc; ++x) on_curve[cut.origin[x]] |= cv.count[x] ? 1 : 0;
+  for (std::size_t i = 0; i < dirichlet_vertices.size(); ++i) {
+    const Index v = dirichlet_vertices[i];
+    if (v < 0 || v >= n_in) {
+      throw InvalidInput("curve_poisson: Dirichlet vertex " + std::to_string(v) +
+                         " out of range [0, " + std::to_string(n_in) + ")");
+    }
+    if (on_curve[v]) {
+      throw InvalidInput("curve_poisson: Dirichlet vertex " + std::to_string(v) +
+                         " lies on a curve, which already holds it");
+    }
+    dv.push_back(v);
+    dval.push_back(dirichlet_values[static_cast<Eigen::Index>(i)]);
+  }
+  const Eigen::VectorXd f_in = f.size() == 0 ? Eigen::VectorXd::Zero(n_in) : f;
+  const Eigen::VectorXd f_base = from_input_vertices(s.surface, f_in);
+  Eigen::VectorXd f_cut(nc);
+  for (Index v = 0; v < nc; ++v) f_cut[v] = f_base[cut.origin[v]];
+  const Eigen::VectorXd g =
+      Eigen::Map<const Eigen::VectorXd>(dval.data(), Eigen::Index(dval.size()));
+  const Eigen::VectorXd u = solve_poisson(cut.tri, f_cut, dv, g, options);
+  out.dirichlet_vertices =
+      static_cast<Index>(dv.size()) - static_cast<Index>(dirichlet_vertices.size());
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(base.n_vertices());
+  Eigen::VectorXd cnt = Eigen::VectorXd::Zero(base.n_vertices());
+  for (Index v = 0; v < nc; ++v) sum[cut.origin[v]] += u[v], cnt[cut.origin[v]] += 1.0;
+  out.u_intrinsic = sum.cwiseQuotient(cnt.cwiseMax(1.0));
+  out.u = on_input_vertices(s.surface, out.u_intrinsic);
+  if (!out.u.allFinite()) throw SolverError("curve_poisson: the solution is not finite");
+  return out;
+}
+
+Eigen::VectorXd curve_distance(const CurveSurface& s, const DistanceSettings& settings,
+                               HeatDistanceReport* report) {
+  std::vector<Index> sources;
+  for (Index c = 0; c < s.network.n_curves(); ++c) {
+    const intrinsic::CurveChain ch = intrinsic::curve_chain(s.surface.tri, s.network, c);
+    sources.insert(sources.end(), ch.vertices.begin(), ch.vertices.end());
+  }
+  std::sort(sources.begin(), sources.end());
+  sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
+  if (sources.empty()) throw InvalidInput("curve_distance: no curve");
+  const HeatDistanceSolver solver(s.surface.tri, distance_options(s.surface, settings));
+  Eigen::VectorXd d = on_input_vertices(s.surface, solver.compute_distance(sources, report));
+  for (Eigen::Index i = 0; i < d.size(); ++i) {
+    if (std::isnan(d[i])) throw SolverError("curve_distance: the distance is not a number");
+  }
+  return d;
+}
+
+std::vector<std::vector<Eigen::Vector3d>> curve_polylines(const CurveSurface& s) {
+  const T& tri = s.surface.tri;
+  const intrinsic::SignpostTriangulation& st = *s.surface.signposts;
+  std::vector<std::vector<Eigen::Vector3d>> out;
+  for (Index c = 0; c < s.network.n_curves(); ++c) {
+    const intrinsic::CurveChain ch = intrinsic::curve_chain(tri, s.network, c);
+    std::vector<Eigen::Vector3d> line;
+    for (std::size_t i = 0; i < ch.edges.size(); ++i) {
+      const Index hl = ch.left_halfedges[i];
+      std::vector<intrinsic::SurfacePoint> pts =
+          st.trace_halfedge(hl != kInvalidIndex ? hl : tri.edge_halfedge(ch.edges[i]));
+      if (hl == kInvalidIndex) std::reverse(pts.begin(), pts.end());
+      for (std::size_t k = line.empty() ? 0 : 1; k < pts.size(); ++k) {
+        line.push_back(st.position(pts[k]));
+      }
+    }
+    if (line.empty() && !ch.vertices.empty()) {
+      line.push_back(st.position(st.vertex_location(ch.vertices.front())));
+    }
+    out.push_back(std::move(line));
+  }
+  return out;
+}
+
+}  // namespace ifem::solvers
