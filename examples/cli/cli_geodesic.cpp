@@ -21,6 +21,7 @@
 #include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/io/detail.h"
 #include "intrinsic/refine/common_subdivision.h"
+#include "polylines.h"
 #include "results.h"
 
 namespace ifem::cli {
@@ -29,7 +30,6 @@ namespace {
 using intrinsic::EdgePath;
 using intrinsic::FlipOutReport;
 using intrinsic::SignpostTriangulation;
-using Polyline = std::vector<Eigen::Vector3d>;
 
 // A point as the user names it: an input vertex, or a point of a face of the mesh file.
 struct PointSpec {
@@ -373,27 +373,14 @@ CurveRun bezier(SignpostTriangulation& st, const std::vector<Index>& control, in
 
 // One curve per `l` line; a loop's repeated end point is its first index again.
 std::string curves_obj(const std::vector<CurveResult>& curves) {
-  std::string out = "# ifem geodesic: " + std::to_string(curves.size()) + " curves\n";
-  std::string lines;
-  std::size_t base = 0;
+  std::vector<Polyline> lines;
+  std::vector<char> closed;
   for (const CurveResult& c : curves) {
-    if (c.polyline.size() < 2) continue;
-    const std::size_t n = c.polyline.size() - (c.closed ? 1 : 0);
-    lines += 'l';
-    for (std::size_t i = 0; i < n; ++i) {
-      out += 'v';
-      for (int d = 0; d < 3; ++d) {
-        out += ' ';
-        io::detail::append_double(out, c.polyline[i][d]);
-      }
-      out += '\n';
-      lines += ' ' + std::to_string(base + i + 1);
-    }
-    if (c.closed) lines += ' ' + std::to_string(base + 1);
-    lines += '\n';
-    base += n;
+    lines.push_back(c.polyline);
+    closed.push_back(c.closed);
   }
-  return out + lines;
+  return polylines_obj(lines, closed,
+                       "ifem geodesic: " + std::to_string(curves.size()) + " curves");
 }
 
 // One `x y z` line per point, an empty line between curves.
