@@ -26,8 +26,7 @@ intrinsic::CurveSpec to_spec(const CurveCondition& c) {
   return s;
 }
 
-// Replaces every "curve i" of a library message by the curve's origin (a curve that overlaps
-// itself is named twice).
+// Replaces "curve i" at the start of a library message by the curve's origin.
 std::string with_origins(const std::string& what, const std::vector<CurveCondition>& curves) {
   std::string m = what;
   for (std::size_t i = curves.size(); i-- > 0;) {
@@ -36,6 +35,7 @@ std::string with_origins(const std::string& what, const std::vector<CurveConditi
       const std::size_t end = at + key.size();
       if (end < m.size() && std::isdigit(static_cast<unsigned char>(m[end]))) continue;
       if (!curves[i].origin.empty()) m.replace(at, key.size(), "curve at " + curves[i].origin);
+      break;
     }
   }
   return m;
