@@ -88,8 +88,11 @@ TEST_P(TwoCurves, ExactAtEveryInputVertex) {
   // the curves cross triangles of the input: single intrinsic edges (split when refined)
   for (Index c = 0; c < 2; ++c) {
     const auto edges = intrinsic::curve_chain(s.surface.tri, s.network, c).edges.size();
-    if (refine) EXPECT_GT(edges, 4u);
-    if (!refine) EXPECT_EQ(edges, 1u);
+    if (refine) {
+      EXPECT_GT(edges, 4u);
+    } else {
+      EXPECT_EQ(edges, 1u);
+    }
   }
   const solvers::CurvePoissonResult r = solvers::curve_poisson(s, Eigen::VectorXd());
   ASSERT_EQ(r.u.size(), P.rows());
@@ -154,7 +157,9 @@ TEST(CurvePoisson, ValuesVaryLinearlyInArcLength) {
         jittered_square(n, 0.0), {c}, refine ? refined_options() : solvers::CurveSurfaceOptions{});
     const solvers::CurvePoissonResult r = solvers::curve_poisson(s, Eigen::VectorXd());
     const intrinsic::CurveChain ch = intrinsic::curve_chain(s.surface.tri, s.network, 0);
-    if (refine) EXPECT_GT(ch.vertices.size(), std::size_t(n + 1));
+    if (refine) {
+      EXPECT_GT(ch.vertices.size(), std::size_t(n + 1));
+    }
     for (const Index v : ch.vertices) {
       const double x = s.surface.signposts->position(s.surface.signposts->vertex_location(v)).x();
       EXPECT_NEAR(r.u_intrinsic[v], expect(x), 1e-9) << "vertex " << v << " refine " << refine;
@@ -347,7 +352,9 @@ TEST(CurveRefine, ConstrainedEdgesSurviveAsChainsAndGeometryIsKept) {
   EXPECT_GE(s.surface.refine_report.min_angle_after_excluding_needles, 28.0 - 1e-9);
   // every unconstrained interior edge is Delaunay
   for (Index e = 0; e < tri.n_edges(); ++e) {
-    if (!s.network.constrained[e]) EXPECT_TRUE(tri.is_delaunay(e)) << "edge " << e;
+    if (!s.network.constrained[e]) {
+      EXPECT_TRUE(tri.is_delaunay(e)) << "edge " << e;
+    }
   }
 }
 
@@ -410,6 +417,40 @@ TEST(CurvePoisson, SpotWithBezierLoopAndSlit) {
   const Eigen::VectorXd d = solvers::curve_distance(s);
   for (const Index v : loop.vertices) EXPECT_EQ(d[v], 0.0);
   EXPECT_GT(d.maxCoeff(), 0.1);
+}
+
+// Two failures found on spot through the CLI, kept: a slit bent at a waypoint at a small angle
+// made constrained refinement split towards the bend until faces had zero area (edges of 1e-133:
+// Ruppert's small-angle cascade, now stopped at a floor and counted); a 6-round Bézier curve
+// with a path beside it had FlipOut flip a diamond flat at a midpoint into a zero-area face.
+TEST(CurvePoisson, SpotSmallAngleAndDenseBezier) {
+  const io::SurfaceInput in = io::read_surface((test::test_data() / "spot.obj").string());
+  CurveCondition path, slit, bez;
+  path.vertices = {12, 400, 770};
+  path.values = {0.5};
+  slit.vertices = {100, 150, 200};
+  slit.slit = true;
+  slit.values = {0.0};
+  slit.right_values = {1.0};
+  bez.shape = CurveShape::kBezier;
+  bez.bezier_rounds = 6;
+  bez.vertices = {30, 60, 90, 120};
+  bez.values = {0.0, 1.0};
+  solvers::CurveSurfaceOptions opt;
+  opt.refine = solvers::RefineSettings{};
+  const solvers::CurveSurface a = solvers::prepare_curve_surface(in, {path, slit}, opt);
+  EXPECT_GT(a.surface.refine_report.constrained_floor, 0);
+  EXPECT_FALSE(a.surface.refine_report.hit_insertion_cap);
+  const solvers::CurvePoissonResult ra = solvers::curve_poisson(a, Eigen::VectorXd());
+  EXPECT_GE(ra.u.minCoeff(), -1e-9);
+  EXPECT_LE(ra.u.maxCoeff(), 1.0 + 1e-9);
+  const solvers::CurveSurface b = solvers::prepare_curve_surface(in, {path, bez});
+  for (Index f = 0; f < b.surface.tri.n_faces(); ++f) {
+    EXPECT_GT(intrinsic::face_area(b.surface.tri, f), 0.0) << "face " << f;
+  }
+  const solvers::CurvePoissonResult rb = solvers::curve_poisson(b, Eigen::VectorXd());
+  EXPECT_GE(rb.u.minCoeff(), -1e-9);
+  EXPECT_LE(rb.u.maxCoeff(), 1.0 + 1e-9);
 }
 
 TEST(CurveSurface, RefusesBadInput) {
