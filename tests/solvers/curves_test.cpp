@@ -377,7 +377,9 @@ TEST(CurvePoisson, CrossingCurvesMeetAtAVertex) {
   const solvers::CurvePoissonResult r = solvers::curve_poisson(s, Eigen::VectorXd());
   EXPECT_GE(r.conflicting_vertices, 1);
   for (const Index v : c1) {  // a shared vertex: the mean of the two curves' values
-    if (std::count(c2.begin(), c2.end(), v)) EXPECT_DOUBLE_EQ(r.u_intrinsic[v], 0.5);
+    if (std::count(c2.begin(), c2.end(), v)) {
+      EXPECT_DOUBLE_EQ(r.u_intrinsic[v], 0.5);
+    }
   }
   EXPECT_GE(r.u.minCoeff(), -1e-12);
   EXPECT_LE(r.u.maxCoeff(), 1.0 + 1e-12);
