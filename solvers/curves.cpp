@@ -170,6 +170,7 @@ void build_constrained(const CurveSurfaceOptions& opt, CurveSurface& out) {
                                       opt.mollify_relative_epsilon);
   std::vector<intrinsic::CurveSpec> specs;
   for (const CurveCondition& c : out.curves) specs.push_back(to_spec(c));
+  s.seconds_build += watch.restart();  // the signposts; seconds_curves: FlipOut and marking
   try {
     out.network = intrinsic::insert_curves(st, specs, opt.flipout);
   } catch (const InvalidInput& e) {
