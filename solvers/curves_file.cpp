@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "intrinsic/core/errors.h"
+#include "intrinsic/io/tokens.h"
 #include "solvers/curves.h"
 
 namespace ifem::solvers {
@@ -19,16 +20,8 @@ namespace {
 
 constexpr int kMaxBezierRounds = 16;
 
-// One whole token as an integer / a finite number (no partial parse: "3x", "1.5" as an
-// integer, "nan", "1e400" are refused).
-bool whole_integer(const std::string& t, long long& v) {
-  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-  return !t.empty() && ec == std::errc() && ptr == t.data() + t.size();
-}
-bool whole_real(const std::string& t, double& x) {
-  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
-  return !t.empty() && ec == std::errc() && ptr == t.data() + t.size() && std::isfinite(x);
-}
+using io::parse_whole_integer;
+using io::parse_whole_real;
 
 // The words of one line: '#' starts a comment; ':' is a word of its own even when written
 // against a number ("0 1: 3 4").
@@ -66,7 +59,7 @@ class LineParser {
            " and vertex ids after the keywords");
     }
     double x = 0;
-    if (tokens_[i] != ":" && !whole_real(tokens_[i], x)) {
+    if (tokens_[i] != ":" && !parse_whole_real(tokens_[i], x)) {
       fail("'" + tokens_[i] +
            "' is neither a keyword (closed, bezier, bezier=R, slit) nor a value (a finite "
            "number)");
@@ -123,7 +116,7 @@ class LineParser {
 
   int parse_rounds(const std::string& t) const {
     long long r = 0;
-    if (!whole_integer(t.substr(7), r) || r < 0 || r > kMaxBezierRounds) {
+    if (!parse_whole_integer(t.substr(7), r) || r < 0 || r > kMaxBezierRounds) {
       fail("'" + t + "': expected bezier=R with R an integer in [0, " +
            std::to_string(kMaxBezierRounds) + "] (de Casteljau rounds)");
     }
@@ -132,7 +125,7 @@ class LineParser {
 
   double value(const std::string& t, const char* what) const {
     double x = 0;
-    if (!whole_real(t, x)) fail("'" + t + "' is not " + what + ": expected a finite number");
+    if (!parse_whole_real(t, x)) fail("'" + t + "' is not " + what + ": expected a finite number");
     return x;
   }
 
@@ -145,7 +138,7 @@ class LineParser {
   void vertices(const std::vector<std::string>& words) {
     for (const std::string& w : words) {
       long long v = 0;
-      if (!whole_integer(w, v) || v < 0 || v > std::numeric_limits<Index>::max()) {
+      if (!parse_whole_integer(w, v) || v < 0 || v > std::numeric_limits<Index>::max()) {
         fail("'" + w + "' is not a vertex id: expected an integer in [0, " +
              std::to_string(std::numeric_limits<Index>::max()) + "]" +
              (is_keyword(w) ? " (keywords come first on the line)" : ""));

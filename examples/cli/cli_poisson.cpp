@@ -1,5 +1,4 @@
 // `ifem poisson`: L u = M f with Dirichlet values on chosen vertices, or on curves (--curves).
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -12,22 +11,13 @@
 #include "cli_refine.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/io/tokens.h"
 #include "results.h"
 #include "solvers/curves.h"
 #include "solvers/poisson.h"
 
 namespace ifem::cli {
 namespace {
-
-// One whole token as a vertex id / finite number; false on anything else (no partial parse).
-bool parse_token(const std::string& t, long long& v) {
-  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-  return ec == std::errc() && ptr == t.data() + t.size();
-}
-bool parse_token(const std::string& t, double& x) {
-  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
-  return ec == std::errc() && ptr == t.data() + t.size() && std::isfinite(x);
-}
 
 // "vertex value" lines; '#' comments and blank lines skipped, anything else is an error.
 void read_dirichlet(const std::string& path, Index nv, std::vector<Index>& vertices,
@@ -47,7 +37,8 @@ void read_dirichlet(const std::string& path, Index nv, std::vector<Index>& verti
     const std::string where = path + ":" + std::to_string(lineno) + ": ";
     long long v = 0;
     double x = 0;
-    if (tokens.size() != 2 || !parse_token(tokens[0], v) || !parse_token(tokens[1], x)) {
+    if (tokens.size() != 2 || !io::parse_whole_integer(tokens[0], v) ||
+        !io::parse_whole_real(tokens[1], x)) {
       throw IoError(where + "expected 'vertex value' (a vertex id and a finite number), got '" +
                     line + "'");
     }
@@ -78,24 +69,38 @@ Eigen::VectorXd read_rhs(const Args& args, Index nv) {
   return f;
 }
 
+// What both forms of the command read before any computation (so bad files fail fast): the
+// mesh, f, the Dirichlet vertices and values, the refinement settings.
+struct PoissonInputs {
+  io::SurfaceInput input;
+  Index nv = 0;
+  Eigen::VectorXd f, g;
+  std::vector<Index> dv;
+  std::optional<solvers::RefineSettings> refine;
+};
+
+PoissonInputs read_poisson_inputs(const Args& args) {
+  PoissonInputs in;
+  in.input = read_input(args.positional()[0], args);
+  in.nv = static_cast<Index>(in.input.positions.rows());
+  in.f = read_rhs(args, in.nv);
+  std::vector<double> dval;
+  if (args.has("dirichlet")) read_dirichlet(args.get("dirichlet"), in.nv, in.dv, dval);
+  in.g = Eigen::Map<const Eigen::VectorXd>(dval.data(), Eigen::Index(dval.size()));
+  if (args.has("refine")) in.refine = refine_settings(args, 0.0, true);
+  return in;
+}
+
 // --curves: u held at the curves' values on a constrained triangulation (solvers/curves.h).
 int run_curves(const Args& args, const ResultOutput& out) {
   std::vector<solvers::CurveCondition> curves = read_curves(args);  // fails fast, before the mesh
-  io::SurfaceInput input = read_input(args.positional()[0], args);
-  const Index nv = static_cast<Index>(input.positions.rows());
-  const Eigen::VectorXd f = read_rhs(args, nv);
-  std::vector<Index> dv;
-  std::vector<double> dval;
-  if (args.has("dirichlet")) read_dirichlet(args.get("dirichlet"), nv, dv, dval);
-  std::optional<solvers::RefineSettings> refine;
-  if (args.has("refine")) refine = refine_settings(args, 0.0, true);
-  CurveRun run{prepare_curves(std::move(input), std::move(curves), args, true, refine), {}};
+  PoissonInputs in = read_poisson_inputs(args);
+  const Index nv = in.nv;
+  CurveRun run{prepare_curves(std::move(in.input), std::move(curves), args, true, in.refine), {}};
   solvers::PoissonOptions opt;
   opt.screening = args.real("screening");
   const Stopwatch watch;
-  const Eigen::VectorXd g =
-      Eigen::Map<const Eigen::VectorXd>(dval.data(), Eigen::Index(dval.size()));
-  const solvers::CurvePoissonResult r = solvers::curve_poisson(run.surface, f, dv, g, opt);
+  const solvers::CurvePoissonResult r = solvers::curve_poisson(run.surface, in.f, in.dv, in.g, opt);
   progress(args, "solved in " + std::to_string(watch.seconds()) + " s: u held on " +
                      std::to_string(r.dirichlet_vertices) + " curve vertices; " +
                      std::to_string(r.conflicting_vertices) +
@@ -115,24 +120,16 @@ int run(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
   check_curve_options(args, {});
   if (args.has("curves")) return run_curves(args, out);
-  // read the data before the (slow) preparation and refinement so bad files fail fast
-  io::SurfaceInput input = read_input(args.positional()[0], args);
-  const Index nv = static_cast<Index>(input.positions.rows());
-  const Eigen::VectorXd f = read_rhs(args, nv);
-  std::vector<Index> dv;
-  std::vector<double> dval;
-  if (args.has("dirichlet")) read_dirichlet(args.get("dirichlet"), nv, dv, dval);
   // refined (signposts needed): f is interpolated linearly onto the inserted vertices, which lie
   // on input faces; the Dirichlet vertices are input vertices, which keep their ids
-  std::optional<solvers::RefineSettings> refine;
-  if (args.has("refine")) refine = refine_settings(args, 0.0, true);
-  const PreparedSurface s = prepare_surface(std::move(input), args, refine);
+  PoissonInputs in = read_poisson_inputs(args);
+  const Index nv = in.nv;
+  const std::vector<Index>& dv = in.dv;
+  const PreparedSurface s = prepare_surface(std::move(in.input), args, in.refine);
   solvers::PoissonOptions opt;
   opt.screening = args.real("screening");
   const Stopwatch watch;
-  const Eigen::VectorXd g =
-      Eigen::Map<const Eigen::VectorXd>(dval.data(), Eigen::Index(dval.size()));
-  const Eigen::VectorXd u = solvers::poisson(s, f, dv, g, opt);  // on the input's vertices
+  const Eigen::VectorXd u = solvers::poisson(s, in.f, dv, in.g, opt);  // on the input's vertices
   progress(args, "solved in " + std::to_string(watch.seconds()) + " s");
   write_results(out, s, {{"u", u}});
   std::printf("wrote %s: %d values, %zu Dirichlet vertices%s\n", out.path.c_str(), nv, dv.size(),
