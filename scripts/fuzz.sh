@@ -18,7 +18,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 [ $# -gt 0 ] && shift
 build="build-fuzz"
-all=(obj off ply stl xyz values matrix_market signpost pipeline)
+all=(obj off ply stl xyz values matrix_market signpost pipeline curves)
 harnesses=("${@:-${all[@]}}")
 
 # -O1 -g, assertions on (no NDEBUG): Eigen's index checks are worth having while fuzzing.
@@ -38,7 +38,7 @@ seeds_of() {
 }
 dict_of() {
   case "$1" in
-    obj|off|ply|stl|signpost|matrix_market) [ -f "tests/fuzz/$1.dict" ] && echo "-dict=tests/fuzz/$1.dict" ;;
+    obj|off|ply|stl|signpost|matrix_market|curves) [ -f "tests/fuzz/$1.dict" ] && echo "-dict=tests/fuzz/$1.dict" ;;
     pipeline) echo "-dict=tests/fuzz/pipeline.dict" ;;
   esac
   return 0

@@ -50,7 +50,7 @@ double value_at(const std::vector<double>& vals, const std::vector<double>& ctrl
   const double a = vals[i % vals.size()], b = vals[(i + 1) % vals.size()];
   const double span = ctrl[i + 1] - ctrl[i];
   const double t = span > 0.0 ? std::clamp((s - ctrl[i]) / span, 0.0, 1.0) : 0.0;
-  return a + t * (b - a);
+  return t >= 1.0 ? b : a + t * (b - a);
 }
 
 // The triangulation cut open along the slits: every vertex whose corners fall apart into
@@ -102,16 +102,38 @@ CutOpen cut_open(const T& base, const std::vector<char>& cut) {
 }
 
 // Dirichlet values gathered per vertex of the cut triangulation: every curve puts its value (per
-// side) on the corners next to its edges; vertices that get different values take the mean.
+// side) on the corners next to its edges; a value a curve gives a vertex several times (both
+// sides, both edges at it) counts once, and vertices that get different values take the mean of
+// them (a slit's tip: of its two sides; curves meeting: of their values).
 struct CurveValues {
+  struct Entry {
+    Index vertex, curve;
+    double value;
+    bool operator<(const Entry& o) const {
+      return vertex != o.vertex ? vertex < o.vertex
+             : curve != o.curve ? curve < o.curve
+                                : value < o.value;
+    }
+    bool operator==(const Entry& o) const {
+      return vertex == o.vertex && curve == o.curve && value == o.value;
+    }
+  };
+  std::vector<Entry> entries;
   std::vector<double> sum, lo, hi;
   std::vector<int> count;
   explicit CurveValues(Index n) : sum(n, 0.0), lo(n, 0.0), hi(n, 0.0), count(n, 0) {}
-  void add(Index v, double x) {
-    lo[v] = count[v] ? std::min(lo[v], x) : x;
-    hi[v] = count[v] ? std::max(hi[v], x) : x;
-    sum[v] += x;
-    ++count[v];
+  void add(Index v, Index curve, double x) { entries.push_back({v, curve, x}); }
+  // sums the distinct entries per vertex
+  void finish() {
+    std::sort(entries.begin(), entries.end());
+    entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+    for (const Entry& e : entries) {
+      const Index v = e.vertex;
+      lo[v] = count[v] ? std::min(lo[v], e.value) : e.value;
+      hi[v] = count[v] ? std::max(hi[v], e.value) : e.value;
+      sum[v] += e.value;
+      ++count[v];
+    }
   }
 };
 
@@ -128,12 +150,12 @@ void gather_curve_values(const CurveSurface& s, const CutOpen& cut, CurveValues&
       const Index hr = hl == kInvalidIndex ? h0 : base.twin(hl);
       const double a = ch.arclength[i], b = ch.arclength[i + 1];
       if (hl != kInvalidIndex) {  // left face: its corners at the step's tail and head
-        cv.add(cut.corner_vertex[hl], value_at(cc.values, ctrl, a));
-        cv.add(cut.corner_vertex[T::next(hl)], value_at(cc.values, ctrl, b));
+        cv.add(cut.corner_vertex[hl], c, value_at(cc.values, ctrl, a));
+        cv.add(cut.corner_vertex[T::next(hl)], c, value_at(cc.values, ctrl, b));
       }
       if (hr != kInvalidIndex) {  // right face runs head → tail
-        cv.add(cut.corner_vertex[hr], value_at(right, ctrl, b));
-        cv.add(cut.corner_vertex[T::next(hr)], value_at(right, ctrl, a));
+        cv.add(cut.corner_vertex[hr], c, value_at(right, ctrl, b));
+        cv.add(cut.corner_vertex[T::next(hr)], c, value_at(right, ctrl, a));
       }
     }
   }
@@ -148,6 +170,7 @@ void build_constrained(const CurveSurfaceOptions& opt, CurveSurface& out) {
                                       opt.mollify_relative_epsilon);
   std::vector<intrinsic::CurveSpec> specs;
   for (const CurveCondition& c : out.curves) specs.push_back(to_spec(c));
+  s.seconds_build += watch.restart();  // the signposts; seconds_curves: FlipOut and marking
   try {
     out.network = intrinsic::insert_curves(st, specs, opt.flipout);
   } catch (const InvalidInput& e) {
@@ -237,6 +260,7 @@ CurvePoissonResult curve_poisson(const CurveSurface& s, const Eigen::VectorXd& f
   const Index nc = cut.tri.n_vertices();
   CurveValues cv(nc);
   gather_curve_values(s, cut, cv);
+  cv.finish();
   CurvePoissonResult out;
   out.slit_copies = cut.copies;
   std::vector<Index> dv;

@@ -338,6 +338,9 @@ std::string describe(const intrinsic::RefineReport& r) {
     << r.min_angle_after_excluding_needles << "°";
   if (r.needle_faces) m << ", " << r.needle_faces << " needle-cone triangles left alone";
   if (r.failed_traces) m << ", " << r.failed_traces << " bad triangles skipped (trace failed)";
+  if (r.constrained_floor) {
+    m << ", " << r.constrained_floor << " curve splits refused (curves meeting at small angles)";
+  }
   if (r.hit_insertion_cap) {
     m << "; STOPPED at the insertion cap, " << r.bad_faces_left << " triangles still bad";
   }

@@ -1,13 +1,18 @@
-// `ifem distance`: geodesic distance by the heat method on the intrinsic Delaunay triangulation.
+// `ifem distance`: geodesic distance by the heat method on the intrinsic Delaunay triangulation,
+// from source vertices or from curves (--curves).
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <string>
+#include <utility>
 
 #include "cli.h"
+#include "cli_curves.h"
 #include "cli_refine.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
 #include "results.h"
+#include "solvers/curves.h"
 #include "solvers/heat_distance.h"
 
 namespace ifem::cli {
@@ -16,29 +21,11 @@ namespace {
 // --refine's defaults: the library's accurate mode (resolution, time factor, correction steps)
 const solvers::RefinedDistanceSettings kAccurate;
 
-int run(const Args& args) {
-  const ResultOutput out = result_output(args);  // checked before any computation
-  const std::vector<Index> sources = args.vertices("source");
-  // --refine: the library's accurate mode (edges of about 0.4·h, t = ℓ²/4, one correction
-  // step: solvers::distance_options; accuracy in BENCHMARKS.md, "Intrinsic Delaunay
-  // refinement"); inserted vertices come after the input's, so sources and results keep ids
-  std::optional<solvers::RefineSettings> refine;
-  if (args.has("refine")) refine = refine_settings(args, kAccurate.resolution, false);
-  const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);  // ids < #V
-  const Index nv = s.n_input_vertices();
-  solvers::DistanceSettings settings;
-  if (args.has("time-factor")) settings.time_factor = args.real("time-factor");
-  if (args.has("correction-steps")) settings.correction_steps = args.count("correction-steps");
-  const solvers::HeatDistanceOptions heat = solvers::distance_options(s, settings);
-  const Stopwatch watch;
-  solvers::HeatDistanceReport rep;
-  const Eigen::VectorXd d = solvers::geodesic_distance(s, sources, settings, &rep);
-  progress(args, "heat method: t = " + format_number(heat.time_factor) +
-                     "·h² (h = " + format_number(heat.mean_edge_length) + "), " +
-                     std::to_string(heat.correction_steps) + " correction steps, " +
-                     std::to_string(rep.stages) + " stage" + (rep.stages > 1 ? "s" : "") + ", " +
-                     format_number(watch.seconds()) + " s");
-  write_results(out, s, {{"distance", d}});
+// The heat method's line and the summary, for both forms of the command.
+void report(const Args& args, const ResultOutput& out, const Eigen::VectorXd& d, Index nv,
+            const std::string& heat, double seconds, const solvers::HeatDistanceReport& rep) {
+  progress(args, "heat method: " + heat + std::to_string(rep.stages) + " stage" +
+                     (rep.stages > 1 ? "s" : "") + ", " + format_number(seconds) + " s");
   Index unreachable = 0;
   double dmax = 0.0;
   for (Index v = 0; v < nv; ++v) {
@@ -50,60 +37,134 @@ int run(const Args& args) {
   }
   std::printf("wrote %s: %d values, max distance %.6g, %d unreachable (inf)\n", out.path.c_str(),
               nv, dmax, unreachable);
+}
+
+solvers::DistanceSettings distance_settings(const Args& args) {
+  solvers::DistanceSettings settings;
+  if (args.has("time-factor")) settings.time_factor = args.real("time-factor");
+  if (args.has("correction-steps")) settings.correction_steps = args.count("correction-steps");
+  return settings;
+}
+
+// --curves: the distance to the union of the curves (every vertex on them is a source).
+int run_curves(const Args& args, const ResultOutput& out) {
+  std::vector<solvers::CurveCondition> curves = read_curves(args);  // fails fast, before the mesh
+  io::SurfaceInput input = read_input(args.positional()[0], args);
+  std::optional<solvers::RefineSettings> refine;
+  if (args.has("refine")) refine = refine_settings(args, kAccurate.resolution, true);
+  CurveRun run{prepare_curves(std::move(input), std::move(curves), args, false, refine), {}};
+  const Stopwatch watch;
+  solvers::HeatDistanceReport rep;
+  const Eigen::VectorXd d = solvers::curve_distance(run.surface, distance_settings(args), &rep);
+  const double seconds = watch.seconds();
+  run.polylines = curve_polylines_if_asked(args, run.surface);
+  write_curve_outputs(args, out, run, {{"distance", d}});
+  report(args, out, d, run.surface.n_input_vertices(), "", seconds, rep);
+  print_curves_written(args, run);
   return 0;
+}
+
+int run(const Args& args) {
+  const ResultOutput out = result_output(args);  // checked before any computation
+  check_curve_options(args, {{"source",
+                              "the curves are the sources (--curves gives the "
+                              "distance to the nearest curve)"}});
+  if (args.has("curves")) return run_curves(args, out);
+  if (!args.has("source")) {
+    throw UsageError("missing --source I[,J,...] (or --curves FILE; see --help)");
+  }
+  const std::vector<Index> sources = args.vertices("source");
+  // --refine: the library's accurate mode (edges of about 0.4·h, t = ℓ²/4, one correction
+  // step: solvers::distance_options; accuracy in BENCHMARKS.md, "Intrinsic Delaunay
+  // refinement"); inserted vertices come after the input's, so sources and results keep ids
+  std::optional<solvers::RefineSettings> refine;
+  if (args.has("refine")) refine = refine_settings(args, kAccurate.resolution, false);
+  const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);  // ids < #V
+  const Index nv = s.n_input_vertices();
+  const solvers::DistanceSettings settings = distance_settings(args);
+  const solvers::HeatDistanceOptions heat = solvers::distance_options(s, settings);
+  const Stopwatch watch;
+  solvers::HeatDistanceReport rep;
+  const Eigen::VectorXd d = solvers::geodesic_distance(s, sources, settings, &rep);
+  const double seconds = watch.seconds();
+  write_results(out, s, {{"distance", d}});
+  report(args, out, d, nv,
+         "t = " + format_number(heat.time_factor) +
+             "·h² (h = " + format_number(heat.mean_edge_length) + "), " +
+             std::to_string(heat.correction_steps) + " correction steps, ",
+         seconds, rep);
+  return 0;
+}
+
+const char* const kProse =
+    "Approximate geodesic distance from one or more source vertices by the heat\n"
+    "method (Crane, Weischedel, Wardetzky 2013) on the intrinsic Delaunay\n"
+    "triangulation: one heat step (M + tL) u = δ with t = m·h² (h = mean edge length\n"
+    "of the input mesh), the normalized gradient X = −∇u/|∇u|, then L φ = div X.\n"
+    "With several sources the value is the distance to the nearest one; every source\n"
+    "is exactly 0. Far from the sources on long meshes the heat underflows; the\n"
+    "solver then continues in stages from the frontier of the resolved region.\n"
+    "Meshes with boundary use the mean of the Neumann and Dirichlet heat solutions.\n\n"
+    "From curves (--curves FILE, format below; instead of --source): the distance to\n"
+    "the nearest point of any curve drawn through the mesh's vertices (geodesic paths,\n"
+    "loops, Bézier curves). The curves become edges of a constrained intrinsic\n"
+    "Delaunay triangulation, every vertex on them is a source (exactly 0 there), and\n"
+    "--refine refines without crossing them. Needs an edge-manifold, orientable\n"
+    "triangle mesh; the curves' values and slits do not change the distance.\n";
+
+OptionGroup distance_options() {
+  OptionGroup g = {
+      "Options",
+      {vertex_list("source", "I[,J,...]")
+           .explain("0-based vertex ids of the input (comma separated); required unless\n"
+                    "--curves is given"),
+       text("output", "OUT")
+           .short_alias('o')
+           .mandatory()
+           .with_extensions({".ply", ".txt"})
+           .explain("OUT.ply: the input mesh with a per-vertex property 'distance'\n"
+                    "(opens in MeshLab/ParaView/Polyscope); OUT.txt: one value per line.\n"
+                    "Always one value per input vertex, in the input's order; 'inf' for\n"
+                    "vertices no source reaches (another connected component, vertices\n"
+                    "used by no face)"),
+       real("time-factor", "m")
+           .above(0)
+           .explain("t = m·h² (default 1; " + format_number(kAccurate.time_factor) +
+                    " with --refine); larger is smoother, smaller\nis sharper but noisier"),
+       count("correction-steps", "N")
+           .explain("after the heat method, N times φ ← the solution of\n"
+                    "L φ = div(∇φ/|∇φ|) (default 0; " +
+                    std::to_string(kAccurate.correction_steps) + " with --refine)"),
+       flag("refine").explain(
+           "the accurate mode: intrinsic Delaunay refinement first (25° and, by\n"
+           "default, edges of about 0.4·h: ~10× the vertices), then t = m·ℓ² with\n"
+           "ℓ = 0.4·h and m = 0.25, and one correction step; results on the input\n"
+           "vertices. Against exact geodesics it is more accurate than the plain heat\n"
+           "method on every reference mesh, most of all on sliver meshes (figures:\n"
+           "BENCHMARKS.md, \"Intrinsic Delaunay refinement\").\n"
+           "--resolution 0 keeps the angle bound only (t from the input's h, m = 1)")}};
+  const std::vector<OptionSpec> curves = curve_options(
+      "the distance to these curves instead of --source (only where they run\n"
+      "counts; their values are ignored)");
+  g.options.insert(g.options.end(), curves.begin(), curves.end());
+  return g;
 }
 
 }  // namespace
 
 Command distance_command() {
   Command c;
-  c.summary = "geodesic distance from source vertices (heat method, intrinsic Delaunay)";
+  c.summary = "geodesic distance from vertices or curves (heat method, intrinsic Delaunay)";
   c.spec.name = "distance";
   c.spec.positionals = {"MESH"};
-  c.spec.prose =
-      "Approximate geodesic distance from one or more source vertices by the heat\n"
-      "method (Crane, Weischedel, Wardetzky 2013) on the intrinsic Delaunay\n"
-      "triangulation: one heat step (M + tL) u = δ with t = m·h² (h = mean edge length\n"
-      "of the input mesh), the normalized gradient X = −∇u/|∇u|, then L φ = div X.\n"
-      "With several sources the value is the distance to the nearest one; every source\n"
-      "is exactly 0. Far from the sources on long meshes the heat underflows; the\n"
-      "solver then continues in stages from the frontier of the resolved region.\n"
-      "Meshes with boundary use the mean of the Neumann and Dirichlet heat solutions.\n";
-  c.spec.groups = {
-      {"Options",
-       {vertex_list("source", "I[,J,...]")
-            .mandatory()
-            .explain("0-based vertex ids of the input (comma separated)"),
-        text("output", "OUT")
-            .short_alias('o')
-            .mandatory()
-            .with_extensions({".ply", ".txt"})
-            .explain("OUT.ply: the input mesh with a per-vertex property 'distance'\n"
-                     "(opens in MeshLab/ParaView/Polyscope); OUT.txt: one value per line.\n"
-                     "Always one value per input vertex, in the input's order; 'inf' for\n"
-                     "vertices no source reaches (another connected component, vertices\n"
-                     "used by no face)"),
-        real("time-factor", "m")
-            .above(0)
-            .explain("t = m·h² (default 1; " + format_number(kAccurate.time_factor) +
-                     " with --refine); larger is smoother, smaller\nis sharper but noisier"),
-        count("correction-steps", "N")
-            .explain("after the heat method, N times φ ← the solution of\n"
-                     "L φ = div(∇φ/|∇φ|) (default 0; " +
-                     std::to_string(kAccurate.correction_steps) + " with --refine)"),
-        flag("refine").explain(
-            "the accurate mode: intrinsic Delaunay refinement first (25° and, by\n"
-            "default, edges of about 0.4·h: ~10× the vertices), then t = m·ℓ² with\n"
-            "ℓ = 0.4·h and m = 0.25, and one correction step; results on the input\n"
-            "vertices. Against exact geodesics it is more accurate than the plain heat\n"
-            "method on every reference mesh, most of all on sliver meshes (figures:\n"
-            "BENCHMARKS.md, \"Intrinsic Delaunay refinement\").\n"
-            "--resolution 0 keeps the angle bound only (t from the input's h, m = 1)")}},
-      refine_options_group(kAccurate.resolution),
-      surface_options()};
+  c.spec.prose = kProse;
+  c.spec.groups = {distance_options(), refine_options_group(kAccurate.resolution),
+                   surface_options()};
   c.spec.epilogue =
-      "examples: ifem distance bunny.obj --source 0 -o bunny_dist.ply\n"
-      "          ifem distance part.obj --source 0 --refine -o part_dist.ply\n";
+      curves_file_help(false) +
+      "\nexamples: ifem distance bunny.obj --source 0 -o bunny_dist.ply\n"
+      "          ifem distance part.obj --source 0 --refine -o part_dist.ply\n"
+      "          ifem distance bunny.obj --curves curves.txt --curves-out c.obj -o d.ply\n";
   c.run = run;
   return c;
 }

@@ -20,7 +20,9 @@
 #include "intrinsic/core/timer.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/io/detail.h"
+#include "intrinsic/io/tokens.h"
 #include "intrinsic/refine/common_subdivision.h"
+#include "polylines.h"
 #include "results.h"
 
 namespace ifem::cli {
@@ -29,7 +31,6 @@ namespace {
 using intrinsic::EdgePath;
 using intrinsic::FlipOutReport;
 using intrinsic::SignpostTriangulation;
-using Polyline = std::vector<Eigen::Vector3d>;
 
 // A point as the user names it: an input vertex, or a point of a face of the mesh file.
 struct PointSpec {
@@ -65,15 +66,8 @@ struct CurveRun {
   std::string extra;  // a line about the curves' making (Bézier control points), or ""
 };
 
-// One whole token as an integer / a finite number (no partial parse).
-bool whole_integer(const std::string& t, long long& v) {
-  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-  return !t.empty() && ec == std::errc() && ptr == t.data() + t.size();
-}
-bool whole_real(const std::string& t, double& x) {
-  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
-  return !t.empty() && ec == std::errc() && ptr == t.data() + t.size() && std::isfinite(x);
-}
+using io::parse_whole_integer;
+using io::parse_whole_real;
 
 std::vector<std::string> split(const std::string& s, char sep) {
   std::vector<std::string> parts;
@@ -89,9 +83,9 @@ std::vector<std::string> split(const std::string& s, char sep) {
 std::string parse_face_point(const std::string& token, PointSpec& p) {
   const std::vector<std::string> f = split(token, ':');
   long long face = 0;
-  if (f.size() != 4 || !whole_integer(f[1], face) || face < 0 ||
-      face > std::numeric_limits<Index>::max() || !whole_real(f[2], p.u) ||
-      !whole_real(f[3], p.v)) {
+  if (f.size() != 4 || !parse_whole_integer(f[1], face) || face < 0 ||
+      face > std::numeric_limits<Index>::max() || !parse_whole_real(f[2], p.u) ||
+      !parse_whole_real(f[3], p.v)) {
     return "'" + token +
            "' is not a face point: expected face:F:u:v (F a 0-based face index, u and v "
            "finite numbers)";
@@ -110,7 +104,7 @@ std::string parse_point(const std::string& token, PointSpec& p) {
   p.token = token;
   if (token.rfind("face:", 0) == 0) return parse_face_point(token, p);
   long long id = 0;
-  if (!whole_integer(token, id) || id < 0 || id > std::numeric_limits<Index>::max()) {
+  if (!parse_whole_integer(token, id) || id < 0 || id > std::numeric_limits<Index>::max()) {
     return "'" + token + "' is not a point: expected a vertex id (an integer ≥ 0) or face:F:u:v";
   }
   p.vertex = static_cast<Index>(id);
@@ -373,27 +367,14 @@ CurveRun bezier(SignpostTriangulation& st, const std::vector<Index>& control, in
 
 // One curve per `l` line; a loop's repeated end point is its first index again.
 std::string curves_obj(const std::vector<CurveResult>& curves) {
-  std::string out = "# ifem geodesic: " + std::to_string(curves.size()) + " curves\n";
-  std::string lines;
-  std::size_t base = 0;
+  std::vector<Polyline> lines;
+  std::vector<char> closed;
   for (const CurveResult& c : curves) {
-    if (c.polyline.size() < 2) continue;
-    const std::size_t n = c.polyline.size() - (c.closed ? 1 : 0);
-    lines += 'l';
-    for (std::size_t i = 0; i < n; ++i) {
-      out += 'v';
-      for (int d = 0; d < 3; ++d) {
-        out += ' ';
-        io::detail::append_double(out, c.polyline[i][d]);
-      }
-      out += '\n';
-      lines += ' ' + std::to_string(base + i + 1);
-    }
-    if (c.closed) lines += ' ' + std::to_string(base + 1);
-    lines += '\n';
-    base += n;
+    lines.push_back(c.polyline);
+    closed.push_back(c.closed);
   }
-  return out + lines;
+  return polylines_obj(lines, closed,
+                       "ifem geodesic: " + std::to_string(curves.size()) + " curves");
 }
 
 // One `x y z` line per point, an empty line between curves.

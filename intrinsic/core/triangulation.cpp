@@ -118,7 +118,16 @@ double flipped_length(double l_ab, double l_bc, double l_ca, double l_ad, double
   // where segment cd crosses the line of ab: strictly between a and b iff convex
   const double x = cx + (dx - cx) * cy / (cy - dy);
   if (!(x > 0.0 && x < l_ab)) return std::numeric_limits<double>::quiet_NaN();
-  return std::hypot(cx - dx, cy - dy) * s;
+  const double l_cd = std::hypot(cx - dx, cy - dy);
+  // a diamond flat at a or b (a vertex inserted on a side, such as a Bézier midpoint, has a
+  // corner of π up to round-off) can pass the test above and give a new face whose lengths are
+  // exactly flat (a + b ≤ c in floating point: area 0): refuse. Judged on the lengths, since
+  // the layout's apex heights carry √ε errors there; only exact flatness, so that FlipOut's
+  // results elsewhere are unchanged (FlipGeodesicReference)
+  if (l_ca + l_ad - l_cd <= 0.0 || l_db + l_bc - l_cd <= 0.0) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return l_cd * s;
 }
 
 }  // namespace

@@ -81,9 +81,14 @@ void record_curve(const T& tri, CurveNetwork& net, const EdgePath& p, Index c) {
     CurveEdge& r = net.edges[st.edge];
     if (r.curve != kInvalidIndex) {
       const Index h = tri.edge_halfedge(st.edge);
-      throw InvalidInput(curve_name(c) + " and " + curve_name(r.curve) +
-                         " share the edge between intrinsic vertices " +
-                         std::to_string(tri.tail(h)) + " and " + std::to_string(tri.head(h)) +
+      const std::string edge = "the edge between intrinsic vertices " +
+                               std::to_string(tri.tail(h)) + " and " + std::to_string(tri.head(h));
+      if (r.curve == c) {
+        throw InvalidInput(curve_name(c) + " runs twice along " + edge +
+                           " (its geodesic pieces overlap there: a waypoint the curve must turn "
+                           "back at); choose other vertices");
+      }
+      throw InvalidInput(curve_name(c) + " and " + curve_name(r.curve) + " share " + edge +
                          ": curves may meet and cross at vertices, not overlap");
     }
     const double l = tri.length(st.edge);

@@ -300,6 +300,10 @@ double memory_budget(const RefineOptions& options) {
   return options.max_memory_bytes > 0.0 ? options.max_memory_bytes : default_memory_budget();
 }
 
+// Constrained edges shorter than this fraction of the mean edge length are not split (see
+// split_boundary()).
+constexpr double kConstrainedFloor = 1.0 / 1024.0;
+
 // How far from the midpoint of a bad face's shortest side an off-center goes, as a fraction of
 // the distance at which the isosceles triangle on that side has exactly the bound at its apex
 // (Üngör 2004); 0.95 as in Shewchuk's Triangle, so that the new triangle is just above it.
@@ -335,6 +339,7 @@ class Refiner {
   RefineReport run() {
     grow_flags();
     rep_.flips += host_.flip_to_delaunay().flips;
+    constrained_floor_ = kConstrainedFloor * mean_edge_length(tri_);
     double before = kPi;
     for (Index f = 0; f < tri_.n_faces(); ++f) before = std::min(before, min_corner_angle(tri_, f));
     rep_.min_angle_before = before / kDeg;
@@ -547,9 +552,15 @@ class Refiner {
   }
 
   // Splits boundary or constrained edge e at its midpoint (kInvalidIndex if it cannot be
-  // split).
+  // split, or if it is a constrained edge shorter than the floor: two curves meeting at a small
+  // angle make midpoint splits cascade towards their common vertex, Ruppert's small-input-angle
+  // case, and the floor stops that after about ten halvings).
   Index split_boundary(Index e, bool* on_boundary) {
     if (!tri_.can_split_edge(e)) return kInvalidIndex;
+    if (bar_.constrained(e) && tri_.length(e) < constrained_floor_) {
+      ++rep_.constrained_floor;
+      return kInvalidIndex;
+    }
     ++(tri_.is_boundary_edge(e) ? rep_.boundary_splits : rep_.constrained_splits);
     *on_boundary = true;
     return split(e, 0.5);
@@ -626,6 +637,7 @@ class Refiner {
   Barriers bar_;
   double bound_ = 0.0, cos_bound_ = 1.0, max_area_ = 0.0;
   Index cap_ = 0;
+  double constrained_floor_ = 0.0;  // shortest constrained edge split (absolute)
   RefineReport rep_;
   std::optional<Cones> cones_;  // made after the first Delaunay flips
   std::vector<Index> touched_, flip_queue_;

@@ -118,6 +118,10 @@ struct RefineReport {
   Index edge_splits = 0;           ///< circumcenters that landed on an interior edge
   Index boundary_splits = 0;       ///< boundary edges split (circumcenter across the boundary)
   Index constrained_splits = 0;    ///< constrained edges split (point across or encroaching one)
+  Index constrained_floor = 0;     ///< splits of constrained edges shorter than 1/1024 of the
+                                   ///< mean edge length refused (where curves meet at small
+                                   ///< angles midpoint splits would cascade); the bad triangles
+                                   ///< there stay (bad_faces_left)
   Index failed_traces = 0;         ///< bad triangles skipped because tracing failed
   std::size_t flips = 0;           ///< edge flips (initial Delaunay + after insertions)
   bool hit_insertion_cap = false;  ///< stopped by max_insertions
