@@ -1,12 +1,12 @@
 // Benchmark section "curves": boundary-value problems with data on curves (solvers/curves.h) on
 // icospheres of about 10k, 100k and 1M faces, with 1, 10 and 100 geodesic paths through 3
 // vertices each and 1 and 10 closed loops through 3 vertices each (medians over --repeat runs):
-//  - insertion (prepare_curve_surface without refinement): its wall time, its seconds_curves
-//    (signpost triangulation + FlipOut + marking), intrinsic::insert_curves alone (FlipOut +
-//    marking, timed apart on a fresh signpost triangulation; the signposts alone are timed once
-//    per mesh) and surface.seconds_flip (the constrained Delaunay flips);
+//  - insertion (prepare_curve_surface without refinement): its wall time, surface.seconds_build
+//    (the input's triangulation and the signpost one; the signposts alone are timed once per
+//    mesh), seconds_curves (FlipOut + marking) and surface.seconds_flip (the constrained Delaunay
+//    flips);
 //  - constrained refinement (--min-angle 25, --resolution 1.0: triangles larger than the
-//    equilateral one of side h are split): surface.seconds_refine;
+//    equilateral one of side h are split): surface.seconds_refine, and what the report counts;
 //  - the solves, on the constrained and on the refined triangulation: curve_poisson (curve c
 //    holds the constant c mod 2, f = z) against solvers::solve_poisson on the same triangulation
 //    with the same Dirichlet vertices and values (the target: the constrained solve
@@ -170,7 +170,7 @@ std::vector<CurveCondition> accepted_curves(const intrinsic::TriangleMesh& m, co
 }
 
 struct PrepareTimes {
-  std::vector<double> wall, curves, flip, refine;
+  std::vector<double> wall, build, curves, flip, refine;
 };
 
 // prepare_curve_surface `repeat` times; returns the last surface.
@@ -184,26 +184,12 @@ CurveSurface prepare_timed(const intrinsic::TriangleMesh& m,
     const double t0 = seconds_now();
     s = solvers::prepare_curve_surface(std::move(in), curves, opt);
     t.wall.push_back(seconds_now() - t0);
+    t.build.push_back(s.surface.seconds_build);
     t.curves.push_back(s.seconds_curves);
     t.flip.push_back(s.surface.seconds_flip);
     t.refine.push_back(s.surface.seconds_refine);
   }
   return s;
-}
-
-// intrinsic::insert_curves alone (FlipOut + marking) on a fresh signpost triangulation: median.
-double insert_seconds(const intrinsic::TriangleMesh& m, const std::vector<CurveCondition>& curves,
-                      int repeat) {
-  std::vector<intrinsic::CurveSpec> specs;
-  for (const CurveCondition& c : curves) specs.push_back({c.vertices, c.shape, c.bezier_rounds});
-  std::vector<double> t;
-  for (int r = 0; r < repeat; ++r) {
-    intrinsic::SignpostTriangulation st(m.faces, m.positions, intrinsic::kDefaultMollifyEpsilon);
-    const double t0 = seconds_now();
-    (void)intrinsic::insert_curves(st, specs);
-    t.push_back(seconds_now() - t0);
-  }
-  return median(t);
 }
 
 // Every vertex of every curve (sorted, unique) and the value its curve holds there.
@@ -349,7 +335,7 @@ std::string solve_row(const MeshInfo& mi, const Case& k, const char* tri, const 
 }
 
 void insertion_rows(const MeshInfo& mi, const Case& k, const CurveSurface& s, const PrepareTimes& t,
-                    double insert, int tries, double gap, Tables& out) {
+                    int tries, double gap, Tables& out) {
   const intrinsic::FlipOutReport& fo = s.network.flipout;
   const double curves = median(t.curves);
   std::string stop = intrinsic::to_string(fo.stopped_by);
@@ -358,7 +344,7 @@ void insertion_rows(const MeshInfo& mi, const Case& k, const CurveSurface& s, co
           format("| %s | %s | %s | %.4f | %.4f | %.4f | %.4f | %s | %s | %s | %s | %d | %.3f | "
                  "%.0f |",
                  mi.label.c_str(), grouped(mi.faces).c_str(), k.name().c_str(), median(t.wall),
-                 curves, insert, median(t.flip), grouped(fo.flips).c_str(),
+                 median(t.build), curves, median(t.flip), grouped(fo.flips).c_str(),
                  grouped(s.constrained_flips.flips).c_str(), grouped(curve_edge_count(s)).c_str(),
                  stop.c_str(), tries, gap, peak_rss_mib()));
 }
@@ -368,13 +354,14 @@ void refine_row(const MeshInfo& mi, const Case& k, const CurveSurface& s, const 
   const intrinsic::RefineReport& r = s.surface.refine_report;
   out.add(
       out.refine,
-      format(
-          "| %s | %s | %s | %.4f | %.4f | %s → %s | %s | %s | %.2f° | %d / %d / %d | %s | %.0f |",
-          mi.label.c_str(), grouped(mi.faces).c_str(), k.name().c_str(), median(t.refine),
-          median(t.wall), grouped(r.vertices_before).c_str(), grouped(r.vertices_after).c_str(),
-          grouped(r.constrained_splits).c_str(), grouped(curve_edge_count(s)).c_str(),
-          r.min_angle_after_excluding_needles, int(r.needle_faces), int(r.bad_faces_left),
-          int(r.failed_traces), r.hit_insertion_cap ? "cap" : "no", peak_rss_mib()));
+      format("| %s | %s | %s | %.4f | %.4f | %s → %s | %s | %s | %s | %.2f° | %d / %d / %d | %s | "
+             "%.0f |",
+             mi.label.c_str(), grouped(mi.faces).c_str(), k.name().c_str(), median(t.refine),
+             median(t.wall), grouped(r.vertices_before).c_str(), grouped(r.vertices_after).c_str(),
+             grouped(r.constrained_splits).c_str(), grouped(r.constrained_floor).c_str(),
+             grouped(curve_edge_count(s)).c_str(), r.min_angle_after_excluding_needles,
+             int(r.needle_faces), int(r.bad_faces_left), int(r.failed_traces),
+             r.hit_insertion_cap ? "cap" : "no", peak_rss_mib()));
 }
 
 // One case on one mesh: insertion and solves, then refinement and solves on the refined one.
@@ -386,7 +373,7 @@ void run_case(const intrinsic::TriangleMesh& m, const MeshInfo& mi, const Case& 
   {
     PrepareTimes t;
     const CurveSurface s = prepare_timed(m, curves, {}, set.repeat, t);
-    insertion_rows(mi, k, s, t, insert_seconds(m, curves, set.repeat), tries, gap, out);
+    insertion_rows(mi, k, s, t, tries, gap, out);
     if (set.solves) out.add(out.solve, solve_row(mi, k, "constrained", solve_timed(s, set.repeat)));
   }
   if (mi.faces > set.max_refine_faces) return;
@@ -401,7 +388,7 @@ void run_case(const intrinsic::TriangleMesh& m, const MeshInfo& mi, const Case& 
 void print_tables(const Settings& set, const Tables& t) {
   std::printf("## Inserting the curves (median of %d runs)\n\n", set.repeat);
   std::printf(
-      "| mesh | faces | curves | prepare s | curves s | insert_curves s | constrained flips s "
+      "| mesh | faces | curves | prepare s | build s | curves s | constrained flips s "
       "| FlipOut flips | Delaunay flips | curve edges | FlipOut stop | layouts | gap rad | peak "
       "MiB |\n|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n");
   for (const std::string& r : t.insert) std::printf("%s\n", r.c_str());
@@ -410,9 +397,9 @@ void print_tables(const Settings& set, const Tables& t) {
   std::printf("\n## Constrained refinement, %.0f° and resolution %.2g (median of %d runs)\n\n",
               set.refine.min_angle_degrees, set.refine.resolution, set.repeat);
   std::printf(
-      "| mesh | faces | curves | refine s | prepare s | vertices | curve splits | curve edges | "
-      "min angle | needles / bad / failed | cap | peak MiB |\n"
-      "|---|---:|---|---:|---:|---|---:|---:|---:|---|---|---:|\n");
+      "| mesh | faces | curves | refine s | prepare s | vertices | curve splits | below floor | "
+      "curve edges | min angle | needles / bad / failed | cap | peak MiB |\n"
+      "|---|---:|---|---:|---:|---|---:|---:|---:|---:|---|---|---:|\n");
   for (const std::string& r : t.refine) std::printf("%s\n", r.c_str());
   std::printf(
       "\n## Solves: constrained against unconstrained on the same triangulation (median "
