@@ -66,6 +66,13 @@ struct CutOpen {
 CutOpen cut_open(const T& base, const std::vector<char>& cut) {
   const Index nh = base.n_halfedges(), nv = base.n_vertices();
   CutOpen out;
+  if (std::find(cut.begin(), cut.end(), 1) == cut.end()) {  // no slit: the triangulation itself
+    out.tri = base;
+    out.origin.resize(nv);
+    for (Index v = 0; v < nv; ++v) out.origin[v] = v;
+    out.corner_vertex = base.tails();
+    return out;
+  }
   auto is_cut = [&](Index h) { return cut[base.edge(h)] != 0; };
   UnionFind corners(nh);
   for (Index h = 0; h < nh; ++h) {

@@ -356,10 +356,16 @@ class Refiner {
         rep_.hit_insertion_cap = true;
         break;
       }
+      const Index splits_before = rep_.constrained_splits;
       const Index v = insert_for(f, verdict);
       if (v == kInvalidIndex) continue;
       ++rep_.insertions;
       restore_delaunay_around(v, queue);
+      // a split of a curve edge instead of f's point may leave f as it was: keep it queued
+      if (rep_.constrained_splits != splits_before) {
+        const Verdict again = classify(f);
+        if (again.kind == 1) queue.push(f, again.bucket);
+      }
     }
     measure_result();
     return rep_;
