@@ -486,9 +486,10 @@ class Refiner {
       const TraceResult r = trace_straight(tri_, start, w / dist, dist, -1, false, false,
                                            4 * tri_.n_faces() + 1000, flags_);
       bool on_boundary = false;
+      const Index refused = rep_.constrained_floor;
       const Index v = insert_at(r, &on_boundary);
       if (v == kInvalidIndex) {
-        ++rep_.failed_traces;
+        if (rep_.constrained_floor == refused) ++rep_.failed_traces;  // else counted there
         return kInvalidIndex;
       }
       cones_->add_vertex(v, on_boundary);
