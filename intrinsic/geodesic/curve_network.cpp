@@ -157,10 +157,11 @@ CurveNetwork insert_curves(SignpostTriangulation& st, const std::vector<CurveSpe
   insert_beziers(st, specs, options, paths, net);
   std::vector<EdgePath> geodesics;
   std::vector<std::size_t> which;
+  EdgePathFinder finder(tri);  // one edge graph for all of them (no flips until shorten)
   for (std::size_t c = 0; c < specs.size(); ++c) {
     if (specs[c].shape == CurveShape::kBezier) continue;
     geodesics.push_back(for_curve(c, [&] {
-      return edge_path_through(tri, specs[c].vertices, specs[c].shape == CurveShape::kLoop, true);
+      return finder.through(specs[c].vertices, specs[c].shape == CurveShape::kLoop, true);
     }));
     which.push_back(c);
   }
