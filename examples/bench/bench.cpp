@@ -13,6 +13,7 @@ int solvers(int argc, char** argv);
 int pointcloud(int argc, char** argv);
 int refine(int argc, char** argv);
 int geodesic(int argc, char** argv);
+int curves(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -34,6 +35,10 @@ const Section kSections[] = {
     {"geodesic",
      "FlipOut paths, single-source geodesics, Bézier curves on icospheres 10k..1M faces",
      ifem::bench::geodesic},
+    {"curves",
+     "curves as constrained edges: insertion, constrained refinement, curve_poisson and "
+     "curve_distance against the unconstrained solves, icospheres 10k..1M faces",
+     ifem::bench::curves},
     {"solvers", "heat distance precompute + query 10k..1M faces; k = 10, 50 eigenpairs",
      ifem::bench::solvers},
 };
