@@ -1,6 +1,7 @@
 #include "solvers/curves.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -26,7 +27,8 @@ intrinsic::CurveSpec to_spec(const CurveCondition& c) {
   return s;
 }
 
-// Replaces "curve i" at the start of a library message by the curve's origin.
+// A library message names curves by index ("curve 3"); for people, name them by where they were
+// given ("curve at file:line") when known. Only the message changes, never a decision.
 std::string with_origins(const std::string& what, const std::vector<CurveCondition>& curves) {
   std::string m = what;
   for (std::size_t i = curves.size(); i-- > 0;) {
@@ -45,8 +47,9 @@ std::string with_origins(const std::string& what, const std::vector<CurveConditi
 // length s, linear in arc length between the control points' arc lengths `ctrl`.
 double value_at(const std::vector<double>& vals, const std::vector<double>& ctrl, double s) {
   if (vals.size() == 1 || ctrl.size() < 2) return vals.front();
-  std::size_t i = 0;
-  while (i + 2 < ctrl.size() && s > ctrl[i + 1]) ++i;
+  // the first piece [ctrl[i], ctrl[i+1]] with ctrl[i+1] ≥ s (the last one beyond it)
+  const auto it = std::lower_bound(ctrl.begin() + 1, ctrl.end() - 1, s);
+  const std::size_t i = static_cast<std::size_t>(it - (ctrl.begin() + 1));
   const double a = vals[i % vals.size()], b = vals[(i + 1) % vals.size()];
   const double span = ctrl[i + 1] - ctrl[i];
   const double t = span > 0.0 ? std::clamp((s - ctrl[i]) / span, 0.0, 1.0) : 0.0;
@@ -66,6 +69,13 @@ struct CutOpen {
 CutOpen cut_open(const T& base, const std::vector<char>& cut) {
   const Index nh = base.n_halfedges(), nv = base.n_vertices();
   CutOpen out;
+  if (std::find(cut.begin(), cut.end(), 1) == cut.end()) {  // no slit: the triangulation itself
+    out.tri = base;
+    out.origin.resize(nv);
+    for (Index v = 0; v < nv; ++v) out.origin[v] = v;
+    out.corner_vertex = base.tails();
+    return out;
+  }
   auto is_cut = [&](Index h) { return cut[base.edge(h)] != 0; };
   UnionFind corners(nh);
   for (Index h = 0; h < nh; ++h) {

@@ -132,10 +132,22 @@ CurveNetwork insert_curves(SignpostTriangulation& st, const std::vector<CurveSpe
   const T& tri = st.intrinsic();
   CurveNetwork net;
   std::vector<EdgePath> paths(specs.size());
-  for (std::size_t c = 0; c < specs.size(); ++c) {  // validate all before any flip
-    const CurveSpec& sp = specs[c];
+  for (std::size_t c = 0; c < specs.size(); ++c) {  // what can be checked before any flip
+    const CurveSpec& sp = specs[c];                 // (components: when joined, below)
+    const std::size_t k = sp.vertices.size();
     for_curve(c, [&] {
-      (void)edge_path_through(tri, sp.vertices, sp.shape == CurveShape::kLoop, true);
+      if (k < 2) throw InvalidInput("needs at least 2 vertices, got " + std::to_string(k));
+      for (std::size_t i = 0; i < k; ++i) {
+        const Index v = sp.vertices[i];
+        if (v < 0 || v >= tri.n_vertices()) {
+          throw InvalidInput("vertex " + std::to_string(v) + " out of range [0, " +
+                             std::to_string(tri.n_vertices()) + ")");
+        }
+        const Index w = sp.vertices[(i + 1) % k];
+        if ((i + 1 < k || sp.shape == CurveShape::kLoop) && v == w) {
+          throw InvalidInput("vertex " + std::to_string(v) + " twice in a row");
+        }
+      }
       if (sp.shape == CurveShape::kBezier && (sp.bezier_rounds < 0 || sp.bezier_rounds > 16)) {
         throw InvalidInput("Bézier rounds must be in [0, 16], got " +
                            std::to_string(sp.bezier_rounds));
@@ -145,10 +157,12 @@ CurveNetwork insert_curves(SignpostTriangulation& st, const std::vector<CurveSpe
   insert_beziers(st, specs, options, paths, net);
   std::vector<EdgePath> geodesics;
   std::vector<std::size_t> which;
+  EdgePathFinder finder(tri);  // one edge graph for all of them (no flips until shorten)
   for (std::size_t c = 0; c < specs.size(); ++c) {
     if (specs[c].shape == CurveShape::kBezier) continue;
-    geodesics.push_back(
-        edge_path_through(tri, specs[c].vertices, specs[c].shape == CurveShape::kLoop, true));
+    geodesics.push_back(for_curve(c, [&] {
+      return finder.through(specs[c].vertices, specs[c].shape == CurveShape::kLoop, true);
+    }));
     which.push_back(c);
   }
   std::vector<char> fixed(static_cast<std::size_t>(tri.n_edges()), 0);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <queue>
 #include <string>
 #include <utility>
@@ -22,10 +23,20 @@ using T = IntrinsicTriangulation;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Every edge both ways, by tail vertex (CSR): the graph of Dijkstra's searches.
-struct EdgeGraph {
+}  // namespace
+
+struct EdgePathFinder::EdgeGraph {
   std::vector<Index> start;  // #V + 1
   std::vector<PathStep> out;
-  explicit EdgeGraph(const T& tri) : start(tri.n_vertices() + 1, 0), out(2 * tri.n_edges()) {
+  // the search's arrays, #V, reused: only the entries a search touched are reset after it
+  std::vector<double> dist;
+  std::vector<PathStep> via;
+  std::vector<Index> touched;
+  explicit EdgeGraph(const T& tri)
+      : start(tri.n_vertices() + 1, 0),
+        out(2 * tri.n_edges()),
+        dist(tri.n_vertices(), kInf),
+        via(tri.n_vertices()) {
     for (Index e = 0; e < tri.n_edges(); ++e) {
       const Index h = tri.edge_halfedge(e);
       ++start[tri.tail(h) + 1];
@@ -41,14 +52,20 @@ struct EdgeGraph {
   }
 };
 
-// Shortest edge path a → b on the graph; empty steps and false when b is unreachable.
-bool dijkstra(const T& tri, const EdgeGraph& g, Index a, Index b, EdgePath* path) {
-  const Index nv = tri.n_vertices();
-  std::vector<double> dist(nv, kInf);
-  std::vector<PathStep> via(nv);
+namespace {
+
+using EdgeGraph = EdgePathFinder::EdgeGraph;
+
+// Shortest edge path a → b on the graph, appended to *path; false when b is unreachable.
+bool dijkstra(const T& tri, EdgeGraph& g, Index a, Index b, EdgePath* path) {
+  std::vector<double>& dist = g.dist;
+  std::vector<PathStep>& via = g.via;
+  for (const Index v : g.touched) dist[v] = kInf;
+  g.touched.clear();
   using Item = std::pair<double, Index>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
   dist[a] = 0.0;
+  g.touched.push_back(a);
   queue.push({0.0, a});
   while (!queue.empty()) {
     const auto [d, v] = queue.top();
@@ -60,6 +77,7 @@ bool dijkstra(const T& tri, const EdgeGraph& g, Index a, Index b, EdgePath* path
       const Index u = step_head(tri, s);
       const double du = d + tri.length(s.edge);
       if (du < dist[u]) {
+        if (dist[u] == kInf) g.touched.push_back(u);
         dist[u] = du;
         via[u] = s;
         queue.push({du, u});
@@ -129,14 +147,24 @@ EdgePath shortest_edge_path(const SignpostTriangulation& st, Index a, Index b) {
   return shortest_edge_path(st.intrinsic(), a, b);
 }
 
+EdgePathFinder::EdgePathFinder(const IntrinsicTriangulation& tri)
+    : tri_(tri), graph_(std::make_unique<EdgeGraph>(tri)) {}
+EdgePathFinder::~EdgePathFinder() = default;
+
 EdgePath edge_path_through(const IntrinsicTriangulation& tri, const std::vector<Index>& vertices,
                            bool closed, bool pin, JoinBy join) {
+  return EdgePathFinder(tri).through(vertices, closed, pin, join);
+}
+
+EdgePath EdgePathFinder::through(const std::vector<Index>& vertices, bool closed, bool pin,
+                                 JoinBy join) {
+  const T& tri = tri_;
+  EdgeGraph& g = *graph_;
   if (vertices.size() < 2) {
     throw InvalidInput("a path needs at least two vertices, got " +
                        std::to_string(vertices.size()));
   }
   for (std::size_t i = 0; i < vertices.size(); ++i) check_vertex(tri, vertices[i], i);
-  const EdgeGraph g(tri);
   EdgePath path;
   path.closed = closed;
   const std::size_t legs = closed ? vertices.size() : vertices.size() - 1;

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -77,6 +78,25 @@ enum class JoinBy {
 ///         two consecutive vertices on different connected components
 EdgePath edge_path_through(const IntrinsicTriangulation& tri, const std::vector<Index>& vertices,
                            bool closed, bool pin, JoinBy join = JoinBy::kDijkstra);
+
+/// edge_path_through() for many curves on one unchanged triangulation: the edge graph is built
+/// once and the search's arrays are reused (reset only where a search went), so n curves cost
+/// one graph and their searches, not n × #E. Valid while tri's connectivity does not change.
+class EdgePathFinder {
+ public:
+  explicit EdgePathFinder(const IntrinsicTriangulation& tri);
+  ~EdgePathFinder();
+  EdgePathFinder(const EdgePathFinder&) = delete;
+  EdgePathFinder& operator=(const EdgePathFinder&) = delete;
+  /// Same contract as edge_path_through(tri, vertices, closed, pin, join).
+  EdgePath through(const std::vector<Index>& vertices, bool closed, bool pin,
+                   JoinBy join = JoinBy::kDijkstra);
+  struct EdgeGraph;
+
+ private:
+  const IntrinsicTriangulation& tri_;
+  std::unique_ptr<EdgeGraph> graph_;
+};
 
 /// The two wedge angles at joint i of the path (see EdgePath; 1 ≤ i < #steps for an open
 /// path, 0 ≤ i < #steps for a loop): [0] swept counter-clockwise from the outgoing step to the

@@ -356,10 +356,16 @@ class Refiner {
         rep_.hit_insertion_cap = true;
         break;
       }
+      const Index splits_before = rep_.constrained_splits;
       const Index v = insert_for(f, verdict);
       if (v == kInvalidIndex) continue;
       ++rep_.insertions;
       restore_delaunay_around(v, queue);
+      // a split of a curve edge instead of f's point may leave f as it was: keep it queued
+      if (rep_.constrained_splits != splits_before) {
+        const Verdict again = classify(f);
+        if (again.kind == 1) queue.push(f, again.bucket);
+      }
     }
     measure_result();
     return rep_;
@@ -480,9 +486,10 @@ class Refiner {
       const TraceResult r = trace_straight(tri_, start, w / dist, dist, -1, false, false,
                                            4 * tri_.n_faces() + 1000, flags_);
       bool on_boundary = false;
+      const Index refused = rep_.constrained_floor;
       const Index v = insert_at(r, &on_boundary);
       if (v == kInvalidIndex) {
-        ++rep_.failed_traces;
+        if (rep_.constrained_floor == refused) ++rep_.failed_traces;  // else counted there
         return kInvalidIndex;
       }
       cones_->add_vertex(v, on_boundary);

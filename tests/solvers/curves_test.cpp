@@ -458,6 +458,31 @@ TEST(CurvePoisson, SpotSmallAngleAndDenseBezier) {
   EXPECT_LE(rb.u.maxCoeff(), 1.0 + 1e-9);
 }
 
+// Found by the curves benchmark: on icosphere(23) the geodesic 3767 → 3730 passes 3.3e-5 from
+// input vertex 3749, so refinement met flat triangles against the curve and split it towards
+// that vertex until the cap (102,631 vertices, edges of 1e-107). Now bounded by the floor, and
+// triangles whose point split a curve edge stay queued, so the bound is reached elsewhere; the
+// slivers between that vertex and the curve stay (a feature of 3.3e-5: the floor's scale).
+TEST(CurveRefine, CurvePassingCloseToAVertexStaysBounded) {
+  const intrinsic::TriangleMesh m = intrinsic::icosphere(23);
+  io::SurfaceInput in;
+  in.positions = m.positions;
+  in.triangles = m.faces;
+  CurveCondition c;
+  c.vertices = {3814, 3767, 3730};
+  c.values = {1.0};
+  solvers::CurveSurfaceOptions opt;
+  opt.refine = solvers::RefineSettings{};
+  opt.refine->resolution = 1.0;
+  const solvers::CurveSurface s = solvers::prepare_curve_surface(std::move(in), {c}, opt);
+  const intrinsic::RefineReport& r = s.surface.refine_report;
+  EXPECT_FALSE(r.hit_insertion_cap);
+  EXPECT_LT(r.vertices_after, 3 * 5292);  // 12,445 (was the cap, 102,631)
+  EXPECT_GT(r.constrained_floor, 0);      // the bad triangles at that vertex stay, reported
+  RecordProperty("refine", solvers::describe(r));
+  EXPECT_EQ(s.signs.negative_unconstrained, 0);
+}
+
 TEST(CurveSurface, RefusesBadInput) {
   const int n = 6;
   // two curves along the same edges
