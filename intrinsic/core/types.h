@@ -24,6 +24,12 @@ using Triangle = std::array<Index, 3>;
 /// Vertex positions, one row per vertex.
 using Positions = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
+/// Whether element i is flagged in a per-element flag vector (edges that are constrained, fixed,
+/// ...): false when `flags` is null or shorter than i + 1 (missing entries count as 0).
+inline bool is_flagged(const std::vector<char>* flags, Index i) {
+  return flags != nullptr && i >= 0 && i < static_cast<Index>(flags->size()) && (*flags)[i] != 0;
+}
+
 /// Converts a size to Index, throwing InvalidInput when it does not fit in 31 bits.
 Index checked_index(std::size_t n, const char* what);
 

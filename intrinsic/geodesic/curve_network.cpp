@@ -261,7 +261,7 @@ CotanSigns cotan_signs(const IntrinsicTriangulation& tri, const std::vector<char
     const double w = 0.5 * (a + b);
     out.min_weight = std::min(out.min_weight, w);
     if (!(w < -1e-12 * std::max(std::abs(a), std::abs(b)))) continue;
-    const bool c = e < static_cast<Index>(constrained.size()) && constrained[e];
+    const bool c = is_flagged(&constrained, e);
     ++(c ? out.negative_constrained : out.negative_unconstrained);
   }
   if (tri.n_edges() == 0) out.min_weight = 0.0;

@@ -157,7 +157,7 @@ struct FixedEdges {
     flags.resize(static_cast<std::size_t>(tri.n_edges()), 0);
     return &flags;
   }
-  bool operator()(Index e) const { return any && e < static_cast<Index>(flags.size()) && flags[e]; }
+  bool operator()(Index e) const { return any && is_flagged(&flags, e); }
 };
 
 // A FlipOut geodesic between two vertices (on the current triangulation; flips it).

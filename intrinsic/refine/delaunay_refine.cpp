@@ -69,10 +69,7 @@ class PlainHost {
 
  private:
   std::function<bool(Index)> flipper() {
-    return [this](Index e) {
-      const bool fixed = fixed_ && e < static_cast<Index>(fixed_->size()) && (*fixed_)[e];
-      return !fixed && tri_.flip_edge(e);
-    };
+    return [this](Index e) { return !is_flagged(fixed_, e) && tri_.flip_edge(e); };
   }
   IntrinsicTriangulation& tri_;
   const std::vector<char>* fixed_;
@@ -83,9 +80,7 @@ class PlainHost {
 struct Barriers {
   const IntrinsicTriangulation& tri;
   const std::vector<char>* flags;
-  bool constrained(Index e) const {
-    return flags && e < static_cast<Index>(flags->size()) && (*flags)[e];
-  }
+  bool constrained(Index e) const { return is_flagged(flags, e); }
   bool operator()(Index h) const {
     return tri.twin(h) == kInvalidIndex || constrained(tri.edge(h));
   }

@@ -60,9 +60,7 @@ struct EdgeConstraints {
   /// its length from the tail of edge_halfedge(e) as it was: e now runs from that tail to v (the
   /// same direction), new_edge from v to the old head. May be empty.
   std::function<void(Index e, Index new_edge, Index v, double t)> on_split;
-  bool is_constrained(Index e) const {
-    return flags != nullptr && e >= 0 && e < static_cast<Index>(flags->size()) && (*flags)[e];
-  }
+  bool is_constrained(Index e) const { return is_flagged(flags, e); }
 };
 
 /// Bytes one vertex of a refined triangulation costs, all told: the intrinsic triangulation

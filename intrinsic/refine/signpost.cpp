@@ -127,9 +127,7 @@ TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint
     const Index he = 3 * f + s;
     const Index tw = tri.twin(he);
     const Eigen::Vector2d e = (p[s1] - p[s]).normalized();
-    const Index edge_crossed = tri.edge(he);
-    if (tw != kInvalidIndex && stop_edges != nullptr &&
-        edge_crossed < static_cast<Index>(stop_edges->size()) && (*stop_edges)[edge_crossed]) {
+    if (tw != kInvalidIndex && is_flagged(stop_edges, tri.edge(he))) {
       r.hit_boundary = true;
       r.boundary_halfedge = he;
       finish_trace(r, f, b, d, record_path);
@@ -286,22 +284,16 @@ FlipReport SignpostTriangulation::flip_to_delaunay() {
   return tri_.flip_to_delaunay([this](Index e) { return flip_edge(e); });
 }
 
-namespace {
-bool is_fixed(const std::vector<char>& fixed, Index e) {
-  return e < static_cast<Index>(fixed.size()) && fixed[e] != 0;
-}
-}  // namespace
-
 FlipReport SignpostTriangulation::flip_to_delaunay(const std::vector<char>& fixed_edges) {
   return tri_.flip_to_delaunay(
-      [this, &fixed_edges](Index e) { return !is_fixed(fixed_edges, e) && flip_edge(e); });
+      [this, &fixed_edges](Index e) { return !is_flagged(&fixed_edges, e) && flip_edge(e); });
 }
 
 FlipReport SignpostTriangulation::flip_to_delaunay_from(std::vector<Index> queue,
                                                         std::vector<Index>* touched,
                                                         const std::vector<char>& fixed_edges) {
   return tri_.flip_to_delaunay_from(std::move(queue), touched, [this, &fixed_edges](Index e) {
-    return !is_fixed(fixed_edges, e) && flip_edge(e);
+    return !is_flagged(&fixed_edges, e) && flip_edge(e);
   });
 }
 
