@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -60,7 +61,9 @@ double value_at(const std::vector<double>& vals, const std::vector<double>& ctrl
 // several fans once the slit edges are unglued gets one copy per fan (the first keeps its id,
 // the others are appended; origin maps copies back).
 struct CutOpen {
-  T tri;
+  const T* base = nullptr;  // the uncut triangulation
+  std::optional<T> owned;   // the cut one, when something was cut apart
+  const T& tri() const { return owned ? *owned : *base; }  // no copy when nothing was
   std::vector<Index> corner_vertex;  // #H: the (possibly copied) vertex at each corner
   std::vector<Index> origin;         // #V of tri: the vertex of the uncut triangulation
   Index copies = 0;
@@ -69,10 +72,10 @@ struct CutOpen {
 CutOpen cut_open(const T& base, const std::vector<char>& cut) {
   const Index nh = base.n_halfedges(), nv = base.n_vertices();
   CutOpen out;
-  if (std::find(cut.begin(), cut.end(), 1) == cut.end()) {  // no slit: the triangulation itself
-    out.tri = base;
-    out.origin.resize(nv);
-    for (Index v = 0; v < nv; ++v) out.origin[v] = v;
+  out.base = &base;
+  out.origin.resize(nv);
+  for (Index v = 0; v < nv; ++v) out.origin[v] = v;
+  if (std::find(cut.begin(), cut.end(), 1) == cut.end()) {  // no slit: no copy, no search
     out.corner_vertex = base.tails();
     return out;
   }
@@ -86,8 +89,6 @@ CutOpen cut_open(const T& base, const std::vector<char>& cut) {
   }
   std::vector<Index> id(nh, kInvalidIndex);
   std::vector<char> taken(nv, 0);
-  out.origin.resize(nv);
-  for (Index v = 0; v < nv; ++v) out.origin[v] = v;
   out.corner_vertex.resize(nh);
   std::vector<Index> twin(nh);
   std::vector<double> length(nh);
@@ -102,12 +103,9 @@ CutOpen cut_open(const T& base, const std::vector<char>& cut) {
     twin[h] = is_cut(h) ? kInvalidIndex : base.twin(h);
     length[h] = base.halfedge_length(h);
   }
-  if (out.copies == 0) {
-    out.tri = base;
-    return out;
-  }
-  out.tri = T::from_gluing(out.corner_vertex, std::move(twin), length,
-                           static_cast<Index>(out.origin.size()));
+  if (out.copies == 0) return out;
+  out.owned = T::from_gluing(out.corner_vertex, std::move(twin), length,
+                             static_cast<Index>(out.origin.size()));
   return out;
 }
 
@@ -267,7 +265,7 @@ CurvePoissonResult curve_poisson(const CurveSurface& s, const Eigen::VectorXd& f
     slit[e] = c != kInvalidIndex && s.curves[c].slit ? 1 : 0;
   }
   const CutOpen cut = cut_open(base, slit);
-  const Index nc = cut.tri.n_vertices();
+  const Index nc = cut.tri().n_vertices();
   CurveValues cv(nc);
   gather_curve_values(s, cut, cv);
   cv.finish();
@@ -303,7 +301,7 @@ CurvePoissonResult curve_poisson(const CurveSurface& s, const Eigen::VectorXd& f
   for (Index v = 0; v < nc; ++v) f_cut[v] = f_base[cut.origin[v]];
   const Eigen::VectorXd g =
       Eigen::Map<const Eigen::VectorXd>(dval.data(), Eigen::Index(dval.size()));
-  const Eigen::VectorXd u = solve_poisson(cut.tri, f_cut, dv, g, options);
+  const Eigen::VectorXd u = solve_poisson(cut.tri(), f_cut, dv, g, options);
   out.dirichlet_vertices =
       static_cast<Index>(dv.size()) - static_cast<Index>(dirichlet_vertices.size());
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(base.n_vertices());
