@@ -6,6 +6,7 @@
 #include <limits>
 #include <queue>
 #include <string>
+#include <unordered_map>
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
@@ -160,10 +161,50 @@ struct FixedEdges {
   bool operator()(Index e) const { return any && is_flagged(&flags, e); }
 };
 
+// The shortest edge path a → b by a Dijkstra search that stops at b and walks each vertex's
+// fan, so its cost is that of the ball it explores, not of the whole triangulation: Bézier
+// subdivision asks for thousands of paths between nearby points on a triangulation that grows
+// with every midpoint, and a whole-graph search per path made that quadratic. At a pinched
+// vertex only one fan is walked; when that misses b, the whole-graph search answers.
+EdgePath local_edge_path(const T& tri, Index a, Index b) {
+  struct Reached {
+    double d = kInf;
+    PathStep via;
+  };
+  std::unordered_map<Index, Reached> reached;
+  using Item = std::pair<double, Index>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  reached[a].d = 0.0;
+  queue.push({0.0, a});
+  while (!queue.empty()) {
+    const double d = queue.top().first;  // not a structured binding: the lambda captures both
+    const Index v = queue.top().second;
+    queue.pop();
+    if (d > reached[v].d) continue;
+    if (v == b) break;
+    for_each_edge_at(tri, v, false, [&](Index e, Index u) {
+      Reached& r = reached[u];
+      const double du = d + tri.length(e);
+      if (du >= r.d) return;
+      r.d = du;
+      r.via = {e, tri.tail(tri.edge_halfedge(e)) == v && tri.head(tri.edge_halfedge(e)) == u};
+      queue.push({du, u});
+    });
+  }
+  const auto it = reached.find(b);
+  if (it == reached.end() || !std::isfinite(it->second.d)) return shortest_edge_path(tri, a, b);
+  EdgePath path;
+  for (Index v = b; v != a; v = step_tail(tri, reached[v].via)) {
+    path.steps.push_back(reached[v].via);
+  }
+  std::reverse(path.steps.begin(), path.steps.end());
+  return path;
+}
+
 // A FlipOut geodesic between two vertices (on the current triangulation; flips it).
 EdgePath geodesic_between(SignpostTriangulation& st, Index a, Index b, const FlipOutOptions& o,
                           FixedEdges& fixed) {
-  std::vector<EdgePath> p{shortest_edge_path(st.intrinsic(), a, b)};
+  std::vector<EdgePath> p{local_edge_path(st.intrinsic(), a, b)};
   shorten(st, p, o, fixed.grown(st.intrinsic()));
   return p[0];
 }

@@ -47,6 +47,11 @@ int fuzz_one(const std::uint8_t* data, std::size_t size) {
   ifem::fuzz::run_expecting_errors([&] {
     std::vector<ifem::solvers::CurveCondition> curves = ifem::solvers::read_curves_file(path);
     if (curves.size() > 8) return;  // keep one input cheap
+    for (const ifem::solvers::CurveCondition& c : curves) {
+      // a Bézier curve of d + 1 control points has d·2^rounds + 1 points: at most 1025 here
+      const bool bezier = c.shape == ifem::intrinsic::CurveShape::kBezier;
+      if (bezier && (c.vertices.size() - 1) << c.bezier_rounds > 1024) return;
+    }
     solve(std::move(curves));
   });
   return 0;
