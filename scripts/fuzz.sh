@@ -24,7 +24,7 @@ harnesses=("${@:-${all[@]}}")
 # -O1 -g, assertions on (no NDEBUG): Eigen's index checks are worth having while fuzzing.
 CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_CXX_FLAGS_RELEASE="-O1 -g" -DCMAKE_C_FLAGS_RELEASE="-O1 -g" -DIFEM_FUZZ=ON \
-  -DIFEM_BUILD_TESTS=OFF -DIFEM_BUILD_BENCHMARKS=OFF -DIFEM_WITH_PCL=OFF >/dev/null
+  -DIFEM_BUILD_TESTS=OFF -DIFEM_BUILD_BENCHMARKS=OFF -DIFEM_WITH_PCL=OFF -DIFEM_BUILD_PYTHON=OFF >/dev/null
 cmake --build "$build" -j"${FUZZ_BUILD_JOBS:-2}" --target ifem_fuzzers
 
 # The seed files of each harness: its tests/fuzz/seeds/ folder and the test meshes of its

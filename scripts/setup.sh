@@ -27,7 +27,9 @@ done
 packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libspectra-dev
           libnanoflann-dev libopenblas0-pthread libgtest-dev libgmock-dev libomp-dev
           clang-format-14 python3 git   # these three: the style checks (ctest -L style)
-          clang libclang-rt-14-dev)     # the fuzz build (scripts/fuzz.sh): libFuzzer runtime
+          clang libclang-rt-14-dev      # the fuzz build (scripts/fuzz.sh): libFuzzer runtime
+          python3-dev python3-numpy python3-scipy python3-pybind11 pybind11-dev python3-pytest)
+#         ^ the Python package (python/): built by default, tested by ctest with pytest
 # OpenBLAS makes CHOLMOD's supernodal factorization 3–4× faster than reference BLAS.
 if [ "$with_pcl" = 1 ] && [ -f pointcloud/pcl_adapter.cpp ]; then
   packages+=(libpcl-dev)

@@ -1,0 +1,39 @@
+"""ifem: intrinsic finite elements on bad meshes and point clouds, from Python.
+
+Arrays in, numpy arrays and scipy.sparse matrices out; results are always on the input's own
+vertices, in the input's order. ``V`` is a #V×3 array of positions (any real dtype; float64
+C-order is used without conversion), ``F`` a #F×3 array of vertex ids (any integer dtype).
+
+Conventions shared by every function:
+
+- ``L`` is the cotan Laplacian as a positive semi-definite matrix (positive diagonal,
+  ``L @ 1 == 0``), the finite-element stiffness matrix; libigl's ``cotmatrix`` is ``-L``.
+  ``M`` is the lumped (diagonal) mass matrix. Both are ``scipy.sparse.csc_matrix``.
+- Bad input raises :class:`ifem.InvalidInput` (a ``ValueError``) with a message naming the
+  argument, the row or the index; files that cannot be read raise :class:`ifem.IoError` (an
+  ``OSError``); numerical failures :class:`ifem.SolverError` (a ``RuntimeError``).
+- Long computations release the GIL.
+
+See the README's "Python" section for a quick start and a table mapping robust-laplacian's and
+potpourri3d's calls to ifem's.
+"""
+
+from ._errors import *  # noqa: F401,F403
+from ._errors import __all__ as _errors_all
+from ._mesh import *  # noqa: F401,F403
+from ._mesh import __all__ as _mesh_all
+from ._operators import *  # noqa: F401,F403
+from ._operators import __all__ as _operators_all
+from ._solvers import *  # noqa: F401,F403
+from ._solvers import __all__ as _solvers_all
+from ._refine import *  # noqa: F401,F403
+from ._refine import __all__ as _refine_all
+from ._geodesic import *  # noqa: F401,F403
+from ._geodesic import __all__ as _geodesic_all
+from ._curves import *  # noqa: F401,F403
+from ._curves import __all__ as _curves_all
+
+__version__ = "0.1.0"
+
+__all__ = (_errors_all + _mesh_all + _operators_all + _solvers_all + _refine_all +
+           _geodesic_all + _curves_all)

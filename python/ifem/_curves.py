@@ -1,0 +1,3 @@
+"""(filled in by the curves bindings)."""
+
+__all__ = []

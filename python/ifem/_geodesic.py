@@ -1,0 +1,3 @@
+"""(filled in by the geodesic bindings)."""
+
+__all__ = []

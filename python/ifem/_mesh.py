@@ -1,0 +1,51 @@
+"""Reading meshes and point clouds, writing PLY files with per-vertex properties."""
+
+import os
+
+from . import _ifem
+
+
+def read_mesh(path, return_info=False):
+    """Reads a mesh or a point cloud: OBJ, OFF, PLY (ASCII / binary), STL (ASCII / binary), XYZ.
+
+    Polygons are triangulated (each n-gon into n − 2 triangles); a file without faces is a
+    point cloud and gives ``F`` of shape (0, 3).
+
+    Args:
+        path: the file (str or os.PathLike); the format comes from the extension.
+        return_info: also return a dict with what the file held besides V and F: ``format``,
+            ``polygons``, ``non_triangles``, ``welded_vertices`` (STL), ``normals`` (#V×3 when
+            the file has them) and ``vertex_properties`` (name → #V array, PLY).
+
+    Returns:
+        ``V`` (#V×3 float64, file order) and ``F`` (#F×3 int32), and ``info`` when asked.
+
+    Raises:
+        IoError: missing file, unknown extension, malformed content, a face index out of range
+            or a non-finite coordinate, with the file and line (or byte offset).
+    """
+    V, F, info = _ifem.read_mesh(os.fspath(path))
+    return (V, F, info) if return_info else (V, F)
+
+
+def write_ply(path, V, F=None, binary=True, **vertex_properties):
+    """Writes a PLY mesh (or point cloud when ``F`` is None) with per-vertex properties.
+
+    The file opens in MeshLab, ParaView and Polyscope; each keyword argument becomes a
+    ``double`` vertex property of that name, e.g. ``write_ply("d.ply", V, F, distance=d)``.
+
+    Args:
+        path: the file to write (atomically: a temporary file, then renamed).
+        V: #V×3 positions.
+        F: #F×3 vertex ids, or None for a point cloud.
+        binary: binary little-endian PLY (default) or ASCII.
+        **vertex_properties: name=array, each with one value per vertex.
+
+    Raises:
+        InvalidInput: bad shapes or a property of the wrong length.
+        IoError: the file cannot be written.
+    """
+    _ifem.write_ply(os.fspath(path), V, F, dict(vertex_properties), bool(binary))
+
+
+__all__ = ["read_mesh", "write_ply"]

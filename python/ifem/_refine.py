@@ -1,0 +1,3 @@
+"""(filled in by the refine bindings)."""
+
+__all__ = []

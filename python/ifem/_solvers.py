@@ -1,0 +1,3 @@
+"""(filled in by the solvers bindings)."""
+
+__all__ = []

@@ -1,0 +1,75 @@
+// laplacian / point_cloud_laplacian: L and M on the input's vertices, from the intrinsic
+// triangulation of whichever path the input takes.
+#include <pybind11/stl.h>
+
+#include <string>
+#include <utility>
+
+#include "arrays.h"
+#include "bindings.h"
+#include "fem/operators.h"
+#include "intrinsic/core/errors.h"
+
+namespace ifem::python {
+
+namespace {
+
+// What preparing the surface chose and repaired, for the `info` dict of the Python functions.
+py::dict surface_info(const solvers::PreparedSurface& s) {
+  py::dict d;
+  d["path"] = intrinsic::to_string(s.path);
+  d["reason"] = s.reason_detail;
+  d["flips"] = s.flips.flips;
+  d["mollify_delta"] = s.mollify.delta;
+  d["dropped_faces"] = s.build.dropped_faces;
+  d["reoriented_faces"] = s.build.reoriented_faces;
+  d["unreferenced_vertices"] = s.build.unreferenced_vertices;
+  return d;
+}
+
+// (L parts, M diagonal, info) on s.tri, whose vertices are the input's.
+py::tuple operators_of(const solvers::PreparedSurface& s) {
+  fem::SparseMatrix L;
+  Eigen::VectorXd m;
+  {
+    const py::gil_scoped_release release;
+    L = fem::cotan_laplacian(s.tri);
+    m = fem::lumped_mass(s.tri);
+  }
+  return py::make_tuple(to_csc_parts(std::move(L)), to_numpy(std::move(m)), surface_info(s));
+}
+
+py::tuple laplacian(const py::handle& V, const py::handle& F, double mollify,
+                    const std::string& path, bool intrinsic_delaunay) {
+  io::SurfaceInput in = surface_input(V, F);
+  if (in.triangles.empty()) {
+    throw InvalidInput("F has no faces: for a point cloud use point_cloud_laplacian(P, k)");
+  }
+  if (path == "pointcloud") {
+    throw InvalidInput("path='pointcloud': use point_cloud_laplacian(P, k) for point clouds");
+  }
+  const solvers::PrepareOptions o = prepare_options(mollify, path, intrinsic_delaunay, 30);
+  return operators_of(prepare(std::move(in), o, path));
+}
+
+py::tuple point_cloud_laplacian(const py::handle& P, int k, const py::handle& normals,
+                                double mollify) {
+  io::SurfaceInput in = surface_input(P, py::none(), normals);
+  if (k < 2 || k >= in.positions.rows()) {
+    throw InvalidInput("k must be in [2, number of points) = [2, " +
+                       std::to_string(in.positions.rows()) + "), got " + std::to_string(k));
+  }
+  const solvers::PrepareOptions o = prepare_options(mollify, "pointcloud", true, k);
+  return operators_of(prepare(std::move(in), o, "pointcloud"));
+}
+
+}  // namespace
+
+void bind_operators(py::module_& m) {
+  m.def("laplacian", &laplacian, py::arg("V"), py::arg("F"), py::arg("mollify"), py::arg("path"),
+        py::arg("intrinsic_delaunay"));
+  m.def("point_cloud_laplacian", &point_cloud_laplacian, py::arg("P"), py::arg("k"),
+        py::arg("normals"), py::arg("mollify"));
+}
+
+}  // namespace ifem::python

@@ -1,0 +1,37 @@
+// The pieces of the extension module ifem._ifem, one function per area (bind_*.cpp), called by
+// module.cpp. Conventions for every binding:
+//  - arrays are checked and converted (arrays.h) while the GIL is held; the computation itself
+//    runs with the GIL released (py::gil_scoped_release), so other Python threads go on;
+//  - results go to numpy without copies (arrays.h to_numpy / to_csc_parts);
+//  - ifem's exceptions become ifem.InvalidInput / NonManifoldInput / IoError / SolverError / ...
+//    (python/ifem/_errors.py) with the same messages (module.cpp).
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include "solvers/pipeline.h"
+
+namespace ifem::python {
+
+namespace py = pybind11;
+
+void bind_mesh(py::module_& m);       // read_mesh, write_ply
+void bind_operators(py::module_& m);  // laplacian, point_cloud_laplacian
+void bind_solvers(py::module_& m);    // heat distance, eigenpairs, Poisson
+void bind_refine(py::module_& m);     // refinement handle, common subdivision, save / load
+void bind_geodesic(py::module_& m);   // FlipOut paths, loops, networks, Bézier curves
+void bind_curves(py::module_& m);     // boundary-value problems with data on curves
+
+/// PrepareOptions from the keyword arguments every surface function shares (Python names):
+/// mollify (relative margin ≥ 0), path ('auto' | 'manifold' | 'tufted' | 'pointcloud'),
+/// intrinsic_delaunay (bool), k (neighbours on the point-cloud path).
+/// @throws InvalidInput on an unknown path name
+solvers::PrepareOptions prepare_options(double mollify, const std::string& path,
+                                        bool intrinsic_delaunay, int k);
+
+/// prepare_surface() on arrays with the GIL released; with path 'manifold', a surface that had
+/// to take another path is refused (NonManifoldInput, with the reason).
+solvers::PreparedSurface prepare(io::SurfaceInput input, const solvers::PrepareOptions& options,
+                                 const std::string& path);
+
+}  // namespace ifem::python

@@ -1,0 +1,87 @@
+// The extension module ifem._ifem: exception translation and the bindings of each area. The
+// Python package (python/ifem/__init__.py) wraps these functions with keyword arguments,
+// docstrings and scipy.sparse results.
+#include <pybind11/pybind11.h>
+
+#include <exception>
+#include <string>
+
+#include "bindings.h"
+#include "intrinsic/core/errors.h"
+
+namespace ifem::python {
+
+namespace {
+
+// Raises the Python class `name` of ifem._errors with the C++ message.
+void raise(const char* name, const std::exception& e) {
+  const py::object cls = py::module_::import("ifem._errors").attr(name);
+  PyErr_SetString(cls.ptr(), e.what());
+}
+
+void translate(std::exception_ptr p) {
+  try {
+    if (p) std::rethrow_exception(p);
+  } catch (const NonOrientableInput& e) {
+    raise("NonOrientableInput", e);
+  } catch (const NonManifoldInput& e) {
+    raise("NonManifoldInput", e);
+  } catch (const InvalidInput& e) {
+    raise("InvalidInput", e);
+  } catch (const IoError& e) {
+    raise("IoError", e);
+  } catch (const SolverError& e) {
+    raise("SolverError", e);
+  } catch (const TraceError& e) {
+    raise("TraceError", e);
+  } catch (const Error& e) {
+    raise("Error", e);
+  }
+}
+
+}  // namespace
+
+solvers::PrepareOptions prepare_options(double mollify, const std::string& path,
+                                        bool intrinsic_delaunay, int k) {
+  if (path != "auto" && path != "manifold" && path != "tufted" && path != "pointcloud") {
+    throw InvalidInput("path must be 'auto', 'manifold', 'tufted' or 'pointcloud', got '" + path +
+                       "'");
+  }
+  solvers::PrepareOptions o;
+  o.mollify_relative_epsilon = mollify;
+  o.intrinsic_delaunay = intrinsic_delaunay;
+  o.force_tufted = path == "tufted";
+  o.force_pointcloud = path == "pointcloud";
+  o.knn = k;
+  o.validate();
+  return o;
+}
+
+solvers::PreparedSurface prepare(io::SurfaceInput input, const solvers::PrepareOptions& options,
+                                 const std::string& path) {
+  solvers::PreparedSurface s;
+  {
+    const py::gil_scoped_release release;
+    s = solvers::prepare_surface(std::move(input), options);
+  }
+  if (path == "manifold" && s.path != intrinsic::SurfacePath::kManifold) {
+    throw NonManifoldInput("path='manifold' was asked for, but the mesh needs the " +
+                           std::string(intrinsic::to_string(s.path)) + " path: " + s.reason_detail);
+  }
+  return s;
+}
+
+}  // namespace ifem::python
+
+PYBIND11_MODULE(_ifem, m) {
+  namespace ip = ifem::python;
+  namespace py = pybind11;
+  m.doc() = "ifem's compiled core; use the package `ifem`, which wraps it.";
+  py::register_exception_translator(ip::translate);
+  ip::bind_mesh(m);
+  ip::bind_operators(m);
+  ip::bind_solvers(m);
+  ip::bind_refine(m);
+  ip::bind_geodesic(m);
+  ip::bind_curves(m);
+}
