@@ -1,8 +1,496 @@
-// Bindings of the solvers area (bindings.h).
+// Heat distance (a stateful solver and a one-off), eigenpairs and Poisson, each as the CLI's
+// `ifem distance` / `ifem eigen` / `ifem poisson` runs them (examples/cli/cli_distance.cpp,
+// cli_eigen.cpp, cli_poisson.cpp): the same prepare_surface() options, the same refinement
+// defaults (distance: resolution 0.4, no signposts needed; eigen: resolution 0; poisson:
+// resolution 0, signposts needed), the same library calls, so results agree to round-off.
+//
+// Surface points as heat sources are given on the INPUT's faces; the solver works on the
+// flipped (and maybe refined) intrinsic triangulation, so they are located on it by tracing from
+// an input corner along the signposts (as intrinsic::insert_surface_point does, without
+// inserting anything). Signposts exist for edge-manifold, orientable meshes: refined ones carry
+// them (PreparedSurface::signposts); unrefined ones get a SignpostTriangulation of the same
+// input flipped the same way, checked to be edge for edge the solver's triangulation.
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "arrays.h"
 #include "bindings.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/refine/signpost.h"
 
 namespace ifem::python {
 
-void bind_solvers(py::module_& /*m*/) {}
+namespace {
+
+using intrinsic::SignpostTriangulation;
+using intrinsic::SurfacePath;
+using intrinsic::SurfacePoint;
+using T = intrinsic::IntrinsicTriangulation;
+
+std::string num(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+// ---- options, checked under the Python names --------------------------------------------------
+
+// The surface keyword arguments of every function here (the CLI's surface options).
+struct SurfaceArgs {
+  double mollify = intrinsic::kDefaultMollifyEpsilon;
+  std::string path = "auto";
+  int knn = 30;
+};
+
+// `refine`: None (no refinement) or a dict of min_angle / resolution / max_area /
+// max_insertions, each None for the CLI's default (resolution: `default_resolution`).
+std::optional<solvers::RefineSettings> refine_settings(const py::handle& refine,
+                                                       double default_resolution,
+                                                       bool need_signposts) {
+  if (refine.is_none()) return std::nullopt;
+  const py::dict d = py::reinterpret_borrow<py::dict>(refine);
+  auto get = [&](const char* key) -> py::object {
+    return d.contains(key) ? py::object(d[key]) : py::object(py::none());
+  };
+  solvers::RefineSettings r;
+  if (!get("min_angle").is_none()) r.min_angle_degrees = get("min_angle").cast<double>();
+  r.resolution =
+      get("resolution").is_none() ? default_resolution : get("resolution").cast<double>();
+  if (!get("max_area").is_none()) r.max_area = get("max_area").cast<double>();
+  if (!get("max_insertions").is_none()) r.max_insertions = get("max_insertions").cast<Index>();
+  r.need_signposts = need_signposts;
+  if (!(r.min_angle_degrees > 0.0 && r.min_angle_degrees <= 30.0)) {
+    throw InvalidInput("min_angle must be in (0, 30] degrees, got " + num(r.min_angle_degrees));
+  }
+  if (!(r.resolution >= 0.0 && std::isfinite(r.resolution))) {
+    throw InvalidInput("resolution must be finite and ≥ 0 (× the mean edge length), got " +
+                       num(r.resolution));
+  }
+  if (!(r.max_area >= 0.0 && std::isfinite(r.max_area))) {
+    throw InvalidInput("max_area must be finite and ≥ 0 (0: no bound), got " + num(r.max_area));
+  }
+  if (!get("max_insertions").is_none() && r.max_insertions < 0) {
+    throw InvalidInput("max_insertions must be ≥ 0, got " + std::to_string(r.max_insertions));
+  }
+  return r;
+}
+
+// The input as arrays, with the options whose range depends on it checked (as the CLI's option
+// table does): mollify in [0, 1], knn in [2, #points) on the point-cloud path.
+io::SurfaceInput checked_input(const py::handle& V, const py::handle& F, const SurfaceArgs& a) {
+  if (!(a.mollify >= 0.0 && a.mollify <= 1.0)) {
+    throw InvalidInput("mollify must be in [0, 1] (relative to the mean edge length), got " +
+                       num(a.mollify));
+  }
+  io::SurfaceInput in = surface_input(V, F);
+  const Index n = static_cast<Index>(in.positions.rows());
+  if ((!in.has_faces() || a.path == "pointcloud") && (a.knn < 2 || a.knn >= n)) {
+    throw InvalidInput("knn must be in [2, number of points) = [2, " + std::to_string(n) +
+                       ") on the point-cloud path, got " + std::to_string(a.knn));
+  }
+  return in;
+}
+
+// prepare_surface() as the CLI runs it (GIL released inside prepare()).
+solvers::PreparedSurface prepare_checked(io::SurfaceInput in, const SurfaceArgs& a,
+                                         std::optional<solvers::RefineSettings> refine) {
+  solvers::PrepareOptions o = prepare_options(a.mollify, a.path, true, a.knn);
+  o.refine = std::move(refine);
+  return prepare(std::move(in), o, a.path);
+}
+
+solvers::DistanceSettings distance_settings(std::optional<double> time_factor,
+                                            std::optional<int> correction_steps) {
+  if (time_factor && !(*time_factor > 0.0 && std::isfinite(*time_factor))) {
+    throw InvalidInput("time_factor must be finite and > 0 (t = time_factor·h²), got " +
+                       num(*time_factor));
+  }
+  if (correction_steps && *correction_steps < 0) {
+    throw InvalidInput("correction_steps must be ≥ 0, got " + std::to_string(*correction_steps));
+  }
+  return {time_factor, correction_steps};
+}
+
+// What preparing chose and did, for the `info` dicts.
+py::dict surface_info(const solvers::PreparedSurface& s) {
+  py::dict d;
+  d["path"] = intrinsic::to_string(s.path);
+  d["reason"] = s.reason_detail;
+  d["flips"] = s.flips.flips;
+  d["mollify_delta"] = s.mollify.delta;
+  d["input_vertices"] = s.n_input_vertices();
+  d["vertices"] = s.tri.n_vertices();
+  d["faces"] = s.tri.n_faces();
+  d["refined"] = s.refined;
+  d["inserted_vertices"] = s.tri.n_vertices() - s.n_input_vertices();
+  d["signposts"] = s.signposts.has_value();
+  d["mean_edge_length"] = s.input_mean_edge_length;
+  d["target_edge_length"] = s.target_edge_length;
+  return d;
+}
+
+// A per-input-vertex result checked as the pipeline checks it (NaN: degenerate operators).
+void require_no_nan(const Eigen::MatrixXd& values, const char* what) {
+  for (Eigen::Index j = 0; j < values.cols(); ++j) {
+    for (Eigen::Index v = 0; v < values.rows(); ++v) {
+      if (std::isnan(values(v, j))) {
+        throw SolverError(std::string(what) + ": the value at vertex " + std::to_string(v) +
+                          " is nan; the operators of this input are degenerate there");
+      }
+    }
+  }
+}
+
+// ---- locating input surface points on the intrinsic triangulation ----------------------------
+
+// The outgoing intrinsic halfedge at input vertex v whose wedge holds signpost direction phi
+// (the nearest wedge when rounding puts phi between two).
+Index wedge_holding(const SignpostTriangulation& st, Index v, double phi) {
+  const T& tri = st.intrinsic();
+  Index best = kInvalidIndex;
+  double gap = std::numeric_limits<double>::infinity();
+  const Index h0 = tri.vertex_halfedge(v);
+  Index x = h0;
+  for (Index guard = 0; x != kInvalidIndex && guard <= tri.n_halfedges(); ++guard) {
+    const double a0 = st.halfedge_direction(x), a1 = a0 + intrinsic::corner_angle(tri, x);
+    if (phi >= a0 && phi < a1) return x;
+    const double g = phi < a0 ? a0 - phi : phi - a1;
+    if (g < gap) gap = g, best = x;
+    x = tri.twin(T::prev(x));
+    if (x == h0) break;
+  }
+  return best;
+}
+
+// Point b of input face f (of st.input()) as a point of st.intrinsic(): traced from the
+// nearest corner of f, at the distance and angle it has in f's layout.
+SurfacePoint locate_input_point(const SignpostTriangulation& st, Index f,
+                                const Eigen::Vector3d& b) {
+  Eigen::Vector2d p[3];
+  intrinsic::face_layout(st.input(), f, p);
+  const Eigen::Vector2d x = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
+  int k = 0;
+  for (int j = 1; j < 3; ++j) {
+    if ((x - p[j]).squaredNorm() < (x - p[k]).squaredNorm()) k = j;
+  }
+  const Index v = st.input().tail(3 * f + k);
+  const Eigen::Vector2d w = x - p[k], e = p[(k + 1) % 3] - p[k];
+  const double alpha = std::atan2(intrinsic::cross2(e, w), e.dot(w));
+  const double phi = st.wrap_direction(v, st.input_halfedge_direction(3 * f + k) + alpha);
+  const Index h = wedge_holding(st, v, phi);
+  if (h == kInvalidIndex) throw InvalidInput("input vertex " + std::to_string(v) + " has no faces");
+  const T& tri = st.intrinsic();
+  Eigen::Vector2d q[3];
+  intrinsic::face_layout(tri, T::face(h), q);
+  const int s = static_cast<int>(T::side(h));
+  const Eigen::Vector2d ed = (q[(s + 1) % 3] - q[s]).normalized();
+  const double turn =
+      std::clamp(phi - st.halfedge_direction(h), 0.0, intrinsic::corner_angle(tri, h));
+  SurfacePoint start;
+  start.face = T::face(h);
+  start.bary[s] = 1.0;
+  intrinsic::TraceOptions o;
+  o.start_corner = s;
+  const Eigen::Vector2d dir =
+      std::cos(turn) * ed + std::sin(turn) * Eigen::Vector2d(-ed.y(), ed.x());
+  return intrinsic::trace_straight(tri, start, dir, w.norm(), o).end;
+}
+
+// Surface points given on the input's faces (rows of F): checked, then as points of
+// st.input() (faces mapped through input_face_origin(), coordinates matched corner by corner:
+// faces may have been reoriented).
+std::vector<SurfacePoint> input_points(const SignpostTriangulation& st,
+                                       const std::vector<Triangle>& given,
+                                       const std::vector<Index>& faces,
+                                       const Eigen::MatrixX3d& bary) {
+  std::vector<Index> face_of(given.size(), kInvalidIndex);
+  const std::vector<Index>& origin = st.input_face_origin();
+  for (std::size_t f = 0; f < origin.size(); ++f) face_of[origin[f]] = static_cast<Index>(f);
+  std::vector<SurfacePoint> out(faces.size());
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const Index f = face_of[faces[i]];
+    if (f == kInvalidIndex) {
+      throw InvalidInput("points[" + std::to_string(i) + "]: face " + std::to_string(faces[i]) +
+                         " is not part of the surface (it repeats a vertex and was dropped)");
+    }
+    for (int c = 0; c < 3; ++c) {
+      const Index corner = st.input().tail(3 * f + c);
+      for (int k = 0; k < 3; ++k) {
+        if (given[faces[i]][k] == corner) out[i].bary[c] = bary(Eigen::Index(i), k);
+      }
+    }
+    out[i].face = f;
+  }
+  return out;
+}
+
+// points as (#P faces of F, #P×3 barycentric coordinates): faces in [0, #F), coordinates
+// finite, ≥ 0 and summing to 1 (1e-9; normalized).
+std::pair<std::vector<Index>, Eigen::MatrixX3d> checked_points(const py::handle& faces,
+                                                               const py::handle& bary,
+                                                               Index n_faces) {
+  std::vector<Index> f = indices_from(faces, n_faces, "points (face column)");
+  const Positions b = positions_from(bary, "points (barycentric columns)");
+  if (b.rows() != static_cast<Eigen::Index>(f.size())) {
+    throw InvalidInput("points: " + std::to_string(f.size()) + " faces for " +
+                       std::to_string(b.rows()) + " coordinate rows");
+  }
+  Eigen::MatrixX3d out(b.rows(), 3);
+  for (Eigen::Index i = 0; i < b.rows(); ++i) {
+    const Eigen::Vector3d w = b.row(i).transpose();
+    if (w.minCoeff() < -1e-12 || std::abs(w.sum() - 1.0) > 1e-9) {
+      throw InvalidInput("points[" + std::to_string(i) +
+                         "]: barycentric coordinates must be ≥ 0 and sum to 1, got (" + num(w[0]) +
+                         ", " + num(w[1]) + ", " + num(w[2]) + ")");
+    }
+    out.row(i) = w.cwiseMax(0.0).transpose() / w.cwiseMax(0.0).sum();
+  }
+  return {std::move(f), std::move(out)};
+}
+
+// ---- the stateful heat-distance solver --------------------------------------------------------
+
+class DistanceSolver {
+ public:
+  // mollify: the relative margin s was prepared with (the signposts are built with it too)
+  DistanceSolver(solvers::PreparedSurface s, const solvers::DistanceSettings& settings,
+                 double mollify)
+      : s_(std::move(s)),
+        options_(solvers::distance_options(s_, settings)),
+        solver_(s_.tri, options_),
+        mollify_(mollify) {}
+
+  py::array distance(const py::handle& sources) const {
+    const std::vector<Index> ids = indices_from(sources, s_.n_input_vertices(), "sources");
+    Eigen::VectorXd d;
+    {
+      const py::gil_scoped_release release;
+      d = solvers::on_input_vertices(s_, solver_.compute_distance(ids));
+    }
+    require_no_nan(d, "heat distance");
+    return to_numpy(std::move(d));
+  }
+
+  py::array distance_from_points(const py::handle& faces, const py::handle& bary) {
+    const std::string refusal = points_refusal();
+    if (!refusal.empty()) throw InvalidInput(refusal);
+    auto [f, b] = checked_points(faces, bary, static_cast<Index>(s_.input.triangles.size()));
+    Eigen::VectorXd d;
+    {
+      const py::gil_scoped_release release;
+      const SignpostTriangulation& st = signposts();
+      std::vector<SurfacePoint> pts = input_points(st, s_.input.triangles, f, b);
+      for (SurfacePoint& p : pts) p = locate_input_point(st, p.face, p.bary);
+      d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points(pts));
+    }
+    require_no_nan(d, "heat distance");
+    return to_numpy(std::move(d));
+  }
+
+  py::dict info() const {
+    py::dict d = surface_info(s_);
+    d["time_factor"] = options_.time_factor;
+    d["correction_steps"] = options_.correction_steps;
+    d["time_step"] = solver_.time_step();
+    d["step_length"] = options_.mean_edge_length;
+    return d;
+  }
+
+  Index n_input_vertices() const { return s_.n_input_vertices(); }
+
+ private:
+  // The signposts that locate input points on s_.tri (built once, on the first points query).
+  // Call after points_refusal() came back empty.
+  const SignpostTriangulation& signposts() {
+    if (s_.signposts) return *s_.signposts;
+    std::call_once(once_, [this] { own_ = build_signposts(); });
+    if (!own_) throw InvalidInput(mismatch_);
+    return *own_;
+  }
+
+  // Why surface points cannot be located on this surface; "" when they can.
+  std::string points_refusal() const {
+    if (s_.signposts || (s_.path == SurfacePath::kManifold && !s_.refined)) return "";
+    return "points need signposts to be located on the solver's flipped triangulation (an "
+           "edge-manifold, orientable mesh); this input took the " +
+           std::string(intrinsic::to_string(s_.path)) + " path (" + s_.reason_detail +
+           "): give vertex ids as sources instead";
+  }
+
+  std::optional<SignpostTriangulation> build_signposts() {
+    SignpostTriangulation st(s_.input.triangles, s_.input.positions, mollify_);
+    st.flip_to_delaunay();
+    const T& a = st.intrinsic();
+    const T& b = s_.tri;
+    if (a.tails() != b.tails() || a.twins() != b.twins() || a.edges() != b.edges() ||
+        a.lengths() != b.lengths()) {
+      mismatch_ =
+          "points: the signpost triangulation of this input did not come out edge for edge as "
+          "the solver's (mollify = 0 with degenerate triangles?); use refine=True, whose "
+          "triangulation carries its signposts, or vertex ids as sources";
+      return std::nullopt;
+    }
+    return st;
+  }
+
+  solvers::PreparedSurface s_;
+  solvers::HeatDistanceOptions options_;
+  solvers::HeatDistanceSolver solver_;
+  double mollify_;
+  std::once_flag once_;
+  std::optional<SignpostTriangulation> own_;
+  std::string mismatch_;  // why own_ could not be built
+};
+
+std::unique_ptr<DistanceSolver> make_distance_solver(const py::handle& V, const py::handle& F,
+                                                     std::optional<double> time_factor,
+                                                     std::optional<int> correction_steps,
+                                                     const SurfaceArgs& a,
+                                                     const py::handle& refine) {
+  const solvers::DistanceSettings settings = distance_settings(time_factor, correction_steps);
+  std::optional<solvers::RefineSettings> r =
+      refine_settings(refine, solvers::RefinedDistanceSettings{}.resolution, false);
+  solvers::PreparedSurface s = prepare_checked(checked_input(V, F, a), a, std::move(r));
+  const py::gil_scoped_release release;
+  return std::make_unique<DistanceSolver>(std::move(s), settings, a.mollify);
+}
+
+// ---- one-off functions ------------------------------------------------------------------------
+
+// solvers::geodesic_distance(), the CLI's call, from vertex sources.
+py::array heat_distance(const py::handle& V, const py::handle& F, const py::handle& sources,
+                        std::optional<double> time_factor, std::optional<int> correction_steps,
+                        const SurfaceArgs& a, const py::handle& refine) {
+  const solvers::DistanceSettings settings = distance_settings(time_factor, correction_steps);
+  std::optional<solvers::RefineSettings> r =
+      refine_settings(refine, solvers::RefinedDistanceSettings{}.resolution, false);
+  io::SurfaceInput in = checked_input(V, F, a);
+  const std::vector<Index> ids =
+      indices_from(sources, static_cast<Index>(in.positions.rows()), "sources");
+  const solvers::PreparedSurface s = prepare_checked(std::move(in), a, std::move(r));
+  Eigen::VectorXd d;
+  {
+    const py::gil_scoped_release release;
+    d = solvers::geodesic_distance(s, ids, settings);
+  }
+  return to_numpy(std::move(d));
+}
+
+py::tuple eigen(const py::handle& V, const py::handle& F, Index k, const SurfaceArgs& a,
+                const py::handle& refine) {
+  std::optional<solvers::RefineSettings> r = refine_settings(refine, 0.0, false);
+  io::SurfaceInput in = checked_input(V, F, a);
+  const Index n = static_cast<Index>(in.positions.rows());
+  if (k < 1 || k >= n) {
+    throw InvalidInput("k must be in [1, number of vertices) = [1, " + std::to_string(n) +
+                       "), got " + std::to_string(k));
+  }
+  const solvers::PreparedSurface s = prepare_checked(std::move(in), a, std::move(r));
+  solvers::EigenPairs ep;
+  {
+    const py::gil_scoped_release release;
+    ep = solvers::eigenmodes(s, k);
+  }
+  return py::make_tuple(to_numpy(std::move(ep.values)), to_numpy(std::move(ep.vectors)),
+                        surface_info(s));
+}
+
+// Dirichlet data: distinct ids in [0, n) and as many finite values.
+std::pair<std::vector<Index>, Eigen::VectorXd> checked_dirichlet(const py::handle& ids,
+                                                                 const py::handle& values,
+                                                                 Index n) {
+  std::vector<Index> dv = indices_from(ids, n, "dirichlet (vertex ids)", true);
+  Eigen::VectorXd g = values_from(values, Eigen::Index(dv.size()), "dirichlet (values)");
+  std::vector<Index> sorted = dv;
+  std::sort(sorted.begin(), sorted.end());
+  const auto twice = std::adjacent_find(sorted.begin(), sorted.end());
+  if (twice != sorted.end()) {
+    throw InvalidInput("dirichlet: vertex " + std::to_string(*twice) + " is given twice");
+  }
+  return {std::move(dv), std::move(g)};
+}
+
+py::tuple poisson(const py::handle& V, const py::handle& F, const py::handle& rhs,
+                  const py::handle& dirichlet_ids, const py::handle& dirichlet_values,
+                  double screening, const SurfaceArgs& a, const py::handle& refine) {
+  if (!(screening >= 0.0 && std::isfinite(screening))) {
+    throw InvalidInput("screening must be finite and ≥ 0, got " + num(screening));
+  }
+  std::optional<solvers::RefineSettings> r = refine_settings(refine, 0.0, true);
+  io::SurfaceInput in = checked_input(V, F, a);
+  const Index n = static_cast<Index>(in.positions.rows());
+  const Eigen::VectorXd f = rhs.is_none() ? Eigen::VectorXd::Zero(n) : values_from(rhs, n, "rhs");
+  auto [dv, g] = checked_dirichlet(dirichlet_ids, dirichlet_values, n);
+  const solvers::PreparedSurface s = prepare_checked(std::move(in), a, std::move(r));
+  solvers::PoissonOptions o;
+  o.screening = screening;
+  Eigen::VectorXd u;
+  {
+    const py::gil_scoped_release release;
+    u = solvers::poisson(s, f, dv, g, o);
+  }
+  return py::make_tuple(to_numpy(std::move(u)), surface_info(s));
+}
+
+SurfaceArgs surface_args(double mollify, const std::string& path, int knn) {
+  return {mollify, path, knn};
+}
+
+}  // namespace
+
+void bind_solvers(py::module_& m) {
+  using Opt = std::optional<double>;
+  using Steps = std::optional<int>;
+  py::class_<DistanceSolver>(m, "HeatDistanceSolver")
+      .def(py::init([](const py::handle& V, const py::handle& F, Opt t, Steps c, double mollify,
+                       const std::string& path, int knn, const py::handle& refine) {
+             return make_distance_solver(V, F, t, c, surface_args(mollify, path, knn), refine);
+           }),
+           py::arg("V"), py::arg("F"), py::arg("time_factor"), py::arg("correction_steps"),
+           py::arg("mollify"), py::arg("path"), py::arg("knn"), py::arg("refine"))
+      .def("compute_distance", &DistanceSolver::distance, py::arg("sources"))
+      .def("compute_distance_from_points", &DistanceSolver::distance_from_points, py::arg("faces"),
+           py::arg("bary"))
+      .def_property_readonly("info", &DistanceSolver::info)
+      .def_property_readonly("n_input_vertices", &DistanceSolver::n_input_vertices);
+  m.def(
+      "heat_distance",
+      [](const py::handle& V, const py::handle& F, const py::handle& sources, Opt t, Steps c,
+         double mollify, const std::string& path, int knn, const py::handle& refine) {
+        return heat_distance(V, F, sources, t, c, surface_args(mollify, path, knn), refine);
+      },
+      py::arg("V"), py::arg("F"), py::arg("sources"), py::arg("time_factor"),
+      py::arg("correction_steps"), py::arg("mollify"), py::arg("path"), py::arg("knn"),
+      py::arg("refine"));
+  m.def(
+      "eigen",
+      [](const py::handle& V, const py::handle& F, Index k, double mollify, const std::string& path,
+         int knn, const py::handle& refine) {
+        return eigen(V, F, k, surface_args(mollify, path, knn), refine);
+      },
+      py::arg("V"), py::arg("F"), py::arg("k"), py::arg("mollify"), py::arg("path"), py::arg("knn"),
+      py::arg("refine"));
+  m.def(
+      "poisson",
+      [](const py::handle& V, const py::handle& F, const py::handle& rhs, const py::handle& ids,
+         const py::handle& values, double screening, double mollify, const std::string& path,
+         int knn, const py::handle& refine) {
+        return poisson(V, F, rhs, ids, values, screening, surface_args(mollify, path, knn), refine);
+      },
+      py::arg("V"), py::arg("F"), py::arg("rhs"), py::arg("dirichlet_ids"),
+      py::arg("dirichlet_values"), py::arg("screening"), py::arg("mollify"), py::arg("path"),
+      py::arg("knn"), py::arg("refine"));
+}
 
 }  // namespace ifem::python
