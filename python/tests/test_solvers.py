@@ -310,6 +310,27 @@ def test_points_are_located_on_the_flipped_triangulation(refine):
             assert bound[0] < np.std(d[far] - exact[far]) < bound[1], (f, bary, moved)
 
 
+@pytest.mark.xfail(strict=True, reason="library: a point source is shifted so that the linear "
+                   "interpolant of φ is 0 at the point, but φ is a cone there, whose interpolant "
+                   "lies above its tip by about the distance to the corners (solvers/"
+                   "heat_distance.cpp computes WeightedPoint::corner_distance and never uses it)")
+def test_point_sources_are_not_biased():
+    # far from a source, the heat method's error is the same for a vertex and a point source
+    n = 31
+    h = 1.0 / (n - 1)
+    V, F, _ = grid(n, jitter=0.0)
+    solver = ifem.HeatDistanceSolver(V, F)
+    f = (n // 2) * 2 * (n - 1) + n - 1
+    bary = np.array([1, 1, 1]) / 3
+    p = bary @ V[F[f]]
+    exact = np.linalg.norm(V - p, axis=1)
+    far = exact > 0.25
+    d = solver.compute_distance(points=[(f, *bary)])
+    v = F[f, 0]
+    dv, ev = solver.compute_distance(v), np.linalg.norm(V - V[v], axis=1)
+    assert abs(np.mean(d[far] - exact[far]) - np.mean(dv[far] - ev[far])) < 0.1 * h
+
+
 def test_points_refused_without_signposts(tmp_path):
     V, F = ifem.read_mesh(nonmanifold(tmp_path))
     solver = ifem.HeatDistanceSolver(V, F)
