@@ -15,8 +15,10 @@ Shared conventions:
   (neighbours per point on the point-cloud path, in [2, #points)).
 - ``refine=True`` runs intrinsic Delaunay refinement first, tuned by ``min_angle`` (degrees,
   in (0, 30], default 25), ``resolution`` (target edge length as a multiple of the input's
-  mean edge length h; 0 = no size bound), ``max_area`` (absolute; 0 = none) and
-  ``max_insertions`` (cap on inserted vertices). Giving those without ``refine=True`` raises.
+  mean edge length h; 0 = no size bound; default 0.4 for distances, 0 otherwise, as in the
+  CLI), ``max_area`` (absolute; 0 = none) and ``max_insertions`` (cap on inserted vertices;
+  None: the library's). Changing those without ``refine=True`` raises.
+- Everything after ``refine`` is keyword-only.
 - Bad arguments raise :class:`ifem.InvalidInput` (a ``ValueError``) naming the argument;
   meshes a requested path cannot represent :class:`ifem.NonManifoldInput`; numerical
   failures :class:`ifem.SolverError` (a ``RuntimeError``).
@@ -65,18 +67,19 @@ def _surface(mollify, path, knn):
     return _real(mollify, "mollify"), path, _int(knn, "knn")
 
 
-def _refine(refine, min_angle, resolution, max_area, max_insertions):
-    """The C++ side's `refine` argument: None, or a dict with None for the CLI's defaults."""
-    given = {"min_angle": min_angle, "resolution": resolution, "max_area": max_area,
-             "max_insertions": max_insertions}
-    given = {k: v for k, v in given.items() if v is not None}
+def _refine(refine, min_angle, resolution, max_area, max_insertions, default_resolution):
+    """The C++ side's `refine` argument: None, or a dict of the refinement settings."""
     if not refine:
-        if given:
-            raise InvalidInput(f"{', '.join(given)} only apply with refine=True")
+        changed = [name for name, value, default in (
+            ("min_angle", min_angle, 25.0), ("resolution", resolution, default_resolution),
+            ("max_area", max_area, 0.0), ("max_insertions", max_insertions, None))
+            if not (value is default or value == default)]
+        if changed:
+            raise InvalidInput(f"{', '.join(changed)} only apply with refine=True")
         return None
-    return {"min_angle": _optional(min_angle, "min_angle", _real),
-            "resolution": _optional(resolution, "resolution", _real),
-            "max_area": _optional(max_area, "max_area", _real),
+    return {"min_angle": _real(min_angle, "min_angle"),
+            "resolution": _real(resolution, "resolution"),
+            "max_area": _real(max_area, "max_area"),
             "max_insertions": _optional(max_insertions, "max_insertions", _int)}
 
 
@@ -148,8 +151,10 @@ class HeatDistanceSolver:
         path: ``'auto'``, ``'manifold'`` (raise NonManifoldInput if the mesh cannot take it),
             ``'tufted'`` or ``'pointcloud'`` (use only the vertices).
         knn: neighbours per point on the point-cloud path, in [2, #V).
-        min_angle, resolution, max_area, max_insertions: refinement options (with
-            ``refine=True`` only; ``resolution`` defaults to 0.4 here, as in the CLI).
+        min_angle, resolution, max_area, max_insertions: refinement settings (with
+            ``refine=True`` only): corner angle bound in degrees, target edge length as a
+            multiple of h (0.4 here, as in the CLI), area bound (absolute; 0: none), cap on
+            inserted vertices (None: the library's).
 
     Raises:
         InvalidInput: bad arrays or options (the message names the argument).
@@ -163,13 +168,13 @@ class HeatDistanceSolver:
         >>> dp = solver.compute_distance(points=[(12, 0.2, 0.3, 0.5)])  # from a point of face 12
     """
 
-    def __init__(self, V, F=None, refine=False, time_factor=None, correction_steps=None,
-                 mollify=1e-5, path="auto", knn=30, min_angle=None, resolution=None,
-                 max_area=None, max_insertions=None):
+    def __init__(self, V, F=None, refine=False, *, time_factor=None, correction_steps=None,
+                 mollify=1e-5, path="auto", knn=30, min_angle=25.0, resolution=0.4,
+                 max_area=0.0, max_insertions=None):
         self._solver = _ifem.HeatDistanceSolver(
             V, _faces(F), _optional(time_factor, "time_factor", _real),
             _optional(correction_steps, "correction_steps", _int), *_surface(mollify, path, knn),
-            _refine(refine, min_angle, resolution, max_area, max_insertions))
+            _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4))
 
     def compute_distance(self, sources=None, points=None):
         """Geodesic distance to the nearest source, on every input vertex.
@@ -228,9 +233,9 @@ class HeatDistanceSolver:
                 f"correction_steps={i['correction_steps']})")
 
 
-def heat_distance(V, F, sources=None, points=None, refine=False, time_factor=None,
-                  correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=None,
-                  resolution=None, max_area=None, max_insertions=None):
+def heat_distance(V, F, sources=None, *, points=None, refine=False, time_factor=None,
+                  correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
+                  resolution=0.4, max_area=0.0, max_insertions=None):
     """Geodesic distance from vertices (or surface points) in one call, as ``ifem distance``.
 
     Same arguments and result as ``HeatDistanceSolver(V, F, ...).compute_distance(sources,
@@ -240,7 +245,7 @@ def heat_distance(V, F, sources=None, points=None, refine=False, time_factor=Non
     Returns:
         #V_in float64 array of distances (``inf`` where no source reaches).
     """
-    refine_arg = _refine(refine, min_angle, resolution, max_area, max_insertions)
+    refine_arg = _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4)
     t = _optional(time_factor, "time_factor", _real)
     c = _optional(correction_steps, "correction_steps", _int)
     surface = _surface(mollify, path, knn)
@@ -257,8 +262,8 @@ def heat_distance(V, F, sources=None, points=None, refine=False, time_factor=Non
 # --- eigenpairs ---------------------------------------------------------------------------------
 
 
-def eigen(V, F, k=10, refine=False, mollify=1e-5, path="auto", knn=30, min_angle=None,
-          resolution=None, max_area=None, max_insertions=None, return_info=False):
+def eigen(V, F, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
+          resolution=0.0, max_area=0.0, max_insertions=None, return_info=False):
     """The k smallest Laplace–Beltrami eigenpairs ``L φ = λ M φ``, as ``ifem eigen``.
 
     L is the intrinsic Delaunay cotan Laplacian (positive semi-definite), M the lumped mass;
@@ -291,15 +296,15 @@ def eigen(V, F, k=10, refine=False, mollify=1e-5, path="auto", knn=30, min_angle
     """
     evals, evecs, info = _ifem.eigen(V, _faces(F), _int(k, "k"), *_surface(mollify, path, knn),
                                      _refine(refine, min_angle, resolution, max_area,
-                                             max_insertions))
+                                             max_insertions, 0.0))
     return (evals, evecs, info) if return_info else (evals, evecs)
 
 
 # --- Poisson ------------------------------------------------------------------------------------
 
 
-def poisson(V, F, rhs=None, dirichlet=None, screening=0.0, refine=False, mollify=1e-5,
-            path="auto", knn=30, min_angle=None, resolution=None, max_area=None,
+def poisson(V, F, rhs=None, dirichlet=None, screening=0.0, refine=False, *, mollify=1e-5,
+            path="auto", knn=30, min_angle=25.0, resolution=0.0, max_area=0.0,
             max_insertions=None, return_info=False):
     """Solves ``−Δu + c·u = f`` with Dirichlet values on chosen vertices, as ``ifem poisson``.
 
@@ -339,7 +344,8 @@ def poisson(V, F, rhs=None, dirichlet=None, screening=0.0, refine=False, mollify
     ids, values = _dirichlet(dirichlet)
     u, info = _ifem.poisson(V, _faces(F), rhs, ids, values, _real(screening, "screening"),
                             *_surface(mollify, path, knn),
-                            _refine(refine, min_angle, resolution, max_area, max_insertions))
+                            _refine(refine, min_angle, resolution, max_area, max_insertions,
+                                    0.0))
     return (u, info) if return_info else u
 
 
