@@ -172,3 +172,33 @@ def test_gil_is_released_during_computation():
     # with the GIL held during a call the counter would stall for the whole call; released,
     # it keeps ticking (the longest pause is the checked conversion of V and F, a few ms)
     assert gaps.max() < 0.5 * (end - start) / 3, (gaps.max(), end - start)
+
+
+@pytest.mark.parametrize("mesh", ["spot.obj", "triple_vierbein.obj", "fan3.obj"])
+def test_mesh_info_matches_cli_json(mesh):
+    import json
+    from conftest import run_cli
+    path = test_data(mesh)
+    expected = json.loads(run_cli("info", path, "--json", "--quiet"))
+    V, F = ifem.read_mesh(path)
+    info = ifem.mesh_info(V, F)
+    for key, value in expected.items():
+        if key in ("file", "format", "polygons"):
+            continue  # what the file was: mesh_info sees arrays
+        assert key in info, key
+        if isinstance(value, float):
+            assert info[key] == pytest.approx(value, rel=1e-12, abs=1e-300), key
+        else:
+            assert info[key] == value, key
+
+
+def test_mesh_info_knows_the_topology():
+    info = ifem.mesh_info(*ifem.read_mesh(test_data("spot.obj")))
+    assert (info["genus"], info["components"], info["boundary_loops"]) == (0, 1, 0)
+    assert info["euler_characteristic"] == 2 and info["path"] == "manifold"
+    nm = ifem.mesh_info(*ifem.read_mesh(test_data("triple_vierbein.obj")))
+    assert nm["nonmanifold_edges"] == 20 and nm["genus"] is None and nm["path"] == "tufted"
+    V, _ = ifem.read_mesh(test_data("spot.obj"))
+    for k in (6, 12):
+        cloud = ifem.mesh_info(V, None, k=k)
+        assert cloud["path"] == "pointcloud" and cloud["points"] == len(V) and cloud["k"] == k
