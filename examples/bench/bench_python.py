@@ -7,9 +7,14 @@ For each mesh, the median over --repeat runs of
     binding's overhead (checking and converting V and F, building the scipy matrices);
   - a heat-distance query, HeatDistanceSolver.compute_distance(source): the whole Python call
     and the solver's own query time (solver.last_query_seconds).
-Meshes: bumpy grids generated here at 10k, 100k and 1M faces, and, when ../shared/data is
-present, rocketship (56k faces) and igea (269k faces).
+  - the tufted-cover Laplacian (path="tufted", what robust-laplacian's mesh_laplacian computes)
+    and point_cloud_laplacian(P, k=30) on the jittered vertices of icosphere(224) (501,762
+    points), for the side-by-side table with geometry-central's figures in BENCHMARKS.md.
+Meshes: icosphere(23 / 71 / 224) (10k / 100k / 1M faces) as written by `ifem_bench foundation`
+to /tmp/ifem_bench_foundation (bumpy grids of the same sizes when absent), and, when
+../shared/data is present, rocketship (56k faces) and igea (269k faces).
 
+  build/examples/ifem_bench foundation --repeat 1     # writes the icosphere OBJs once
   PYTHONPATH=build/python /usr/bin/python3 examples/bench/bench_python.py --repeat 5
 """
 
@@ -35,9 +40,17 @@ def bumpy_grid(faces):
     return V, F
 
 
+ICOSPHERES = pathlib.Path("/tmp/ifem_bench_foundation")
+
+
 def meshes(max_faces):
-    for f in (10_000, 100_000, 1_000_000):
-        if f <= max_faces:
+    for n, f in ((23, 10_580), (71, 100_820), (224, 1_003_520)):
+        if f > max_faces:
+            continue
+        obj = ICOSPHERES / f"icosphere_{n}.obj"
+        if obj.exists():
+            yield f"icosphere({n})", *ifem.read_mesh(obj)
+        else:
             yield f"grid {f // 1000}k", *bumpy_grid(f)
     for name in ("rocketship.ply", "igea_268k.ply"):
         p = SHARED / name
@@ -71,6 +84,11 @@ def main():
         total, own = median_time(lap, args.repeat)
         print(f"{name:<16}{len(F):>9}  {total:>8.4f}s{own:>8.4f}s{100 * (total - own) / own:>9.1f}%"
               "  laplacian(V, F) -> L, M")
+        def tufted():
+            return ifem.laplacian(V, F, path="tufted", return_info=True)[2]["seconds"]
+        total, own = median_time(tufted, args.repeat)
+        print(f"{name:<16}{len(F):>9}  {total:>8.4f}s{own:>8.4f}s{100 * (total - own) / own:>9.1f}%"
+              "  laplacian(V, F, path='tufted')")
         if hasattr(ifem, "HeatDistanceSolver"):
             solver = ifem.HeatDistanceSolver(V, F)
             if hasattr(solver, "last_query_seconds"):
@@ -80,6 +98,24 @@ def main():
                 total, own = median_time(query, args.repeat)
                 print(f"{name:<16}{len(F):>9}  {total:>8.4f}s{own:>8.4f}s"
                       f"{100 * (total - own) / own:>9.1f}%  HeatDistanceSolver.compute_distance")
+    if args.max_faces >= 1_000_000:
+        point_cloud_rows(args.repeat)
+
+
+def point_cloud_rows(repeat):
+    obj = ICOSPHERES / "icosphere_224.obj"
+    if not obj.exists():
+        return
+    V, _ = ifem.read_mesh(obj)
+    rng = np.random.default_rng(1)
+    h = 2.0 * np.pi / (5 * 224)  # about the icosphere's edge length on the unit sphere
+    P = V + 0.1 * h * rng.standard_normal(V.shape)
+
+    def cloud():
+        return ifem.point_cloud_laplacian(P, k=30, return_info=True)[2]["seconds"]
+    total, own = median_time(cloud, repeat)
+    print(f"{'jittered points':<16}{len(P):>9}  {total:>8.4f}s{own:>8.4f}s"
+          f"{100 * (total - own) / own:>9.1f}%  point_cloud_laplacian(P, k=30)")
 
 
 if __name__ == "__main__":

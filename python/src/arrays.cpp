@@ -235,7 +235,8 @@ py::array to_numpy(std::vector<Triangle>&& t) {
 py::tuple to_csc_parts(Eigen::SparseMatrix<double, Eigen::ColMajor, int>&& A) {
   using Sparse = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
   A.makeCompressed();
-  auto* p = new Sparse(std::move(A));
+  auto* p = new Sparse();
+  p->swap(A);  // Eigen 3.4's SparseMatrix has no move constructor: std::move would copy
   const py::capsule keep = owner(p);
   const auto nnz = static_cast<py::ssize_t>(p->nonZeros());
   const auto cols = static_cast<py::ssize_t>(p->cols());

@@ -42,7 +42,7 @@ py::tuple prepare_and_assemble(io::SurfaceInput in, const solvers::PrepareOption
   const py::dict info = surface_info(*s);
   {
     const py::gil_scoped_release release;
-    L = fem::cotan_laplacian(s->tri);
+    fem::cotan_laplacian(s->tri).swap(L);  // Eigen 3.4's SparseMatrix has no move assignment
     m = fem::lumped_mass(s->tri);
     s.reset();  // freeing the surface is part of the library's time
   }
@@ -52,7 +52,9 @@ py::tuple prepare_and_assemble(io::SurfaceInput in, const solvers::PrepareOption
 
 py::tuple laplacian(const py::handle& V, const py::handle& F, double mollify,
                     const std::string& path, bool intrinsic_delaunay) {
+  const Stopwatch watch;
   io::SurfaceInput in = surface_input(V, F);
+  const double seconds_convert = watch.seconds();
   if (in.triangles.empty()) {
     throw InvalidInput("F has no faces: for a point cloud use point_cloud_laplacian(P, k)");
   }
@@ -60,7 +62,9 @@ py::tuple laplacian(const py::handle& V, const py::handle& F, double mollify,
     throw InvalidInput("path='pointcloud': use point_cloud_laplacian(P, k) for point clouds");
   }
   const solvers::PrepareOptions o = prepare_options(mollify, path, intrinsic_delaunay, 30);
-  return prepare_and_assemble(std::move(in), o, path);
+  py::tuple out = prepare_and_assemble(std::move(in), o, path);
+  out[2]["seconds_convert"] = seconds_convert;
+  return out;
 }
 
 py::tuple point_cloud_laplacian(const py::handle& P, int k, const py::handle& normals,
