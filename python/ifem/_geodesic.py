@@ -177,6 +177,9 @@ def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5):
         >>> c = ifem.geodesic_path(V, F, [0, 500, (12, 0.2, 0.3, 0.5)])
         >>> c.length, c.report.converged, c.polyline.shape
     """
+    if pin and not loop:
+        raise InvalidInput("pin=True applies to loops (an open path always passes through its "
+                           "points): set loop=True or drop pin")
     curves, report = _ifem.geodesic_curves(V, F, [(points, bool(loop), bool(pin))], ["points"],
                                            float(mollify))
     return _curves(curves, report)[0][0]

@@ -282,6 +282,8 @@ def bad_calls(V, F):
          r"points\[1\] must be a vertex id"),
         (lambda: ifem.geodesic_path(V, F, "0,1"), ifem.InvalidInput,
          "points must be a sequence of points"),
+        (lambda: ifem.geodesic_path(V, F, [0, 100], pin=True), ifem.InvalidInput,
+         "pin=True applies to loops"),
         (lambda: ifem.geodesic_path(V, F, [0, 1], mollify=np.nan), ifem.InvalidInput,
          "mollify must be in"),
         (lambda: ifem.bezier_curve(V, F, [0, 100, 200], rounds=17), ifem.InvalidInput,
