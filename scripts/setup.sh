@@ -58,4 +58,16 @@ if [ "$do_build" = 1 ]; then
   [ "$with_pcl" = 1 ] && [ -f pointcloud/pcl_adapter.cpp ] && pcl_option=ON
   cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DIFEM_WITH_PCL="$pcl_option" >/dev/null
   cmake --build "$build_dir" -j"$(nproc)"
+  # The Python package, where Debian's python3 finds it (/usr/local/lib/python3.X/dist-packages):
+  # afterwards `python3 -c "import ifem"` works from any directory. Without root or sudo it stays
+  # in the build tree: PYTHONPATH=$build_dir/python.
+  if grep -q '^IFEM_BUILD_PYTHON:BOOL=ON' "$build_dir/CMakeCache.txt"; then
+    if [ "$(id -u)" = 0 ]; then
+      cmake --install "$build_dir" --component python >/dev/null
+    elif command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
+      sudo cmake --install "$build_dir" --component python >/dev/null
+    else
+      echo "setup.sh: not installing the Python package (no root): use PYTHONPATH=$build_dir/python"
+    fi
+  fi
 fi

@@ -8,29 +8,10 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "json.h"
+#include "solvers/surface_summary.h"
 
 namespace ifem::cli {
 namespace {
-
-struct AngleStats {
-  double min_deg = 0, max_deg = 0;
-  Index non_delaunay_edges = 0;
-};
-
-AngleStats angle_stats(const intrinsic::IntrinsicTriangulation& tri) {
-  AngleStats a;
-  double lo = 1e300, hi = 0;
-  for (Index h = 0; h < tri.n_halfedges(); ++h) {
-    const double t = intrinsic::corner_angle(tri, h);
-    lo = std::min(lo, t);
-    hi = std::max(hi, t);
-  }
-  for (Index e = 0; e < tri.n_edges(); ++e) a.non_delaunay_edges += !tri.is_delaunay(e);
-  const double deg = 180.0 / intrinsic::kPi;
-  a.min_deg = tri.n_halfedges() ? lo * deg : 0;
-  a.max_deg = hi * deg;
-  return a;
-}
 
 // Opens the JSON object with the fields every input has: the file and its format.
 JsonWriter& begin_json(JsonWriter& w, const std::string& file, const PreparedSurface& s) {
@@ -111,70 +92,53 @@ int run(const Args& args) {
   PreparedSurface s = prepare_surface(file, args);
   if (s.path == intrinsic::SurfacePath::kPointCloud)
     return print_pointcloud(file, s, args.has("json"));
-  const auto& st = s.stats;
-  const auto& tri = s.tri;
-  // angles and Delaunay share are measured on the input triangulation (before flips); the
-  // tufted cover has the input's faces (twice), so its angles are the input's
-  auto input =
-      s.path == intrinsic::SurfacePath::kManifold
-          ? intrinsic::IntrinsicTriangulation::from_positions(s.input.triangles, s.input.positions)
-          : intrinsic::tufted_cover(s.input.triangles, s.input.positions);
-  const AngleStats a = angle_stats(input);  // as given: before mollification and flips
-  // of the input face list (the cover's own χ is that of the doubled surface)
-  const long chi = static_cast<long>(st.vertices - st.unreferenced_vertices) - st.edges +
-                   (st.faces - st.degenerate_faces);
-  // genus only where it is defined: an orientable surface without pinched vertices or edges
-  const bool orientable = st.nonmanifold_edges == 0 && st.nonmanifold_vertices == 0 &&
-                          s.reason != intrinsic::PathReason::kNonOrientable;
-  const long genus2 = 2L * st.components - chi - st.boundary_loops;  // 2g, orientable surfaces
-  const double share = tri.n_edges() ? double(a.non_delaunay_edges) / input.n_edges() : 0.0;
+  const solvers::MeshSummary m = solvers::summarize_mesh(s);
   if (args.has("json")) {
     JsonWriter w;
     begin_json(w, file, s)
-        .field("vertices", tri.n_vertices())
-        .field("edges", st.edges)
-        .field("faces", tri.n_faces() / tri.multiplicity())
-        .field("polygons", s.input.n_polygons)
-        .field("unreferenced_vertices", st.unreferenced_vertices)
-        .field("boundary_edges", st.boundary_edges)
-        .field("boundary_loops", st.boundary_loops)
-        .field("components", st.components)
-        .field("euler_characteristic", chi)
+        .field("vertices", m.vertices)
+        .field("edges", m.edges)
+        .field("faces", m.faces)
+        .field("polygons", m.polygons)
+        .field("unreferenced_vertices", m.unreferenced_vertices)
+        .field("boundary_edges", m.boundary_edges)
+        .field("boundary_loops", m.boundary_loops)
+        .field("components", m.components)
+        .field("euler_characteristic", m.euler_characteristic)
         .key("genus");
-    if (orientable && genus2 >= 0 && genus2 % 2 == 0) {
-      w.value(genus2 / 2);
+    if (m.genus) {
+      w.value(*m.genus);
     } else {
       w.null();
     }
-    w.field("nonmanifold_edges", st.nonmanifold_edges)
-        .field("nonmanifold_vertices", st.nonmanifold_vertices)
-        .field("dropped_degenerate_faces", s.build.dropped_faces)
-        .field("duplicate_faces", st.duplicate_faces)
-        .field("reoriented_faces", s.build.reoriented_faces)
-        .field("min_angle_deg", a.min_deg)
-        .field("max_angle_deg", a.max_deg)
-        .field("non_delaunay_share", share)
-        .field("flips_to_idt", s.flips.flips)
-        .field("mollify_delta", s.mollify.delta);
+    w.field("nonmanifold_edges", m.nonmanifold_edges)
+        .field("nonmanifold_vertices", m.nonmanifold_vertices)
+        .field("dropped_degenerate_faces", m.dropped_degenerate_faces)
+        .field("duplicate_faces", m.duplicate_faces)
+        .field("reoriented_faces", m.reoriented_faces)
+        .field("min_angle_deg", m.min_angle_deg)
+        .field("max_angle_deg", m.max_angle_deg)
+        .field("non_delaunay_share", m.non_delaunay_share)
+        .field("flips_to_idt", m.flips_to_idt)
+        .field("mollify_delta", m.mollify_delta);
     print_json(w, s);
     return 0;
   }
   print_text_header(file, s);
   std::printf("  vertices %d (unreferenced %d), edges %d, faces %d (from %d polygons)\n",
-              tri.n_vertices(), st.unreferenced_vertices, st.edges,
-              tri.n_faces() / tri.multiplicity(), s.input.n_polygons);
+              m.vertices, m.unreferenced_vertices, m.edges, m.faces, m.polygons);
   std::printf("  components %d, boundary loops %d (%d boundary edges), Euler characteristic %ld",
-              st.components, st.boundary_loops, st.boundary_edges, chi);
-  if (orientable && genus2 >= 0 && genus2 % 2 == 0) std::printf(", genus %ld", genus2 / 2);
-  std::printf("\n  nonmanifold edges %d, nonmanifold vertices %d\n", st.nonmanifold_edges,
-              st.nonmanifold_vertices);
+              m.components, m.boundary_loops, m.boundary_edges, m.euler_characteristic);
+  if (m.genus) std::printf(", genus %ld", *m.genus);
+  std::printf("\n  nonmanifold edges %d, nonmanifold vertices %d\n", m.nonmanifold_edges,
+              m.nonmanifold_vertices);
   std::printf("  repaired: %d degenerate faces dropped, %d faces reoriented, %d duplicate faces\n",
-              s.build.dropped_faces, s.build.reoriented_faces, st.duplicate_faces);
-  std::printf("  corner angles %.4g° .. %.4g°, non-Delaunay edges %.2f%%\n", a.min_deg, a.max_deg,
-              100.0 * share);
-  std::printf("  mollification δ = %.3g (margin ε = %.3g, %d faces below it)\n", s.mollify.delta,
-              s.mollify.epsilon, s.mollify.faces_below_margin);
-  std::printf("  intrinsic Delaunay: %zu flips\n", s.flips.flips);
+              m.dropped_degenerate_faces, m.reoriented_faces, m.duplicate_faces);
+  std::printf("  corner angles %.4g° .. %.4g°, non-Delaunay edges %.2f%%\n", m.min_angle_deg,
+              m.max_angle_deg, 100.0 * m.non_delaunay_share);
+  std::printf("  mollification δ = %.3g (margin ε = %.3g, %d faces below it)\n", m.mollify_delta,
+              m.mollify_epsilon, m.faces_below_margin);
+  std::printf("  intrinsic Delaunay: %zu flips\n", m.flips_to_idt);
   print_text_path(s);
   return 0;
 }

@@ -1,3 +1,356 @@
-"""(filled in by the geodesic bindings)."""
+"""Geodesic curves on triangle meshes by FlipOut: paths, loops, networks, Bézier curves, and
+single-source geodesics (what ``ifem geodesic`` computes).
 
-__all__ = []
+FlipOut (Sharp & Crane 2020, "You Can Find Geodesic Paths in Triangle Meshes by Just Flipping
+Edges") starts from a shortest path along mesh edges and flips the intrinsic edges inside every
+bend of less than π until the curve runs straight across: the result is a geodesic (locally
+shortest; not always the globally shortest curve). The surface never changes: curves are traced
+over the input and returned as polylines of points on its faces.
+
+Points are given as
+
+- a **vertex id** (an integer, 0-based, a row of ``V``), or
+- a **face point** ``(face, b0, b1, b2)``: a point inside row ``face`` of ``F`` with barycentric
+  coordinates ``b0, b1, b2`` (≥ 0, summing to 1) for that row's corners ``F[face, 0]``,
+  ``F[face, 1]``, ``F[face, 2]``. The CLI's ``face:F:u:v`` is ``(F, 1 - u - v, u, v)``.
+
+Every function needs an edge-manifold, orientable triangle mesh (with or without boundary);
+other meshes raise :class:`ifem.NonManifoldInput`.
+"""
+
+import os
+from dataclasses import dataclass
+from typing import List, Optional
+
+import numpy as np
+
+from . import _ifem
+from ._errors import InvalidInput, IoError
+
+
+@dataclass(frozen=True)
+class FlipOutReport:
+    """What FlipOut did while shortening one or more curves together.
+
+    Attributes:
+        converged: every bend at a free joint is straight (wedge angles ≥ π − 1e-6).
+        stopped_by: ``'converged'``, ``'iteration cap'``, ``'no progress'`` or ``'blocked'``
+            (the remaining bends hold edges of other curves, which are never crossed).
+        iterations: reroutes (FlipOut steps) performed.
+        flips: intrinsic edge flips performed.
+        blocked_joints: bent joints left when ``stopped_by == 'blocked'``.
+        initial_length: total length of the curves before (as edge paths).
+        final_length: total length after.
+    """
+    converged: bool
+    stopped_by: str
+    iterations: int
+    flips: int
+    blocked_joints: int
+    initial_length: float
+    final_length: float
+
+
+@dataclass(frozen=True)
+class GeodesicCurve:
+    """One geodesic curve, traced over the input surface.
+
+    Attributes:
+        polyline: (#points, 3) float64 positions on the input surface, in order along the
+            curve: where the curve crosses the input's edges, plus its vertices. A loop repeats
+            its first point at the end. This is what ``ifem geodesic -o OUT.txt`` writes.
+        length: the curve's length after FlipOut (intrinsic: exact on the surface; the 3D length
+            of ``polyline`` agrees up to rounding and mollification).
+        initial_length: the length of the shortest edge path FlipOut started from.
+        closed: a loop.
+        collapsed: a loop that shrank to a point (or around one vertex): a contractible loop;
+            its ``polyline`` is then empty or tiny.
+        points: (#given, 3) positions of the points the curve was given (vertices or face
+            points), in the order given.
+        report: FlipOut's report (shared by all curves of a network).
+    """
+    polyline: np.ndarray
+    length: float
+    initial_length: float
+    closed: bool
+    collapsed: bool
+    points: np.ndarray
+    report: FlipOutReport
+
+
+@dataclass(frozen=True)
+class BezierCurve(GeodesicCurve):
+    """A geodesic Bézier curve (a :class:`GeodesicCurve` with how it was made).
+
+    Attributes:
+        rounds: rounds of de Casteljau subdivision.
+        control_points: control points after subdivision (degree · 2^rounds + 1).
+        midpoints: vertices inserted as midpoints (the rest were existing vertices).
+    """
+    rounds: int
+    control_points: int
+    midpoints: int
+
+
+@dataclass(frozen=True)
+class GeodesicNetwork:
+    """Curves shortened together (they never cross; they may share points).
+
+    Attributes:
+        curves: one :class:`GeodesicCurve` per curve, in the order given.
+        report: FlipOut's report for all of them.
+    """
+    curves: List[GeodesicCurve]
+    report: FlipOutReport
+
+    @property
+    def polylines(self):
+        """The curves' polylines, a list of (#points, 3) arrays."""
+        return [c.polyline for c in self.curves]
+
+    @property
+    def lengths(self):
+        """The curves' lengths after FlipOut, a float64 array."""
+        return np.array([c.length for c in self.curves])
+
+
+@dataclass(frozen=True)
+class SingleSourceGeodesics:
+    """Geodesics from one source vertex to every vertex.
+
+    Attributes:
+        length: (#V,) float64: the length of the geodesic found to each vertex (0 at the
+            source, ``inf`` where unreachable: another component, unreferenced vertices).
+        paths: with ``return_paths=True``, one (#points, 3) polyline per vertex from the source
+            to it (the source's: its own position; unreachable: an empty (0, 3) array); else None.
+        flips: intrinsic edge flips performed.
+        iterations: FlipOut reroutes performed.
+        blocked: vertices whose geodesic was left bent (a wedge held an earlier path).
+    """
+    length: np.ndarray
+    paths: Optional[List[np.ndarray]]
+    flips: int
+    iterations: int
+    blocked: int
+
+
+def _report(d):
+    return FlipOutReport(**{k: d[k] for k in FlipOutReport.__dataclass_fields__})
+
+
+def _curves(curves, report):
+    r = _report(report)
+    return [GeodesicCurve(report=r, **c) for c in curves], r
+
+
+def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5):
+    """A geodesic through points of a mesh, in order (FlipOut).
+
+    The curve starts as a shortest path along mesh edges through the points and is shortened by
+    edge flips until it is straight everywhere except where it must bend: an open path keeps
+    passing through every given point (it may bend there, like a string through rings); a loop
+    (``loop=True``) is free to slide off its points (they only shape its start) unless
+    ``pin=True``. A loop that can shrink to a point does (``collapsed``).
+
+    Same as ``ifem geodesic MESH --path P0,P1,... [--loop] [--pin] -o OUT.txt``.
+
+    Args:
+        V: #V×3 positions.
+        F: #F×3 vertex ids (an edge-manifold, orientable mesh).
+        points: ≥ 2 points, each a vertex id or a face point ``(face, b0, b1, b2)`` (see the
+            module's docstring); consecutive points must differ (for a loop, the last and the
+            first too: do not repeat the first point).
+        loop: a closed curve through the points, back to the first.
+        pin: keep the loop passing through its points (paths always are).
+        mollify: relative mollification margin of the intrinsic triangulation (in [0, 1]).
+
+    Returns:
+        GeodesicCurve: ``polyline`` (#points×3), ``length``, ``initial_length``, ``report``
+        (``converged``, ``iterations``, ...).
+
+    Raises:
+        InvalidInput: a vertex or face out of range, fewer than 2 points, a repeated point, bad
+            barycentric coordinates, points on different connected components.
+        NonManifoldInput: a mesh that is not edge-manifold and orientable.
+
+    Example:
+        >>> c = ifem.geodesic_path(V, F, [0, 500, (12, 0.2, 0.3, 0.5)])
+        >>> c.length, c.report.converged, c.polyline.shape
+    """
+    if pin and not loop:
+        raise InvalidInput("pin=True applies to loops (an open path always passes through its "
+                           "points): set loop=True or drop pin")
+    curves, report = _ifem.geodesic_curves(V, F, [(points, bool(loop), bool(pin))], ["points"],
+                                           float(mollify))
+    return _curves(curves, report)[0][0]
+
+
+def _network_item(item, i, pin):
+    """(points, closed, pin) of one curve of geodesic_network's `curves`."""
+    if isinstance(item, dict):
+        unknown = set(item) - {"points", "loop", "pin"}
+        if unknown or "points" not in item:
+            raise InvalidInput(f"curves[{i}] must be a point list or a dict with keys 'points', "
+                               f"'loop', 'pin'; got keys {sorted(item)}")
+        return (item["points"], bool(item.get("loop", False)), bool(item.get("pin", pin)))
+    return (item, False, bool(pin))
+
+
+def read_network(path):
+    """Reads the CLI's ``--network`` file into a list for :func:`geodesic_network`.
+
+    One curve per line: ``path P0 P1 ...`` (an open geodesic through the points) or ``loop P0
+    P1 ...`` (a closed one); each point a vertex id or ``face:F:u:v`` (the point with
+    barycentric coordinates (1 − u − v, u, v) in face F); ``#`` starts a comment, blank lines are
+    skipped.
+
+    Returns:
+        A list of dicts ``{'points': [...], 'loop': bool}``, face points as
+        ``(F, 1 - u - v, u, v)``.
+
+    Raises:
+        IoError: an unreadable file or a malformed line (naming ``path:line``).
+    """
+    path = os.fspath(path)
+    try:
+        with open(path, encoding="utf-8") as f:
+            lines = f.read().splitlines()
+    except OSError as e:
+        raise IoError(f"{path}: cannot open ({e.strerror})") from None
+    curves = []
+    for n, line in enumerate(lines, 1):
+        tokens = line.split("#", 1)[0].split()
+        if not tokens:
+            continue
+        if tokens[0] not in ("path", "loop") or len(tokens) < 3:
+            raise IoError(f"{path}:{n}: expected 'path P0 P1 ...' or 'loop P0 P1 ...' (at least "
+                          f"two points), got '{line}'")
+        curves.append({"points": [_parse_point(t, f"{path}:{n}") for t in tokens[1:]],
+                       "loop": tokens[0] == "loop"})
+    if not curves:
+        raise IoError(f"{path}: no curves (expected 'path ...' or 'loop ...' lines)")
+    return curves
+
+
+def _parse_point(token, where):
+    try:
+        if token.startswith("face:"):
+            _, face, u, v = token.split(":")
+            u, v = float(u), float(v)
+            if not (np.isfinite(u) and np.isfinite(v)):
+                raise ValueError
+            return (int(face), max(0.0, 1.0 - u - v), u, v)
+        return int(token)
+    except ValueError:
+        raise IoError(f"{where}: '{token}' is not a point: expected a vertex id or face:F:u:v") \
+            from None
+
+
+def geodesic_network(V, F, curves, pin=False, mollify=1e-5):
+    """Several geodesic paths and loops, shortened together (FlipOut on a curve network).
+
+    The curves never cross each other (a bend that would need to flip an edge of another curve
+    stays: ``report.stopped_by == 'blocked'``); they may share points. Same as ``ifem geodesic
+    MESH --network FILE -o OUT.txt``.
+
+    Args:
+        V: #V×3 positions.
+        F: #F×3 vertex ids (an edge-manifold, orientable mesh).
+        curves: a list with one entry per curve, each either a list of points (an open path
+            through them, see :func:`geodesic_path`) or a dict ``{'points': [...], 'loop':
+            True, 'pin': False}`` (``loop``, ``pin`` optional); or the path of a CLI network file
+            (see :func:`read_network`).
+        pin: the default ``pin`` of loops (keep passing through their points).
+        mollify: relative mollification margin.
+
+    Returns:
+        GeodesicNetwork: ``curves`` (a :class:`GeodesicCurve` each), ``report``, and the
+        conveniences ``polylines`` and ``lengths``.
+
+    Raises:
+        InvalidInput: as :func:`geodesic_path`, naming the curve (``curves[2][1]``).
+        IoError: a network file that cannot be read.
+
+    Example:
+        >>> net = ifem.geodesic_network(V, F, [[0, 100], {'points': [5, 60, 300], 'loop': True}])
+        >>> net.lengths, net.report.converged
+    """
+    if isinstance(curves, (str, os.PathLike)):
+        curves = read_network(curves)
+    if isinstance(curves, np.ndarray) or not isinstance(curves, (list, tuple)):
+        raise InvalidInput("curves must be a list of curves (point lists or dicts) or a network "
+                           f"file's path, got {type(curves).__name__}")
+    items = [_network_item(c, i, pin) for i, c in enumerate(curves)]
+    names = [f"curves[{i}]" for i in range(len(items))]
+    out, report = _ifem.geodesic_curves(V, F, items, names, float(mollify))
+    cs, r = _curves(out, report)
+    return GeodesicNetwork(curves=cs, report=r)
+
+
+def bezier_curve(V, F, control_points, rounds=4, mollify=1e-5):
+    """A geodesic Bézier curve with the given control points (de Casteljau with geodesics).
+
+    Each round splits every Bézier piece at t = 1/2, taking midpoints halfway along FlipOut
+    geodesics between the current control points (inserted as vertices); after ``rounds``
+    rounds the control polygon, joined by geodesics, is the curve: smooth-looking, through the
+    first and last control points only. Same as ``ifem geodesic MESH --path P0,P1,...
+    --bezier ROUNDS -o OUT.txt``.
+
+    Args:
+        V: #V×3 positions.
+        F: #F×3 vertex ids (an edge-manifold, orientable mesh).
+        control_points: ≥ 2 points (vertex ids or face points), consecutive ones distinct; the
+            curve's degree is their count − 1.
+        rounds: subdivision rounds in [0, 16] (0: the geodesic control polygon itself); the
+            control polygon grows to degree · 2^rounds + 1 points.
+        mollify: relative mollification margin.
+
+    Returns:
+        BezierCurve: a :class:`GeodesicCurve` (``polyline``, ``length``, ``report``) with
+        ``rounds``, ``control_points`` and ``midpoints``.
+
+    Raises:
+        InvalidInput: bad control points (as :func:`geodesic_path`, named
+            ``control_points[i]``) or ``rounds`` out of range.
+    """
+    if isinstance(rounds, (bool, np.bool_)) or not isinstance(rounds, (int, np.integer)):
+        raise InvalidInput(f"rounds must be an integer in [0, 16], got {rounds!r}")
+    curves, report = _ifem.bezier_curve(V, F, control_points, int(rounds), float(mollify))
+    c = curves[0]
+    return BezierCurve(report=_report(report), rounds=int(rounds),
+                       control_points=report["bezier_control_points"],
+                       midpoints=report["bezier_midpoints"], **c)
+
+
+def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5):
+    """Geodesics from one vertex to every vertex, and their lengths (FlipOut in a Dijkstra).
+
+    A Dijkstra search from ``source`` that straightens every path by FlipOut before accepting
+    it, holding the paths accepted earlier fixed: at the end the triangulation holds a geodesic
+    from the source to every reached vertex. Each length is that geodesic's: ≥ the exact
+    geodesic distance, and equal to it wherever the geodesic found is the shortest one (most
+    vertices in practice). Same as ``ifem geodesic MESH --all-from S -o OUT.txt``.
+
+    Args:
+        V: #V×3 positions.
+        F: #F×3 vertex ids (an edge-manifold, orientable mesh).
+        source: the source vertex id.
+        return_paths: also trace every geodesic over the input (one polyline per vertex; costs
+            about as much as the search again).
+        mollify: relative mollification margin.
+
+    Returns:
+        SingleSourceGeodesics: ``length`` (#V, ``inf`` where unreachable), ``paths`` (when
+        asked), ``flips``, ``iterations``, ``blocked``.
+
+    Raises:
+        InvalidInput: ``source`` out of range or not an integer.
+    """
+    length, paths, info = _ifem.single_source_geodesics(V, F, source, bool(return_paths),
+                                                        float(mollify))
+    return SingleSourceGeodesics(length=length, paths=paths, **info)
+
+
+__all__ = ["geodesic_path", "geodesic_network", "bezier_curve", "single_source_geodesics",
+           "read_network", "GeodesicCurve", "BezierCurve", "GeodesicNetwork",
+           "SingleSourceGeodesics", "FlipOutReport"]

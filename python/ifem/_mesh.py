@@ -48,4 +48,30 @@ def write_ply(path, V, F=None, binary=True, **vertex_properties):
     _ifem.write_ply(os.fspath(path), V, F, dict(vertex_properties), bool(binary))
 
 
-__all__ = ["read_mesh", "write_ply"]
+def mesh_info(V, F=None, k=30, mollify=1e-5, path="auto"):
+    """What a mesh (or point cloud) is made of and what ifem does with it: ``ifem info --json``.
+
+    For a mesh: counts (``vertices``, ``edges``, ``faces``, ``polygons``,
+    ``unreferenced_vertices``), topology (``components``, ``boundary_edges``, ``boundary_loops``,
+    ``euler_characteristic``, ``genus`` — None unless the surface is orientable and manifold),
+    defects (``nonmanifold_edges``, ``nonmanifold_vertices``, ``dropped_degenerate_faces``,
+    ``duplicate_faces``, ``reoriented_faces``), the input's corner angles (``min_angle_deg``,
+    ``max_angle_deg``) and ``non_delaunay_share``, ``flips_to_idt``, ``mollify_delta``, and the
+    ``path`` ifem takes (manifold / tufted / pointcloud) with ``path_reason``.
+    For a point cloud (F None or empty): ``points``, ``k``, ``local_triangles``,
+    ``isolated_points``, ``starless_points``, ``coincident_points``, cover sizes, ``area``.
+
+    Args:
+        V: #V×3 positions.
+        F: #F×3 vertex ids, or None for a point cloud.
+        k: neighbours per point on the point-cloud path.
+        mollify: relative mollification margin.
+        path: 'auto', 'manifold', 'tufted' or 'pointcloud' (a mesh's vertices as a cloud).
+
+    Returns:
+        dict, with the same keys and values as ``ifem info MESH --json``.
+    """
+    return _ifem.mesh_info(V, F, int(k), float(mollify), str(path))
+
+
+__all__ = ["read_mesh", "write_ply", "mesh_info"]

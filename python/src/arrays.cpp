@@ -55,6 +55,30 @@ py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> as_int64(co
   return py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
 }
 
+// n rows of three ids from a C-order buffer, each checked against [0, n_vertices).
+template <typename Id>
+std::vector<Triangle> checked_triangles(const Id* x, std::size_t n, Index n_vertices,
+                                        const char* name) {
+  (void)checked_index(n, name);
+  std::vector<Triangle> t(n);
+  bool bad = false;
+  for (std::size_t f = 0; f < n; ++f) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Id v = x[3 * f + k];
+      bad |= v < 0 || v >= static_cast<Id>(n_vertices);
+      t[f][k] = static_cast<Index>(v);
+    }
+  }
+  if (!bad) return t;
+  for (std::size_t i = 0; i < 3 * n; ++i) {
+    if (x[i] >= 0 && x[i] < static_cast<Id>(n_vertices)) continue;
+    throw InvalidInput(std::string(name) + " row " + std::to_string(i / 3) + " has vertex id " +
+                       std::to_string(x[i]) + ", out of range [0, " + std::to_string(n_vertices) +
+                       ")");
+  }
+  return t;
+}
+
 template <typename Owned>
 py::capsule owner(Owned* p) {
   return py::capsule(p, [](void* q) { delete static_cast<Owned*>(q); });
@@ -73,7 +97,8 @@ Positions positions_from(const py::handle& array, const char* name) {
   const Index n = checked_index(static_cast<std::size_t>(d.shape(0)), name);
   Positions p(n, 3);
   std::copy(d.data(), d.data() + 3 * static_cast<std::size_t>(n), p.data());
-  for (Index i = 0; i < n; ++i) {
+  const bool finite = p.allFinite();
+  for (Index i = 0; !finite && i < n; ++i) {  // the search only runs when one is bad
     if (!p.row(i).allFinite()) {
       throw InvalidInput(std::string(name) + " row " + std::to_string(i) + " is not finite (" +
                          std::to_string(p(i, 0)) + ", " + std::to_string(p(i, 1)) + ", " +
@@ -87,23 +112,19 @@ std::vector<Triangle> triangles_from(const py::handle& array, Index n_vertices, 
   const py::array a = as_array(array, name);
   if (a.ndim() == 2 && a.shape(0) == 0) return {};
   require_n_by_3(a, name, "vertex ids");
-  const auto ids = as_int64(a, name);
-  const std::size_t n = static_cast<std::size_t>(ids.shape(0));
-  (void)checked_index(n, name);
-  std::vector<Triangle> t(n);
-  const std::int64_t* x = ids.data();
-  for (std::size_t f = 0; f < n; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const std::int64_t v = x[3 * f + static_cast<std::size_t>(k)];
-      if (v < 0 || v >= n_vertices) {
-        throw InvalidInput(std::string(name) + " row " + std::to_string(f) + " has vertex id " +
-                           std::to_string(v) + ", out of range [0, " + std::to_string(n_vertices) +
-                           ")");
-      }
-      t[f][static_cast<std::size_t>(k)] = static_cast<Index>(v);
-    }
+  if (!is_integer(a)) {
+    throw InvalidInput(std::string(name) + " must hold integers, got dtype " + dtype_of(a));
   }
-  return t;
+  // ids that fit in 32 bits are read as int32 (numpy's and ifem's usual type: no conversion),
+  // wider ones as int64; either way every id is range-checked.
+  const py::ssize_t size = a.dtype().itemsize();
+  if (size < 4 || (a.dtype().kind() == 'i' && size == 4)) {
+    const auto ids =
+        py::array_t<std::int32_t, py::array::c_style | py::array::forcecast>::ensure(a);
+    return checked_triangles(ids.data(), static_cast<std::size_t>(ids.shape(0)), n_vertices, name);
+  }
+  const auto ids = as_int64(a, name);
+  return checked_triangles(ids.data(), static_cast<std::size_t>(ids.shape(0)), n_vertices, name);
 }
 
 std::vector<Index> indices_from(const py::handle& array, Index n, const char* name,
@@ -214,7 +235,8 @@ py::array to_numpy(std::vector<Triangle>&& t) {
 py::tuple to_csc_parts(Eigen::SparseMatrix<double, Eigen::ColMajor, int>&& A) {
   using Sparse = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
   A.makeCompressed();
-  auto* p = new Sparse(std::move(A));
+  auto* p = new Sparse();
+  p->swap(A);  // Eigen 3.4's SparseMatrix has no move constructor: std::move would copy
   const py::capsule keep = owner(p);
   const auto nnz = static_cast<py::ssize_t>(p->nonZeros());
   const auto cols = static_cast<py::ssize_t>(p->cols());

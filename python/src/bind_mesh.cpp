@@ -8,7 +8,9 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
 #include "intrinsic/io/mesh_io.h"
+#include "solvers/surface_summary.h"
 
 namespace ifem::python {
 
@@ -65,9 +67,78 @@ void write_ply(const std::string& path, const py::handle& V, const py::handle& F
   io::write_ply(path, positions, faces, props, binary);
 }
 
+// `ifem info` of a point cloud: what its local triangulations and cover came to.
+py::dict cloud_info(const solvers::PreparedSurface& s) {
+  const pointcloud::Report& c = s.cloud;
+  py::dict d;
+  d["points"] = c.points;
+  d["k"] = c.k;
+  d["local_triangles"] = c.local_triangles;
+  d["isolated_points"] = c.isolated_points;
+  d["starless_points"] = c.starless_points;
+  d["coincident_points"] = c.coincident_points;
+  d["normals_from_input"] = c.normals_from_input;
+  d["cover_faces"] = s.tri.n_faces();
+  d["cover_edges"] = s.tri.n_edges();
+  d["area"] = intrinsic::total_area(s.tri);
+  d["mollify_delta"] = c.mollify.delta;
+  d["flips_to_idt"] = c.flips.flips;
+  return d;
+}
+
+// `ifem info --json` of a mesh: solvers::summarize_mesh's figures.
+py::dict summary_info(const solvers::MeshSummary& m) {
+  py::dict d;
+  d["vertices"] = m.vertices;
+  d["edges"] = m.edges;
+  d["faces"] = m.faces;
+  d["polygons"] = m.polygons;
+  d["unreferenced_vertices"] = m.unreferenced_vertices;
+  d["boundary_edges"] = m.boundary_edges;
+  d["boundary_loops"] = m.boundary_loops;
+  d["components"] = m.components;
+  d["euler_characteristic"] = m.euler_characteristic;
+  d["genus"] = m.genus ? py::object(py::int_(*m.genus)) : py::object(py::none());
+  d["nonmanifold_edges"] = m.nonmanifold_edges;
+  d["nonmanifold_vertices"] = m.nonmanifold_vertices;
+  d["dropped_degenerate_faces"] = m.dropped_degenerate_faces;
+  d["duplicate_faces"] = m.duplicate_faces;
+  d["reoriented_faces"] = m.reoriented_faces;
+  d["min_angle_deg"] = m.min_angle_deg;
+  d["max_angle_deg"] = m.max_angle_deg;
+  d["non_delaunay_share"] = m.non_delaunay_share;
+  d["flips_to_idt"] = m.flips_to_idt;
+  d["mollify_delta"] = m.mollify_delta;
+  return d;
+}
+
+py::dict mesh_info(const py::handle& V, const py::handle& F, int k, double mollify,
+                   const std::string& path) {
+  io::SurfaceInput in = surface_input(V, F);
+  const std::string p = in.triangles.empty() ? "pointcloud" : path;
+  const solvers::PreparedSurface s =
+      prepare(std::move(in), prepare_options(mollify, p, true, k), p);
+  py::dict d;
+  if (s.path == intrinsic::SurfacePath::kPointCloud) {
+    d = cloud_info(s);
+  } else {
+    solvers::MeshSummary m;
+    {
+      const py::gil_scoped_release release;
+      m = solvers::summarize_mesh(s);
+    }
+    d = summary_info(m);
+  }
+  d["path"] = intrinsic::to_string(s.path);
+  d["path_reason"] = s.reason_detail;
+  return d;
+}
+
 }  // namespace
 
 void bind_mesh(py::module_& m) {
+  m.def("mesh_info", &mesh_info, py::arg("V"), py::arg("F"), py::arg("k"), py::arg("mollify"),
+        py::arg("path"));
   m.def("read_mesh", &read_mesh, py::arg("path"));
   m.def("write_ply", &write_ply, py::arg("path"), py::arg("V"), py::arg("F"), py::arg("properties"),
         py::arg("binary"));

@@ -1,0 +1,339 @@
+"""geodesic_path / geodesic_network / bezier_curve / single_source_geodesics: against the CLI's
+output files (`ifem geodesic`, same mesh and points, 1e-12), against known truth on a flat mesh
+(geodesics are straight segments, Bézier curves converge to the planar Bézier curve), and bad
+input."""
+
+import re
+import threading
+
+import numpy as np
+import pytest
+
+import ifem
+from conftest import read_txt, run_cli, test_data
+
+SPOT = test_data("spot.obj")
+
+
+@pytest.fixture(scope="module")
+def spot():
+    return ifem.read_mesh(SPOT)
+
+
+def flat_grid(n, jitter=0.3, seed=7):
+    """The unit square as (n+1)² vertices, interior ones jittered by up to jitter/n (boundary
+    ones only along their side); vertex (i, j) is j·(n+1) + i; faces counter-clockwise seen from
+    +z."""
+    rng = np.random.default_rng(seed)
+    j, i = np.mgrid[0:n + 1, 0:n + 1]
+    dx, dy = rng.uniform(-jitter / n, jitter / n, (2,) + i.shape)
+    x = i / n + np.where((i > 0) & (i < n), dx, 0)
+    y = j / n + np.where((j > 0) & (j < n), dy, 0)
+    V = np.c_[x.ravel(), y.ravel(), np.zeros(x.size)]
+    a = (j * (n + 1) + i)[:-1, :-1].ravel()
+    F = np.r_[np.c_[a, a + 1, a + n + 2], np.c_[a, a + n + 2, a + n + 1]]
+    return V, F
+
+
+def read_txt_polylines(path):
+    """The CLI's .txt curves: 'x y z' lines, an empty line between curves."""
+    blocks = path.read_text().strip().split("\n\n")
+    return [np.array([[float(w) for w in line.split()] for line in b.splitlines()])
+            for b in blocks]
+
+
+def read_obj_polylines(path):
+    """The CLI's .obj curves: 'v' lines, one 'l' line per curve (1-based)."""
+    v, lines = [], []
+    for line in path.read_text().splitlines():
+        w = line.split()
+        if w and w[0] == "v":
+            v.append([float(x) for x in w[1:4]])
+        elif w and w[0] == "l":
+            lines.append([int(x) - 1 for x in w[1:]])
+    v = np.array(v)
+    return [v[idx] for idx in lines]
+
+
+def cli_lengths(stdout):
+    """Per curve (initial, final) from 'curve k (...): length A -> B' lines, and the FlipOut
+    line's flips, iterations and stop reason."""
+    lengths = [(float(a), float(b)) for a, b in
+               re.findall(r"length ([0-9.e+-]+) -> ([0-9.e+-]+)", stdout)]
+    m = re.search(r"FlipOut: (\d+) flips, (\d+) iterations, stopped: ([a-z ]+)", stdout)
+    return lengths, (int(m.group(1)), int(m.group(2)), m.group(3).strip())
+
+
+def assert_report_matches(report, stdout, lengths):
+    cli, (flips, iterations, stopped) = cli_lengths(stdout)
+    assert (report.flips, report.iterations, report.stopped_by) == (flips, iterations, stopped)
+    assert report.converged == (stopped == "converged")
+    for (a, b), (ia, fb) in zip(cli, lengths):  # the CLI prints 12 significant digits
+        assert abs(ia - a) <= 1e-11 * a and abs(fb - b) <= 1e-11 * b
+
+
+def polyline_length(P):
+    return np.linalg.norm(np.diff(P, axis=0), axis=1).sum()
+
+
+# ---- against the CLI -------------------------------------------------------------------------
+
+def test_path_through_vertices_and_a_face_point_matches_cli(spot, tmp_path):
+    V, F = spot
+    out = run_cli("geodesic", SPOT, "--path", "0,face:12:0.3:0.25,1200", "-o",
+                  tmp_path / "p.txt", "--quiet")
+    c = ifem.geodesic_path(V, F, [0, (12, 1 - 0.3 - 0.25, 0.3, 0.25), 1200])
+    (P,) = read_txt_polylines(tmp_path / "p.txt")
+    assert c.polyline.shape == P.shape and c.polyline.dtype == np.float64
+    assert abs(c.polyline - P).max() <= 1e-12
+    assert_report_matches(c.report, out, [(c.initial_length, c.length)])
+    assert c.report.converged and c.length < c.initial_length and not c.closed
+    # the polyline's 3D length is the intrinsic length (spot needs no mollification)
+    assert abs(polyline_length(c.polyline) - c.length) <= 1e-9 * c.length
+    # it starts and ends at the given points, and passes through the face point
+    assert np.array_equal(c.points[[0, 2]], V[[0, 1200]])
+    assert np.allclose(c.points[1], 0.45 * V[F[12, 0]] + 0.3 * V[F[12, 1]] + 0.25 * V[F[12, 2]],
+                       atol=1e-14)
+    assert np.array_equal(c.polyline[0], V[0]) and np.array_equal(c.polyline[-1], V[1200])
+    assert np.abs(c.polyline - c.points[1]).sum(axis=1).min() <= 1e-12
+
+
+@pytest.mark.parametrize("pin", [False, True])
+def test_loop_matches_cli(spot, tmp_path, pin):
+    V, F = spot
+    args = ["--pin"] if pin else []
+    out = run_cli("geodesic", SPOT, "--path", "1392,1382,323", "--loop", *args, "-o",
+                  tmp_path / "l.obj", "--quiet")
+    c = ifem.geodesic_path(V, F, [1392, 1382, 323], loop=True, pin=pin)
+    (P,) = read_obj_polylines(tmp_path / "l.obj")
+    assert c.closed and not c.collapsed
+    assert c.polyline.shape == P.shape and abs(c.polyline - P).max() <= 1e-12
+    assert np.array_equal(c.polyline[0], c.polyline[-1])  # a loop repeats its first point
+    assert_report_matches(c.report, out, [(c.initial_length, c.length)])
+
+
+def test_bezier_matches_cli(spot, tmp_path):
+    V, F = spot
+    out = run_cli("geodesic", SPOT, "--path", "0,500,1200,2000", "--bezier", 3, "-o",
+                  tmp_path / "b.txt", "--quiet")
+    b = ifem.bezier_curve(V, F, [0, 500, 1200, 2000], rounds=3)
+    (P,) = read_txt_polylines(tmp_path / "b.txt")
+    assert b.polyline.shape == P.shape and abs(b.polyline - P).max() <= 1e-12
+    assert_report_matches(b.report, out, [(b.initial_length, b.length)])
+    m = re.search(r"Bézier: (\d+) control points after 3 rounds .*, (\d+) midpoints", out)
+    assert (b.control_points, b.midpoints) == (int(m.group(1)), int(m.group(2)))
+    assert b.control_points == 3 * 2 ** 3 + 1 and b.rounds == 3
+    assert isinstance(b, ifem.GeodesicCurve)
+    # rounds=0: the geodesic control polygon, i.e. the pinned path through the points
+    b0 = ifem.bezier_curve(V, F, [0, 500, 1200, 2000], rounds=0)
+    path = ifem.geodesic_path(V, F, [0, 500, 1200, 2000])
+    assert abs(b0.length - path.length) <= 1e-12 * path.length
+
+
+def test_network_matches_cli(spot, tmp_path):
+    V, F = spot
+    net_file = tmp_path / "net.txt"
+    net_file.write_text("# two paths and a loop\npath 0 500 1200\n\n"
+                        "path 100 face:40:0.2:0.2 1500\nloop 1392 1382 323  # around the body\n")
+    out = run_cli("geodesic", SPOT, "--network", net_file, "-o", tmp_path / "n.txt", "--quiet")
+    cli = read_txt_polylines(tmp_path / "n.txt")
+    net = ifem.geodesic_network(V, F, [[0, 500, 1200], [100, (40, 1 - 0.2 - 0.2, 0.2, 0.2), 1500],
+                                       {"points": [1392, 1382, 323], "loop": True}])
+    assert [c.closed for c in net.curves] == [False, False, True]
+    assert len(net.polylines) == len(cli) == 3
+    for mine, theirs in zip(net.polylines, cli):
+        assert mine.shape == theirs.shape and abs(mine - theirs).max() <= 1e-12
+    assert_report_matches(net.report, out, [(c.initial_length, c.length) for c in net.curves])
+    assert abs(net.lengths.sum() - net.report.final_length) <= 1e-12 * net.report.final_length
+    # the network file itself gives the same curves
+    from_file = ifem.geodesic_network(V, F, net_file)
+    for a, b in zip(from_file.polylines, net.polylines):
+        assert np.array_equal(a, b)
+
+
+def test_single_source_matches_cli(spot, tmp_path):
+    V, F = spot
+    run_cli("geodesic", SPOT, "--all-from", 7, "-o", tmp_path / "g.txt", "--quiet")
+    g = ifem.single_source_geodesics(V, F, 7)
+    d = read_txt(tmp_path / "g.txt")
+    assert g.length.shape == (len(V),) and g.paths is None
+    assert abs(g.length - d).max() <= 1e-12 * d.max()
+    assert g.length[7] == 0 and np.isfinite(g.length).all()
+    # a geodesic is never shorter than the straight line, never longer than the edge path
+    assert (g.length >= np.linalg.norm(V - V[7], axis=1) * (1 - 1e-12)).all()
+    # with paths: each one runs from the source to its vertex and is as long as its length
+    gp = ifem.single_source_geodesics(V, F, 7, return_paths=True)
+    assert np.array_equal(gp.length, g.length) and len(gp.paths) == len(V)
+    assert np.array_equal(gp.paths[7], V[[7]])
+    for v in range(0, len(V), 97):
+        P = gp.paths[v]
+        if v == 7:
+            continue
+        assert np.array_equal(P[0], V[7]) and np.array_equal(P[-1], V[v])
+        assert abs(polyline_length(P) - g.length[v]) <= 1e-9 * g.length[v]
+
+
+def test_single_source_unreachable_is_inf(tmp_path):
+    # two separate squares: the second one is unreachable from the first
+    V, F = flat_grid(4)
+    V2 = np.r_[V, V + [2.0, 0, 0]]
+    F2 = np.r_[F, F + len(V)]
+    g = ifem.single_source_geodesics(V2, F2, 0)
+    assert np.isfinite(g.length[:len(V)]).all() and np.isinf(g.length[len(V):]).all()
+    mesh = tmp_path / "two.obj"
+    mesh.write_text("".join(f"v {x:.17g} {y:.17g} {z:.17g}\n" for x, y, z in V2) +
+                    "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in F2))
+    run_cli("geodesic", mesh, "--all-from", 0, "-o", tmp_path / "g.txt", "--quiet")
+    assert np.array_equal(read_txt(tmp_path / "g.txt"), g.length)  # inf where the CLI says inf
+    with pytest.raises(ifem.InvalidInput, match="different connected components|component"):
+        ifem.geodesic_path(V2, F2, [0, len(V) + 3])
+
+
+# ---- known truth on a flat mesh ------------------------------------------------------------
+
+@pytest.mark.parametrize("points", [[0, 16 * 17 + 16], [3 + 2 * 17, 13 + 12 * 17],
+                                    [1 + 3 * 17, (40, 0.2, 0.3, 0.5)]])
+def test_flat_geodesic_is_the_straight_segment(points):
+    V, F = flat_grid(16)
+    c = ifem.geodesic_path(V, F, points)
+    P = c.polyline
+    chord = P[-1] - P[0]
+    assert c.report.converged
+    assert abs(c.length - np.linalg.norm(chord)) <= 1e-9
+    assert abs(polyline_length(P) - np.linalg.norm(chord)) <= 1e-9
+    # every traced point on the segment (collinear, in order)
+    u = chord / np.linalg.norm(chord)
+    assert np.linalg.norm(np.cross(P - P[0], u), axis=1).max() <= 1e-12
+    assert (np.diff((P - P[0]) @ u) > -1e-15).all()
+    assert c.length < c.initial_length  # the edge path zigzags on the jittered grid
+
+
+def test_flat_bezier_converges_to_the_planar_bezier_curve():
+    V, F = flat_grid(16)
+    ctrl = [1 + 1 * 17, 8 + 15 * 17, 15 + 1 * 17]
+    P0, P1, P2 = V[ctrl]
+    t = np.linspace(0, 1, 20001)[:, None]
+    exact = (1 - t) ** 2 * P0 + 2 * t * (1 - t) * P1 + t ** 2 * P2
+    errors = []
+    for rounds in (2, 4, 6):
+        b = ifem.bezier_curve(V, F, ctrl, rounds=rounds)
+        assert b.control_points == 2 * 2 ** rounds + 1
+        assert np.array_equal(b.polyline[0], P0) and np.array_equal(b.polyline[-1], P2)
+        errors.append(max(np.linalg.norm(exact - p, axis=1).min() for p in b.polyline))
+    # de Casteljau: the control polygon approaches the curve by 4× per round
+    assert errors[0] > 8 * errors[1] > 64 * errors[2] and errors[2] < 5e-4
+
+
+def test_network_curves_do_not_cross():
+    V, F = flat_grid(12)
+    vid = lambda i, j: j * 13 + i  # noqa: E731
+    # two diagonals of the square must meet at a vertex (they cannot cross inside a face)
+    net = ifem.geodesic_network(V, F, [[vid(0, 0), vid(12, 12)], [vid(0, 12), vid(12, 0)]])
+    a, b = net.polylines
+    assert any((np.abs(b - p).sum(axis=1) <= 1e-12).any() for p in a)
+
+
+def test_loop_on_a_flat_disk_collapses():
+    V, F = flat_grid(8)
+    c = ifem.geodesic_path(V, F, [2 + 2 * 9, 6 + 2 * 9, 4 + 6 * 9], loop=True)
+    assert c.closed and c.collapsed and c.length <= 1e-12
+
+
+def test_gil_is_released_and_calls_are_independent(spot):
+    V, F = spot
+    want = ifem.single_source_geodesics(V, F, 3).length
+    got = [None, None]
+
+    def run(k):
+        got[k] = ifem.single_source_geodesics(V, F, 3).length
+
+    threads = [threading.Thread(target=run, args=(k,)) for k in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert all(np.array_equal(g, want) for g in got)
+
+
+# ---- bad input ---------------------------------------------------------------------------
+
+def bad_calls(V, F):
+    n = len(V)
+    return [
+        (lambda: ifem.geodesic_path(V, F, [0, n]), ifem.InvalidInput,
+         rf"points\[1\] = {n}: vertex out of range \[0, {n}\)"),
+        (lambda: ifem.geodesic_path(V, F, [-1, 3]), ifem.InvalidInput,
+         r"points\[0\] = -1: vertex out of range"),
+        (lambda: ifem.geodesic_path(V, F, [5]), ifem.InvalidInput,
+         "points needs at least 2 points, got 1"),
+        (lambda: ifem.geodesic_path(V, F, [5, 5]), ifem.InvalidInput,
+         r"points\[0\] and points\[1\] are the same point"),
+        (lambda: ifem.geodesic_path(V, F, [5, 9, 5], loop=True), ifem.InvalidInput,
+         "a loop closes by itself"),
+        (lambda: ifem.geodesic_path(V, F, [0, (len(F), 1, 0, 0)]), ifem.InvalidInput,
+         rf"points\[1\]: face {len(F)} out of range"),
+        (lambda: ifem.geodesic_path(V, F, [0, (3, 0.5, 0.5, 0.5)]), ifem.InvalidInput,
+         "must sum to 1"),
+        (lambda: ifem.geodesic_path(V, F, [0, (3, np.nan, 0.5, 0.5)]), ifem.InvalidInput,
+         "b0 = nan must be finite"),
+        (lambda: ifem.geodesic_path(V, F, [0, (3, -0.1, 0.6, 0.5)]), ifem.InvalidInput,
+         "must be finite and ≥ 0"),
+        (lambda: ifem.geodesic_path(V, F, [0, 2.5]), ifem.InvalidInput,
+         r"points\[1\] must be a vertex id"),
+        (lambda: ifem.geodesic_path(V, F, "0,1"), ifem.InvalidInput,
+         "points must be a sequence of points"),
+        (lambda: ifem.geodesic_path(V, F, [0, 100], pin=True), ifem.InvalidInput,
+         "pin=True applies to loops"),
+        (lambda: ifem.geodesic_path(V, F, [0, 1], mollify=np.nan), ifem.InvalidInput,
+         "mollify must be in"),
+        (lambda: ifem.bezier_curve(V, F, [0, 100, 200], rounds=17), ifem.InvalidInput,
+         r"rounds must be in \[0, 16\]"),
+        (lambda: ifem.bezier_curve(V, F, [0, 100, 200], rounds=-1), ifem.InvalidInput,
+         r"rounds must be in \[0, 16\]"),
+        (lambda: ifem.bezier_curve(V, F, [0, 100, 200], rounds=2.5), ifem.InvalidInput,
+         "rounds must be an integer"),
+        (lambda: ifem.bezier_curve(V, F, [0, n + 4], rounds=2), ifem.InvalidInput,
+         r"control_points\[1\] = "),
+        (lambda: ifem.single_source_geodesics(V, F, n), ifem.InvalidInput,
+         rf"source = {n}: vertex out of range"),
+        (lambda: ifem.single_source_geodesics(V, F, 1.0), ifem.InvalidInput,
+         "source must be a vertex id"),
+        (lambda: ifem.geodesic_network(V, F, [[0, 100], [7]]), ifem.InvalidInput,
+         r"curves\[1\] needs at least 2 points"),
+        (lambda: ifem.geodesic_network(V, F, [[0, 100], [7, n]]), ifem.InvalidInput,
+         r"curves\[1\]\[1\] = "),
+        (lambda: ifem.geodesic_network(V, F, [[0, 100], {"points": [1, 2], "closed": True}]),
+         ifem.InvalidInput, r"curves\[1\] must be a point list or a dict"),
+        (lambda: ifem.geodesic_network(V, F, []), ifem.InvalidInput, "curves is empty"),
+        (lambda: ifem.geodesic_path(V, np.zeros((0, 3), int), [0, 1]), ifem.InvalidInput,
+         "F has no faces"),
+        (lambda: ifem.geodesic_path(np.zeros((3, 3)), [[0, 1, 2]], [0, 1]), ifem.InvalidInput,
+         "zero total area"),
+    ]
+
+
+def test_bad_input_raises_with_a_clear_message(spot):
+    for call, exc, message in bad_calls(*spot):
+        with pytest.raises(exc, match=message):
+            call()
+
+
+def test_bad_network_file(spot, tmp_path):
+    V, F = spot
+    bad = tmp_path / "bad.txt"
+    bad.write_text("path 0 10\ncurve 1 2\n")
+    with pytest.raises(ifem.IoError, match=r"bad.txt:2: expected 'path P0 P1 \.\.\.'"):
+        ifem.geodesic_network(V, F, bad)
+    bad.write_text("path 0 face:1:x:0\n")
+    with pytest.raises(ifem.IoError, match=r"bad.txt:1: 'face:1:x:0' is not a point"):
+        ifem.geodesic_network(V, F, bad)
+    with pytest.raises(ifem.IoError, match="cannot open"):
+        ifem.geodesic_network(V, F, tmp_path / "missing.txt")
+
+
+def test_nonmanifold_mesh_is_refused():
+    # three triangles on the edge 0–1
+    V = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0.2], [0.5, 0.1, 1.0]])
+    F = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
+    with pytest.raises(ifem.NonManifoldInput, match="FlipOut needs an edge-manifold"):
+        ifem.geodesic_path(V, F, [2, 3])
