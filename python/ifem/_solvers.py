@@ -216,6 +216,13 @@ class HeatDistanceSolver:
         return self._solver.n_input_vertices
 
     @property
+    def last_query_seconds(self):
+        """Seconds the library spent on the latest :meth:`compute_distance` (the back-
+        substitutions, restriction to the input and, for points, locating them), without the
+        Python call around it; 0 before the first query."""
+        return self._solver.last_query_seconds
+
+    @property
     def info(self):
         """dict of what preparation chose and did: ``path``, ``reason``, ``flips``,
         ``mollify_delta``, ``input_vertices``, ``vertices`` / ``faces`` (of the triangulation

@@ -13,6 +13,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -27,6 +28,7 @@
 #include "bindings.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/core/timer.h"
 #include "intrinsic/refine/signpost.h"
 
 namespace ifem::python {
@@ -276,7 +278,9 @@ class DistanceSolver {
     Eigen::VectorXd d;
     {
       const py::gil_scoped_release release;
+      const Stopwatch watch;
       d = solvers::on_input_vertices(s_, solver_.compute_distance(ids));
+      last_query_seconds_ = watch.seconds();
     }
     require_no_nan(d, "heat distance");
     return to_numpy(std::move(d));
@@ -289,10 +293,12 @@ class DistanceSolver {
     Eigen::VectorXd d;
     {
       const py::gil_scoped_release release;
+      const Stopwatch watch;
       const SignpostTriangulation& st = signposts();
       std::vector<SurfacePoint> pts = input_points(st, s_.input.triangles, f, b);
       for (SurfacePoint& p : pts) p = locate_input_point(st, p.face, p.bary);
       d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points(pts));
+      last_query_seconds_ = watch.seconds();
     }
     require_no_nan(d, "heat distance");
     return to_numpy(std::move(d));
@@ -308,6 +314,8 @@ class DistanceSolver {
   }
 
   Index n_input_vertices() const { return s_.n_input_vertices(); }
+  // The library's own time of the latest query (GIL released: what the binding does not add).
+  double last_query_seconds() const { return last_query_seconds_; }
 
  private:
   // The signposts that locate input points on s_.tri (built once, on the first points query).
@@ -351,6 +359,7 @@ class DistanceSolver {
   std::once_flag once_;
   std::optional<SignpostTriangulation> own_;
   std::string mismatch_;  // why own_ could not be built
+  mutable std::atomic<double> last_query_seconds_{0.0};
 };
 
 std::unique_ptr<DistanceSolver> make_distance_solver(const py::handle& V, const py::handle& F,
@@ -463,7 +472,8 @@ void bind_solvers(py::module_& m) {
       .def("compute_distance_from_points", &DistanceSolver::distance_from_points, py::arg("faces"),
            py::arg("bary"))
       .def_property_readonly("info", &DistanceSolver::info)
-      .def_property_readonly("n_input_vertices", &DistanceSolver::n_input_vertices);
+      .def_property_readonly("n_input_vertices", &DistanceSolver::n_input_vertices)
+      .def_property_readonly("last_query_seconds", &DistanceSolver::last_query_seconds);
   m.def(
       "heat_distance",
       [](const py::handle& V, const py::handle& F, const py::handle& sources, Opt t, Steps c,

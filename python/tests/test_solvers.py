@@ -266,12 +266,14 @@ def test_poisson_reproduces_linear_functions():
 def test_solver_reuse_equals_one_offs():
     V, F = ifem.read_mesh(spot())
     solver = ifem.HeatDistanceSolver(V, F)
+    assert solver.last_query_seconds == 0
     for sources in (0, [5], [1, 2000], np.arange(0, 2930, 97)):
         assert_close(solver.compute_distance(sources), ifem.heat_distance(V, F, sources),
                      rtol=1e-15)
     a = solver.compute_distance(7)
     solver.compute_distance([8, 9])
     assert (solver.compute_distance(7) == a).all()  # queries leave no state behind
+    assert 0 < solver.last_query_seconds < 1
 
 
 def test_points_at_vertices_equal_vertex_sources():
