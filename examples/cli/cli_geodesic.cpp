@@ -19,6 +19,7 @@
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/timer.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
+#include "intrinsic/geodesic/input_surface.h"
 #include "intrinsic/io/detail.h"
 #include "intrinsic/io/tokens.h"
 #include "intrinsic/refine/common_subdivision.h"
@@ -208,66 +209,20 @@ void check_points(const std::vector<CurveSpec>& curves, const io::SurfaceInput& 
   }
 }
 
-// True when some face of the input has positive area (judged before mollification, which
-// would make slivers out of degenerate faces), as the solver commands' pipeline judges it.
-bool has_area(const io::SurfaceInput& in) {
-  for (const Triangle& t : in.triangles) {
-    double l[3];
-    for (int k = 0; k < 3; ++k) {
-      l[k] = intrinsic::side_length(in.positions.row(t[k]).data(),
-                                    in.positions.row(t[(k + 1) % 3]).data());
-    }
-    const double scale = intrinsic::power_of_two_scale(std::max({l[0], l[1], l[2]}));
-    if (intrinsic::triangle_area(l[0] / scale, l[1] / scale, l[2] / scale) > 0.0) return true;
-  }
-  return false;
-}
-
-// The signpost triangulation of the input; a nonmanifold or non-orientable mesh is refused
-// with what FlipOut needs (the library's message names the offending edge).
+// The signpost triangulation of the input (intrinsic::flipout_surface: refused without area or
+// when not edge-manifold and orientable, with what FlipOut needs).
 SignpostTriangulation build_signposts(const io::SurfaceInput& in, const Args& args) {
   if (!in.has_faces()) {
     throw InvalidInput("geodesic needs a triangle mesh (the input has no faces: a point cloud)");
   }
-  if (!has_area(in)) {
-    throw InvalidInput(
-        "the input has no surface to compute on: zero total area (all vertices coincide, or "
-        "every face is degenerate)");
-  }
-  try {
-    return SignpostTriangulation(in.triangles, in.positions, args.real("mollify"));
-  } catch (const NonManifoldInput& e) {
-    std::string why = e.what();
-    const std::size_t advice = why.find("; use the tufted cover");
-    if (advice != std::string::npos) why.resize(advice);
-    throw NonManifoldInput(
-        "FlipOut needs an edge-manifold, orientable surface (signposts; the tufted cover has "
-        "no meaningful paths), and this mesh is not: " +
-        why);
-  }
+  return intrinsic::flipout_surface(in, args.real("mollify"));
 }
 
-// p (a face point) as a point of st.input(): its face of the file mapped through
-// input_face_origin(), its coordinates matched corner by corner (faces may be reoriented).
+// p (a face point) as a point of st.input().
 intrinsic::SurfacePoint input_point(const SignpostTriangulation& st, const io::SurfaceInput& in,
                                     const std::vector<Index>& input_face, const PointSpec& p) {
-  const Index f = input_face[p.face];
-  if (f == kInvalidIndex) {
-    throw InvalidInput("'" + p.token + "': face " + std::to_string(p.face) +
-                       " is not part of the surface (it repeats a vertex and was dropped)");
-  }
-  const Triangle& given = in.triangles[p.face];
-  const double w[3] = {std::max(0.0, 1.0 - p.u - p.v), p.u, p.v};
-  intrinsic::SurfacePoint sp;
-  sp.face = f;
-  for (int s = 0; s < 3; ++s) {
-    const Index corner = st.input().tail(3 * f + s);
-    for (int k = 0; k < 3; ++k) {
-      if (given[k] == corner) sp.bary[s] = w[k];
-    }
-  }
-  sp.bary /= sp.bary.sum();
-  return sp;
+  const Eigen::Vector3d w(std::max(0.0, 1.0 - p.u - p.v), p.u, p.v);
+  return intrinsic::given_face_point(st, in.triangles, input_face, p.face, w, "'" + p.token + "'");
 }
 
 std::string format_point(const Eigen::Vector3d& x) {
@@ -281,9 +236,7 @@ std::string format_point(const Eigen::Vector3d& x) {
 // inserted point reported on stdout.
 std::vector<std::vector<Index>> insert_points(SignpostTriangulation& st, const io::SurfaceInput& in,
                                               const std::vector<CurveSpec>& curves) {
-  std::vector<Index> input_face(in.triangles.size(), kInvalidIndex);
-  const std::vector<Index>& origin = st.input_face_origin();
-  for (std::size_t f = 0; f < origin.size(); ++f) input_face[origin[f]] = static_cast<Index>(f);
+  const std::vector<Index> input_face = intrinsic::given_face_map(st, in.triangles.size());
   std::map<std::tuple<Index, double, double>, Index> inserted;
   std::vector<std::vector<Index>> ids(curves.size());
   for (std::size_t c = 0; c < curves.size(); ++c) {

@@ -20,6 +20,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
+#include "intrinsic/geodesic/input_surface.h"
 
 namespace ifem::python {
 
@@ -192,64 +193,20 @@ CurveSpec curve_from(const py::handle& points, bool closed, bool pin, Index nv, 
   return c;
 }
 
-// True when some face has positive area (judged before mollification), as the CLI judges it.
-bool has_area(const io::SurfaceInput& in) {
-  for (const Triangle& t : in.triangles) {
-    double l[3];
-    for (int k = 0; k < 3; ++k) {
-      l[k] = intrinsic::side_length(in.positions.row(t[k]).data(),
-                                    in.positions.row(t[(k + 1) % 3]).data());
-    }
-    const double scale = intrinsic::power_of_two_scale(std::max({l[0], l[1], l[2]}));
-    if (intrinsic::triangle_area(l[0] / scale, l[1] / scale, l[2] / scale) > 0.0) return true;
-  }
-  return false;
-}
-
 // The signpost triangulation of the input (GIL released by the caller), refused as the CLI
 // refuses it: no faces, no area, not edge-manifold and orientable.
 SignpostTriangulation build_signposts(const io::SurfaceInput& in, double mollify) {
   if (!in.has_faces()) {
     throw InvalidInput("F has no faces: geodesic curves need a triangle mesh (not a point cloud)");
   }
-  if (!has_area(in)) {
-    throw InvalidInput(
-        "the input has no surface to compute on: zero total area (all vertices coincide, or "
-        "every face is degenerate)");
-  }
-  try {
-    return SignpostTriangulation(in.triangles, in.positions, mollify);
-  } catch (const NonManifoldInput& e) {
-    std::string why = e.what();
-    const std::size_t advice = why.find("; use the tufted cover");
-    if (advice != std::string::npos) why.resize(advice);
-    throw NonManifoldInput(
-        "FlipOut needs an edge-manifold, orientable surface (signposts; the tufted cover has "
-        "no meaningful paths), and this mesh is not: " +
-        why);
-  }
+  return intrinsic::flipout_surface(in, mollify);
 }
 
-// p (a face point) as a point of st.input(): its row of F mapped through input_face_origin(),
-// its coordinates matched corner by corner (faces may have been reoriented).
+// p (a face point) as a point of st.input().
 intrinsic::SurfacePoint input_point(const SignpostTriangulation& st, const io::SurfaceInput& in,
                                     const std::vector<Index>& input_face, const Point& p) {
-  const Index f = input_face[static_cast<std::size_t>(p.face)];
-  if (f == kInvalidIndex) {
-    throw InvalidInput(p.name + ": face " + std::to_string(p.face) +
-                       " is not part of the surface (it repeats a vertex and was dropped)");
-  }
-  const Triangle& given = in.triangles[static_cast<std::size_t>(p.face)];
-  intrinsic::SurfacePoint sp;
-  sp.face = f;
-  for (int s = 0; s < 3; ++s) {
-    const Index corner = st.input().tail(3 * f + s);
-    for (int k = 0; k < 3; ++k) {
-      if (given[static_cast<std::size_t>(k)] == corner) sp.bary[s] = p.bary[std::size_t(k)];
-    }
-  }
-  sp.bary /= sp.bary.sum();
-  return sp;
+  const Eigen::Vector3d w(p.bary[0], p.bary[1], p.bary[2]);
+  return intrinsic::given_face_point(st, in.triangles, input_face, p.face, w, p.name);
 }
 
 Positions to_positions(const std::vector<Eigen::Vector3d>& line) {
@@ -262,11 +219,7 @@ Positions to_positions(const std::vector<Eigen::Vector3d>& line) {
 // built; the same face point twice is one vertex), and the points' positions into out.
 std::vector<std::vector<Index>> insert_points(SignpostTriangulation& st, const io::SurfaceInput& in,
                                               const std::vector<CurveSpec>& curves, Run& out) {
-  std::vector<Index> input_face(in.triangles.size(), kInvalidIndex);
-  const std::vector<Index>& origin = st.input_face_origin();
-  for (std::size_t f = 0; f < origin.size(); ++f) {
-    input_face[static_cast<std::size_t>(origin[f])] = static_cast<Index>(f);
-  }
+  const std::vector<Index> input_face = intrinsic::given_face_map(st, in.triangles.size());
   std::map<std::tuple<Index, double, double, double>, Index> inserted;
   std::vector<std::vector<Index>> ids(curves.size());
   out.curves.resize(curves.size());

@@ -3,11 +3,17 @@ poisson --curves`, `ifem distance --curves`, `--curves-out`; same mesh and curve
 against known truth on a flat square (linear data reproduced exactly, slits separating the
 sides, distance to a straight curve), and bad input."""
 
+import functools
+
 import numpy as np
 import pytest
 
+import conftest
 import ifem
-from conftest import read_txt, run_cli, test_data
+from conftest import read_obj_polylines, read_txt, run_cli, test_data
+
+# the curves tests' square keeps its left and right sides' vertices in place
+flat_grid = functools.partial(conftest.flat_grid, slide_left_right=False)
 
 SPOT = test_data("spot.obj")
 # a Bézier curve from 0 to 1, a slit (0.2 on its left, 0.8 on its right) and a loop at 0.5
@@ -29,37 +35,9 @@ def spot_curves(tmp_path):
     return p
 
 
-def flat_grid(n, jitter=0.3, seed=7, straight_rows=()):
-    """The unit square as (n+1)² vertices, interior ones jittered by up to jitter/n (boundary
-    ones only along their side; rows in straight_rows only along x, so that they stay on a
-    line); vertex (i, j) is j·(n+1) + i; faces counter-clockwise seen from +z."""
-    rng = np.random.default_rng(seed)
-    j, i = np.mgrid[0:n + 1, 0:n + 1]
-    dx, dy = rng.uniform(-jitter / n, jitter / n, (2,) + i.shape)
-    x = i / n + np.where((i > 0) & (i < n), dx, 0)
-    move_y = (i > 0) & (i < n) & (j > 0) & (j < n) & ~np.isin(j, straight_rows)
-    y = j / n + np.where(move_y, dy, 0)
-    V = np.c_[x.ravel(), y.ravel(), np.zeros(x.size)]
-    a = (j * (n + 1) + i)[:-1, :-1].ravel()
-    F = np.r_[np.c_[a, a + 1, a + n + 2], np.c_[a, a + n + 2, a + n + 1]]
-    return V, F
-
-
 def row(n, j):
     """Ends of the straight curve across the square along row j."""
     return [j * (n + 1), j * (n + 1) + n]
-
-
-def read_obj_polylines(path):
-    v, lines = [], []
-    for line in path.read_text().splitlines():
-        w = line.split()
-        if w and w[0] == "v":
-            v.append([float(x) for x in w[1:4]])
-        elif w and w[0] == "l":
-            lines.append([int(x) - 1 for x in w[1:]])
-    v = np.array(v)
-    return [v[idx] for idx in lines]
 
 
 def write_obj(path, V, F):

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import ifem
-from conftest import read_txt, run_cli, test_data
+from conftest import flat_grid, read_obj_polylines, read_txt, run_cli, test_data
 
 SPOT = test_data("spot.obj")
 
@@ -20,39 +20,11 @@ def spot():
     return ifem.read_mesh(SPOT)
 
 
-def flat_grid(n, jitter=0.3, seed=7):
-    """The unit square as (n+1)² vertices, interior ones jittered by up to jitter/n (boundary
-    ones only along their side); vertex (i, j) is j·(n+1) + i; faces counter-clockwise seen from
-    +z."""
-    rng = np.random.default_rng(seed)
-    j, i = np.mgrid[0:n + 1, 0:n + 1]
-    dx, dy = rng.uniform(-jitter / n, jitter / n, (2,) + i.shape)
-    x = i / n + np.where((i > 0) & (i < n), dx, 0)
-    y = j / n + np.where((j > 0) & (j < n), dy, 0)
-    V = np.c_[x.ravel(), y.ravel(), np.zeros(x.size)]
-    a = (j * (n + 1) + i)[:-1, :-1].ravel()
-    F = np.r_[np.c_[a, a + 1, a + n + 2], np.c_[a, a + n + 2, a + n + 1]]
-    return V, F
-
-
 def read_txt_polylines(path):
     """The CLI's .txt curves: 'x y z' lines, an empty line between curves."""
     blocks = path.read_text().strip().split("\n\n")
     return [np.array([[float(w) for w in line.split()] for line in b.splitlines()])
             for b in blocks]
-
-
-def read_obj_polylines(path):
-    """The CLI's .obj curves: 'v' lines, one 'l' line per curve (1-based)."""
-    v, lines = [], []
-    for line in path.read_text().splitlines():
-        w = line.split()
-        if w and w[0] == "v":
-            v.append([float(x) for x in w[1:4]])
-        elif w and w[0] == "l":
-            lines.append([int(x) - 1 for x in w[1:]])
-    v = np.array(v)
-    return [v[idx] for idx in lines]
 
 
 def cli_lengths(stdout):

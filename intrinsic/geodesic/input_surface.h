@@ -1,0 +1,41 @@
+// From an input mesh to the signpost triangulation FlipOut works on, and points given on the
+// input's faces to points of that triangulation: what the `ifem geodesic` command and the Python
+// geodesic functions share.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "intrinsic/core/surface_point.h"
+#include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/signpost.h"
+
+namespace ifem::intrinsic {
+
+/// True when some face has positive area, judged before mollification (which would turn
+/// degenerate faces into slivers), as the solver pipeline judges it.
+bool has_positive_area(const io::SurfaceInput& in);
+
+/// The signpost triangulation of an input with faces (SignpostTriangulation with the given
+/// relative mollification margin).
+/// @throws InvalidInput when no face has positive area
+/// @throws NonManifoldInput when the mesh is not edge-manifold and orientable, saying that
+///         FlipOut needs that and naming the offending edge (the library's message)
+SignpostTriangulation flipout_surface(const io::SurfaceInput& in, double mollify);
+
+/// For each given face (row of `given_faces`), the face of st.input() it became, or
+/// kInvalidIndex where it was dropped (a face repeating a vertex).
+std::vector<Index> given_face_map(const SignpostTriangulation& st, std::size_t n_given_faces);
+
+/// A point of given face `face` with barycentric weights `w` in that face's corner order, as a
+/// point of st.input() (faces may have been reoriented: weights are matched corner by corner).
+/// @param face_map given_face_map(st, given_faces.size())
+/// @param name how messages call the point (e.g. "points[2]" or "'face:12:0.3:0.3'")
+/// @throws InvalidInput if the face was dropped
+SurfacePoint given_face_point(const SignpostTriangulation& st,
+                              const std::vector<Triangle>& given_faces,
+                              const std::vector<Index>& face_map, Index face,
+                              const Eigen::Vector3d& w, const std::string& name);
+
+}  // namespace ifem::intrinsic
