@@ -225,7 +225,8 @@ class HeatDistanceSolver:
     @property
     def info(self):
         """dict of what preparation chose and did: ``path``, ``reason``, ``flips``,
-        ``mollify_delta``, ``input_vertices``, ``vertices`` / ``faces`` (of the triangulation
+        ``mollify_delta``, ``dropped_faces``, ``reoriented_faces``, ``unreferenced_vertices``,
+        ``input_vertices``, ``vertices`` / ``faces`` (of the triangulation
         solved on), ``refined``, ``inserted_vertices``, ``signposts``, ``mean_edge_length``
         (h of the input), ``target_edge_length`` (ℓ with a refinement size bound, else 0),
         ``time_factor``, ``correction_steps``, ``step_length`` (the h in t = m·h²; 0 when

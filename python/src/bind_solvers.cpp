@@ -29,6 +29,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/geodesic/input_surface.h"
 #include "intrinsic/refine/signpost.h"
 
 namespace ifem::python {
@@ -131,6 +132,9 @@ py::dict surface_info(const solvers::PreparedSurface& s) {
   d["reason"] = s.reason_detail;
   d["flips"] = s.flips.flips;
   d["mollify_delta"] = s.mollify.delta;
+  d["dropped_faces"] = s.build.dropped_faces;
+  d["reoriented_faces"] = s.build.reoriented_faces;
+  d["unreferenced_vertices"] = s.build.unreferenced_vertices;
   d["input_vertices"] = s.n_input_vertices();
   d["vertices"] = s.tri.n_vertices();
   d["faces"] = s.tri.n_faces();
@@ -176,7 +180,9 @@ Index wedge_holding(const SignpostTriangulation& st, Index v, double phi) {
 }
 
 // Point b of input face f (of st.input()) as a point of st.intrinsic(): traced from the
-// nearest corner of f, at the distance and angle it has in f's layout.
+// nearest corner of f, at the distance and angle it has in f's layout. (The library has the
+// same two functions privately, in intrinsic/geodesic/flip_geodesic_apps.cpp, behind
+// insert_surface_point, which inserts the point instead of returning it.)
 SurfacePoint locate_input_point(const SignpostTriangulation& st, Index f,
                                 const Eigen::Vector3d& b) {
   Eigen::Vector2d p[3];
@@ -207,34 +213,6 @@ SurfacePoint locate_input_point(const SignpostTriangulation& st, Index f,
   const Eigen::Vector2d dir =
       std::cos(turn) * ed + std::sin(turn) * Eigen::Vector2d(-ed.y(), ed.x());
   return intrinsic::trace_straight(tri, start, dir, w.norm(), o).end;
-}
-
-// Surface points given on the input's faces (rows of F): checked, then as points of
-// st.input() (faces mapped through input_face_origin(), coordinates matched corner by corner:
-// faces may have been reoriented).
-std::vector<SurfacePoint> input_points(const SignpostTriangulation& st,
-                                       const std::vector<Triangle>& given,
-                                       const std::vector<Index>& faces,
-                                       const Eigen::MatrixX3d& bary) {
-  std::vector<Index> face_of(given.size(), kInvalidIndex);
-  const std::vector<Index>& origin = st.input_face_origin();
-  for (std::size_t f = 0; f < origin.size(); ++f) face_of[origin[f]] = static_cast<Index>(f);
-  std::vector<SurfacePoint> out(faces.size());
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    const Index f = face_of[faces[i]];
-    if (f == kInvalidIndex) {
-      throw InvalidInput("points[" + std::to_string(i) + "]: face " + std::to_string(faces[i]) +
-                         " is not part of the surface (it repeats a vertex and was dropped)");
-    }
-    for (int c = 0; c < 3; ++c) {
-      const Index corner = st.input().tail(3 * f + c);
-      for (int k = 0; k < 3; ++k) {
-        if (given[faces[i]][k] == corner) out[i].bary[c] = bary(Eigen::Index(i), k);
-      }
-    }
-    out[i].face = f;
-  }
-  return out;
 }
 
 // points as (#P faces of F, #P×3 barycentric coordinates): faces in [0, #F), coordinates
@@ -295,8 +273,13 @@ class DistanceSolver {
       const py::gil_scoped_release release;
       const Stopwatch watch;
       const SignpostTriangulation& st = signposts();
-      std::vector<SurfacePoint> pts = input_points(st, s_.input.triangles, f, b);
-      for (SurfacePoint& p : pts) p = locate_input_point(st, p.face, p.bary);
+      const std::vector<Index> face_map = intrinsic::given_face_map(st, s_.input.triangles.size());
+      std::vector<SurfacePoint> pts(f.size());
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        const SurfacePoint p = intrinsic::given_face_point(
+            st, s_.input.triangles, face_map, f[i], b.row(i), "points[" + std::to_string(i) + "]");
+        pts[i] = locate_input_point(st, p.face, p.bary);
+      }
       d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points(pts));
       last_query_seconds_ = watch.seconds();
     }

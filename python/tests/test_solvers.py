@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import ifem
-from conftest import read_txt, run_cli, test_data
+from conftest import flat_grid, read_txt, run_cli, test_data
 
 # --- inputs -------------------------------------------------------------------------------------
 
@@ -41,25 +41,16 @@ def point_cloud(tmp_path):
     return p
 
 
-def grid(n, jitter=0.3, seed=1):
-    """A flat n×n grid of the unit square, interior vertices jittered by ±jitter·spacing, with
-    alternating diagonals."""
-    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
-    rng = np.random.default_rng(seed)
-    inner = np.zeros((n, n), bool)
-    inner[1:-1, 1:-1] = True
-    j = jitter / (n - 1) * rng.uniform(-1, 1, size=(n, n, 2))
-    V = np.c_[(x + np.where(inner, j[..., 0], 0)).ravel(),
-              (y + np.where(inner, j[..., 1], 0)).ravel(), np.zeros(n * n)]
-    F = []
-    for r in range(n - 1):
-        for i in range(n - 1):
-            a = r * n + i
-            if (r + i) % 2:
-                F += [[a, a + 1, a + n + 1], [a, a + n + 1, a + n]]
-            else:
-                F += [[a, a + 1, a + n], [a + 1, a + n + 1, a + n]]
-    return V, np.array(F), inner.ravel()
+def grid(n, jitter=0.3):
+    """conftest's flat unit square with n vertices a side, and the mask of its interior."""
+    V, F = flat_grid(n - 1, jitter=jitter)
+    x, y = V[:, 0], V[:, 1]
+    return V, F, (x > 0) & (x < 1) & (y > 0) & (y < 1)
+
+
+def face_near(V, F, x, y):
+    """The face whose centroid is nearest (x, y)."""
+    return int(np.argmin(np.linalg.norm(V[F].mean(1)[:, :2] - [x, y], axis=1)))
 
 
 def icosphere(level):
@@ -322,7 +313,7 @@ def test_point_sources_are_not_biased():
     h = 1.0 / (n - 1)
     V, F, _ = grid(n, jitter=0.0)
     solver = ifem.HeatDistanceSolver(V, F)
-    f = (n // 2) * 2 * (n - 1) + n - 1
+    f = face_near(V, F, 0.5, 0.5)
     bary = np.array([1, 1, 1]) / 3
     p = bary @ V[F[f]]
     exact = np.linalg.norm(V - p, axis=1)
@@ -351,6 +342,7 @@ def test_reoriented_faces_keep_their_corners():
     F = F.copy()
     F[10] = F[10, ::-1]
     solver = ifem.HeatDistanceSolver(V, F)
+    assert solver.info["reoriented_faces"] == 1
     b = (0.7, 0.2, 0.1)
     d = solver.compute_distance(points=[(10, *b)])
     flipped = solver.compute_distance(points=[(10, *b[::-1])])
