@@ -38,6 +38,15 @@ struct WeightedPoint {
   double weight[3] = {0, 0, 0};
   double corner_distance[3] = {0, 0, 0};  // distance in the face layout to each corner
   bool is_vertex() const { return n == 1; }
+  // What the weighted corner values of the distance are at this point: Σ wᵢ |cᵢ − p|, not 0.
+  // Near a source the distance is a cone, and the linear blend of its corner values lies above
+  // the cone's tip by this much; shifting φ so that the blend is 0 would make every distance
+  // too small by it (about 0.5·h for a face centre). 0 for a vertex source.
+  double blend_offset() const {
+    double s = 0.0;
+    for (Index i = 0; i < n; ++i) s += weight[i] * corner_distance[i];
+    return s;
+  }
 };
 
 // Runs independent jobs on up to min(#jobs, #cores) threads; rethrows the first exception.
@@ -146,6 +155,7 @@ struct HeatDistanceSolver::Impl {
     std::vector<Index> first;  // per component: its first point, or kInvalidIndex
     Index count = 0;           // constraints beyond the first point of each component
     Eigen::MatrixXd C, W;      // Lagrange: constraint columns and P C (P = the solution map)
+    Eigen::VectorXd r;         // Cᵀφ = r: blend offsets of point k minus those of its first
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> S;  // of Cᵀ P C
     std::optional<PoissonSolver> direct;  // Dirichlet: zero on every vertex source
   };
@@ -419,9 +429,11 @@ HeatDistanceSolver::Impl::SourceConstraints HeatDistanceSolver::Impl::constraint
     // Lagrange multipliers through the cached pure-Neumann factor: with P the solution map,
     // C the constraint columns, φ = P b − P C λ and Cᵀφ = 0.
     sc.C = Eigen::MatrixXd::Zero(nv, m);
+    sc.r = Eigen::VectorXd::Zero(m);
     for (Index j = 0; j < m; ++j) {
       const WeightedPoint& pk = pts[extra[j].first];
       const WeightedPoint& p0 = pts[extra[j].second];
+      sc.r[j] = pk.blend_offset() - p0.blend_offset();
       for (Index i = 0; i < pk.n; ++i) sc.C(pk.vertex[i], j) += pk.weight[i];
       for (Index i = 0; i < p0.n; ++i) sc.C(p0.vertex[i], j) -= p0.weight[i];
     }
@@ -447,7 +459,7 @@ Eigen::VectorXd HeatDistanceSolver::Impl::integrate_unit_field(
     phi = sc.direct->solve_weak(b, Eigen::VectorXd::Zero(n_dirichlet));
   } else {
     phi = poisson->solve_weak(b, Eigen::VectorXd());
-    if (sc.count > 0) phi -= sc.W * sc.S.solve(sc.C.transpose() * phi);
+    if (sc.count > 0) phi -= sc.W * sc.S.solve(sc.C.transpose() * phi - sc.r);
   }
   // shift each component so that its first source is at 0
   auto value_at = [&](const Eigen::VectorXd& f, const WeightedPoint& p) {
@@ -457,7 +469,9 @@ Eigen::VectorXd HeatDistanceSolver::Impl::integrate_unit_field(
   };
   std::vector<double> shift(comps.count, 0.0);
   for (Index c = 0; c < comps.count; ++c) {
-    if (sc.first[c] != kInvalidIndex) shift[c] = value_at(phi, pts[sc.first[c]]);
+    if (sc.first[c] == kInvalidIndex) continue;
+    const WeightedPoint& p = pts[sc.first[c]];
+    shift[c] = value_at(phi, p) - p.blend_offset();
   }
   for (Index v = 0; v < nv; ++v) {
     const Index c = comps.label[v];

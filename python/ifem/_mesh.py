@@ -48,7 +48,7 @@ def write_ply(path, V, F=None, binary=True, **vertex_properties):
     _ifem.write_ply(os.fspath(path), V, F, dict(vertex_properties), bool(binary))
 
 
-def mesh_info(V, F=None, k=30, mollify=1e-5, path="auto"):
+def mesh_info(V, F=None, knn=30, mollify=1e-5, path="auto"):
     """What a mesh (or point cloud) is made of and what ifem does with it: ``ifem info --json``.
 
     For a mesh: counts (``vertices``, ``edges``, ``faces``, ``polygons``,
@@ -64,14 +64,14 @@ def mesh_info(V, F=None, k=30, mollify=1e-5, path="auto"):
     Args:
         V: #V×3 positions.
         F: #F×3 vertex ids, or None for a point cloud.
-        k: neighbours per point on the point-cloud path.
+        knn: neighbours per point on the point-cloud path (as the solvers' knn).
         mollify: relative mollification margin.
         path: 'auto', 'manifold', 'tufted' or 'pointcloud' (a mesh's vertices as a cloud).
 
     Returns:
         dict, with the same keys and values as ``ifem info MESH --json``.
     """
-    return _ifem.mesh_info(V, F, int(k), float(mollify), str(path))
+    return _ifem.mesh_info(V, F, int(knn), float(mollify), str(path))
 
 
 __all__ = ["read_mesh", "write_ply", "mesh_info"]

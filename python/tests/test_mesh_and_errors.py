@@ -200,5 +200,5 @@ def test_mesh_info_knows_the_topology():
     assert nm["nonmanifold_edges"] == 20 and nm["genus"] is None and nm["path"] == "tufted"
     V, _ = ifem.read_mesh(test_data("spot.obj"))
     for k in (6, 12):
-        cloud = ifem.mesh_info(V, None, k=k)
+        cloud = ifem.mesh_info(V, None, knn=k)
         assert cloud["path"] == "pointcloud" and cloud["points"] == len(V) and cloud["k"] == k
