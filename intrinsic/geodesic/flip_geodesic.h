@@ -180,6 +180,13 @@ std::vector<SurfacePoint> path_surface_points(const SignpostTriangulation& st,
 /// the mollification, if any).
 std::vector<Eigen::Vector3d> path_polyline(const SignpostTriangulation& st, const EdgePath& path);
 
+/// Where a point of the input surface lies on st's intrinsic triangulation (any state: flips,
+/// insertions): traced from the nearest corner of input face f (of st.input()), at the distance
+/// and angle the point has in f's layout. Nothing is inserted.
+/// @param b barycentric coordinates in f, ≥ 0, summing to 1 (not checked here)
+/// @throws InvalidInput if that corner has no faces; TraceError when the trace fails
+SurfacePoint locate_input_point(const SignpostTriangulation& st, Index f, const Eigen::Vector3d& b);
+
 /// Inserts a point of the input surface (face of st.input(), barycentric coordinates ≥ 0
 /// summing to 1 within 1e-9) as an intrinsic vertex and returns its id: an existing vertex when
 /// the point is one (a barycentric coordinate ≥ 1 − `snap`, in the input face or in the

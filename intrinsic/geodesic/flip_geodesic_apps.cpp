@@ -82,8 +82,8 @@ Index wedge_holding(const SignpostTriangulation& st, Index v, double phi) {
   return best;
 }
 
-// Where a point of the input lies on the intrinsic triangulation: traced from input corner k
-// of input face f, at distance and angle taken in f's layout.
+}  // namespace
+
 SurfacePoint locate_input_point(const SignpostTriangulation& st, Index f,
                                 const Eigen::Vector3d& b) {
   Eigen::Vector2d p[3];
@@ -114,8 +114,6 @@ SurfacePoint locate_input_point(const SignpostTriangulation& st, Index f,
       std::cos(turn) * ed + std::sin(turn) * Eigen::Vector2d(-ed.y(), ed.x());
   return trace_straight(tri, start, dir, w.norm(), o).end;
 }
-
-}  // namespace
 
 Index insert_surface_point(SignpostTriangulation& st, const SurfacePoint& p, double snap) {
   const T& in = st.input();

@@ -29,6 +29,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/geodesic/input_surface.h"
 #include "intrinsic/refine/signpost.h"
 
@@ -159,61 +160,7 @@ void require_no_nan(const Eigen::MatrixXd& values, const char* what) {
 }
 
 // ---- locating input surface points on the intrinsic triangulation ----------------------------
-
-// The outgoing intrinsic halfedge at input vertex v whose wedge holds signpost direction phi
-// (the nearest wedge when rounding puts phi between two).
-Index wedge_holding(const SignpostTriangulation& st, Index v, double phi) {
-  const T& tri = st.intrinsic();
-  Index best = kInvalidIndex;
-  double gap = std::numeric_limits<double>::infinity();
-  const Index h0 = tri.vertex_halfedge(v);
-  Index x = h0;
-  for (Index guard = 0; x != kInvalidIndex && guard <= tri.n_halfedges(); ++guard) {
-    const double a0 = st.halfedge_direction(x), a1 = a0 + intrinsic::corner_angle(tri, x);
-    if (phi >= a0 && phi < a1) return x;
-    const double g = phi < a0 ? a0 - phi : phi - a1;
-    if (g < gap) gap = g, best = x;
-    x = tri.twin(T::prev(x));
-    if (x == h0) break;
-  }
-  return best;
-}
-
-// Point b of input face f (of st.input()) as a point of st.intrinsic(): traced from the
-// nearest corner of f, at the distance and angle it has in f's layout. (The library has the
-// same two functions privately, in intrinsic/geodesic/flip_geodesic_apps.cpp, behind
-// insert_surface_point, which inserts the point instead of returning it.)
-SurfacePoint locate_input_point(const SignpostTriangulation& st, Index f,
-                                const Eigen::Vector3d& b) {
-  Eigen::Vector2d p[3];
-  intrinsic::face_layout(st.input(), f, p);
-  const Eigen::Vector2d x = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
-  int k = 0;
-  for (int j = 1; j < 3; ++j) {
-    if ((x - p[j]).squaredNorm() < (x - p[k]).squaredNorm()) k = j;
-  }
-  const Index v = st.input().tail(3 * f + k);
-  const Eigen::Vector2d w = x - p[k], e = p[(k + 1) % 3] - p[k];
-  const double alpha = std::atan2(intrinsic::cross2(e, w), e.dot(w));
-  const double phi = st.wrap_direction(v, st.input_halfedge_direction(3 * f + k) + alpha);
-  const Index h = wedge_holding(st, v, phi);
-  if (h == kInvalidIndex) throw InvalidInput("input vertex " + std::to_string(v) + " has no faces");
-  const T& tri = st.intrinsic();
-  Eigen::Vector2d q[3];
-  intrinsic::face_layout(tri, T::face(h), q);
-  const int s = static_cast<int>(T::side(h));
-  const Eigen::Vector2d ed = (q[(s + 1) % 3] - q[s]).normalized();
-  const double turn =
-      std::clamp(phi - st.halfedge_direction(h), 0.0, intrinsic::corner_angle(tri, h));
-  SurfacePoint start;
-  start.face = T::face(h);
-  start.bary[s] = 1.0;
-  intrinsic::TraceOptions o;
-  o.start_corner = s;
-  const Eigen::Vector2d dir =
-      std::cos(turn) * ed + std::sin(turn) * Eigen::Vector2d(-ed.y(), ed.x());
-  return intrinsic::trace_straight(tri, start, dir, w.norm(), o).end;
-}
+// (intrinsic::locate_input_point, flip_geodesic.h)
 
 // points as (#P faces of F, #P×3 barycentric coordinates): faces in [0, #F), coordinates
 // finite, ≥ 0 and summing to 1 (1e-9; normalized).
@@ -278,7 +225,7 @@ class DistanceSolver {
       for (std::size_t i = 0; i < f.size(); ++i) {
         const SurfacePoint p = intrinsic::given_face_point(
             st, s_.input.triangles, face_map, f[i], b.row(i), "points[" + std::to_string(i) + "]");
-        pts[i] = locate_input_point(st, p.face, p.bary);
+        pts[i] = intrinsic::locate_input_point(st, p.face, p.bary);
       }
       d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points(pts));
       last_query_seconds_ = watch.seconds();
