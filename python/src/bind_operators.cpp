@@ -16,19 +16,6 @@ namespace ifem::python {
 
 namespace {
 
-// What preparing the surface chose and repaired, for the `info` dict of the Python functions.
-py::dict surface_info(const solvers::PreparedSurface& s) {
-  py::dict d;
-  d["path"] = intrinsic::to_string(s.path);
-  d["reason"] = s.reason_detail;
-  d["flips"] = s.flips.flips;
-  d["mollify_delta"] = s.mollify.delta;
-  d["dropped_faces"] = s.build.dropped_faces;
-  d["reoriented_faces"] = s.build.reoriented_faces;
-  d["unreferenced_vertices"] = s.build.unreferenced_vertices;
-  return d;
-}
-
 // (L parts, M diagonal, info) of an input prepared on a path. info["seconds"] is the library's
 // own time: preparing, assembling, and freeing the surface again, as a C++ caller would; the
 // rest of the Python call (checking and converting arrays, wrapping results) is the binding's

@@ -126,27 +126,6 @@ solvers::DistanceSettings distance_settings(std::optional<double> time_factor,
   return {time_factor, correction_steps};
 }
 
-// What preparing chose and did, for the `info` dicts.
-py::dict surface_info(const solvers::PreparedSurface& s) {
-  py::dict d;
-  d["path"] = intrinsic::to_string(s.path);
-  d["reason"] = s.reason_detail;
-  d["flips"] = s.flips.flips;
-  d["mollify_delta"] = s.mollify.delta;
-  d["dropped_faces"] = s.build.dropped_faces;
-  d["reoriented_faces"] = s.build.reoriented_faces;
-  d["unreferenced_vertices"] = s.build.unreferenced_vertices;
-  d["input_vertices"] = s.n_input_vertices();
-  d["vertices"] = s.tri.n_vertices();
-  d["faces"] = s.tri.n_faces();
-  d["refined"] = s.refined;
-  d["inserted_vertices"] = s.tri.n_vertices() - s.n_input_vertices();
-  d["signposts"] = s.signposts.has_value();
-  d["mean_edge_length"] = s.input_mean_edge_length;
-  d["target_edge_length"] = s.target_edge_length;
-  return d;
-}
-
 // A per-input-vertex result checked as the pipeline checks it (NaN: degenerate operators).
 void require_no_nan(const Eigen::MatrixXd& values, const char* what) {
   for (Eigen::Index j = 0; j < values.cols(); ++j) {

@@ -34,4 +34,8 @@ solvers::PrepareOptions prepare_options(double mollify, const std::string& path,
 solvers::PreparedSurface prepare(io::SurfaceInput input, const solvers::PrepareOptions& options,
                                  const std::string& path);
 
+/// What preparing chose and did (path and why, flips, mollification, repairs, vertex counts,
+/// refinement), for the `info` dicts of the Python functions.
+py::dict surface_info(const solvers::PreparedSurface& s);
+
 }  // namespace ifem::python

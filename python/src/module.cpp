@@ -71,6 +71,26 @@ solvers::PreparedSurface prepare(io::SurfaceInput input, const solvers::PrepareO
   return s;
 }
 
+py::dict surface_info(const solvers::PreparedSurface& s) {
+  py::dict d;
+  d["path"] = intrinsic::to_string(s.path);
+  d["reason"] = s.reason_detail;
+  d["flips"] = s.flips.flips;
+  d["mollify_delta"] = s.mollify.delta;
+  d["dropped_faces"] = s.build.dropped_faces;
+  d["reoriented_faces"] = s.build.reoriented_faces;
+  d["unreferenced_vertices"] = s.build.unreferenced_vertices;
+  d["input_vertices"] = s.n_input_vertices();
+  d["vertices"] = s.tri.n_vertices();
+  d["faces"] = s.tri.n_faces();
+  d["refined"] = s.refined;
+  d["inserted_vertices"] = s.tri.n_vertices() - s.n_input_vertices();
+  d["signposts"] = s.signposts.has_value();
+  d["mean_edge_length"] = s.input_mean_edge_length;
+  d["target_edge_length"] = s.target_edge_length;
+  return d;
+}
+
 }  // namespace ifem::python
 
 PYBIND11_MODULE(_ifem, m) {
