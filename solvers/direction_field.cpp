@@ -1,0 +1,236 @@
+// Smoothest and aligned n-direction fields and their singularities (direction_field.h).
+#include "solvers/direction_field.h"
+
+#include <cmath>
+#include <complex>
+#include <random>
+#include <string>
+
+#include "fem/operators.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
+#include "solvers/cholesky.h"
+#include "solvers/components.h"
+
+namespace ifem::solvers {
+
+namespace {
+
+using Complex = std::complex<double>;
+using T = intrinsic::IntrinsicTriangulation;
+constexpr double kTwoPi = 2.0 * intrinsic::kPi;
+
+// u / |u| where |u| > 0, else 0.
+Eigen::VectorXcd normalized_per_vertex(const Eigen::VectorXcd& u) {
+  Eigen::VectorXcd out = Eigen::VectorXcd::Zero(u.size());
+  const double scale = u.cwiseAbs().maxCoeff();
+  for (Eigen::Index v = 0; v < u.size(); ++v) {
+    const double a = std::abs(u[v]);
+    if (a > 1e-14 * scale && a > 0.0) out[v] = u[v] / a;
+  }
+  return out;
+}
+
+// Per component c: Σ m_v |u_v|² over its vertices.
+std::vector<double> component_norms(const Components& comps, const Eigen::VectorXd& mass,
+                                    const Eigen::VectorXcd& u) {
+  std::vector<double> norm(comps.count, 0.0);
+  for (Eigen::Index v = 0; v < u.size(); ++v) {
+    if (comps.label[v] != kInvalidIndex) norm[comps.label[v]] += mass[v] * std::norm(u[v]);
+  }
+  return norm;
+}
+
+// Inverse iteration on L u = λ M u with every component normalized on its own (the matrices
+// are block diagonal over components, so each converges to its own smallest eigenvector).
+DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L, const Eigen::VectorXd& mass,
+                                 const Components& comps, const DirectionFieldOptions& o) {
+  const Eigen::Index n = L.rows();
+  // a shift small against the spectrum keeps L + εM positive definite where λ = 0 (a torus)
+  const double eps = 1e-8 * L.diagonal().real().maxCoeff() / std::max(mass.maxCoeff(), 1e-300);
+  fem::ComplexSparseMatrix A = L;
+  for (Eigen::Index v = 0; v < n; ++v) A.coeffRef(v, v) += eps * mass[v] + (mass[v] > 0 ? 0 : 1);
+  const ComplexCholeskySolver solver(A);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> gauss;
+  Eigen::VectorXcd u(n);
+  for (Eigen::Index v = 0; v < n; ++v) u[v] = Complex(gauss(rng), gauss(rng));
+  DirectionField f;
+  double previous = -1.0;
+  for (f.iterations = 1; f.iterations <= o.max_iterations; ++f.iterations) {
+    u = solver.solve((mass.array() * u.array()).matrix());
+    const std::vector<double> norm = component_norms(comps, mass, u);
+    for (Eigen::Index v = 0; v < n; ++v) {
+      const Index c = comps.label[v];
+      u[v] = c == kInvalidIndex || norm[c] <= 0.0 ? Complex(0.0) : u[v] / std::sqrt(norm[c]);
+    }
+    const double mu = (u.adjoint() * (mass.array() * u.array()).matrix())(0).real();
+    f.energy = (u.adjoint() * (L * u))(0).real() / std::max(mu, 1e-300);
+    if (std::abs(f.energy - previous) <= o.tolerance * std::max(std::abs(f.energy), 1e-300)) break;
+    previous = f.energy;
+  }
+  f.iterations = std::min(f.iterations, o.max_iterations);
+  f.u = normalized_per_vertex(u);
+  return f;
+}
+
+}  // namespace
+
+void DirectionFieldOptions::validate() const {
+  if (symmetry < 1) {
+    throw InvalidInput("direction field: symmetry must be ≥ 1, got " + std::to_string(symmetry));
+  }
+  if (max_iterations < 1) {
+    throw InvalidInput("direction field: max_iterations must be ≥ 1, got " +
+                       std::to_string(max_iterations));
+  }
+  if (!(tolerance > 0.0)) {
+    throw InvalidInput("direction field: tolerance must be > 0, got " + std::to_string(tolerance));
+  }
+}
+
+DirectionField smoothest_field(const intrinsic::IntrinsicTriangulation& tri,
+                               const fem::TangentFrames& frames,
+                               const DirectionFieldOptions& options) {
+  options.validate();
+  const fem::ComplexSparseMatrix L = fem::connection_laplacian(tri, frames, options.symmetry);
+  const Components comps = connected_components(tri);
+  DirectionField f = inverse_iteration(L, fem::lumped_mass(tri), comps, options);
+  f.free_components = comps.count;
+  return f;
+}
+
+namespace {
+
+// The held powers: per constrained vertex the mean of e^{i n angle} over its constraints.
+std::vector<Complex> held_powers(const std::vector<DirectionConstraint>& constraints, Index nv,
+                                 int n, Index* held) {
+  std::vector<Complex> sum(nv, Complex(0.0));
+  std::vector<int> count(nv, 0);
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const DirectionConstraint& c = constraints[k];
+    if (c.vertex < 0 || c.vertex >= nv) {
+      throw InvalidInput("direction constraint " + std::to_string(k) + ": vertex " +
+                         std::to_string(c.vertex) + " out of range [0, " + std::to_string(nv) +
+                         ")");
+    }
+    if (!std::isfinite(c.angle)) {
+      throw InvalidInput("direction constraint " + std::to_string(k) + " (vertex " +
+                         std::to_string(c.vertex) + "): the angle is not finite");
+    }
+    sum[c.vertex] += std::polar(1.0, n * c.angle);
+    ++count[c.vertex];
+  }
+  *held = 0;
+  for (Index v = 0; v < nv; ++v) {
+    if (count[v] == 0) continue;
+    ++*held;
+    sum[v] /= double(count[v]);
+    if (std::abs(sum[v]) < 1e-12) sum[v] = Complex(1e-12);  // opposite directions cancelled
+  }
+  return sum;
+}
+
+// L u = 0 on the free vertices of constrained components, u fixed on constrained vertices.
+void solve_dirichlet(const fem::ComplexSparseMatrix& L, const std::vector<char>& is_held,
+                     const std::vector<char>& solve_here, Eigen::VectorXcd& u) {
+  const Eigen::Index n = L.rows();
+  std::vector<Index> row(n, kInvalidIndex);
+  Index m = 0;
+  for (Eigen::Index v = 0; v < n; ++v) {
+    if (solve_here[v] && !is_held[v]) row[v] = m++;
+  }
+  if (m == 0) return;
+  std::vector<Eigen::Triplet<Complex>> entries;
+  Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(m);
+  for (int col = 0; col < L.outerSize(); ++col) {
+    for (fem::ComplexSparseMatrix::InnerIterator it(L, col); it; ++it) {
+      const Index r = row[it.row()];
+      if (r == kInvalidIndex) continue;
+      if (row[col] != kInvalidIndex) {
+        entries.emplace_back(r, row[col], it.value());
+      } else if (is_held[col]) {
+        rhs[r] -= it.value() * u[col];
+      }
+    }
+  }
+  fem::ComplexSparseMatrix A(m, m);
+  A.setFromTriplets(entries.begin(), entries.end());
+  const Eigen::VectorXcd x = ComplexCholeskySolver(A).solve(rhs);
+  for (Eigen::Index v = 0; v < n; ++v) {
+    if (row[v] != kInvalidIndex) u[v] = x[row[v]];
+  }
+}
+
+}  // namespace
+
+DirectionField aligned_field(const intrinsic::IntrinsicTriangulation& tri,
+                             const fem::TangentFrames& frames,
+                             const std::vector<DirectionConstraint>& constraints,
+                             const DirectionFieldOptions& options) {
+  options.validate();
+  const Index nv = tri.n_vertices();
+  DirectionField f;
+  const std::vector<Complex> held = held_powers(constraints, nv, options.symmetry, &f.constrained);
+  const Components comps = connected_components(tri);
+  std::vector<char> component_held(comps.count, 0), is_held(nv, 0), solve_here(nv, 0);
+  for (Index v = 0; v < nv; ++v) {
+    is_held[v] = held[v] != Complex(0.0);
+    if (is_held[v] && comps.label[v] != kInvalidIndex) component_held[comps.label[v]] = 1;
+  }
+  for (Index v = 0; v < nv; ++v) {
+    solve_here[v] = comps.label[v] != kInvalidIndex && component_held[comps.label[v]];
+  }
+  const fem::ComplexSparseMatrix L = fem::connection_laplacian(tri, frames, options.symmetry);
+  Eigen::VectorXcd u = Eigen::VectorXcd::Zero(nv);
+  for (Index v = 0; v < nv; ++v) u[v] = held[v];
+  solve_dirichlet(L, is_held, solve_here, u);
+  for (Index c = 0; c < comps.count; ++c) f.free_components += !component_held[c];
+  if (f.free_components > 0) {  // their own smoothest field
+    const DirectionField s = inverse_iteration(L, fem::lumped_mass(tri), comps, options);
+    for (Index v = 0; v < nv; ++v) {
+      if (!solve_here[v]) u[v] = s.u[v];
+    }
+    f.iterations = s.iterations;
+  }
+  const Eigen::VectorXd mass = fem::lumped_mass(tri);
+  const double mu = (u.adjoint() * (mass.array() * u.array()).matrix())(0).real();
+  f.energy = (u.adjoint() * (L * u))(0).real() / std::max(mu, 1e-300);
+  f.u = normalized_per_vertex(u);
+  return f;
+}
+
+std::vector<DirectionConstraint> boundary_constraints(const intrinsic::IntrinsicTriangulation& tri,
+                                                      const fem::TangentFrames& frames) {
+  std::vector<DirectionConstraint> out;
+  for (Index v = 0; v < tri.n_vertices(); ++v) {
+    const Index h = tri.vertex_halfedge(v);
+    if (h == kInvalidIndex || tri.twin(h) != kInvalidIndex) continue;
+    out.push_back({v, frames.halfedge_angle[h]});
+  }
+  return out;
+}
+
+Eigen::VectorXi face_indices(const intrinsic::IntrinsicTriangulation& tri,
+                             const fem::TangentFrames& frames, const Eigen::VectorXcd& u,
+                             int symmetry) {
+  Eigen::VectorXi index = Eigen::VectorXi::Zero(tri.n_faces());
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    double turn = 0.0;
+    bool defined = true;
+    for (int s = 0; s < 3; ++s) {
+      const Index h = T::halfedge(f, s);
+      const Complex ui = u[tri.tail(h)], uj = u[tri.head(h)];
+      if (ui == Complex(0.0) || uj == Complex(0.0)) defined = false;
+      if (!defined) break;
+      // the field's turning along h relative to transport, and the face's share of the
+      // curvature that rescaling the corner angles put on it
+      turn += std::arg(uj / (std::pow(frames.transport[h], symmetry) * ui));
+      turn += symmetry * (frames.angle_scale[tri.tail(h)] - 1.0) * intrinsic::corner_angle(tri, h);
+    }
+    if (defined) index[f] = static_cast<int>(std::lround(turn / kTwoPi));
+  }
+  return index;
+}
+
+}  // namespace ifem::solvers
