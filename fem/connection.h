@@ -6,14 +6,30 @@
 // halfedges around v are laid out counter-clockwise (with the faces' orientation) from a
 // reference halfedge, tri.vertex_halfedge(v), at angle 0, with their corner angles rescaled so
 // that they fill 2π at an interior vertex (π at a boundary vertex, whose fan is a half-plane):
-// angle_scale(v) = 2π / Θ_v, resp. π / Θ_v, Θ_v the vertex angle sum. Parallel transport along
-// the edge of halfedge h (tail i → head j) is the unit complex number r_h that takes i's
-// coordinate to j's: a vector at angle α at i, read at j, is at α + arg r_h.
+// angle_scale(v) = 2π / Θ_v, resp. π / Θ_v, Θ_v the vertex angle sum. On a boundary vertex the
+// reference is the fan's outgoing boundary halfedge (what vertex_halfedge() holds; were it not,
+// the first halfedge of its fan is used), so the fan spans [0, π] and the incoming boundary edge
+// points at π. Parallel transport along the edge of halfedge h (tail i → head j) is the unit
+// complex number r_h that takes i's coordinate to j's: a vector at angle α at i, read at j, is
+// at α + arg r_h. It keeps the (rescaled) angle to the edge: the direction of h at i, θ_h, goes
+// to the direction pointing away from i at j, θ_twin(h) + π, so r_h = exp(i(θ_twin(h) − θ_h + π))
+// and r_twin(h) = conj(r_h). A boundary edge has no twin: its direction at j is read in face(h)
+// (θ_next(h) + scale_j × the corner angle of next(h)).
+//
+// With rescaled angles each face carries holonomy (the rotation of a vector carried around its
+// three sides) Σ_c (scale_c − 1) α_c over its corners c; the terms at v's corners sum to the
+// angle defect 2π − Θ_v (π − Θ_v on the boundary). So the connection of a flat domain is
+// trivial only if every boundary vertex has Θ = π: a flat cylinder or torus, not a square, whose
+// corners (Θ = π/2, scaled by 2) carry holonomy π/2 each.
 //
 // Vertices with several fans (a pinched, nonmanifold vertex) have their fans laid out one after
-// the other in a fixed order, each starting where the previous one ended: a consistent
+// the other (the fan of vertex_halfedge(v) first, then in the order of their smallest halfedge
+// id), each starting where the previous one ended, all with the one scale of v: a consistent
 // coordinate for each fan, not a meaningful one across fans (nothing is). The tufted cover and
-// point-cloud triangulations are handled the same way.
+// point-cloud triangulations are handled the same way. Their vertices have two or more fans
+// (a manifold vertex's cover has a front and a back fan, each spanning only π), so there L is a
+// well-defined Hermitian operator, PSD once intrinsic Delaunay, but not the surface's
+// connection: vector fields on point clouds need frames from the points' normals.
 #pragma once
 
 #include <Eigen/Core>
@@ -32,14 +48,19 @@ struct TangentFrames {
   Eigen::VectorXd angle_scale;     ///< #V: 2π/Θ_v inside, π/Θ_v on the boundary, 0 unreferenced
   Eigen::VectorXd halfedge_angle;  ///< #H: direction of h at tail(h), radians, in [0, 2π)
   Eigen::VectorXcd transport;      ///< #H: r_h, |r_h| = 1, tail(h)'s coordinate → head(h)'s
-  /// The holonomy of the discrete connection around interior vertex v, in (−π, π]: the angle a
-  /// vector turns when transported once around v's fan; equals the angle defect 2π − Θ_v modulo
-  /// 2π (a test and a check, not used by the solvers).
+  /// The holonomy of the discrete connection at vertex v, in (−π, π]: over the faces of v's fan
+  /// (that of vertex_halfedge(v)), the angle a vector turns when transported around the face's
+  /// three sides, arg(r_h r_next(h) r_prev(h)), less the share of the face's two other corners,
+  /// (angle_scale − 1) × corner angle each. Equals the angle defect 2π − Θ_v modulo 2π at an
+  /// interior vertex, π − Θ_v at a boundary vertex (a test and a check, not used by the
+  /// solvers; meaningless at a pinched vertex). 0 for an unreferenced vertex.
+  /// @throws InvalidInput if v is out of range or the frames are not tri's
   double holonomy_around(const intrinsic::IntrinsicTriangulation& tri, Index v) const;
 };
 
 /// The tangent frames of tri (any intrinsic triangulation: manifold, refined, tufted cover,
-/// point cloud). O(#H).
+/// point cloud). O(#H). A referenced vertex whose angle sum is 0 (only degenerate faces) gets
+/// scale 0: all its directions at angle 0.
 TangentFrames tangent_frames(const intrinsic::IntrinsicTriangulation& tri);
 
 /// Connection Laplacian for n-direction fields (n = 1 vectors, 2 lines, 4 crosses), #V×#V complex
@@ -47,9 +68,13 @@ TangentFrames tangent_frames(const intrinsic::IntrinsicTriangulation& tri);
 /// edges joining i ≠ j (r_{j→i} the transport along the halfedge j → i), with the cotan weights
 /// w_ij of cotan_laplacian() (same division by the multiplicity). With the lumped mass of
 /// lumped_mass() it discretizes the Bochner Laplacian ∇*∇ of n-symmetric fields. A self-edge
-/// (both ends at v) contributes only to v's diagonal, through its own holonomy, so that L stays
-/// Hermitian PSD. On an intrinsic Delaunay triangulation every weight w_ij is ≥ 0.
-/// @throws InvalidInput if symmetry < 1
+/// (both ends at v) contributes only to v's diagonal, w·|1 − r_h^n|² (its own holonomy), so that
+/// x*Lx = Σ_edges w_ij |x_i − r_{j→i}^n x_j|² stays a sum of squares. Unreferenced vertices have
+/// zero rows. PSD is guaranteed when every w_ij ≥ 0, as on an intrinsic Delaunay triangulation
+/// (flip_to_delaunay() first): unlike the scalar cotan Laplacian, a negative weight on an edge
+/// of a face with non-zero holonomy can make an eigenvalue negative.
+/// @throws InvalidInput if symmetry < 1 or the frames are not tri's
+/// @throws Error on a non-finite cotan weight (a zero-area face), as cotan_laplacian()
 ComplexSparseMatrix connection_laplacian(const intrinsic::IntrinsicTriangulation& tri,
                                          const TangentFrames& frames, int symmetry = 1);
 
