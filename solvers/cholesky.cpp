@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <cstring>
 #include <mutex>
 
@@ -123,8 +124,12 @@ struct CholeskySolver::Impl {
     cholmod_finish(&common);
   }
 
-  // A view of A's lower triangle as a cholmod_sparse (no copy).
-  static cholmod_sparse view(const fem::SparseMatrix& A) {
+  int xtype = CHOLMOD_REAL;  // CHOLMOD_COMPLEX for ComplexCholeskySolver
+
+  // A view of A's lower triangle as a cholmod_sparse (no copy): real, or complex with Eigen's
+  // interleaved (re, im) storage, which is CHOLMOD_COMPLEX's.
+  template <class Matrix>
+  static cholmod_sparse view(const Matrix& A, int xtype) {
     cholmod_sparse s;
     std::memset(&s, 0, sizeof(s));
     s.nrow = static_cast<size_t>(A.rows());
@@ -133,10 +138,10 @@ struct CholeskySolver::Impl {
     s.p = const_cast<int*>(A.outerIndexPtr());
     s.i = const_cast<int*>(A.innerIndexPtr());
     s.nz = const_cast<int*>(A.innerNonZeroPtr());
-    s.x = const_cast<double*>(A.valuePtr());
-    s.stype = -1;  // symmetric, lower triangle used
+    s.x = const_cast<void*>(static_cast<const void*>(A.valuePtr()));
+    s.stype = -1;  // symmetric (Hermitian), lower triangle used
     s.itype = CHOLMOD_INT;
-    s.xtype = CHOLMOD_REAL;
+    s.xtype = xtype;
     s.dtype = CHOLMOD_DOUBLE;
     s.sorted = 1;
     s.packed = A.isCompressed() ? 1 : 0;
@@ -165,8 +170,7 @@ struct CholeskySolver::Impl {
   double min_rcond = 0.0;
 
   // Numeric factorization into `f`; throws SolverError with the reason.
-  void factorize(const fem::SparseMatrix& A, cholmod_factor* f, const char* who) {
-    cholmod_sparse s = view(A);
+  void factorize(cholmod_sparse s, cholmod_factor* f, const char* who) {
     const BlasThreadScope threads(factor_blas_threads);
     const FlushDenormalsScope no_subnormals;
     const int ok = cholmod_factorize(&s, f, &common);
@@ -194,15 +198,21 @@ struct CholeskySolver::Impl {
 
 namespace {
 
-void check_matrix(const fem::SparseMatrix& A, const char* who) {
+bool finite_value(double x) { return std::isfinite(x); }
+bool finite_value(const std::complex<double>& z) {
+  return std::isfinite(z.real()) && std::isfinite(z.imag());
+}
+
+template <class Matrix>
+void check_matrix(const Matrix& A, const char* who) {
   if (A.rows() != A.cols()) {
     throw InvalidInput(std::string(who) + ": matrix is " + std::to_string(A.rows()) + "×" +
                        std::to_string(A.cols()) + ", expected square");
   }
   if (A.rows() == 0) throw InvalidInput(std::string(who) + ": empty matrix");
-  const double* v = A.valuePtr();
+  const auto* v = A.valuePtr();
   for (Eigen::Index k = 0; k < A.nonZeros(); ++k) {
-    if (!std::isfinite(v[k])) {
+    if (!finite_value(v[k])) {
       throw InvalidInput(std::string(who) + ": matrix has a non-finite entry");
     }
   }
@@ -210,11 +220,46 @@ void check_matrix(const fem::SparseMatrix& A, const char* who) {
 
 // A itself when compressed (CHOLMOD reads the CSC arrays directly), else a compressed copy
 // kept in `storage`.
-const fem::SparseMatrix* compressed(const fem::SparseMatrix& A, fem::SparseMatrix& storage) {
+template <class Matrix>
+const Matrix* compressed(const Matrix& A, Matrix& storage) {
   if (A.isCompressed()) return &A;
   storage = A;
   storage.makeCompressed();
   return &storage;
+}
+
+}  // namespace
+
+namespace {
+
+// Analysis, numeric factorization and (optionally) the conversion to a simplicial factor, for
+// either solver; `s` views the matrix, im.xtype says real or complex.
+void analyze_and_factor(CholeskySolver::Impl& im, cholmod_sparse s, const CholeskyOptions& options,
+                        const char* who) {
+  im.n = static_cast<Eigen::Index>(s.nrow);
+  im.min_rcond = options.min_rcond;
+  im.factor_blas_threads = options.factor_blas_threads;
+  im.solve_blas_threads = options.solve_blas_threads;
+  cholmod_common& c = im.common;
+  c.supernodal = options.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+  c.final_ll = 1;
+  if (options.force_metis || options.force_amd) {
+    c.nmethods = 1;
+    c.method[0].ordering = options.force_metis ? CHOLMOD_METIS : CHOLMOD_AMD;
+    c.postorder = 1;
+  }
+  im.factor = cholmod_analyze(&s, &c);
+  if (!im.factor || c.status < CHOLMOD_OK) {
+    throw SolverError(std::string(who) + ": CHOLMOD analysis failed: " + im.status_text());
+  }
+  im.factorize(s, im.factor, who);
+  im.factored_supernodal = im.factor->is_super;
+  if (im.factor->is_super && options.simplicial_solves) {
+    // to_ll = 1, to_super = 0, to_packed = 1, to_monotonic = 1
+    if (!cholmod_change_factor(im.xtype, 1, 0, 1, 1, im.factor, &c) || c.status < CHOLMOD_OK) {
+      throw SolverError(std::string(who) + ": converting the factor failed: " + im.status_text());
+    }
+  }
 }
 
 }  // namespace
@@ -226,31 +271,7 @@ CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyOpti
   fem::SparseMatrix storage;
   const fem::SparseMatrix* A = compressed(A_in, storage);
   Impl& im = *impl_;
-  im.n = A->rows();
-  im.min_rcond = options.min_rcond;
-  im.factor_blas_threads = options.factor_blas_threads;
-  im.solve_blas_threads = options.solve_blas_threads;
-  cholmod_common& c = im.common;
-  c.supernodal = options.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
-  c.final_ll = 1;
-  if (options.force_amd) {
-    c.nmethods = 1;
-    c.method[0].ordering = CHOLMOD_AMD;
-    c.postorder = 1;
-  }
-  cholmod_sparse s = Impl::view(*A);
-  im.factor = cholmod_analyze(&s, &c);
-  if (!im.factor || c.status < CHOLMOD_OK) {
-    throw SolverError("CholeskySolver: CHOLMOD analysis failed: " + im.status_text());
-  }
-  im.factorize(*A, im.factor, "CholeskySolver");
-  im.factored_supernodal = im.factor->is_super;
-  if (im.factor->is_super && options.simplicial_solves) {
-    // to_ll = 1, to_super = 0, to_packed = 1, to_monotonic = 1
-    if (!cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, im.factor, &c) || c.status < CHOLMOD_OK) {
-      throw SolverError("CholeskySolver: converting the factor failed: " + im.status_text());
-    }
-  }
+  analyze_and_factor(im, Impl::view(*A, CHOLMOD_REAL), options, "CholeskySolver");
   im.outer.assign(A->outerIndexPtr(), A->outerIndexPtr() + A->cols() + 1);
   im.inner.assign(A->innerIndexPtr(), A->innerIndexPtr() + A->nonZeros());
 }
@@ -278,7 +299,7 @@ void CholeskySolver::refactor(const fem::SparseMatrix& A_in) {
   cholmod_factor* f = cholmod_copy_factor(im.factor, &im.common);
   if (!f) throw SolverError("CholeskySolver::refactor: out of memory");
   try {
-    im.factorize(*A, f, "CholeskySolver::refactor");
+    im.factorize(Impl::view(*A, CHOLMOD_REAL), f, "CholeskySolver::refactor");
   } catch (...) {
     cholmod_free_factor(&f, &im.common);
     throw;
@@ -289,7 +310,8 @@ void CholeskySolver::refactor(const fem::SparseMatrix& A_in) {
 
 namespace {
 
-// Solves A X = B for B given as raw column-major data (rows = n, cols columns); X may alias B.
+// Solves A X = B for B given as raw column-major data (rows = n, cols columns; complex entries
+// as interleaved (re, im) pairs when im.xtype is CHOLMOD_COMPLEX); X may alias B.
 void solve_raw(const CholeskySolver::Impl& im, const double* B, Eigen::Index cols, double* X) {
   if (cols == 0) return;
   cholmod_dense b;
@@ -299,7 +321,7 @@ void solve_raw(const CholeskySolver::Impl& im, const double* B, Eigen::Index col
   b.nzmax = b.nrow * b.ncol;
   b.d = b.nrow;
   b.x = const_cast<double*>(B);
-  b.xtype = CHOLMOD_REAL;
+  b.xtype = im.xtype;
   b.dtype = CHOLMOD_DOUBLE;
   std::lock_guard<std::mutex> lock(im.mutex);
   const BlasThreadScope threads(im.solve_blas_threads);
@@ -311,7 +333,8 @@ void solve_raw(const CholeskySolver::Impl& im, const double* B, Eigen::Index col
   if (!ok || !im.X || c.status < CHOLMOD_OK) {
     throw SolverError("CholeskySolver::solve: CHOLMOD solve failed: " + im.status_text());
   }
-  std::memcpy(X, im.X->x, sizeof(double) * b.nzmax);
+  const size_t doubles_per_entry = im.xtype == CHOLMOD_COMPLEX ? 2 : 1;
+  std::memcpy(X, im.X->x, sizeof(double) * doubles_per_entry * b.nzmax);
 }
 
 void check_rhs(Eigen::Index rows, Eigen::Index n) {
@@ -346,8 +369,9 @@ Eigen::Index CholeskySolver::size() const { return impl_->n; }
 
 double CholeskySolver::factor_flops() const { return impl_->common.fl; }
 
-const char* CholeskySolver::ordering() const {
-  const cholmod_common& c = impl_->common;
+namespace {
+
+const char* ordering_name(const cholmod_common& c) {
   if (c.selected < 0 || c.selected >= CHOLMOD_MAXMETHODS) return "unknown";
   switch (c.method[c.selected].ordering) {
     case CHOLMOD_NATURAL:
@@ -367,8 +391,50 @@ const char* CholeskySolver::ordering() const {
   }
 }
 
+}  // namespace
+
+const char* CholeskySolver::ordering() const { return ordering_name(impl_->common); }
+
 bool CholeskySolver::supernodal() const { return impl_->factor && impl_->factored_supernodal; }
 
 double CholeskySolver::factor_nonzeros() const { return impl_->common.lnz; }
+
+// --- ComplexCholeskySolver -------------------------------------------------------------------
+
+ComplexCholeskySolver::ComplexCholeskySolver(const ComplexSparseMatrix& A_in,
+                                             const CholeskyOptions& options)
+    : impl_(std::make_unique<CholeskySolver::Impl>()) {
+  options.validate();
+  check_matrix(A_in, "ComplexCholeskySolver");
+  ComplexSparseMatrix storage;
+  const ComplexSparseMatrix* A = compressed(A_in, storage);
+  impl_->xtype = CHOLMOD_COMPLEX;
+  analyze_and_factor(*impl_, CholeskySolver::Impl::view(*A, CHOLMOD_COMPLEX), options,
+                     "ComplexCholeskySolver");
+}
+
+ComplexCholeskySolver::~ComplexCholeskySolver() = default;
+ComplexCholeskySolver::ComplexCholeskySolver(ComplexCholeskySolver&&) noexcept = default;
+ComplexCholeskySolver& ComplexCholeskySolver::operator=(ComplexCholeskySolver&&) noexcept = default;
+
+Eigen::VectorXcd ComplexCholeskySolver::solve(const Eigen::VectorXcd& b) const {
+  check_rhs(b.rows(), impl_->n);
+  Eigen::VectorXcd x(b.rows());
+  solve_raw(*impl_, reinterpret_cast<const double*>(b.data()), 1,
+            reinterpret_cast<double*>(x.data()));
+  return x;
+}
+
+Eigen::MatrixXcd ComplexCholeskySolver::solve(const Eigen::MatrixXcd& B) const {
+  check_rhs(B.rows(), impl_->n);
+  Eigen::MatrixXcd X(B.rows(), B.cols());
+  solve_raw(*impl_, reinterpret_cast<const double*>(B.data()), B.cols(),
+            reinterpret_cast<double*>(X.data()));
+  return X;
+}
+
+Eigen::Index ComplexCholeskySolver::size() const { return impl_->n; }
+double ComplexCholeskySolver::factor_nonzeros() const { return impl_->common.lnz; }
+const char* ComplexCholeskySolver::ordering() const { return ordering_name(impl_->common); }
 
 }  // namespace ifem::solvers

@@ -2,15 +2,12 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <functional>
 #include <limits>
 #include <numeric>
 #include <optional>
 #include <string>
-#include <thread>
 #include <utility>
 
 #include "fem/gradient.h"
@@ -20,6 +17,7 @@
 #include "intrinsic/core/union_find.h"
 #include "solvers/cholesky.h"
 #include "solvers/components.h"
+#include "solvers/parallel.h"
 #include "solvers/poisson.h"
 
 namespace ifem::solvers {
@@ -48,39 +46,6 @@ struct WeightedPoint {
     return s;
   }
 };
-
-// Runs independent jobs on up to min(#jobs, #cores) threads; rethrows the first exception.
-// Used for the factorizations: CHOLMOD's supernodal factorization of a surface Laplacian is
-// mostly small dense blocks where BLAS threads gain little, so two factorizations side by side
-// (BLAS at 1 thread each) finish well before two in a row (docs/DEPENDENCIES.md: ~1.9 s vs
-// 2.6–3.0 s at 1M faces).
-void run_parallel(const std::vector<std::function<void()>>& jobs) {
-  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  const std::size_t workers = std::min<std::size_t>(jobs.size(), cores);
-  if (workers <= 1) {
-    for (const auto& j : jobs) j();
-    return;
-  }
-  const BlasThreadScope one_blas_thread(1);
-  std::atomic<std::size_t> next{0};
-  std::vector<std::exception_ptr> errors(jobs.size());
-  auto work = [&]() {
-    for (std::size_t i = next++; i < jobs.size(); i = next++) {
-      try {
-        jobs[i]();
-      } catch (...) {
-        errors[i] = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> threads;
-  for (std::size_t w = 1; w < workers; ++w) threads.emplace_back(work);
-  work();
-  for (auto& t : threads) t.join();
-  for (const auto& e : errors) {
-    if (e) std::rethrow_exception(e);
-  }
-}
 
 }  // namespace
 

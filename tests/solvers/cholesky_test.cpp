@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <complex>
+#include <vector>
 
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
@@ -100,6 +102,65 @@ TEST(SolversCholesky, RawSolveInPlaceMatchesVectorSolveAndReportsChoice) {
   B << b, 2 * b, -b;
   const Eigen::MatrixXd X = chol.solve(B);  // column count changes: workspace reallocated
   EXPECT_LT((X.col(1) - 2 * x).norm(), 1e-12 * x.norm());
+}
+
+// A Hermitian positive definite matrix with genuinely complex off-diagonal entries: the SPD
+// matrix above with its off-diagonal entries turned by phases e^{i(θ_i − θ_j)} (a gauge
+// transform, so it stays positive definite), plus a small non-gauge part that keeps it
+// Hermitian: i·c on (i, j) and −i·c on (j, i).
+ComplexSparseMatrix hermitian_matrix() {
+  const fem::SparseMatrix A = spd_matrix();
+  std::vector<Eigen::Triplet<std::complex<double>>> trip;
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    for (fem::SparseMatrix::InnerIterator it(A, j); it; ++it) {
+      const Eigen::Index i = it.row();
+      std::complex<double> z = it.value();
+      if (i != j) {
+        z *= std::polar(1.0, 0.3 * double(i) - 0.3 * double(j));
+        z += std::complex<double>(0.0, i > j ? 1e-3 : -1e-3) * std::abs(it.value());
+      }
+      trip.emplace_back(i, j, z);
+    }
+  }
+  ComplexSparseMatrix H(A.rows(), A.cols());
+  H.setFromTriplets(trip.begin(), trip.end());
+  return H;
+}
+
+TEST(SolversCholesky, ComplexHermitianSolvesAndOrderings) {
+  const ComplexSparseMatrix H = hermitian_matrix();
+  ASSERT_LT((Eigen::MatrixXcd(H) - Eigen::MatrixXcd(H).adjoint()).norm(), 1e-14);
+  const Eigen::VectorXcd x0 = Eigen::VectorXcd::Random(H.rows());
+  for (const bool metis : {false, true}) {
+    CholeskyOptions o;
+    o.force_metis = metis;
+    // only the lower triangle is read
+    const ComplexSparseMatrix lower = H.triangularView<Eigen::Lower>();
+    const ComplexCholeskySolver chol(lower, o);
+    EXPECT_STREQ(chol.ordering(), metis ? "METIS" : "AMD");
+    EXPECT_EQ(chol.size(), H.rows());
+    EXPECT_GT(chol.factor_nonzeros(), 0.0);
+    const Eigen::VectorXcd x = chol.solve(Eigen::VectorXcd(H * x0));
+    EXPECT_LT((x - x0).norm() / x0.norm(), 1e-10);
+    Eigen::MatrixXcd X0 = Eigen::MatrixXcd::Random(H.rows(), 3);
+    const Eigen::MatrixXcd X = chol.solve(Eigen::MatrixXcd(H * X0));
+    EXPECT_LT((X - X0).norm() / X0.norm(), 1e-10);
+  }
+}
+
+TEST(SolversCholesky, ComplexBadInputAndIndefinite) {
+  ComplexSparseMatrix R(3, 4);
+  EXPECT_THROW(ComplexCholeskySolver{R}, InvalidInput);
+  ComplexSparseMatrix H = hermitian_matrix();
+  H.coeffRef(1, 0) = std::complex<double>(0.0, std::nan(""));
+  EXPECT_THROW(ComplexCholeskySolver{H}, InvalidInput);
+  ComplexSparseMatrix neg = hermitian_matrix();
+  neg *= -1.0;
+  EXPECT_THROW(ComplexCholeskySolver{neg}, SolverError);
+  ComplexCholeskySolver chol(hermitian_matrix());
+  EXPECT_THROW(chol.solve(Eigen::VectorXcd(Eigen::VectorXcd::Ones(3))), InvalidInput);
+  const ComplexCholeskySolver moved(std::move(chol));
+  EXPECT_EQ(moved.size(), hermitian_matrix().rows());
 }
 
 TEST(SolversCholesky, BlasThreadScopeRestoresTheSetting) {
