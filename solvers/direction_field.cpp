@@ -58,7 +58,7 @@ DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L, const Eigen:
   DirectionField f;
   double previous = -1.0;
   for (f.iterations = 1; f.iterations <= o.max_iterations; ++f.iterations) {
-    u = solver.solve((mass.array() * u.array()).matrix());
+    u = solver.solve(Eigen::VectorXcd((mass.array() * u.array()).matrix()));
     const std::vector<double> norm = component_norms(comps, mass, u);
     for (Eigen::Index v = 0; v < n; ++v) {
       const Index c = comps.label[v];
