@@ -284,6 +284,24 @@ TEST(SolversVectorHeat, TransportIsLinearInTheSourceVectors) {
   EXPECT_GE(x.cwiseAbs().minCoeff(), std::abs(two[1].vector) - 1e-9);
 }
 
+// Lengths scaled by 2^10: transport and extension unchanged (the solver works in units of a
+// power of two near h), the log map's radius and the time step scaled.
+TEST(SolversVectorHeat, ResultsFollowTheLengthScale) {
+  const intrinsic::TriangleMesh m = flat_grid(12);
+  intrinsic::TriangleMesh big = m;
+  big.positions *= 1024.0;
+  const VectorHeatSolver a(test::make_tri(m, false)), b(test::make_tri(big, false));
+  EXPECT_NEAR(b.time_step(), 1024.0 * 1024.0 * a.time_step(), 1e-9 * b.time_step());
+  const std::vector<VectorSource> src = {{20, Complex(0.3, -1.0)}, {100, Complex(2.0, 0.0)}};
+  EXPECT_LT((a.transport(src) - b.transport(src)).cwiseAbs().maxCoeff(), 1e-9);
+  const Eigen::VectorXd ea = a.extend_scalar({{20, 1.0}, {100, -1.0}});
+  const Eigen::VectorXd eb = b.extend_scalar({{20, 1.0}, {100, -1.0}});
+  EXPECT_LT((ea - eb).cwiseAbs().maxCoeff(), 1e-9);
+  const Eigen::VectorXcd la = a.log_map(60), lb = b.log_map(60);
+  EXPECT_LT((1024.0 * la - lb).cwiseAbs().maxCoeff(), 1e-9 * lb.cwiseAbs().maxCoeff());
+  EXPECT_GT(la.cwiseAbs().maxCoeff(), 0.5);  // in the input's unit (the square is 1 wide)
+}
+
 // --- components, bad input ----------------------------------------------------------------------
 
 TEST(SolversVectorHeat, UnreachedComponentsAndUnreferencedVertices) {
