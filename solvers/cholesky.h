@@ -17,9 +17,10 @@ struct CholeskyOptions {
   /// Force AMD ordering (CHOLMOD nmethods = 1) instead of CHOLMOD's default choice (METIS on
   /// large matrices). Why: docs/DEPENDENCIES.md, "Sparse Cholesky".
   bool force_amd = true;
-  /// Force METIS nested dissection instead (takes precedence over force_amd): its analysis costs
-  /// ~2 s at 1M faces, more than it saves on a real factor, but it cuts a complex factor's
-  /// numeric time ~2.5× (measurements: docs/decisions.md, "Vector heat: complex Cholesky").
+  /// Force METIS nested dissection instead (takes precedence over force_amd). Its analysis costs
+  /// ~2 s at 1M faces, more than its smaller fill saves on a real factor and on a complex one at
+  /// one BLAS thread; it beats AMD only for a complex factor at two BLAS threads (measurements:
+  /// docs/decisions.md, "Vector heat: complex Cholesky").
   bool force_metis = false;
   /// Supernodal factorization (fast with an optimized BLAS); false = simplicial.
   bool supernodal = true;
@@ -122,7 +123,7 @@ using ComplexSparseMatrix = Eigen::SparseMatrix<std::complex<double>, Eigen::Col
 /// options and conventions as CholeskySolver: only the lower triangle of A is read (A is assumed
 /// Hermitian), the factor is supernodal and converted for simplicial solves, solve() is const and
 /// serialized internally. Why complex and not the real 2n×2n form [Re −Im; Im Re]:
-/// docs/decisions.md, "Vector heat: complex Cholesky" (half the factor time and a quarter of the
+/// docs/decisions.md, "Vector heat: complex Cholesky" (less than half the factor time and half the
 /// factor size).
 class ComplexCholeskySolver {
  public:

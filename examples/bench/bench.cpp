@@ -14,6 +14,7 @@ int pointcloud(int argc, char** argv);
 int refine(int argc, char** argv);
 int geodesic(int argc, char** argv);
 int curves(int argc, char** argv);
+int vector_heat(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -41,6 +42,10 @@ const Section kSections[] = {
      ifem::bench::curves},
     {"solvers", "heat distance precompute + query 10k..1M faces; k = 10, 50 eigenpairs",
      ifem::bench::solvers},
+    {"vector_heat",
+     "vector heat precompute, transport, extension, log map vs scalar heat 10k..1M faces; "
+     "complex factorization choices",
+     ifem::bench::vector_heat},
 };
 
 }  // namespace

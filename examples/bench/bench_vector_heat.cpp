@@ -1,0 +1,188 @@
+// Benchmark section `vector_heat`: the Vector Heat Method's precompute and queries against the
+// scalar heat method's on the same meshes (issue 14's targets: precompute within 1.5×, queries
+// within 2×), and the choices for the complex factorization of M + tL∇ (AMD, METIS, the real
+// 2n×2n form).
+//
+//   ifem_bench vector_heat [--repeat N] [--max-n 224] [--orderings N (icosphere(N); 0 = skip)]
+#include <complex>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "bench_util.h"
+#include "fem/connection.h"
+#include "fem/operators.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/core/triangulation.h"
+#include "intrinsic/generators/mesh_generators.h"
+#include "solvers/cholesky.h"
+#include "solvers/heat_distance.h"
+#include "solvers/vector_heat.h"
+
+namespace ifem::bench {
+namespace {
+
+using Complex = std::complex<double>;
+
+struct VectorHeatTimes {
+  std::vector<double> heat_pre, heat_query, pre, transport, transport2, extend, log_first, log;
+};
+
+// One run on a fresh solver of each kind (the scalar one destroyed before the vector one is
+// built, so the peak is the larger of the two, as for a user holding one).
+void vector_heat_run(const intrinsic::IntrinsicTriangulation& tri, VectorHeatTimes& t) {
+  const Index nv = tri.n_vertices();
+  const Index a = nv / 3, b = (2 * nv) / 3;
+  {
+    double t0 = seconds_now();
+    const solvers::HeatDistanceSolver heat(tri);
+    t.heat_pre.push_back(seconds_now() - t0);
+    t0 = seconds_now();
+    heat.compute_distance({a});
+    t.heat_query.push_back(seconds_now() - t0);
+  }
+  double t0 = seconds_now();
+  const solvers::VectorHeatSolver vh(tri);
+  t.pre.push_back(seconds_now() - t0);
+  t0 = seconds_now();
+  vh.transport({{a, Complex(1.0, 0.5)}});
+  t.transport.push_back(seconds_now() - t0);
+  t0 = seconds_now();
+  vh.transport({{a, Complex(1.0, 0.5)}, {b, Complex(-2.0, 0.0)}});
+  t.transport2.push_back(seconds_now() - t0);
+  t0 = seconds_now();
+  vh.extend_scalar({{a, 1.0}, {b, 2.0}});
+  t.extend.push_back(seconds_now() - t0);
+  t0 = seconds_now();
+  vh.log_map(a);
+  t.log_first.push_back(seconds_now() - t0);
+  t0 = seconds_now();
+  vh.log_map(b);
+  t.log.push_back(seconds_now() - t0);
+}
+
+void vector_heat_row(int n, int repeat) {
+  const auto m = intrinsic::icosphere(n);
+  auto tri = intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
+  tri.mollify();
+  VectorHeatTimes t;
+  for (int r = 0; r < repeat; ++r) vector_heat_run(tri, t);
+  const double hp = median(t.heat_pre), hq = median(t.heat_query), vp = median(t.pre);
+  const double tq = median(t.transport);
+  std::printf(
+      "| icosphere(%d) | %zu | %.3f | %.4f | %.3f | %.2f | %.4f | %.2f | %.4f | %.4f | %.3f | "
+      "%.4f | %.0f |\n",
+      n, m.faces.size(), hp, hq, vp, vp / hp, tq, tq / hq, median(t.transport2), median(t.extend),
+      median(t.log_first), median(t.log), peak_rss_mib());
+  std::fflush(stdout);
+}
+
+// M + tL∇ (t = h²) on the intrinsic Delaunay triangulation of icosphere(n).
+solvers::ComplexSparseMatrix vector_heat_matrix(int n, fem::SparseMatrix* scalar) {
+  const auto m = intrinsic::icosphere(n);
+  auto tri = intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
+  tri.flip_to_delaunay();
+  const double h = intrinsic::mean_edge_length(tri);
+  const Eigen::VectorXd mass = fem::lumped_mass(tri);
+  const fem::TangentFrames frames = fem::tangent_frames(tri);
+  solvers::ComplexSparseMatrix A = h * h * fem::connection_laplacian(tri, frames, 1);
+  fem::SparseMatrix S = h * h * fem::cotan_laplacian(tri);
+  for (Index v = 0; v < tri.n_vertices(); ++v) {
+    A.coeffRef(v, v) += mass[v];
+    S.coeffRef(v, v) += mass[v];
+  }
+  A.makeCompressed();
+  S.makeCompressed();
+  *scalar = S;
+  return A;
+}
+
+// The real symmetric 2n×2n form [Re −Im; Im Re] of a Hermitian matrix, entries interleaved
+// (unknowns 2i, 2i + 1 = Re, Im of x_i) so that AMD sees 2×2 blocks.
+fem::SparseMatrix real_form(const solvers::ComplexSparseMatrix& A) {
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(static_cast<std::size_t>(4 * A.nonZeros()));
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    for (solvers::ComplexSparseMatrix::InnerIterator it(A, j); it; ++it) {
+      const Eigen::Index i = it.row();
+      const Complex z = it.value();
+      trip.emplace_back(2 * i, 2 * j, z.real());
+      trip.emplace_back(2 * i + 1, 2 * j + 1, z.real());
+      trip.emplace_back(2 * i + 1, 2 * j, z.imag());
+      trip.emplace_back(2 * i, 2 * j + 1, -z.imag());
+    }
+  }
+  fem::SparseMatrix R(2 * A.rows(), 2 * A.cols());
+  R.setFromTriplets(trip.begin(), trip.end());
+  return R;
+}
+
+template <class Solver, class Matrix>
+void ordering_row(const char* what, const Matrix& A, bool metis, int threads, int repeat) {
+  solvers::CholeskyOptions o;
+  o.force_metis = metis;
+  o.factor_blas_threads = threads;
+  double nnz = 0.0, solve = 0.0;
+  const double t = time_median(repeat, [&] {
+    const Solver chol(A, o);
+    nnz = chol.factor_nonzeros();
+    using Vector = Eigen::Matrix<typename Matrix::Scalar, Eigen::Dynamic, 1>;
+    const Vector rhs = Vector::Ones(A.rows());
+    chol.solve(rhs);
+    const double t0 = seconds_now();
+    chol.solve(rhs);
+    solve = seconds_now() - t0;
+  });
+  std::printf("| %s | %s | %d | %.3f | %.4f | %.3g | %.0f |\n", what, metis ? "METIS" : "AMD",
+              threads, t, solve, nnz, peak_rss_mib());
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int vector_heat(int argc, char** argv) {
+  const int repeat = int(int_option(argc, argv, "--repeat", 3));
+  const int max_n = int(int_option(argc, argv, "--max-n", 224));
+  const int orderings_n = int(int_option(argc, argv, "--orderings", 224));
+  {
+    std::ifstream load("/proc/loadavg");
+    std::string l1, l5, l15;
+    load >> l1 >> l5 >> l15;
+    std::printf("load average at start: %s %s %s (wall times are noisy on a shared machine)\n\n",
+                l1.c_str(), l5.c_str(), l15.c_str());
+  }
+  std::printf(
+      "## Vector heat against scalar heat (median of %d; each run: fresh HeatDistanceSolver, "
+      "then a fresh VectorHeatSolver)\n\n",
+      repeat);
+  std::printf(
+      "| mesh | faces | heat precomp s | heat query s | vector precomp s | ratio | transport s | "
+      "ratio | transport 2 src s | extend s | first log map s | log map s | peak MiB |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const int n : {23, 71, 158, 224}) {
+    if (n <= max_n) vector_heat_row(n, repeat);
+  }
+  if (orderings_n <= 0) return 0;
+  std::printf(
+      "\n## Factoring M + tL∇ of icosphere(%d) (constructor = analysis + factorization + "
+      "conversion; one solve after a warm-up one; median of %d)\n\n",
+      orderings_n, repeat);
+  std::printf(
+      "| matrix | ordering | BLAS threads | factor s | solve s | nnz(L) | peak MiB |\n"
+      "|---|---|---|---|---|---|---|\n");
+  fem::SparseMatrix scalar;
+  const solvers::ComplexSparseMatrix A = vector_heat_matrix(orderings_n, &scalar);
+  for (const int threads : {1, 2}) {
+    const char* ref = "real M + tL (reference)";
+    ordering_row<solvers::CholeskySolver>(ref, scalar, false, threads, repeat);
+    ordering_row<solvers::CholeskySolver>(ref, scalar, true, threads, repeat);
+    ordering_row<solvers::ComplexCholeskySolver>("complex M + tL∇", A, false, threads, repeat);
+    ordering_row<solvers::ComplexCholeskySolver>("complex M + tL∇", A, true, threads, repeat);
+  }
+  const fem::SparseMatrix R = real_form(A);
+  ordering_row<solvers::CholeskySolver>("real 2n form of M + tL∇", R, false, 1, repeat);
+  return 0;
+}
+
+}  // namespace ifem::bench

@@ -1,0 +1,203 @@
+// The Vector Heat Method (Sharp, Soliman, Crane, "The Vector Heat Method", ACM TOG 2019) on an
+// intrinsic triangulation: parallel transport of tangent vectors from sources, closest-point
+// extension of scalar data, and the logarithmic map. Tangent vectors are complex numbers in the
+// vertices' angular coordinates (fem/connection.h: angle 0 along tri.vertex_halfedge(v),
+// counter-clockwise with the faces' orientation, corner angles rescaled to fill 2π). Helpers at
+// the end turn them into 3D vectors on the input's vertices.
+#pragma once
+
+#include <Eigen/Core>
+#include <complex>
+#include <memory>
+#include <vector>
+
+#include "fem/connection.h"
+#include "intrinsic/core/triangulation.h"
+#include "intrinsic/core/types.h"
+#include "intrinsic/io/mesh_io.h"
+
+namespace ifem::solvers {
+
+/// Options of VectorHeatSolver.
+struct VectorHeatOptions {
+  /// m in t = m·h²: the heat time step relative to the squared mean edge length h² (m > 0,
+  /// dimensionless). The paper's (and geometry-central's) default is 1.
+  double time_factor = 1.0;
+  /// h, absolute (the triangulation's length unit), when > 0; 0: the mean edge length of the
+  /// triangulation passed in, before the solver's Delaunay flips (HeatDistanceOptions'
+  /// StepLength::kInput, the paper's h). ≥ 0.
+  double mean_edge_length = 0.0;
+  /// Flip a copy of the triangulation to intrinsic Delaunay first (flips keep vertex ids, but
+  /// change vertex_halfedge() and so the angular coordinates: results and sources are in the
+  /// coordinates of triangulation(), see frames()). On the IDT every connection-Laplacian weight
+  /// is ≥ 0 (maximum principle).
+  bool intrinsic_delaunay = true;
+  /// The surface's boundary as a #V mask, for log_map()'s distance when the triangulation's own
+  /// boundary is not the surface's (tufted cover): HeatDistanceOptions::boundary_vertices. The
+  /// vector and scalar heat steps use natural (Neumann) conditions, as in the paper.
+  std::vector<char> boundary_vertices;
+  /// @throws InvalidInput naming the field: time_factor not > 0 and finite, mean_edge_length
+  ///         negative or not finite
+  void validate() const;
+};
+
+/// A transport source: a vertex and a tangent vector there, in the vertex's angular coordinate
+/// of VectorHeatSolver::triangulation() (nonzero, finite).
+struct VectorSource {
+  Index vertex = kInvalidIndex;
+  std::complex<double> vector;
+};
+
+/// An extension source: a vertex and a finite value.
+struct ScalarSource {
+  Index vertex = kInvalidIndex;
+  double value = 0.0;
+};
+
+/// What one query did. A vertex the result does not define gets a zero vector (transport,
+/// log_map) or NaN (extend_scalar).
+struct VectorHeatReport {
+  /// Vertices in a connected component without a source, and unreferenced vertices.
+  Index unreached_vertices = 0;
+  /// Vertices in a component with a source where the heat underflowed (|Y| below 1e-270 of the
+  /// component's largest, or below 1e-290): about d > 600·√t from every source. No direction.
+  Index unresolved_vertices = 0;
+};
+
+/// Stateful Vector Heat Method solver: the constructor flips a copy of the triangulation to
+/// intrinsic Delaunay, builds its tangent frames, the connection Laplacian L∇ (n = 1), the cotan
+/// Laplacian L and the lumped mass M, and factors M + t·L∇ (complex Hermitian, CHOLMOD) and M + t·L
+/// (real) side by side; every query is back-substitutions. log_map() also needs geodesic distances:
+/// the first call builds a HeatDistanceSolver on the same triangulation with the same h and t (two
+/// more factorizations; later calls reuse it).
+///
+/// Method (per query, all heat steps one backward Euler step with the integrated delta as the
+/// right-hand side):
+///  - transport: Y = (M + tL∇)⁻¹ Y₀ with Y₀ the sources' unit vectors; magnitudes by the scalar
+///    heat: u = (M + tL)⁻¹ |Y₀|, φ = (M + tL)⁻¹ 1_sources; X = (u/φ)·Y/|Y|. Y₀ holds unit
+///    vectors, not the sources' vectors (the paper's Y₀), so that a long vector does not pull
+///    the directions of its neighbours' regions; with one source, or all of one length, u/φ is
+///    that length and the scalar solves are skipped.
+///  - extend_scalar: u/φ with u = (M + tL)⁻¹ Σ value_s δ_s, φ = (M + tL)⁻¹ Σ δ_s: each vertex
+///    gets (a smooth blend near the bisectors of) its nearest source's value.
+///  - log_map: the radius is the heat-method distance d from the source (HeatDistanceSolver:
+///    the one `ifem distance` computes, with its multi-stage handling of underflow and the mean
+///    of Neumann and Dirichlet heat on boundaries); H = transport of e^{i0} from the source (the
+///    parallel frame); the geodesic's direction at each vertex x is ∇d (the gradients of the
+///    faces around x, each turned into x's coordinate through its corner and rescaled, averaged
+///    with corner-angle weights); the angle is arg(∇d(x) / H(x)), since parallel transport keeps
+///    the angle between the geodesic and the transported frame. The paper's radial field (the
+///    vector heat of unit outward vectors on the source's one-ring) is not used: on a jittered
+///    flat grid its angle error stays near 0.1 rad under refinement, the one-ring's irregularity
+///    biasing every direction, where ∇d's falls (docs/decisions.md, "Vector heat: the log map").
+///
+/// Conventions: results have one entry per vertex of triangulation() (#V: the input's ids);
+/// vectors are in the angular coordinates of frames(), which are those of triangulation() (the
+/// flipped copy: when the input is already intrinsic Delaunay, e.g. a PreparedSurface, no flip
+/// happens and the coordinates are the input's). Vertices no source reaches, and vertices where
+/// the heat underflows, get a zero vector / NaN (VectorHeatReport counts them). Where geodesics
+/// from a source meet (its cut locus: the antipode on a sphere) the diffused vectors cancel and
+/// the direction there is arbitrary, as in the paper. On tufted covers and point-cloud
+/// triangulations the connection is not the surface's (fem/connection.h: vertices have several
+/// fans), so transport and the log map's angle are not meaningful there; extend_scalar() and the
+/// log map's radius are.
+class VectorHeatSolver {
+ public:
+  /// @throws InvalidInput on bad options or a triangulation without faces
+  /// @throws SolverError if a factorization fails
+  explicit VectorHeatSolver(const intrinsic::IntrinsicTriangulation& tri,
+                            const VectorHeatOptions& options = {});
+  ~VectorHeatSolver();
+  VectorHeatSolver(VectorHeatSolver&&) noexcept;
+  VectorHeatSolver& operator=(VectorHeatSolver&&) noexcept;
+
+  /// Parallel transport of the sources' vectors to every vertex (vector extension: each vertex
+  /// gets its nearest source's vector, transported along the shortest geodesic, with the
+  /// magnitudes blended like extend_scalar()), #V complex.
+  /// @param sources distinct referenced vertices, each with a finite nonzero vector
+  /// @param[out] report optional
+  /// @throws InvalidInput on an empty set, a vertex out of range, unreferenced or repeated, a
+  ///         zero or non-finite vector (naming sources[k])
+  Eigen::VectorXcd transport(const std::vector<VectorSource>& sources,
+                             VectorHeatReport* report = nullptr) const;
+
+  /// Closest-point extension of scalar data, #V (NaN where no source reaches).
+  /// @throws InvalidInput as transport(), and on a non-finite value
+  Eigen::VectorXd extend_scalar(const std::vector<ScalarSource>& sources,
+                                VectorHeatReport* report = nullptr) const;
+
+  /// Logarithmic map about a vertex, #V complex: |z| = geodesic distance (absolute, in the
+  /// length unit of the triangulation passed in), arg z = the direction at the source in which
+  /// the geodesic leaves for that vertex, counter-clockwise from the source's reference halfedge
+  /// (triangulation().vertex_halfedge(source)), in the source's angular coordinate. 0 at the
+  /// source. At boundary vertices whose angle sum is far from π (a polygon's corners) the
+  /// half-plane rescaling of the angular coordinate distorts the angle (fem/connection.h).
+  /// @throws InvalidInput if source is out of range or unreferenced
+  Eigen::VectorXcd log_map(Index source, VectorHeatReport* report = nullptr) const;
+
+  /// The triangulation the solver works on (intrinsic Delaunay unless disabled), its lengths
+  /// divided by length_scale() (as HeatDistanceSolver: a power of two near h keeps masses, t
+  /// and the factors in range at any input scale). Connectivity, vertex and face ids are the
+  /// input's; angles, and so frames(), do not depend on the scale.
+  const intrinsic::IntrinsicTriangulation& triangulation() const;
+  /// The power of two that triangulation()'s lengths are divided by.
+  double length_scale() const;
+  /// The tangent frames of triangulation(): the coordinates of sources and results.
+  const fem::TangentFrames& frames() const;
+  /// The heat time step t = m·h² (squared length units).
+  double time_step() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Per-vertex 3D tangent bases that place the intrinsic angular coordinates in space.
+struct TangentBasis3d {
+  Eigen::MatrixX3d normal;  ///< #V_in×3 unit normal (sign: the faces' counter-clockwise side)
+  Eigen::MatrixX3d e1;      ///< #V_in×3 unit, ⟂ normal: the direction of angle 0
+  Eigen::MatrixX3d e2;      ///< #V_in×3 normal × e1: the direction of angle π/2
+  /// Vertices whose basis is a fallback: no intrinsic neighbour with a position (e1 is then an
+  /// arbitrary tangent direction), or no usable normal (a degenerate neighbourhood: normal z).
+  Index fallback_vertices = 0;
+};
+
+/// 3D tangent bases of the first #V_in = positions.rows() vertices of tri (the input's vertices
+/// on every path of solvers::prepare_surface).
+///  - normal: the area-weighted normal of the input triangles around the vertex; without
+///    triangles (a point cloud) the given normals (#V_in×3), else the smallest principal axis
+///    of the vertex and its intrinsic neighbours. Its sign is then chosen so that the intrinsic
+///    fan turns counter-clockwise about it (a vote over the outgoing halfedges), which makes it
+///    agree with the angular coordinates even where the input's faces were reoriented.
+///  - e1: the direction of the vertex's reference halfedge (tri.vertex_halfedge(v)) towards its
+///    head's position, projected to the tangent plane; when the head is an inserted vertex (no
+///    position), the first outgoing halfedge with an input head, rotated back by its angle.
+/// @param frames tangent_frames(tri)
+/// @throws InvalidInput on size mismatches (positions rows > #V, normals neither empty nor
+///         #V_in×3, a triangle index out of range)
+TangentBasis3d tangent_basis_3d(const Positions& positions, const std::vector<Triangle>& triangles,
+                                const Eigen::MatrixX3d& normals,
+                                const intrinsic::IntrinsicTriangulation& tri,
+                                const fem::TangentFrames& frames);
+
+/// tangent_basis_3d() of an input as read (its positions, triangles and, for point clouds,
+/// normals).
+TangentBasis3d tangent_basis_3d(const io::SurfaceInput& input,
+                                const intrinsic::IntrinsicTriangulation& tri,
+                                const fem::TangentFrames& frames);
+
+/// 3D tangent vectors of the first basis.e1.rows() entries of z: Re z·e1 + Im z·e2, #V_in×3.
+///
+/// Approximation: the angular coordinate is read as the angle in the tangent plane. This is
+/// exact where the vertex's fan is flat (angle sum 2π) and its intrinsic edges point along the
+/// projected chords (edges of a planar neighbourhood). At a cone vertex the rescaling spreads
+/// the angle defect 2π − Θ_v over all directions, so a direction is off by at most about
+/// |2π − Θ_v|/2 (O(h²·K), K the Gaussian curvature, on a fine smooth mesh), plus the chord
+/// projection's error of O(h·κ) for a flipped (non-input) reference edge. On vertices with several
+/// fans (nonmanifold vertices, tufted covers, point clouds) the coordinate runs through all fans
+/// one after the other (fem/connection.h), so only directions in the reference fan map right.
+/// @throws InvalidInput if z has fewer entries than the basis
+Eigen::MatrixX3d to_3d(const Eigen::VectorXcd& z, const TangentBasis3d& basis);
+
+}  // namespace ifem::solvers
