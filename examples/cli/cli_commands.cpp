@@ -10,10 +10,11 @@ Command distance_command();
 Command eigen_command();
 Command poisson_command();
 Command geodesic_command();
+Command field_command();
 
 std::vector<Command> all_commands() {
-  return {info_command(),  laplacian_command(), refine_command(),  distance_command(),
-          eigen_command(), poisson_command(),   geodesic_command()};
+  return {info_command(),  laplacian_command(), refine_command(),   distance_command(),
+          eigen_command(), poisson_command(),   geodesic_command(), field_command()};
 }
 
 }  // namespace ifem::cli

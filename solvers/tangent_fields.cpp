@@ -1,0 +1,88 @@
+// Tangent-field recipes on a prepared surface (tangent_fields.h).
+#include "solvers/tangent_fields.h"
+
+#include <cmath>
+#include <complex>
+#include <string>
+
+#include "fem/connection.h"
+#include "intrinsic/core/errors.h"
+#include "solvers/direction_field.h"
+#include "solvers/vector_heat.h"
+
+namespace ifem::solvers {
+
+namespace {
+
+// The constraints in the vertices' angular coordinates (directions projected with the basis).
+std::vector<DirectionConstraint> held_directions(const PreparedSurface& s,
+                                                 const FieldSettings& settings,
+                                                 const TangentBasis3d& basis,
+                                                 const fem::TangentFrames& frames) {
+  std::vector<DirectionConstraint> held;
+  const Index nv = s.n_input_vertices();
+  for (std::size_t k = 0; k < settings.constraints.size(); ++k) {
+    const InputDirection& c = settings.constraints[k];
+    const std::string where =
+        "direction " + std::to_string(k) + " (vertex " + std::to_string(c.vertex) + ")";
+    if (c.vertex < 0 || c.vertex >= nv) {
+      throw InvalidInput(where + ": vertex out of range [0, " + std::to_string(nv) + ")");
+    }
+    const double x = c.direction.dot(basis.e1.row(c.vertex).transpose());
+    const double y = c.direction.dot(basis.e2.row(c.vertex).transpose());
+    if (!std::isfinite(x) || !std::isfinite(y) || std::hypot(x, y) <= 1e-9 * c.direction.norm() ||
+        c.direction.norm() == 0.0) {
+      throw InvalidInput(where + ": the direction is zero, not finite or normal to the surface");
+    }
+    held.push_back({c.vertex, std::atan2(y, x)});
+  }
+  if (settings.align_boundary) {
+    if (s.path != intrinsic::SurfacePath::kManifold) {
+      throw InvalidInput("align_boundary: this input took the " +
+                         std::string(intrinsic::to_string(s.path)) +
+                         " path, whose triangulation has no boundary sides of its own to align to");
+    }
+    const std::vector<DirectionConstraint> b = boundary_constraints(s.tri, frames);
+    held.insert(held.end(), b.begin(), b.end());
+  }
+  return held;
+}
+
+}  // namespace
+
+TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSettings& settings) {
+  DirectionFieldOptions o;
+  o.symmetry = settings.symmetry;
+  o.validate();
+  const fem::TangentFrames frames = fem::tangent_frames(s.tri);
+  const TangentBasis3d basis = tangent_basis_3d(s.input, s.tri, frames);
+  const std::vector<DirectionConstraint> held = held_directions(s, settings, basis, frames);
+  const DirectionField f =
+      held.empty() ? smoothest_field(s.tri, frames, o) : aligned_field(s.tri, frames, held, o);
+  const Index nv = s.n_input_vertices();
+  const int n = settings.symmetry;
+  TangentFieldResult r;
+  r.constrained = f.constrained;
+  r.energy = f.energy;
+  r.angle = Eigen::VectorXd::Zero(nv);
+  Eigen::VectorXcd direction = Eigen::VectorXcd::Zero(nv);
+  for (Index v = 0; v < nv; ++v) {
+    if (f.u[v] == std::complex<double>(0.0)) continue;
+    r.angle[v] = std::arg(f.u[v]) / n;
+    direction[v] = std::polar(1.0, r.angle[v]);
+  }
+  r.vectors = to_3d(direction, basis);
+  const Eigen::VectorXi index = face_indices(s.tri, frames, f.u, n);
+  r.singularity = Eigen::VectorXd::Zero(nv);
+  for (Index face = 0; face < s.tri.n_faces(); ++face) {
+    if (index[face] == 0) continue;
+    ++r.singular_faces;
+    r.total_index += index[face];
+    Index lowest = s.tri.tail(3 * face);
+    for (int k = 1; k < 3; ++k) lowest = std::min(lowest, s.tri.tail(3 * face + k));
+    if (lowest < nv) r.singularity[lowest] += index[face];
+  }
+  return r;
+}
+
+}  // namespace ifem::solvers
