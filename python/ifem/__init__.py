@@ -32,8 +32,10 @@ from ._geodesic import *  # noqa: F401,F403
 from ._geodesic import __all__ as _geodesic_all
 from ._curves import *  # noqa: F401,F403
 from ._curves import __all__ as _curves_all
+from ._fields import *  # noqa: F401,F403
+from ._fields import __all__ as _fields_all
 
 __version__ = "0.1.0"
 
 __all__ = (_errors_all + _mesh_all + _operators_all + _solvers_all + _refine_all +
-           _geodesic_all + _curves_all)
+           _geodesic_all + _curves_all + _fields_all)

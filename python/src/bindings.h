@@ -21,6 +21,7 @@ void bind_solvers(py::module_& m);    // heat distance, eigenpairs, Poisson
 void bind_refine(py::module_& m);     // refinement handle, common subdivision, save / load
 void bind_geodesic(py::module_& m);   // FlipOut paths, loops, networks, Bézier curves
 void bind_curves(py::module_& m);     // boundary-value problems with data on curves
+void bind_fields(py::module_& m);     // tangent fields: smoothest direction fields
 
 /// PrepareOptions from the keyword arguments every surface function shares (Python names):
 /// mollify (relative margin ≥ 0), path ('auto' | 'manifold' | 'tufted' | 'pointcloud'),

@@ -104,4 +104,5 @@ PYBIND11_MODULE(_ifem, m) {
   ip::bind_refine(m);
   ip::bind_geodesic(m);
   ip::bind_curves(m);
+  ip::bind_fields(m);
 }

@@ -1,0 +1,47 @@
+"""Tangent fields: the smoothest n-direction field (vectors, lines, crosses), free or aligned."""
+
+import numpy as np
+
+from . import _ifem
+
+
+def direction_field(V, F, symmetry=1, align_boundary=False, constraint_vertices=None,
+                    directions=None, mollify=1e-5, return_info=False):
+    """The smoothest n-direction field on a mesh, as unit 3D tangent vectors per vertex.
+
+    The field is the smallest eigenvector of the connection Laplacian of the intrinsic
+    Delaunay triangulation (Knöppel, Crane, Pinkall, Schröder 2013), or, with constraints, the
+    smoothest field through them (harmonic in the power representation). Same as
+    ``ifem field MESH --symmetry N [--align-boundary] [--constraints FILE]``.
+
+    Args:
+        V: #V×3 positions.
+        F: #F×3 vertex ids.
+        symmetry: n ≥ 1 — 1 vectors, 2 lines, 4 crosses.
+        align_boundary: hold the field along the boundary (meshes that take the manifold path).
+        constraint_vertices: vertex ids where a direction is held (with ``directions``).
+        directions: #K×3 directions in space, projected to the tangent plane at each vertex.
+        mollify: relative mollification margin.
+        return_info: also return a dict (path, ``singular_faces``, ``total_index`` — n·χ on a
+            closed surface —, ``constrained``, ``energy``, ...).
+
+    Returns:
+        ``vectors`` (#V×3: a unit tangent vector per vertex, one of the n directions; 0 where
+        the field has no direction), ``angle`` (#V: that direction's angle in the vertex's own
+        coordinate, 0 along its first edge, counter-clockwise with the faces' orientation),
+        ``singularity`` (#V: indices in units of 1/n of the singular faces, each counted on one
+        of its corners), and ``info`` when asked.
+
+    Raises:
+        InvalidInput: bad arrays, symmetry < 1, a constraint vertex out of range or a direction
+            normal to the surface, align_boundary on a mesh without boundary sides of its own
+            (the tufted cover of a nonmanifold mesh).
+    """
+    vectors, angle, singularity, info = _ifem.direction_field(
+        V, F, int(symmetry), bool(align_boundary), constraint_vertices, directions,
+        float(mollify))
+    out = (np.ascontiguousarray(vectors), angle, singularity)
+    return out + (info,) if return_info else out
+
+
+__all__ = ["direction_field"]

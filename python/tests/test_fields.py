@@ -1,0 +1,61 @@
+"""direction_field: the same numbers as `ifem field` (1e-12), Poincaré–Hopf on spot for n = 1,
+2, 4, unit tangent vectors, constraints held, and bad input."""
+
+import numpy as np
+import pytest
+
+import ifem
+from conftest import read_txt, run_cli, test_data
+
+
+@pytest.fixture(scope="module")
+def spot():
+    return ifem.read_mesh(test_data("spot.obj"))
+
+
+@pytest.mark.parametrize("n", [1, 4])
+def test_matches_cli(spot, tmp_path, n):
+    V, F = spot
+    vectors, angle, singularity = ifem.direction_field(V, F, symmetry=n)
+    run_cli("field", test_data("spot.obj"), "--symmetry", n, "-o", tmp_path / "f.txt", "--quiet")
+    assert np.abs(vectors - read_txt(tmp_path / "f.txt")).max() <= 1e-12
+
+
+@pytest.mark.parametrize("n", [1, 2, 4])
+def test_poincare_hopf_and_unit_tangent_vectors(spot, n):
+    V, F = spot
+    vectors, angle, singularity, info = ifem.direction_field(V, F, symmetry=n, return_info=True)
+    assert info["total_index"] == 2 * n  # spot has genus 0: χ = 2
+    assert singularity.sum() == 2 * n  # every face of spot's IDT has an input vertex
+    assert np.allclose(np.linalg.norm(vectors, axis=1), 1.0, atol=1e-12)
+    # tangent: orthogonal to the area-weighted vertex normal
+    e = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    normal = np.zeros_like(V)
+    for k in range(3):
+        np.add.at(normal, F[:, k], e)
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    assert np.abs(np.sum(vectors * normal, axis=1)).max() < 1e-9
+
+
+def test_constraint_is_held(spot):
+    V, F = spot
+    d = np.array([[1.0, 0.0, 0.0]])
+    vectors, _, _ = ifem.direction_field(V, F, constraint_vertices=[0], directions=d)
+    held = vectors[0]  # d projected to the tangent plane
+    assert np.dot(vectors[0], d[0]) > 0.5
+    other, _, _ = ifem.direction_field(V, F, constraint_vertices=[0], directions=-d)
+    assert np.allclose(other[0], -held, atol=1e-9)
+
+
+def test_bad_input(spot):
+    V, F = spot
+    with pytest.raises(ifem.InvalidInput, match="symmetry must be ≥ 1"):
+        ifem.direction_field(V, F, symmetry=0)
+    with pytest.raises(ifem.InvalidInput, match=r"constraint_vertices\[0\] = 5000"):
+        ifem.direction_field(V, F, constraint_vertices=[5000], directions=[[1, 0, 0]])
+    with pytest.raises(ifem.InvalidInput, match="one row per constraint vertex"):
+        ifem.direction_field(V, F, constraint_vertices=[0, 1], directions=[[1, 0, 0]])
+    with pytest.raises(ifem.InvalidInput, match="both vertices and directions"):
+        ifem.direction_field(V, F, constraint_vertices=[0])
+    with pytest.raises(ifem.InvalidInput, match="no boundary sides of its own"):
+        ifem.direction_field(*ifem.read_mesh(test_data("fan3.obj")), align_boundary=True)
