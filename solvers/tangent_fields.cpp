@@ -85,4 +85,45 @@ TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSetti
   return r;
 }
 
+VectorHeatSolver vector_heat_solver(const PreparedSurface& s) {
+  VectorHeatOptions o;
+  o.intrinsic_delaunay = false;  // s.tri is intrinsic Delaunay: keep its coordinates
+  o.mean_edge_length = distance_options(s).mean_edge_length;
+  o.boundary_vertices = s.boundary_vertex;
+  return VectorHeatSolver(s.tri, o);
+}
+
+Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& solver,
+                              Index source, const Eigen::Vector3d& vector,
+                              VectorHeatReport* report) {
+  const Index nv = s.n_input_vertices();
+  if (source < 0 || source >= nv) {
+    throw InvalidInput("transport: source " + std::to_string(source) + " out of range [0, " +
+                       std::to_string(nv) + ")");
+  }
+  const TangentBasis3d basis = tangent_basis_3d(s.input, solver.triangulation(), solver.frames());
+  const std::complex<double> z(vector.dot(basis.e1.row(source).transpose()),
+                               vector.dot(basis.e2.row(source).transpose()));
+  if (!std::isfinite(std::abs(z)) || std::abs(z) <= 1e-12 * vector.norm() || vector.norm() == 0) {
+    throw InvalidInput("transport: the vector at vertex " + std::to_string(source) +
+                       " is zero, not finite or normal to the surface");
+  }
+  const Eigen::VectorXcd x = solver.transport({{source, z}}, report);
+  return to_3d(x.head(nv), basis);
+}
+
+Eigen::MatrixX2d log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,
+                            VectorHeatReport* report) {
+  const Index nv = s.n_input_vertices();
+  if (source < 0 || source >= nv) {
+    throw InvalidInput("log map: source " + std::to_string(source) + " out of range [0, " +
+                       std::to_string(nv) + ")");
+  }
+  const Eigen::VectorXcd z = solver.log_map(source, report);
+  // the solver's angle 0 is the reference halfedge; the basis' e1 is that halfedge's direction
+  Eigen::MatrixX2d uv(nv, 2);
+  for (Index v = 0; v < nv; ++v) uv.row(v) << z[v].real(), z[v].imag();
+  return uv;
+}
+
 }  // namespace ifem::solvers

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "solvers/pipeline.h"
+#include "solvers/vector_heat.h"
 
 namespace ifem::solvers {
 
@@ -44,5 +45,27 @@ struct TangentFieldResult {
 ///         surface there, or align_boundary on a surface whose triangulation has no boundary of
 ///         its own (the tufted cover, point clouds)
 TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSettings& settings);
+
+/// The Vector Heat Method solver for s (VectorHeatSolver on s.tri, already intrinsic Delaunay,
+/// with the heat step of distance_options(s) and the input's boundary), for transport_on() and
+/// log_map_on().
+VectorHeatSolver vector_heat_solver(const PreparedSurface& s);
+
+/// Parallel transport of a 3D vector given at input vertex `source` (projected to its tangent
+/// plane, keeping its length) to every input vertex, as 3D tangent vectors (#V_in×3; 0 where no
+/// source reaches). Meaningful on the manifold path (fem/connection.h).
+/// @throws InvalidInput on a source out of range or a vector normal to the surface there
+Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& solver,
+                              Index source, const Eigen::Vector3d& vector,
+                              VectorHeatReport* report = nullptr);
+
+/// The logarithmic map about input vertex `source`: per input vertex (#V_in×2) its Riemannian
+/// coordinates (u, v) = d·(cos θ, sin θ), d the geodesic distance and θ the direction in which
+/// the geodesic leaves the source, counter-clockwise (with the faces' orientation) from the
+/// source's reference direction, basis e1 of tangent_basis_3d() at the source (the direction
+/// of its first edge). (0, 0) at the source.
+/// @throws InvalidInput on a source out of range or unreferenced
+Eigen::MatrixX2d log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,
+                            VectorHeatReport* report = nullptr);
 
 }  // namespace ifem::solvers

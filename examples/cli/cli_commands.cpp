@@ -11,10 +11,13 @@ Command eigen_command();
 Command poisson_command();
 Command geodesic_command();
 Command field_command();
+Command transport_command();
+Command logmap_command();
 
 std::vector<Command> all_commands() {
-  return {info_command(),  laplacian_command(), refine_command(),   distance_command(),
-          eigen_command(), poisson_command(),   geodesic_command(), field_command()};
+  return {info_command(),      laplacian_command(), refine_command(),   distance_command(),
+          eigen_command(),     poisson_command(),   geodesic_command(), field_command(),
+          transport_command(), logmap_command()};
 }
 
 }  // namespace ifem::cli

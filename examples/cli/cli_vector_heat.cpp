@@ -1,0 +1,148 @@
+// `ifem transport` and `ifem logmap`: the Vector Heat Method (Sharp, Soliman, Crane 2019) on
+// the intrinsic Delaunay triangulation, results on the input's vertices.
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+#include "cli.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/timer.h"
+#include "intrinsic/io/tokens.h"
+#include "results.h"
+#include "solvers/tangent_fields.h"
+
+namespace ifem::cli {
+namespace {
+
+// 'x,y,z' as a vector. @throws UsageError
+Eigen::Vector3d parse_vector(const std::string& text) {
+  std::istringstream in(text);
+  Eigen::Vector3d v;
+  std::string part;
+  int k = 0;
+  bool ok = true;
+  while (ok && std::getline(in, part, ',')) ok = k < 3 && io::parse_whole_real(part, v[k++]);
+  if (!ok || k != 3 || !v.allFinite()) {
+    throw UsageError("--vector '" + text + "': expected three finite numbers x,y,z");
+  }
+  return v;
+}
+
+// OUT.txt: one line per input vertex, the matrix's row, 17 significant digits.
+void write_rows(const std::string& path, const Eigen::MatrixXd& m) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw IoError(path + ": cannot write");
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    for (Eigen::Index j = 0; j < m.cols(); ++j) std::fprintf(f, j ? " %.17g" : "%.17g", m(i, j));
+    std::fprintf(f, "\n");
+  }
+  if (std::fclose(f) != 0) throw IoError(path + ": cannot write");
+}
+
+// Prepares the surface and the solver, with one progress line.
+PreparedSurface prepared(const Args& args) { return prepare_surface(args.positional()[0], args); }
+
+int run_transport(const Args& args) {
+  const ResultOutput out = result_output(args);
+  const Eigen::Vector3d vector = parse_vector(args.get("vector"));
+  const PreparedSurface s = prepared(args);
+  const Stopwatch watch;
+  const solvers::VectorHeatSolver solver = solvers::vector_heat_solver(s);
+  solvers::VectorHeatReport report;
+  const Eigen::MatrixX3d x =
+      solvers::transport_on(s, solver, args.count("source"), vector, &report);
+  progress(args, "vector heat in " + std::to_string(watch.seconds()) + " s");
+  if (out.ply) {
+    write_results(out, s, {{"fx", x.col(0)}, {"fy", x.col(1)}, {"fz", x.col(2)}});
+  } else {
+    write_rows(out.path, x);
+  }
+  std::printf("wrote %s: %d tangent vectors, %d unreached vertices\n", out.path.c_str(),
+              int(x.rows()), int(report.unreached_vertices));
+  return 0;
+}
+
+int run_logmap(const Args& args) {
+  const ResultOutput out = result_output(args);
+  const PreparedSurface s = prepared(args);
+  const Stopwatch watch;
+  const solvers::VectorHeatSolver solver = solvers::vector_heat_solver(s);
+  solvers::VectorHeatReport report;
+  const Eigen::MatrixX2d uv = solvers::log_map_on(s, solver, args.count("source"), &report);
+  progress(args, "log map in " + std::to_string(watch.seconds()) + " s");
+  if (out.ply) {
+    const Eigen::VectorXd d = uv.rowwise().norm();
+    write_results(out, s, {{"u", uv.col(0)}, {"v", uv.col(1)}, {"distance", d}});
+  } else {
+    write_rows(out.path, uv);
+  }
+  std::printf("wrote %s: log map about vertex %d, max distance %.6g, %d unreached vertices\n",
+              out.path.c_str(), int(args.count("source")), uv.rowwise().norm().maxCoeff(),
+              int(report.unreached_vertices));
+  return 0;
+}
+
+OptionSpec source_option() {
+  return vertex("source", "V")
+      .mandatory()
+      .limited_by(InputLimit::kBelowVertexCount)
+      .explain("the source: a 0-based input vertex id");
+}
+
+}  // namespace
+
+Command transport_command() {
+  Command c;
+  c.summary = "parallel transport of a tangent vector from a vertex (vector heat method)";
+  c.spec.name = "transport";
+  c.spec.positionals = {"MESH"};
+  c.spec.prose =
+      "Transports a vector given at one vertex to every vertex along shortest geodesics\n"
+      "(the Vector Heat Method, Sharp, Soliman, Crane 2019: three heat solves with\n"
+      "prefactored matrices on the intrinsic Delaunay triangulation). The vector is\n"
+      "projected to the source's tangent plane; its length is kept.\n"
+      "  OUT.ply: the input mesh with per-vertex properties fx fy fz;\n"
+      "  OUT.txt: 'x y z' per input vertex, in order (0 0 0 where no source reaches).\n"
+      "On tufted covers and point clouds the directions are not meaningful (the\n"
+      "triangulation's vertices have several fans); use a manifold mesh.\n";
+  c.spec.groups = {
+      {"Options",
+       {source_option(), text("vector", "X,Y,Z").mandatory().explain("the vector at the source"),
+        text("output", "OUT")
+            .short_alias('o')
+            .mandatory()
+            .with_extensions({".ply", ".txt"})
+            .explain("OUT.ply (mesh + fx fy fz) or OUT.txt ('x y z' lines)")}},
+      surface_options()};
+  c.spec.epilogue = "example: ifem transport spot.obj --source 0 --vector 1,0,0 -o t.ply\n";
+  c.run = run_transport;
+  return c;
+}
+
+Command logmap_command() {
+  Command c;
+  c.summary = "logarithmic map (Riemannian coordinates) about a vertex (vector heat method)";
+  c.spec.name = "logmap";
+  c.spec.positionals = {"MESH"};
+  c.spec.prose =
+      "The logarithmic map about a vertex: each vertex's Riemannian coordinates\n"
+      "(u, v) = d·(cos θ, sin θ), d its geodesic distance to the source and θ the\n"
+      "direction in which the geodesic leaves the source, measured from the direction\n"
+      "of the source's first edge, counter-clockwise with the faces' orientation\n"
+      "(the Vector Heat Method: the transported reference direction against the\n"
+      "gradient of the heat-method distance).\n"
+      "  OUT.ply: the input mesh with per-vertex properties u, v and distance;\n"
+      "  OUT.txt: 'u v' per input vertex, in order.\n";
+  c.spec.groups = {{"Options",
+                    {source_option(), text("output", "OUT")
+                                          .short_alias('o')
+                                          .mandatory()
+                                          .with_extensions({".ply", ".txt"})
+                                          .explain("OUT.ply (mesh + u v distance) or OUT.txt")}},
+                   surface_options()};
+  c.spec.epilogue = "example: ifem logmap spot.obj --source 0 -o spot_logmap.ply\n";
+  c.run = run_logmap;
+  return c;
+}
+
+}  // namespace ifem::cli
