@@ -44,4 +44,38 @@ def direction_field(V, F, symmetry=1, align_boundary=False, constraint_vertices=
     return out + (info,) if return_info else out
 
 
-__all__ = ["direction_field"]
+class VectorHeatSolver:
+    """The Vector Heat Method (Sharp, Soliman, Crane 2019) on a mesh: factors once, then
+    parallel transport and logarithmic maps cost a few back-substitutions each. Same as
+    ``ifem transport`` / ``ifem logmap``; like potpourri3d's ``MeshVectorHeatSolver``, with 3D
+    vectors in and out.
+
+    Args:
+        V: #V×3 positions.
+        F: #F×3 vertex ids (a mesh; on the tufted path of a nonmanifold mesh the directions are
+            not meaningful).
+        mollify: relative mollification margin.
+    """
+
+    def __init__(self, V, F, mollify=1e-5):
+        self._solver = _ifem.VectorHeat(V, F, float(mollify))
+
+    def transport(self, source, vector):
+        """Parallel transport of a 3D vector at vertex ``source`` (projected to its tangent
+        plane, length kept) to every vertex along shortest geodesics: #V×3 tangent vectors (0
+        where nothing arrives)."""
+        return self._solver.transport(int(source), np.asarray(vector, float).reshape(1, 3))
+
+    def log_map(self, source):
+        """The logarithmic map about vertex ``source``: #V×2 Riemannian coordinates
+        (u, v) = d·(cos θ, sin θ), d the geodesic distance, θ the direction at the source
+        counter-clockwise from its first edge's direction."""
+        return self._solver.log_map(int(source))
+
+    @property
+    def info(self):
+        """What preparing the surface chose and did (path, flips, ...)."""
+        return self._solver.info()
+
+
+__all__ = ["direction_field", "VectorHeatSolver"]

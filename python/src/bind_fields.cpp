@@ -60,9 +60,67 @@ py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry
                         to_numpy(std::move(r.singularity)), info);
 }
 
+// A prepared manifold surface and its vector heat solver (factored once; queries reuse it).
+class VectorHeat {
+ public:
+  VectorHeat(const py::handle& V, const py::handle& F, double mollify)
+      : s_(prepared(V, F, mollify)), solver_(build(s_)) {}
+
+  py::array transport(const py::handle& source, const py::handle& vector) const {
+    const Index v = single_vertex(source);
+    const Positions x = positions_from(vector, "vector");
+    if (x.rows() != 1) throw InvalidInput("vector must be one 3D vector");
+    Eigen::MatrixX3d out;
+    {
+      const py::gil_scoped_release release;
+      out = solvers::transport_on(s_, solver_, v, x.row(0).transpose());
+    }
+    return to_numpy(Eigen::MatrixXd(out));
+  }
+
+  py::array log_map(const py::handle& source) const {
+    const Index v = single_vertex(source);
+    Eigen::MatrixX2d uv;
+    {
+      const py::gil_scoped_release release;
+      uv = solvers::log_map_on(s_, solver_, v);
+    }
+    return to_numpy(Eigen::MatrixXd(uv));
+  }
+
+  py::dict info() const { return surface_info(s_); }
+
+ private:
+  static solvers::PreparedSurface prepared(const py::handle& V, const py::handle& F,
+                                           double mollify) {
+    io::SurfaceInput in = surface_input(V, F);
+    if (in.triangles.empty())
+      throw InvalidInput("F has no faces: the vector heat method needs a mesh");
+    return prepare(std::move(in), prepare_options(mollify, "auto", true, 30), "auto");
+  }
+  static solvers::VectorHeatSolver build(const solvers::PreparedSurface& s) {
+    const py::gil_scoped_release release;
+    return solvers::vector_heat_solver(s);
+  }
+  Index single_vertex(const py::handle& source) const {
+    const std::vector<Index> ids = indices_from(source, s_.n_input_vertices(), "source");
+    if (ids.size() != 1) throw InvalidInput("source must be one vertex id");
+    return ids[0];
+  }
+
+  solvers::PreparedSurface s_;
+  solvers::VectorHeatSolver solver_;
+};
+
 }  // namespace
 
 void bind_fields(py::module_& m) {
+  py::class_<VectorHeat>(m, "VectorHeat")
+      .def(py::init<const py::handle&, const py::handle&, double>(), py::arg("V"), py::arg("F"),
+           py::arg("mollify"))
+      .def("transport", &VectorHeat::transport, py::arg("source"), py::arg("vector"))
+      .def("log_map", &VectorHeat::log_map, py::arg("source"))
+      .def("info", &VectorHeat::info);
   m.def("direction_field", &direction_field, py::arg("V"), py::arg("F"), py::arg("symmetry"),
         py::arg("align_boundary"), py::arg("vertices"), py::arg("directions"), py::arg("mollify"));
 }

@@ -59,3 +59,18 @@ def test_bad_input(spot):
         ifem.direction_field(V, F, constraint_vertices=[0])
     with pytest.raises(ifem.InvalidInput, match="no boundary sides of its own"):
         ifem.direction_field(*ifem.read_mesh(test_data("fan3.obj")), align_boundary=True)
+
+
+def test_vector_heat_matches_cli(spot, tmp_path):
+    V, F = spot
+    solver = ifem.VectorHeatSolver(V, F)
+    x = solver.transport(0, [1.0, 0.0, 0.0])
+    run_cli("transport", test_data("spot.obj"), "--source", 0, "--vector", "1,0,0", "-o",
+            tmp_path / "t.txt", "--quiet")
+    assert np.abs(x - read_txt(tmp_path / "t.txt")).max() <= 1e-12
+    uv = solver.log_map(7)
+    run_cli("logmap", test_data("spot.obj"), "--source", 7, "-o", tmp_path / "l.txt", "--quiet")
+    assert np.abs(uv - read_txt(tmp_path / "l.txt")).max() <= 1e-12
+    assert np.all(uv[7] == 0)
+    with pytest.raises(ifem.InvalidInput, match=r"source\[0\] = 5000|out of range"):
+        solver.log_map(5000)
