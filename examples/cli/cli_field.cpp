@@ -43,16 +43,6 @@ std::vector<solvers::InputDirection> read_directions(const std::string& path) {
   return out;
 }
 
-// OUT.txt: 'x y z' per input vertex, 17 significant digits.
-void write_vectors(const std::string& path, const Eigen::MatrixX3d& v) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throw IoError(path + ": cannot write");
-  for (Eigen::Index i = 0; i < v.rows(); ++i) {
-    std::fprintf(f, "%.17g %.17g %.17g\n", v(i, 0), v(i, 1), v(i, 2));
-  }
-  if (std::fclose(f) != 0) throw IoError(path + ": cannot write");
-}
-
 int run(const Args& args) {
   const ResultOutput out = result_output(args);
   solvers::FieldSettings settings;
@@ -75,7 +65,7 @@ int run(const Args& args) {
                    {"angle", r.angle},
                    {"singularity", r.singularity}});
   } else {
-    write_vectors(out.path, r.vectors);
+    write_rows(out.path, r.vectors);
   }
   std::printf("wrote %s: %d-direction field, %d singular faces, total index %ld/%d\n",
               out.path.c_str(), settings.symmetry, int(r.singular_faces), r.total_index,

@@ -28,17 +28,6 @@ Eigen::Vector3d parse_vector(const std::string& text) {
   return v;
 }
 
-// OUT.txt: one line per input vertex, the matrix's row, 17 significant digits.
-void write_rows(const std::string& path, const Eigen::MatrixXd& m) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throw IoError(path + ": cannot write");
-  for (Eigen::Index i = 0; i < m.rows(); ++i) {
-    for (Eigen::Index j = 0; j < m.cols(); ++j) std::fprintf(f, j ? " %.17g" : "%.17g", m(i, j));
-    std::fprintf(f, "\n");
-  }
-  if (std::fclose(f) != 0) throw IoError(path + ": cannot write");
-}
-
 // Prepares the surface and the solver, with one progress line.
 PreparedSurface prepared(const Args& args) { return prepare_surface(args.positional()[0], args); }
 

@@ -1,6 +1,7 @@
 #include "results.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 
 #include "intrinsic/io/mesh_io.h"
@@ -48,6 +49,18 @@ void write_results(const ResultOutput& out, const io::SurfaceInput& input,
   }
   if (on_input.size() != 1) throw std::logic_error("write_results: a .txt holds one value");
   io::write_values(out.path, on_input[0].values);
+}
+
+void write_rows(const std::string& path, const Eigen::MatrixXd& rows) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw IoError(path + ": cannot write");
+  for (Eigen::Index i = 0; i < rows.rows(); ++i) {
+    for (Eigen::Index j = 0; j < rows.cols(); ++j) {
+      std::fprintf(f, j ? " %.17g" : "%.17g", rows(i, j));
+    }
+    std::fprintf(f, "\n");
+  }
+  if (std::fclose(f) != 0) throw IoError(path + ": cannot write");
 }
 
 }  // namespace ifem::cli

@@ -32,4 +32,9 @@ void write_results(const ResultOutput& out, const PreparedSurface& s,
 void write_results(const ResultOutput& out, const io::SurfaceInput& input,
                    const std::vector<io::VertexProperty>& properties);
 
+/// Writes a per-vertex matrix as text: one line per row (an input vertex), its columns separated
+/// by spaces, 17 significant digits (`x y z` tangent vectors, `u v` coordinates).
+/// @throws IoError if the file cannot be written
+void write_rows(const std::string& path, const Eigen::MatrixXd& rows);
+
 }  // namespace ifem::cli
