@@ -26,7 +26,7 @@ Eigen::VectorXcd normalized_per_vertex(const Eigen::VectorXcd& u) {
   const double scale = u.cwiseAbs().maxCoeff();
   for (Eigen::Index v = 0; v < u.size(); ++v) {
     const double a = std::abs(u[v]);
-    if (a > 1e-14 * scale && a > 0.0) out[v] = u[v] / a;
+    if (a > 1e-300 * scale && a > 0.0) out[v] = u[v] / a;
   }
   return out;
 }

@@ -26,10 +26,10 @@ struct DirectionConstraint {
 
 /// Options of the direction-field solvers.
 struct DirectionFieldOptions {
-  int symmetry = 1;          ///< n ≥ 1
-  int max_iterations = 100;  ///< inverse-iteration steps for the smoothest field, ≥ 1
+  int symmetry = 1;         ///< n ≥ 1
+  int max_iterations = 30;  ///< inverse-iteration steps for the smoothest field, ≥ 1
   /// Stop when the Rayleigh quotient changes by less than this, relative; > 0.
-  double tolerance = 1e-12;
+  double tolerance = 1e-6;
   /// @throws InvalidInput naming the field
   void validate() const;
 };

@@ -64,6 +64,7 @@ TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSetti
   TangentFieldResult r;
   r.constrained = f.constrained;
   r.energy = f.energy;
+  r.iterations = f.iterations;
   r.angle = Eigen::VectorXd::Zero(nv);
   Eigen::VectorXcd direction = Eigen::VectorXcd::Zero(nv);
   for (Index v = 0; v < nv; ++v) {
