@@ -37,15 +37,23 @@ std::vector<DirectionConstraint> held_directions(const PreparedSurface& s,
     held.push_back({c.vertex, std::atan2(y, x)});
   }
   if (settings.align_boundary) {
-    if (s.path != intrinsic::SurfacePath::kManifold) {
-      throw InvalidInput("align_boundary: this input took the " +
-                         std::string(intrinsic::to_string(s.path)) +
-                         " path, whose triangulation has no boundary sides of its own to align to");
-    }
     const std::vector<DirectionConstraint> b = boundary_constraints(s.tri, frames);
     held.insert(held.end(), b.begin(), b.end());
   }
   return held;
+}
+
+// Tangent fields need the surface's own connection: on the tufted cover and point-cloud
+// triangulations every vertex has several fans (fem/connection.h), and the directions computed
+// there are not the surface's (measured: thousands of spurious singularities on every such
+// input of ../shared/data). Refused until frames from the normals exist.
+void require_manifold(const PreparedSurface& s, const char* what) {
+  if (s.path == intrinsic::SurfacePath::kManifold) return;
+  throw InvalidInput(std::string(what) +
+                     " needs an edge-manifold, orientable mesh: this input took the " +
+                     intrinsic::to_string(s.path) + " path (" + s.reason_detail +
+                     "), whose vertices have several fans, so directions there are not the "
+                     "surface's");
 }
 
 }  // namespace
@@ -54,6 +62,7 @@ TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSetti
   DirectionFieldOptions o;
   o.symmetry = settings.symmetry;
   o.validate();
+  require_manifold(s, "a direction field");
   const fem::TangentFrames frames = fem::tangent_frames(s.tri);
   const TangentBasis3d basis = tangent_basis_3d(s.input, s.tri, frames);
   const std::vector<DirectionConstraint> held = held_directions(s, settings, basis, frames);
@@ -87,6 +96,7 @@ TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSetti
 }
 
 VectorHeatSolver vector_heat_solver(const PreparedSurface& s) {
+  require_manifold(s, "the vector heat method (transport, log map)");
   VectorHeatOptions o;
   o.intrinsic_delaunay = false;  // s.tri is intrinsic Delaunay: keep its coordinates
   o.mean_edge_length = distance_options(s).mean_edge_length;

@@ -43,13 +43,14 @@ struct TangentFieldResult {
 /// directions and, when asked, along the boundary; components without any constraint get
 /// their globally smoothest field.
 /// @throws InvalidInput on bad settings, a vertex out of [0, #V_in), a direction normal to the
-///         surface there, or align_boundary on a surface whose triangulation has no boundary of
-///         its own (the tufted cover, point clouds)
+///         surface there, or a surface that did not take the manifold path (the tufted cover and
+///         point clouds: their vertices have several fans, so directions are not the surface's)
 TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSettings& settings);
 
 /// The Vector Heat Method solver for s (VectorHeatSolver on s.tri, already intrinsic Delaunay,
 /// with the heat step of distance_options(s) and the input's boundary), for transport_on() and
 /// log_map_on().
+/// @throws InvalidInput if s did not take the manifold path (as direction_field_on())
 VectorHeatSolver vector_heat_solver(const PreparedSurface& s);
 
 /// Parallel transport of a 3D vector given at input vertex `source` (projected to its tangent

@@ -34,8 +34,8 @@ def direction_field(V, F, symmetry=1, align_boundary=False, constraint_vertices=
 
     Raises:
         InvalidInput: bad arrays, symmetry < 1, a constraint vertex out of range or a direction
-            normal to the surface, align_boundary on a mesh without boundary sides of its own
-            (the tufted cover of a nonmanifold mesh).
+            normal to the surface, a mesh that is not edge-manifold and orientable (its tufted
+            cover's vertices have several fans: directions there would not be the surface's).
     """
     vectors, angle, singularity, info = _ifem.direction_field(
         V, F, int(symmetry), bool(align_boundary), constraint_vertices, directions,
