@@ -283,20 +283,19 @@ void trace_curves(const SignpostTriangulation& st, const std::vector<EdgePath>& 
 CurveRun shorten_curves(SignpostTriangulation& st, const std::vector<CurveSpec>& specs,
                         const std::vector<std::vector<Index>>& ids) {
   CurveRun run;
-  std::vector<EdgePath> paths;
+  std::vector<intrinsic::CurveThrough> curves;
   for (std::size_t c = 0; c < specs.size(); ++c) {
-    try {
-      paths.push_back(intrinsic::edge_path_through(st.intrinsic(), ids[c], specs[c].closed,
-                                                   specs[c].pin, intrinsic::JoinBy::kDijkstra));
-    } catch (const InvalidInput& e) {  // e.g. points on different components: say which curve
-      throw InvalidInput(specs[c].where + ": " + e.what());
-    }
+    curves.push_back({ids[c], specs[c].closed, specs[c].pin, specs[c].where});
+  }
+  std::vector<EdgePath> paths;
+  std::vector<double> initial;
+  run.report = intrinsic::shorten_through(st, curves, &paths, &initial);
+  for (std::size_t c = 0; c < specs.size(); ++c) {
     CurveResult r;
     r.label = curve_label(specs[c]);
-    r.initial_length = intrinsic::path_length(st.intrinsic(), paths.back());
+    r.initial_length = initial[c];
     run.curves.push_back(r);
   }
-  run.report = intrinsic::shorten(st, paths);
   trace_curves(st, paths, run);
   return run;
 }

@@ -70,4 +70,20 @@ SurfacePoint given_face_point(const SignpostTriangulation& st,
   return sp;
 }
 
+FlipOutReport shorten_through(SignpostTriangulation& st, const std::vector<CurveThrough>& curves,
+                              std::vector<EdgePath>* paths, std::vector<double>* initial_lengths) {
+  paths->clear();
+  initial_lengths->clear();
+  for (const CurveThrough& c : curves) {
+    try {
+      paths->push_back(
+          edge_path_through(st.intrinsic(), c.vertices, c.closed, c.pin, JoinBy::kDijkstra));
+    } catch (const InvalidInput& e) {  // e.g. points on different components: say which curve
+      throw InvalidInput(c.name + ": " + e.what());
+    }
+    initial_lengths->push_back(path_length(st.intrinsic(), paths->back()));
+  }
+  return shorten(st, *paths);
+}
+
 }  // namespace ifem::intrinsic

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "intrinsic/core/surface_point.h"
+#include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/refine/signpost.h"
 
@@ -37,5 +38,21 @@ SurfacePoint given_face_point(const SignpostTriangulation& st,
                               const std::vector<Triangle>& given_faces,
                               const std::vector<Index>& face_map, Index face,
                               const Eigen::Vector3d& w, const std::string& name);
+
+/// One curve for shorten_through(): intrinsic vertex ids in order, closed or open, pinned at
+/// its points or not, and how messages name it.
+struct CurveThrough {
+  std::vector<Index> vertices;
+  bool closed = false;
+  bool pin = false;
+  std::string name;
+};
+
+/// The shortest edge path through each curve's points (Dijkstra), then all of them shortened
+/// together by FlipOut. paths: the geodesics, one per curve; initial_lengths: each edge path's
+/// length before shortening.
+/// @throws InvalidInput prefixed with the curve's name (e.g. points on different components)
+FlipOutReport shorten_through(SignpostTriangulation& st, const std::vector<CurveThrough>& curves,
+                              std::vector<EdgePath>* paths, std::vector<double>* initial_lengths);
 
 }  // namespace ifem::intrinsic

@@ -261,17 +261,14 @@ void trace_curves(const SignpostTriangulation& st, const std::vector<EdgePath>& 
 // Paths and loops through the points, shortened together (the CLI's --path / --network).
 void shorten_curves(SignpostTriangulation& st, const std::vector<CurveSpec>& specs,
                     const std::vector<std::vector<Index>>& ids, Run& run) {
-  std::vector<EdgePath> paths;
+  std::vector<intrinsic::CurveThrough> curves;
   for (std::size_t c = 0; c < specs.size(); ++c) {
-    try {
-      paths.push_back(intrinsic::edge_path_through(st.intrinsic(), ids[c], specs[c].closed,
-                                                   specs[c].pin, intrinsic::JoinBy::kDijkstra));
-    } catch (const InvalidInput& e) {  // e.g. points on different components: say which curve
-      throw InvalidInput(specs[c].name + ": " + e.what());
-    }
-    run.curves[c].initial_length = intrinsic::path_length(st.intrinsic(), paths.back());
+    curves.push_back({ids[c], specs[c].closed, specs[c].pin, specs[c].name});
   }
-  run.report = intrinsic::shorten(st, paths);
+  std::vector<EdgePath> paths;
+  std::vector<double> initial;
+  run.report = intrinsic::shorten_through(st, curves, &paths, &initial);
+  for (std::size_t c = 0; c < specs.size(); ++c) run.curves[c].initial_length = initial[c];
   trace_curves(st, paths, run);
 }
 
