@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import scipy.sparse
 
+import conftest
 import ifem
 from conftest import run_cli, test_data
 
@@ -71,18 +72,8 @@ def mesh_area(V, F):
 
 
 def flat_grid(n=8, seed=5):
-    """A flat jittered n×n grid of the unit square in the plane z = 0."""
-    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
-    rng = np.random.default_rng(seed)
-    jitter = 0.35 / n * rng.uniform(-1, 1, size=(n, n, 2))
-    interior = np.zeros((n, n), bool)
-    interior[1:-1, 1:-1] = True
-    x = x + np.where(interior, jitter[..., 0], 0)
-    y = y + np.where(interior, jitter[..., 1], 0)
-    V = np.c_[x.ravel(), y.ravel(), np.zeros(n * n)]
-    cells = [j * n + i for j in range(n - 1) for i in range(n - 1)]
-    F = [[a, a + 1, a + n + 1] for a in cells] + [[a, a + n + 1, a + n] for a in cells]
-    return V, np.array(F)
+    """A flat jittered grid of the unit square, n×n vertices, in the plane z = 0."""
+    return conftest.flat_grid(n - 1, jitter=0.35, seed=seed)
 
 
 # ---- against the CLI ------------------------------------------------------------------------
