@@ -181,19 +181,19 @@ DirectionField aligned_field(const intrinsic::IntrinsicTriangulation& tri,
   for (Index v = 0; v < nv; ++v) {
     solve_here[v] = comps.label[v] != kInvalidIndex && component_held[comps.label[v]];
   }
+  const Eigen::VectorXd mass = fem::lumped_mass(tri);
   const fem::ComplexSparseMatrix L = fem::connection_laplacian(tri, frames, options.symmetry);
   Eigen::VectorXcd u = Eigen::VectorXcd::Zero(nv);
   for (Index v = 0; v < nv; ++v) u[v] = held[v];
   solve_dirichlet(L, is_held, solve_here, u);
   for (Index c = 0; c < comps.count; ++c) f.free_components += !component_held[c];
   if (f.free_components > 0) {  // their own smoothest field
-    const DirectionField s = inverse_iteration(L, fem::lumped_mass(tri), comps, options);
+    const DirectionField s = inverse_iteration(L, mass, comps, options);
     for (Index v = 0; v < nv; ++v) {
       if (!solve_here[v]) u[v] = s.u[v];
     }
     f.iterations = s.iterations;
   }
-  const Eigen::VectorXd mass = fem::lumped_mass(tri);
   const double mu = (u.adjoint() * (mass.array() * u.array()).matrix())(0).real();
   f.energy = (u.adjoint() * (L * u))(0).real() / std::max(mu, 1e-300);
   f.u = normalized_per_vertex(u);
