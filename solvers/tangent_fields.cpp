@@ -40,6 +40,8 @@ std::vector<DirectionConstraint> held_directions(const PreparedSurface& s,
     const std::vector<DirectionConstraint> b = boundary_constraints(s.tri, frames);
     held.insert(held.end(), b.begin(), b.end());
   }
+  const std::vector<DirectionConstraint>& given = settings.intrinsic_constraints;
+  held.insert(held.end(), given.begin(), given.end());
   return held;
 }
 

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "solvers/direction_field.h"
 #include "solvers/pipeline.h"
 #include "solvers/vector_heat.h"
 
@@ -23,6 +24,11 @@ struct FieldSettings {
   int symmetry = 1;             ///< n: 1 vectors, 2 lines, 4 crosses
   bool align_boundary = false;  ///< hold the field along the boundary (manifold path only)
   std::vector<InputDirection> constraints;
+  /// Directions given on the triangulation itself: at any vertex of s.tri (inserted ones too),
+  /// angles in the coordinates of fem::tangent_frames(s.tri), e.g. curve_constraints() along
+  /// curves (solvers/curve_fields.h). Held with the others (a vertex held several times takes
+  /// the mean of the n-th powers).
+  std::vector<DirectionConstraint> intrinsic_constraints;
 };
 
 /// A field on the input's vertices.
