@@ -17,7 +17,7 @@ std::vector<OptionSpec> curve_options(const std::string& use) {
                        "curve's 'l' line ends at its first point)")};
 }
 
-std::string curves_file_help(bool values_used) {
+std::string curves_file_help(bool values_used, const std::string& command) {
   std::string h =
       "Curves file (--curves FILE): one curve per line, through input vertices (0-based\n"
       "ids, the file's vertex order); '#' starts a comment, blank lines are skipped. A\n"
@@ -45,9 +45,10 @@ std::string curves_file_help(bool values_used) {
       "values there; so does a vertex where curves with different values meet (both\n"
       "counted as conflicting vertices).\n";
   if (!values_used) {
-    h += "distance uses only where the curves run: every line still starts with its\n"
-         "value(s) (so one file serves poisson and distance), and they are ignored. Mind\n"
-         "that '12 40 77' is the value 12 on a curve through 40 and 77.\n";
+    h += command +
+         " uses only where the curves run: every line still starts with its\n"
+         "value(s) (so one file serves poisson, distance and field), and they are\n"
+         "ignored. Mind that '12 40 77' is the value 12 on a curve through 40 and 77.\n";
   }
   h += "Examples (one curve a line):\n"
        "  0.5 12 40 77              # geodesic 12→40→77 held at 0.5\n"
@@ -160,7 +161,12 @@ std::vector<Polyline> curve_polylines_if_asked(const Args& args, const solvers::
 
 void write_curve_outputs(const Args& args, const ResultOutput& out, const CurveRun& run,
                          const std::vector<io::VertexProperty>& properties) {
-  write_results(out, run.surface.surface, properties);
+  write_curve_outputs(args, out, run, [&] { write_results(out, run.surface.surface, properties); });
+}
+
+void write_curve_outputs(const Args& args, const ResultOutput& out, const CurveRun& run,
+                         const std::function<void()>& write) {
+  write();
   if (!args.has("curves-out")) return;
   std::vector<char> closed;
   for (const solvers::CurveCondition& c : run.surface.curves) {

@@ -4,6 +4,7 @@
 // curves, write the results and the curves).
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,8 +21,9 @@ namespace ifem::cli {
 std::vector<OptionSpec> curve_options(const std::string& use);
 
 /// The curves file format with examples, for the commands' --help epilogue. `values_used`:
-/// whether the command uses the curves' values (poisson) or only where they run (distance).
-std::string curves_file_help(bool values_used);
+/// whether the command uses the curves' values (poisson) or only where they run (`command`:
+/// distance, field).
+std::string curves_file_help(bool values_used, const std::string& command = "distance");
 
 /// An option of a command that makes no sense with --curves, and why (for the message).
 struct CurveRefusal {
@@ -60,6 +62,9 @@ solvers::CurveSurface prepare_curves(io::SurfaceInput input,
 /// and a failure on the second file removes the first (no partial outputs).
 void write_curve_outputs(const Args& args, const ResultOutput& out, const CurveRun& run,
                          const std::vector<io::VertexProperty>& properties);
+/// The same with the main output (out.path) written by `write` (e.g. rows of 3D vectors).
+void write_curve_outputs(const Args& args, const ResultOutput& out, const CurveRun& run,
+                         const std::function<void()>& write);
 
 /// The "wrote FILE.obj: N curves, P points" line on stdout, with --curves-out.
 void print_curves_written(const Args& args, const CurveRun& run);

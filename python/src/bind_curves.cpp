@@ -271,6 +271,14 @@ py::tuple curve_distance(const py::handle& V, const py::handle& F, const py::lis
 
 }  // namespace
 
+solvers::CurveSurface prepare_with_curves(io::SurfaceInput input, const py::list& specs,
+                                          const py::handle& refine, double mollify,
+                                          bool need_values) {
+  return prepare(std::move(input), specs, refine, mollify, need_values);
+}
+
+py::dict curve_surface_info(const solvers::CurveSurface& s) { return surface_info(s); }
+
 void bind_curves(py::module_& m) {
   m.def("check_curve", &check_curve, py::arg("spec"));
   m.def("read_curves_file", &read_curves_file, py::arg("path"));

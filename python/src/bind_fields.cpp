@@ -8,6 +8,7 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "intrinsic/core/errors.h"
+#include "solvers/curve_fields.h"
 #include "solvers/tangent_fields.h"
 
 namespace ifem::python {
@@ -34,9 +35,26 @@ std::vector<solvers::InputDirection> input_directions(const py::handle& vertices
   return out;
 }
 
+// The field on the input with the curves inserted and held (solvers/curve_fields.h).
+solvers::TangentFieldResult field_along_curves(io::SurfaceInput in, const py::list& curves,
+                                               const solvers::FieldSettings& settings,
+                                               double mollify, py::dict& info) {
+  const solvers::CurveSurface s =
+      prepare_with_curves(std::move(in), curves, py::none(), mollify, false);
+  solvers::TangentFieldResult r;
+  {
+    const py::gil_scoped_release release;
+    r = solvers::curve_direction_field(s, settings);
+  }
+  info = surface_info(s.surface);
+  info["curves"] = curve_surface_info(s);
+  return r;
+}
+
+// curves: None, or a list of curve specs (ifem.Curve's tuples).
 py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry,
                           bool align_boundary, const py::handle& vertices,
-                          const py::handle& directions, double mollify) {
+                          const py::handle& directions, double mollify, const py::handle& curves) {
   io::SurfaceInput in = surface_input(V, F);
   if (in.triangles.empty()) throw InvalidInput("F has no faces: direction fields need a mesh");
   solvers::FieldSettings settings;
@@ -44,14 +62,19 @@ py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry
   settings.align_boundary = align_boundary;
   settings.constraints =
       input_directions(vertices, directions, static_cast<Index>(in.positions.rows()));
-  const solvers::PreparedSurface s =
-      prepare(std::move(in), prepare_options(mollify, "auto", true, 30), "auto");
+  py::dict info;
   solvers::TangentFieldResult r;
-  {
-    const py::gil_scoped_release release;
-    r = solvers::direction_field_on(s, settings);
+  if (!curves.is_none()) {
+    r = field_along_curves(std::move(in), curves.cast<py::list>(), settings, mollify, info);
+  } else {
+    const solvers::PreparedSurface s =
+        prepare(std::move(in), prepare_options(mollify, "auto", true, 30), "auto");
+    {
+      const py::gil_scoped_release release;
+      r = solvers::direction_field_on(s, settings);
+    }
+    info = surface_info(s);
   }
-  py::dict info = surface_info(s);
   info["singular_faces"] = r.singular_faces;
   info["total_index"] = r.total_index;
   info["constrained"] = r.constrained;
@@ -122,7 +145,8 @@ void bind_fields(py::module_& m) {
       .def("log_map", &VectorHeat::log_map, py::arg("source"))
       .def("info", &VectorHeat::info);
   m.def("direction_field", &direction_field, py::arg("V"), py::arg("F"), py::arg("symmetry"),
-        py::arg("align_boundary"), py::arg("vertices"), py::arg("directions"), py::arg("mollify"));
+        py::arg("align_boundary"), py::arg("vertices"), py::arg("directions"), py::arg("mollify"),
+        py::arg("curves"));
 }
 
 }  // namespace ifem::python

@@ -9,6 +9,7 @@
 
 #include <pybind11/pybind11.h>
 
+#include "solvers/curves.h"
 #include "solvers/pipeline.h"
 
 namespace ifem::python {
@@ -38,5 +39,16 @@ solvers::PreparedSurface prepare(io::SurfaceInput input, const solvers::PrepareO
 /// What preparing chose and did (path and why, flips, mollification, repairs, vertex counts,
 /// refinement), for the `info` dicts of the Python functions.
 py::dict surface_info(const solvers::PreparedSurface& s);
+
+/// solvers::prepare_curve_surface() of an input and curve specs (ifem.Curve's tuples, see
+/// bind_curves.cpp), with the GIL released; refine: None or (min_angle, resolution, max_area,
+/// max_insertions). `need_values`: every curve must carry values (Poisson).
+/// @throws InvalidInput naming the curve, as validate_curves(), and on bad options
+solvers::CurveSurface prepare_with_curves(io::SurfaceInput input, const py::list& specs,
+                                          const py::handle& refine, double mollify,
+                                          bool need_values);
+
+/// What inserting curves did (FlipOut, flips, weights' signs, refinement), for `info` dicts.
+py::dict curve_surface_info(const solvers::CurveSurface& s);
 
 }  // namespace ifem::python

@@ -1,11 +1,11 @@
 """direction_field: the same numbers as `ifem field` (1e-12), Poincaré–Hopf on spot for n = 1,
-2, 4, unit tangent vectors, constraints held, and bad input."""
+2, 4, unit tangent vectors, constraints held, fields along curves, and bad input."""
 
 import numpy as np
 import pytest
 
 import ifem
-from conftest import read_txt, run_cli, test_data
+from conftest import flat_grid, read_txt, run_cli, test_data
 
 
 @pytest.fixture(scope="module")
@@ -59,6 +59,43 @@ def test_bad_input(spot):
         ifem.direction_field(V, F, constraint_vertices=[0])
     with pytest.raises(ifem.InvalidInput, match="needs an edge-manifold, orientable mesh"):
         ifem.direction_field(*ifem.read_mesh(test_data("fan3.obj")), align_boundary=True)
+
+
+def test_curves_match_cli(spot, tmp_path):
+    V, F = spot
+    (tmp_path / "c.txt").write_text("0 764 0 813\nbezier 0 2001 2000 126 300\n")
+    curves = [ifem.Curve([764, 0, 813]), ifem.Curve([2001, 2000, 126, 300], bezier=True)]
+    vectors, _, _, info = ifem.direction_field(V, F, symmetry=4, curves=curves,
+                                               return_info=True)
+    run_cli("field", test_data("spot.obj"), "--symmetry", 4, "--curves", tmp_path / "c.txt",
+            "-o", tmp_path / "f.txt", "--quiet")
+    assert np.abs(vectors - read_txt(tmp_path / "f.txt")).max() <= 1e-12
+    assert info["total_index"] == 8
+    assert info["curves"]["flipout"]["converged"]
+    # a curves file's path works too
+    again, _, _ = ifem.direction_field(V, F, symmetry=4, curves=tmp_path / "c.txt")
+    assert np.array_equal(again, vectors)
+
+
+def test_straight_curve_holds_the_field_along_it():
+    n, row = 12, 5
+    V, F = flat_grid(n, straight_rows=(row,))
+    on_row = row * (n + 1) + np.arange(n + 1)
+    for symmetry in (1, 2):
+        vectors, _, _ = ifem.direction_field(V, F, symmetry=symmetry,
+                                             curves=ifem.Curve([on_row[0], on_row[-1]]))
+        # the row's vertices lie on the curve (a straight line along x): held along it; for
+        # n = 1 in the direction the curve runs, for n = 2 either way (a line)
+        along = vectors[on_row] if symmetry == 1 else np.abs(vectors[on_row])
+        assert np.abs(along - [1.0, 0.0, 0.0]).max() < 1e-9
+
+
+def test_curves_bad_input(spot):
+    V, F = spot
+    with pytest.raises(ifem.InvalidInput, match=r"curves\[1\].*9999"):
+        ifem.direction_field(V, F, curves=[ifem.Curve([0, 764]), ifem.Curve([1, 9999])])
+    with pytest.raises(ifem.InvalidInput, match="edge-manifold, orientable mesh"):
+        ifem.direction_field(*ifem.read_mesh(test_data("fan3.obj")), curves=[ifem.Curve([0, 2])])
 
 
 def test_vector_heat_matches_cli(spot, tmp_path):
