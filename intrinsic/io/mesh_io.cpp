@@ -72,16 +72,17 @@ SurfaceInput read_mesh(const std::string& path) {
   return s;
 }
 
-void write_ply(const std::string& path, const Positions& positions,
-               const std::vector<Triangle>& faces,
-               const std::vector<VertexProperty>& vertex_properties, bool binary) {
-  const Eigen::Index nv = positions.rows();
-  std::set<std::string> names = {"x", "y", "z"};
-  for (const VertexProperty& p : vertex_properties) {
-    if (p.values.size() != nv) {
-      fail_file(path, "property " + detail::quoted(p.name) + " has " +
-                          std::to_string(p.values.size()) + " values for " + std::to_string(nv) +
-                          " vertices");
+namespace {
+
+// Each property has `count` values and a name that is non-empty, without white space, and not
+// taken (within its element).
+void check_properties(const std::string& path, const std::vector<VertexProperty>& properties,
+                      Eigen::Index count, const char* element, std::set<std::string> names) {
+  for (const VertexProperty& p : properties) {
+    if (p.values.size() != count) {
+      fail_file(path, std::string(element) + " property " + detail::quoted(p.name) + " has " +
+                          std::to_string(p.values.size()) + " values for " + std::to_string(count) +
+                          " " + element + (count == 1 ? "" : "s"));
     }
     const bool bad_name = p.name.empty() || std::any_of(p.name.begin(), p.name.end(), [](char ch) {
                             return std::isspace(static_cast<unsigned char>(ch)) != 0;
@@ -91,14 +92,11 @@ void write_ply(const std::string& path, const Positions& positions,
       fail_file(path, "duplicate property name " + detail::quoted(p.name));
     }
   }
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    for (Index v : faces[f]) {
-      if (v < 0 || v >= nv) {
-        fail_file(path, "face #" + std::to_string(f) + " has vertex index " + std::to_string(v) +
-                            " out of range (" + std::to_string(nv) + " vertices)");
-      }
-    }
-  }
+}
+
+std::string ply_header(Eigen::Index nv, const std::vector<Triangle>& faces,
+                       const std::vector<VertexProperty>& vertex_properties,
+                       const std::vector<VertexProperty>& face_properties, bool binary) {
   std::string out = "ply\n";
   out += binary ? "format binary_little_endian 1.0\n" : "format ascii 1.0\n";
   out += "comment written by ifem\n";
@@ -108,36 +106,75 @@ void write_ply(const std::string& path, const Positions& positions,
   if (!faces.empty()) {
     out += "element face " + std::to_string(faces.size()) + "\n";
     out += "property list uchar int vertex_indices\n";
+    for (const VertexProperty& p : face_properties) out += "property double " + p.name + "\n";
   }
   out += "end_header\n";
+  return out;
+}
+
+// The values of row i of `properties`, after what `out` holds (ASCII: each after a space).
+void append_values(std::string& out, const std::vector<VertexProperty>& properties, Eigen::Index i,
+                   bool binary) {
+  for (const VertexProperty& p : properties) {
+    if (binary) {
+      append_raw_le(out, p.values[i]);
+    } else {
+      out.push_back(' ');
+      detail::append_double(out, p.values[i]);
+    }
+  }
+}
+
+}  // namespace
+
+void write_ply(const std::string& path, const Positions& positions,
+               const std::vector<Triangle>& faces,
+               const std::vector<VertexProperty>& vertex_properties, bool binary) {
+  write_ply(path, positions, faces, vertex_properties, {}, binary);
+}
+
+void write_ply(const std::string& path, const Positions& positions,
+               const std::vector<Triangle>& faces,
+               const std::vector<VertexProperty>& vertex_properties,
+               const std::vector<VertexProperty>& face_properties, bool binary) {
+  const Eigen::Index nv = positions.rows();
+  const auto nf = static_cast<Eigen::Index>(faces.size());
+  check_properties(path, vertex_properties, nv, "vertex", {"x", "y", "z"});
+  check_properties(path, face_properties, nf, "face", {"vertex_indices"});
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    for (Index v : faces[f]) {
+      if (v < 0 || v >= nv) {
+        fail_file(path, "face #" + std::to_string(f) + " has vertex index " + std::to_string(v) +
+                            " out of range (" + std::to_string(nv) + " vertices)");
+      }
+    }
+  }
+  std::string out = ply_header(nv, faces, vertex_properties, face_properties, binary);
   const std::size_t columns = 3 + vertex_properties.size();
-  if (binary) {
-    out.reserve(out.size() + static_cast<std::size_t>(nv) * columns * 8 + faces.size() * 13);
-    for (Eigen::Index i = 0; i < nv; ++i) {
-      for (int k = 0; k < 3; ++k) append_raw_le(out, positions(i, k));
-      for (const VertexProperty& p : vertex_properties) append_raw_le(out, p.values[i]);
-    }
-    for (const Triangle& t : faces) {
-      out.push_back(static_cast<char>(3));
-      for (Index v : t) append_raw_le(out, std::int32_t{v});
-    }
-  } else {
-    out.reserve(out.size() + static_cast<std::size_t>(nv) * columns * 20 + faces.size() * 24);
-    for (Eigen::Index i = 0; i < nv; ++i) {
-      for (int k = 0; k < 3; ++k) {
+  out.reserve(out.size() + static_cast<std::size_t>(nv) * columns * (binary ? 8 : 20) +
+              faces.size() * ((binary ? 13 : 24) + face_properties.size() * (binary ? 8 : 20)));
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      if (binary) {
+        append_raw_le(out, positions(i, k));
+      } else {
         if (k > 0) out.push_back(' ');
         detail::append_double(out, positions(i, k));
       }
-      for (const VertexProperty& p : vertex_properties) {
-        out.push_back(' ');
-        detail::append_double(out, p.values[i]);
-      }
-      out.push_back('\n');
     }
-    for (const Triangle& t : faces) {
-      out += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) +
-             "\n";
+    append_values(out, vertex_properties, i, binary);
+    if (!binary) out.push_back('\n');
+  }
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const Triangle& t = faces[static_cast<std::size_t>(f)];
+    if (binary) {
+      out.push_back(static_cast<char>(3));
+      for (Index v : t) append_raw_le(out, std::int32_t{v});
+    } else {
+      out += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]);
     }
+    append_values(out, face_properties, f, binary);
+    if (!binary) out.push_back('\n');
   }
   detail::write_file_atomically(path, out);
 }

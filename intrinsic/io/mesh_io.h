@@ -1,5 +1,6 @@
 // Reading and writing meshes and point clouds: OBJ, OFF, PLY (ASCII / binary LE / BE), STL
-// (ASCII / binary), XYZ; PLY output with named per-vertex scalar properties; Matrix Market.
+// (ASCII / binary), XYZ; PLY output with named per-vertex and per-face scalar properties;
+// Matrix Market.
 // Vertex count and order of OBJ/OFF/PLY/XYZ input are kept exactly (no welding, reordering or
 // dropping of unreferenced vertices). Errors: IoError naming the file, the line (text) or byte
 // offset (binary), and the problem. Writers never leave a partial file behind.
@@ -35,6 +36,10 @@ struct SurfaceInput {
   Index n_non_triangles = 0;            ///< polygons with more than 3 corners
   Eigen::MatrixX3d normals;             ///< #V×3 when the file has per-vertex normals, else 0×3
   std::vector<VertexProperty> vertex_properties;  ///< other per-vertex scalars (PLY), as doubles
+  /// Per-face scalars of a PLY `face` element (other than its index list), as doubles: one
+  /// value per item of that element, in file order (= n_polygons without tristrips; a polygon's
+  /// triangles share it through triangle_polygon).
+  std::vector<VertexProperty> face_properties;
   Index welded_vertices = 0;  ///< STL only: corners merged because positions were equal
   std::string format;         ///< e.g. "obj", "off", "ply-binary-le", "stl-ascii", "xyz"
   bool has_faces() const { return !triangles.empty(); }
@@ -60,6 +65,13 @@ SurfaceInput read_mesh(const std::string& path);
 void write_ply(const std::string& path, const Positions& positions,
                const std::vector<Triangle>& faces,
                const std::vector<VertexProperty>& vertex_properties = {}, bool binary = true);
+/// The same with named per-face double properties too (each #F long, one value per triangle of
+/// `faces`, written after each face's vertex_indices; names unique within the face element).
+/// @throws IoError as above, and if a face property has the wrong length
+void write_ply(const std::string& path, const Positions& positions,
+               const std::vector<Triangle>& faces,
+               const std::vector<VertexProperty>& vertex_properties,
+               const std::vector<VertexProperty>& face_properties, bool binary = true);
 
 /// Writes a sparse matrix in Matrix Market coordinate format (general, real, 1-based), atomic.
 /// @throws IoError if the file cannot be written

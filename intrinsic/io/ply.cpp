@@ -1,6 +1,6 @@
 // PLY reader: ASCII, binary little-endian and binary big-endian; any scalar type for vertex
-// properties, any integer type for list counts and indices, `face` and `tristrips` elements,
-// other elements skipped. Counts in the header are checked against the file size before
+// and face properties, any integer type for list counts and indices, `face` and `tristrips`
+// elements, other elements skipped. Counts in the header are checked against the file size before
 // anything is allocated.
 #include <algorithm>
 #include <cmath>
@@ -396,6 +396,7 @@ class BodyReader {
       if (kind == Kind::kFace) {
         out_.triangles.reserve(out_.triangles.size() + e.count);
         out_.triangle_polygon.reserve(out_.triangle_polygon.size() + e.count);
+        begin_face_values(e);
       }
     }
     for (std::uint64_t i = 0; i < e.count; ++i) {
@@ -425,6 +426,13 @@ class BodyReader {
           extra_[k].data(), static_cast<Eigen::Index>(extra_[k].size()));
       out_.vertex_properties.push_back(std::move(property));
     }
+    for (std::size_t k = 0; k < face_extra_.size(); ++k) {
+      VertexProperty property;
+      property.name = face_names_[k];
+      property.values = Eigen::Map<const Eigen::VectorXd>(
+          face_extra_[k].data(), static_cast<Eigen::Index>(face_extra_[k].size()));
+      out_.face_properties.push_back(std::move(property));
+    }
     check_max_index(path_, sink_, std::max<Index>(n_vertices_, 0), Source::kBinary);
   }
 
@@ -441,8 +449,28 @@ class BodyReader {
     n_vertices_ = static_cast<Index>(e.count);
   }
 
-  /// Reads (or skips) scalar property p of item i into its vertex array slot.
+  /// The slots of a face element's scalar properties (face_slot_; a name seen in an earlier face
+  /// element continues its values), their arrays reserved.
+  void begin_face_values(const PlyElement& e) {
+    face_slot_.assign(e.properties.size(), -1);
+    for (std::size_t p = 0; p < e.properties.size(); ++p) {
+      if (e.properties[p].is_list) continue;
+      const auto it = std::find(face_names_.begin(), face_names_.end(), e.properties[p].name);
+      face_slot_[p] = static_cast<int>(it - face_names_.begin());
+      if (it == face_names_.end()) {
+        face_names_.push_back(e.properties[p].name);
+        face_extra_.emplace_back();
+      }
+      face_extra_[face_slot_[p]].reserve(face_extra_[face_slot_[p]].size() + e.count);
+    }
+  }
+
+  /// Reads (or skips) scalar property p of item i into its vertex or face array slot.
   void read_scalar(Kind kind, const PlyProperty& prop, std::size_t p, std::uint64_t i) {
+    if (kind == Kind::kFace && face_slot_[p] >= 0) {
+      face_extra_[face_slot_[p]].push_back(src_.scalar(prop.type));
+      return;
+    }
     if (kind != Kind::kVertex || layout_.target[p] < 0) {
       src_.skip(prop.type);
       return;
@@ -510,7 +538,10 @@ class BodyReader {
   std::vector<double> nxyz_;
   std::vector<std::vector<double>> extra_;
   std::vector<std::string> extra_names_;
-  std::vector<Index> list_;  // index list of the current face or strip, reused
+  std::vector<Index> list_;     // index list of the current face or strip, reused
+  std::vector<int> face_slot_;  // per property of the face element being read: its face array
+  std::vector<std::vector<double>> face_extra_;
+  std::vector<std::string> face_names_;
   bool has_normals_ = false;
   Index n_vertices_ = -1;
 };

@@ -606,6 +606,49 @@ TEST_F(MeshIo, PlyRoundTripBinaryAndAscii) {
   EXPECT_EQ(pc.positions.rows(), nv);
 }
 
+// Per-face properties (a field's singularities) round-trip in both encodings, next to vertex
+// properties of the same name; a wrong count or a reserved name is refused without a file.
+TEST_F(MeshIo, PlyFacePropertiesRoundTrip) {
+  const auto mesh = intrinsic::icosphere(2);
+  const Index nv = static_cast<Index>(mesh.positions.rows());
+  const auto nf = static_cast<Eigen::Index>(mesh.faces.size());
+  std::vector<VertexProperty> vertex(1), face(2);
+  vertex[0] = {"singularity", Eigen::VectorXd::LinSpaced(nv, -1.0, 1.0)};
+  face[0] = {"singularity", Eigen::VectorXd::LinSpaced(nf, -3.0, 4.0).array().round()};
+  face[1] = {"area", Eigen::VectorXd::LinSpaced(nf, 0.0, 1e-300)};
+  for (bool binary : {true, false}) {
+    SCOPED_TRACE(binary ? "binary" : "ascii");
+    const std::string p = path(binary ? "fp_b.ply" : "fp_a.ply");
+    write_ply(p, mesh.positions, mesh.faces, vertex, face, binary);
+    const SurfaceInput s = read_surface(p);
+    EXPECT_EQ(s.triangles, mesh.faces);
+    ASSERT_EQ(s.vertex_properties.size(), 1u);
+    EXPECT_TRUE((s.vertex_properties[0].values.array() == vertex[0].values.array()).all());
+    ASSERT_EQ(s.face_properties.size(), 2u);
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_EQ(s.face_properties[k].name, face[k].name);
+      ASSERT_EQ(s.face_properties[k].values.size(), nf);
+      EXPECT_TRUE((s.face_properties[k].values.array() == face[k].values.array()).all());
+    }
+  }
+  const std::string bad = path("fp_bad.ply");
+  std::vector<VertexProperty> short_face = {{"singularity", Eigen::VectorXd::Zero(nf - 1)}};
+  EXPECT_THROW(write_ply(bad, mesh.positions, mesh.faces, {}, short_face), IoError);
+  std::vector<VertexProperty> reserved = {{"vertex_indices", Eigen::VectorXd::Zero(nf)}};
+  EXPECT_THROW(write_ply(bad, mesh.positions, mesh.faces, {}, reserved), IoError);
+  EXPECT_FALSE(fs::exists(bad));
+  // other readers' face properties (uchar colours, an int) are read as doubles
+  std::ofstream(path("fp_other.ply"))
+      << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 1\nproperty uchar red\nproperty list uchar int "
+         "vertex_indices\nproperty int label\nend_header\n0 0 0\n1 0 0\n0 1 0\n200 3 0 1 2 -7\n";
+  const SurfaceInput other = read_surface(path("fp_other.ply"));
+  ASSERT_EQ(other.face_properties.size(), 2u);
+  EXPECT_EQ(other.face_properties[0].name, "red");
+  EXPECT_EQ(other.face_properties[0].values[0], 200.0);
+  EXPECT_EQ(other.face_properties[1].values[0], -7.0);
+}
+
 TEST_F(MeshIo, WriterErrorsLeaveNoFile) {
   const auto mesh = intrinsic::tetrahedron();
   std::vector<VertexProperty> props(1);
