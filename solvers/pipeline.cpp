@@ -396,6 +396,7 @@ PreparedSurface prepare_surface(io::SurfaceInput input, const PrepareOptions& op
   const Progress progress(options.progress);
   PreparedSurface s;
   s.input = std::move(input);
+  s.mollify_relative_epsilon = options.mollify_relative_epsilon;
   s.input_mean_edge_length = intrinsic::robust_side_length(s.input.triangles, s.input.positions);
   if (!s.input.has_faces() || options.force_pointcloud) {
     prepare_point_cloud(options, s, progress);

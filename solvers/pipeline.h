@@ -89,6 +89,9 @@ struct PreparedSurface {
   intrinsic::TuftedCoverReport tufted;  ///< tufted path
   pointcloud::Report cloud;             ///< point-cloud path
   intrinsic::MollifyReport mollify;
+  /// The relative margin it was mollified with (PrepareOptions::mollify_relative_epsilon): a
+  /// SignpostTriangulation of the input with it has the same lengths as tri before the flips.
+  double mollify_relative_epsilon = 0.0;
   intrinsic::FlipReport flips;
   /// #V mask of the input's boundary vertices when the triangulation's own boundary is not the
   /// surface's (the tufted cover has none); empty when the triangulation's boundary is right.

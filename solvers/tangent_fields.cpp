@@ -85,6 +85,7 @@ TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSetti
   }
   r.vectors = to_3d(direction, basis);
   const Eigen::VectorXi index = face_indices(s.tri, frames, f.u, n);
+  r.face_singularity = input_face_indices(s, frames, f.u, n);
   r.singularity = Eigen::VectorXd::Zero(nv);
   for (Index face = 0; face < s.tri.n_faces(); ++face) {
     if (index[face] == 0) continue;

@@ -38,6 +38,9 @@ struct TangentFieldResult {
   /// #V_in: indices (units of 1/n) of the singular faces of the intrinsic triangulation, each
   /// added to its corner of lowest id (an input vertex whenever the face has one).
   Eigen::VectorXd singularity;
+  /// #F_in (s.input.triangles, in order): the index (units of 1/n) around each input face
+  /// (input_face_indices()); sums to n·χ on a closed surface. Empty when unknown.
+  Eigen::VectorXi face_singularity;
   Index singular_faces = 0;  ///< faces with a nonzero index
   long total_index = 0;      ///< Σ indices over all faces (n·χ on a closed surface)
   Index constrained = 0;     ///< vertices held (constraints and boundary)
@@ -52,6 +55,21 @@ struct TangentFieldResult {
 ///         surface there, or a surface that did not take the manifold path (the tufted cover and
 ///         point clouds: their vertices have several fans, so directions are not the surface's)
 TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSettings& settings);
+
+/// The index of an n-direction field around each face of the input (s.input.triangles, in
+/// order), in units of 1/n: solvers::face_indices() on the input triangulation, from the field
+/// at the face's three corners and the transport along its three sides (geodesics of the same
+/// surface, drawn in s.tri by the signposts: their directions at the corners in s.tri's
+/// coordinates), plus n times the face's share of curvature. On a closed surface they sum to n·χ;
+/// where s.tri is the input (no flips) they equal face_indices() on s.tri. Faces the build dropped
+/// (a repeated vertex) get 0. The signposts are s.signposts, or, on the plain intrinsic Delaunay
+/// path, rebuilt from the input with s's mollification and flips (O(#F) more work) and checked to
+/// give back s.tri exactly. Empty when they do not, and off the manifold path.
+/// @param frames fem::tangent_frames(s.tri); u the field on s.tri's vertices (power
+///        representation, solvers/direction_field.h)
+/// @throws InvalidInput if u or frames do not have s.tri's vertex count
+Eigen::VectorXi input_face_indices(const PreparedSurface& s, const fem::TangentFrames& frames,
+                                   const Eigen::VectorXcd& u, int symmetry);
 
 /// The Vector Heat Method solver for s (VectorHeatSolver on s.tri, already intrinsic Delaunay,
 /// with the heat step of distance_options(s) and the input's boundary), for transport_on() and

@@ -66,6 +66,12 @@ std::vector<io::VertexProperty> report(const Args& args, const solvers::TangentF
           {"singularity", r.singularity}};
 }
 
+// The face property: the index around each input face (empty when unknown).
+std::vector<io::VertexProperty> face_properties(const solvers::TangentFieldResult& r) {
+  if (r.face_singularity.size() == 0) return {};
+  return {{"singularity", r.face_singularity.cast<double>()}};
+}
+
 void print_written(const ResultOutput& out, const solvers::FieldSettings& settings,
                    const solvers::TangentFieldResult& r) {
   std::printf("wrote %s: %d-direction field, %d singular faces, total index %ld/%d\n",
@@ -87,7 +93,9 @@ int run_curves(const Args& args, const ResultOutput& out) {
   const std::vector<io::VertexProperty> properties = report(args, r, watch.seconds());
   run.polylines = curve_polylines_if_asked(args, run.surface);
   if (out.ply) {
-    write_curve_outputs(args, out, run, properties);
+    write_curve_outputs(args, out, run, [&] {
+      write_results(out, run.surface.surface, properties, face_properties(r));
+    });
   } else {
     write_curve_outputs(args, out, run, [&] { write_rows(out.path, r.vectors); });
   }
@@ -108,7 +116,7 @@ int run(const Args& args) {
   const solvers::TangentFieldResult r = solvers::direction_field_on(s, settings);
   const std::vector<io::VertexProperty> properties = report(args, r, watch.seconds());
   if (out.ply) {
-    write_results(out, s, properties);
+    write_results(out, s, properties, face_properties(r));
   } else {
     write_rows(out.path, r.vectors);
   }
@@ -132,8 +140,12 @@ Command field_command() {
       "  OUT.ply: the input mesh with per-vertex properties fx fy fz (a unit tangent\n"
       "  vector: one of the N directions), angle (that direction in the vertex's own\n"
       "  coordinate: 0 along its first edge, counter-clockwise with the faces'\n"
-      "  orientation) and singularity (indices in units of 1/N of the singular faces,\n"
-      "  each on one of its corners; they sum to N·χ on a closed surface).\n"
+      "  orientation) and singularity (indices in units of 1/N of the singular faces\n"
+      "  of the intrinsic triangulation, each on one of its corners), and the per-face\n"
+      "  property singularity: the index of each input face in units of 1/N (the field's\n"
+      "  turning around the face's three edges, relative to parallel transport, plus N\n"
+      "  times its share of curvature; they sum to N·χ on a closed surface), one per\n"
+      "  triangle written (a polygon of the input is written as its triangles).\n"
       "  OUT.txt: 'x y z' per input vertex, in order.\n"
       "Constraints file: lines 'VERTEX X Y Z' (a 0-based input vertex and a direction,\n"
       "projected to the tangent plane there); '#' starts a comment.\n\n"

@@ -29,12 +29,14 @@ ResultOutput result_output(const Args& args, const std::string& name) {
 }
 
 void write_results(const ResultOutput& out, const PreparedSurface& s,
-                   const std::vector<io::VertexProperty>& properties) {
-  write_results(out, s.input, properties);
+                   const std::vector<io::VertexProperty>& properties,
+                   const std::vector<io::VertexProperty>& face_properties) {
+  write_results(out, s.input, properties, face_properties);
 }
 
 void write_results(const ResultOutput& out, const io::SurfaceInput& input,
-                   const std::vector<io::VertexProperty>& properties) {
+                   const std::vector<io::VertexProperty>& properties,
+                   const std::vector<io::VertexProperty>& face_properties) {
   const Eigen::Index nv = input.positions.rows();
   std::vector<io::VertexProperty> on_input;
   for (const io::VertexProperty& p : properties) {
@@ -44,7 +46,7 @@ void write_results(const ResultOutput& out, const io::SurfaceInput& input,
     on_input.push_back({p.name, p.values.head(nv)});
   }
   if (out.ply) {
-    io::write_ply(out.path, input.positions, input.triangles, on_input);
+    io::write_ply(out.path, input.positions, input.triangles, on_input, face_properties);
     return;
   }
   if (on_input.size() != 1) throw std::logic_error("write_results: a .txt holds one value");

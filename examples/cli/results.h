@@ -1,6 +1,6 @@
-// The one writer of per-vertex results (distance, poisson, eigen, geodesic --all-from): the input
-// mesh with PLY vertex properties, or one value per line in a .txt. The output's extension is
-// checked when the command starts, before any computation (result_output()).
+// The one writer of per-vertex results (distance, poisson, eigen, geodesic --all-from, field): the
+// input mesh with PLY vertex (and face) properties, or one value per line in a .txt. The output's
+// extension is checked when the command starts, before any computation (result_output()).
 #pragma once
 
 #include <string>
@@ -27,10 +27,14 @@ ResultOutput result_output(const Args& args, const std::string& name = "output")
 /// @throws std::logic_error if a property has fewer than #V values or a .txt gets several
 /// @throws IoError if the file cannot be written
 void write_results(const ResultOutput& out, const PreparedSurface& s,
-                   const std::vector<io::VertexProperty>& properties);
-/// The same on an input as read (for commands that build no PreparedSurface).
+                   const std::vector<io::VertexProperty>& properties,
+                   const std::vector<io::VertexProperty>& face_properties = {});
+/// The same on an input as read (for commands that build no PreparedSurface). face_properties:
+/// per-face values (one per triangle of input.triangles, in order) for the .ply's face element;
+/// a .txt does not hold them.
 void write_results(const ResultOutput& out, const io::SurfaceInput& input,
-                   const std::vector<io::VertexProperty>& properties);
+                   const std::vector<io::VertexProperty>& properties,
+                   const std::vector<io::VertexProperty>& face_properties = {});
 
 /// Writes a per-vertex matrix as text: one line per row (an input vertex), its columns separated
 /// by spaces, 17 significant digits (`x y z` tangent vectors, `u v` coordinates).

@@ -32,8 +32,12 @@ def direction_field(V, F, symmetry=1, align_boundary=False, constraint_vertices=
         directions: #K×3 directions in space, projected to the tangent plane at each vertex.
         mollify: relative mollification margin.
         return_info: also return a dict (path, ``singular_faces``, ``total_index`` — n·χ on a
-            closed surface —, ``constrained``, ``energy``, ...; with curves, ``curves``: what
-            inserting them did, as :func:`curve_poisson`'s info).
+            closed surface —, ``face_singularity`` — #F int array: the index of each face of
+            F, in units of 1/n, from the field at its corners and the transport along its
+            edges; sums to n·χ on a closed mesh; what ``ifem field -o OUT.ply`` writes as the
+            face property ``singularity``; empty if unknown —, ``constrained``, ``energy``,
+            ...; with curves, ``curves``: what inserting them did, as :func:`curve_poisson`'s
+            info).
         curves: None, or curves to align the field to: a list of :class:`Curve` (or dicts of
             its arguments), one Curve, or a curves file's path (as :func:`curve_poisson`; the
             curves' values are not used and may be omitted, e.g. ``ifem.Curve([3, 8, 20, 31],

@@ -76,6 +76,9 @@ py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry
     info = surface_info(s);
   }
   info["singular_faces"] = r.singular_faces;
+  std::vector<Index> face_index(r.face_singularity.data(),
+                                r.face_singularity.data() + r.face_singularity.size());
+  info["face_singularity"] = to_numpy(std::move(face_index));
   info["total_index"] = r.total_index;
   info["constrained"] = r.constrained;
   info["energy"] = r.energy;

@@ -26,6 +26,8 @@ def test_poincare_hopf_and_unit_tangent_vectors(spot, n):
     V, F = spot
     vectors, angle, singularity, info = ifem.direction_field(V, F, symmetry=n, return_info=True)
     assert info["total_index"] == 2 * n  # spot has genus 0: χ = 2
+    assert info["face_singularity"].shape == (len(F),)
+    assert info["face_singularity"].sum() == 2 * n  # on the input's own faces too
     assert singularity.sum() == 2 * n  # every face of spot's IDT has an input vertex
     assert np.allclose(np.linalg.norm(vectors, axis=1), 1.0, atol=1e-12)
     # tangent: orthogonal to the area-weighted vertex normal
