@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -344,6 +345,110 @@ TEST(Connection, NonDelaunayInputCanBeIndefinite) {
   EXPECT_GE(cotan_laplacian(tri).diagonal().minCoeff(), 0.0);
   tri.flip_to_delaunay();
   for (const int n : {1, 2, 4}) EXPECT_GE(smallest(n), -1e-10) << n;
+}
+
+// A flat torus (unit square, periodic) from an n×n grid of squares split along a diagonal, with
+// vertex (1, 1) pulled 95% of the way onto the diagonal of its square: a sliver whose angle near
+// π puts a strongly negative cotan weight on that diagonal (and obtuse angles around it).
+// Lengths from the plane, so every vertex is flat and the connection has no holonomy.
+IntrinsicTriangulation flat_torus_with_sliver(int n) {
+  auto id = [n](int i, int j) { return Index((j % n) * n + i % n); };
+  auto position = [n](int i, int j) {
+    Eigen::Vector2d p(double(i) / n, double(j) / n);
+    if (i % n == 1 && j % n == 1) {  // towards the midpoint of (0, 1)–(1, 2)
+      const Eigen::Vector2d mid = Eigen::Vector2d(i - 0.5, j + 0.5) / n;
+      p += 0.95 * (mid - p);
+    }
+    return p;
+  };
+  std::vector<Triangle> faces;
+  Eigen::MatrixX3d lengths(2 * n * n, 3);
+  Index f = 0;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const int corners[2][3][2] = {{{i, j}, {i + 1, j}, {i + 1, j + 1}},
+                                    {{i, j}, {i + 1, j + 1}, {i, j + 1}}};
+      for (const auto& c : corners) {
+        faces.push_back({id(c[0][0], c[0][1]), id(c[1][0], c[1][1]), id(c[2][0], c[2][1])});
+        for (int k = 0; k < 3; ++k) {
+          const auto& a = c[k];
+          const auto& b = c[(k + 1) % 3];
+          // the sliver vertex also sits at (n + 1, ·) and (·, n + 1) seen across the seams
+          lengths(f, k) = (position(b[0], b[1]) - position(a[0], a[1])).norm();
+        }
+        ++f;
+      }
+    }
+  }
+  return IntrinsicTriangulation::from_side_lengths(faces, n * n, lengths);
+}
+
+// The parallel field through p_0 = 1 (transport has no holonomy here: a breadth-first walk).
+Eigen::VectorXcd parallel_field(const IntrinsicTriangulation& tri, const TangentFrames& fr) {
+  Eigen::VectorXcd p = Eigen::VectorXcd::Zero(tri.n_vertices());
+  p[0] = 1.0;
+  std::queue<Index> todo;
+  todo.push(0);
+  while (!todo.empty()) {
+    const Index v = todo.front();
+    todo.pop();
+    for (Index h = 0; h < tri.n_halfedges(); ++h) {
+      if (tri.tail(h) != v || p[tri.head(h)] != Complex(0.0)) continue;
+      p[tri.head(h)] = fr.transport[h] * p[v];
+      todo.push(tri.head(h));
+    }
+  }
+  return p;
+}
+
+// One implicit heat step (M + tL) x = M x0 of a field that is the constant direction at one
+// vertex and 0 elsewhere, read against that direction at every vertex: min_v Re(conj(p_v) x_v)
+// relative to the largest |x|, and where it is reached.
+std::pair<double, Index> smoothed_against_constant(const IntrinsicTriangulation& tri, Index at,
+                                                   double t) {
+  const TangentFrames fr = tangent_frames(tri);
+  const Eigen::VectorXcd p = parallel_field(tri, fr);
+  for (Index h = 0; h < tri.n_halfedges(); ++h) {  // really parallel: no holonomy
+    EXPECT_LT(std::abs(p[tri.head(h)] - fr.transport[h] * p[tri.tail(h)]), 1e-12);
+  }
+  const Eigen::VectorXd mass = lumped_mass(tri);
+  ComplexSparseMatrix A = t * connection_laplacian(tri, fr, 1);
+  for (Index v = 0; v < tri.n_vertices(); ++v) A.coeffRef(v, v) += mass[v];
+  Eigen::SparseLU<ComplexSparseMatrix> lu(A);
+  Eigen::VectorXcd b = Eigen::VectorXcd::Zero(tri.n_vertices());
+  b[at] = mass[at] * p[at];
+  const Eigen::VectorXcd x = lu.solve(b);
+  std::pair<double, Index> worst{1e300, kInvalidIndex};
+  for (Index v = 0; v < tri.n_vertices(); ++v) {
+    const double along = (std::conj(p[v]) * x[v]).real() / x.cwiseAbs().maxCoeff();
+    if (along < worst.first) worst = {along, v};
+  }
+  return worst;
+}
+
+// The maximum principle the thesis cites (Fig. 4 right): on the intrinsic Delaunay
+// triangulation the connection Laplacian's weights are non-negative, so a smoothing step keeps
+// every vector within the half-plane of the constant direction it started from; the input's
+// sliver gives a negative weight, and the vector across it comes out flipped.
+TEST(Connection, IntrinsicDelaunaySmoothingFlipsNoVector) {
+  const int n = 8;
+  IntrinsicTriangulation tri = flat_torus_with_sliver(n);
+  const Eigen::VectorXd w = intrinsic::cotan_weights(tri);
+  Index worst_edge = 0;
+  for (Index e = 0; e < tri.n_edges(); ++e) worst_edge = w[e] < w[worst_edge] ? e : worst_edge;
+  ASSERT_LT(w[worst_edge], -1.0);  // the sliver's diagonal
+  RecordProperty("sliver_weight", std::to_string(w[worst_edge]));
+  const Index a = tri.tail(tri.edge_halfedge(worst_edge));
+  const double t = 0.1 / (n * n);  // a tenth of h²
+  const auto [input_min, input_at] = smoothed_against_constant(tri, a, t);
+  EXPECT_LT(input_min, -1e-3) << "the input's Laplacian flips no vector here";
+  EXPECT_EQ(input_at, tri.head(tri.edge_halfedge(worst_edge)));  // across the sliver's diagonal
+  RecordProperty("input_min", std::to_string(input_min));
+  tri.flip_to_delaunay();
+  EXPECT_GE(intrinsic::cotan_weights(tri).minCoeff(), -1e-12);
+  const auto [idt_min, idt_at] = smoothed_against_constant(tri, a, t);
+  EXPECT_GE(idt_min, -1e-12) << "a flipped vector at vertex " << idt_at;
+  RecordProperty("idt_min", std::to_string(idt_min));
 }
 
 // L from triplets, the documented formula edge by edge.
