@@ -93,6 +93,11 @@ Command field_command() {
       "  orientation) and singularity (indices in units of 1/N of the singular faces,\n"
       "  each on one of its corners; they sum to N·χ on a closed surface).\n"
       "  OUT.txt: 'x y z' per input vertex, in order.\n"
+      "On nonmanifold meshes (the tufted cover) and point clouds the field lives in\n"
+      "per-vertex 3D frames from the normals, oriented by propagation: angle is then\n"
+      "from the x axis projected to the tangent plane; singularities come from the\n"
+      "input's faces (none for point clouds); --align-boundary and --refine are\n"
+      "refused there.\n"
       "Constraints file: lines 'VERTEX X Y Z' (a 0-based input vertex and a direction,\n"
       "projected to the tangent plane there); '#' starts a comment.\n";
   c.spec.groups = {
