@@ -57,7 +57,11 @@ int run(const Args& args) {
   progress(args, "field in " + std::to_string(watch.seconds()) +
                      " s: " + std::to_string(r.constrained) + " vertices held, " +
                      std::to_string(r.iterations) + " inverse iterations, energy " +
-                     std::to_string(r.energy));
+                     std::to_string(r.energy) +
+                     (s.path == intrinsic::SurfacePath::kManifold
+                          ? std::string()
+                          : "; 3D frames, " + std::to_string(r.orientation_conflicts) +
+                                " neighbour pairs with opposite normals"));
   if (out.ply) {
     write_results(out, s,
                   {{"fx", r.vectors.col(0)},
