@@ -57,7 +57,11 @@ int run(const Args& args) {
   progress(args, "field in " + std::to_string(watch.seconds()) +
                      " s: " + std::to_string(r.constrained) + " vertices held, " +
                      std::to_string(r.iterations) + " inverse iterations, energy " +
-                     std::to_string(r.energy));
+                     std::to_string(r.energy) +
+                     (s.path == intrinsic::SurfacePath::kManifold
+                          ? std::string()
+                          : "; 3D frames, " + std::to_string(r.orientation_conflicts) +
+                                " neighbour pairs with opposite normals"));
   if (out.ply) {
     write_results(out, s,
                   {{"fx", r.vectors.col(0)},
@@ -93,6 +97,11 @@ Command field_command() {
       "  orientation) and singularity (indices in units of 1/N of the singular faces,\n"
       "  each on one of its corners; they sum to N·χ on a closed surface).\n"
       "  OUT.txt: 'x y z' per input vertex, in order.\n"
+      "On nonmanifold meshes (the tufted cover) and point clouds the field lives in\n"
+      "per-vertex 3D frames from the normals, oriented by propagation: angle is then\n"
+      "from the x axis projected to the tangent plane; singularities come from the\n"
+      "input's faces (none for point clouds); --align-boundary and --refine are\n"
+      "refused there.\n"
       "Constraints file: lines 'VERTEX X Y Z' (a 0-based input vertex and a direction,\n"
       "projected to the tangent plane there); '#' starts a comment.\n";
   c.spec.groups = {

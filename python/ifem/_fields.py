@@ -5,60 +5,75 @@ import numpy as np
 from . import _ifem
 
 
-def direction_field(V, F, symmetry=1, align_boundary=False, constraint_vertices=None,
-                    directions=None, mollify=1e-5, return_info=False):
-    """The smoothest n-direction field on a mesh, as unit 3D tangent vectors per vertex.
+def direction_field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
+                    directions=None, mollify=1e-5, return_info=False, *, normals=None,
+                    path="auto", knn=30):
+    """The smoothest n-direction field on a mesh or point cloud, as unit 3D tangent vectors per
+    vertex.
 
     The field is the smallest eigenvector of the connection Laplacian of the intrinsic
     Delaunay triangulation (Knöppel, Crane, Pinkall, Schröder 2013), or, with constraints, the
     smoothest field through them (harmonic in the power representation). Same as
-    ``ifem field MESH --symmetry N [--align-boundary] [--constraints FILE]``.
+    ``ifem field MESH --symmetry N [--align-boundary] [--constraints FILE]``. On nonmanifold or
+    non-orientable meshes (the tufted path) and point clouds the connection comes from
+    per-vertex 3D frames: normals from the faces (or ``normals``, else PCA of the neighbours),
+    oriented consistently by propagation, and the minimal rotation between neighbours' normals.
 
     Args:
         V: #V×3 positions.
-        F: #F×3 vertex ids.
+        F: #F×3 vertex ids; ``None`` (or empty) for a point cloud.
         symmetry: n ≥ 1 — 1 vectors, 2 lines, 4 crosses.
         align_boundary: hold the field along the boundary (meshes that take the manifold path).
         constraint_vertices: vertex ids where a direction is held (with ``directions``).
         directions: #K×3 directions in space, projected to the tangent plane at each vertex.
         mollify: relative mollification margin.
         return_info: also return a dict (path, ``singular_faces``, ``total_index`` — n·χ on a
-            closed surface —, ``constrained``, ``energy``, ...).
+            closed surface —, ``constrained``, ``energy``, ``orientation_conflicts`` —
+            neighbour pairs whose oriented normals still disagree on the frame path —, ...).
+        normals: optional #V×3 normals of a point cloud (rows zero or not finite: PCA).
+        path: ``'auto'``, ``'manifold'``, ``'tufted'`` or ``'pointcloud'``.
+        knn: neighbours per point on the point-cloud path.
 
     Returns:
         ``vectors`` (#V×3: a unit tangent vector per vertex, one of the n directions; 0 where
         the field has no direction), ``angle`` (#V: that direction's angle in the vertex's own
-        coordinate, 0 along its first edge, counter-clockwise with the faces' orientation),
-        ``singularity`` (#V: indices in units of 1/n of the singular faces, each counted on one
-        of its corners), and ``info`` when asked.
+        coordinate, 0 along its first edge, counter-clockwise with the faces' orientation; on
+        the frame path from the x axis projected to the tangent plane), ``singularity`` (#V:
+        indices in units of 1/n of the singular faces, each counted on one of its corners; the
+        input's faces on the frame path, none for point clouds), and ``info`` when asked.
 
     Raises:
         InvalidInput: bad arrays, symmetry < 1, a constraint vertex out of range or a direction
-            normal to the surface, a mesh that is not edge-manifold and orientable (its tufted
-            cover's vertices have several fans: directions there would not be the surface's).
+            normal to the surface, ``align_boundary`` off the manifold path.
     """
     vectors, angle, singularity, info = _ifem.direction_field(
-        V, F, int(symmetry), bool(align_boundary), constraint_vertices, directions,
-        float(mollify))
+        V, None if F is None or np.size(F) == 0 else F, int(symmetry), bool(align_boundary),
+        constraint_vertices, directions, normals, float(mollify), str(path), int(knn))
     out = (np.ascontiguousarray(vectors), angle, singularity)
     return out + (info,) if return_info else out
 
 
 class VectorHeatSolver:
-    """The Vector Heat Method (Sharp, Soliman, Crane 2019) on a mesh: factors once, then
-    parallel transport and logarithmic maps cost a few back-substitutions each. Same as
-    ``ifem transport`` / ``ifem logmap``; like potpourri3d's ``MeshVectorHeatSolver``, with 3D
-    vectors in and out.
+    """The Vector Heat Method (Sharp, Soliman, Crane 2019) on a mesh or point cloud: factors
+    once, then parallel transport and logarithmic maps cost a few back-substitutions each. Same
+    as ``ifem transport`` / ``ifem logmap``; like potpourri3d's ``MeshVectorHeatSolver`` and
+    ``PointCloudHeatSolver``, with 3D vectors in and out.
 
     Args:
         V: #V×3 positions.
-        F: #F×3 vertex ids (a mesh; on the tufted path of a nonmanifold mesh the directions are
-            not meaningful).
+        F: #F×3 vertex ids; ``None`` (or empty) for a point cloud. Nonmanifold and
+            non-orientable meshes (the tufted path) and point clouds use per-vertex 3D frames
+            from the normals, oriented by propagation (see :func:`direction_field`); the log
+            map's angle 0 is then the x axis projected to the source's tangent plane.
         mollify: relative mollification margin.
+        normals: optional #V×3 normals of a point cloud.
+        path: ``'auto'``, ``'manifold'``, ``'tufted'`` or ``'pointcloud'``.
+        knn: neighbours per point on the point-cloud path.
     """
 
-    def __init__(self, V, F, mollify=1e-5):
-        self._solver = _ifem.VectorHeat(V, F, float(mollify))
+    def __init__(self, V, F=None, mollify=1e-5, *, normals=None, path="auto", knn=30):
+        self._solver = _ifem.VectorHeat(V, None if F is None or np.size(F) == 0 else F, normals,
+                                        float(mollify), str(path), int(knn))
 
     def transport(self, source, vector):
         """Parallel transport of a 3D vector at vertex ``source`` (projected to its tangent

@@ -2,6 +2,7 @@
 // as `ifem field` computes it.
 #include <pybind11/stl.h>
 
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -34,18 +35,28 @@ std::vector<solvers::InputDirection> input_directions(const py::handle& vertices
   return out;
 }
 
+// The surface arguments every field function shares: mollify, path, knn, point normals.
+struct SurfaceArgs {
+  double mollify = 1e-5;
+  std::string path = "auto";
+  int knn = 30;
+};
+
+solvers::PreparedSurface prepared(io::SurfaceInput in, const SurfaceArgs& a) {
+  return prepare(std::move(in), prepare_options(a.mollify, a.path, true, a.knn), a.path);
+}
+
 py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry,
                           bool align_boundary, const py::handle& vertices,
-                          const py::handle& directions, double mollify) {
-  io::SurfaceInput in = surface_input(V, F);
-  if (in.triangles.empty()) throw InvalidInput("F has no faces: direction fields need a mesh");
+                          const py::handle& directions, const py::handle& normals,
+                          const SurfaceArgs& a) {
   solvers::FieldSettings settings;
   settings.symmetry = symmetry;
   settings.align_boundary = align_boundary;
+  io::SurfaceInput in = surface_input(V, F, normals);
   settings.constraints =
       input_directions(vertices, directions, static_cast<Index>(in.positions.rows()));
-  const solvers::PreparedSurface s =
-      prepare(std::move(in), prepare_options(mollify, "auto", true, 30), "auto");
+  const solvers::PreparedSurface s = prepared(std::move(in), a);
   solvers::TangentFieldResult r;
   {
     const py::gil_scoped_release release;
@@ -56,15 +67,17 @@ py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry
   info["total_index"] = r.total_index;
   info["constrained"] = r.constrained;
   info["energy"] = r.energy;
+  info["orientation_conflicts"] = r.orientation_conflicts;
   return py::make_tuple(to_numpy(Eigen::MatrixXd(r.vectors)), to_numpy(std::move(r.angle)),
                         to_numpy(std::move(r.singularity)), info);
 }
 
-// A prepared manifold surface and its vector heat solver (factored once; queries reuse it).
+// A prepared surface and its vector heat solver (factored once; queries reuse it).
 class VectorHeat {
  public:
-  VectorHeat(const py::handle& V, const py::handle& F, double mollify)
-      : s_(prepared(V, F, mollify)), solver_(build(s_)) {}
+  VectorHeat(const py::handle& V, const py::handle& F, const py::handle& normals,
+             const SurfaceArgs& a)
+      : s_(prepared(surface_input(V, F, normals), a)), solver_(build(s_)) {}
 
   py::array transport(const py::handle& source, const py::handle& vector) const {
     const Index v = single_vertex(source);
@@ -91,13 +104,6 @@ class VectorHeat {
   py::dict info() const { return surface_info(s_); }
 
  private:
-  static solvers::PreparedSurface prepared(const py::handle& V, const py::handle& F,
-                                           double mollify) {
-    io::SurfaceInput in = surface_input(V, F);
-    if (in.triangles.empty())
-      throw InvalidInput("F has no faces: the vector heat method needs a mesh");
-    return prepare(std::move(in), prepare_options(mollify, "auto", true, 30), "auto");
-  }
   static solvers::VectorHeatSolver build(const solvers::PreparedSurface& s) {
     const py::gil_scoped_release release;
     return solvers::vector_heat_solver(s);
@@ -116,13 +122,26 @@ class VectorHeat {
 
 void bind_fields(py::module_& m) {
   py::class_<VectorHeat>(m, "VectorHeat")
-      .def(py::init<const py::handle&, const py::handle&, double>(), py::arg("V"), py::arg("F"),
-           py::arg("mollify"))
+      .def(py::init([](const py::handle& V, const py::handle& F, const py::handle& normals,
+                       double mollify, const std::string& path, int knn) {
+             return std::make_unique<VectorHeat>(V, F, normals, SurfaceArgs{mollify, path, knn});
+           }),
+           py::arg("V"), py::arg("F"), py::arg("normals"), py::arg("mollify"), py::arg("path"),
+           py::arg("knn"))
       .def("transport", &VectorHeat::transport, py::arg("source"), py::arg("vector"))
       .def("log_map", &VectorHeat::log_map, py::arg("source"))
       .def("info", &VectorHeat::info);
-  m.def("direction_field", &direction_field, py::arg("V"), py::arg("F"), py::arg("symmetry"),
-        py::arg("align_boundary"), py::arg("vertices"), py::arg("directions"), py::arg("mollify"));
+  m.def(
+      "direction_field",
+      [](const py::handle& V, const py::handle& F, int symmetry, bool align_boundary,
+         const py::handle& vertices, const py::handle& directions, const py::handle& normals,
+         double mollify, const std::string& path, int knn) {
+        return direction_field(V, F, symmetry, align_boundary, vertices, directions, normals,
+                               SurfaceArgs{mollify, path, knn});
+      },
+      py::arg("V"), py::arg("F"), py::arg("symmetry"), py::arg("align_boundary"),
+      py::arg("vertices"), py::arg("directions"), py::arg("normals"), py::arg("mollify"),
+      py::arg("path"), py::arg("knn"));
 }
 
 }  // namespace ifem::python
