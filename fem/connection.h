@@ -29,7 +29,8 @@
 // point-cloud triangulations are handled the same way. Their vertices have two or more fans
 // (a manifold vertex's cover has a front and a back fan, each spanning only π), so there L is a
 // well-defined Hermitian operator, PSD once intrinsic Delaunay, but not the surface's
-// connection: vector fields on point clouds need frames from the points' normals.
+// connection: vector fields on point clouds need frames from the points' normals
+// (fem/frame_connection.h, which the solvers use on those paths).
 #pragma once
 
 #include <Eigen/Core>

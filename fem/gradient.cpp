@@ -1,7 +1,12 @@
 #include "fem/gradient.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
@@ -45,6 +50,27 @@ bool hat_gradients(const Layout& L, Eigen::Vector2d g[3]) {
     const Eigen::Vector2d e = p[(i + 2) % 3] - p[(i + 1) % 3];  // opposite side, ccw
     g[i] = Eigen::Vector2d(-e.y(), e.x()) * inv2a;
   }
+  return true;
+}
+
+// x ← −x/|x|, |x| scaled by its largest component first (as hypot, so gradients of ~1e-200
+// from underflowing heat still normalize, at a fraction of libm hypot's cost: it was the
+// largest single item of a heat query). False, x untouched, when |x| is 0 or not finite.
+bool negate_normalize(Eigen::Vector2d& x) {
+  const double m = std::max(std::abs(x.x()), std::abs(x.y()));
+  if (!(m > 0.0) || !std::isfinite(m)) return false;
+  const Eigen::Vector2d y = x / m;
+  x = y / -std::sqrt(y.squaredNorm());
+  return true;
+}
+
+// The corner contributions s·A·∇φ_i·X of face f (with hat gradients g) to the divergence of the
+// unit field −∇u/|∇u|, u at the face's corners; false where the field is undefined.
+bool unit_divergence_corners(const Layout& L, const Eigen::Vector2d g[3], double u0, double u1,
+                             double u2, double s, double c[3]) {
+  Eigen::Vector2d x = u0 * g[0] + u1 * g[1] + u2 * g[2];
+  if (!negate_normalize(x)) return false;
+  for (int i = 0; i < 3; ++i) c[i] = s * L.area * g[i].dot(x);
   return true;
 }
 
@@ -128,18 +154,67 @@ Eigen::VectorXd divergence_of_unit_gradient(const IntrinsicTriangulation& tri,
     const Layout L = layout(tri, f);
     Eigen::Vector2d g[3];
     if (!hat_gradients(L, g)) continue;
-    Eigen::Vector2d x =
-        u[tail[3 * f]] * g[0] + u[tail[3 * f + 1]] * g[1] + u[tail[3 * f + 2]] * g[2];
-    const double norm = std::hypot(x.x(), x.y());
-    if (!(norm > 0.0) || !std::isfinite(norm)) continue;
-    x /= -norm;
-    for (int i = 0; i < 3; ++i) c(f, i) = s * L.area * g[i].dot(x);
+    double cf[3];
+    if (!unit_divergence_corners(L, g, u[tail[3 * f]], u[tail[3 * f + 1]], u[tail[3 * f + 2]], s,
+                                 cf)) {
+      continue;
+    }
+    for (int i = 0; i < 3; ++i) c(f, i) = cf[i];
   }
   Eigen::VectorXd div = Eigen::VectorXd::Zero(tri.n_vertices());
   for (Index f = 0; f < nf; ++f) {
     for (int i = 0; i < 3; ++i) div[tail[3 * f + i]] += c(f, i);
   }
   return div;
+}
+
+Eigen::MatrixXd divergence_of_unit_gradients(const IntrinsicTriangulation& tri,
+                                             const Eigen::MatrixXd& U,
+                                             const std::vector<std::vector<char>>& use_face) {
+  const Index nv = tri.n_vertices(), nf = tri.n_faces();
+  const Eigen::Index k = U.cols();
+  if (U.rows() != nv) {
+    throw InvalidInput("divergence_of_unit_gradients: U has " + std::to_string(U.rows()) +
+                       " rows, expected #V = " + std::to_string(nv));
+  }
+  bool sizes_ok = use_face.empty() || Eigen::Index(use_face.size()) == k;
+  for (const auto& mask : use_face) sizes_ok = sizes_ok && Index(mask.size()) == nf;
+  if (!sizes_ok) {
+    throw InvalidInput(
+        "divergence_of_unit_gradients: use_face must be empty or U.cols() masks "
+        "of #F = " +
+        std::to_string(nf) + " entries");
+  }
+  // vertex-major copies: a face's k values per corner are contiguous
+  const Eigen::MatrixXd Ut = U.transpose();
+  Eigen::MatrixXd div = Eigen::MatrixXd::Zero(k, nv);
+  const double s = 1.0 / tri.multiplicity();
+  const auto& tail = tri.tails();
+  // columns split between threads: each scatters into its own columns, no atomics
+#pragma omp parallel if (nf >= kParallelFaces && k > 1)
+  {
+#ifdef _OPENMP
+    const Eigen::Index nt = omp_get_num_threads(), t = omp_get_thread_num();
+#else
+    const Eigen::Index nt = 1, t = 0;
+#endif
+    const Eigen::Index j0 = k * t / nt, j1 = k * (t + 1) / nt;
+    for (Index f = 0; f < nf && j0 < j1; ++f) {
+      const Layout L = layout(tri, f);
+      Eigen::Vector2d g[3];
+      if (!hat_gradients(L, g)) continue;
+      const Index a = tail[3 * f], b = tail[3 * f + 1], c = tail[3 * f + 2];
+      for (Eigen::Index j = j0; j < j1; ++j) {
+        if (!use_face.empty() && !use_face[std::size_t(j)][std::size_t(f)]) continue;
+        double cf[3];
+        if (!unit_divergence_corners(L, g, Ut(j, a), Ut(j, b), Ut(j, c), s, cf)) continue;
+        div(j, a) += cf[0];
+        div(j, b) += cf[1];
+        div(j, c) += cf[2];
+      }
+    }
+  }
+  return div.transpose();
 }
 
 }  // namespace ifem::fem

@@ -31,12 +31,23 @@ Eigen::VectorXd divergence(const intrinsic::IntrinsicTriangulation& tri, const E
 /// divergence() of the unit field X_f = −∇u/|∇u| (the heat method's normalized gradient) in one
 /// pass over the faces, without storing X: faces where |∇u| is zero or not finite, degenerate
 /// faces and faces with use_face[f] == 0 (when use_face is given, #F) contribute nothing.
-/// |∇u| is computed with hypot, so gradients of ~1e-200 (underflowing heat) still normalize.
+/// |∇u| is scaled by its largest component first, so gradients of ~1e-200 (underflowing heat)
+/// still normalize.
 /// Equals divergence(tri, X) with X built that way (same per-corner arithmetic).
 /// @throws InvalidInput if u.size() != #V or use_face has the wrong size
 Eigen::VectorXd divergence_of_unit_gradient(const intrinsic::IntrinsicTriangulation& tri,
                                             const Eigen::VectorXd& u,
                                             const std::vector<char>* use_face = nullptr);
+
+/// divergence_of_unit_gradient() of every column of U (#V×k) at once, #V×k: each face's layout
+/// is computed once for all columns, and threads split the columns. Column j equals
+/// divergence_of_unit_gradient(tri, U.col(j), &use_face[j]) up to the order of the sums
+/// at each vertex.
+/// @param use_face empty (every face), or k masks of #F entries
+/// @throws InvalidInput if U.rows() != #V or use_face has the wrong sizes
+Eigen::MatrixXd divergence_of_unit_gradients(const intrinsic::IntrinsicTriangulation& tri,
+                                             const Eigen::MatrixXd& U,
+                                             const std::vector<std::vector<char>>& use_face = {});
 
 /// Local 2D position of corner 2 of face f in the frame of gradient() (corner 0 at the origin,
 /// corner 1 at (ℓ₀, 0)); y ≥ 0.

@@ -1,11 +1,15 @@
 // Smoothest and aligned n-direction fields and their singularities (direction_field.h).
 #include "solvers/direction_field.h"
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <random>
 #include <string>
+#include <utility>
 
+#include "fem/frame_connection.h"
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
@@ -89,15 +93,36 @@ void DirectionFieldOptions::validate() const {
   }
 }
 
+namespace {
+
+void check_operators(const fem::ComplexSparseMatrix& L, const Eigen::VectorXd& mass,
+                     const Components& comps) {
+  if (L.rows() != L.cols() || mass.size() != L.rows() ||
+      static_cast<Eigen::Index>(comps.label.size()) != L.rows()) {
+    throw InvalidInput("direction field: the connection Laplacian (" + std::to_string(L.rows()) +
+                       "×" + std::to_string(L.cols()) + "), the mass (" +
+                       std::to_string(mass.size()) + ") and the components (" +
+                       std::to_string(comps.label.size()) + ") do not match");
+  }
+}
+
+}  // namespace
+
+DirectionField smoothest_field(const fem::ComplexSparseMatrix& L_n, const Eigen::VectorXd& mass,
+                               const Components& comps, const DirectionFieldOptions& options) {
+  options.validate();
+  check_operators(L_n, mass, comps);
+  DirectionField f = inverse_iteration(L_n, mass, comps, options);
+  f.free_components = comps.count;
+  return f;
+}
+
 DirectionField smoothest_field(const intrinsic::IntrinsicTriangulation& tri,
                                const fem::TangentFrames& frames,
                                const DirectionFieldOptions& options) {
   options.validate();
-  const fem::ComplexSparseMatrix L = fem::connection_laplacian(tri, frames, options.symmetry);
-  const Components comps = connected_components(tri);
-  DirectionField f = inverse_iteration(L, fem::lumped_mass(tri), comps, options);
-  f.free_components = comps.count;
-  return f;
+  return smoothest_field(fem::connection_laplacian(tri, frames, options.symmetry),
+                         fem::lumped_mass(tri), connected_components(tri), options);
 }
 
 namespace {
@@ -164,15 +189,15 @@ void solve_dirichlet(const fem::ComplexSparseMatrix& L, const std::vector<char>&
 
 }  // namespace
 
-DirectionField aligned_field(const intrinsic::IntrinsicTriangulation& tri,
-                             const fem::TangentFrames& frames,
+DirectionField aligned_field(const fem::ComplexSparseMatrix& L, const Eigen::VectorXd& mass,
+                             const Components& comps,
                              const std::vector<DirectionConstraint>& constraints,
                              const DirectionFieldOptions& options) {
   options.validate();
-  const Index nv = tri.n_vertices();
+  check_operators(L, mass, comps);
+  const Index nv = static_cast<Index>(L.rows());
   DirectionField f;
   const std::vector<Complex> held = held_powers(constraints, nv, options.symmetry, &f.constrained);
-  const Components comps = connected_components(tri);
   std::vector<char> component_held(comps.count, 0), is_held(nv, 0), solve_here(nv, 0);
   for (Index v = 0; v < nv; ++v) {
     is_held[v] = held[v] != Complex(0.0);
@@ -181,8 +206,6 @@ DirectionField aligned_field(const intrinsic::IntrinsicTriangulation& tri,
   for (Index v = 0; v < nv; ++v) {
     solve_here[v] = comps.label[v] != kInvalidIndex && component_held[comps.label[v]];
   }
-  const Eigen::VectorXd mass = fem::lumped_mass(tri);
-  const fem::ComplexSparseMatrix L = fem::connection_laplacian(tri, frames, options.symmetry);
   Eigen::VectorXcd u = Eigen::VectorXcd::Zero(nv);
   for (Index v = 0; v < nv; ++v) u[v] = held[v];
   solve_dirichlet(L, is_held, solve_here, u);
@@ -198,6 +221,15 @@ DirectionField aligned_field(const intrinsic::IntrinsicTriangulation& tri,
   f.energy = (u.adjoint() * (L * u))(0).real() / std::max(mu, 1e-300);
   f.u = normalized_per_vertex(u);
   return f;
+}
+
+DirectionField aligned_field(const intrinsic::IntrinsicTriangulation& tri,
+                             const fem::TangentFrames& frames,
+                             const std::vector<DirectionConstraint>& constraints,
+                             const DirectionFieldOptions& options) {
+  options.validate();
+  return aligned_field(fem::connection_laplacian(tri, frames, options.symmetry),
+                       fem::lumped_mass(tri), connected_components(tri), constraints, options);
 }
 
 std::vector<DirectionConstraint> boundary_constraints(const intrinsic::IntrinsicTriangulation& tri,
@@ -229,6 +261,54 @@ Eigen::VectorXi face_indices(const intrinsic::IntrinsicTriangulation& tri,
       turn += symmetry * (frames.angle_scale[tri.tail(h)] - 1.0) * intrinsic::corner_angle(tri, h);
     }
     if (defined) index[f] = static_cast<int>(std::lround(turn / kTwoPi));
+  }
+  return index;
+}
+
+namespace {
+
+// A triangle's corners in the order that turns counter-clockwise about their normals.
+Triangle counter_clockwise(const Positions& p, const TangentBasis3d& basis, Triangle f) {
+  const Eigen::Vector3d a = p.row(f[0]), b = p.row(f[1]), c = p.row(f[2]);
+  const Eigen::Vector3d n =
+      (basis.normal.row(f[0]) + basis.normal.row(f[1]) + basis.normal.row(f[2])).transpose();
+  if ((b - a).cross(c - a).dot(n) < 0.0) std::swap(f[1], f[2]);
+  return f;
+}
+
+}  // namespace
+
+Eigen::VectorXi frame_face_indices(const Positions& positions,
+                                   const std::vector<Triangle>& triangles,
+                                   const TangentBasis3d& basis, const Eigen::VectorXcd& u,
+                                   int symmetry) {
+  const Index nv =
+      static_cast<Index>(std::min<Eigen::Index>({positions.rows(), basis.normal.rows(), u.size()}));
+  Eigen::VectorXi index = Eigen::VectorXi::Zero(static_cast<Index>(triangles.size()));
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (const Index v : triangles[t]) {
+      if (v < 0 || v >= nv) {
+        throw InvalidInput("frame_face_indices: triangle " + std::to_string(t) + " has vertex " +
+                           std::to_string(v) + " out of range [0, " + std::to_string(nv) + ")");
+      }
+    }
+    const Triangle f = counter_clockwise(positions, basis, triangles[t]);
+    double turn = 0.0;
+    Complex holonomy(1.0, 0.0);
+    bool defined = true;
+    for (int k = 0; k < 3 && defined; ++k) {
+      const Index i = f[k], j = f[(k + 1) % 3];
+      const Complex ui = u[i], uj = u[j];
+      defined = ui != Complex(0.0) && uj != Complex(0.0);
+      const Complex r =
+          fem::frame_transport(basis.normal.row(i).transpose(), basis.e1.row(i).transpose(),
+                               basis.normal.row(j).transpose(), basis.e1.row(j).transpose(),
+                               basis.e2.row(j).transpose());
+      holonomy *= r;
+      turn += std::arg(uj / (std::pow(r, symmetry) * ui));
+    }
+    turn += symmetry * std::arg(holonomy);
+    if (defined) index[static_cast<Index>(t)] = static_cast<int>(std::lround(turn / kTwoPi));
   }
   return index;
 }

@@ -6,7 +6,10 @@
 // An n-direction field (n = 1 vectors, 2 lines, 4 crosses) is stored in its power
 // representation: one complex number u_v per vertex, in v's angular coordinate
 // (fem::TangentFrames); the n directions at v are arg(u_v)/n + 2πk/n. A vertex with u_v = 0
-// (unreferenced, or a field that vanished there) has no direction.
+// (unreferenced, or a field that vanished there) has no direction. The solvers also run on a
+// connection Laplacian given as an operator (the frame path of fem/frame_connection.h, where the
+// coordinate is a per-vertex 3D frame): the triangulation versions build L_n and M and call
+// those.
 #pragma once
 
 #include <Eigen/Core>
@@ -14,6 +17,8 @@
 
 #include "fem/connection.h"
 #include "intrinsic/core/triangulation.h"
+#include "solvers/components.h"
+#include "solvers/tangent_basis.h"
 
 namespace ifem::solvers {
 
@@ -52,6 +57,13 @@ DirectionField smoothest_field(const intrinsic::IntrinsicTriangulation& tri,
                                const fem::TangentFrames& frames,
                                const DirectionFieldOptions& options = {});
 
+/// smoothest_field() on operators: L_n a #V×#V Hermitian PSD connection Laplacian of symmetry
+/// n = options.symmetry (e.g. fem::connection_laplacian_from_frames), mass the #V lumped mass
+/// that goes with it (0 on unreferenced vertices), comps its connected components.
+/// @throws InvalidInput on bad options or sizes; SolverError if a factorization fails
+DirectionField smoothest_field(const fem::ComplexSparseMatrix& L_n, const Eigen::VectorXd& mass,
+                               const Components& comps, const DirectionFieldOptions& options = {});
+
 /// The smoothest n-direction field through the given directions: u held at e^{i n angle} on
 /// constrained vertices, L_n u = 0 elsewhere (harmonic interpolation with the connection),
 /// normalized per vertex; components without any constraint take the smoothest field.
@@ -59,6 +71,13 @@ DirectionField smoothest_field(const intrinsic::IntrinsicTriangulation& tri,
 /// @throws InvalidInput on a vertex out of range, a non-finite angle or bad options
 DirectionField aligned_field(const intrinsic::IntrinsicTriangulation& tri,
                              const fem::TangentFrames& frames,
+                             const std::vector<DirectionConstraint>& constraints,
+                             const DirectionFieldOptions& options = {});
+
+/// aligned_field() on operators (as the operator form of smoothest_field()); angles in the
+/// coordinates of L_n.
+DirectionField aligned_field(const fem::ComplexSparseMatrix& L_n, const Eigen::VectorXd& mass,
+                             const Components& comps,
                              const std::vector<DirectionConstraint>& constraints,
                              const DirectionFieldOptions& options = {});
 
@@ -75,5 +94,18 @@ std::vector<DirectionConstraint> boundary_constraints(const intrinsic::Intrinsic
 Eigen::VectorXi face_indices(const intrinsic::IntrinsicTriangulation& tri,
                              const fem::TangentFrames& frames, const Eigen::VectorXcd& u,
                              int symmetry);
+
+/// The index of a field on the frame path around each of the given triangles (input faces:
+/// #T integers, units of 1/n), as face_indices(): the field's turning along the three sides
+/// relative to the frame transport (fem::frame_transport), plus n times the face's holonomy
+/// arg(r_ab r_bc r_ca), the triangle traversed counter-clockwise about its corners' normals
+/// (reversed where (b − a) × (c − a) points against n_a + n_b + n_c). On a closed, orientable
+/// surface with fine faces they sum to n·χ. Triangles touching a vertex without a direction get 0.
+/// @param u #V ≥ #V_in power representation in the frames of basis
+/// @throws InvalidInput if a triangle index is out of range of the basis or u
+Eigen::VectorXi frame_face_indices(const Positions& positions,
+                                   const std::vector<Triangle>& triangles,
+                                   const TangentBasis3d& basis, const Eigen::VectorXcd& u,
+                                   int symmetry);
 
 }  // namespace ifem::solvers

@@ -101,6 +101,22 @@ struct HeatDistanceSolver::Impl {
     return u;
   }
 
+  // heat() for every column of delta at once (#V×k): one pass over each factor per block.
+  Eigen::MatrixXd heat_block(const Eigen::MatrixXd& delta) const {
+    if (!heat_dirichlet) return heat_neumann->solve_weak_homogeneous(delta);
+    Eigen::MatrixXd u, ud;
+    std::vector<std::function<void()>> jobs = {
+        [&] { u = heat_neumann->solve_weak_homogeneous(delta); },
+        [&] { ud = heat_dirichlet->solve_weak_homogeneous(delta); }};
+    if (tri.n_vertices() >= 20000) {
+      run_parallel(jobs);
+    } else {
+      for (const auto& j : jobs) j();
+    }
+    u = 0.5 * (u + ud);
+    return u;
+  }
+
   // Per-component maximum heat (components with a source only; others 0).
   std::vector<double> component_max(const Eigen::VectorXd& u) const {
     std::vector<double> mx(comps.count, 0.0);
@@ -112,6 +128,14 @@ struct HeatDistanceSolver::Impl {
   }
 
   Eigen::VectorXd distance(const std::vector<WeightedPoint>& pts, HeatDistanceReport* rep) const;
+  // Columns [first, first + k) of compute_distances(): single vertex sources through block
+  // solves; a column whose heat underflows is recomputed by distance() (multi-stage).
+  void distance_block(const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
+                      Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps) const;
+  // φ_j with L φ_j = div(−∇u_j/|∇u_j|) for the columns of U (on use_face[j] when not empty),
+  // shifted so that φ_j(src[j]) = 0: the first stage of distance() for single vertex sources.
+  Eigen::MatrixXd integrate_block(const Eigen::MatrixXd& U, const std::vector<Index>& src,
+                                  const std::vector<std::vector<char>>& use_face) const;
   // The sources' constraints on φ, set up once per query (the first stage and every correction
   // step use them): the first point of each component is shifted to 0, and φ(p_k) = φ(p_first)
   // for the others, by Lagrange multipliers through the cached pure-Neumann factor, or, for
@@ -285,6 +309,116 @@ Eigen::VectorXd HeatDistanceSolver::compute_distance_from_points(
     pts.push_back(p);
   }
   return im.distance(pts, report) * im.scale;
+}
+
+Eigen::MatrixXd HeatDistanceSolver::compute_distances(
+    const std::vector<Index>& sources, std::vector<HeatDistanceReport>* reports) const {
+  if (sources.empty()) throw InvalidInput("heat distance: the source list is empty");
+  const Impl& im = *impl_;
+  const Index nv = im.tri.n_vertices();
+  for (std::size_t j = 0; j < sources.size(); ++j) {
+    const Index v = sources[j];
+    const std::string name = "heat distance: sources[" + std::to_string(j) + "] = ";
+    if (v < 0 || v >= nv) {
+      throw InvalidInput(name + std::to_string(v) + " out of range [0, " + std::to_string(nv) +
+                         ")");
+    }
+    if (im.comps.label[v] == kInvalidIndex) {
+      throw InvalidInput(name + std::to_string(v) + " is not referenced by any face");
+    }
+  }
+  const auto k = Eigen::Index(sources.size());
+  // ~6 #V×block doubles of scratch at once (deltas, heat, solver copies): at most ~1 GB
+  const auto by_memory = Eigen::Index(1e9 / (48.0 * double(std::max<Index>(nv, 1))));
+  const Eigen::Index block = std::clamp<Eigen::Index>(by_memory, 4, 32);
+  Eigen::MatrixXd out(nv, k);
+  std::vector<HeatDistanceReport> reps(sources.size());
+  for (Eigen::Index first = 0; first < k; first += block) {
+    im.distance_block(sources, first, std::min(block, k - first), out, reps);
+  }
+  out *= im.scale;
+  if (reports) *reports = std::move(reps);
+  return out;
+}
+
+void HeatDistanceSolver::Impl::distance_block(const std::vector<Index>& sources, Eigen::Index first,
+                                              Eigen::Index k, Eigen::MatrixXd& out,
+                                              std::vector<HeatDistanceReport>& reps) const {
+  const Index nv = tri.n_vertices();
+  Eigen::MatrixXd delta = Eigen::MatrixXd::Zero(nv, k);
+  for (Eigen::Index j = 0; j < k; ++j) delta(sources[std::size_t(first + j)], j) = 1.0;
+  const Eigen::MatrixXd u = heat_block(delta);
+  delta.resize(0, 0);
+  std::vector<Index> batch, alone;  // columns by block solve / by distance()
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const Index s = sources[std::size_t(first + j)];
+    const Index c = comps.label[s];
+    double mx = 0.0;
+    for (Index v = 0; v < nv; ++v) {
+      if (comps.label[v] == c && std::isfinite(u(v, j))) mx = std::max(mx, u(v, j));
+    }
+    const double floor = std::max(opt.resolved_heat * mx, kAbsoluteHeatFloor);
+    bool resolved = true;
+    for (Index v = 0; v < nv && resolved; ++v) resolved = comps.label[v] != c || u(v, j) > floor;
+    (resolved ? batch : alone).push_back(Index(j));
+  }
+  for (const Index j : alone) {  // multi-stage continuation, one source at a time
+    WeightedPoint p;
+    p.n = 1;
+    p.vertex[0] = sources[std::size_t(first + j)];
+    p.weight[0] = 1.0;
+    out.col(first + j) = distance({p}, &reps[std::size_t(first + j)]);
+  }
+  if (batch.empty()) return;
+  std::vector<Index> src;
+  Eigen::MatrixXd ub(nv, Eigen::Index(batch.size()));
+  for (std::size_t b = 0; b < batch.size(); ++b) {
+    src.push_back(sources[std::size_t(first + batch[b])]);
+    ub.col(Eigen::Index(b)) = u.col(batch[b]);
+  }
+  Eigen::MatrixXd phi = integrate_block(ub, src, {});
+  for (int step = 0; step < opt.correction_steps; ++step) {
+    // as distance(): integrate ∇φ/|∇φ| again over the faces where φ is finite
+    std::vector<std::vector<char>> finite_face(src.size());
+    Eigen::MatrixXd minus_phi = -phi;
+    for (std::size_t b = 0; b < src.size(); ++b) {
+      auto col = minus_phi.col(Eigen::Index(b));
+      for (Index v = 0; v < nv; ++v) {
+        if (!std::isfinite(col[v])) col[v] = 0.0;
+      }
+      finite_face[b].assign(std::size_t(tri.n_faces()), 1);
+      for (Index f = 0; f < tri.n_faces(); ++f) {
+        for (int c = 0; c < 3; ++c) {
+          if (!std::isfinite(phi(tri.tail(3 * f + c), Eigen::Index(b)))) finite_face[b][f] = 0;
+        }
+      }
+    }
+    const Eigen::MatrixXd next = integrate_block(minus_phi, src, finite_face);
+    phi = (phi.array().isFinite()).select(next, phi);
+  }
+  for (std::size_t b = 0; b < src.size(); ++b) {
+    auto col = phi.col(Eigen::Index(b));
+    col = col.cwiseMax(0.0);
+    col[src[b]] = 0.0;
+    out.col(first + batch[b]) = col;
+    reps[std::size_t(first + batch[b])] = HeatDistanceReport{};
+  }
+}
+
+Eigen::MatrixXd HeatDistanceSolver::Impl::integrate_block(
+    const Eigen::MatrixXd& U, const std::vector<Index>& src,
+    const std::vector<std::vector<char>>& use_face) const {
+  const Index nv = tri.n_vertices();
+  Eigen::MatrixXd phi =
+      poisson->solve_weak_homogeneous(fem::divergence_of_unit_gradients(tri, U, use_face));
+  for (Eigen::Index j = 0; j < U.cols(); ++j) {
+    const Index c = comps.label[src[std::size_t(j)]];
+    const double shift = phi(src[std::size_t(j)], j);
+    for (Index v = 0; v < nv; ++v) {
+      phi(v, j) = comps.label[v] == c ? phi(v, j) - shift : kInf;
+    }
+  }
+  return phi;
 }
 
 Eigen::VectorXd HeatDistanceSolver::Impl::distance(const std::vector<WeightedPoint>& pts,

@@ -147,6 +147,20 @@ class HeatDistanceSolver {
   Eigen::VectorXd compute_distance(const std::vector<Index>& sources,
                                    HeatDistanceReport* report = nullptr) const;
 
+  /// Distances from many sources, each on its own (a distance matrix: landmarks, descriptors,
+  /// embeddings), #V×k: column j is compute_distance({sources[j]}), equal to it up to rounding
+  /// (the block solves add in another order: ~1e-14 relative). The heat and Poisson solves of
+  /// up to 32 sources at a time (fewer on meshes above ~700k vertices, to keep the block's
+  /// scratch under ~1 GB) go through each factor together, so a block costs a few single
+  /// queries, not one per source (BENCHMARKS.md, "Batched sources"). A source whose heat
+  /// underflows somewhere in its component (a long or very large mesh; the report's
+  /// unresolved_vertices) is recomputed alone by compute_distance()'s multi-stage path.
+  /// @param sources vertex ids in [0, #V), each referenced by a face; repeats give equal columns
+  /// @param[out] reports optional: one per source, in order
+  /// @throws InvalidInput on an empty list, or naming sources[j]: out of range or unreferenced
+  Eigen::MatrixXd compute_distances(const std::vector<Index>& sources,
+                                    std::vector<HeatDistanceReport>* reports = nullptr) const;
+
   /// Distance to the nearest of the given surface points, #V.
   /// @param sources points whose faces are faces of triangulation()
   /// @param[out] report optional: what the query did

@@ -473,6 +473,19 @@ Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<In
   });
 }
 
+Eigen::MatrixXd geodesic_distances(const PreparedSurface& s, const std::vector<Index>& sources,
+                                   const DistanceSettings& settings,
+                                   std::vector<HeatDistanceReport>* reports) {
+  require(!sources.empty(), "geodesic_distances: no source vertex given");
+  check_input_vertex_ids(s, sources, "geodesic_distances: source");
+  return with_hint(s, [&] {
+    const HeatDistanceSolver solver(s.tri, distance_options(s, settings));
+    Eigen::MatrixXd d = on_input_vertices(s, solver.compute_distances(sources, reports));
+    require_finite(d, "geodesic_distances", true);  // +inf: unreachable, by convention
+    return d;
+  });
+}
+
 EigenPairs eigenmodes(const PreparedSurface& s, Index k, const EigenOptions& options) {
   require(k >= 1 && k < s.tri.n_vertices(),
           "eigenmodes: k = " + std::to_string(k) + " must be in [1, " +

@@ -163,6 +163,16 @@ Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<In
                                   const DistanceSettings& settings = {},
                                   HeatDistanceReport* report = nullptr);
 
+/// Geodesic distances from each of the given input vertices on its own (a distance matrix),
+/// #V_in×k: column j is geodesic_distance(s, {sources[j]}) up to rounding, computed in blocks
+/// of sources (HeatDistanceSolver::compute_distances).
+/// @param[out] reports optional: one per source
+/// @throws InvalidInput on an empty list or an id out of [0, #V_in) (naming its position)
+/// @throws SolverError if a factorization fails
+Eigen::MatrixXd geodesic_distances(const PreparedSurface& s, const std::vector<Index>& sources,
+                                   const DistanceSettings& settings = {},
+                                   std::vector<HeatDistanceReport>* reports = nullptr);
+
 /// The k smallest eigenpairs of L φ = λ M φ on s.tri, eigenvectors restricted to the input's
 /// vertices (#V_in×k; M-orthonormal on s.tri, the input's rows of them).
 /// @throws InvalidInput if k < 1 or k ≥ #V; SolverError as eigenpairs()

@@ -1,12 +1,16 @@
 // Tangent-field recipes on a prepared surface (tangent_fields.h).
 #include "solvers/tangent_fields.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <string>
 
 #include "fem/connection.h"
+#include "fem/frame_connection.h"
+#include "fem/operators.h"
 #include "intrinsic/core/errors.h"
+#include "solvers/components.h"
 #include "solvers/direction_field.h"
 #include "solvers/vector_heat.h"
 
@@ -45,33 +49,48 @@ std::vector<DirectionConstraint> held_directions(const PreparedSurface& s,
   return held;
 }
 
-// Tangent fields need the surface's own connection: on the tufted cover and point-cloud
-// triangulations every vertex has several fans (fem/connection.h), and the directions computed
-// there are not the surface's (measured: thousands of spurious singularities on every such
-// input of ../shared/data). Refused until frames from the normals exist.
-void require_manifold(const PreparedSurface& s, const char* what) {
-  if (s.path == intrinsic::SurfacePath::kManifold) return;
-  throw InvalidInput(std::string(what) +
-                     " needs an edge-manifold, orientable mesh: this input took the " +
-                     intrinsic::to_string(s.path) + " path (" + s.reason_detail +
-                     "), whose vertices have several fans, so directions there are not the "
-                     "surface's");
+// The tufted cover and point-cloud triangulations have several fans per vertex
+// (fem/connection.h), so their intrinsic angles are not the surface's directions: there the
+// fields run on frames from the input's normals (fem/frame_connection.h), which need a position
+// for every vertex of the triangulation.
+bool on_frame_path(const PreparedSurface& s, const char* what) {
+  if (s.path == intrinsic::SurfacePath::kManifold) return false;
+  if (s.tri.n_vertices() != s.n_input_vertices()) {
+    throw InvalidInput(std::string(what) + " on the " + intrinsic::to_string(s.path) +
+                       " path uses frames from the input's positions, so every vertex must be "
+                       "an input vertex: do not refine (" +
+                       std::to_string(s.tri.n_vertices() - s.n_input_vertices()) +
+                       " inserted vertices)");
+  }
+  return true;
 }
 
-}  // namespace
+// The field's singular faces added to their lowest corner (input vertices only).
+void add_singularities(const std::vector<Triangle>& faces, const Eigen::VectorXi& index, Index nv,
+                       TangentFieldResult& r) {
+  r.singularity = Eigen::VectorXd::Zero(nv);
+  for (std::size_t face = 0; face < faces.size(); ++face) {
+    const int k = index[static_cast<Index>(face)];
+    if (k == 0) continue;
+    ++r.singular_faces;
+    r.total_index += k;
+    const Index lowest = *std::min_element(faces[face].begin(), faces[face].end());
+    if (lowest < nv) r.singularity[lowest] += k;
+  }
+}
 
-TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSettings& settings) {
-  DirectionFieldOptions o;
-  o.symmetry = settings.symmetry;
-  o.validate();
-  require_manifold(s, "a direction field");
-  const fem::TangentFrames frames = fem::tangent_frames(s.tri);
-  const TangentBasis3d basis = tangent_basis_3d(s.input, s.tri, frames);
-  const std::vector<DirectionConstraint> held = held_directions(s, settings, basis, frames);
-  const DirectionField f =
-      held.empty() ? smoothest_field(s.tri, frames, o) : aligned_field(s.tri, frames, held, o);
-  const Index nv = s.n_input_vertices();
-  const int n = settings.symmetry;
+// The faces of the intrinsic triangulation as vertex triples (for add_singularities()).
+std::vector<Triangle> triangulation_faces(const intrinsic::IntrinsicTriangulation& tri) {
+  std::vector<Triangle> faces(static_cast<std::size_t>(tri.n_faces()));
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    faces[f] = {tri.tail(3 * f), tri.tail(3 * f + 1), tri.tail(3 * f + 2)};
+  }
+  return faces;
+}
+
+// The result's vectors and angles from the power representation u in the given basis.
+TangentFieldResult field_result(const DirectionField& f, const TangentBasis3d& basis, Index nv,
+                                int n) {
   TangentFieldResult r;
   r.constrained = f.constrained;
   r.energy = f.energy;
@@ -84,26 +103,67 @@ TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSetti
     direction[v] = std::polar(1.0, r.angle[v]);
   }
   r.vectors = to_3d(direction, basis);
-  const Eigen::VectorXi index = face_indices(s.tri, frames, f.u, n);
-  r.face_singularity = input_face_indices(s, frames, f.u, n);
-  r.singularity = Eigen::VectorXd::Zero(nv);
-  for (Index face = 0; face < s.tri.n_faces(); ++face) {
-    if (index[face] == 0) continue;
-    ++r.singular_faces;
-    r.total_index += index[face];
-    Index lowest = s.tri.tail(3 * face);
-    for (int k = 1; k < 3; ++k) lowest = std::min(lowest, s.tri.tail(3 * face + k));
-    if (lowest < nv) r.singularity[lowest] += index[face];
+  return r;
+}
+
+// direction_field_on() on the frame path.
+TangentFieldResult frame_field(const PreparedSurface& s, const FieldSettings& settings,
+                               const DirectionFieldOptions& o) {
+  if (settings.align_boundary) {
+    throw InvalidInput(std::string("align_boundary needs the manifold path: this input took the ") +
+                       intrinsic::to_string(s.path) + " path (" + s.reason_detail + ")");
   }
+  if (!settings.intrinsic_constraints.empty()) {
+    throw InvalidInput(std::string("intrinsic constraints (curves) need the manifold path: this "
+                                   "input took the ") +
+                       intrinsic::to_string(s.path) + " path (" + s.reason_detail + ")");
+  }
+  const TangentBasis3d basis = frame_basis_3d(s.input, s.tri);
+  const fem::ComplexSparseMatrix L = fem::connection_laplacian_from_frames(
+      fem::cotan_laplacian(s.tri), basis.normal, basis.e1, basis.e2, settings.symmetry);
+  const Eigen::VectorXd mass = fem::lumped_mass(s.tri);
+  const Components comps = connected_components(s.tri);
+  const std::vector<DirectionConstraint> held =
+      held_directions(s, settings, basis, fem::TangentFrames{});
+  const DirectionField f =
+      held.empty() ? smoothest_field(L, mass, comps, o) : aligned_field(L, mass, comps, held, o);
+  TangentFieldResult r = field_result(f, basis, s.n_input_vertices(), settings.symmetry);
+  const Eigen::VectorXi index =
+      frame_face_indices(s.input.positions, s.input.triangles, basis, f.u, settings.symmetry);
+  add_singularities(s.input.triangles, index, s.n_input_vertices(), r);
+  r.face_singularity = index;  // already on the input's triangles
+  r.orientation_conflicts = basis.orientation_conflicts;
+  return r;
+}
+
+}  // namespace
+
+TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSettings& settings) {
+  DirectionFieldOptions o;
+  o.symmetry = settings.symmetry;
+  o.validate();
+  if (on_frame_path(s, "a direction field")) return frame_field(s, settings, o);
+  const fem::TangentFrames frames = fem::tangent_frames(s.tri);
+  const TangentBasis3d basis = tangent_basis_3d(s.input, s.tri, frames);
+  const std::vector<DirectionConstraint> held = held_directions(s, settings, basis, frames);
+  const DirectionField f =
+      held.empty() ? smoothest_field(s.tri, frames, o) : aligned_field(s.tri, frames, held, o);
+  const Index nv = s.n_input_vertices();
+  TangentFieldResult r = field_result(f, basis, nv, settings.symmetry);
+  add_singularities(triangulation_faces(s.tri), face_indices(s.tri, frames, f.u, settings.symmetry),
+                    nv, r);
+  r.face_singularity = input_face_indices(s, frames, f.u, settings.symmetry);
   return r;
 }
 
 VectorHeatSolver vector_heat_solver(const PreparedSurface& s) {
-  require_manifold(s, "the vector heat method (transport, log map)");
   VectorHeatOptions o;
   o.intrinsic_delaunay = false;  // s.tri is intrinsic Delaunay: keep its coordinates
   o.mean_edge_length = distance_options(s).mean_edge_length;
   o.boundary_vertices = s.boundary_vertex;
+  if (on_frame_path(s, "the vector heat method (transport, log map)")) {
+    return VectorHeatSolver(s.tri, s.input.positions, frame_basis_3d(s.input, s.tri), o);
+  }
   return VectorHeatSolver(s.tri, o);
 }
 
@@ -115,7 +175,9 @@ Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& 
     throw InvalidInput("transport: source " + std::to_string(source) + " out of range [0, " +
                        std::to_string(nv) + ")");
   }
-  const TangentBasis3d basis = tangent_basis_3d(s.input, solver.triangulation(), solver.frames());
+  const TangentBasis3d basis =
+      solver.on_frames() ? solver.frame_basis()
+                         : tangent_basis_3d(s.input, solver.triangulation(), solver.frames());
   const std::complex<double> z(vector.dot(basis.e1.row(source).transpose()),
                                vector.dot(basis.e2.row(source).transpose()));
   if (!std::isfinite(std::abs(z)) || std::abs(z) <= 1e-12 * vector.norm() || vector.norm() == 0) {

@@ -1,6 +1,13 @@
 // Tangent-field recipes on a prepared surface (solvers/pipeline.h), with results on the input's
 // vertices as 3D vectors: what `ifem field` (and the Python package) run. The fields themselves
 // are direction_field.h's (smoothest / aligned n-direction fields on the connection Laplacian).
+//
+// Two paths, as the surface was prepared: the manifold path uses the intrinsic angular
+// coordinates (fem/connection.h); the tufted path (nonmanifold / non-orientable meshes) and the
+// point-cloud path use per-vertex 3D frames from the input's normals, oriented by propagation
+// (frame_basis_3d(), fem/frame_connection.h), with the same scalar operators (L, M, heat
+// distance) of the prepared triangulation. The frame path needs every vertex of the
+// triangulation to be an input vertex (no refinement).
 #pragma once
 
 #include <Eigen/Core>
@@ -27,7 +34,7 @@ struct FieldSettings {
   /// Directions given on the triangulation itself: at any vertex of s.tri (inserted ones too),
   /// angles in the coordinates of fem::tangent_frames(s.tri), e.g. curve_constraints() along
   /// curves (solvers/curve_fields.h). Held with the others (a vertex held several times takes
-  /// the mean of the n-th powers).
+  /// the mean of the n-th powers). Manifold path only.
   std::vector<DirectionConstraint> intrinsic_constraints;
 };
 
@@ -35,25 +42,31 @@ struct FieldSettings {
 struct TangentFieldResult {
   Eigen::MatrixX3d vectors;  ///< #V_in×3 unit tangent vectors: one of the n directions (0: none)
   Eigen::VectorXd angle;     ///< #V_in: that direction's angle in the vertex's coordinate
-  /// #V_in: indices (units of 1/n) of the singular faces of the intrinsic triangulation, each
-  /// added to its corner of lowest id (an input vertex whenever the face has one).
+  /// #V_in: indices (units of 1/n) of the singular faces, each added to its corner of lowest id
+  /// (an input vertex whenever the face has one): the faces of the intrinsic triangulation on
+  /// the manifold path, the input's triangles on the frame path (frame_face_indices()); none
+  /// for point clouds (no faces to turn around: all 0).
   Eigen::VectorXd singularity;
   /// #F_in (s.input.triangles, in order): the index (units of 1/n) around each input face
-  /// (input_face_indices()); sums to n·χ on a closed surface. Empty when unknown.
+  /// (input_face_indices() on the manifold path, frame_face_indices() on the tufted path; empty
+  /// for point clouds, and when unknown); sums to n·χ on a closed surface.
   Eigen::VectorXi face_singularity;
   Index singular_faces = 0;  ///< faces with a nonzero index
   long total_index = 0;      ///< Σ indices over all faces (n·χ on a closed surface)
   Index constrained = 0;     ///< vertices held (constraints and boundary)
   double energy = 0.0;       ///< the field's Dirichlet energy per unit mass (0: parallel)
   int iterations = 0;        ///< inverse-iteration steps (0: every component constrained)
+  /// Frame path: neighbour pairs whose oriented normals disagree (TangentBasis3d); 0 otherwise.
+  Index orientation_conflicts = 0;
 };
 
 /// The smoothest n-direction field on s (intrinsic Delaunay, refined or not), through the given
 /// directions and, when asked, along the boundary; components without any constraint get
 /// their globally smoothest field.
+/// On the frame path (tufted, point cloud) the field lives in frame_basis_3d()'s frames.
 /// @throws InvalidInput on bad settings, a vertex out of [0, #V_in), a direction normal to the
-///         surface there, or a surface that did not take the manifold path (the tufted cover and
-///         point clouds: their vertices have several fans, so directions are not the surface's)
+///         surface there, align_boundary off the manifold path, or a refined surface off the
+///         manifold path (inserted vertices have no position for a frame)
 TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSettings& settings);
 
 /// The index of an n-direction field around each face of the input (s.input.triangles, in
@@ -73,13 +86,15 @@ Eigen::VectorXi input_face_indices(const PreparedSurface& s, const fem::TangentF
 
 /// The Vector Heat Method solver for s (VectorHeatSolver on s.tri, already intrinsic Delaunay,
 /// with the heat step of distance_options(s) and the input's boundary), for transport_on() and
-/// log_map_on().
-/// @throws InvalidInput if s did not take the manifold path (as direction_field_on())
+/// log_map_on(); on the tufted and point-cloud paths its frame path, with frame_basis_3d() of
+/// the input.
+/// @throws InvalidInput on a refined surface off the manifold path (as direction_field_on())
 VectorHeatSolver vector_heat_solver(const PreparedSurface& s);
 
 /// Parallel transport of a 3D vector given at input vertex `source` (projected to its tangent
 /// plane, keeping its length) to every input vertex, as 3D tangent vectors (#V_in×3; 0 where no
-/// source reaches). Meaningful on the manifold path (fem/connection.h).
+/// source reaches), in the tangent planes of the solver's bases (tangent_basis_3d() on the
+/// manifold path, solver.frame_basis() on the frame path).
 /// @throws InvalidInput on a source out of range or a vector normal to the surface there
 Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& solver,
                               Index source, const Eigen::Vector3d& vector,
@@ -89,7 +104,8 @@ Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& 
 /// coordinates (u, v) = d·(cos θ, sin θ), d the geodesic distance and θ the direction in which
 /// the geodesic leaves the source, counter-clockwise (with the faces' orientation) from the
 /// source's reference direction, basis e1 of tangent_basis_3d() at the source (the direction
-/// of its first edge). (0, 0) at the source.
+/// of its first edge; on the frame path e1 of solver.frame_basis(): the x axis projected to the
+/// tangent plane, counter-clockwise about the oriented normal). (0, 0) at the source.
 /// @throws InvalidInput on a source out of range or unreferenced
 Eigen::MatrixX2d log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,
                             VectorHeatReport* report = nullptr);

@@ -1,7 +1,6 @@
 #include "solvers/vector_heat.h"
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -11,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "fem/frame_connection.h"
 #include "fem/gradient.h"
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
@@ -53,10 +53,19 @@ void VectorHeatOptions::validate() const {
   }
 }
 
+// The frame path's data: positions, frames and each vertex's neighbours (for the gradient).
+struct FramePath {
+  Positions positions;
+  TangentBasis3d basis;
+  std::vector<std::vector<Index>> neighbours;
+};
+
 struct VectorHeatSolver::Impl {
   VectorHeatOptions opt;
   IntrinsicTriangulation tri;  // lengths divided by scale
-  fem::TangentFrames frames;
+  fem::TangentFrames frames;   // intrinsic path
+  std::optional<FramePath> frame_path;
+  TangentBasis3d no_basis;         // what frame_basis() returns on the intrinsic path
   Eigen::VectorXcd halfedge_unit;  // e^{iθ_h}: the direction of h at its tail, #H
   Components comps;
   Eigen::VectorXd mass;
@@ -80,20 +89,34 @@ struct VectorHeatSolver::Impl {
   // Per vertex, the unit direction of ∇φ in the vertex's angular coordinate (0 where it
   // vanishes or φ is not finite around it).
   Eigen::VectorXcd gradient_directions(const Eigen::VectorXd& phi) const;
+  // The same on the frame path: least squares over the neighbours, in the vertex's frame.
+  Eigen::VectorXcd frame_gradient_directions(const Eigen::VectorXd& phi) const;
+  // The connection Laplacian (n = 1) of the path, with frames built on the intrinsic path.
+  ComplexSparseMatrix connection(const fem::SparseMatrix& L);
+  void construct(const IntrinsicTriangulation& tri_in, const VectorHeatOptions& options);
   const HeatDistanceSolver& distance_solver() const;
 };
+
+ComplexSparseMatrix VectorHeatSolver::Impl::connection(const fem::SparseMatrix& L) {
+  if (frame_path) {
+    const TangentBasis3d& b = frame_path->basis;
+    return fem::connection_laplacian_from_frames(L, b.normal, b.e1, b.e2, 1);
+  }
+  frames = fem::tangent_frames(tri);
+  halfedge_unit.resize(tri.n_halfedges());
+  for (Index h = 0; h < tri.n_halfedges(); ++h) {
+    halfedge_unit[h] = std::polar(1.0, frames.halfedge_angle[h]);
+  }
+  return fem::connection_laplacian(tri, frames, 1);
+}
 
 // Two jobs side by side, each assembling its own matrix and factoring it: the complex one (the
 // longer: frames, L∇, a complex factorization ≈ 1.6× a real one) and the scalar one.
 void VectorHeatSolver::Impl::factor() {
   mass = fem::lumped_mass(tri);
-  auto complex_job = [this] {
+  const fem::SparseMatrix L = fem::cotan_laplacian(tri);
+  auto complex_job = [this, &L] {
     const Index nv = tri.n_vertices();
-    frames = fem::tangent_frames(tri);
-    halfedge_unit.resize(tri.n_halfedges());
-    for (Index h = 0; h < tri.n_halfedges(); ++h) {
-      halfedge_unit[h] = std::polar(1.0, frames.halfedge_angle[h]);
-    }
     // M + tL∇; an unreferenced vertex (zero row, zero mass) gets 1 on the diagonal: its
     // right-hand side is always 0, so it stays 0 and the matrix stays positive definite.
     std::vector<Eigen::Triplet<Complex>> diag;
@@ -101,24 +124,23 @@ void VectorHeatSolver::Impl::factor() {
     for (Index v = 0; v < nv; ++v) diag.emplace_back(v, v, mass[v] > 0.0 ? mass[v] : 1.0);
     ComplexSparseMatrix A(nv, nv);
     A.setFromTriplets(diag.begin(), diag.end());
-    A += t * fem::connection_laplacian(tri, frames, 1);
+    A += t * connection(L);
     A.makeCompressed();
     // AMD at one BLAS thread (run_parallel's), beside the real factor: the fastest of the
     // measured choices (docs/decisions.md, "Vector heat: complex Cholesky")
     vector_heat.emplace(A, CholeskyOptions{});
   };
-  auto scalar_job = [this] {
+  auto scalar_job = [this, &L] {
     comps = connected_components(tri);
     PoissonOptions heat_opt;
     heat_opt.screening = 1.0;  // tL + 1·M
-    scalar_heat.emplace(t * fem::cotan_laplacian(tri), mass, comps, std::vector<Index>{}, heat_opt);
+    scalar_heat.emplace(t * L, mass, comps, std::vector<Index>{}, heat_opt);
   };
   run_parallel({complex_job, scalar_job});
 }
 
-VectorHeatSolver::VectorHeatSolver(const IntrinsicTriangulation& tri_in,
-                                   const VectorHeatOptions& options)
-    : impl_(std::make_unique<Impl>()) {
+void VectorHeatSolver::Impl::construct(const IntrinsicTriangulation& tri_in,
+                                       const VectorHeatOptions& options) {
   options.validate();
   if (tri_in.n_faces() == 0) throw InvalidInput("VectorHeatSolver: triangulation has no faces");
   if (static_cast<Index>(options.boundary_vertices.size()) > tri_in.n_vertices()) {
@@ -126,18 +148,52 @@ VectorHeatSolver::VectorHeatSolver(const IntrinsicTriangulation& tri_in,
                        std::to_string(options.boundary_vertices.size()) + " entries for " +
                        str(tri_in.n_vertices()) + " vertices");
   }
-  Impl& im = *impl_;
-  im.opt = options;
-  im.tri = tri_in;
-  if (options.intrinsic_delaunay) im.tri.flip_to_delaunay();
+  opt = options;
+  tri = tri_in;
+  if (options.intrinsic_delaunay) tri.flip_to_delaunay();
   double h = options.mean_edge_length > 0.0 ? options.mean_edge_length : mean_edge_length(tri_in);
   if (!(h > 0.0)) throw InvalidInput("VectorHeatSolver: mean edge length is 0");
   // units of a power of two near h: masses, t and the factors stay in range at any scale
-  im.scale = intrinsic::power_of_two_scale(h);
-  for (Index e = 0; e < im.tri.n_edges(); ++e) im.tri.set_length(e, im.tri.length(e) / im.scale);
-  im.h_mean = h / im.scale;
-  im.t = options.time_factor * im.h_mean * im.h_mean;
-  im.factor();
+  scale = intrinsic::power_of_two_scale(h);
+  for (Index e = 0; e < tri.n_edges(); ++e) tri.set_length(e, tri.length(e) / scale);
+  h_mean = h / scale;
+  t = options.time_factor * h_mean * h_mean;
+  if (frame_path) {
+    frame_path->neighbours.assign(static_cast<std::size_t>(tri.n_vertices()), {});
+    for (Index e = 0; e < tri.n_edges(); ++e) {
+      const Index a = tri.tail(tri.edge_halfedge(e)), b = tri.head(tri.edge_halfedge(e));
+      if (a == b) continue;
+      frame_path->neighbours[a].push_back(b);
+      frame_path->neighbours[b].push_back(a);
+    }
+    for (auto& list : frame_path->neighbours) {
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+    }
+  }
+  factor();
+}
+
+VectorHeatSolver::VectorHeatSolver(const IntrinsicTriangulation& tri_in,
+                                   const VectorHeatOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->construct(tri_in, options);
+}
+
+VectorHeatSolver::VectorHeatSolver(const IntrinsicTriangulation& tri_in, const Positions& positions,
+                                   const TangentBasis3d& basis, const VectorHeatOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  const Index nv = tri_in.n_vertices();
+  if (positions.rows() != nv || basis.normal.rows() != nv || basis.e1.rows() != nv ||
+      basis.e2.rows() != nv) {
+    throw InvalidInput(
+        "VectorHeatSolver (frame path): positions and frames need one row per "
+        "vertex of the triangulation (" +
+        str(nv) + "), got " + str(Index(positions.rows())) + " and " +
+        str(Index(basis.normal.rows())));
+  }
+  impl_->frame_path = FramePath{positions, basis, {}};
+  impl_->construct(tri_in, options);
 }
 
 VectorHeatSolver::~VectorHeatSolver() = default;
@@ -146,6 +202,10 @@ VectorHeatSolver& VectorHeatSolver::operator=(VectorHeatSolver&&) noexcept = def
 
 const IntrinsicTriangulation& VectorHeatSolver::triangulation() const { return impl_->tri; }
 const fem::TangentFrames& VectorHeatSolver::frames() const { return impl_->frames; }
+bool VectorHeatSolver::on_frames() const { return impl_->frame_path.has_value(); }
+const TangentBasis3d& VectorHeatSolver::frame_basis() const {
+  return impl_->frame_path ? impl_->frame_path->basis : impl_->no_basis;
+}
 double VectorHeatSolver::length_scale() const { return impl_->scale; }
 double VectorHeatSolver::time_step() const { return impl_->t * impl_->scale * impl_->scale; }
 
@@ -298,6 +358,33 @@ Eigen::VectorXcd VectorHeatSolver::Impl::gradient_directions(const Eigen::Vector
   return acc;
 }
 
+Eigen::VectorXcd VectorHeatSolver::Impl::frame_gradient_directions(
+    const Eigen::VectorXd& phi) const {
+  const Index nv = tri.n_vertices();
+  const Positions& p = frame_path->positions;
+  const TangentBasis3d& b = frame_path->basis;
+  Eigen::VectorXcd out = Eigen::VectorXcd::Zero(nv);
+  for (Index v = 0; v < nv; ++v) {
+    if (!std::isfinite(phi[v])) continue;
+    Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+    for (const Index w : frame_path->neighbours[v]) {
+      if (!std::isfinite(phi[w])) continue;
+      const Eigen::Vector3d d = (p.row(w) - p.row(v)).transpose();
+      const Eigen::Vector2d q(d.dot(b.e1.row(v)), d.dot(b.e2.row(v)));
+      const double q2 = q.squaredNorm();
+      if (!(q2 > 0.0)) continue;
+      A += q * q.transpose() / q2;  // weight 1/|q|²: each neighbour's slope counts alike
+      rhs += (phi[w] - phi[v]) * q / q2;
+    }
+    if (!(A.determinant() > 1e-6 * A.trace() * A.trace())) continue;  // collinear or none
+    const Eigen::Vector2d g = A.inverse() * rhs;  // 2×2, well conditioned (checked above)
+    const double len = g.norm();
+    if (len > 0.0 && std::isfinite(len)) out[v] = Complex(g.x(), g.y()) / len;
+  }
+  return out;
+}
+
 const HeatDistanceSolver& VectorHeatSolver::Impl::distance_solver() const {
   std::lock_guard<std::mutex> lock(distance_mutex);
   if (!distance) {
@@ -328,7 +415,8 @@ Eigen::VectorXcd VectorHeatSolver::log_map(Index source, VectorHeatReport* repor
   } else {
     for (const auto& j : jobs) j();
   }
-  const Eigen::VectorXcd radial = im.gradient_directions(d);
+  const Eigen::VectorXcd radial =
+      im.frame_path ? im.frame_gradient_directions(d) : im.gradient_directions(d);
   VectorHeatReport rep;
   std::vector<char> ok = im.resolved(horizontal.cwiseAbs(), source_component, rep);
   Eigen::VectorXcd out = Eigen::VectorXcd::Zero(nv);
@@ -343,193 +431,6 @@ Eigen::VectorXcd VectorHeatSolver::log_map(Index source, VectorHeatReport* repor
     out[v] = d[v] * direction / std::abs(direction);
   }
   if (report) *report = rep;
-  return out;
-}
-
-// --- 3D tangent bases ---------------------------------------------------------------------------
-
-namespace {
-
-// Area-weighted vertex normals of the triangles (unnormalized), or for a point cloud the given
-// normals, or the smallest principal axis of the chords to the intrinsic neighbours.
-Eigen::MatrixX3d raw_normals(const Positions& p, const std::vector<Triangle>& triangles,
-                             const Eigen::MatrixX3d& normals, const IntrinsicTriangulation& tri) {
-  const Index n = static_cast<Index>(p.rows());
-  Eigen::MatrixX3d out = Eigen::MatrixX3d::Zero(n, 3);
-  if (!triangles.empty()) {
-    for (const Triangle& f : triangles) {
-      const Eigen::Vector3d a = p.row(f[0]), b = p.row(f[1]), c = p.row(f[2]);
-      const Eigen::Vector3d nf = (b - a).cross(c - a);  // twice the area times the unit normal
-      for (const Index v : f) out.row(v) += nf.transpose();
-    }
-    return out;
-  }
-  if (normals.rows() == n) return normals;
-  std::vector<Eigen::Matrix3d> cov(static_cast<std::size_t>(n), Eigen::Matrix3d::Zero());
-  for (Index h = 0; h < tri.n_halfedges(); ++h) {
-    const Index v = tri.tail(h), w = tri.head(h);
-    if (v >= n || w >= n || v == w) continue;
-    const Eigen::Vector3d d = (p.row(w) - p.row(v)).transpose();
-    cov[v] += d * d.transpose();
-  }
-  for (Index v = 0; v < n; ++v) {
-    if (cov[v].isZero()) continue;
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov[v]);
-    out.row(v) = es.eigenvectors().col(0).transpose();  // eigenvalues ascending
-  }
-  return out;
-}
-
-// A unit vector orthogonal to the unit vector n.
-Eigen::Vector3d any_orthogonal(const Eigen::Vector3d& n) {
-  const Eigen::Vector3d a =
-      std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  return (a - a.dot(n) * n).normalized();
-}
-
-void check_basis_inputs(const Positions& positions, const std::vector<Triangle>& triangles,
-                        const Eigen::MatrixX3d& normals, const IntrinsicTriangulation& tri,
-                        const fem::TangentFrames& frames) {
-  const Index n = static_cast<Index>(positions.rows());
-  if (n > tri.n_vertices()) {
-    throw InvalidInput("tangent_basis_3d: positions has " + str(n) +
-                       " rows for a triangulation of " + str(tri.n_vertices()) + " vertices");
-  }
-  if (normals.rows() != 0 && normals.rows() != n) {
-    throw InvalidInput("tangent_basis_3d: normals has " + str(Index(normals.rows())) +
-                       " rows, expected 0 or " + str(n));
-  }
-  if (frames.halfedge_angle.size() != tri.n_halfedges() ||
-      frames.angle_scale.size() != tri.n_vertices()) {
-    throw InvalidInput("tangent_basis_3d: frames are not those of the triangulation");
-  }
-  for (const Triangle& f : triangles) {
-    for (const Index v : f) {
-      if (v < 0 || v >= n) {
-        throw InvalidInput("tangent_basis_3d: triangle index " + str(v) + " out of range [0, " +
-                           str(n) + ")");
-      }
-    }
-  }
-}
-
-}  // namespace
-
-namespace {
-
-// The chord from tail(h) to head(h) projected to the tail's tangent plane (unit normals).
-Eigen::Vector3d projected_chord(const Positions& p, const IntrinsicTriangulation& tri,
-                                const Eigen::MatrixX3d& normal, Index h) {
-  const Index v = tri.tail(h);
-  const Eigen::Vector3d nv = normal.row(v).transpose();
-  const Eigen::Vector3d d = (p.row(tri.head(h)) - p.row(v)).transpose();
-  return d - d.dot(nv) * nv;
-}
-
-// Per positioned vertex, the outgoing halfedge that fixes e1: the reference halfedge when its
-// head has a position (and a chord off the normal), else such a halfedge of smallest angle;
-// kInvalidIndex when there is none.
-std::vector<Index> anchors(const Positions& p, const IntrinsicTriangulation& tri,
-                           const fem::TangentFrames& frames, const Eigen::MatrixX3d& normal) {
-  const Index n = static_cast<Index>(p.rows());
-  auto usable = [&](Index h) {
-    const Index w = tri.head(h);
-    return w < n && w != tri.tail(h) && projected_chord(p, tri, normal, h).norm() > 0.0;
-  };
-  std::vector<Index> anchor(static_cast<std::size_t>(n), kInvalidIndex);
-  for (Index v = 0; v < n; ++v) {
-    const Index h = tri.vertex_halfedge(v);
-    if (h != kInvalidIndex && usable(h)) anchor[v] = h;
-  }
-  for (Index h = 0; h < tri.n_halfedges(); ++h) {
-    const Index v = tri.tail(h);
-    if (v >= n || !usable(h)) continue;
-    const Index a = anchor[v];
-    if (a == kInvalidIndex ||
-        (a != tri.vertex_halfedge(v) && frames.halfedge_angle[h] < frames.halfedge_angle[a])) {
-      anchor[v] = h;
-    }
-  }
-  return anchor;
-}
-
-// Per vertex, > 0 when the chords turn counter-clockwise about the normal as the angles grow:
-// Σ_h sin(θ_h − θ_anchor) · sin(angle from the anchor's chord to h's, about the normal).
-Eigen::VectorXd orientation_votes(const Positions& p, const IntrinsicTriangulation& tri,
-                                  const fem::TangentFrames& frames, const Eigen::MatrixX3d& normal,
-                                  const std::vector<Index>& anchor) {
-  const Index n = static_cast<Index>(p.rows());
-  Eigen::VectorXd vote = Eigen::VectorXd::Zero(n);
-  for (Index h = 0; h < tri.n_halfedges(); ++h) {
-    const Index v = tri.tail(h), w = tri.head(h);
-    if (v >= n || w >= n || v == w || anchor[v] == kInvalidIndex) continue;
-    const Eigen::Vector3d a = projected_chord(p, tri, normal, anchor[v]);
-    const Eigen::Vector3d d = projected_chord(p, tri, normal, h);
-    const double norms = a.norm() * d.norm();
-    if (!(norms > 0.0)) continue;
-    const double s = std::sin(frames.halfedge_angle[h] - frames.halfedge_angle[anchor[v]]);
-    vote[v] += s * a.cross(d).dot(normal.row(v).transpose()) / norms;
-  }
-  return vote;
-}
-
-}  // namespace
-
-TangentBasis3d tangent_basis_3d(const Positions& p, const std::vector<Triangle>& triangles,
-                                const Eigen::MatrixX3d& normals, const IntrinsicTriangulation& tri,
-                                const fem::TangentFrames& frames) {
-  check_basis_inputs(p, triangles, normals, tri, frames);
-  const Index n = static_cast<Index>(p.rows());
-  TangentBasis3d b;
-  b.normal = raw_normals(p, triangles, normals, tri);
-  std::vector<char> fallback(static_cast<std::size_t>(n), 0);
-  for (Index v = 0; v < n; ++v) {
-    const double len = b.normal.row(v).norm();
-    if (len > 0.0 && std::isfinite(len)) {
-      b.normal.row(v) /= len;
-    } else {
-      b.normal.row(v) = Eigen::RowVector3d::UnitZ();
-      fallback[v] = 1;
-    }
-  }
-  const std::vector<Index> anchor = anchors(p, tri, frames, b.normal);
-  const Eigen::VectorXd vote = orientation_votes(p, tri, frames, b.normal, anchor);
-  b.e1.resize(n, 3);
-  b.e2.resize(n, 3);
-  for (Index v = 0; v < n; ++v) {
-    if (vote[v] < 0.0) b.normal.row(v) *= -1.0;
-    const Eigen::Vector3d nv = b.normal.row(v).transpose();
-    Eigen::Vector3d e1;
-    if (anchor[v] == kInvalidIndex) {
-      e1 = any_orthogonal(nv);
-      fallback[v] = 1;
-    } else {  // the anchor's chord turned back by its angle to angle 0
-      const Eigen::Vector3d a = projected_chord(p, tri, b.normal, anchor[v]).normalized();
-      const double theta = frames.halfedge_angle[anchor[v]];
-      e1 = std::cos(theta) * a - std::sin(theta) * nv.cross(a);
-    }
-    b.e1.row(v) = e1.transpose();
-    b.e2.row(v) = nv.cross(e1).transpose();
-  }
-  b.fallback_vertices = static_cast<Index>(std::count(fallback.begin(), fallback.end(), 1));
-  return b;
-}
-
-TangentBasis3d tangent_basis_3d(const io::SurfaceInput& input, const IntrinsicTriangulation& tri,
-                                const fem::TangentFrames& frames) {
-  return tangent_basis_3d(input.positions, input.triangles, input.normals, tri, frames);
-}
-
-Eigen::MatrixX3d to_3d(const Eigen::VectorXcd& z, const TangentBasis3d& basis) {
-  const Eigen::Index n = basis.e1.rows();
-  if (z.size() < n) {
-    throw InvalidInput("to_3d: " + std::to_string(z.size()) + " vectors for a basis of " +
-                       std::to_string(n) + " vertices");
-  }
-  Eigen::MatrixX3d out(n, 3);
-  for (Eigen::Index v = 0; v < n; ++v) {
-    out.row(v) = z[v].real() * basis.e1.row(v) + z[v].imag() * basis.e2.row(v);
-  }
   return out;
 }
 

@@ -2,8 +2,9 @@
 // intrinsic triangulation: parallel transport of tangent vectors from sources, closest-point
 // extension of scalar data, and the logarithmic map. Tangent vectors are complex numbers in the
 // vertices' angular coordinates (fem/connection.h: angle 0 along tri.vertex_halfedge(v),
-// counter-clockwise with the faces' orientation, corner angles rescaled to fill 2π). Helpers at
-// the end turn them into 3D vectors on the input's vertices.
+// counter-clockwise with the faces' orientation, corner angles rescaled to fill 2π), or, on the
+// frame path (tufted covers, point clouds), in per-vertex 3D frames (fem/frame_connection.h).
+// solvers/tangent_basis.h turns them into 3D vectors on the input's vertices.
 #pragma once
 
 #include <Eigen/Core>
@@ -15,6 +16,7 @@
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/core/types.h"
 #include "intrinsic/io/mesh_io.h"
+#include "solvers/tangent_basis.h"
 
 namespace ifem::solvers {
 
@@ -98,15 +100,29 @@ struct VectorHeatReport {
 /// the heat underflows, get a zero vector / NaN (VectorHeatReport counts them). Where geodesics
 /// from a source meet (its cut locus: the antipode on a sphere) the diffused vectors cancel and
 /// the direction there is arbitrary, as in the paper. On tufted covers and point-cloud
-/// triangulations the connection is not the surface's (fem/connection.h: vertices have several
-/// fans), so transport and the log map's angle are not meaningful there; extend_scalar() and the
-/// log map's radius are.
+/// triangulations the intrinsic connection is not the surface's (fem/connection.h: vertices
+/// have several fans): use the frame path there.
+///
+/// The frame path (second constructor): the same algorithm on the same scalar operators (L, M,
+/// components and the heat distance of the triangulation), with the connection Laplacian of
+/// per-vertex 3D frames instead (fem::connection_laplacian_from_frames on L's pattern, frames
+/// from frame_basis_3d()): vectors are x + iy for x·e1 + y·e2, and the log map's direction at a
+/// vertex is the gradient of the distance by least squares over the vertex's neighbours
+/// (through the triangulation's edges), projected to its tangent plane: minimize
+/// Σ_j |d_j − d_v − g·(x_j − x_v)|² / |x_j − x_v|² over tangent g.
 class VectorHeatSolver {
  public:
   /// @throws InvalidInput on bad options or a triangulation without faces
   /// @throws SolverError if a factorization fails
   explicit VectorHeatSolver(const intrinsic::IntrinsicTriangulation& tri,
                             const VectorHeatOptions& options = {});
+  /// The frame path. Every vertex of tri must have a position and a frame (no inserted
+  /// vertices): positions (#V×3, the length unit of tri's lengths) and basis (#V rows, e.g.
+  /// frame_basis_3d() of the input and tri).
+  /// @throws InvalidInput as the first constructor, and if positions or basis do not have
+  ///         tri.n_vertices() rows
+  VectorHeatSolver(const intrinsic::IntrinsicTriangulation& tri, const Positions& positions,
+                   const TangentBasis3d& basis, const VectorHeatOptions& options = {});
   ~VectorHeatSolver();
   VectorHeatSolver(VectorHeatSolver&&) noexcept;
   VectorHeatSolver& operator=(VectorHeatSolver&&) noexcept;
@@ -131,7 +147,8 @@ class VectorHeatSolver {
   /// the geodesic leaves for that vertex, counter-clockwise from the source's reference halfedge
   /// (triangulation().vertex_halfedge(source)), in the source's angular coordinate. 0 at the
   /// source. At boundary vertices whose angle sum is far from π (a polygon's corners) the
-  /// half-plane rescaling of the angular coordinate distorts the angle (fem/connection.h).
+  /// half-plane rescaling of the angular coordinate distorts the angle (fem/connection.h). On
+  /// the frame path the angle is counter-clockwise about the source's normal from its e1.
   /// @throws InvalidInput if source is out of range or unreferenced
   Eigen::VectorXcd log_map(Index source, VectorHeatReport* report = nullptr) const;
 
@@ -142,8 +159,13 @@ class VectorHeatSolver {
   const intrinsic::IntrinsicTriangulation& triangulation() const;
   /// The power of two that triangulation()'s lengths are divided by.
   double length_scale() const;
-  /// The tangent frames of triangulation(): the coordinates of sources and results.
+  /// The tangent frames of triangulation(): the coordinates of sources and results (empty on
+  /// the frame path).
   const fem::TangentFrames& frames() const;
+  /// True on the frame path: sources and results are in frame_basis().
+  bool on_frames() const;
+  /// The frame path's 3D frames (empty on the intrinsic path).
+  const TangentBasis3d& frame_basis() const;
   /// The heat time step t = m·h² (squared length units).
   double time_step() const;
 
@@ -152,52 +174,5 @@ class VectorHeatSolver {
  private:
   std::unique_ptr<Impl> impl_;
 };
-
-/// Per-vertex 3D tangent bases that place the intrinsic angular coordinates in space.
-struct TangentBasis3d {
-  Eigen::MatrixX3d normal;  ///< #V_in×3 unit normal (sign: the faces' counter-clockwise side)
-  Eigen::MatrixX3d e1;      ///< #V_in×3 unit, ⟂ normal: the direction of angle 0
-  Eigen::MatrixX3d e2;      ///< #V_in×3 normal × e1: the direction of angle π/2
-  /// Vertices whose basis is a fallback: no intrinsic neighbour with a position (e1 is then an
-  /// arbitrary tangent direction), or no usable normal (a degenerate neighbourhood: normal z).
-  Index fallback_vertices = 0;
-};
-
-/// 3D tangent bases of the first #V_in = positions.rows() vertices of tri (the input's vertices
-/// on every path of solvers::prepare_surface).
-///  - normal: the area-weighted normal of the input triangles around the vertex; without
-///    triangles (a point cloud) the given normals (#V_in×3), else the smallest principal axis
-///    of the vertex and its intrinsic neighbours. Its sign is then chosen so that the intrinsic
-///    fan turns counter-clockwise about it (a vote over the outgoing halfedges), which makes it
-///    agree with the angular coordinates even where the input's faces were reoriented.
-///  - e1: the direction of the vertex's reference halfedge (tri.vertex_halfedge(v)) towards its
-///    head's position, projected to the tangent plane; when the head is an inserted vertex (no
-///    position), the first outgoing halfedge with an input head, rotated back by its angle.
-/// @param frames tangent_frames(tri)
-/// @throws InvalidInput on size mismatches (positions rows > #V, normals neither empty nor
-///         #V_in×3, a triangle index out of range)
-TangentBasis3d tangent_basis_3d(const Positions& positions, const std::vector<Triangle>& triangles,
-                                const Eigen::MatrixX3d& normals,
-                                const intrinsic::IntrinsicTriangulation& tri,
-                                const fem::TangentFrames& frames);
-
-/// tangent_basis_3d() of an input as read (its positions, triangles and, for point clouds,
-/// normals).
-TangentBasis3d tangent_basis_3d(const io::SurfaceInput& input,
-                                const intrinsic::IntrinsicTriangulation& tri,
-                                const fem::TangentFrames& frames);
-
-/// 3D tangent vectors of the first basis.e1.rows() entries of z: Re z·e1 + Im z·e2, #V_in×3.
-///
-/// Approximation: the angular coordinate is read as the angle in the tangent plane. This is
-/// exact where the vertex's fan is flat (angle sum 2π) and its intrinsic edges point along the
-/// projected chords (edges of a planar neighbourhood). At a cone vertex the rescaling spreads
-/// the angle defect 2π − Θ_v over all directions, so a direction is off by at most about
-/// |2π − Θ_v|/2 (O(h²·K), K the Gaussian curvature, on a fine smooth mesh), plus the chord
-/// projection's error of O(h·κ) for a flipped (non-input) reference edge. On vertices with several
-/// fans (nonmanifold vertices, tufted covers, point clouds) the coordinate runs through all fans
-/// one after the other (fem/connection.h), so only directions in the reference fan map right.
-/// @throws InvalidInput if z has fewer entries than the basis
-Eigen::MatrixX3d to_3d(const Eigen::VectorXcd& z, const TangentBasis3d& basis);
 
 }  // namespace ifem::solvers

@@ -15,6 +15,7 @@ int refine(int argc, char** argv);
 int geodesic(int argc, char** argv);
 int curves(int argc, char** argv);
 int vector_heat(int argc, char** argv);
+int batch(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -46,6 +47,8 @@ const Section kSections[] = {
      "vector heat precompute, transport, extension, log map vs scalar heat 10k..1M faces; "
      "complex factorization choices",
      ifem::bench::vector_heat},
+    {"batch", "heat distances from k = 1, 8, 32, 128 sources at once vs one query per source",
+     ifem::bench::batch},
 };
 
 }  // namespace

@@ -2,7 +2,10 @@
 // from source vertices or from curves (--curves).
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -11,6 +14,7 @@
 #include "cli_refine.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/io/tokens.h"
 #include "results.h"
 #include "solvers/curves.h"
 #include "solvers/heat_distance.h"
@@ -46,6 +50,79 @@ solvers::DistanceSettings distance_settings(const Args& args) {
   return settings;
 }
 
+// --sources-batch FILE: one vertex id per line ('#' comments and blank lines skipped), in order
+// (repeats allowed); anything else is an error naming FILE:line. Read before the mesh; the ids
+// are checked against #V once it is loaded.
+std::vector<std::pair<Index, long>> read_batch_sources(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError(path + ": cannot open");
+  std::vector<std::pair<Index, long>> ids;  // (vertex, line)
+  std::string line;
+  long lineno = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    std::istringstream ss(line);
+    std::vector<std::string> tokens;
+    for (std::string t; ss >> t;) tokens.push_back(t);
+    if (tokens.empty()) continue;
+    long long v = 0;
+    if (tokens.size() != 1 || !io::parse_whole_integer(tokens[0], v) || v < 0 ||
+        v > std::numeric_limits<Index>::max()) {
+      throw IoError(path + ":" + std::to_string(lineno) +
+                    ": expected one vertex id (an integer ≥ 0) per line, got '" + line + "'");
+    }
+    ids.emplace_back(Index(v), lineno);
+  }
+  if (ids.empty()) throw InvalidInput(path + ": no vertex id (one per line)");
+  return ids;
+}
+
+// --sources-batch: one distance column per source, each from that source alone.
+int run_batch(const Args& args, const ResultOutput& out) {
+  const std::string path = args.get("sources-batch");
+  const std::vector<std::pair<Index, long>> listed = read_batch_sources(path);
+  std::optional<solvers::RefineSettings> refine;
+  if (args.has("refine")) refine = refine_settings(args, kAccurate.resolution, false);
+  const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);
+  const Index nv = s.n_input_vertices();
+  std::vector<Index> sources;
+  for (const auto& [v, lineno] : listed) {
+    if (v >= nv) {
+      throw InvalidInput(path + ":" + std::to_string(lineno) + ": vertex " + std::to_string(v) +
+                         " out of range [0, " + std::to_string(nv) + ") (the input has " +
+                         std::to_string(nv) + " vertices)");
+    }
+    sources.push_back(v);
+  }
+  const Stopwatch watch;
+  std::vector<solvers::HeatDistanceReport> reps;
+  const Eigen::MatrixXd d = solvers::geodesic_distances(s, sources, distance_settings(args), &reps);
+  const double seconds = watch.seconds();
+  Index multi_stage = 0;
+  for (const auto& r : reps) multi_stage += r.stages > 1;
+  progress(args, "heat method: " + std::to_string(sources.size()) + " sources in " +
+                     format_number(seconds) + " s (" +
+                     format_number(seconds / double(sources.size())) + " s per source; " +
+                     std::to_string(multi_stage) + " needed several stages)");
+  const std::string ext = io::file_extension(out.path);
+  if (ext == ".npy") {
+    write_npy(out.path, d);
+  } else if (ext == ".txt") {
+    write_rows(out.path, d);
+  } else {
+    std::vector<io::VertexProperty> props;
+    for (Eigen::Index j = 0; j < d.cols(); ++j) {
+      props.push_back({"distance_" + std::to_string(j), d.col(j)});
+    }
+    write_results(out, s, props);
+  }
+  std::printf("wrote %s: %d vertices × %d sources (one column per source, in %s's order)\n",
+              out.path.c_str(), nv, int(d.cols()), path.c_str());
+  return 0;
+}
+
 // --curves: the distance to the union of the curves (every vertex on them is a source).
 int run_curves(const Args& args, const ResultOutput& out) {
   std::vector<solvers::CurveCondition> curves = read_curves(args);  // fails fast, before the mesh
@@ -68,10 +145,25 @@ int run(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
   check_curve_options(args, {{"source",
                               "the curves are the sources (--curves gives the "
-                              "distance to the nearest curve)"}});
+                              "distance to the nearest curve)"},
+                             {"sources-batch", "the curves are the sources"}});
+  if (args.has("sources-batch") && args.has("source")) {
+    throw UsageError(
+        "--sources-batch and --source cannot be used together: --source gives the "
+        "distance to the nearest of its vertices, --sources-batch one column per "
+        "vertex");
+  }
+  if (io::file_extension(out.path) == ".npy" && !args.has("sources-batch")) {
+    throw UsageError("--output '" + out.path +
+                     "': .npy holds a matrix, written only with "
+                     "--sources-batch (use .ply or .txt)");
+  }
   if (args.has("curves")) return run_curves(args, out);
+  if (args.has("sources-batch")) return run_batch(args, out);
   if (!args.has("source")) {
-    throw UsageError("missing --source I[,J,...] (or --curves FILE; see --help)");
+    throw UsageError(
+        "missing --source I[,J,...] (or --sources-batch FILE or --curves FILE; see "
+        "--help)");
   }
   const std::vector<Index> sources = args.vertices("source");
   // --refine: the library's accurate mode (edges of about 0.4·h, t = ℓ²/4, one correction
@@ -105,6 +197,10 @@ const char* const kProse =
     "is exactly 0. Far from the sources on long meshes the heat underflows; the\n"
     "solver then continues in stages from the frontier of the resolved region.\n"
     "Meshes with boundary use the mean of the Neumann and Dirichlet heat solutions.\n\n"
+    "Many sources, each on its own (--sources-batch FILE, instead of --source): a\n"
+    "distance matrix, one column per source (landmarks, descriptors, embeddings).\n"
+    "The solves of up to 32 sources go through the factors together, so a source\n"
+    "costs a fraction of a separate run (BENCHMARKS.md, \"Batched sources\").\n\n"
     "From curves (--curves FILE, format below; instead of --source): the distance to\n"
     "the nearest point of any curve drawn through the mesh's vertices (geodesic paths,\n"
     "loops, Bézier curves). The curves become edges of a constrained intrinsic\n"
@@ -117,11 +213,17 @@ OptionGroup distance_options() {
       "Options",
       {vertex_list("source", "I[,J,...]")
            .explain("0-based vertex ids of the input (comma separated); required unless\n"
-                    "--curves is given"),
+                    "--sources-batch or --curves is given"),
+       text("sources-batch", "FILE")
+           .explain("one 0-based vertex id per line ('#' comments): the distance from\n"
+                    "each of them alone, one column per line of FILE, in its order;\n"
+                    "OUT.txt: one line per input vertex, columns separated by spaces;\n"
+                    "OUT.npy: a NumPy array (#V, k) of float64; OUT.ply: properties\n"
+                    "distance_0 .. distance_{k-1}"),
        text("output", "OUT")
            .short_alias('o')
            .mandatory()
-           .with_extensions({".ply", ".txt"})
+           .with_extensions({".ply", ".txt", ".npy"})
            .explain("OUT.ply: the input mesh with a per-vertex property 'distance'\n"
                     "(opens in MeshLab/ParaView/Polyscope); OUT.txt: one value per line.\n"
                     "Always one value per input vertex, in the input's order; 'inf' for\n"
@@ -164,6 +266,7 @@ Command distance_command() {
       curves_file_help(false) +
       "\nexamples: ifem distance bunny.obj --source 0 -o bunny_dist.ply\n"
       "          ifem distance part.obj --source 0 --refine -o part_dist.ply\n"
+      "          ifem distance bunny.obj --sources-batch landmarks.txt -o D.npy\n"
       "          ifem distance bunny.obj --curves curves.txt --curves-out c.obj -o d.ply\n";
   c.run = run;
   return c;

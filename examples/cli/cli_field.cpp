@@ -54,11 +54,15 @@ solvers::FieldSettings field_settings(const Args& args) {
 }
 
 // The progress line after the solve and the properties written.
-std::vector<io::VertexProperty> report(const Args& args, const solvers::TangentFieldResult& r,
-                                       double seconds) {
+std::vector<io::VertexProperty> report(const Args& args, const PreparedSurface& s,
+                                       const solvers::TangentFieldResult& r, double seconds) {
   progress(args, "field in " + std::to_string(seconds) + " s: " + std::to_string(r.constrained) +
                      " vertices held, " + std::to_string(r.iterations) +
-                     " inverse iterations, energy " + std::to_string(r.energy));
+                     " inverse iterations, energy " + std::to_string(r.energy) +
+                     (s.path == intrinsic::SurfacePath::kManifold
+                          ? std::string()
+                          : "; 3D frames, " + std::to_string(r.orientation_conflicts) +
+                                " neighbour pairs with opposite normals"));
   return {{"fx", r.vectors.col(0)},
           {"fy", r.vectors.col(1)},
           {"fz", r.vectors.col(2)},
@@ -90,7 +94,8 @@ int run_curves(const Args& args, const ResultOutput& out) {
   CurveRun run{prepare_curves(std::move(input), std::move(curves), args, false, refine), {}};
   const Stopwatch watch;
   const solvers::TangentFieldResult r = solvers::curve_direction_field(run.surface, settings);
-  const std::vector<io::VertexProperty> properties = report(args, r, watch.seconds());
+  const std::vector<io::VertexProperty> properties =
+      report(args, run.surface.surface, r, watch.seconds());
   run.polylines = curve_polylines_if_asked(args, run.surface);
   if (out.ply) {
     write_curve_outputs(args, out, run, [&] {
@@ -114,7 +119,7 @@ int run(const Args& args) {
   const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);
   const Stopwatch watch;
   const solvers::TangentFieldResult r = solvers::direction_field_on(s, settings);
-  const std::vector<io::VertexProperty> properties = report(args, r, watch.seconds());
+  const std::vector<io::VertexProperty> properties = report(args, s, r, watch.seconds());
   if (out.ply) {
     write_results(out, s, properties, face_properties(r));
   } else {
@@ -147,6 +152,11 @@ Command field_command() {
       "  times its share of curvature; they sum to N·χ on a closed surface), one per\n"
       "  triangle written (a polygon of the input is written as its triangles).\n"
       "  OUT.txt: 'x y z' per input vertex, in order.\n"
+      "On nonmanifold meshes (the tufted cover) and point clouds the field lives in\n"
+      "per-vertex 3D frames from the normals, oriented by propagation: angle is then\n"
+      "from the x axis projected to the tangent plane; singularities come from the\n"
+      "input's faces (none for point clouds); --align-boundary and --refine are\n"
+      "refused there.\n"
       "Constraints file: lines 'VERTEX X Y Z' (a 0-based input vertex and a direction,\n"
       "projected to the tangent plane there); '#' starts a comment.\n\n"
       "Aligned to curves (--curves FILE, format below; thesis Fig. 10 left): curves\n"

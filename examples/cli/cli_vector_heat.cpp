@@ -92,8 +92,10 @@ Command transport_command() {
       "projected to the source's tangent plane; its length is kept.\n"
       "  OUT.ply: the input mesh with per-vertex properties fx fy fz;\n"
       "  OUT.txt: 'x y z' per input vertex, in order (0 0 0 where no source reaches).\n"
-      "On tufted covers and point clouds the directions are not meaningful (the\n"
-      "triangulation's vertices have several fans); use a manifold mesh.\n";
+      "On nonmanifold meshes (the tufted cover) and point clouds the vectors live in\n"
+      "per-vertex frames from the normals (faces' or given ones, else PCA of the\n"
+      "neighbours), oriented consistently by propagation; the transport between\n"
+      "neighbours is the minimal rotation of their normals (no --refine there).\n";
   c.spec.groups = {
       {"Options",
        {source_option(), text("vector", "X,Y,Z").mandatory().explain("the vector at the source"),
@@ -119,7 +121,9 @@ Command logmap_command() {
       "direction in which the geodesic leaves the source, measured from the direction\n"
       "of the source's first edge, counter-clockwise with the faces' orientation\n"
       "(the Vector Heat Method: the transported reference direction against the\n"
-      "gradient of the heat-method distance).\n"
+      "gradient of the heat-method distance). On nonmanifold meshes and point clouds\n"
+      "θ is measured from the x axis projected to the source's tangent plane,\n"
+      "counter-clockwise about its (propagated) normal.\n"
       "  OUT.ply: the input mesh with per-vertex properties u, v and distance;\n"
       "  OUT.txt: 'u v' per input vertex, in order.\n";
   c.spec.groups = {{"Options",

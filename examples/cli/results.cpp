@@ -65,4 +65,32 @@ void write_rows(const std::string& path, const Eigen::MatrixXd& rows) {
   if (std::fclose(f) != 0) throw IoError(path + ": cannot write");
 }
 
+void write_npy(const std::string& path, const Eigen::MatrixXd& m) {
+  std::string header = "{'descr': '<f8', 'fortran_order': True, 'shape': (" +
+                       std::to_string(m.rows()) + ", " + std::to_string(m.cols()) + "), }";
+  // magic (6) + version (2) + header length (2) + header, padded with spaces to a multiple of 64
+  // and ended by a newline
+  const std::size_t total = (10 + header.size() + 1 + 63) / 64 * 64;
+  header.append(total - 10 - header.size() - 1, ' ');
+  header += '\n';
+  const unsigned char preamble[10] = {0x93,
+                                      'N',
+                                      'U',
+                                      'M',
+                                      'P',
+                                      'Y',
+                                      1,
+                                      0,
+                                      static_cast<unsigned char>(header.size() & 0xff),
+                                      static_cast<unsigned char>(header.size() >> 8)};
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) throw IoError(path + ": cannot write");
+  static_assert(sizeof(double) == 8, "float64");
+  const auto n = std::size_t(m.size());
+  const bool ok = std::fwrite(preamble, 1, 10, f) == 10 &&
+                  std::fwrite(header.data(), 1, header.size(), f) == header.size() &&
+                  std::fwrite(m.data(), sizeof(double), n, f) == n;
+  if (std::fclose(f) != 0 || !ok) throw IoError(path + ": cannot write");
+}
+
 }  // namespace ifem::cli

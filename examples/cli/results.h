@@ -41,4 +41,9 @@ void write_results(const ResultOutput& out, const io::SurfaceInput& input,
 /// @throws IoError if the file cannot be written
 void write_rows(const std::string& path, const Eigen::MatrixXd& rows);
 
+/// Writes a matrix as a NumPy .npy file (format 1.0, little-endian float64, shape
+/// (rows, cols), Fortran order: numpy.load() gives the same matrix, no copy of Eigen's layout).
+/// @throws IoError if the file cannot be written
+void write_npy(const std::string& path, const Eigen::MatrixXd& m);
+
 }  // namespace ifem::cli

@@ -6,14 +6,20 @@ from . import _ifem
 from ._curves import _specs
 
 
-def direction_field(V, F, symmetry=1, align_boundary=False, constraint_vertices=None,
-                    directions=None, mollify=1e-5, return_info=False, *, curves=None):
-    """The smoothest n-direction field on a mesh, as unit 3D tangent vectors per vertex.
+def direction_field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
+                    directions=None, mollify=1e-5, return_info=False, *, normals=None,
+                    path="auto", knn=30, curves=None):
+    """The smoothest n-direction field on a mesh or point cloud, as unit 3D tangent vectors per
+    vertex.
 
     The field is the smallest eigenvector of the connection Laplacian of the intrinsic
     Delaunay triangulation (Knöppel, Crane, Pinkall, Schröder 2013), or, with constraints, the
     smoothest field through them (harmonic in the power representation). Same as
     ``ifem field MESH --symmetry N [--align-boundary] [--constraints FILE] [--curves FILE]``.
+    On nonmanifold or non-orientable meshes (the tufted path) and point clouds the connection
+    comes from per-vertex 3D frames: normals from the faces (or ``normals``, else PCA of the
+    neighbours), oriented consistently by propagation, and the minimal rotation between
+    neighbours' normals.
 
     With ``curves``, the field conforms to curves drawn through the mesh's vertices (the
     thesis' Figure 10 left): they are inserted as edges of a constrained intrinsic Delaunay
@@ -25,7 +31,7 @@ def direction_field(V, F, symmetry=1, align_boundary=False, constraint_vertices=
 
     Args:
         V: #V×3 positions.
-        F: #F×3 vertex ids.
+        F: #F×3 vertex ids; ``None`` (or empty) for a point cloud.
         symmetry: n ≥ 1 — 1 vectors, 2 lines, 4 crosses.
         align_boundary: hold the field along the boundary (meshes that take the manifold path).
         constraint_vertices: vertex ids where a direction is held (with ``directions``).
@@ -35,26 +41,32 @@ def direction_field(V, F, symmetry=1, align_boundary=False, constraint_vertices=
             closed surface —, ``face_singularity`` — #F int array: the index of each face of
             F, in units of 1/n, from the field at its corners and the transport along its
             edges; sums to n·χ on a closed mesh; what ``ifem field -o OUT.ply`` writes as the
-            face property ``singularity``; empty if unknown —, ``constrained``, ``energy``,
-            ...; with curves, ``curves``: what inserting them did, as :func:`curve_poisson`'s
-            info).
+            face property ``singularity``; empty for point clouds —, ``constrained``,
+            ``energy``, ``orientation_conflicts`` — neighbour pairs whose oriented normals
+            still disagree on the frame path —, ...; with curves, ``curves``: what inserting
+            them did, as :func:`curve_poisson`'s info).
+        normals: optional #V×3 normals of a point cloud (rows zero or not finite: PCA).
+        path: ``'auto'``, ``'manifold'``, ``'tufted'`` or ``'pointcloud'``.
+        knn: neighbours per point on the point-cloud path.
         curves: None, or curves to align the field to: a list of :class:`Curve` (or dicts of
             its arguments), one Curve, or a curves file's path (as :func:`curve_poisson`; the
             curves' values are not used and may be omitted, e.g. ``ifem.Curve([3, 8, 20, 31],
-            bezier=True)``). Needs an edge-manifold, orientable mesh.
+            bezier=True)``). Needs an edge-manifold, orientable mesh (path 'auto' or
+            'manifold').
 
     Returns:
         ``vectors`` (#V×3: a unit tangent vector per vertex, one of the n directions; 0 where
         the field has no direction), ``angle`` (#V: that direction's angle in the vertex's own
-        coordinate, 0 along its first edge, counter-clockwise with the faces' orientation),
-        ``singularity`` (#V: indices in units of 1/n of the singular faces, each counted on one
-        of its corners), and ``info`` when asked.
+        coordinate, 0 along its first edge, counter-clockwise with the faces' orientation; on
+        the frame path from the x axis projected to the tangent plane), ``singularity`` (#V:
+        indices in units of 1/n of the singular faces, each counted on one of its corners; the
+        input's faces on the frame path, none for point clouds), and ``info`` when asked.
 
     Raises:
         InvalidInput: bad arrays, symmetry < 1, a constraint vertex out of range or a direction
-            normal to the surface, a mesh that is not edge-manifold and orientable (its tufted
-            cover's vertices have several fans: directions there would not be the surface's),
-            a bad curve (named ``curves[i]`` or ``file:line``), two curves sharing an edge.
+            normal to the surface, ``align_boundary`` off the manifold path, curves on a point
+            cloud or a mesh that is not edge-manifold and orientable, a bad curve (named
+            ``curves[i]`` or ``file:line``), two curves sharing an edge.
         IoError: an unreadable curves file.
 
     Example:
@@ -64,27 +76,33 @@ def direction_field(V, F, symmetry=1, align_boundary=False, constraint_vertices=
     """
     specs = None if curves is None else _specs(curves)
     vectors, angle, singularity, info = _ifem.direction_field(
-        V, F, int(symmetry), bool(align_boundary), constraint_vertices, directions,
-        float(mollify), specs)
+        V, None if F is None or np.size(F) == 0 else F, int(symmetry), bool(align_boundary),
+        constraint_vertices, directions, normals, float(mollify), str(path), int(knn), specs)
     out = (np.ascontiguousarray(vectors), angle, singularity)
     return out + (info,) if return_info else out
 
 
 class VectorHeatSolver:
-    """The Vector Heat Method (Sharp, Soliman, Crane 2019) on a mesh: factors once, then
-    parallel transport and logarithmic maps cost a few back-substitutions each. Same as
-    ``ifem transport`` / ``ifem logmap``; like potpourri3d's ``MeshVectorHeatSolver``, with 3D
-    vectors in and out.
+    """The Vector Heat Method (Sharp, Soliman, Crane 2019) on a mesh or point cloud: factors
+    once, then parallel transport and logarithmic maps cost a few back-substitutions each. Same
+    as ``ifem transport`` / ``ifem logmap``; like potpourri3d's ``MeshVectorHeatSolver`` and
+    ``PointCloudHeatSolver``, with 3D vectors in and out.
 
     Args:
         V: #V×3 positions.
-        F: #F×3 vertex ids (a mesh; on the tufted path of a nonmanifold mesh the directions are
-            not meaningful).
+        F: #F×3 vertex ids; ``None`` (or empty) for a point cloud. Nonmanifold and
+            non-orientable meshes (the tufted path) and point clouds use per-vertex 3D frames
+            from the normals, oriented by propagation (see :func:`direction_field`); the log
+            map's angle 0 is then the x axis projected to the source's tangent plane.
         mollify: relative mollification margin.
+        normals: optional #V×3 normals of a point cloud.
+        path: ``'auto'``, ``'manifold'``, ``'tufted'`` or ``'pointcloud'``.
+        knn: neighbours per point on the point-cloud path.
     """
 
-    def __init__(self, V, F, mollify=1e-5):
-        self._solver = _ifem.VectorHeat(V, F, float(mollify))
+    def __init__(self, V, F=None, mollify=1e-5, *, normals=None, path="auto", knn=30):
+        self._solver = _ifem.VectorHeat(V, None if F is None or np.size(F) == 0 else F, normals,
+                                        float(mollify), str(path), int(knn))
 
     def transport(self, source, vector):
         """Parallel transport of a 3D vector at vertex ``source`` (projected to its tangent

@@ -210,6 +210,29 @@ class HeatDistanceSolver:
         faces, bary = _points(points)
         return self._solver.compute_distance_from_points(faces, bary)
 
+    def compute_distances(self, sources):
+        """Geodesic distances from each source on its own: a distance matrix.
+
+        Column ``j`` equals ``compute_distance(sources[j])`` up to rounding (~1e-14 relative),
+        but the solves of up to 32 sources share each pass over the factors, so a source costs
+        a fraction of a separate query (``BENCHMARKS.md``, "Batched sources"). The CLI's
+        ``ifem distance MESH --sources-batch FILE``.
+
+        Args:
+            sources: a sequence / 1-D integer array of vertex ids (0-based ids of the input, each
+                used by some face); repeats give equal columns.
+
+        Returns:
+            #V_in × k float64 array (Fortran order), column j the distances from
+            ``sources[j]``, in the input's vertex order; ``inf`` where that source does not
+            reach.
+
+        Raises:
+            InvalidInput: an id out of range or unreferenced (naming its position), an empty
+                list, a non-integer dtype.
+        """
+        return self._solver.compute_distances(sources)
+
     @property
     def n_input_vertices(self):
         """#V_in: the input's vertex count (the length of every result)."""

@@ -2,6 +2,7 @@
 // as `ifem field` computes it.
 #include <pybind11/stl.h>
 
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -35,12 +36,30 @@ std::vector<solvers::InputDirection> input_directions(const py::handle& vertices
   return out;
 }
 
-// The field on the input with the curves inserted and held (solvers/curve_fields.h).
+// The surface arguments every field function shares: mollify, path, knn, point normals.
+struct SurfaceArgs {
+  double mollify = 1e-5;
+  std::string path = "auto";
+  int knn = 30;
+};
+
+solvers::PreparedSurface prepared(io::SurfaceInput in, const SurfaceArgs& a) {
+  return prepare(std::move(in), prepare_options(a.mollify, a.path, true, a.knn), a.path);
+}
+
+// The field on the input with the curves inserted and held (solvers/curve_fields.h): curves
+// need the manifold path (signposts), so path must be 'auto' or 'manifold'.
 solvers::TangentFieldResult field_along_curves(io::SurfaceInput in, const py::list& curves,
                                                const solvers::FieldSettings& settings,
-                                               double mollify, py::dict& info) {
+                                               const SurfaceArgs& a, py::dict& info) {
+  if (a.path != "auto" && a.path != "manifold") {
+    throw InvalidInput(
+        "curves need the manifold path (signposts on an edge-manifold, orientable "
+        "mesh), not path='" +
+        a.path + "'");
+  }
   const solvers::CurveSurface s =
-      prepare_with_curves(std::move(in), curves, py::none(), mollify, false);
+      prepare_with_curves(std::move(in), curves, py::none(), a.mollify, false);
   solvers::TangentFieldResult r;
   {
     const py::gil_scoped_release release;
@@ -54,21 +73,20 @@ solvers::TangentFieldResult field_along_curves(io::SurfaceInput in, const py::li
 // curves: None, or a list of curve specs (ifem.Curve's tuples).
 py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry,
                           bool align_boundary, const py::handle& vertices,
-                          const py::handle& directions, double mollify, const py::handle& curves) {
-  io::SurfaceInput in = surface_input(V, F);
-  if (in.triangles.empty()) throw InvalidInput("F has no faces: direction fields need a mesh");
+                          const py::handle& directions, const py::handle& normals,
+                          const SurfaceArgs& a, const py::handle& curves) {
   solvers::FieldSettings settings;
   settings.symmetry = symmetry;
   settings.align_boundary = align_boundary;
+  io::SurfaceInput in = surface_input(V, F, normals);
   settings.constraints =
       input_directions(vertices, directions, static_cast<Index>(in.positions.rows()));
   py::dict info;
   solvers::TangentFieldResult r;
   if (!curves.is_none()) {
-    r = field_along_curves(std::move(in), curves.cast<py::list>(), settings, mollify, info);
+    r = field_along_curves(std::move(in), curves.cast<py::list>(), settings, a, info);
   } else {
-    const solvers::PreparedSurface s =
-        prepare(std::move(in), prepare_options(mollify, "auto", true, 30), "auto");
+    const solvers::PreparedSurface s = prepared(std::move(in), a);
     {
       const py::gil_scoped_release release;
       r = solvers::direction_field_on(s, settings);
@@ -82,15 +100,17 @@ py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry
   info["total_index"] = r.total_index;
   info["constrained"] = r.constrained;
   info["energy"] = r.energy;
+  info["orientation_conflicts"] = r.orientation_conflicts;
   return py::make_tuple(to_numpy(Eigen::MatrixXd(r.vectors)), to_numpy(std::move(r.angle)),
                         to_numpy(std::move(r.singularity)), info);
 }
 
-// A prepared manifold surface and its vector heat solver (factored once; queries reuse it).
+// A prepared surface and its vector heat solver (factored once; queries reuse it).
 class VectorHeat {
  public:
-  VectorHeat(const py::handle& V, const py::handle& F, double mollify)
-      : s_(prepared(V, F, mollify)), solver_(build(s_)) {}
+  VectorHeat(const py::handle& V, const py::handle& F, const py::handle& normals,
+             const SurfaceArgs& a)
+      : s_(prepared(surface_input(V, F, normals), a)), solver_(build(s_)) {}
 
   py::array transport(const py::handle& source, const py::handle& vector) const {
     const Index v = single_vertex(source);
@@ -117,13 +137,6 @@ class VectorHeat {
   py::dict info() const { return surface_info(s_); }
 
  private:
-  static solvers::PreparedSurface prepared(const py::handle& V, const py::handle& F,
-                                           double mollify) {
-    io::SurfaceInput in = surface_input(V, F);
-    if (in.triangles.empty())
-      throw InvalidInput("F has no faces: the vector heat method needs a mesh");
-    return prepare(std::move(in), prepare_options(mollify, "auto", true, 30), "auto");
-  }
   static solvers::VectorHeatSolver build(const solvers::PreparedSurface& s) {
     const py::gil_scoped_release release;
     return solvers::vector_heat_solver(s);
@@ -142,14 +155,26 @@ class VectorHeat {
 
 void bind_fields(py::module_& m) {
   py::class_<VectorHeat>(m, "VectorHeat")
-      .def(py::init<const py::handle&, const py::handle&, double>(), py::arg("V"), py::arg("F"),
-           py::arg("mollify"))
+      .def(py::init([](const py::handle& V, const py::handle& F, const py::handle& normals,
+                       double mollify, const std::string& path, int knn) {
+             return std::make_unique<VectorHeat>(V, F, normals, SurfaceArgs{mollify, path, knn});
+           }),
+           py::arg("V"), py::arg("F"), py::arg("normals"), py::arg("mollify"), py::arg("path"),
+           py::arg("knn"))
       .def("transport", &VectorHeat::transport, py::arg("source"), py::arg("vector"))
       .def("log_map", &VectorHeat::log_map, py::arg("source"))
       .def("info", &VectorHeat::info);
-  m.def("direction_field", &direction_field, py::arg("V"), py::arg("F"), py::arg("symmetry"),
-        py::arg("align_boundary"), py::arg("vertices"), py::arg("directions"), py::arg("mollify"),
-        py::arg("curves"));
+  m.def(
+      "direction_field",
+      [](const py::handle& V, const py::handle& F, int symmetry, bool align_boundary,
+         const py::handle& vertices, const py::handle& directions, const py::handle& normals,
+         double mollify, const std::string& path, int knn, const py::handle& curves) {
+        return direction_field(V, F, symmetry, align_boundary, vertices, directions, normals,
+                               SurfaceArgs{mollify, path, knn}, curves);
+      },
+      py::arg("V"), py::arg("F"), py::arg("symmetry"), py::arg("align_boundary"),
+      py::arg("vertices"), py::arg("directions"), py::arg("normals"), py::arg("mollify"),
+      py::arg("path"), py::arg("knn"), py::arg("curves"));
 }
 
 }  // namespace ifem::python

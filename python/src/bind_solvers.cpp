@@ -190,6 +190,19 @@ class DistanceSolver {
     return to_numpy(std::move(d));
   }
 
+  py::array distances(const py::handle& sources) const {
+    const std::vector<Index> ids = indices_from(sources, s_.n_input_vertices(), "sources");
+    Eigen::MatrixXd d;
+    {
+      const py::gil_scoped_release release;
+      const Stopwatch watch;
+      d = solvers::on_input_vertices(s_, solver_.compute_distances(ids));
+      last_query_seconds_ = watch.seconds();
+    }
+    require_no_nan(d, "heat distance");
+    return to_numpy(std::move(d));
+  }
+
   py::array distance_from_points(const py::handle& faces, const py::handle& bary) {
     const std::string refusal = points_refusal();
     if (!refusal.empty()) throw InvalidInput(refusal);
@@ -378,6 +391,7 @@ void bind_solvers(py::module_& m) {
            py::arg("V"), py::arg("F"), py::arg("time_factor"), py::arg("correction_steps"),
            py::arg("mollify"), py::arg("path"), py::arg("knn"), py::arg("refine"))
       .def("compute_distance", &DistanceSolver::distance, py::arg("sources"))
+      .def("compute_distances", &DistanceSolver::distances, py::arg("sources"))
       .def("compute_distance_from_points", &DistanceSolver::distance_from_points, py::arg("faces"),
            py::arg("bary"))
       .def_property_readonly("info", &DistanceSolver::info)

@@ -1,5 +1,8 @@
 """direction_field: the same numbers as `ifem field` (1e-12), Poincaré–Hopf on spot for n = 1,
-2, 4, unit tangent vectors, constraints held, fields along curves, and bad input."""
+2, 4, unit tangent vectors, constraints held, fields along curves, and bad input; the frame
+path (point clouds, nonmanifold meshes): the CLI's numbers, unit tangent vectors on a sphere
+cloud, the log map's radius against the great-circle distance, finite fields on a nonmanifold
+mesh."""
 
 import numpy as np
 import pytest
@@ -59,7 +62,7 @@ def test_bad_input(spot):
         ifem.direction_field(V, F, constraint_vertices=[0, 1], directions=[[1, 0, 0]])
     with pytest.raises(ifem.InvalidInput, match="both vertices and directions"):
         ifem.direction_field(V, F, constraint_vertices=[0])
-    with pytest.raises(ifem.InvalidInput, match="needs an edge-manifold, orientable mesh"):
+    with pytest.raises(ifem.InvalidInput, match="align_boundary needs the manifold path"):
         ifem.direction_field(*ifem.read_mesh(test_data("fan3.obj")), align_boundary=True)
 
 
@@ -113,3 +116,58 @@ def test_vector_heat_matches_cli(spot, tmp_path):
     assert np.all(uv[7] == 0)
     with pytest.raises(ifem.InvalidInput, match=r"source\[0\] = 5000|out of range"):
         solver.log_map(5000)
+
+
+def sphere_cloud(n=2000):
+    """n Fibonacci points on the unit sphere (their exact normals are their positions)."""
+    i = np.arange(n)
+    z = 1 - (2 * i + 1) / n
+    r = np.sqrt(1 - z * z)
+    g = np.pi * (3 - np.sqrt(5)) * i
+    return np.column_stack([r * np.cos(g), r * np.sin(g), z])
+
+
+def test_point_cloud_matches_cli(spot, tmp_path):
+    V, _ = spot
+    np.savetxt(tmp_path / "spot.xyz", V, fmt="%.17g")
+    vectors, _, singularity, info = ifem.direction_field(V, symmetry=4, return_info=True)
+    run_cli("field", tmp_path / "spot.xyz", "--symmetry", 4, "-o", tmp_path / "f.txt", "--quiet")
+    assert info["path"] == "pointcloud"
+    assert np.abs(vectors - read_txt(tmp_path / "f.txt")).max() <= 1e-12
+    assert np.all(singularity == 0)
+    solver = ifem.VectorHeatSolver(V)
+    x = solver.transport(0, [0.0, 0.0, 1.0])
+    run_cli("transport", tmp_path / "spot.xyz", "--source", 0, "--vector", "0,0,1", "-o",
+            tmp_path / "t.txt", "--quiet")
+    assert np.abs(x - read_txt(tmp_path / "t.txt")).max() <= 1e-12
+    uv = solver.log_map(3)
+    run_cli("logmap", tmp_path / "spot.xyz", "--source", 3, "-o", tmp_path / "l.txt", "--quiet")
+    assert np.abs(uv - read_txt(tmp_path / "l.txt")).max() <= 1e-12
+
+
+def test_sphere_cloud_fields_are_unit_tangent_and_the_log_map_is_the_great_circle_map():
+    P = sphere_cloud()
+    for k in (8, 16):
+        vectors, _, _, info = ifem.direction_field(P, knn=k, return_info=True)
+        assert info["orientation_conflicts"] == 0
+        assert np.allclose(np.linalg.norm(vectors, axis=1), 1, atol=1e-9)
+        assert np.abs(np.sum(vectors * P, axis=1)).max() < 0.05
+    solver = ifem.VectorHeatSolver(P, normals=P)
+    x = solver.transport(0, [1.0, 0.0, 0.0])
+    assert np.abs(np.sum(x * P, axis=1)).max() < 1e-9  # the given normals are exact
+    uv = solver.log_map(0)
+    exact = np.arccos(np.clip(P @ P[0], -1, 1))
+    keep = (exact > 0.15) & (exact < np.pi - 0.3)
+    radius = np.linalg.norm(uv, axis=1)
+    assert np.mean(np.abs(radius[keep] - exact[keep]) / exact[keep]) < 0.03
+
+
+def test_nonmanifold_mesh_fields_are_finite():
+    V, F = ifem.read_mesh(test_data("triple_vierbein.obj"))
+    vectors, _, _, info = ifem.direction_field(V, F, symmetry=2, return_info=True)
+    assert info["path"] == "tufted"
+    assert np.isfinite(vectors).all()
+    assert np.allclose(np.linalg.norm(vectors, axis=1), 1, atol=1e-9)
+    solver = ifem.VectorHeatSolver(V, F)
+    assert np.isfinite(solver.transport(0, [0.0, 0.0, 1.0])).all()
+    assert np.isfinite(solver.log_map(0)).all()

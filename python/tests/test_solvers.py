@@ -267,6 +267,38 @@ def test_solver_reuse_equals_one_offs():
     assert 0 < solver.last_query_seconds < 1
 
 
+@pytest.mark.parametrize("kind", ["manifold", "nonmanifold", "cloud"])
+def test_batched_sources_equal_single_queries_and_the_cli(tmp_path, kind):
+    path = {"manifold": spot, "nonmanifold": lambda: nonmanifold(tmp_path),
+            "cloud": lambda: point_cloud(tmp_path)}[kind]()
+    V, F = ifem.read_mesh(path)
+    solver = ifem.HeatDistanceSolver(V, F if F.size else None)
+    n = solver.n_input_vertices
+    sources = [0, n // 3, 7, 0, n - 1] + list(range(11, 11 + 40 * 29, 29))  # > one block of 32
+    D = solver.compute_distances(np.array(sources, dtype=np.int64))
+    assert D.shape == (n, len(sources))
+    for j, s in enumerate(sources):
+        d = solver.compute_distance(s)
+        assert_close(D[:, j], d, rtol=1e-12)
+        assert D[s, j] == 0
+    assert (D[:, 0] == D[:, 3]).all()
+    listed = tmp_path / "batch.txt"
+    listed.write_text("".join("%d\n" % s for s in sources[:5]))
+    run_cli("distance", path, "--sources-batch", listed, "-o", tmp_path / "D.npy", "--quiet")
+    assert_close(np.load(tmp_path / "D.npy"), D[:, :5], rtol=1e-12)
+
+
+def test_batched_sources_refuse_bad_ids():
+    V, F = ifem.read_mesh(spot())
+    solver = ifem.HeatDistanceSolver(V, F)
+    with pytest.raises(ifem.InvalidInput, match="sources"):
+        solver.compute_distances([0, 2930])
+    with pytest.raises(ifem.InvalidInput):
+        solver.compute_distances([])
+    with pytest.raises(ifem.InvalidInput):
+        solver.compute_distances([0.5, 1.0])
+
+
 def test_points_at_vertices_equal_vertex_sources():
     V, F = ifem.read_mesh(spot())
     solver = ifem.HeatDistanceSolver(V, F)

@@ -197,6 +197,80 @@ TEST(SolversHeatDistance, LongStripUnderflowIsResolved) {
   EXPECT_LT(s.linf_over_max, 0.01);
 }
 
+// compute_distances(): column j equals compute_distance({sources[j]}) on every kind of mesh
+// the block path must handle: boundary (two heat factors), two components plus an unreferenced
+// vertex, correction steps, more sources than one block (40 > 32), repeats.
+void expect_batch_equals_single(const intrinsic::IntrinsicTriangulation& tri,
+                                const HeatDistanceOptions& opt, const std::vector<Index>& src) {
+  const HeatDistanceSolver solver(tri, opt);
+  std::vector<HeatDistanceReport> reps;
+  const Eigen::MatrixXd D = solver.compute_distances(src, &reps);
+  ASSERT_EQ(D.rows(), tri.n_vertices());
+  ASSERT_EQ(D.cols(), Eigen::Index(src.size()));
+  ASSERT_EQ(reps.size(), src.size());
+  for (std::size_t j = 0; j < src.size(); ++j) {
+    HeatDistanceReport rep;
+    const Eigen::VectorXd d = solver.compute_distance({src[j]}, &rep);
+    EXPECT_EQ(reps[j].stages, rep.stages) << "source " << j;
+    EXPECT_EQ(reps[j].unresolved_vertices, rep.unresolved_vertices) << "source " << j;
+    const double scale = d.array().isFinite().select(d, 0.0).maxCoeff();
+    ASSERT_GT(scale, 0.0);
+    for (Index v = 0; v < tri.n_vertices(); ++v) {
+      const auto col = Eigen::Index(j);
+      if (!std::isfinite(d[v])) {
+        EXPECT_EQ(D(v, col), d[v]) << "vertex " << v << ", source " << j;
+      } else {
+        EXPECT_NEAR(D(v, col), d[v], 1e-12 * scale) << "vertex " << v << ", source " << j;
+      }
+    }
+    EXPECT_EQ(D(src[j], Eigen::Index(j)), 0.0);
+  }
+}
+
+TEST(SolversHeatDistance, BatchEqualsSingleSources) {
+  // boundary: the mean of the Neumann and Dirichlet heat; 40 sources = two blocks; a repeat
+  const auto grid = test::make_tri(test::jittered(intrinsic::grid(24, 24), 0.01));
+  std::vector<Index> src;
+  for (Index k = 0; k < 40; ++k) src.push_back((k * 97) % grid.n_vertices());
+  src.push_back(src[3]);
+  expect_batch_equals_single(grid, {}, src);
+  HeatDistanceOptions corrected;  // the accurate mode's correction step
+  corrected.correction_steps = 2;
+  corrected.time_factor = 0.25;
+  expect_batch_equals_single(grid, corrected, {0, 300, 601});
+  // two components and an unreferenced vertex: inf outside the source's component
+  const auto one = intrinsic::icosphere(6);
+  const Index n = Index(one.positions.rows());
+  expect_batch_equals_single(test::make_tri(test::two_copies(one, 3.0, 1)), {}, {3, n + 3, 7});
+}
+
+TEST(SolversHeatDistance, BatchRecomputesUnderflowingSourcesAlone) {
+  // a strip 1200 cells long: from an end the heat underflows ~700 cells away (multi-stage),
+  // from the middle it does not; both kinds in one batch
+  const auto m = intrinsic::grid(1200, 2, 120.0, 0.2);
+  const auto tri = test::make_tri(m);
+  expect_batch_equals_single(tri, {}, {0, 600, 1200});
+  std::vector<HeatDistanceReport> reps;
+  const Eigen::MatrixXd D = HeatDistanceSolver(tri).compute_distances({0, 600}, &reps);
+  EXPECT_GT(reps[0].stages, 1);
+  EXPECT_EQ(reps[1].stages, 1);
+  const Eigen::VectorXd exact = euclidean(m, 0);
+  EXPECT_LT(compare(D.col(0), exact).linf_over_max, 0.01);
+}
+
+TEST(SolversHeatDistance, BatchRefusesBadSources) {
+  const auto tri = test::make_tri(intrinsic::icosphere(3));
+  const HeatDistanceSolver solver(tri);
+  EXPECT_THROW(solver.compute_distances({}), InvalidInput);
+  try {
+    solver.compute_distances({0, 1, tri.n_vertices()});
+    ADD_FAILURE() << "no throw";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("sources[2]"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(solver.compute_distances({-1}), InvalidInput);
+}
+
 TEST(SolversHeatDistance, ErrorPaths) {
   const auto tri = test::make_tri(test::two_copies(intrinsic::grid(3, 3), 3.0, 1));
   const HeatDistanceSolver solver(tri);

@@ -13,42 +13,13 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/generators/mesh_generators.h"
+#include "test_util.h"
 
 namespace ifem::solvers {
 namespace {
 
 using intrinsic::PathReason;
 using intrinsic::SurfacePath;
-
-io::SurfaceInput as_input(const intrinsic::TriangleMesh& m) {
-  io::SurfaceInput in;
-  in.positions = m.positions;
-  in.triangles = m.faces;
-  in.n_polygons = static_cast<Index>(m.faces.size());
-  return in;
-}
-
-// A Möbius strip: n quads around a half-twisted band, each split in two (non-orientable).
-intrinsic::TriangleMesh moebius(int n) {
-  intrinsic::TriangleMesh m;
-  m.positions.resize(2 * n, 3);
-  for (int i = 0; i < n; ++i) {
-    const double t = 2.0 * intrinsic::kPi * i / n;
-    for (int s = 0; s < 2; ++s) {
-      const double w = s == 0 ? -0.3 : 0.3;
-      m.positions.row(2 * i + s) << (1 + w * std::cos(t / 2)) * std::cos(t),
-          (1 + w * std::cos(t / 2)) * std::sin(t), w * std::sin(t / 2);
-    }
-  }
-  for (int i = 0; i < n; ++i) {
-    const Index a = 2 * i, b = 2 * i + 1;
-    // the last quad closes with the two rows swapped: the half twist
-    const Index c = i + 1 < n ? 2 * (i + 1) : 1, d = i + 1 < n ? 2 * (i + 1) + 1 : 0;
-    m.faces.push_back({a, c, b});
-    m.faces.push_back({b, c, d});
-  }
-  return m;
-}
 
 // Three triangles on one edge (0,1): the simplest nonmanifold input.
 intrinsic::TriangleMesh book() {
@@ -60,28 +31,28 @@ intrinsic::TriangleMesh book() {
 }
 
 TEST(Pipeline, PathAndReasonAreEnums) {
-  const PreparedSurface sphere = prepare_surface(as_input(intrinsic::icosphere(3)));
+  const PreparedSurface sphere = prepare_surface(test::as_input(intrinsic::icosphere(3)));
   EXPECT_EQ(sphere.path, SurfacePath::kManifold);
   EXPECT_EQ(sphere.reason, PathReason::kEdgeManifoldOrientable);
   EXPECT_TRUE(sphere.supports_signposts());
 
-  const PreparedSurface b = prepare_surface(as_input(book()));
+  const PreparedSurface b = prepare_surface(test::as_input(book()));
   EXPECT_EQ(b.path, SurfacePath::kTufted);
   EXPECT_EQ(b.reason, PathReason::kNonmanifoldEdges);
   EXPECT_FALSE(b.supports_signposts());
 
-  const PreparedSurface mb = prepare_surface(as_input(moebius(24)));
+  const PreparedSurface mb = prepare_surface(test::as_input(test::moebius(24)));
   EXPECT_EQ(mb.path, SurfacePath::kTufted);
   EXPECT_EQ(mb.reason, PathReason::kNonOrientable);
   EXPECT_FALSE(mb.supports_signposts());
 
   PrepareOptions tufted;
   tufted.force_tufted = true;
-  const PreparedSurface t = prepare_surface(as_input(intrinsic::icosphere(3)), tufted);
+  const PreparedSurface t = prepare_surface(test::as_input(intrinsic::icosphere(3)), tufted);
   EXPECT_EQ(t.reason, PathReason::kTuftedRequested);
   EXPECT_FALSE(t.supports_signposts());
 
-  io::SurfaceInput cloud = as_input(intrinsic::icosphere(6));
+  io::SurfaceInput cloud = test::as_input(intrinsic::icosphere(6));
   cloud.triangles.clear();
   const PreparedSurface c = prepare_surface(cloud);
   EXPECT_EQ(c.path, SurfacePath::kPointCloud);
@@ -89,7 +60,7 @@ TEST(Pipeline, PathAndReasonAreEnums) {
   PrepareOptions as_cloud;
   as_cloud.force_pointcloud = true;
   as_cloud.knn = 12;
-  const PreparedSurface c2 = prepare_surface(as_input(intrinsic::icosphere(6)), as_cloud);
+  const PreparedSurface c2 = prepare_surface(test::as_input(intrinsic::icosphere(6)), as_cloud);
   EXPECT_EQ(c2.reason, PathReason::kPointCloudRequested);
   EXPECT_EQ(c2.cloud.k, 12);
   for (const PreparedSurface* s : {&sphere, &b, &mb, &t, &c, &c2}) {
@@ -107,13 +78,13 @@ TEST(Pipeline, NegativeBoundaryWeightsAreRefinable) {
   m.positions.resize(5, 3);
   m.positions << 0, 0, 0, 2, 0, 0, 2, 2, 0, 0, 2, 0, 1, 0.6, 0;
   m.faces = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
-  const PreparedSurface s = prepare_surface(as_input(m));
+  const PreparedSurface s = prepare_surface(test::as_input(m));
   ASSERT_EQ(s.reason, PathReason::kNegativeBoundaryWeights) << s.reason_detail;
   EXPECT_EQ(s.path, SurfacePath::kTufted);
   EXPECT_TRUE(s.supports_signposts());
   PrepareOptions opt;
   opt.refine = RefineSettings{};
-  const PreparedSurface r = prepare_surface(as_input(m), opt);
+  const PreparedSurface r = prepare_surface(test::as_input(m), opt);
   EXPECT_EQ(r.path, SurfacePath::kManifold);
   EXPECT_TRUE(r.signposts.has_value());
   EXPECT_EQ(intrinsic::negative_boundary_weights(r.tri), 0);
@@ -125,7 +96,7 @@ TEST(Pipeline, RefinementKeepsInputIdsAndCarriesData) {
   opt.refine = RefineSettings{};
   opt.refine->resolution = 0.5;
   const intrinsic::TriangleMesh m = intrinsic::grid(8, 8);
-  const PreparedSurface s = prepare_surface(as_input(m), opt);
+  const PreparedSurface s = prepare_surface(test::as_input(m), opt);
   ASSERT_TRUE(s.refined);
   ASSERT_GT(s.tri.n_vertices(), s.n_input_vertices());
   EXPECT_GT(s.target_edge_length, 0.0);
@@ -145,25 +116,25 @@ TEST(Pipeline, RefusalsAreTyped) {
   PrepareOptions opt;
   opt.refine = RefineSettings{};
   opt.refine->need_signposts = true;
-  EXPECT_THROW(prepare_surface(as_input(book()), opt), InvalidInput);
+  EXPECT_THROW(prepare_surface(test::as_input(book()), opt), InvalidInput);
   opt.refine->need_signposts = false;
   opt.refine->resolution = 0.3;
-  const PreparedSurface t = prepare_surface(as_input(book()), opt);  // refined on the cover
+  const PreparedSurface t = prepare_surface(test::as_input(book()), opt);  // refined on the cover
   EXPECT_TRUE(t.refined);
   EXPECT_FALSE(t.signposts.has_value());
   EXPECT_GT(t.tri.n_vertices(), t.n_input_vertices());
   // no signposts: input data cannot reach inserted vertices
   EXPECT_THROW(from_input_vertices(t, Eigen::VectorXd::Zero(5)), InvalidInput);
   opt.refine->relax_iterations = 1;
-  EXPECT_THROW(prepare_surface(as_input(book()), opt), InvalidInput);
-  io::SurfaceInput cloud = as_input(intrinsic::icosphere(4));
+  EXPECT_THROW(prepare_surface(test::as_input(book()), opt), InvalidInput);
+  io::SurfaceInput cloud = test::as_input(intrinsic::icosphere(4));
   cloud.triangles.clear();
   opt.refine->relax_iterations = 0;
   EXPECT_THROW(prepare_surface(cloud, opt), InvalidInput);
 }
 
 TEST(Pipeline, OptionsAreValidated) {
-  const io::SurfaceInput in = as_input(intrinsic::icosphere(2));
+  const io::SurfaceInput in = test::as_input(intrinsic::icosphere(2));
   auto with = [&](auto change) {
     PrepareOptions o;
     change(o);
@@ -208,7 +179,7 @@ TEST(Pipeline, OptionsAreValidated) {
 // sphere's eigenvalues are l(l+1); Poisson reproduces a harmonic (linear) function.
 TEST(Pipeline, RecipesMatchKnownAnswers) {
   const intrinsic::TriangleMesh g = intrinsic::grid(30, 30);
-  const PreparedSurface flat = prepare_surface(as_input(g));
+  const PreparedSurface flat = prepare_surface(test::as_input(g));
   const Index centre = 15 * 31 + 15;
   const Eigen::VectorXd d = geodesic_distance(flat, {centre});
   ASSERT_EQ(d.size(), flat.n_input_vertices());
@@ -225,7 +196,7 @@ TEST(Pipeline, RecipesMatchKnownAnswers) {
   EXPECT_THROW(geodesic_distance(flat, {flat.n_input_vertices()}), InvalidInput);
   EXPECT_THROW(geodesic_distance(flat, {}), InvalidInput);
 
-  const PreparedSurface sphere = prepare_surface(as_input(intrinsic::icosphere(8)));
+  const PreparedSurface sphere = prepare_surface(test::as_input(intrinsic::icosphere(8)));
   const EigenPairs ep = eigenmodes(sphere, 9);
   ASSERT_EQ(ep.vectors.rows(), sphere.n_input_vertices());
   EXPECT_NEAR(ep.values[0], 0.0, 1e-8);
@@ -238,7 +209,7 @@ TEST(Pipeline, RecipesMatchKnownAnswers) {
   // precision); the perturbation makes the input non-Delaunay, so the flips matter
   intrinsic::TriangleMesh sq = test::jittered(intrinsic::grid(10, 10), 0.04);
   sq.positions.col(2).setZero();
-  const PreparedSurface s = prepare_surface(as_input(sq));
+  const PreparedSurface s = prepare_surface(test::as_input(sq));
   EXPECT_GT(s.flips.flips, 0u);
   std::vector<Index> fixed;
   std::vector<double> values;
@@ -276,7 +247,7 @@ TEST(Pipeline, OneFarOutlierVertexDoesNotMoveTheRest) {
   intrinsic::TriangleMesh m = intrinsic::icosphere(12);
   m.positions *= 17.5;  // 35 units across
   const Index stray = 700, source = 0;
-  const PreparedSurface clean = prepare_surface(as_input(m));
+  const PreparedSurface clean = prepare_surface(test::as_input(m));
   const Eigen::VectorXd d0 = geodesic_distance(clean, {source});
   std::vector<char> near(m.positions.rows(), 0);  // the stray vertex and its one-ring
   for (const Triangle& t : m.faces) {
@@ -285,7 +256,7 @@ TEST(Pipeline, OneFarOutlierVertexDoesNotMoveTheRest) {
   for (const double far : {1e3, 1e5, 1e7}) {
     intrinsic::TriangleMesh spiked = m;
     spiked.positions.row(stray) *= far / spiked.positions.row(stray).norm();
-    const PreparedSurface s = prepare_surface(as_input(spiked));
+    const PreparedSurface s = prepare_surface(test::as_input(spiked));
     EXPECT_NEAR(s.input_mean_edge_length, clean.input_mean_edge_length,
                 0.01 * clean.input_mean_edge_length);
     const Eigen::VectorXd d = geodesic_distance(s, {source});
@@ -300,7 +271,7 @@ TEST(Pipeline, OneFarOutlierVertexDoesNotMoveTheRest) {
   }
   intrinsic::TriangleMesh spiked = m;
   spiked.positions.row(stray) *= 1e12 / spiked.positions.row(stray).norm();
-  const PreparedSurface s = prepare_surface(as_input(spiked));
+  const PreparedSurface s = prepare_surface(test::as_input(spiked));
   try {
     const Eigen::VectorXd d = geodesic_distance(s, {source});
     EXPECT_TRUE(d.allFinite());  // if it factors, the result must still be finite
@@ -330,14 +301,14 @@ double max_abs(const fem::SparseMatrix& A) {
 // solver all work on power-of-two-normalized lengths). Powers of two give the same bits.
 TEST(Pipeline, ScaleFree) {
   const intrinsic::TriangleMesh m = test::jittered(intrinsic::icosphere(6), 0.3);
-  const PreparedSurface unit = prepare_surface(as_input(m));
+  const PreparedSurface unit = prepare_surface(test::as_input(m));
   ASSERT_GT(unit.flips.flips, 10u);  // the flips must be the same at every scale too
   const fem::SparseMatrix L0 = fem::cotan_laplacian(unit.tri);
   const Eigen::VectorXd d0 = geodesic_distance(unit, {0});
   for (const double factor : {std::ldexp(1.0, 900), std::ldexp(1.0, -900), 1e250, 1e-250}) {
     intrinsic::TriangleMesh scaled = m;
     scaled.positions *= factor;
-    const PreparedSurface s = prepare_surface(as_input(scaled));
+    const PreparedSurface s = prepare_surface(test::as_input(scaled));
     EXPECT_EQ(s.flips.flips, unit.flips.flips) << factor;
     const fem::SparseMatrix L = fem::cotan_laplacian(s.tri);
     ASSERT_EQ(L.nonZeros(), L0.nonZeros()) << factor;
@@ -359,9 +330,9 @@ TEST(Pipeline, NoSurfaceIsOneClearError) {
   same.positions.rowwise() = Eigen::RowVector3d(1.5, -2.0, 3.0).replicate(1, 1).row(0);
   intrinsic::TriangleMesh line = intrinsic::grid(4, 4);
   line.positions.col(1).setZero();  // every face collinear
-  io::SurfaceInput cloud = as_input(same);
+  io::SurfaceInput cloud = test::as_input(same);
   cloud.triangles.clear();
-  for (const io::SurfaceInput& in : {as_input(same), as_input(line), cloud}) {
+  for (const io::SurfaceInput& in : {test::as_input(same), test::as_input(line), cloud}) {
     try {
       prepare_surface(in);
       ADD_FAILURE() << "accepted an input without a surface";

@@ -8,6 +8,7 @@
 #include "helpers.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/io/mesh_io.h"
 
 namespace ifem::test {
 
@@ -54,6 +55,37 @@ inline intrinsic::TriangleMesh two_copies(const intrinsic::TriangleMesh& m, doub
     out.faces.push_back({f[0] + Index(n), f[1] + Index(n), f[2] + Index(n)});
   }
   return out;
+}
+
+/// The mesh as an input read from a file (positions and triangles).
+inline io::SurfaceInput as_input(const intrinsic::TriangleMesh& m) {
+  io::SurfaceInput in;
+  in.positions = m.positions;
+  in.triangles = m.faces;
+  in.n_polygons = static_cast<Index>(m.faces.size());
+  return in;
+}
+
+/// A Möbius strip: n quads around a half-twisted band, each split in two (non-orientable).
+inline intrinsic::TriangleMesh moebius(int n) {
+  intrinsic::TriangleMesh m;
+  m.positions.resize(2 * n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double t = 2.0 * intrinsic::kPi * i / n;
+    for (int s = 0; s < 2; ++s) {
+      const double w = s == 0 ? -0.3 : 0.3;
+      m.positions.row(2 * i + s) << (1 + w * std::cos(t / 2)) * std::cos(t),
+          (1 + w * std::cos(t / 2)) * std::sin(t), w * std::sin(t / 2);
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    const Index a = 2 * i, b = 2 * i + 1;
+    // the last quad closes with the two rows swapped: the half twist
+    const Index c = i + 1 < n ? 2 * (i + 1) : 1, d = i + 1 < n ? 2 * (i + 1) + 1 : 0;
+    m.faces.push_back({a, c, b});
+    m.faces.push_back({b, c, d});
+  }
+  return m;
 }
 
 }  // namespace ifem::test

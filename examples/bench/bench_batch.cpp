@@ -1,0 +1,116 @@
+// Benchmark section `batch`: heat distances from many sources at once
+// (HeatDistanceSolver::compute_distances) against one query per source, on the same solver.
+//
+//   ifem_bench batch [--repeat N] [--max-n 224] [--data DIR]
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench_util.h"
+#include "fem/operators.h"
+#include "intrinsic/core/triangulation.h"
+#include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/io/mesh_io.h"
+#include "solvers/cholesky.h"
+#include "solvers/heat_distance.h"
+
+namespace ifem::bench {
+namespace {
+
+std::vector<Index> spread_sources(Index count, Index nv) {
+  std::vector<Index> s;
+  for (Index k = 0; k < count; ++k) s.push_back(Index((int64_t(k) * 7919 + 13) % nv));
+  return s;
+}
+
+void batch_rows(const std::string& name, const std::vector<Triangle>& faces, const Positions& pos,
+                int repeat) {
+  intrinsic::IntrinsicTriangulation tri =
+      intrinsic::IntrinsicTriangulation::from_positions(faces, pos);
+  tri.mollify();
+  const double t0 = seconds_now();
+  const solvers::HeatDistanceSolver solver(tri);
+  const double precompute = seconds_now() - t0;
+  const Index nv = tri.n_vertices();
+  const std::vector<Index> one = spread_sources(1, nv);
+  const double single = time_median(repeat, [&] { solver.compute_distance(one); });
+  for (const Index k : {1, 8, 32, 128}) {
+    const std::vector<Index> src = spread_sources(k, nv);
+    const double batch = time_median(repeat, [&] { solver.compute_distances(src); });
+    std::printf("| %-16s | %9d | %7.2f | %8.4f | %4d | %8.4f | %8.5f | %6.1f× | %8.0f |\n",
+                name.c_str(), tri.n_faces(), precompute, single, k, batch, batch / double(k),
+                single * double(k) / batch, peak_rss_mib());
+    std::fflush(stdout);
+  }
+}
+
+// One factor of M + L (the heat matrix's pattern) kept supernodal or converted to simplicial:
+// seconds per solve of k right-hand sides at once. CHOLMOD's simplicial solve walks the factor
+// once per 4 columns; the supernodal one once per block, with BLAS-3 kernels.
+void solve_kernel_rows(const std::string& name, const std::vector<Triangle>& faces,
+                       const Positions& pos, int repeat) {
+  auto tri = intrinsic::IntrinsicTriangulation::from_positions(faces, pos);
+  tri.mollify();
+  tri.flip_to_delaunay();
+  fem::SparseMatrix A = fem::cotan_laplacian(tri);
+  const Eigen::VectorXd m = fem::lumped_mass(tri);
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    for (fem::SparseMatrix::InnerIterator it(A, j); it; ++it) {
+      if (it.row() == j) it.valueRef() += m[j];
+    }
+  }
+  for (const bool simplicial : {true, false}) {
+    solvers::CholeskyOptions o;
+    o.simplicial_solves = simplicial;
+    const solvers::CholeskySolver chol(A, o);
+    for (const Eigen::Index k : {1, 4, 8, 32}) {
+      const Eigen::MatrixXd B = Eigen::MatrixXd::Random(A.rows(), k);
+      Eigen::MatrixXd X(A.rows(), k);
+      const double t = time_median(repeat, [&] { chol.solve(B.data(), X.data(), k); });
+      // bytes of L (8-byte value + 4-byte row index per entry), read twice (L and Lᵀ solves)
+      const double bytes = 2.0 * 12.0 * chol.factor_nonzeros();
+      std::printf("| %-16s | %9d | %-10s | %3d | %9.5f | %9.5f | %6.2f |\n", name.c_str(),
+                  tri.n_faces(), simplicial ? "simplicial" : "supernodal", int(k), t, t / double(k),
+                  bytes * double(k) / t * 1e-9);
+      std::fflush(stdout);
+    }
+  }
+}
+
+}  // namespace
+
+int batch(int argc, char** argv) {
+  const int repeat = int(int_option(argc, argv, "--repeat", 5));
+  const int max_n = int(int_option(argc, argv, "--max-n", 224));
+  const std::string data = string_option(argc, argv, "--data", IFEM_SHARED_MESHES);
+  std::printf("## batched heat distances (median of %d runs)\n\n", repeat);
+  std::printf("| %-16s | %9s | %7s | %8s | %4s | %8s | %8s | %7s | %8s |\n", "mesh", "faces",
+              "precomp s", "1 query s", "k", "batch s", "per src s", "gain", "peak MiB");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const int n : {23, 71, 224}) {
+    if (n > max_n) continue;
+    const auto m = intrinsic::icosphere(n);
+    batch_rows("icosphere(" + std::to_string(n) + ")", m.faces, m.positions, repeat);
+  }
+  for (const char* f : {"rocketship.ply", "igea_268k.ply"}) {
+    const std::string path = data + "/" + f;
+    if (!std::filesystem::exists(path)) continue;
+    const io::SurfaceInput in = io::read_mesh(path);
+    batch_rows(f, in.triangles, in.positions, repeat);
+  }
+  std::printf(
+      "\ngain = k × (1 query s) / (batch s): how many times cheaper a source is in a batch\n");
+  std::printf("\n## one solve with k right-hand sides (forward + backward), M + L factor\n\n");
+  std::printf(
+      "| mesh | faces | factor | k | solve s | per column s | GB/s if L is read per column |\n");
+  std::printf("|---|---:|---|---:|---:|---:|---:|\n");
+  for (const int n : {71, 224}) {
+    if (n > max_n) continue;
+    const auto m = intrinsic::icosphere(n);
+    solve_kernel_rows("icosphere(" + std::to_string(n) + ")", m.faces, m.positions, repeat);
+  }
+  return 0;
+}
+
+}  // namespace ifem::bench
