@@ -15,6 +15,7 @@ int refine(int argc, char** argv);
 int geodesic(int argc, char** argv);
 int curves(int argc, char** argv);
 int vector_heat(int argc, char** argv);
+int field(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -46,6 +47,9 @@ const Section kSections[] = {
      "vector heat precompute, transport, extension, log map vs scalar heat 10k..1M faces; "
      "complex factorization choices",
      ifem::bench::vector_heat},
+    {"field",
+     "smoothest and aligned direction fields, n = 1 and 4, 10k..1M faces, rocketship, igea",
+     ifem::bench::field},
 };
 
 }  // namespace

@@ -56,7 +56,7 @@ int run(const Args& args) {
   const solvers::TangentFieldResult r = solvers::direction_field_on(s, settings);
   progress(args, "field in " + std::to_string(watch.seconds()) +
                      " s: " + std::to_string(r.constrained) + " vertices held, " +
-                     std::to_string(r.iterations) + " inverse iterations, energy " +
+                     std::to_string(r.iterations) + " LOBPCG steps, energy " +
                      std::to_string(r.energy));
   if (out.ply) {
     write_results(out, s,
