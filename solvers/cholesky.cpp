@@ -69,6 +69,46 @@ class FlushDenormalsScope {
   unsigned saved_ = 0;
 };
 
+// CHOLMOD's parallel loops (clearing and assembling supernodes) ask OpenMP for a fixed team of
+// CHOLMOD_OMP_NUM_THREADS = 4 threads whatever the core count, also when two factorizations
+// run side by side: on two cores that is 8 spinning threads, and a factorization alone ran
+// ~20% slower than with the loops serial (docs/decisions.md, "Cholesky: CHOLMOD's OpenMP loops
+// serial"). This scope makes OpenMP regions started by the calling thread serial (the per-thread
+// max-active-levels setting, OpenMP ≥ 5.0), looked up at run time so that the library needs no
+// OpenMP of its own; a no-op when the runtime is not loaded.
+class SerialOpenMpScope {
+ public:
+  SerialOpenMpScope() {
+    const Api& api = Api::instance();
+    if (!api.get || !api.set) return;
+    saved_ = api.get();
+    if (saved_ != 0) api.set(0);
+  }
+  ~SerialOpenMpScope() {
+    const Api& api = Api::instance();
+    if (api.set && saved_ > 0) api.set(saved_);
+  }
+  SerialOpenMpScope(const SerialOpenMpScope&) = delete;
+  SerialOpenMpScope& operator=(const SerialOpenMpScope&) = delete;
+
+ private:
+  struct Api {
+    using Set = void (*)(int);
+    using Get = int (*)();
+    Set set = nullptr;
+    Get get = nullptr;
+    Api() {
+      set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+      get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+    }
+    static const Api& instance() {
+      static const Api api;
+      return api;
+    }
+  };
+  int saved_ = -1;
+};
+
 std::mutex blas_scope_mutex;
 int blas_scope_depth = 0;
 int blas_scope_saved = 0;
@@ -173,6 +213,7 @@ struct CholeskySolver::Impl {
   void factorize(cholmod_sparse s, cholmod_factor* f, const char* who) {
     const BlasThreadScope threads(factor_blas_threads);
     const FlushDenormalsScope no_subnormals;
+    const SerialOpenMpScope serial_loops;
     const int ok = cholmod_factorize(&s, f, &common);
     if (!ok || common.status < CHOLMOD_OK) {
       throw SolverError(std::string(who) + ": CHOLMOD factorization failed: " + status_text());
@@ -254,7 +295,8 @@ void analyze_and_factor(CholeskySolver::Impl& im, cholmod_sparse s, const Choles
   }
   im.factorize(s, im.factor, who);
   im.factored_supernodal = im.factor->is_super;
-  if (im.factor->is_super && options.simplicial_solves) {
+  // a complex factor stays supernodal: its supernodal solves are faster (simplicial_solves)
+  if (im.factor->is_super && options.simplicial_solves && im.xtype == CHOLMOD_REAL) {
     // to_ll = 1, to_super = 0, to_packed = 1, to_monotonic = 1
     if (!cholmod_change_factor(im.xtype, 1, 0, 1, 1, im.factor, &c) || c.status < CHOLMOD_OK) {
       throw SolverError(std::string(who) + ": converting the factor failed: " + im.status_text());

@@ -24,10 +24,13 @@ struct CholeskyOptions {
   bool force_metis = false;
   /// Supernodal factorization (fast with an optimized BLAS); false = simplicial.
   bool supernodal = true;
-  /// After a supernodal factorization, convert the factor to simplicial form for the solves
-  /// (a supernodal solve calls BLAS once per, mostly small, supernode; measurements:
-  /// docs/decisions.md, "Cholesky: simplicial solves, one BLAS thread"). refactor() then runs
-  /// a simplicial numeric factorization (slower; documented there).
+  /// After a supernodal factorization of a real matrix, convert the factor to simplicial form
+  /// for the solves (a supernodal solve calls BLAS once per, mostly small, supernode;
+  /// measurements: docs/decisions.md, "Cholesky: simplicial solves, one BLAS thread").
+  /// refactor() then runs a simplicial numeric factorization (slower; documented there).
+  /// ComplexCholeskySolver ignores it: a complex factor stays supernodal, whose solves measured
+  /// faster than simplicial ones and which skips the conversion's copy (docs/decisions.md,
+  /// "Vector heat: complex Cholesky").
   bool simplicial_solves = true;
   /// A factor whose reciprocal condition estimate (CHOLMOD's (min diag / max diag)² of L,
   /// dimensionless) is below this is reported as numerically singular (SolverError). ≥ 0.
@@ -121,10 +124,10 @@ using ComplexSparseMatrix = Eigen::SparseMatrix<std::complex<double>, Eigen::Col
 /// Cholesky factorization A = LLᴴ of a sparse Hermitian positive definite complex matrix (CHOLMOD
 /// complex xtype: Eigen's interleaved (re, im) storage is passed through without a copy). Same
 /// options and conventions as CholeskySolver: only the lower triangle of A is read (A is assumed
-/// Hermitian), the factor is supernodal and converted for simplicial solves, solve() is const and
-/// serialized internally. Why complex and not the real 2n×2n form [Re −Im; Im Re]:
-/// docs/decisions.md, "Vector heat: complex Cholesky" (less than half the factor time and half the
-/// factor size).
+/// Hermitian), solve() is const and serialized internally; the factor stays supernodal
+/// (simplicial_solves applies to real factors only). Why complex and not the real 2n×2n form [Re
+/// −Im; Im Re]: docs/decisions.md, "Vector heat: complex Cholesky" (less than half the factor time
+/// and half the factor size).
 class ComplexCholeskySolver {
  public:
   /// Analyzes and factors A (#n×#n).

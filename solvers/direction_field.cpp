@@ -1,6 +1,7 @@
 // Smoothest and aligned n-direction fields and their singularities (direction_field.h).
 #include "solvers/direction_field.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -35,18 +36,84 @@ Eigen::VectorXcd normalized_per_vertex(const Eigen::VectorXcd& u) {
   return out;
 }
 
-// Per component c: Σ m_v |u_v|² over its vertices.
-std::vector<double> component_norms(const Components& comps, const Eigen::VectorXd& mass,
-                                    const Eigen::VectorXcd& u) {
-  std::vector<double> norm(comps.count, 0.0);
-  for (Eigen::Index v = 0; v < u.size(); ++v) {
-    if (comps.label[v] != kInvalidIndex) norm[comps.label[v]] += mass[v] * std::norm(u[v]);
+// The search space of one step, column-wise: the iterate x, the inverse-iteration direction w
+// and the previous step p, with L applied to each (#V×3 each; p is 0 on the first step).
+struct SearchSpace {
+  Eigen::MatrixXcd S, LS;
+};
+
+// Per component c: Σ_{v ∈ c} m_v conj(S(v, a)) S(v, b).
+std::vector<Complex> component_dots(const SearchSpace& s, int a, int b, const Eigen::VectorXd& mass,
+                                    const Components& comps) {
+  std::vector<Complex> dot(comps.count, Complex(0.0));
+  for (Eigen::Index v = 0; v < s.S.rows(); ++v) {
+    const Index c = comps.label[v];
+    if (c != kInvalidIndex) dot[c] += mass[v] * std::conj(s.S(v, a)) * s.S(v, b);
   }
-  return norm;
+  return dot;
 }
 
-// Inverse iteration on L u = λ M u with every component normalized on its own (the matrices
-// are block diagonal over components, so each converges to its own smallest eigenvector).
+// Column k of S (and LS alike) made M-orthogonal to columns 0..k−1 (M-orthonormal already) and
+// M-normalized, per component, by Gram–Schmidt applied twice (one pass loses the direction when
+// column k is nearly parallel to the others, as w is to x near convergence). A column that
+// vanishes against the others (below 1e-13 of its norm) becomes 0 on that component.
+void orthonormalize(SearchSpace& s, int k, const Eigen::VectorXd& mass, const Components& comps) {
+  const Eigen::Index n = s.S.rows();
+  const std::vector<Complex> before = component_dots(s, k, k, mass, comps);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int j = 0; j < k; ++j) {
+      const std::vector<Complex> d = component_dots(s, j, k, mass, comps);
+      for (Eigen::Index v = 0; v < n; ++v) {
+        const Index c = comps.label[v];
+        if (c == kInvalidIndex) continue;
+        s.S(v, k) -= d[c] * s.S(v, j);
+        s.LS(v, k) -= d[c] * s.LS(v, j);
+      }
+    }
+  }
+  const std::vector<Complex> after = component_dots(s, k, k, mass, comps);
+  std::vector<double> scale(comps.count, 0.0);
+  for (Index c = 0; c < comps.count; ++c) {
+    const double a = after[c].real(), b = before[c].real();
+    scale[c] = a > 1e-26 * b && a > 0.0 ? 1.0 / std::sqrt(a) : 0.0;
+  }
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const double f = comps.label[v] == kInvalidIndex ? 0.0 : scale[comps.label[v]];
+    s.S(v, k) *= f;
+    s.LS(v, k) *= f;
+  }
+}
+
+// The coefficients y (3) of the Ritz vector of smallest Ritz value in the span of S's columns
+// on component c (Rayleigh–Ritz with Sᴴ L S; the columns are M-orthonormal or 0 there).
+std::vector<Eigen::Vector3cd> smallest_ritz(const SearchSpace& s, const Components& comps) {
+  std::vector<Eigen::Matrix3cd> gl(comps.count, Eigen::Matrix3cd::Zero());
+  for (Eigen::Index v = 0; v < s.S.rows(); ++v) {
+    const Index c = comps.label[v];
+    if (c != kInvalidIndex) gl[c].noalias() += s.S.row(v).adjoint() * s.LS.row(v);
+  }
+  std::vector<Eigen::Vector3cd> y(comps.count, Eigen::Vector3cd::Zero());
+  for (Index c = 0; c < comps.count; ++c) {
+    // the zero columns (a component where w or p vanished) are left out of the problem
+    std::vector<int> keep;
+    for (int j = 0; j < 3; ++j) {
+      if (std::abs(gl[c](j, j)) > 0.0 || j == 0) keep.push_back(j);
+    }
+    Eigen::MatrixXcd g(keep.size(), keep.size());
+    for (std::size_t a = 0; a < keep.size(); ++a) {
+      for (std::size_t b = 0; b < keep.size(); ++b) g(a, b) = gl[c](keep[a], keep[b]);
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> es((g + g.adjoint()) / 2.0);
+    for (std::size_t a = 0; a < keep.size(); ++a) y[c][keep[a]] = es.eigenvectors()(a, 0);
+  }
+  return y;
+}
+
+// Smallest eigenvector of L u = λ M u on every component on its own (the matrices are block
+// diagonal over components), by LOBPCG with the exact preconditioner (L + εM)⁻¹ (Knyazev 2001):
+// each step does one solve, w = (L + εM)⁻¹ M x, as inverse iteration would, then takes the best
+// vector (Rayleigh–Ritz) of span{x, w, p}, p the previous step, orthonormalized first. Why not
+// plain inverse iteration: docs/decisions.md, "Direction fields: LOBPCG".
 DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L, const Eigen::VectorXd& mass,
                                  const Components& comps, const DirectionFieldOptions& o) {
   const Eigen::Index n = L.rows();
@@ -57,24 +124,46 @@ DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L, const Eigen:
   const ComplexCholeskySolver solver(A);
   std::mt19937 rng(7);
   std::normal_distribution<double> gauss;
-  Eigen::VectorXcd u(n);
-  for (Eigen::Index v = 0; v < n; ++v) u[v] = Complex(gauss(rng), gauss(rng));
+  SearchSpace s{Eigen::MatrixXcd::Zero(n, 3), Eigen::MatrixXcd::Zero(n, 3)};
+  for (Eigen::Index v = 0; v < n; ++v) {
+    if (comps.label[v] != kInvalidIndex) s.S(v, 0) = Complex(gauss(rng), gauss(rng));
+  }
+  s.LS.col(0) = L * s.S.col(0);
+  orthonormalize(s, 0, mass, comps);
   DirectionField f;
   double previous = -1.0;
   for (f.iterations = 1; f.iterations <= o.max_iterations; ++f.iterations) {
-    u = solver.solve(Eigen::VectorXcd((mass.array() * u.array()).matrix()));
-    const std::vector<double> norm = component_norms(comps, mass, u);
+    s.S.col(1) = solver.solve(Eigen::VectorXcd((mass.array() * s.S.col(0).array()).matrix()));
+    s.LS.col(1) = L * s.S.col(1);
+    orthonormalize(s, 1, mass, comps);
+    orthonormalize(s, 2, mass, comps);
+    const std::vector<Eigen::Vector3cd> y = smallest_ritz(s, comps);
+    double lx = 0.0;
     for (Eigen::Index v = 0; v < n; ++v) {
       const Index c = comps.label[v];
-      u[v] = c == kInvalidIndex || norm[c] <= 0.0 ? Complex(0.0) : u[v] / std::sqrt(norm[c]);
+      const Eigen::Vector3cd yc = c == kInvalidIndex ? Eigen::Vector3cd::Zero() : y[c];
+      const Complex p = s.S(v, 1) * yc[1] + s.S(v, 2) * yc[2];
+      const Complex lp = s.LS(v, 1) * yc[1] + s.LS(v, 2) * yc[2];
+      s.S(v, 0) = s.S(v, 0) * yc[0] + p;
+      s.LS(v, 0) = s.LS(v, 0) * yc[0] + lp;
+      s.S(v, 2) = p;
+      s.LS(v, 2) = lp;
+      lx += (std::conj(s.S(v, 0)) * s.LS(v, 0)).real();
     }
-    const double mu = (u.adjoint() * (mass.array() * u.array()).matrix())(0).real();
-    f.energy = (u.adjoint() * (L * u))(0).real() / std::max(mu, 1e-300);
+    orthonormalize(s, 0, mass, comps);  // renormalized: round-off creeps in over the steps
+    f.energy = lx / double(std::max<Index>(comps.count, 1));
     if (std::abs(f.energy - previous) <= o.tolerance * std::max(std::abs(f.energy), 1e-300)) break;
     previous = f.energy;
   }
   f.iterations = std::min(f.iterations, o.max_iterations);
-  f.u = normalized_per_vertex(u);
+  // a last plain inverse-iteration step: where the field is below round-off of its largest
+  // value (localized eigenvectors, e.g. on rocketship), the Ritz combination leaves noise at
+  // 1e-16 of the maximum, with spurious singularities; the solve resolves that tail smoothly
+  const Eigen::VectorXcd x =
+      solver.solve(Eigen::VectorXcd((mass.array() * s.S.col(0).array()).matrix()));
+  f.energy = (x.adjoint() * (L * x))(0).real() /
+             std::max((x.adjoint() * (mass.array() * x.array()).matrix())(0).real(), 1e-300);
+  f.u = normalized_per_vertex(x);
   return f;
 }
 

@@ -32,7 +32,7 @@ struct DirectionConstraint {
 /// Options of the direction-field solvers.
 struct DirectionFieldOptions {
   int symmetry = 1;         ///< n ≥ 1
-  int max_iterations = 30;  ///< inverse-iteration steps for the smoothest field, ≥ 1
+  int max_iterations = 30;  ///< LOBPCG steps for the smoothest field, ≥ 1
   /// Stop when the Rayleigh quotient changes by less than this, relative; > 0.
   double tolerance = 1e-6;
   /// @throws InvalidInput naming the field
@@ -43,13 +43,14 @@ struct DirectionFieldOptions {
 struct DirectionField {
   Eigen::VectorXcd u;     ///< #V power representation, |u_v| = 1 (0 where undefined)
   double energy = 0.0;    ///< uᴴ L_n u / uᴴ M u of the field before normalization per vertex
-  int iterations = 0;     ///< inverse-iteration steps (smoothest field)
+  int iterations = 0;     ///< LOBPCG steps (smoothest field)
   Index constrained = 0;  ///< vertices held by constraints
   Index free_components = 0;  ///< components without a constraint: their smoothest field
 };
 
 /// The globally smoothest n-direction field: the eigenvector of L_n u = λ M u with the smallest
-/// λ (inverse iteration with a complex Cholesky factor of L_n + εM), normalized per vertex. On a
+/// λ (LOBPCG preconditioned by a complex Cholesky factor of L_n + εM: one solve per step, as
+/// inverse iteration, converging in far fewer steps), normalized per vertex. On a
 /// flat torus λ = 0 (a parallel field); on a sphere λ > 0 and the field has singularities.
 /// Each connected component gets its own smoothest field.
 /// @throws InvalidInput on bad options; SolverError if a factorization fails

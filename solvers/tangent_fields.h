@@ -55,7 +55,7 @@ struct TangentFieldResult {
   long total_index = 0;      ///< Σ indices over all faces (n·χ on a closed surface)
   Index constrained = 0;     ///< vertices held (constraints and boundary)
   double energy = 0.0;       ///< the field's Dirichlet energy per unit mass (0: parallel)
-  int iterations = 0;        ///< inverse-iteration steps (0: every component constrained)
+  int iterations = 0;        ///< LOBPCG steps (0: every component constrained)
   /// Frame path: neighbour pairs whose oriented normals disagree (TangentBasis3d); 0 otherwise.
   Index orientation_conflicts = 0;
 };

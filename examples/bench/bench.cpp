@@ -16,6 +16,7 @@ int geodesic(int argc, char** argv);
 int curves(int argc, char** argv);
 int vector_heat(int argc, char** argv);
 int batch(int argc, char** argv);
+int field(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -49,6 +50,9 @@ const Section kSections[] = {
      ifem::bench::vector_heat},
     {"batch", "heat distances from k = 1, 8, 32, 128 sources at once vs one query per source",
      ifem::bench::batch},
+    {"field",
+     "smoothest and aligned direction fields, n = 1 and 4, 10k..1M faces, rocketship, igea",
+     ifem::bench::field},
 };
 
 }  // namespace

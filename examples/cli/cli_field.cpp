@@ -57,8 +57,8 @@ solvers::FieldSettings field_settings(const Args& args) {
 std::vector<io::VertexProperty> report(const Args& args, const PreparedSurface& s,
                                        const solvers::TangentFieldResult& r, double seconds) {
   progress(args, "field in " + std::to_string(seconds) + " s: " + std::to_string(r.constrained) +
-                     " vertices held, " + std::to_string(r.iterations) +
-                     " inverse iterations, energy " + std::to_string(r.energy) +
+                     " vertices held, " + std::to_string(r.iterations) + " LOBPCG steps, energy " +
+                     std::to_string(r.energy) +
                      (s.path == intrinsic::SurfacePath::kManifold
                           ? std::string()
                           : "; 3D frames, " + std::to_string(r.orientation_conflicts) +
