@@ -155,7 +155,7 @@ TEST_P(StraightCurveOnAFlatTube, FieldIsParallelToTheCurveEverywhere) {
     EXPECT_LT(max_off_curve(s, frames, r.angle, n), 1e-12) << n;
     EXPECT_EQ(r.singular_faces, 0) << n;
     EXPECT_EQ(r.total_index, 0) << n;  // χ = 0
-    EXPECT_LT(r.energy, 1e-16) << n;
+    EXPECT_LT(r.energy, 1e-12) << n;   // rounding (~1e-16); a turn of 1e-3 rad per edge: ~1e-4
   }
   // n = 1 points the way the curve runs: reversed, every vector turns around
   std::vector<Index> reversed(ids.rbegin(), ids.rend());
