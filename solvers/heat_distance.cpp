@@ -27,6 +27,8 @@ using intrinsic::IntrinsicTriangulation;
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// From this many vertices on, the factors stay supernodal (see the constructor).
+constexpr Index kSupernodalSolveVertices = 200000;
 constexpr double kAbsoluteHeatFloor = 1e-290;  // stay clear of subnormals
 
 // A source as weights on vertices (1 vertex, or the 3 corners of a face).
@@ -227,7 +229,14 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
       std::find(on_boundary.begin(), on_boundary.end(), 1) != on_boundary.end();
   // Two factorizations (three with boundary), each exactly once, side by side.
   const fem::SparseMatrix tL = im.t * im.L;
-  PoissonOptions heat_opt;
+  // Large meshes keep their factors supernodal: a single solve costs the same either way there,
+  // but a block of right-hand sides (compute_distances) reads a supernodal factor once per
+  // block with BLAS-3 kernels, a simplicial one once per 4 columns (1M faces, 32 columns:
+  // 0.019 s against 0.036 s per column; small meshes solve faster simplicial: BENCHMARKS.md,
+  // "Batched sources").
+  PoissonOptions poisson_opt;
+  poisson_opt.cholesky.simplicial_solves = im.tri.n_vertices() < kSupernodalSolveVertices;
+  PoissonOptions heat_opt = poisson_opt;
   heat_opt.screening = 1.0;  // tL + 1·M
   std::vector<std::function<void()>> jobs;
   jobs.emplace_back(
@@ -242,7 +251,7 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
     });
   }
   jobs.emplace_back(
-      [&] { im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, PoissonOptions{}); });
+      [&] { im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, poisson_opt); });
   run_parallel(jobs);
 }
 
@@ -328,8 +337,10 @@ Eigen::MatrixXd HeatDistanceSolver::compute_distances(
     }
   }
   const auto k = Eigen::Index(sources.size());
-  // ~6 #V×block doubles of scratch at once (deltas, heat, solver copies): at most ~1 GB
-  const auto by_memory = Eigen::Index(1e9 / (48.0 * double(std::max<Index>(nv, 1))));
+  // A block's #V×block matrices (deltas, heat, divergences, the solvers' copies: about a dozen)
+  // stay at 32 MB each: at 1M faces blocks of 32 columns cost more per source than blocks of 8
+  // (0.12 s against 0.077 s), the time going to page faults on fresh scratch memory.
+  const auto by_memory = Eigen::Index(4e6 / double(std::max<Index>(nv, 1)));
   const Eigen::Index block = std::clamp<Eigen::Index>(by_memory, 4, 32);
   Eigen::MatrixXd out(nv, k);
   std::vector<HeatDistanceReport> reps(sources.size());
@@ -371,12 +382,15 @@ void HeatDistanceSolver::Impl::distance_block(const std::vector<Index>& sources,
   }
   if (batch.empty()) return;
   std::vector<Index> src;
-  Eigen::MatrixXd ub(nv, Eigen::Index(batch.size()));
-  for (std::size_t b = 0; b < batch.size(); ++b) {
-    src.push_back(sources[std::size_t(first + batch[b])]);
-    ub.col(Eigen::Index(b)) = u.col(batch[b]);
+  for (const Index j : batch) src.push_back(sources[std::size_t(first + j)]);
+  Eigen::MatrixXd phi;
+  if (Eigen::Index(batch.size()) == k) {
+    phi = integrate_block(u, src, {});
+  } else {
+    Eigen::MatrixXd ub(nv, Eigen::Index(batch.size()));
+    for (std::size_t b = 0; b < batch.size(); ++b) ub.col(Eigen::Index(b)) = u.col(batch[b]);
+    phi = integrate_block(ub, src, {});
   }
-  Eigen::MatrixXd phi = integrate_block(ub, src, {});
   for (int step = 0; step < opt.correction_steps; ++step) {
     // as distance(): integrate ∇φ/|∇φ| again over the faces where φ is finite
     std::vector<std::vector<char>> finite_face(src.size());

@@ -1,7 +1,7 @@
 // Benchmark section `batch`: heat distances from many sources at once
 // (HeatDistanceSolver::compute_distances) against one query per source, on the same solver.
 //
-//   ifem_bench batch [--repeat N] [--max-n 224] [--data DIR]
+//   ifem_bench batch [--repeat N] [--min-n 0] [--max-n 224] [--data DIR]
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -88,8 +88,9 @@ int batch(int argc, char** argv) {
   std::printf("| %-16s | %9s | %7s | %8s | %4s | %8s | %8s | %7s | %8s |\n", "mesh", "faces",
               "precomp s", "1 query s", "k", "batch s", "per src s", "gain", "peak MiB");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  const int min_n = int(int_option(argc, argv, "--min-n", 0));
   for (const int n : {23, 71, 224}) {
-    if (n > max_n) continue;
+    if (n > max_n || n < min_n) continue;
     const auto m = intrinsic::icosphere(n);
     batch_rows("icosphere(" + std::to_string(n) + ")", m.faces, m.positions, repeat);
   }
