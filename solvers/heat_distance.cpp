@@ -8,6 +8,7 @@
 #include <numeric>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "fem/gradient.h"
@@ -84,36 +85,27 @@ struct HeatDistanceSolver::Impl {
   std::optional<PoissonSolver> heat_dirichlet;  // (M + tL), u = 0 on the boundary
   std::optional<PoissonSolver> poisson;         // L, pure Neumann per component
 
-  Eigen::VectorXd heat(const Eigen::VectorXd& delta) const {
-    const Eigen::VectorXd none;
-    if (!heat_dirichlet) return heat_neumann->solve_weak(delta, none);
-    // the two solves are independent: side by side on large meshes
-    const Eigen::VectorXd zeros =
-        Eigen::VectorXd::Zero(Eigen::Index(heat_dirichlet->dirichlet_vertices().size()));
-    Eigen::VectorXd u, ud;
-    std::vector<std::function<void()>> jobs = {
-        [&] { u = heat_neumann->solve_weak(delta, none); },
-        [&] { ud = heat_dirichlet->solve_weak(delta, zeros); }};
+  // (M + tL) u = δ for a vector or every column of a matrix (one pass over each factor): the
+  // Neumann solution, or on meshes with boundary the mean of the Neumann and the zero-Dirichlet
+  // ones, side by side on large meshes.
+  template <class Values>
+  Values heat(const Values& delta) const {
+    auto solve = [&delta](const PoissonSolver& p) -> Values {
+      if constexpr (std::is_same_v<Values, Eigen::VectorXd>) {
+        const auto nd = Eigen::Index(p.dirichlet_vertices().size());
+        return p.solve_weak(delta, Eigen::VectorXd::Zero(nd));
+      } else {
+        return p.solve_weak_homogeneous(delta);
+      }
+    };
+    if (!heat_dirichlet) return solve(*heat_neumann);
+    Values u, ud;
+    std::vector<std::function<void()>> jobs = {[&] { u = solve(*heat_neumann); },
+                                               [&] { ud = solve(*heat_dirichlet); }};
     if (tri.n_vertices() >= 20000) {
       run_parallel(jobs);
     } else {
-      for (const auto& j : jobs) j();
-    }
-    u = 0.5 * (u + ud);
-    return u;
-  }
-
-  // heat() for every column of delta at once (#V×k): one pass over each factor per block.
-  Eigen::MatrixXd heat_block(const Eigen::MatrixXd& delta) const {
-    if (!heat_dirichlet) return heat_neumann->solve_weak_homogeneous(delta);
-    Eigen::MatrixXd u, ud;
-    std::vector<std::function<void()>> jobs = {
-        [&] { u = heat_neumann->solve_weak_homogeneous(delta); },
-        [&] { ud = heat_dirichlet->solve_weak_homogeneous(delta); }};
-    if (tri.n_vertices() >= 20000) {
-      run_parallel(jobs);
-    } else {
-      for (const auto& j : jobs) j();
+      for (const auto& job : jobs) job();
     }
     u = 0.5 * (u + ud);
     return u;
@@ -358,7 +350,7 @@ void HeatDistanceSolver::Impl::distance_block(const std::vector<Index>& sources,
   const Index nv = tri.n_vertices();
   Eigen::MatrixXd delta = Eigen::MatrixXd::Zero(nv, k);
   for (Eigen::Index j = 0; j < k; ++j) delta(sources[std::size_t(first + j)], j) = 1.0;
-  const Eigen::MatrixXd u = heat_block(delta);
+  const Eigen::MatrixXd u = heat(delta);
   delta.resize(0, 0);
   std::vector<Index> batch, alone;  // columns by block solve / by distance()
   for (Eigen::Index j = 0; j < k; ++j) {

@@ -431,12 +431,7 @@ int curves(int argc, char** argv) {
   set.refine.resolution = std::stod(string_option(argc, argv, "--resolution", "1.0"));
   set.only_curves = int(int_option(argc, argv, "--curves", 0));
   set.solves = int_option(argc, argv, "--solves", 1) != 0;
-  {
-    std::ifstream load("/proc/loadavg");
-    std::string l1, l5, l15;
-    load >> l1 >> l5 >> l15;
-    std::printf("load average at start: %s %s %s\n\n", l1.c_str(), l5.c_str(), l15.c_str());
-  }
+  print_load_average();
   const Case cases[] = {{1, false}, {10, false}, {100, false}, {1, true}, {10, true}};
   Tables tables;
   for (const int n : {23, 71, 224}) {  // 10,580 / 100,820 / 1,003,520 faces

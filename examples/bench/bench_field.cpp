@@ -51,13 +51,7 @@ int field(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 3));
   const int max_n = int(int_option(argc, argv, "--max-n", 224));
   const std::string data = string_option(argc, argv, "--data", IFEM_SHARED_MESHES);
-  {
-    std::ifstream load("/proc/loadavg");
-    std::string l1, l5, l15;
-    load >> l1 >> l5 >> l15;
-    std::printf("load average at start: %s %s %s (wall times are noisy on a shared machine)\n\n",
-                l1.c_str(), l5.c_str(), l15.c_str());
-  }
+  print_load_average();
   std::printf("## direction fields (median of %d runs)\n\n", repeat);
   std::printf(
       "| mesh | faces | n | field | seconds | LOBPCG steps | energy | index sum | peak MiB |\n"

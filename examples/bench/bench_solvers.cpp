@@ -23,16 +23,7 @@ namespace {
 // What CHOLMOD chose for M + L of this mesh (ordering, supernodal, fill, flops): the heat
 // method's matrices have this pattern.
 std::string factor_stats(const std::vector<Triangle>& faces, const Positions& pos) {
-  auto tri = intrinsic::IntrinsicTriangulation::from_positions(faces, pos);
-  tri.mollify();
-  tri.flip_to_delaunay();
-  fem::SparseMatrix A = fem::cotan_laplacian(tri);
-  const Eigen::VectorXd m = fem::lumped_mass(tri);
-  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
-    for (fem::SparseMatrix::InnerIterator it(A, j); it; ++it) {
-      if (it.row() == j) it.valueRef() += m[j] + 1e-12;
-    }
-  }
+  const fem::SparseMatrix A = idt_mass_plus_laplacian(faces, pos);
   const double t0 = seconds_now();
   const solvers::CholeskySolver chol(A);
   char buf[160];
@@ -75,13 +66,7 @@ int solvers(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 3));
   const int max_n = int(int_option(argc, argv, "--max-n", 224));
   const std::string data = string_option(argc, argv, "--data", IFEM_SHARED_MESHES);
-  {
-    std::ifstream load("/proc/loadavg");
-    std::string l1, l5, l15;
-    load >> l1 >> l5 >> l15;
-    std::printf("load average at start: %s %s %s (wall times are noisy on a shared machine)\n\n",
-                l1.c_str(), l5.c_str(), l15.c_str());
-  }
+  print_load_average();
   std::vector<std::string> notes;
   std::printf("## heat method (median of %d runs; query = median of 3 sources per run)\n\n",
               repeat);

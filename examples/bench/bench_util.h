@@ -8,10 +8,40 @@
 #include <string>
 #include <vector>
 
+#include "fem/operators.h"
+#include "intrinsic/core/triangulation.h"
+
 namespace ifem::bench {
 
 inline double seconds_now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// Prints the load average (first line of a section: wall times are noisy on a shared machine).
+inline void print_load_average() {
+  std::ifstream load("/proc/loadavg");
+  std::string l1, l5, l15;
+  load >> l1 >> l5 >> l15;
+  std::printf("load average at start: %s %s %s (wall times are noisy on a shared machine)\n\n",
+              l1.c_str(), l5.c_str(), l15.c_str());
+}
+
+/// M + L of the mollified intrinsic Delaunay triangulation of a mesh: the pattern (and, up to t,
+/// the values) of the heat method's matrix, for the factorization experiments.
+inline fem::SparseMatrix idt_mass_plus_laplacian(const std::vector<Triangle>& faces,
+                                                 const Positions& pos, Index* n_faces = nullptr) {
+  auto tri = intrinsic::IntrinsicTriangulation::from_positions(faces, pos);
+  tri.mollify();
+  tri.flip_to_delaunay();
+  if (n_faces) *n_faces = tri.n_faces();
+  fem::SparseMatrix A = fem::cotan_laplacian(tri);
+  const Eigen::VectorXd m = fem::lumped_mass(tri);
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    for (fem::SparseMatrix::InnerIterator it(A, j); it; ++it) {
+      if (it.row() == j) it.valueRef() += m[j];
+    }
+  }
+  return A;
 }
 
 /// Median of a sample (copies it).

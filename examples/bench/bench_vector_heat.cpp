@@ -145,13 +145,7 @@ int vector_heat(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 3));
   const int max_n = int(int_option(argc, argv, "--max-n", 224));
   const int orderings_n = int(int_option(argc, argv, "--orderings", 224));
-  {
-    std::ifstream load("/proc/loadavg");
-    std::string l1, l5, l15;
-    load >> l1 >> l5 >> l15;
-    std::printf("load average at start: %s %s %s (wall times are noisy on a shared machine)\n\n",
-                l1.c_str(), l5.c_str(), l15.c_str());
-  }
+  print_load_average();
   std::printf(
       "## Vector heat against scalar heat (median of %d; each run: fresh HeatDistanceSolver, "
       "then a fresh VectorHeatSolver)\n\n",

@@ -5,7 +5,6 @@
 #include <fstream>
 #include <limits>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <utility>
 
@@ -61,11 +60,7 @@ std::vector<std::pair<Index, long>> read_batch_sources(const std::string& path) 
   long lineno = 0;
   while (std::getline(in, line)) {
     ++lineno;
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    std::istringstream ss(line);
-    std::vector<std::string> tokens;
-    for (std::string t; ss >> t;) tokens.push_back(t);
+    const std::vector<std::string> tokens = io::line_tokens(line);
     if (tokens.empty()) continue;
     long long v = 0;
     if (tokens.size() != 1 || !io::parse_whole_integer(tokens[0], v) || v < 0 ||

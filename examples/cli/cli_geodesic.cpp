@@ -157,10 +157,7 @@ std::vector<CurveSpec> read_network(const std::string& file, bool pin_loops) {
   std::string line;
   for (long lineno = 1; std::getline(in, line); ++lineno) {
     const std::string where = file + ":" + std::to_string(lineno);
-    const auto hash = line.find('#');
-    std::istringstream ss(hash == std::string::npos ? line : line.substr(0, hash));
-    std::vector<std::string> tokens;
-    for (std::string t; ss >> t;) tokens.push_back(t);
+    const std::vector<std::string> tokens = io::line_tokens(line);
     if (tokens.empty()) continue;
     if ((tokens[0] != "path" && tokens[0] != "loop") || tokens.size() < 3) {
       throw IoError(where + ": expected 'path P0 P1 ...' or 'loop P0 P1 ...' (at least two " +

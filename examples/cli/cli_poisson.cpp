@@ -3,7 +3,6 @@
 #include <cstdio>
 #include <fstream>
 #include <optional>
-#include <sstream>
 #include <utility>
 
 #include "cli.h"
@@ -28,11 +27,7 @@ void read_dirichlet(const std::string& path, Index nv, std::vector<Index>& verti
   long lineno = 0;
   while (std::getline(in, line)) {
     ++lineno;
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    std::istringstream ss(line);
-    std::vector<std::string> tokens;
-    for (std::string t; ss >> t;) tokens.push_back(t);
+    const std::vector<std::string> tokens = io::line_tokens(line);
     if (tokens.empty()) continue;  // blank or comment
     const std::string where = path + ":" + std::to_string(lineno) + ": ";
     long long v = 0;
