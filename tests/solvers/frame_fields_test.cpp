@@ -18,6 +18,7 @@
 #include "intrinsic/core/errors.h"
 #include "solvers/direction_field.h"
 #include "solvers/tangent_fields.h"
+#include "tangent_test_util.h"
 #include "test_util.h"
 
 namespace ifem::solvers {
@@ -25,19 +26,6 @@ namespace {
 
 using Complex = std::complex<double>;
 constexpr double kPi = 3.14159265358979323846;
-
-double wrap(double a) { return std::remainder(a, 2.0 * kPi); }
-
-struct Stats {
-  double mean = 0.0, max = 0.0;
-  int n = 0;
-  void add(double e) {
-    mean += e;
-    max = std::max(max, e);
-    ++n;
-  }
-  void finish() { mean /= std::max(n, 1); }
-};
 
 io::SurfaceInput cloud_of(Positions p) {
   io::SurfaceInput in;
@@ -78,16 +66,6 @@ Positions sphere_cloud(int n, double jitter = 0.2, unsigned seed = 5) {
     p.row(i) = x.normalized().transpose();
   }
   return p;
-}
-
-// Signed angle from a to b about the unit normal nrm, in (−π, π].
-double signed_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                    const Eigen::Vector3d& nrm) {
-  return std::atan2(a.cross(b).dot(nrm), a.dot(b));
-}
-
-double great_circle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
 // The point nearest to x.
@@ -134,7 +112,7 @@ Positions cylinder_cloud(int n, unsigned seed = 11) {
 
 // The cylinder is flat: a parallel field keeps its angle to the axis. Angle error over the
 // points at least 0.4 from the sides.
-Stats cylinder_transport_error(int n) {
+test::ErrorStats cylinder_transport_error(int n) {
   const PreparedSurface s = prepared_cloud(cylinder_cloud(n));
   const VectorHeatSolver solver = vector_heat_solver(s);
   const Positions& p = s.input.positions;
@@ -146,12 +124,12 @@ Stats cylinder_transport_error(int n) {
                            std::cos(alpha));
   };
   const Eigen::MatrixX3d x = transport_on(s, solver, src, field(src));
-  Stats st;
+  test::ErrorStats st;
   for (Index v = 0; v < p.rows(); ++v) {
     const double t = std::atan2(p(v, 1), p(v, 0));
     if (t < 0.4 || t > kPi - 0.4 || p(v, 2) < 0.4 || p(v, 2) > kPi - 0.4) continue;
     const Eigen::Vector3d radial(std::cos(t), std::sin(t), 0);
-    st.add(std::abs(signed_angle(field(v), x.row(v).transpose(), radial)));
+    st.add(std::abs(test::signed_angle(field(v), x.row(v).transpose(), radial)));
   }
   st.finish();
   std::printf("cylinder cloud transport n=%d: angle error mean %.3g max %.3g rad\n", n, st.mean,
@@ -160,15 +138,15 @@ Stats cylinder_transport_error(int n) {
 }
 
 TEST(FrameFields, CylinderPointCloudTransportConvergesToTheParallelField) {
-  const Stats coarse = cylinder_transport_error(20);
-  const Stats fine = cylinder_transport_error(40);
+  const test::ErrorStats coarse = cylinder_transport_error(20);
+  const test::ErrorStats fine = cylinder_transport_error(40);
   EXPECT_LT(fine.mean, coarse.mean);
   EXPECT_LT(fine.max, 0.05);
 }
 
 // As SolversVectorHeat.SphereTransportAlongGreatCircles: the angle from the arc's direction to
 // the vector is the same at the source and at the points near its equator.
-Stats sphere_cloud_transport_error(int n, double alpha) {
+test::ErrorStats sphere_cloud_transport_error(int n, double alpha) {
   const PreparedSurface s = prepared_cloud(sphere_cloud(n));
   const VectorHeatSolver solver = vector_heat_solver(s);
   const Positions& p = s.input.positions;
@@ -177,26 +155,15 @@ Stats sphere_cloud_transport_error(int n, double alpha) {
   const Eigen::Vector3d e = (Eigen::Vector3d(1, 0, 0) - sp.x() * sp).normalized();
   const Eigen::Vector3d vec = std::cos(alpha) * e + std::sin(alpha) * sp.cross(e);
   const Eigen::MatrixX3d x = transport_on(s, solver, src, vec);
-  Stats st;
-  for (Index v = 0; v < p.rows(); ++v) {
-    const Eigen::Vector3d q = p.row(v).transpose();
-    if (std::abs(great_circle(sp, q) - kPi / 2) > 0.05) continue;
-    const Eigen::Vector3d leave = (q - q.dot(sp) * sp).normalized();
-    const Eigen::Vector3d arrive = (q.dot(sp) * q - sp).normalized();
-    const double at_source = signed_angle(leave, x.row(src).transpose(), sp);
-    const double at_end = signed_angle(arrive, x.row(v).transpose(), q);
-    st.add(std::abs(wrap(at_end - at_source)));
-  }
-  st.finish();
-  std::printf("sphere cloud transport n=%d alpha=%.2f: angle error mean %.3g max %.3g over %d\n", n,
-              alpha, st.mean, st.max, st.n);
-  return st;
+  char label[64];
+  std::snprintf(label, sizeof(label), "sphere cloud transport n=%d alpha=%.2f", n, alpha);
+  return test::great_circle_transport_error(p, x, src, label);
 }
 
 TEST(FrameFields, SpherePointCloudTransportAlongGreatCircles) {
   for (const double alpha : {0.0, 1.3}) {
-    const Stats coarse = sphere_cloud_transport_error(2000, alpha);
-    const Stats fine = sphere_cloud_transport_error(8000, alpha);
+    const test::ErrorStats coarse = sphere_cloud_transport_error(2000, alpha);
+    const test::ErrorStats fine = sphere_cloud_transport_error(8000, alpha);
     EXPECT_GT(fine.n, 50);
     EXPECT_LT(coarse.max, 0.02);
     EXPECT_LT(fine.max, 0.02);
@@ -207,7 +174,7 @@ TEST(FrameFields, SpherePointCloudTransportAlongGreatCircles) {
 
 // |log − (x − x_src) in the source's frame| / |x − x_src| over points at least 3h from the
 // source and 0.1 from the square's sides.
-Stats flat_cloud_log_map_error(int n) {
+test::ErrorStats flat_cloud_log_map_error(int n) {
   const PreparedSurface s = prepared_cloud(flat_cloud(n));
   const VectorHeatSolver solver = vector_heat_solver(s);
   const Positions& p = s.input.positions;
@@ -216,7 +183,7 @@ Stats flat_cloud_log_map_error(int n) {
   const Eigen::Vector3d e1 = solver.frame_basis().e1.row(src).transpose();
   const Eigen::Vector3d e2 = solver.frame_basis().e2.row(src).transpose();
   EXPECT_EQ(uv.row(src).norm(), 0.0);
-  Stats st, radius, angle;
+  test::ErrorStats st, radius, angle;
   for (Index v = 0; v < p.rows(); ++v) {
     const Eigen::Vector3d d = (p.row(v) - p.row(src)).transpose();
     const Eigen::Vector2d expected(d.dot(e1), d.dot(e2));
@@ -224,8 +191,8 @@ Stats flat_cloud_log_map_error(int n) {
     if (d.norm() < 3.0 / n || std::min({x, y, 1 - x, 1 - y}) < 0.1) continue;
     st.add((uv.row(v).transpose() - expected).norm() / d.norm());
     radius.add(std::abs(uv.row(v).norm() - d.norm()) / d.norm());
-    angle.add(
-        std::abs(wrap(std::atan2(uv(v, 1), uv(v, 0)) - std::atan2(expected.y(), expected.x()))));
+    angle.add(std::abs(
+        test::wrap_angle(std::atan2(uv(v, 1), uv(v, 0)) - std::atan2(expected.y(), expected.x()))));
   }
   st.finish();
   radius.finish();
@@ -238,14 +205,14 @@ Stats flat_cloud_log_map_error(int n) {
 }
 
 TEST(FrameFields, FlatPointCloudLogMapIsTheIdentity) {
-  const Stats coarse = flat_cloud_log_map_error(20);
-  const Stats fine = flat_cloud_log_map_error(40);
+  const test::ErrorStats coarse = flat_cloud_log_map_error(20);
+  const test::ErrorStats fine = flat_cloud_log_map_error(40);
   EXPECT_LT(fine.mean, coarse.mean);
   EXPECT_LT(fine.mean, 0.06);  // measured 0.051 (radius 0.018, angle 0.046 rad)
 }
 
 TEST(FrameFields, SpherePointCloudLogMapRadiusIsTheGreatCircleDistance) {
-  Stats radius, angle;
+  test::ErrorStats radius, angle;
   const PreparedSurface s = prepared_cloud(sphere_cloud(6000));
   const VectorHeatSolver solver = vector_heat_solver(s);
   const Positions& p = s.input.positions;
@@ -255,12 +222,12 @@ TEST(FrameFields, SpherePointCloudLogMapRadiusIsTheGreatCircleDistance) {
   const Eigen::Vector3d e2 = solver.frame_basis().e2.row(0).transpose();
   for (Index v = 0; v < p.rows(); ++v) {
     const Eigen::Vector3d q = p.row(v).transpose();
-    const double exact = great_circle(sp, q);
+    const double exact = test::great_circle(sp, q);
     if (exact < 0.15 || exact > kPi - 0.3) continue;
     radius.add(std::abs(uv.row(v).norm() - exact) / exact);
     const Eigen::Vector3d leave = q - q.dot(sp) * sp;
-    angle.add(
-        std::abs(wrap(std::atan2(uv(v, 1), uv(v, 0)) - std::atan2(leave.dot(e2), leave.dot(e1)))));
+    angle.add(std::abs(test::wrap_angle(std::atan2(uv(v, 1), uv(v, 0)) -
+                                        std::atan2(leave.dot(e2), leave.dot(e1)))));
   }
   radius.finish();
   angle.finish();
@@ -285,7 +252,7 @@ double jump_fraction(const PreparedSurface& s, const TangentFieldResult& r) {
     const Eigen::Vector3d vi = r.vectors.row(i).transpose(), vj = r.vectors.row(j).transpose();
     const Eigen::Vector3d moved = Eigen::Quaterniond::FromTwoVectors(ni, nj) * vi;
     ++pairs;
-    if (std::abs(signed_angle(moved, vj, nj)) > kPi / 4) ++jumps;
+    if (std::abs(test::signed_angle(moved, vj, nj)) > kPi / 4) ++jumps;
   }
   return double(jumps) / std::max<Index>(pairs, 1);
 }
@@ -330,11 +297,11 @@ TEST(FrameFields, TuftedSphereKeepsPoincareHopfAndTheManifoldTransport) {
   const Eigen::Vector3d vec(1, 0.3, 0);
   const Eigen::MatrixX3d a = transport_on(tufted, vector_heat_solver(tufted), 5, vec);
   const Eigen::MatrixX3d b = transport_on(manifold, vector_heat_solver(manifold), 5, vec);
-  Stats st;
+  test::ErrorStats st;
   for (Index v = 0; v < a.rows(); ++v) {
     const Eigen::Vector3d p = in.positions.row(v).transpose();
-    if (great_circle(p, in.positions.row(5).transpose()) > kPi - 0.3) continue;  // cut locus
-    st.add(std::abs(signed_angle(a.row(v).transpose(), b.row(v).transpose(), p)));
+    if (test::great_circle(p, in.positions.row(5).transpose()) > kPi - 0.3) continue;  // cut locus
+    st.add(std::abs(test::signed_angle(a.row(v).transpose(), b.row(v).transpose(), p)));
   }
   st.finish();
   std::printf("tufted vs manifold transport on icosphere(10): mean %.3g max %.3g rad\n", st.mean,

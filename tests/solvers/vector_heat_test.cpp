@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "intrinsic/core/errors.h"
+#include "tangent_test_util.h"
 #include "test_util.h"
 
 namespace ifem::solvers {
@@ -50,31 +51,12 @@ bool on_grid_boundary(int n, Index v) {
   return i == 0 || j == 0 || i == n || j == n;
 }
 
-// Signed angle from a to b about the unit normal nrm (a, b tangent), in (−π, π].
-double signed_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                    const Eigen::Vector3d& nrm) {
-  return std::atan2(a.cross(b).dot(nrm), a.dot(b));
-}
-
-double wrap(double a) { return std::remainder(a, 2.0 * kPi); }
-
-struct Stats {
-  double mean = 0.0, max = 0.0;
-  int n = 0;
-  void add(double e) {
-    mean += e;
-    max = std::max(max, e);
-    ++n;
-  }
-  void finish() { mean /= std::max(n, 1); }
-};
-
 // --- flat domain --------------------------------------------------------------------------------
 
 // Angle error of transport on the flat grid: the transported field in 3D against the source's
 // vector, over interior vertices (the corners' angle sum π/2 makes the half-plane rescaling put
-// curvature there; Stats::mean still counts the vertices next to them).
-Stats flat_transport_error(int n) {
+// curvature there; test::ErrorStats::mean still counts the vertices next to them).
+test::ErrorStats flat_transport_error(int n) {
   const intrinsic::TriangleMesh m = flat_grid(n);
   const auto tri = test::make_tri(m, false);
   const VectorHeatSolver solver(tri);
@@ -89,11 +71,11 @@ Stats flat_transport_error(int n) {
       tangent_basis_3d(m.positions, m.faces, {}, solver.triangulation(), solver.frames());
   const Eigen::MatrixX3d x3 = to_3d(x, basis);
   const Eigen::Vector3d ref = x3.row(src).transpose();
-  Stats s;
+  test::ErrorStats s;
   for (Index v = 0; v < tri.n_vertices(); ++v) {
     EXPECT_NEAR(std::abs(x[v]), 2.0, 1e-12);  // one source: its length everywhere
     if (on_grid_boundary(n, v)) continue;
-    s.add(std::abs(signed_angle(ref, x3.row(v).transpose(), Eigen::Vector3d::UnitZ())));
+    s.add(std::abs(test::signed_angle(ref, x3.row(v).transpose(), Eigen::Vector3d::UnitZ())));
   }
   s.finish();
   std::printf("flat transport n=%d: angle error mean %.3g max %.3g rad\n", n, s.mean, s.max);
@@ -101,8 +83,8 @@ Stats flat_transport_error(int n) {
 }
 
 TEST(SolversVectorHeat, FlatTransportIsConstant) {
-  const Stats coarse = flat_transport_error(16);
-  const Stats fine = flat_transport_error(32);
+  const test::ErrorStats coarse = flat_transport_error(16);
+  const test::ErrorStats fine = flat_transport_error(32);
   EXPECT_LT(fine.max, 0.02);
   EXPECT_LE(fine.mean, coarse.mean);
 }
@@ -138,7 +120,7 @@ TEST(SolversVectorHeat, ExtensionTakesTheNearestSourcesValue) {
 // Log map on the flat grid against the identity map in the source's frame: relative position
 // error over vertices at least 3h from the source, less the four corners (angle sum π/2: the
 // half-plane rescaling doubles their angles), and the angle of the reference halfedge's head.
-Stats flat_log_map_error(int n) {
+test::ErrorStats flat_log_map_error(int n) {
   const intrinsic::TriangleMesh m = flat_grid(n);
   const auto tri = test::make_tri(m, false);
   const VectorHeatSolver solver(tri);
@@ -148,7 +130,7 @@ Stats flat_log_map_error(int n) {
   const TangentBasis3d basis =
       tangent_basis_3d(m.positions, m.faces, {}, solver.triangulation(), solver.frames());
   const Eigen::Vector3d e1 = basis.e1.row(src).transpose(), e2 = basis.e2.row(src).transpose();
-  Stats s;
+  test::ErrorStats s;
   for (Index v = 0; v < tri.n_vertices(); ++v) {
     const Eigen::Vector3d d = (m.positions.row(v) - m.positions.row(src)).transpose();
     const Complex exact(d.dot(e1), d.dot(e2));
@@ -167,23 +149,19 @@ Stats flat_log_map_error(int n) {
 }
 
 TEST(SolversVectorHeat, FlatLogMapIsTheIdentity) {
-  const Stats coarse = flat_log_map_error(16);
-  const Stats fine = flat_log_map_error(32);
+  const test::ErrorStats coarse = flat_log_map_error(16);
+  const test::ErrorStats fine = flat_log_map_error(32);
   EXPECT_LT(fine.mean, 0.03);
   EXPECT_LT(fine.mean, coarse.mean);
 }
 
 // --- unit sphere --------------------------------------------------------------------------------
 
-double great_circle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
-
 // Log map about vertex 0 of the unit icosphere: the radius against the great-circle distance
 // (relative), and the angle against the great circle's direction at the source, read in the
 // source's 3D basis (absolute, rad), over vertices from 3h to π − 0.3 (the antipode is the cut
 // locus).
-Stats sphere_log_map_error(int n, Stats* angle) {
+test::ErrorStats sphere_log_map_error(int n, test::ErrorStats* angle) {
   const intrinsic::TriangleMesh m = intrinsic::icosphere(n);
   const auto tri = test::make_tri(m, false);
   const VectorHeatSolver solver(tri);
@@ -194,14 +172,15 @@ Stats sphere_log_map_error(int n, Stats* angle) {
   const Eigen::Vector3d s = m.positions.row(src).transpose();
   const Eigen::Vector3d e1 = basis.e1.row(src).transpose(), e2 = basis.e2.row(src).transpose();
   const double h = intrinsic::mean_edge_length(tri);
-  Stats radius;
+  test::ErrorStats radius;
   for (Index v = 0; v < tri.n_vertices(); ++v) {
     const Eigen::Vector3d p = m.positions.row(v).transpose();
-    const double exact = great_circle(s, p);
+    const double exact = test::great_circle(s, p);
     if (exact < 3.0 * h || exact > kPi - 0.3) continue;
     radius.add(std::abs(std::abs(z[v]) - exact) / exact);
     const Eigen::Vector3d leave = p - p.dot(s) * s;
-    angle->add(std::abs(wrap(std::arg(z[v]) - std::atan2(leave.dot(e2), leave.dot(e1)))));
+    angle->add(
+        std::abs(test::wrap_angle(std::arg(z[v]) - std::atan2(leave.dot(e2), leave.dot(e1)))));
   }
   radius.finish();
   angle->finish();
@@ -213,9 +192,9 @@ Stats sphere_log_map_error(int n, Stats* angle) {
 }
 
 TEST(SolversVectorHeat, SphereLogMapIsTheGreatCircleMap) {
-  Stats angle_coarse, angle_fine;
-  const Stats coarse = sphere_log_map_error(8, &angle_coarse);
-  const Stats fine = sphere_log_map_error(16, &angle_fine);
+  test::ErrorStats angle_coarse, angle_fine;
+  const test::ErrorStats coarse = sphere_log_map_error(8, &angle_coarse);
+  const test::ErrorStats fine = sphere_log_map_error(16, &angle_fine);
   EXPECT_LT(fine.mean, 0.03);
   EXPECT_LT(fine.mean, coarse.mean);
   EXPECT_LT(angle_fine.mean, 0.02);
@@ -224,7 +203,7 @@ TEST(SolversVectorHeat, SphereLogMapIsTheGreatCircleMap) {
 
 // Transport of e^{iα} from a vertex s to the vertices x near s's equator (great-circle distance
 // π/2 ± 0.05): the angle from the arc's direction to the vector must be the same at both ends.
-Stats sphere_transport_error(int n, double alpha) {
+test::ErrorStats sphere_transport_error(int n, double alpha) {
   const intrinsic::TriangleMesh m = intrinsic::icosphere(n);
   const auto tri = test::make_tri(m, false);
   const VectorHeatSolver solver(tri);
@@ -233,27 +212,15 @@ Stats sphere_transport_error(int n, double alpha) {
   const TangentBasis3d basis =
       tangent_basis_3d(m.positions, m.faces, {}, solver.triangulation(), solver.frames());
   const Eigen::MatrixX3d x3 = to_3d(x, basis);
-  const Eigen::Vector3d s = m.positions.row(src).transpose();
-  Stats st;
-  for (Index v = 0; v < tri.n_vertices(); ++v) {
-    const Eigen::Vector3d p = m.positions.row(v).transpose();
-    if (std::abs(great_circle(s, p) - kPi / 2) > 0.05) continue;
-    const Eigen::Vector3d leave = (p - p.dot(s) * s).normalized();   // arc's direction at s
-    const Eigen::Vector3d arrive = (p.dot(s) * p - s).normalized();  // and at p (onwards)
-    const double at_source = signed_angle(leave, x3.row(src).transpose(), s);
-    const double at_end = signed_angle(arrive, x3.row(v).transpose(), p);
-    st.add(std::abs(wrap(at_end - at_source)));
-  }
-  st.finish();
-  std::printf("sphere transport n=%d alpha=%.2f: angle error mean %.3g max %.3g rad over %d\n", n,
-              alpha, st.mean, st.max, st.n);
-  return st;
+  char label[64];
+  std::snprintf(label, sizeof(label), "sphere transport n=%d alpha=%.2f", n, alpha);
+  return test::great_circle_transport_error(m.positions, x3, src, label);
 }
 
 TEST(SolversVectorHeat, SphereTransportAlongGreatCircles) {
   for (const double alpha : {0.0, 1.3}) {
-    const Stats coarse = sphere_transport_error(8, alpha);
-    const Stats fine = sphere_transport_error(16, alpha);
+    const test::ErrorStats coarse = sphere_transport_error(8, alpha);
+    const test::ErrorStats fine = sphere_transport_error(16, alpha);
     EXPECT_GT(fine.n, 20);
     EXPECT_LT(coarse.max, 0.01);
     EXPECT_LT(fine.max, 0.01);
