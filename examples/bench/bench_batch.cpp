@@ -45,6 +45,16 @@ void batch_rows(const std::string& name, const std::vector<Triangle>& faces, con
   }
 }
 
+// The memory bandwidth one thread reaches (the solves run on one): a triad a = b + s·c over three
+// 256 MB arrays, counted as 3 × 256 MB moved (plus write-allocate traffic the hardware adds).
+double triad_gb_per_s(int repeat) {
+  const Eigen::Index n = Eigen::Index(1) << 25;
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(n), b = Eigen::VectorXd::Ones(n),
+                  c = Eigen::VectorXd::Constant(n, 2.0);
+  const double t = time_median(repeat, [&] { a.noalias() = b + 0.5 * c; });
+  return 3.0 * 8.0 * double(n) / t * 1e-9;
+}
+
 // One factor of M + L (the heat matrix's pattern) kept supernodal or converted to simplicial:
 // seconds per solve of k right-hand sides at once. CHOLMOD's simplicial solve walks the factor
 // once per 4 columns; the supernodal one once per block, with BLAS-3 kernels.
@@ -96,6 +106,8 @@ int batch(int argc, char** argv) {
   std::printf(
       "\ngain = k × (1 query s) / (batch s): how many times cheaper a source is in a batch\n");
   std::printf("\n## one solve with k right-hand sides (forward + backward), M + L factor\n\n");
+  std::printf("one thread's memory bandwidth (triad over 3 × 256 MB): %.1f GB/s\n\n",
+              triad_gb_per_s(repeat));
   std::printf(
       "| mesh | faces | factor | k | solve s | per column s | GB/s if L is read per column |\n");
   std::printf("|---|---:|---|---:|---:|---:|---:|\n");
