@@ -461,29 +461,38 @@ HeatDistanceOptions distance_options(const PreparedSurface& s, const DistanceSet
   return o;
 }
 
-Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<Index>& sources,
-                                  const DistanceSettings& settings, HeatDistanceReport* report) {
-  require(!sources.empty(), "geodesic_distance: no source vertex given");
-  check_input_vertex_ids(s, sources, "geodesic_distance: source");
+namespace {
+
+// A heat-distance recipe on s from input vertices: checks the ids, builds the solver with
+// distance_options(), runs query(solver) and restricts its #V or #V×k values to the input.
+template <class Query>
+auto distance_recipe(const PreparedSurface& s, const std::vector<Index>& sources,
+                     const DistanceSettings& settings, const std::string& what, Query query) {
+  require(!sources.empty(), what + ": no source vertex given");
+  check_input_vertex_ids(s, sources, (what + ": source").c_str());
   return with_hint(s, [&] {
     const HeatDistanceSolver solver(s.tri, distance_options(s, settings));
-    Eigen::VectorXd d = on_input_vertices(s, solver.compute_distance(sources, report));
-    require_finite(d, "geodesic_distance", true);  // +inf: unreachable, by convention
+    auto d = on_input_vertices(s, query(solver));
+    require_finite(d, what.c_str(), true);  // +inf: unreachable, by convention
     return d;
   });
+}
+
+}  // namespace
+
+Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<Index>& sources,
+                                  const DistanceSettings& settings, HeatDistanceReport* report) {
+  return distance_recipe(
+      s, sources, settings, "geodesic_distance",
+      [&](const HeatDistanceSolver& h) { return h.compute_distance(sources, report); });
 }
 
 Eigen::MatrixXd geodesic_distances(const PreparedSurface& s, const std::vector<Index>& sources,
                                    const DistanceSettings& settings,
                                    std::vector<HeatDistanceReport>* reports) {
-  require(!sources.empty(), "geodesic_distances: no source vertex given");
-  check_input_vertex_ids(s, sources, "geodesic_distances: source");
-  return with_hint(s, [&] {
-    const HeatDistanceSolver solver(s.tri, distance_options(s, settings));
-    Eigen::MatrixXd d = on_input_vertices(s, solver.compute_distances(sources, reports));
-    require_finite(d, "geodesic_distances", true);  // +inf: unreachable, by convention
-    return d;
-  });
+  return distance_recipe(
+      s, sources, settings, "geodesic_distances",
+      [&](const HeatDistanceSolver& h) { return h.compute_distances(sources, reports); });
 }
 
 EigenPairs eigenmodes(const PreparedSurface& s, Index k, const EigenOptions& options) {

@@ -178,29 +178,13 @@ class DistanceSolver {
         mollify_(mollify) {}
 
   py::array distance(const py::handle& sources) const {
-    const std::vector<Index> ids = indices_from(sources, s_.n_input_vertices(), "sources");
-    Eigen::VectorXd d;
-    {
-      const py::gil_scoped_release release;
-      const Stopwatch watch;
-      d = solvers::on_input_vertices(s_, solver_.compute_distance(ids));
-      last_query_seconds_ = watch.seconds();
-    }
-    require_no_nan(d, "heat distance");
-    return to_numpy(std::move(d));
+    return timed_query(
+        sources, [this](const std::vector<Index>& ids) { return solver_.compute_distance(ids); });
   }
 
   py::array distances(const py::handle& sources) const {
-    const std::vector<Index> ids = indices_from(sources, s_.n_input_vertices(), "sources");
-    Eigen::MatrixXd d;
-    {
-      const py::gil_scoped_release release;
-      const Stopwatch watch;
-      d = solvers::on_input_vertices(s_, solver_.compute_distances(ids));
-      last_query_seconds_ = watch.seconds();
-    }
-    require_no_nan(d, "heat distance");
-    return to_numpy(std::move(d));
+    return timed_query(
+        sources, [this](const std::vector<Index>& ids) { return solver_.compute_distances(ids); });
   }
 
   py::array distance_from_points(const py::handle& faces, const py::handle& bary) {
@@ -240,6 +224,22 @@ class DistanceSolver {
   double last_query_seconds() const { return last_query_seconds_; }
 
  private:
+  // A query from vertex ids (checked against the input), without the GIL, timed, restricted to
+  // the input's vertices and checked for NaN: compute(ids) gives #V or #V×k values.
+  template <class Compute>
+  py::array timed_query(const py::handle& sources, Compute compute) const {
+    const std::vector<Index> ids = indices_from(sources, s_.n_input_vertices(), "sources");
+    decltype(compute(ids)) d;
+    {
+      const py::gil_scoped_release release;
+      const Stopwatch watch;
+      d = solvers::on_input_vertices(s_, compute(ids));
+      last_query_seconds_ = watch.seconds();
+    }
+    require_no_nan(d, "heat distance");
+    return to_numpy(std::move(d));
+  }
+
   // The signposts that locate input points on s_.tri (built once, on the first points query).
   // Call after points_refusal() came back empty.
   const SignpostTriangulation& signposts() {
