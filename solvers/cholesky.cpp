@@ -1,27 +1,28 @@
 #include "solvers/cholesky.h"
 
+#include <cholmod.h>
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstring>
 #include <mutex>
-
-#if defined(__SSE2__)
-#include <xmmintrin.h>
-#endif
-#include <cholmod.h>
-#include <dlfcn.h>
-
 #include <string>
 #include <vector>
 
 #include "intrinsic/core/errors.h"
+#include "solvers/flush_denormals.h"
+#include "solvers/supernodal_solve.h"
 
 namespace ifem::solvers {
 
 void CholeskyOptions::validate() const {
   if (!(min_rcond >= 0.0) || factor_blas_threads < 0 || solve_blas_threads < 0) {
     throw InvalidInput("CholeskyOptions: need min_rcond ≥ 0 and BLAS thread counts ≥ 0");
+  }
+  if (solve_kernel != SolveKernel::kCholmod && !supernodal) {
+    throw InvalidInput("CholeskyOptions: the supernodal solve kernel needs supernodal = true");
   }
 }
 
@@ -42,31 +43,6 @@ struct OpenBlasThreads {
     static const OpenBlasThreads o;
     return o;
   }
-};
-
-// Flush-to-zero + denormals-are-zero for the calling thread while it runs CHOLMOD. The Cholesky
-// factor of the heat matrix M + tL has entries that decay exponentially away from the diagonal
-// (and so does the heat itself in a solve): without this they reach subnormal numbers, whose
-// arithmetic is ~100× slower on x86. Measured at 1M faces: factorizing M + tL took 7.5 s
-// against 2.9 s for L with the same pattern. Values below 1e-308 become 0: harmless here.
-class FlushDenormalsScope {
- public:
-  FlushDenormalsScope() {
-#if defined(__SSE2__)
-    saved_ = _mm_getcsr();
-    _mm_setcsr(saved_ | 0x8040u);  // FTZ (bit 15) | DAZ (bit 6)
-#endif
-  }
-  ~FlushDenormalsScope() {
-#if defined(__SSE2__)
-    _mm_setcsr(saved_);
-#endif
-  }
-  FlushDenormalsScope(const FlushDenormalsScope&) = delete;
-  FlushDenormalsScope& operator=(const FlushDenormalsScope&) = delete;
-
- private:
-  unsigned saved_ = 0;
 };
 
 // CHOLMOD's parallel loops (clearing and assembling supernodes) ask OpenMP for a fixed team of
@@ -150,6 +126,9 @@ struct CholeskySolver::Impl {
   mutable cholmod_dense* X = nullptr;
   mutable cholmod_dense* Y = nullptr;
   mutable cholmod_dense* E = nullptr;
+  // our supernodal kernel (CholeskyOptions::solve_kernel), holding the factor's values
+  CholeskyOptions::SolveKernel kernel_kind = CholeskyOptions::SolveKernel::kCholmod;
+  std::unique_ptr<SupernodalSolver> kernel;
 
   Impl() {
     cholmod_start(&common);
@@ -235,6 +214,34 @@ struct CholeskySolver::Impl {
                         "every connected component");
     }
   }
+
+  // With our supernodal kernel: copy the numeric supernodal factor f into it, then drop f's
+  // values (CHOLMOD keeps the symbolic factor, for refactor()).
+  void hand_factor_to_kernel(cholmod_factor* f, const char* who) {
+    if (kernel_kind == CholeskyOptions::SolveKernel::kCholmod || xtype != CHOLMOD_REAL) return;
+    if (!f->is_super) throw SolverError(std::string(who) + ": factor is not supernodal");
+    const auto* super = static_cast<const int*>(f->super);
+    const auto* pi = static_cast<const int*>(f->pi);
+    const auto* px = static_cast<const int*>(f->px);
+    const auto* perm = static_cast<const int*>(f->Perm);
+    const std::size_t ns = f->nsuper;
+    SupernodalPattern p;
+    p.n = static_cast<Eigen::Index>(f->n);
+    p.perm.assign(perm, perm + f->n);
+    p.super.assign(super, super + ns + 1);
+    p.row_start.assign(pi, pi + ns + 1);
+    p.value_start.assign(px, px + ns + 1);
+    p.rows.assign(static_cast<const int*>(f->s), static_cast<const int*>(f->s) + pi[ns]);
+    const FactorPrecision precision = kernel_kind == CholeskyOptions::SolveKernel::kSupernodalSingle
+                                          ? FactorPrecision::kSingle
+                                          : FactorPrecision::kDouble;
+    kernel = std::make_unique<SupernodalSolver>(std::move(p), static_cast<const double*>(f->x),
+                                                precision);
+    // to_xtype = pattern: frees the values, keeps the supernodal symbolic factor
+    if (!cholmod_change_factor(CHOLMOD_PATTERN, 1, 1, 1, 1, f, &common) || f->x) {
+      throw SolverError(std::string(who) + ": dropping CHOLMOD's factor values failed");
+    }
+  }
 };
 
 namespace {
@@ -293,10 +300,12 @@ void analyze_and_factor(CholeskySolver::Impl& im, cholmod_sparse s, const Choles
   if (!im.factor || c.status < CHOLMOD_OK) {
     throw SolverError(std::string(who) + ": CHOLMOD analysis failed: " + im.status_text());
   }
+  im.kernel_kind = options.solve_kernel;
   im.factorize(s, im.factor, who);
   im.factored_supernodal = im.factor->is_super;
+  im.hand_factor_to_kernel(im.factor, who);
   // a complex factor stays supernodal: its supernodal solves are faster (simplicial_solves)
-  if (im.factor->is_super && options.simplicial_solves && im.xtype == CHOLMOD_REAL) {
+  if (!im.kernel && im.factor->is_super && options.simplicial_solves && im.xtype == CHOLMOD_REAL) {
     // to_ll = 1, to_super = 0, to_packed = 1, to_monotonic = 1
     if (!cholmod_change_factor(im.xtype, 1, 0, 1, 1, im.factor, &c) || c.status < CHOLMOD_OK) {
       throw SolverError(std::string(who) + ": converting the factor failed: " + im.status_text());
@@ -342,6 +351,7 @@ void CholeskySolver::refactor(const fem::SparseMatrix& A_in) {
   if (!f) throw SolverError("CholeskySolver::refactor: out of memory");
   try {
     im.factorize(Impl::view(*A, CHOLMOD_REAL), f, "CholeskySolver::refactor");
+    im.hand_factor_to_kernel(f, "CholeskySolver::refactor");
   } catch (...) {
     cholmod_free_factor(&f, &im.common);
     throw;
@@ -356,6 +366,10 @@ namespace {
 // as interleaved (re, im) pairs when im.xtype is CHOLMOD_COMPLEX); X may alias B.
 void solve_raw(const CholeskySolver::Impl& im, const double* B, Eigen::Index cols, double* X) {
   if (cols == 0) return;
+  if (im.kernel) {
+    im.kernel->solve(B, X, cols);
+    return;
+  }
   cholmod_dense b;
   std::memset(&b, 0, sizeof(b));
   b.nrow = static_cast<size_t>(im.n);
@@ -440,6 +454,14 @@ const char* CholeskySolver::ordering() const { return ordering_name(impl_->commo
 bool CholeskySolver::supernodal() const { return impl_->factor && impl_->factored_supernodal; }
 
 double CholeskySolver::factor_nonzeros() const { return impl_->common.lnz; }
+
+double CholeskySolver::solve_bytes() const {
+  const Impl& im = *impl_;
+  if (im.kernel) return 2.0 * double(im.kernel->bytes_per_pass());
+  const cholmod_factor* f = im.factor;
+  if (f->is_super) return 2.0 * (8.0 * double(f->xsize) + 4.0 * double(f->ssize));
+  return 2.0 * 12.0 * double(im.common.lnz);  // simplicial: a value and a row index per entry
+}
 
 // --- ComplexCholeskySolver -------------------------------------------------------------------
 

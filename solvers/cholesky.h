@@ -32,6 +32,19 @@ struct CholeskyOptions {
   /// faster than simplicial ones and which skips the conversion's copy (docs/decisions.md,
   /// "Vector heat: complex Cholesky").
   bool simplicial_solves = true;
+  /// Who runs the solves of a real factor (ComplexCholeskySolver ignores it):
+  enum class SolveKernel {
+    kCholmod,  ///< CHOLMOD's own, simplicial or supernodal as simplicial_solves says
+    /// Our supernodal kernel (solvers/supernodal_solve.h) over a copy of the supernodal factor:
+    /// in double precision (the same values as CHOLMOD's), or as floats (half the bytes per
+    /// solve; each factor entry rounded to 6e-8 relative, so a solve's relative error grows
+    /// to ~6e-8 × the condition number; what that means for the heat method: docs/decisions.md,
+    /// "Single-precision factors"). Large factors are solved over two halves of the elimination
+    /// tree on two threads. CHOLMOD keeps only the symbolic factor. Needs supernodal = true.
+    kSupernodalDouble,
+    kSupernodalSingle,
+  };
+  SolveKernel solve_kernel = SolveKernel::kCholmod;
   /// A factor whose reciprocal condition estimate (CHOLMOD's (min diag / max diag)² of L,
   /// dimensionless) is below this is reported as numerically singular (SolverError). ≥ 0.
   double min_rcond = 1e-12;
@@ -44,7 +57,8 @@ struct CholeskyOptions {
   /// (docs/decisions.md, "Cholesky: simplicial solves, one BLAS thread"). 0 = leave the
   /// process setting. ≥ 0.
   int solve_blas_threads = 1;
-  /// @throws InvalidInput if min_rcond is negative or NaN or a thread count is negative
+  /// @throws InvalidInput if min_rcond is negative or NaN, a thread count is negative, or our
+  ///         supernodal kernel is asked for without a supernodal factorization
   void validate() const;
 };
 
@@ -107,6 +121,9 @@ class CholeskySolver {
   double factor_flops() const;
   /// The fill-reducing ordering CHOLMOD used: "AMD", "METIS", "natural", ...
   const char* ordering() const;
+  /// Bytes of factor data one solve with one right-hand side reads (values and row indices,
+  /// forward and backward pass), for bandwidth figures (BENCHMARKS.md, "Heat queries").
+  double solve_bytes() const;
   /// True when the numeric factorization ran supernodal (the stored factor may have been
   /// converted to simplicial form for faster solves, see simplicial_solves).
   bool supernodal() const;

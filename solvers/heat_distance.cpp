@@ -28,8 +28,6 @@ using intrinsic::IntrinsicTriangulation;
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// From this many vertices on, the factors stay supernodal (see the constructor).
-constexpr Index kSupernodalSolveVertices = 200000;
 constexpr double kAbsoluteHeatFloor = 1e-290;  // stay clear of subnormals
 
 // A source as weights on vertices (1 vertex, or the 3 corners of a face).
@@ -221,14 +219,16 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
       std::find(on_boundary.begin(), on_boundary.end(), 1) != on_boundary.end();
   // Two factorizations (three with boundary), each exactly once, side by side.
   const fem::SparseMatrix tL = im.t * im.L;
-  // Large meshes keep their factors supernodal: a single solve costs the same either way there,
-  // but a block of right-hand sides (compute_distances) reads a supernodal factor once per
-  // block with BLAS-3 kernels, a simplicial one once per 4 columns (1M faces, 32 columns:
-  // 0.019 s against 0.036 s per column; small meshes solve faster simplicial: BENCHMARKS.md,
-  // "Batched sources").
   PoissonOptions poisson_opt;
-  poisson_opt.cholesky.simplicial_solves = im.tri.n_vertices() < kSupernodalSolveVertices;
+  // Queries solve with our supernodal kernel: the heat factor in double (its solution decays
+  // far below float's range on large meshes), the Poisson factor in single unless asked for
+  // double (docs/decisions.md, "Single-precision factors").
+  using Kernel = CholeskyOptions::SolveKernel;
+  poisson_opt.cholesky.solve_kernel = options.precision == HeatDistanceOptions::Precision::kDouble
+                                          ? Kernel::kSupernodalDouble
+                                          : Kernel::kSupernodalSingle;
   PoissonOptions heat_opt = poisson_opt;
+  heat_opt.cholesky.solve_kernel = Kernel::kSupernodalDouble;
   heat_opt.screening = 1.0;  // tL + 1·M
   std::vector<std::function<void()>> jobs;
   jobs.emplace_back(

@@ -66,6 +66,14 @@ struct HeatDistanceOptions {
   /// fine mesh (RefinedDistanceSettings), not at the paper's t = h² (docs/decisions.md,
   /// "Accurate distance mode"). ≥ 0; default 0 (the paper's method).
   int correction_steps = 0;
+  /// Precision of the factor values the query's triangular solves read (factorizations and
+  /// every other operation are double). kMixed: the Poisson factor (L) as floats, half its
+  /// bytes per solve; the distances move by at most 3.2e-7 relative to kDouble's on every
+  /// reference mesh (BENCHMARKS.md, "Heat queries"). The heat factor (M + tL) stays double in
+  /// both: its solution decays far below float's range (1e-38) on large meshes, where a float
+  /// factor moved igea's distances by 3e-2 (docs/decisions.md, "Single-precision factors").
+  enum class Precision { kDouble, kMixed };
+  Precision precision = Precision::kMixed;
   /// @throws InvalidInput naming the field: time_factor not > 0 and finite, mean_edge_length
   ///         negative or not finite, thresholds not 0 < resolved_heat ≤ trusted_heat ≤ 1,
   ///         negative max_constrained_sources or correction_steps

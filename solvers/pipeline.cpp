@@ -450,6 +450,7 @@ HeatDistanceOptions distance_options(const PreparedSurface& s, const DistanceSet
   HeatDistanceOptions o;
   o.time_factor = settings.time_factor.value_or(sized ? accurate.time_factor : 1.0);
   o.correction_steps = settings.correction_steps.value_or(sized ? accurate.correction_steps : 0);
+  o.precision = settings.precision.value_or(o.precision);
   o.intrinsic_delaunay = false;  // prepare_surface already flipped (unless told not to)
   if (s.input.has_faces() && s.path != SurfacePath::kPointCloud) {
     // t from the input mesh's edges (more accurate than the IDT's on sliver meshes), and the

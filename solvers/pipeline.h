@@ -147,6 +147,8 @@ Eigen::VectorXd from_input_vertices(const PreparedSurface& s, const Eigen::Vecto
 struct DistanceSettings {
   std::optional<double> time_factor;    ///< m in t = m·h², > 0
   std::optional<int> correction_steps;  ///< ≥ 0
+  /// Precision of the factors the queries read (HeatDistanceOptions::precision; default kMixed)
+  std::optional<HeatDistanceOptions::Precision> precision;
 };
 
 /// The heat-method options geodesic_distance() uses on s: h from the input's faces (or ℓ when

@@ -1,8 +1,9 @@
 // Benchmark section `batch`: heat distances from many sources at once
 // (HeatDistanceSolver::compute_distances) against one query per source, on the same solver.
 //
-//   ifem_bench batch [--repeat N] [--min-n 0] [--max-n 224] [--data DIR]
+//   ifem_bench batch [--repeat N] [--min-n 0] [--max-n 224] [--data DIR] [--kernels-only]
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -55,26 +56,47 @@ double triad_gb_per_s(int repeat) {
   return 3.0 * 8.0 * double(n) / t * 1e-9;
 }
 
-// One factor of M + L (the heat matrix's pattern) kept supernodal or converted to simplicial:
-// seconds per solve of k right-hand sides at once. CHOLMOD's simplicial solve walks the factor
-// once per 4 columns; the supernodal one once per block, with BLAS-3 kernels.
+// One factor of M + L (the heat matrix's pattern) solved by each kernel: CHOLMOD's simplicial
+// one (walks the factor once per 4 columns), CHOLMOD's supernodal one (once per block, BLAS-3),
+// and ours over the supernodal factor in double and in single precision (once per block, two
+// threads on large factors): seconds per solve of k right-hand sides at once, and the factor
+// bytes a solve reads per second (once per block; per 4 columns for CHOLMOD's simplicial).
 void solve_kernel_rows(const std::string& name, const std::vector<Triangle>& faces,
                        const Positions& pos, int repeat) {
+  using Kernel = solvers::CholeskyOptions::SolveKernel;
   Index nf = 0;
   const fem::SparseMatrix A = idt_mass_plus_laplacian(faces, pos, &nf);
-  for (const bool simplicial : {true, false}) {
+  struct Variant {
+    const char* name;
+    bool simplicial;
+    Kernel kernel;
+    bool metis = false;
+  };
+  const Variant variants[] = {{"CHOLMOD simplicial", true, Kernel::kCholmod},
+                              {"CHOLMOD supernodal", false, Kernel::kCholmod},
+                              {"ours, double", false, Kernel::kSupernodalDouble},
+                              {"ours, single", false, Kernel::kSupernodalSingle},
+                              {"ours, double, METIS", false, Kernel::kSupernodalDouble, true},
+                              {"ours, single, METIS", false, Kernel::kSupernodalSingle, true}};
+  Eigen::MatrixXd reference;
+  for (const Variant& v : variants) {
     solvers::CholeskyOptions o;
-    o.simplicial_solves = simplicial;
+    o.simplicial_solves = v.simplicial;
+    o.solve_kernel = v.kernel;
+    o.force_metis = v.metis;
     const solvers::CholeskySolver chol(A, o);
     for (const Eigen::Index k : {1, 4, 8, 32}) {
+      std::srand(unsigned(k));  // the same right-hand sides for every kernel
       const Eigen::MatrixXd B = Eigen::MatrixXd::Random(A.rows(), k);
       Eigen::MatrixXd X(A.rows(), k);
       const double t = time_median(repeat, [&] { chol.solve(B.data(), X.data(), k); });
-      // bytes of L (8-byte value + 4-byte row index per entry), read twice (L and Lᵀ solves)
-      const double bytes = 2.0 * 12.0 * chol.factor_nonzeros();
-      std::printf("| %-16s | %9d | %-10s | %3d | %9.5f | %9.5f | %6.2f |\n", name.c_str(), nf,
-                  simplicial ? "simplicial" : "supernodal", int(k), t, t / double(k),
-                  bytes * double(k) / t * 1e-9);
+      const double reads = v.simplicial ? double((k + 3) / 4) : 1.0;
+      if (k == 1 && !reference.size()) reference = X;
+      const double error =
+          k == 1 ? (X - reference).cwiseAbs().maxCoeff() / reference.cwiseAbs().maxCoeff() : 0.0;
+      std::printf("| %-16s | %9d | %-19s | %3d | %9.5f | %9.5f | %7.1f | %6.2f | %8.1e |\n",
+                  name.c_str(), nf, v.name, int(k), t, t / double(k), chol.solve_bytes() * 1e-6,
+                  chol.solve_bytes() * reads / t * 1e-9, error);
       std::fflush(stdout);
     }
   }
@@ -92,14 +114,15 @@ int batch(int argc, char** argv) {
               "precomp s", "1 query s", "k", "batch s", "per src s", "gain", "peak MiB");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   const int min_n = int(int_option(argc, argv, "--min-n", 0));
+  const bool kernels_only = has_flag(argc, argv, "--kernels-only");
   for (const int n : {23, 71, 224}) {
-    if (n > max_n || n < min_n) continue;
+    if (n > max_n || n < min_n || kernels_only) continue;
     const auto m = intrinsic::icosphere(n);
     batch_rows("icosphere(" + std::to_string(n) + ")", m.faces, m.positions, repeat);
   }
   for (const char* f : {"rocketship.ply", "igea_268k.ply"}) {
     const std::string path = data + "/" + f;
-    if (!std::filesystem::exists(path)) continue;
+    if (!std::filesystem::exists(path) || kernels_only) continue;
     const io::SurfaceInput in = io::read_mesh(path);
     batch_rows(f, in.triangles, in.positions, repeat);
   }
@@ -109,10 +132,10 @@ int batch(int argc, char** argv) {
   std::printf("one thread's memory bandwidth (triad over 3 × 256 MB): %.1f GB/s\n\n",
               triad_gb_per_s(repeat));
   std::printf(
-      "| mesh | faces | factor | k | solve s | per column s | GB/s if L is read per column |\n");
-  std::printf("|---|---:|---|---:|---:|---:|---:|\n");
+      "| mesh | faces | kernel | k | solve s | per column s | MB per read | GB/s | rel. diff |\n");
+  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|\n");
   for (const int n : {71, 224}) {
-    if (n > max_n) continue;
+    if (n > max_n || n < min_n) continue;
     const auto m = intrinsic::icosphere(n);
     solve_kernel_rows("icosphere(" + std::to_string(n) + ")", m.faces, m.positions, repeat);
   }

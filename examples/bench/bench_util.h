@@ -82,6 +82,14 @@ inline long int_option(int argc, char** argv, const char* name, long fallback) {
   return fallback;
 }
 
+/// True when the flag `name` (no value) is among the arguments.
+inline bool has_flag(int argc, char** argv, const char* name) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == name) return true;
+  }
+  return false;
+}
+
 /// Returns the value after `name` in argv, or fallback.
 inline std::string string_option(int argc, char** argv, const char* name,
                                  const std::string& fallback) {

@@ -155,6 +155,9 @@ class HeatDistanceSolver:
             ``refine=True`` only): corner angle bound in degrees, target edge length as a
             multiple of h (0.4 here, as in the CLI), area bound (absolute; 0: none), cap on
             inserted vertices (None: the library's).
+        precision: ``'mixed'`` (default): the queries read the Poisson factor as floats, half
+            its bytes per query; distances move by at most ~3e-7 relative (the heat factor stays
+            double). ``'double'``: every factor in double (the CLI's ``--double-precision``).
 
     Raises:
         InvalidInput: bad arrays or options (the message names the argument).
@@ -170,11 +173,12 @@ class HeatDistanceSolver:
 
     def __init__(self, V, F=None, refine=False, *, time_factor=None, correction_steps=None,
                  mollify=1e-5, path="auto", knn=30, min_angle=25.0, resolution=0.4,
-                 max_area=0.0, max_insertions=None):
+                 max_area=0.0, max_insertions=None, precision="mixed"):
         self._solver = _ifem.HeatDistanceSolver(
             V, _faces(F), _optional(time_factor, "time_factor", _real),
             _optional(correction_steps, "correction_steps", _int), *_surface(mollify, path, knn),
-            _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4))
+            _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4),
+            _precision(precision))
 
     def compute_distance(self, sources=None, points=None):
         """Geodesic distance to the nearest source, on every input vertex.
@@ -264,9 +268,16 @@ class HeatDistanceSolver:
                 f"correction_steps={i['correction_steps']})")
 
 
+def _precision(precision):
+    """The query precision, 'mixed' or 'double' (checked here: the message names the argument)."""
+    if precision not in ("mixed", "double"):
+        raise InvalidInput(f"precision must be 'mixed' or 'double', got {precision!r}")
+    return precision
+
+
 def heat_distance(V, F, sources=None, *, points=None, refine=False, time_factor=None,
                   correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
-                  resolution=0.4, max_area=0.0, max_insertions=None):
+                  resolution=0.4, max_area=0.0, max_insertions=None, precision="mixed"):
     """Geodesic distance from vertices (or surface points) in one call, as ``ifem distance``.
 
     Same arguments and result as ``HeatDistanceSolver(V, F, ...).compute_distance(sources,
@@ -285,9 +296,11 @@ def heat_distance(V, F, sources=None, *, points=None, refine=False, time_factor=
                            "((face, b0, b1, b2) rows)")
     if points is not None:
         faces, bary = _points(points)  # checked before the work
-        solver = _ifem.HeatDistanceSolver(V, _faces(F), t, c, *surface, refine_arg)
+        solver = _ifem.HeatDistanceSolver(V, _faces(F), t, c, *surface, refine_arg,
+                                          _precision(precision))
         return solver.compute_distance_from_points(faces, bary)
-    return _ifem.heat_distance(V, _faces(F), sources, t, c, *surface, refine_arg)
+    return _ifem.heat_distance(V, _faces(F), sources, t, c, *surface, refine_arg,
+                               _precision(precision))
 
 
 # --- eigenpairs ---------------------------------------------------------------------------------

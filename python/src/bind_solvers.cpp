@@ -115,7 +115,12 @@ solvers::PreparedSurface prepare_checked(io::SurfaceInput in, const SurfaceArgs&
 }
 
 solvers::DistanceSettings distance_settings(std::optional<double> time_factor,
-                                            std::optional<int> correction_steps) {
+                                            std::optional<int> correction_steps,
+                                            const std::string& precision) {
+  using Precision = solvers::HeatDistanceOptions::Precision;
+  if (precision != "mixed" && precision != "double") {
+    throw InvalidInput("precision must be 'mixed' or 'double', got '" + precision + "'");
+  }
   if (time_factor && !(*time_factor > 0.0 && std::isfinite(*time_factor))) {
     throw InvalidInput("time_factor must be finite and > 0 (t = time_factor·h²), got " +
                        num(*time_factor));
@@ -123,7 +128,8 @@ solvers::DistanceSettings distance_settings(std::optional<double> time_factor,
   if (correction_steps && *correction_steps < 0) {
     throw InvalidInput("correction_steps must be ≥ 0, got " + std::to_string(*correction_steps));
   }
-  return {time_factor, correction_steps};
+  return {time_factor, correction_steps,
+          precision == "double" ? Precision::kDouble : Precision::kMixed};
 }
 
 // A per-input-vertex result checked as the pipeline checks it (NaN: degenerate operators).
@@ -214,6 +220,8 @@ class DistanceSolver {
     py::dict d = surface_info(s_);
     d["time_factor"] = options_.time_factor;
     d["correction_steps"] = options_.correction_steps;
+    d["precision"] =
+        options_.precision == solvers::HeatDistanceOptions::Precision::kDouble ? "double" : "mixed";
     d["time_step"] = solver_.time_step();
     d["step_length"] = options_.mean_edge_length;
     return d;
@@ -287,9 +295,10 @@ class DistanceSolver {
 std::unique_ptr<DistanceSolver> make_distance_solver(const py::handle& V, const py::handle& F,
                                                      std::optional<double> time_factor,
                                                      std::optional<int> correction_steps,
-                                                     const SurfaceArgs& a,
-                                                     const py::handle& refine) {
-  const solvers::DistanceSettings settings = distance_settings(time_factor, correction_steps);
+                                                     const SurfaceArgs& a, const py::handle& refine,
+                                                     const std::string& precision) {
+  const solvers::DistanceSettings settings =
+      distance_settings(time_factor, correction_steps, precision);
   std::optional<solvers::RefineSettings> r =
       refine_settings(refine, solvers::RefinedDistanceSettings{}.resolution, false);
   solvers::PreparedSurface s = prepare_checked(checked_input(V, F, a), a, std::move(r));
@@ -302,8 +311,10 @@ std::unique_ptr<DistanceSolver> make_distance_solver(const py::handle& V, const 
 // solvers::geodesic_distance(), the CLI's call, from vertex sources.
 py::array heat_distance(const py::handle& V, const py::handle& F, const py::handle& sources,
                         std::optional<double> time_factor, std::optional<int> correction_steps,
-                        const SurfaceArgs& a, const py::handle& refine) {
-  const solvers::DistanceSettings settings = distance_settings(time_factor, correction_steps);
+                        const SurfaceArgs& a, const py::handle& refine,
+                        const std::string& precision) {
+  const solvers::DistanceSettings settings =
+      distance_settings(time_factor, correction_steps, precision);
   std::optional<solvers::RefineSettings> r =
       refine_settings(refine, solvers::RefinedDistanceSettings{}.resolution, false);
   io::SurfaceInput in = checked_input(V, F, a);
@@ -385,11 +396,14 @@ void bind_solvers(py::module_& m) {
   using Steps = std::optional<int>;
   py::class_<DistanceSolver>(m, "HeatDistanceSolver")
       .def(py::init([](const py::handle& V, const py::handle& F, Opt t, Steps c, double mollify,
-                       const std::string& path, int knn, const py::handle& refine) {
-             return make_distance_solver(V, F, t, c, surface_args(mollify, path, knn), refine);
+                       const std::string& path, int knn, const py::handle& refine,
+                       const std::string& precision) {
+             return make_distance_solver(V, F, t, c, surface_args(mollify, path, knn), refine,
+                                         precision);
            }),
            py::arg("V"), py::arg("F"), py::arg("time_factor"), py::arg("correction_steps"),
-           py::arg("mollify"), py::arg("path"), py::arg("knn"), py::arg("refine"))
+           py::arg("mollify"), py::arg("path"), py::arg("knn"), py::arg("refine"),
+           py::arg("precision") = "mixed")
       .def("compute_distance", &DistanceSolver::distance, py::arg("sources"))
       .def("compute_distances", &DistanceSolver::distances, py::arg("sources"))
       .def("compute_distance_from_points", &DistanceSolver::distance_from_points, py::arg("faces"),
@@ -400,12 +414,14 @@ void bind_solvers(py::module_& m) {
   m.def(
       "heat_distance",
       [](const py::handle& V, const py::handle& F, const py::handle& sources, Opt t, Steps c,
-         double mollify, const std::string& path, int knn, const py::handle& refine) {
-        return heat_distance(V, F, sources, t, c, surface_args(mollify, path, knn), refine);
+         double mollify, const std::string& path, int knn, const py::handle& refine,
+         const std::string& precision) {
+        return heat_distance(V, F, sources, t, c, surface_args(mollify, path, knn), refine,
+                             precision);
       },
       py::arg("V"), py::arg("F"), py::arg("sources"), py::arg("time_factor"),
       py::arg("correction_steps"), py::arg("mollify"), py::arg("path"), py::arg("knn"),
-      py::arg("refine"));
+      py::arg("refine"), py::arg("precision") = "mixed");
   m.def(
       "eigen",
       [](const py::handle& V, const py::handle& F, Index k, double mollify, const std::string& path,

@@ -7,6 +7,7 @@
 
 #include "fem/gradient.h"
 #include "intrinsic/core/errors.h"
+#include "solvers/parallel.h"
 #include "test_util.h"
 
 namespace ifem::solvers {
@@ -256,6 +257,34 @@ TEST(SolversHeatDistance, BatchRecomputesUnderflowingSourcesAlone) {
   EXPECT_EQ(reps[1].stages, 1);
   const Eigen::VectorXd exact = euclidean(m, 0);
   EXPECT_LT(compare(D.col(0), exact).linf_over_max, 0.01);
+}
+
+// Results do not depend on the thread count (solvers::set_max_threads): bitwise, for both
+// precisions, single and batched queries, on a sphere large enough for the solve kernel's
+// two-thread split (factors of ≥ 2M entries) and on a disk with boundary (two heat factors
+// solved side by side).
+TEST(SolversHeatDistance, ThreadCountDoesNotChangeTheBits) {
+  using Precision = HeatDistanceOptions::Precision;
+  const auto sphere = test::make_tri(intrinsic::icosphere(50));
+  const auto disk = test::make_tri(test::jittered(intrinsic::grid(120, 120), 0.01));
+  for (const auto* tri : {&sphere, &disk}) {
+    for (const Precision precision : {Precision::kDouble, Precision::kMixed}) {
+      HeatDistanceOptions o;
+      o.precision = precision;
+      Eigen::VectorXd d[2];
+      Eigen::MatrixXd D[2];
+      for (const int threads : {1, 2}) {
+        set_max_threads(threads);
+        const HeatDistanceSolver solver(*tri, o);
+        d[threads - 1] = solver.compute_distance({5});
+        D[threads - 1] = solver.compute_distances({5, 900, 17});
+      }
+      set_max_threads(0);
+      EXPECT_TRUE(d[0] == d[1]) << tri->n_vertices() << " vertices";
+      EXPECT_TRUE(D[0] == D[1]);
+      EXPECT_LT((D[0].col(0) - d[0]).cwiseAbs().maxCoeff(), 1e-9 * d[0].maxCoeff());
+    }
+  }
 }
 
 TEST(SolversHeatDistance, BatchRefusesBadSources) {

@@ -117,7 +117,8 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
         std::printf("    c=%.2f V=%-7d", res, sw.tri.n_vertices());
         for (const double m : {0.125, 0.25, 0.5, 1.0}) {
           for (const int steps : {0, 1}) {
-            const Eigen::VectorXd d = geodesic_distance(sw, {c.src}, DistanceSettings{m, steps});
+            const Eigen::VectorXd d =
+                geodesic_distance(sw, {c.src}, DistanceSettings{m, steps, std::nullopt});
             std::printf(" m=%g/%d %.4f", m, steps, mean_rel(d, exact));
           }
         }

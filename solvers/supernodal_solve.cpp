@@ -1,0 +1,439 @@
+#include "solvers/supernodal_solve.h"
+
+#include <algorithm>
+#include <functional>
+#include <mutex>
+#include <numeric>
+#include <string>
+#include <utility>
+
+#include "intrinsic/core/errors.h"
+#include "solvers/flush_denormals.h"
+#include "solvers/parallel.h"
+
+namespace ifem::solvers {
+
+namespace {
+
+using Int64 = std::int64_t;
+
+// A subtree of the elimination tree: supernodes [first, last] (last is its root), whose columns
+// end before col_end; rows at or past col_end are its ancestors' (the serial top).
+struct Subtree {
+  int first = 0, last = 0, col_end = 0;
+};
+
+// One supernode's dense block: nsrow × nscol column-major values L, row indices R, first column k1.
+template <class Real>
+struct Block {
+  const Real* L;
+  const int* R;
+  int nscol, nsrow, k1;
+};
+
+// Where a forward pass inside a subtree sends the updates of its ancestors' rows: a bin's own
+// accumulator (compact top numbering), so that two bins never write the same row.
+struct TopAccumulator {
+  double* acc = nullptr;
+  const int* top_index = nullptr;
+  int col_end = 0;
+};
+
+// Forward substitution of one supernode on W (n × k, row-major): solve with the diagonal block,
+// then subtract the off-diagonal block's product from the rows below (T: scratch, m × k).
+template <class Real>
+void forward_block(const Block<Real>& b, double* W, int k, double* T, const TopAccumulator& top) {
+  const int ld = b.nsrow, m = b.nsrow - b.nscol;
+  double* Y = W + Int64(b.k1) * k;
+  for (int c = 0; c < b.nscol; ++c) {
+    const double d = double(b.L[Int64(c) * ld + c]);
+    double* yc = Y + Int64(c) * k;
+    for (int j = 0; j < k; ++j) yc[j] /= d;
+    for (int r = c + 1; r < b.nscol; ++r) {
+      const double l = double(b.L[Int64(c) * ld + r]);
+      double* yr = Y + Int64(r) * k;
+      for (int j = 0; j < k; ++j) yr[j] -= l * yc[j];
+    }
+  }
+  if (m == 0) return;
+  std::fill(T, T + Int64(m) * k, 0.0);
+  for (int c = 0; c < b.nscol; ++c) {
+    const Real* lc = b.L + Int64(c) * ld + b.nscol;
+    const double* yc = Y + Int64(c) * k;
+    if (k == 1) {
+      const double y = yc[0];
+      for (int r = 0; r < m; ++r) T[r] += double(lc[r]) * y;
+    } else {
+      for (int r = 0; r < m; ++r) {
+        const double l = double(lc[r]);
+        double* tr = T + Int64(r) * k;
+        for (int j = 0; j < k; ++j) tr[j] += l * yc[j];
+      }
+    }
+  }
+  const int* rows = b.R + b.nscol;
+  for (int r = 0; r < m; ++r) {
+    const int i = rows[r];
+    double* dst =
+        top.acc && i >= top.col_end ? top.acc + Int64(top.top_index[i]) * k : W + Int64(i) * k;
+    const double* tr = T + Int64(r) * k;
+    for (int j = 0; j < k; ++j) dst[j] -= tr[j];
+  }
+}
+
+// Σ_r l[r]·g[r] with four partial sums (a fixed order: deterministic, and it vectorizes).
+template <class Real>
+double dot(const Real* l, const double* g, int m) {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  int r = 0;
+  for (; r + 4 <= m; r += 4) {
+    s0 += double(l[r]) * g[r];
+    s1 += double(l[r + 1]) * g[r + 1];
+    s2 += double(l[r + 2]) * g[r + 2];
+    s3 += double(l[r + 3]) * g[r + 3];
+  }
+  for (; r < m; ++r) s0 += double(l[r]) * g[r];
+  return (s0 + s1) + (s2 + s3);
+}
+
+// Backward substitution of one supernode: subtract the off-diagonal block's transpose times the
+// (final) rows below, gathered into G (m × k), then solve with the diagonal block's transpose.
+template <class Real>
+void backward_block(const Block<Real>& b, double* W, int k, double* G) {
+  const int ld = b.nsrow, m = b.nsrow - b.nscol;
+  double* Y = W + Int64(b.k1) * k;
+  if (m > 0) {
+    const int* rows = b.R + b.nscol;
+    for (int r = 0; r < m; ++r) {
+      const double* src = W + Int64(rows[r]) * k;
+      std::copy(src, src + k, G + Int64(r) * k);
+    }
+    for (int c = 0; c < b.nscol; ++c) {
+      const Real* lc = b.L + Int64(c) * ld + b.nscol;
+      double* yc = Y + Int64(c) * k;
+      if (k == 1) {
+        yc[0] -= dot(lc, G, m);
+        continue;
+      }
+      for (int r = 0; r < m; ++r) {
+        const double l = double(lc[r]);
+        const double* gr = G + Int64(r) * k;
+        for (int j = 0; j < k; ++j) yc[j] -= l * gr[j];
+      }
+    }
+  }
+  for (int c = b.nscol - 1; c >= 0; --c) {
+    double* yc = Y + Int64(c) * k;
+    for (int r = c + 1; r < b.nscol; ++r) {
+      const double l = double(b.L[Int64(c) * ld + r]);
+      const double* yr = Y + Int64(r) * k;
+      for (int j = 0; j < k; ++j) yc[j] -= l * yr[j];
+    }
+    const double d = double(b.L[Int64(c) * ld + c]);
+    for (int j = 0; j < k; ++j) yc[j] /= d;
+  }
+}
+
+// The split of the elimination tree: two bins of subtrees and the serial top (ascending).
+struct Split {
+  std::vector<Subtree> bin[2];
+  std::vector<int> top;
+  std::vector<int> top_index;  // n: column → compact index among the top's columns, or −1
+  int n_top = 0;
+  double top_share = 0.0;
+};
+
+// The supernodal elimination tree: parent (−1 at a root) and the first supernode of each subtree;
+// false when the numbering is not a postorder (every subtree a contiguous range ending at its
+// root).
+bool supernodal_tree(const SupernodalPattern& p, std::vector<int>& col_super,
+                     std::vector<int>& parent, std::vector<int>& first) {
+  const int ns = int(p.super.size()) - 1;
+  col_super.resize(p.n);
+  for (int s = 0; s < ns; ++s) {
+    std::fill(col_super.begin() + p.super[s], col_super.begin() + p.super[s + 1], s);
+  }
+  parent.assign(ns, -1);
+  first.resize(ns);
+  std::iota(first.begin(), first.end(), 0);
+  std::vector<int> size(ns, 1);
+  for (int s = 0; s < ns; ++s) {
+    const int nscol = p.super[s + 1] - p.super[s];
+    const Int64 r0 = p.row_start[s];
+    if (p.row_start[s + 1] - r0 > nscol) {
+      const int q = col_super[p.rows[r0 + nscol]];
+      if (q <= s) throw InvalidInput("SupernodalSolver: a supernode's parent precedes it");
+      parent[s] = q;
+      first[q] = std::min(first[q], first[s]);
+      size[q] += size[s];
+    }
+  }
+  for (int s = 0; s < ns; ++s) {
+    if (s - first[s] + 1 != size[s]) return false;
+  }
+  return true;
+}
+
+// Largest bin after assigning the subtrees (heaviest first) to the lighter of two bins.
+double two_bin_makespan(std::vector<int> roots, const std::vector<double>& work,
+                        std::vector<int>* bin_of = nullptr) {
+  std::sort(roots.begin(), roots.end(),
+            [&](int a, int b) { return work[a] != work[b] ? work[a] > work[b] : a < b; });
+  double load[2] = {0.0, 0.0};
+  for (const int r : roots) {
+    const int b = load[1] < load[0] ? 1 : 0;
+    load[b] += work[r];
+    if (bin_of) (*bin_of)[r] = b;
+  }
+  return std::max(load[0], load[1]);
+}
+
+// Splits the tree: starting from the roots, the heaviest subtree is repeatedly replaced by its
+// children (its root joins the serial top); the split with the least top + largest bin wins.
+Split split_tree(const SupernodalPattern& p, const std::vector<int>& parent,
+                 const std::vector<int>& first) {
+  const int ns = int(parent.size());
+  std::vector<double> own(ns), work(ns);
+  std::vector<std::vector<int>> children(ns);
+  std::vector<int> cand;
+  for (int s = 0; s < ns; ++s) {
+    own[s] = double(p.value_start[s + 1] - p.value_start[s]);
+    work[s] += own[s];
+    if (parent[s] >= 0) {
+      work[parent[s]] += work[s];
+      children[parent[s]].push_back(s);
+    } else {
+      cand.push_back(s);
+    }
+  }
+  const double total = double(p.value_start[ns]);
+  std::vector<int> top, best_cand = cand, best_top;
+  double top_work = 0.0, best = two_bin_makespan(cand, work);
+  for (int step = 0; step < 512 && !cand.empty(); ++step) {
+    const auto heaviest = std::max_element(cand.begin(), cand.end(), [&](int a, int b) {
+      return work[a] != work[b] ? work[a] < work[b] : a > b;
+    });
+    const int s = *heaviest;
+    if (work[s] < 0.01 * total) break;
+    cand.erase(heaviest);
+    top.push_back(s);
+    top_work += own[s];
+    cand.insert(cand.end(), children[s].begin(), children[s].end());
+    const double cost = top_work + two_bin_makespan(cand, work);
+    if (cost < best) best = cost, best_cand = cand, best_top = top;
+  }
+  Split split;
+  std::vector<int> bin_of(ns, 0);
+  two_bin_makespan(best_cand, work, &bin_of);
+  std::sort(best_cand.begin(), best_cand.end());
+  for (const int r : best_cand) split.bin[bin_of[r]].push_back({first[r], r, p.super[r + 1]});
+  std::sort(best_top.begin(), best_top.end());
+  split.top = best_top;
+  split.top_index.assign(p.n, -1);
+  for (const int s : best_top) {
+    for (int c = p.super[s]; c < p.super[s + 1]; ++c) split.top_index[c] = split.n_top++;
+    split.top_share += own[s] / total;
+  }
+  return split;
+}
+
+void check_pattern(const SupernodalPattern& p) {
+  const std::size_t ns = p.super.size();
+  const bool ok = ns >= 2 && p.row_start.size() == ns && p.value_start.size() == ns &&
+                  p.perm.size() == std::size_t(p.n) && p.super.front() == 0 &&
+                  p.super.back() == p.n && p.row_start.back() == Int64(p.rows.size());
+  if (!ok) throw InvalidInput("SupernodalSolver: inconsistent supernodal pattern");
+}
+
+}  // namespace
+
+struct SupernodalSolver::Impl {
+  SupernodalPattern p;
+  FactorPrecision precision = FactorPrecision::kDouble;
+  std::vector<double> values_d;
+  std::vector<float> values_f;
+  int max_offdiag = 0;         // largest m = nsrow − nscol
+  std::vector<int> col_super;  // n: the supernode of each column
+  std::vector<int> parent;     // #supernodes: the elimination tree's parent, −1 at a root
+  bool split_tree = false;
+  Split split;
+  // workspace of the last solve, reused when no other solve holds it
+  mutable std::mutex workspace_mutex;
+  mutable std::vector<double> workspace;
+
+  template <class Real>
+  Block<Real> block(const Real* values, int s) const {
+    const int nscol = p.super[s + 1] - p.super[s];
+    const int nsrow = int(p.row_start[s + 1] - p.row_start[s]);
+    return {values + p.value_start[s], p.rows.data() + p.row_start[s], nscol, nsrow, p.super[s]};
+  }
+
+  template <class Real>
+  void solve_permuted(const Real* values, double* W, int k) const;
+  // The supernodes a forward pass must visit for W's nonzero rows (they and their ancestors),
+  // ascending, when they hold less than half the factor; else empty (visit all).
+  std::vector<int> forward_reach(const double* W, int k) const;
+  template <class Real>
+  void forward_split(const Real* values, double* W, int k) const;
+  template <class Real>
+  void backward_split(const Real* values, double* W, int k) const;
+};
+
+template <class Real>
+void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k) const {
+  std::vector<double> acc[2];
+  std::vector<std::function<void()>> jobs;
+  for (int b = 0; b < 2; ++b) {
+    acc[b].assign(std::size_t(split.n_top) * k, 0.0);
+    jobs.emplace_back([this, values, W, k, b, &acc] {
+      const FlushDenormalsScope no_subnormals;
+      std::vector<double> T(std::size_t(max_offdiag) * k);
+      for (const Subtree& st : split.bin[b]) {
+        const TopAccumulator top{acc[b].data(), split.top_index.data(), st.col_end};
+        for (int s = st.first; s <= st.last; ++s)
+          forward_block(block(values, s), W, k, T.data(), top);
+      }
+    });
+  }
+  run_parallel(jobs);
+  // the bins' updates of the top's rows, in a fixed order (bin 0, then bin 1)
+  for (const int s : split.top) {
+    for (int c = p.super[s]; c < p.super[s + 1]; ++c) {
+      const Int64 t = Int64(split.top_index[c]) * k;
+      double* w = W + Int64(c) * k;
+      for (int j = 0; j < k; ++j) w[j] = (w[j] + acc[0][t + j]) + acc[1][t + j];
+    }
+  }
+  std::vector<double> T(std::size_t(max_offdiag) * k);
+  for (const int s : split.top) forward_block(block(values, s), W, k, T.data(), TopAccumulator{});
+}
+
+template <class Real>
+void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k) const {
+  std::vector<double> G(std::size_t(max_offdiag) * k);
+  for (auto it = split.top.rbegin(); it != split.top.rend(); ++it) {
+    backward_block(block(values, *it), W, k, G.data());
+  }
+  std::vector<std::function<void()>> jobs;
+  for (int b = 0; b < 2; ++b) {
+    jobs.emplace_back([this, values, W, k, b] {
+      const FlushDenormalsScope no_subnormals;
+      std::vector<double> Gb(std::size_t(max_offdiag) * k);
+      const auto& bin = split.bin[b];
+      for (auto st = bin.rbegin(); st != bin.rend(); ++st) {
+        for (int s = st->last; s >= st->first; --s)
+          backward_block(block(values, s), W, k, Gb.data());
+      }
+    });
+  }
+  run_parallel(jobs);
+}
+
+std::vector<int> SupernodalSolver::Impl::forward_reach(const double* W, int k) const {
+  const int ns = int(parent.size());
+  std::vector<char> mark(ns, 0);
+  Int64 work = 0;
+  for (Eigen::Index i = 0; i < p.n; ++i) {
+    const double* w = W + Int64(i) * k;
+    if (std::all_of(w, w + k, [](double x) { return x == 0.0; })) continue;
+    for (int s = col_super[i]; s >= 0 && !mark[s]; s = parent[s]) {
+      mark[s] = 1;
+      work += p.value_start[s + 1] - p.value_start[s];
+    }
+  }
+  std::vector<int> reach;
+  if (2 * work >= p.value_start.back()) return reach;
+  for (int s = 0; s < ns; ++s) {
+    if (mark[s]) reach.push_back(s);
+  }
+  return reach;
+}
+
+template <class Real>
+void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k) const {
+  const int ns = int(p.super.size()) - 1;
+  std::vector<double> T(std::size_t(max_offdiag) * k);
+  // a sparse right-hand side (a point source) reaches only its columns' ancestors: the forward
+  // pass visits those (zero rows stay zero elsewhere: the same values as a full pass)
+  const std::vector<int> reach = forward_reach(W, k);
+  if (!reach.empty()) {
+    for (const int s : reach) forward_block(block(values, s), W, k, T.data(), TopAccumulator{});
+  } else if (split_tree) {
+    forward_split(values, W, k);
+  } else {
+    for (int s = 0; s < ns; ++s) forward_block(block(values, s), W, k, T.data(), TopAccumulator{});
+  }
+  if (split_tree) {
+    backward_split(values, W, k);
+  } else {
+    for (int s = ns - 1; s >= 0; --s) backward_block(block(values, s), W, k, T.data());
+  }
+}
+
+SupernodalSolver::SupernodalSolver(SupernodalPattern pattern, const double* values,
+                                   FactorPrecision precision)
+    : impl_(std::make_unique<Impl>()) {
+  check_pattern(pattern);
+  Impl& im = *impl_;
+  im.p = std::move(pattern);
+  im.precision = precision;
+  const Int64 count = im.p.value_start.back();
+  if (precision == FactorPrecision::kSingle) {
+    im.values_f.assign(values, values + count);
+  } else {
+    im.values_d.assign(values, values + count);
+  }
+  const int ns = int(im.p.super.size()) - 1;
+  for (int s = 0; s < ns; ++s) {
+    const int m =
+        int(im.p.row_start[s + 1] - im.p.row_start[s]) - (im.p.super[s + 1] - im.p.super[s]);
+    im.max_offdiag = std::max(im.max_offdiag, m);
+  }
+  std::vector<int> first;
+  const bool postordered = supernodal_tree(im.p, im.col_super, im.parent, first);
+  if (count >= kParallelEntries && postordered) {
+    im.split = split_tree(im.p, im.parent, first);
+    im.split_tree = true;
+  }
+}
+
+SupernodalSolver::~SupernodalSolver() = default;
+SupernodalSolver::SupernodalSolver(SupernodalSolver&&) noexcept = default;
+SupernodalSolver& SupernodalSolver::operator=(SupernodalSolver&&) noexcept = default;
+
+void SupernodalSolver::solve(const double* b, double* x, Eigen::Index cols) const {
+  const Impl& im = *impl_;
+  if (cols <= 0) return;
+  const Eigen::Index n = im.p.n;
+  const int k = int(cols);
+  std::unique_lock<std::mutex> lock(im.workspace_mutex, std::try_to_lock);
+  std::vector<double> own;
+  std::vector<double>& W = lock.owns_lock() ? im.workspace : own;
+  W.resize(std::size_t(n) * k);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Index src = im.p.perm[i];
+    for (int j = 0; j < k; ++j) W[std::size_t(i) * k + j] = b[src + j * n];
+  }
+  const FlushDenormalsScope no_subnormals;
+  if (im.precision == FactorPrecision::kSingle) {
+    im.solve_permuted(im.values_f.data(), W.data(), k);
+  } else {
+    im.solve_permuted(im.values_d.data(), W.data(), k);
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Index dst = im.p.perm[i];
+    for (int j = 0; j < k; ++j) x[dst + j * n] = W[std::size_t(i) * k + j];
+  }
+}
+
+std::size_t SupernodalSolver::bytes_per_pass() const {
+  const Impl& im = *impl_;
+  const std::size_t value_bytes = im.precision == FactorPrecision::kSingle ? 4 : 8;
+  return std::size_t(entries()) * value_bytes + im.p.rows.size() * sizeof(int);
+}
+
+std::int64_t SupernodalSolver::entries() const { return impl_->p.value_start.back(); }
+bool SupernodalSolver::split() const { return impl_->split_tree; }
+double SupernodalSolver::top_share() const { return impl_->split.top_share; }
+
+}  // namespace ifem::solvers

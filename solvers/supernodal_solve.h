@@ -1,0 +1,74 @@
+// Triangular solves with a supernodal Cholesky factor held in our own arrays, in double or single
+// precision, over two independent halves of the elimination tree on two threads (internal to
+// solvers/; CholeskySolver uses it when CholeskyOptions::solve_kernel asks for it).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace ifem::solvers {
+
+/// The sparsity of a supernodal factor L with P A Pᵀ = L Lᵀ, in CHOLMOD's layout: supernode s
+/// holds columns [super[s], super[s+1]) as one dense column-major block of
+/// (row_start[s+1] − row_start[s]) rows × (super[s+1] − super[s]) columns, starting at
+/// value_start[s] in the values; its row indices, ascending and its own columns first, are
+/// rows[row_start[s] ..]. Supernodes are numbered in a postorder of the elimination tree (as
+/// CHOLMOD's analysis with postordering leaves them), so every subtree is a contiguous range.
+struct SupernodalPattern {
+  Eigen::Index n = 0;                     ///< matrix size
+  std::vector<int> perm;                  ///< n: row k of P A Pᵀ is row perm[k] of A
+  std::vector<int> super;                 ///< #supernodes + 1
+  std::vector<std::int64_t> row_start;    ///< #supernodes + 1, into rows
+  std::vector<std::int64_t> value_start;  ///< #supernodes + 1, into the values
+  std::vector<int> rows;                  ///< row indices of every supernode
+};
+
+/// Precision of the factor values the solves read (the right-hand sides, the solution and every
+/// sum stay in double).
+enum class FactorPrecision {
+  kDouble,  ///< 8 bytes per factor entry
+  kSingle,  ///< 4 bytes per entry: a float copy (half the memory traffic; relative rounding
+            ///< 6e-8 in each entry, see CholeskyOptions::solve_kernel)
+};
+
+/// Forward and backward substitution with a supernodal factor. The elimination tree is split
+/// once, at construction, into a serial top and two bins of disjoint subtrees of nearly equal
+/// work; a solve runs the bins on two threads when the factor is large (≥ kParallelEntries) and
+/// the caller is not itself one of run_parallel()'s jobs, else one after the other. The split
+/// depends on the factor only, so results are bitwise the same with one thread or two.
+/// solve() is const and may run concurrently from several threads.
+class SupernodalSolver {
+ public:
+  /// Factors with at least this many entries get the two-bin split (smaller ones are solved in
+  /// one pass in column order: a thread start costs more than the work there).
+  static constexpr std::int64_t kParallelEntries = 2'000'000;
+
+  /// Copies the factor values (value_start.back() doubles at `values`) in the given precision.
+  /// @throws InvalidInput if the pattern is inconsistent (sizes, ranges, not postordered)
+  SupernodalSolver(SupernodalPattern pattern, const double* values, FactorPrecision precision);
+  ~SupernodalSolver();
+  SupernodalSolver(SupernodalSolver&&) noexcept;
+  SupernodalSolver& operator=(SupernodalSolver&&) noexcept;
+
+  /// Solves A X = B for `cols` columns stored column-major at b (n × cols) into x (may alias b).
+  void solve(const double* b, double* x, Eigen::Index cols) const;
+
+  /// Bytes one pass over the factor reads (values and row indices): a solve makes two passes.
+  std::size_t bytes_per_pass() const;
+  /// Number of stored factor entries (with CHOLMOD's supernodal padding).
+  std::int64_t entries() const;
+  /// True when solves split the tree into two bins (factor entries ≥ kParallelEntries).
+  bool split() const;
+  /// Share of the factor's entries in the serial top of the tree (0 without a split).
+  double top_share() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ifem::solvers
