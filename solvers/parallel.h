@@ -14,7 +14,9 @@ namespace ifem::solvers {
 /// each) finish well before two in a row (docs/DEPENDENCIES.md: ~1.9 s vs 2.6–3.0 s at 1M faces).
 /// Jobs started from inside another run_parallel() job run one after the other on the calling
 /// thread (the cores are taken already).
-void run_parallel(const std::vector<std::function<void()>>& jobs);
+/// @param blas_one_thread false for jobs that call no BLAS (solves with our own kernel): then
+///        OpenBLAS's setting is left alone (changing it wakes its threads, which spin)
+void run_parallel(const std::vector<std::function<void()>>& jobs, bool blas_one_thread = true);
 
 /// Caps the threads run_parallel() uses, process-wide (0: the hardware's core count; ≥ 0).
 /// Results never depend on it (tests compare 1 and 2 threads bitwise).

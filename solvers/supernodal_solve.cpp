@@ -1,10 +1,13 @@
 #include "solvers/supernodal_solve.h"
 
+#include <cblas.h>
+
 #include <algorithm>
 #include <functional>
 #include <mutex>
 #include <numeric>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "intrinsic/core/errors.h"
@@ -39,37 +42,40 @@ struct TopAccumulator {
   int col_end = 0;
 };
 
-// Forward substitution of one supernode on W (n × k, row-major): solve with the diagonal block,
-// then subtract the off-diagonal block's product from the rows below (T: scratch, m × k).
+// A supernode's block as double: the factor's own values, or the float values converted into
+// `scratch` (nsrow × nscol, column-major) so that the dense kernels below run in double.
 template <class Real>
-void forward_block(const Block<Real>& b, double* W, int k, double* T, const TopAccumulator& top) {
-  const int ld = b.nsrow, m = b.nsrow - b.nscol;
-  double* Y = W + Int64(b.k1) * k;
-  for (int c = 0; c < b.nscol; ++c) {
-    const double d = double(b.L[Int64(c) * ld + c]);
-    double* yc = Y + Int64(c) * k;
-    for (int j = 0; j < k; ++j) yc[j] /= d;
-    for (int r = c + 1; r < b.nscol; ++r) {
-      const double l = double(b.L[Int64(c) * ld + r]);
-      double* yr = Y + Int64(r) * k;
-      for (int j = 0; j < k; ++j) yr[j] -= l * yc[j];
-    }
+const double* block_values(const Block<Real>& b, double* scratch) {
+  if constexpr (std::is_same_v<Real, double>) {
+    (void)scratch;
+    return b.L;
+  } else {
+    const Int64 size = Int64(b.nsrow) * b.nscol;
+    for (Int64 i = 0; i < size; ++i) scratch[i] = double(b.L[i]);
+    return scratch;
   }
-  if (m == 0) return;
-  std::fill(T, T + Int64(m) * k, 0.0);
-  for (int c = 0; c < b.nscol; ++c) {
-    const Real* lc = b.L + Int64(c) * ld + b.nscol;
-    const double* yc = Y + Int64(c) * k;
-    if (k == 1) {
-      const double y = yc[0];
-      for (int r = 0; r < m; ++r) T[r] += double(lc[r]) * y;
-    } else {
-      for (int r = 0; r < m; ++r) {
-        const double l = double(lc[r]);
-        double* tr = T + Int64(r) * k;
-        for (int j = 0; j < k; ++j) tr[j] += l * yc[j];
-      }
-    }
+}
+
+// Forward substitution of one supernode on W (n × k, row-major) with BLAS, as CHOLMOD's own
+// supernodal solve does: solve with the diagonal block, then subtract the off-diagonal block's
+// product from the rows below (T: scratch, m × k; S: scratch for a converted float block).
+template <class Real>
+void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
+                   const TopAccumulator& top) {
+  const int m = b.nsrow - b.nscol, ld = b.nsrow;
+  const double* L = block_values(b, S);
+  double* Y = W + Int64(b.k1) * k;
+  if (k == 1) {
+    cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, b.nscol, L, ld, Y, 1);
+    if (m == 0) return;
+    cblas_dgemv(CblasColMajor, CblasNoTrans, m, b.nscol, 1.0, L + b.nscol, ld, Y, 1, 0.0, T, 1);
+  } else {
+    // Y is Yᵀ column-major (k × nscol): L11 Y = B ⇔ Yᵀ L11ᵀ = Bᵀ; Tᵀ = Yᵀ L21ᵀ
+    cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasTrans, CblasNonUnit, k, b.nscol, 1.0, L,
+                ld, Y, k);
+    if (m == 0) return;
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, k, m, b.nscol, 1.0, Y, k, L + b.nscol, ld,
+                0.0, T, k);
   }
   const int* rows = b.R + b.nscol;
   for (int r = 0; r < m; ++r) {
@@ -81,26 +87,12 @@ void forward_block(const Block<Real>& b, double* W, int k, double* T, const TopA
   }
 }
 
-// Σ_r l[r]·g[r] with four partial sums (a fixed order: deterministic, and it vectorizes).
-template <class Real>
-double dot(const Real* l, const double* g, int m) {
-  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-  int r = 0;
-  for (; r + 4 <= m; r += 4) {
-    s0 += double(l[r]) * g[r];
-    s1 += double(l[r + 1]) * g[r + 1];
-    s2 += double(l[r + 2]) * g[r + 2];
-    s3 += double(l[r + 3]) * g[r + 3];
-  }
-  for (; r < m; ++r) s0 += double(l[r]) * g[r];
-  return (s0 + s1) + (s2 + s3);
-}
-
 // Backward substitution of one supernode: subtract the off-diagonal block's transpose times the
 // (final) rows below, gathered into G (m × k), then solve with the diagonal block's transpose.
 template <class Real>
-void backward_block(const Block<Real>& b, double* W, int k, double* G) {
-  const int ld = b.nsrow, m = b.nsrow - b.nscol;
+void backward_block(const Block<Real>& b, double* W, int k, double* G, double* S) {
+  const int m = b.nsrow - b.nscol, ld = b.nsrow;
+  const double* L = block_values(b, S);
   double* Y = W + Int64(b.k1) * k;
   if (m > 0) {
     const int* rows = b.R + b.nscol;
@@ -108,29 +100,19 @@ void backward_block(const Block<Real>& b, double* W, int k, double* G) {
       const double* src = W + Int64(rows[r]) * k;
       std::copy(src, src + k, G + Int64(r) * k);
     }
-    for (int c = 0; c < b.nscol; ++c) {
-      const Real* lc = b.L + Int64(c) * ld + b.nscol;
-      double* yc = Y + Int64(c) * k;
-      if (k == 1) {
-        yc[0] -= dot(lc, G, m);
-        continue;
-      }
-      for (int r = 0; r < m; ++r) {
-        const double l = double(lc[r]);
-        const double* gr = G + Int64(r) * k;
-        for (int j = 0; j < k; ++j) yc[j] -= l * gr[j];
-      }
+    if (k == 1) {
+      cblas_dgemv(CblasColMajor, CblasTrans, m, b.nscol, -1.0, L + b.nscol, ld, G, 1, 1.0, Y, 1);
+    } else {
+      cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, k, b.nscol, m, -1.0, G, k, L + b.nscol,
+                  ld, 1.0, Y, k);
     }
   }
-  for (int c = b.nscol - 1; c >= 0; --c) {
-    double* yc = Y + Int64(c) * k;
-    for (int r = c + 1; r < b.nscol; ++r) {
-      const double l = double(b.L[Int64(c) * ld + r]);
-      const double* yr = Y + Int64(r) * k;
-      for (int j = 0; j < k; ++j) yc[j] -= l * yr[j];
-    }
-    const double d = double(b.L[Int64(c) * ld + c]);
-    for (int j = 0; j < k; ++j) yc[j] /= d;
+  if (k == 1) {
+    cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasNonUnit, b.nscol, L, ld, Y, 1);
+  } else {
+    // L11ᵀ Y = B ⇔ Yᵀ L11 = Bᵀ
+    cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasNoTrans, CblasNonUnit, k, b.nscol, 1.0,
+                L, ld, Y, k);
   }
 }
 
@@ -252,14 +234,25 @@ struct SupernodalSolver::Impl {
   FactorPrecision precision = FactorPrecision::kDouble;
   std::vector<double> values_d;
   std::vector<float> values_f;
-  int max_offdiag = 0;         // largest m = nsrow − nscol
-  std::vector<int> col_super;  // n: the supernode of each column
-  std::vector<int> parent;     // #supernodes: the elimination tree's parent, −1 at a root
+  int max_offdiag = 0;            // largest m = nsrow − nscol
+  std::size_t block_scratch = 0;  // single precision: the largest block (nsrow × nscol)
+  std::vector<int> col_super;     // n: the supernode of each column
+  std::vector<int> parent;        // #supernodes: the elimination tree's parent, −1 at a root
   bool split_tree = false;
   Split split;
-  // workspace of the last solve, reused when no other solve holds it
+  // Buffers of one solve: the permuted right-hand sides and, per bin, the update / gather
+  // rows (T) and a float block converted to double (S); grown, never shrunk, so that a solver's
+  // repeated solves allocate (and page-fault) nothing.
+  struct Scratch {
+    std::vector<double> W, T[2], S[2];
+    static double* sized(std::vector<double>& v, std::size_t n) {
+      if (v.size() < n) v.resize(n);
+      return v.data();
+    }
+  };
+  // the scratch of the last solve, reused when no other solve holds it
   mutable std::mutex workspace_mutex;
-  mutable std::vector<double> workspace;
+  mutable Scratch workspace;
 
   template <class Real>
   Block<Real> block(const Real* values, int s) const {
@@ -269,33 +262,34 @@ struct SupernodalSolver::Impl {
   }
 
   template <class Real>
-  void solve_permuted(const Real* values, double* W, int k) const;
+  void solve_permuted(const Real* values, double* W, int k, Scratch& scr) const;
   // The supernodes a forward pass must visit for W's nonzero rows (they and their ancestors),
   // ascending, when they hold less than half the factor; else empty (visit all).
   std::vector<int> forward_reach(const double* W, int k) const;
   template <class Real>
-  void forward_split(const Real* values, double* W, int k) const;
+  void forward_split(const Real* values, double* W, int k, Scratch& scr) const;
   template <class Real>
-  void backward_split(const Real* values, double* W, int k) const;
+  void backward_split(const Real* values, double* W, int k, Scratch& scr) const;
 };
 
 template <class Real>
-void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k) const {
+void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
+                                           Scratch& scr) const {
   std::vector<double> acc[2];
   std::vector<std::function<void()>> jobs;
   for (int b = 0; b < 2; ++b) {
     acc[b].assign(std::size_t(split.n_top) * k, 0.0);
-    jobs.emplace_back([this, values, W, k, b, &acc] {
+    jobs.emplace_back([this, values, W, k, b, &acc, &scr] {
       const FlushDenormalsScope no_subnormals;
-      std::vector<double> T(std::size_t(max_offdiag) * k);
+      double* T = Scratch::sized(scr.T[b], std::size_t(max_offdiag) * k);
+      double* S = Scratch::sized(scr.S[b], block_scratch);
       for (const Subtree& st : split.bin[b]) {
         const TopAccumulator top{acc[b].data(), split.top_index.data(), st.col_end};
-        for (int s = st.first; s <= st.last; ++s)
-          forward_block(block(values, s), W, k, T.data(), top);
+        for (int s = st.first; s <= st.last; ++s) forward_block(block(values, s), W, k, T, S, top);
       }
     });
   }
-  run_parallel(jobs);
+  run_parallel(jobs, false);
   // the bins' updates of the top's rows, in a fixed order (bin 0, then bin 1)
   for (const int s : split.top) {
     for (int c = p.super[s]; c < p.super[s + 1]; ++c) {
@@ -304,29 +298,32 @@ void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k)
       for (int j = 0; j < k; ++j) w[j] = (w[j] + acc[0][t + j]) + acc[1][t + j];
     }
   }
-  std::vector<double> T(std::size_t(max_offdiag) * k);
-  for (const int s : split.top) forward_block(block(values, s), W, k, T.data(), TopAccumulator{});
+  double* T = Scratch::sized(scr.T[0], std::size_t(max_offdiag) * k);
+  double* S = Scratch::sized(scr.S[0], block_scratch);
+  for (const int s : split.top) forward_block(block(values, s), W, k, T, S, TopAccumulator{});
 }
 
 template <class Real>
-void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k) const {
-  std::vector<double> G(std::size_t(max_offdiag) * k);
+void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k,
+                                            Scratch& scr) const {
+  double* G = Scratch::sized(scr.T[0], std::size_t(max_offdiag) * k);
+  double* S = Scratch::sized(scr.S[0], block_scratch);
   for (auto it = split.top.rbegin(); it != split.top.rend(); ++it) {
-    backward_block(block(values, *it), W, k, G.data());
+    backward_block(block(values, *it), W, k, G, S);
   }
   std::vector<std::function<void()>> jobs;
   for (int b = 0; b < 2; ++b) {
-    jobs.emplace_back([this, values, W, k, b] {
+    jobs.emplace_back([this, values, W, k, b, &scr] {
       const FlushDenormalsScope no_subnormals;
-      std::vector<double> Gb(std::size_t(max_offdiag) * k);
+      double* Gb = Scratch::sized(scr.T[b], std::size_t(max_offdiag) * k);
+      double* S = Scratch::sized(scr.S[b], block_scratch);
       const auto& bin = split.bin[b];
       for (auto st = bin.rbegin(); st != bin.rend(); ++st) {
-        for (int s = st->last; s >= st->first; --s)
-          backward_block(block(values, s), W, k, Gb.data());
+        for (int s = st->last; s >= st->first; --s) backward_block(block(values, s), W, k, Gb, S);
       }
     });
   }
-  run_parallel(jobs);
+  run_parallel(jobs, false);
 }
 
 std::vector<int> SupernodalSolver::Impl::forward_reach(const double* W, int k) const {
@@ -350,23 +347,25 @@ std::vector<int> SupernodalSolver::Impl::forward_reach(const double* W, int k) c
 }
 
 template <class Real>
-void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k) const {
+void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k,
+                                            Scratch& scr) const {
   const int ns = int(p.super.size()) - 1;
-  std::vector<double> T(std::size_t(max_offdiag) * k);
+  double* T = Scratch::sized(scr.T[0], std::size_t(max_offdiag) * k);
+  double* S = Scratch::sized(scr.S[0], block_scratch);
   // a sparse right-hand side (a point source) reaches only its columns' ancestors: the forward
   // pass visits those (zero rows stay zero elsewhere: the same values as a full pass)
   const std::vector<int> reach = forward_reach(W, k);
   if (!reach.empty()) {
-    for (const int s : reach) forward_block(block(values, s), W, k, T.data(), TopAccumulator{});
+    for (const int s : reach) forward_block(block(values, s), W, k, T, S, TopAccumulator{});
   } else if (split_tree) {
-    forward_split(values, W, k);
+    forward_split(values, W, k, scr);
   } else {
-    for (int s = 0; s < ns; ++s) forward_block(block(values, s), W, k, T.data(), TopAccumulator{});
+    for (int s = 0; s < ns; ++s) forward_block(block(values, s), W, k, T, S, TopAccumulator{});
   }
   if (split_tree) {
-    backward_split(values, W, k);
+    backward_split(values, W, k, scr);
   } else {
-    for (int s = ns - 1; s >= 0; --s) backward_block(block(values, s), W, k, T.data());
+    for (int s = ns - 1; s >= 0; --s) backward_block(block(values, s), W, k, T, S);
   }
 }
 
@@ -388,6 +387,10 @@ SupernodalSolver::SupernodalSolver(SupernodalPattern pattern, const double* valu
     const int m =
         int(im.p.row_start[s + 1] - im.p.row_start[s]) - (im.p.super[s + 1] - im.p.super[s]);
     im.max_offdiag = std::max(im.max_offdiag, m);
+    if (precision == FactorPrecision::kSingle) {
+      im.block_scratch = std::max<std::size_t>(
+          im.block_scratch, std::size_t(im.p.value_start[s + 1] - im.p.value_start[s]));
+    }
   }
   std::vector<int> first;
   const bool postordered = supernodal_tree(im.p, im.col_super, im.parent, first);
@@ -407,18 +410,18 @@ void SupernodalSolver::solve(const double* b, double* x, Eigen::Index cols) cons
   const Eigen::Index n = im.p.n;
   const int k = int(cols);
   std::unique_lock<std::mutex> lock(im.workspace_mutex, std::try_to_lock);
-  std::vector<double> own;
-  std::vector<double>& W = lock.owns_lock() ? im.workspace : own;
-  W.resize(std::size_t(n) * k);
+  Impl::Scratch own;
+  Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
+  double* W = Impl::Scratch::sized(scr.W, std::size_t(n) * k);
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Index src = im.p.perm[i];
     for (int j = 0; j < k; ++j) W[std::size_t(i) * k + j] = b[src + j * n];
   }
   const FlushDenormalsScope no_subnormals;
   if (im.precision == FactorPrecision::kSingle) {
-    im.solve_permuted(im.values_f.data(), W.data(), k);
+    im.solve_permuted(im.values_f.data(), W, k, scr);
   } else {
-    im.solve_permuted(im.values_d.data(), W.data(), k);
+    im.solve_permuted(im.values_d.data(), W, k, scr);
   }
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Index dst = im.p.perm[i];
