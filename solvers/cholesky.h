@@ -65,6 +65,35 @@ class BlasThreadScope {
   bool active_ = false;
 };
 
+/// The symbolic analysis of a sparse symmetric pattern (the fill-reducing ordering and the
+/// factor's structure, CHOLMOD's cholmod_analyze), to share between CholeskySolvers of several
+/// matrices with that pattern: the heat method factors M + tL and L, whose stored entries agree,
+/// and the ordering (AMD) is a tenth of a small mesh's precompute (docs/decisions.md, "Small
+/// meshes: one analysis, no threads below their size"). Immutable once built: several solvers
+/// may be constructed from it at once, from different threads. Movable, not copyable.
+class CholeskyAnalysis {
+ public:
+  /// Analyzes the pattern of A's lower triangle (the values are not read). Options as for
+  /// CholeskySolver (ordering, supernodal); the solvers built from it take theirs from it.
+  /// @throws InvalidInput if A is not square or is empty; SolverError if CHOLMOD fails
+  explicit CholeskyAnalysis(const fem::SparseMatrix& A, const CholeskyOptions& options = {});
+  ~CholeskyAnalysis();
+  CholeskyAnalysis(CholeskyAnalysis&&) noexcept;
+  CholeskyAnalysis& operator=(CholeskyAnalysis&&) noexcept;
+  CholeskyAnalysis(const CholeskyAnalysis&) = delete;
+  CholeskyAnalysis& operator=(const CholeskyAnalysis&) = delete;
+
+  /// Size n of the analyzed matrix.
+  Eigen::Index size() const;
+
+  /// Internal state (CHOLMOD common + symbolic factor + pattern); defined in cholesky.cpp only.
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  friend class CholeskySolver;
+};
+
 /// Cholesky factorization A = LLᵀ of a sparse symmetric positive definite matrix.
 ///
 /// Only the lower triangle of A is read (the matrix is assumed symmetric). The symbolic
@@ -79,6 +108,14 @@ class CholeskySolver {
   /// @throws SolverError if A is not positive definite (naming the failing column) or CHOLMOD
   ///         fails (out of memory, ...)
   explicit CholeskySolver(const fem::SparseMatrix& A, const CholeskyOptions& options = {});
+  /// Factors A with a shared symbolic analysis instead of analyzing it again: the ordering and
+  /// the supernodal structure are the analysis's (its options' force_amd, force_metis and
+  /// supernodal; the others are these options'). A factor equals the one of
+  /// CholeskySolver(A, options) with that analysis options (same ordering, same operations).
+  /// @throws InvalidInput if A's pattern (lower triangle, as stored) is not the analyzed one;
+  ///         otherwise as the constructor above
+  CholeskySolver(const fem::SparseMatrix& A, const CholeskyAnalysis& analysis,
+                 const CholeskyOptions& options = {});
   ~CholeskySolver();
   CholeskySolver(CholeskySolver&&) noexcept;
   CholeskySolver& operator=(CholeskySolver&&) noexcept;
