@@ -133,6 +133,15 @@ BlasThreadScope::~BlasThreadScope() {
   if (--blas_scope_depth == 0 && o.get() != blas_scope_saved) o.set(blas_scope_saved);
 }
 
+void release_idle_blas_threads() {
+  using Shutdown = int (*)();
+  static const auto shutdown =
+      reinterpret_cast<Shutdown>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"));
+  if (!shutdown || !OpenBlasThreads::instance().set) return;  // not OpenBLAS's pthread build
+  std::lock_guard<std::mutex> lock(blas_scope_mutex);
+  if (blas_scope_depth == 0) shutdown();  // not while a scope of ours runs BLAS
+}
+
 int BlasThreadScope::current() {
   const OpenBlasThreads& o = OpenBlasThreads::instance();
   return o.get ? o.get() : 0;

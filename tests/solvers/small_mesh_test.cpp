@@ -8,6 +8,7 @@
 
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/parallel.h"
 #include "solvers/cholesky.h"
 #include "solvers/components.h"
 #include "solvers/heat_distance.h"
@@ -102,6 +103,15 @@ TEST(SolversSmallMesh, PoissonSharedAnalysisMatchesSeparate) {
                InvalidInput);
 }
 
+TEST(SolversSmallMesh, ParallelPaysOnlyFromItsSize) {
+  EXPECT_FALSE(parallel_pays(kParallelMin - 1));
+  EXPECT_FALSE(parallel_pays(10, 11));
+  set_parallel_load_check(false);
+  EXPECT_EQ(parallel_pays(kParallelMin), std::thread::hardware_concurrency() > 1);
+  set_parallel_load_check(true);
+  parallel_pays(kParallelMin);  // reads /proc/loadavg (either answer is right)
+}
+
 #if defined(_OPENMP)
 // The precompute and a query give the same bits with 1 and 2 OpenMP threads, on a mesh above
 // every parallel loop's threshold (and on a small one, below them).
@@ -110,6 +120,7 @@ TEST(SolversSmallMesh, HeatDistanceIsThreadCountIndependent) {
     const auto m = intrinsic::icosphere(n);
     const auto tri = intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
     const int saved = omp_get_max_threads();
+    set_parallel_load_check(false);  // 2 threads even when the machine is busy
     std::vector<Eigen::VectorXd> d;
     for (const int threads : {1, 2}) {
       omp_set_num_threads(threads);
@@ -118,6 +129,7 @@ TEST(SolversSmallMesh, HeatDistanceIsThreadCountIndependent) {
       d.push_back(solver.compute_distances({3, 11}).col(1));
     }
     omp_set_num_threads(saved);
+    set_parallel_load_check(true);
     EXPECT_EQ(d[0], d[2]) << n;
     EXPECT_EQ(d[1], d[3]) << n;
   }
