@@ -137,9 +137,16 @@ void release_idle_blas_threads() {
   using Shutdown = int (*)();
   static const auto shutdown =
       reinterpret_cast<Shutdown>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"));
-  if (!shutdown || !OpenBlasThreads::instance().set) return;  // not OpenBLAS's pthread build
+  static const auto* server_up = static_cast<const int*>(dlsym(RTLD_DEFAULT, "blas_server_avail"));
+  const OpenBlasThreads& o = OpenBlasThreads::instance();
+  if (!shutdown || !server_up || !o.set) return;  // not OpenBLAS's pthread build
   std::lock_guard<std::mutex> lock(blas_scope_mutex);
-  if (blas_scope_depth == 0) shutdown();  // not while a scope of ours runs BLAS
+  if (blas_scope_depth > 0 || *server_up == 0) return;  // BLAS in use, or no workers
+  // One thread first, while the workers exist: any thread-count change after the shutdown
+  // would start them again (OpenBLAS re-initializes its server), and so would a BLAS call
+  // that still asked for two threads.
+  o.set(1);
+  shutdown();
 }
 
 int BlasThreadScope::current() {

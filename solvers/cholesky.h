@@ -65,12 +65,13 @@ class BlasThreadScope {
   bool active_ = false;
 };
 
-/// Ends OpenBLAS's idle worker threads; OpenBLAS starts them again at its next threaded call.
-/// Why: OpenBLAS starts them when it is loaded, and each spins (sched_yield) for ~0.1 s before
-/// it sleeps, on a core the work could use: a 70 ms program took 124 ms of CPU and 144 ms
-/// instead of 71 and 80 (docs/decisions.md, "Small meshes: one analysis, no threads below their
-/// size"). Call it where no BLAS call can be running in another thread, e.g. first thing in
-/// main(). A no-op with any other BLAS (looked up at run time).
+/// Sets OpenBLAS to one thread and ends its worker threads (a later openblas_set_num_threads()
+/// or BlasThreadScope with more than one thread starts them again). Why: OpenBLAS starts them
+/// when it is loaded, and each spins (sched_yield) for ~0.1 s before it sleeps, on a core the
+/// work could use: a 70 ms program took 124 ms of CPU and 144 ms instead of 71 and 80
+/// (docs/decisions.md, "Small meshes: one analysis, no threads below their size"). Call it
+/// where no BLAS call can be running in another thread, e.g. first thing in main(). A no-op
+/// with any other BLAS (looked up at run time) or when the workers are not running.
 void release_idle_blas_threads();
 
 /// The symbolic analysis of a sparse symmetric pattern (the fill-reducing ordering and the
