@@ -161,7 +161,7 @@ struct CholeskySolver::Impl {
   Eigen::Index n = 0;
   std::vector<int> outer, inner;  // pattern of the analyzed matrix (for refactor checks)
   mutable std::mutex mutex;       // cholmod_common is not thread-safe
-  int factor_blas_threads = 0, solve_blas_threads = 1;
+  int factor_blas_threads = 1, solve_blas_threads = 1;
   // cholmod_solve2 workspace, kept between solves (guarded by mutex)
   mutable cholmod_dense* X = nullptr;
   mutable cholmod_dense* Y = nullptr;

@@ -36,9 +36,13 @@ struct CholeskyOptions {
   /// dimensionless) is below this is reported as numerically singular (SolverError). ≥ 0.
   double min_rcond = 1e-12;
   /// BLAS threads during the numeric factorization (OpenBLAS only, see BlasThreadScope):
-  /// 0 = leave the process setting. Callers that factor several matrices at once in their own
-  /// threads pass 1, or the BLAS threads of both factorizations fight for the same cores. ≥ 0.
-  int factor_blas_threads = 0;
+  /// 0 = leave the process setting. Default 1: OpenBLAS's threaded kernels round differently
+  /// from its one-thread ones (eigenvectors moved by 3e-12 between the CLI, which runs BLAS on
+  /// one thread, and the Python module on two), surface factorizations are mostly small dense
+  /// blocks where BLAS threads gain little (igea eigenpairs: the same time with 1 and 2), and
+  /// factorizations side by side must not fight over the cores (docs/decisions.md, "Small
+  /// meshes: one analysis, no threads below their size"). ≥ 0.
+  int factor_blas_threads = 1;
   /// BLAS threads during solves: one right-hand side is a chain of small triangular solves and
   /// matrix–vector products, memory bound, where OpenBLAS's threads only add synchronization
   /// (docs/decisions.md, "Cholesky: simplicial solves, one BLAS thread"). 0 = leave the
