@@ -109,6 +109,22 @@ BlasThreadScope::~BlasThreadScope() {
   if (--blas_scope_depth == 0 && o.get() != blas_scope_saved) o.set(blas_scope_saved);
 }
 
+void release_idle_blas_threads() {
+  using Shutdown = int (*)();
+  static const auto shutdown =
+      reinterpret_cast<Shutdown>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"));
+  static const auto* server_up = static_cast<const int*>(dlsym(RTLD_DEFAULT, "blas_server_avail"));
+  const OpenBlasThreads& o = OpenBlasThreads::instance();
+  if (!shutdown || !server_up || !o.set) return;  // not OpenBLAS's pthread build
+  std::lock_guard<std::mutex> lock(blas_scope_mutex);
+  if (blas_scope_depth > 0 || *server_up == 0) return;  // BLAS in use, or no workers
+  // One thread first, while the workers exist: any thread-count change after the shutdown
+  // would start them again (OpenBLAS re-initializes its server), and so would a BLAS call
+  // that still asked for two threads.
+  o.set(1);
+  shutdown();
+}
+
 int BlasThreadScope::current() {
   const OpenBlasThreads& o = OpenBlasThreads::instance();
   return o.get ? o.get() : 0;
@@ -121,7 +137,7 @@ struct CholeskySolver::Impl {
   Eigen::Index n = 0;
   std::vector<int> outer, inner;  // pattern of the analyzed matrix (for refactor checks)
   mutable std::mutex mutex;       // cholmod_common is not thread-safe
-  int factor_blas_threads = 0, solve_blas_threads = 1;
+  int factor_blas_threads = 1, solve_blas_threads = 1;
   // cholmod_solve2 workspace, kept between solves (guarded by mutex)
   mutable cholmod_dense* X = nullptr;
   mutable cholmod_dense* Y = nullptr;
@@ -280,15 +296,8 @@ const Matrix* compressed(const Matrix& A, Matrix& storage) {
 
 namespace {
 
-// Analysis, numeric factorization and (optionally) the conversion to a simplicial factor, for
-// either solver; `s` views the matrix, im.xtype says real or complex.
-void analyze_and_factor(CholeskySolver::Impl& im, cholmod_sparse s, const CholeskyOptions& options,
-                        const char* who) {
-  im.n = static_cast<Eigen::Index>(s.nrow);
-  im.min_rcond = options.min_rcond;
-  im.factor_blas_threads = options.factor_blas_threads;
-  im.solve_blas_threads = options.solve_blas_threads;
-  cholmod_common& c = im.common;
+// The analysis settings of `options` in c: supernodal or not, LL', the forced ordering.
+void configure_analysis(cholmod_common& c, const CholeskyOptions& options) {
   c.supernodal = options.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
   c.final_ll = 1;
   if (options.force_metis || options.force_amd) {
@@ -296,10 +305,21 @@ void analyze_and_factor(CholeskySolver::Impl& im, cholmod_sparse s, const Choles
     c.method[0].ordering = options.force_metis ? CHOLMOD_METIS : CHOLMOD_AMD;
     c.postorder = 1;
   }
-  im.factor = cholmod_analyze(&s, &c);
-  if (!im.factor || c.status < CHOLMOD_OK) {
-    throw SolverError(std::string(who) + ": CHOLMOD analysis failed: " + im.status_text());
-  }
+}
+
+// The numeric settings of `options` in im.
+void configure_numeric(CholeskySolver::Impl& im, Eigen::Index n, const CholeskyOptions& options) {
+  im.n = n;
+  im.min_rcond = options.min_rcond;
+  im.factor_blas_threads = options.factor_blas_threads;
+  im.solve_blas_threads = options.solve_blas_threads;
+}
+
+// Numeric factorization of im.factor (analyzed) and, optionally, the conversion to a
+// simplicial factor for the solves.
+void factor_and_convert(CholeskySolver::Impl& im, cholmod_sparse s, const CholeskyOptions& options,
+                        const char* who) {
+  cholmod_common& c = im.common;
   im.kernel_kind = options.solve_kernel;
   im.factorize(s, im.factor, who);
   im.factored_supernodal = im.factor->is_super;
@@ -311,6 +331,19 @@ void analyze_and_factor(CholeskySolver::Impl& im, cholmod_sparse s, const Choles
       throw SolverError(std::string(who) + ": converting the factor failed: " + im.status_text());
     }
   }
+}
+
+// Analysis, numeric factorization and (optionally) the conversion to a simplicial factor, for
+// either solver; `s` views the matrix, im.xtype says real or complex.
+void analyze_and_factor(CholeskySolver::Impl& im, cholmod_sparse s, const CholeskyOptions& options,
+                        const char* who) {
+  configure_numeric(im, static_cast<Eigen::Index>(s.nrow), options);
+  configure_analysis(im.common, options);
+  im.factor = cholmod_analyze(&s, &im.common);
+  if (!im.factor || im.common.status < CHOLMOD_OK) {
+    throw SolverError(std::string(who) + ": CHOLMOD analysis failed: " + im.status_text());
+  }
+  factor_and_convert(im, s, options, who);
 }
 
 }  // namespace
@@ -325,6 +358,87 @@ CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyOpti
   analyze_and_factor(im, Impl::view(*A, CHOLMOD_REAL), options, "CholeskySolver");
   im.outer.assign(A->outerIndexPtr(), A->outerIndexPtr() + A->cols() + 1);
   im.inner.assign(A->innerIndexPtr(), A->innerIndexPtr() + A->nonZeros());
+}
+
+// --- CholeskyAnalysis ------------------------------------------------------------------------
+
+struct CholeskyAnalysis::Impl {
+  cholmod_common common;
+  cholmod_factor* symbolic = nullptr;
+  Eigen::Index n = 0;
+  std::vector<int> outer, inner;  // the analyzed pattern
+
+  Impl() {
+    cholmod_start(&common);
+    common.print = 0;
+    common.error_handler = nullptr;
+  }
+  ~Impl() {
+    if (symbolic) cholmod_free_factor(&symbolic, &common);
+    cholmod_finish(&common);
+  }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+
+  bool same_pattern(const fem::SparseMatrix& A) const {
+    return A.rows() == n && A.cols() == n &&
+           static_cast<std::size_t>(A.nonZeros()) == inner.size() &&
+           std::equal(outer.begin(), outer.end(), A.outerIndexPtr()) &&
+           std::equal(inner.begin(), inner.end(), A.innerIndexPtr());
+  }
+};
+
+CholeskyAnalysis::CholeskyAnalysis(const fem::SparseMatrix& A_in, const CholeskyOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  if (A_in.rows() != A_in.cols() || A_in.rows() == 0) {
+    throw InvalidInput("CholeskyAnalysis: matrix is " + std::to_string(A_in.rows()) + "×" +
+                       std::to_string(A_in.cols()) + ", expected square and not empty");
+  }
+  fem::SparseMatrix storage;
+  const fem::SparseMatrix* A = compressed(A_in, storage);
+  Impl& im = *impl_;
+  im.n = A->rows();
+  configure_analysis(im.common, options);
+  cholmod_sparse s = CholeskySolver::Impl::view(*A, CHOLMOD_REAL);
+  im.symbolic = cholmod_analyze(&s, &im.common);
+  if (!im.symbolic || im.common.status < CHOLMOD_OK) {
+    throw SolverError("CholeskyAnalysis: CHOLMOD analysis failed (status " +
+                      std::to_string(im.common.status) + ")");
+  }
+  im.outer.assign(A->outerIndexPtr(), A->outerIndexPtr() + A->cols() + 1);
+  im.inner.assign(A->innerIndexPtr(), A->innerIndexPtr() + A->nonZeros());
+}
+
+CholeskyAnalysis::~CholeskyAnalysis() = default;
+CholeskyAnalysis::CholeskyAnalysis(CholeskyAnalysis&&) noexcept = default;
+CholeskyAnalysis& CholeskyAnalysis::operator=(CholeskyAnalysis&&) noexcept = default;
+Eigen::Index CholeskyAnalysis::size() const { return impl_->n; }
+
+CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyAnalysis& analysis,
+                               const CholeskyOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  check_matrix(A_in, "CholeskySolver");
+  fem::SparseMatrix storage;
+  const fem::SparseMatrix* A = compressed(A_in, storage);
+  const CholeskyAnalysis::Impl& an = *analysis.impl_;
+  if (!an.same_pattern(*A)) {
+    throw InvalidInput("CholeskySolver: the matrix's sparsity pattern is not the analyzed one");
+  }
+  Impl& im = *impl_;
+  configure_numeric(im, A->rows(), options);
+  // what the analysis chose, for ordering(), factor_nonzeros() and factor_flops()
+  im.common.nmethods = an.common.nmethods;
+  std::copy(std::begin(an.common.method), std::end(an.common.method), std::begin(im.common.method));
+  im.common.selected = an.common.selected;
+  im.common.lnz = an.common.lnz;
+  im.common.fl = an.common.fl;
+  im.factor = cholmod_copy_factor(an.symbolic, &im.common);  // reads the shared factor only
+  if (!im.factor) throw SolverError("CholeskySolver: out of memory copying the analysis");
+  factor_and_convert(im, Impl::view(*A, CHOLMOD_REAL), options, "CholeskySolver");
+  im.outer = an.outer;
+  im.inner = an.inner;
 }
 
 CholeskySolver::~CholeskySolver() = default;
@@ -367,6 +481,9 @@ namespace {
 void solve_raw(const CholeskySolver::Impl& im, const double* B, Eigen::Index cols, double* X) {
   if (cols == 0) return;
   if (im.kernel) {
+    // one BLAS thread: OpenBLAS's threaded kernels round differently (results must not depend
+    // on its thread count), and our kernel runs its own two bins
+    const BlasThreadScope threads(im.solve_blas_threads);
     im.kernel->solve(B, X, cols);
     return;
   }

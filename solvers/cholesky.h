@@ -49,9 +49,13 @@ struct CholeskyOptions {
   /// dimensionless) is below this is reported as numerically singular (SolverError). ≥ 0.
   double min_rcond = 1e-12;
   /// BLAS threads during the numeric factorization (OpenBLAS only, see BlasThreadScope):
-  /// 0 = leave the process setting. Callers that factor several matrices at once in their own
-  /// threads pass 1, or the BLAS threads of both factorizations fight for the same cores. ≥ 0.
-  int factor_blas_threads = 0;
+  /// 0 = leave the process setting. Default 1: OpenBLAS's threaded kernels round differently
+  /// from its one-thread ones (eigenvectors moved by 3e-12 between the CLI, which runs BLAS on
+  /// one thread, and the Python module on two), surface factorizations are mostly small dense
+  /// blocks where BLAS threads gain little (igea eigenpairs: the same time with 1 and 2), and
+  /// factorizations side by side must not fight over the cores (docs/decisions.md, "Small
+  /// meshes: one analysis, no threads below their size"). ≥ 0.
+  int factor_blas_threads = 1;
   /// BLAS threads during solves: one right-hand side is a chain of small triangular solves and
   /// matrix–vector products, memory bound, where OpenBLAS's threads only add synchronization
   /// (docs/decisions.md, "Cholesky: simplicial solves, one BLAS thread"). 0 = leave the
@@ -79,6 +83,44 @@ class BlasThreadScope {
   bool active_ = false;
 };
 
+/// Sets OpenBLAS to one thread and ends its worker threads (a later openblas_set_num_threads()
+/// or BlasThreadScope with more than one thread starts them again). Why: OpenBLAS starts them
+/// when it is loaded, and each spins (sched_yield) for ~0.1 s before it sleeps, on a core the
+/// work could use: a 70 ms program took 124 ms of CPU and 144 ms instead of 71 and 80
+/// (docs/decisions.md, "Small meshes: one analysis, no threads below their size"). Call it
+/// where no BLAS call can be running in another thread, e.g. first thing in main(). A no-op
+/// with any other BLAS (looked up at run time) or when the workers are not running.
+void release_idle_blas_threads();
+
+/// The symbolic analysis of a sparse symmetric pattern (the fill-reducing ordering and the
+/// factor's structure, CHOLMOD's cholmod_analyze), to share between CholeskySolvers of several
+/// matrices with that pattern: the heat method factors M + tL and L, whose stored entries agree,
+/// and the ordering (AMD) is a tenth of a small mesh's precompute (docs/decisions.md, "Small
+/// meshes: one analysis, no threads below their size"). Immutable once built: several solvers
+/// may be constructed from it at once, from different threads. Movable, not copyable.
+class CholeskyAnalysis {
+ public:
+  /// Analyzes the pattern of A's lower triangle (the values are not read). Options as for
+  /// CholeskySolver (ordering, supernodal); the solvers built from it take theirs from it.
+  /// @throws InvalidInput if A is not square or is empty; SolverError if CHOLMOD fails
+  explicit CholeskyAnalysis(const fem::SparseMatrix& A, const CholeskyOptions& options = {});
+  ~CholeskyAnalysis();
+  CholeskyAnalysis(CholeskyAnalysis&&) noexcept;
+  CholeskyAnalysis& operator=(CholeskyAnalysis&&) noexcept;
+  CholeskyAnalysis(const CholeskyAnalysis&) = delete;
+  CholeskyAnalysis& operator=(const CholeskyAnalysis&) = delete;
+
+  /// Size n of the analyzed matrix.
+  Eigen::Index size() const;
+
+  /// Internal state (CHOLMOD common + symbolic factor + pattern); defined in cholesky.cpp only.
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  friend class CholeskySolver;
+};
+
 /// Cholesky factorization A = LLᵀ of a sparse symmetric positive definite matrix.
 ///
 /// Only the lower triangle of A is read (the matrix is assumed symmetric). The symbolic
@@ -93,6 +135,14 @@ class CholeskySolver {
   /// @throws SolverError if A is not positive definite (naming the failing column) or CHOLMOD
   ///         fails (out of memory, ...)
   explicit CholeskySolver(const fem::SparseMatrix& A, const CholeskyOptions& options = {});
+  /// Factors A with a shared symbolic analysis instead of analyzing it again: the ordering and
+  /// the supernodal structure are the analysis's (its options' force_amd, force_metis and
+  /// supernodal; the others are these options'). A factor equals the one of
+  /// CholeskySolver(A, options) with that analysis options (same ordering, same operations).
+  /// @throws InvalidInput if A's pattern (lower triangle, as stored) is not the analyzed one;
+  ///         otherwise as the constructor above
+  CholeskySolver(const fem::SparseMatrix& A, const CholeskyAnalysis& analysis,
+                 const CholeskyOptions& options = {});
   ~CholeskySolver();
   CholeskySolver(CholeskySolver&&) noexcept;
   CholeskySolver& operator=(CholeskySolver&&) noexcept;

@@ -230,20 +230,25 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
   PoissonOptions heat_opt = poisson_opt;
   heat_opt.cholesky.solve_kernel = Kernel::kSupernodalDouble;
   heat_opt.screening = 1.0;  // tL + 1·M
+  // One symbolic analysis for all of them: M + tL, its Dirichlet form and the pinned L keep
+  // L's pattern (constrained vertices as decoupled rows), so AMD runs once.
+  const CholeskyAnalysis analysis = PoissonSolver::analyze(im.L, im.comps, poisson_opt.cholesky);
   std::vector<std::function<void()>> jobs;
-  jobs.emplace_back(
-      [&] { im.heat_neumann.emplace(tL, im.mass, im.comps, std::vector<Index>{}, heat_opt); });
+  jobs.emplace_back([&] {
+    im.heat_neumann.emplace(tL, im.mass, im.comps, std::vector<Index>{}, analysis, heat_opt);
+  });
   if (options.boundary == HeatDistanceOptions::Boundary::kAverage && any_boundary) {
     std::vector<Index> bv;
     for (Index v = 0; v < im.tri.n_vertices(); ++v) {
       if (on_boundary[v]) bv.push_back(v);
     }
-    jobs.emplace_back([&im, &tL, &heat_opt, bv = std::move(bv)]() mutable {
-      im.heat_dirichlet.emplace(tL, im.mass, im.comps, std::move(bv), heat_opt);
+    jobs.emplace_back([&im, &tL, &heat_opt, &analysis, bv = std::move(bv)]() mutable {
+      im.heat_dirichlet.emplace(tL, im.mass, im.comps, std::move(bv), analysis, heat_opt);
     });
   }
-  jobs.emplace_back(
-      [&] { im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, poisson_opt); });
+  jobs.emplace_back([&] {
+    im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, analysis, poisson_opt);
+  });
   run_parallel(jobs);
 }
 

@@ -26,6 +26,10 @@ struct PoissonSolver::Impl {
   std::vector<double> comp_mass;  // per component: Σ m
   Eigen::VectorXd mass;
   fem::SparseMatrix A_ud;  // unknowns × Dirichlet columns (coupling)
+  // With a shared analysis: per vertex, Dirichlet or pinned (kept in the system as a decoupled
+  // row), and those rows; both empty otherwise.
+  std::vector<char> fixed;
+  std::vector<Index> fixed_rows;
   std::optional<CholeskySolver> chol;
 
   // One right-hand side: the work of solve_many() without the #V×1 matrix copies.
@@ -46,9 +50,11 @@ struct PoissonSolver::Impl {
       }
     }
     if (A_ud.cols() > 0) rhs.noalias() -= A_ud * g;
+    for (const Index r : fixed_rows) rhs[r] = 0.0;  // decoupled: solved to 0
     if (nu > 0) chol->solve(rhs.data(), rhs.data());
     Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
     for (Index i = 0; i < nu; ++i) x[unknown_vertex[i]] = rhs[i];
+    for (const Index r : fixed_rows) x[unknown_vertex[r]] = 0.0;  // pinned: 0 (not −0)
     for (std::size_t d = 0; d < dirichlet.size(); ++d) x[dirichlet[d]] = g[Eigen::Index(d)];
     if (!floating.empty()) {
       std::vector<double> mean(comps.count, 0.0);
@@ -86,10 +92,12 @@ struct PoissonSolver::Impl {
     Eigen::MatrixXd rhs(nu, k);
     for (Index i = 0; i < nu; ++i) rhs.row(i) = B.row(unknown_vertex[i]);
     if (g && A_ud.cols() > 0) rhs -= A_ud * (*g);
+    for (const Index r : fixed_rows) rhs.row(r).setZero();  // decoupled: solved to 0
     Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, k);
     if (nu > 0) {
       const Eigen::MatrixXd y = chol->solve(rhs);
       for (Index i = 0; i < nu; ++i) X.row(unknown_vertex[i]) = y.row(i);
+      for (const Index r : fixed_rows) X.row(unknown_vertex[r]).setZero();
     }
     if (g) {
       for (std::size_t d = 0; d < dirichlet.size(); ++d) X.row(dirichlet[d]) = g->row(d);
@@ -152,19 +160,30 @@ struct PoissonSolver::Impl {
     if (!any) floating.clear();
   }
 
-  // Numbers the unknowns: vertices in a component, neither Dirichlet nor pinned, in vertex order.
-  void number_unknowns(const std::vector<char>& is_dirichlet, const std::vector<char>& pinned) {
+  // Numbers the unknowns: vertices in a component, in vertex order; Dirichlet and pinned ones
+  // only when `keep_fixed` (a shared analysis: marked in fixed and fixed_rows).
+  void number_unknowns(const std::vector<char>& is_dirichlet, const std::vector<char>& pinned,
+                       bool keep_fixed) {
     unknown.assign(n, kInvalidIndex);
+    if (keep_fixed) fixed.assign(n, 0);
     for (Index v = 0; v < n; ++v) {
-      if (comps.label[v] == kInvalidIndex || is_dirichlet[v] || pinned[v]) continue;
+      if (comps.label[v] == kInvalidIndex) continue;
+      const bool is_fixed = is_dirichlet[v] || pinned[v];
+      if (is_fixed && !keep_fixed) continue;
       unknown[v] = static_cast<Index>(unknown_vertex.size());
+      if (is_fixed) {
+        fixed[v] = 1;
+        fixed_rows.push_back(unknown[v]);
+      }
       unknown_vertex.push_back(v);
     }
   }
+  bool is_fixed(Index v) const { return !fixed.empty() && fixed[v]; }
 
   // Lower triangle of A_uu = (L + c M) restricted to the unknowns (all CHOLMOD reads), column by
   // column from L's columns. Unknown ids increase with vertex ids, so rows stay sorted; the
-  // diagonal comes first in each column and always exists (+ c·m).
+  // diagonal comes first in each column and always exists (+ c·m). A fixed row (shared analysis)
+  // keeps its entries, as zeros but its positive diagonal: decoupled, with L's pattern.
   fem::SparseMatrix assemble_unknown_block(const fem::SparseMatrix& L, double c) const {
     const Index nu = static_cast<Index>(unknown_vertex.size());
     fem::SparseMatrix A(nu, nu);
@@ -181,22 +200,26 @@ struct PoissonSolver::Impl {
     A.resizeNonZeros(outer[nu]);
     int* inner = A.innerIndexPtr();
     double* value = A.valuePtr();
-#pragma omp parallel for schedule(static) if (nu >= 10000)
+    // serial (one pass over L's entries): the heat method assembles its matrices inside
+    // side-by-side factorization jobs, where both cores are busy and an OpenMP team per job only
+    // added threads that spin
     for (Index u = 0; u < nu; ++u) {
       const Index j = unknown_vertex[u];
       int k = outer[u];
       inner[k] = u;
       value[k] = c * mass[j];
       const int diag = k++;
+      const bool fixed_j = is_fixed(j);
       for (fem::SparseMatrix::InnerIterator it(L, j); it; ++it) {
         const Index i = it.row();
         if (i == j) {
           value[diag] += it.value();
         } else if (i > j && unknown[i] != kInvalidIndex) {
           inner[k] = unknown[i];
-          value[k++] = it.value();
+          value[k++] = fixed_j || is_fixed(i) ? 0.0 : it.value();
         }
       }
+      if (fixed_j && !(value[diag] > 0.0)) value[diag] = 1.0;  // any positive value decouples
     }
     return A;
   }
@@ -211,7 +234,7 @@ struct PoissonSolver::Impl {
     for (Index d = 0; d < nd; ++d) {
       int count = 0;
       for (fem::SparseMatrix::InnerIterator it(L, dirichlet[d]); it; ++it) {
-        if (unknown[it.row()] != kInvalidIndex) ++count;
+        if (unknown[it.row()] != kInvalidIndex && !is_fixed(it.row())) ++count;
       }
       outer[d + 1] = outer[d] + count;
     }
@@ -222,7 +245,7 @@ struct PoissonSolver::Impl {
       int k = outer[d];
       for (fem::SparseMatrix::InnerIterator it(L, dirichlet[d]); it; ++it) {
         const Index ui = unknown[it.row()];
-        if (ui == kInvalidIndex) continue;
+        if (ui == kInvalidIndex || is_fixed(it.row())) continue;
         inner[k] = ui;
         value[k++] = it.value();
       }
@@ -235,17 +258,25 @@ PoissonSolver::PoissonSolver(const intrinsic::IntrinsicTriangulation& tri,
     : PoissonSolver(fem::cotan_laplacian(tri), fem::lumped_mass(tri), connected_components(tri),
                     std::move(dirichlet_vertices), options) {}
 
-PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
-                             const Components& comps, std::vector<Index> dirichlet,
-                             const PoissonOptions& options)
-    : impl_(std::make_unique<Impl>()) {
-  options.validate();
-  const Index n = static_cast<Index>(L.rows());
-  if (L.rows() != L.cols() || mass.size() != n || static_cast<Index>(comps.label.size()) != n) {
+namespace {
+
+void check_sizes(const fem::SparseMatrix& L, Eigen::Index mass_size, const Components& comps) {
+  const Eigen::Index n = L.rows();
+  if (L.cols() != n || mass_size != n || static_cast<Eigen::Index>(comps.label.size()) != n) {
     throw InvalidInput("PoissonSolver: L, mass and components sizes disagree");
   }
+}
+
+}  // namespace
+
+// Everything but the factorization: marks, numbering, the coupling; returns the matrix to factor.
+fem::SparseMatrix PoissonSolver::setup(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
+                                       const Components& comps, std::vector<Index> dirichlet,
+                                       const PoissonOptions& options, bool keep_fixed) {
+  options.validate();
+  check_sizes(L, mass.size(), comps);
   Impl& im = *impl_;
-  im.n = n;
+  im.n = static_cast<Index>(L.rows());
   im.comps = comps;
   im.mass = mass;
   std::vector<char> is_dirichlet;
@@ -253,14 +284,47 @@ PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& 
   im.mark_dirichlet(dirichlet, is_dirichlet, comp_has_dirichlet);
   im.dirichlet = std::move(dirichlet);
   // pure-Neumann components: pin their lowest vertex to 0, shift to zero mean afterwards
-  std::vector<char> pinned(n, 0);
+  std::vector<char> pinned(im.n, 0);
   if (options.screening == 0.0) im.pin_floating_components(comp_has_dirichlet, pinned);
-  im.number_unknowns(is_dirichlet, pinned);
+  im.number_unknowns(is_dirichlet, pinned, keep_fixed);
+  im.assemble_coupling(L);
   // Direct CSC assembly, no triplets (sorting triplets cost more than half a
   // factorization at 100k faces).
-  const fem::SparseMatrix A = im.assemble_unknown_block(L, options.screening);
-  im.assemble_coupling(L);
-  if (!im.unknown_vertex.empty()) im.chol.emplace(A, options.cholesky);
+  return im.assemble_unknown_block(L, options.screening);
+}
+
+PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
+                             const Components& comps, std::vector<Index> dirichlet,
+                             const PoissonOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  const fem::SparseMatrix A = setup(L, mass, comps, std::move(dirichlet), options, false);
+  if (!impl_->unknown_vertex.empty()) impl_->chol.emplace(A, options.cholesky);
+}
+
+PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
+                             const Components& comps, std::vector<Index> dirichlet,
+                             const CholeskyAnalysis& analysis, const PoissonOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  const fem::SparseMatrix A = setup(L, mass, comps, std::move(dirichlet), options, true);
+  if (A.rows() != analysis.size()) {
+    throw InvalidInput("PoissonSolver: the analysis is of another Laplacian or components");
+  }
+  if (!impl_->unknown_vertex.empty()) impl_->chol.emplace(A, analysis, options.cholesky);
+}
+
+CholeskyAnalysis PoissonSolver::analyze(const fem::SparseMatrix& L, const Components& comps,
+                                        const CholeskyOptions& options) {
+  check_sizes(L, L.rows(), comps);
+  Impl im;  // every vertex of a component free: L's own pattern there
+  im.n = static_cast<Index>(L.rows());
+  im.comps = comps;
+  im.mass = Eigen::VectorXd::Zero(L.rows());
+  const std::vector<char> none(im.n, 0);
+  im.number_unknowns(none, none, false);
+  if (im.unknown_vertex.empty()) {
+    throw InvalidInput("PoissonSolver::analyze: no vertex is in a component");
+  }
+  return CholeskyAnalysis(im.assemble_unknown_block(L, 0.0), options);
 }
 
 PoissonSolver::~PoissonSolver() = default;

@@ -51,6 +51,22 @@ class PoissonSolver {
                 const Components& components, std::vector<Index> dirichlet_vertices,
                 const PoissonOptions& options = {});
 
+  /// Same, factoring with a shared symbolic analysis (made by analyze() from an L of the same
+  /// pattern and the same components) instead of one of its own: the Dirichlet and pinned
+  /// vertices stay in the factored system as decoupled rows (their diagonal entry, their
+  /// off-diagonal entries stored as zeros), so every such solver has the analyzed pattern — the
+  /// heat method's M + tL and L share one (docs/decisions.md, "Small meshes: one analysis, no
+  /// threads below their size"). Results equal the constructor above's to rounding.
+  /// @throws InvalidInput also if L's pattern or the components are not the analyzed ones
+  PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
+                const Components& components, std::vector<Index> dirichlet_vertices,
+                const CholeskyAnalysis& analysis, const PoissonOptions& options = {});
+
+  /// The analysis for the constructor above: of L's pattern on the vertices of a component.
+  /// @throws InvalidInput if the sizes disagree; SolverError if CHOLMOD fails
+  static CholeskyAnalysis analyze(const fem::SparseMatrix& L, const Components& components,
+                                  const CholeskyOptions& options = {});
+
   ~PoissonSolver();
   PoissonSolver(PoissonSolver&&) noexcept;
   PoissonSolver& operator=(PoissonSolver&&) noexcept;
@@ -70,12 +86,16 @@ class PoissonSolver {
 
   /// The Dirichlet vertices, in the constructor's order.
   const std::vector<Index>& dirichlet_vertices() const;
-  /// Number of unknowns in the factored system.
+  /// Number of unknowns in the factored system (with a shared analysis: including the Dirichlet
+  /// and pinned vertices, kept as decoupled rows).
   Index n_unknowns() const;
 
   struct Impl;
 
  private:
+  fem::SparseMatrix setup(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
+                          const Components& components, std::vector<Index> dirichlet_vertices,
+                          const PoissonOptions& options, bool keep_fixed);
   std::unique_ptr<Impl> impl_;
 };
 

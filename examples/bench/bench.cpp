@@ -17,6 +17,7 @@ int curves(int argc, char** argv);
 int vector_heat(int argc, char** argv);
 int batch(int argc, char** argv);
 int field(int argc, char** argv);
+int small(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -53,6 +54,10 @@ const Section kSections[] = {
     {"field",
      "smoothest and aligned direction fields, n = 1 and 4, 10k..1M faces, rocketship, igea",
      ifem::bench::field},
+    {"small",
+     "one mesh in a fresh process: first and median L + M or heat precompute (compare "
+     "OMP_NUM_THREADS=1 against the default: scripts/bench_small.sh)",
+     ifem::bench::small},
 };
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "cli.h"
 #include "intrinsic/core/errors.h"
+#include "solvers/cholesky.h"
 
 namespace {
 
@@ -45,6 +46,9 @@ int run_command(const ifem::cli::Command& cmd, int argc, const char* const* argv
 }  // namespace
 
 int main(int argc, char** argv) {
+  // OpenBLAS's worker threads spin from the moment it is loaded: a short run would share its
+  // cores with them (they come back on the first threaded BLAS call of a long one)
+  ifem::solvers::release_idle_blas_threads();
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     print_usage();
     return argc < 2 ? kExitUsage : 0;

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/core/parallel.h"
 #include "intrinsic/core/side_pairs.h"
 
 namespace ifem {
@@ -652,7 +653,7 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
   // one area per face (not one per halfedge): cot of the angle opposite each side
   const Index nf = tri.n_faces();
   std::vector<double> cot(tri.n_halfedges());
-#pragma omp parallel for schedule(static) if (nf > kParallelMin)
+#pragma omp parallel for schedule(static) if (parallel_pays(nf))
   for (Index f = 0; f < nf; ++f) {
     // on lengths normalized by a power of two (exact): cotangents are dimensionless, so the
     // weights are the same bits at every scale and squares never over- or underflow
@@ -668,7 +669,7 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
   }
   const Index ne = tri.n_edges();
   Eigen::VectorXd w(ne);
-#pragma omp parallel for schedule(static) if (ne > kParallelMin)
+#pragma omp parallel for schedule(static) if (parallel_pays(ne))
   for (Index e = 0; e < ne; ++e) {
     const Index h = tri.edge_halfedge(e);
     const Index t = tri.twin(h);

@@ -1,0 +1,140 @@
+// The precompute's shared symbolic analysis (CholeskyAnalysis, PoissonSolver with an analysis)
+// and thread-count independence of the heat method (issue 15, item 3).
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <thread>
+#include <vector>
+
+#include "fem/operators.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/parallel.h"
+#include "solvers/cholesky.h"
+#include "solvers/components.h"
+#include "solvers/heat_distance.h"
+#include "solvers/poisson.h"
+#include "test_util.h"
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
+namespace ifem::solvers {
+namespace {
+
+fem::SparseMatrix mass_plus_laplacian(const intrinsic::IntrinsicTriangulation& tri, double t) {
+  fem::SparseMatrix A = t * fem::cotan_laplacian(tri);
+  const Eigen::VectorXd m = fem::lumped_mass(tri);
+  for (Eigen::Index i = 0; i < A.rows(); ++i) A.coeffRef(i, i) += m[i];
+  A.makeCompressed();
+  return A;
+}
+
+// Two matrices of one pattern factored with one analysis equal their own factorizations
+// bitwise (same ordering, same operations), also when built from two threads at once.
+TEST(SolversSmallMesh, SharedAnalysisEqualsOwnAnalysis) {
+  const auto tri = test::make_tri(intrinsic::icosphere(6));
+  const fem::SparseMatrix A = mass_plus_laplacian(tri, 1.0);
+  const fem::SparseMatrix B = mass_plus_laplacian(tri, 0.01);
+  const CholeskyAnalysis analysis(A);
+  EXPECT_EQ(analysis.size(), A.rows());
+  std::vector<CholeskySolver> shared;
+  shared.reserve(2);
+  std::thread other([&] { shared.emplace_back(A, analysis); });
+  other.join();
+  shared.emplace_back(B, analysis);
+  const CholeskySolver own_a(A), own_b(B);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 3.0);
+  EXPECT_EQ(shared[0].solve(b), own_a.solve(b));
+  EXPECT_EQ(shared[1].solve(b), own_b.solve(b));
+  EXPECT_STREQ(shared[0].ordering(), own_a.ordering());
+  EXPECT_EQ(shared[1].factor_nonzeros(), own_b.factor_nonzeros());
+  // refactor() keeps working on the shared pattern (simplicial numerics: equal to rounding)
+  shared[0].refactor(B);
+  const Eigen::VectorXd xb = own_b.solve(b);
+  EXPECT_LT((shared[0].solve(b) - xb).cwiseAbs().maxCoeff(), 1e-12 * xb.cwiseAbs().maxCoeff());
+  // another pattern is refused
+  fem::SparseMatrix I(A.rows(), A.cols());
+  I.setIdentity();
+  EXPECT_THROW(CholeskySolver(I, analysis), InvalidInput);
+  EXPECT_THROW(CholeskyAnalysis(fem::SparseMatrix(3, 4)), InvalidInput);
+}
+
+// Compares every solve of a PoissonSolver with a shared analysis (constrained vertices kept as
+// decoupled rows) with one that removes them, to rounding.
+void expect_same_solves(const PoissonSolver& shared, const PoissonSolver& own, Index n) {
+  const Eigen::Index nd = Eigen::Index(own.dirichlet_vertices().size());
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, -2.0, 1.0);
+  const Eigen::VectorXd g = Eigen::VectorXd::LinSpaced(nd, 0.5, 1.5);
+  const Eigen::VectorXd x = shared.solve_weak(b, g), y = own.solve_weak(b, g);
+  EXPECT_LT((x - y).cwiseAbs().maxCoeff(), 1e-12 * y.cwiseAbs().maxCoeff());
+  for (Eigen::Index d = 0; d < nd; ++d) EXPECT_EQ(x[own.dirichlet_vertices()[d]], g[d]);
+  Eigen::MatrixXd B(n, 3);
+  B << b, b.reverse(), Eigen::VectorXd::Ones(n);
+  const Eigen::MatrixXd X = shared.solve_weak_homogeneous(B), Y = own.solve_weak_homogeneous(B);
+  EXPECT_LT((X - Y).cwiseAbs().maxCoeff(), 1e-12 * Y.cwiseAbs().maxCoeff());
+}
+
+TEST(SolversSmallMesh, PoissonSharedAnalysisMatchesSeparate) {
+  // two components (Dirichlet on the first, pure Neumann = pinned on the second) and two
+  // unreferenced vertices
+  const auto m = test::two_copies(intrinsic::grid(8, 8), 3.0, 2);
+  const auto tri = test::make_tri(m);
+  const Index n = tri.n_vertices();
+  const fem::SparseMatrix L = fem::cotan_laplacian(tri);
+  const Eigen::VectorXd mass = fem::lumped_mass(tri);
+  const Components comps = connected_components(tri);
+  const CholeskyAnalysis analysis = PoissonSolver::analyze(L, comps);
+  const std::vector<Index> bv = {0, 1, 2, 9, 18};
+  const PoissonSolver shared(L, mass, comps, bv, analysis), own(L, mass, comps, bv);
+  EXPECT_EQ(shared.n_unknowns(), own.n_unknowns() + Index(bv.size()) + 1);  // + pinned vertex
+  expect_same_solves(shared, own, n);
+  PoissonOptions screened;
+  screened.screening = 1.0;
+  const fem::SparseMatrix tL = 0.01 * L;
+  expect_same_solves(PoissonSolver(tL, mass, comps, {}, analysis, screened),
+                     PoissonSolver(tL, mass, comps, {}, screened), n);
+  expect_same_solves(PoissonSolver(tL, mass, comps, bv, analysis, screened),
+                     PoissonSolver(tL, mass, comps, bv, screened), n);
+  // the analysis of other components or another pattern is refused
+  const auto tri1 = test::make_tri(intrinsic::grid(8, 8));
+  const fem::SparseMatrix L1 = fem::cotan_laplacian(tri1);
+  EXPECT_THROW(PoissonSolver(L1, fem::lumped_mass(tri1), connected_components(tri1), {}, analysis),
+               InvalidInput);
+}
+
+TEST(SolversSmallMesh, ParallelPaysOnlyFromItsSize) {
+  EXPECT_FALSE(parallel_pays(kParallelMin - 1));
+  EXPECT_FALSE(parallel_pays(10, 11));
+  set_parallel_load_check(false);
+  EXPECT_EQ(parallel_pays(kParallelMin), std::thread::hardware_concurrency() > 1);
+  set_parallel_load_check(true);
+  parallel_pays(kParallelMin);  // reads /proc/loadavg (either answer is right)
+}
+
+#if defined(_OPENMP)
+// The precompute and a query give the same bits with 1 and 2 OpenMP threads, on a mesh above
+// every parallel loop's threshold (and on a small one, below them).
+TEST(SolversSmallMesh, HeatDistanceIsThreadCountIndependent) {
+  for (const int n : {8, 60}) {  // 1,280 and 72,000 faces
+    const auto m = intrinsic::icosphere(n);
+    const auto tri = intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
+    const int saved = omp_get_max_threads();
+    set_parallel_load_check(false);  // 2 threads even when the machine is busy
+    std::vector<Eigen::VectorXd> d;
+    for (const int threads : {1, 2}) {
+      omp_set_num_threads(threads);
+      const HeatDistanceSolver solver(tri);
+      d.push_back(solver.compute_distance({0, 7}));
+      d.push_back(solver.compute_distances({3, 11}).col(1));
+    }
+    omp_set_num_threads(saved);
+    set_parallel_load_check(true);
+    EXPECT_EQ(d[0], d[2]) << n;
+    EXPECT_EQ(d[1], d[3]) << n;
+  }
+}
+#endif
+
+}  // namespace
+}  // namespace ifem::solvers
