@@ -39,8 +39,9 @@ struct CholeskyOptions {
     /// in double precision (the same values as CHOLMOD's), or as floats (half the bytes per
     /// solve; each factor entry rounded to 6e-8 relative, so a solve's relative error grows
     /// to ~6e-8 × the condition number; what that means for the heat method: docs/decisions.md,
-    /// "Single-precision factors"). Large factors are solved over two halves of the elimination
-    /// tree on two threads. CHOLMOD keeps only the symbolic factor. Needs supernodal = true.
+    /// "Heat queries: our supernodal solve kernel"). Large factors are solved over two halves of
+    /// the elimination tree on two threads. CHOLMOD keeps only the symbolic factor. Needs
+    /// supernodal = true.
     kSupernodalDouble,
     kSupernodalSingle,
   };

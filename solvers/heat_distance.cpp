@@ -220,9 +220,10 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
   // Two factorizations (three with boundary), each exactly once, side by side.
   const fem::SparseMatrix tL = im.t * im.L;
   PoissonOptions poisson_opt;
-  // Queries solve with our supernodal kernel: the heat factor in double (its solution decays
-  // far below float's range on large meshes), the Poisson factor in single unless asked for
-  // double (docs/decisions.md, "Single-precision factors").
+  // Queries solve with our supernodal kernel (two threads on large factors, a point source's
+  // forward pass over its ancestors only): the heat factor in double (its solution decays far
+  // below float's range on large meshes), the Poisson factor as floats with kMixed
+  // (docs/decisions.md, "Heat queries: our supernodal solve kernel").
   using Kernel = CholeskyOptions::SolveKernel;
   poisson_opt.cholesky.solve_kernel = options.precision == HeatDistanceOptions::Precision::kDouble
                                           ? Kernel::kSupernodalDouble

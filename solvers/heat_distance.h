@@ -69,11 +69,14 @@ struct HeatDistanceOptions {
   /// Precision of the factor values the query's triangular solves read (factorizations and
   /// every other operation are double). kMixed: the Poisson factor (L) as floats, half its
   /// bytes per solve; the distances move by at most 3.2e-7 relative to kDouble's on every
-  /// reference mesh (BENCHMARKS.md, "Heat queries"). The heat factor (M + tL) stays double in
-  /// both: its solution decays far below float's range (1e-38) on large meshes, where a float
-  /// factor moved igea's distances by 3e-2 (docs/decisions.md, "Single-precision factors").
+  /// reference mesh. The heat factor (M + tL) stays double in both: its solution decays far
+  /// below float's range (1e-38) on large meshes, where a float heat factor moved igea's
+  /// distances by 3e-2. Default kDouble: on this project's machine a solve is not bound by
+  /// memory bandwidth (one thread reads the factor at 7.7 of its 14 GB/s), and converting the
+  /// float blocks cost more than the bytes saved (docs/decisions.md, "Heat queries: our
+  /// supernodal solve kernel"); kMixed is for machines or workloads that are bandwidth-bound.
   enum class Precision { kDouble, kMixed };
-  Precision precision = Precision::kMixed;
+  Precision precision = Precision::kDouble;
   /// @throws InvalidInput naming the field: time_factor not > 0 and finite, mean_edge_length
   ///         negative or not finite, thresholds not 0 < resolved_heat ≤ trusted_heat ≤ 1,
   ///         negative max_constrained_sources or correction_steps

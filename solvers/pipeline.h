@@ -147,7 +147,7 @@ Eigen::VectorXd from_input_vertices(const PreparedSurface& s, const Eigen::Vecto
 struct DistanceSettings {
   std::optional<double> time_factor;    ///< m in t = m·h², > 0
   std::optional<int> correction_steps;  ///< ≥ 0
-  /// Precision of the factors the queries read (HeatDistanceOptions::precision; default kMixed)
+  /// Precision of the factors the queries read (HeatDistanceOptions::precision; default kDouble)
   std::optional<HeatDistanceOptions::Precision> precision;
 };
 

@@ -46,8 +46,8 @@ solvers::DistanceSettings distance_settings(const Args& args) {
   solvers::DistanceSettings settings;
   if (args.has("time-factor")) settings.time_factor = args.real("time-factor");
   if (args.has("correction-steps")) settings.correction_steps = args.count("correction-steps");
-  if (args.has("double-precision")) {
-    settings.precision = solvers::HeatDistanceOptions::Precision::kDouble;
+  if (args.has("mixed-precision")) {
+    settings.precision = solvers::HeatDistanceOptions::Precision::kMixed;
   }
   return settings;
 }
@@ -235,10 +235,11 @@ OptionGroup distance_options() {
            .explain("after the heat method, N times φ ← the solution of\n"
                     "L φ = div(∇φ/|∇φ|) (default 0; " +
                     std::to_string(kAccurate.correction_steps) + " with --refine)"),
-       flag("double-precision")
-           .explain("read every factor in double precision in the solves (default: the\n"
-                    "Poisson factor as floats, half its bytes per query; distances move by\n"
-                    "at most ~3e-7 relative, far below the method's ~1% error)"),
+       flag("mixed-precision")
+           .explain("read the Poisson factor as floats in the solves (half its bytes per\n"
+                    "query; distances move by at most ~3e-7 relative, far below the method's\n"
+                    "~1% error). Pays only where the solves are memory-bound: not on the\n"
+                    "machine of BENCHMARKS.md, \"Heat queries\""),
        flag("refine").explain(
            "the accurate mode: intrinsic Delaunay refinement first (25° and, by\n"
            "default, edges of about 0.4·h: ~10× the vertices), then t = m·ℓ² with\n"

@@ -155,9 +155,11 @@ class HeatDistanceSolver:
             ``refine=True`` only): corner angle bound in degrees, target edge length as a
             multiple of h (0.4 here, as in the CLI), area bound (absolute; 0: none), cap on
             inserted vertices (None: the library's).
-        precision: ``'mixed'`` (default): the queries read the Poisson factor as floats, half
-            its bytes per query; distances move by at most ~3e-7 relative (the heat factor stays
-            double). ``'double'``: every factor in double (the CLI's ``--double-precision``).
+        precision: ``'double'`` (default): every factor in double. ``'mixed'``: the queries read
+            the Poisson factor as floats, half its bytes; distances move by at most ~3e-7
+            relative (the heat factor stays double). Not faster on a machine where the solves
+            are not memory-bound (``BENCHMARKS.md``, "Heat queries"); the CLI's
+            ``--mixed-precision``.
 
     Raises:
         InvalidInput: bad arrays or options (the message names the argument).
@@ -173,7 +175,7 @@ class HeatDistanceSolver:
 
     def __init__(self, V, F=None, refine=False, *, time_factor=None, correction_steps=None,
                  mollify=1e-5, path="auto", knn=30, min_angle=25.0, resolution=0.4,
-                 max_area=0.0, max_insertions=None, precision="mixed"):
+                 max_area=0.0, max_insertions=None, precision="double"):
         self._solver = _ifem.HeatDistanceSolver(
             V, _faces(F), _optional(time_factor, "time_factor", _real),
             _optional(correction_steps, "correction_steps", _int), *_surface(mollify, path, knn),
@@ -277,7 +279,7 @@ def _precision(precision):
 
 def heat_distance(V, F, sources=None, *, points=None, refine=False, time_factor=None,
                   correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
-                  resolution=0.4, max_area=0.0, max_insertions=None, precision="mixed"):
+                  resolution=0.4, max_area=0.0, max_insertions=None, precision="double"):
     """Geodesic distance from vertices (or surface points) in one call, as ``ifem distance``.
 
     Same arguments and result as ``HeatDistanceSolver(V, F, ...).compute_distance(sources,

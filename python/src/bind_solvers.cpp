@@ -403,7 +403,7 @@ void bind_solvers(py::module_& m) {
            }),
            py::arg("V"), py::arg("F"), py::arg("time_factor"), py::arg("correction_steps"),
            py::arg("mollify"), py::arg("path"), py::arg("knn"), py::arg("refine"),
-           py::arg("precision") = "mixed")
+           py::arg("precision") = "double")
       .def("compute_distance", &DistanceSolver::distance, py::arg("sources"))
       .def("compute_distances", &DistanceSolver::distances, py::arg("sources"))
       .def("compute_distance_from_points", &DistanceSolver::distance_from_points, py::arg("faces"),
@@ -421,7 +421,7 @@ void bind_solvers(py::module_& m) {
       },
       py::arg("V"), py::arg("F"), py::arg("sources"), py::arg("time_factor"),
       py::arg("correction_steps"), py::arg("mollify"), py::arg("path"), py::arg("knn"),
-      py::arg("refine"), py::arg("precision") = "mixed");
+      py::arg("refine"), py::arg("precision") = "double");
   m.def(
       "eigen",
       [](const py::handle& V, const py::handle& F, Index k, double mollify, const std::string& path,

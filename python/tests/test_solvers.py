@@ -290,16 +290,16 @@ def test_batched_sources_equal_single_queries_and_the_cli(tmp_path, kind):
 
 def test_precision_double_matches_mixed_and_the_cli(tmp_path):
     V, F = ifem.read_mesh(spot())
-    mixed = ifem.HeatDistanceSolver(V, F)
-    double = ifem.HeatDistanceSolver(V, F, precision="double")
+    mixed = ifem.HeatDistanceSolver(V, F, precision="mixed")
+    double = ifem.HeatDistanceSolver(V, F)
     assert (mixed.info["precision"], double.info["precision"]) == ("mixed", "double")
     for s in (0, 657):
         a, b = mixed.compute_distance(s), double.compute_distance(s)
         assert np.abs(a - b).max() < 1e-5 * b.max()
-        assert_close(ifem.heat_distance(V, F, s, precision="double"), b, rtol=1e-15)
-    run_cli("distance", spot(), "--source", "657", "--double-precision", "-o", tmp_path / "d.txt",
+        assert_close(ifem.heat_distance(V, F, s, precision="mixed"), a, rtol=1e-15)
+    run_cli("distance", spot(), "--source", "657", "--mixed-precision", "-o", tmp_path / "d.txt",
             "--quiet")
-    assert_close(read_txt(tmp_path / "d.txt"), b, rtol=1e-9)
+    assert_close(read_txt(tmp_path / "d.txt"), a, rtol=1e-9)
     with pytest.raises(ifem.InvalidInput, match="precision"):
         ifem.HeatDistanceSolver(V, F, precision="half")
 
