@@ -38,7 +38,12 @@ class ShiftInvertOp {
     }
     for (const Eigen::Index j : missing) A.coeffRef(j, j) = -sigma * m_[j];
     A.makeCompressed();
-    chol_ = std::make_unique<CholeskySolver>(A);
+    // one BLAS thread: OpenBLAS's factor differs in round-off between thread counts (the k = 50
+    // eigenvectors then differ inside degenerate clusters), and was no slower at this size
+    // (docs/decisions.md, "Eigenpairs: Spectra, factor at one BLAS thread")
+    CholeskyOptions copt;
+    copt.factor_blas_threads = 1;
+    chol_ = std::make_unique<CholeskySolver>(A, copt);
   }
   // one back-substitution per Lanczos step: no allocation (CHOLMOD's workspace is kept)
   void perform_op(const double* x, double* y) const { chol_->solve(x, y); }
@@ -143,6 +148,8 @@ EigenPairs eigenpairs(const fem::SparseMatrix& L_full, const Eigen::VectorXd& ma
   for (Index i = 0; i < Index(order.size()); ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](Index a, Index b) { return values[a] < values[b]; });
   EigenPairs out;
+  out.iterations = Index(eigs.num_iterations());
+  out.solves = Index(eigs.num_operations());
   out.values.resize(k);
   out.vectors = Eigen::MatrixXd::Zero(n, k);
   for (Index j = 0; j < k; ++j) {
