@@ -132,6 +132,10 @@ EigenPairs eigenpairs(const fem::SparseMatrix& L_full, const Eigen::VectorXd& ma
   DiagonalOp bop(m);
   Spectra::SymGEigsShiftSolver<ShiftInvertOp, DiagonalOp, Spectra::GEigsMode::ShiftInvert> eigs(
       op, bop, nev, ncv, sigma);
+  // Spectra's basis products go to OpenBLAS (EIGEN_USE_BLAS for this file, solvers/CMakeLists.txt),
+  // at one thread: faster than Eigen's own kernels, and OpenBLAS's threaded GEMV changes the
+  // round-off with the thread count (docs/decisions.md, "Eigenpairs: Spectra over OpenBLAS")
+  const BlasThreadScope one_blas_thread(1);
   eigs.init();
   const Eigen::Index nconv = eigs.compute(Spectra::SortRule::LargestMagn, options.max_iterations,
                                           options.tolerance, Spectra::SortRule::SmallestAlge);
