@@ -69,6 +69,44 @@ class DiagonalOp {
   const Eigen::VectorXd& m_;
 };
 
+// The problem on the referenced vertices (positive mass) and their ids in the input.
+struct Restricted {
+  fem::SparseMatrix L;
+  Eigen::VectorXd m;
+  std::vector<Index> vertex;
+};
+
+Restricted restrict_to_mass(const fem::SparseMatrix& L_full, const Eigen::VectorXd& mass_full) {
+  const Index n = Index(L_full.rows());
+  Restricted p;
+  std::vector<Index> id(n, kInvalidIndex);
+  for (Index v = 0; v < n; ++v) {
+    if (mass_full[v] > 0.0) {
+      id[v] = Index(p.vertex.size());
+      p.vertex.push_back(v);
+    }
+  }
+  const Index nr = Index(p.vertex.size());
+  if (nr == n) {
+    p.L = L_full;
+    p.m = mass_full;
+  } else {
+    std::vector<Eigen::Triplet<double>> trip;
+    for (Index j = 0; j < n; ++j) {
+      if (id[j] == kInvalidIndex) continue;
+      for (fem::SparseMatrix::InnerIterator it(L_full, j); it; ++it) {
+        if (id[it.row()] != kInvalidIndex) trip.emplace_back(id[it.row()], id[j], it.value());
+      }
+    }
+    p.L.resize(nr, nr);
+    p.L.setFromTriplets(trip.begin(), trip.end());
+    p.m.resize(nr);
+    for (Index i = 0; i < nr; ++i) p.m[i] = mass_full[p.vertex[i]];
+  }
+  p.L.makeCompressed();
+  return p;
+}
+
 }  // namespace
 
 void EigenOptions::validate() const {
@@ -89,37 +127,15 @@ EigenPairs eigenpairs(const fem::SparseMatrix& L_full, const Eigen::VectorXd& ma
                        std::to_string(L_full.cols()) + " but mass has " +
                        std::to_string(mass_full.size()) + " entries");
   }
-  // referenced vertices: positive mass
-  std::vector<Index> id(n, kInvalidIndex), vertex;
-  for (Index v = 0; v < n; ++v) {
-    if (mass_full[v] > 0.0) {
-      id[v] = Index(vertex.size());
-      vertex.push_back(v);
-    }
-  }
+  const Restricted p = restrict_to_mass(L_full, mass_full);
+  const fem::SparseMatrix& L = p.L;
+  const Eigen::VectorXd& m = p.m;
+  const std::vector<Index>& vertex = p.vertex;
   const Index nr = Index(vertex.size());
   if (k < 1 || k >= nr) {
     throw InvalidInput("eigenpairs: k = " + std::to_string(k) + " must be in [1, " +
                        std::to_string(nr) + ") (the number of vertices with mass)");
   }
-  fem::SparseMatrix L;
-  Eigen::VectorXd m(nr);
-  if (nr == n) {
-    L = L_full;
-    m = mass_full;
-  } else {
-    std::vector<Eigen::Triplet<double>> trip;
-    for (Index j = 0; j < n; ++j) {
-      if (id[j] == kInvalidIndex) continue;
-      for (fem::SparseMatrix::InnerIterator it(L_full, j); it; ++it) {
-        if (id[it.row()] != kInvalidIndex) trip.emplace_back(id[it.row()], id[j], it.value());
-      }
-    }
-    L.resize(nr, nr);
-    L.setFromTriplets(trip.begin(), trip.end());
-    for (Index i = 0; i < nr; ++i) m[i] = mass_full[vertex[i]];
-  }
-  L.makeCompressed();
   const Index nev = std::min<Index>(k + options.extra_pairs, nr - 1);
   Index ncv = options.ncv > 0 ? options.ncv : std::max<Index>(2 * nev + 1, 20);
   ncv = std::min(ncv, nr);

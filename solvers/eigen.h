@@ -2,7 +2,7 @@
 // M lumped mass), by Lanczos in shift-invert mode (Spectra) with a CHOLMOD factor of L − σM.
 // The results are bitwise the same for any OpenMP thread count and OpenBLAS setting (the
 // factorization runs at one BLAS thread, unless called inside a BlasThreadScope, whose count it
-// then takes; Spectra's dense products are Eigen's own, single-threaded).
+// then takes; Spectra's dense products go to OpenBLAS, also at one thread).
 #pragma once
 
 #include <Eigen/Core>

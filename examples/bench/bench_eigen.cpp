@@ -62,8 +62,8 @@ int eigen(int argc, char** argv) {
               factor_seconds(L, m, repeat));
   std::printf("| k | BLAS threads | seconds | iterations | solves | λ_k | peak MiB |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
-  // the process's OpenBLAS setting (0 without OpenBLAS): eigenpairs() factors at one BLAS
-  // thread, so only dense products that went to BLAS could use more
+  // the process's OpenBLAS setting (0 without OpenBLAS): eigenpairs() runs at one BLAS
+  // thread whatever it is (both rows should agree but for noise)
   const int threads_default = solvers::BlasThreadScope::current();
   for (const Index k : {10, 50}) {
     for (const int threads : {1, threads_default}) {
