@@ -38,7 +38,12 @@ class ShiftInvertOp {
     }
     for (const Eigen::Index j : missing) A.coeffRef(j, j) = -sigma * m_[j];
     A.makeCompressed();
-    chol_ = std::make_unique<CholeskySolver>(A);
+    // one BLAS thread: OpenBLAS's factor differs in round-off between thread counts (the k = 50
+    // eigenvectors then differ inside degenerate clusters), and was no slower at this size
+    // (docs/decisions.md, "Eigenpairs: Spectra, factor at one BLAS thread")
+    CholeskyOptions copt;
+    copt.factor_blas_threads = 1;
+    chol_ = std::make_unique<CholeskySolver>(A, copt);
   }
   // one back-substitution per Lanczos step: no allocation (CHOLMOD's workspace is kept)
   void perform_op(const double* x, double* y) const { chol_->solve(x, y); }
@@ -64,6 +69,44 @@ class DiagonalOp {
   const Eigen::VectorXd& m_;
 };
 
+// The problem on the referenced vertices (positive mass) and their ids in the input.
+struct Restricted {
+  fem::SparseMatrix L;
+  Eigen::VectorXd m;
+  std::vector<Index> vertex;
+};
+
+Restricted restrict_to_mass(const fem::SparseMatrix& L_full, const Eigen::VectorXd& mass_full) {
+  const Index n = Index(L_full.rows());
+  Restricted p;
+  std::vector<Index> id(n, kInvalidIndex);
+  for (Index v = 0; v < n; ++v) {
+    if (mass_full[v] > 0.0) {
+      id[v] = Index(p.vertex.size());
+      p.vertex.push_back(v);
+    }
+  }
+  const Index nr = Index(p.vertex.size());
+  if (nr == n) {
+    p.L = L_full;
+    p.m = mass_full;
+  } else {
+    std::vector<Eigen::Triplet<double>> trip;
+    for (Index j = 0; j < n; ++j) {
+      if (id[j] == kInvalidIndex) continue;
+      for (fem::SparseMatrix::InnerIterator it(L_full, j); it; ++it) {
+        if (id[it.row()] != kInvalidIndex) trip.emplace_back(id[it.row()], id[j], it.value());
+      }
+    }
+    p.L.resize(nr, nr);
+    p.L.setFromTriplets(trip.begin(), trip.end());
+    p.m.resize(nr);
+    for (Index i = 0; i < nr; ++i) p.m[i] = mass_full[p.vertex[i]];
+  }
+  p.L.makeCompressed();
+  return p;
+}
+
 }  // namespace
 
 void EigenOptions::validate() const {
@@ -84,37 +127,15 @@ EigenPairs eigenpairs(const fem::SparseMatrix& L_full, const Eigen::VectorXd& ma
                        std::to_string(L_full.cols()) + " but mass has " +
                        std::to_string(mass_full.size()) + " entries");
   }
-  // referenced vertices: positive mass
-  std::vector<Index> id(n, kInvalidIndex), vertex;
-  for (Index v = 0; v < n; ++v) {
-    if (mass_full[v] > 0.0) {
-      id[v] = Index(vertex.size());
-      vertex.push_back(v);
-    }
-  }
+  const Restricted p = restrict_to_mass(L_full, mass_full);
+  const fem::SparseMatrix& L = p.L;
+  const Eigen::VectorXd& m = p.m;
+  const std::vector<Index>& vertex = p.vertex;
   const Index nr = Index(vertex.size());
   if (k < 1 || k >= nr) {
     throw InvalidInput("eigenpairs: k = " + std::to_string(k) + " must be in [1, " +
                        std::to_string(nr) + ") (the number of vertices with mass)");
   }
-  fem::SparseMatrix L;
-  Eigen::VectorXd m(nr);
-  if (nr == n) {
-    L = L_full;
-    m = mass_full;
-  } else {
-    std::vector<Eigen::Triplet<double>> trip;
-    for (Index j = 0; j < n; ++j) {
-      if (id[j] == kInvalidIndex) continue;
-      for (fem::SparseMatrix::InnerIterator it(L_full, j); it; ++it) {
-        if (id[it.row()] != kInvalidIndex) trip.emplace_back(id[it.row()], id[j], it.value());
-      }
-    }
-    L.resize(nr, nr);
-    L.setFromTriplets(trip.begin(), trip.end());
-    for (Index i = 0; i < nr; ++i) m[i] = mass_full[vertex[i]];
-  }
-  L.makeCompressed();
   const Index nev = std::min<Index>(k + options.extra_pairs, nr - 1);
   Index ncv = options.ncv > 0 ? options.ncv : std::max<Index>(2 * nev + 1, 20);
   ncv = std::min(ncv, nr);
@@ -127,6 +148,10 @@ EigenPairs eigenpairs(const fem::SparseMatrix& L_full, const Eigen::VectorXd& ma
   DiagonalOp bop(m);
   Spectra::SymGEigsShiftSolver<ShiftInvertOp, DiagonalOp, Spectra::GEigsMode::ShiftInvert> eigs(
       op, bop, nev, ncv, sigma);
+  // Spectra's basis products go to OpenBLAS (EIGEN_USE_BLAS for this file, solvers/CMakeLists.txt),
+  // at one thread: faster than Eigen's own kernels, and OpenBLAS's threaded GEMV changes the
+  // round-off with the thread count (docs/decisions.md, "Eigenpairs: Spectra over OpenBLAS")
+  const BlasThreadScope one_blas_thread(1);
   eigs.init();
   const Eigen::Index nconv = eigs.compute(Spectra::SortRule::LargestMagn, options.max_iterations,
                                           options.tolerance, Spectra::SortRule::SmallestAlge);
@@ -143,6 +168,8 @@ EigenPairs eigenpairs(const fem::SparseMatrix& L_full, const Eigen::VectorXd& ma
   for (Index i = 0; i < Index(order.size()); ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](Index a, Index b) { return values[a] < values[b]; });
   EigenPairs out;
+  out.iterations = Index(eigs.num_iterations());
+  out.solves = Index(eigs.num_operations());
   out.values.resize(k);
   out.vectors = Eigen::MatrixXd::Zero(n, k);
   for (Index j = 0; j < k; ++j) {

@@ -1,5 +1,8 @@
 // Smallest eigenpairs of the Laplace–Beltrami operator: L φ = λ M φ (L cotan stiffness, PSD;
 // M lumped mass), by Lanczos in shift-invert mode (Spectra) with a CHOLMOD factor of L − σM.
+// The results are bitwise the same for any OpenMP thread count and OpenBLAS setting (the
+// factorization runs at one BLAS thread, unless called inside a BlasThreadScope, whose count it
+// then takes; Spectra's dense products go to OpenBLAS, also at one thread).
 #pragma once
 
 #include <Eigen/Core>
@@ -31,6 +34,10 @@ struct EigenOptions {
 struct EigenPairs {
   Eigen::VectorXd values;   ///< k, ascending (≥ 0 up to round-off; 0 once per component)
   Eigen::MatrixXd vectors;  ///< #V×k, M-orthonormal: Φᵀ M Φ = I
+  /// Spectra's num_iterations(): Lanczos expansions of the basis, the first included (restarts =
+  /// iterations − 1)
+  Index iterations = 0;
+  Index solves = 0;  ///< Spectra's num_operations(): back-substitutions with the factor of L − σM
 };
 
 /// Solves L φ = λ M φ for the k smallest eigenvalues.

@@ -10,6 +10,7 @@ namespace ifem::bench {
 // Each returns a process exit code; argv[0] is the section name.
 int foundation(int argc, char** argv);
 int solvers(int argc, char** argv);
+int eigen(int argc, char** argv);
 int pointcloud(int argc, char** argv);
 int refine(int argc, char** argv);
 int geodesic(int argc, char** argv);
@@ -45,6 +46,10 @@ const Section kSections[] = {
      ifem::bench::curves},
     {"solvers", "heat distance precompute + query 10k..1M faces; k = 10, 50 eigenpairs",
      ifem::bench::solvers},
+    {"eigen",
+     "k = 10, 50 eigenpairs on a 100k-face sphere, 1 and default threads, factorization alone; "
+     "--write DIR: L and M as Matrix Market",
+     ifem::bench::eigen},
     {"vector_heat",
      "vector heat precompute, transport, extension, log map vs scalar heat 10k..1M faces; "
      "complex factorization choices",

@@ -1,5 +1,5 @@
 // Benchmark section `solvers`: heat-method precompute (IDT + assembly + factorizations) and
-// per-query time from 10k to 1M+ faces; k = 10 and 50 eigenpairs on a ~100k-face sphere.
+// per-query time from 10k to 1M+ faces; then the `eigen` section (bench_eigen.cpp).
 //
 //   ifem_bench solvers [--repeat N] [--max-n 224] [--data DIR] [--skip-eigen 1]
 #include <cstdio>
@@ -14,10 +14,12 @@
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
 #include "solvers/cholesky.h"
-#include "solvers/eigen.h"
 #include "solvers/heat_distance.h"
 
 namespace ifem::bench {
+
+int eigen(int argc, char** argv);  // bench_eigen.cpp
+
 namespace {
 
 // What CHOLMOD chose for M + L of this mesh (ordering, supernodal, fill, flops): the heat
@@ -87,18 +89,8 @@ int solvers(int argc, char** argv) {
   std::printf("\nCHOLMOD on M + L (peak MiB above is the process's so far, not per row):\n");
   for (const auto& n : notes) std::printf("- %s\n", n.c_str());
   if (int_option(argc, argv, "--skip-eigen", 0)) return 0;
-  std::printf("\n## eigenpairs L φ = λ M φ on icosphere(71) (100,820 faces), median of %d\n\n",
-              repeat);
-  std::printf("| k | seconds | peak MiB |\n|---|---|---|\n");
-  const auto m = intrinsic::icosphere(71);
-  auto tri = intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
-  tri.flip_to_delaunay();
-  for (const Index k : {10, 50}) {
-    const double t = time_median(repeat, [&] { solvers::eigenpairs(tri, k); });
-    std::printf("| %d | %.3f | %.0f |\n", k, t, peak_rss_mib());
-    std::fflush(stdout);
-  }
-  return 0;
+  std::printf("\n");
+  return eigen(argc, argv);
 }
 
 }  // namespace ifem::bench

@@ -2,10 +2,16 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
+#include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
+#include "solvers/cholesky.h"
 #include "test_util.h"
 
 namespace ifem::solvers {
@@ -46,6 +52,65 @@ TEST(SolversEigen, UnreferencedVerticesGetZero) {
   const Index n = tri.n_vertices();
   EXPECT_EQ(ep.vectors.row(n - 1).norm(), 0.0);
   EXPECT_EQ(ep.vectors.row(n - 2).norm(), 0.0);
+}
+
+// Bitwise the same pairs with 1 and 2 threads: OpenMP's count, and OpenBLAS at one thread
+// (BlasThreadScope) against the process setting (the cores, 2 here; eigenpairs factors at one
+// BLAS thread either way), on a 23k-vertex sphere with a degenerate cluster (l = 3, 7 copies)
+// cut by k.
+TEST(SolversEigen, ThreadCountIndependent) {
+  const auto tri = test::make_tri(intrinsic::icosphere(48));  // 23,042 vertices
+  std::vector<EigenPairs> runs;
+  for (const int threads : {1, 2, 2}) {
+#ifdef _OPENMP
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(threads);
+#endif
+    if (threads == 1) {
+      const BlasThreadScope one_blas_thread(1);
+      runs.push_back(eigenpairs(tri, 12));
+    } else {
+      runs.push_back(eigenpairs(tri, 12));
+    }
+#ifdef _OPENMP
+    omp_set_num_threads(before);
+#endif
+  }
+  for (std::size_t r = 1; r < runs.size(); ++r) {
+    EXPECT_EQ(runs[r].solves, runs[0].solves);
+    EXPECT_EQ(runs[r].iterations, runs[0].iterations);
+    EXPECT_TRUE((runs[r].values.array() == runs[0].values.array()).all()) << "run " << r;
+    EXPECT_TRUE((runs[r].vectors.array() == runs[0].vectors.array()).all()) << "run " << r;
+  }
+  EXPECT_GT(runs[0].solves, 0);
+  // and still the sphere's spectrum: l(l+1) with multiplicity 2l + 1, the last cluster cut
+  EXPECT_NEAR(runs[0].values[0], 0.0, 1e-8);
+  EXPECT_NEAR(runs[0].values[8], 6.0, 0.01 * 6.0);
+  EXPECT_NEAR(runs[0].values[9], 12.0, 0.01 * 12.0);
+  EXPECT_NEAR(runs[0].values[11], 12.0, 0.01 * 12.0);
+}
+
+// Against a dense solver on small spheres, up to k = n − 1 (the basis is the whole space; the
+// icosahedral symmetry's repeated eigenvalues make Lanczos break down and continue from a new
+// direction).
+TEST(SolversEigen, MatchesDenseSolverUpToFullBasis) {
+  for (const int sub : {1, 2}) {
+    const auto tri = test::make_tri(intrinsic::icosphere(sub));
+    const fem::SparseMatrix L = fem::cotan_laplacian(tri);
+    const Eigen::VectorXd m = fem::lumped_mass(tri);
+    const Index n = Index(L.rows());
+    const Eigen::VectorXd s = m.cwiseSqrt().cwiseInverse();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> dense(s.asDiagonal() * Eigen::MatrixXd(L) *
+                                                               s.asDiagonal());
+    const double scale = dense.eigenvalues().maxCoeff();
+    for (const Index k : {Index(1), Index(5), n / 2, n - 1}) {
+      const EigenPairs ep = eigenpairs(L, m, k);
+      EXPECT_LT((ep.values - dense.eigenvalues().head(k)).cwiseAbs().maxCoeff(), 1e-12 * scale)
+          << "n = " << n << ", k = " << k;
+      const Eigen::MatrixXd G = ep.vectors.transpose() * m.asDiagonal() * ep.vectors;
+      EXPECT_LT((G - Eigen::MatrixXd::Identity(k, k)).cwiseAbs().maxCoeff(), 1e-12);
+    }
+  }
 }
 
 TEST(SolversEigen, ErrorPaths) {
