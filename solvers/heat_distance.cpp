@@ -29,6 +29,10 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kAbsoluteHeatFloor = 1e-290;  // stay clear of subnormals
+// From this many vertices on, queries solve with our supernodal kernel (see the constructor;
+// measured: 28k vertices (rocketship) faster with CHOLMOD's simplicial solves, 50k
+// (icosphere(71)) faster with ours: 0.0163 against 0.0197 s per query).
+constexpr Index kOwnKernelVertices = 40000;
 
 // A source as weights on vertices (1 vertex, or the 3 corners of a face).
 struct WeightedPoint {
@@ -47,6 +51,25 @@ struct WeightedPoint {
     return s;
   }
 };
+
+// The factor options of the heat method's Poisson (heat = false) or heat (true) factor. Queries
+// solve with our supernodal kernel (two threads on large factors, a point source's forward pass
+// over its ancestors only): the heat factor in double (its solution decays far below float's
+// range on large meshes), the Poisson factor as floats with kMixed (docs/decisions.md, "Heat
+// queries: our supernodal solve kernel"). Below kOwnKernelVertices CHOLMOD's simplicial solves
+// are faster for a single query (our kernel's per-supernode BLAS calls dominate there:
+// rocketship 0.0060 against 0.0043 s).
+PoissonOptions query_factor_options(HeatDistanceOptions::Precision precision, Index n_vertices,
+                                    bool heat) {
+  using Kernel = CholeskyOptions::SolveKernel;
+  const bool mixed = precision == HeatDistanceOptions::Precision::kMixed;
+  PoissonOptions o;
+  if (mixed || n_vertices >= kOwnKernelVertices) {
+    o.cholesky.solve_kernel =
+        mixed && !heat ? Kernel::kSupernodalSingle : Kernel::kSupernodalDouble;
+  }
+  return o;
+}
 
 }  // namespace
 
@@ -219,17 +242,8 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
       std::find(on_boundary.begin(), on_boundary.end(), 1) != on_boundary.end();
   // Two factorizations (three with boundary), each exactly once, side by side.
   const fem::SparseMatrix tL = im.t * im.L;
-  PoissonOptions poisson_opt;
-  // Queries solve with our supernodal kernel (two threads on large factors, a point source's
-  // forward pass over its ancestors only): the heat factor in double (its solution decays far
-  // below float's range on large meshes), the Poisson factor as floats with kMixed
-  // (docs/decisions.md, "Heat queries: our supernodal solve kernel").
-  using Kernel = CholeskyOptions::SolveKernel;
-  poisson_opt.cholesky.solve_kernel = options.precision == HeatDistanceOptions::Precision::kDouble
-                                          ? Kernel::kSupernodalDouble
-                                          : Kernel::kSupernodalSingle;
-  PoissonOptions heat_opt = poisson_opt;
-  heat_opt.cholesky.solve_kernel = Kernel::kSupernodalDouble;
+  PoissonOptions poisson_opt = query_factor_options(options.precision, im.tri.n_vertices(), false);
+  PoissonOptions heat_opt = query_factor_options(options.precision, im.tri.n_vertices(), true);
   heat_opt.screening = 1.0;  // tL + 1·M
   // One symbolic analysis for all of them: M + tL, its Dirichlet form and the pinned L keep
   // L's pattern (constrained vertices as decoupled rows), so AMD runs once.
