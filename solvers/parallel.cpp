@@ -39,16 +39,14 @@ int max_threads() {
   return cap > 0 ? cap : int(std::max(1u, std::thread::hardware_concurrency()));
 }
 
-void run_parallel(const std::vector<std::function<void()>>& jobs, bool blas_one_thread) {
+void run_parallel(const std::vector<std::function<void()>>& jobs) {
   const std::size_t workers =
       inside_job ? 1 : std::min<std::size_t>(jobs.size(), std::size_t(max_threads()));
-  // OpenBLAS at one thread also when the jobs run one after the other: its blocking depends on
-  // its thread count, and so would the factors' last bits (results must not depend on threads)
-  const BlasThreadScope one_blas_thread(blas_one_thread ? 1 : 0);
   if (workers <= 1) {
     for (const auto& j : jobs) j();
     return;
   }
+  const BlasThreadScope one_blas_thread(1);
   std::atomic<std::size_t> next{0};
   std::vector<std::exception_ptr> errors(jobs.size());
   auto work = [&]() {

@@ -7,16 +7,14 @@
 
 namespace ifem::solvers {
 
-/// Runs independent jobs on up to min(#jobs, max_threads()) threads (OpenBLAS at one thread
-/// meanwhile, also when they run one after the other); rethrows the first job's exception after all
+/// Runs independent jobs on up to min(#jobs, max_threads()) threads (OpenBLAS at one thread each
+/// meanwhile); rethrows the first job's exception after all
 /// have finished. CHOLMOD's supernodal factorization of a surface Laplacian is mostly small dense
 /// blocks where BLAS threads gain little, so two factorizations side by side (BLAS at 1 thread
 /// each) finish well before two in a row (docs/DEPENDENCIES.md: ~1.9 s vs 2.6–3.0 s at 1M faces).
 /// Jobs started from inside another run_parallel() job run one after the other on the calling
 /// thread (the cores are taken already).
-/// @param blas_one_thread false for jobs that call no BLAS (solves with our own kernel): then
-///        OpenBLAS's setting is left alone (changing it wakes its threads, which spin)
-void run_parallel(const std::vector<std::function<void()>>& jobs, bool blas_one_thread = true);
+void run_parallel(const std::vector<std::function<void()>>& jobs);
 
 /// Caps the threads run_parallel() uses, process-wide (0: the hardware's core count; ≥ 0).
 /// Results never depend on it (tests compare 1 and 2 threads bitwise).

@@ -241,10 +241,10 @@ struct SupernodalSolver::Impl {
   bool split_tree = false;
   Split split;
   // Buffers of one solve: the permuted right-hand sides and, per bin, the update / gather
-  // rows (T) and a float block converted to double (S); grown, never shrunk, so that a solver's
-  // repeated solves allocate (and page-fault) nothing.
+  // rows (T), a float block converted to double (S) and the updates of the top's rows (acc); grown,
+  // never shrunk, so that a solver's repeated solves allocate (and page-fault) nothing.
   struct Scratch {
-    std::vector<double> W, T[2], S[2];
+    std::vector<double> W, T[2], S[2], acc[2];
     static double* sized(std::vector<double>& v, std::size_t n) {
       if (v.size() < n) v.resize(n);
       return v.data();
@@ -275,11 +275,11 @@ struct SupernodalSolver::Impl {
 template <class Real>
 void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
                                            Scratch& scr) const {
-  std::vector<double> acc[2];
+  std::vector<double>* acc = scr.acc;
   std::vector<std::function<void()>> jobs;
   for (int b = 0; b < 2; ++b) {
     acc[b].assign(std::size_t(split.n_top) * k, 0.0);
-    jobs.emplace_back([this, values, W, k, b, &acc, &scr] {
+    jobs.emplace_back([this, values, W, k, b, acc, &scr] {
       const FlushDenormalsScope no_subnormals;
       double* T = Scratch::sized(scr.T[b], std::size_t(max_offdiag) * k);
       double* S = Scratch::sized(scr.S[b], block_scratch);
@@ -289,7 +289,7 @@ void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
       }
     });
   }
-  run_parallel(jobs, false);
+  run_parallel(jobs);
   // the bins' updates of the top's rows, in a fixed order (bin 0, then bin 1)
   for (const int s : split.top) {
     for (int c = p.super[s]; c < p.super[s + 1]; ++c) {
@@ -323,7 +323,7 @@ void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k
       }
     });
   }
-  run_parallel(jobs, false);
+  run_parallel(jobs);
 }
 
 std::vector<int> SupernodalSolver::Impl::forward_reach(const double* W, int k) const {
@@ -337,9 +337,9 @@ std::vector<int> SupernodalSolver::Impl::forward_reach(const double* W, int k) c
       mark[s] = 1;
       work += p.value_start[s + 1] - p.value_start[s];
     }
+    if (2 * work >= p.value_start.back()) return {};  // dense enough: a full pass
   }
   std::vector<int> reach;
-  if (2 * work >= p.value_start.back()) return reach;
   for (int s = 0; s < ns; ++s) {
     if (mark[s]) reach.push_back(s);
   }
