@@ -56,6 +56,59 @@ const double* block_values(const Block<Real>& b, double* scratch) {
   }
 }
 
+// Supernodes up to this many columns solve a single right-hand side with the loops below, one
+// pass over each column, rather than BLAS dtrsv + dgemv: OpenBLAS's dtrsv takes a lock-guarded
+// buffer on every call, and on the mean supernode (7.7 columns × 28 rows) the calls cost more
+// than the arithmetic (one 1M-face query: 0.185 s with BLAS, docs/decisions.md). The loops read a
+// float factor directly, converting each entry as it is used.
+constexpr int kSmallSupernode = 64;
+
+// Σ a[i]·b[i] over n entries, in four independent sums (a fixed order: the same bits on every
+// thread count).
+template <class Real>
+double dot(const Real* a, const double* b, int n) {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+    s0 += double(a[i]) * b[i];
+    s1 += double(a[i + 1]) * b[i + 1];
+    s2 += double(a[i + 2]) * b[i + 2];
+    s3 += double(a[i + 3]) * b[i + 3];
+  }
+  for (; i < n; ++i) s0 += double(a[i]) * b[i];
+  return (s0 + s1) + (s2 + s3);
+}
+
+// Forward substitution of a small supernode for one right-hand side: y ← L11⁻¹ y in place and
+// T ← L21 y (m entries), one column at a time.
+template <class Real>
+void forward_one(const Block<Real>& b, double* y, double* T) {
+  const int nscol = b.nscol, m = b.nsrow - b.nscol;
+  std::fill(T, T + m, 0.0);
+  for (int j = 0; j < nscol; ++j) {
+    const Real* col = b.L + Int64(j) * b.nsrow;
+    const double yj = y[j] / double(col[j]);
+    y[j] = yj;
+    for (int i = j + 1; i < nscol; ++i) y[i] -= double(col[i]) * yj;
+    const Real* below = col + nscol;
+    for (int i = 0; i < m; ++i) T[i] += double(below[i]) * yj;
+  }
+}
+
+// Backward substitution of a small supernode for one right-hand side: y ← L11⁻ᵀ (y − L21ᵀ g),
+// where Z holds [y; g] (nsrow entries: the supernode's rows, g gathered from the final rows below)
+// so that each column is one dot product.
+template <class Real>
+void backward_one(const Block<Real>& b, double* y, double* Z) {
+  const int nscol = b.nscol, nsrow = b.nsrow;
+  std::copy(y, y + nscol, Z);
+  for (int j = nscol - 1; j >= 0; --j) {
+    const Real* col = b.L + Int64(j) * nsrow;
+    Z[j] = (Z[j] - dot(col + j + 1, Z + j + 1, nsrow - j - 1)) / double(col[j]);
+  }
+  std::copy(Z, Z + nscol, y);
+}
+
 // Forward substitution of one supernode on W (n × k, row-major) with BLAS, as CHOLMOD's own
 // supernodal solve does: solve with the diagonal block, then subtract the off-diagonal block's
 // product from the rows below (T: scratch, m × k; S: scratch for a converted float block).
@@ -63,9 +116,12 @@ template <class Real>
 void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
                    const TopAccumulator& top) {
   const int m = b.nsrow - b.nscol, ld = b.nsrow;
-  const double* L = block_values(b, S);
   double* Y = W + Int64(b.k1) * k;
-  if (k == 1) {
+  const bool small = k == 1 && b.nscol <= kSmallSupernode;
+  const double* L = small ? nullptr : block_values(b, S);
+  if (small) {
+    forward_one(b, Y, T);
+  } else if (k == 1) {
     cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, b.nscol, L, ld, Y, 1);
     if (m == 0) return;
     cblas_dgemv(CblasColMajor, CblasNoTrans, m, b.nscol, 1.0, L + b.nscol, ld, Y, 1, 0.0, T, 1);
@@ -92,8 +148,14 @@ void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
 template <class Real>
 void backward_block(const Block<Real>& b, double* W, int k, double* G, double* S) {
   const int m = b.nsrow - b.nscol, ld = b.nsrow;
-  const double* L = block_values(b, S);
   double* Y = W + Int64(b.k1) * k;
+  if (k == 1 && b.nscol <= kSmallSupernode) {
+    const int* rows = b.R + b.nscol;
+    for (int r = 0; r < m; ++r) G[b.nscol + r] = W[rows[r]];
+    backward_one(b, Y, G);
+    return;
+  }
+  const double* L = block_values(b, S);
   if (m > 0) {
     const int* rows = b.R + b.nscol;
     for (int r = 0; r < m; ++r) {
@@ -234,7 +296,12 @@ struct SupernodalSolver::Impl {
   FactorPrecision precision = FactorPrecision::kDouble;
   std::vector<double> values_d;
   std::vector<float> values_f;
-  int max_offdiag = 0;            // largest m = nsrow − nscol
+  int max_offdiag = 0;  // largest m = nsrow − nscol
+  // entries of a pass's update / gather scratch (T, G) for k right-hand sides: m × k, or all of a
+  // small supernode's rows for one (backward_one's [y; g])
+  std::size_t scratch_rows(int k) const {
+    return std::size_t(max_offdiag) * k + std::size_t(kSmallSupernode);
+  }
   std::size_t block_scratch = 0;  // single precision: the largest block (nsrow × nscol)
   std::vector<int> col_super;     // n: the supernode of each column
   std::vector<int> parent;        // #supernodes: the elimination tree's parent, −1 at a root
@@ -281,7 +348,7 @@ void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
     acc[b].assign(std::size_t(split.n_top) * k, 0.0);
     jobs.emplace_back([this, values, W, k, b, acc, &scr] {
       const FlushDenormalsScope no_subnormals;
-      double* T = Scratch::sized(scr.T[b], std::size_t(max_offdiag) * k);
+      double* T = Scratch::sized(scr.T[b], scratch_rows(k));
       double* S = Scratch::sized(scr.S[b], block_scratch);
       for (const Subtree& st : split.bin[b]) {
         const TopAccumulator top{acc[b].data(), split.top_index.data(), st.col_end};
@@ -298,7 +365,7 @@ void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
       for (int j = 0; j < k; ++j) w[j] = (w[j] + acc[0][t + j]) + acc[1][t + j];
     }
   }
-  double* T = Scratch::sized(scr.T[0], std::size_t(max_offdiag) * k);
+  double* T = Scratch::sized(scr.T[0], scratch_rows(k));
   double* S = Scratch::sized(scr.S[0], block_scratch);
   for (const int s : split.top) forward_block(block(values, s), W, k, T, S, TopAccumulator{});
 }
@@ -306,7 +373,7 @@ void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
 template <class Real>
 void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k,
                                             Scratch& scr) const {
-  double* G = Scratch::sized(scr.T[0], std::size_t(max_offdiag) * k);
+  double* G = Scratch::sized(scr.T[0], scratch_rows(k));
   double* S = Scratch::sized(scr.S[0], block_scratch);
   for (auto it = split.top.rbegin(); it != split.top.rend(); ++it) {
     backward_block(block(values, *it), W, k, G, S);
@@ -315,7 +382,7 @@ void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k
   for (int b = 0; b < 2; ++b) {
     jobs.emplace_back([this, values, W, k, b, &scr] {
       const FlushDenormalsScope no_subnormals;
-      double* Gb = Scratch::sized(scr.T[b], std::size_t(max_offdiag) * k);
+      double* Gb = Scratch::sized(scr.T[b], scratch_rows(k));
       double* S = Scratch::sized(scr.S[b], block_scratch);
       const auto& bin = split.bin[b];
       for (auto st = bin.rbegin(); st != bin.rend(); ++st) {
@@ -350,7 +417,7 @@ template <class Real>
 void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k,
                                             Scratch& scr) const {
   const int ns = int(p.super.size()) - 1;
-  double* T = Scratch::sized(scr.T[0], std::size_t(max_offdiag) * k);
+  double* T = Scratch::sized(scr.T[0], scratch_rows(k));
   double* S = Scratch::sized(scr.S[0], block_scratch);
   // a sparse right-hand side (a point source) reaches only its columns' ancestors: the forward
   // pass visits those (zero rows stay zero elsewhere: the same values as a full pass)
