@@ -10,6 +10,7 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/core/parallel.h"
 
 namespace ifem::fem {
 
@@ -61,16 +62,6 @@ bool negate_normalize(Eigen::Vector2d& x) {
   if (!(m > 0.0) || !std::isfinite(m)) return false;
   const Eigen::Vector2d y = x / m;
   x = y / -std::sqrt(y.squaredNorm());
-  return true;
-}
-
-// The corner contributions s·A·∇φ_i·X of face f (with hat gradients g) to the divergence of the
-// unit field −∇u/|∇u|, u at the face's corners; false where the field is undefined.
-bool unit_divergence_corners(const Layout& L, const Eigen::Vector2d g[3], double u0, double u1,
-                             double u2, double s, double c[3]) {
-  Eigen::Vector2d x = u0 * g[0] + u1 * g[1] + u2 * g[2];
-  if (!negate_normalize(x)) return false;
-  for (int i = 0; i < 3; ++i) c[i] = s * L.area * g[i].dot(x);
   return true;
 }
 
@@ -134,44 +125,93 @@ Eigen::VectorXd divergence(const IntrinsicTriangulation& tri, const Eigen::Matri
 Eigen::VectorXd divergence_of_unit_gradient(const IntrinsicTriangulation& tri,
                                             const Eigen::VectorXd& u,
                                             const std::vector<char>* use_face) {
-  if (u.size() != tri.n_vertices()) {
-    throw InvalidInput("divergence_of_unit_gradient: u has " + std::to_string(u.size()) +
-                       " values, expected #V = " + std::to_string(tri.n_vertices()));
-  }
-  const Index nf = tri.n_faces();
-  if (use_face && static_cast<Index>(use_face->size()) != nf) {
-    throw InvalidInput("divergence_of_unit_gradient: use_face has " +
-                       std::to_string(use_face->size()) +
-                       " entries, expected #F = " + std::to_string(nf));
-  }
-  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> c(nf, 3);
-  const double s = 1.0 / tri.multiplicity();
-  const auto& tail = tri.tails();
-#pragma omp parallel for schedule(static) if (nf >= kParallelFaces)
-  for (Index f = 0; f < nf; ++f) {
-    c.row(f).setZero();
-    if (use_face && !(*use_face)[f]) continue;
-    const Layout L = layout(tri, f);
-    Eigen::Vector2d g[3];
-    if (!hat_gradients(L, g)) continue;
-    double cf[3];
-    if (!unit_divergence_corners(L, g, u[tail[3 * f]], u[tail[3 * f + 1]], u[tail[3 * f + 2]], s,
-                                 cf)) {
-      continue;
-    }
-    for (int i = 0; i < 3; ++i) c(f, i) = cf[i];
-  }
-  Eigen::VectorXd div = Eigen::VectorXd::Zero(tri.n_vertices());
-  for (Index f = 0; f < nf; ++f) {
-    for (int i = 0; i < 3; ++i) div[tail[3 * f + i]] += c(f, i);
-  }
-  return div;
+  return UnitGradientDivergence(tri).apply(u, use_face);
 }
 
 Eigen::MatrixXd divergence_of_unit_gradients(const IntrinsicTriangulation& tri,
                                              const Eigen::MatrixXd& U,
                                              const std::vector<std::vector<char>>& use_face) {
-  const Index nv = tri.n_vertices(), nf = tri.n_faces();
+  return UnitGradientDivergence(tri).apply(U, use_face);
+}
+
+UnitGradientDivergence::UnitGradientDivergence(const IntrinsicTriangulation& tri)
+    : n_vertices_(tri.n_vertices()),
+      n_faces_(tri.n_faces()),
+      scale_(1.0 / tri.multiplicity()),
+      tail_(tri.tails().begin(), tri.tails().end()),
+      frame_(3 * std::size_t(tri.n_faces())) {
+  const Index nf = n_faces_;
+#pragma omp parallel for schedule(static) if (parallel_pays(nf, kParallelFaces))
+  for (Index f = 0; f < nf; ++f) {
+    const Layout L = layout(tri, f);
+    const bool ok = L.area > 0.0 && L.y > 0.0;
+    double* fr = &frame_[3 * std::size_t(f)];
+    fr[0] = L.l0;
+    fr[1] = L.x;
+    fr[2] = ok ? L.y : 0.0;
+  }
+}
+
+namespace {
+
+// The corner contributions c of one face (frame fr = ℓ₀, x, y) to the divergence of −∇u/|∇u|,
+// u at its corners; false (c untouched) on a degenerate face or where ∇u is 0 or not finite.
+bool unit_corners(const double* fr, double u0, double u1, double u2, double half_s, double c[3]) {
+  const double l0 = fr[0], x = fr[1], y = fr[2];
+  if (!(y > 0.0)) return false;
+  // J e_0 = (−y, x − ℓ₀), J e_1 = (y, −x), J e_2 = (0, ℓ₀); v = Σ u_i J e_i = 2A ∇u
+  Eigen::Vector2d v(y * (u1 - u0), x * (u0 - u1) + l0 * (u2 - u0));
+  if (!negate_normalize(v)) return false;
+  c[0] = half_s * (-y * v.x() + (x - l0) * v.y());
+  c[1] = half_s * (y * v.x() - x * v.y());
+  c[2] = half_s * (l0 * v.y());
+  return true;
+}
+
+}  // namespace
+
+Eigen::VectorXd UnitGradientDivergence::apply(const Eigen::VectorXd& u,
+                                              const std::vector<char>* use_face) const {
+  if (u.size() != n_vertices_) {
+    throw InvalidInput("divergence_of_unit_gradient: u has " + std::to_string(u.size()) +
+                       " values, expected #V = " + std::to_string(n_vertices_));
+  }
+  const Index nf = n_faces_;
+  if (use_face && static_cast<Index>(use_face->size()) != nf) {
+    throw InvalidInput("divergence_of_unit_gradient: use_face has " +
+                       std::to_string(use_face->size()) +
+                       " entries, expected #F = " + std::to_string(nf));
+  }
+  // two fixed halves of the faces, each summed in face order into its own vector, then added:
+  // the same bits whether one thread or two run them
+  Eigen::VectorXd half[2] = {Eigen::VectorXd::Zero(n_vertices_), Eigen::VectorXd::Zero(0)};
+  const double half_s = 0.5 * scale_;
+  const bool two = parallel_pays(nf, kParallelFaces);
+  if (nf >= kParallelFaces) half[1] = Eigen::VectorXd::Zero(n_vertices_);
+  const int parts = nf >= kParallelFaces ? 2 : 1;
+#pragma omp parallel for schedule(static, 1) num_threads(2) if (two)
+  for (int part = 0; part < parts; ++part) {
+    double* div = half[part].data();
+    const Index f1 = nf * part / parts, f2 = nf * (part + 1) / parts;
+    for (Index f = f1; f < f2; ++f) {
+      if (use_face && !(*use_face)[std::size_t(f)]) continue;
+      const Index* t = &tail_[3 * std::size_t(f)];
+      double c[3];
+      if (!unit_corners(&frame_[3 * std::size_t(f)], u[t[0]], u[t[1]], u[t[2]], half_s, c)) {
+        continue;
+      }
+      div[t[0]] += c[0];
+      div[t[1]] += c[1];
+      div[t[2]] += c[2];
+    }
+  }
+  if (parts == 2) half[0] += half[1];
+  return half[0];
+}
+
+Eigen::MatrixXd UnitGradientDivergence::apply(
+    const Eigen::MatrixXd& U, const std::vector<std::vector<char>>& use_face) const {
+  const Index nv = n_vertices_, nf = n_faces_;
   const Eigen::Index k = U.cols();
   if (U.rows() != nv) {
     throw InvalidInput("divergence_of_unit_gradients: U has " + std::to_string(U.rows()) +
@@ -188,10 +228,9 @@ Eigen::MatrixXd divergence_of_unit_gradients(const IntrinsicTriangulation& tri,
   // vertex-major copies: a face's k values per corner are contiguous
   const Eigen::MatrixXd Ut = U.transpose();
   Eigen::MatrixXd div = Eigen::MatrixXd::Zero(k, nv);
-  const double s = 1.0 / tri.multiplicity();
-  const auto& tail = tri.tails();
+  const double half_s = 0.5 * scale_;
   // columns split between threads: each scatters into its own columns, no atomics
-#pragma omp parallel if (nf >= kParallelFaces && k > 1)
+#pragma omp parallel if (k > 1 && parallel_pays(nf, kParallelFaces))
   {
 #ifdef _OPENMP
     const Eigen::Index nt = omp_get_num_threads(), t = omp_get_thread_num();
@@ -200,14 +239,13 @@ Eigen::MatrixXd divergence_of_unit_gradients(const IntrinsicTriangulation& tri,
 #endif
     const Eigen::Index j0 = k * t / nt, j1 = k * (t + 1) / nt;
     for (Index f = 0; f < nf && j0 < j1; ++f) {
-      const Layout L = layout(tri, f);
-      Eigen::Vector2d g[3];
-      if (!hat_gradients(L, g)) continue;
-      const Index a = tail[3 * f], b = tail[3 * f + 1], c = tail[3 * f + 2];
+      const double* fr = &frame_[3 * std::size_t(f)];
+      const Index a = tail_[3 * std::size_t(f)], b = tail_[3 * std::size_t(f) + 1],
+                  c = tail_[3 * std::size_t(f) + 2];
       for (Eigen::Index j = j0; j < j1; ++j) {
         if (!use_face.empty() && !use_face[std::size_t(j)][std::size_t(f)]) continue;
         double cf[3];
-        if (!unit_divergence_corners(L, g, Ut(j, a), Ut(j, b), Ut(j, c), s, cf)) continue;
+        if (!unit_corners(fr, Ut(j, a), Ut(j, b), Ut(j, c), half_s, cf)) continue;
         div(j, a) += cf[0];
         div(j, b) += cf[1];
         div(j, c) += cf[2];

@@ -39,6 +39,36 @@ Eigen::VectorXd divergence_of_unit_gradient(const intrinsic::IntrinsicTriangulat
                                             const Eigen::VectorXd& u,
                                             const std::vector<char>* use_face = nullptr);
 
+/// divergence_of_unit_gradient() for many fields on one triangulation (the heat method's
+/// queries): each face's 2D layout (ℓ₀, x, y of its third corner: 3 doubles per face) is computed
+/// once, at construction, instead of on every call, and a call reads those with the face's corner
+/// values: c_i = (s/2)·(J e_i)·X on face f, e_i the side opposite corner i, J the rotation by 90°,
+/// X = −v/|v| with v = Σ u_i J e_i = 2A∇u (so the area cancels). The triangulation is copied
+/// from, not referenced; it must not change while the object is used for it.
+class UnitGradientDivergence {
+ public:
+  explicit UnitGradientDivergence(const intrinsic::IntrinsicTriangulation& tri);
+
+  /// divergence_of_unit_gradient(tri, u, use_face), #V. The faces are summed in two fixed halves
+  /// (one thread each when the mesh is large and a core is idle), so the result does not depend
+  /// on the thread count.
+  /// @throws InvalidInput if u.size() != #V or use_face has the wrong size
+  Eigen::VectorXd apply(const Eigen::VectorXd& u,
+                        const std::vector<char>* use_face = nullptr) const;
+
+  /// divergence_of_unit_gradients(tri, U, use_face), #V×k; threads split the columns.
+  /// @param use_face empty (every face), or k masks of #F entries
+  /// @throws InvalidInput if U.rows() != #V or use_face has the wrong sizes
+  Eigen::MatrixXd apply(const Eigen::MatrixXd& U,
+                        const std::vector<std::vector<char>>& use_face) const;
+
+ private:
+  Index n_vertices_ = 0, n_faces_ = 0;
+  double scale_ = 1.0;         // 1 / tri.multiplicity()
+  std::vector<Index> tail_;    // 3 per face: its corners
+  std::vector<double> frame_;  // 3 per face: ℓ₀, x, y (y = 0 on a degenerate face)
+};
+
 /// divergence_of_unit_gradient() of every column of U (#V×k) at once, #V×k: each face's layout
 /// is computed once for all columns, and threads split the columns. Column j equals
 /// divergence_of_unit_gradient(tri, U.col(j), &use_face[j]) up to the order of the sums

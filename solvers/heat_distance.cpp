@@ -102,9 +102,10 @@ struct HeatDistanceSolver::Impl {
   Eigen::VectorXd mass;
   double t = 0.0;      // time step, in units of scale²
   double scale = 1.0;  // tri's lengths are the input's divided by scale (a power of two)
-  std::optional<PoissonSolver> heat_neumann;    // (M + tL), Neumann
-  std::optional<PoissonSolver> heat_dirichlet;  // (M + tL), u = 0 on the boundary
-  std::optional<PoissonSolver> poisson;         // L, pure Neumann per component
+  std::optional<PoissonSolver> heat_neumann;            // (M + tL), Neumann
+  std::optional<PoissonSolver> heat_dirichlet;          // (M + tL), u = 0 on the boundary
+  std::optional<PoissonSolver> poisson;                 // L, pure Neumann per component
+  std::optional<fem::UnitGradientDivergence> unit_div;  // div(−∇u/|∇u|) with tri's face layouts
 
   // (M + tL) u = δ for a vector or every column of a matrix (one pass over each factor): the
   // Neumann solution, or on meshes with boundary the mean of the Neumann and the zero-Dirichlet
@@ -222,6 +223,7 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
   im.comps = connected_components(im.tri);
   im.L = fem::cotan_laplacian(im.tri);
   im.mass = fem::lumped_mass(im.tri);
+  im.unit_div.emplace(im.tri);
   std::vector<char> on_boundary = options.boundary_vertices;
   if (on_boundary.empty()) {
     on_boundary.assign(im.tri.n_vertices(), 0);
@@ -435,8 +437,7 @@ Eigen::MatrixXd HeatDistanceSolver::Impl::integrate_block(
     const Eigen::MatrixXd& U, const std::vector<Index>& src,
     const std::vector<std::vector<char>>& use_face) const {
   const Index nv = tri.n_vertices();
-  Eigen::MatrixXd phi =
-      poisson->solve_weak_homogeneous(fem::divergence_of_unit_gradients(tri, U, use_face));
+  Eigen::MatrixXd phi = poisson->solve_weak_homogeneous(unit_div->apply(U, use_face));
   for (Eigen::Index j = 0; j < U.cols(); ++j) {
     const Index c = comps.label[src[std::size_t(j)]];
     const double shift = phi(src[std::size_t(j)], j);
@@ -577,7 +578,7 @@ Eigen::VectorXd HeatDistanceSolver::Impl::integrate_unit_field(
     const std::vector<WeightedPoint>& pts, const SourceConstraints& sc, const Eigen::VectorXd& u,
     const std::vector<char>& use_face) const {
   const Index nv = tri.n_vertices();
-  const Eigen::VectorXd b = fem::divergence_of_unit_gradient(tri, u, &use_face);
+  const Eigen::VectorXd b = unit_div->apply(u, &use_face);
   Eigen::VectorXd phi;
   if (sc.direct) {
     const auto n_dirichlet = Eigen::Index(sc.direct->dirichlet_vertices().size());
@@ -695,7 +696,7 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_region(const StageRegion& region
                                                        const Eigen::VectorXd& u,
                                                        const Eigen::VectorXd& phi) const {
   // stiffness from the region's faces, Dirichlet = known values
-  const Eigen::VectorXd div = fem::divergence_of_unit_gradient(tri, u, &region.use_face);
+  const Eigen::VectorXd div = unit_div->apply(u, &region.use_face);
   const Index nu = Index(region.unknown_vertex.size());
   Eigen::VectorXd rhs(nu);
   for (Index i = 0; i < nu; ++i) rhs[i] = div[region.unknown_vertex[i]];
