@@ -17,6 +17,7 @@ int geodesic(int argc, char** argv);
 int curves(int argc, char** argv);
 int vector_heat(int argc, char** argv);
 int batch(int argc, char** argv);
+int query(int argc, char** argv);
 int field(int argc, char** argv);
 int small(int argc, char** argv);
 }  // namespace ifem::bench
@@ -56,6 +57,8 @@ const Section kSections[] = {
      ifem::bench::vector_heat},
     {"batch", "heat distances from k = 1, 8, 32, 128 sources at once vs one query per source",
      ifem::bench::batch},
+    {"query", "single heat queries on one icosphere (--n 224 --repeat 21 [--mixed]), for profilers",
+     ifem::bench::query},
     {"field",
      "smoothest and aligned direction fields, n = 1 and 4, 10k..1M faces, rocketship, igea",
      ifem::bench::field},

@@ -111,6 +111,28 @@ void solve_kernel_rows(const std::string& name, const std::vector<Triangle>& fac
 
 }  // namespace
 
+// Single queries only, on one icosphere (for profilers: `perf record ifem_bench query`).
+int query(int argc, char** argv) {
+  const int repeat = int(int_option(argc, argv, "--repeat", 21));
+  const int n = int(int_option(argc, argv, "--n", 224));
+  print_load_average();
+  const auto m = intrinsic::icosphere(n);
+  intrinsic::IntrinsicTriangulation tri =
+      intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
+  solvers::HeatDistanceOptions o;
+  if (has_flag(argc, argv, "--mixed")) {
+    o.precision = solvers::HeatDistanceOptions::Precision::kMixed;
+  }
+  const double t0 = seconds_now();
+  const solvers::HeatDistanceSolver solver(tri, o);
+  const double precompute = seconds_now() - t0;
+  const std::vector<Index> one = spread_sources(1, tri.n_vertices());
+  const double t = time_median(repeat, [&] { solver.compute_distance(one); });
+  std::printf("icosphere(%d), %d faces: precompute %.3f s, one query %.4f s (median of %d)\n", n,
+              int(tri.n_faces()), precompute, t, repeat);
+  return 0;
+}
+
 int batch(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 5));
   const int max_n = int(int_option(argc, argv, "--max-n", 224));
