@@ -109,6 +109,39 @@ void backward_one(const Block<Real>& b, double* y, double* Z) {
   std::copy(Z, Z + nscol, y);
 }
 
+// Y ← Y L11⁻ᵀ for k right-hand sides stored as Yᵀ (k × nscol, column-major: row j of the
+// supernode's solution is the contiguous Y + j·k), i.e. L11 X = B column by column of L11, each
+// step an axpy of length k (OpenBLAS's dtrsm packs both operands first, which on a supernode of a
+// few columns cost more than the solve).
+void lower_solve_rows(const double* L, int ld, int nscol, double* Y, int k) {
+  for (int j = 0; j < nscol; ++j) {
+    const double* col = L + Int64(j) * ld;
+    double* yj = Y + Int64(j) * k;
+    const double d = 1.0 / col[j];
+    for (int c = 0; c < k; ++c) yj[c] *= d;
+    for (int i = j + 1; i < nscol; ++i) {
+      const double l = col[i];
+      double* yi = Y + Int64(i) * k;
+      for (int c = 0; c < k; ++c) yi[c] -= l * yj[c];
+    }
+  }
+}
+
+// L11ᵀ X = B for k right-hand sides stored as in lower_solve_rows().
+void lower_transpose_solve_rows(const double* L, int ld, int nscol, double* Y, int k) {
+  for (int j = nscol - 1; j >= 0; --j) {
+    const double* col = L + Int64(j) * ld;
+    double* yj = Y + Int64(j) * k;
+    for (int i = j + 1; i < nscol; ++i) {
+      const double l = col[i];
+      const double* yi = Y + Int64(i) * k;
+      for (int c = 0; c < k; ++c) yj[c] -= l * yi[c];
+    }
+    const double d = 1.0 / col[j];
+    for (int c = 0; c < k; ++c) yj[c] *= d;
+  }
+}
+
 // Forward substitution of one supernode on W (n × k, row-major) with BLAS, as CHOLMOD's own
 // supernodal solve does: solve with the diagonal block, then subtract the off-diagonal block's
 // product from the rows below (T: scratch, m × k; S: scratch for a converted float block).
@@ -127,8 +160,12 @@ void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
     cblas_dgemv(CblasColMajor, CblasNoTrans, m, b.nscol, 1.0, L + b.nscol, ld, Y, 1, 0.0, T, 1);
   } else {
     // Y is Yᵀ column-major (k × nscol): L11 Y = B ⇔ Yᵀ L11ᵀ = Bᵀ; Tᵀ = Yᵀ L21ᵀ
-    cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasTrans, CblasNonUnit, k, b.nscol, 1.0, L,
-                ld, Y, k);
+    if (b.nscol <= kSmallSupernode) {
+      lower_solve_rows(L, ld, b.nscol, Y, k);
+    } else {
+      cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasTrans, CblasNonUnit, k, b.nscol, 1.0,
+                  L, ld, Y, k);
+    }
     if (m == 0) return;
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, k, m, b.nscol, 1.0, Y, k, L + b.nscol, ld,
                 0.0, T, k);
@@ -173,8 +210,36 @@ void backward_block(const Block<Real>& b, double* W, int k, double* G, double* S
     cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasNonUnit, b.nscol, L, ld, Y, 1);
   } else {
     // L11ᵀ Y = B ⇔ Yᵀ L11 = Bᵀ
+    if (b.nscol <= kSmallSupernode) {
+      lower_transpose_solve_rows(L, ld, b.nscol, Y, k);
+      return;
+    }
     cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasNoTrans, CblasNonUnit, k, b.nscol, 1.0,
                 L, ld, Y, k);
+  }
+}
+
+// R (n × k, row-major) ← b (n × k, column-major), in tiles of rows that stay in cache.
+void columns_to_rows(const double* b, Eigen::Index n, int k, double* R) {
+  constexpr Eigen::Index kTile = 64;
+  for (Eigen::Index i0 = 0; i0 < n; i0 += kTile) {
+    const Eigen::Index i1 = std::min(n, i0 + kTile);
+    for (int j = 0; j < k; ++j) {
+      const double* col = b + Int64(j) * n;
+      for (Eigen::Index i = i0; i < i1; ++i) R[i * k + j] = col[i];
+    }
+  }
+}
+
+// x (n × k, column-major) ← R (n × k, row-major), in tiles.
+void rows_to_columns(const double* R, Eigen::Index n, int k, double* x) {
+  constexpr Eigen::Index kTile = 64;
+  for (Eigen::Index i0 = 0; i0 < n; i0 += kTile) {
+    const Eigen::Index i1 = std::min(n, i0 + kTile);
+    for (int j = 0; j < k; ++j) {
+      double* col = x + Int64(j) * n;
+      for (Eigen::Index i = i0; i < i1; ++i) col[i] = R[i * k + j];
+    }
   }
 }
 
@@ -307,11 +372,12 @@ struct SupernodalSolver::Impl {
   std::vector<int> parent;        // #supernodes: the elimination tree's parent, −1 at a root
   bool split_tree = false;
   Split split;
-  // Buffers of one solve: the permuted right-hand sides and, per bin, the update / gather
-  // rows (T), a float block converted to double (S) and the updates of the top's rows (acc); grown,
-  // never shrunk, so that a solver's repeated solves allocate (and page-fault) nothing.
+  // Buffers of one solve: the permuted right-hand sides (W), b by rows (R) and, per bin, the update
+  // / gather rows (T), a float block converted to double (S) and the updates of the top's rows
+  // (acc); grown, never shrunk, so that a solver's repeated solves allocate (and page-fault)
+  // nothing.
   struct Scratch {
-    std::vector<double> W, T[2], S[2], acc[2];
+    std::vector<double> W, R, T[2], S[2], acc[2];
     static double* sized(std::vector<double>& v, std::size_t n) {
       if (v.size() < n) v.resize(n);
       return v.data();
@@ -383,10 +449,10 @@ void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k
     jobs.emplace_back([this, values, W, k, b, &scr] {
       const FlushDenormalsScope no_subnormals;
       double* Gb = Scratch::sized(scr.T[b], scratch_rows(k));
-      double* S = Scratch::sized(scr.S[b], block_scratch);
+      double* Sb = Scratch::sized(scr.S[b], block_scratch);
       const auto& bin = split.bin[b];
       for (auto st = bin.rbegin(); st != bin.rend(); ++st) {
-        for (int s = st->last; s >= st->first; --s) backward_block(block(values, s), W, k, Gb, S);
+        for (int s = st->last; s >= st->first; --s) backward_block(block(values, s), W, k, Gb, Sb);
       }
     });
   }
@@ -480,9 +546,18 @@ void SupernodalSolver::solve(const double* b, double* x, Eigen::Index cols) cons
   Impl::Scratch own;
   Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
   double* W = Impl::Scratch::sized(scr.W, std::size_t(n) * k);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Eigen::Index src = im.p.perm[i];
-    for (int j = 0; j < k; ++j) W[std::size_t(i) * k + j] = b[src + j * n];
+  const std::vector<int>& perm = im.p.perm;
+  // Several columns: a tiled transpose to rows, then whole rows permuted (a row of the
+  // column-major b spans k pages: copying entry by entry in permuted order missed the TLB on
+  // nearly every one).
+  double* R = k > 1 ? Impl::Scratch::sized(scr.R, std::size_t(n) * k) : nullptr;
+  if (k == 1) {
+    for (Eigen::Index i = 0; i < n; ++i) W[i] = b[perm[i]];
+  } else {
+    columns_to_rows(b, n, k, R);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      std::copy_n(R + std::size_t(perm[i]) * k, k, W + std::size_t(i) * k);
+    }
   }
   const FlushDenormalsScope no_subnormals;
   if (im.precision == FactorPrecision::kSingle) {
@@ -490,9 +565,13 @@ void SupernodalSolver::solve(const double* b, double* x, Eigen::Index cols) cons
   } else {
     im.solve_permuted(im.values_d.data(), W, k, scr);
   }
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Eigen::Index dst = im.p.perm[i];
-    for (int j = 0; j < k; ++j) x[dst + j * n] = W[std::size_t(i) * k + j];
+  if (k == 1) {
+    for (Eigen::Index i = 0; i < n; ++i) x[perm[i]] = W[i];
+  } else {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      std::copy_n(W + std::size_t(i) * k, k, R + std::size_t(perm[i]) * k);
+    }
+    rows_to_columns(R, n, k, x);
   }
 }
 

@@ -57,7 +57,9 @@ const Section kSections[] = {
      ifem::bench::vector_heat},
     {"batch", "heat distances from k = 1, 8, 32, 128 sources at once vs one query per source",
      ifem::bench::batch},
-    {"query", "single heat queries on one icosphere (--n 224 --repeat 21 [--mixed]), for profilers",
+    {"query",
+     "single heat queries on icosphere(--n 224) or --mesh FILE (--repeat 21 [--mixed]), for "
+     "profilers",
      ifem::bench::query},
     {"field",
      "smoothest and aligned direction fields, n = 1 and 4, 10k..1M faces, rocketship, igea",

@@ -111,14 +111,29 @@ void solve_kernel_rows(const std::string& name, const std::vector<Triangle>& fac
 
 }  // namespace
 
-// Single queries only, on one icosphere (for profilers: `perf record ifem_bench query`).
+// Queries (--sources K: K at once, compute_distances) on one icosphere or --mesh FILE (for
+// profilers: `perf record ifem_bench query`).
 int query(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 21));
   const int n = int(int_option(argc, argv, "--n", 224));
   print_load_average();
-  const auto m = intrinsic::icosphere(n);
+  const std::string mesh = string_option(argc, argv, "--mesh", "");
+  std::string name = "icosphere(" + std::to_string(n) + ")";
+  std::vector<Triangle> faces;
+  Positions pos;
+  if (mesh.empty()) {
+    auto m = intrinsic::icosphere(n);
+    faces = std::move(m.faces);
+    pos = std::move(m.positions);
+  } else {
+    io::SurfaceInput in = io::read_mesh(mesh);
+    faces = std::move(in.triangles);
+    pos = std::move(in.positions);
+    name = std::filesystem::path(mesh).filename().string();
+  }
   intrinsic::IntrinsicTriangulation tri =
-      intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
+      intrinsic::IntrinsicTriangulation::from_positions(faces, pos);
+  tri.mollify();
   solvers::HeatDistanceOptions o;
   if (has_flag(argc, argv, "--mixed")) {
     o.precision = solvers::HeatDistanceOptions::Precision::kMixed;
@@ -126,10 +141,22 @@ int query(int argc, char** argv) {
   const double t0 = seconds_now();
   const solvers::HeatDistanceSolver solver(tri, o);
   const double precompute = seconds_now() - t0;
-  const std::vector<Index> one = spread_sources(1, tri.n_vertices());
-  const double t = time_median(repeat, [&] { solver.compute_distance(one); });
-  std::printf("icosphere(%d), %d faces: precompute %.3f s, one query %.4f s (median of %d)\n", n,
-              int(tri.n_faces()), precompute, t, repeat);
+  const Index k = Index(int_option(argc, argv, "--sources", 1));
+  const std::vector<Index> src = spread_sources(k, tri.n_vertices());
+  const double t = time_median(repeat, [&] {
+    if (k == 1) {
+      solver.compute_distance(src);
+    } else {
+      solver.compute_distances(src);
+    }
+  });
+  solvers::HeatDistanceReport rep;
+  solver.compute_distance({src[0]}, &rep);
+  std::printf("first source: %d stage(s), %d unresolved vertices in the first\n", int(rep.stages),
+              int(rep.unresolved_vertices));
+  std::printf(
+      "%s, %d faces: precompute %.3f s, %d source(s) %.4f s, %.5f s per source (median of %d)\n",
+      name.c_str(), int(tri.n_faces()), precompute, int(k), t, t / double(k), repeat);
   return 0;
 }
 
