@@ -56,7 +56,8 @@ class UnitGradientDivergence {
   Eigen::VectorXd apply(const Eigen::VectorXd& u,
                         const std::vector<char>* use_face = nullptr) const;
 
-  /// divergence_of_unit_gradients(tri, U, use_face), #V×k; threads split the columns.
+  /// divergence_of_unit_gradients(tri, U, use_face), #V×k; threads split the columns (each
+  /// column is summed in face order, so the result does not depend on the thread count).
   /// @param use_face empty (every face), or k masks of #F entries
   /// @throws InvalidInput if U.rows() != #V or use_face has the wrong sizes
   Eigen::MatrixXd apply(const Eigen::MatrixXd& U,
