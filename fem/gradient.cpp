@@ -131,7 +131,7 @@ Eigen::VectorXd divergence_of_unit_gradient(const IntrinsicTriangulation& tri,
 Eigen::MatrixXd divergence_of_unit_gradients(const IntrinsicTriangulation& tri,
                                              const Eigen::MatrixXd& U,
                                              const std::vector<std::vector<char>>& use_face) {
-  return UnitGradientDivergence(tri).apply(U, use_face);
+  return UnitGradientDivergence(tri).apply_columns(U, use_face);
 }
 
 UnitGradientDivergence::UnitGradientDivergence(const IntrinsicTriangulation& tri)
@@ -209,7 +209,7 @@ Eigen::VectorXd UnitGradientDivergence::apply(const Eigen::VectorXd& u,
   return half[0];
 }
 
-Eigen::MatrixXd UnitGradientDivergence::apply(
+Eigen::MatrixXd UnitGradientDivergence::apply_columns(
     const Eigen::MatrixXd& U, const std::vector<std::vector<char>>& use_face) const {
   const Index nv = n_vertices_, nf = n_faces_;
   const Eigen::Index k = U.cols();

@@ -60,8 +60,8 @@ class UnitGradientDivergence {
   /// column is summed in face order, so the result does not depend on the thread count).
   /// @param use_face empty (every face), or k masks of #F entries
   /// @throws InvalidInput if U.rows() != #V or use_face has the wrong sizes
-  Eigen::MatrixXd apply(const Eigen::MatrixXd& U,
-                        const std::vector<std::vector<char>>& use_face) const;
+  Eigen::MatrixXd apply_columns(const Eigen::MatrixXd& U,
+                                const std::vector<std::vector<char>>& use_face = {}) const;
 
  private:
   Index n_vertices_ = 0, n_faces_ = 0;

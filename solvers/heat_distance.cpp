@@ -437,7 +437,7 @@ Eigen::MatrixXd HeatDistanceSolver::Impl::integrate_block(
     const Eigen::MatrixXd& U, const std::vector<Index>& src,
     const std::vector<std::vector<char>>& use_face) const {
   const Index nv = tri.n_vertices();
-  Eigen::MatrixXd phi = poisson->solve_weak_homogeneous(unit_div->apply(U, use_face));
+  Eigen::MatrixXd phi = poisson->solve_weak_homogeneous(unit_div->apply_columns(U, use_face));
   for (Eigen::Index j = 0; j < U.cols(); ++j) {
     const Index c = comps.label[src[std::size_t(j)]];
     const double shift = phi(src[std::size_t(j)], j);

@@ -335,5 +335,39 @@ TEST(SolversHeatDistance, FusedUnitGradientDivergenceMatchesComposition) {
   EXPECT_THROW(fem::divergence_of_unit_gradient(tri, Eigen::VectorXd(3)), InvalidInput);
 }
 
+// The per-face layouts computed once (UnitGradientDivergence) give, for k fields at once, each
+// field's own divergence: on a mesh above the parallel threshold (two halves of the faces for
+// one field, columns split between threads for several), with a different face mask per column,
+// a field underflowing to 1e-200 and a constant one (|∇u| = 0: no contribution).
+TEST(SolversHeatDistance, UnitGradientDivergenceColumnsMatchSingleFields) {
+  const auto tri = test::make_tri(intrinsic::icosphere(40));  // 32,000 faces
+  const Index nv = tri.n_vertices(), nf = tri.n_faces();
+  const fem::UnitGradientDivergence div(tri);
+  Eigen::MatrixXd U(nv, 4);
+  for (Index v = 0; v < nv; ++v) {
+    U(v, 0) = std::exp(-0.001 * v);
+    U(v, 1) = 1e-200 * std::exp(-0.002 * ((v * 7919) % nv));
+    U(v, 2) = 3.0;
+    U(v, 3) = std::sin(0.01 * v);
+  }
+  std::vector<std::vector<char>> masks(4, std::vector<char>(std::size_t(nf), 1));
+  for (Index f = 0; f < nf; f += 5) masks[1][std::size_t(f)] = 0;
+  for (Index f = 0; f < nf / 2; ++f) masks[3][std::size_t(f)] = 0;
+  const Eigen::MatrixXd D = div.apply_columns(U, masks);
+  ASSERT_EQ(D.rows(), nv);
+  ASSERT_EQ(D.cols(), 4);
+  for (Eigen::Index j = 0; j < 4; ++j) {
+    const Eigen::VectorXd single = div.apply(Eigen::VectorXd(U.col(j)), &masks[std::size_t(j)]);
+    const double scale = std::max(single.cwiseAbs().maxCoeff(), 1e-300);
+    EXPECT_LT((D.col(j) - single).cwiseAbs().maxCoeff(), 1e-14 * scale) << "column " << j;
+  }
+  EXPECT_EQ(D.col(2).cwiseAbs().maxCoeff(), 0.0);   // constant field: no direction anywhere
+  EXPECT_GT(D.col(1).cwiseAbs().maxCoeff(), 1e-3);  // a unit field whatever the heat's scale
+  // without masks: the free function, which builds the layouts itself
+  const Eigen::MatrixXd all = fem::divergence_of_unit_gradients(tri, U, {});
+  EXPECT_TRUE(all == div.apply_columns(U));
+  EXPECT_THROW(div.apply_columns(Eigen::MatrixXd(3, 2)), InvalidInput);
+}
+
 }  // namespace
 }  // namespace ifem::solvers
