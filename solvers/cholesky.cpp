@@ -18,8 +18,12 @@
 namespace ifem::solvers {
 
 void CholeskyOptions::validate() const {
-  if (!(min_rcond >= 0.0) || factor_blas_threads < 0 || solve_blas_threads < 0) {
-    throw InvalidInput("CholeskyOptions: need min_rcond ≥ 0 and BLAS thread counts ≥ 0");
+  if (!(min_rcond >= 0.0) || factor_blas_threads < 0 || solve_blas_threads < 0 ||
+      !(simplicial_below_flops_per_entry >= 0.0) ||
+      !std::isfinite(simplicial_below_flops_per_entry)) {
+    throw InvalidInput(
+        "CholeskyOptions: need min_rcond ≥ 0, BLAS thread counts ≥ 0 and a finite "
+        "simplicial_below_flops_per_entry ≥ 0");
   }
   if (solve_kernel != SolveKernel::kCholmod && !supernodal) {
     throw InvalidInput("CholeskyOptions: the supernodal solve kernel needs supernodal = true");
@@ -299,6 +303,11 @@ namespace {
 // The analysis settings of `options` in c: supernodal or not, LL', the forced ordering.
 void configure_analysis(cholmod_common& c, const CholeskyOptions& options) {
   c.supernodal = options.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+  if (options.supernodal && options.simplicial_below_flops_per_entry > 0.0 &&
+      options.solve_kernel == CholeskyOptions::SolveKernel::kCholmod) {
+    c.supernodal = CHOLMOD_AUTO;  // simplicial when flops / nnz(L) < supernodal_switch
+    c.supernodal_switch = options.simplicial_below_flops_per_entry;
+  }
   c.final_ll = 1;
   if (options.force_metis || options.force_amd) {
     c.nmethods = 1;
@@ -428,6 +437,7 @@ CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyAnal
   }
   Impl& im = *impl_;
   configure_numeric(im, A->rows(), options);
+  configure_analysis(im.common, options);  // final_ll: a simplicial factor ends LL' as its own does
   // what the analysis chose, for ordering(), factor_nonzeros() and factor_flops()
   im.common.nmethods = an.common.nmethods;
   std::copy(std::begin(an.common.method), std::end(an.common.method), std::begin(im.common.method));

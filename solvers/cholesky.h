@@ -24,6 +24,14 @@ struct CholeskyOptions {
   bool force_metis = false;
   /// Supernodal factorization (fast with an optimized BLAS); false = simplicial.
   bool supernodal = true;
+  /// With supernodal = true and CHOLMOD's own solves: factor simplicially instead when the
+  /// analysis predicts fewer than this many flops per factor entry (CHOLMOD's
+  /// supernodal_switch), i.e. a factor with little fill, whose supernodes are too small for BLAS
+  /// to pay. 0 = always supernodal (the default). Measured, analysis + factorization: spot
+  /// (38 flops per entry) 2.6 ms simplicial / 3.7 ms supernodal, rocketship (48) 29 / 38 ms,
+  /// icosphere(23) (91) 7.7 / 6.5 ms, icosphere(62) (226) 164 / 55 ms (docs/decisions.md, "Small
+  /// meshes: simplicial factors below 64 flops per entry"). ≥ 0.
+  double simplicial_below_flops_per_entry = 0.0;
   /// After a supernodal factorization of a real matrix, convert the factor to simplicial form
   /// for the solves (a supernodal solve calls BLAS once per, mostly small, supernode;
   /// measurements: docs/decisions.md, "Cholesky: simplicial solves, one BLAS thread").

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <limits>
 #include <thread>
 #include <vector>
 
@@ -58,6 +59,39 @@ TEST(SolversSmallMesh, SharedAnalysisEqualsOwnAnalysis) {
   I.setIdentity();
   EXPECT_THROW(CholeskySolver(I, analysis), InvalidInput);
   EXPECT_THROW(CholeskyAnalysis(fem::SparseMatrix(3, 4)), InvalidInput);
+}
+
+// simplicial_below_flops_per_entry: the factor is simplicial exactly when the analysis predicts
+// fewer flops per entry than the threshold (own and shared analyses alike), with the same
+// solutions as the supernodal factor; our supernodal kernel ignores it; bad values are refused.
+TEST(SolversSmallMesh, SimplicialBelowFlopsPerEntry) {
+  const auto tri = test::make_tri(intrinsic::icosphere(12));
+  const fem::SparseMatrix A = mass_plus_laplacian(tri, 0.1);
+  const CholeskySolver super(A);
+  ASSERT_TRUE(super.supernodal());
+  const double ratio = super.factor_flops() / double(super.factor_nonzeros());
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 2.0);
+  const Eigen::VectorXd x = super.solve(b);
+  for (const double threshold : {0.5 * ratio, 2.0 * ratio}) {
+    CholeskyOptions o;
+    o.simplicial_below_flops_per_entry = threshold;
+    const bool simplicial = threshold > ratio;
+    const CholeskySolver own(A, o);
+    const CholeskyAnalysis analysis(A, o);
+    const CholeskySolver shared(A, analysis);
+    EXPECT_EQ(own.supernodal(), !simplicial) << threshold;
+    EXPECT_EQ(shared.supernodal(), !simplicial) << threshold;
+    EXPECT_LT((own.solve(b) - x).cwiseAbs().maxCoeff(), 1e-12 * x.cwiseAbs().maxCoeff());
+    EXPECT_EQ(shared.solve(b), own.solve(b)) << threshold << " " << ratio;
+    o.solve_kernel = CholeskyOptions::SolveKernel::kSupernodalDouble;
+    EXPECT_TRUE(CholeskySolver(A, o).supernodal()) << threshold;
+  }
+  for (const double bad :
+       {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    CholeskyOptions o;
+    o.simplicial_below_flops_per_entry = bad;
+    EXPECT_THROW(CholeskySolver(A, o), InvalidInput) << bad;
+  }
 }
 
 // Compares every solve of a PoissonSolver with a shared analysis (constrained vertices kept as
