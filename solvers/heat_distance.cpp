@@ -30,8 +30,10 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kAbsoluteHeatFloor = 1e-290;  // stay clear of subnormals
 // From this many vertices on, queries solve with our supernodal kernel (see the constructor;
-// measured: 28k vertices (rocketship) faster with CHOLMOD's simplicial solves, 50k
-// (icosphere(71)) faster with ours: 0.0163 against 0.0197 s per query).
+// session 8: 28k vertices (rocketship) faster with CHOLMOD's simplicial solves, 50k
+// (icosphere(71)) faster with ours; since the kernel's own small-supernode loops (session 9)
+// rocketship measures the same either way, 0.0026–0.0028 s, and below this size CHOLMOD's path
+// can also use a simplicial factorization, which the kernel cannot).
 constexpr Index kOwnKernelVertices = 40000;
 // Below that, the factors are simplicial when the analysis predicts fewer flops per factor entry
 // (little fill: supernodes too small for BLAS; see CholeskyOptions).
@@ -59,9 +61,9 @@ struct WeightedPoint {
 // solve with our supernodal kernel (two threads on large factors, a point source's forward pass
 // over its ancestors only): the heat factor in double (its solution decays far below float's
 // range on large meshes), the Poisson factor as floats with kMixed (docs/decisions.md, "Heat
-// queries: our supernodal solve kernel"). Below kOwnKernelVertices CHOLMOD's simplicial solves
-// are faster for a single query (our kernel's per-supernode BLAS calls dominate there:
-// rocketship 0.0060 against 0.0043 s).
+// queries: our supernodal solve kernel"). Below kOwnKernelVertices CHOLMOD solves, and the
+// factors are simplicial when they have little fill (faster to factor: docs/decisions.md,
+// "Simplicial factors below 64 flops per entry").
 PoissonOptions query_factor_options(HeatDistanceOptions::Precision precision, Index n_vertices,
                                     bool heat) {
   using Kernel = CholeskyOptions::SolveKernel;
