@@ -33,7 +33,7 @@ Eigen::VectorXd divergence(const intrinsic::IntrinsicTriangulation& tri, const E
 /// faces and faces with use_face[f] == 0 (when use_face is given, #F) contribute nothing.
 /// |∇u| is scaled by its largest component first, so gradients of ~1e-200 (underflowing heat)
 /// still normalize.
-/// Equals divergence(tri, X) with X built that way (same per-corner arithmetic).
+/// Equals divergence(tri, X) with X built that way, to rounding (UnitGradientDivergence below).
 /// @throws InvalidInput if u.size() != #V or use_face has the wrong size
 Eigen::VectorXd divergence_of_unit_gradient(const intrinsic::IntrinsicTriangulation& tri,
                                             const Eigen::VectorXd& u,

@@ -142,9 +142,10 @@ void lower_transpose_solve_rows(const double* L, int ld, int nscol, double* Y, i
   }
 }
 
-// Forward substitution of one supernode on W (n × k, row-major) with BLAS, as CHOLMOD's own
-// supernodal solve does: solve with the diagonal block, then subtract the off-diagonal block's
-// product from the rows below (T: scratch, m × k; S: scratch for a converted float block).
+// Forward substitution of one supernode on W (n × k, row-major), as CHOLMOD's own supernodal
+// solve does: solve with the diagonal block, then subtract the off-diagonal block's product from
+// the rows below (T: scratch, m × k; S: scratch for a converted float block). Small supernodes go
+// through the loops above, larger ones and the off-diagonal products of blocks through BLAS.
 template <class Real>
 void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
                    const TopAccumulator& top) {
