@@ -211,6 +211,14 @@ Eigen::VectorXd UnitGradientDivergence::apply(const Eigen::VectorXd& u,
 
 Eigen::MatrixXd UnitGradientDivergence::apply_columns(
     const Eigen::MatrixXd& U, const std::vector<std::vector<char>>& use_face) const {
+  Eigen::MatrixXd div(n_vertices_, U.cols());
+  apply_columns(U, use_face, div);
+  return div;
+}
+
+void UnitGradientDivergence::apply_columns(const Eigen::Ref<const Eigen::MatrixXd>& U,
+                                           const std::vector<std::vector<char>>& use_face,
+                                           Eigen::Ref<Eigen::MatrixXd> div) const {
   const Index nv = n_vertices_, nf = n_faces_;
   const Eigen::Index k = U.cols();
   if (U.rows() != nv) {
@@ -225,12 +233,14 @@ Eigen::MatrixXd UnitGradientDivergence::apply_columns(
         "of #F = " +
         std::to_string(nf) + " entries");
   }
-  // vertex-major copies: a face's k values per corner are contiguous
+  if (div.rows() != nv || div.cols() != k) {
+    throw InvalidInput("divergence_of_unit_gradients: the output is not #V × U.cols()");
+  }
   // Threads split the columns, each summing its own columns of div in face order (no atomics);
   // faces go in tiles that stay in cache while every column of the thread reads them, and the
   // columns are read and written where they lie (a vertex-major copy made the k values of a
   // vertex contiguous but every corner a cache miss: 3× slower at 29 columns).
-  Eigen::MatrixXd div = Eigen::MatrixXd::Zero(nv, k);
+  div.setZero();
   const double half_s = 0.5 * scale_;
   constexpr Index kTile = 4096;
 #pragma omp parallel if (k > 1 && parallel_pays(nf, kParallelFaces))
@@ -262,7 +272,6 @@ Eigen::MatrixXd UnitGradientDivergence::apply_columns(
       }
     }
   }
-  return div;
 }
 
 }  // namespace ifem::fem

@@ -62,6 +62,11 @@ class UnitGradientDivergence {
   /// @throws InvalidInput if U.rows() != #V or use_face has the wrong sizes
   Eigen::MatrixXd apply_columns(const Eigen::MatrixXd& U,
                                 const std::vector<std::vector<char>>& use_face = {}) const;
+  /// apply_columns() written into div (#V×k, overwritten), e.g. a block of a reused matrix.
+  /// @throws InvalidInput as apply_columns(), or if div is not #V×k
+  void apply_columns(const Eigen::Ref<const Eigen::MatrixXd>& U,
+                     const std::vector<std::vector<char>>& use_face,
+                     Eigen::Ref<Eigen::MatrixXd> div) const;
 
  private:
   Index n_vertices_ = 0, n_faces_ = 0;

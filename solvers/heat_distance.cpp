@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <mutex>
 #include <numeric>
 #include <optional>
 #include <string>
@@ -153,12 +154,38 @@ struct HeatDistanceSolver::Impl {
   Eigen::VectorXd distance(const std::vector<WeightedPoint>& pts, HeatDistanceReport* rep) const;
   // Columns [first, first + k) of compute_distances(): single vertex sources through block
   // solves; a column whose heat underflows is recomputed by distance() (multi-stage).
+  // The #V × block matrices of compute_distances(), kept between calls (a fresh one of more
+  // than glibc's 32 MB mmap threshold page-faults on every call: at 1M faces blocks of 32 took
+  // 1.54 s for 32 sources as fresh matrices, 1.00 s without the faults); the heat of a block, then
+  // its divergences and distances.
+  struct BlockScratch {
+    Eigen::MatrixXd heat, phi;
+  };
+  mutable std::mutex block_mutex;  // guards block_scratch; a concurrent call uses its own
+  mutable BlockScratch block_scratch;
   void distance_block(const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
-                      Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps) const;
+                      Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps,
+                      BlockScratch& scratch) const;
+  // (M + tL) U = Δ for every column of U, written over it (no #V × k temporary without boundary)
+  void heat_in_place(Eigen::Ref<Eigen::MatrixXd> U) const {
+    if (heat_dirichlet) {
+      U = heat(Eigen::MatrixXd(U));
+    } else {
+      heat_neumann->solve_weak_homogeneous_in_place(U);
+    }
+  }
   // φ_j with L φ_j = div(−∇u_j/|∇u_j|) for the columns of U (on use_face[j] when not empty),
-  // shifted so that φ_j(src[j]) = 0: the first stage of distance() for single vertex sources.
+  // shifted so that φ_j(src[j]) = 0, into phi (#V × U.cols()): the first stage of distance() for
+  // single vertex sources.
+  void integrate_block(const Eigen::Ref<const Eigen::MatrixXd>& U, const std::vector<Index>& src,
+                       const std::vector<std::vector<char>>& use_face,
+                       Eigen::Ref<Eigen::MatrixXd> phi) const;
   Eigen::MatrixXd integrate_block(const Eigen::MatrixXd& U, const std::vector<Index>& src,
-                                  const std::vector<std::vector<char>>& use_face) const;
+                                  const std::vector<std::vector<char>>& use_face) const {
+    Eigen::MatrixXd phi(U.rows(), U.cols());
+    integrate_block(U, src, use_face, phi);
+    return phi;
+  }
   // The sources' constraints on φ, set up once per query (the first stage and every correction
   // step use them): the first point of each component is shifted to 0, and φ(p_k) = φ(p_first)
   // for the others, by Lagrange multipliers through the cached pure-Neumann factor, or, for
@@ -365,15 +392,20 @@ Eigen::MatrixXd HeatDistanceSolver::compute_distances(
     }
   }
   const auto k = Eigen::Index(sources.size());
-  // A block's #V×block matrices (deltas, heat, divergences, the solvers' copies: about a dozen)
-  // stay at 32 MB each: at 1M faces blocks of 32 columns cost more per source than blocks of 8
-  // (0.12 s against 0.077 s), the time going to page faults on fresh scratch memory.
-  const auto by_memory = Eigen::Index(4e6 / double(std::max<Index>(nv, 1)));
-  const Eigen::Index block = std::clamp<Eigen::Index>(by_memory, 4, 32);
+  // Blocks of up to 32 columns; the block's matrices (its heat and distances here, the solve
+  // kernel's two copies) stay at 256 MB each, 32M/#V columns.
+  const auto by_memory = Eigen::Index(3.2e7 / double(std::max<Index>(nv, 1)));
+  const Eigen::Index block = std::min<Eigen::Index>(std::clamp<Eigen::Index>(by_memory, 4, 32), k);
+  std::unique_lock<std::mutex> lock(im.block_mutex, std::try_to_lock);
+  Impl::BlockScratch own;
+  Impl::BlockScratch& scratch = lock.owns_lock() ? im.block_scratch : own;
+  for (Eigen::MatrixXd* m : {&scratch.heat, &scratch.phi}) {
+    if (m->rows() != nv || m->cols() < block) m->resize(nv, block);
+  }
   Eigen::MatrixXd out(nv, k);
   std::vector<HeatDistanceReport> reps(sources.size());
   for (Eigen::Index first = 0; first < k; first += block) {
-    im.distance_block(sources, first, std::min(block, k - first), out, reps);
+    im.distance_block(sources, first, std::min(block, k - first), out, reps, scratch);
   }
   out *= im.scale;
   if (reports) *reports = std::move(reps);
@@ -382,12 +414,13 @@ Eigen::MatrixXd HeatDistanceSolver::compute_distances(
 
 void HeatDistanceSolver::Impl::distance_block(const std::vector<Index>& sources, Eigen::Index first,
                                               Eigen::Index k, Eigen::MatrixXd& out,
-                                              std::vector<HeatDistanceReport>& reps) const {
+                                              std::vector<HeatDistanceReport>& reps,
+                                              BlockScratch& scratch) const {
   const Index nv = tri.n_vertices();
-  Eigen::MatrixXd delta = Eigen::MatrixXd::Zero(nv, k);
-  for (Eigen::Index j = 0; j < k; ++j) delta(sources[std::size_t(first + j)], j) = 1.0;
-  const Eigen::MatrixXd u = heat(delta);
-  delta.resize(0, 0);
+  auto u = scratch.heat.leftCols(k);  // the deltas, then their heat
+  u.setZero();
+  for (Eigen::Index j = 0; j < k; ++j) u(sources[std::size_t(first + j)], j) = 1.0;
+  heat_in_place(u);
   std::vector<Index> batch, alone;  // columns by block solve / by distance()
   for (Eigen::Index j = 0; j < k; ++j) {
     const Index s = sources[std::size_t(first + j)];
@@ -411,13 +444,13 @@ void HeatDistanceSolver::Impl::distance_block(const std::vector<Index>& sources,
   if (batch.empty()) return;
   std::vector<Index> src;
   for (const Index j : batch) src.push_back(sources[std::size_t(first + j)]);
-  Eigen::MatrixXd phi;
+  auto phi = scratch.phi.leftCols(Eigen::Index(batch.size()));
   if (Eigen::Index(batch.size()) == k) {
-    phi = integrate_block(u, src, {});
+    integrate_block(u, src, {}, phi);
   } else {
     Eigen::MatrixXd ub(nv, Eigen::Index(batch.size()));
     for (std::size_t b = 0; b < batch.size(); ++b) ub.col(Eigen::Index(b)) = u.col(batch[b]);
-    phi = integrate_block(ub, src, {});
+    integrate_block(ub, src, {}, phi);
   }
   for (int step = 0; step < opt.correction_steps; ++step) {
     // as distance(): integrate ∇φ/|∇φ| again over the faces where φ is finite
@@ -447,11 +480,13 @@ void HeatDistanceSolver::Impl::distance_block(const std::vector<Index>& sources,
   }
 }
 
-Eigen::MatrixXd HeatDistanceSolver::Impl::integrate_block(
-    const Eigen::MatrixXd& U, const std::vector<Index>& src,
-    const std::vector<std::vector<char>>& use_face) const {
+void HeatDistanceSolver::Impl::integrate_block(const Eigen::Ref<const Eigen::MatrixXd>& U,
+                                               const std::vector<Index>& src,
+                                               const std::vector<std::vector<char>>& use_face,
+                                               Eigen::Ref<Eigen::MatrixXd> phi) const {
   const Index nv = tri.n_vertices();
-  Eigen::MatrixXd phi = poisson->solve_weak_homogeneous(unit_div->apply_columns(U, use_face));
+  unit_div->apply_columns(U, use_face, phi);
+  poisson->solve_weak_homogeneous_in_place(phi);
   for (Eigen::Index j = 0; j < U.cols(); ++j) {
     const Index c = comps.label[src[std::size_t(j)]];
     const double shift = phi(src[std::size_t(j)], j);
@@ -459,7 +494,6 @@ Eigen::MatrixXd HeatDistanceSolver::Impl::integrate_block(
       phi(v, j) = comps.label[v] == c ? phi(v, j) - shift : kInf;
     }
   }
-  return phi;
 }
 
 Eigen::VectorXd HeatDistanceSolver::Impl::distance(const std::vector<WeightedPoint>& pts,

@@ -139,6 +139,52 @@ struct PoissonSolver::Impl {
     return X;
   }
 
+  // solve_many() with zero Dirichlet values when unknown i is vertex i (every vertex in the
+  // system, fixed ones as decoupled rows), over B's own storage.
+  void solve_many_identity(Eigen::Ref<Eigen::MatrixXd> B) const {
+    const Eigen::Index k = B.cols();
+    if (one_floating) {
+      for (Eigen::Index j = 0; j < k; ++j) {
+        B.col(j) -= floating_one.dot(B.col(j)) * floating_weight;
+      }
+    } else if (!floating.empty()) {
+      for (Eigen::Index j = 0; j < k; ++j) {
+        std::vector<double> sum(comps.count, 0.0);
+        for (Index v = 0; v < n; ++v) {
+          const Index c = comps.label[v];
+          if (c != kInvalidIndex && floating[c]) sum[c] += B(v, j);
+        }
+        for (Index v = 0; v < n; ++v) {
+          const Index c = comps.label[v];
+          if (c != kInvalidIndex && floating[c] && comp_mass[c] > 0) {
+            B(v, j) -= sum[c] / comp_mass[c] * mass[v];
+          }
+        }
+      }
+    }
+    for (const Index r : fixed_rows) B.row(r).setZero();  // decoupled: solved to 0
+    if (n > 0) chol->solve(B.data(), B.data(), k);
+    for (const Index r : fixed_rows) B.row(r).setZero();  // pinned and Dirichlet: 0 (not −0)
+    if (one_floating) {
+      for (Eigen::Index j = 0; j < k; ++j) {
+        B.col(j) -= floating_weight.dot(B.col(j)) * floating_one;
+      }
+    } else if (!floating.empty()) {
+      for (Eigen::Index j = 0; j < k; ++j) {
+        std::vector<double> mean(comps.count, 0.0);
+        for (Index v = 0; v < n; ++v) {
+          const Index c = comps.label[v];
+          if (c != kInvalidIndex && floating[c]) mean[c] += mass[v] * B(v, j);
+        }
+        for (Index v = 0; v < n; ++v) {
+          const Index c = comps.label[v];
+          if (c != kInvalidIndex && floating[c] && comp_mass[c] > 0)
+            B(v, j) -= mean[c] / comp_mass[c];
+        }
+      }
+    }
+  }
+
   // Checks the Dirichlet vertices (in range, each once) and marks them, and the components
   // that hold one.
   void mark_dirichlet(const std::vector<Index>& given, std::vector<char>& is_dirichlet,
@@ -391,6 +437,20 @@ Eigen::MatrixXd PoissonSolver::solve_weak_homogeneous(const Eigen::MatrixXd& B) 
   if (B.rows() != im.n) throw InvalidInput("PoissonSolver::solve_weak_homogeneous: wrong rows");
   const Eigen::MatrixXd G = Eigen::MatrixXd::Zero(Eigen::Index(im.dirichlet.size()), B.cols());
   return im.solve_many(B, &G);
+}
+
+void PoissonSolver::solve_weak_homogeneous_in_place(Eigen::Ref<Eigen::MatrixXd> B) const {
+  const Impl& im = *impl_;
+  if (B.rows() != im.n || (B.cols() > 1 && B.outerStride() != B.rows())) {
+    throw InvalidInput(
+        "PoissonSolver::solve_weak_homogeneous_in_place: need #V rows, columns contiguous");
+  }
+  if (Index(im.unknown_vertex.size()) != im.n) {  // unknowns renumbered: through solve_many
+    const Eigen::MatrixXd G = Eigen::MatrixXd::Zero(Eigen::Index(im.dirichlet.size()), B.cols());
+    B = im.solve_many(Eigen::MatrixXd(B), &G);
+    return;
+  }
+  im.solve_many_identity(B);
 }
 
 const std::vector<Index>& PoissonSolver::dirichlet_vertices() const { return impl_->dirichlet; }

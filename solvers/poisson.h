@@ -84,6 +84,13 @@ class PoissonSolver {
   /// solve_weak() for every column of B (#V×k) with zero Dirichlet values.
   Eigen::MatrixXd solve_weak_homogeneous(const Eigen::MatrixXd& B) const;
 
+  /// solve_weak_homogeneous() written over B (#V×k, columns contiguous: a MatrixXd or a block of
+  /// its leading columns). When every vertex is an unknown (a solver built with a shared
+  /// analysis on a mesh without unreferenced vertices) no #V×k temporary is allocated, so a
+  /// caller that reuses B's storage takes no page faults per call.
+  /// @throws InvalidInput if B.rows() != #V or its columns are not contiguous
+  void solve_weak_homogeneous_in_place(Eigen::Ref<Eigen::MatrixXd> B) const;
+
   /// The Dirichlet vertices, in the constructor's order.
   const std::vector<Index>& dirichlet_vertices() const;
   /// Number of unknowns in the factored system (with a shared analysis: including the Dirichlet

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <limits>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -135,6 +136,49 @@ TEST(SolversSmallMesh, PoissonSharedAnalysisMatchesSeparate) {
   const fem::SparseMatrix L1 = fem::cotan_laplacian(tri1);
   EXPECT_THROW(PoissonSolver(L1, fem::lumped_mass(tri1), connected_components(tri1), {}, analysis),
                InvalidInput);
+}
+
+// solve_weak_homogeneous_in_place() gives solve_weak_homogeneous()'s bits, over a block of a wider
+// matrix (the columns beside it untouched): through its own storage when every vertex is an
+// unknown (shared analysis: Dirichlet and pinned vertices as decoupled rows; one pure-Neumann
+// component or two), through solve_many() otherwise (unreferenced vertices, or no analysis).
+TEST(SolversSmallMesh, PoissonSolveInPlaceEqualsSolve) {
+  const auto one = test::make_tri(intrinsic::grid(8, 8));
+  for (const int unreferenced : {0, 2}) {
+    const auto tri = test::make_tri(test::two_copies(intrinsic::grid(8, 8), 3.0, unreferenced));
+    const fem::SparseMatrix L = fem::cotan_laplacian(tri);
+    const Eigen::VectorXd mass = fem::lumped_mass(tri);
+    const Components comps = connected_components(tri);
+    const CholeskyAnalysis analysis = PoissonSolver::analyze(L, comps);
+    const std::vector<Index> bv = {0, 1, 2, 9, 18};
+    PoissonOptions screened;
+    screened.screening = 1.0;
+    const fem::SparseMatrix L1 = fem::cotan_laplacian(one);
+    const Components comps1 = connected_components(one);
+    std::vector<std::unique_ptr<PoissonSolver>> solvers;
+    solvers.push_back(std::make_unique<PoissonSolver>(L, mass, comps, bv, analysis));
+    solvers.push_back(
+        std::make_unique<PoissonSolver>(L, mass, comps, std::vector<Index>{}, analysis));
+    solvers.push_back(std::make_unique<PoissonSolver>(0.01 * L, mass, comps, std::vector<Index>{},
+                                                      analysis, screened));
+    solvers.push_back(std::make_unique<PoissonSolver>(L, mass, comps, bv));
+    solvers.push_back(std::make_unique<PoissonSolver>(L1, fem::lumped_mass(one), comps1,
+                                                      std::vector<Index>{},
+                                                      PoissonSolver::analyze(L1, comps1)));
+    for (std::size_t i = 0; i < solvers.size(); ++i) {
+      const PoissonSolver& p = *solvers[i];
+      const Index n = i == 4 ? one.n_vertices() : tri.n_vertices();
+      std::srand(unsigned(7 + i));
+      Eigen::MatrixXd wide = Eigen::MatrixXd::Random(n, 5);
+      const Eigen::MatrixXd before = wide;
+      const Eigen::MatrixXd expected = p.solve_weak_homogeneous(wide.leftCols(3));
+      p.solve_weak_homogeneous_in_place(wide.leftCols(3));
+      EXPECT_TRUE(wide.leftCols(3) == expected) << "solver " << i << ", " << unreferenced;
+      EXPECT_TRUE(wide.rightCols(2) == before.rightCols(2)) << "solver " << i;
+      Eigen::MatrixXd wrong(3, 2);
+      EXPECT_THROW(p.solve_weak_homogeneous_in_place(wrong), InvalidInput);
+    }
+  }
 }
 
 TEST(SolversSmallMesh, ParallelPaysOnlyFromItsSize) {
