@@ -161,9 +161,11 @@ class HeatDistanceSolver {
   /// Distances from many sources, each on its own (a distance matrix: landmarks, descriptors,
   /// embeddings), #V×k: column j is compute_distance({sources[j]}), equal to it up to rounding
   /// (the block solves add in another order: ~1e-14 relative). The heat and Poisson solves of
-  /// up to 32 sources at a time (fewer above 125k vertices: each #V×block scratch matrix stays
-  /// at 32 MB) go through each factor together, so a source in a block costs a fraction of a
-  /// single query (BENCHMARKS.md, "Batched sources"). A source whose heat
+  /// up to 32 sources at a time (fewer above 1M vertices: each #V×block matrix stays at 256 MB)
+  /// go through each factor together, so a source in a block costs a fraction of a single query
+  /// (BENCHMARKS.md, "Heat queries and small meshes, session 9"). Memory: the solver keeps four
+  /// #V×block matrices between calls (two here, two in the solve kernel from 40k vertices on),
+  /// 0.5 GB at 500k vertices, so that later calls take no page faults. A source whose heat
   /// underflows somewhere in its component (a long or very large mesh; the report's
   /// unresolved_vertices) is recomputed alone by compute_distance()'s multi-stage path.
   /// @param sources vertex ids in [0, #V), each referenced by a face; repeats give equal columns
