@@ -75,10 +75,9 @@ struct PoissonSolver::Impl {
     return x;
   }
 
-  Eigen::MatrixXd solve_many(Eigen::MatrixXd B, const Eigen::MatrixXd* g) const {
-    const Index nu = static_cast<Index>(unknown_vertex.size());
+  // Makes the pure-Neumann components' right-hand sides compatible (zero sum), every column.
+  void make_compatible(Eigen::Ref<Eigen::MatrixXd> B) const {
     const Eigen::Index k = B.cols();
-    // make pure-Neumann components compatible
     if (one_floating) {
       for (Eigen::Index j = 0; j < k; ++j) {
         B.col(j) -= floating_one.dot(B.col(j)) * floating_weight;
@@ -98,25 +97,11 @@ struct PoissonSolver::Impl {
         }
       }
     }
-    // gathers and scatters column by column: a row of a column-major #V × k matrix spans k pages,
-    // and copying row by row missed the TLB on every entry (a third of a 32-source batch's time)
-    Eigen::MatrixXd rhs(nu, k);
-    for (Eigen::Index j = 0; j < k; ++j) {
-      for (Index i = 0; i < nu; ++i) rhs(i, j) = B(unknown_vertex[i], j);
-    }
-    if (g && A_ud.cols() > 0) rhs -= A_ud * (*g);
-    for (const Index r : fixed_rows) rhs.row(r).setZero();  // decoupled: solved to 0
-    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, k);
-    if (nu > 0) {
-      chol->solve(rhs.data(), rhs.data(), k);
-      for (Eigen::Index j = 0; j < k; ++j) {
-        for (Index i = 0; i < nu; ++i) X(unknown_vertex[i], j) = rhs(i, j);
-      }
-      for (const Index r : fixed_rows) X.row(unknown_vertex[r]).setZero();
-    }
-    if (g) {
-      for (std::size_t d = 0; d < dirichlet.size(); ++d) X.row(dirichlet[d]) = g->row(d);
-    }
+  }
+
+  // Shifts every column's solution on each pure-Neumann component to zero mean.
+  void remove_floating_means(Eigen::Ref<Eigen::MatrixXd> X) const {
+    const Eigen::Index k = X.cols();
     if (one_floating) {
       for (Eigen::Index j = 0; j < k; ++j) {
         X.col(j) -= floating_weight.dot(X.col(j)) * floating_one;
@@ -136,53 +121,43 @@ struct PoissonSolver::Impl {
         }
       }
     }
+  }
+
+  Eigen::MatrixXd solve_many(Eigen::MatrixXd B, const Eigen::MatrixXd* g) const {
+    const Index nu = static_cast<Index>(unknown_vertex.size());
+    const Eigen::Index k = B.cols();
+    make_compatible(B);  // pure-Neumann components
+    // gathers and scatters column by column: a row of a column-major #V × k matrix spans k pages,
+    // and copying row by row missed the TLB on every entry (a third of a 32-source batch's time)
+    Eigen::MatrixXd rhs(nu, k);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      for (Index i = 0; i < nu; ++i) rhs(i, j) = B(unknown_vertex[i], j);
+    }
+    if (g && A_ud.cols() > 0) rhs -= A_ud * (*g);
+    for (const Index r : fixed_rows) rhs.row(r).setZero();  // decoupled: solved to 0
+    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, k);
+    if (nu > 0) {
+      chol->solve(rhs.data(), rhs.data(), k);
+      for (Eigen::Index j = 0; j < k; ++j) {
+        for (Index i = 0; i < nu; ++i) X(unknown_vertex[i], j) = rhs(i, j);
+      }
+      for (const Index r : fixed_rows) X.row(unknown_vertex[r]).setZero();
+    }
+    if (g) {
+      for (std::size_t d = 0; d < dirichlet.size(); ++d) X.row(dirichlet[d]) = g->row(d);
+    }
+    remove_floating_means(X);
     return X;
   }
 
   // solve_many() with zero Dirichlet values when unknown i is vertex i (every vertex in the
   // system, fixed ones as decoupled rows), over B's own storage.
   void solve_many_identity(Eigen::Ref<Eigen::MatrixXd> B) const {
-    const Eigen::Index k = B.cols();
-    if (one_floating) {
-      for (Eigen::Index j = 0; j < k; ++j) {
-        B.col(j) -= floating_one.dot(B.col(j)) * floating_weight;
-      }
-    } else if (!floating.empty()) {
-      for (Eigen::Index j = 0; j < k; ++j) {
-        std::vector<double> sum(comps.count, 0.0);
-        for (Index v = 0; v < n; ++v) {
-          const Index c = comps.label[v];
-          if (c != kInvalidIndex && floating[c]) sum[c] += B(v, j);
-        }
-        for (Index v = 0; v < n; ++v) {
-          const Index c = comps.label[v];
-          if (c != kInvalidIndex && floating[c] && comp_mass[c] > 0) {
-            B(v, j) -= sum[c] / comp_mass[c] * mass[v];
-          }
-        }
-      }
-    }
+    make_compatible(B);
     for (const Index r : fixed_rows) B.row(r).setZero();  // decoupled: solved to 0
-    if (n > 0) chol->solve(B.data(), B.data(), k);
+    if (n > 0) chol->solve(B.data(), B.data(), B.cols());
     for (const Index r : fixed_rows) B.row(r).setZero();  // pinned and Dirichlet: 0 (not −0)
-    if (one_floating) {
-      for (Eigen::Index j = 0; j < k; ++j) {
-        B.col(j) -= floating_weight.dot(B.col(j)) * floating_one;
-      }
-    } else if (!floating.empty()) {
-      for (Eigen::Index j = 0; j < k; ++j) {
-        std::vector<double> mean(comps.count, 0.0);
-        for (Index v = 0; v < n; ++v) {
-          const Index c = comps.label[v];
-          if (c != kInvalidIndex && floating[c]) mean[c] += mass[v] * B(v, j);
-        }
-        for (Index v = 0; v < n; ++v) {
-          const Index c = comps.label[v];
-          if (c != kInvalidIndex && floating[c] && comp_mass[c] > 0)
-            B(v, j) -= mean[c] / comp_mass[c];
-        }
-      }
-    }
+    remove_floating_means(B);
   }
 
   // Checks the Dirichlet vertices (in range, each once) and marks them, and the components
