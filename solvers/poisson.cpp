@@ -37,44 +37,6 @@ struct PoissonSolver::Impl {
   std::vector<Index> fixed_rows;
   std::optional<CholeskySolver> chol;
 
-  // One right-hand side: the work of solve_many() without the #V×1 matrix copies.
-  Eigen::VectorXd solve_one(const Eigen::VectorXd& b, const Eigen::VectorXd& g) const {
-    const Index nu = static_cast<Index>(unknown_vertex.size());
-    Eigen::VectorXd rhs(nu);
-    for (Index i = 0; i < nu; ++i) rhs[i] = b[unknown_vertex[i]];
-    if (!floating.empty()) {  // make pure-Neumann components compatible
-      std::vector<double> sum(comps.count, 0.0);
-      for (Index v = 0; v < n; ++v) {
-        const Index c = comps.label[v];
-        if (c != kInvalidIndex && floating[c]) sum[c] += b[v];
-      }
-      for (Index i = 0; i < nu; ++i) {
-        const Index v = unknown_vertex[i];
-        const Index c = comps.label[v];
-        if (floating[c] && comp_mass[c] > 0) rhs[i] -= sum[c] / comp_mass[c] * mass[v];
-      }
-    }
-    if (A_ud.cols() > 0) rhs.noalias() -= A_ud * g;
-    for (const Index r : fixed_rows) rhs[r] = 0.0;  // decoupled: solved to 0
-    if (nu > 0) chol->solve(rhs.data(), rhs.data());
-    Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
-    for (Index i = 0; i < nu; ++i) x[unknown_vertex[i]] = rhs[i];
-    for (const Index r : fixed_rows) x[unknown_vertex[r]] = 0.0;  // pinned: 0 (not −0)
-    for (std::size_t d = 0; d < dirichlet.size(); ++d) x[dirichlet[d]] = g[Eigen::Index(d)];
-    if (!floating.empty()) {
-      std::vector<double> mean(comps.count, 0.0);
-      for (Index v = 0; v < n; ++v) {
-        const Index c = comps.label[v];
-        if (c != kInvalidIndex && floating[c]) mean[c] += mass[v] * x[v];
-      }
-      for (Index v = 0; v < n; ++v) {
-        const Index c = comps.label[v];
-        if (c != kInvalidIndex && floating[c] && comp_mass[c] > 0) x[v] -= mean[c] / comp_mass[c];
-      }
-    }
-    return x;
-  }
-
   // Makes the pure-Neumann components' right-hand sides compatible (zero sum), every column.
   void make_compatible(Eigen::Ref<Eigen::MatrixXd> B) const {
     const Eigen::Index k = B.cols();
@@ -121,6 +83,29 @@ struct PoissonSolver::Impl {
         }
       }
     }
+  }
+
+  // One right-hand side: the work of solve_many() without the #V×1 matrix copies.
+  Eigen::VectorXd solve_one(const Eigen::VectorXd& b, const Eigen::VectorXd& g) const {
+    const Index nu = static_cast<Index>(unknown_vertex.size());
+    Eigen::VectorXd compatible;
+    const Eigen::VectorXd* src = &b;
+    if (!floating.empty()) {  // pure-Neumann components: a compatible copy of b
+      compatible = b;
+      make_compatible(Eigen::Map<Eigen::MatrixXd>(compatible.data(), n, 1));
+      src = &compatible;
+    }
+    Eigen::VectorXd rhs(nu);
+    for (Index i = 0; i < nu; ++i) rhs[i] = (*src)[unknown_vertex[i]];
+    if (A_ud.cols() > 0) rhs.noalias() -= A_ud * g;
+    for (const Index r : fixed_rows) rhs[r] = 0.0;  // decoupled: solved to 0
+    if (nu > 0) chol->solve(rhs.data(), rhs.data());
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+    for (Index i = 0; i < nu; ++i) x[unknown_vertex[i]] = rhs[i];
+    for (const Index r : fixed_rows) x[unknown_vertex[r]] = 0.0;  // pinned: 0 (not −0)
+    for (std::size_t d = 0; d < dirichlet.size(); ++d) x[dirichlet[d]] = g[Eigen::Index(d)];
+    remove_floating_means(Eigen::Map<Eigen::MatrixXd>(x.data(), n, 1));
+    return x;
   }
 
   Eigen::MatrixXd solve_many(Eigen::MatrixXd B, const Eigen::MatrixXd* g) const {
