@@ -548,6 +548,26 @@ void CholeskySolver::solve(const double* b, double* x, Eigen::Index cols) const 
   solve_raw(*impl_, b, cols, x);
 }
 
+void CholeskySolver::solve_rows(double* X, Eigen::Index cols) const {
+  if (cols < 0) throw InvalidInput("CholeskySolver::solve_rows: negative column count");
+  const Impl& im = *impl_;
+  if (im.xtype != CHOLMOD_REAL) {
+    throw InvalidInput("CholeskySolver::solve_rows: a complex factor (use solve())");
+  }
+  if (cols == 0) return;
+  if (im.kernel) {
+    const BlasThreadScope threads(im.solve_blas_threads);
+    im.kernel->solve_rows(X, cols);
+    return;
+  }
+  // CHOLMOD solves column-major blocks: through a transposed copy
+  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> rows(X, im.n,
+                                                                                          cols);
+  Eigen::MatrixXd B = rows;
+  solve_raw(im, B.data(), cols, B.data());
+  rows = B;
+}
+
 Eigen::Index CholeskySolver::size() const { return impl_->n; }
 
 double CholeskySolver::factor_flops() const { return impl_->common.fl; }

@@ -171,6 +171,11 @@ class CholeskySolver {
   /// Solves A X = B for `cols` columns stored column-major at b (n×cols) into x (may alias b).
   /// No allocation after the first call with a given column count (CHOLMOD's workspace is kept).
   void solve(const double* b, double* x, Eigen::Index cols = 1) const;
+  /// Solves A X = B in place for `cols` columns stored row-major at X (n×cols: the cols values
+  /// of unknown i contiguous), the layout our supernodal kernel works in (no transposes); with
+  /// CHOLMOD's solve, through a column-major copy. Real factors only.
+  /// @throws InvalidInput on a negative column count or a complex factor
+  void solve_rows(double* X, Eigen::Index cols) const;
 
   /// Size n of the factored matrix.
   Eigen::Index size() const;

@@ -11,6 +11,8 @@
 #include <utility>
 
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/huge_pages.h"
+#include "intrinsic/core/lanes.h"
 #include "solvers/flush_denormals.h"
 #include "solvers/parallel.h"
 
@@ -19,6 +21,9 @@ namespace ifem::solvers {
 namespace {
 
 using Int64 = std::int64_t;
+using lanes::Lanes;
+using lanes::load;
+using lanes::store;
 
 // A subtree of the elimination tree: supernodes [first, last] (last is its root), whose columns
 // end before col_end; rows at or past col_end are its ancestors' (the serial top).
@@ -109,37 +114,145 @@ void backward_one(const Block<Real>& b, double* y, double* Z) {
   std::copy(Z, Z + nscol, y);
 }
 
-// Y ← Y L11⁻ᵀ for k right-hand sides stored as Yᵀ (k × nscol, column-major: row j of the
-// supernode's solution is the contiguous Y + j·k), i.e. L11 X = B column by column of L11, each
-// step an axpy of length k (OpenBLAS's dtrsm packs both operands first, which on a supernode of a
-// few columns cost more than the solve).
-void lower_solve_rows(const double* L, int ld, int nscol, double* Y, int k) {
-  for (int j = 0; j < nscol; ++j) {
-    const double* col = L + Int64(j) * ld;
+// The kernels of a small supernode for k > 1 right-hand sides, on W (n × k, row-major: row i is
+// the contiguous W + i·k), in chunks of C columns held in registers. A solve of 32 sources at
+// 1M faces spent 22 GFlop/s in OpenBLAS's dgemm/dtrsm on the mean supernode (7.7 columns × 28
+// rows), which pack both operands per call; these loops run over L11 and L21 once per chunk
+// (the block stays in L1) and fuse the update with the scatter (forward) and the gather with
+// the update (backward). Each is compiled for AVX-512, AVX2 + FMA and the baseline ISA and picked
+// at load time (target_clones); the order of every sum is fixed, so the bits do not depend on
+// the thread count.
+// A small supernode's dense block as the chunk kernels read it (double values).
+struct DenseBlock {
+  const double* L;   // nsrow × nscol, column-major, leading dimension ld
+  const int* below;  // the m = ld − nscol rows under the diagonal block
+  int ld, nscol, k1;
+};
+
+// y_j ← y_j / L_jj, then y_i −= L_ij y_j below it, for C columns of the supernode's rows.
+template <int C>
+[[gnu::always_inline]] inline void lower_solve_chunk(const DenseBlock& b, double* Y, int k) {
+  using V = typename Lanes<C>::V;
+  for (int j = 0; j < b.nscol; ++j) {
+    const double* col = b.L + Int64(j) * b.ld;
     double* yj = Y + Int64(j) * k;
-    const double d = 1.0 / col[j];
-    for (int c = 0; c < k; ++c) yj[c] *= d;
-    for (int i = j + 1; i < nscol; ++i) {
-      const double l = col[i];
+    const V y = load<C>(yj) * (1.0 / col[j]);
+    store<C>(yj, y);
+    for (int i = j + 1; i < b.nscol; ++i) {
       double* yi = Y + Int64(i) * k;
-      for (int c = 0; c < k; ++c) yi[c] -= l * yj[c];
+      store<C>(yi, load<C>(yi) - col[i] * y);
     }
   }
 }
 
-// L11ᵀ X = B for k right-hand sides stored as in lower_solve_rows().
-void lower_transpose_solve_rows(const double* L, int ld, int nscol, double* Y, int k) {
-  for (int j = nscol - 1; j >= 0; --j) {
-    const double* col = L + Int64(j) * ld;
+// L11ᵀ X = B for C columns, from the last row up.
+template <int C>
+[[gnu::always_inline]] inline void lower_transpose_solve_chunk(const DenseBlock& b, double* Y,
+                                                               int k) {
+  using V = typename Lanes<C>::V;
+  for (int j = b.nscol - 1; j >= 0; --j) {
+    const double* col = b.L + Int64(j) * b.ld;
     double* yj = Y + Int64(j) * k;
-    for (int i = j + 1; i < nscol; ++i) {
-      const double l = col[i];
-      const double* yi = Y + Int64(i) * k;
-      for (int c = 0; c < k; ++c) yj[c] -= l * yi[c];
-    }
-    const double d = 1.0 / col[j];
-    for (int c = 0; c < k; ++c) yj[c] *= d;
+    V acc = load<C>(yj);
+    for (int i = j + 1; i < b.nscol; ++i) acc -= col[i] * load<C>(Y + Int64(i) * k);
+    store<C>(yj, acc * (1.0 / col[j]));
   }
+}
+
+// The row of W (or of the bin's top accumulator) that an update of factor row i goes to.
+inline double* update_row(const TopAccumulator& top, double* W, int i, int k) {
+  return top.acc && i >= top.col_end ? top.acc + Int64(top.top_index[i]) * k : W + Int64(i) * k;
+}
+
+// Forward pass of one supernode on C columns (Y: its rows in the chunk): solve with L11, then
+// W[below[r]] −= L21[r, :] Y, four rows of L21 at a time.
+template <int C>
+[[gnu::always_inline]] inline void forward_chunk(const DenseBlock& b, double* W, int k, int c0,
+                                                 const TopAccumulator& top) {
+  using V = typename Lanes<C>::V;
+  double* Y = W + Int64(b.k1) * k + c0;
+  lower_solve_chunk<C>(b, Y, k);
+  const int m = b.ld - b.nscol;
+  const double* L21 = b.L + b.nscol;
+  int r = 0;
+  for (; r + 4 <= m; r += 4) {
+    V a0 = {}, a1 = {}, a2 = {}, a3 = {};
+    for (int j = 0; j < b.nscol; ++j) {
+      const double* l = L21 + Int64(j) * b.ld + r;
+      const V y = load<C>(Y + Int64(j) * k);
+      a0 += l[0] * y;
+      a1 += l[1] * y;
+      a2 += l[2] * y;
+      a3 += l[3] * y;
+    }
+    const V acc[4] = {a0, a1, a2, a3};
+    for (int q = 0; q < 4; ++q) {
+      double* dst = update_row(top, W, b.below[r + q], k) + c0;
+      store<C>(dst, load<C>(dst) - acc[q]);
+    }
+  }
+  for (; r < m; ++r) {
+    V acc = {};
+    for (int j = 0; j < b.nscol; ++j) acc += L21[Int64(j) * b.ld + r] * load<C>(Y + Int64(j) * k);
+    double* dst = update_row(top, W, b.below[r], k) + c0;
+    store<C>(dst, load<C>(dst) - acc);
+  }
+}
+
+// Backward pass of one supernode on C columns: Y_j −= Σ_r L21[r, j] W[below[r]] (the rows below
+// are final), four columns of L21 at a time, then solve with L11ᵀ.
+template <int C>
+[[gnu::always_inline]] inline void backward_chunk(const DenseBlock& b, double* W, int k, int c0) {
+  using V = typename Lanes<C>::V;
+  double* Y = W + Int64(b.k1) * k + c0;
+  const int m = b.ld - b.nscol;
+  const double* L21 = b.L + b.nscol;
+  int j = 0;
+  for (; j + 4 <= b.nscol; j += 4) {
+    const double* l0 = L21 + Int64(j) * b.ld;
+    const double* l1 = l0 + b.ld;
+    const double* l2 = l1 + b.ld;
+    const double* l3 = l2 + b.ld;
+    V a0 = {}, a1 = {}, a2 = {}, a3 = {};
+    for (int r = 0; r < m; ++r) {
+      const V w = load<C>(W + Int64(b.below[r]) * k + c0);
+      a0 += l0[r] * w;
+      a1 += l1[r] * w;
+      a2 += l2[r] * w;
+      a3 += l3[r] * w;
+    }
+    const V acc[4] = {a0, a1, a2, a3};
+    for (int q = 0; q < 4; ++q) {
+      double* yj = Y + Int64(j + q) * k;
+      store<C>(yj, load<C>(yj) - acc[q]);
+    }
+  }
+  for (; j < b.nscol; ++j) {
+    const double* l = L21 + Int64(j) * b.ld;
+    V acc = {};
+    for (int r = 0; r < m; ++r) acc += l[r] * load<C>(W + Int64(b.below[r]) * k + c0);
+    double* yj = Y + Int64(j) * k;
+    store<C>(yj, load<C>(yj) - acc);
+  }
+  lower_transpose_solve_chunk<C>(b, Y, k);
+}
+
+// The chunk kernels over all k columns: chunks of 8, then 4, 2 and 1 for the rest.
+IFEM_HOST_CLONES void forward_small(const DenseBlock& b, double* W, int k,
+                                    const TopAccumulator& top) {
+  int c0 = 0;
+  for (; c0 + 8 <= k; c0 += 8) forward_chunk<8>(b, W, k, c0, top);
+  if (c0 + 4 <= k) forward_chunk<4>(b, W, k, c0, top), c0 += 4;
+  if (c0 + 2 <= k) forward_chunk<2>(b, W, k, c0, top), c0 += 2;
+  if (c0 < k) forward_chunk<1>(b, W, k, c0, top);
+}
+
+IFEM_HOST_CLONES void backward_small(const DenseBlock& b, double* W, int k) {
+  int c0 = 0;
+  for (; c0 + 8 <= k; c0 += 8) backward_chunk<8>(b, W, k, c0);
+  if (c0 + 4 <= k) backward_chunk<4>(b, W, k, c0), c0 += 4;
+  if (c0 + 2 <= k) backward_chunk<2>(b, W, k, c0), c0 += 2;
+  if (c0 < k) backward_chunk<1>(b, W, k, c0);
 }
 
 // Forward substitution of one supernode on W (n × k, row-major), as CHOLMOD's own supernodal
@@ -159,23 +272,20 @@ void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
     cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, b.nscol, L, ld, Y, 1);
     if (m == 0) return;
     cblas_dgemv(CblasColMajor, CblasNoTrans, m, b.nscol, 1.0, L + b.nscol, ld, Y, 1, 0.0, T, 1);
+  } else if (b.nscol <= kSmallSupernode) {
+    forward_small(DenseBlock{L, b.R + b.nscol, ld, b.nscol, b.k1}, W, k, top);
+    return;
   } else {
     // Y is Yᵀ column-major (k × nscol): L11 Y = B ⇔ Yᵀ L11ᵀ = Bᵀ; Tᵀ = Yᵀ L21ᵀ
-    if (b.nscol <= kSmallSupernode) {
-      lower_solve_rows(L, ld, b.nscol, Y, k);
-    } else {
-      cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasTrans, CblasNonUnit, k, b.nscol, 1.0,
-                  L, ld, Y, k);
-    }
+    cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasTrans, CblasNonUnit, k, b.nscol, 1.0, L,
+                ld, Y, k);
     if (m == 0) return;
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, k, m, b.nscol, 1.0, Y, k, L + b.nscol, ld,
                 0.0, T, k);
   }
   const int* rows = b.R + b.nscol;
   for (int r = 0; r < m; ++r) {
-    const int i = rows[r];
-    double* dst =
-        top.acc && i >= top.col_end ? top.acc + Int64(top.top_index[i]) * k : W + Int64(i) * k;
+    double* dst = update_row(top, W, rows[r], k);
     const double* tr = T + Int64(r) * k;
     for (int j = 0; j < k; ++j) dst[j] -= tr[j];
   }
@@ -194,6 +304,10 @@ void backward_block(const Block<Real>& b, double* W, int k, double* G, double* S
     return;
   }
   const double* L = block_values(b, S);
+  if (k > 1 && b.nscol <= kSmallSupernode) {
+    backward_small(DenseBlock{L, b.R + b.nscol, ld, b.nscol, b.k1}, W, k);
+    return;
+  }
   if (m > 0) {
     const int* rows = b.R + b.nscol;
     for (int r = 0; r < m; ++r) {
@@ -211,10 +325,6 @@ void backward_block(const Block<Real>& b, double* W, int k, double* G, double* S
     cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasNonUnit, b.nscol, L, ld, Y, 1);
   } else {
     // L11ᵀ Y = B ⇔ Yᵀ L11 = Bᵀ
-    if (b.nscol <= kSmallSupernode) {
-      lower_transpose_solve_rows(L, ld, b.nscol, Y, k);
-      return;
-    }
     cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasNoTrans, CblasNonUnit, k, b.nscol, 1.0,
                 L, ld, Y, k);
   }
@@ -363,6 +473,9 @@ struct SupernodalSolver::Impl {
   std::vector<double> values_d;
   std::vector<float> values_f;
   int max_offdiag = 0;  // largest m = nsrow − nscol
+  int perm_at(Eigen::Index i) const { return p.perm[std::size_t(i)]; }
+  // row copies of at least this many values go on two threads
+  static constexpr Int64 kParallelCopy = 1 << 20;
   // entries of a pass's update / gather scratch (T, G) for k right-hand sides: m × k, or all of a
   // small supernode's rows for one (backward_one's [y; g])
   std::size_t scratch_rows(int k) const {
@@ -373,13 +486,15 @@ struct SupernodalSolver::Impl {
   std::vector<int> parent;        // #supernodes: the elimination tree's parent, −1 at a root
   bool split_tree = false;
   Split split;
-  // Buffers of one solve: the permuted right-hand sides (W), b by rows (R) and, per bin, the update
+  // Buffers of one solve: the permuted right-hand sides (W) and, per bin, the update
   // / gather rows (T), a float block converted to double (S) and the updates of the top's rows
   // (acc); grown, never shrunk, so that a solver's repeated solves allocate (and page-fault)
   // nothing.
   struct Scratch {
-    std::vector<double> W, R, T[2], S[2], acc[2];
-    static double* sized(std::vector<double>& v, std::size_t n) {
+    HugeVector W;
+    std::vector<double> T[2], S[2], acc[2];
+    template <class Vector>
+    static double* sized(Vector& v, std::size_t n) {
       if (v.size() < n) v.resize(n);
       return v.data();
     }
@@ -387,6 +502,9 @@ struct SupernodalSolver::Impl {
   // the scratch of the last solve, reused when no other solve holds it
   mutable std::mutex workspace_mutex;
   mutable Scratch workspace;
+  // solve()'s right-hand sides by rows (several columns), likewise reused
+  mutable std::mutex rows_mutex;
+  mutable HugeVector rows_buffer;
 
   template <class Real>
   Block<Real> block(const Real* values, int s) const {
@@ -397,6 +515,15 @@ struct SupernodalSolver::Impl {
 
   template <class Real>
   void solve_permuted(const Real* values, double* W, int k, Scratch& scr) const;
+  void solve_permuted(double* W, int k, Scratch& scr) const {
+    if (precision == FactorPrecision::kSingle) {
+      solve_permuted(values_f.data(), W, k, scr);
+    } else {
+      solve_permuted(values_d.data(), W, k, scr);
+    }
+  }
+  // W[i] ← X[perm[i]] (gather) or X[perm[i]] ← W[i], rows of k values.
+  void copy_rows(const double* from, double* to, int k, bool gather) const;
   // The supernodes a forward pass must visit for W's nonzero rows (they and their ancestors),
   // ascending, when they hold less than half the factor; else empty (visit all).
   std::vector<int> forward_reach(const double* W, int k) const;
@@ -503,6 +630,26 @@ void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k
   }
 }
 
+void SupernodalSolver::Impl::copy_rows(const double* from, double* to, int k, bool gather) const {
+  const Eigen::Index n = p.n;
+  auto part = [this, from, to, k, gather, n](int half, int halves) {
+    const Eigen::Index i0 = n * half / halves, i1 = n * (half + 1) / halves;
+    for (Eigen::Index i = i0; i < i1; ++i) {
+      const std::size_t a = std::size_t(perm_at(i)) * k, w = std::size_t(i) * k;
+      if (gather) {
+        std::copy_n(from + a, k, to + w);
+      } else {
+        std::copy_n(from + w, k, to + a);
+      }
+    }
+  };
+  if (Int64(n) * k < kParallelCopy) {
+    part(0, 1);
+    return;
+  }
+  run_parallel({[&part] { part(0, 2); }, [&part] { part(1, 2); }});
+}
+
 SupernodalSolver::SupernodalSolver(SupernodalPattern pattern, const double* values,
                                    FactorPrecision precision)
     : impl_(std::make_unique<Impl>()) {
@@ -542,38 +689,45 @@ void SupernodalSolver::solve(const double* b, double* x, Eigen::Index cols) cons
   const Impl& im = *impl_;
   if (cols <= 0) return;
   const Eigen::Index n = im.p.n;
+  if (cols > 1) {
+    // a tiled transpose to rows and back (copying a row of the column-major b entry by entry
+    // spans k pages: a TLB miss on nearly every entry)
+    std::unique_lock<std::mutex> lock(im.rows_mutex, std::try_to_lock);
+    HugeVector own;
+    HugeVector& rows = lock.owns_lock() ? im.rows_buffer : own;
+    double* R = Impl::Scratch::sized(rows, std::size_t(n) * std::size_t(cols));
+    columns_to_rows(b, n, int(cols), R);
+    solve_rows(R, cols);
+    rows_to_columns(R, n, int(cols), x);
+    return;
+  }
+  std::unique_lock<std::mutex> lock(im.workspace_mutex, std::try_to_lock);
+  Impl::Scratch own;
+  Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
+  double* W = Impl::Scratch::sized(scr.W, std::size_t(n));
+  const std::vector<int>& perm = im.p.perm;
+  for (Eigen::Index i = 0; i < n; ++i) W[i] = b[perm[i]];
+  const FlushDenormalsScope no_subnormals;
+  im.solve_permuted(W, 1, scr);
+  for (Eigen::Index i = 0; i < n; ++i) x[perm[i]] = W[i];
+}
+
+void SupernodalSolver::solve_rows(double* X, Eigen::Index cols) const {
+  const Impl& im = *impl_;
+  if (cols <= 0) return;
+  const Eigen::Index n = im.p.n;
   const int k = int(cols);
   std::unique_lock<std::mutex> lock(im.workspace_mutex, std::try_to_lock);
   Impl::Scratch own;
   Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
   double* W = Impl::Scratch::sized(scr.W, std::size_t(n) * k);
-  const std::vector<int>& perm = im.p.perm;
-  // Several columns: a tiled transpose to rows, then whole rows permuted (a row of the
-  // column-major b spans k pages: copying entry by entry in permuted order missed the TLB on
-  // nearly every one).
-  double* R = k > 1 ? Impl::Scratch::sized(scr.R, std::size_t(n) * k) : nullptr;
-  if (k == 1) {
-    for (Eigen::Index i = 0; i < n; ++i) W[i] = b[perm[i]];
-  } else {
-    columns_to_rows(b, n, k, R);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      std::copy_n(R + std::size_t(perm[i]) * k, k, W + std::size_t(i) * k);
-    }
-  }
+  // whole rows in permuted order (contiguous k-value copies), two halves on two threads when
+  // the block is large (a copy of 1M × 32 values is bandwidth-bound: one core's stream does not
+  // saturate the memory)
+  im.copy_rows(X, W, k, true);
   const FlushDenormalsScope no_subnormals;
-  if (im.precision == FactorPrecision::kSingle) {
-    im.solve_permuted(im.values_f.data(), W, k, scr);
-  } else {
-    im.solve_permuted(im.values_d.data(), W, k, scr);
-  }
-  if (k == 1) {
-    for (Eigen::Index i = 0; i < n; ++i) x[perm[i]] = W[i];
-  } else {
-    for (Eigen::Index i = 0; i < n; ++i) {
-      std::copy_n(W + std::size_t(i) * k, k, R + std::size_t(perm[i]) * k);
-    }
-    rows_to_columns(R, n, k, x);
-  }
+  im.solve_permuted(W, k, scr);
+  im.copy_rows(W, X, k, false);
 }
 
 std::size_t SupernodalSolver::bytes_per_pass() const {

@@ -55,6 +55,10 @@ class SupernodalSolver {
 
   /// Solves A X = B for `cols` columns stored column-major at b (n × cols) into x (may alias b).
   void solve(const double* b, double* x, Eigen::Index cols) const;
+  /// Solves A X = B in place for `cols` columns stored row-major at X (n × cols: row i, the
+  /// cols values of unknown i, is contiguous): the kernel's own layout, so only the rows'
+  /// permutation is copied (solve() also transposes). The same bits as solve() for cols > 1.
+  void solve_rows(double* X, Eigen::Index cols) const;
 
   /// Bytes one pass over the factor reads (values and row indices): a solve makes two passes.
   std::size_t bytes_per_pass() const;

@@ -1,0 +1,73 @@
+// Short vectors of doubles for loops over the k columns of a row-major block (k right-hand
+// sides, k sources), and the attribute that compiles a hot loop for the host's vector ISA.
+// Internal to the library: vectors of C doubles are GCC/Clang vector extensions (one register
+// of the ISA a function is compiled for, or several of a narrower one), loaded and stored
+// unaligned. Functions taking or returning them are always inlined, so their ABI never crosses
+// a call.
+#pragma once
+
+#include <cstring>
+
+#if defined(__GNUC__) && !defined(__clang__)
+// GCC warns at every call that a vector value "changes the ABI" between ISAs: harmless, these
+// functions are always inlined. Off for the rest of the including .cpp (only .cpp files of the
+// library include this header).
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+// IFEM_HOST_CLONES: compile a function three times, for AVX-512 (x86-64-v4), AVX2 + FMA
+// (x86-64-v3) and the baseline ISA, and pick one at load time (target_clones). Off under
+// AddressSanitizer (ifunc resolvers run before its runtime is set up) and off x86-64.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define IFEM_LANES_NO_CLONES
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define IFEM_LANES_NO_CLONES
+#endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && \
+    !defined(IFEM_LANES_NO_CLONES)
+#define IFEM_HOST_CLONES \
+  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define IFEM_HOST_CLONES
+#endif
+
+namespace ifem::lanes {
+
+/// Lanes<C>::V: C doubles as one vector value (C = 8, 4, 2) or a double (C = 1).
+template <int C>
+struct Lanes;
+template <>
+struct Lanes<8> {
+  typedef double V __attribute__((vector_size(64)));
+};
+template <>
+struct Lanes<4> {
+  typedef double V __attribute__((vector_size(32)));
+};
+template <>
+struct Lanes<2> {
+  typedef double V __attribute__((vector_size(16)));
+};
+template <>
+struct Lanes<1> {
+  typedef double V;
+};
+
+/// The C doubles at p (any alignment).
+template <int C>
+[[gnu::always_inline]] inline typename Lanes<C>::V load(const double* p) {
+  typename Lanes<C>::V v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+/// Writes the C doubles of v at p (any alignment).
+template <int C>
+[[gnu::always_inline]] inline void store(double* p, typename Lanes<C>::V v) {
+  std::memcpy(p, &v, sizeof v);
+}
+
+}  // namespace ifem::lanes
