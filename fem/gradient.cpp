@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #ifdef _OPENMP
@@ -10,6 +11,7 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/core/lanes.h"
 #include "intrinsic/core/parallel.h"
 
 namespace ifem::fem {
@@ -271,6 +273,96 @@ void UnitGradientDivergence::apply_columns(const Eigen::Ref<const Eigen::MatrixX
         }
       }
     }
+  }
+}
+
+namespace {
+
+using lanes::Lanes;
+
+// unit_corners() for C columns of a row-major block at once: the face's corners' rows u0, u1,
+// u2 (C values each) add their contributions to the rows d0, d1, d2; lanes where ∇u is 0 or not
+// finite add 0. unit_corners()'s formula, with two divisions instead of four (equal to
+// rounding).
+template <int C>
+[[gnu::always_inline]] inline void unit_corners_lanes(const double* fr, const double* const u[3],
+                                                      double* const d[3], double half_s) {
+  using V = typename Lanes<C>::V;
+  const double l0 = fr[0], x = fr[1], y = fr[2];
+  const V u0 = lanes::load<C>(u[0]), u1 = lanes::load<C>(u[1]), u2 = lanes::load<C>(u[2]);
+  const V vx = y * (u1 - u0);
+  const V vy = x * (u0 - u1) + l0 * (u2 - u0);
+  const V ax = vx < 0.0 ? -vx : vx, ay = vy < 0.0 ? -vy : vy;
+  const V m = ax > ay ? ax : ay;
+  const auto ok = (m > 0.0) & (m <= std::numeric_limits<double>::max());
+  // one division for 1/m and one for 1/|v/m| (the scalar path divides four times: the lanes
+  // were bound by the divider)
+  const V inv_m = 1.0 / m;
+  const V nx = vx * inv_m, ny = vy * inv_m;
+  const V sq = nx * nx + ny * ny;
+  V s = sq;
+  if constexpr (C == 1) {
+    s = std::sqrt(sq);
+  } else {
+    for (int c = 0; c < C; ++c) s[c] = std::sqrt(sq[c]);
+  }
+  const V r = -1.0 / s;
+  const V gx = nx * r, gy = ny * r;
+  const V zero = {};
+  const V c0 = ok ? half_s * (-y * gx + (x - l0) * gy) : zero;
+  const V c1 = ok ? half_s * (y * gx - x * gy) : zero;
+  const V c2 = ok ? half_s * (l0 * gy) : zero;
+  lanes::store<C>(d[0], lanes::load<C>(d[0]) + c0);
+  lanes::store<C>(d[1], lanes::load<C>(d[1]) + c1);
+  lanes::store<C>(d[2], lanes::load<C>(d[2]) + c2);
+}
+
+// unit_corners_lanes() on columns [j, j + C) of the rows u and d.
+template <int C>
+[[gnu::always_inline]] inline void unit_corners_at(const double* fr, const double* const u[3],
+                                                   double* const d[3], Index j, double half_s) {
+  const double* uj[3] = {u[0] + j, u[1] + j, u[2] + j};
+  double* dj[3] = {d[0] + j, d[1] + j, d[2] + j};
+  unit_corners_lanes<C>(fr, uj, dj, half_s);
+}
+
+// Columns [j0, j1) of apply_rows(): faces in order, chunks of 8, 4, 2, 1 columns.
+IFEM_HOST_CLONES void unit_divergence_rows(const double* frame, const Index* tail, Index nf,
+                                           const double* U, Index k, Index j0, Index j1,
+                                           double half_s, double* div) {
+  for (Index f = 0; f < nf; ++f) {
+    const double* fr = frame + 3 * f;
+    if (!(fr[2] > 0.0)) continue;
+    const Index* t = tail + 3 * f;
+    const double* u[3] = {U + t[0] * k, U + t[1] * k, U + t[2] * k};
+    double* d[3] = {div + t[0] * k, div + t[1] * k, div + t[2] * k};
+    Index j = j0;
+    for (; j + 8 <= j1; j += 8) unit_corners_at<8>(fr, u, d, j, half_s);
+    if (j + 4 <= j1) unit_corners_at<4>(fr, u, d, j, half_s), j += 4;
+    if (j + 2 <= j1) unit_corners_at<2>(fr, u, d, j, half_s), j += 2;
+    if (j < j1) unit_corners_at<1>(fr, u, d, j, half_s);
+  }
+}
+
+}  // namespace
+
+void UnitGradientDivergence::apply_rows(const double* U, Eigen::Index k, double* div) const {
+  if (k < 1) throw InvalidInput("divergence_of_unit_gradients: need at least one column");
+  const Index nv = n_vertices_, nf = n_faces_;
+  const double half_s = 0.5 * scale_;
+  // Threads split the columns at a multiple of 8 (whole vectors and, for k = 32, whole cache
+  // lines of a row); each zeroes and sums its own columns in face order.
+  const bool two = k >= 16 && parallel_pays(nf, kParallelFaces);
+#pragma omp parallel num_threads(2) if (two)
+  {
+#ifdef _OPENMP
+    const Index nt = omp_get_num_threads(), t = omp_get_thread_num();
+#else
+    const Index nt = 1, t = 0;
+#endif
+    const Index j0 = t == 0 ? 0 : (k / 2 + 7) / 8 * 8, j1 = t + 1 == nt ? k : (k / 2 + 7) / 8 * 8;
+    for (Index v = 0; v < nv; ++v) std::fill(div + v * k + j0, div + v * k + j1, 0.0);
+    unit_divergence_rows(frame_.data(), tail_.data(), nf, U, k, j0, j1, half_s, div);
   }
 }
 

@@ -67,6 +67,15 @@ class UnitGradientDivergence {
   void apply_columns(const Eigen::Ref<const Eigen::MatrixXd>& U,
                      const std::vector<std::vector<char>>& use_face,
                      Eigen::Ref<Eigen::MatrixXd> div) const;
+  /// apply_columns() on every face for k fields stored row-major: U and div are #V × k with the
+  /// k values of vertex v contiguous (at U + v·k), the layout of solve_rows(); div is
+  /// overwritten. The k values of a corner are one vector operation (AVX-512 or AVX2 when the
+  /// host has it), so a block of fields costs a fraction of k single ones. Threads split the
+  /// columns, each summed in face order: the bits do not depend on the thread count. Equal to
+  /// apply_columns() column by column to rounding (FMA contraction on hosts with FMA).
+  /// @param U, div #V·k doubles each, not overlapping
+  /// @throws InvalidInput if k < 1
+  void apply_rows(const double* U, Eigen::Index k, double* div) const;
 
  private:
   Index n_vertices_ = 0, n_faces_ = 0;

@@ -29,6 +29,8 @@ using intrinsic::IntrinsicTriangulation;
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// A block's output of at least this many values is written by two threads.
+constexpr std::int64_t kParallelBlockValues = 1 << 20;
 constexpr double kAbsoluteHeatFloor = 1e-290;  // stay clear of subnormals
 // From this many vertices on, queries solve with our supernodal kernel (see the constructor;
 // session 8: 28k vertices (rocketship) faster with CHOLMOD's simplicial solves, 50k
@@ -159,13 +161,22 @@ struct HeatDistanceSolver::Impl {
   // 1.54 s for 32 sources as fresh matrices, 1.00 s without the faults); the heat of a block, then
   // its divergences and distances.
   struct BlockScratch {
-    Eigen::MatrixXd heat, phi;
+    Eigen::MatrixXd heat, phi;                // column-major blocks (distance_block)
+    std::vector<double> heat_rows, phi_rows;  // row-major blocks (distance_block_rows)
   };
   mutable std::mutex block_mutex;  // guards block_scratch; a concurrent call uses its own
   mutable BlockScratch block_scratch;
   void distance_block(const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
                       Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps,
                       BlockScratch& scratch) const;
+  // distance_block() in the solves' own row-major layout (k values per vertex contiguous): no
+  // transposes between the heat solve, the divergence and the Poisson solve, and the k columns
+  // of a corner or a row are one vector operation. Without boundary and correction steps;
+  // writes scaled distances.
+  bool rows_path() const { return !heat_dirichlet && opt.correction_steps == 0; }
+  void distance_block_rows(const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
+                           Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps,
+                           BlockScratch& scratch) const;
   // (M + tL) U = Δ for every column of U, written over it (no #V × k temporary without boundary)
   void heat_in_place(Eigen::Ref<Eigen::MatrixXd> U) const {
     if (heat_dirichlet) {
@@ -399,15 +410,24 @@ Eigen::MatrixXd HeatDistanceSolver::compute_distances(
   std::unique_lock<std::mutex> lock(im.block_mutex, std::try_to_lock);
   Impl::BlockScratch own;
   Impl::BlockScratch& scratch = lock.owns_lock() ? im.block_scratch : own;
-  for (Eigen::MatrixXd* m : {&scratch.heat, &scratch.phi}) {
-    if (m->rows() != nv || m->cols() < block) m->resize(nv, block);
-  }
   Eigen::MatrixXd out(nv, k);
   std::vector<HeatDistanceReport> reps(sources.size());
-  for (Eigen::Index first = 0; first < k; first += block) {
-    im.distance_block(sources, first, std::min(block, k - first), out, reps, scratch);
+  if (im.rows_path()) {
+    for (std::vector<double>* m : {&scratch.heat_rows, &scratch.phi_rows}) {
+      if (m->size() < std::size_t(nv) * std::size_t(block)) m->resize(std::size_t(nv) * block);
+    }
+    for (Eigen::Index first = 0; first < k; first += block) {
+      im.distance_block_rows(sources, first, std::min(block, k - first), out, reps, scratch);
+    }
+  } else {
+    for (Eigen::MatrixXd* m : {&scratch.heat, &scratch.phi}) {
+      if (m->rows() != nv || m->cols() < block) m->resize(nv, block);
+    }
+    for (Eigen::Index first = 0; first < k; first += block) {
+      im.distance_block(sources, first, std::min(block, k - first), out, reps, scratch);
+    }
+    out *= im.scale;
   }
-  out *= im.scale;
   if (reports) *reports = std::move(reps);
   return out;
 }
@@ -477,6 +497,80 @@ void HeatDistanceSolver::Impl::distance_block(const std::vector<Index>& sources,
     col[src[b]] = 0.0;
     out.col(first + batch[b]) = col;
     reps[std::size_t(first + batch[b])] = HeatDistanceReport{};
+  }
+}
+
+void HeatDistanceSolver::Impl::distance_block_rows(const std::vector<Index>& sources,
+                                                   Eigen::Index first, Eigen::Index k,
+                                                   Eigen::MatrixXd& out,
+                                                   std::vector<HeatDistanceReport>& reps,
+                                                   BlockScratch& scratch) const {
+  const Index nv = tri.n_vertices();
+  double* H = scratch.heat_rows.data();  // the deltas, then their heat
+  double* P = scratch.phi_rows.data();   // the divergences, then φ
+  std::fill(H, H + nv * k, 0.0);
+  std::vector<Index> src(static_cast<std::size_t>(k)), comp(static_cast<std::size_t>(k));
+  for (Eigen::Index j = 0; j < k; ++j) {
+    src[std::size_t(j)] = sources[std::size_t(first + j)];
+    comp[std::size_t(j)] = comps.label[src[std::size_t(j)]];
+    H[src[std::size_t(j)] * k + j] = 1.0;
+  }
+  heat_neumann->solve_weak_homogeneous_rows_in_place(H, k);
+  // resolved: every vertex of the source's component above the floor, i.e. its minimum (NaN
+  // kept) above resolved_heat × its largest finite value
+  std::vector<double> mx(std::size_t(k), 0.0), mn(std::size_t(k), kInf);
+  const bool one_component =
+      std::all_of(comp.begin(), comp.end(), [&](Index c) { return c == comp[0]; });
+  for (Index v = 0; v < nv; ++v) {
+    const Index c = comps.label[v];
+    if (one_component && c != comp[0]) continue;
+    const double* h = H + v * k;
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const auto jj = std::size_t(j);
+      const double x = h[j];
+      const bool in = one_component || comp[jj] == c;
+      mx[jj] = in && x > mx[jj] && x <= std::numeric_limits<double>::max() ? x : mx[jj];
+      mn[jj] = in && (x < mn[jj] || x != x) ? x : mn[jj];
+    }
+  }
+  unit_div->apply_rows(H, k, P);
+  poisson->solve_weak_homogeneous_rows_in_place(P, k, false);  // φ − φ(source) below
+  std::vector<double> shift(static_cast<std::size_t>(k));
+  for (Eigen::Index j = 0; j < k; ++j) shift[std::size_t(j)] = P[src[std::size_t(j)] * k + j];
+  // out = max(φ − φ(source), 0)·scale on the source's component, ∞ elsewhere: rows to columns
+  // in tiles, two halves of the rows on two threads
+  auto write = [&](int part, int parts) {
+    constexpr Index kTile = 64;
+    const Index v0 = nv * part / parts, v1 = nv * (part + 1) / parts;
+    for (Index t0 = v0; t0 < v1; t0 += kTile) {
+      const Index t1 = std::min(v1, t0 + kTile);
+      for (Eigen::Index j = 0; j < k; ++j) {
+        double* o = out.col(first + j).data();
+        const Index c = comp[std::size_t(j)];
+        const double sh = shift[std::size_t(j)];
+        for (Index v = t0; v < t1; ++v) {
+          o[v] = comps.label[v] == c ? std::max(P[v * k + j] - sh, 0.0) * scale : kInf;
+        }
+      }
+    }
+  };
+  if (std::int64_t(nv) * k >= kParallelBlockValues) {
+    run_parallel({[&] { write(0, 2); }, [&] { write(1, 2); }});
+  } else {
+    write(0, 1);
+  }
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const double floor = std::max(opt.resolved_heat * mx[std::size_t(j)], kAbsoluteHeatFloor);
+    HeatDistanceReport& rep = reps[std::size_t(first + j)];
+    rep = HeatDistanceReport{};
+    out(src[std::size_t(j)], first + j) = 0.0;
+    if (mn[std::size_t(j)] > floor) continue;
+    // underflowing heat: the multi-stage continuation of distance(), one source at a time
+    WeightedPoint p;
+    p.n = 1;
+    p.vertex[0] = src[std::size_t(j)];
+    p.weight[0] = 1.0;
+    out.col(first + j) = distance({p}, &rep) * scale;
   }
 }
 

@@ -413,6 +413,41 @@ void PoissonSolver::solve_weak_homogeneous_in_place(Eigen::Ref<Eigen::MatrixXd> 
   im.solve_many_identity(B);
 }
 
+void PoissonSolver::solve_weak_homogeneous_rows_in_place(double* X, Eigen::Index k,
+                                                         bool zero_mean) const {
+  const Impl& im = *impl_;
+  if (k < 1) throw InvalidInput("PoissonSolver::solve_weak_homogeneous_rows_in_place: k < 1");
+  using RowBlock =
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+  RowBlock rows(X, im.n, k);
+  if (Index(im.unknown_vertex.size()) != im.n || (!im.floating.empty() && !im.one_floating)) {
+    Eigen::MatrixXd B = rows;
+    solve_weak_homogeneous_in_place(B);
+    rows = B;
+    return;  // (with the zero mean: it costs nothing extra here)
+  }
+  // as solve_many_identity(), row by row: Σ_v a_v X(v, :) then X(v, :) −= b_v Σ (k values per
+  // vertex: one vector operation each)
+  std::vector<double> sum(std::size_t(k), 0.0);
+  auto shift = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    std::fill(sum.begin(), sum.end(), 0.0);
+    for (Index v = 0; v < im.n; ++v) {
+      const double av = a[v], *x = X + v * k;
+      for (Eigen::Index j = 0; j < k; ++j) sum[std::size_t(j)] += av * x[j];
+    }
+    for (Index v = 0; v < im.n; ++v) {
+      const double bv = b[v];
+      double* x = X + v * k;
+      for (Eigen::Index j = 0; j < k; ++j) x[j] -= bv * sum[std::size_t(j)];
+    }
+  };
+  if (im.one_floating) shift(im.floating_one, im.floating_weight);  // compatible
+  for (const Index r : im.fixed_rows) rows.row(r).setZero();
+  if (im.n > 0) im.chol->solve_rows(X, k);
+  for (const Index r : im.fixed_rows) rows.row(r).setZero();
+  if (im.one_floating && zero_mean) shift(im.floating_weight, im.floating_one);
+}
+
 const std::vector<Index>& PoissonSolver::dirichlet_vertices() const { return impl_->dirichlet; }
 Index PoissonSolver::n_unknowns() const { return Index(impl_->unknown_vertex.size()); }
 

@@ -90,6 +90,16 @@ class PoissonSolver {
   /// caller that reuses B's storage takes no page faults per call.
   /// @throws InvalidInput if B.rows() != #V or its columns are not contiguous
   void solve_weak_homogeneous_in_place(Eigen::Ref<Eigen::MatrixXd> B) const;
+  /// solve_weak_homogeneous_in_place() for k columns stored row-major at X (#V × k: the k values
+  /// of vertex v contiguous at X + v·k), the layout CholeskySolver::solve_rows() and
+  /// fem::UnitGradientDivergence::apply_rows() work in: no transposes when every vertex is an
+  /// unknown and the pure-Neumann part is one component or none (else through a column-major
+  /// copy). Equal to the column-major solve to rounding.
+  /// @param zero_mean false: leave out the final zero-mean shift on a pure-Neumann component
+  ///        (each column then is right up to a constant there), for a caller that subtracts a
+  ///        value of its own anyway (the heat method's φ − φ(source))
+  /// @throws InvalidInput if k < 1
+  void solve_weak_homogeneous_rows_in_place(double* X, Eigen::Index k, bool zero_mean = true) const;
 
   /// The Dirichlet vertices, in the constructor's order.
   const std::vector<Index>& dirichlet_vertices() const;
