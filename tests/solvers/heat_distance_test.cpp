@@ -7,6 +7,7 @@
 
 #include "fem/gradient.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/parallel.h"
 #include "solvers/parallel.h"
 #include "test_util.h"
 
@@ -367,6 +368,58 @@ TEST(SolversHeatDistance, UnitGradientDivergenceColumnsMatchSingleFields) {
   const Eigen::MatrixXd all = fem::divergence_of_unit_gradients(tri, U, {});
   EXPECT_TRUE(all == div.apply_columns(U));
   EXPECT_THROW(div.apply_columns(Eigen::MatrixXd(3, 2)), InvalidInput);
+}
+
+// apply_rows(): the same divergence as apply_columns() on the row-major layout, for every chunk
+// width of its vector loops (8, 4, 2, 1 columns), with an underflowing field, a constant one and
+// a field with a NaN; on two threads (load check off) and on one (k < 16 never splits).
+TEST(SolversHeatDistance, UnitGradientDivergenceRowsMatchColumns) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const auto tri = test::make_tri(intrinsic::icosphere(40));  // 32,000 faces
+  const Index nv = tri.n_vertices();
+  const fem::UnitGradientDivergence div(tri);
+  set_parallel_load_check(false);
+  for (const int k : {1, 3, 8, 15, 16, 32, 39}) {
+    Eigen::MatrixXd U(nv, k);
+    for (Index v = 0; v < nv; ++v) {
+      for (int j = 0; j < k; ++j) U(v, j) = std::exp(-0.001 * double((v * (j + 1)) % nv));
+    }
+    if (k > 1) U.col(1) *= 1e-200;
+    if (k > 2) U.col(2).setConstant(3.0);
+    if (k > 3) U(17, 3) = std::numeric_limits<double>::quiet_NaN();
+    const Eigen::MatrixXd expected = div.apply_columns(U);
+    const RowMajor rows = U;
+    RowMajor out(nv, k);
+    out.setConstant(7.0);  // overwritten
+    div.apply_rows(rows.data(), k, out.data());
+    for (int j = 0; j < k; ++j) {
+      const double scale = std::max(expected.col(j).cwiseAbs().maxCoeff(), 1e-300);
+      EXPECT_LT((out.col(j) - expected.col(j)).cwiseAbs().maxCoeff(), 1e-13 * scale)
+          << "k = " << k << ", column " << j;
+    }
+    if (k > 2) {
+      EXPECT_EQ(out.col(2).cwiseAbs().maxCoeff(), 0.0);
+    }
+    if (k > 1) {
+      EXPECT_GT(out.col(1).cwiseAbs().maxCoeff(), 1e-3);
+    }
+    if (k > 3) {
+      EXPECT_TRUE(out.col(3).allFinite());  // the NaN's faces add nothing
+    }
+  }
+  set_parallel_load_check(true);
+  double x = 0.0;
+  EXPECT_THROW(div.apply_rows(&x, 0, &x), InvalidInput);
+}
+
+// The row-major block path (no boundary, no correction steps) on one closed component, over
+// two blocks (37 > 32 sources), with a repeat: each column equals its single-source query.
+TEST(SolversHeatDistance, RowBlocksEqualSingleSourcesOnAClosedMesh) {
+  const auto tri = test::make_tri(intrinsic::icosphere(12));
+  std::vector<Index> src;
+  for (Index k = 0; k < 37; ++k) src.push_back((k * 131) % tri.n_vertices());
+  src.push_back(src[5]);
+  expect_batch_equals_single(tri, {}, src);
 }
 
 }  // namespace

@@ -80,6 +80,39 @@ TEST(SupernodalSolve, SplitFactorMatchesCholmodAndIsThreadIndependent) {
   expect_same_as_cholmod(50);
 }
 
+// solve_rows(), the kernel's own layout, for every chunk width of its small-supernode loops
+// (8, 4, 2, 1 columns) on a factor with the two-bin split: CHOLMOD's solution, the same bits as
+// the column-major solve (which goes through it) and the same bits on one thread or two; and
+// CHOLMOD's own solve through solve_rows()'s transposed copy.
+TEST(SupernodalSolve, RowsLayoutEveryChunkWidth) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const fem::SparseMatrix A = mass_plus_laplacian(50);
+  const CholeskySolver reference(A);
+  for (const Kernel kernel : {Kernel::kSupernodalDouble, Kernel::kSupernodalSingle}) {
+    const CholeskySolver chol(A, kernel_options(kernel));
+    const bool single = kernel == Kernel::kSupernodalSingle;
+    for (const int k : {2, 3, 7, 8, 15, 32, 33}) {
+      std::srand(unsigned(k));
+      const Eigen::MatrixXd B = A * Eigen::MatrixXd::Random(A.rows(), k);
+      const Eigen::MatrixXd Xr = reference.solve(B);
+      RowMajor X[2] = {B, B};
+      for (const int threads : {1, 2}) {
+        set_max_threads(threads);
+        chol.solve_rows(X[threads - 1].data(), k);
+      }
+      set_max_threads(0);
+      EXPECT_TRUE(X[0] == X[1]) << "thread count changed the result, k = " << k;
+      EXPECT_LT(rel_diff(Eigen::MatrixXd(X[0]), Xr), single ? 1e-5 : 1e-12) << "k = " << k;
+      EXPECT_TRUE(Eigen::MatrixXd(X[0]) == chol.solve(B)) << "k = " << k;
+    }
+  }
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Random(A.rows(), 3);
+  RowMajor X = B;
+  reference.solve_rows(X.data(), 3);
+  EXPECT_LT(rel_diff(Eigen::MatrixXd(X), reference.solve(B)), 1e-15);
+  EXPECT_THROW(reference.solve_rows(X.data(), -1), InvalidInput);
+}
+
 // A factor built by hand: two dense 1000-column supernodes (leaves) under a one-column root, so
 // that the split puts one leaf in each bin and only the root in the serial top.
 struct TwoLeafFactor {
