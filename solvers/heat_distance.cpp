@@ -171,9 +171,14 @@ struct HeatDistanceSolver::Impl {
                       BlockScratch& scratch) const;
   // distance_block() in the solves' own row-major layout (k values per vertex contiguous): no
   // transposes between the heat solve, the divergence and the Poisson solve, and the k columns
-  // of a corner or a row are one vector operation. Without boundary and correction steps;
-  // writes scaled distances.
-  bool rows_path() const { return !heat_dirichlet && opt.correction_steps == 0; }
+  // of a corner or a row are one vector operation. When our kernel solves (CHOLMOD's solve is
+  // column-major: the transposes made rocketship's blocks 1.3× slower), without boundary and
+  // correction steps; writes scaled distances.
+  bool rows_path() const {
+    const bool own_kernel = opt.precision == HeatDistanceOptions::Precision::kMixed ||
+                            tri.n_vertices() >= kOwnKernelVertices;
+    return own_kernel && !heat_dirichlet && opt.correction_steps == 0;
+  }
   void distance_block_rows(const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
                            Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps,
                            BlockScratch& scratch) const;

@@ -412,14 +412,22 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRowsMatchColumns) {
   EXPECT_THROW(div.apply_rows(&x, 0, &x), InvalidInput);
 }
 
-// The row-major block path (no boundary, no correction steps) on one closed component, over
-// two blocks (37 > 32 sources), with a repeat: each column equals its single-source query.
-TEST(SolversHeatDistance, RowBlocksEqualSingleSourcesOnAClosedMesh) {
-  const auto tri = test::make_tri(intrinsic::icosphere(12));
+// The row-major block path (our kernel solves: ≥ 40k vertices or mixed precision; no boundary,
+// no correction steps) on closed meshes, over two blocks (37 > 32 sources), with a repeat: each
+// column equals its single-source query. Two components go through the Poisson solve's
+// column-major fallback.
+TEST(SolversHeatDistance, RowBlocksEqualSingleSources) {
+  const auto big = test::make_tri(intrinsic::icosphere(64));  // 40,962 vertices
   std::vector<Index> src;
-  for (Index k = 0; k < 37; ++k) src.push_back((k * 131) % tri.n_vertices());
+  for (Index k = 0; k < 37; ++k) src.push_back((k * 1031) % big.n_vertices());
   src.push_back(src[5]);
-  expect_batch_equals_single(tri, {}, src);
+  expect_batch_equals_single(big, {}, src);
+  HeatDistanceOptions mixed;
+  mixed.precision = HeatDistanceOptions::Precision::kMixed;
+  expect_batch_equals_single(test::make_tri(intrinsic::icosphere(12)), mixed, {0, 77, 901, 77});
+  const auto one = intrinsic::icosphere(6);
+  const Index n = Index(one.positions.rows());
+  expect_batch_equals_single(test::make_tri(test::two_copies(one, 3.0, 1)), mixed, {3, n + 3, 7});
 }
 
 }  // namespace
