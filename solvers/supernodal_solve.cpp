@@ -65,7 +65,8 @@ const double* block_values(const Block<Real>& b, double* scratch) {
 // pass over each column, rather than BLAS dtrsv + dgemv: OpenBLAS's dtrsv takes a lock-guarded
 // buffer on every call, and on the mean supernode (7.7 columns × 28 rows) the calls cost more
 // than the arithmetic (one 1M-face query: 0.185 s with BLAS, docs/decisions.md). The loops read a
-// float factor directly, converting each entry as it is used.
+// float factor directly, converting each entry as it is used. Several right-hand sides on such
+// supernodes go through the chunk kernels further down (forward_small, backward_small).
 constexpr int kSmallSupernode = 64;
 
 // Σ a[i]·b[i] over n entries, in four independent sums (a fixed order: the same bits on every
@@ -258,7 +259,8 @@ IFEM_HOST_CLONES void backward_small(const DenseBlock& b, double* W, int k) {
 // Forward substitution of one supernode on W (n × k, row-major), as CHOLMOD's own supernodal
 // solve does: solve with the diagonal block, then subtract the off-diagonal block's product from
 // the rows below (T: scratch, m × k; S: scratch for a converted float block). Small supernodes go
-// through the loops above, larger ones and the off-diagonal products of blocks through BLAS.
+// through the loops above (one right-hand side) or the chunk kernels (several), larger ones
+// through BLAS.
 template <class Real>
 void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
                    const TopAccumulator& top) {
