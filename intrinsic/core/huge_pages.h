@@ -35,7 +35,7 @@ inline void advise_huge_pages(void* p, std::size_t bytes) {
 /// pages before first use.
 template <class T>
 struct HugePageAllocator {
-  using value_type = T;
+  typedef T value_type;  // the name std::allocator_traits requires (not our CamelCase)
   static constexpr std::size_t kHuge = std::size_t(2) << 20;
   HugePageAllocator() = default;
   template <class U>
