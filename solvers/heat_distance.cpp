@@ -16,6 +16,7 @@
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/core/huge_pages.h"
 #include "intrinsic/core/union_find.h"
 #include "solvers/cholesky.h"
 #include "solvers/components.h"
@@ -161,8 +162,8 @@ struct HeatDistanceSolver::Impl {
   // 1.54 s for 32 sources as fresh matrices, 1.00 s without the faults); the heat of a block, then
   // its divergences and distances.
   struct BlockScratch {
-    Eigen::MatrixXd heat, phi;                // column-major blocks (distance_block)
-    std::vector<double> heat_rows, phi_rows;  // row-major blocks (distance_block_rows)
+    Eigen::MatrixXd heat, phi;       // column-major blocks (distance_block)
+    HugeVector heat_rows, phi_rows;  // row-major blocks (distance_block_rows)
   };
   mutable std::mutex block_mutex;  // guards block_scratch; a concurrent call uses its own
   mutable BlockScratch block_scratch;
@@ -416,9 +417,10 @@ Eigen::MatrixXd HeatDistanceSolver::compute_distances(
   Impl::BlockScratch own;
   Impl::BlockScratch& scratch = lock.owns_lock() ? im.block_scratch : own;
   Eigen::MatrixXd out(nv, k);
+  advise_huge_pages(out.data(), sizeof(double) * std::size_t(out.size()));  // not yet touched
   std::vector<HeatDistanceReport> reps(sources.size());
   if (im.rows_path()) {
-    for (std::vector<double>* m : {&scratch.heat_rows, &scratch.phi_rows}) {
+    for (HugeVector* m : {&scratch.heat_rows, &scratch.phi_rows}) {
       if (m->size() < std::size_t(nv) * std::size_t(block)) m->resize(std::size_t(nv) * block);
     }
     for (Eigen::Index first = 0; first < k; first += block) {
