@@ -360,7 +360,8 @@ void UnitGradientDivergence::apply_rows(const double* U, Eigen::Index k, double*
 #else
     const Index nt = 1, t = 0;
 #endif
-    const Index j0 = t == 0 ? 0 : (k / 2 + 7) / 8 * 8, j1 = t + 1 == nt ? k : (k / 2 + 7) / 8 * 8;
+    const Index mid = (k / 2 + 7) / 8 * 8;
+    const Index j0 = t == 0 ? 0 : mid, j1 = t + 1 == nt ? k : mid;
     for (Index v = 0; v < nv; ++v) std::fill(div + v * k + j0, div + v * k + j1, 0.0);
     unit_divergence_rows(frame_.data(), tail_.data(), nf, U, k, j0, j1, half_s, div);
   }

@@ -475,7 +475,6 @@ struct SupernodalSolver::Impl {
   std::vector<double> values_d;
   std::vector<float> values_f;
   int max_offdiag = 0;  // largest m = nsrow − nscol
-  int perm_at(Eigen::Index i) const { return p.perm[std::size_t(i)]; }
   // row copies of at least this many values go on two threads
   static constexpr Int64 kParallelCopy = 1 << 20;
   // entries of a pass's update / gather scratch (T, G) for k right-hand sides: m × k, or all of a
@@ -637,7 +636,7 @@ void SupernodalSolver::Impl::copy_rows(const double* from, double* to, int k, bo
   auto part = [this, from, to, k, gather, n](int half, int halves) {
     const Eigen::Index i0 = n * half / halves, i1 = n * (half + 1) / halves;
     for (Eigen::Index i = i0; i < i1; ++i) {
-      const std::size_t a = std::size_t(perm_at(i)) * k, w = std::size_t(i) * k;
+      const std::size_t a = std::size_t(p.perm[std::size_t(i)]) * k, w = std::size_t(i) * k;
       if (gather) {
         std::copy_n(from + a, k, to + w);
       } else {
