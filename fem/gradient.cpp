@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -280,10 +282,97 @@ namespace {
 
 using lanes::Lanes;
 
+// C floats as one vector (C ≥ 2), for inverse_sqrt().
+template <int C>
+struct FloatLanes {
+  typedef float F __attribute__((vector_size(4 * C)));
+};
+
+// 1/√q for C lanes of q in [2⁻¹⁰², 32) (a normalized squared length): a float square root and
+// division (cheap: half-width lanes, short latency) and one Newton step in double, which
+// squares float's relative error (~1e-7 → ~2e-14). The divider, not memory, bounded the row
+// divergence with double sqrt and division (docs/decisions.md). The same arithmetic for every
+// C, so a column's bits do not depend on the chunk it falls in.
+template <int C>
+[[gnu::always_inline]] inline typename Lanes<C>::V inverse_sqrt(typename Lanes<C>::V q) {
+  using V = typename Lanes<C>::V;
+  V r0;
+  if constexpr (C == 1) {
+    r0 = double(1.0f / std::sqrt(float(q)));
+  } else {
+    using F = typename FloatLanes<C>::F;
+    F qf = __builtin_convertvector(q, F);
+    for (int c = 0; c < C; ++c) qf[c] = std::sqrt(qf[c]);
+    r0 = __builtin_convertvector(1.0f / qf, V);
+  }
+  return r0 * (1.5 - (0.5 * q) * (r0 * r0));
+}
+
+// C int64 (I) or uint64 (U) lanes, the bits of Lanes<C>::V's doubles.
+template <int C>
+struct IntLanes {
+  typedef std::int64_t I __attribute__((vector_size(8 * C)));
+};
+template <>
+struct IntLanes<1> {
+  typedef std::int64_t I;
+};
+template <int C>
+struct UIntLanes {
+  typedef std::uint64_t U __attribute__((vector_size(8 * C)));
+};
+template <>
+struct UIntLanes<1> {
+  typedef std::uint64_t U;
+};
+
+template <int C, class From, class To>
+[[gnu::always_inline]] inline To bit_cast_lanes(From v) {
+  static_assert(sizeof(From) == sizeof(To));
+  To t;
+  std::memcpy(&t, &v, sizeof t);
+  return t;
+}
+
+// 2^(1023 − e) for the biased exponent e of each lane of m (at least 2⁻¹⁰²²), from m's bits mb:
+// m times it is in [1, 2) for a normal m, in [2, 4) for m ≥ 2¹⁰²³ and in [2⁻⁵¹, 2) for a
+// subnormal one. An exact scaling by a power of two instead of a division by m.
+template <int C>
+[[gnu::always_inline]] inline typename Lanes<C>::V power_of_two_scale(typename IntLanes<C>::I mb) {
+  using I = typename IntLanes<C>::I;
+  I b = 2046 - ((mb >> 52) & 0x7ff);
+  b = b < 1 ? b - b + 1 : b;
+  return bit_cast_lanes<C, I, typename Lanes<C>::V>(b << 52);
+}
+
+// All ones where 0 < mb < +∞'s bits (mb: a double's bits as int64), else 0, with no comparison:
+// u = mb − 1 (unsigned) is below 2⁶³ − c exactly when neither u nor u + c has its top bit set.
+template <int C>
+[[gnu::always_inline]] inline typename IntLanes<C>::I nonzero_finite_mask(
+    typename IntLanes<C>::I mb) {
+  using I = typename IntLanes<C>::I;
+  using U = typename UIntLanes<C>::U;
+  constexpr std::uint64_t kInfBits = 0x7ff0000000000000u;
+  constexpr std::uint64_t c = (std::uint64_t(1) << 63) - (kInfBits - 1);
+  const U u = bit_cast_lanes<C, I, U>(mb) - 1u;
+  return bit_cast_lanes<C, U, I>(((u | (u + c)) >> 63) - 1u);
+}
+
+// a where the lanes of `mask` are set (all bits), else 0: a bitwise and (a vector ternary made
+// GCC test and branch lane by lane).
+template <int C, class Mask>
+[[gnu::always_inline]] inline typename Lanes<C>::V where(Mask mask, typename Lanes<C>::V a) {
+  Mask bits;
+  std::memcpy(&bits, &a, sizeof bits);
+  bits &= mask;
+  std::memcpy(&a, &bits, sizeof a);
+  return a;
+}
+
 // unit_corners() for C columns of a row-major block at once: the face's corners' rows u0, u1,
 // u2 (C values each) add their contributions to the rows d0, d1, d2; lanes where ∇u is 0 or not
-// finite add 0. unit_corners()'s formula, with two divisions instead of four (equal to
-// rounding).
+// finite add 0. unit_corners()'s formula with v scaled by a power of two (not divided by its
+// largest component) and normalized by inverse_sqrt(): equal to ~2e-14 relative.
 template <int C>
 [[gnu::always_inline]] inline void unit_corners_lanes(const double* fr, const double* const u[3],
                                                       double* const d[3], double half_s) {
@@ -294,24 +383,19 @@ template <int C>
   const V vy = x * (u0 - u1) + l0 * (u2 - u0);
   const V ax = vx < 0.0 ? -vx : vx, ay = vy < 0.0 ? -vy : vy;
   const V m = ax > ay ? ax : ay;
-  const auto ok = (m > 0.0) & (m <= std::numeric_limits<double>::max());
-  // one division for 1/m and one for 1/|v/m| (the scalar path divides four times: the lanes
-  // were bound by the divider)
-  const V inv_m = 1.0 / m;
-  const V nx = vx * inv_m, ny = vy * inv_m;
-  const V sq = nx * nx + ny * ny;
-  V s = sq;
-  if constexpr (C == 1) {
-    s = std::sqrt(sq);
-  } else {
-    for (int c = 0; c < C; ++c) s[c] = std::sqrt(sq[c]);
-  }
-  const V r = -1.0 / s;
+  // ∇u nonzero and finite: m's bits (m ≥ 0, or a NaN of either sign) strictly between 0 and
+  // +∞'s, as an all-ones / zero mask by integer arithmetic (GCC 12 turned a vector comparison used
+  // as a value into a compare and branch per lane)
+  using I = typename IntLanes<C>::I;
+  const I mb = bit_cast_lanes<C, V, I>(m);
+  const I ok = nonzero_finite_mask<C>(mb);
+  const V scale = power_of_two_scale<C>(mb);
+  const V nx = vx * scale, ny = vy * scale;
+  const V r = -inverse_sqrt<C>(nx * nx + ny * ny);
   const V gx = nx * r, gy = ny * r;
-  const V zero = {};
-  const V c0 = ok ? half_s * (-y * gx + (x - l0) * gy) : zero;
-  const V c1 = ok ? half_s * (y * gx - x * gy) : zero;
-  const V c2 = ok ? half_s * (l0 * gy) : zero;
+  const V c0 = where<C>(ok, half_s * (-y * gx + (x - l0) * gy));
+  const V c1 = where<C>(ok, half_s * (y * gx - x * gy));
+  const V c2 = where<C>(ok, half_s * (l0 * gy));
   lanes::store<C>(d[0], lanes::load<C>(d[0]) + c0);
   lanes::store<C>(d[1], lanes::load<C>(d[1]) + c1);
   lanes::store<C>(d[2], lanes::load<C>(d[2]) + c2);

@@ -387,6 +387,10 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRowsMatchColumns) {
     if (k > 1) U.col(1) *= 1e-200;
     if (k > 2) U.col(2).setConstant(3.0);
     if (k > 3) U(17, 3) = std::numeric_limits<double>::quiet_NaN();
+    // column 0 times 2⁻¹⁰⁴⁰ (subnormal values and gradients: still a unit field) and times 2¹⁰⁰⁰
+    // (exactly: the same unit gradients as column 0; no overflow in the normalization)
+    if (k > 4) U.col(4) = std::ldexp(1.0, -1040) * U.col(0);
+    if (k > 5) U.col(5) = std::ldexp(1.0, 1000) * U.col(0);
     const Eigen::MatrixXd expected = div.apply_columns(U);
     const RowMajor rows = U;
     RowMajor out(nv, k);
@@ -400,8 +404,14 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRowsMatchColumns) {
     if (k > 2) {
       EXPECT_EQ(out.col(2).cwiseAbs().maxCoeff(), 0.0);
     }
-    if (k > 1) {
-      EXPECT_GT(out.col(1).cwiseAbs().maxCoeff(), 1e-3);
+    for (int j : {1, 4, 5}) {
+      if (k > j) {
+        EXPECT_GT(out.col(j).cwiseAbs().maxCoeff(), 1e-3) << "column " << j;
+      }
+    }
+    if (k > 5) {
+      EXPECT_LT((out.col(5) - out.col(0)).cwiseAbs().maxCoeff(),
+                1e-13 * out.col(0).cwiseAbs().maxCoeff());
     }
     if (k > 3) {
       EXPECT_TRUE(out.col(3).allFinite());  // the NaN's faces add nothing
