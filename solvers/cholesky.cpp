@@ -149,6 +149,11 @@ struct CholeskySolver::Impl {
   // our supernodal kernel (CholeskyOptions::solve_kernel), holding the factor's values
   CholeskyOptions::SolveKernel kernel_kind = CholeskyOptions::SolveKernel::kCholmod;
   std::unique_ptr<SupernodalSolver> kernel;
+  // Without it: our kernel over CHOLMOD's simplicial factor for solve_rows() with several
+  // columns, built on the first such call (rows_kernel_for_blocks()), dropped by refactor().
+  mutable std::mutex rows_kernel_mutex;
+  mutable bool rows_kernel_built = false;
+  mutable std::unique_ptr<SupernodalSolver> rows_kernel;
 
   Impl() {
     cholmod_start(&common);
@@ -482,9 +487,69 @@ void CholeskySolver::refactor(const fem::SparseMatrix& A_in) {
   }
   cholmod_free_factor(&im.factor, &im.common);
   im.factor = f;
+  const std::lock_guard<std::mutex> rows_lock(im.rows_kernel_mutex);
+  im.rows_kernel.reset();
+  im.rows_kernel_built = false;
 }
 
 namespace {
+
+// Our supernodal kernel over a simplicial LL' factor (the same values, no factorization):
+// consecutive columns whose patterns nest (column j + 1's rows are column j's without j) become
+// one dense supernode, zeros above its diagonal, at most kMaxWidth columns wide (the chunk
+// kernels' range). nullptr unless the factor is real, double, int-indexed, simplicial LL' with
+// its diagonal first and sorted rows in every column.
+std::unique_ptr<SupernodalSolver> kernel_from_simplicial(const cholmod_factor* f) {
+  constexpr int kMaxWidth = 64;
+  if (!f || f->is_super || !f->is_ll || f->xtype != CHOLMOD_REAL || f->itype != CHOLMOD_INT ||
+      f->dtype != CHOLMOD_DOUBLE || f->n == 0 || !f->x) {
+    return nullptr;
+  }
+  const int n = static_cast<int>(f->n);
+  const auto* Lp = static_cast<const int*>(f->p);
+  const auto* Li = static_cast<const int*>(f->i);
+  const auto* Lnz = static_cast<const int*>(f->nz);
+  const auto* Lx = static_cast<const double*>(f->x);
+  const auto* perm = static_cast<const int*>(f->Perm);
+  SupernodalPattern p;
+  p.n = n;
+  p.perm.assign(perm, perm + n);
+  p.super = {0};
+  p.row_start = {0};
+  p.value_start = {0};
+  std::vector<double> values;
+  for (int j0 = 0; j0 < n;) {
+    const int* r0 = Li + Lp[j0];
+    const int nz0 = Lnz[j0];
+    if (nz0 < 1 || r0[0] != j0 || !std::is_sorted(r0, r0 + nz0)) return nullptr;
+    int j1 = j0 + 1;
+    while (j1 < n && j1 - j0 < kMaxWidth && Lnz[j1] == nz0 - (j1 - j0) &&
+           std::equal(r0 + (j1 - j0), r0 + nz0, Li + Lp[j1])) {
+      ++j1;
+    }
+    const std::size_t base = values.size();
+    values.resize(base + std::size_t(nz0) * std::size_t(j1 - j0), 0.0);
+    for (int c = 0; c < j1 - j0; ++c) {
+      std::copy_n(Lx + Lp[j0 + c], Lnz[j0 + c], values.data() + base + std::size_t(c) * nz0 + c);
+    }
+    p.rows.insert(p.rows.end(), r0, r0 + nz0);
+    p.super.push_back(j1);
+    p.row_start.push_back(static_cast<std::int64_t>(p.rows.size()));
+    p.value_start.push_back(static_cast<std::int64_t>(values.size()));
+    j0 = j1;
+  }
+  return std::make_unique<SupernodalSolver>(std::move(p), values.data(), FactorPrecision::kDouble);
+}
+
+// Our kernel for solve_rows() with several columns when CHOLMOD holds the factor (built once).
+const SupernodalSolver* rows_kernel_for_blocks(const CholeskySolver::Impl& im) {
+  const std::lock_guard<std::mutex> lock(im.rows_kernel_mutex);
+  if (!im.rows_kernel_built) {
+    im.rows_kernel = kernel_from_simplicial(im.factor);
+    im.rows_kernel_built = true;
+  }
+  return im.rows_kernel.get();
+}
 
 // Solves A X = B for B given as raw column-major data (rows = n, cols columns; complex entries
 // as interleaved (re, im) pairs when im.xtype is CHOLMOD_COMPLEX); X may alias B.
@@ -558,6 +623,17 @@ void CholeskySolver::solve_rows(double* X, Eigen::Index cols) const {
   if (im.kernel) {
     const BlasThreadScope threads(im.solve_blas_threads);
     im.kernel->solve_rows(X, cols);
+    return;
+  }
+  if (cols == 1) {
+    solve_raw(im, X, 1, X);  // one column: rows are columns
+    return;
+  }
+  // CHOLMOD's simplicial solve takes k columns four at a time and column-major: our kernel over
+  // its factor instead (docs/decisions.md, "Blocks of sources on small meshes")
+  if (const SupernodalSolver* k = rows_kernel_for_blocks(im)) {
+    const BlasThreadScope threads(im.solve_blas_threads);
+    k->solve_rows(X, cols);
     return;
   }
   // CHOLMOD solves column-major blocks: through a transposed copy

@@ -172,8 +172,11 @@ class CholeskySolver {
   /// No allocation after the first call with a given column count (CHOLMOD's workspace is kept).
   void solve(const double* b, double* x, Eigen::Index cols = 1) const;
   /// Solves A X = B in place for `cols` columns stored row-major at X (n×cols: the cols values
-  /// of unknown i contiguous), the layout our supernodal kernel works in (no transposes); with
-  /// CHOLMOD's solve, through a column-major copy. Real factors only.
+  /// of unknown i contiguous), the layout our supernodal kernel works in (no transposes). Where
+  /// CHOLMOD holds the factor (SolveKernel::kCholmod): one column by CHOLMOD's solve; several by
+  /// our kernel over CHOLMOD's simplicial LL' factor (consecutive columns with nested patterns as
+  /// dense supernodes; a copy of the values built on the first such call under a lock, rebuilt
+  /// after refactor()), or through a column-major copy for any other factor. Real factors only.
   /// @throws InvalidInput on a negative column count or a complex factor
   void solve_rows(double* X, Eigen::Index cols) const;
 

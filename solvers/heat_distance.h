@@ -163,12 +163,14 @@ class HeatDistanceSolver {
   /// (the block solves add in another order: ~1e-14 relative). The heat and Poisson solves of
   /// up to 32 sources at a time (fewer above 1M vertices: each #V×block matrix stays at 256 MB)
   /// go through each factor together, so a source in a block costs a fraction of a single query
-  /// (BENCHMARKS.md, "Blocks of sources in rows, session 10": at 1M faces 5× cheaper). From 40k
-  /// vertices on (our solve kernel), without boundary or correction steps, a block stays in one
-  /// row-major layout through both solves and the divergence. Memory: the solver keeps three
-  /// #V×block matrices between calls (two here, one in the solve kernel; four on the column
-  /// path), ~0.4 GB at 500k vertices, on huge pages where the system allows, so that later calls
-  /// take no page faults. A source whose heat
+  /// (BENCHMARKS.md, "Blocks of sources, session 11": 5–6× cheaper from 10k to 1M faces).
+  /// Without boundary or correction steps, a block of two or more stays in one row-major layout
+  /// through both solves and the divergence; below 40k vertices the first such block also builds
+  /// our solve kernel over CHOLMOD's factors (a copy of their values; with the buffers, a fresh
+  /// solver's first block of 32 on rocketship took 0.039–0.049 s, later ones 0.016 s).
+  /// Memory: the solver keeps three #V×block matrices between calls (two here, one in the solve
+  /// kernel; four on the column path), ~0.4 GB at 500k vertices, on huge pages where the system
+  /// allows, so that later calls take no page faults. A source whose heat
   /// underflows somewhere in its component (a long or very large mesh; the report's
   /// unresolved_vertices) is recomputed alone by compute_distance()'s multi-stage path.
   /// @param sources vertex ids in [0, #V), each referenced by a face; repeats give equal columns

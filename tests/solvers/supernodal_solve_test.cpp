@@ -106,11 +106,48 @@ TEST(SupernodalSolve, RowsLayoutEveryChunkWidth) {
       EXPECT_TRUE(Eigen::MatrixXd(X[0]) == chol.solve(B)) << "k = " << k;
     }
   }
+  // CHOLMOD's factor: our kernel over it for several columns (RowsOverCholmodSimplicialFactor),
+  // CHOLMOD's own solve for one
   const Eigen::MatrixXd B = Eigen::MatrixXd::Random(A.rows(), 3);
   RowMajor X = B;
   reference.solve_rows(X.data(), 3);
-  EXPECT_LT(rel_diff(Eigen::MatrixXd(X), reference.solve(B)), 1e-15);
+  EXPECT_LT(rel_diff(Eigen::MatrixXd(X), reference.solve(B)), 1e-12);
+  Eigen::VectorXd x = B.col(0);
+  reference.solve_rows(x.data(), 1);
+  EXPECT_TRUE(x == reference.solve(Eigen::VectorXd(B.col(0))));
   EXPECT_THROW(reference.solve_rows(X.data(), -1), InvalidInput);
+}
+
+// Where CHOLMOD holds a simplicial factor, solve_rows() with several columns runs our kernel over
+// it (consecutive columns with nested patterns as dense supernodes, built on the first call):
+// equal to CHOLMOD's column solve, the same bits on 1 and 2 threads, and rebuilt by refactor().
+TEST(SupernodalSolve, RowsOverCholmodSimplicialFactor) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const fem::SparseMatrix A = mass_plus_laplacian(50);
+  CholeskyOptions from_start;  // a simplicial numeric factorization (else: converted to one)
+  from_start.simplicial_below_flops_per_entry = 1e9;
+  for (const CholeskyOptions& o : {CholeskyOptions{}, from_start}) {
+    CholeskySolver chol(A, o);
+    for (const int k : {2, 3, 8, 33}) {
+      std::srand(unsigned(k));
+      const Eigen::MatrixXd B = A * Eigen::MatrixXd::Random(A.rows(), k);
+      const Eigen::MatrixXd Xc = chol.solve(B);
+      RowMajor X[2] = {B, B};
+      for (const int threads : {1, 2}) {
+        set_max_threads(threads);
+        chol.solve_rows(X[threads - 1].data(), k);
+      }
+      set_max_threads(0);
+      EXPECT_TRUE(X[0] == X[1]) << "thread count changed the result, k = " << k;
+      EXPECT_LT(rel_diff(Eigen::MatrixXd(X[0]), Xc), 1e-12) << "k = " << k;
+    }
+    // new values, the same pattern: the block kernel must follow (2A: half the solution)
+    chol.refactor(2.0 * A);
+    const Eigen::MatrixXd B = A * Eigen::MatrixXd::Random(A.rows(), 5);
+    RowMajor X = B;
+    chol.solve_rows(X.data(), 5);
+    EXPECT_LT(rel_diff(Eigen::MatrixXd(X), 0.5 * CholeskySolver(A).solve(B)), 1e-12);
+  }
 }
 
 // A factor built by hand: two dense 1000-column supernodes (leaves) under a one-column root, so
