@@ -80,6 +80,21 @@ TEST(SupernodalSolve, SplitFactorMatchesCholmodAndIsThreadIndependent) {
   expect_same_as_cholmod(50);
 }
 
+// chol.solve_rows() of B (column-major here) on one thread and on two: expects the same bits,
+// returns the solution.
+Eigen::MatrixXd solve_rows_on_one_and_two_threads(const CholeskySolver& chol,
+                                                  const Eigen::MatrixXd& B) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMajor X[2] = {B, B};
+  for (const int threads : {1, 2}) {
+    set_max_threads(threads);
+    chol.solve_rows(X[threads - 1].data(), B.cols());
+  }
+  set_max_threads(0);
+  EXPECT_TRUE(X[0] == X[1]) << "thread count changed the result, k = " << B.cols();
+  return X[0];
+}
+
 // solve_rows(), the kernel's own layout, for every chunk width of its small-supernode loops
 // (8, 4, 2, 1 columns) on a factor with the two-bin split: CHOLMOD's solution, the same bits as
 // the column-major solve (which goes through it) and the same bits on one thread or two; and
@@ -95,15 +110,9 @@ TEST(SupernodalSolve, RowsLayoutEveryChunkWidth) {
       std::srand(unsigned(k));
       const Eigen::MatrixXd B = A * Eigen::MatrixXd::Random(A.rows(), k);
       const Eigen::MatrixXd Xr = reference.solve(B);
-      RowMajor X[2] = {B, B};
-      for (const int threads : {1, 2}) {
-        set_max_threads(threads);
-        chol.solve_rows(X[threads - 1].data(), k);
-      }
-      set_max_threads(0);
-      EXPECT_TRUE(X[0] == X[1]) << "thread count changed the result, k = " << k;
-      EXPECT_LT(rel_diff(Eigen::MatrixXd(X[0]), Xr), single ? 1e-5 : 1e-12) << "k = " << k;
-      EXPECT_TRUE(Eigen::MatrixXd(X[0]) == chol.solve(B)) << "k = " << k;
+      const Eigen::MatrixXd X0 = solve_rows_on_one_and_two_threads(chol, B);
+      EXPECT_LT(rel_diff(X0, Xr), single ? 1e-5 : 1e-12) << "k = " << k;
+      EXPECT_TRUE(X0 == chol.solve(B)) << "k = " << k;
     }
   }
   // CHOLMOD's factor: our kernel over it for several columns (RowsOverCholmodSimplicialFactor),
@@ -132,14 +141,8 @@ TEST(SupernodalSolve, RowsOverCholmodSimplicialFactor) {
       std::srand(unsigned(k));
       const Eigen::MatrixXd B = A * Eigen::MatrixXd::Random(A.rows(), k);
       const Eigen::MatrixXd Xc = chol.solve(B);
-      RowMajor X[2] = {B, B};
-      for (const int threads : {1, 2}) {
-        set_max_threads(threads);
-        chol.solve_rows(X[threads - 1].data(), k);
-      }
-      set_max_threads(0);
-      EXPECT_TRUE(X[0] == X[1]) << "thread count changed the result, k = " << k;
-      EXPECT_LT(rel_diff(Eigen::MatrixXd(X[0]), Xc), 1e-12) << "k = " << k;
+      const Eigen::MatrixXd X0 = solve_rows_on_one_and_two_threads(chol, B);
+      EXPECT_LT(rel_diff(X0, Xc), 1e-12) << "k = " << k;
     }
     // new values, the same pattern: the block kernel must follow (2A: half the solution)
     chol.refactor(2.0 * A);
