@@ -630,7 +630,7 @@ void CholeskySolver::solve_rows(double* X, Eigen::Index cols) const {
     return;
   }
   // CHOLMOD's simplicial solve takes k columns four at a time and column-major: our kernel over
-  // its factor instead (docs/decisions.md, "Blocks of sources on small meshes")
+  // its factor instead (docs/decisions.md, "Our kernel over CHOLMOD's simplicial factor")
   if (const SupernodalSolver* k = rows_kernel_for_blocks(im)) {
     const BlasThreadScope threads(im.solve_blas_threads);
     k->solve_rows(X, cols);

@@ -173,9 +173,9 @@ struct HeatDistanceSolver::Impl {
   // distance_block() in the solves' own row-major layout (k values per vertex contiguous): no
   // transposes between the heat solve, the divergence and the Poisson solve, and the k columns
   // of a corner or a row are one vector operation. Without boundary and correction steps, for
-  // blocks of `block` sources: where CHOLMOD holds the factors (below kOwnKernelVertices), for
-  // two or more (CholeskySolver::solve_rows runs our kernel over its factor; one source is
-  // faster on the column path, 2.4 against 3.2 ms on rocketship); writes scaled distances.
+  // blocks of `block` sources; where CHOLMOD holds the factors (below kOwnKernelVertices), for
+  // two or more (CholeskySolver::solve_rows then runs our kernel over its factor; one column
+  // would be CHOLMOD's solve, with nothing for the rows to gain); writes scaled distances.
   bool rows_path(Eigen::Index block) const {
     const bool own_kernel = opt.precision == HeatDistanceOptions::Precision::kMixed ||
                             tri.n_vertices() >= kOwnKernelVertices;

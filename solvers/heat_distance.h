@@ -167,7 +167,7 @@ class HeatDistanceSolver {
   /// Without boundary or correction steps, a block of two or more stays in one row-major layout
   /// through both solves and the divergence; below 40k vertices the first such block also builds
   /// our solve kernel over CHOLMOD's factors (a copy of their values; with the buffers, a fresh
-  /// solver's first block of 32 on rocketship took 0.039–0.049 s, later ones 0.016 s).
+  /// solver's first block of 32 on rocketship took 0.039–0.058 s, later ones 0.016 s).
   /// Memory: the solver keeps three #V×block matrices between calls (two here, one in the solve
   /// kernel; four on the column path), ~0.4 GB at 500k vertices, on huge pages where the system
   /// allows, so that later calls take no page faults. A source whose heat
