@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <string>
 
@@ -280,13 +279,9 @@ void UnitGradientDivergence::apply_columns(const Eigen::Ref<const Eigen::MatrixX
 
 namespace {
 
+using lanes::FloatLanes;
+using lanes::IntLanes;
 using lanes::Lanes;
-
-// C floats as one vector (C ≥ 2), for inverse_sqrt().
-template <int C>
-struct FloatLanes {
-  typedef float F __attribute__((vector_size(4 * C)));
-};
 
 // 1/√q for C lanes of q in [2⁻¹⁰², 32) (a normalized squared length): a float square root and
 // division (cheap: half-width lanes, short latency) and one Newton step in double, which
@@ -308,32 +303,6 @@ template <int C>
   return r0 * (1.5 - (0.5 * q) * (r0 * r0));
 }
 
-// C int64 (I) or uint64 (U) lanes, the bits of Lanes<C>::V's doubles.
-template <int C>
-struct IntLanes {
-  typedef std::int64_t I __attribute__((vector_size(8 * C)));
-};
-template <>
-struct IntLanes<1> {
-  typedef std::int64_t I;
-};
-template <int C>
-struct UIntLanes {
-  typedef std::uint64_t U __attribute__((vector_size(8 * C)));
-};
-template <>
-struct UIntLanes<1> {
-  typedef std::uint64_t U;
-};
-
-template <int C, class From, class To>
-[[gnu::always_inline]] inline To bit_cast_lanes(From v) {
-  static_assert(sizeof(From) == sizeof(To));
-  To t;
-  std::memcpy(&t, &v, sizeof t);
-  return t;
-}
-
 // 2^(1023 − e) for the biased exponent e of each lane of m (at least 2⁻¹⁰²²), from m's bits mb:
 // m times it is in [1, 2) for a normal m, in [2, 4) for m ≥ 2¹⁰²³ and in [2⁻⁵¹, 2) for a
 // subnormal one. An exact scaling by a power of two instead of a division by m.
@@ -342,7 +311,7 @@ template <int C>
   using I = typename IntLanes<C>::I;
   I b = 2046 - ((mb >> 52) & 0x7ff);
   b = b < 1 ? b - b + 1 : b;
-  return bit_cast_lanes<C, I, typename Lanes<C>::V>(b << 52);
+  return lanes::bit_cast<typename Lanes<C>::V>(b << 52);
 }
 
 // All ones where 0 < mb < +∞'s bits (mb: a double's bits as int64), else 0, with no comparison:
@@ -351,22 +320,18 @@ template <int C>
 [[gnu::always_inline]] inline typename IntLanes<C>::I nonzero_finite_mask(
     typename IntLanes<C>::I mb) {
   using I = typename IntLanes<C>::I;
-  using U = typename UIntLanes<C>::U;
+  using U = typename IntLanes<C>::U;
   constexpr std::uint64_t kInfBits = 0x7ff0000000000000u;
   constexpr std::uint64_t c = (std::uint64_t(1) << 63) - (kInfBits - 1);
-  const U u = bit_cast_lanes<C, I, U>(mb) - 1u;
-  return bit_cast_lanes<C, U, I>(((u | (u + c)) >> 63) - 1u);
+  const U u = lanes::bit_cast<U>(mb) - 1u;
+  return lanes::bit_cast<I>(((u | (u + c)) >> 63) - 1u);
 }
 
 // a where the lanes of `mask` are set (all bits), else 0: a bitwise and (a vector ternary made
 // GCC test and branch lane by lane).
 template <int C, class Mask>
 [[gnu::always_inline]] inline typename Lanes<C>::V where(Mask mask, typename Lanes<C>::V a) {
-  Mask bits;
-  std::memcpy(&bits, &a, sizeof bits);
-  bits &= mask;
-  std::memcpy(&a, &bits, sizeof a);
-  return a;
+  return lanes::bit_cast<typename Lanes<C>::V>(lanes::bit_cast<Mask>(a) & mask);
 }
 
 // unit_corners() for C columns of a row-major block at once: the face's corners' rows u0, u1,
@@ -387,7 +352,7 @@ template <int C>
   // +∞'s, as an all-ones / zero mask by integer arithmetic (GCC 12 turned a vector comparison used
   // as a value into a compare and branch per lane)
   using I = typename IntLanes<C>::I;
-  const I mb = bit_cast_lanes<C, V, I>(m);
+  const I mb = lanes::bit_cast<I>(m);
   const I ok = nonzero_finite_mask<C>(mb);
   const V scale = power_of_two_scale<C>(mb);
   const V nx = vx * scale, ny = vy * scale;

@@ -515,12 +515,11 @@ struct SupernodalSolver::Impl {
     return {values + p.value_start[s], p.rows.data() + p.row_start[s], nscol, nsrow, p.super[s]};
   }
 
-  // nonzero (optional, n flags): which rows of W are not all zero, as copy_rows() recorded them
-  // (else forward_reach() reads W for it)
+  // nonzero (n flags): which rows of W are not all zero, recorded by the gather that filled W
   template <class Real>
   void solve_permuted(const Real* values, double* W, int k, Scratch& scr,
                       const char* nonzero) const;
-  void solve_permuted(double* W, int k, Scratch& scr, const char* nonzero = nullptr) const {
+  void solve_permuted(double* W, int k, Scratch& scr, const char* nonzero) const {
     if (precision == FactorPrecision::kSingle) {
       solve_permuted(values_f.data(), W, k, scr, nonzero);
     } else {
@@ -531,10 +530,9 @@ struct SupernodalSolver::Impl {
   // (n flags) also records which rows it copied are not all zero: the forward pass's reach then
   // needs no second read of the block (a 1M × 32 block: 20 ms).
   void copy_rows(const double* from, double* to, int k, bool gather, char* nonzero = nullptr) const;
-  // The supernodes a forward pass must visit for the nonzero rows of W (they and their
-  // ancestors), ascending, when they hold less than half the factor; else empty (visit all).
-  // With `nonzero` the flags say which rows are nonzero and W is not read.
-  std::vector<int> forward_reach(const double* W, int k, const char* nonzero) const;
+  // The supernodes a forward pass must visit for the nonzero rows (they and their ancestors),
+  // ascending, when they hold less than half the factor; else empty (visit all).
+  std::vector<int> forward_reach(const char* nonzero) const;
   template <class Real>
   void forward_split(const Real* values, double* W, int k, Scratch& scr) const;
   template <class Real>
@@ -595,18 +593,12 @@ void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k
   run_parallel(jobs);
 }
 
-std::vector<int> SupernodalSolver::Impl::forward_reach(const double* W, int k,
-                                                       const char* nonzero) const {
+std::vector<int> SupernodalSolver::Impl::forward_reach(const char* nonzero) const {
   const int ns = int(parent.size());
   std::vector<char> mark(ns, 0);
   Int64 work = 0;
   for (Eigen::Index i = 0; i < p.n; ++i) {
-    if (nonzero) {
-      if (!nonzero[i]) continue;
-    } else {
-      const double* w = W + Int64(i) * k;
-      if (std::all_of(w, w + k, [](double x) { return x == 0.0; })) continue;
-    }
+    if (!nonzero[i]) continue;
     for (int s = col_super[i]; s >= 0 && !mark[s]; s = parent[s]) {
       mark[s] = 1;
       work += p.value_start[s + 1] - p.value_start[s];
@@ -628,7 +620,7 @@ void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k
   double* S = Scratch::sized(scr.S[0], block_scratch);
   // a sparse right-hand side (a point source) reaches only its columns' ancestors: the forward
   // pass visits those (zero rows stay zero elsewhere: the same values as a full pass)
-  const std::vector<int> reach = forward_reach(W, k, nonzero);
+  const std::vector<int> reach = forward_reach(nonzero);
   if (!reach.empty()) {
     for (const int s : reach) forward_block(block(values, s), W, k, T, S, TopAccumulator{});
   } else if (split_tree) {
@@ -722,9 +714,13 @@ void SupernodalSolver::solve(const double* b, double* x, Eigen::Index cols) cons
   Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
   double* W = Impl::Scratch::sized(scr.W, std::size_t(n));
   const std::vector<int>& perm = im.p.perm;
-  for (Eigen::Index i = 0; i < n; ++i) W[i] = b[perm[i]];
+  char* nonzero = Impl::Scratch::sized(scr.nonzero, std::size_t(n));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    W[i] = b[perm[i]];
+    nonzero[i] = W[i] != 0.0;
+  }
   const FlushDenormalsScope no_subnormals;
-  im.solve_permuted(W, 1, scr);
+  im.solve_permuted(W, 1, scr, nonzero);
   for (Eigen::Index i = 0; i < n; ++i) x[perm[i]] = W[i];
 }
 

@@ -6,6 +6,7 @@
 // a call.
 #pragma once
 
+#include <cstdint>
 #include <cstring>
 
 #if defined(__GNUC__) && !defined(__clang__)
@@ -55,6 +56,45 @@ template <>
 struct Lanes<1> {
   typedef double V;
 };
+
+/// FloatLanes<C>::F: C floats as one vector (C ≥ 2).
+template <int C>
+struct FloatLanes {
+  typedef float F __attribute__((vector_size(4 * C)));
+};
+
+/// UnsignedLanes<C>::U: C uint64 lanes (a scalar for C = 1).
+template <int C>
+struct UnsignedLanes {
+  typedef std::uint64_t U __attribute__((vector_size(8 * C)));
+};
+template <>
+struct UnsignedLanes<1> {
+  typedef std::uint64_t U;
+};
+
+/// IntLanes<C>::I and ::U: C int64 and uint64 lanes, the bits of Lanes<C>::V (scalars for
+/// C = 1). (GCC 12 ignored vector_size on a second attributed typedef in one class template,
+/// hence UnsignedLanes.)
+template <int C>
+struct IntLanes {
+  typedef std::int64_t I __attribute__((vector_size(8 * C)));
+  typedef typename UnsignedLanes<C>::U U;
+};
+template <>
+struct IntLanes<1> {
+  typedef std::int64_t I;
+  typedef std::uint64_t U;
+};
+
+/// The bits of v as a To of the same size (lanes reinterpreted, e.g. doubles as int64).
+template <class To, class From>
+[[gnu::always_inline]] inline To bit_cast(From v) {
+  static_assert(sizeof(From) == sizeof(To));
+  To t;
+  std::memcpy(&t, &v, sizeof t);
+  return t;
+}
 
 /// The C doubles at p (any alignment).
 template <int C>
