@@ -409,11 +409,26 @@ void UnitGradientDivergence::apply_rows(const double* U, Eigen::Index k, double*
 #else
     const Index nt = 1, t = 0;
 #endif
-    const Index mid = (k / 2 + 7) / 8 * 8;
+    const Index mid = column_split(k);
     const Index j0 = t == 0 ? 0 : mid, j1 = t + 1 == nt ? k : mid;
     for (Index v = 0; v < nv; ++v) std::fill(div + v * k + j0, div + v * k + j1, 0.0);
     unit_divergence_rows(frame_.data(), tail_.data(), nf, U, k, j0, j1, half_s, div);
   }
+}
+
+void UnitGradientDivergence::apply_rows(const double* U, Eigen::Index k, double* div,
+                                        Eigen::Index j0, Eigen::Index j1) const {
+  if (k < 1 || j0 < 0 || j0 > j1 || j1 > k) {
+    throw InvalidInput("UnitGradientDivergence::apply_rows: columns [" + std::to_string(j0) + ", " +
+                       std::to_string(j1) + ") not within [0, " + std::to_string(k) + ")");
+  }
+  const Index nv = n_vertices_;
+  for (Index v = 0; v < nv; ++v) std::fill(div + v * k + j0, div + v * k + j1, 0.0);
+  unit_divergence_rows(frame_.data(), tail_.data(), n_faces_, U, k, j0, j1, 0.5 * scale_, div);
+}
+
+Eigen::Index UnitGradientDivergence::column_split(Eigen::Index k) {
+  return k < 16 ? k : (k / 2 + 7) / 8 * 8;
 }
 
 }  // namespace ifem::fem

@@ -76,6 +76,15 @@ class UnitGradientDivergence {
   /// @param U, div #V·k doubles each, not overlapping
   /// @throws InvalidInput if k < 1
   void apply_rows(const double* U, Eigen::Index k, double* div) const;
+  /// apply_rows() on columns [j0, j1) of the k only, on the calling thread (the other columns
+  /// of div are not touched): for a caller that runs its own threads (no OpenMP team left
+  /// spinning beside them). Two calls split at column_split(k) give apply_rows()'s bits.
+  /// @throws InvalidInput unless 0 ≤ j0 ≤ j1 ≤ k and k ≥ 1
+  void apply_rows(const double* U, Eigen::Index k, double* div, Eigen::Index j0,
+                  Eigen::Index j1) const;
+  /// Where apply_rows() splits the columns between two threads: ⌊k/2⌋ rounded up to a multiple of
+  /// 8 (whole vectors, and for k = 32 whole cache lines of a row); k when k < 16 (one thread).
+  static Eigen::Index column_split(Eigen::Index k);
 
  private:
   Index n_vertices_ = 0, n_faces_ = 0;

@@ -17,6 +17,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/huge_pages.h"
+#include "intrinsic/core/lanes.h"
 #include "intrinsic/core/union_find.h"
 #include "solvers/cholesky.h"
 #include "solvers/components.h"
@@ -30,8 +31,10 @@ using intrinsic::IntrinsicTriangulation;
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// A block's output of at least this many values is written by two threads.
-constexpr std::int64_t kParallelBlockValues = 1 << 20;
+// A block of at least this many values is scanned and written by two threads (a thread start
+// costs ~0.05 ms; a block of 28k vertices × 32 sources (rocketship, 7 MB) took 0.9 ms to scan
+// and 0.9 ms to write on one).
+constexpr std::int64_t kParallelBlockValues = 1 << 18;
 constexpr double kAbsoluteHeatFloor = 1e-290;  // stay clear of subnormals
 // From this many vertices on, queries solve with our supernodal kernel (see the constructor;
 // session 8: 28k vertices (rocketship) faster with CHOLMOD's simplicial solves, 50k
@@ -109,6 +112,7 @@ struct HeatDistanceSolver::Impl {
   HeatDistanceOptions opt;
   IntrinsicTriangulation tri;
   Components comps;
+  bool one_component = false;  // every vertex in component 0 (none unreferenced)
   fem::SparseMatrix L;
   Eigen::VectorXd mass;
   double t = 0.0;      // time step, in units of scale²
@@ -181,6 +185,11 @@ struct HeatDistanceSolver::Impl {
                             tri.n_vertices() >= kOwnKernelVertices;
     return (own_kernel || block >= 2) && !heat_dirichlet && opt.correction_steps == 0;
   }
+  // Per column j of a row-major heat block H (#V × k): its largest finite value (mx) and its
+  // smallest, NaN if any is NaN (mn), over the vertices of component comp[j]; two fixed halves
+  // of the vertices (on two threads when two_threads), merged.
+  void heat_extremes(const double* H, Eigen::Index k, const std::vector<Index>& comp,
+                     bool two_threads, std::vector<double>& mx, std::vector<double>& mn) const;
   void distance_block_rows(const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
                            Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps,
                            BlockScratch& scratch) const;
@@ -273,6 +282,8 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
   h /= im.scale;
   im.t = options.time_factor * h * h;
   im.comps = connected_components(im.tri);
+  im.one_component =
+      std::all_of(im.comps.label.begin(), im.comps.label.end(), [](Index c) { return c == 0; });
   im.L = fem::cotan_laplacian(im.tri);
   im.mass = fem::lumped_mass(im.tri);
   std::vector<char> on_boundary = options.boundary_vertices;
@@ -508,6 +519,74 @@ void HeatDistanceSolver::Impl::distance_block(const std::vector<Index>& sources,
   }
 }
 
+namespace {
+
+// Columns [0, k) of rows [v0, v1) of a row-major block H: per column the largest finite value
+// (into hx) and the smallest, NaN once any value is NaN (into hn), over the rows whose label is
+// `comp` (every row when label is null). Branch-free per column: vectorized, for the host's
+// widest vectors.
+IFEM_HOST_CLONES void extremes_of_rows(const double* H, Index v0, Index v1, Eigen::Index k,
+                                       const Index* label, Index comp, double* __restrict hx,
+                                       double* __restrict hn) {
+  constexpr double kMax = std::numeric_limits<double>::max();
+  for (Index v = v0; v < v1; ++v) {
+    if (label && label[v] != comp) continue;
+    const double* __restrict h = H + v * k;
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const double x = h[j];
+      hx[j] = x > hx[j] && x <= kMax ? x : hx[j];
+      hn[j] = x < hn[j] || x != x ? x : hn[j];
+    }
+  }
+}
+
+}  // namespace
+
+void HeatDistanceSolver::Impl::heat_extremes(const double* H, Eigen::Index k,
+                                             const std::vector<Index>& comp, bool two_threads,
+                                             std::vector<double>& mx,
+                                             std::vector<double>& mn) const {
+  const Index nv = tri.n_vertices();
+  const auto kk = std::size_t(k);
+  const bool one_source_component =
+      std::all_of(comp.begin(), comp.end(), [&](Index c) { return c == comp[0]; });
+  std::vector<double> half_mx[2], half_mn[2];
+  run_halves(two_threads, [&](int half) {
+    std::vector<double>& hx = half_mx[half];
+    std::vector<double>& hn = half_mn[half];
+    const Index v0 = nv * half / 2, v1 = nv * (half + 1) / 2;
+    if (one_source_component) {
+      // the sources in one component (the common case): the rows of that component
+      hx.assign(kk, 0.0);
+      hn.assign(kk, kInf);
+      extremes_of_rows(H, v0, v1, k, one_component ? nullptr : comps.label.data(), comp[0],
+                       hx.data(), hn.data());
+      return;
+    }
+    // sources in several components: column by column (one pass over the rows per column)
+    hx.resize(kk);
+    hn.resize(kk);
+    for (std::size_t j = 0; j < kk; ++j) {
+      double x_max = 0.0, x_min = kInf;
+      for (Index v = v0; v < v1; ++v) {
+        if (comps.label[v] != comp[j]) continue;
+        const double x = H[v * k + Index(j)];
+        x_max = x > x_max && x <= std::numeric_limits<double>::max() ? x : x_max;
+        x_min = x < x_min || x != x ? x : x_min;
+      }
+      hx[j] = x_max;
+      hn[j] = x_min;
+    }
+  });
+  mx.resize(kk);
+  mn.resize(kk);
+  for (std::size_t j = 0; j < kk; ++j) {
+    const double a = half_mn[0][j], b = half_mn[1][j];
+    mx[j] = std::max(half_mx[0][j], half_mx[1][j]);
+    mn[j] = a != a ? a : b != b || b < a ? b : a;  // a NaN in either half stays
+  }
+}
+
 void HeatDistanceSolver::Impl::distance_block_rows(const std::vector<Index>& sources,
                                                    Eigen::Index first, Eigen::Index k,
                                                    Eigen::MatrixXd& out,
@@ -516,7 +595,9 @@ void HeatDistanceSolver::Impl::distance_block_rows(const std::vector<Index>& sou
   const Index nv = tri.n_vertices();
   double* H = scratch.heat_rows.data();  // the deltas, then their heat
   double* P = scratch.phi_rows.data();   // the divergences, then φ
-  std::fill(H, H + nv * k, 0.0);
+  const bool two_threads = std::int64_t(nv) * k >= kParallelBlockValues;
+  run_halves(two_threads,
+             [&](int half) { std::fill(H + nv * half / 2 * k, H + nv * (half + 1) / 2 * k, 0.0); });
   std::vector<Index> src(static_cast<std::size_t>(k)), comp(static_cast<std::size_t>(k));
   for (Eigen::Index j = 0; j < k; ++j) {
     src[std::size_t(j)] = sources[std::size_t(first + j)];
@@ -526,30 +607,22 @@ void HeatDistanceSolver::Impl::distance_block_rows(const std::vector<Index>& sou
   heat_neumann->solve_weak_homogeneous_rows_in_place(H, k);
   // resolved: every vertex of the source's component above the floor, i.e. its minimum (NaN
   // kept) above resolved_heat × its largest finite value
-  std::vector<double> mx(std::size_t(k), 0.0), mn(std::size_t(k), kInf);
-  const bool one_component =
-      std::all_of(comp.begin(), comp.end(), [&](Index c) { return c == comp[0]; });
-  for (Index v = 0; v < nv; ++v) {
-    const Index c = comps.label[v];
-    if (one_component && c != comp[0]) continue;
-    const double* h = H + v * k;
-    for (Eigen::Index j = 0; j < k; ++j) {
-      const auto jj = std::size_t(j);
-      const double x = h[j];
-      const bool in = one_component || comp[jj] == c;
-      mx[jj] = in && x > mx[jj] && x <= std::numeric_limits<double>::max() ? x : mx[jj];
-      mn[jj] = in && (x < mn[jj] || x != x) ? x : mn[jj];
-    }
-  }
-  unit_div->apply_rows(H, k, P);
+  std::vector<double> mx, mn;
+  heat_extremes(H, k, comp, two_threads, mx, mn);
+  // the divergence: two ranges of columns on two threads (our threads, as every step of the
+  // block: an OpenMP team left spinning after its region slowed the next steps' threads)
+  const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
+  run_halves(two_threads && mid < k, [&](int half) {
+    unit_div->apply_rows(H, k, P, half == 0 ? 0 : mid, half == 0 ? mid : k);
+  });
   poisson->solve_weak_homogeneous_rows_in_place(P, k, false);  // φ − φ(source) below
   std::vector<double> shift(static_cast<std::size_t>(k));
   for (Eigen::Index j = 0; j < k; ++j) shift[std::size_t(j)] = P[src[std::size_t(j)] * k + j];
   // out = max(φ − φ(source), 0)·scale on the source's component, ∞ elsewhere: rows to columns
   // in tiles, two halves of the rows on two threads
-  auto write = [&](int part, int parts) {
+  run_halves(two_threads, [&](int half) {
     constexpr Index kTile = 64;
-    const Index v0 = nv * part / parts, v1 = nv * (part + 1) / parts;
+    const Index v0 = nv * half / 2, v1 = nv * (half + 1) / 2;
     for (Index t0 = v0; t0 < v1; t0 += kTile) {
       const Index t1 = std::min(v1, t0 + kTile);
       for (Eigen::Index j = 0; j < k; ++j) {
@@ -561,12 +634,7 @@ void HeatDistanceSolver::Impl::distance_block_rows(const std::vector<Index>& sou
         }
       }
     }
-  };
-  if (std::int64_t(nv) * k >= kParallelBlockValues) {
-    run_parallel({[&] { write(0, 2); }, [&] { write(1, 2); }});
-  } else {
-    write(0, 1);
-  }
+  });
   for (Eigen::Index j = 0; j < k; ++j) {
     const double floor = std::max(opt.resolved_heat * mx[std::size_t(j)], kAbsoluteHeatFloor);
     HeatDistanceReport& rep = reps[std::size_t(first + j)];

@@ -68,4 +68,13 @@ void run_parallel(const std::vector<std::function<void()>>& jobs) {
   }
 }
 
+void run_halves(bool parallel, const std::function<void(int half)>& part) {
+  if (parallel) {
+    run_parallel({[&part] { part(0); }, [&part] { part(1); }});
+  } else {
+    part(0);
+    part(1);
+  }
+}
+
 }  // namespace ifem::solvers

@@ -16,6 +16,11 @@ namespace ifem::solvers {
 /// thread (the cores are taken already).
 void run_parallel(const std::vector<std::function<void()>>& jobs);
 
+/// Runs part(0) and part(1), the two halves of one piece of work: side by side through
+/// run_parallel() when `parallel`, else one after the other. The halves are the same either way,
+/// so a caller that sums each half on its own and then adds the two gets the same bits.
+void run_halves(bool parallel, const std::function<void(int half)>& part);
+
 /// Caps the threads run_parallel() uses, process-wide (0: the hardware's core count; ≥ 0).
 /// Results never depend on it (tests compare 1 and 2 threads bitwise).
 /// @throws InvalidInput if threads < 0

@@ -5,8 +5,15 @@
 #include <string>
 
 #include "intrinsic/core/errors.h"
+#include "solvers/parallel.h"
 
 namespace ifem::solvers {
+
+namespace {
+// A row-major block of at least this many values is shifted by two threads (as the heat
+// method's blocks, kParallelBlockValues in heat_distance.cpp).
+constexpr std::int64_t kParallelRowValues = 1 << 18;
+}  // namespace
 
 void PoissonOptions::validate() const {
   if (!(screening >= 0.0) || !std::isfinite(screening)) {
@@ -427,19 +434,28 @@ void PoissonSolver::solve_weak_homogeneous_rows_in_place(double* X, Eigen::Index
     return;  // (with the zero mean: it costs nothing extra here)
   }
   // as solve_many_identity(), row by row: Σ_v a_v X(v, :) then X(v, :) −= b_v Σ (k values per
-  // vertex: one vector operation each)
-  std::vector<double> sum(std::size_t(k), 0.0);
+  // vertex: one vector operation each); each sweep in two halves of the rows (on two threads
+  // for a large block), the sum as half 0's plus half 1's
+  const bool two_threads = std::int64_t(im.n) * k >= kParallelRowValues;
   auto shift = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-    std::fill(sum.begin(), sum.end(), 0.0);
-    for (Index v = 0; v < im.n; ++v) {
-      const double av = a[v], *x = X + v * k;
-      for (Eigen::Index j = 0; j < k; ++j) sum[std::size_t(j)] += av * x[j];
-    }
-    for (Index v = 0; v < im.n; ++v) {
-      const double bv = b[v];
-      double* x = X + v * k;
-      for (Eigen::Index j = 0; j < k; ++j) x[j] -= bv * sum[std::size_t(j)];
-    }
+    std::vector<double> half_sum[2];
+    run_halves(two_threads, [&](int half) {
+      half_sum[half].assign(std::size_t(k), 0.0);
+      double* sum = half_sum[half].data();
+      for (Index v = im.n * half / 2; v < im.n * (half + 1) / 2; ++v) {
+        const double av = a[v], *x = X + v * k;
+        for (Eigen::Index j = 0; j < k; ++j) sum[j] += av * x[j];
+      }
+    });
+    for (Eigen::Index j = 0; j < k; ++j) half_sum[0][std::size_t(j)] += half_sum[1][std::size_t(j)];
+    const double* sum = half_sum[0].data();
+    run_halves(two_threads, [&](int half) {
+      for (Index v = im.n * half / 2; v < im.n * (half + 1) / 2; ++v) {
+        const double bv = b[v];
+        double* x = X + v * k;
+        for (Eigen::Index j = 0; j < k; ++j) x[j] -= bv * sum[j];
+      }
+    });
   };
   if (im.one_floating) shift(im.floating_one, im.floating_weight);  // compatible
   for (const Index r : im.fixed_rows) rows.row(r).setZero();

@@ -476,7 +476,7 @@ struct SupernodalSolver::Impl {
   std::vector<float> values_f;
   int max_offdiag = 0;  // largest m = nsrow − nscol
   // row copies of at least this many values go on two threads
-  static constexpr Int64 kParallelCopy = 1 << 20;
+  static constexpr Int64 kParallelCopy = 1 << 18;
   // entries of a pass's update / gather scratch (T, G) for k right-hand sides: m × k, or all of a
   // small supernode's rows for one (backward_one's [y; g])
   std::size_t scratch_rows(int k) const {
@@ -485,8 +485,10 @@ struct SupernodalSolver::Impl {
   std::size_t block_scratch = 0;  // single precision: the largest block (nsrow × nscol)
   std::vector<int> col_super;     // n: the supernode of each column
   std::vector<int> parent;        // #supernodes: the elimination tree's parent, −1 at a root
-  bool split_tree = false;
+  bool split_tree = false;        // a postordered tree: `split` holds its bins
   Split split;
+  // whether a solve of k columns runs the two bins (on two threads when run_parallel() may)
+  bool two_bins(int k) const { return split_tree && p.value_start.back() * k >= kParallelEntries; }
   // Buffers of one solve: the permuted right-hand sides (W) and, per bin, the update
   // / gather rows (T), a float block converted to double (S) and the updates of the top's rows
   // (acc); grown, never shrunk, so that a solver's repeated solves allocate (and page-fault)
@@ -623,12 +625,12 @@ void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k
   const std::vector<int> reach = forward_reach(nonzero);
   if (!reach.empty()) {
     for (const int s : reach) forward_block(block(values, s), W, k, T, S, TopAccumulator{});
-  } else if (split_tree) {
+  } else if (two_bins(k)) {
     forward_split(values, W, k, scr);
   } else {
     for (int s = 0; s < ns; ++s) forward_block(block(values, s), W, k, T, S, TopAccumulator{});
   }
-  if (split_tree) {
+  if (two_bins(k)) {
     backward_split(values, W, k, scr);
   } else {
     for (int s = ns - 1; s >= 0; --s) backward_block(block(values, s), W, k, T, S);
@@ -683,7 +685,7 @@ SupernodalSolver::SupernodalSolver(SupernodalPattern pattern, const double* valu
   }
   std::vector<int> first;
   const bool postordered = supernodal_tree(im.p, im.col_super, im.parent, first);
-  if (count >= kParallelEntries && postordered) {
+  if (postordered) {
     im.split = split_tree(im.p, im.parent, first);
     im.split_tree = true;
   }
@@ -750,7 +752,7 @@ std::size_t SupernodalSolver::bytes_per_pass() const {
 }
 
 std::int64_t SupernodalSolver::entries() const { return impl_->p.value_start.back(); }
-bool SupernodalSolver::split() const { return impl_->split_tree; }
+bool SupernodalSolver::split(Eigen::Index cols) const { return impl_->two_bins(int(cols)); }
 double SupernodalSolver::top_share() const { return impl_->split.top_share; }
 
 }  // namespace ifem::solvers

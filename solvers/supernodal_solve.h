@@ -36,14 +36,16 @@ enum class FactorPrecision {
 
 /// Forward and backward substitution with a supernodal factor. The elimination tree is split
 /// once, at construction, into a serial top and two bins of disjoint subtrees of nearly equal
-/// work; a solve runs the bins on two threads when the factor is large (≥ kParallelEntries) and
-/// the caller is not itself one of run_parallel()'s jobs, else one after the other. The split
-/// depends on the factor only, so results are bitwise the same with one thread or two.
+/// work; a solve of k columns runs the bins when the work is large (entries × k ≥
+/// kParallelEntries), on two threads unless the caller is itself one of run_parallel()'s jobs,
+/// else in one pass in column order. The choice depends on the factor and k only, so results
+/// are bitwise the same with one thread or two (but a column may round differently alone than
+/// in a block: the bins sum the top's updates in another order).
 /// solve() is const and may run concurrently from several threads.
 class SupernodalSolver {
  public:
-  /// Factors with at least this many entries get the two-bin split (smaller ones are solved in
-  /// one pass in column order: a thread start costs more than the work there).
+  /// Solves with entries × columns at least this large run the two bins (smaller ones are
+  /// solved in one pass in column order: a thread start costs more than the work there).
   static constexpr std::int64_t kParallelEntries = 2'000'000;
 
   /// Copies the factor values (value_start.back() doubles at `values`) in the given precision.
@@ -64,8 +66,9 @@ class SupernodalSolver {
   std::size_t bytes_per_pass() const;
   /// Number of stored factor entries (with CHOLMOD's supernodal padding).
   std::int64_t entries() const;
-  /// True when solves split the tree into two bins (factor entries ≥ kParallelEntries).
-  bool split() const;
+  /// True when a solve of `cols` columns runs the two bins (entries × cols ≥ kParallelEntries,
+  /// and a postordered tree).
+  bool split(Eigen::Index cols = 1) const;
   /// Share of the factor's entries in the serial top of the tree (0 without a split).
   double top_share() const;
 

@@ -258,6 +258,20 @@ TEST(SolversHeatDistance, BatchRecomputesUnderflowingSourcesAlone) {
   EXPECT_EQ(reps[1].stages, 1);
   const Eigen::VectorXd exact = euclidean(m, 0);
   EXPECT_LT(compare(D.col(0), exact).linf_over_max, 0.01);
+  // a closed spindle as long and thin as the strip (no boundary: the row-major block path),
+  // its vertices numbered ring by ring from the north pole: the heat from the north pole
+  // underflows only in the second half of the numbering, from the south pole only in the first;
+  // the block scans the two halves apart and must see both
+  intrinsic::TriangleMesh spindle = intrinsic::uv_sphere(1200, 3);
+  spindle.positions.leftCols(2) *= 0.1;
+  spindle.positions.col(2) *= 60.0;
+  const auto tall = test::make_tri(spindle);
+  const Index south = tall.n_vertices() - 1;
+  expect_batch_equals_single(tall, {}, {0, south});
+  std::vector<HeatDistanceReport> tall_reps;
+  HeatDistanceSolver(tall).compute_distances({0, south}, &tall_reps);
+  EXPECT_GT(tall_reps[0].stages, 1);
+  EXPECT_GT(tall_reps[1].stages, 1);
 }
 
 // Results do not depend on the thread count (solvers::set_max_threads): bitwise, for both
@@ -420,6 +434,38 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRowsMatchColumns) {
   set_parallel_load_check(true);
   double x = 0.0;
   EXPECT_THROW(div.apply_rows(&x, 0, &x), InvalidInput);
+  EXPECT_THROW(div.apply_rows(&x, 1, &x, 0, 2), InvalidInput);
+  EXPECT_THROW(div.apply_rows(&x, 1, &x, 1, 0), InvalidInput);
+}
+
+// apply_rows() on column ranges (the caller's threads): two ranges split at column_split(k)
+// give the bits of the whole call, and a range leaves the other columns alone.
+TEST(SolversHeatDistance, UnitGradientDivergenceRowRanges) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const auto tri = test::make_tri(intrinsic::icosphere(20));
+  const Index nv = tri.n_vertices();
+  const fem::UnitGradientDivergence div(tri);
+  EXPECT_EQ(fem::UnitGradientDivergence::column_split(8), 8);
+  EXPECT_EQ(fem::UnitGradientDivergence::column_split(32), 16);
+  EXPECT_EQ(fem::UnitGradientDivergence::column_split(33), 16);
+  EXPECT_EQ(fem::UnitGradientDivergence::column_split(40), 24);
+  for (const int k : {8, 16, 32, 33}) {
+    RowMajor U(nv, k);
+    for (Index v = 0; v < nv; ++v) {
+      for (int j = 0; j < k; ++j) U(v, j) = std::exp(-0.002 * double((v * (j + 3)) % nv));
+    }
+    RowMajor whole(nv, k), parts(nv, k);
+    div.apply_rows(U.data(), k, whole.data());
+    parts.setConstant(7.0);
+    const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
+    div.apply_rows(U.data(), k, parts.data(), 0, mid);
+    if (mid < k) {
+      EXPECT_EQ(parts(0, mid), 7.0) << "k = " << k;  // not touched yet
+    }
+    div.apply_rows(U.data(), k, parts.data(), mid, k);
+    EXPECT_TRUE(parts == whole) << "k = " << k;
+    EXPECT_GT(whole.cwiseAbs().maxCoeff(), 0.0);
+  }
 }
 
 // The row-major block path (our kernel solves: ≥ 40k vertices or mixed precision; no boundary,

@@ -153,7 +153,7 @@ TEST(SupernodalSolve, RowsOverCholmodSimplicialFactor) {
   }
 }
 
-// A factor built by hand: two dense 1000-column supernodes (leaves) under a one-column root, so
+// A factor built by hand: two dense w-column supernodes (leaves) under a one-column root, so
 // that the split puts one leaf in each bin and only the root in the serial top.
 struct TwoLeafFactor {
   SupernodalPattern pattern;
@@ -161,8 +161,8 @@ struct TwoLeafFactor {
   Eigen::MatrixXd dense;  // the same L, dense (identity permutation)
 };
 
-TwoLeafFactor two_leaf_factor() {
-  const int w = 1000, n = 2 * w + 1;
+TwoLeafFactor two_leaf_factor(int w = 1000) {
+  const int n = 2 * w + 1;
   TwoLeafFactor f;
   SupernodalPattern& p = f.pattern;
   p.n = n;
@@ -214,6 +214,32 @@ TEST(SupernodalSolve, TwoBinSplitOfAHandBuiltTree) {
   SupernodalPattern bad = f.pattern;
   bad.super.back() = 7;
   EXPECT_THROW(SupernodalSolver(bad, f.values.data(), FactorPrecision::kDouble), InvalidInput);
+}
+
+// A factor below the split's size for one column (80,401 entries) runs the bins for a block of
+// columns (entries × columns ≥ kParallelEntries): from 25 columns on here. A block split so
+// solves correctly, with the same bits on one thread or two.
+TEST(SupernodalSolve, BlocksOfColumnsRunTheBinsOfASmallFactor) {
+  const TwoLeafFactor f = two_leaf_factor(200);
+  const Eigen::MatrixXd A = f.dense * f.dense.transpose();
+  const SupernodalSolver solver(f.pattern, f.values.data(), FactorPrecision::kDouble);
+  ASSERT_EQ(solver.entries(), 80'401);
+  for (const Eigen::Index k : {1, 24, 25, 32}) {
+    EXPECT_EQ(solver.split(k), k >= 25) << "k = " << k;
+  }
+  const Eigen::MatrixXd X0 = Eigen::MatrixXd::Random(A.rows(), 32);
+  const Eigen::MatrixXd B = A * X0;
+  Eigen::MatrixXd X[2];
+  for (const int threads : {1, 2}) {
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    RowMajor R = B;
+    set_max_threads(threads);
+    solver.solve_rows(R.data(), 32);
+    X[threads - 1] = R;
+  }
+  set_max_threads(0);
+  EXPECT_TRUE(X[0] == X[1]);
+  EXPECT_LT(rel_diff(X[0], X0), 1e-10);
 }
 
 TEST(SupernodalSolve, PointSourceForwardPassEqualsTheFullOne) {
