@@ -613,6 +613,30 @@ void CholeskySolver::solve(const double* b, double* x, Eigen::Index cols) const 
   solve_raw(*impl_, b, cols, x);
 }
 
+namespace {
+// The kernel that solve_rows() runs for blocks of several columns, or null.
+const SupernodalSolver* block_kernel(const CholeskySolver::Impl& im) {
+  if (im.xtype != CHOLMOD_REAL) return nullptr;
+  return im.kernel ? im.kernel.get() : rows_kernel_for_blocks(im);
+}
+}  // namespace
+
+const std::vector<int>* CholeskySolver::block_order() const {
+  const SupernodalSolver* k = block_kernel(*impl_);
+  return k ? &k->permutation() : nullptr;
+}
+
+void CholeskySolver::solve_rows_in_block_order(double* W, Eigen::Index cols,
+                                               const char* nonzero) const {
+  const SupernodalSolver* k = block_kernel(*impl_);
+  if (!k || cols < 2) {
+    throw InvalidInput("CholeskySolver::solve_rows_in_block_order: " +
+                       std::string(k ? "needs two or more columns" : "no block order here"));
+  }
+  const BlasThreadScope threads(impl_->solve_blas_threads);
+  k->solve_rows_in_factor_order(W, cols, nonzero);
+}
+
 void CholeskySolver::solve_rows(double* X, Eigen::Index cols) const {
   if (cols < 0) throw InvalidInput("CholeskySolver::solve_rows: negative column count");
   const Impl& im = *impl_;

@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 #include <complex>
 #include <memory>
+#include <vector>
 
 #include "fem/operators.h"
 
@@ -179,6 +180,16 @@ class CholeskySolver {
   /// after refactor()), or through a column-major copy for any other factor. Real factors only.
   /// @throws InvalidInput on a negative column count or a complex factor
   void solve_rows(double* X, Eigen::Index cols) const;
+  /// The row order of solve_rows()'s blocks of two or more columns where they run our kernel
+  /// (its own factor, or the copy over CHOLMOD's simplicial factor, built here if not yet): row
+  /// i of a block in this order is unknown (*order)[i]. Null when blocks take another path. The
+  /// vector lives until refactor() (the ordering itself never changes: one analysis).
+  const std::vector<int>* block_order() const;
+  /// solve_rows() on a block of `cols` ≥ 2 columns already in block_order() (non-null): no row
+  /// copies. nonzero (n flags, or null): the rows of W that are not all zero (point sources:
+  /// the forward pass visits their reach only).
+  /// @throws InvalidInput if block_order() is null or cols < 2
+  void solve_rows_in_block_order(double* W, Eigen::Index cols, const char* nonzero = nullptr) const;
 
   /// Size n of the factored matrix.
   Eigen::Index size() const;

@@ -168,7 +168,30 @@ struct HeatDistanceSolver::Impl {
   struct BlockScratch {
     Eigen::MatrixXd heat, phi;       // column-major blocks (distance_block)
     HugeVector heat_rows, phi_rows;  // row-major blocks (distance_block_rows)
+    std::vector<char> nonzero;       // the sources' rows (distance_block_in_order)
   };
+  // The solves' own row order, where the heat's and the Poisson factor's kernels share it (one
+  // analysis: one fill-reducing order): a block kept in it from the deltas to φ needs no row
+  // copies in and out of each solve (four sweeps of the block; 1M faces, k = 32: 256 MB each).
+  struct FactorOrder {
+    std::vector<Index> vertex;                       // row i of a block is vertex[i]
+    std::vector<Index> row;                          // vertex v is row row[v]
+    std::optional<fem::UnitGradientDivergence> div;  // unit_div on rows
+  };
+  mutable std::once_flag factor_order_once;
+  mutable std::unique_ptr<FactorOrder> factor_order_;  // null: no shared order
+  // The shared order, built on first use; null where the two orders differ or do not exist, or
+  // where the vertices form several components (their labels would need the order too).
+  const FactorOrder* factor_order() const;
+  void distance_block_in_order(const FactorOrder& fo, const std::vector<Index>& sources,
+                               Eigen::Index first, Eigen::Index k, Eigen::MatrixXd& out,
+                               std::vector<HeatDistanceReport>& reps, BlockScratch& scratch) const;
+  // The end of a row-major block: columns whose heat underflowed somewhere (their minimum at or
+  // below the floor, or NaN) are recomputed alone by distance() (multi-stage), the others get
+  // their reports and a 0 at the source.
+  void finish_block(const std::vector<Index>& src, Eigen::Index first,
+                    const std::vector<double>& mx, const std::vector<double>& mn,
+                    Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps) const;
   mutable std::mutex block_mutex;  // guards block_scratch; a concurrent call uses its own
   mutable BlockScratch block_scratch;
   void distance_block(const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
@@ -587,11 +610,100 @@ void HeatDistanceSolver::Impl::heat_extremes(const double* H, Eigen::Index k,
   }
 }
 
+void HeatDistanceSolver::Impl::finish_block(const std::vector<Index>& src, Eigen::Index first,
+                                            const std::vector<double>& mx,
+                                            const std::vector<double>& mn, Eigen::MatrixXd& out,
+                                            std::vector<HeatDistanceReport>& reps) const {
+  for (std::size_t j = 0; j < src.size(); ++j) {
+    const double floor = std::max(opt.resolved_heat * mx[j], kAbsoluteHeatFloor);
+    HeatDistanceReport& rep = reps[std::size_t(first) + j];
+    rep = HeatDistanceReport{};
+    out(src[j], first + Eigen::Index(j)) = 0.0;
+    if (mn[j] > floor) continue;
+    // underflowing heat: the multi-stage continuation of distance(), one source at a time
+    WeightedPoint p;
+    p.n = 1;
+    p.vertex[0] = src[j];
+    p.weight[0] = 1.0;
+    out.col(first + Eigen::Index(j)) = distance({p}, &rep) * scale;
+  }
+}
+
+const HeatDistanceSolver::Impl::FactorOrder* HeatDistanceSolver::Impl::factor_order() const {
+  std::call_once(factor_order_once, [this] {
+    const std::vector<int>* heat_order = heat_neumann->block_order();
+    const std::vector<int>* poisson_order = poisson->block_order();
+    if (!one_component || !heat_order || !poisson_order || *heat_order != *poisson_order) return;
+    auto fo = std::make_unique<FactorOrder>();
+    fo->vertex.assign(heat_order->begin(), heat_order->end());
+    fo->row.resize(fo->vertex.size());
+    for (std::size_t i = 0; i < fo->vertex.size(); ++i)
+      fo->row[std::size_t(fo->vertex[i])] = Index(i);
+    fo->div.emplace(unit_div->relabeled(fo->row));
+    factor_order_ = std::move(fo);
+  });
+  return factor_order_.get();
+}
+
+void HeatDistanceSolver::Impl::distance_block_in_order(
+    const FactorOrder& fo, const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
+    Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps, BlockScratch& scratch) const {
+  const Index nv = tri.n_vertices();
+  double* H = scratch.heat_rows.data();  // the deltas, then their heat (rows in fo's order)
+  double* P = scratch.phi_rows.data();   // the divergences, then φ (likewise)
+  const bool two_threads = std::int64_t(nv) * k >= kParallelBlockValues;
+  run_halves(two_threads,
+             [&](int half) { std::fill(H + nv * half / 2 * k, H + nv * (half + 1) / 2 * k, 0.0); });
+  scratch.nonzero.assign(std::size_t(nv), 0);
+  std::vector<Index> src(static_cast<std::size_t>(k)), comp(static_cast<std::size_t>(k), 0);
+  for (Eigen::Index j = 0; j < k; ++j) {
+    src[std::size_t(j)] = sources[std::size_t(first + j)];
+    const Index r = fo.row[std::size_t(src[std::size_t(j)])];
+    H[r * k + j] = 1.0;
+    scratch.nonzero[std::size_t(r)] = 1;
+  }
+  heat_neumann->solve_weak_homogeneous_rows_in_order(H, k, true, scratch.nonzero.data());
+  std::vector<double> mx, mn;  // (one component: the extremes over every row)
+  heat_extremes(H, k, comp, two_threads, mx, mn);
+  const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
+  run_halves(two_threads && mid < k, [&](int half) {
+    fo.div->apply_rows(H, k, P, half == 0 ? 0 : mid, half == 0 ? mid : k);
+  });
+  poisson->solve_weak_homogeneous_rows_in_order(P, k, false);  // φ − φ(source) below
+  std::vector<double> shift(static_cast<std::size_t>(k));
+  for (Eigen::Index j = 0; j < k; ++j) {
+    shift[std::size_t(j)] = P[fo.row[std::size_t(src[std::size_t(j)])] * k + j];
+  }
+  // out = max(φ − φ(source), 0)·scale: rows (in fo's order) to columns (vertex order), in tiles
+  // of vertices, two halves of the vertices on two threads
+  run_halves(two_threads, [&](int half) {
+    constexpr Index kTile = 64;
+    const Index v0 = nv * half / 2, v1 = nv * (half + 1) / 2;
+    for (Index t0 = v0; t0 < v1; t0 += kTile) {
+      const Index t1 = std::min(v1, t0 + kTile);
+      for (Eigen::Index j = 0; j < k; ++j) {
+        double* o = out.col(first + j).data();
+        const double sh = shift[std::size_t(j)];
+        for (Index v = t0; v < t1; ++v) {
+          o[v] = std::max(P[fo.row[std::size_t(v)] * k + j] - sh, 0.0) * scale;
+        }
+      }
+    }
+  });
+  finish_block(src, first, mx, mn, out, reps);
+}
+
 void HeatDistanceSolver::Impl::distance_block_rows(const std::vector<Index>& sources,
                                                    Eigen::Index first, Eigen::Index k,
                                                    Eigen::MatrixXd& out,
                                                    std::vector<HeatDistanceReport>& reps,
                                                    BlockScratch& scratch) const {
+  if (k >= 2) {
+    if (const FactorOrder* fo = factor_order()) {
+      distance_block_in_order(*fo, sources, first, k, out, reps, scratch);
+      return;
+    }
+  }
   const Index nv = tri.n_vertices();
   double* H = scratch.heat_rows.data();  // the deltas, then their heat
   double* P = scratch.phi_rows.data();   // the divergences, then φ
@@ -635,19 +747,7 @@ void HeatDistanceSolver::Impl::distance_block_rows(const std::vector<Index>& sou
       }
     }
   });
-  for (Eigen::Index j = 0; j < k; ++j) {
-    const double floor = std::max(opt.resolved_heat * mx[std::size_t(j)], kAbsoluteHeatFloor);
-    HeatDistanceReport& rep = reps[std::size_t(first + j)];
-    rep = HeatDistanceReport{};
-    out(src[std::size_t(j)], first + j) = 0.0;
-    if (mn[std::size_t(j)] > floor) continue;
-    // underflowing heat: the multi-stage continuation of distance(), one source at a time
-    WeightedPoint p;
-    p.n = 1;
-    p.vertex[0] = src[std::size_t(j)];
-    p.weight[0] = 1.0;
-    out.col(first + j) = distance({p}, &rep) * scale;
-  }
+  finish_block(src, first, mx, mn, out, reps);
 }
 
 void HeatDistanceSolver::Impl::integrate_block(const Eigen::Ref<const Eigen::MatrixXd>& U,

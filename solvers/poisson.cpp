@@ -1,6 +1,7 @@
 #include "solvers/poisson.h"
 
 #include <cmath>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -43,6 +44,65 @@ struct PoissonSolver::Impl {
   std::vector<char> fixed;
   std::vector<Index> fixed_rows;
   std::optional<CholeskySolver> chol;
+
+  // Whether row-major blocks are solved in place: every vertex an unknown (unknown id = vertex),
+  // and the pure-Neumann part one component or none.
+  bool rows_direct() const {
+    return Index(unknown_vertex.size()) == n && (floating.empty() || one_floating);
+  }
+  // Where the fixed rows are in the block order `order` (computed on first use).
+  mutable std::once_flag fixed_positions_once;
+  mutable std::vector<Index> fixed_positions;
+  // The row-major solve (rows_direct()): as solve_many_identity(), row by row: Σ_v a_v X(v, :)
+  // then X(v, :) −= b_v Σ (k values per vertex: one vector operation each); each sweep in two
+  // halves of the rows (on two threads for a large block), the sum as half 0's plus half 1's.
+  // With `order`, row i of X is vertex (*order)[i] (the factor's own order: no row copies).
+  void solve_rows(double* X, Eigen::Index k, bool zero_mean, const std::vector<int>* order,
+                  const char* nonzero) const {
+    const bool two_threads = std::int64_t(n) * k >= kParallelRowValues;
+    auto vertex = [order](Index i) { return order ? Index((*order)[std::size_t(i)]) : i; };
+    auto shift = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+      std::vector<double> half_sum[2];
+      run_halves(two_threads, [&](int half) {
+        half_sum[half].assign(std::size_t(k), 0.0);
+        double* sum = half_sum[half].data();
+        for (Index i = n * half / 2; i < n * (half + 1) / 2; ++i) {
+          const double ai = a[vertex(i)], *x = X + i * k;
+          for (Eigen::Index j = 0; j < k; ++j) sum[j] += ai * x[j];
+        }
+      });
+      for (std::size_t j = 0; j < std::size_t(k); ++j) half_sum[0][j] += half_sum[1][j];
+      const double* sum = half_sum[0].data();
+      run_halves(two_threads, [&](int half) {
+        for (Index i = n * half / 2; i < n * (half + 1) / 2; ++i) {
+          const double bi = b[vertex(i)];
+          double* x = X + i * k;
+          for (Eigen::Index j = 0; j < k; ++j) x[j] -= bi * sum[j];
+        }
+      });
+    };
+    const std::vector<Index>* fixed_at = &fixed_rows;
+    if (order) {
+      std::call_once(fixed_positions_once, [&] {
+        std::vector<Index> position(static_cast<std::size_t>(n));
+        for (Index i = 0; i < n; ++i) position[std::size_t((*order)[std::size_t(i)])] = i;
+        for (const Index r : fixed_rows) fixed_positions.push_back(position[std::size_t(r)]);
+      });
+      fixed_at = &fixed_positions;
+    }
+    auto zero_fixed = [&] {
+      for (const Index r : *fixed_at) std::fill(X + r * k, X + (r + 1) * k, 0.0);
+    };
+    if (one_floating) shift(floating_one, floating_weight);  // compatible
+    zero_fixed();
+    if (n > 0 && order) {
+      chol->solve_rows_in_block_order(X, k, nonzero);
+    } else if (n > 0) {
+      chol->solve_rows(X, k);
+    }
+    zero_fixed();
+    if (one_floating && zero_mean) shift(floating_weight, floating_one);
+  }
 
   // Makes the pure-Neumann components' right-hand sides compatible (zero sum), every column.
   void make_compatible(Eigen::Ref<Eigen::MatrixXd> B) const {
@@ -427,41 +487,28 @@ void PoissonSolver::solve_weak_homogeneous_rows_in_place(double* X, Eigen::Index
   using RowBlock =
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
   RowBlock rows(X, im.n, k);
-  if (Index(im.unknown_vertex.size()) != im.n || (!im.floating.empty() && !im.one_floating)) {
+  if (!im.rows_direct()) {
     Eigen::MatrixXd B = rows;
     solve_weak_homogeneous_in_place(B);
     rows = B;
     return;  // (with the zero mean: it costs nothing extra here)
   }
-  // as solve_many_identity(), row by row: Σ_v a_v X(v, :) then X(v, :) −= b_v Σ (k values per
-  // vertex: one vector operation each); each sweep in two halves of the rows (on two threads
-  // for a large block), the sum as half 0's plus half 1's
-  const bool two_threads = std::int64_t(im.n) * k >= kParallelRowValues;
-  auto shift = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-    std::vector<double> half_sum[2];
-    run_halves(two_threads, [&](int half) {
-      half_sum[half].assign(std::size_t(k), 0.0);
-      double* sum = half_sum[half].data();
-      for (Index v = im.n * half / 2; v < im.n * (half + 1) / 2; ++v) {
-        const double av = a[v], *x = X + v * k;
-        for (Eigen::Index j = 0; j < k; ++j) sum[j] += av * x[j];
-      }
-    });
-    for (Eigen::Index j = 0; j < k; ++j) half_sum[0][std::size_t(j)] += half_sum[1][std::size_t(j)];
-    const double* sum = half_sum[0].data();
-    run_halves(two_threads, [&](int half) {
-      for (Index v = im.n * half / 2; v < im.n * (half + 1) / 2; ++v) {
-        const double bv = b[v];
-        double* x = X + v * k;
-        for (Eigen::Index j = 0; j < k; ++j) x[j] -= bv * sum[j];
-      }
-    });
-  };
-  if (im.one_floating) shift(im.floating_one, im.floating_weight);  // compatible
-  for (const Index r : im.fixed_rows) rows.row(r).setZero();
-  if (im.n > 0) im.chol->solve_rows(X, k);
-  for (const Index r : im.fixed_rows) rows.row(r).setZero();
-  if (im.one_floating && zero_mean) shift(im.floating_weight, im.floating_one);
+  im.solve_rows(X, k, zero_mean, nullptr, nullptr);
+}
+
+const std::vector<int>* PoissonSolver::block_order() const {
+  const Impl& im = *impl_;
+  return im.rows_direct() && im.n > 0 ? im.chol->block_order() : nullptr;
+}
+
+void PoissonSolver::solve_weak_homogeneous_rows_in_order(double* W, Eigen::Index k, bool zero_mean,
+                                                         const char* nonzero) const {
+  const std::vector<int>* order = block_order();
+  if (!order || k < 2) {
+    throw InvalidInput("PoissonSolver::solve_weak_homogeneous_rows_in_order: " +
+                       std::string(order ? "needs two or more columns" : "no block order here"));
+  }
+  impl_->solve_rows(W, k, zero_mean, order, nonzero);
 }
 
 const std::vector<Index>& PoissonSolver::dirichlet_vertices() const { return impl_->dirichlet; }

@@ -100,6 +100,17 @@ class PoissonSolver {
   ///        value of its own anyway (the heat method's φ − φ(source))
   /// @throws InvalidInput if k < 1
   void solve_weak_homogeneous_rows_in_place(double* X, Eigen::Index k, bool zero_mean = true) const;
+  /// The vertex order of blocks for solve_weak_homogeneous_rows_in_order(): row i of such a
+  /// block is vertex (*order)[i], the factor's fill-reducing order. Null where that path does
+  /// not apply: where solve_weak_homogeneous_rows_in_place() copies (Dirichlet vertices, several
+  /// pure-Neumann components) or blocks do not run our kernel (CholeskySolver::block_order()).
+  const std::vector<int>* block_order() const;
+  /// solve_weak_homogeneous_rows_in_place() on a block of k ≥ 2 columns already in
+  /// block_order() (non-null), so that a caller keeping its block in that order across several
+  /// solves copies no rows. nonzero: as CholeskySolver::solve_rows_in_block_order().
+  /// @throws InvalidInput if block_order() is null or k < 2
+  void solve_weak_homogeneous_rows_in_order(double* W, Eigen::Index k, bool zero_mean = true,
+                                            const char* nonzero = nullptr) const;
 
   /// The Dirichlet vertices, in the constructor's order.
   const std::vector<Index>& dirichlet_vertices() const;

@@ -622,7 +622,7 @@ void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k
   double* S = Scratch::sized(scr.S[0], block_scratch);
   // a sparse right-hand side (a point source) reaches only its columns' ancestors: the forward
   // pass visits those (zero rows stay zero elsewhere: the same values as a full pass)
-  const std::vector<int> reach = forward_reach(nonzero);
+  const std::vector<int> reach = nonzero ? forward_reach(nonzero) : std::vector<int>{};
   if (!reach.empty()) {
     for (const int s : reach) forward_block(block(values, s), W, k, T, S, TopAccumulator{});
   } else if (two_bins(k)) {
@@ -743,6 +743,19 @@ void SupernodalSolver::solve_rows(double* X, Eigen::Index cols) const {
   const FlushDenormalsScope no_subnormals;
   im.solve_permuted(W, k, scr, nonzero);
   im.copy_rows(W, X, k, false);
+}
+
+const std::vector<int>& SupernodalSolver::permutation() const { return impl_->p.perm; }
+
+void SupernodalSolver::solve_rows_in_factor_order(double* W, Eigen::Index cols,
+                                                  const char* nonzero) const {
+  const Impl& im = *impl_;
+  if (cols <= 0) return;
+  std::unique_lock<std::mutex> lock(im.workspace_mutex, std::try_to_lock);
+  Impl::Scratch own;
+  Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
+  const FlushDenormalsScope no_subnormals;
+  im.solve_permuted(W, int(cols), scr, nonzero);
 }
 
 std::size_t SupernodalSolver::bytes_per_pass() const {

@@ -61,6 +61,14 @@ class SupernodalSolver {
   /// cols values of unknown i, is contiguous): the kernel's own layout, so only the rows'
   /// permutation is copied (solve() also transposes). The same bits as solve() for cols > 1.
   void solve_rows(double* X, Eigen::Index cols) const;
+  /// The factor's row order: row i of P A Pᵀ is row permutation()[i] of A (n entries).
+  const std::vector<int>& permutation() const;
+  /// solve_rows() on a block already in the factor's row order (row i of W, cols values, is
+  /// unknown permutation()[i]): no row copies in or out, for a caller that keeps its block in
+  /// that order across several solves. nonzero (n flags, or null): which rows of W are not all
+  /// zero; the forward pass then visits their reach only (point sources).
+  void solve_rows_in_factor_order(double* W, Eigen::Index cols,
+                                  const char* nonzero = nullptr) const;
 
   /// Bytes one pass over the factor reads (values and row indices): a solve makes two passes.
   std::size_t bytes_per_pass() const;

@@ -201,7 +201,8 @@ TEST(SolversHeatDistance, LongStripUnderflowIsResolved) {
 
 // compute_distances(): column j equals compute_distance({sources[j]}) on every kind of mesh
 // the block path must handle: boundary (two heat factors), two components plus an unreferenced
-// vertex, correction steps, more sources than one block (40 > 32), repeats.
+// vertex, one closed component (the blocks in the factor's order), correction steps, more
+// sources than one block (40 > 32), repeats.
 void expect_batch_equals_single(const intrinsic::IntrinsicTriangulation& tri,
                                 const HeatDistanceOptions& opt, const std::vector<Index>& src) {
   const HeatDistanceSolver solver(tri, opt);
@@ -244,6 +245,11 @@ TEST(SolversHeatDistance, BatchEqualsSingleSources) {
   const auto one = intrinsic::icosphere(6);
   const Index n = Index(one.positions.rows());
   expect_batch_equals_single(test::make_tri(test::two_copies(one, 3.0, 1)), {}, {3, n + 3, 7});
+  // one closed component: blocks stay in the solves' own row order from the deltas to φ
+  const auto closed = test::make_tri(test::jittered(intrinsic::icosphere(10), 0.02));
+  std::vector<Index> spread;
+  for (Index k = 0; k < 35; ++k) spread.push_back((k * 29) % closed.n_vertices());
+  expect_batch_equals_single(closed, {}, spread);
 }
 
 TEST(SolversHeatDistance, BatchRecomputesUnderflowingSourcesAlone) {
@@ -436,6 +442,41 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRowsMatchColumns) {
   EXPECT_THROW(div.apply_rows(&x, 0, &x), InvalidInput);
   EXPECT_THROW(div.apply_rows(&x, 1, &x, 0, 2), InvalidInput);
   EXPECT_THROW(div.apply_rows(&x, 1, &x, 1, 0), InvalidInput);
+}
+
+// relabeled(): the same divergence on renumbered vertices (a block in a solver's order),
+// row for row to rounding (its faces are reordered, so the sums at a vertex run in another
+// order); anything but a permutation is refused.
+TEST(SolversHeatDistance, UnitGradientDivergenceRelabeled) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const auto tri = test::make_tri(test::jittered(intrinsic::icosphere(12), 0.02));
+  const Index nv = tri.n_vertices();
+  const fem::UnitGradientDivergence div(tri);
+  std::vector<Index> new_index(static_cast<std::size_t>(nv));
+  for (Index v = 0; v < nv; ++v) new_index[std::size_t(v)] = (v * 37 + 11) % nv;  // nv odd
+  ASSERT_EQ(std::set<Index>(new_index.begin(), new_index.end()).size(), std::size_t(nv));
+  const fem::UnitGradientDivergence moved = div.relabeled(new_index);
+  const int k = 19;
+  RowMajor U(nv, k);
+  for (Index v = 0; v < nv; ++v) {
+    for (int j = 0; j < k; ++j) U(v, j) = std::exp(-0.01 * double((v * (j + 2)) % nv));
+  }
+  RowMajor U_moved(nv, k), expected(nv, k), out(nv, k);
+  for (Index v = 0; v < nv; ++v) U_moved.row(new_index[std::size_t(v)]) = U.row(v);
+  div.apply_rows(U.data(), k, expected.data());
+  moved.apply_rows(U_moved.data(), k, out.data());
+  const double scale = expected.cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 0.0);
+  for (Index v = 0; v < nv; ++v) {
+    EXPECT_LT((out.row(new_index[std::size_t(v)]) - expected.row(v)).cwiseAbs().maxCoeff(),
+              1e-13 * scale)
+        << "vertex " << v;
+  }
+  std::vector<Index> bad = new_index;
+  bad[1] = bad[0];
+  EXPECT_THROW(div.relabeled(bad), InvalidInput);
+  bad.pop_back();
+  EXPECT_THROW(div.relabeled(bad), InvalidInput);
 }
 
 // apply_rows() on column ranges (the caller's threads): two ranges split at column_split(k)

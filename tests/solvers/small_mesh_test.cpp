@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <thread>
 #include <vector>
 
@@ -226,6 +227,53 @@ TEST(SolversSmallMesh, PoissonRowsEqualColumns) {
       EXPECT_THROW(p.solve_weak_homogeneous_rows_in_place(&x, 0), InvalidInput);
     }
   }
+}
+
+// A block kept in the factor's order (block_order(): a pure-Neumann component with the shared
+// analysis, its pinned vertex kept as a decoupled row) solves to the row-major solve's values,
+// with and without the zero mean; Dirichlet vertices or two components have no such order.
+TEST(SolversSmallMesh, PoissonRowsInBlockOrder) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const auto tri = test::make_tri(test::jittered(intrinsic::icosphere(8), 0.02));
+  const fem::SparseMatrix L = fem::cotan_laplacian(tri);
+  const Eigen::VectorXd mass = fem::lumped_mass(tri);
+  const Components comps = connected_components(tri);
+  const CholeskyAnalysis analysis = PoissonSolver::analyze(L, comps);
+  const PoissonSolver p(L, mass, comps, std::vector<Index>{}, analysis);
+  const std::vector<int>* order = p.block_order();
+  ASSERT_NE(order, nullptr);
+  const Index n = tri.n_vertices();
+  ASSERT_EQ(Index(order->size()), n);
+  EXPECT_NE(*order, [&] {  // a fill-reducing order, not the identity
+    std::vector<int> identity(static_cast<std::size_t>(n));
+    std::iota(identity.begin(), identity.end(), 0);
+    return identity;
+  }());
+  for (const int k : {2, 9}) {
+    for (const bool zero_mean : {true, false}) {
+      std::srand(unsigned(5 + k));
+      const RowMajor B = Eigen::MatrixXd::Random(n, k);
+      RowMajor expected = B;
+      p.solve_weak_homogeneous_rows_in_place(expected.data(), k, zero_mean);
+      RowMajor W(n, k);
+      for (Index i = 0; i < n; ++i) W.row(i) = B.row((*order)[std::size_t(i)]);
+      p.solve_weak_homogeneous_rows_in_order(W.data(), k, zero_mean);
+      RowMajor X(n, k);
+      for (Index i = 0; i < n; ++i) X.row((*order)[std::size_t(i)]) = W.row(i);
+      const double scale = expected.cwiseAbs().maxCoeff();
+      EXPECT_LT((X - expected).cwiseAbs().maxCoeff(), 1e-12 * scale)
+          << "k = " << k << (zero_mean ? ", zero mean" : "");
+    }
+  }
+  double x = 0.0;
+  EXPECT_THROW(p.solve_weak_homogeneous_rows_in_order(&x, 1), InvalidInput);
+  const PoissonSolver dirichlet(L, mass, comps, std::vector<Index>{0, 5});
+  EXPECT_EQ(dirichlet.block_order(), nullptr);
+  EXPECT_THROW(dirichlet.solve_weak_homogeneous_rows_in_order(&x, 2), InvalidInput);
+  const auto two = test::make_tri(test::two_copies(intrinsic::icosphere(4), 3.0, 0));
+  const PoissonSolver p2(fem::cotan_laplacian(two), fem::lumped_mass(two),
+                         connected_components(two), std::vector<Index>{});
+  EXPECT_EQ(p2.block_order(), nullptr);
 }
 
 TEST(SolversSmallMesh, ParallelPaysOnlyFromItsSize) {
