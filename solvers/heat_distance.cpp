@@ -34,7 +34,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // A block of at least this many values is scanned and written by two threads (a thread start
 // costs ~0.05 ms; a block of 28k vertices × 32 sources (rocketship, 7 MB) took 0.9 ms to scan
 // and 0.9 ms to write on one).
-constexpr std::int64_t kParallelBlockValues = 1 << 18;
+constexpr std::int64_t kParallelBlockValues = 1 << 16;
 constexpr double kAbsoluteHeatFloor = 1e-290;  // stay clear of subnormals
 // From this many vertices on, queries solve with our supernodal kernel (see the constructor;
 // session 8: 28k vertices (rocketship) faster with CHOLMOD's simplicial solves, 50k

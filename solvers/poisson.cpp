@@ -13,7 +13,7 @@ namespace ifem::solvers {
 namespace {
 // A row-major block of at least this many values is shifted by two threads (as the heat
 // method's blocks, kParallelBlockValues in heat_distance.cpp).
-constexpr std::int64_t kParallelRowValues = 1 << 18;
+constexpr std::int64_t kParallelRowValues = 1 << 16;
 }  // namespace
 
 void PoissonOptions::validate() const {

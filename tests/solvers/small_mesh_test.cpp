@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <atomic>
+#include <chrono>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -15,6 +18,7 @@
 #include "solvers/cholesky.h"
 #include "solvers/components.h"
 #include "solvers/heat_distance.h"
+#include "solvers/parallel.h"
 #include "solvers/poisson.h"
 #include "test_util.h"
 
@@ -274,6 +278,58 @@ TEST(SolversSmallMesh, PoissonRowsInBlockOrder) {
   const PoissonSolver p2(fem::cotan_laplacian(two), fem::lumped_mass(two),
                          connected_components(two), std::vector<Index>{});
   EXPECT_EQ(p2.block_order(), nullptr);
+}
+
+// run_parallel() through its kept helper threads: every job runs once, two jobs really run side
+// by side (each waits to see the other started), a job's exception comes back after all ran,
+// jobs started from a job run on its thread, and callers on several threads at once (the pool
+// busy: threads of their own) all get their work done.
+TEST(SolversSmallMesh, RunParallelHelpers) {
+  if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one core";
+  set_max_threads(2);
+  for (int round = 0; round < 50; ++round) {
+    std::atomic<int> started{0};
+    std::atomic<bool> both{true};
+    auto meet = [&] {
+      ++started;
+      const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+      while (started.load() < 2 && std::chrono::steady_clock::now() < until) {
+        std::this_thread::yield();
+      }
+      if (started.load() < 2) both = false;
+    };
+    run_parallel({meet, meet});
+    ASSERT_TRUE(both.load()) << "round " << round << ": the two jobs did not run side by side";
+  }
+  std::vector<int> ran(5, 0);
+  std::vector<std::function<void()>> jobs;
+  for (int i = 0; i < 5; ++i) {
+    jobs.emplace_back([&ran, i] {
+      ++ran[std::size_t(i)];
+      if (i == 2) throw InvalidInput("job 2");
+    });
+  }
+  EXPECT_THROW(run_parallel(jobs), InvalidInput);
+  EXPECT_EQ(ran, std::vector<int>(5, 1));
+  std::thread::id outer, inner[2];
+  run_parallel({[&] {
+                  outer = std::this_thread::get_id();
+                  run_parallel({[&] { inner[0] = std::this_thread::get_id(); },
+                                [&] { inner[1] = std::this_thread::get_id(); }});
+                },
+                [] {}});
+  EXPECT_EQ(inner[0], outer);
+  EXPECT_EQ(inner[1], outer);
+  std::atomic<long> total{0};
+  std::vector<std::thread> callers;
+  for (int c = 0; c < 3; ++c) {
+    callers.emplace_back([&total] {
+      for (int i = 0; i < 200; ++i) run_halves(true, [&total](int half) { total += half + 1; });
+    });
+  }
+  for (std::thread& t : callers) t.join();
+  EXPECT_EQ(total.load(), 3 * 200 * 3);
+  set_max_threads(0);
 }
 
 TEST(SolversSmallMesh, ParallelPaysOnlyFromItsSize) {
