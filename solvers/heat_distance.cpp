@@ -171,12 +171,13 @@ struct HeatDistanceSolver::Impl {
     std::vector<char> nonzero;       // the sources' rows (distance_block_in_order)
   };
   // The solves' own row order, where the heat's and the Poisson factor's kernels share it (one
-  // analysis: one fill-reducing order): a block kept in it from the deltas to φ needs no row
-  // copies in and out of each solve (four sweeps of the block; 1M faces, k = 32: 256 MB each).
+  // analysis: one fill-reducing order): a block kept in it through both solves needs no row
+  // copies in and out of each (1M faces, k = 32: 256 MB a sweep). The divergence runs in vertex
+  // order between a copy out (fused with the heat's extremes) and a copy back: on rows in the
+  // AMD order its accesses scatter (docs/decisions.md, "Blocks in the factor's order").
   struct FactorOrder {
-    std::vector<Index> vertex;                       // row i of a block is vertex[i]
-    std::vector<Index> row;                          // vertex v is row row[v]
-    std::optional<fem::UnitGradientDivergence> div;  // unit_div on rows
+    std::vector<Index> vertex;  // row i of a block is vertex[i]
+    std::vector<Index> row;     // vertex v is row row[v]
   };
   mutable std::once_flag factor_order_once;
   mutable std::unique_ptr<FactorOrder> factor_order_;  // null: no shared order
@@ -210,9 +211,12 @@ struct HeatDistanceSolver::Impl {
   }
   // Per column j of a row-major heat block H (#V × k): its largest finite value (mx) and its
   // smallest, NaN if any is NaN (mn), over the vertices of component comp[j]; two fixed halves
-  // of the vertices (on two threads when two_threads), merged.
+  // of the rows (on two threads when two_threads), merged. With `order` (every vertex in one
+  // component: the rows are in that factor order), each row is also copied to its vertex's row
+  // of `to`, in the same sweep.
   void heat_extremes(const double* H, Eigen::Index k, const std::vector<Index>& comp,
-                     bool two_threads, std::vector<double>& mx, std::vector<double>& mn) const;
+                     bool two_threads, std::vector<double>& mx, std::vector<double>& mn,
+                     const FactorOrder* order = nullptr, double* to = nullptr) const;
   void distance_block_rows(const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
                            Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps,
                            BlockScratch& scratch) const;
@@ -567,8 +571,8 @@ IFEM_HOST_CLONES void extremes_of_rows(const double* H, Index v0, Index v1, Eige
 
 void HeatDistanceSolver::Impl::heat_extremes(const double* H, Eigen::Index k,
                                              const std::vector<Index>& comp, bool two_threads,
-                                             std::vector<double>& mx,
-                                             std::vector<double>& mn) const {
+                                             std::vector<double>& mx, std::vector<double>& mn,
+                                             const FactorOrder* order, double* to) const {
   const Index nv = tri.n_vertices();
   const auto kk = std::size_t(k);
   const bool one_source_component =
@@ -582,8 +586,15 @@ void HeatDistanceSolver::Impl::heat_extremes(const double* H, Eigen::Index k,
       // the sources in one component (the common case): the rows of that component
       hx.assign(kk, 0.0);
       hn.assign(kk, kInf);
-      extremes_of_rows(H, v0, v1, k, one_component ? nullptr : comps.label.data(), comp[0],
-                       hx.data(), hn.data());
+      const Index* label = one_component ? nullptr : comps.label.data();
+      constexpr Index kRows = 256;  // rows still in L1/L2 when copied
+      for (Index r0 = v0; r0 < v1; r0 += kRows) {
+        const Index r1 = std::min(v1, r0 + kRows);
+        extremes_of_rows(H, r0, r1, k, label, comp[0], hx.data(), hn.data());
+        for (Index i = r0; order && i < r1; ++i) {
+          std::copy_n(H + i * k, k, to + order->vertex[std::size_t(i)] * k);
+        }
+      }
       return;
     }
     // sources in several components: column by column (one pass over the rows per column)
@@ -639,7 +650,6 @@ const HeatDistanceSolver::Impl::FactorOrder* HeatDistanceSolver::Impl::factor_or
     fo->row.resize(fo->vertex.size());
     for (std::size_t i = 0; i < fo->vertex.size(); ++i)
       fo->row[std::size_t(fo->vertex[i])] = Index(i);
-    fo->div.emplace(unit_div->relabeled(fo->row));
     factor_order_ = std::move(fo);
   });
   return factor_order_.get();
@@ -649,8 +659,8 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     const FactorOrder& fo, const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
     Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps, BlockScratch& scratch) const {
   const Index nv = tri.n_vertices();
-  double* H = scratch.heat_rows.data();  // the deltas, then their heat (rows in fo's order)
-  double* P = scratch.phi_rows.data();   // the divergences, then φ (likewise)
+  double* H = scratch.heat_rows.data();  // deltas, heat (fo's order); divergences (vertices)
+  double* P = scratch.phi_rows.data();   // heat (vertex order); divergences, φ (fo's order)
   const bool two_threads = std::int64_t(nv) * k >= kParallelBlockValues;
   run_halves(two_threads,
              [&](int half) { std::fill(H + nv * half / 2 * k, H + nv * (half + 1) / 2 * k, 0.0); });
@@ -663,11 +673,19 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     scratch.nonzero[std::size_t(r)] = 1;
   }
   heat_neumann->solve_weak_homogeneous_rows_in_order(H, k, true, scratch.nonzero.data());
-  std::vector<double> mx, mn;  // (one component: the extremes over every row)
-  heat_extremes(H, k, comp, two_threads, mx, mn);
+  // the heat's extremes (one component: over every row), and the heat to vertex order (into P,
+  // free until the divergence) in the same sweep
+  std::vector<double> mx, mn;
+  heat_extremes(H, k, comp, two_threads, mx, mn, &fo, P);
+  // the divergence in vertex order (into H, free now), then back to the factor's order (into P)
   const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
   run_halves(two_threads && mid < k, [&](int half) {
-    fo.div->apply_rows(H, k, P, half == 0 ? 0 : mid, half == 0 ? mid : k);
+    unit_div->apply_rows(P, k, H, half == 0 ? 0 : mid, half == 0 ? mid : k);
+  });
+  run_halves(two_threads, [&](int half) {
+    for (Index i = nv * half / 2; i < nv * (half + 1) / 2; ++i) {
+      std::copy_n(H + fo.vertex[std::size_t(i)] * k, k, P + i * k);
+    }
   });
   poisson->solve_weak_homogeneous_rows_in_order(P, k, false);  // φ − φ(source) below
   std::vector<double> shift(static_cast<std::size_t>(k));
