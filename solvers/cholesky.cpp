@@ -627,14 +627,14 @@ const std::vector<int>* CholeskySolver::block_order() const {
 }
 
 void CholeskySolver::solve_rows_in_block_order(double* W, Eigen::Index cols,
-                                               const char* nonzero) const {
+                                               const int* source_rows) const {
   const SupernodalSolver* k = block_kernel(*impl_);
   if (!k || cols < 2) {
     throw InvalidInput("CholeskySolver::solve_rows_in_block_order: " +
                        std::string(k ? "needs two or more columns" : "no block order here"));
   }
   const BlasThreadScope threads(impl_->solve_blas_threads);
-  k->solve_rows_in_factor_order(W, cols, nonzero);
+  k->solve_rows_in_factor_order(W, cols, source_rows);
 }
 
 void CholeskySolver::solve_rows(double* X, Eigen::Index cols) const {

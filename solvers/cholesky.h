@@ -186,10 +186,11 @@ class CholeskySolver {
   /// vector lives until refactor() (the ordering itself never changes: one analysis).
   const std::vector<int>* block_order() const;
   /// solve_rows() on a block of `cols` ≥ 2 columns already in block_order() (non-null): no row
-  /// copies. nonzero (n flags, or null): the rows of W that are not all zero (point sources:
-  /// the forward pass visits their reach only).
+  /// copies. source_rows (cols entries, or null): point sources, column j zero but in row
+  /// source_rows[j] of the block (SupernodalSolver::solve_rows_in_factor_order()).
   /// @throws InvalidInput if block_order() is null or cols < 2
-  void solve_rows_in_block_order(double* W, Eigen::Index cols, const char* nonzero = nullptr) const;
+  void solve_rows_in_block_order(double* W, Eigen::Index cols,
+                                 const int* source_rows = nullptr) const;
 
   /// Size n of the factored matrix.
   Eigen::Index size() const;

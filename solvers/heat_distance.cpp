@@ -168,7 +168,6 @@ struct HeatDistanceSolver::Impl {
   struct BlockScratch {
     Eigen::MatrixXd heat, phi;       // column-major blocks (distance_block)
     HugeVector heat_rows, phi_rows;  // row-major blocks (distance_block_rows)
-    std::vector<char> nonzero;       // the sources' rows (distance_block_in_order)
   };
   // The solves' own row order, where the heat's and the Poisson factor's kernels share it (one
   // analysis: one fill-reducing order): a block kept in it through both solves needs no row
@@ -187,10 +186,11 @@ struct HeatDistanceSolver::Impl {
   void distance_block_in_order(const FactorOrder& fo, const std::vector<Index>& sources,
                                Eigen::Index first, Eigen::Index k, Eigen::MatrixXd& out,
                                std::vector<HeatDistanceReport>& reps, BlockScratch& scratch) const;
-  // The end of a row-major block: columns whose heat underflowed somewhere (their minimum at or
-  // below the floor, or NaN) are recomputed alone by distance() (multi-stage), the others get
-  // their reports and a 0 at the source.
-  void finish_block(const std::vector<Index>& src, Eigen::Index first,
+  // The end of a row-major block (block column j: source src[j], output column out_col[j]):
+  // columns whose heat underflowed somewhere (their minimum at or below the floor, or NaN) are
+  // recomputed alone by distance() (multi-stage), the others get their reports and a 0 at the
+  // source.
+  void finish_block(const std::vector<Index>& src, const std::vector<Eigen::Index>& out_col,
                     const std::vector<double>& mx, const std::vector<double>& mn,
                     Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps) const;
   mutable std::mutex block_mutex;  // guards block_scratch; a concurrent call uses its own
@@ -621,22 +621,23 @@ void HeatDistanceSolver::Impl::heat_extremes(const double* H, Eigen::Index k,
   }
 }
 
-void HeatDistanceSolver::Impl::finish_block(const std::vector<Index>& src, Eigen::Index first,
+void HeatDistanceSolver::Impl::finish_block(const std::vector<Index>& src,
+                                            const std::vector<Eigen::Index>& out_col,
                                             const std::vector<double>& mx,
                                             const std::vector<double>& mn, Eigen::MatrixXd& out,
                                             std::vector<HeatDistanceReport>& reps) const {
   for (std::size_t j = 0; j < src.size(); ++j) {
     const double floor = std::max(opt.resolved_heat * mx[j], kAbsoluteHeatFloor);
-    HeatDistanceReport& rep = reps[std::size_t(first) + j];
+    HeatDistanceReport& rep = reps[std::size_t(out_col[j])];
     rep = HeatDistanceReport{};
-    out(src[j], first + Eigen::Index(j)) = 0.0;
+    out(src[j], out_col[j]) = 0.0;
     if (mn[j] > floor) continue;
     // underflowing heat: the multi-stage continuation of distance(), one source at a time
     WeightedPoint p;
     p.n = 1;
     p.vertex[0] = src[j];
     p.weight[0] = 1.0;
-    out.col(first + Eigen::Index(j)) = distance({p}, &rep) * scale;
+    out.col(out_col[j]) = distance({p}, &rep) * scale;
   }
 }
 
@@ -664,15 +665,22 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
   const bool two_threads = std::int64_t(nv) * k >= kParallelBlockValues;
   run_halves(two_threads,
              [&](int half) { std::fill(H + nv * half / 2 * k, H + nv * (half + 1) / 2 * k, 0.0); });
-  scratch.nonzero.assign(std::size_t(nv), 0);
-  std::vector<Index> src(static_cast<std::size_t>(k)), comp(static_cast<std::size_t>(k), 0);
-  for (Eigen::Index j = 0; j < k; ++j) {
-    src[std::size_t(j)] = sources[std::size_t(first + j)];
-    const Index r = fo.row[std::size_t(src[std::size_t(j)])];
-    H[r * k + j] = 1.0;
-    scratch.nonzero[std::size_t(r)] = 1;
+  // the block's columns in the order of their sources' rows: the sources of a subtree of the
+  // factor adjacent, so that the heat's forward pass runs each supernode on the few columns
+  // whose source lies below it (block column j is output column out_col[j])
+  const auto kk = static_cast<std::size_t>(k);
+  std::vector<Eigen::Index> out_col(kk);
+  std::iota(out_col.begin(), out_col.end(), first);
+  auto row_of = [&](Eigen::Index c) { return fo.row[std::size_t(sources[std::size_t(c)])]; };
+  std::stable_sort(out_col.begin(), out_col.end(),
+                   [&](Eigen::Index a, Eigen::Index b) { return row_of(a) < row_of(b); });
+  std::vector<Index> src(kk), comp(kk, 0), source_row(kk);
+  for (std::size_t j = 0; j < kk; ++j) {
+    src[j] = sources[std::size_t(out_col[j])];
+    source_row[j] = row_of(out_col[j]);
+    H[source_row[j] * k + Index(j)] = 1.0;
   }
-  heat_neumann->solve_weak_homogeneous_rows_in_order(H, k, true, scratch.nonzero.data());
+  heat_neumann->solve_weak_homogeneous_rows_in_order(H, k, true, source_row.data());
   // the heat's extremes (one component: over every row), and the heat to vertex order (into P,
   // free until the divergence) in the same sweep
   std::vector<double> mx, mn;
@@ -700,7 +708,7 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     for (Index t0 = v0; t0 < v1; t0 += kTile) {
       const Index t1 = std::min(v1, t0 + kTile);
       for (Eigen::Index j = 0; j < k; ++j) {
-        double* o = out.col(first + j).data();
+        double* o = out.col(out_col[std::size_t(j)]).data();
         const double sh = shift[std::size_t(j)];
         for (Index v = t0; v < t1; ++v) {
           o[v] = std::max(P[fo.row[std::size_t(v)] * k + j] - sh, 0.0) * scale;
@@ -708,7 +716,7 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
       }
     }
   });
-  finish_block(src, first, mx, mn, out, reps);
+  finish_block(src, out_col, mx, mn, out, reps);
 }
 
 void HeatDistanceSolver::Impl::distance_block_rows(const std::vector<Index>& sources,
@@ -765,7 +773,9 @@ void HeatDistanceSolver::Impl::distance_block_rows(const std::vector<Index>& sou
       }
     }
   });
-  finish_block(src, first, mx, mn, out, reps);
+  std::vector<Eigen::Index> out_col(static_cast<std::size_t>(k));
+  std::iota(out_col.begin(), out_col.end(), first);
+  finish_block(src, out_col, mx, mn, out, reps);
 }
 
 void HeatDistanceSolver::Impl::integrate_block(const Eigen::Ref<const Eigen::MatrixXd>& U,

@@ -58,7 +58,7 @@ struct PoissonSolver::Impl {
   // halves of the rows (on two threads for a large block), the sum as half 0's plus half 1's.
   // With `order`, row i of X is vertex (*order)[i] (the factor's own order: no row copies).
   void solve_rows(double* X, Eigen::Index k, bool zero_mean, const std::vector<int>* order,
-                  const char* nonzero) const {
+                  const int* source_rows) const {
     const bool two_threads = std::int64_t(n) * k >= kParallelRowValues;
     auto vertex = [order](Index i) { return order ? Index((*order)[std::size_t(i)]) : i; };
     auto shift = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
@@ -96,7 +96,7 @@ struct PoissonSolver::Impl {
     if (one_floating) shift(floating_one, floating_weight);  // compatible
     zero_fixed();
     if (n > 0 && order) {
-      chol->solve_rows_in_block_order(X, k, nonzero);
+      chol->solve_rows_in_block_order(X, k, one_floating ? nullptr : source_rows);
     } else if (n > 0) {
       chol->solve_rows(X, k);
     }
@@ -502,13 +502,13 @@ const std::vector<int>* PoissonSolver::block_order() const {
 }
 
 void PoissonSolver::solve_weak_homogeneous_rows_in_order(double* W, Eigen::Index k, bool zero_mean,
-                                                         const char* nonzero) const {
+                                                         const int* source_rows) const {
   const std::vector<int>* order = block_order();
   if (!order || k < 2) {
     throw InvalidInput("PoissonSolver::solve_weak_homogeneous_rows_in_order: " +
                        std::string(order ? "needs two or more columns" : "no block order here"));
   }
-  impl_->solve_rows(W, k, zero_mean, order, nonzero);
+  impl_->solve_rows(W, k, zero_mean, order, source_rows);
 }
 
 const std::vector<Index>& PoissonSolver::dirichlet_vertices() const { return impl_->dirichlet; }

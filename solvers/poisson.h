@@ -107,10 +107,12 @@ class PoissonSolver {
   const std::vector<int>* block_order() const;
   /// solve_weak_homogeneous_rows_in_place() on a block of k ≥ 2 columns already in
   /// block_order() (non-null), so that a caller keeping its block in that order across several
-  /// solves copies no rows. nonzero: as CholeskySolver::solve_rows_in_block_order().
+  /// solves copies no rows. source_rows: point sources, as
+  /// CholeskySolver::solve_rows_in_block_order() (ignored on a pure-Neumann component, whose
+  /// compatibility shift fills every row).
   /// @throws InvalidInput if block_order() is null or k < 2
   void solve_weak_homogeneous_rows_in_order(double* W, Eigen::Index k, bool zero_mean = true,
-                                            const char* nonzero = nullptr) const;
+                                            const int* source_rows = nullptr) const;
 
   /// The Dirichlet vertices, in the constructor's order.
   const std::vector<Index>& dirichlet_vertices() const;

@@ -238,14 +238,21 @@ template <int C>
   lower_transpose_solve_chunk<C>(b, Y, k);
 }
 
-// The chunk kernels over all k columns: chunks of 8, then 4, 2 and 1 for the rest.
+// A range [begin, end) of the k columns (a forward pass may skip columns that are zero in a
+// supernode's rows and below: point sources outside its subtree).
+struct Columns {
+  int begin = 0, end = 0;
+};
+
+// The chunk kernels over columns [c.begin, c.end) of the k (backward: all k): chunks of 8, then
+// 4, 2 and 1 for the rest.
 IFEM_HOST_CLONES void forward_small(const DenseBlock& b, double* W, int k,
-                                    const TopAccumulator& top) {
-  int c0 = 0;
-  for (; c0 + 8 <= k; c0 += 8) forward_chunk<8>(b, W, k, c0, top);
-  if (c0 + 4 <= k) forward_chunk<4>(b, W, k, c0, top), c0 += 4;
-  if (c0 + 2 <= k) forward_chunk<2>(b, W, k, c0, top), c0 += 2;
-  if (c0 < k) forward_chunk<1>(b, W, k, c0, top);
+                                    const TopAccumulator& top, Columns c) {
+  int c0 = c.begin;
+  for (; c0 + 8 <= c.end; c0 += 8) forward_chunk<8>(b, W, k, c0, top);
+  if (c0 + 4 <= c.end) forward_chunk<4>(b, W, k, c0, top), c0 += 4;
+  if (c0 + 2 <= c.end) forward_chunk<2>(b, W, k, c0, top), c0 += 2;
+  if (c0 < c.end) forward_chunk<1>(b, W, k, c0, top);
 }
 
 IFEM_HOST_CLONES void backward_small(const DenseBlock& b, double* W, int k) {
@@ -260,12 +267,12 @@ IFEM_HOST_CLONES void backward_small(const DenseBlock& b, double* W, int k) {
 // solve does: solve with the diagonal block, then subtract the off-diagonal block's product from
 // the rows below (T: scratch, m × k; S: scratch for a converted float block). Small supernodes go
 // through the loops above (one right-hand side) or the chunk kernels (several), larger ones
-// through BLAS.
+// through BLAS; several right-hand sides on columns c only (the others stay as they are).
 template <class Real>
 void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
-                   const TopAccumulator& top) {
-  const int m = b.nsrow - b.nscol, ld = b.nsrow;
-  double* Y = W + Int64(b.k1) * k;
+                   const TopAccumulator& top, Columns c) {
+  const int m = b.nsrow - b.nscol, ld = b.nsrow, kc = c.end - c.begin;
+  double* Y = W + Int64(b.k1) * k + c.begin;
   const bool small = k == 1 && b.nscol <= kSmallSupernode;
   const double* L = small ? nullptr : block_values(b, S);
   if (small) {
@@ -275,21 +282,22 @@ void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
     if (m == 0) return;
     cblas_dgemv(CblasColMajor, CblasNoTrans, m, b.nscol, 1.0, L + b.nscol, ld, Y, 1, 0.0, T, 1);
   } else if (b.nscol <= kSmallSupernode) {
-    forward_small(DenseBlock{L, b.R + b.nscol, ld, b.nscol, b.k1}, W, k, top);
+    forward_small(DenseBlock{L, b.R + b.nscol, ld, b.nscol, b.k1}, W, k, top, c);
     return;
   } else {
-    // Y is Yᵀ column-major (k × nscol): L11 Y = B ⇔ Yᵀ L11ᵀ = Bᵀ; Tᵀ = Yᵀ L21ᵀ
-    cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasTrans, CblasNonUnit, k, b.nscol, 1.0, L,
-                ld, Y, k);
+    // Y is Yᵀ column-major (kc × nscol, leading dimension k): L11 Y = B ⇔ Yᵀ L11ᵀ = Bᵀ;
+    // Tᵀ = Yᵀ L21ᵀ (kc × m)
+    cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasTrans, CblasNonUnit, kc, b.nscol, 1.0,
+                L, ld, Y, k);
     if (m == 0) return;
-    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, k, m, b.nscol, 1.0, Y, k, L + b.nscol, ld,
-                0.0, T, k);
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, kc, m, b.nscol, 1.0, Y, k, L + b.nscol, ld,
+                0.0, T, kc);
   }
   const int* rows = b.R + b.nscol;
   for (int r = 0; r < m; ++r) {
-    double* dst = update_row(top, W, rows[r], k);
-    const double* tr = T + Int64(r) * k;
-    for (int j = 0; j < k; ++j) dst[j] -= tr[j];
+    double* dst = update_row(top, W, rows[r], k) + c.begin;
+    const double* tr = T + Int64(r) * kc;
+    for (int j = 0; j < kc; ++j) dst[j] -= tr[j];
   }
 }
 
@@ -517,17 +525,23 @@ struct SupernodalSolver::Impl {
     return {values + p.value_start[s], p.rows.data() + p.row_start[s], nscol, nsrow, p.super[s]};
   }
 
-  // nonzero (n flags): which rows of W are not all zero, recorded by the gather that filled W
+  // nonzero (n flags): which rows of W are not all zero, recorded by the gather that filled W;
+  // or source_rows (k rows): column j of W is zero but in row source_rows[j]
   template <class Real>
-  void solve_permuted(const Real* values, double* W, int k, Scratch& scr,
-                      const char* nonzero) const;
-  void solve_permuted(double* W, int k, Scratch& scr, const char* nonzero) const {
+  void solve_permuted(const Real* values, double* W, int k, Scratch& scr, const char* nonzero,
+                      const int* source_rows) const;
+  void solve_permuted(double* W, int k, Scratch& scr, const char* nonzero,
+                      const int* source_rows = nullptr) const {
     if (precision == FactorPrecision::kSingle) {
-      solve_permuted(values_f.data(), W, k, scr, nonzero);
+      solve_permuted(values_f.data(), W, k, scr, nonzero, source_rows);
     } else {
-      solve_permuted(values_d.data(), W, k, scr, nonzero);
+      solve_permuted(values_d.data(), W, k, scr, nonzero, source_rows);
     }
   }
+  // Per supernode, the columns whose point source (column j: row source_rows[j]) lies in its
+  // subtree: a contiguous range when the columns are in the order of their rows (a subtree is a
+  // range of rows); empty (begin ≥ end) where none does.
+  std::vector<Columns> source_columns(const int* source_rows, int k) const;
   // W[i] ← X[perm[i]] (gather) or X[perm[i]] ← W[i], rows of k values. A gather with `nonzero`
   // (n flags) also records which rows it copied are not all zero: the forward pass's reach then
   // needs no second read of the block (a 1M × 32 block: 20 ms).
@@ -535,26 +549,33 @@ struct SupernodalSolver::Impl {
   // The supernodes a forward pass must visit for the nonzero rows (they and their ancestors),
   // ascending, when they hold less than half the factor; else empty (visit all).
   std::vector<int> forward_reach(const char* nonzero) const;
+  // The forward pass over the two bins and then the top; with `cols` (per supernode), each
+  // supernode on its columns only (none: skipped).
   template <class Real>
-  void forward_split(const Real* values, double* W, int k, Scratch& scr) const;
+  void forward_split(const Real* values, double* W, int k, Scratch& scr,
+                     const std::vector<Columns>* cols) const;
   template <class Real>
   void backward_split(const Real* values, double* W, int k, Scratch& scr) const;
 };
 
 template <class Real>
-void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
-                                           Scratch& scr) const {
+void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k, Scratch& scr,
+                                           const std::vector<Columns>* cols) const {
+  auto columns = [cols, k](int s) { return cols ? (*cols)[std::size_t(s)] : Columns{0, k}; };
   std::vector<double>* acc = scr.acc;
   std::vector<std::function<void()>> jobs;
   for (int b = 0; b < 2; ++b) {
     acc[b].assign(std::size_t(split.n_top) * k, 0.0);
-    jobs.emplace_back([this, values, W, k, b, acc, &scr] {
+    jobs.emplace_back([this, values, W, k, b, acc, &scr, &columns] {
       const FlushDenormalsScope no_subnormals;
       double* T = Scratch::sized(scr.T[b], scratch_rows(k));
       double* S = Scratch::sized(scr.S[b], block_scratch);
       for (const Subtree& st : split.bin[b]) {
         const TopAccumulator top{acc[b].data(), split.top_index.data(), st.col_end};
-        for (int s = st.first; s <= st.last; ++s) forward_block(block(values, s), W, k, T, S, top);
+        for (int s = st.first; s <= st.last; ++s) {
+          const Columns c = columns(s);
+          if (c.begin < c.end) forward_block(block(values, s), W, k, T, S, top, c);
+        }
       }
     });
   }
@@ -569,7 +590,10 @@ void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
   }
   double* T = Scratch::sized(scr.T[0], scratch_rows(k));
   double* S = Scratch::sized(scr.S[0], block_scratch);
-  for (const int s : split.top) forward_block(block(values, s), W, k, T, S, TopAccumulator{});
+  for (const int s : split.top) {
+    const Columns c = columns(s);
+    if (c.begin < c.end) forward_block(block(values, s), W, k, T, S, TopAccumulator{}, c);
+  }
 }
 
 template <class Real>
@@ -614,21 +638,53 @@ std::vector<int> SupernodalSolver::Impl::forward_reach(const char* nonzero) cons
   return reach;
 }
 
+std::vector<Columns> SupernodalSolver::Impl::source_columns(const int* source_rows, int k) const {
+  const int ns = int(parent.size());
+  std::vector<Columns> cols(std::size_t(ns), Columns{k, 0});
+  for (int j = 0; j < k; ++j) {
+    Columns& c = cols[std::size_t(col_super[std::size_t(source_rows[j])])];
+    c = {std::min(c.begin, j), std::max(c.end, j + 1)};
+  }
+  for (int s = 0; s < ns; ++s) {  // children before parents (a postorder)
+    if (parent[s] < 0) continue;
+    const Columns child = cols[std::size_t(s)];
+    Columns& c = cols[std::size_t(parent[s])];
+    c = {std::min(c.begin, child.begin), std::max(c.end, child.end)};
+  }
+  return cols;
+}
+
 template <class Real>
 void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k, Scratch& scr,
-                                            const char* nonzero) const {
+                                            const char* nonzero, const int* source_rows) const {
   const int ns = int(p.super.size()) - 1;
   double* T = Scratch::sized(scr.T[0], scratch_rows(k));
   double* S = Scratch::sized(scr.S[0], block_scratch);
-  // a sparse right-hand side (a point source) reaches only its columns' ancestors: the forward
-  // pass visits those (zero rows stay zero elsewhere: the same values as a full pass)
-  const std::vector<int> reach = nonzero ? forward_reach(nonzero) : std::vector<int>{};
-  if (!reach.empty()) {
-    for (const int s : reach) forward_block(block(values, s), W, k, T, S, TopAccumulator{});
-  } else if (two_bins(k)) {
-    forward_split(values, W, k, scr);
+  const Columns all{0, k};
+  if (source_rows) {
+    // point sources: each supernode on the columns whose source is in its subtree (the others
+    // are zero in its rows and stay zero: the same values as a full pass)
+    const std::vector<Columns> cols = source_columns(source_rows, k);
+    if (two_bins(k)) {
+      forward_split(values, W, k, scr, &cols);
+    } else {
+      for (int s = 0; s < ns; ++s) {
+        const Columns c = cols[std::size_t(s)];
+        if (c.begin < c.end) forward_block(block(values, s), W, k, T, S, TopAccumulator{}, c);
+      }
+    }
   } else {
-    for (int s = 0; s < ns; ++s) forward_block(block(values, s), W, k, T, S, TopAccumulator{});
+    // a sparse right-hand side (a point source) reaches only its columns' ancestors: the
+    // forward pass visits those (zero rows stay zero elsewhere: the same values as a full pass)
+    const std::vector<int> reach = nonzero ? forward_reach(nonzero) : std::vector<int>{};
+    if (!reach.empty()) {
+      for (const int s : reach) forward_block(block(values, s), W, k, T, S, TopAccumulator{}, all);
+    } else if (two_bins(k)) {
+      forward_split(values, W, k, scr, nullptr);
+    } else {
+      for (int s = 0; s < ns; ++s)
+        forward_block(block(values, s), W, k, T, S, TopAccumulator{}, all);
+    }
   }
   if (two_bins(k)) {
     backward_split(values, W, k, scr);
@@ -748,14 +804,14 @@ void SupernodalSolver::solve_rows(double* X, Eigen::Index cols) const {
 const std::vector<int>& SupernodalSolver::permutation() const { return impl_->p.perm; }
 
 void SupernodalSolver::solve_rows_in_factor_order(double* W, Eigen::Index cols,
-                                                  const char* nonzero) const {
+                                                  const int* source_rows) const {
   const Impl& im = *impl_;
   if (cols <= 0) return;
   std::unique_lock<std::mutex> lock(im.workspace_mutex, std::try_to_lock);
   Impl::Scratch own;
   Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
   const FlushDenormalsScope no_subnormals;
-  im.solve_permuted(W, int(cols), scr, nonzero);
+  im.solve_permuted(W, int(cols), scr, nullptr, source_rows);
 }
 
 std::size_t SupernodalSolver::bytes_per_pass() const {

@@ -65,10 +65,12 @@ class SupernodalSolver {
   const std::vector<int>& permutation() const;
   /// solve_rows() on a block already in the factor's row order (row i of W, cols values, is
   /// unknown permutation()[i]): no row copies in or out, for a caller that keeps its block in
-  /// that order across several solves. nonzero (n flags, or null): which rows of W are not all
-  /// zero; the forward pass then visits their reach only (point sources).
+  /// that order across several solves. source_rows (cols entries, or null): point sources,
+  /// column j of W zero but in row source_rows[j]; the forward pass then runs each supernode on
+  /// the columns whose source lies in its subtree only (the same values), which saves most when
+  /// the columns are in the order of their rows (a subtree's sources are then adjacent).
   void solve_rows_in_factor_order(double* W, Eigen::Index cols,
-                                  const char* nonzero = nullptr) const;
+                                  const int* source_rows = nullptr) const;
 
   /// Bytes one pass over the factor reads (values and row indices): a solve makes two passes.
   std::size_t bytes_per_pass() const;
