@@ -433,6 +433,13 @@ Eigen::VectorXd HeatDistanceSolver::compute_distance_from_points(
 
 Eigen::MatrixXd HeatDistanceSolver::compute_distances(
     const std::vector<Index>& sources, std::vector<HeatDistanceReport>* reports) const {
+  Eigen::MatrixXd out;
+  compute_distances(sources, out, reports);
+  return out;
+}
+
+void HeatDistanceSolver::compute_distances(const std::vector<Index>& sources, Eigen::MatrixXd& out,
+                                           std::vector<HeatDistanceReport>* reports) const {
   if (sources.empty()) throw InvalidInput("heat distance: the source list is empty");
   const Impl& im = *impl_;
   const Index nv = im.tri.n_vertices();
@@ -455,8 +462,10 @@ Eigen::MatrixXd HeatDistanceSolver::compute_distances(
   std::unique_lock<std::mutex> lock(im.block_mutex, std::try_to_lock);
   Impl::BlockScratch own;
   Impl::BlockScratch& scratch = lock.owns_lock() ? im.block_scratch : own;
-  Eigen::MatrixXd out(nv, k);
-  advise_huge_pages(out.data(), sizeof(double) * std::size_t(out.size()));  // not yet touched
+  if (out.rows() != nv || out.cols() != k) {
+    out.resize(nv, k);
+    advise_huge_pages(out.data(), sizeof(double) * std::size_t(out.size()));  // not yet touched
+  }
   std::vector<HeatDistanceReport> reps(sources.size());
   if (im.rows_path(block)) {
     for (HugeVector* m : {&scratch.heat_rows, &scratch.phi_rows}) {
@@ -475,7 +484,6 @@ Eigen::MatrixXd HeatDistanceSolver::compute_distances(
     out *= im.scale;
   }
   if (reports) *reports = std::move(reps);
-  return out;
 }
 
 void HeatDistanceSolver::Impl::distance_block(const std::vector<Index>& sources, Eigen::Index first,

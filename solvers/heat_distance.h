@@ -178,6 +178,13 @@ class HeatDistanceSolver {
   /// @throws InvalidInput on an empty list, or naming sources[j]: out of range or unreferenced
   Eigen::MatrixXd compute_distances(const std::vector<Index>& sources,
                                     std::vector<HeatDistanceReport>* reports = nullptr) const;
+  /// compute_distances() into `out`, resized to #V×k; an `out` of that size already is written
+  /// in place (no allocation): for a caller computing many batches, e.g. a distance matrix in
+  /// blocks. A fresh matrix's memory is zeroed by the system on first touch: at 1M faces the
+  /// 256 MB of a block of 32 cost 35–55 ms of its ~0.4 s that way (BENCHMARKS.md).
+  /// @throws as compute_distances() (out is then unspecified)
+  void compute_distances(const std::vector<Index>& sources, Eigen::MatrixXd& out,
+                         std::vector<HeatDistanceReport>* reports = nullptr) const;
 
   /// Distance to the nearest of the given surface points, #V.
   /// @param sources points whose faces are faces of triangulation()
