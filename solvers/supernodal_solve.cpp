@@ -244,8 +244,8 @@ struct Columns {
   int begin = 0, end = 0;
 };
 
-// The chunk kernels over columns [c.begin, c.end) of the k (backward: all k): chunks of 8, then
-// 4, 2 and 1 for the rest.
+// The chunk kernels over columns [c.begin, c.end) of the k: chunks of 8, then 4, 2 and 1 for
+// the rest.
 IFEM_HOST_CLONES void forward_small(const DenseBlock& b, double* W, int k,
                                     const TopAccumulator& top, Columns c) {
   int c0 = c.begin;
@@ -255,12 +255,12 @@ IFEM_HOST_CLONES void forward_small(const DenseBlock& b, double* W, int k,
   if (c0 < c.end) forward_chunk<1>(b, W, k, c0, top);
 }
 
-IFEM_HOST_CLONES void backward_small(const DenseBlock& b, double* W, int k) {
-  int c0 = 0;
-  for (; c0 + 8 <= k; c0 += 8) backward_chunk<8>(b, W, k, c0);
-  if (c0 + 4 <= k) backward_chunk<4>(b, W, k, c0), c0 += 4;
-  if (c0 + 2 <= k) backward_chunk<2>(b, W, k, c0), c0 += 2;
-  if (c0 < k) backward_chunk<1>(b, W, k, c0);
+IFEM_HOST_CLONES void backward_small(const DenseBlock& b, double* W, int k, Columns c) {
+  int c0 = c.begin;
+  for (; c0 + 8 <= c.end; c0 += 8) backward_chunk<8>(b, W, k, c0);
+  if (c0 + 4 <= c.end) backward_chunk<4>(b, W, k, c0), c0 += 4;
+  if (c0 + 2 <= c.end) backward_chunk<2>(b, W, k, c0), c0 += 2;
+  if (c0 < c.end) backward_chunk<1>(b, W, k, c0);
 }
 
 // Forward substitution of one supernode on W (n × k, row-major), as CHOLMOD's own supernodal
@@ -302,11 +302,12 @@ void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
 }
 
 // Backward substitution of one supernode: subtract the off-diagonal block's transpose times the
-// (final) rows below, gathered into G (m × k), then solve with the diagonal block's transpose.
+// (final) rows below, gathered into G (m × kc), then solve with the diagonal block's transpose;
+// several right-hand sides on columns c only (kc of them).
 template <class Real>
-void backward_block(const Block<Real>& b, double* W, int k, double* G, double* S) {
-  const int m = b.nsrow - b.nscol, ld = b.nsrow;
-  double* Y = W + Int64(b.k1) * k;
+void backward_block(const Block<Real>& b, double* W, int k, double* G, double* S, Columns c) {
+  const int m = b.nsrow - b.nscol, ld = b.nsrow, kc = c.end - c.begin;
+  double* Y = W + Int64(b.k1) * k + c.begin;
   if (k == 1 && b.nscol <= kSmallSupernode) {
     const int* rows = b.R + b.nscol;
     for (int r = 0; r < m; ++r) G[b.nscol + r] = W[rows[r]];
@@ -315,27 +316,27 @@ void backward_block(const Block<Real>& b, double* W, int k, double* G, double* S
   }
   const double* L = block_values(b, S);
   if (k > 1 && b.nscol <= kSmallSupernode) {
-    backward_small(DenseBlock{L, b.R + b.nscol, ld, b.nscol, b.k1}, W, k);
+    backward_small(DenseBlock{L, b.R + b.nscol, ld, b.nscol, b.k1}, W, k, c);
     return;
   }
   if (m > 0) {
     const int* rows = b.R + b.nscol;
     for (int r = 0; r < m; ++r) {
-      const double* src = W + Int64(rows[r]) * k;
-      std::copy(src, src + k, G + Int64(r) * k);
+      const double* src = W + Int64(rows[r]) * k + c.begin;
+      std::copy(src, src + kc, G + Int64(r) * kc);
     }
     if (k == 1) {
       cblas_dgemv(CblasColMajor, CblasTrans, m, b.nscol, -1.0, L + b.nscol, ld, G, 1, 1.0, Y, 1);
     } else {
-      cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, k, b.nscol, m, -1.0, G, k, L + b.nscol,
-                  ld, 1.0, Y, k);
+      cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, kc, b.nscol, m, -1.0, G, kc,
+                  L + b.nscol, ld, 1.0, Y, k);
     }
   }
   if (k == 1) {
     cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasNonUnit, b.nscol, L, ld, Y, 1);
   } else {
     // L11ᵀ Y = B ⇔ Yᵀ L11 = Bᵀ
-    cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasNoTrans, CblasNonUnit, k, b.nscol, 1.0,
+    cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasNoTrans, CblasNonUnit, kc, b.nscol, 1.0,
                 L, ld, Y, k);
   }
 }
@@ -556,6 +557,11 @@ struct SupernodalSolver::Impl {
                      const std::vector<Columns>* cols) const;
   template <class Real>
   void backward_split(const Real* values, double* W, int k, Scratch& scr) const;
+  // The serial top of a split pass on two halves of the k columns side by side (independent
+  // in a triangular solve; whole chunks of 8 each, the same chunks as one pass over all k), or
+  // on all k at once below 16: pass(columns, T, S) with each half's own scratch.
+  void top_in_column_halves(int k, Scratch& scr,
+                            const std::function<void(Columns, double*, double*)>& pass) const;
 };
 
 template <class Real>
@@ -588,22 +594,39 @@ void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
       for (int j = 0; j < k; ++j) w[j] = (w[j] + acc[0][t + j]) + acc[1][t + j];
     }
   }
-  double* T = Scratch::sized(scr.T[0], scratch_rows(k));
-  double* S = Scratch::sized(scr.S[0], block_scratch);
-  for (const int s : split.top) {
-    const Columns c = columns(s);
-    if (c.begin < c.end) forward_block(block(values, s), W, k, T, S, TopAccumulator{}, c);
-  }
+  top_in_column_halves(k, scr, [&](Columns half, double* T, double* S) {
+    for (const int s : split.top) {
+      const Columns c = columns(s);
+      const Columns part{std::max(c.begin, half.begin), std::min(c.end, half.end)};
+      if (part.begin < part.end)
+        forward_block(block(values, s), W, k, T, S, TopAccumulator{}, part);
+    }
+  });
+}
+
+void SupernodalSolver::Impl::top_in_column_halves(
+    int k, Scratch& scr, const std::function<void(Columns, double*, double*)>& pass) const {
+  // whole chunks of 8 on each side; one side when the top is small (a hand-off to the other
+  // thread costs more than its half: 10k faces, k = 32, 2.2 -> 2.7 ms per block of sources)
+  const double top_work = split.top_share * double(p.value_start.back()) * k;
+  const int mid = k < 16 || top_work < double(kParallelEntries) ? k : (k / 2 + 7) / 8 * 8;
+  run_halves(mid < k, [&](int half) {
+    const FlushDenormalsScope no_subnormals;
+    double* T = Scratch::sized(scr.T[half], scratch_rows(k));
+    double* S = Scratch::sized(scr.S[half], block_scratch);
+    const Columns cols = half == 0 ? Columns{0, mid} : Columns{mid, k};
+    if (cols.begin < cols.end) pass(cols, T, S);
+  });
 }
 
 template <class Real>
 void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k,
                                             Scratch& scr) const {
-  double* G = Scratch::sized(scr.T[0], scratch_rows(k));
-  double* S = Scratch::sized(scr.S[0], block_scratch);
-  for (auto it = split.top.rbegin(); it != split.top.rend(); ++it) {
-    backward_block(block(values, *it), W, k, G, S);
-  }
+  top_in_column_halves(k, scr, [&](Columns half, double* G, double* S) {
+    for (auto it = split.top.rbegin(); it != split.top.rend(); ++it) {
+      backward_block(block(values, *it), W, k, G, S, half);
+    }
+  });
   std::vector<std::function<void()>> jobs;
   for (int b = 0; b < 2; ++b) {
     jobs.emplace_back([this, values, W, k, b, &scr] {
@@ -612,7 +635,9 @@ void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k
       double* Sb = Scratch::sized(scr.S[b], block_scratch);
       const auto& bin = split.bin[b];
       for (auto st = bin.rbegin(); st != bin.rend(); ++st) {
-        for (int s = st->last; s >= st->first; --s) backward_block(block(values, s), W, k, Gb, Sb);
+        for (int s = st->last; s >= st->first; --s) {
+          backward_block(block(values, s), W, k, Gb, Sb, Columns{0, k});
+        }
       }
     });
   }
@@ -689,7 +714,7 @@ void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k
   if (two_bins(k)) {
     backward_split(values, W, k, scr);
   } else {
-    for (int s = ns - 1; s >= 0; --s) backward_block(block(values, s), W, k, T, S);
+    for (int s = ns - 1; s >= 0; --s) backward_block(block(values, s), W, k, T, S, all);
   }
 }
 
