@@ -626,15 +626,16 @@ const std::vector<int>* CholeskySolver::block_order() const {
   return k ? &k->permutation() : nullptr;
 }
 
-void CholeskySolver::solve_rows_in_block_order(double* W, Eigen::Index cols,
-                                               const int* source_rows) const {
+void CholeskySolver::solve_rows_in_block_order(double* W, Eigen::Index cols, const int* source_rows,
+                                               const double* shift_rows,
+                                               const double* shift_sums) const {
   const SupernodalSolver* k = block_kernel(*impl_);
   if (!k || cols < 2) {
     throw InvalidInput("CholeskySolver::solve_rows_in_block_order: " +
                        std::string(k ? "needs two or more columns" : "no block order here"));
   }
   const BlasThreadScope threads(impl_->solve_blas_threads);
-  k->solve_rows_in_factor_order(W, cols, source_rows);
+  k->solve_rows_in_factor_order(W, cols, source_rows, shift_rows, shift_sums);
 }
 
 void CholeskySolver::solve_rows(double* X, Eigen::Index cols) const {

@@ -187,10 +187,13 @@ class CholeskySolver {
   const std::vector<int>* block_order() const;
   /// solve_rows() on a block of `cols` ≥ 2 columns already in block_order() (non-null): no row
   /// copies. source_rows (cols entries, or null): point sources, column j zero but in row
-  /// source_rows[j] of the block (SupernodalSolver::solve_rows_in_factor_order()).
+  /// source_rows[j] of the block (SupernodalSolver::solve_rows_in_factor_order()). shift_rows
+  /// (n, in block_order()) and shift_sums (cols): solve for W − shift_rows·shift_sumsᵀ, the
+  /// rank-one term folded into the forward pass (SupernodalSolver::solve_rows_in_factor_order()).
   /// @throws InvalidInput if block_order() is null or cols < 2
-  void solve_rows_in_block_order(double* W, Eigen::Index cols,
-                                 const int* source_rows = nullptr) const;
+  void solve_rows_in_block_order(double* W, Eigen::Index cols, const int* source_rows = nullptr,
+                                 const double* shift_rows = nullptr,
+                                 const double* shift_sums = nullptr) const;
 
   /// Size n of the factored matrix.
   Eigen::Index size() const;

@@ -698,12 +698,27 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
   run_halves(two_threads && mid < k, [&](int half) {
     unit_div->apply_rows(P, k, H, half == 0 ? 0 : mid, half == 0 ? mid : k);
   });
+  // with the Poisson solve's compatibility sums in the same sweep (halves summed as it would)
+  const Eigen::VectorXd* a = poisson->compatibility_weights();
+  std::vector<double> half_sum[2];
   run_halves(two_threads, [&](int half) {
+    half_sum[half].assign(kk, 0.0);
+    double* __restrict sum = half_sum[half].data();
     for (Index i = nv * half / 2; i < nv * (half + 1) / 2; ++i) {
-      std::copy_n(H + fo.vertex[std::size_t(i)] * k, k, P + i * k);
+      const Index v = fo.vertex[std::size_t(i)];
+      const double* __restrict h = H + v * k;
+      double* __restrict p = P + i * k;
+      const double av = a ? (*a)[v] : 0.0;
+      for (Eigen::Index j = 0; j < k; ++j) {
+        p[j] = h[j];
+        sum[j] += av * h[j];
+      }
     }
   });
-  poisson->solve_weak_homogeneous_rows_in_order(P, k, false);  // φ − φ(source) below
+  for (std::size_t j = 0; j < kk; ++j) half_sum[0][j] += half_sum[1][j];
+  // φ − φ(source) below
+  poisson->solve_weak_homogeneous_rows_in_order(P, k, false, nullptr,
+                                                a ? half_sum[0].data() : nullptr);
   std::vector<double> shift(static_cast<std::size_t>(k));
   for (Eigen::Index j = 0; j < k; ++j) {
     shift[std::size_t(j)] = P[fo.row[std::size_t(src[std::size_t(j)])] * k + j];

@@ -50,19 +50,23 @@ struct PoissonSolver::Impl {
   bool rows_direct() const {
     return Index(unknown_vertex.size()) == n && (floating.empty() || one_floating);
   }
-  // Where the fixed rows are in the block order `order` (computed on first use).
+  // Where the fixed rows are in the block order `order`, and the compatibility shift's weights
+  // b in that order, 0 on the fixed rows (computed on first use).
   mutable std::once_flag fixed_positions_once;
   mutable std::vector<Index> fixed_positions;
+  mutable std::vector<double> weight_in_order;
   // The row-major solve (rows_direct()): as solve_many_identity(), row by row: Σ_v a_v X(v, :)
   // then X(v, :) −= b_v Σ (k values per vertex: one vector operation each); each sweep in two
   // halves of the rows (on two threads for a large block), the sum as half 0's plus half 1's.
   // With `order`, row i of X is vertex (*order)[i] (the factor's own order: no row copies).
+  // With `order`, the compatibility shift's subtraction is folded into the solve's forward pass
+  // (no sweep of its own), and compat_sums, when given, are its sums aᵀX (the caller's sweep).
   void solve_rows(double* X, Eigen::Index k, bool zero_mean, const std::vector<int>* order,
-                  const int* source_rows) const {
+                  const int* source_rows, const double* compat_sums = nullptr) const {
     const bool two_threads = std::int64_t(n) * k >= kParallelRowValues;
     auto vertex = [order](Index i) { return order ? Index((*order)[std::size_t(i)]) : i; };
-    auto shift = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-      std::vector<double> half_sum[2];
+    std::vector<double> half_sum[2];
+    auto sums = [&](const Eigen::VectorXd& a) {
       run_halves(two_threads, [&](int half) {
         half_sum[half].assign(std::size_t(k), 0.0);
         double* sum = half_sum[half].data();
@@ -72,7 +76,10 @@ struct PoissonSolver::Impl {
         }
       });
       for (std::size_t j = 0; j < std::size_t(k); ++j) half_sum[0][j] += half_sum[1][j];
-      const double* sum = half_sum[0].data();
+      return half_sum[0].data();
+    };
+    auto shift = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+      const double* sum = sums(a);
       run_halves(two_threads, [&](int half) {
         for (Index i = n * half / 2; i < n * (half + 1) / 2; ++i) {
           const double bi = b[vertex(i)];
@@ -87,16 +94,28 @@ struct PoissonSolver::Impl {
         std::vector<Index> position(static_cast<std::size_t>(n));
         for (Index i = 0; i < n; ++i) position[std::size_t((*order)[std::size_t(i)])] = i;
         for (const Index r : fixed_rows) fixed_positions.push_back(position[std::size_t(r)]);
+        if (one_floating) {
+          weight_in_order.resize(std::size_t(n));
+          for (Index i = 0; i < n; ++i)
+            weight_in_order[std::size_t(i)] = floating_weight[vertex(i)];
+          for (const Index r : fixed_positions) weight_in_order[std::size_t(r)] = 0.0;
+        }
       });
       fixed_at = &fixed_positions;
     }
     auto zero_fixed = [&] {
       for (const Index r : *fixed_at) std::fill(X + r * k, X + (r + 1) * k, 0.0);
     };
-    if (one_floating) shift(floating_one, floating_weight);  // compatible
+    if (one_floating && !order) shift(floating_one, floating_weight);  // compatible
+    // in the order: X − b·(aᵀX)ᵀ, the sums taken before the fixed rows are zeroed and the
+    // subtraction made by the forward pass
+    const double* sum =
+        one_floating && order ? (compat_sums ? compat_sums : sums(floating_one)) : nullptr;
     zero_fixed();
-    if (n > 0 && order) {
-      chol->solve_rows_in_block_order(X, k, one_floating ? nullptr : source_rows);
+    if (n > 0 && sum) {
+      chol->solve_rows_in_block_order(X, k, nullptr, weight_in_order.data(), sum);
+    } else if (n > 0 && order) {
+      chol->solve_rows_in_block_order(X, k, source_rows);
     } else if (n > 0) {
       chol->solve_rows(X, k);
     }
@@ -501,14 +520,19 @@ const std::vector<int>* PoissonSolver::block_order() const {
   return im.rows_direct() && im.n > 0 ? im.chol->block_order() : nullptr;
 }
 
+const Eigen::VectorXd* PoissonSolver::compatibility_weights() const {
+  return impl_->one_floating ? &impl_->floating_one : nullptr;
+}
+
 void PoissonSolver::solve_weak_homogeneous_rows_in_order(double* W, Eigen::Index k, bool zero_mean,
-                                                         const int* source_rows) const {
+                                                         const int* source_rows,
+                                                         const double* compat_sums) const {
   const std::vector<int>* order = block_order();
   if (!order || k < 2) {
     throw InvalidInput("PoissonSolver::solve_weak_homogeneous_rows_in_order: " +
                        std::string(order ? "needs two or more columns" : "no block order here"));
   }
-  impl_->solve_rows(W, k, zero_mean, order, source_rows);
+  impl_->solve_rows(W, k, zero_mean, order, source_rows, compat_sums);
 }
 
 const std::vector<Index>& PoissonSolver::dirichlet_vertices() const { return impl_->dirichlet; }

@@ -109,10 +109,18 @@ class PoissonSolver {
   /// block_order() (non-null), so that a caller keeping its block in that order across several
   /// solves copies no rows. source_rows: point sources, as
   /// CholeskySolver::solve_rows_in_block_order() (ignored on a pure-Neumann component, whose
-  /// compatibility shift fills every row).
+  /// compatibility shift fills every row). On a pure-Neumann component the shift's subtraction
+  /// is folded into the solve (no sweep of the block), and compat_sums (k values, or null), the
+  /// sums Σ_v a_v W(v, :) with a = compatibility_weights(), spare its other sweep to a caller
+  /// that has them from a sweep of its own.
   /// @throws InvalidInput if block_order() is null or k < 2
   void solve_weak_homogeneous_rows_in_order(double* W, Eigen::Index k, bool zero_mean = true,
-                                            const int* source_rows = nullptr) const;
+                                            const int* source_rows = nullptr,
+                                            const double* compat_sums = nullptr) const;
+  /// The weights a of the compatibility shift on a single pure-Neumann component (1 on its
+  /// vertices, 0 elsewhere; #V, vertex order): a right-hand side x is made compatible as
+  /// x − b·(aᵀx). Null when there is no such component (or several).
+  const Eigen::VectorXd* compatibility_weights() const;
 
   /// The Dirichlet vertices, in the constructor's order.
   const std::vector<Index>& dirichlet_vertices() const;

@@ -244,6 +244,13 @@ struct Columns {
   int begin = 0, end = 0;
 };
 
+// A rank-one term subtracted from the right-hand sides, W − rows·sumsᵀ (rows: n values in the
+// factor's order, sums: k), row by row as the forward pass reaches each (no sweep of its own).
+struct RankOne {
+  const double* rows = nullptr;
+  const double* sums = nullptr;
+};
+
 // The chunk kernels over columns [c.begin, c.end) of the k: chunks of 8, then 4, 2 and 1 for
 // the rest.
 IFEM_HOST_CLONES void forward_small(const DenseBlock& b, double* W, int k,
@@ -270,9 +277,16 @@ IFEM_HOST_CLONES void backward_small(const DenseBlock& b, double* W, int k, Colu
 // through BLAS; several right-hand sides on columns c only (the others stay as they are).
 template <class Real>
 void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
-                   const TopAccumulator& top, Columns c) {
+                   const TopAccumulator& top, Columns c, const RankOne& shift = {}) {
   const int m = b.nsrow - b.nscol, ld = b.nsrow, kc = c.end - c.begin;
   double* Y = W + Int64(b.k1) * k + c.begin;
+  if (shift.rows) {
+    for (int i = 0; i < b.nscol; ++i) {
+      const double r = shift.rows[b.k1 + i];
+      double* y = Y + Int64(i) * k;
+      for (int j = 0; j < kc; ++j) y[j] -= r * shift.sums[c.begin + j];
+    }
+  }
   const bool small = k == 1 && b.nscol <= kSmallSupernode;
   const double* L = small ? nullptr : block_values(b, S);
   if (small) {
@@ -528,15 +542,16 @@ struct SupernodalSolver::Impl {
 
   // nonzero (n flags): which rows of W are not all zero, recorded by the gather that filled W;
   // or source_rows (k rows): column j of W is zero but in row source_rows[j]
+  // shift: a rank-one term to subtract from W first (folded into the forward pass)
   template <class Real>
   void solve_permuted(const Real* values, double* W, int k, Scratch& scr, const char* nonzero,
-                      const int* source_rows) const;
+                      const int* source_rows, const RankOne& shift) const;
   void solve_permuted(double* W, int k, Scratch& scr, const char* nonzero,
-                      const int* source_rows = nullptr) const {
+                      const int* source_rows = nullptr, const RankOne& shift = {}) const {
     if (precision == FactorPrecision::kSingle) {
-      solve_permuted(values_f.data(), W, k, scr, nonzero, source_rows);
+      solve_permuted(values_f.data(), W, k, scr, nonzero, source_rows, shift);
     } else {
-      solve_permuted(values_d.data(), W, k, scr, nonzero, source_rows);
+      solve_permuted(values_d.data(), W, k, scr, nonzero, source_rows, shift);
     }
   }
   // Per supernode, the columns whose point source (column j: row source_rows[j]) lies in its
@@ -554,7 +569,7 @@ struct SupernodalSolver::Impl {
   // supernode on its columns only (none: skipped).
   template <class Real>
   void forward_split(const Real* values, double* W, int k, Scratch& scr,
-                     const std::vector<Columns>* cols) const;
+                     const std::vector<Columns>* cols, const RankOne& shift = {}) const;
   template <class Real>
   void backward_split(const Real* values, double* W, int k, Scratch& scr) const;
   // The serial top of a split pass on two halves of the k columns side by side (independent
@@ -566,13 +581,14 @@ struct SupernodalSolver::Impl {
 
 template <class Real>
 void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k, Scratch& scr,
-                                           const std::vector<Columns>* cols) const {
+                                           const std::vector<Columns>* cols,
+                                           const RankOne& shift) const {
   auto columns = [cols, k](int s) { return cols ? (*cols)[std::size_t(s)] : Columns{0, k}; };
   std::vector<double>* acc = scr.acc;
   std::vector<std::function<void()>> jobs;
   for (int b = 0; b < 2; ++b) {
     acc[b].assign(std::size_t(split.n_top) * k, 0.0);
-    jobs.emplace_back([this, values, W, k, b, acc, &scr, &columns] {
+    jobs.emplace_back([this, values, W, k, b, acc, &scr, &columns, &shift] {
       const FlushDenormalsScope no_subnormals;
       double* T = Scratch::sized(scr.T[b], scratch_rows(k));
       double* S = Scratch::sized(scr.S[b], block_scratch);
@@ -580,7 +596,7 @@ void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
         const TopAccumulator top{acc[b].data(), split.top_index.data(), st.col_end};
         for (int s = st.first; s <= st.last; ++s) {
           const Columns c = columns(s);
-          if (c.begin < c.end) forward_block(block(values, s), W, k, T, S, top, c);
+          if (c.begin < c.end) forward_block(block(values, s), W, k, T, S, top, c, shift);
         }
       }
     });
@@ -599,7 +615,7 @@ void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
       const Columns c = columns(s);
       const Columns part{std::max(c.begin, half.begin), std::min(c.end, half.end)};
       if (part.begin < part.end)
-        forward_block(block(values, s), W, k, T, S, TopAccumulator{}, part);
+        forward_block(block(values, s), W, k, T, S, TopAccumulator{}, part, shift);
     }
   });
 }
@@ -681,12 +697,13 @@ std::vector<Columns> SupernodalSolver::Impl::source_columns(const int* source_ro
 
 template <class Real>
 void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k, Scratch& scr,
-                                            const char* nonzero, const int* source_rows) const {
+                                            const char* nonzero, const int* source_rows,
+                                            const RankOne& shift) const {
   const int ns = int(p.super.size()) - 1;
   double* T = Scratch::sized(scr.T[0], scratch_rows(k));
   double* S = Scratch::sized(scr.S[0], block_scratch);
   const Columns all{0, k};
-  if (source_rows) {
+  if (source_rows && !shift.rows) {
     // point sources: each supernode on the columns whose source is in its subtree (the others
     // are zero in its rows and stay zero: the same values as a full pass)
     const std::vector<Columns> cols = source_columns(source_rows, k);
@@ -701,14 +718,16 @@ void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k
   } else {
     // a sparse right-hand side (a point source) reaches only its columns' ancestors: the
     // forward pass visits those (zero rows stay zero elsewhere: the same values as a full pass)
-    const std::vector<int> reach = nonzero ? forward_reach(nonzero) : std::vector<int>{};
+    const std::vector<int> reach =
+        nonzero && !shift.rows ? forward_reach(nonzero) : std::vector<int>{};
     if (!reach.empty()) {
       for (const int s : reach) forward_block(block(values, s), W, k, T, S, TopAccumulator{}, all);
     } else if (two_bins(k)) {
-      forward_split(values, W, k, scr, nullptr);
+      forward_split(values, W, k, scr, nullptr, shift);
     } else {
-      for (int s = 0; s < ns; ++s)
-        forward_block(block(values, s), W, k, T, S, TopAccumulator{}, all);
+      for (int s = 0; s < ns; ++s) {
+        forward_block(block(values, s), W, k, T, S, TopAccumulator{}, all, shift);
+      }
     }
   }
   if (two_bins(k)) {
@@ -829,14 +848,16 @@ void SupernodalSolver::solve_rows(double* X, Eigen::Index cols) const {
 const std::vector<int>& SupernodalSolver::permutation() const { return impl_->p.perm; }
 
 void SupernodalSolver::solve_rows_in_factor_order(double* W, Eigen::Index cols,
-                                                  const int* source_rows) const {
+                                                  const int* source_rows, const double* shift_rows,
+                                                  const double* shift_sums) const {
   const Impl& im = *impl_;
   if (cols <= 0) return;
   std::unique_lock<std::mutex> lock(im.workspace_mutex, std::try_to_lock);
   Impl::Scratch own;
   Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
   const FlushDenormalsScope no_subnormals;
-  im.solve_permuted(W, int(cols), scr, nullptr, source_rows);
+  im.solve_permuted(W, int(cols), scr, nullptr, source_rows,
+                    shift_rows && shift_sums ? RankOne{shift_rows, shift_sums} : RankOne{});
 }
 
 std::size_t SupernodalSolver::bytes_per_pass() const {

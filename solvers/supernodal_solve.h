@@ -69,8 +69,13 @@ class SupernodalSolver {
   /// column j of W zero but in row source_rows[j]; the forward pass then runs each supernode on
   /// the columns whose source lies in its subtree only (the same values), which saves most when
   /// the columns are in the order of their rows (a subtree's sources are then adjacent).
-  void solve_rows_in_factor_order(double* W, Eigen::Index cols,
-                                  const int* source_rows = nullptr) const;
+  /// shift_rows (n values in the factor's order) and shift_sums (cols values), both or neither:
+  /// solves for W − shift_rows·shift_sumsᵀ instead of W, the rank-one term subtracted from each
+  /// row as the forward pass reaches it (no sweep of the block of its own); source_rows is then
+  /// ignored (every row is nonzero).
+  void solve_rows_in_factor_order(double* W, Eigen::Index cols, const int* source_rows = nullptr,
+                                  const double* shift_rows = nullptr,
+                                  const double* shift_sums = nullptr) const;
 
   /// Bytes one pass over the factor reads (values and row indices): a solve makes two passes.
   std::size_t bytes_per_pass() const;

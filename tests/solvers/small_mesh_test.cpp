@@ -235,7 +235,8 @@ TEST(SolversSmallMesh, PoissonRowsEqualColumns) {
 
 // A block kept in the factor's order (block_order(): a pure-Neumann component with the shared
 // analysis, its pinned vertex kept as a decoupled row) solves to the row-major solve's values,
-// with and without the zero mean; Dirichlet vertices or two components have no such order.
+// with and without the zero mean, with the compatibility sums taken by the solve or given by
+// the caller; Dirichlet vertices or two components have no such order.
 TEST(SolversSmallMesh, PoissonRowsInBlockOrder) {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const auto tri = test::make_tri(test::jittered(intrinsic::icosphere(8), 0.02));
@@ -261,23 +262,34 @@ TEST(SolversSmallMesh, PoissonRowsInBlockOrder) {
       p.solve_weak_homogeneous_rows_in_place(expected.data(), k, zero_mean);
       RowMajor W(n, k);
       for (Index i = 0; i < n; ++i) W.row(i) = B.row((*order)[std::size_t(i)]);
+      // the compatibility sums from the caller's own sweep, or taken by the solve
+      const Eigen::VectorXd* a = p.compatibility_weights();
+      ASSERT_NE(a, nullptr);
+      Eigen::RowVectorXd sums = Eigen::RowVectorXd::Zero(k);
+      for (Index i = 0; i < n; ++i) sums += (*a)[(*order)[std::size_t(i)]] * W.row(i);
+      RowMajor W2 = W;
       p.solve_weak_homogeneous_rows_in_order(W.data(), k, zero_mean);
-      RowMajor X(n, k);
+      p.solve_weak_homogeneous_rows_in_order(W2.data(), k, zero_mean, nullptr, sums.data());
+      RowMajor X(n, k), X2(n, k);
       for (Index i = 0; i < n; ++i) X.row((*order)[std::size_t(i)]) = W.row(i);
+      for (Index i = 0; i < n; ++i) X2.row((*order)[std::size_t(i)]) = W2.row(i);
       const double scale = expected.cwiseAbs().maxCoeff();
       EXPECT_LT((X - expected).cwiseAbs().maxCoeff(), 1e-12 * scale)
           << "k = " << k << (zero_mean ? ", zero mean" : "");
+      EXPECT_LT((X2 - expected).cwiseAbs().maxCoeff(), 1e-12 * scale) << "the caller's sums";
     }
   }
   double x = 0.0;
   EXPECT_THROW(p.solve_weak_homogeneous_rows_in_order(&x, 1), InvalidInput);
   const PoissonSolver dirichlet(L, mass, comps, std::vector<Index>{0, 5});
   EXPECT_EQ(dirichlet.block_order(), nullptr);
+  EXPECT_EQ(dirichlet.compatibility_weights(), nullptr);
   EXPECT_THROW(dirichlet.solve_weak_homogeneous_rows_in_order(&x, 2), InvalidInput);
   const auto two = test::make_tri(test::two_copies(intrinsic::icosphere(4), 3.0, 0));
   const PoissonSolver p2(fem::cotan_laplacian(two), fem::lumped_mass(two),
                          connected_components(two), std::vector<Index>{});
   EXPECT_EQ(p2.block_order(), nullptr);
+  EXPECT_EQ(p2.compatibility_weights(), nullptr);  // two pure-Neumann components
 }
 
 // run_parallel() through its kept helper threads: every job runs once, two jobs really run side

@@ -158,7 +158,8 @@ TEST(SupernodalSolve, RowsOverCholmodSimplicialFactor) {
 // same bits as solve_rows(), on our own factor and on the copy over CHOLMOD's. Given point
 // sources (source_rows), the forward pass runs each supernode on the columns whose source lies
 // below it: the same values, for sources in row order (narrow ranges) and in any order, on a
-// factor solved in one pass and on one split into two bins.
+// factor solved in one pass and on one split into two bins; and a rank-one term subtracted from
+// the right-hand sides by the forward pass gives the solution for the subtracted ones.
 TEST(SupernodalSolve, RowsInBlockOrder) {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   for (const int subdivisions : {12, 50}) {
@@ -199,6 +200,22 @@ TEST(SupernodalSolve, RowsInBlockOrder) {
           EXPECT_LT(rel_diff(X, expected), 1e-13) << what;
         }
       }
+      // a rank-one term folded into the forward pass: the solution for W − rows·sumsᵀ
+      const int k = 9;
+      std::srand(11u);
+      const RowMajor B = Eigen::MatrixXd::Random(n, k);
+      const Eigen::VectorXd rows = Eigen::VectorXd::Random(n);
+      const Eigen::RowVectorXd sums = Eigen::RowVectorXd::Random(k);
+      RowMajor expected = B - rows * sums;
+      chol.solve_rows(expected.data(), k);
+      RowMajor W(n, k);
+      for (Index i = 0; i < n; ++i) W.row(i) = B.row((*order)[std::size_t(i)]);
+      Eigen::VectorXd rows_in_order(n);
+      for (Index i = 0; i < n; ++i) rows_in_order[i] = rows[(*order)[std::size_t(i)]];
+      chol.solve_rows_in_block_order(W.data(), k, nullptr, rows_in_order.data(), sums.data());
+      RowMajor X(n, k);
+      for (Index i = 0; i < n; ++i) X.row((*order)[std::size_t(i)]) = W.row(i);
+      EXPECT_LT(rel_diff(X, expected), 1e-12) << "rank-one term, n = " << n;
       double x = 0.0;
       EXPECT_THROW(chol.solve_rows_in_block_order(&x, 1), InvalidInput);
     }
