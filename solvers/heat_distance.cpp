@@ -556,6 +556,17 @@ void HeatDistanceSolver::Impl::distance_block(const std::vector<Index>& sources,
 
 namespace {
 
+// Calls tile(t0, t1) on the vertices [0, nv) in tiles of 64 (a block's rows to the output's
+// columns: the tile's rows stay in cache while each column is written), two halves of the
+// vertices on two threads when two_threads.
+void over_vertex_tiles(Index nv, bool two_threads, const std::function<void(Index, Index)>& tile) {
+  constexpr Index kTile = 64;
+  run_halves(two_threads, [&](int half) {
+    const Index v1 = nv * (half + 1) / 2;
+    for (Index t0 = nv * half / 2; t0 < v1; t0 += kTile) tile(t0, std::min(v1, t0 + kTile));
+  });
+}
+
 // Columns [0, k) of rows [v0, v1) of a row-major block H: per column the largest finite value
 // (into hx) and the smallest, NaN once any value is NaN (into hn), over the rows whose label is
 // `comp` (every row when label is null). Branch-free per column: vectorized, for the host's
@@ -723,19 +734,13 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
   for (Eigen::Index j = 0; j < k; ++j) {
     shift[std::size_t(j)] = P[fo.row[std::size_t(src[std::size_t(j)])] * k + j];
   }
-  // out = max(φ − φ(source), 0)·scale: rows (in fo's order) to columns (vertex order), in tiles
-  // of vertices, two halves of the vertices on two threads
-  run_halves(two_threads, [&](int half) {
-    constexpr Index kTile = 64;
-    const Index v0 = nv * half / 2, v1 = nv * (half + 1) / 2;
-    for (Index t0 = v0; t0 < v1; t0 += kTile) {
-      const Index t1 = std::min(v1, t0 + kTile);
-      for (Eigen::Index j = 0; j < k; ++j) {
-        double* o = out.col(out_col[std::size_t(j)]).data();
-        const double sh = shift[std::size_t(j)];
-        for (Index v = t0; v < t1; ++v) {
-          o[v] = std::max(P[fo.row[std::size_t(v)] * k + j] - sh, 0.0) * scale;
-        }
+  // out = max(φ − φ(source), 0)·scale: rows (in fo's order) to columns (vertex order)
+  over_vertex_tiles(nv, two_threads, [&](Index t0, Index t1) {
+    for (Eigen::Index j = 0; j < k; ++j) {
+      double* o = out.col(out_col[std::size_t(j)]).data();
+      const double sh = shift[std::size_t(j)];
+      for (Index v = t0; v < t1; ++v) {
+        o[v] = std::max(P[fo.row[std::size_t(v)] * k + j] - sh, 0.0) * scale;
       }
     }
   });
@@ -780,19 +785,13 @@ void HeatDistanceSolver::Impl::distance_block_rows(const std::vector<Index>& sou
   std::vector<double> shift(static_cast<std::size_t>(k));
   for (Eigen::Index j = 0; j < k; ++j) shift[std::size_t(j)] = P[src[std::size_t(j)] * k + j];
   // out = max(φ − φ(source), 0)·scale on the source's component, ∞ elsewhere: rows to columns
-  // in tiles, two halves of the rows on two threads
-  run_halves(two_threads, [&](int half) {
-    constexpr Index kTile = 64;
-    const Index v0 = nv * half / 2, v1 = nv * (half + 1) / 2;
-    for (Index t0 = v0; t0 < v1; t0 += kTile) {
-      const Index t1 = std::min(v1, t0 + kTile);
-      for (Eigen::Index j = 0; j < k; ++j) {
-        double* o = out.col(first + j).data();
-        const Index c = comp[std::size_t(j)];
-        const double sh = shift[std::size_t(j)];
-        for (Index v = t0; v < t1; ++v) {
-          o[v] = comps.label[v] == c ? std::max(P[v * k + j] - sh, 0.0) * scale : kInf;
-        }
+  over_vertex_tiles(nv, two_threads, [&](Index t0, Index t1) {
+    for (Eigen::Index j = 0; j < k; ++j) {
+      double* o = out.col(first + j).data();
+      const Index c = comp[std::size_t(j)];
+      const double sh = shift[std::size_t(j)];
+      for (Index v = t0; v < t1; ++v) {
+        o[v] = comps.label[v] == c ? std::max(P[v * k + j] - sh, 0.0) * scale : kInf;
       }
     }
   });

@@ -163,14 +163,16 @@ class HeatDistanceSolver {
   /// (the block solves add in another order: ~1e-14 relative). The heat and Poisson solves of
   /// up to 32 sources at a time (fewer above 1M vertices: each #V×block matrix stays at 256 MB)
   /// go through each factor together, so a source in a block costs a fraction of a single query
-  /// (BENCHMARKS.md, "Blocks of sources, session 11": 5–6× cheaper from 10k to 1M faces).
+  /// (BENCHMARKS.md, "Blocks of sources, session 12": 7–11× cheaper from 10k to 1M faces).
   /// Without boundary or correction steps, a block of two or more stays in one row-major layout
-  /// through both solves and the divergence; below 40k vertices the first such block also builds
-  /// our solve kernel over CHOLMOD's factors (a copy of their values; with the buffers, a fresh
-  /// solver's first block of 32 on rocketship took 0.039–0.058 s, later ones 0.016 s).
-  /// Memory: the solver keeps three #V×block matrices between calls (two here, one in the solve
-  /// kernel; four on the column path), ~0.4 GB at 500k vertices, on huge pages where the system
-  /// allows, so that later calls take no page faults. A source whose heat
+  /// through both solves and the divergence, and where every vertex is in one component, in the
+  /// solves' own row order (no copies around each solve); below 40k vertices the first such
+  /// block also builds our solve kernel over CHOLMOD's factors (a copy of their values; with the
+  /// buffers, a fresh solver's first block of 32 on rocketship took ~0.03 s, later ones 0.009 s).
+  /// Memory: the solver keeps two or three #V×block matrices between calls (two here, one in
+  /// the solve kernel off the factor-order path; four on the column path), ~0.3 GB at 500k
+  /// vertices, on huge pages where the system allows, so that later calls take no page faults;
+  /// the returned matrix is new memory each call (see the overload below). A source whose heat
   /// underflows somewhere in its component (a long or very large mesh; the report's
   /// unresolved_vertices) is recomputed alone by compute_distance()'s multi-stage path.
   /// @param sources vertex ids in [0, #V), each referenced by a face; repeats give equal columns

@@ -8,12 +8,14 @@
 namespace ifem::solvers {
 
 /// Runs independent jobs on up to min(#jobs, max_threads()) threads (OpenBLAS at one thread each
-/// meanwhile); rethrows the first job's exception after all
-/// have finished. CHOLMOD's supernodal factorization of a surface Laplacian is mostly small dense
-/// blocks where BLAS threads gain little, so two factorizations side by side (BLAS at 1 thread
-/// each) finish well before two in a row (docs/DEPENDENCIES.md: ~1.9 s vs 2.6–3.0 s at 1M faces).
-/// Jobs started from inside another run_parallel() job run one after the other on the calling
-/// thread (the cores are taken already).
+/// meanwhile); rethrows the first job's exception after all have finished. The threads other
+/// than the caller's are helpers kept between calls (a thread start costs ~30 µs; they spin
+/// briefly, then sleep); a call that finds them busy with another caller's jobs, or runs in a
+/// forked child, starts threads of its own. CHOLMOD's supernodal factorization of a surface
+/// Laplacian is mostly small dense blocks where BLAS threads gain little, so two factorizations
+/// side by side (BLAS at 1 thread each) finish well before two in a row (docs/DEPENDENCIES.md: ~1.9
+/// s vs 2.6–3.0 s at 1M faces). Jobs started from inside another run_parallel() job run one after
+/// the other on the calling thread (the cores are taken already).
 void run_parallel(const std::vector<std::function<void()>>& jobs);
 
 /// Runs part(0) and part(1), the two halves of one piece of work: side by side through

@@ -35,12 +35,13 @@ enum class FactorPrecision {
 };
 
 /// Forward and backward substitution with a supernodal factor. The elimination tree is split
-/// once, at construction, into a serial top and two bins of disjoint subtrees of nearly equal
+/// once, at construction, into a top and two bins of disjoint subtrees of nearly equal
 /// work; a solve of k columns runs the bins when the work is large (entries × k ≥
 /// kParallelEntries), on two threads unless the caller is itself one of run_parallel()'s jobs,
-/// else in one pass in column order. The choice depends on the factor and k only, so results
-/// are bitwise the same with one thread or two (but a column may round differently alone than
-/// in a block: the bins sum the top's updates in another order).
+/// else in one pass in column order; the top, after the bins, runs two halves of the columns
+/// side by side when its own work is that large too. The choices depend on the factor and k
+/// only, so results are bitwise the same with one thread or two (but a column may round
+/// differently alone than in a block: the bins sum the top's updates in another order).
 /// solve() is const and may run concurrently from several threads.
 class SupernodalSolver {
  public:
