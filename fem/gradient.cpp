@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numeric>
 #include <string>
 
 #ifdef _OPENMP
@@ -425,6 +426,43 @@ void UnitGradientDivergence::apply_rows(const double* U, Eigen::Index k, double*
   const Index nv = n_vertices_;
   for (Index v = 0; v < nv; ++v) std::fill(div + v * k + j0, div + v * k + j1, 0.0);
   unit_divergence_rows(frame_.data(), tail_.data(), n_faces_, U, k, j0, j1, 0.5 * scale_, div);
+}
+
+UnitGradientDivergence UnitGradientDivergence::relabeled(
+    const std::vector<Index>& new_index) const {
+  const Index nv = n_vertices_;
+  std::vector<char> seen(static_cast<std::size_t>(nv), 0);
+  bool ok = Index(new_index.size()) == nv;
+  for (std::size_t v = 0; ok && v < new_index.size(); ++v) {
+    const Index w = new_index[v];
+    ok = w >= 0 && w < nv && !seen[std::size_t(w)];
+    if (ok) seen[std::size_t(w)] = 1;
+  }
+  if (!ok) {
+    throw InvalidInput("UnitGradientDivergence::relabeled: new_index is not a permutation of [0, " +
+                       std::to_string(nv) + ")");
+  }
+  // faces by their smallest new corner, so that a pass over them sweeps the new order
+  const Index nf = n_faces_;
+  std::vector<Index> lowest(static_cast<std::size_t>(nf)), face(static_cast<std::size_t>(nf));
+  for (Index f = 0; f < nf; ++f) {
+    const Index* t = tail_.data() + 3 * f;
+    lowest[std::size_t(f)] = std::min(
+        {new_index[std::size_t(t[0])], new_index[std::size_t(t[1])], new_index[std::size_t(t[2])]});
+  }
+  std::iota(face.begin(), face.end(), Index(0));
+  std::stable_sort(face.begin(), face.end(), [&](Index a, Index b) {
+    return lowest[std::size_t(a)] < lowest[std::size_t(b)];
+  });
+  UnitGradientDivergence copy = *this;
+  for (Index i = 0; i < nf; ++i) {
+    const std::size_t f = std::size_t(face[std::size_t(i)]);
+    for (int c = 0; c < 3; ++c) {
+      copy.tail_[3 * std::size_t(i) + c] = new_index[std::size_t(tail_[3 * f + c])];
+      copy.frame_[3 * std::size_t(i) + c] = frame_[3 * f + c];
+    }
+  }
+  return copy;
 }
 
 Eigen::Index UnitGradientDivergence::column_split(Eigen::Index k) {

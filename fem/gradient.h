@@ -86,6 +86,14 @@ class UnitGradientDivergence {
   /// 8 (whole vectors, and for k = 32 whole cache lines of a row); k when k < 16 (one thread).
   static Eigen::Index column_split(Eigen::Index k);
 
+  /// The same operator on renumbered vertices: vertex v of the triangulation is vertex
+  /// new_index[v] of the copy, so that apply_rows() reads and writes blocks in another row order
+  /// (e.g. one with better locality than the input's) without copying them. The faces are
+  /// reordered by their smallest new vertex index (stable), so that a pass over them sweeps the
+  /// new order; the sums at each vertex then run in that order (the same values to rounding).
+  /// @throws InvalidInput if new_index is not a permutation of [0, #V)
+  UnitGradientDivergence relabeled(const std::vector<Index>& new_index) const;
+
  private:
   Index n_vertices_ = 0, n_faces_ = 0;
   double scale_ = 1.0;         // 1 / tri.multiplicity()

@@ -177,6 +177,8 @@ struct HeatDistanceSolver::Impl {
   struct FactorOrder {
     std::vector<Index> vertex;  // row i of a block is vertex[i]
     std::vector<Index> row;     // vertex v is row row[v]
+    std::vector<Index> local;   // row i's vertex in a breadth-first order (the divergence's)
+    std::optional<fem::UnitGradientDivergence> div;  // unit_div in that order
   };
   mutable std::once_flag factor_order_once;
   mutable std::unique_ptr<FactorOrder> factor_order_;  // null: no shared order
@@ -556,6 +558,45 @@ void HeatDistanceSolver::Impl::distance_block(const std::vector<Index>& sources,
 
 namespace {
 
+// The vertices in breadth-first order over the faces, from the lowest-numbered vertex of each
+// component: vertex v becomes number order[v] (unreferenced vertices last). Neighbours get
+// nearby numbers (igea: a face's corners 8428 apart on average in file order, 502 here).
+std::vector<Index> breadth_first_order(const IntrinsicTriangulation& tri) {
+  const Index nv = tri.n_vertices(), nf = tri.n_faces();
+  std::vector<Index> start(static_cast<std::size_t>(nv) + 1, 0), next(3 * std::size_t(nf));
+  for (Index c = 0; c < 3 * nf; ++c) ++start[std::size_t(tri.tail(c)) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<Index> fill(start.begin(), start.end() - 1);
+  for (Index c = 0; c < 3 * nf; ++c) {  // each corner: the next corner of its face
+    next[std::size_t(fill[std::size_t(tri.tail(c))]++)] = tri.tail(c - c % 3 + (c % 3 + 1) % 3);
+  }
+  std::vector<Index> order(static_cast<std::size_t>(nv), kInvalidIndex), queue;
+  queue.reserve(std::size_t(nv));
+  Index count = 0;
+  for (Index s = 0; s < nv; ++s) {
+    if (order[std::size_t(s)] != kInvalidIndex ||
+        start[std::size_t(s)] == start[std::size_t(s) + 1]) {
+      continue;
+    }
+    order[std::size_t(s)] = count++;
+    queue.push_back(s);
+    for (std::size_t q = queue.size() - 1; q < queue.size(); ++q) {
+      const Index v = queue[q];
+      for (Index e = start[std::size_t(v)]; e < start[std::size_t(v) + 1]; ++e) {
+        const Index w = next[std::size_t(e)];
+        if (order[std::size_t(w)] == kInvalidIndex) {
+          order[std::size_t(w)] = count++;
+          queue.push_back(w);
+        }
+      }
+    }
+  }
+  for (Index& o : order) {
+    if (o == kInvalidIndex) o = count++;
+  }
+  return order;
+}
+
 // Calls tile(t0, t1) on the vertices [0, nv) in tiles of 64 (a block's rows to the output's
 // columns: the tile's rows stay in cache while each column is written), two halves of the
 // vertices on two threads when two_threads.
@@ -611,7 +652,7 @@ void HeatDistanceSolver::Impl::heat_extremes(const double* H, Eigen::Index k,
         const Index r1 = std::min(v1, r0 + kRows);
         extremes_of_rows(H, r0, r1, k, label, comp[0], hx.data(), hn.data());
         for (Index i = r0; order && i < r1; ++i) {
-          std::copy_n(H + i * k, k, to + order->vertex[std::size_t(i)] * k);
+          std::copy_n(H + i * k, k, to + order->local[std::size_t(i)] * k);
         }
       }
       return;
@@ -668,8 +709,15 @@ const HeatDistanceSolver::Impl::FactorOrder* HeatDistanceSolver::Impl::factor_or
     auto fo = std::make_unique<FactorOrder>();
     fo->vertex.assign(heat_order->begin(), heat_order->end());
     fo->row.resize(fo->vertex.size());
-    for (std::size_t i = 0; i < fo->vertex.size(); ++i)
+    for (std::size_t i = 0; i < fo->vertex.size(); ++i) {
       fo->row[std::size_t(fo->vertex[i])] = Index(i);
+    }
+    const std::vector<Index> near = breadth_first_order(tri);
+    fo->local.resize(fo->vertex.size());
+    for (std::size_t i = 0; i < fo->vertex.size(); ++i) {
+      fo->local[i] = near[std::size_t(fo->vertex[i])];
+    }
+    fo->div.emplace(unit_div->relabeled(near));
     factor_order_ = std::move(fo);
   });
   return factor_order_.get();
@@ -707,7 +755,7 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
   // the divergence in vertex order (into H, free now), then back to the factor's order (into P)
   const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
   run_halves(two_threads && mid < k, [&](int half) {
-    unit_div->apply_rows(P, k, H, half == 0 ? 0 : mid, half == 0 ? mid : k);
+    fo.div->apply_rows(P, k, H, half == 0 ? 0 : mid, half == 0 ? mid : k);
   });
   // with the Poisson solve's compatibility sums in the same sweep (halves summed as it would)
   const Eigen::VectorXd* a = poisson->compatibility_weights();
@@ -717,7 +765,7 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     double* __restrict sum = half_sum[half].data();
     for (Index i = nv * half / 2; i < nv * (half + 1) / 2; ++i) {
       const Index v = fo.vertex[std::size_t(i)];
-      const double* __restrict h = H + v * k;
+      const double* __restrict h = H + fo.local[std::size_t(i)] * k;
       double* __restrict p = P + i * k;
       const double av = a ? (*a)[v] : 0.0;
       for (Eigen::Index j = 0; j < k; ++j) {

@@ -444,6 +444,42 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRowsMatchColumns) {
   EXPECT_THROW(div.apply_rows(&x, 1, &x, 1, 0), InvalidInput);
 }
 
+// relabeled(): the same divergence on renumbered vertices (the heat method's blocks use a
+// breadth-first order),
+// row for row to rounding (its faces are reordered, so the sums at a vertex run in another
+// order); anything but a permutation is refused.
+TEST(SolversHeatDistance, UnitGradientDivergenceRelabeled) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const auto tri = test::make_tri(test::jittered(intrinsic::icosphere(12), 0.02));
+  const Index nv = tri.n_vertices();
+  const fem::UnitGradientDivergence div(tri);
+  std::vector<Index> new_index(static_cast<std::size_t>(nv));
+  for (Index v = 0; v < nv; ++v) new_index[std::size_t(v)] = (v * 37 + 11) % nv;  // nv odd
+  ASSERT_EQ(std::set<Index>(new_index.begin(), new_index.end()).size(), std::size_t(nv));
+  const fem::UnitGradientDivergence moved = div.relabeled(new_index);
+  const int k = 19;
+  RowMajor U(nv, k);
+  for (Index v = 0; v < nv; ++v) {
+    for (int j = 0; j < k; ++j) U(v, j) = std::exp(-0.01 * double((v * (j + 2)) % nv));
+  }
+  RowMajor U_moved(nv, k), expected(nv, k), out(nv, k);
+  for (Index v = 0; v < nv; ++v) U_moved.row(new_index[std::size_t(v)]) = U.row(v);
+  div.apply_rows(U.data(), k, expected.data());
+  moved.apply_rows(U_moved.data(), k, out.data());
+  const double scale = expected.cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 0.0);
+  for (Index v = 0; v < nv; ++v) {
+    EXPECT_LT((out.row(new_index[std::size_t(v)]) - expected.row(v)).cwiseAbs().maxCoeff(),
+              1e-13 * scale)
+        << "vertex " << v;
+  }
+  std::vector<Index> bad = new_index;
+  bad[1] = bad[0];
+  EXPECT_THROW(div.relabeled(bad), InvalidInput);
+  bad.pop_back();
+  EXPECT_THROW(div.relabeled(bad), InvalidInput);
+}
+
 // apply_rows() on column ranges (the caller's threads): two ranges split at column_split(k)
 // give the bits of the whole call, and a range leaves the other columns alone.
 TEST(SolversHeatDistance, UnitGradientDivergenceRowRanges) {
