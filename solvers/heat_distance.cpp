@@ -171,9 +171,10 @@ struct HeatDistanceSolver::Impl {
   };
   // The solves' own row order, where the heat's and the Poisson factor's kernels share it (one
   // analysis: one fill-reducing order): a block kept in it through both solves needs no row
-  // copies in and out of each (1M faces, k = 32: 256 MB a sweep). The divergence runs in vertex
-  // order between a copy out (fused with the heat's extremes) and a copy back: on rows in the
-  // AMD order its accesses scatter (docs/decisions.md, "Blocks in the factor's order").
+  // copies in and out of each (1M faces, k = 32: 256 MB a sweep). The divergence runs in a
+  // breadth-first vertex order between a copy out (fused with the heat's extremes) and a copy
+  // back (fused with the Poisson solve's compatibility sums): on rows in the AMD order its
+  // accesses scatter (docs/decisions.md, "Blocks of sources, session 12").
   struct FactorOrder {
     std::vector<Index> vertex;  // row i of a block is vertex[i]
     std::vector<Index> row;     // vertex v is row row[v]
@@ -214,8 +215,8 @@ struct HeatDistanceSolver::Impl {
   // Per column j of a row-major heat block H (#V × k): its largest finite value (mx) and its
   // smallest, NaN if any is NaN (mn), over the vertices of component comp[j]; two fixed halves
   // of the rows (on two threads when two_threads), merged. With `order` (every vertex in one
-  // component: the rows are in that factor order), each row is also copied to its vertex's row
-  // of `to`, in the same sweep.
+  // component: the rows are in that factor order), row i is also copied to row order->local[i]
+  // of `to` (the divergence's order), in the same sweep.
   void heat_extremes(const double* H, Eigen::Index k, const std::vector<Index>& comp,
                      bool two_threads, std::vector<double>& mx, std::vector<double>& mn,
                      const FactorOrder* order = nullptr, double* to = nullptr) const;
@@ -727,8 +728,8 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     const FactorOrder& fo, const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
     Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps, BlockScratch& scratch) const {
   const Index nv = tri.n_vertices();
-  double* H = scratch.heat_rows.data();  // deltas, heat (fo's order); divergences (vertices)
-  double* P = scratch.phi_rows.data();   // heat (vertex order); divergences, φ (fo's order)
+  double* H = scratch.heat_rows.data();  // deltas, heat (fo's order); divergences (fo.local's)
+  double* P = scratch.phi_rows.data();   // heat (fo.local's order); divergences, φ (fo's)
   const bool two_threads = std::int64_t(nv) * k >= kParallelBlockValues;
   run_halves(two_threads,
              [&](int half) { std::fill(H + nv * half / 2 * k, H + nv * (half + 1) / 2 * k, 0.0); });
@@ -748,11 +749,11 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     H[source_row[j] * k + Index(j)] = 1.0;
   }
   heat_neumann->solve_weak_homogeneous_rows_in_order(H, k, true, source_row.data());
-  // the heat's extremes (one component: over every row), and the heat to vertex order (into P,
-  // free until the divergence) in the same sweep
+  // the heat's extremes (one component: over every row), and the heat to the divergence's order
+  // (into P, free until the divergence) in the same sweep
   std::vector<double> mx, mn;
   heat_extremes(H, k, comp, two_threads, mx, mn, &fo, P);
-  // the divergence in vertex order (into H, free now), then back to the factor's order (into P)
+  // the divergence in its order (into H, free now), then back to the factor's order (into P)
   const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
   run_halves(two_threads && mid < k, [&](int half) {
     fo.div->apply_rows(P, k, H, half == 0 ? 0 : mid, half == 0 ? mid : k);
