@@ -238,6 +238,160 @@ template <int C>
   lower_transpose_solve_chunk<C>(b, Y, k);
 }
 
+// The same kernels on NV chunks of 8 columns side by side (NV = 2 or 4: a row's 16 or 32
+// columns at once). Per lane the operations and their order are those of forward_chunk<8> and
+// backward_chunk<8>, so a column gets the same bits in these as in a chunk of 8 (test
+// SupernodalSolve.ColumnBitsDoNotDependOnTheKernel); what
+// changes is that the NV chunks' independent chains overlap (the triangular solves are latency
+// chains through memory) and that each gathered or scattered row is read whole at once rather
+// than one 64-byte line per chunk pass. Needs 4·NV + NV vector registers: used where the host
+// has AVX-512's 32 (wide_kernels()).
+template <int NV>
+[[gnu::always_inline]] inline void lower_solve_wide(const DenseBlock& b, double* Y, int k) {
+  using V = typename Lanes<8>::V;
+  for (int j = 0; j < b.nscol; ++j) {
+    const double* col = b.L + Int64(j) * b.ld;
+    double* yj = Y + Int64(j) * k;
+    const double inv = 1.0 / col[j];
+    V y[NV];
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) {
+      y[v] = load<8>(yj + 8 * v) * inv;
+      store<8>(yj + 8 * v, y[v]);
+    }
+    for (int i = j + 1; i < b.nscol; ++i) {
+      double* yi = Y + Int64(i) * k;
+      const double l = col[i];
+#pragma GCC unroll 4
+      for (int v = 0; v < NV; ++v) store<8>(yi + 8 * v, load<8>(yi + 8 * v) - l * y[v]);
+    }
+  }
+}
+
+template <int NV>
+[[gnu::always_inline]] inline void lower_transpose_solve_wide(const DenseBlock& b, double* Y,
+                                                              int k) {
+  using V = typename Lanes<8>::V;
+  for (int j = b.nscol - 1; j >= 0; --j) {
+    const double* col = b.L + Int64(j) * b.ld;
+    double* yj = Y + Int64(j) * k;
+    V acc[NV];
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) acc[v] = load<8>(yj + 8 * v);
+    for (int i = j + 1; i < b.nscol; ++i) {
+      const double* yi = Y + Int64(i) * k;
+      const double l = col[i];
+#pragma GCC unroll 4
+      for (int v = 0; v < NV; ++v) acc[v] -= l * load<8>(yi + 8 * v);
+    }
+    const double inv = 1.0 / col[j];
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) store<8>(yj + 8 * v, acc[v] * inv);
+  }
+}
+
+template <int NV>
+[[gnu::always_inline]] inline void forward_wide(const DenseBlock& b, double* W, int k, int c0,
+                                                const TopAccumulator& top) {
+  using V = typename Lanes<8>::V;
+  double* Y = W + Int64(b.k1) * k + c0;
+  lower_solve_wide<NV>(b, Y, k);
+  const int m = b.ld - b.nscol;
+  const double* L21 = b.L + b.nscol;
+  int r = 0;
+  for (; r + 4 <= m; r += 4) {
+    V a[4][NV] = {};
+    for (int j = 0; j < b.nscol; ++j) {
+      const double* l = L21 + Int64(j) * b.ld + r;
+      const double* yj = Y + Int64(j) * k;
+#pragma GCC unroll 4
+      for (int v = 0; v < NV; ++v) {
+        const V y = load<8>(yj + 8 * v);
+        a[0][v] += l[0] * y;
+        a[1][v] += l[1] * y;
+        a[2][v] += l[2] * y;
+        a[3][v] += l[3] * y;
+      }
+    }
+#pragma GCC unroll 4
+    for (int q = 0; q < 4; ++q) {
+      double* dst = update_row(top, W, b.below[r + q], k) + c0;
+#pragma GCC unroll 4
+      for (int v = 0; v < NV; ++v) store<8>(dst + 8 * v, load<8>(dst + 8 * v) - a[q][v]);
+    }
+  }
+  for (; r < m; ++r) {
+    V acc[NV] = {};
+    for (int j = 0; j < b.nscol; ++j) {
+      const double l = L21[Int64(j) * b.ld + r];
+      const double* yj = Y + Int64(j) * k;
+#pragma GCC unroll 4
+      for (int v = 0; v < NV; ++v) acc[v] += l * load<8>(yj + 8 * v);
+    }
+    double* dst = update_row(top, W, b.below[r], k) + c0;
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) store<8>(dst + 8 * v, load<8>(dst + 8 * v) - acc[v]);
+  }
+}
+
+template <int NV>
+[[gnu::always_inline]] inline void backward_wide(const DenseBlock& b, double* W, int k, int c0) {
+  using V = typename Lanes<8>::V;
+  double* Y = W + Int64(b.k1) * k + c0;
+  const int m = b.ld - b.nscol;
+  const double* L21 = b.L + b.nscol;
+  int j = 0;
+  for (; j + 4 <= b.nscol; j += 4) {
+    const double* l0 = L21 + Int64(j) * b.ld;
+    const double* l1 = l0 + b.ld;
+    const double* l2 = l1 + b.ld;
+    const double* l3 = l2 + b.ld;
+    V a[4][NV] = {};
+    for (int r = 0; r < m; ++r) {
+      const double* wr = W + Int64(b.below[r]) * k + c0;
+#pragma GCC unroll 4
+      for (int v = 0; v < NV; ++v) {
+        const V w = load<8>(wr + 8 * v);
+        a[0][v] += l0[r] * w;
+        a[1][v] += l1[r] * w;
+        a[2][v] += l2[r] * w;
+        a[3][v] += l3[r] * w;
+      }
+    }
+#pragma GCC unroll 4
+    for (int q = 0; q < 4; ++q) {
+      double* yj = Y + Int64(j + q) * k;
+#pragma GCC unroll 4
+      for (int v = 0; v < NV; ++v) store<8>(yj + 8 * v, load<8>(yj + 8 * v) - a[q][v]);
+    }
+  }
+  for (; j < b.nscol; ++j) {
+    const double* l = L21 + Int64(j) * b.ld;
+    V acc[NV] = {};
+    for (int r = 0; r < m; ++r) {
+      const double* wr = W + Int64(b.below[r]) * k + c0;
+#pragma GCC unroll 4
+      for (int v = 0; v < NV; ++v) acc[v] += l[r] * load<8>(wr + 8 * v);
+    }
+    double* yj = Y + Int64(j) * k;
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) store<8>(yj + 8 * v, load<8>(yj + 8 * v) - acc[v]);
+  }
+  lower_transpose_solve_wide<NV>(b, Y, k);
+}
+
+// Whether the wide kernels pay: they hold 4·NV + NV vectors of 8 doubles, which AVX-512's 32
+// registers do; with AVX2's 16 (two per vector) they would spill.
+bool wide_kernels() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && \
+    !defined(IFEM_LANES_NO_CLONES)
+  static const bool wide = __builtin_cpu_supports("avx512f");
+  return wide;
+#else
+  return false;
+#endif
+}
+
 // A range [begin, end) of the k columns (a forward pass may skip columns that are zero in a
 // supernode's rows and below: point sources outside its subtree).
 struct Columns {
@@ -251,11 +405,16 @@ struct RankOne {
   const double* sums = nullptr;
 };
 
-// The chunk kernels over columns [c.begin, c.end) of the k: chunks of 8, then 4, 2 and 1 for
-// the rest.
+// The chunk kernels over columns [c.begin, c.end) of the k: on AVX-512 hosts 32 and then 16 at
+// once (wide: a 1M-face block of 32 sources 0.376 → 0.333 s, BENCHMARKS.md, "Blocks of sources,
+// session 13"), then chunks of 8, then 4, 2 and 1 for the rest.
 IFEM_HOST_CLONES void forward_small(const DenseBlock& b, double* W, int k,
                                     const TopAccumulator& top, Columns c) {
   int c0 = c.begin;
+  if (wide_kernels()) {
+    for (; c0 + 32 <= c.end; c0 += 32) forward_wide<4>(b, W, k, c0, top);
+    if (c0 + 16 <= c.end) forward_wide<2>(b, W, k, c0, top), c0 += 16;
+  }
   for (; c0 + 8 <= c.end; c0 += 8) forward_chunk<8>(b, W, k, c0, top);
   if (c0 + 4 <= c.end) forward_chunk<4>(b, W, k, c0, top), c0 += 4;
   if (c0 + 2 <= c.end) forward_chunk<2>(b, W, k, c0, top), c0 += 2;
@@ -264,6 +423,10 @@ IFEM_HOST_CLONES void forward_small(const DenseBlock& b, double* W, int k,
 
 IFEM_HOST_CLONES void backward_small(const DenseBlock& b, double* W, int k, Columns c) {
   int c0 = c.begin;
+  if (wide_kernels()) {
+    for (; c0 + 32 <= c.end; c0 += 32) backward_wide<4>(b, W, k, c0);
+    if (c0 + 16 <= c.end) backward_wide<2>(b, W, k, c0), c0 += 16;
+  }
   for (; c0 + 8 <= c.end; c0 += 8) backward_chunk<8>(b, W, k, c0);
   if (c0 + 4 <= c.end) backward_chunk<4>(b, W, k, c0), c0 += 4;
   if (c0 + 2 <= c.end) backward_chunk<2>(b, W, k, c0), c0 += 2;

@@ -58,8 +58,8 @@ const Section kSections[] = {
     {"batch", "heat distances from k = 1, 8, 32, 128 sources at once vs one query per source",
      ifem::bench::batch},
     {"query",
-     "single heat queries on icosphere(--n 224) or --mesh FILE (--repeat 21 [--mixed]), for "
-     "profilers",
+     "heat queries on icosphere(--n 224) or --mesh FILE, --sources K at once (--repeat 21 "
+     "[--mixed] [--kept: into a matrix kept between calls]), for profilers",
      ifem::bench::query},
     {"field",
      "smoothest and aligned direction fields, n = 1 and 4, 10k..1M faces, rocketship, igea",

@@ -107,7 +107,7 @@ TEST(SupernodalSolve, RowsLayoutEveryChunkWidth) {
   for (const Kernel kernel : {Kernel::kSupernodalDouble, Kernel::kSupernodalSingle}) {
     const CholeskySolver chol(A, kernel_options(kernel));
     const bool single = kernel == Kernel::kSupernodalSingle;
-    for (const int k : {2, 3, 7, 8, 15, 32, 33}) {
+    for (const int k : {2, 3, 7, 8, 15, 16, 24, 32, 33}) {
       std::srand(unsigned(k));
       const Eigen::MatrixXd B = A * Eigen::MatrixXd::Random(A.rows(), k);
       const Eigen::MatrixXd Xr = reference.solve(B);
@@ -126,6 +126,33 @@ TEST(SupernodalSolve, RowsLayoutEveryChunkWidth) {
   reference.solve_rows(x.data(), 1);
   EXPECT_TRUE(x == reference.solve(Eigen::VectorXd(B.col(0))));
   EXPECT_THROW(reference.solve_rows(X.data(), -1), InvalidInput);
+}
+
+// A column's bits do not depend on which small-supernode kernel solves it: the kernels for 32 and
+// 16 columns at once (AVX-512 hosts) and the chunks of 8 run the same operations per column. In
+// one solve (one split of the tree, one order of the bins' sums) of a block whose later columns
+// repeat its first ones, the repeats go through other kernels and must come out bitwise equal:
+// k = 48 puts columns 0–15 again at 32–47 (16 at once), k = 40 puts 8–15 again at 32–39 (a chunk
+// of 8). (Narrower chunks are not compared: supernodes over 64 columns go through BLAS, whose
+// rounding may depend on the number of columns; a column may round differently alone.)
+TEST(SupernodalSolve, ColumnBitsDoNotDependOnTheKernel) {
+  const fem::SparseMatrix A = mass_plus_laplacian(50);
+  for (const Kernel kernel : {Kernel::kSupernodalDouble, Kernel::kSupernodalSingle}) {
+    const CholeskySolver chol(A, kernel_options(kernel));
+    std::srand(7u);
+    const Eigen::MatrixXd R = A * Eigen::MatrixXd::Random(A.rows(), 32);
+    Eigen::MatrixXd B48(A.rows(), 48), B40(A.rows(), 40);
+    B48 << R, R.leftCols(16);
+    B40 << R, R.middleCols(8, 8);
+    const Eigen::MatrixXd X48 = solve_rows_on_one_and_two_threads(chol, B48);
+    EXPECT_TRUE(X48.rightCols(16) == X48.leftCols(16)) << "16 at once against 32";
+    const Eigen::MatrixXd X40 = solve_rows_on_one_and_two_threads(chol, B40);
+    EXPECT_TRUE(X40.rightCols(8) == X40.middleCols(8, 8)) << "a chunk of 8 against 32";
+    EXPECT_TRUE(X40.leftCols(32) == X48.leftCols(32)) << "the same 32 columns, other blocks";
+    // and the block is solved: A X = B
+    EXPECT_LT((A * X48 - B48).norm() / B48.norm(),
+              kernel == Kernel::kSupernodalSingle ? 1e-5 : 1e-12);
+  }
 }
 
 // Where CHOLMOD holds a simplicial factor, solve_rows() with several columns runs our kernel over
