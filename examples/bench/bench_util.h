@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <functional>
 #include <vector>
 
 #include "fem/operators.h"
@@ -62,6 +63,24 @@ double time_median(int repeat, F&& f) {
     t.push_back(seconds_now() - t0);
   }
   return median(t);
+}
+
+/// Medians of several functions timed in turn, `repeat` rounds of one call each: the functions
+/// share the machine's state of the moment, so a ratio of two medians does not move with the
+/// drift of a shared machine between one measurement and the next.
+inline std::vector<double> time_medians_interleaved(int repeat,
+                                                    const std::vector<std::function<void()>>& fs) {
+  std::vector<std::vector<double>> t(fs.size());
+  for (int r = 0; r < repeat; ++r) {
+    for (std::size_t i = 0; i < fs.size(); ++i) {
+      const double t0 = seconds_now();
+      fs[i]();
+      t[i].push_back(seconds_now() - t0);
+    }
+  }
+  std::vector<double> m;
+  for (auto& ti : t) m.push_back(median(ti));
+  return m;
 }
 
 /// Peak resident set size of this process so far, in MiB (VmHWM from /proc/self/status).
