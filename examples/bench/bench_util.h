@@ -5,8 +5,8 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
-#include <string>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "fem/operators.h"
