@@ -58,8 +58,9 @@ void batch_rows(const std::string& name, const std::vector<Triangle>& faces, con
   for (const Index k : {1, 8, 32, 128}) {
     const std::vector<Index> src = spread_sources(k, nv);
     // the same batch also written into a matrix kept between calls (no fresh memory to fault
-    // in); one query, the batch and the kept batch timed in turn, round by round, so that their
-    // ratios compare the same moments of a shared machine
+    // in); one query, the batch and the kept batch timed in turn, round by round (each after an
+    // untimed call of its own), so that their ratios compare the same moments of a shared
+    // machine
     Eigen::MatrixXd kept;
     solver.compute_distances(src, kept);
     const std::vector<double> t = time_medians_interleaved(
@@ -211,7 +212,8 @@ int batch(int argc, char** argv) {
   }
   std::printf(
       "\ngain = k × (1 query s) / (batch s): how many times cheaper a source is in a batch (one\n"
-      "query, the batch and the kept batch timed in turn, round by round: medians of each);\n"
+      "query, the batch and the kept batch timed in turn, round by round, each after an untimed\n"
+      "call of its own: medians of each);\n"
       "kept out: compute_distances(sources, out) into a matrix kept between calls (a fresh\n"
       "#V × k matrix is zeroed by the system on first touch)\n");
   std::printf("\n## one solve with k right-hand sides (forward + backward), M + L factor\n\n");

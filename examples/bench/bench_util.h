@@ -65,14 +65,17 @@ double time_median(int repeat, F&& f) {
   return median(t);
 }
 
-/// Medians of several functions timed in turn, `repeat` rounds of one call each: the functions
-/// share the machine's state of the moment, so a ratio of two medians does not move with the
-/// drift of a shared machine between one measurement and the next.
+/// Medians of several functions timed in turn, `repeat` rounds; in each round every function
+/// runs once untimed (its steady state: caches, helper threads, pages as its own previous call
+/// left them, not as the other function did) and then once timed. The functions share the
+/// machine's state of the moment, so a ratio of two medians does not move with the drift of a
+/// shared machine between one measurement and the next.
 inline std::vector<double> time_medians_interleaved(int repeat,
                                                     const std::vector<std::function<void()>>& fs) {
   std::vector<std::vector<double>> t(fs.size());
   for (int r = 0; r < repeat; ++r) {
     for (std::size_t i = 0; i < fs.size(); ++i) {
+      fs[i]();
       const double t0 = seconds_now();
       fs[i]();
       t[i].push_back(seconds_now() - t0);
