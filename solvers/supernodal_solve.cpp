@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <numeric>
 #include <string>
@@ -66,7 +67,8 @@ const double* block_values(const Block<Real>& b, double* scratch) {
 // buffer on every call, and on the mean supernode (7.7 columns × 28 rows) the calls cost more
 // than the arithmetic (one 1M-face query: 0.185 s with BLAS, docs/decisions.md). The loops read a
 // float factor directly, converting each entry as it is used. Several right-hand sides on such
-// supernodes go through the chunk kernels further down (forward_small, backward_small).
+// supernodes, and on AVX-512 hosts on every supernode, go through the chunk kernels further down
+// (forward_small, backward_small; block_kernel_limit()).
 constexpr int kSmallSupernode = 64;
 
 // Σ a[i]·b[i] over n entries, in four independent sums (a fixed order: the same bits on every
@@ -392,6 +394,18 @@ bool wide_kernels() {
 #endif
 }
 
+// The widest supernode (columns) that several right-hand sides solve through our loops rather
+// than BLAS dtrsm + dgemm: every one where the wide kernels run. OpenBLAS packs both operands
+// on every call, and a supernode's block is used for only the k columns of one pass: igea, a
+// block of 32 sources spent 20 % of its samples in dgemm and its packing routines; with every
+// supernode in our loops, in one process taking turns, 1M faces 0.337 -> 0.299 s (median of 9)
+// and 0.344 -> 0.324 (11), 100k 0.0287 -> 0.0270 s, igea 0.0856 -> 0.0819 s, rocketship
+// 0.0090 -> 0.0089 s. Elsewhere (no AVX-512) up to kSmallSupernode, as before.
+int block_kernel_limit() {
+  static const int limit = wide_kernels() ? std::numeric_limits<int>::max() : kSmallSupernode;
+  return limit;
+}
+
 // A range [begin, end) of the k columns (a forward pass may skip columns that are zero in a
 // supernode's rows and below: point sources outside its subtree).
 struct Columns {
@@ -436,8 +450,9 @@ IFEM_HOST_CLONES void backward_small(const DenseBlock& b, double* W, int k, Colu
 // Forward substitution of one supernode on W (n × k, row-major), as CHOLMOD's own supernodal
 // solve does: solve with the diagonal block, then subtract the off-diagonal block's product from
 // the rows below (T: scratch, m × k; S: scratch for a converted float block). Small supernodes go
-// through the loops above (one right-hand side) or the chunk kernels (several), larger ones
-// through BLAS; several right-hand sides on columns c only (the others stay as they are).
+// through the loops above (one right-hand side), supernodes up to block_kernel_limit() through
+// the chunk kernels (several), larger ones through BLAS; several right-hand sides on columns c
+// only (the others stay as they are).
 template <class Real>
 void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
                    const TopAccumulator& top, Columns c, const RankOne& shift = {}) {
@@ -458,7 +473,7 @@ void forward_block(const Block<Real>& b, double* W, int k, double* T, double* S,
     cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, b.nscol, L, ld, Y, 1);
     if (m == 0) return;
     cblas_dgemv(CblasColMajor, CblasNoTrans, m, b.nscol, 1.0, L + b.nscol, ld, Y, 1, 0.0, T, 1);
-  } else if (b.nscol <= kSmallSupernode) {
+  } else if (b.nscol <= block_kernel_limit()) {
     forward_small(DenseBlock{L, b.R + b.nscol, ld, b.nscol, b.k1}, W, k, top, c);
     return;
   } else {
@@ -492,7 +507,7 @@ void backward_block(const Block<Real>& b, double* W, int k, double* G, double* S
     return;
   }
   const double* L = block_values(b, S);
-  if (k > 1 && b.nscol <= kSmallSupernode) {
+  if (k > 1 && b.nscol <= block_kernel_limit()) {
     backward_small(DenseBlock{L, b.R + b.nscol, ld, b.nscol, b.k1}, W, k, c);
     return;
   }
