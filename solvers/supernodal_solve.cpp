@@ -132,33 +132,60 @@ struct DenseBlock {
   int ld, nscol, k1;
 };
 
-// y_j ← y_j / L_jj, then y_i −= L_ij y_j below it, for C columns of the supernode's rows.
-template <int C>
-[[gnu::always_inline]] inline void lower_solve_chunk(const DenseBlock& b, double* Y, int k) {
+// The kernels work on NV chunks of C columns side by side (C = 8, 4, 2, 1 lanes per vector; NV
+// = 1, or 2 and 4 for C = 8 on AVX-512 hosts: a row's 16 or 32 columns at once). Per lane the
+// operations and their order do not depend on C or NV, so a column gets the same bits in any of
+// them (test SupernodalSolve.ColumnBitsDoNotDependOnTheKernel). With NV > 1 the chunks'
+// independent chains overlap (the triangular solves are latency chains through memory) and each
+// gathered or scattered row is read whole at once rather than one 64-byte line per chunk pass:
+// a 1M-face block of 32 sources 0.376 → 0.333 s (BENCHMARKS.md, "Blocks of sources, session
+// 13"). They hold 4·NV + NV vectors: NV > 1 only where AVX-512's 32 registers do
+// (wide_kernels()).
+
+// y_j ← y_j / L_jj, then y_i −= L_ij y_j below it, for the chunks' columns of the supernode's
+// rows.
+template <int C, int NV>
+[[gnu::always_inline]] inline void lower_solve_chunks(const DenseBlock& b, double* Y, int k) {
   using V = typename Lanes<C>::V;
   for (int j = 0; j < b.nscol; ++j) {
     const double* col = b.L + Int64(j) * b.ld;
     double* yj = Y + Int64(j) * k;
-    const V y = load<C>(yj) * (1.0 / col[j]);
-    store<C>(yj, y);
+    const double inv = 1.0 / col[j];
+    V y[NV];
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) {
+      y[v] = load<C>(yj + C * v) * inv;
+      store<C>(yj + C * v, y[v]);
+    }
     for (int i = j + 1; i < b.nscol; ++i) {
       double* yi = Y + Int64(i) * k;
-      store<C>(yi, load<C>(yi) - col[i] * y);
+      const double l = col[i];
+#pragma GCC unroll 4
+      for (int v = 0; v < NV; ++v) store<C>(yi + C * v, load<C>(yi + C * v) - l * y[v]);
     }
   }
 }
 
-// L11ᵀ X = B for C columns, from the last row up.
-template <int C>
-[[gnu::always_inline]] inline void lower_transpose_solve_chunk(const DenseBlock& b, double* Y,
-                                                               int k) {
+// L11ᵀ X = B for the chunks' columns, from the last row up.
+template <int C, int NV>
+[[gnu::always_inline]] inline void lower_transpose_solve_chunks(const DenseBlock& b, double* Y,
+                                                                int k) {
   using V = typename Lanes<C>::V;
   for (int j = b.nscol - 1; j >= 0; --j) {
     const double* col = b.L + Int64(j) * b.ld;
     double* yj = Y + Int64(j) * k;
-    V acc = load<C>(yj);
-    for (int i = j + 1; i < b.nscol; ++i) acc -= col[i] * load<C>(Y + Int64(i) * k);
-    store<C>(yj, acc * (1.0 / col[j]));
+    V acc[NV];
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) acc[v] = load<C>(yj + C * v);
+    for (int i = j + 1; i < b.nscol; ++i) {
+      const double* yi = Y + Int64(i) * k;
+      const double l = col[i];
+#pragma GCC unroll 4
+      for (int v = 0; v < NV; ++v) acc[v] -= l * load<C>(yi + C * v);
+    }
+    const double inv = 1.0 / col[j];
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) store<C>(yj + C * v, acc[v] * inv);
   }
 }
 
@@ -167,137 +194,14 @@ inline double* update_row(const TopAccumulator& top, double* W, int i, int k) {
   return top.acc && i >= top.col_end ? top.acc + Int64(top.top_index[i]) * k : W + Int64(i) * k;
 }
 
-// Forward pass of one supernode on C columns (Y: its rows in the chunk): solve with L11, then
-// W[below[r]] −= L21[r, :] Y, four rows of L21 at a time.
-template <int C>
-[[gnu::always_inline]] inline void forward_chunk(const DenseBlock& b, double* W, int k, int c0,
-                                                 const TopAccumulator& top) {
+// Forward pass of one supernode on the chunks from column c0 (Y: its rows there): solve with
+// L11, then W[below[r]] −= L21[r, :] Y, four rows of L21 at a time.
+template <int C, int NV>
+[[gnu::always_inline]] inline void forward_chunks(const DenseBlock& b, double* W, int k, int c0,
+                                                  const TopAccumulator& top) {
   using V = typename Lanes<C>::V;
   double* Y = W + Int64(b.k1) * k + c0;
-  lower_solve_chunk<C>(b, Y, k);
-  const int m = b.ld - b.nscol;
-  const double* L21 = b.L + b.nscol;
-  int r = 0;
-  for (; r + 4 <= m; r += 4) {
-    V a0 = {}, a1 = {}, a2 = {}, a3 = {};
-    for (int j = 0; j < b.nscol; ++j) {
-      const double* l = L21 + Int64(j) * b.ld + r;
-      const V y = load<C>(Y + Int64(j) * k);
-      a0 += l[0] * y;
-      a1 += l[1] * y;
-      a2 += l[2] * y;
-      a3 += l[3] * y;
-    }
-    const V acc[4] = {a0, a1, a2, a3};
-    for (int q = 0; q < 4; ++q) {
-      double* dst = update_row(top, W, b.below[r + q], k) + c0;
-      store<C>(dst, load<C>(dst) - acc[q]);
-    }
-  }
-  for (; r < m; ++r) {
-    V acc = {};
-    for (int j = 0; j < b.nscol; ++j) acc += L21[Int64(j) * b.ld + r] * load<C>(Y + Int64(j) * k);
-    double* dst = update_row(top, W, b.below[r], k) + c0;
-    store<C>(dst, load<C>(dst) - acc);
-  }
-}
-
-// Backward pass of one supernode on C columns: Y_j −= Σ_r L21[r, j] W[below[r]] (the rows below
-// are final), four columns of L21 at a time, then solve with L11ᵀ.
-template <int C>
-[[gnu::always_inline]] inline void backward_chunk(const DenseBlock& b, double* W, int k, int c0) {
-  using V = typename Lanes<C>::V;
-  double* Y = W + Int64(b.k1) * k + c0;
-  const int m = b.ld - b.nscol;
-  const double* L21 = b.L + b.nscol;
-  int j = 0;
-  for (; j + 4 <= b.nscol; j += 4) {
-    const double* l0 = L21 + Int64(j) * b.ld;
-    const double* l1 = l0 + b.ld;
-    const double* l2 = l1 + b.ld;
-    const double* l3 = l2 + b.ld;
-    V a0 = {}, a1 = {}, a2 = {}, a3 = {};
-    for (int r = 0; r < m; ++r) {
-      const V w = load<C>(W + Int64(b.below[r]) * k + c0);
-      a0 += l0[r] * w;
-      a1 += l1[r] * w;
-      a2 += l2[r] * w;
-      a3 += l3[r] * w;
-    }
-    const V acc[4] = {a0, a1, a2, a3};
-    for (int q = 0; q < 4; ++q) {
-      double* yj = Y + Int64(j + q) * k;
-      store<C>(yj, load<C>(yj) - acc[q]);
-    }
-  }
-  for (; j < b.nscol; ++j) {
-    const double* l = L21 + Int64(j) * b.ld;
-    V acc = {};
-    for (int r = 0; r < m; ++r) acc += l[r] * load<C>(W + Int64(b.below[r]) * k + c0);
-    double* yj = Y + Int64(j) * k;
-    store<C>(yj, load<C>(yj) - acc);
-  }
-  lower_transpose_solve_chunk<C>(b, Y, k);
-}
-
-// The same kernels on NV chunks of 8 columns side by side (NV = 2 or 4: a row's 16 or 32
-// columns at once). Per lane the operations and their order are those of forward_chunk<8> and
-// backward_chunk<8>, so a column gets the same bits in these as in a chunk of 8 (test
-// SupernodalSolve.ColumnBitsDoNotDependOnTheKernel); what
-// changes is that the NV chunks' independent chains overlap (the triangular solves are latency
-// chains through memory) and that each gathered or scattered row is read whole at once rather
-// than one 64-byte line per chunk pass. Needs 4·NV + NV vector registers: used where the host
-// has AVX-512's 32 (wide_kernels()).
-template <int NV>
-[[gnu::always_inline]] inline void lower_solve_wide(const DenseBlock& b, double* Y, int k) {
-  using V = typename Lanes<8>::V;
-  for (int j = 0; j < b.nscol; ++j) {
-    const double* col = b.L + Int64(j) * b.ld;
-    double* yj = Y + Int64(j) * k;
-    const double inv = 1.0 / col[j];
-    V y[NV];
-#pragma GCC unroll 4
-    for (int v = 0; v < NV; ++v) {
-      y[v] = load<8>(yj + 8 * v) * inv;
-      store<8>(yj + 8 * v, y[v]);
-    }
-    for (int i = j + 1; i < b.nscol; ++i) {
-      double* yi = Y + Int64(i) * k;
-      const double l = col[i];
-#pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) store<8>(yi + 8 * v, load<8>(yi + 8 * v) - l * y[v]);
-    }
-  }
-}
-
-template <int NV>
-[[gnu::always_inline]] inline void lower_transpose_solve_wide(const DenseBlock& b, double* Y,
-                                                              int k) {
-  using V = typename Lanes<8>::V;
-  for (int j = b.nscol - 1; j >= 0; --j) {
-    const double* col = b.L + Int64(j) * b.ld;
-    double* yj = Y + Int64(j) * k;
-    V acc[NV];
-#pragma GCC unroll 4
-    for (int v = 0; v < NV; ++v) acc[v] = load<8>(yj + 8 * v);
-    for (int i = j + 1; i < b.nscol; ++i) {
-      const double* yi = Y + Int64(i) * k;
-      const double l = col[i];
-#pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) acc[v] -= l * load<8>(yi + 8 * v);
-    }
-    const double inv = 1.0 / col[j];
-#pragma GCC unroll 4
-    for (int v = 0; v < NV; ++v) store<8>(yj + 8 * v, acc[v] * inv);
-  }
-}
-
-template <int NV>
-[[gnu::always_inline]] inline void forward_wide(const DenseBlock& b, double* W, int k, int c0,
-                                                const TopAccumulator& top) {
-  using V = typename Lanes<8>::V;
-  double* Y = W + Int64(b.k1) * k + c0;
-  lower_solve_wide<NV>(b, Y, k);
+  lower_solve_chunks<C, NV>(b, Y, k);
   const int m = b.ld - b.nscol;
   const double* L21 = b.L + b.nscol;
   int r = 0;
@@ -308,7 +212,7 @@ template <int NV>
       const double* yj = Y + Int64(j) * k;
 #pragma GCC unroll 4
       for (int v = 0; v < NV; ++v) {
-        const V y = load<8>(yj + 8 * v);
+        const V y = load<C>(yj + C * v);
         a[0][v] += l[0] * y;
         a[1][v] += l[1] * y;
         a[2][v] += l[2] * y;
@@ -319,7 +223,7 @@ template <int NV>
     for (int q = 0; q < 4; ++q) {
       double* dst = update_row(top, W, b.below[r + q], k) + c0;
 #pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) store<8>(dst + 8 * v, load<8>(dst + 8 * v) - a[q][v]);
+      for (int v = 0; v < NV; ++v) store<C>(dst + C * v, load<C>(dst + C * v) - a[q][v]);
     }
   }
   for (; r < m; ++r) {
@@ -328,17 +232,19 @@ template <int NV>
       const double l = L21[Int64(j) * b.ld + r];
       const double* yj = Y + Int64(j) * k;
 #pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) acc[v] += l * load<8>(yj + 8 * v);
+      for (int v = 0; v < NV; ++v) acc[v] += l * load<C>(yj + C * v);
     }
     double* dst = update_row(top, W, b.below[r], k) + c0;
 #pragma GCC unroll 4
-    for (int v = 0; v < NV; ++v) store<8>(dst + 8 * v, load<8>(dst + 8 * v) - acc[v]);
+    for (int v = 0; v < NV; ++v) store<C>(dst + C * v, load<C>(dst + C * v) - acc[v]);
   }
 }
 
-template <int NV>
-[[gnu::always_inline]] inline void backward_wide(const DenseBlock& b, double* W, int k, int c0) {
-  using V = typename Lanes<8>::V;
+// Backward pass of one supernode on the chunks from column c0: Y_j −= Σ_r L21[r, j] W[below[r]]
+// (the rows below are final), four columns of L21 at a time, then solve with L11ᵀ.
+template <int C, int NV>
+[[gnu::always_inline]] inline void backward_chunks(const DenseBlock& b, double* W, int k, int c0) {
+  using V = typename Lanes<C>::V;
   double* Y = W + Int64(b.k1) * k + c0;
   const int m = b.ld - b.nscol;
   const double* L21 = b.L + b.nscol;
@@ -353,7 +259,7 @@ template <int NV>
       const double* wr = W + Int64(b.below[r]) * k + c0;
 #pragma GCC unroll 4
       for (int v = 0; v < NV; ++v) {
-        const V w = load<8>(wr + 8 * v);
+        const V w = load<C>(wr + C * v);
         a[0][v] += l0[r] * w;
         a[1][v] += l1[r] * w;
         a[2][v] += l2[r] * w;
@@ -364,7 +270,7 @@ template <int NV>
     for (int q = 0; q < 4; ++q) {
       double* yj = Y + Int64(j + q) * k;
 #pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) store<8>(yj + 8 * v, load<8>(yj + 8 * v) - a[q][v]);
+      for (int v = 0; v < NV; ++v) store<C>(yj + C * v, load<C>(yj + C * v) - a[q][v]);
     }
   }
   for (; j < b.nscol; ++j) {
@@ -373,17 +279,18 @@ template <int NV>
     for (int r = 0; r < m; ++r) {
       const double* wr = W + Int64(b.below[r]) * k + c0;
 #pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) acc[v] += l[r] * load<8>(wr + 8 * v);
+      for (int v = 0; v < NV; ++v) acc[v] += l[r] * load<C>(wr + C * v);
     }
     double* yj = Y + Int64(j) * k;
 #pragma GCC unroll 4
-    for (int v = 0; v < NV; ++v) store<8>(yj + 8 * v, load<8>(yj + 8 * v) - acc[v]);
+    for (int v = 0; v < NV; ++v) store<C>(yj + C * v, load<C>(yj + C * v) - acc[v]);
   }
-  lower_transpose_solve_wide<NV>(b, Y, k);
+  lower_transpose_solve_chunks<C, NV>(b, Y, k);
 }
 
-// Whether the wide kernels pay: they hold 4·NV + NV vectors of 8 doubles, which AVX-512's 32
-// registers do; with AVX2's 16 (two per vector) they would spill.
+// Whether the kernels take 16 or 32 columns at once (NV = 2, 4 chunks of 8): they hold 4·NV + NV
+// vectors of 8 doubles, which AVX-512's 32 registers do; with AVX2's 16 (two per vector) they
+// would spill.
 bool wide_kernels() {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && \
     !defined(IFEM_LANES_NO_CLONES)
@@ -395,7 +302,7 @@ bool wide_kernels() {
 }
 
 // The widest supernode (columns) that several right-hand sides solve through our loops rather
-// than BLAS dtrsm + dgemm: every one where the wide kernels run. OpenBLAS packs both operands
+// than BLAS dtrsm + dgemm: every one where wide_kernels(). OpenBLAS packs both operands
 // on every call, and a supernode's block is used for only the k columns of one pass: igea, a
 // block of 32 sources spent 20 % of its samples in dgemm and its packing routines; with every
 // supernode in our loops, in one process taking turns, 1M faces 0.337 -> 0.299 s (median of 9)
@@ -420,31 +327,30 @@ struct RankOne {
 };
 
 // The chunk kernels over columns [c.begin, c.end) of the k: on AVX-512 hosts 32 and then 16 at
-// once (wide: a 1M-face block of 32 sources 0.376 → 0.333 s, BENCHMARKS.md, "Blocks of sources,
-// session 13"), then chunks of 8, then 4, 2 and 1 for the rest.
+// once, then chunks of 8, then 4, 2 and 1 for the rest.
 IFEM_HOST_CLONES void forward_small(const DenseBlock& b, double* W, int k,
                                     const TopAccumulator& top, Columns c) {
   int c0 = c.begin;
   if (wide_kernels()) {
-    for (; c0 + 32 <= c.end; c0 += 32) forward_wide<4>(b, W, k, c0, top);
-    if (c0 + 16 <= c.end) forward_wide<2>(b, W, k, c0, top), c0 += 16;
+    for (; c0 + 32 <= c.end; c0 += 32) forward_chunks<8, 4>(b, W, k, c0, top);
+    if (c0 + 16 <= c.end) forward_chunks<8, 2>(b, W, k, c0, top), c0 += 16;
   }
-  for (; c0 + 8 <= c.end; c0 += 8) forward_chunk<8>(b, W, k, c0, top);
-  if (c0 + 4 <= c.end) forward_chunk<4>(b, W, k, c0, top), c0 += 4;
-  if (c0 + 2 <= c.end) forward_chunk<2>(b, W, k, c0, top), c0 += 2;
-  if (c0 < c.end) forward_chunk<1>(b, W, k, c0, top);
+  for (; c0 + 8 <= c.end; c0 += 8) forward_chunks<8, 1>(b, W, k, c0, top);
+  if (c0 + 4 <= c.end) forward_chunks<4, 1>(b, W, k, c0, top), c0 += 4;
+  if (c0 + 2 <= c.end) forward_chunks<2, 1>(b, W, k, c0, top), c0 += 2;
+  if (c0 < c.end) forward_chunks<1, 1>(b, W, k, c0, top);
 }
 
 IFEM_HOST_CLONES void backward_small(const DenseBlock& b, double* W, int k, Columns c) {
   int c0 = c.begin;
   if (wide_kernels()) {
-    for (; c0 + 32 <= c.end; c0 += 32) backward_wide<4>(b, W, k, c0);
-    if (c0 + 16 <= c.end) backward_wide<2>(b, W, k, c0), c0 += 16;
+    for (; c0 + 32 <= c.end; c0 += 32) backward_chunks<8, 4>(b, W, k, c0);
+    if (c0 + 16 <= c.end) backward_chunks<8, 2>(b, W, k, c0), c0 += 16;
   }
-  for (; c0 + 8 <= c.end; c0 += 8) backward_chunk<8>(b, W, k, c0);
-  if (c0 + 4 <= c.end) backward_chunk<4>(b, W, k, c0), c0 += 4;
-  if (c0 + 2 <= c.end) backward_chunk<2>(b, W, k, c0), c0 += 2;
-  if (c0 < c.end) backward_chunk<1>(b, W, k, c0);
+  for (; c0 + 8 <= c.end; c0 += 8) backward_chunks<8, 1>(b, W, k, c0);
+  if (c0 + 4 <= c.end) backward_chunks<4, 1>(b, W, k, c0), c0 += 4;
+  if (c0 + 2 <= c.end) backward_chunks<2, 1>(b, W, k, c0), c0 += 2;
+  if (c0 < c.end) backward_chunks<1, 1>(b, W, k, c0);
 }
 
 // Forward substitution of one supernode on W (n × k, row-major), as CHOLMOD's own supernodal
