@@ -332,10 +332,10 @@ template <int C, int NV>
 
 // Whether the kernels take 16 or 32 columns at once (NV = 2, 4 chunks of 8): they hold 4·NV + NV
 // vectors of 8 doubles, which AVX-512's 32 registers do; with AVX2's 16 (two per vector) they
-// would spill.
+// would spill. Also where the clones are off (sanitizer builds): there the same source runs on
+// baseline vectors, slower but correct, so that the sanitizers see the paths AVX-512 hosts run.
 bool wide_kernels() {
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && \
-    !defined(IFEM_LANES_NO_CLONES)
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
   static const bool wide = __builtin_cpu_supports("avx512f");
   return wide;
 #else
