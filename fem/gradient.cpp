@@ -347,7 +347,11 @@ template <int C>
   const V u0 = lanes::load<C>(u[0]), u1 = lanes::load<C>(u[1]), u2 = lanes::load<C>(u[2]);
   const V vx = y * (u1 - u0);
   const V vy = x * (u0 - u1) + l0 * (u2 - u0);
-  const V ax = vx < 0.0 ? -vx : vx, ay = vy < 0.0 ? -vy : vy;
+  // |vx|, |vy| by clearing the sign bit (one and; a comparison made GCC compare and blend)
+  using U = typename IntLanes<C>::U;
+  constexpr std::uint64_t kNoSign = ~(std::uint64_t(1) << 63);
+  const V ax = lanes::bit_cast<V>(lanes::bit_cast<U>(vx) & kNoSign);
+  const V ay = lanes::bit_cast<V>(lanes::bit_cast<U>(vy) & kNoSign);
   const V m = ax > ay ? ax : ay;
   // ∇u nonzero and finite: m's bits (m ≥ 0, or a NaN of either sign) strictly between 0 and
   // +∞'s, as an all-ones / zero mask by integer arithmetic (GCC 12 turned a vector comparison used
