@@ -128,13 +128,13 @@ TEST(SupernodalSolve, RowsLayoutEveryChunkWidth) {
   EXPECT_THROW(reference.solve_rows(X.data(), -1), InvalidInput);
 }
 
-// A column's bits do not depend on which small-supernode kernel solves it: the kernels for 32 and
-// 16 columns at once (AVX-512 hosts) and the chunks of 8 run the same operations per column. In
-// one solve (one split of the tree, one order of the bins' sums) of a block whose later columns
+// A column's bits do not depend on which chunk kernel solves it: the kernels for 32 and 16
+// columns at once (AVX-512 hosts) and the chunks of 8 run the same operations per column. In one
+// solve (one split of the tree, one order of the bins' sums) of a block whose later columns
 // repeat its first ones, the repeats go through other kernels and must come out bitwise equal:
 // k = 48 puts columns 0–15 again at 32–47 (16 at once), k = 40 puts 8–15 again at 32–39 (a chunk
-// of 8). (Narrower chunks are not compared: supernodes over 64 columns go through BLAS, whose
-// rounding may depend on the number of columns; a column may round differently alone.)
+// of 8). (Narrower chunks are not compared: without AVX-512, supernodes over 64 columns go
+// through BLAS, whose rounding may depend on the number of columns.)
 TEST(SupernodalSolve, ColumnBitsDoNotDependOnTheKernel) {
   const fem::SparseMatrix A = mass_plus_laplacian(50);
   for (const Kernel kernel : {Kernel::kSupernodalDouble, Kernel::kSupernodalSingle}) {
