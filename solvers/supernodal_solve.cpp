@@ -117,8 +117,9 @@ void backward_one(const Block<Real>& b, double* y, double* Z) {
   std::copy(Z, Z + nscol, y);
 }
 
-// The kernels of a small supernode for k > 1 right-hand sides, on W (n × k, row-major: row i is
-// the contiguous W + i·k), in chunks of C columns held in registers. A solve of 32 sources at
+// The kernels of a supernode for k > 1 right-hand sides (up to 64 columns; every supernode on
+// AVX-512 hosts, block_kernel_limit()), on W (n × k, row-major: row i is the contiguous W + i·k),
+// in chunks of C columns held in registers. A solve of 32 sources at
 // 1M faces spent 22 GFlop/s in OpenBLAS's dgemm/dtrsm on the mean supernode (7.7 columns × 28
 // rows), which pack both operands per call; these loops run over L11 and L21 once per chunk
 // (the block stays in L1) and fuse the update with the scatter (forward) and the gather with
