@@ -143,36 +143,41 @@ struct DenseBlock {
 // 13"). They hold 4·NV + NV vectors: NV > 1 only where AVX-512's 32 registers do
 // (wide_kernels()).
 
-// y_j ← y_j / L_jj, then y_i −= L_ij y_j below it, for the chunks' columns of the supernode's
-// rows (j ascending: per lane the order of the updates of each row is fixed).
+// Column j of L11 on the chunks' columns: y_j ← y_j / L_jj into y (NV vectors, also stored), then
+// y_i −= L_ij y_j for the rows j < i < i_end.
+template <int C, int NV>
+[[gnu::always_inline]] inline void lower_solve_column(const DenseBlock& b, double* Y, int k, int j,
+                                                      int i_end, typename Lanes<C>::V* y) {
+  const double* col = b.L + Int64(j) * b.ld;
+  double* yj = Y + Int64(j) * k;
+  const double inv = 1.0 / col[j];
+#pragma GCC unroll 4
+  for (int v = 0; v < NV; ++v) {
+    y[v] = load<C>(yj + C * v) * inv;
+    store<C>(yj + C * v, y[v]);
+  }
+  for (int i = j + 1; i < i_end; ++i) {
+    double* yi = Y + Int64(i) * k;
+    const double l = col[i];
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) store<C>(yi + C * v, load<C>(yi + C * v) - l * y[v]);
+  }
+}
+
+// L11 Y = B for the chunks' columns of the supernode's rows, j ascending (per lane the order of
+// the updates of each row is fixed). Four columns of L11 at a time: their 4 × 4 diagonal block
+// column by column, then each row under it loaded and stored once for the four updates (one at a
+// time, a row was loaded and stored per column: a 1M-face block of 32 sources 0.375 -> 0.354 s
+// and 0.370 -> 0.346 s, igea 0.101 -> 0.099 s, medians, in turns in one process); the same
+// operations in the same order per lane.
 template <int C, int NV>
 [[gnu::always_inline]] inline void lower_solve_chunks(const DenseBlock& b, double* Y, int k) {
   using V = typename Lanes<C>::V;
-  // four columns of L11 at a time: their 4 × 4 diagonal block as below, then each row under it
-  // loaded and stored once for the four updates (one at a time, a row was loaded and stored per
-  // column: a 1M-face block of 32 sources 0.375 -> 0.354 s and 0.370 -> 0.346 s, igea 0.101 ->
-  // 0.099 s, medians, in turns in one process); the same operations in the same order per lane
   int j0 = 0;
   for (; j0 + 4 <= b.nscol; j0 += 4) {
     V y[4][NV];
 #pragma GCC unroll 4
-    for (int q = 0; q < 4; ++q) {
-      const int j = j0 + q;
-      const double* col = b.L + Int64(j) * b.ld;
-      double* yj = Y + Int64(j) * k;
-      const double inv = 1.0 / col[j];
-#pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) {
-        y[q][v] = load<C>(yj + C * v) * inv;
-        store<C>(yj + C * v, y[q][v]);
-      }
-      for (int i = j + 1; i < j0 + 4; ++i) {
-        double* yi = Y + Int64(i) * k;
-        const double l = col[i];
-#pragma GCC unroll 4
-        for (int v = 0; v < NV; ++v) store<C>(yi + C * v, load<C>(yi + C * v) - l * y[q][v]);
-      }
-    }
+    for (int q = 0; q < 4; ++q) lower_solve_column<C, NV>(b, Y, k, j0 + q, j0 + 4, y[q]);
     const double* l0 = b.L + Int64(j0) * b.ld;
     const double* l1 = l0 + b.ld;
     const double* l2 = l1 + b.ld;
@@ -191,21 +196,8 @@ template <int C, int NV>
     }
   }
   for (int j = j0; j < b.nscol; ++j) {
-    const double* col = b.L + Int64(j) * b.ld;
-    double* yj = Y + Int64(j) * k;
-    const double inv = 1.0 / col[j];
     V y[NV];
-#pragma GCC unroll 4
-    for (int v = 0; v < NV; ++v) {
-      y[v] = load<C>(yj + C * v) * inv;
-      store<C>(yj + C * v, y[v]);
-    }
-    for (int i = j + 1; i < b.nscol; ++i) {
-      double* yi = Y + Int64(i) * k;
-      const double l = col[i];
-#pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) store<C>(yi + C * v, load<C>(yi + C * v) - l * y[v]);
-    }
+    lower_solve_column<C, NV>(b, Y, k, j, b.nscol, y);
   }
 }
 
