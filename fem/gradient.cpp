@@ -384,7 +384,7 @@ template <int C>
 IFEM_HOST_CLONES void unit_divergence_rows(const double* frame, const Index* tail, Index nf,
                                            const double* U, Index k, Index j0, Index j1,
                                            double half_s, double* div) {
-  // the rows of the face kFacesAhead faces on are asked for now (__builtin_prefetch): a face's
+  // the rows of the face kFacesAhead faces on are asked for now (lanes::prefetch): a face's
   // corners are rows far apart in the block, and waiting on them bounded this loop (1M faces,
   // block of 32: 90 → 63 ms; docs/decisions.md, "Blocks of sources, session 13")
   constexpr Index kFacesAhead = 8;
@@ -392,10 +392,8 @@ IFEM_HOST_CLONES void unit_divergence_rows(const double* frame, const Index* tai
     if (f + kFacesAhead < nf) {
       const Index* ta = tail + 3 * (f + kFacesAhead);
       for (int q = 0; q < 3; ++q) {
-        for (Index j = j0; j < j1; j += 8) {
-          __builtin_prefetch(U + ta[q] * k + j, 0);
-          __builtin_prefetch(div + ta[q] * k + j, 1);
-        }
+        lanes::prefetch(U + ta[q] * k + j0, j1 - j0);
+        lanes::prefetch<true>(div + ta[q] * k + j0, j1 - j0);
       }
     }
     const double* fr = frame + 3 * f;

@@ -599,14 +599,9 @@ std::vector<Index> breadth_first_order(const IntrinsicTriangulation& tri) {
 }
 
 // How many rows ahead a copy that gathers rows from all over a block asks for them
-// (__builtin_prefetch): 1M faces, the copy back to the factor's order 19–24 → 12–14 ms
+// (lanes::prefetch): 1M faces, the copy back to the factor's order 19–24 → 12–14 ms
 // (docs/decisions.md, "Blocks of sources, session 13").
 constexpr Index kRowsAhead = 8;
-
-// Asks for the cache lines of a row of k doubles, to be read soon.
-inline void prefetch_row(const double* row, Eigen::Index k) {
-  for (Eigen::Index j = 0; j < k; j += 8) __builtin_prefetch(row + j, 0);
-}
 
 // Calls tile(t0, t1) on the vertices [0, nv) in tiles of 64 (a block's rows to the output's
 // columns: the tile's rows stay in cache while each column is written), two halves of the
@@ -778,7 +773,7 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     for (Index i = nv * half / 2; i < i1; ++i) {
       const Index v = fo.vertex[std::size_t(i)];
       // the row read kRowsAhead rows on, asked for now: the reads go all over the block
-      if (i + kRowsAhead < i1) prefetch_row(H + fo.local[std::size_t(i + kRowsAhead)] * k, k);
+      if (i + kRowsAhead < i1) lanes::prefetch(H + fo.local[std::size_t(i + kRowsAhead)] * k, k);
       const double* __restrict h = H + fo.local[std::size_t(i)] * k;
       double* __restrict p = P + i * k;
       const double av = a ? (*a)[v] : 0.0;
