@@ -1,6 +1,7 @@
 #include "fem/gradient.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -9,6 +10,10 @@
 
 #ifdef _OPENMP
 #include <omp.h>
+#endif
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#include <immintrin.h>  // declares the AVX-512 builtins (rsqrt14 below)
 #endif
 
 #include "intrinsic/core/errors.h"
@@ -284,15 +289,54 @@ using lanes::FloatLanes;
 using lanes::IntLanes;
 using lanes::Lanes;
 
-// 1/√q for C lanes of q in [2⁻¹⁰², 32) (a normalized squared length): a float square root and
-// division (cheap: half-width lanes, short latency) and one Newton step in double, which
-// squares float's relative error (~1e-7 → ~2e-14). The divider, not memory, bounded the row
-// divergence with double sqrt and division (docs/decisions.md). The same arithmetic for every
-// C, so a column's bits do not depend on the chunk it falls in.
+// Whether this build can run the row divergence's AVX-512 variant: GCC on x86-64, where a
+// target builtin in an always-inline template is checked once the template is inlined into
+// a function compiled for that target (Clang checks it in the template and refuses).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define IFEM_RSQRT14 1
+#else
+#define IFEM_RSQRT14 0
+#endif
+
+#if IFEM_RSQRT14
+// AVX-512's vrsqrt14pd on C lanes: 1/√q to a relative 2⁻¹⁴. Only in functions compiled for
+// x86-64-v4 (unit_divergence_rows_avx512).
 template <int C>
+[[gnu::always_inline]] inline typename Lanes<C>::V rsqrt14(typename Lanes<C>::V q) {
+  using V = typename Lanes<C>::V;
+  if constexpr (C == 8) {
+    return __builtin_ia32_rsqrt14pd512_mask(q, V{}, 0xff);
+  } else if constexpr (C == 4) {
+    return __builtin_ia32_rsqrt14pd256_mask(q, V{}, 0xf);
+  } else if constexpr (C == 2) {
+    return __builtin_ia32_rsqrt14pd128_mask(q, V{}, 0x3);
+  } else {
+    using V2 = typename Lanes<2>::V;
+    return __builtin_ia32_rsqrt14pd128_mask(V2{q, q}, V2{}, 0x3)[0];
+  }
+}
+#endif
+
+// 1/√q for C lanes of q in [2⁻¹⁰², 32) (a normalized squared length), to ~2e-14 relative or
+// better. Rsqrt14 (AVX-512 hosts): vrsqrt14pd and two Newton steps in double (2⁻¹⁴ → 2⁻²⁸ →
+// rounding), a short chain: the loop over faces waits on it, and this took the row divergence
+// of a 1M-face block of 32 from 47 to 41 ms (docs/decisions.md, "Blocks of sources, session
+// 14"). Otherwise a float square root and division (half-width lanes, short latency) and one
+// Newton step in double, which squares float's relative error (~1e-7 → ~2e-14). The divider, not
+// memory, bounded the row divergence with double sqrt and division. The same arithmetic for
+// every C, so a column's bits do not depend on the chunk it falls in.
+template <int C, bool Rsqrt14>
 [[gnu::always_inline]] inline typename Lanes<C>::V inverse_sqrt(typename Lanes<C>::V q) {
   using V = typename Lanes<C>::V;
+  const V half_q = 0.5 * q;
   V r0;
+#if IFEM_RSQRT14
+  if constexpr (Rsqrt14) {
+    r0 = rsqrt14<C>(q);
+    r0 = r0 * (1.5 - half_q * (r0 * r0));
+    return r0 * (1.5 - half_q * (r0 * r0));
+  }
+#endif
   if constexpr (C == 1) {
     r0 = double(1.0f / std::sqrt(float(q)));
   } else {
@@ -301,7 +345,7 @@ template <int C>
     for (int c = 0; c < C; ++c) qf[c] = std::sqrt(qf[c]);
     r0 = __builtin_convertvector(1.0f / qf, V);
   }
-  return r0 * (1.5 - (0.5 * q) * (r0 * r0));
+  return r0 * (1.5 - half_q * (r0 * r0));
 }
 
 // 2^(1023 − e) for the biased exponent e of each lane of m (at least 2⁻¹⁰²²), from m's bits mb:
@@ -339,7 +383,7 @@ template <int C, class Mask>
 // u2 (C values each) add their contributions to the rows d0, d1, d2; lanes where ∇u is 0 or not
 // finite add 0. unit_corners()'s formula with v scaled by a power of two (not divided by its
 // largest component) and normalized by inverse_sqrt(): equal to ~2e-14 relative.
-template <int C>
+template <int C, bool Rsqrt14>
 [[gnu::always_inline]] inline void unit_corners_lanes(const double* fr, const double* const u[3],
                                                       double* const d[3], double half_s) {
   using V = typename Lanes<C>::V;
@@ -361,29 +405,31 @@ template <int C>
   const I ok = nonzero_finite_mask<C>(mb);
   const V scale = power_of_two_scale<C>(mb);
   const V nx = vx * scale, ny = vy * scale;
-  const V r = -inverse_sqrt<C>(nx * nx + ny * ny);
-  const V gx = nx * r, gy = ny * r;
-  const V c0 = where<C>(ok, half_s * (-y * gx + (x - l0) * gy));
-  const V c1 = where<C>(ok, half_s * (y * gx - x * gy));
-  const V c2 = where<C>(ok, half_s * (l0 * gy));
-  lanes::store<C>(d[0], lanes::load<C>(d[0]) + c0);
-  lanes::store<C>(d[1], lanes::load<C>(d[1]) + c1);
-  lanes::store<C>(d[2], lanes::load<C>(d[2]) + c2);
+  // the corners' terms of −n/|n| (unit_corners()) as linear forms in n times 1/|n|: the forms
+  // are computed while the square root is, so the chain the loop waits on is one product shorter
+  const V r = inverse_sqrt<C, Rsqrt14>(nx * nx + ny * ny);
+  const V p0 = (y * half_s) * nx - ((x - l0) * half_s) * ny;
+  const V p1 = (x * half_s) * ny - (y * half_s) * nx;
+  const V p2 = (-l0 * half_s) * ny;
+  lanes::store<C>(d[0], lanes::load<C>(d[0]) + where<C>(ok, p0 * r));
+  lanes::store<C>(d[1], lanes::load<C>(d[1]) + where<C>(ok, p1 * r));
+  lanes::store<C>(d[2], lanes::load<C>(d[2]) + where<C>(ok, p2 * r));
 }
 
 // unit_corners_lanes() on columns [j, j + C) of the rows u and d.
-template <int C>
+template <int C, bool Rsqrt14>
 [[gnu::always_inline]] inline void unit_corners_at(const double* fr, const double* const u[3],
                                                    double* const d[3], Index j, double half_s) {
   const double* uj[3] = {u[0] + j, u[1] + j, u[2] + j};
   double* dj[3] = {d[0] + j, d[1] + j, d[2] + j};
-  unit_corners_lanes<C>(fr, uj, dj, half_s);
+  unit_corners_lanes<C, Rsqrt14>(fr, uj, dj, half_s);
 }
 
 // Columns [j0, j1) of apply_rows(): faces in order, chunks of 8, 4, 2, 1 columns.
-IFEM_HOST_CLONES void unit_divergence_rows(const double* frame, const Index* tail, Index nf,
-                                           const double* U, Index k, Index j0, Index j1,
-                                           double half_s, double* div) {
+template <bool Rsqrt14>
+[[gnu::always_inline]] inline void divergence_rows(const double* frame, const Index* tail, Index nf,
+                                                   const double* U, Index k, Index j0, Index j1,
+                                                   double half_s, double* div) {
   // the rows of the face kFacesAhead faces on are asked for now (lanes::prefetch): a face's
   // corners are rows far apart in the block, and waiting on them bounded this loop (1M faces,
   // block of 32: 90 → 63 ms; docs/decisions.md, "Blocks of sources, session 13")
@@ -402,11 +448,40 @@ IFEM_HOST_CLONES void unit_divergence_rows(const double* frame, const Index* tai
     const double* u[3] = {U + t[0] * k, U + t[1] * k, U + t[2] * k};
     double* d[3] = {div + t[0] * k, div + t[1] * k, div + t[2] * k};
     Index j = j0;
-    for (; j + 8 <= j1; j += 8) unit_corners_at<8>(fr, u, d, j, half_s);
-    if (j + 4 <= j1) unit_corners_at<4>(fr, u, d, j, half_s), j += 4;
-    if (j + 2 <= j1) unit_corners_at<2>(fr, u, d, j, half_s), j += 2;
-    if (j < j1) unit_corners_at<1>(fr, u, d, j, half_s);
+    for (; j + 8 <= j1; j += 8) unit_corners_at<8, Rsqrt14>(fr, u, d, j, half_s);
+    if (j + 4 <= j1) unit_corners_at<4, Rsqrt14>(fr, u, d, j, half_s), j += 4;
+    if (j + 2 <= j1) unit_corners_at<2, Rsqrt14>(fr, u, d, j, half_s), j += 2;
+    if (j < j1) unit_corners_at<1, Rsqrt14>(fr, u, d, j, half_s);
   }
+}
+
+IFEM_HOST_CLONES void unit_divergence_rows_portable(const double* frame, const Index* tail,
+                                                    Index nf, const double* U, Index k, Index j0,
+                                                    Index j1, double half_s, double* div) {
+  divergence_rows<false>(frame, tail, nf, U, k, j0, j1, half_s, div);
+}
+
+#if IFEM_RSQRT14
+__attribute__((target("arch=x86-64-v4"))) void unit_divergence_rows_avx512(
+    const double* frame, const Index* tail, Index nf, const double* U, Index k, Index j0, Index j1,
+    double half_s, double* div) {
+  divergence_rows<true>(frame, tail, nf, U, k, j0, j1, half_s, div);
+}
+#endif
+
+std::atomic<bool> avx512_allowed{true};
+
+// divergence_rows() for the host: its AVX-512 variant where the host has AVX-512 F and VL (and
+// allow_avx512() left it on), else the portable one (cloned for x86-64-v4, v3 and the baseline).
+void unit_divergence_rows(const double* frame, const Index* tail, Index nf, const double* U,
+                          Index k, Index j0, Index j1, double half_s, double* div) {
+#if IFEM_RSQRT14
+  if (lanes::host_has_avx512() && avx512_allowed.load(std::memory_order_relaxed)) {
+    unit_divergence_rows_avx512(frame, tail, nf, U, k, j0, j1, half_s, div);
+    return;
+  }
+#endif
+  unit_divergence_rows_portable(frame, tail, nf, U, k, j0, j1, half_s, div);
 }
 
 }  // namespace
@@ -479,6 +554,8 @@ UnitGradientDivergence UnitGradientDivergence::relabeled(
   }
   return copy;
 }
+
+bool UnitGradientDivergence::allow_avx512(bool allowed) { return avx512_allowed.exchange(allowed); }
 
 Eigen::Index UnitGradientDivergence::column_split(Eigen::Index k) {
   return k < 16 ? k : (k / 2 + 7) / 8 * 8;

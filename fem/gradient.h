@@ -85,6 +85,10 @@ class UnitGradientDivergence {
   /// Where apply_rows() splits the columns between two threads: ⌊k/2⌋ rounded up to a multiple of
   /// 8 (whole vectors, and for k = 32 whole cache lines of a row); k when k < 16 (one thread).
   static Eigen::Index column_split(Eigen::Index k);
+  /// For tests: whether apply_rows() may run its AVX-512 variant on a host that has AVX-512
+  /// (default true; false runs the portable kernels that other hosts run). Process-wide.
+  /// @return the previous setting
+  static bool allow_avx512(bool allowed);
 
   /// The same operator on renumbered vertices: vertex v of the triangulation is vertex
   /// new_index[v] of the copy, so that apply_rows() reads and writes blocks in another row order

@@ -327,14 +327,7 @@ template <int C, int NV>
 // vectors of 8 doubles, which AVX-512's 32 registers do; with AVX2's 16 (two per vector) they
 // would spill. Also where the clones are off (sanitizer builds): there the same source runs on
 // baseline vectors, slower but correct, so that the sanitizers see the paths AVX-512 hosts run.
-bool wide_kernels() {
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-  static const bool wide = __builtin_cpu_supports("avx512f");
-  return wide;
-#else
-  return false;
-#endif
-}
+bool wide_kernels() { return lanes::host_has_avx512(); }
 
 // The widest supernode (columns) that several right-hand sides solve through our loops rather
 // than BLAS dtrsm + dgemm: every one where wide_kernels(). OpenBLAS packs both operands

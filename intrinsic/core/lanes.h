@@ -110,6 +110,16 @@ template <int C>
   std::memcpy(p, &v, sizeof v);
 }
 
+/// Whether the host runs AVX-512 F and VL (x86-64-v4's vectors; checked once). False off x86-64.
+inline bool host_has_avx512() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+  return has;
+#else
+  return false;
+#endif
+}
+
 /// Asks for the cache lines of n doubles from p, to be read (Write = false) or written soon
 /// (__builtin_prefetch: a hint, no fault on any address). For rows of a row-major block whose
 /// reads go all over it.

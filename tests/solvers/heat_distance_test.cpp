@@ -392,51 +392,56 @@ TEST(SolversHeatDistance, UnitGradientDivergenceColumnsMatchSingleFields) {
 
 // apply_rows(): the same divergence as apply_columns() on the row-major layout, for every chunk
 // width of its vector loops (8, 4, 2, 1 columns), with an underflowing field, a constant one and
-// a field with a NaN; on two threads (load check off) and on one (k < 16 never splits).
+// a field with a NaN; on two threads (load check off) and on one (k < 16 never splits); with the
+// AVX-512 variant (vrsqrt14 and two Newton steps) where the host has it and the portable one.
 TEST(SolversHeatDistance, UnitGradientDivergenceRowsMatchColumns) {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const auto tri = test::make_tri(intrinsic::icosphere(40));  // 32,000 faces
   const Index nv = tri.n_vertices();
   const fem::UnitGradientDivergence div(tri);
   set_parallel_load_check(false);
-  for (const int k : {1, 3, 8, 15, 16, 32, 39}) {
-    Eigen::MatrixXd U(nv, k);
-    for (Index v = 0; v < nv; ++v) {
-      for (int j = 0; j < k; ++j) U(v, j) = std::exp(-0.001 * double((v * (j + 1)) % nv));
-    }
-    if (k > 1) U.col(1) *= 1e-200;
-    if (k > 2) U.col(2).setConstant(3.0);
-    if (k > 3) U(17, 3) = std::numeric_limits<double>::quiet_NaN();
-    // column 0 times 2⁻¹⁰⁴⁰ (subnormal values and gradients: still a unit field) and times 2¹⁰⁰⁰
-    // (exactly: the same unit gradients as column 0; no overflow in the normalization)
-    if (k > 4) U.col(4) = std::ldexp(1.0, -1040) * U.col(0);
-    if (k > 5) U.col(5) = std::ldexp(1.0, 1000) * U.col(0);
-    const Eigen::MatrixXd expected = div.apply_columns(U);
-    const RowMajor rows = U;
-    RowMajor out(nv, k);
-    out.setConstant(7.0);  // overwritten
-    div.apply_rows(rows.data(), k, out.data());
-    for (int j = 0; j < k; ++j) {
-      const double scale = std::max(expected.col(j).cwiseAbs().maxCoeff(), 1e-300);
-      EXPECT_LT((out.col(j) - expected.col(j)).cwiseAbs().maxCoeff(), 1e-13 * scale)
-          << "k = " << k << ", column " << j;
-    }
-    if (k > 2) {
-      EXPECT_EQ(out.col(2).cwiseAbs().maxCoeff(), 0.0);
-    }
-    for (int j : {1, 4, 5}) {
-      if (k > j) {
-        EXPECT_GT(out.col(j).cwiseAbs().maxCoeff(), 1e-3) << "column " << j;
+  for (const bool avx512 : {true, false})
+    for (const int k : {1, 3, 8, 15, 16, 32, 39}) {
+      SCOPED_TRACE(avx512 ? "AVX-512 variant where the host has it" : "portable kernels");
+      fem::UnitGradientDivergence::allow_avx512(avx512);
+      Eigen::MatrixXd U(nv, k);
+      for (Index v = 0; v < nv; ++v) {
+        for (int j = 0; j < k; ++j) U(v, j) = std::exp(-0.001 * double((v * (j + 1)) % nv));
+      }
+      if (k > 1) U.col(1) *= 1e-200;
+      if (k > 2) U.col(2).setConstant(3.0);
+      if (k > 3) U(17, 3) = std::numeric_limits<double>::quiet_NaN();
+      // column 0 times 2⁻¹⁰⁴⁰ (subnormal values and gradients: still a unit field) and times 2¹⁰⁰⁰
+      // (exactly: the same unit gradients as column 0; no overflow in the normalization)
+      if (k > 4) U.col(4) = std::ldexp(1.0, -1040) * U.col(0);
+      if (k > 5) U.col(5) = std::ldexp(1.0, 1000) * U.col(0);
+      const Eigen::MatrixXd expected = div.apply_columns(U);
+      const RowMajor rows = U;
+      RowMajor out(nv, k);
+      out.setConstant(7.0);  // overwritten
+      div.apply_rows(rows.data(), k, out.data());
+      for (int j = 0; j < k; ++j) {
+        const double scale = std::max(expected.col(j).cwiseAbs().maxCoeff(), 1e-300);
+        EXPECT_LT((out.col(j) - expected.col(j)).cwiseAbs().maxCoeff(), 1e-13 * scale)
+            << "k = " << k << ", column " << j;
+      }
+      if (k > 2) {
+        EXPECT_EQ(out.col(2).cwiseAbs().maxCoeff(), 0.0);
+      }
+      for (int j : {1, 4, 5}) {
+        if (k > j) {
+          EXPECT_GT(out.col(j).cwiseAbs().maxCoeff(), 1e-3) << "column " << j;
+        }
+      }
+      if (k > 5) {
+        EXPECT_LT((out.col(5) - out.col(0)).cwiseAbs().maxCoeff(),
+                  1e-13 * out.col(0).cwiseAbs().maxCoeff());
+      }
+      if (k > 3) {
+        EXPECT_TRUE(out.col(3).allFinite());  // the NaN's faces add nothing
       }
     }
-    if (k > 5) {
-      EXPECT_LT((out.col(5) - out.col(0)).cwiseAbs().maxCoeff(),
-                1e-13 * out.col(0).cwiseAbs().maxCoeff());
-    }
-    if (k > 3) {
-      EXPECT_TRUE(out.col(3).allFinite());  // the NaN's faces add nothing
-    }
-  }
+  fem::UnitGradientDivergence::allow_avx512(true);
   set_parallel_load_check(true);
   double x = 0.0;
   EXPECT_THROW(div.apply_rows(&x, 0, &x), InvalidInput);
