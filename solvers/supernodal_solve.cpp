@@ -201,26 +201,91 @@ template <int C, int NV>
   }
 }
 
-// L11ᵀ X = B for the chunks' columns, from the last row up.
+// The rows a backward sum reads: rows of Y in order (L11), or rows of W gathered through the
+// supernode's row list (L21), from column c0.
+struct OwnRows {
+  const double* Y;
+  int k;
+  [[gnu::always_inline]] const double* operator()(int i) const { return Y + Int64(i) * k; }
+};
+struct GatheredRows {
+  const double* W;
+  const int* below;
+  int k, c0;
+  [[gnu::always_inline]] const double* operator()(int r) const {
+    return W + Int64(below[r]) * k + c0;
+  }
+};
+
+// a[q] = Σ_r l[q][r] · row(r) over r in [r0, r1), for Q columns of L at once: each row loaded
+// once for the Q columns, Q streams down the columns of L; each sum in the order of r, whatever
+// Q (so a column's bits do not depend on how the columns are grouped).
+template <int C, int NV, int Q, class Rows>
+[[gnu::always_inline]] inline void column_sums(const double* const (&l)[Q], int r0, int r1,
+                                               Rows row, typename Lanes<C>::V (&a)[Q][NV]) {
+  using V = typename Lanes<C>::V;
+  for (int r = r0; r < r1; ++r) {
+    const double* w = row(r);
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) {
+      const V x = load<C>(w + C * v);
+#pragma GCC unroll 4
+      for (int q = 0; q < Q; ++q) a[q][v] += l[q][r] * x;
+    }
+  }
+}
+
+// Columns [j0, j0 + Q) of lower_transpose_solve_chunks(): their sums over the rows of L11 below
+// them first (each row of Y loaded once for the Q columns, Q streams down the columns of L11),
+// then their Q × Q diagonal block from its last column.
+template <int C, int NV, int Q>
+[[gnu::always_inline]] inline void transpose_solve_columns(const DenseBlock& b, double* Y, int k,
+                                                           int j0) {
+  using V = typename Lanes<C>::V;
+  const double* l[Q];
+#pragma GCC unroll 4
+  for (int q = 0; q < Q; ++q) l[q] = b.L + Int64(j0 + q) * b.ld;
+  V a[Q][NV] = {};
+  column_sums<C, NV, Q>(l, j0 + Q, b.nscol, OwnRows{Y, k}, a);
+#pragma GCC unroll 4
+  for (int q = Q - 1; q >= 0; --q) {
+    double* yj = Y + Int64(j0 + q) * k;
+    V acc[NV];
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) acc[v] = load<C>(yj + C * v) - a[q][v];
+    for (int i = j0 + q + 1; i < j0 + Q; ++i) {
+      const double* yi = Y + Int64(i) * k;
+#pragma GCC unroll 4
+      for (int v = 0; v < NV; ++v) acc[v] -= l[q][i] * load<C>(yi + C * v);
+    }
+    const double inv = 1.0 / l[q][j0 + q];
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) store<C>(yj + C * v, acc[v] * inv);
+  }
+}
+
+// L11ᵀ X = B for the chunks' columns, four columns of L11 at a time from the last (the first
+// nscol mod 4 together last). One column at a time, each row of Y was loaded once per column
+// for a single FMA: a 1M-face block of 32 sources, heat solve 66 -> 63 ms and Poisson solve
+// 105 -> 100 ms (medians, in turns in one process; docs/decisions.md, "Blocks of sources,
+// session 14").
 template <int C, int NV>
 [[gnu::always_inline]] inline void lower_transpose_solve_chunks(const DenseBlock& b, double* Y,
                                                                 int k) {
-  using V = typename Lanes<C>::V;
-  for (int j = b.nscol - 1; j >= 0; --j) {
-    const double* col = b.L + Int64(j) * b.ld;
-    double* yj = Y + Int64(j) * k;
-    V acc[NV];
-#pragma GCC unroll 4
-    for (int v = 0; v < NV; ++v) acc[v] = load<C>(yj + C * v);
-    for (int i = j + 1; i < b.nscol; ++i) {
-      const double* yi = Y + Int64(i) * k;
-      const double l = col[i];
-#pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) acc[v] -= l * load<C>(yi + C * v);
-    }
-    const double inv = 1.0 / col[j];
-#pragma GCC unroll 4
-    for (int v = 0; v < NV; ++v) store<C>(yj + C * v, acc[v] * inv);
+  int j1 = b.nscol;
+  for (; j1 >= 4; j1 -= 4) transpose_solve_columns<C, NV, 4>(b, Y, k, j1 - 4);
+  switch (j1) {
+    case 3:
+      transpose_solve_columns<C, NV, 3>(b, Y, k, 0);
+      break;
+    case 2:
+      transpose_solve_columns<C, NV, 2>(b, Y, k, 0);
+      break;
+    case 1:
+      transpose_solve_columns<C, NV, 1>(b, Y, k, 0);
+      break;
+    default:
+      break;
   }
 }
 
@@ -275,50 +340,45 @@ template <int C, int NV>
   }
 }
 
+// Y_j −= Σ_r L21[r, j] W[below[r]] for the Q columns [j, j + Q) of the supernode at once (one
+// pass over the rows below; each column's sum in the order of r, whatever Q).
+template <int C, int NV, int Q>
+[[gnu::always_inline]] inline void backward_columns(const DenseBlock& b, const double* W, int k,
+                                                    int c0, double* Y, int j) {
+  using V = typename Lanes<C>::V;
+  const double* l[Q];
+#pragma GCC unroll 4
+  for (int q = 0; q < Q; ++q) l[q] = b.L + b.nscol + Int64(j + q) * b.ld;
+  V a[Q][NV] = {};
+  column_sums<C, NV, Q>(l, 0, b.ld - b.nscol, GatheredRows{W, b.below, k, c0}, a);
+#pragma GCC unroll 4
+  for (int q = 0; q < Q; ++q) {
+    double* yj = Y + Int64(j + q) * k;
+#pragma GCC unroll 4
+    for (int v = 0; v < NV; ++v) store<C>(yj + C * v, load<C>(yj + C * v) - a[q][v]);
+  }
+}
+
 // Backward pass of one supernode on the chunks from column c0: Y_j −= Σ_r L21[r, j] W[below[r]]
-// (the rows below are final), four columns of L21 at a time, then solve with L11ᵀ.
+// (the rows below are final), four columns of L21 at a time (the last nscol mod 4 together), then
+// solve with L11ᵀ.
 template <int C, int NV>
 [[gnu::always_inline]] inline void backward_chunks(const DenseBlock& b, double* W, int k, int c0) {
-  using V = typename Lanes<C>::V;
   double* Y = W + Int64(b.k1) * k + c0;
-  const int m = b.ld - b.nscol;
-  const double* L21 = b.L + b.nscol;
   int j = 0;
-  for (; j + 4 <= b.nscol; j += 4) {
-    const double* l0 = L21 + Int64(j) * b.ld;
-    const double* l1 = l0 + b.ld;
-    const double* l2 = l1 + b.ld;
-    const double* l3 = l2 + b.ld;
-    V a[4][NV] = {};
-    for (int r = 0; r < m; ++r) {
-      const double* wr = W + Int64(b.below[r]) * k + c0;
-#pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) {
-        const V w = load<C>(wr + C * v);
-        a[0][v] += l0[r] * w;
-        a[1][v] += l1[r] * w;
-        a[2][v] += l2[r] * w;
-        a[3][v] += l3[r] * w;
-      }
-    }
-#pragma GCC unroll 4
-    for (int q = 0; q < 4; ++q) {
-      double* yj = Y + Int64(j + q) * k;
-#pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) store<C>(yj + C * v, load<C>(yj + C * v) - a[q][v]);
-    }
-  }
-  for (; j < b.nscol; ++j) {
-    const double* l = L21 + Int64(j) * b.ld;
-    V acc[NV] = {};
-    for (int r = 0; r < m; ++r) {
-      const double* wr = W + Int64(b.below[r]) * k + c0;
-#pragma GCC unroll 4
-      for (int v = 0; v < NV; ++v) acc[v] += l[r] * load<C>(wr + C * v);
-    }
-    double* yj = Y + Int64(j) * k;
-#pragma GCC unroll 4
-    for (int v = 0; v < NV; ++v) store<C>(yj + C * v, load<C>(yj + C * v) - acc[v]);
+  for (; j + 4 <= b.nscol; j += 4) backward_columns<C, NV, 4>(b, W, k, c0, Y, j);
+  switch (b.nscol - j) {  // the last nscol mod 4 columns in one pass over the rows below
+    case 3:
+      backward_columns<C, NV, 3>(b, W, k, c0, Y, j);
+      break;
+    case 2:
+      backward_columns<C, NV, 2>(b, W, k, c0, Y, j);
+      break;
+    case 1:
+      backward_columns<C, NV, 1>(b, W, k, c0, Y, j);
+      break;
+    default:
+      break;
   }
   lower_transpose_solve_chunks<C, NV>(b, Y, k);
 }
