@@ -176,9 +176,10 @@ struct HeatDistanceSolver::Impl {
   // back (fused with the Poisson solve's compatibility sums): on rows in the AMD order its
   // accesses scatter (docs/decisions.md, "Blocks of sources, session 12").
   struct FactorOrder {
-    std::vector<Index> vertex;  // row i of a block is vertex[i]
-    std::vector<Index> row;     // vertex v is row row[v]
-    std::vector<Index> local;   // row i's vertex in a breadth-first order (the divergence's)
+    std::vector<Index> vertex;     // row i of a block is vertex[i]
+    std::vector<Index> row;        // vertex v is row row[v]
+    std::vector<Index> local;      // row i's vertex in a breadth-first order (the divergence's)
+    std::vector<Index> local_row;  // the row of vertex v of that order (local's inverse)
     std::optional<fem::UnitGradientDivergence> div;  // unit_div in that order
   };
   mutable std::once_flag factor_order_once;
@@ -214,12 +215,9 @@ struct HeatDistanceSolver::Impl {
   }
   // Per column j of a row-major heat block H (#V × k): its largest finite value (mx) and its
   // smallest, NaN if any is NaN (mn), over the vertices of component comp[j]; two fixed halves
-  // of the rows (on two threads when two_threads), merged. With `order` (every vertex in one
-  // component: the rows are in that factor order), row i is also copied to row order->local[i]
-  // of `to` (the divergence's order), in the same sweep.
+  // of the rows (on two threads when two_threads), merged.
   void heat_extremes(const double* H, Eigen::Index k, const std::vector<Index>& comp,
-                     bool two_threads, std::vector<double>& mx, std::vector<double>& mn,
-                     const FactorOrder* order = nullptr, double* to = nullptr) const;
+                     bool two_threads, std::vector<double>& mx, std::vector<double>& mn) const;
   void distance_block_rows(const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
                            Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps,
                            BlockScratch& scratch) const;
@@ -637,8 +635,8 @@ IFEM_HOST_CLONES void extremes_of_rows(const double* H, Index v0, Index v1, Eige
 
 void HeatDistanceSolver::Impl::heat_extremes(const double* H, Eigen::Index k,
                                              const std::vector<Index>& comp, bool two_threads,
-                                             std::vector<double>& mx, std::vector<double>& mn,
-                                             const FactorOrder* order, double* to) const {
+                                             std::vector<double>& mx,
+                                             std::vector<double>& mn) const {
   const Index nv = tri.n_vertices();
   const auto kk = std::size_t(k);
   const bool one_source_component =
@@ -653,14 +651,7 @@ void HeatDistanceSolver::Impl::heat_extremes(const double* H, Eigen::Index k,
       hx.assign(kk, 0.0);
       hn.assign(kk, kInf);
       const Index* label = one_component ? nullptr : comps.label.data();
-      constexpr Index kRows = 256;  // rows still in L1/L2 when copied
-      for (Index r0 = v0; r0 < v1; r0 += kRows) {
-        const Index r1 = std::min(v1, r0 + kRows);
-        extremes_of_rows(H, r0, r1, k, label, comp[0], hx.data(), hn.data());
-        for (Index i = r0; order && i < r1; ++i) {
-          std::copy_n(H + i * k, k, to + order->local[std::size_t(i)] * k);
-        }
-      }
+      extremes_of_rows(H, v0, v1, k, label, comp[0], hx.data(), hn.data());
       return;
     }
     // sources in several components: column by column (one pass over the rows per column)
@@ -723,6 +714,9 @@ const HeatDistanceSolver::Impl::FactorOrder* HeatDistanceSolver::Impl::factor_or
     for (std::size_t i = 0; i < fo->vertex.size(); ++i) {
       fo->local[i] = near[std::size_t(fo->vertex[i])];
     }
+    fo->local_row.resize(fo->vertex.size());
+    for (std::size_t i = 0; i < fo->vertex.size(); ++i)
+      fo->local_row[std::size_t(fo->local[i])] = Index(i);
     fo->div.emplace(unit_div->relabeled(near));
     factor_order_ = std::move(fo);
   });
@@ -733,8 +727,8 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     const FactorOrder& fo, const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
     Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps, BlockScratch& scratch) const {
   const Index nv = tri.n_vertices();
-  double* H = scratch.heat_rows.data();  // deltas, heat (fo's order); divergences (fo.local's)
-  double* P = scratch.phi_rows.data();   // heat (fo.local's order); divergences, φ (fo's)
+  double* H = scratch.heat_rows.data();  // deltas, heat, then divergences and φ (fo's order)
+  double* P = scratch.phi_rows.data();   // divergences (fo.local's order)
   const bool two_threads = std::int64_t(nv) * k >= kParallelBlockValues;
   run_halves(two_threads,
              [&](int half) { std::fill(H + nv * half / 2 * k, H + nv * (half + 1) / 2 * k, 0.0); });
@@ -754,14 +748,16 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     H[source_row[j] * k + Index(j)] = 1.0;
   }
   heat_neumann->solve_weak_homogeneous_rows_in_order(H, k, true, source_row.data());
-  // the heat's extremes (one component: over every row), and the heat to the divergence's order
-  // (into P, free until the divergence) in the same sweep
+  // the heat's extremes (one component: over every row)
   std::vector<double> mx, mn;
-  heat_extremes(H, k, comp, two_threads, mx, mn, &fo, P);
-  // the divergence in its order (into H, free now), then back to the factor's order (into P)
+  heat_extremes(H, k, comp, two_threads, mx, mn);
+  // the divergence in its order (into P), reading the heat's rows where they are (fo.local_row:
+  // a copy of the heat to that order cost 1M faces 13 against 6 ms for the extremes alone, and
+  // the divergence reads as fast; docs/decisions.md, "Blocks of sources, session 14"), then
+  // back to the factor's order (into H, free now)
   const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
   run_halves(two_threads && mid < k, [&](int half) {
-    fo.div->apply_rows(P, k, H, half == 0 ? 0 : mid, half == 0 ? mid : k);
+    fo.div->apply_rows(H, k, P, half == 0 ? 0 : mid, half == 0 ? mid : k, fo.local_row.data());
   });
   // with the Poisson solve's compatibility sums in the same sweep (halves summed as it would)
   const Eigen::VectorXd* a = poisson->compatibility_weights();
@@ -773,9 +769,9 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     for (Index i = nv * half / 2; i < i1; ++i) {
       const Index v = fo.vertex[std::size_t(i)];
       // the row read kRowsAhead rows on, asked for now: the reads go all over the block
-      if (i + kRowsAhead < i1) lanes::prefetch(H + fo.local[std::size_t(i + kRowsAhead)] * k, k);
-      const double* __restrict h = H + fo.local[std::size_t(i)] * k;
-      double* __restrict p = P + i * k;
+      if (i + kRowsAhead < i1) lanes::prefetch(P + fo.local[std::size_t(i + kRowsAhead)] * k, k);
+      const double* __restrict h = P + fo.local[std::size_t(i)] * k;
+      double* __restrict p = H + i * k;
       const double av = a ? (*a)[v] : 0.0;
       for (Eigen::Index j = 0; j < k; ++j) {
         p[j] = h[j];
@@ -785,11 +781,11 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
   });
   for (std::size_t j = 0; j < kk; ++j) half_sum[0][j] += half_sum[1][j];
   // φ − φ(source) below
-  poisson->solve_weak_homogeneous_rows_in_order(P, k, false, nullptr,
+  poisson->solve_weak_homogeneous_rows_in_order(H, k, false, nullptr,
                                                 a ? half_sum[0].data() : nullptr);
   std::vector<double> shift(static_cast<std::size_t>(k));
   for (Eigen::Index j = 0; j < k; ++j) {
-    shift[std::size_t(j)] = P[fo.row[std::size_t(src[std::size_t(j)])] * k + j];
+    shift[std::size_t(j)] = H[fo.row[std::size_t(src[std::size_t(j)])] * k + j];
   }
   // out = max(φ − φ(source), 0)·scale: rows (in fo's order) to columns (vertex order)
   over_vertex_tiles(nv, two_threads, [&](Index t0, Index t1) {
@@ -797,7 +793,7 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
       double* o = out.col(out_col[std::size_t(j)]).data();
       const double sh = shift[std::size_t(j)];
       for (Index v = t0; v < t1; ++v) {
-        o[v] = std::max(P[fo.row[std::size_t(v)] * k + j] - sh, 0.0) * scale;
+        o[v] = std::max(H[fo.row[std::size_t(v)] * k + j] - sh, 0.0) * scale;
       }
     }
   });

@@ -450,7 +450,7 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRowsMatchColumns) {
 }
 
 // relabeled(): the same divergence on renumbered vertices (the heat method's blocks use a
-// breadth-first order),
+// breadth-first order); apply_rows() through a row map u_row gives the unmapped bits;
 // row for row to rounding (its faces are reordered, so the sums at a vertex run in another
 // order); anything but a permutation is refused.
 TEST(SolversHeatDistance, UnitGradientDivergenceRelabeled) {
@@ -478,6 +478,14 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRelabeled) {
               1e-13 * scale)
         << "vertex " << v;
   }
+  // the same operator reading its fields through a row map (u_row: vertex v's values are row
+  // u_row[v] of the block, as the heat method's blocks are read in the factor's order): the
+  // same arithmetic in the same face order, so the same bits, for both column ranges
+  const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
+  RowMajor mapped(nv, k);
+  div.apply_rows(U_moved.data(), k, mapped.data(), 0, mid, new_index.data());
+  div.apply_rows(U_moved.data(), k, mapped.data(), mid, k, new_index.data());
+  EXPECT_EQ(mapped, expected);
   std::vector<Index> bad = new_index;
   bad[1] = bad[0];
   EXPECT_THROW(div.relabeled(bad), InvalidInput);
