@@ -428,10 +428,12 @@ template <int C, bool Rsqrt14>
 // Columns [j0, j1) of apply_rows(): faces in order, chunks of 8, 4, 2, 1 columns.
 template <bool Rsqrt14>
 [[gnu::always_inline]] inline void divergence_rows(const double* frame, const Index* tail, Index nf,
-                                                   const double* U, const Index* u_row, Index k,
-                                                   Index j0, Index j1, double half_s, double* div) {
+                                                   const double* U, const Index* u_row,
+                                                   const Index* d_row, Index k, Index j0, Index j1,
+                                                   double half_s, double* div) {
   // the row of U that holds vertex v's values: v, or u_row[v]
   auto at = [U, u_row, k](Index v) { return U + (u_row ? u_row[v] : v) * k; };
+  auto dt = [div, d_row, k](Index v) { return div + (d_row ? d_row[v] : v) * k; };
   // the rows of the face kFacesAhead faces on are asked for now (lanes::prefetch): a face's
   // corners are rows far apart in the block, and waiting on them bounded this loop (1M faces,
   // block of 32: 90 → 63 ms; docs/decisions.md, "Blocks of sources, session 13")
@@ -441,14 +443,14 @@ template <bool Rsqrt14>
       const Index* ta = tail + 3 * (f + kFacesAhead);
       for (int q = 0; q < 3; ++q) {
         lanes::prefetch(at(ta[q]) + j0, j1 - j0);
-        lanes::prefetch<true>(div + ta[q] * k + j0, j1 - j0);
+        lanes::prefetch<true>(dt(ta[q]) + j0, j1 - j0);
       }
     }
     const double* fr = frame + 3 * f;
     if (!(fr[2] > 0.0)) continue;
     const Index* t = tail + 3 * f;
     const double* u[3] = {at(t[0]), at(t[1]), at(t[2])};
-    double* d[3] = {div + t[0] * k, div + t[1] * k, div + t[2] * k};
+    double* d[3] = {dt(t[0]), dt(t[1]), dt(t[2])};
     Index j = j0;
     for (; j + 8 <= j1; j += 8) unit_corners_at<8, Rsqrt14>(fr, u, d, j, half_s);
     if (j + 4 <= j1) unit_corners_at<4, Rsqrt14>(fr, u, d, j, half_s), j += 4;
@@ -459,16 +461,16 @@ template <bool Rsqrt14>
 
 IFEM_HOST_CLONES void unit_divergence_rows_portable(const double* frame, const Index* tail,
                                                     Index nf, const double* U, const Index* u_row,
-                                                    Index k, Index j0, Index j1, double half_s,
-                                                    double* div) {
-  divergence_rows<false>(frame, tail, nf, U, u_row, k, j0, j1, half_s, div);
+                                                    const Index* d_row, Index k, Index j0, Index j1,
+                                                    double half_s, double* div) {
+  divergence_rows<false>(frame, tail, nf, U, u_row, d_row, k, j0, j1, half_s, div);
 }
 
 #if IFEM_RSQRT14
 __attribute__((target("arch=x86-64-v4"))) void unit_divergence_rows_avx512(
-    const double* frame, const Index* tail, Index nf, const double* U, const Index* u_row, Index k,
-    Index j0, Index j1, double half_s, double* div) {
-  divergence_rows<true>(frame, tail, nf, U, u_row, k, j0, j1, half_s, div);
+    const double* frame, const Index* tail, Index nf, const double* U, const Index* u_row,
+    const Index* d_row, Index k, Index j0, Index j1, double half_s, double* div) {
+  divergence_rows<true>(frame, tail, nf, U, u_row, d_row, k, j0, j1, half_s, div);
 }
 #endif
 
@@ -477,15 +479,15 @@ std::atomic<bool> avx512_allowed{true};
 // divergence_rows() for the host: its AVX-512 variant where the host has AVX-512 F and VL (and
 // allow_avx512() left it on), else the portable one (cloned for x86-64-v4, v3 and the baseline).
 void unit_divergence_rows(const double* frame, const Index* tail, Index nf, const double* U,
-                          const Index* u_row, Index k, Index j0, Index j1, double half_s,
-                          double* div) {
+                          const Index* u_row, const Index* d_row, Index k, Index j0, Index j1,
+                          double half_s, double* div) {
 #if IFEM_RSQRT14
   if (lanes::host_has_avx512() && avx512_allowed.load(std::memory_order_relaxed)) {
-    unit_divergence_rows_avx512(frame, tail, nf, U, u_row, k, j0, j1, half_s, div);
+    unit_divergence_rows_avx512(frame, tail, nf, U, u_row, d_row, k, j0, j1, half_s, div);
     return;
   }
 #endif
-  unit_divergence_rows_portable(frame, tail, nf, U, u_row, k, j0, j1, half_s, div);
+  unit_divergence_rows_portable(frame, tail, nf, U, u_row, d_row, k, j0, j1, half_s, div);
 }
 
 }  // namespace
@@ -507,21 +509,22 @@ void UnitGradientDivergence::apply_rows(const double* U, Eigen::Index k, double*
     const Index mid = column_split(k);
     const Index j0 = t == 0 ? 0 : mid, j1 = t + 1 == nt ? k : mid;
     for (Index v = 0; v < nv; ++v) std::fill(div + v * k + j0, div + v * k + j1, 0.0);
-    unit_divergence_rows(frame_.data(), tail_.data(), nf, U, nullptr, k, j0, j1, half_s, div);
+    unit_divergence_rows(frame_.data(), tail_.data(), nf, U, nullptr, nullptr, k, j0, j1, half_s,
+                         div);
   }
 }
 
 void UnitGradientDivergence::apply_rows(const double* U, Eigen::Index k, double* div,
-                                        Eigen::Index j0, Eigen::Index j1,
-                                        const Index* u_row) const {
+                                        Eigen::Index j0, Eigen::Index j1, const Index* u_row,
+                                        const Index* d_row) const {
   if (k < 1 || j0 < 0 || j0 > j1 || j1 > k) {
     throw InvalidInput("UnitGradientDivergence::apply_rows: columns [" + std::to_string(j0) + ", " +
                        std::to_string(j1) + ") not within [0, " + std::to_string(k) + ")");
   }
   const Index nv = n_vertices_;
   for (Index v = 0; v < nv; ++v) std::fill(div + v * k + j0, div + v * k + j1, 0.0);
-  unit_divergence_rows(frame_.data(), tail_.data(), n_faces_, U, u_row, k, j0, j1, 0.5 * scale_,
-                       div);
+  unit_divergence_rows(frame_.data(), tail_.data(), n_faces_, U, u_row, d_row, k, j0, j1,
+                       0.5 * scale_, div);
 }
 
 UnitGradientDivergence UnitGradientDivergence::relabeled(

@@ -80,11 +80,11 @@ class UnitGradientDivergence {
   /// of div are not touched): for a caller that runs its own threads (no OpenMP team left
   /// spinning beside them). Two calls split at column_split(k) give apply_rows()'s bits.
   /// @param u_row null, or #V row numbers: vertex v's k values are then read at U + u_row[v]·k
-  ///        (a block kept in another row order, read where it is; not checked). div keeps the
-  ///        operator's vertex order.
+  ///        (a block kept in another row order, read where it is; not checked)
+  /// @param d_row the same for div: vertex v's divergences go to div + d_row[v]·k
   /// @throws InvalidInput unless 0 ≤ j0 ≤ j1 ≤ k and k ≥ 1
   void apply_rows(const double* U, Eigen::Index k, double* div, Eigen::Index j0, Eigen::Index j1,
-                  const Index* u_row = nullptr) const;
+                  const Index* u_row = nullptr, const Index* d_row = nullptr) const;
   /// Where apply_rows() splits the columns between two threads: ⌊k/2⌋ rounded up to a multiple of
   /// 8 (whole vectors, and for k = 32 whole cache lines of a row); k when k < 16 (one thread).
   static Eigen::Index column_split(Eigen::Index k);

@@ -17,7 +17,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/huge_pages.h"
-#include "intrinsic/core/lanes.h"
+#include "intrinsic/core/lanes.h"  // IFEM_HOST_CLONES
 #include "intrinsic/core/union_find.h"
 #include "solvers/cholesky.h"
 #include "solvers/components.h"
@@ -596,11 +596,6 @@ std::vector<Index> breadth_first_order(const IntrinsicTriangulation& tri) {
   return order;
 }
 
-// How many rows ahead a copy that gathers rows from all over a block asks for them
-// (lanes::prefetch): 1M faces, the copy back to the factor's order 19–24 → 12–14 ms
-// (docs/decisions.md, "Blocks of sources, session 13").
-constexpr Index kRowsAhead = 8;
-
 // Calls tile(t0, t1) on the vertices [0, nv) in tiles of 64 (a block's rows to the output's
 // columns: the tile's rows stay in cache while each column is written), two halves of the
 // vertices on two threads when two_threads.
@@ -727,8 +722,8 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     const FactorOrder& fo, const std::vector<Index>& sources, Eigen::Index first, Eigen::Index k,
     Eigen::MatrixXd& out, std::vector<HeatDistanceReport>& reps, BlockScratch& scratch) const {
   const Index nv = tri.n_vertices();
-  double* H = scratch.heat_rows.data();  // deltas, heat, then divergences and φ (fo's order)
-  double* P = scratch.phi_rows.data();   // divergences (fo.local's order)
+  double* H = scratch.heat_rows.data();  // deltas, then heat (fo's order)
+  double* P = scratch.phi_rows.data();   // divergences, then φ (fo's order)
   const bool two_threads = std::int64_t(nv) * k >= kParallelBlockValues;
   run_halves(two_threads,
              [&](int half) { std::fill(H + nv * half / 2 * k, H + nv * (half + 1) / 2 * k, 0.0); });
@@ -751,41 +746,37 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
   // the heat's extremes (one component: over every row)
   std::vector<double> mx, mn;
   heat_extremes(H, k, comp, two_threads, mx, mn);
-  // the divergence in its order (into P), reading the heat's rows where they are (fo.local_row:
-  // a copy of the heat to that order cost 1M faces 13 against 6 ms for the extremes alone, and
-  // the divergence reads as fast; docs/decisions.md, "Blocks of sources, session 14"), then
-  // back to the factor's order (into H, free now)
+  // the divergence (fo.div: faces in a breadth-first order, for locality) reading and writing
+  // each corner's rows where they are in the factor's order (fo.local_row), into P: no copies
+  // to its order and back (1M faces, a block of 32: 13 and 12 ms; docs/decisions.md, "Blocks of
+  // sources, session 14")
   const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
+  const Index* at_row = fo.local_row.data();
   run_halves(two_threads && mid < k, [&](int half) {
-    fo.div->apply_rows(H, k, P, half == 0 ? 0 : mid, half == 0 ? mid : k, fo.local_row.data());
+    fo.div->apply_rows(H, k, P, half == 0 ? 0 : mid, half == 0 ? mid : k, at_row, at_row);
   });
-  // with the Poisson solve's compatibility sums in the same sweep (halves summed as it would)
+  // the Poisson solve's compatibility sums aᵀ·div (two halves of the rows, summed as it would)
   const Eigen::VectorXd* a = poisson->compatibility_weights();
   std::vector<double> half_sum[2];
-  run_halves(two_threads, [&](int half) {
-    half_sum[half].assign(kk, 0.0);
-    double* __restrict sum = half_sum[half].data();
-    const Index i1 = nv * (half + 1) / 2;
-    for (Index i = nv * half / 2; i < i1; ++i) {
-      const Index v = fo.vertex[std::size_t(i)];
-      // the row read kRowsAhead rows on, asked for now: the reads go all over the block
-      if (i + kRowsAhead < i1) lanes::prefetch(P + fo.local[std::size_t(i + kRowsAhead)] * k, k);
-      const double* __restrict h = P + fo.local[std::size_t(i)] * k;
-      double* __restrict p = H + i * k;
-      const double av = a ? (*a)[v] : 0.0;
-      for (Eigen::Index j = 0; j < k; ++j) {
-        p[j] = h[j];
-        sum[j] += av * h[j];
+  if (a) {
+    run_halves(two_threads, [&](int half) {
+      half_sum[half].assign(kk, 0.0);
+      double* __restrict sum = half_sum[half].data();
+      const Index i1 = nv * (half + 1) / 2;
+      for (Index i = nv * half / 2; i < i1; ++i) {
+        const double* __restrict p = P + i * k;
+        const double av = (*a)[fo.vertex[std::size_t(i)]];
+        for (Eigen::Index j = 0; j < k; ++j) sum[j] += av * p[j];
       }
-    }
-  });
-  for (std::size_t j = 0; j < kk; ++j) half_sum[0][j] += half_sum[1][j];
+    });
+    for (std::size_t j = 0; j < kk; ++j) half_sum[0][j] += half_sum[1][j];
+  }
   // φ − φ(source) below
-  poisson->solve_weak_homogeneous_rows_in_order(H, k, false, nullptr,
+  poisson->solve_weak_homogeneous_rows_in_order(P, k, false, nullptr,
                                                 a ? half_sum[0].data() : nullptr);
   std::vector<double> shift(static_cast<std::size_t>(k));
   for (Eigen::Index j = 0; j < k; ++j) {
-    shift[std::size_t(j)] = H[fo.row[std::size_t(src[std::size_t(j)])] * k + j];
+    shift[std::size_t(j)] = P[fo.row[std::size_t(src[std::size_t(j)])] * k + j];
   }
   // out = max(φ − φ(source), 0)·scale: rows (in fo's order) to columns (vertex order)
   over_vertex_tiles(nv, two_threads, [&](Index t0, Index t1) {
@@ -793,7 +784,7 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
       double* o = out.col(out_col[std::size_t(j)]).data();
       const double sh = shift[std::size_t(j)];
       for (Index v = t0; v < t1; ++v) {
-        o[v] = std::max(H[fo.row[std::size_t(v)] * k + j] - sh, 0.0) * scale;
+        o[v] = std::max(P[fo.row[std::size_t(v)] * k + j] - sh, 0.0) * scale;
       }
     }
   });

@@ -479,13 +479,21 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRelabeled) {
         << "vertex " << v;
   }
   // the same operator reading its fields through a row map (u_row: vertex v's values are row
-  // u_row[v] of the block, as the heat method's blocks are read in the factor's order): the
-  // same arithmetic in the same face order, so the same bits, for both column ranges
+  // u_row[v] of the block, as the heat method's blocks are read in the factor's order), and
+  // writing through one too (d_row): the same arithmetic in the same face order, so the same
+  // bits, for both column ranges
   const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
-  RowMajor mapped(nv, k);
+  RowMajor mapped(nv, k), mapped_out(nv, k);
   div.apply_rows(U_moved.data(), k, mapped.data(), 0, mid, new_index.data());
   div.apply_rows(U_moved.data(), k, mapped.data(), mid, k, new_index.data());
   EXPECT_EQ(mapped, expected);
+  for (const Eigen::Index j0 : {Eigen::Index(0), mid}) {
+    div.apply_rows(U_moved.data(), k, mapped_out.data(), j0, j0 == 0 ? mid : k, new_index.data(),
+                   new_index.data());
+  }
+  for (Index v = 0; v < nv; ++v) {
+    EXPECT_EQ(mapped_out.row(new_index[std::size_t(v)]), expected.row(v)) << "vertex " << v;
+  }
   std::vector<Index> bad = new_index;
   bad[1] = bad[0];
   EXPECT_THROW(div.relabeled(bad), InvalidInput);
