@@ -65,13 +65,19 @@ double time_median(int repeat, F&& f) {
   return median(t);
 }
 
-/// Medians of several functions timed in turn, `repeat` rounds; in each round every function
-/// runs once untimed (its steady state: caches, helper threads, pages as its own previous call
-/// left them, not as the other function did) and then once timed. The functions share the
-/// machine's state of the moment, so a ratio of two medians does not move with the drift of a
-/// shared machine between one measurement and the next.
-inline std::vector<double> time_medians_interleaved(int repeat,
-                                                    const std::vector<std::function<void()>>& fs) {
+/// Times of several functions timed in turn: each one's median and minimum over the rounds.
+struct InterleavedTimes {
+  std::vector<double> median, min;
+};
+
+/// Several functions timed in turn, `repeat` rounds; in each round every function runs once
+/// untimed (its steady state: caches, helper threads, pages as its own previous call left them,
+/// not as the other function did) and then once timed. The functions share the machine's state
+/// of the moment, so a ratio of two medians does not move with the drift of a shared machine
+/// between one measurement and the next. The minimum is each function's quietest round: a busy
+/// neighbour slows a bandwidth-bound call more than a compute-bound one, so a ratio of minima
+/// is the one it cannot inflate.
+inline InterleavedTimes time_interleaved(int repeat, const std::vector<std::function<void()>>& fs) {
   std::vector<std::vector<double>> t(fs.size());
   for (int r = 0; r < repeat; ++r) {
     for (std::size_t i = 0; i < fs.size(); ++i) {
@@ -81,9 +87,12 @@ inline std::vector<double> time_medians_interleaved(int repeat,
       t[i].push_back(seconds_now() - t0);
     }
   }
-  std::vector<double> m;
-  for (auto& ti : t) m.push_back(median(ti));
-  return m;
+  InterleavedTimes out;
+  for (auto& ti : t) {
+    out.min.push_back(*std::min_element(ti.begin(), ti.end()));
+    out.median.push_back(median(ti));
+  }
+  return out;
 }
 
 /// Peak resident set size of this process so far, in MiB (VmHWM from /proc/self/status).
