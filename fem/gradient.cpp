@@ -527,6 +527,20 @@ void UnitGradientDivergence::apply_rows(const double* U, Eigen::Index k, double*
                        0.5 * scale_, div);
 }
 
+void UnitGradientDivergence::add_rows_part(const double* U, Eigen::Index k, double* div, int part,
+                                           Eigen::Index j0, Eigen::Index j1, const Index* u_row,
+                                           const Index* d_row) const {
+  if (k < 1 || j0 < 0 || j0 > j1 || j1 > k || part < 0 || part > 2) {
+    throw InvalidInput("UnitGradientDivergence::add_rows_part: part " + std::to_string(part) +
+                       ", columns [" + std::to_string(j0) + ", " + std::to_string(j1) +
+                       ") (need part 0, 1 or 2 and columns within [0, " + std::to_string(k) + "))");
+  }
+  const Index f0 = part == 0 ? 0 : part == 1 ? part_faces_[0] : part_faces_[0] + part_faces_[1];
+  const Index f1 = part == 0 ? part_faces_[0] : part == 1 ? f0 + part_faces_[1] : n_faces_;
+  unit_divergence_rows(frame_.data() + 3 * f0, tail_.data() + 3 * f0, f1 - f0, U, u_row, d_row, k,
+                       j0, j1, 0.5 * scale_, div);
+}
+
 UnitGradientDivergence UnitGradientDivergence::relabeled(
     const std::vector<Index>& new_index) const {
   const Index nv = n_vertices_;
@@ -541,19 +555,29 @@ UnitGradientDivergence UnitGradientDivergence::relabeled(
     throw InvalidInput("UnitGradientDivergence::relabeled: new_index is not a permutation of [0, " +
                        std::to_string(nv) + ")");
   }
-  // faces by their smallest new corner, so that a pass over them sweeps the new order
-  const Index nf = n_faces_;
+  // faces in three parts (every new corner below #V/2, every one at or above, both), each by
+  // its smallest new corner, so that a pass over a part sweeps the new order
+  const Index nf = n_faces_, half = nv / 2;
   std::vector<Index> lowest(static_cast<std::size_t>(nf)), face(static_cast<std::size_t>(nf));
+  std::vector<int> part(static_cast<std::size_t>(nf));
   for (Index f = 0; f < nf; ++f) {
     const Index* t = tail_.data() + 3 * f;
-    lowest[std::size_t(f)] = std::min(
-        {new_index[std::size_t(t[0])], new_index[std::size_t(t[1])], new_index[std::size_t(t[2])]});
+    const Index a = new_index[std::size_t(t[0])], b = new_index[std::size_t(t[1])],
+                c = new_index[std::size_t(t[2])];
+    lowest[std::size_t(f)] = std::min({a, b, c});
+    const Index highest = std::max({a, b, c});
+    part[std::size_t(f)] = highest < half ? 0 : lowest[std::size_t(f)] >= half ? 1 : 2;
   }
   std::iota(face.begin(), face.end(), Index(0));
   std::stable_sort(face.begin(), face.end(), [&](Index a, Index b) {
-    return lowest[std::size_t(a)] < lowest[std::size_t(b)];
+    const std::size_t i = std::size_t(a), j = std::size_t(b);
+    return part[i] != part[j] ? part[i] < part[j] : lowest[i] < lowest[j];
   });
   UnitGradientDivergence copy = *this;
+  copy.part_faces_ = {0, 0};
+  for (const int q : part) {
+    if (q < 2) ++copy.part_faces_[std::size_t(q)];
+  }
   for (Index i = 0; i < nf; ++i) {
     const std::size_t f = std::size_t(face[std::size_t(i)]);
     for (int c = 0; c < 3; ++c) {

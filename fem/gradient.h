@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "intrinsic/core/triangulation.h"
@@ -101,11 +102,25 @@ class UnitGradientDivergence {
   /// @throws InvalidInput if new_index is not a permutation of [0, #V)
   UnitGradientDivergence relabeled(const std::vector<Index>& new_index) const;
 
+  /// Adds (+=) the divergences of one part of the faces to div, columns [j0, j1) (rows and maps
+  /// as apply_rows()), for two threads that take every column at once: in a relabeled() copy,
+  /// part 0 is the faces whose new corners are all below ⌊#V/2⌋, part 1 those whose corners are
+  /// all at or above it, part 2 the rest (a thin band where the new order is local, e.g.
+  /// breadth-first). Parts 0 and 1 write disjoint rows of div (u_row, d_row permutations or
+  /// null), so they may run side by side on all columns; part 2 after both (split by columns
+  /// if on two threads). Zeroing div first, then parts 0, 1, 2 in that order gives the same bits
+  /// on one thread or two. In an operator that was not relabeled every face is in part 2.
+  /// @throws InvalidInput unless part is 0, 1 or 2, 0 ≤ j0 ≤ j1 ≤ k and k ≥ 1
+  void add_rows_part(const double* U, Eigen::Index k, double* div, int part, Eigen::Index j0,
+                     Eigen::Index j1, const Index* u_row = nullptr,
+                     const Index* d_row = nullptr) const;
+
  private:
   Index n_vertices_ = 0, n_faces_ = 0;
-  double scale_ = 1.0;         // 1 / tri.multiplicity()
-  std::vector<Index> tail_;    // 3 per face: its corners
-  std::vector<double> frame_;  // 3 per face: ℓ₀, x, y (y = 0 on a degenerate face)
+  double scale_ = 1.0;                     // 1 / tri.multiplicity()
+  std::vector<Index> tail_;                // 3 per face: its corners
+  std::vector<double> frame_;              // 3 per face: ℓ₀, x, y (y = 0 on a degenerate face)
+  std::array<Index, 2> part_faces_{0, 0};  // faces in parts 0 and 1 (add_rows_part())
 };
 
 /// divergence_of_unit_gradient() of every column of U (#V×k) at once, #V×k: each face's layout

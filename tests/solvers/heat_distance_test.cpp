@@ -451,6 +451,7 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRowsMatchColumns) {
 
 // relabeled(): the same divergence on renumbered vertices (the heat method's blocks use a
 // breadth-first order); apply_rows() through a row map u_row gives the unmapped bits;
+// add_rows_part() splits the faces into parts that write disjoint rows;
 // row for row to rounding (its faces are reordered, so the sums at a vertex run in another
 // order); anything but a permutation is refused.
 TEST(SolversHeatDistance, UnitGradientDivergenceRelabeled) {
@@ -494,6 +495,29 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRelabeled) {
   for (Index v = 0; v < nv; ++v) {
     EXPECT_EQ(mapped_out.row(new_index[std::size_t(v)]), expected.row(v)) << "vertex " << v;
   }
+  // add_rows_part(): part 0 writes only rows below ⌊#V/2⌋, part 1 only rows at or above it (so
+  // two threads may take them side by side); zeroing, parts 0 and 1 on every column and part 2
+  // in two column ranges give apply_rows()'s bits (the same faces in the same order at every
+  // vertex); an operator that was not relabeled has every face in part 2
+  const Index half = nv / 2;
+  RowMajor part0 = RowMajor::Zero(nv, k), part1 = RowMajor::Zero(nv, k);
+  moved.add_rows_part(U_moved.data(), k, part0.data(), 0, 0, k);
+  moved.add_rows_part(U_moved.data(), k, part1.data(), 1, 0, k);
+  EXPECT_GT(part0.topRows(half).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(part0.bottomRows(nv - half).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_GT(part1.bottomRows(nv - half).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(part1.topRows(half).cwiseAbs().maxCoeff(), 0.0);
+  RowMajor parts = RowMajor::Zero(nv, k);
+  moved.add_rows_part(U_moved.data(), k, parts.data(), 0, 0, k);
+  moved.add_rows_part(U_moved.data(), k, parts.data(), 1, 0, k);
+  moved.add_rows_part(U_moved.data(), k, parts.data(), 2, 0, mid);
+  moved.add_rows_part(U_moved.data(), k, parts.data(), 2, mid, k);
+  EXPECT_EQ(parts, out);
+  RowMajor none = RowMajor::Zero(nv, k);
+  div.add_rows_part(U.data(), k, none.data(), 0, 0, k);
+  div.add_rows_part(U.data(), k, none.data(), 1, 0, k);
+  EXPECT_EQ(none.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_THROW(div.add_rows_part(U.data(), k, none.data(), 3, 0, k), InvalidInput);
   std::vector<Index> bad = new_index;
   bad[1] = bad[0];
   EXPECT_THROW(div.relabeled(bad), InvalidInput);
