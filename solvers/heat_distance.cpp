@@ -626,6 +626,59 @@ IFEM_HOST_CLONES void extremes_of_rows(const double* H, Index v0, Index v1, Eige
   }
 }
 
+// out[j][v] = max(P[row[v]·k + j] − shift[j], 0)·scale for the vertices [t0, t1) and the k
+// columns: blocks of 8 vertices × 8 columns (8 rows' values loaded as vectors, clamped and
+// scaled, transposed in registers, stored as 8 consecutive values of each column), the rest one
+// value at a time. The same operations on every value as the scalar loop, so the same bits
+// (NaN stays NaN, −0 stays −0). Value by value, the output's transpose of a 1M-face block of 32
+// sources took 15 ms.
+IFEM_HOST_CLONES void rows_to_output(const double* P, const Index* row, Index t0, Index t1,
+                                     Eigen::Index k, const double* shift, double scale,
+                                     double* const* out) {
+  using V = lanes::Lanes<8>::V;
+  using I = lanes::IntLanes<8>::I;
+  auto value = [&](Index v, Eigen::Index j) {
+    out[j][v] = std::max(P[row[v] * k + j] - shift[j], 0.0) * scale;
+  };
+  const Eigen::Index k8 = k / 8 * 8;
+  Index v = t0;
+  for (; v + 8 <= t1; v += 8) {
+    for (Eigen::Index c = 0; c < k8; c += 8) {
+      const V sh = lanes::load<8>(shift + c);
+      V r[8];
+      for (int i = 0; i < 8; ++i) {
+        const V d = lanes::load<8>(P + row[v + i] * k + c) - sh;
+        const I negative = d < V{};
+        r[i] = lanes::bit_cast<V>(lanes::bit_cast<I>(d) & ~negative) * scale;
+      }
+      // 8 × 8 transpose: pairs of rows, pairs of pairs, halves
+      V a[8], b[8];
+      for (int p = 0; p < 8; p += 2) {
+        a[p] = __builtin_shuffle(r[p], r[p + 1], I{0, 8, 2, 10, 4, 12, 6, 14});
+        a[p + 1] = __builtin_shuffle(r[p], r[p + 1], I{1, 9, 3, 11, 5, 13, 7, 15});
+      }
+      for (int q = 0; q < 8; q += 4) {
+        for (int e = 0; e < 2; ++e) {
+          b[q + e] = __builtin_shuffle(a[q + e], a[q + e + 2], I{0, 1, 8, 9, 4, 5, 12, 13});
+          b[q + e + 2] = __builtin_shuffle(a[q + e], a[q + e + 2], I{2, 3, 10, 11, 6, 7, 14, 15});
+        }
+      }
+      for (int q = 0; q < 4; ++q) {
+        lanes::store<8>(out[c + q] + v,
+                        __builtin_shuffle(b[q], b[q + 4], I{0, 1, 2, 3, 8, 9, 10, 11}));
+        lanes::store<8>(out[c + q + 4] + v,
+                        __builtin_shuffle(b[q], b[q + 4], I{4, 5, 6, 7, 12, 13, 14, 15}));
+      }
+    }
+    for (Eigen::Index j = k8; j < k; ++j) {
+      for (Index i = v; i < v + 8; ++i) value(i, j);
+    }
+  }
+  for (; v < t1; ++v) {
+    for (Eigen::Index j = 0; j < k; ++j) value(v, j);
+  }
+}
+
 }  // namespace
 
 void HeatDistanceSolver::Impl::heat_extremes(const double* H, Eigen::Index k,
@@ -786,14 +839,10 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     shift[std::size_t(j)] = P[fo.row[std::size_t(src[std::size_t(j)])] * k + j];
   }
   // out = max(φ − φ(source), 0)·scale: rows (in fo's order) to columns (vertex order)
+  std::vector<double*> out_cols(kk);
+  for (std::size_t j = 0; j < kk; ++j) out_cols[j] = out.col(out_col[j]).data();
   over_vertex_tiles(nv, two_threads, [&](Index t0, Index t1) {
-    for (Eigen::Index j = 0; j < k; ++j) {
-      double* o = out.col(out_col[std::size_t(j)]).data();
-      const double sh = shift[std::size_t(j)];
-      for (Index v = t0; v < t1; ++v) {
-        o[v] = std::max(P[fo.row[std::size_t(v)] * k + j] - sh, 0.0) * scale;
-      }
-    }
+    rows_to_output(P, fo.row.data(), t0, t1, k, shift.data(), scale, out_cols.data());
   });
   finish_block(src, out_col, mx, mn, out, reps);
 }
