@@ -97,8 +97,9 @@ class UnitGradientDivergence {
   /// The same operator on renumbered vertices: vertex v of the triangulation is vertex
   /// new_index[v] of the copy, so that apply_rows() reads and writes blocks in another row order
   /// (e.g. one with better locality than the input's) without copying them. The faces are
-  /// reordered by their smallest new vertex index (stable), so that a pass over them sweeps the
-  /// new order; the sums at each vertex then run in that order (the same values to rounding).
+  /// reordered into the three parts of add_rows_part(), each by its smallest new vertex index
+  /// (stable), so that a pass over a part sweeps the new order; the sums at each vertex then
+  /// run in that order (the same values to rounding).
   /// @throws InvalidInput if new_index is not a permutation of [0, #V)
   UnitGradientDivergence relabeled(const std::vector<Index>& new_index) const;
 

@@ -171,15 +171,14 @@ struct HeatDistanceSolver::Impl {
   };
   // The solves' own row order, where the heat's and the Poisson factor's kernels share it (one
   // analysis: one fill-reducing order): a block kept in it through both solves needs no row
-  // copies in and out of each (1M faces, k = 32: 256 MB a sweep). The divergence runs in a
-  // breadth-first vertex order between a copy out (fused with the heat's extremes) and a copy
-  // back (fused with the Poisson solve's compatibility sums): on rows in the AMD order its
-  // accesses scatter (docs/decisions.md, "Blocks of sources, session 12").
+  // copies in and out of each (1M faces, k = 32: 256 MB a sweep). The divergence goes over
+  // its faces in a breadth-first vertex order (on faces in the AMD order its accesses scatter;
+  // docs/decisions.md, "Blocks of sources, session 12") and reads and writes each corner's
+  // row where it is in the factor's order, through local_row ("... session 14").
   struct FactorOrder {
     std::vector<Index> vertex;     // row i of a block is vertex[i]
     std::vector<Index> row;        // vertex v is row row[v]
-    std::vector<Index> local;      // row i's vertex in a breadth-first order (the divergence's)
-    std::vector<Index> local_row;  // the row of vertex v of that order (local's inverse)
+    std::vector<Index> local_row;  // the row of vertex number v of the breadth-first order
     std::optional<fem::UnitGradientDivergence> div;  // unit_div in that order
   };
   mutable std::once_flag factor_order_once;
@@ -758,13 +757,10 @@ const HeatDistanceSolver::Impl::FactorOrder* HeatDistanceSolver::Impl::factor_or
       fo->row[std::size_t(fo->vertex[i])] = Index(i);
     }
     const std::vector<Index> near = breadth_first_order(tri);
-    fo->local.resize(fo->vertex.size());
-    for (std::size_t i = 0; i < fo->vertex.size(); ++i) {
-      fo->local[i] = near[std::size_t(fo->vertex[i])];
-    }
     fo->local_row.resize(fo->vertex.size());
-    for (std::size_t i = 0; i < fo->vertex.size(); ++i)
-      fo->local_row[std::size_t(fo->local[i])] = Index(i);
+    for (std::size_t i = 0; i < fo->vertex.size(); ++i) {
+      fo->local_row[std::size_t(near[std::size_t(fo->vertex[i])])] = Index(i);
+    }
     fo->div.emplace(unit_div->relabeled(near));
     factor_order_ = std::move(fo);
   });
