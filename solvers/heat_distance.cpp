@@ -653,20 +653,21 @@ IFEM_HOST_CLONES void rows_to_output(const double* P, const Index* row, Index t0
       // 8 × 8 transpose: pairs of rows, pairs of pairs, halves
       V a[8], b[8];
       for (int p = 0; p < 8; p += 2) {
-        a[p] = __builtin_shuffle(r[p], r[p + 1], I{0, 8, 2, 10, 4, 12, 6, 14});
-        a[p + 1] = __builtin_shuffle(r[p], r[p + 1], I{1, 9, 3, 11, 5, 13, 7, 15});
+        a[p] = __builtin_shufflevector(r[p], r[p + 1], 0, 8, 2, 10, 4, 12, 6, 14);
+        a[p + 1] = __builtin_shufflevector(r[p], r[p + 1], 1, 9, 3, 11, 5, 13, 7, 15);
       }
       for (int q = 0; q < 8; q += 4) {
         for (int e = 0; e < 2; ++e) {
-          b[q + e] = __builtin_shuffle(a[q + e], a[q + e + 2], I{0, 1, 8, 9, 4, 5, 12, 13});
-          b[q + e + 2] = __builtin_shuffle(a[q + e], a[q + e + 2], I{2, 3, 10, 11, 6, 7, 14, 15});
+          b[q + e] = __builtin_shufflevector(a[q + e], a[q + e + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+          b[q + e + 2] =
+              __builtin_shufflevector(a[q + e], a[q + e + 2], 2, 3, 10, 11, 6, 7, 14, 15);
         }
       }
       for (int q = 0; q < 4; ++q) {
         lanes::store<8>(out[c + q] + v,
-                        __builtin_shuffle(b[q], b[q + 4], I{0, 1, 2, 3, 8, 9, 10, 11}));
+                        __builtin_shufflevector(b[q], b[q + 4], 0, 1, 2, 3, 8, 9, 10, 11));
         lanes::store<8>(out[c + q + 4] + v,
-                        __builtin_shuffle(b[q], b[q + 4], I{4, 5, 6, 7, 12, 13, 14, 15}));
+                        __builtin_shufflevector(b[q], b[q + 4], 4, 5, 6, 7, 12, 13, 14, 15));
       }
     }
     for (Eigen::Index j = k8; j < k; ++j) {
