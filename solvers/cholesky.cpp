@@ -1,5 +1,6 @@
 #include "solvers/cholesky.h"
 
+#include <amd.h>
 #include <cholmod.h>
 #include <dlfcn.h>
 
@@ -7,6 +8,7 @@
 #include <cmath>
 #include <complex>
 #include <cstring>
+#include <limits>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -314,11 +316,35 @@ void configure_analysis(cholmod_common& c, const CholeskyOptions& options) {
     c.supernodal_switch = options.simplicial_below_flops_per_entry;
   }
   c.final_ll = 1;
-  if (options.force_metis || options.force_amd) {
+  if (!options.ordering.empty() || options.force_metis || options.force_amd) {
     c.nmethods = 1;
-    c.method[0].ordering = options.force_metis ? CHOLMOD_METIS : CHOLMOD_AMD;
+    c.method[0].ordering = !options.ordering.empty() ? CHOLMOD_GIVEN
+                           : options.force_metis     ? CHOLMOD_METIS
+                                                     : CHOLMOD_AMD;
     c.postorder = 1;
   }
+}
+
+// The symbolic factor of the pattern `s` views (c configured by configure_analysis), with the
+// options' given ordering if any. nullptr if CHOLMOD fails.
+cholmod_factor* analyze_pattern(cholmod_sparse& s, const CholeskyOptions& options,
+                                cholmod_common& c, const char* who) {
+  if (options.ordering.empty()) return cholmod_analyze(&s, &c);
+  const std::size_t n = s.nrow;
+  std::vector<char> seen(n, 0);
+  bool permutation = options.ordering.size() == n;
+  for (std::size_t k = 0; permutation && k < n; ++k) {
+    const int j = options.ordering[k];
+    permutation = j >= 0 && static_cast<std::size_t>(j) < n && !seen[j];
+    if (permutation) seen[j] = 1;
+  }
+  if (!permutation) {
+    throw InvalidInput(std::string(who) + ": CholeskyOptions::ordering has " +
+                       std::to_string(options.ordering.size()) +
+                       " entries and is not a permutation of 0.." + std::to_string(n) + "−1");
+  }
+  std::vector<int> perm = options.ordering;  // CHOLMOD's argument is not const
+  return cholmod_analyze_p(&s, perm.data(), nullptr, 0, &c);
 }
 
 // The numeric settings of `options` in im.
@@ -353,7 +379,7 @@ void analyze_and_factor(CholeskySolver::Impl& im, cholmod_sparse s, const Choles
                         const char* who) {
   configure_numeric(im, static_cast<Eigen::Index>(s.nrow), options);
   configure_analysis(im.common, options);
-  im.factor = cholmod_analyze(&s, &im.common);
+  im.factor = analyze_pattern(s, options, im.common, who);
   if (!im.factor || im.common.status < CHOLMOD_OK) {
     throw SolverError(std::string(who) + ": CHOLMOD analysis failed: " + im.status_text());
   }
@@ -372,6 +398,66 @@ CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyOpti
   analyze_and_factor(im, Impl::view(*A, CHOLMOD_REAL), options, "CholeskySolver");
   im.outer.assign(A->outerIndexPtr(), A->outerIndexPtr() + A->cols() + 1);
   im.inner.assign(A->innerIndexPtr(), A->innerIndexPtr() + A->nonZeros());
+}
+
+// --- AMD ordering ----------------------------------------------------------------------------
+
+std::vector<int> amd_ordering(int n, const std::vector<int>& start, const std::vector<int>& index) {
+  if (n < 0 || start.size() != static_cast<std::size_t>(n) + 1 || start[0] != 0 ||
+      static_cast<std::size_t>(start[n]) != index.size() ||
+      !std::is_sorted(start.begin(), start.end()) ||
+      std::any_of(index.begin(), index.end(), [n](int i) { return i < 0 || i >= n; })) {
+    throw InvalidInput("amd_ordering: malformed adjacency lists for " + std::to_string(n) +
+                       " nodes");
+  }
+  std::vector<int> perm(n);
+  if (n == 0) return perm;
+  if (2 * index.size() + index.size() / 2 + static_cast<std::size_t>(n) + 1 >
+      static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    throw InvalidInput("amd_ordering: the graph is too large for 32-bit indices");
+  }
+  // amd_2 (AMD's core) on the graph as it needs it: both directions of every edge, without
+  // self-loops and repeats, contiguous lists and a fifth of elbow room (amd_order would check,
+  // sort, transpose and symmetrize in separate passes)
+  std::vector<int> pe(n + 1, 0), len(n, 0), mark(n, -1);
+  for (int j = 0; j < n; ++j) {
+    for (int p = start[j]; p < start[j + 1]; ++p) {
+      if (index[p] == j) continue;
+      ++pe[index[p] + 1];
+      ++pe[j + 1];
+    }
+  }
+  for (int j = 0; j < n; ++j) pe[j + 1] += pe[j];
+  const std::size_t nz = static_cast<std::size_t>(pe[n]);
+  const std::size_t iwlen = nz + nz / 5 + static_cast<std::size_t>(n) + 1;
+  std::vector<int> iw(iwlen);
+  for (int j = 0; j < n; ++j) {
+    for (int p = start[j]; p < start[j + 1]; ++p) {
+      const int i = index[p];
+      if (i == j) continue;
+      iw[pe[i] + len[i]++] = j;
+      iw[pe[j] + len[j]++] = i;
+    }
+  }
+  int pfree = 0;  // drop repeats, closing the gaps
+  for (int j = 0; j < n; ++j) {
+    const int begin = pe[j], end = pe[j] + len[j];
+    pe[j] = pfree;
+    for (int p = begin; p < end; ++p) {
+      if (mark[iw[p]] == j) continue;
+      mark[iw[p]] = j;
+      iw[pfree++] = iw[p];
+    }
+    len[j] = pfree - pe[j];
+  }
+  pe.pop_back();
+  std::vector<int> nv(n), inverse(n), head(n), elen(n), degree(n), w(n);
+  double control[AMD_CONTROL], info[AMD_INFO];
+  amd_defaults(control);
+  amd_2(n, pe.data(), iw.data(), len.data(), static_cast<int>(iwlen), pfree, nv.data(),
+        inverse.data(), perm.data(), head.data(), elen.data(), degree.data(), w.data(), control,
+        info);
+  return perm;
 }
 
 // --- CholeskyAnalysis ------------------------------------------------------------------------
@@ -415,7 +501,7 @@ CholeskyAnalysis::CholeskyAnalysis(const fem::SparseMatrix& A_in, const Cholesky
   im.n = A->rows();
   configure_analysis(im.common, options);
   cholmod_sparse s = CholeskySolver::Impl::view(*A, CHOLMOD_REAL);
-  im.symbolic = cholmod_analyze(&s, &im.common);
+  im.symbolic = analyze_pattern(s, options, im.common, "CholeskyAnalysis");
   if (!im.symbolic || im.common.status < CHOLMOD_OK) {
     throw SolverError("CholeskyAnalysis: CHOLMOD analysis failed (status " +
                       std::to_string(im.common.status) + ")");

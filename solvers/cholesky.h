@@ -23,6 +23,13 @@ struct CholeskyOptions {
   /// one BLAS thread; it beats AMD only for a complex factor at two BLAS threads (measurements:
   /// docs/decisions.md, "Vector heat: complex Cholesky").
   bool force_metis = false;
+  /// A fill-reducing ordering to use instead of computing one (takes precedence over both
+  /// flags above): ordering[k] is the column eliminated k-th, a permutation of 0..n−1
+  /// (CHOLMOD's given ordering; its elimination tree is still postordered). Why: the heat
+  /// method orders the input mesh's pattern with AMD while the intrinsic Delaunay flips run,
+  /// which takes the ordering off a small mesh's critical path (docs/decisions.md, "Small meshes:
+  /// the ordering beside the flips"). Empty (the default): order as the flags say.
+  std::vector<int> ordering;
   /// Supernodal factorization (fast with an optimized BLAS); false = simplicial.
   bool supernodal = true;
   /// With supernodal = true and CHOLMOD's own solves: factor simplicially instead when the
@@ -101,6 +108,15 @@ class BlasThreadScope {
 /// where no BLAS call can be running in another thread, e.g. first thing in main(). A no-op
 /// with any other BLAS (looked up at run time) or when the workers are not running.
 void release_idle_blas_threads();
+
+/// AMD's fill-reducing ordering of the graph on nodes 0..n−1 with an edge {i, j} for every i in
+/// index[start[j] .. start[j+1]) (each edge listed once or twice, in either list; self-loops and
+/// repeats ignored; start has n + 1 entries, start[0] = 0): returns the permutation p with p[k]
+/// = the node eliminated k-th, for CholeskyOptions::ordering. AMD's default controls (dense rows
+/// above 10√n, aggressive absorption), as CHOLMOD's own AMD.
+/// @throws InvalidInput if the lists are malformed (an index outside 0..n−1, start not
+///         non-decreasing) or too long for 32-bit indices
+std::vector<int> amd_ordering(int n, const std::vector<int>& start, const std::vector<int>& index);
 
 /// The symbolic analysis of a sparse symmetric pattern (the fill-reducing ordering and the
 /// factor's structure, CHOLMOD's cholmod_analyze), to share between CholeskySolvers of several

@@ -85,6 +85,28 @@ PoissonOptions query_factor_options(HeatDistanceOptions::Precision precision, In
   return o;
 }
 
+// The boundary vertices of tri in increasing order: those flagged in `given` (inserted vertices
+// beyond its size are interior) or, when it is empty, the ends of tri's boundary sides.
+std::vector<Index> boundary_vertex_list(const IntrinsicTriangulation& tri,
+                                        const std::vector<char>& given) {
+  if (static_cast<Index>(given.size()) > tri.n_vertices()) {
+    throw InvalidInput("HeatDistanceSolver: boundary_vertices has " + std::to_string(given.size()) +
+                       " entries for " + std::to_string(tri.n_vertices()) + " vertices");
+  }
+  std::vector<char> on_boundary = given;
+  if (given.empty()) {
+    on_boundary.assign(tri.n_vertices(), 0);
+    for (Index h = 0; h < tri.n_halfedges(); ++h) {
+      if (tri.twin(h) == kInvalidIndex) on_boundary[tri.tail(h)] = on_boundary[tri.head(h)] = 1;
+    }
+  }
+  std::vector<Index> list;
+  for (Index v = 0; v < static_cast<Index>(on_boundary.size()); ++v) {
+    if (on_boundary[v]) list.push_back(v);
+  }
+  return list;
+}
+
 }  // namespace
 
 void HeatDistanceOptions::validate() const {
@@ -308,57 +330,38 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
   for (Index e = 0; e < im.tri.n_edges(); ++e) im.tri.set_length(e, im.tri.length(e) / im.scale);
   h /= im.scale;
   im.t = options.time_factor * h * h;
-  im.comps = connected_components(im.tri);
+  // The fill-reducing ordering (AMD, from the edges alone: a fifth of a small mesh's precompute)
+  // beside the components, L, M, tL and the face layouts of the queries' divergence; then the
+  // rest of the symbolic analysis (docs/decisions.md, "Small meshes: the ordering beside the
+  // assembly").
+  std::vector<int> ordering;
+  fem::SparseMatrix tL;
+  run_parallel({[&] { ordering = PoissonSolver::laplacian_ordering(im.tri); },
+                [&] {
+                  im.comps = connected_components(im.tri);
+                  im.L = fem::cotan_laplacian(im.tri);
+                  im.mass = fem::lumped_mass(im.tri);
+                  tL = im.t * im.L;
+                  im.unit_div.emplace(im.tri);
+                }});
   im.one_component =
       std::all_of(im.comps.label.begin(), im.comps.label.end(), [](Index c) { return c == 0; });
-  im.L = fem::cotan_laplacian(im.tri);
-  im.mass = fem::lumped_mass(im.tri);
-  std::vector<char> on_boundary = options.boundary_vertices;
-  if (on_boundary.empty()) {
-    on_boundary.assign(im.tri.n_vertices(), 0);
-    for (Index h2 = 0; h2 < im.tri.n_halfedges(); ++h2) {
-      if (im.tri.twin(h2) == kInvalidIndex) {
-        on_boundary[im.tri.tail(h2)] = 1;
-        on_boundary[im.tri.head(h2)] = 1;
-      }
-    }
-  } else if (static_cast<Index>(on_boundary.size()) > im.tri.n_vertices()) {
-    throw InvalidInput("HeatDistanceSolver: boundary_vertices has " +
-                       std::to_string(on_boundary.size()) + " entries for " +
-                       std::to_string(im.tri.n_vertices()) + " vertices");
-  } else {
-    on_boundary.resize(im.tri.n_vertices(), 0);  // inserted vertices: interior
-  }
-  const bool any_boundary =
-      std::find(on_boundary.begin(), on_boundary.end(), 1) != on_boundary.end();
+  const std::vector<Index> boundary = boundary_vertex_list(im.tri, options.boundary_vertices);
   // Two factorizations (three with boundary), each exactly once, side by side.
   PoissonOptions poisson_opt = query_factor_options(options.precision, im.tri.n_vertices(), false);
   PoissonOptions heat_opt = query_factor_options(options.precision, im.tri.n_vertices(), true);
   heat_opt.screening = 1.0;  // tL + 1·M
   // One symbolic analysis for all of them: M + tL, its Dirichlet form and the pinned L keep
-  // L's pattern (constrained vertices as decoupled rows), so AMD runs once; tL and the face
-  // layouts of the queries' divergence are built beside it (rocketship: 2.7 of 50 ms).
-  std::optional<CholeskyAnalysis> shared;
-  fem::SparseMatrix tL;
-  run_parallel(
-      {[&] { shared.emplace(PoissonSolver::analyze(im.L, im.comps, poisson_opt.cholesky)); },
-       [&] {
-         tL = im.t * im.L;
-         im.unit_div.emplace(im.tri);
-       }});
-  const CholeskyAnalysis& analysis = *shared;
+  // L's pattern (constrained vertices as decoupled rows), so it runs once.
+  poisson_opt.cholesky.ordering = std::move(ordering);
+  const CholeskyAnalysis analysis = PoissonSolver::analyze(im.L, im.comps, poisson_opt.cholesky);
   std::vector<std::function<void()>> jobs;
   jobs.emplace_back([&] {
     im.heat_neumann.emplace(tL, im.mass, im.comps, std::vector<Index>{}, analysis, heat_opt);
   });
-  if (options.boundary == HeatDistanceOptions::Boundary::kAverage && any_boundary) {
-    std::vector<Index> bv;
-    for (Index v = 0; v < im.tri.n_vertices(); ++v) {
-      if (on_boundary[v]) bv.push_back(v);
-    }
-    jobs.emplace_back([&im, &tL, &heat_opt, &analysis, bv = std::move(bv)]() mutable {
-      im.heat_dirichlet.emplace(tL, im.mass, im.comps, std::move(bv), analysis, heat_opt);
-    });
+  if (options.boundary == HeatDistanceOptions::Boundary::kAverage && !boundary.empty()) {
+    jobs.emplace_back(
+        [&] { im.heat_dirichlet.emplace(tL, im.mass, im.comps, boundary, analysis, heat_opt); });
   }
   jobs.emplace_back([&] {
     im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, analysis, poisson_opt);

@@ -448,6 +448,33 @@ CholeskyAnalysis PoissonSolver::analyze(const fem::SparseMatrix& L, const Compon
   return CholeskyAnalysis(im.assemble_unknown_block(L, 0.0), options);
 }
 
+std::vector<int> PoissonSolver::laplacian_ordering(const intrinsic::IntrinsicTriangulation& tri) {
+  // the graph of L's off-diagonal pattern on the referenced vertices: each edge once, in its
+  // first end's list (a self-edge adds nothing to L; AMD drops it, and a parallel edge's repeat)
+  const Index nv = tri.n_vertices();
+  const auto& tails = tri.tails();
+  std::vector<int> id(nv, -1);
+  for (Index h = 0; h < tri.n_halfedges(); ++h) id[tails[h]] = 0;
+  int n = 0;
+  for (Index v = 0; v < nv; ++v) {
+    if (id[v] == 0) id[v] = n++;
+  }
+  auto ends = [&](Index e) {
+    const Index h = tri.edge_halfedge(e);
+    return std::pair<int, int>{id[tails[h]], id[tails[intrinsic::IntrinsicTriangulation::next(h)]]};
+  };
+  std::vector<int> start(n + 1, 0);
+  for (Index e = 0; e < tri.n_edges(); ++e) ++start[ends(e).first + 1];
+  for (int v = 0; v < n; ++v) start[v + 1] += start[v];
+  std::vector<int> index(start[n]);
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const auto [i, j] = ends(e);
+    index[fill[i]++] = j;
+  }
+  return amd_ordering(n, start, index);
+}
+
 PoissonSolver::~PoissonSolver() = default;
 PoissonSolver::PoissonSolver(PoissonSolver&&) noexcept = default;
 PoissonSolver& PoissonSolver::operator=(PoissonSolver&&) noexcept = default;
@@ -537,6 +564,9 @@ void PoissonSolver::solve_weak_homogeneous_rows_in_order(double* W, Eigen::Index
 
 const std::vector<Index>& PoissonSolver::dirichlet_vertices() const { return impl_->dirichlet; }
 Index PoissonSolver::n_unknowns() const { return Index(impl_->unknown_vertex.size()); }
+double PoissonSolver::factor_nonzeros() const {
+  return impl_->chol ? impl_->chol->factor_nonzeros() : 0.0;
+}
 
 Eigen::VectorXd solve_poisson(const intrinsic::IntrinsicTriangulation& tri,
                               const Eigen::VectorXd& f,

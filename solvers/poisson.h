@@ -67,6 +67,15 @@ class PoissonSolver {
   static CholeskyAnalysis analyze(const fem::SparseMatrix& L, const Components& components,
                                   const CholeskyOptions& options = {});
 
+  /// AMD's ordering for analyze(cotan_laplacian(tri), connected_components(tri), options), to
+  /// pass as options.ordering: of the vertices that faces reference (the analysis's unknowns,
+  /// in increasing vertex id), from tri's edges alone, so that it can run beside the assembly
+  /// of L (the heat method's precompute does). The same pattern as the analysis would order
+  /// itself, so the same ordering (docs/decisions.md, "Small meshes: the ordering beside the
+  /// assembly").
+  /// @throws InvalidInput if tri is too large for AMD's 32-bit indices
+  static std::vector<int> laplacian_ordering(const intrinsic::IntrinsicTriangulation& tri);
+
   ~PoissonSolver();
   PoissonSolver(PoissonSolver&&) noexcept;
   PoissonSolver& operator=(PoissonSolver&&) noexcept;
@@ -127,6 +136,8 @@ class PoissonSolver {
   /// Number of unknowns in the factored system (with a shared analysis: including the Dirichlet
   /// and pinned vertices, kept as decoupled rows).
   Index n_unknowns() const;
+  /// Entries of the Cholesky factor (0 when nothing is factored: every vertex constrained).
+  double factor_nonzeros() const;
 
   struct Impl;
 

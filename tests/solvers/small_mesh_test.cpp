@@ -100,6 +100,33 @@ TEST(SolversSmallMesh, SimplicialBelowFlopsPerEntry) {
   }
 }
 
+// CholeskyOptions::ordering replaces AMD: AMD's own ordering given back gives the same factor,
+// a poor one (the natural order) more fill; anything but a permutation of 0..n−1 is refused.
+TEST(SolversSmallMesh, GivenOrderingIsUsed) {
+  const auto tri = test::make_tri(test::jittered(intrinsic::grid(20, 20), 0.02));
+  const fem::SparseMatrix A = mass_plus_laplacian(tri, 0.1);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 2.0);
+  const CholeskySolver amd(A);
+  CholeskyOptions natural;
+  natural.ordering.resize(A.rows());
+  std::iota(natural.ordering.begin(), natural.ordering.end(), 0);
+  const CholeskySolver own(A, natural);
+  const CholeskySolver shared(A, CholeskyAnalysis(A, natural));
+  EXPECT_GT(own.factor_nonzeros(), 1.2 * amd.factor_nonzeros());
+  EXPECT_EQ(shared.factor_nonzeros(), own.factor_nonzeros());
+  const Eigen::VectorXd x = amd.solve(b);
+  EXPECT_LT((own.solve(b) - x).cwiseAbs().maxCoeff(), 1e-12 * x.cwiseAbs().maxCoeff());
+  EXPECT_EQ(shared.solve(b), own.solve(b));
+  std::vector<int> short_one(A.rows() - 1);
+  std::iota(short_one.begin(), short_one.end(), 0);
+  for (const std::vector<int>& bad : {short_one, std::vector<int>(A.rows(), 0)}) {
+    CholeskyOptions o;
+    o.ordering = bad;
+    EXPECT_THROW(CholeskySolver(A, o), InvalidInput);
+    EXPECT_THROW(CholeskyAnalysis(A, o), InvalidInput);
+  }
+}
+
 // Compares every solve of a PoissonSolver with a shared analysis (constrained vertices kept as
 // decoupled rows) with one that removes them, to rounding.
 void expect_same_solves(const PoissonSolver& shared, const PoissonSolver& own, Index n) {
@@ -113,6 +140,39 @@ void expect_same_solves(const PoissonSolver& shared, const PoissonSolver& own, I
   B << b, b.reverse(), Eigen::VectorXd::Ones(n);
   const Eigen::MatrixXd X = shared.solve_weak_homogeneous(B), Y = own.solve_weak_homogeneous(B);
   EXPECT_LT((X - Y).cwiseAbs().maxCoeff(), 1e-12 * Y.cwiseAbs().maxCoeff());
+}
+
+// PoissonSolver::laplacian_ordering (AMD on the triangulation's edges, before L exists) gives the
+// analysis the fill of AMD on L itself, on the referenced vertices only (unreferenced ones and a
+// second component), and on a Δ-complex whose flipped tetrahedron has a doubled edge.
+TEST(SolversSmallMesh, LaplacianOrderingMatchesTheAnalysisOwn) {
+  intrinsic::TriangleMesh tet;
+  tet.positions.resize(4, 3);
+  tet.positions << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;  // regular: every diamond convex
+  tet.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  auto doubled = test::make_tri(tet, false);
+  ASSERT_TRUE(doubled.flip_edge(0));
+  for (const auto& tri :
+       {test::make_tri(test::two_copies(test::jittered(intrinsic::grid(16, 12), 0.03), 3.0, 2)),
+        doubled}) {
+    const fem::SparseMatrix L = fem::cotan_laplacian(tri);
+    const Eigen::VectorXd mass = fem::lumped_mass(tri);
+    const Components comps = connected_components(tri);
+    CholeskyOptions given;
+    given.ordering = PoissonSolver::laplacian_ordering(tri);
+    const CholeskyAnalysis mine = PoissonSolver::analyze(L, comps, given);
+    const CholeskyAnalysis own = PoissonSolver::analyze(L, comps);
+    ASSERT_EQ(mine.size(), own.size());
+    ASSERT_EQ(given.ordering.size(), std::size_t(own.size()));
+    PoissonOptions screened;
+    screened.screening = 1.0;
+    const PoissonSolver a(L, mass, comps, {}, mine, screened), b(L, mass, comps, {}, own, screened);
+    EXPECT_EQ(a.factor_nonzeros(), b.factor_nonzeros()) << tri.n_vertices();
+    expect_same_solves(a, b, tri.n_vertices());
+  }
+  EXPECT_THROW(amd_ordering(2, {0, 1, 2}, {1, 2}), InvalidInput);  // index out of range
+  EXPECT_THROW(amd_ordering(2, {0, 2, 1}, {1, 0}), InvalidInput);  // start decreasing
+  EXPECT_EQ(amd_ordering(0, {0}, {}).size(), 0u);
 }
 
 TEST(SolversSmallMesh, PoissonSharedAnalysisMatchesSeparate) {
