@@ -364,6 +364,8 @@ bool IntrinsicTriangulation::is_delaunay(Index e) const {
   if (scale != 1.0) a /= scale, b1 /= scale, c1 /= scale, b2 /= scale, c2 /= scale;
   const double q1 = b1 * b1 + c1 * c1 - a * a;
   const double q2 = b2 * b2 + c2 * c2 - a * a;
+  // both angles opposite e at most π/2 (most edges): s ≥ 0 below, without its square roots
+  if (q1 >= 0.0 && q2 >= 0.0) return true;
   const double s = triangle_area(a, b1, c1) * q2 + triangle_area(a, b2, c2) * q1;
   const bool bad = s < -1e-13 * (b1 * c1) * (b2 * c2);  // NaN compares false: Delaunay
   return !bad;
