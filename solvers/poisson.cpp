@@ -1,5 +1,6 @@
 #include "solvers/poisson.h"
 
+#include <algorithm>
 #include <cmath>
 #include <mutex>
 #include <optional>
@@ -307,6 +308,10 @@ struct PoissonSolver::Impl {
   // keeps its entries, as zeros but its positive diagonal: decoupled, with L's pattern.
   fem::SparseMatrix assemble_unknown_block(const fem::SparseMatrix& L, double c) const {
     const Index nu = static_cast<Index>(unknown_vertex.size());
+    if (nu == n) {
+      std::optional<fem::SparseMatrix> A = lower_triangle(L, c);
+      if (A) return std::move(*A);
+    }
     fem::SparseMatrix A(nu, nu);
     int* outer = A.outerIndexPtr();
     outer[0] = 0;
@@ -341,6 +346,44 @@ struct PoissonSolver::Impl {
         }
       }
       if (fixed_j && !(value[diag] > 0.0)) value[diag] = 1.0;  // any positive value decouples
+    }
+    return A;
+  }
+
+  // assemble_unknown_block() when every vertex is an unknown (the heat method's matrices): each
+  // column's lower part is a contiguous tail of L's sorted column, copied whole. nullopt when L
+  // is not compressed or lacks a stored diagonal entry (the general loop inserts it).
+  std::optional<fem::SparseMatrix> lower_triangle(const fem::SparseMatrix& L, double c) const {
+    if (!L.isCompressed()) return std::nullopt;
+    const int* l_outer = L.outerIndexPtr();
+    const int* l_inner = L.innerIndexPtr();
+    const double* l_value = L.valuePtr();
+    fem::SparseMatrix A(n, n);
+    int* outer = A.outerIndexPtr();
+    std::vector<int> diag(n);
+    outer[0] = 0;
+    for (Index j = 0; j < n; ++j) {
+      const int* d = std::lower_bound(l_inner + l_outer[j], l_inner + l_outer[j + 1], int(j));
+      if (d == l_inner + l_outer[j + 1] || *d != j) return std::nullopt;
+      diag[j] = static_cast<int>(d - l_inner);
+      outer[j + 1] = outer[j] + (l_outer[j + 1] - diag[j]);
+    }
+    A.resizeNonZeros(outer[n]);
+    int* inner = A.innerIndexPtr();
+    double* value = A.valuePtr();
+    for (Index j = 0; j < n; ++j) {
+      const int count = l_outer[j + 1] - diag[j];
+      std::copy_n(l_inner + diag[j], count, inner + outer[j]);
+      std::copy_n(l_value + diag[j], count, value + outer[j]);
+      value[outer[j]] += c * mass[j];
+    }
+    if (fixed_rows.empty()) return A;
+    for (Index j = 0; j < n; ++j) {  // fixed rows and columns: decoupled, as the general loop
+      const bool fixed_j = is_fixed(j);
+      for (int k = outer[j] + 1; k < outer[j + 1]; ++k) {
+        if (fixed_j || is_fixed(inner[k])) value[k] = 0.0;
+      }
+      if (fixed_j && !(value[outer[j]] > 0.0)) value[outer[j]] = 1.0;
     }
     return A;
   }

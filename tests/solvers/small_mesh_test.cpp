@@ -203,6 +203,34 @@ TEST(SolversSmallMesh, PoissonSharedAnalysisMatchesSeparate) {
                InvalidInput);
 }
 
+// Every vertex an unknown: the factored block is copied from L's sorted columns; an uncompressed L
+// takes the general entry-by-entry loop. Both give the same bits, Dirichlet and pinned vertices
+// (decoupled rows of a shared analysis) included.
+TEST(SolversSmallMesh, PoissonBlockCopyEqualsEntryLoop) {
+  const auto tri = test::make_tri(test::two_copies(intrinsic::grid(9, 7), 3.0, 0));
+  const Index n = tri.n_vertices();
+  const fem::SparseMatrix L = fem::cotan_laplacian(tri);
+  fem::SparseMatrix loose = L;
+  loose.uncompress();
+  const Eigen::VectorXd mass = fem::lumped_mass(tri);
+  const Components comps = connected_components(tri);
+  const CholeskyAnalysis analysis = PoissonSolver::analyze(L, comps);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, -2.0, 1.0);
+  PoissonOptions screened;
+  screened.screening = 0.5;
+  for (const PoissonOptions& o : {PoissonOptions{}, screened}) {
+    for (const std::vector<Index>& bv : {std::vector<Index>{}, std::vector<Index>{0, 5, 70}}) {
+      const PoissonSolver copied(L, mass, comps, bv, analysis, o);
+      const PoissonSolver looped(loose, mass, comps, bv, analysis, o);
+      const Eigen::VectorXd g = Eigen::VectorXd::Constant(Eigen::Index(bv.size()), 0.25);
+      const Eigen::VectorXd x = copied.solve_weak(b, g);
+      EXPECT_TRUE(x == looped.solve_weak(b, g)) << o.screening << " " << bv.size();
+      EXPECT_LT((x - PoissonSolver(L, mass, comps, bv, o).solve_weak(b, g)).cwiseAbs().maxCoeff(),
+                1e-12 * x.cwiseAbs().maxCoeff());
+    }
+  }
+}
+
 // solve_weak_homogeneous_in_place() gives solve_weak_homogeneous()'s bits, over a block of a wider
 // matrix (the columns beside it untouched): through its own storage when every vertex is an
 // unknown (shared analysis: Dirichlet and pinned vertices as decoupled rows; one pure-Neumann
