@@ -9,8 +9,11 @@
 // `--load-check 0` makes every loop above its size threshold use the OpenMP team even when the
 // machine is busy (to measure the thresholds themselves).
 //
+// `--retain-memory 0` leaves glibc's default of handing freed memory back to the kernel (the CLI
+// keeps it: retain_freed_memory()).
+//
 //   ifem_bench small --mesh FILE|icosphere:N [--what lm|precompute|factor] [--repeat N]
-//                    [--load-check 0|1]
+//                    [--load-check 0|1] [--retain-memory 0|1]
 #include <cstdio>
 #include <ctime>
 #include <string>
@@ -18,6 +21,7 @@
 
 #include "bench_util.h"
 #include "fem/operators.h"
+#include "intrinsic/core/memory.h"
 #include "intrinsic/core/parallel.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/generators/mesh_generators.h"
@@ -57,6 +61,7 @@ int small(int argc, char** argv) {
   const std::string what = string_option(argc, argv, "--what", "lm");
   set_parallel_load_check(int_option(argc, argv, "--load-check", 1) != 0);
   solvers::release_idle_blas_threads();  // as the CLI does: a short run's cores to itself
+  if (int_option(argc, argv, "--retain-memory", 1) != 0) retain_freed_memory();  // as the CLI
   const Mesh m = load(spec);
   auto tri = intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
   tri.mollify();

@@ -10,6 +10,7 @@
 
 #include "cli.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/memory.h"
 #include "solvers/cholesky.h"
 
 namespace {
@@ -49,6 +50,8 @@ int main(int argc, char** argv) {
   // OpenBLAS's worker threads spin from the moment it is loaded: a short run would share its
   // cores with them (they come back on the first threaded BLAS call of a long one)
   ifem::solvers::release_idle_blas_threads();
+  // one job per process: memory freed between its steps is reused instead of faulted in again
+  ifem::retain_freed_memory();
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     print_usage();
     return argc < 2 ? kExitUsage : 0;

@@ -1,6 +1,7 @@
 // The precompute's shared symbolic analysis (CholeskyAnalysis, PoissonSolver with an analysis)
 // and thread-count independence of the heat method (issue 15, item 3).
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <Eigen/Core>
 #include <atomic>
@@ -14,6 +15,7 @@
 
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/memory.h"
 #include "intrinsic/core/parallel.h"
 #include "solvers/cholesky.h"
 #include "solvers/components.h"
@@ -430,6 +432,35 @@ TEST(SolversSmallMesh, RunParallelHelpers) {
   for (std::thread& t : callers) t.join();
   EXPECT_EQ(total.load(), 3 * 200 * 3);
   set_max_threads(0);
+}
+
+// retain_freed_memory(): a 24 MB block freed and allocated again is not faulted in again (glibc
+// maps a fresh block of that size from the kernel by default: ~6000 faults). ctest runs each
+// test in a process of its own, where no earlier free raised glibc's own threshold.
+#if defined(__SANITIZE_ADDRESS__)
+#define IFEM_TEST_OWN_MALLOC 1  // AddressSanitizer's allocator replaces glibc's
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define IFEM_TEST_OWN_MALLOC 1
+#endif
+#endif
+TEST(SolversSmallMesh, RetainedMemoryIsNotFaultedAgain) {
+#if defined(__GLIBC__) && !defined(IFEM_TEST_OWN_MALLOC)
+  retain_freed_memory();
+  auto faults_to_fill = [] {
+    rusage before{}, after{};
+    getrusage(RUSAGE_SELF, &before);
+    std::vector<char> block(std::size_t(24) << 20, 1);
+    getrusage(RUSAGE_SELF, &after);
+    EXPECT_EQ(block[12345], 1);
+    return after.ru_minflt - before.ru_minflt;
+  };
+  const long first = faults_to_fill();
+  EXPECT_GT(first, 1000);  // 6144 pages of 4 KB (fewer on huge pages)
+  EXPECT_LT(faults_to_fill(), 100);
+#else
+  GTEST_SKIP() << "glibc's own malloc only";
+#endif
 }
 
 TEST(SolversSmallMesh, ParallelPaysOnlyFromItsSize) {
