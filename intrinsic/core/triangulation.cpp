@@ -450,7 +450,7 @@ FlipReport IntrinsicTriangulation::flip_to_delaunay_from(std::vector<Index> queu
 FlipReport IntrinsicTriangulation::flip_to_delaunay_from(std::vector<Index> stack,
                                                          std::vector<Index>* touched,
                                                          const std::function<bool(Index)>& flip) {
-  return flip_stack(stack, nullptr, touched, flip);
+  return flip_stack(stack, nullptr, nullptr, touched, flip);
 }
 
 FlipReport IntrinsicTriangulation::flip_to_delaunay(const std::function<bool(Index)>& flip) {
@@ -458,11 +458,16 @@ FlipReport IntrinsicTriangulation::flip_to_delaunay(const std::function<bool(Ind
   std::vector<char> queued(ne, 1);
   std::vector<Index> stack(ne);
   for (Index e = 0; e < ne; ++e) stack[e] = ne - 1 - e;  // pop in increasing order
-  return flip_stack(stack, &queued, nullptr, flip);
+  // every edge's first test on the OpenMP team (the same flips follow: a test is redone once a
+  // flip has changed the edge's diamond)
+  std::vector<char> known(ne);
+#pragma omp parallel for schedule(static) if (parallel_pays(ne))
+  for (Index e = 0; e < ne; ++e) known[e] = is_delaunay(e) ? 1 : 2;
+  return flip_stack(stack, &queued, &known, nullptr, flip);
 }
 
 FlipReport IntrinsicTriangulation::flip_stack(std::vector<Index>& stack, std::vector<char>* queued,
-                                              std::vector<Index>* touched,
+                                              std::vector<char>* known, std::vector<Index>* touched,
                                               const std::function<bool(Index)>& flip) {
   FlipReport rep;
   const std::size_t cap = 50 * static_cast<std::size_t>(n_edges()) + 1000;
@@ -470,7 +475,7 @@ FlipReport IntrinsicTriangulation::flip_stack(std::vector<Index>& stack, std::ve
     const Index e = stack.back();
     stack.pop_back();
     if (queued) (*queued)[e] = 0;
-    if (is_delaunay(e)) continue;
+    if (known && (*known)[e] ? (*known)[e] == 1 : is_delaunay(e)) continue;
     if (rep.flips >= cap) {
       rep.hit_flip_cap = true;
       break;
@@ -482,12 +487,14 @@ FlipReport IntrinsicTriangulation::flip_stack(std::vector<Index>& stack, std::ve
     ++rep.flips;
     const Index h = edge_halfedge_[e];
     const Index t = twin_[h];
+    if (known) (*known)[e] = 0;
     if (touched) {
       touched->push_back(face(h));
       touched->push_back(face(t));
     }
     for (const Index x : {next(h), prev(h), next(t), prev(t)}) {
       const Index ex = edge_[x];
+      if (known) (*known)[ex] = 0;  // its diamond has a new face
       if (queued) {
         if ((*queued)[ex]) continue;
         (*queued)[ex] = 1;

@@ -241,9 +241,12 @@ class IntrinsicTriangulation {
   };
   SlotMove record_slot_move(int n, const Index* from, const Index* to) const;
   // The flip loop of flip_to_delaunay() and flip_to_delaunay_from(): pops edges, flips the
-  // non-Delaunay ones, pushes the diamond's sides (only those not queued when `queued` is given)
+  // non-Delaunay ones, pushes the diamond's sides (only those not queued when `queued` is given).
+  // `known`, when given: a test already made per edge (1 Delaunay, 2 not, 0 none), used until a
+  // flip changes the edge's diamond.
   FlipReport flip_stack(std::vector<Index>& stack, std::vector<char>* queued,
-                        std::vector<Index>* touched, const std::function<bool(Index)>& flip);
+                        std::vector<char>* known, std::vector<Index>* touched,
+                        const std::function<bool(Index)>& flip);
   void finish_slot_move(const SlotMove& m);
 
   void build_edges_and_vertices(const std::vector<double>& halfedge_length, bool check_agree);
