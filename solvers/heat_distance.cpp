@@ -330,13 +330,18 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
   for (Index e = 0; e < im.tri.n_edges(); ++e) im.tri.set_length(e, im.tri.length(e) / im.scale);
   h /= im.scale;
   im.t = options.time_factor * h * h;
-  // The fill-reducing ordering (AMD, from the edges alone: a fifth of a small mesh's precompute)
-  // beside the components, L, M, tL and the face layouts of the queries' divergence; then the
-  // rest of the symbolic analysis (docs/decisions.md, "Small meshes: the ordering beside the
-  // assembly").
-  std::vector<int> ordering;
+  // Two factorizations (three with boundary), each exactly once, side by side, from one
+  // symbolic analysis: M + tL, its Dirichlet form and the pinned L keep L's pattern (constrained
+  // vertices as decoupled rows). The analysis needs only the triangulation's edges, so it runs
+  // beside the components, L, M, tL and the face layouts of the queries' divergence
+  // (docs/decisions.md, "Small meshes: the analysis beside the assembly").
+  const PoissonOptions poisson_opt =
+      query_factor_options(options.precision, im.tri.n_vertices(), false);
+  PoissonOptions heat_opt = query_factor_options(options.precision, im.tri.n_vertices(), true);
+  heat_opt.screening = 1.0;  // tL + 1·M
+  std::optional<CholeskyAnalysis> shared;
   fem::SparseMatrix tL;
-  run_parallel({[&] { ordering = PoissonSolver::laplacian_ordering(im.tri); },
+  run_parallel({[&] { shared.emplace(PoissonSolver::analyze(im.tri, poisson_opt.cholesky)); },
                 [&] {
                   im.comps = connected_components(im.tri);
                   im.L = fem::cotan_laplacian(im.tri);
@@ -344,17 +349,10 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
                   tL = im.t * im.L;
                   im.unit_div.emplace(im.tri);
                 }});
+  const CholeskyAnalysis& analysis = *shared;
   im.one_component =
       std::all_of(im.comps.label.begin(), im.comps.label.end(), [](Index c) { return c == 0; });
   const std::vector<Index> boundary = boundary_vertex_list(im.tri, options.boundary_vertices);
-  // Two factorizations (three with boundary), each exactly once, side by side.
-  PoissonOptions poisson_opt = query_factor_options(options.precision, im.tri.n_vertices(), false);
-  PoissonOptions heat_opt = query_factor_options(options.precision, im.tri.n_vertices(), true);
-  heat_opt.screening = 1.0;  // tL + 1·M
-  // One symbolic analysis for all of them: M + tL, its Dirichlet form and the pinned L keep
-  // L's pattern (constrained vertices as decoupled rows), so it runs once.
-  poisson_opt.cholesky.ordering = std::move(ordering);
-  const CholeskyAnalysis analysis = PoissonSolver::analyze(im.L, im.comps, poisson_opt.cholesky);
   std::vector<std::function<void()>> jobs;
   jobs.emplace_back([&] {
     im.heat_neumann.emplace(tL, im.mass, im.comps, std::vector<Index>{}, analysis, heat_opt);

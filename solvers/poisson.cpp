@@ -491,9 +491,9 @@ CholeskyAnalysis PoissonSolver::analyze(const fem::SparseMatrix& L, const Compon
   return CholeskyAnalysis(im.assemble_unknown_block(L, 0.0), options);
 }
 
-std::vector<int> PoissonSolver::laplacian_ordering(const intrinsic::IntrinsicTriangulation& tri) {
-  // the graph of L's off-diagonal pattern on the referenced vertices: each edge once, in its
-  // first end's list (a self-edge adds nothing to L; AMD drops it, and a parallel edge's repeat)
+CholeskyAnalysis PoissonSolver::analyze(const intrinsic::IntrinsicTriangulation& tri,
+                                        const CholeskyOptions& options) {
+  // the referenced vertices, numbered in vertex order (the unknowns of analyze(L, components))
   const Index nv = tri.n_vertices();
   const auto& tails = tri.tails();
   std::vector<int> id(nv, -1);
@@ -502,20 +502,50 @@ std::vector<int> PoissonSolver::laplacian_ordering(const intrinsic::IntrinsicTri
   for (Index v = 0; v < nv; ++v) {
     if (id[v] == 0) id[v] = n++;
   }
-  auto ends = [&](Index e) {
+  if (n == 0) throw InvalidInput("PoissonSolver::analyze: the triangulation has no faces");
+  auto ends = [&](Index e) {  // lower end first
     const Index h = tri.edge_halfedge(e);
-    return std::pair<int, int>{id[tails[h]], id[tails[intrinsic::IntrinsicTriangulation::next(h)]]};
+    const int a = id[tails[h]], b = id[tails[intrinsic::IntrinsicTriangulation::next(h)]];
+    return std::pair<int, int>{std::min(a, b), std::max(a, b)};
   };
-  std::vector<int> start(n + 1, 0);
-  for (Index e = 0; e < tri.n_edges(); ++e) ++start[ends(e).first + 1];
-  for (int v = 0; v < n; ++v) start[v + 1] += start[v];
-  std::vector<int> index(start[n]);
-  std::vector<int> fill(start.begin(), start.end() - 1);
+  // L's lower triangle: the diagonal, then each edge in its lower end's column (a self-edge adds
+  // nothing to L), sorted, parallel edges merged
+  fem::SparseMatrix P(n, n);
+  int* outer = P.outerIndexPtr();
+  std::fill(outer, outer + n + 1, 0);
   for (Index e = 0; e < tri.n_edges(); ++e) {
-    const auto [i, j] = ends(e);
-    index[fill[i]++] = j;
+    const auto [j, i] = ends(e);
+    if (i != j) ++outer[j + 1];
   }
-  return amd_ordering(n, start, index);
+  for (int j = 0; j < n; ++j) outer[j + 1] += outer[j] + 1;
+  P.resizeNonZeros(outer[n]);
+  int* inner = P.innerIndexPtr();
+  std::vector<int> fill(outer, outer + n);
+  for (int j = 0; j < n; ++j) inner[fill[j]++] = j;
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const auto [j, i] = ends(e);
+    if (i != j) inner[fill[j]++] = i;
+  }
+  int nz = 0;
+  for (int j = 0; j < n; ++j) {
+    const int begin = outer[j], end = outer[j + 1];
+    std::sort(inner + begin + 1, inner + end);
+    outer[j] = nz;
+    for (int k = begin; k < end; ++k) {
+      if (k == begin || inner[k] != inner[k - 1]) inner[nz++] = inner[k];
+    }
+  }
+  outer[n] = nz;
+  P.data().resize(nz);
+  std::fill(P.valuePtr(), P.valuePtr() + nz, 0.0);
+  if (!options.ordering.empty() || !options.force_amd || options.force_metis) {
+    return CholeskyAnalysis(P, options);
+  }
+  // AMD on these lists (each edge once; the diagonal is a self-loop, which it drops)
+  CholeskyOptions given = options;
+  given.ordering =
+      amd_ordering(n, std::vector<int>(outer, outer + n + 1), std::vector<int>(inner, inner + nz));
+  return CholeskyAnalysis(P, given);
 }
 
 PoissonSolver::~PoissonSolver() = default;

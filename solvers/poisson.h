@@ -67,14 +67,16 @@ class PoissonSolver {
   static CholeskyAnalysis analyze(const fem::SparseMatrix& L, const Components& components,
                                   const CholeskyOptions& options = {});
 
-  /// AMD's ordering for analyze(cotan_laplacian(tri), connected_components(tri), options), to
-  /// pass as options.ordering: of the vertices that faces reference (the analysis's unknowns,
-  /// in increasing vertex id), from tri's edges alone, so that it can run beside the assembly
-  /// of L (the heat method's precompute does). The same pattern as the analysis would order
-  /// itself, so the same ordering (docs/decisions.md, "Small meshes: the ordering beside the
-  /// assembly").
-  /// @throws InvalidInput if tri is too large for AMD's 32-bit indices
-  static std::vector<int> laplacian_ordering(const intrinsic::IntrinsicTriangulation& tri);
+  /// The same analysis from tri alone, before L is assembled: the pattern of
+  /// cotan_laplacian(tri) on the vertices that faces reference (every edge between two of them,
+  /// parallel edges merged), for the constructor above with L = cotan_laplacian(tri) (or any
+  /// matrix of its pattern) and components = connected_components(tri). With force_amd (and no
+  /// given ordering) AMD orders it here, straight from the edge lists, which is the ordering
+  /// analyze(L, ...) would compute. The heat method runs this beside the assembly of L and M
+  /// (docs/decisions.md, "Small meshes: the analysis beside the assembly").
+  /// @throws InvalidInput if tri is too large for 32-bit indices; SolverError if CHOLMOD fails
+  static CholeskyAnalysis analyze(const intrinsic::IntrinsicTriangulation& tri,
+                                  const CholeskyOptions& options = {});
 
   ~PoissonSolver();
   PoissonSolver(PoissonSolver&&) noexcept;

@@ -144,34 +144,38 @@ void expect_same_solves(const PoissonSolver& shared, const PoissonSolver& own, I
   EXPECT_LT((X - Y).cwiseAbs().maxCoeff(), 1e-12 * Y.cwiseAbs().maxCoeff());
 }
 
-// PoissonSolver::laplacian_ordering (AMD on the triangulation's edges, before L exists) gives the
-// analysis the fill of AMD on L itself, on the referenced vertices only (unreferenced ones and a
-// second component), and on a Δ-complex whose flipped tetrahedron has a doubled edge.
-TEST(SolversSmallMesh, LaplacianOrderingMatchesTheAnalysisOwn) {
+// PoissonSolver::analyze(tri) (the pattern and AMD's ordering from the edges, before L exists)
+// gives analyze(L, components)'s fill and solves: on the referenced vertices only (unreferenced
+// ones and a second component), and on a Δ-complex whose flipped tetrahedron has a doubled edge;
+// with AMD left to CHOLMOD as well.
+TEST(SolversSmallMesh, AnalysisFromTheTriangulationMatchesL) {
   intrinsic::TriangleMesh tet;
   tet.positions.resize(4, 3);
   tet.positions << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;  // regular: every diamond convex
   tet.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   auto doubled = test::make_tri(tet, false);
   ASSERT_TRUE(doubled.flip_edge(0));
+  CholeskyOptions cholmod_amd;
+  cholmod_amd.force_amd = false;  // CHOLMOD's own choice (AMD on these sizes)
   for (const auto& tri :
        {test::make_tri(test::two_copies(test::jittered(intrinsic::grid(16, 12), 0.03), 3.0, 2)),
         doubled}) {
     const fem::SparseMatrix L = fem::cotan_laplacian(tri);
     const Eigen::VectorXd mass = fem::lumped_mass(tri);
     const Components comps = connected_components(tri);
-    CholeskyOptions given;
-    given.ordering = PoissonSolver::laplacian_ordering(tri);
-    const CholeskyAnalysis mine = PoissonSolver::analyze(L, comps, given);
     const CholeskyAnalysis own = PoissonSolver::analyze(L, comps);
-    ASSERT_EQ(mine.size(), own.size());
-    ASSERT_EQ(given.ordering.size(), std::size_t(own.size()));
     PoissonOptions screened;
     screened.screening = 1.0;
-    const PoissonSolver a(L, mass, comps, {}, mine, screened), b(L, mass, comps, {}, own, screened);
-    EXPECT_EQ(a.factor_nonzeros(), b.factor_nonzeros()) << tri.n_vertices();
-    expect_same_solves(a, b, tri.n_vertices());
+    const PoissonSolver b(L, mass, comps, {}, own, screened);
+    for (const CholeskyOptions& o : {CholeskyOptions{}, cholmod_amd}) {
+      const CholeskyAnalysis mine = PoissonSolver::analyze(tri, o);
+      ASSERT_EQ(mine.size(), own.size());
+      const PoissonSolver a(L, mass, comps, {}, mine, screened);
+      EXPECT_EQ(a.factor_nonzeros(), b.factor_nonzeros()) << tri.n_vertices();
+      expect_same_solves(a, b, tri.n_vertices());
+    }
   }
+  EXPECT_THROW(PoissonSolver::analyze(intrinsic::IntrinsicTriangulation()), InvalidInput);
   EXPECT_THROW(amd_ordering(2, {0, 1, 2}, {1, 2}), InvalidInput);  // index out of range
   EXPECT_THROW(amd_ordering(2, {0, 2, 1}, {1, 0}), InvalidInput);  // start decreasing
   EXPECT_EQ(amd_ordering(0, {0}, {}).size(), 0u);
