@@ -26,9 +26,9 @@ struct CholeskyOptions {
   /// A fill-reducing ordering to use instead of computing one (takes precedence over both
   /// flags above): ordering[k] is the column eliminated k-th, a permutation of 0..n−1
   /// (CHOLMOD's given ordering; its elimination tree is still postordered). Why: the heat
-  /// method orders the input mesh's pattern with AMD while the intrinsic Delaunay flips run,
-  /// which takes the ordering off a small mesh's critical path (docs/decisions.md, "Small meshes:
-  /// the ordering beside the flips"). Empty (the default): order as the flags say.
+  /// method runs AMD on L's pattern straight from the triangulation's edges, beside the assembly
+  /// of L (PoissonSolver::analyze(tri); docs/decisions.md, "Small meshes: the analysis beside the
+  /// assembly"). Empty (the default): order as the flags say.
   std::vector<int> ordering;
   /// Supernodal factorization (fast with an optimized BLAS); false = simplicial.
   bool supernodal = true;

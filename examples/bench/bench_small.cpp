@@ -9,10 +9,14 @@
 // `--load-check 0` makes every loop above its size threshold use the OpenMP team even when the
 // machine is busy (to measure the thresholds themselves).
 //
+// `--what precompute-threads` times the precompute with the default OpenMP threads and with one,
+// taking turns in one process.
+//
 // `--retain-memory 0` leaves glibc's default of handing freed memory back to the kernel (the CLI
 // keeps it: retain_freed_memory()).
 //
-//   ifem_bench small --mesh FILE|icosphere:N [--what lm|precompute|factor] [--repeat N]
+//   ifem_bench small --mesh FILE|icosphere:N [--what lm|precompute|precompute-threads|factor]
+//   [--repeat N]
 //                    [--load-check 0|1] [--retain-memory 0|1]
 #include <cstdio>
 #include <ctime>
@@ -28,6 +32,10 @@
 #include "intrinsic/io/mesh_io.h"
 #include "solvers/cholesky.h"
 #include "solvers/heat_distance.h"
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 
 namespace ifem::bench {
 namespace {
@@ -82,6 +90,28 @@ int small(int argc, char** argv) {
       t.push_back(seconds_now() - t0);
       cpu.push_back(process_cpu_seconds() - c0);
     }
+  } else if (what == "precompute-threads") {
+#if defined(_OPENMP)
+    // the default OpenMP threads and one, taking turns in one process: the host's drift
+    // between processes (±20 % over minutes here) cancels
+    std::vector<double> with_team, one;
+    const int team = omp_get_max_threads();
+    for (int r = 0; r <= repeat; ++r) {
+      for (const int threads : {team, 1}) {
+        omp_set_num_threads(threads);
+        const double t0 = seconds_now();
+        const solvers::HeatDistanceSolver solver(tri);
+        (threads == team && team > 1 ? with_team : one).push_back(seconds_now() - t0);
+      }
+    }
+    omp_set_num_threads(team);
+    std::printf("%s precompute, %d OpenMP threads %.5f, one %.5f (medians of %d, in turns)\n",
+                spec.c_str(), team, median(with_team), median(one), repeat + 1);
+    return 0;
+#else
+    std::fprintf(stderr, "ifem_bench small: built without OpenMP\n");
+    return 2;
+#endif
   } else if (what == "factor") {
     const fem::SparseMatrix A = idt_mass_plus_laplacian(m.faces, m.positions);
     for (const bool supernodal : {true, false}) {
@@ -93,7 +123,7 @@ int small(int argc, char** argv) {
     }
     return 0;
   } else {
-    std::fprintf(stderr, "ifem_bench small: --what lm|precompute|factor\n");
+    std::fprintf(stderr, "ifem_bench small: --what lm|precompute|precompute-threads|factor\n");
     return 2;
   }
   // first = the cold call (thread start-up, page faults); median over the later ones
