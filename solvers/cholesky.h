@@ -217,7 +217,8 @@ class CholeskySolver {
   double factor_nonzeros() const;
   /// Floating-point operations of the numeric factorization (CHOLMOD's estimate).
   double factor_flops() const;
-  /// The fill-reducing ordering CHOLMOD used: "AMD", "METIS", "natural", ...
+  /// The fill-reducing ordering CHOLMOD used: "AMD", "METIS", "given" (CholeskyOptions::ordering,
+  /// e.g. AMD run by PoissonSolver::analyze(tri)), "natural", ...
   const char* ordering() const;
   /// Bytes of factor data one solve with one right-hand side reads (values and row indices,
   /// forward and backward pass), for bandwidth figures (BENCHMARKS.md, "Heat queries").
