@@ -503,33 +503,37 @@ CholeskyAnalysis PoissonSolver::analyze(const intrinsic::IntrinsicTriangulation&
     if (id[v] == 0) id[v] = n++;
   }
   if (n == 0) throw InvalidInput("PoissonSolver::analyze: the triangulation has no faces");
-  auto ends = [&](Index e) {  // lower end first
-    const Index h = tri.edge_halfedge(e);
+  // each edge once, from its first halfedge (in memory order: no edge → halfedge lookups), as
+  // (lower end, upper end)
+  const auto& twins = tri.twins();
+  std::vector<std::pair<int, int>> ends;
+  ends.reserve(tri.n_edges());
+  for (Index h = 0; h < tri.n_halfedges(); ++h) {
+    if (twins[h] != kInvalidIndex && twins[h] < h) continue;
     const int a = id[tails[h]], b = id[tails[intrinsic::IntrinsicTriangulation::next(h)]];
-    return std::pair<int, int>{std::min(a, b), std::max(a, b)};
-  };
-  // L's lower triangle: the diagonal, then each edge in its lower end's column (a self-edge adds
-  // nothing to L), sorted, parallel edges merged
+    if (a != b) ends.emplace_back(std::min(a, b), std::max(a, b));  // a self-edge: nothing in L
+  }
+  // L's lower triangle: the diagonal, then each edge in its lower end's column, sorted,
+  // parallel edges merged
   fem::SparseMatrix P(n, n);
   int* outer = P.outerIndexPtr();
   std::fill(outer, outer + n + 1, 0);
-  for (Index e = 0; e < tri.n_edges(); ++e) {
-    const auto [j, i] = ends(e);
-    if (i != j) ++outer[j + 1];
-  }
+  for (const auto& [j, i] : ends) ++outer[j + 1];
   for (int j = 0; j < n; ++j) outer[j + 1] += outer[j] + 1;
   P.resizeNonZeros(outer[n]);
   int* inner = P.innerIndexPtr();
   std::vector<int> fill(outer, outer + n);
   for (int j = 0; j < n; ++j) inner[fill[j]++] = j;
-  for (Index e = 0; e < tri.n_edges(); ++e) {
-    const auto [j, i] = ends(e);
-    if (i != j) inner[fill[j]++] = i;
-  }
+  for (const auto& [j, i] : ends) inner[fill[j]++] = i;
   int nz = 0;
   for (int j = 0; j < n; ++j) {
     const int begin = outer[j], end = outer[j + 1];
-    std::sort(inner + begin + 1, inner + end);
+    for (int k = begin + 2; k < end; ++k) {  // insertion sort: a column holds a few edges
+      const int r = inner[k];
+      int m = k;
+      for (; m > begin + 1 && inner[m - 1] > r; --m) inner[m] = inner[m - 1];
+      inner[m] = r;
+    }
     outer[j] = nz;
     for (int k = begin; k < end; ++k) {
       if (k == begin || inner[k] != inner[k - 1]) inner[nz++] = inner[k];
