@@ -310,7 +310,10 @@ struct PoissonSolver::Impl {
     const Index nu = static_cast<Index>(unknown_vertex.size());
     if (nu == n) {
       std::optional<fem::SparseMatrix> A = lower_triangle(L, c);
-      if (A) return std::move(*A);
+      if (A) {
+        decouple_fixed(*A);
+        return std::move(*A);
+      }
     }
     fem::SparseMatrix A(nu, nu);
     int* outer = A.outerIndexPtr();
@@ -335,24 +338,40 @@ struct PoissonSolver::Impl {
       inner[k] = u;
       value[k] = c * mass[j];
       const int diag = k++;
-      const bool fixed_j = is_fixed(j);
       for (fem::SparseMatrix::InnerIterator it(L, j); it; ++it) {
         const Index i = it.row();
         if (i == j) {
           value[diag] += it.value();
         } else if (i > j && unknown[i] != kInvalidIndex) {
           inner[k] = unknown[i];
-          value[k++] = fixed_j || is_fixed(i) ? 0.0 : it.value();
+          value[k++] = it.value();
         }
       }
-      if (fixed_j && !(value[diag] > 0.0)) value[diag] = 1.0;  // any positive value decouples
     }
+    decouple_fixed(A);
     return A;
   }
 
+  // Decouples the fixed rows and columns of a block (diagonal first in each column): their
+  // off-diagonal entries become zeros, their diagonal any positive value.
+  void decouple_fixed(fem::SparseMatrix& A) const {
+    if (fixed_rows.empty()) return;
+    const int* outer = A.outerIndexPtr();
+    const int* inner = A.innerIndexPtr();
+    double* value = A.valuePtr();
+    for (Index u = 0; u < A.cols(); ++u) {
+      const bool fixed_u = is_fixed(unknown_vertex[u]);
+      for (int k = outer[u] + 1; k < outer[u + 1]; ++k) {
+        if (fixed_u || is_fixed(unknown_vertex[inner[k]])) value[k] = 0.0;
+      }
+      if (fixed_u && !(value[outer[u]] > 0.0)) value[outer[u]] = 1.0;
+    }
+  }
+
   // assemble_unknown_block() when every vertex is an unknown (the heat method's matrices): each
-  // column's lower part is a contiguous tail of L's sorted column, copied whole. nullopt when L
-  // is not compressed or lacks a stored diagonal entry (the general loop inserts it).
+  // column's lower part is a contiguous tail of L's sorted column, copied whole (fixed rows not
+  // yet decoupled). nullopt when L is not compressed or lacks a stored diagonal entry (the
+  // general loop inserts it).
   std::optional<fem::SparseMatrix> lower_triangle(const fem::SparseMatrix& L, double c) const {
     if (!L.isCompressed()) return std::nullopt;
     const int* l_outer = L.outerIndexPtr();
@@ -376,14 +395,6 @@ struct PoissonSolver::Impl {
       std::copy_n(l_inner + diag[j], count, inner + outer[j]);
       std::copy_n(l_value + diag[j], count, value + outer[j]);
       value[outer[j]] += c * mass[j];
-    }
-    if (fixed_rows.empty()) return A;
-    for (Index j = 0; j < n; ++j) {  // fixed rows and columns: decoupled, as the general loop
-      const bool fixed_j = is_fixed(j);
-      for (int k = outer[j] + 1; k < outer[j + 1]; ++k) {
-        if (fixed_j || is_fixed(inner[k])) value[k] = 0.0;
-      }
-      if (fixed_j && !(value[outer[j]] > 0.0)) value[outer[j]] = 1.0;
     }
     return A;
   }
