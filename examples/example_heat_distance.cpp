@@ -9,7 +9,7 @@
 
 #include "fem/operators.h"
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/pipeline.h"
+#include "solvers/recipes/pipeline.h"
 
 int main(int argc, char** argv) {
   std::string mesh, out;

@@ -13,8 +13,8 @@
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/cholesky.h"
-#include "solvers/heat_distance.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/scalar/heat_distance.h"
 
 namespace ifem::bench {
 namespace {

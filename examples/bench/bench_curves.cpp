@@ -1,4 +1,4 @@
-// Benchmark section "curves": boundary-value problems with data on curves (solvers/curves.h) on
+// Benchmark section "curves": boundary-value problems with data on curves (solvers/recipes/curves.h) on
 // icospheres of about 10k, 100k and 1M faces, with 1, 10 and 100 geodesic paths through 3
 // vertices each and 1 and 10 closed loops through 3 vertices each (medians over --repeat runs):
 //  - insertion (prepare_curve_surface without refinement): its wall time, surface.seconds_build
@@ -38,7 +38,7 @@
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/geodesic/curve_network.h"
 #include "intrinsic/refine/signpost.h"
-#include "solvers/curves.h"
+#include "solvers/recipes/curves.h"
 
 namespace ifem::bench {
 namespace {

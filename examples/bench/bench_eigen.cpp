@@ -13,8 +13,8 @@
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/cholesky.h"
-#include "solvers/eigen.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/scalar/eigen.h"
 
 namespace ifem::bench {
 namespace {

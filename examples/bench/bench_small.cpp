@@ -25,13 +25,13 @@
 
 #include "bench_util.h"
 #include "fem/operators.h"
-#include "intrinsic/core/memory.h"
+#include "solvers/linalg/memory.h"
 #include "intrinsic/core/parallel.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/cholesky.h"
-#include "solvers/heat_distance.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/scalar/heat_distance.h"
 
 #if defined(_OPENMP)
 #include <omp.h>

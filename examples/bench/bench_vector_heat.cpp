@@ -16,9 +16,9 @@
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/generators/mesh_generators.h"
-#include "solvers/cholesky.h"
-#include "solvers/heat_distance.h"
-#include "solvers/vector_heat.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/scalar/heat_distance.h"
+#include "solvers/vector/vector_heat.h"
 
 namespace ifem::bench {
 namespace {

@@ -10,7 +10,7 @@
 
 #include "intrinsic/io/mesh_io.h"
 #include "options.h"
-#include "solvers/pipeline.h"
+#include "solvers/recipes/pipeline.h"
 
 namespace ifem::cli {
 
@@ -28,7 +28,7 @@ std::vector<Command> all_commands();
 /// --mollify --no-delaunay --tufted --pointcloud --knn --quiet.
 OptionGroup surface_options();
 
-/// The library's prepared surface (solvers/pipeline.h): the CLI adds no state of its own.
+/// The library's prepared surface (solvers/recipes/pipeline.h): the CLI adds no state of its own.
 using PreparedSurface = solvers::PreparedSurface;
 
 /// The library's PrepareOptions from the surface options (--mollify, --no-delaunay, --tufted,

@@ -1,6 +1,6 @@
 // Data on curves in the solver commands (`ifem poisson --curves`, `ifem distance --curves`):
 // the two options, the curves file's help, the options refused with curves, and the steps
-// around the library's solvers/curves.h (read the file, check it against the mesh, insert the
+// around the library's solvers/recipes/curves.h (read the file, check it against the mesh, insert the
 // curves, write the results and the curves).
 #pragma once
 
@@ -12,7 +12,7 @@
 #include "cli.h"
 #include "polylines.h"
 #include "results.h"
-#include "solvers/curves.h"
+#include "solvers/recipes/curves.h"
 
 namespace ifem::cli {
 

@@ -15,8 +15,8 @@
 #include "intrinsic/core/timer.h"
 #include "intrinsic/io/tokens.h"
 #include "results.h"
-#include "solvers/curves.h"
-#include "solvers/heat_distance.h"
+#include "solvers/recipes/curves.h"
+#include "solvers/scalar/heat_distance.h"
 
 namespace ifem::cli {
 namespace {

@@ -7,7 +7,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
 #include "results.h"
-#include "solvers/eigen.h"
+#include "solvers/scalar/eigen.h"
 
 namespace ifem::cli {
 namespace {

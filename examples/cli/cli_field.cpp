@@ -12,8 +12,8 @@
 #include "intrinsic/core/timer.h"
 #include "intrinsic/io/tokens.h"
 #include "results.h"
-#include "solvers/curve_fields.h"
-#include "solvers/tangent_fields.h"
+#include "solvers/recipes/curve_fields.h"
+#include "solvers/recipes/tangent_fields.h"
 
 namespace ifem::cli {
 namespace {
@@ -84,7 +84,7 @@ void print_written(const ResultOutput& out, const solvers::FieldSettings& settin
 }
 
 // --curves: the curves inserted as edges of the constrained triangulation, the field held
-// along them (solvers/curve_fields.h).
+// along them (solvers/recipes/curve_fields.h).
 int run_curves(const Args& args, const ResultOutput& out) {
   std::vector<solvers::CurveCondition> curves = read_curves(args);  // fails fast, before the mesh
   const solvers::FieldSettings settings = field_settings(args);

@@ -8,7 +8,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "json.h"
-#include "solvers/surface_summary.h"
+#include "solvers/recipes/surface_summary.h"
 
 namespace ifem::cli {
 namespace {

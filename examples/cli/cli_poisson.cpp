@@ -12,8 +12,8 @@
 #include "intrinsic/core/timer.h"
 #include "intrinsic/io/tokens.h"
 #include "results.h"
-#include "solvers/curves.h"
-#include "solvers/poisson.h"
+#include "solvers/recipes/curves.h"
+#include "solvers/scalar/poisson.h"
 
 namespace ifem::cli {
 namespace {
@@ -86,7 +86,7 @@ PoissonInputs read_poisson_inputs(const Args& args) {
   return in;
 }
 
-// --curves: u held at the curves' values on a constrained triangulation (solvers/curves.h).
+// --curves: u held at the curves' values on a constrained triangulation (solvers/recipes/curves.h).
 int run_curves(const Args& args, const ResultOutput& out) {
   std::vector<solvers::CurveCondition> curves = read_curves(args);  // fails fast, before the mesh
   PoissonInputs in = read_poisson_inputs(args);

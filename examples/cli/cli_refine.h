@@ -6,7 +6,7 @@
 #include <string>
 
 #include "cli.h"
-#include "solvers/pipeline.h"
+#include "solvers/recipes/pipeline.h"
 
 namespace ifem::cli {
 

@@ -9,7 +9,7 @@
 #include "intrinsic/core/timer.h"
 #include "intrinsic/io/tokens.h"
 #include "results.h"
-#include "solvers/tangent_fields.h"
+#include "solvers/recipes/tangent_fields.h"
 
 namespace ifem::cli {
 namespace {

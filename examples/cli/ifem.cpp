@@ -10,8 +10,8 @@
 
 #include "cli.h"
 #include "intrinsic/core/errors.h"
-#include "intrinsic/core/memory.h"
-#include "solvers/cholesky.h"
+#include "solvers/linalg/memory.h"
+#include "solvers/linalg/cholesky.h"
 
 namespace {
 

@@ -1,5 +1,5 @@
 // Boundary-value problems with data on curves, as `ifem poisson --curves` and `ifem distance
-// --curves` compute them (solvers/curves.h, examples/cli/cli_curves.cpp): curves through input
+// --curves` compute them (solvers/recipes/curves.h, examples/cli/cli_curves.cpp): curves through input
 // vertices become edges of a constrained intrinsic Delaunay triangulation, then Poisson takes
 // its Dirichlet data on them or the heat method measures the distance to them.
 //
@@ -20,7 +20,7 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "intrinsic/core/errors.h"
-#include "solvers/curves.h"
+#include "solvers/recipes/curves.h"
 
 namespace ifem::python {
 

@@ -1,4 +1,4 @@
-// Tangent fields: the smoothest n-direction field, free or aligned (solvers/tangent_fields.h),
+// Tangent fields: the smoothest n-direction field, free or aligned (solvers/recipes/tangent_fields.h),
 // as `ifem field` computes it.
 #include <pybind11/stl.h>
 
@@ -9,8 +9,8 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "intrinsic/core/errors.h"
-#include "solvers/curve_fields.h"
-#include "solvers/tangent_fields.h"
+#include "solvers/recipes/curve_fields.h"
+#include "solvers/recipes/tangent_fields.h"
 
 namespace ifem::python {
 
@@ -47,7 +47,7 @@ solvers::PreparedSurface prepared(io::SurfaceInput in, const SurfaceArgs& a) {
   return prepare(std::move(in), prepare_options(a.mollify, a.path, true, a.knn), a.path);
 }
 
-// The field on the input with the curves inserted and held (solvers/curve_fields.h): curves
+// The field on the input with the curves inserted and held (solvers/recipes/curve_fields.h): curves
 // need the manifold path (signposts), so path must be 'auto' or 'manifold'.
 solvers::TangentFieldResult field_along_curves(io::SurfaceInput in, const py::list& curves,
                                                const solvers::FieldSettings& settings,

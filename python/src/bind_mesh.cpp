@@ -10,7 +10,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/surface_summary.h"
+#include "solvers/recipes/surface_summary.h"
 
 namespace ifem::python {
 

@@ -9,8 +9,8 @@
 
 #include <pybind11/pybind11.h>
 
-#include "solvers/curves.h"
-#include "solvers/pipeline.h"
+#include "solvers/recipes/curves.h"
+#include "solvers/recipes/pipeline.h"
 
 namespace ifem::python {
 

@@ -9,7 +9,7 @@
 
 #include "fuzz_common.h"
 #include "intrinsic/generators/mesh_generators.h"
-#include "solvers/curves.h"
+#include "solvers/recipes/curves.h"
 
 namespace {
 

@@ -23,7 +23,7 @@
 #include "fem/operators.h"
 #include "fuzz_common.h"
 #include "intrinsic/io/detail.h"
-#include "solvers/pipeline.h"
+#include "solvers/recipes/pipeline.h"
 
 namespace {
 

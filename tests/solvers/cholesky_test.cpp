@@ -1,4 +1,4 @@
-#include "solvers/cholesky.h"
+#include "solvers/linalg/cholesky.h"
 
 #include <gtest/gtest.h>
 

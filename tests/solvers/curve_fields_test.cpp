@@ -1,7 +1,7 @@
-// Direction fields aligned to curves (solvers/curve_fields.h): on a flat cylinder a straight
+// Direction fields aligned to curves (solvers/recipes/curve_fields.h): on a flat cylinder a straight
 // curve makes the field parallel to it everywhere; on a flat disk a loop through equally spaced
 // points of a circle holds the field tangent to the circle there, exactly; bad input.
-#include "solvers/curve_fields.h"
+#include "solvers/recipes/curve_fields.h"
 
 #include <gtest/gtest.h>
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "intrinsic/core/errors.h"
-#include "solvers/curves.h"
+#include "solvers/recipes/curves.h"
 
 namespace ifem::solvers {
 namespace {
@@ -62,7 +62,7 @@ class CurvesFile : public ::testing::Test {
 
 TEST_F(CurvesFile, ParsesTheExamples) {
   const std::string path = write(
-      "# the examples of solvers/curves.h and ifem poisson --help\n"
+      "# the examples of solvers/recipes/curves.h and ifem poisson --help\n"
       "0.5 12 40 77                 # geodesic 12→40→77 held at 0.5\n"
       "closed 1 5 9 13              # closed loop through 5, 9, 13, held at 1\n"
       "bezier 0 3 8 20 31           # Bézier curve, control vertices 3 8 20 31, at 0\n"

@@ -1,6 +1,6 @@
-// Boundary-value problems with data on curves (solvers/curves.h) and the constrained
+// Boundary-value problems with data on curves (solvers/recipes/curves.h) and the constrained
 // triangulation under them (intrinsic/geodesic/curve_network.h), against exact answers.
-#include "solvers/curves.h"
+#include "solvers/recipes/curves.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-// Smoothest and aligned direction fields (solvers/direction_field.h): Poincaré–Hopf on spheres
+// Smoothest and aligned direction fields (solvers/vector/direction_field.h): Poincaré–Hopf on spheres
 // and tori for n = 1, 2, 4; a parallel field on flat domains; constraints held; bad input.
-#include "solvers/direction_field.h"
+#include "solvers/vector/direction_field.h"
 
 #include <gtest/gtest.h>
 

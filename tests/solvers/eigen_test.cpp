@@ -1,4 +1,4 @@
-#include "solvers/eigen.h"
+#include "solvers/scalar/eigen.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
-#include "solvers/cholesky.h"
+#include "solvers/linalg/cholesky.h"
 #include "test_util.h"
 
 namespace ifem::solvers {

@@ -1,4 +1,4 @@
-// Tangent fields on the frame path (solvers/tangent_fields.h on the point-cloud and tufted paths,
+// Tangent fields on the frame path (solvers/recipes/tangent_fields.h on the point-cloud and tufted paths,
 // fem/frame_connection.h): transport on flat, cylindrical and spherical point clouds against
 // the exact parallel transport, the log map against the plane's identity and the sphere's
 // great-circle distance, the smoothest field's smoothness, Poincaré–Hopf through the input's
@@ -16,8 +16,8 @@
 #include "fem/frame_connection.h"
 #include "helpers.h"
 #include "intrinsic/core/errors.h"
-#include "solvers/direction_field.h"
-#include "solvers/tangent_fields.h"
+#include "solvers/vector/direction_field.h"
+#include "solvers/recipes/tangent_fields.h"
 #include "tangent_test_util.h"
 #include "test_util.h"
 

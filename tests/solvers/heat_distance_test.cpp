@@ -1,4 +1,4 @@
-#include "solvers/heat_distance.h"
+#include "solvers/scalar/heat_distance.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include "fem/gradient.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/parallel.h"
-#include "solvers/parallel.h"
+#include "solvers/linalg/parallel.h"
 #include "test_util.h"
 
 namespace ifem::solvers {

@@ -1,4 +1,4 @@
-// A field's singularities on the input's own faces (solvers/tangent_fields.h,
+// A field's singularities on the input's own faces (solvers/recipes/tangent_fields.h,
 // input_face_indices()): Poincaré–Hopf on the input faces of a sphere (2n) and a torus (0) after
 // intrinsic flips, refinement and curves; the same as the intrinsic faces' where nothing was
 // flipped; next to the intrinsic singularities; written as a PLY face property and read back.
@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/curve_fields.h"
-#include "solvers/tangent_fields.h"
+#include "solvers/recipes/curve_fields.h"
+#include "solvers/recipes/tangent_fields.h"
 #include "test_util.h"
 
 namespace ifem::solvers {

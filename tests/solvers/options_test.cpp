@@ -10,10 +10,10 @@
 #include "helpers.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/generators/mesh_generators.h"
-#include "solvers/cholesky.h"
-#include "solvers/eigen.h"
-#include "solvers/heat_distance.h"
-#include "solvers/poisson.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/scalar/eigen.h"
+#include "solvers/scalar/heat_distance.h"
+#include "solvers/scalar/poisson.h"
 
 namespace ifem::solvers {
 namespace {

@@ -1,7 +1,7 @@
-// The library pipeline (solvers/pipeline.h): the path and its reason as enums on inputs built to
+// The library pipeline (solvers/recipes/pipeline.h): the path and its reason as enums on inputs built to
 // take each path, refinement as an option of the same step, results on the input's vertices,
 // and the recipes against known answers.
-#include "solvers/pipeline.h"
+#include "solvers/recipes/pipeline.h"
 
 #include <gtest/gtest.h>
 

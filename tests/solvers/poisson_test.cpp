@@ -1,4 +1,4 @@
-#include "solvers/poisson.h"
+#include "solvers/scalar/poisson.h"
 
 #include <gtest/gtest.h>
 

@@ -22,8 +22,8 @@
 
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/heat_distance.h"
-#include "solvers/pipeline.h"
+#include "solvers/scalar/heat_distance.h"
+#include "solvers/recipes/pipeline.h"
 #include "test_util.h"
 
 namespace ifem::solvers {

@@ -18,7 +18,7 @@
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/refine/common_subdivision.h"
 #include "intrinsic/refine/delaunay_refine.h"
-#include "solvers/pipeline.h"
+#include "solvers/recipes/pipeline.h"
 
 namespace ifem {
 namespace {

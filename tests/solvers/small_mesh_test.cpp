@@ -15,13 +15,13 @@
 
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
-#include "intrinsic/core/memory.h"
+#include "solvers/linalg/memory.h"
 #include "intrinsic/core/parallel.h"
-#include "solvers/cholesky.h"
-#include "solvers/components.h"
-#include "solvers/heat_distance.h"
-#include "solvers/parallel.h"
-#include "solvers/poisson.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/scalar/components.h"
+#include "solvers/scalar/heat_distance.h"
+#include "solvers/linalg/parallel.h"
+#include "solvers/scalar/poisson.h"
 #include "test_util.h"
 
 #if defined(_OPENMP)

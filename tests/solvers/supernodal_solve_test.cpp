@@ -1,7 +1,7 @@
-// Our supernodal solve kernel (solvers/supernodal_solve.h) through CholeskySolver: the same
+// Our supernodal solve kernel (solvers/linalg/supernodal_solve.h) through CholeskySolver: the same
 // solutions as CHOLMOD's solve, single precision within its rounding, a point source's sparse
 // forward pass equal to the full one, and results bitwise independent of the thread count.
-#include "solvers/supernodal_solve.h"
+#include "solvers/linalg/supernodal_solve.h"
 
 #include <gtest/gtest.h>
 
@@ -12,8 +12,8 @@
 
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
-#include "solvers/cholesky.h"
-#include "solvers/parallel.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/linalg/parallel.h"
 #include "test_util.h"
 
 namespace ifem::solvers {

@@ -1,8 +1,8 @@
-// The Vector Heat Method (solvers/vector_heat.h) against known answers: parallel fields on a flat
+// The Vector Heat Method (solvers/vector/vector_heat.h) against known answers: parallel fields on a flat
 // domain are constant, the log map of a flat domain is the identity, on the unit sphere the log
 // map's radius is the great-circle distance and transport along a great circle keeps the angle
 // to the arc; plus the closest-point extension, linearity, the 3D bases and bad input.
-#include "solvers/vector_heat.h"
+#include "solvers/vector/vector_heat.h"
 
 #include <gtest/gtest.h>
 

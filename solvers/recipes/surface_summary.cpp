@@ -1,5 +1,5 @@
 // summarize_mesh(): the figures of `ifem info` and ifem.mesh_info() (surface_summary.h).
-#include "solvers/surface_summary.h"
+#include "solvers/recipes/surface_summary.h"
 
 #include <algorithm>
 

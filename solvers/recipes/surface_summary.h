@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <optional>
 
-#include "solvers/pipeline.h"
+#include "solvers/recipes/pipeline.h"
 
 namespace ifem::solvers {
 

@@ -1,5 +1,5 @@
 // Tangent-field recipes on a prepared surface (tangent_fields.h).
-#include "solvers/tangent_fields.h"
+#include "solvers/recipes/tangent_fields.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,9 +10,9 @@
 #include "fem/frame_connection.h"
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
-#include "solvers/components.h"
-#include "solvers/direction_field.h"
-#include "solvers/vector_heat.h"
+#include "solvers/scalar/components.h"
+#include "solvers/vector/direction_field.h"
+#include "solvers/vector/vector_heat.h"
 
 namespace ifem::solvers {
 

@@ -1,5 +1,5 @@
 // Smoothest and aligned n-direction fields and their singularities (direction_field.h).
-#include "solvers/direction_field.h"
+#include "solvers/vector/direction_field.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -14,8 +14,8 @@
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
-#include "solvers/cholesky.h"
-#include "solvers/components.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/scalar/components.h"
 
 namespace ifem::solvers {
 

@@ -1,5 +1,5 @@
 // Per-vertex 3D tangent bases (tangent_basis.h).
-#include "solvers/tangent_basis.h"
+#include "solvers/vector/tangent_basis.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>

@@ -22,9 +22,9 @@
 #include "intrinsic/refine/signpost.h"
 #include "intrinsic/surface/build_surface.h"
 #include "pointcloud/pointcloud_laplacian.h"
-#include "solvers/eigen.h"
-#include "solvers/heat_distance.h"
-#include "solvers/poisson.h"
+#include "solvers/scalar/eigen.h"
+#include "solvers/scalar/heat_distance.h"
+#include "solvers/scalar/poisson.h"
 
 namespace ifem::solvers {
 

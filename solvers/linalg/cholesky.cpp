@@ -1,4 +1,4 @@
-#include "solvers/cholesky.h"
+#include "solvers/linalg/cholesky.h"
 
 #include <amd.h>
 #include <cholmod.h>
@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "intrinsic/core/errors.h"
-#include "solvers/flush_denormals.h"
-#include "solvers/supernodal_solve.h"
+#include "solvers/linalg/flush_denormals.h"
+#include "solvers/linalg/supernodal_solve.h"
 
 namespace ifem::solvers {
 
@@ -388,12 +388,12 @@ void analyze_and_factor(CholeskySolver::Impl& im, cholmod_sparse s, const Choles
 
 }  // namespace
 
-CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyOptions& options)
+CholeskySolver::CholeskySolver(const SparseMatrix& A_in, const CholeskyOptions& options)
     : impl_(std::make_unique<Impl>()) {
   options.validate();
   check_matrix(A_in, "CholeskySolver");
-  fem::SparseMatrix storage;
-  const fem::SparseMatrix* A = compressed(A_in, storage);
+  SparseMatrix storage;
+  const SparseMatrix* A = compressed(A_in, storage);
   Impl& im = *impl_;
   analyze_and_factor(im, Impl::view(*A, CHOLMOD_REAL), options, "CholeskySolver");
   im.outer.assign(A->outerIndexPtr(), A->outerIndexPtr() + A->cols() + 1);
@@ -480,7 +480,7 @@ struct CholeskyAnalysis::Impl {
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
 
-  bool same_pattern(const fem::SparseMatrix& A) const {
+  bool same_pattern(const SparseMatrix& A) const {
     return A.rows() == n && A.cols() == n &&
            static_cast<std::size_t>(A.nonZeros()) == inner.size() &&
            std::equal(outer.begin(), outer.end(), A.outerIndexPtr()) &&
@@ -488,15 +488,15 @@ struct CholeskyAnalysis::Impl {
   }
 };
 
-CholeskyAnalysis::CholeskyAnalysis(const fem::SparseMatrix& A_in, const CholeskyOptions& options)
+CholeskyAnalysis::CholeskyAnalysis(const SparseMatrix& A_in, const CholeskyOptions& options)
     : impl_(std::make_unique<Impl>()) {
   options.validate();
   if (A_in.rows() != A_in.cols() || A_in.rows() == 0) {
     throw InvalidInput("CholeskyAnalysis: matrix is " + std::to_string(A_in.rows()) + "×" +
                        std::to_string(A_in.cols()) + ", expected square and not empty");
   }
-  fem::SparseMatrix storage;
-  const fem::SparseMatrix* A = compressed(A_in, storage);
+  SparseMatrix storage;
+  const SparseMatrix* A = compressed(A_in, storage);
   Impl& im = *impl_;
   im.n = A->rows();
   configure_analysis(im.common, options);
@@ -515,13 +515,13 @@ CholeskyAnalysis::CholeskyAnalysis(CholeskyAnalysis&&) noexcept = default;
 CholeskyAnalysis& CholeskyAnalysis::operator=(CholeskyAnalysis&&) noexcept = default;
 Eigen::Index CholeskyAnalysis::size() const { return impl_->n; }
 
-CholeskySolver::CholeskySolver(const fem::SparseMatrix& A_in, const CholeskyAnalysis& analysis,
+CholeskySolver::CholeskySolver(const SparseMatrix& A_in, const CholeskyAnalysis& analysis,
                                const CholeskyOptions& options)
     : impl_(std::make_unique<Impl>()) {
   options.validate();
   check_matrix(A_in, "CholeskySolver");
-  fem::SparseMatrix storage;
-  const fem::SparseMatrix* A = compressed(A_in, storage);
+  SparseMatrix storage;
+  const SparseMatrix* A = compressed(A_in, storage);
   const CholeskyAnalysis::Impl& an = *analysis.impl_;
   if (!an.same_pattern(*A)) {
     throw InvalidInput("CholeskySolver: the matrix's sparsity pattern is not the analyzed one");
@@ -546,10 +546,10 @@ CholeskySolver::~CholeskySolver() = default;
 CholeskySolver::CholeskySolver(CholeskySolver&&) noexcept = default;
 CholeskySolver& CholeskySolver::operator=(CholeskySolver&&) noexcept = default;
 
-void CholeskySolver::refactor(const fem::SparseMatrix& A_in) {
+void CholeskySolver::refactor(const SparseMatrix& A_in) {
   check_matrix(A_in, "CholeskySolver::refactor");
-  fem::SparseMatrix storage;
-  const fem::SparseMatrix* A = compressed(A_in, storage);
+  SparseMatrix storage;
+  const SparseMatrix* A = compressed(A_in, storage);
   Impl& im = *impl_;
   const bool same = A->rows() == im.n &&
                     static_cast<std::size_t>(A->nonZeros()) == im.inner.size() &&

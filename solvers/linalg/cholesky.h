@@ -9,9 +9,10 @@
 #include <memory>
 #include <vector>
 
-#include "fem/operators.h"
-
 namespace ifem::solvers {
+
+/// Real sparse matrix, column-major with 32-bit indices (the same type as SparseMatrix).
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// Options of CholeskySolver.
 struct CholeskyOptions {
@@ -51,7 +52,7 @@ struct CholeskyOptions {
   /// Who runs the solves of a real factor (ComplexCholeskySolver ignores it):
   enum class SolveKernel {
     kCholmod,  ///< CHOLMOD's own, simplicial or supernodal as simplicial_solves says
-    /// Our supernodal kernel (solvers/supernodal_solve.h) over a copy of the supernodal factor:
+    /// Our supernodal kernel (solvers/linalg/supernodal_solve.h) over a copy of the supernodal factor:
     /// in double precision (the same values as CHOLMOD's), or as floats (half the bytes per
     /// solve; each factor entry rounded to 6e-8 relative, so a solve's relative error grows
     /// to ~6e-8 × the condition number; what that means for the heat method: docs/decisions.md,
@@ -129,7 +130,7 @@ class CholeskyAnalysis {
   /// Analyzes the pattern of A's lower triangle (the values are not read). Options as for
   /// CholeskySolver (ordering, supernodal); the solvers built from it take theirs from it.
   /// @throws InvalidInput if A is not square or is empty; SolverError if CHOLMOD fails
-  explicit CholeskyAnalysis(const fem::SparseMatrix& A, const CholeskyOptions& options = {});
+  explicit CholeskyAnalysis(const SparseMatrix& A, const CholeskyOptions& options = {});
   ~CholeskyAnalysis();
   CholeskyAnalysis(CholeskyAnalysis&&) noexcept;
   CholeskyAnalysis& operator=(CholeskyAnalysis&&) noexcept;
@@ -160,14 +161,14 @@ class CholeskySolver {
   ///         options (CholeskyOptions::validate())
   /// @throws SolverError if A is not positive definite (naming the failing column) or CHOLMOD
   ///         fails (out of memory, ...)
-  explicit CholeskySolver(const fem::SparseMatrix& A, const CholeskyOptions& options = {});
+  explicit CholeskySolver(const SparseMatrix& A, const CholeskyOptions& options = {});
   /// Factors A with a shared symbolic analysis instead of analyzing it again: the ordering and
   /// the supernodal structure are the analysis's (its options' force_amd, force_metis and
   /// supernodal; the others are these options'). A factor equals the one of
   /// CholeskySolver(A, options) with that analysis options (same ordering, same operations).
   /// @throws InvalidInput if A's pattern (lower triangle, as stored) is not the analyzed one;
   ///         otherwise as the constructor above
-  CholeskySolver(const fem::SparseMatrix& A, const CholeskyAnalysis& analysis,
+  CholeskySolver(const SparseMatrix& A, const CholeskyAnalysis& analysis,
                  const CholeskyOptions& options = {});
   ~CholeskySolver();
   CholeskySolver(CholeskySolver&&) noexcept;
@@ -179,7 +180,7 @@ class CholeskySolver {
   /// when the factor was converted for solves: simplicial_solves).
   /// On failure the solver keeps its previous factor (strong guarantee).
   /// @throws InvalidInput if the pattern differs; SolverError as the constructor
-  void refactor(const fem::SparseMatrix& A);
+  void refactor(const SparseMatrix& A);
 
   /// Solves A x = b. @param b #n  @throws InvalidInput on a size mismatch
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;

@@ -1,4 +1,4 @@
-#include "solvers/curves.h"
+#include "solvers/recipes/curves.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,5 +1,5 @@
 // The curves file (read_curves_file) and the checks of curves against an input
-// (validate_curves): the text side of solvers/curves.h, apart from the geometry in curves.cpp so
+// (validate_curves): the text side of solvers/recipes/curves.h, apart from the geometry in curves.cpp so
 // the grammar and its messages can be read and tested on their own.
 #include <charconv>
 #include <cmath>
@@ -13,7 +13,7 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/io/tokens.h"
-#include "solvers/curves.h"
+#include "solvers/recipes/curves.h"
 
 namespace ifem::solvers {
 namespace {

@@ -1,4 +1,4 @@
-#include "solvers/poisson.h"
+#include "solvers/scalar/poisson.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <string>
 
 #include "intrinsic/core/errors.h"
-#include "solvers/parallel.h"
+#include "solvers/linalg/parallel.h"
 
 namespace ifem::solvers {
 

@@ -8,8 +8,8 @@
 
 #include "fem/operators.h"
 #include "intrinsic/core/triangulation.h"
-#include "solvers/cholesky.h"
-#include "solvers/components.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/scalar/components.h"
 
 namespace ifem::solvers {
 

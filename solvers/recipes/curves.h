@@ -21,7 +21,7 @@
 
 #include "intrinsic/geodesic/curve_network.h"
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/pipeline.h"
+#include "solvers/recipes/pipeline.h"
 
 namespace ifem::solvers {
 

@@ -17,8 +17,8 @@
 
 #include "fem/connection.h"
 #include "intrinsic/core/triangulation.h"
-#include "solvers/components.h"
-#include "solvers/tangent_basis.h"
+#include "solvers/scalar/components.h"
+#include "solvers/vector/tangent_basis.h"
 
 namespace ifem::solvers {
 

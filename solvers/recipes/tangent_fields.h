@@ -1,4 +1,4 @@
-// Tangent-field recipes on a prepared surface (solvers/pipeline.h), with results on the input's
+// Tangent-field recipes on a prepared surface (solvers/recipes/pipeline.h), with results on the input's
 // vertices as 3D vectors: what `ifem field` (and the Python package) run. The fields themselves
 // are direction_field.h's (smoothest / aligned n-direction fields on the connection Laplacian).
 //
@@ -13,9 +13,9 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "solvers/direction_field.h"
-#include "solvers/pipeline.h"
-#include "solvers/vector_heat.h"
+#include "solvers/vector/direction_field.h"
+#include "solvers/recipes/pipeline.h"
+#include "solvers/vector/vector_heat.h"
 
 namespace ifem::solvers {
 
@@ -33,7 +33,7 @@ struct FieldSettings {
   std::vector<InputDirection> constraints;
   /// Directions given on the triangulation itself: at any vertex of s.tri (inserted ones too),
   /// angles in the coordinates of fem::tangent_frames(s.tri), e.g. curve_constraints() along
-  /// curves (solvers/curve_fields.h). Held with the others (a vertex held several times takes
+  /// curves (solvers/recipes/curve_fields.h). Held with the others (a vertex held several times takes
   /// the mean of the n-th powers). Manifold path only.
   std::vector<DirectionConstraint> intrinsic_constraints;
 };
@@ -79,7 +79,7 @@ TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSetti
 /// path, rebuilt from the input with s's mollification and flips (O(#F) more work) and checked to
 /// give back s.tri exactly. Empty when they do not, and off the manifold path.
 /// @param frames fem::tangent_frames(s.tri); u the field on s.tri's vertices (power
-///        representation, solvers/direction_field.h)
+///        representation, solvers/vector/direction_field.h)
 /// @throws InvalidInput if u or frames do not have s.tri's vertex count
 Eigen::VectorXi input_face_indices(const PreparedSurface& s, const fem::TangentFrames& frames,
                                    const Eigen::VectorXcd& u, int symmetry);

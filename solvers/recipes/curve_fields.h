@@ -1,11 +1,11 @@
 // Direction fields aligned to curves (thesis proposal Fig. 10 left: a cross field conforming to
 // curves on a scan). The curves are inserted into the intrinsic triangulation exactly as for
-// data on curves (solvers/curves.h: FlipOut geodesics, Bézier curves, constrained Delaunay
+// data on curves (solvers/recipes/curves.h: FlipOut geodesics, Bézier curves, constrained Delaunay
 // flips, optional constrained refinement), so every curve is a chain of edges; the field is then
 // held along the curve at every vertex on it and is the smoothest field elsewhere
 // (solvers::aligned_field on the constrained triangulation):
 //
-//   input mesh + curves ──► prepare_curve_surface()            (solvers/curves.h)
+//   input mesh + curves ──► prepare_curve_surface()            (solvers/recipes/curves.h)
 //                       ──► curve_constraints(): the curve's direction at each of its vertices
 //                       ──► curve_direction_field(): aligned_field with them, the boundary and
 //                           the given directions ──► results on the input's vertices
@@ -19,9 +19,9 @@
 
 #include "fem/connection.h"
 #include "intrinsic/geodesic/curve_network.h"
-#include "solvers/curves.h"
-#include "solvers/direction_field.h"
-#include "solvers/tangent_fields.h"
+#include "solvers/recipes/curves.h"
+#include "solvers/vector/direction_field.h"
+#include "solvers/recipes/tangent_fields.h"
 
 namespace ifem::solvers {
 

@@ -1,4 +1,4 @@
-#include "solvers/eigen.h"
+#include "solvers/scalar/eigen.h"
 
 #include <Spectra/SymGEigsShiftSolver.h>
 
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "intrinsic/core/errors.h"
-#include "solvers/cholesky.h"
+#include "solvers/linalg/cholesky.h"
 
 namespace ifem::solvers {
 

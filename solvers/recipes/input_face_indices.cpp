@@ -13,7 +13,7 @@
 #include <optional>
 
 #include "intrinsic/core/errors.h"
-#include "solvers/tangent_fields.h"
+#include "solvers/recipes/tangent_fields.h"
 
 namespace ifem::solvers {
 

@@ -1,5 +1,5 @@
 // Direction fields aligned to curves (curve_fields.h).
-#include "solvers/curve_fields.h"
+#include "solvers/recipes/curve_fields.h"
 
 #include <complex>
 #include <string>

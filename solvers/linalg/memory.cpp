@@ -1,4 +1,4 @@
-#include "intrinsic/core/memory.h"
+#include "solvers/linalg/memory.h"
 
 #include <cstdlib>  // defines __GLIBC__ with glibc
 

@@ -4,7 +4,7 @@
 // vertices' angular coordinates (fem/connection.h: angle 0 along tri.vertex_halfedge(v),
 // counter-clockwise with the faces' orientation, corner angles rescaled to fill 2π), or, on the
 // frame path (tufted covers, point clouds), in per-vertex 3D frames (fem/frame_connection.h).
-// solvers/tangent_basis.h turns them into 3D vectors on the input's vertices.
+// solvers/vector/tangent_basis.h turns them into 3D vectors on the input's vertices.
 #pragma once
 
 #include <Eigen/Core>
@@ -16,7 +16,7 @@
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/core/types.h"
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/tangent_basis.h"
+#include "solvers/vector/tangent_basis.h"
 
 namespace ifem::solvers {
 

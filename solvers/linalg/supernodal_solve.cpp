@@ -1,4 +1,4 @@
-#include "solvers/supernodal_solve.h"
+#include "solvers/linalg/supernodal_solve.h"
 
 #include <cblas.h>
 
@@ -14,8 +14,8 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/huge_pages.h"
 #include "intrinsic/core/lanes.h"
-#include "solvers/flush_denormals.h"
-#include "solvers/parallel.h"
+#include "solvers/linalg/flush_denormals.h"
+#include "solvers/linalg/parallel.h"
 
 namespace ifem::solvers {
 

@@ -1,4 +1,4 @@
-#include "solvers/heat_distance.h"
+#include "solvers/scalar/heat_distance.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -19,10 +19,10 @@
 #include "intrinsic/core/huge_pages.h"
 #include "intrinsic/core/lanes.h"  // IFEM_HOST_CLONES
 #include "intrinsic/core/union_find.h"
-#include "solvers/cholesky.h"
-#include "solvers/components.h"
-#include "solvers/parallel.h"
-#include "solvers/poisson.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/scalar/components.h"
+#include "solvers/linalg/parallel.h"
+#include "solvers/scalar/poisson.h"
 
 namespace ifem::solvers {
 

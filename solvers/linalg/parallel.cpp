@@ -1,4 +1,4 @@
-#include "solvers/parallel.h"
+#include "solvers/linalg/parallel.h"
 
 #include <unistd.h>
 
@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "intrinsic/core/errors.h"
-#include "solvers/cholesky.h"
+#include "solvers/linalg/cholesky.h"
 
 namespace ifem::solvers {
 

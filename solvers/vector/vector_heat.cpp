@@ -1,4 +1,4 @@
-#include "solvers/vector_heat.h"
+#include "solvers/vector/vector_heat.h"
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -15,11 +15,11 @@
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
-#include "solvers/cholesky.h"
-#include "solvers/components.h"
-#include "solvers/heat_distance.h"
-#include "solvers/parallel.h"
-#include "solvers/poisson.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/scalar/components.h"
+#include "solvers/scalar/heat_distance.h"
+#include "solvers/linalg/parallel.h"
+#include "solvers/scalar/poisson.h"
 
 namespace ifem::solvers {
 

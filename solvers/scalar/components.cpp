@@ -1,4 +1,4 @@
-#include "solvers/components.h"
+#include "solvers/scalar/components.h"
 
 #include "intrinsic/core/union_find.h"
 

@@ -1,4 +1,4 @@
-#include "solvers/pipeline.h"
+#include "solvers/recipes/pipeline.h"
 
 #include <algorithm>
 #include <array>
