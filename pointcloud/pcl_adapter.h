@@ -58,7 +58,7 @@ intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::P
                                                     Report* report = nullptr);
 
 /// Deprecated argument order (report before points_out; reports come last,
-/// docs/decisions.md): the implementation until the definitions in pcl_adapter.cpp move to
+/// docs/decisions.md D-001): the implementation until the definitions in pcl_adapter.cpp move to
 /// the signatures above. Passing nullptr for both outputs is ambiguous: omit them instead.
 intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::PointXYZ>& cloud,
                                                     const Options& options, Report* report,

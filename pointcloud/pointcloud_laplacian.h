@@ -72,8 +72,8 @@ std::vector<Triangle> local_triangulations(const Positions& points, const Neighb
 /// 2/3 or 1/3; multiplicity 4): about 1.5× fewer cover faces. Where the stars agree the two give
 /// the same L and M (the flipped cover is then a covering of one intrinsic Delaunay
 /// triangulation); where two stars pick one diagonal of a quad and two the other, the four
-/// triangles weigh 1/2 each and cover the quad exactly once instead of 4/3 times (measured
-/// comparison of the three: docs/decisions.md, "Point-cloud merge rule"). Merge::kUnion (each
+/// triangles weigh 1/2 each and cover the quad exactly once instead of 4/3 times (the three
+/// compared: docs/decisions.md D-016). Merge::kUnion (each
 /// distinct triangle once, multiplicity 2) is smallest but over-counts overlaps: for
 /// experiments only.
 /// Mollified and, unless disabled, intrinsic Delaunay. Always finite; isolated points

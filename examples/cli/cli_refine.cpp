@@ -9,6 +9,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/refine/common_subdivision.h"
 
 namespace ifem::cli {
 

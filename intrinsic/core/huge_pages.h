@@ -1,8 +1,6 @@
 // Large work buffers on transparent huge pages (Linux, where THP is "madvise": Debian's
-// default). Internal to the library. A solve of 32 right-hand sides at 1M vertices reads and
-// writes rows of 256 bytes all over 256 MB blocks: with 4 KB pages nearly every row is a TLB
-// miss, with 2 MB pages the whole block fits the second-level TLB (BENCHMARKS.md, "Blocks of
-// sources in rows").
+// default). Internal to the library. Block solves touch rows scattered over buffers of hundreds
+// of MB, which 2 MB pages keep within the TLB's reach (docs/decisions.md D-063).
 #pragma once
 
 #include <cstddef>

@@ -8,9 +8,8 @@ namespace ifem {
 /// Whether an OpenMP loop over n elements should run on several threads (the `if` clause of its
 /// `#pragma omp parallel`): n ≥ min_n, and another core is idle right now — fewer tasks are
 /// running on the machine (Linux's instantaneous count in /proc/loadavg, this thread included)
-/// than it has cores. When every core is busy, a team's barrier waits for a thread that first
-/// has to be scheduled, and a 1 ms loop took 20 ms (docs/decisions.md, "Small meshes: one
-/// analysis, no threads below their size"). Results never depend on the answer (loops write
+/// than it has cores: on a busy machine a team's barrier waits for a thread that first has to be
+/// scheduled (docs/decisions.md D-043). Results never depend on the answer (loops write
 /// disjoint outputs or reduce integers). Costs one read of /proc/loadavg when n ≥ min_n.
 bool parallel_pays(Index n, Index min_n = kParallelMin);
 

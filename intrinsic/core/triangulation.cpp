@@ -8,9 +8,9 @@
 #include <string>
 #include <utility>
 
-#include "intrinsic/core/geometry.h"
 #include "intrinsic/core/parallel.h"
 #include "intrinsic/core/side_pairs.h"
+#include "intrinsic/core/triangle_formulas.h"
 
 namespace ifem {
 
@@ -621,70 +621,6 @@ void IntrinsicTriangulation::validate() const {
            std::to_string(l1) + ", " + std::to_string(l2) + " violate the triangle inequality");
     }
   }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Derived geometry
-
-double robust_mean_length(std::vector<double> lengths) {
-  if (lengths.empty()) return 0.0;
-  const auto p99 = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() * 99 / 100);
-  std::nth_element(lengths.begin(), p99, lengths.end());
-  const double cap = kOutlierClip * *p99;
-  double mean = 0.0;  // divided as it goes: huge lengths cannot overflow the sum
-  const double inv_n = 1.0 / static_cast<double>(lengths.size());
-  for (const double l : lengths) mean += std::min(l, cap) * inv_n;
-  return mean;
-}
-
-double total_area(const IntrinsicTriangulation& tri) {
-  double sum = 0.0;
-  for (Index f = 0; f < tri.n_faces(); ++f) sum += face_area(tri, f);
-  return sum / tri.multiplicity();
-}
-
-Eigen::VectorXd vertex_angle_sums(const IntrinsicTriangulation& tri) {
-  Eigen::VectorXd sums = Eigen::VectorXd::Zero(tri.n_vertices());
-  for (Index h = 0; h < tri.n_halfedges(); ++h) sums[tri.tail(h)] += corner_angle(tri, h);
-  return sums;
-}
-
-Eigen::VectorXd angle_defects(const IntrinsicTriangulation& tri) {
-  Eigen::VectorXd defect = Eigen::VectorXd::Constant(tri.n_vertices(), 2.0 * kPi);
-  defect -= vertex_angle_sums(tri);
-  for (Index h = 0; h < tri.n_halfedges(); ++h) {
-    if (tri.twin(h) == kInvalidIndex) defect[tri.tail(h)] -= kPi;
-  }
-  return defect;
-}
-
-Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
-  // one area per face (not one per halfedge): cot of the angle opposite each side
-  const Index nf = tri.n_faces();
-  std::vector<double> cot(tri.n_halfedges());
-#pragma omp parallel for schedule(static) if (parallel_pays(nf))
-  for (Index f = 0; f < nf; ++f) {
-    // on lengths normalized by a power of two (exact): cotangents are dimensionless, so the
-    // weights are the same bits at every scale and squares never over- or underflow
-    double l0 = tri.halfedge_length(3 * f), l1 = tri.halfedge_length(3 * f + 1),
-           l2 = tri.halfedge_length(3 * f + 2);
-    const double scale = length_normalizer(std::max({l0, l1, l2}));
-    if (scale != 1.0) l0 /= scale, l1 /= scale, l2 /= scale;
-    const double inv4a = 0.25 / triangle_area(l0, l1, l2);
-    const double s0 = l0 * l0, s1 = l1 * l1, s2 = l2 * l2;
-    cot[3 * f] = (s1 + s2 - s0) * inv4a;
-    cot[3 * f + 1] = (s2 + s0 - s1) * inv4a;
-    cot[3 * f + 2] = (s0 + s1 - s2) * inv4a;
-  }
-  const Index ne = tri.n_edges();
-  Eigen::VectorXd w(ne);
-#pragma omp parallel for schedule(static) if (parallel_pays(ne))
-  for (Index e = 0; e < ne; ++e) {
-    const Index h = tri.edge_halfedge(e);
-    const Index t = tri.twin(h);
-    w[e] = 0.5 * (cot[h] + (t != kInvalidIndex ? cot[t] : 0.0));
-  }
-  return w;
 }
 
 }  // namespace ifem::intrinsic

@@ -22,8 +22,8 @@ struct BuildReport {
 };
 
 /// The mollification margin used everywhere unless a caller asks otherwise: every triangle is
-/// made to satisfy a + b − c ≥ kDefaultMollifyEpsilon × (robust mean edge length, geometry.h
-/// robust_mean_length) (Sharp & Crane 2020).
+/// made to satisfy a + b − c ≥ kDefaultMollifyEpsilon × (robust mean edge length,
+/// robust_mean_length in triangle_formulas.h) (Sharp & Crane 2020).
 inline constexpr double kDefaultMollifyEpsilon = 1e-5;
 
 /// Outcome of mollify(): the uniform length increment that was added to every edge.

@@ -1,5 +1,6 @@
-// FlipOut geodesic paths (flip_geodesic.h): edge paths, their initial construction, and
-// shorten() over the engine of flip_network.h.
+// FlipOut geodesic paths (flip_geodesic.h): edge paths, their initial construction, the
+// options and their checks, and the 3D traces of paths. shorten() and the wedge angles live
+// with the engine, in flip_network.cpp.
 #include "intrinsic/geodesic/flip_geodesic.h"
 
 #include <algorithm>
@@ -13,7 +14,6 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
-#include "intrinsic/geodesic/flip_network.h"
 
 namespace ifem::intrinsic {
 
@@ -188,25 +188,6 @@ EdgePath EdgePathFinder::through(const std::vector<Index>& vertices, bool closed
   return path;
 }
 
-Eigen::Vector2d wedge_angles(const IntrinsicTriangulation& tri, const EdgePath& path, Index i) {
-  const Index n = static_cast<Index>(path.steps.size());
-  const PathStep& in = path.steps[i == 0 ? n - 1 : i - 1];
-  const PathStep& out = path.steps[i];
-  if (n > 1 && in.edge == out.edge && in.forward != out.forward) return {0.0, 0.0};
-  return {detail::wedge_angle(tri, detail::joint_wedge(tri, in, out, 0)),
-          detail::wedge_angle(tri, detail::joint_wedge(tri, in, out, 1))};
-}
-
-double min_wedge_angle(const IntrinsicTriangulation& tri, const EdgePath& path) {
-  double m = kInf;
-  const Index n = static_cast<Index>(path.steps.size());
-  for (Index i = path.closed ? 0 : 1; i < n; ++i) {
-    if (std::find(path.pinned.begin(), path.pinned.end(), i) != path.pinned.end()) continue;
-    m = std::min(m, wedge_angles(tri, path, i).minCoeff());
-  }
-  return m;
-}
-
 void FlipOutOptions::validate() const {
   if (!(angle_epsilon >= 0.0 && angle_epsilon < kPi)) {
     throw InvalidInput("FlipOutOptions::angle_epsilon must be in [0, π), got " +
@@ -234,30 +215,6 @@ const char* to_string(FlipOutStop stop) {
       return "blocked";
   }
   return "unknown";
-}
-
-FlipOutReport shorten(SignpostTriangulation& st, std::vector<EdgePath>& paths,
-                      const FlipOutOptions& options, const std::vector<char>* fixed_edges) {
-  options.validate();
-  const Index ne = st.intrinsic().n_edges();
-  if (fixed_edges != nullptr && static_cast<Index>(fixed_edges->size()) != ne) {
-    throw InvalidInput("shorten: fixed_edges has " + std::to_string(fixed_edges->size()) +
-                       " flags for " + std::to_string(ne) + " edges");
-  }
-  std::vector<int> uses(ne, 0);
-  detail::FlipNetwork net(st, uses, fixed_edges);
-  for (std::size_t c = 0; c < paths.size(); ++c) net.add(paths[c], static_cast<Index>(c));
-  FlipOutReport rep;
-  net.run(options, rep);
-  for (std::size_t c = 0; c < paths.size(); ++c) paths[c] = net.extract(static_cast<Index>(c));
-  return rep;
-}
-
-FlipOutReport shorten(SignpostTriangulation& st, EdgePath& path, const FlipOutOptions& options) {
-  std::vector<EdgePath> one{std::move(path)};
-  const FlipOutReport rep = shorten(st, one, options);
-  path = std::move(one.front());
-  return rep;
 }
 
 std::vector<char> curve_edge_flags(const IntrinsicTriangulation& tri,

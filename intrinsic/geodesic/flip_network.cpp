@@ -1,4 +1,5 @@
-// The FlipOut engine (flip_network.h). Walks are by halfedge identity throughout: in a
+// The FlipOut engine (flip_network.h), and the entry points of flip_geodesic.h that run on it
+// (shorten(), wedge_angles(), min_wedge_angle()). Walks are by halfedge identity throughout: in a
 // Δ-complex a vertex can appear several times around a wedge, so no vertex comparison decides
 // anything here.
 #include "intrinsic/geodesic/flip_network.h"
@@ -7,6 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
@@ -386,3 +389,57 @@ EdgePath FlipNetwork::extract(Index ci) const {
 }
 
 }  // namespace ifem::intrinsic::detail
+
+namespace ifem::intrinsic {
+
+// ---------------------------------------------------------------------------------------------
+// The public entry points of flip_geodesic.h that run on the engine
+
+namespace {
+constexpr double kNoWedge = std::numeric_limits<double>::infinity();
+}  // namespace
+
+Eigen::Vector2d wedge_angles(const IntrinsicTriangulation& tri, const EdgePath& path, Index i) {
+  const Index n = static_cast<Index>(path.steps.size());
+  const PathStep& in = path.steps[i == 0 ? n - 1 : i - 1];
+  const PathStep& out = path.steps[i];
+  if (n > 1 && in.edge == out.edge && in.forward != out.forward) return {0.0, 0.0};
+  return {detail::wedge_angle(tri, detail::joint_wedge(tri, in, out, 0)),
+          detail::wedge_angle(tri, detail::joint_wedge(tri, in, out, 1))};
+}
+
+double min_wedge_angle(const IntrinsicTriangulation& tri, const EdgePath& path) {
+  double m = kNoWedge;
+  const Index n = static_cast<Index>(path.steps.size());
+  for (Index i = path.closed ? 0 : 1; i < n; ++i) {
+    if (std::find(path.pinned.begin(), path.pinned.end(), i) != path.pinned.end()) continue;
+    m = std::min(m, wedge_angles(tri, path, i).minCoeff());
+  }
+  return m;
+}
+
+FlipOutReport shorten(SignpostTriangulation& st, std::vector<EdgePath>& paths,
+                      const FlipOutOptions& options, const std::vector<char>* fixed_edges) {
+  options.validate();
+  const Index ne = st.intrinsic().n_edges();
+  if (fixed_edges != nullptr && static_cast<Index>(fixed_edges->size()) != ne) {
+    throw InvalidInput("shorten: fixed_edges has " + std::to_string(fixed_edges->size()) +
+                       " flags for " + std::to_string(ne) + " edges");
+  }
+  std::vector<int> uses(ne, 0);
+  detail::FlipNetwork net(st, uses, fixed_edges);
+  for (std::size_t c = 0; c < paths.size(); ++c) net.add(paths[c], static_cast<Index>(c));
+  FlipOutReport rep;
+  net.run(options, rep);
+  for (std::size_t c = 0; c < paths.size(); ++c) paths[c] = net.extract(static_cast<Index>(c));
+  return rep;
+}
+
+FlipOutReport shorten(SignpostTriangulation& st, EdgePath& path, const FlipOutOptions& options) {
+  std::vector<EdgePath> one{std::move(path)};
+  const FlipOutReport rep = shorten(st, one, options);
+  path = std::move(one.front());
+  return rep;
+}
+
+}  // namespace ifem::intrinsic

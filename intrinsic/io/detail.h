@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "intrinsic/core/errors.h"
-#include "intrinsic/io/mesh_io.h"
+#include "intrinsic/io/surface_input.h"
 
 namespace ifem::io::detail {
 

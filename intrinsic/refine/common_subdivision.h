@@ -27,8 +27,8 @@ struct CommonSubdivision {
 };
 
 /// Bytes the common subdivision costs at its peak (paths, segments, per-face planar graphs,
-/// output) per unit of C + n_V + n_F_in (below): measured 479 on lato000 and 273 on rocketship
-/// (`ifem_bench refine`, "common subdivision peak memory"); rounded up.
+/// output) per unit of C + n_V + n_F_in (below): an upper bound of the measured peak
+/// (docs/decisions.md D-095).
 inline constexpr double kSubdivisionBytesPerCrossing = 512.0;
 
 /// Builds the common subdivision by tracing every intrinsic edge over the input and cutting

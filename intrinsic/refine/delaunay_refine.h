@@ -30,8 +30,7 @@ struct RefineOptions {
   /// corner: the point on the way from the shortest side's midpoint to the circumcenter where
   /// the triangle on that side gets an apex angle just above the bound, when the circumcenter
   /// is farther. Same bound and termination argument. Fewer insertions on most meshes, more on
-  /// meshes with rings of short sides, hence off by default (docs/decisions.md, "Refinement
-  /// order and off-centers").
+  /// meshes with rings of short sides, hence off by default (docs/decisions.md D-015).
   bool off_centers = false;
   /// Memory budget, bytes, for the refined triangulation and what is built on it (see
   /// estimate_refinement()): a request whose estimate exceeds it is refused before any work,
@@ -65,9 +64,8 @@ struct EdgeConstraints {
 
 /// Bytes one vertex of a refined triangulation costs, all told: the intrinsic triangulation
 /// and its signposts (about 1 KiB), the Laplacian, and a later sparse Cholesky factorization
-/// of it (the rest). Measured as peak RSS / vertices of `ifem distance --refine`: 3.4–3.9 KiB
-/// on spot (0.44 M and 1.8 M vertices), armadillo (1.6 M), igea (0.53 M); `ifem refine`'s
-/// common subdivision on lato000 (1.4 M vertices) 3.4 KiB. Rounded up.
+/// of it (the rest). An upper bound of the peak resident size per vertex measured on the
+/// corpus (docs/decisions.md D-095).
 inline constexpr double kRefineBytesPerVertex = 4096.0;
 
 /// The default memory budget: half the machine's physical memory (sysconf(_SC_PHYS_PAGES) ×
@@ -83,12 +81,11 @@ double default_memory_budget();
 ///   vertices:   V = n_V + I;   bytes: B = V × kRefineBytesPerVertex
 /// S: a Delaunay-refined triangulation whose triangles are all below max_area has about
 /// 1.3 × A / max_area triangles, half as many vertices. G: refining to the angle bound alone
-/// inserted at most 1.23 × n_V on the corpus (rocketship; lato000 0.015, teapot 0.75); the
-/// size-driven insertions fix most bad angles too, hence the max. Measured, estimate / actual
-/// insertions: spot (resolution 0.1) 0.86, armadillo (0.5) 1.03, igea (0.4) 1.05, bunny (0.3)
-/// 0.91, rocketship (angle only) 0.81; over on meshes of uneven edges: teapot_unwelded (0.3)
-/// 1.7, lato000 (0.5) 2.15. The insertion cap bounds every input's insertions, and with them
-/// the memory (delaunay_refine() stops at the budget).
+/// inserts at most about n_V on the corpus, and the size-driven insertions fix most bad angles
+/// too, hence the max. The estimate is at most about 20 % under the actual insertions and may be
+/// a few times over on meshes of very uneven edge lengths (docs/decisions.md D-095). The
+/// insertion cap bounds every input's insertions, and with them the memory (delaunay_refine()
+/// stops at the budget).
 struct RefineEstimate {
   double size_term = 0.0, angle_term = 0.0;
   double insertions = 0.0;  ///< I above
@@ -139,8 +136,8 @@ struct RefineReport {
 /// boundary edge it would cross, at its midpoint), and restores the Delaunay property by
 /// flips. Worst first: triangles with a corner below the bound that an insertion can fix, by
 /// that corner, smallest first (in steps of about 0.25°), then triangles larger than max_area
-/// or facing an encroached boundary side, largest first (why this order: docs/decisions.md,
-/// "Refinement order and off-centers"). Terminates on every input (the insertion cap).
+/// or facing an encroached boundary side, largest first (why this order: docs/decisions.md
+/// D-015). Terminates on every input (the insertion cap).
 /// Input vertices keep their ids; inserted vertices are appended. The surface never changes.
 /// With `constraints`, constrained refinement (EdgeConstraints): constrained edges are never
 /// flipped or crossed, only split; the report's constrained_splits counts those splits.

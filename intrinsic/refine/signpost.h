@@ -229,7 +229,3 @@ class SignpostTriangulation {
 };
 
 }  // namespace ifem::intrinsic
-
-// The common subdivision and the PLY writers used to be declared here: kept visible to callers
-// that include only signpost.h.
-#include "intrinsic/refine/common_subdivision.h"  // IWYU pragma: export

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "intrinsic/core/geometry.h"  // mean_side_length() lives there now
+#include "intrinsic/core/geometry.h"  // mean_side_length(), robust_side_length()
 #include "intrinsic/core/types.h"
 
 namespace ifem::intrinsic {

@@ -72,8 +72,8 @@ IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, Index n_
                                     TuftedCoverReport* report = nullptr);
 
 /// Deprecated argument order (report before input_multiplicity; every function that returns a
-/// value takes its report last, docs/decisions.md): the implementation until the definitions in
-/// tufted_cover.cpp move to the signatures above. Call those instead.
+/// value takes its report last, docs/decisions.md D-001): the implementation until the definitions
+/// in tufted_cover.cpp move to the signatures above. Call those instead.
 IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Positions& positions,
                                     TuftedCoverReport* report, int input_multiplicity);
 /// Deprecated argument order, as above.

@@ -58,8 +58,7 @@ TangentBasis3d tangent_basis_3d(const io::SurfaceInput& input,
 ///    the smallest principal axis of the vertex and its neighbours (the other ends of its edges
 ///    in tri); without triangles (a point cloud) the given normals (#V_in×3) where finite and
 ///    nonzero, else that principal axis. (The 1-ring of the point-cloud triangulation, not the
-///    k nearest points: on spot's 2,930 vertices transport came out 1.5° from the mesh's
-///    (median) with it, 9.5° with the 30 nearest; docs/decisions.md.)
+///    k nearest points, which smooth a coarse cloud's normals too much: docs/decisions.md D-036.)
 ///  - orientation (Hoppe et al. 1992): per connected component of the neighbour graph, a
 ///    minimum spanning tree with weights 1 − |n_i·n_j| from the component's lowest vertex,
 ///    each child flipped to agree with its parent; then the component's sign that agrees with

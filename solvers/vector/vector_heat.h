@@ -89,9 +89,9 @@ struct VectorHeatReport {
 ///    faces around x, each turned into x's coordinate through its corner and rescaled, averaged
 ///    with corner-angle weights); the angle is arg(∇d(x) / H(x)), since parallel transport keeps
 ///    the angle between the geodesic and the transported frame. The paper's radial field (the
-///    vector heat of unit outward vectors on the source's one-ring) is not used: on a jittered
-///    flat grid its angle error stays near 0.1 rad under refinement, the one-ring's irregularity
-///    biasing every direction, where ∇d's falls (docs/decisions.md, "Vector heat: the log map").
+///    vector heat of unit outward vectors on the source's one-ring) is not used: an irregular
+///    one-ring biases every direction by an angle that does not fall under refinement, where
+///    ∇d's error does (docs/decisions.md D-032).
 ///
 /// Conventions: results have one entry per vertex of triangulation() (#V: the input's ids);
 /// vectors are in the angular coordinates of frames(), which are those of triangulation() (the
