@@ -1,5 +1,5 @@
-"""The bad option values of test_cli_values_*.py. The command line cannot break the tool: every integer and real option of every command, given
-a value that does not fit (2^31, 2^32+2), is negative, overflows a double (1e400), is not a
+"""The bad option values of test_cli_values_*.py. The command line cannot break the tool: every
+integer and real option of every command, given a value that does not fit (2^31, 2^32+2), is negative, overflows a double (1e400), is not a
 finite number (nan, inf), is empty or is not a number, fails with exit code 2 and one line
 naming the option, the value and the allowed range (before the input is even read)."""
 

@@ -1,5 +1,6 @@
-"""`ifem distance`: every integer and real option (and --source) given a value that does not fit
-fails with exit code 2 and one line naming the option, the value and the allowed range (badvalues.py)."""
+"""`ifem distance`: every integer and real option (and --source) given a value that does not
+fit fails with exit code 2 and one line naming the option, the value and the allowed range
+(badvalues.py)."""
 
 import pytest
 
