@@ -16,9 +16,9 @@
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/surface/build_surface.h"
 #include "intrinsic/surface/face_analysis.h"
-#include "solvers/scalar/heat_distance.h"
 #include "solvers/recipes/pipeline.h"
-#include "test_util.h"
+#include "solvers/scalar/heat_distance.h"
+#include "solvers/test_util.h"
 
 namespace ifem::solvers {
 namespace {

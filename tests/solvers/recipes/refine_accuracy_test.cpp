@@ -22,9 +22,9 @@
 
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/scalar/heat_distance.h"
 #include "solvers/recipes/pipeline.h"
-#include "test_util.h"
+#include "solvers/scalar/heat_distance.h"
+#include "solvers/test_util.h"
 
 namespace ifem::solvers {
 namespace {
