@@ -1,5 +1,6 @@
-// Heat distance against the exact geodesic distances in ../shared/data/reference (MANIFEST.md),
-// with CGAL's heat method as the baseline to match or beat.
+// Heat distance against the exact geodesic distances in tests/data/reference (always) and
+// ../shared/data/reference (MANIFEST.md; when present), with CGAL's heat method as the baseline
+// to match or beat. Each test fails when it checked no reference.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -7,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <regex>
@@ -66,7 +68,6 @@ Eigen::VectorXd read_cgal_heat(const fs::path& p, const Reference& ref) {
 // docs/decisions.md, "Heat step length (`HeatDistanceOptions::StepLength`)"). Relative to the
 // baseline, not pinned at today's figures.
 TEST(SolversReference, HeatDistanceVsExact) {
-  IFEM_REQUIRE_SHARED_DATA();
   // references on a surface CGAL cut apart at nonmanifold vertices (MANIFEST.md, "repaired")
   const std::set<std::string> repaired_reference = {"conrod"};
   // meshes whose slivers make the intrinsic Delaunay triangulation matter: at most CGAL's error
@@ -75,25 +76,23 @@ TEST(SolversReference, HeatDistanceVsExact) {
   const bool run_large = std::getenv("IFEM_TEST_LARGE") != nullptr;
   std::printf("%-22s %6s %8s | %9s %9s | %9s %9s | %9s | %s\n", "mesh", "src", "V", "mean_rel",
               "max_rel", "cgal_mean", "cgal_max", "h=IDT", "note");
-  int checked = 0;
-  for (const fs::path& p : test::shared_files("reference")) {
-    const std::optional<Reference> ref = parse_reference(p);
-    if (!ref) continue;
-    const std::string& stem = ref->stem;
-    const Index src = ref->src;
+  int bundled = 0, shared = 0;
+  for (const test::ReferenceCase& ref : test::reference_cases()) {
+    const std::string& stem = ref.stem;
+    const Index src = Index(ref.src);
     if (stem == "igea_268k" && !run_large) {
       std::printf("%-22s %6d   skipped (large; set IFEM_TEST_LARGE=1)\n", stem.c_str(), src);
       continue;
     }
-    const fs::path mesh = shared_mesh(stem);
-    ASSERT_FALSE(mesh.empty()) << stem;
-    if (test::skip_in_quick_run(mesh)) {
+    ASSERT_FALSE(ref.mesh.empty()) << ref.exact << ": no mesh " << stem;
+    if (test::skip_in_quick_run(ref.mesh)) {
       std::printf("%-22s %6d   skipped (large; IFEM_TEST_QUICK)\n", stem.c_str(), src);
       continue;
     }
-    const io::SurfaceInput in = io::read_mesh(mesh.string());
-    const Eigen::VectorXd exact = io::read_values(p.string());
-    const Eigen::VectorXd cgal = read_cgal_heat(p, *ref);
+    const io::SurfaceInput in = io::read_mesh(ref.mesh.string());
+    const Eigen::VectorXd exact = io::read_values(ref.exact.string());
+    const Eigen::VectorXd cgal = io::read_values(ref.cgal_heat.string());
+    ASSERT_EQ(cgal.size(), exact.size()) << ref.cgal_heat;
     ASSERT_EQ(exact.size(), in.positions.rows());
     const PreparedSurface s = prepare_surface(in);
     const intrinsic::IntrinsicTriangulation& tri = s.tri;
@@ -123,9 +122,9 @@ TEST(SolversReference, HeatDistanceVsExact) {
       EXPECT_LE(r.mean, kCleanMeshSlack * rc.mean)
           << stem << " src " << src << ": more than 6% above CGAL's heat method";
     }
-    ++checked;
+    ++(ref.bundled ? bundled : shared);
   }
-  EXPECT_GT(checked, 0);
+  test::expect_references_checked(bundled, shared);
 }
 
 // With HeatDistanceOptions::Precision::kMixed the queries read the Poisson factor as floats: on
@@ -133,15 +132,14 @@ TEST(SolversReference, HeatDistanceVsExact) {
 // keeps the heat factor double) the distances stay within 1e-5 relative of the double-precision
 // path, and the error against the exact distances is the same to 1e-6.
 TEST(SolversReference, MixedPrecisionMatchesDouble) {
-  IFEM_REQUIRE_SHARED_DATA();
-  int checked = 0;
-  for (const fs::path& p : test::shared_files("reference")) {
-    const std::optional<Reference> ref = parse_reference(p);
-    if (!ref) continue;
-    const fs::path mesh = shared_mesh(ref->stem);
+  int bundled = 0, shared = 0;
+  for (const test::ReferenceCase& c : test::reference_cases()) {
+    const std::optional<Reference> ref = parse_reference(c.exact);
+    ASSERT_TRUE(ref.has_value()) << c.exact;
+    const fs::path& mesh = c.mesh;
     ASSERT_FALSE(mesh.empty()) << ref->stem;
     if (test::skip_in_quick_run(mesh)) continue;
-    const Eigen::VectorXd exact = io::read_values(p.string());
+    const Eigen::VectorXd exact = io::read_values(c.exact.string());
     const PreparedSurface s = prepare_surface(io::read_mesh(mesh.string()));
     DistanceSettings mixed;
     mixed.precision = HeatDistanceOptions::Precision::kMixed;
@@ -160,9 +158,9 @@ TEST(SolversReference, MixedPrecisionMatchesDouble) {
                 diff / dmax);
     EXPECT_LT(diff, 1e-5 * dmax) << ref->stem << " src " << ref->src;
     EXPECT_NEAR(relative_error(d, exact).mean, relative_error(d2, exact).mean, 1e-6) << ref->stem;
-    ++checked;
+    ++(c.bundled ? bundled : shared);
   }
-  EXPECT_GT(checked, 0);
+  test::expect_references_checked(bundled, shared);
 }
 
 // Sweep of step-length rules (issue #3), all through build_surface like the CLI. Not run by
