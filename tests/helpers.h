@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <initializer_list>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -17,7 +19,12 @@
 
 namespace ifem::test {
 
-inline std::filesystem::path shared_data() { return IFEM_SHARED_DATA; }
+/// ../shared/data as configured, or the environment's IFEM_SHARED_DATA when set (point it at a
+/// folder that does not exist to run the suite as from a plain clone).
+inline std::filesystem::path shared_data() {
+  const char* env = std::getenv("IFEM_SHARED_DATA");
+  return env && *env ? std::filesystem::path(env) : std::filesystem::path(IFEM_SHARED_DATA);
+}
 inline std::filesystem::path test_data() { return IFEM_TEST_DATA; }
 
 /// All files in ../shared/data/<sub>, sorted; empty when the folder is absent.
@@ -30,6 +37,75 @@ inline std::vector<std::filesystem::path> shared_files(const std::string& sub) {
   }
   std::sort(out.begin(), out.end());
   return out;
+}
+
+/// True when ../shared/data is there (its meshes folder): tests that need it skip otherwise,
+/// and tests that loop over it must then check at least one file.
+inline bool has_shared_data() { return std::filesystem::is_directory(shared_data() / "meshes"); }
+
+/// One exact-distance reference: `<stem>.src<N>.exact.txt`, CGAL's heat-method baseline
+/// `<stem>.src<N>.cgal-heat.txt` beside it, and the mesh `<stem>.*` they were computed on.
+struct ReferenceCase {
+  std::string stem;
+  std::string src_text;  // N as in the file name
+  long src = 0;
+  std::filesystem::path exact, cgal_heat, mesh;
+  bool bundled = false;  // from tests/data/reference (always there), not ../shared/data
+};
+
+/// The references of tests/data/reference (meshes in tests/data; always present, so every
+/// reference test checks these from a plain clone), then those of ../shared/data/reference
+/// (meshes in ../shared/data/meshes) when it is present, minus the ones already bundled.
+/// A reference whose mesh is missing is listed with an empty `mesh`: callers fail on it.
+inline std::vector<ReferenceCase> reference_cases() {
+  static const std::regex name(R"((.+)\.src(\d+)\.exact\.txt)");
+  std::vector<ReferenceCase> out;
+  auto add_from = [&](const std::filesystem::path& ref_dir, const std::filesystem::path& mesh_dir,
+                      bool bundled) {
+    if (!std::filesystem::is_directory(ref_dir)) return;
+    std::vector<std::filesystem::path> files, meshes;
+    for (const auto& e : std::filesystem::directory_iterator(ref_dir)) files.push_back(e.path());
+    for (const auto& e : std::filesystem::directory_iterator(mesh_dir)) {
+      if (e.is_regular_file()) meshes.push_back(e.path());
+    }
+    std::sort(files.begin(), files.end());
+    for (const auto& p : files) {
+      std::smatch mt;
+      const std::string fname = p.filename().string();
+      if (!std::regex_match(fname, mt, name)) continue;
+      const bool dup = std::any_of(out.begin(), out.end(), [&](const ReferenceCase& c) {
+        return c.exact.filename() == p.filename();
+      });
+      if (dup) continue;
+      ReferenceCase c;
+      c.stem = mt[1].str();
+      c.src_text = mt[2].str();
+      c.src = std::stol(c.src_text);
+      c.exact = p;
+      c.cgal_heat = ref_dir / (c.stem + ".src" + c.src_text + ".cgal-heat.txt");
+      for (const auto& m : meshes) {
+        if (m.stem().string() == c.stem) c.mesh = m;
+      }
+      c.bundled = bundled;
+      out.push_back(c);
+    }
+  };
+  add_from(test_data() / "reference", test_data(), true);
+  if (has_shared_data()) add_from(shared_data() / "reference", shared_data() / "meshes", false);
+  return out;
+}
+
+/// Fails the test unless a loop over reference_cases() checked every bundled reference and, when
+/// ../shared/data is present, at least one of its own: a reference test never passes on nothing.
+inline void expect_references_checked(int bundled_checked, int shared_checked) {
+  int bundled = 0;
+  for (const ReferenceCase& c : reference_cases()) bundled += c.bundled ? 1 : 0;
+  EXPECT_GT(bundled, 0) << "tests/data/reference has no *.exact.txt";
+  EXPECT_EQ(bundled_checked, bundled) << "bundled references checked";
+  if (has_shared_data()) {
+    EXPECT_GT(shared_checked, 0) << "../shared/data is present, but none of its references was "
+                                    "checked";
+  }
 }
 
 /// True when the run asked to be quick (IFEM_TEST_QUICK set, as CI does for its sanitizer run,
@@ -68,7 +144,7 @@ void expect_each_rejected(T Options::*member, std::initializer_list<V> values,
 
 #define IFEM_REQUIRE_SHARED_DATA()                                                 \
   do {                                                                             \
-    if (!std::filesystem::is_directory(::ifem::test::shared_data() / "meshes")) {  \
+    if (!::ifem::test::has_shared_data()) {                                        \
       GTEST_SKIP() << "../shared/data is absent: " << ::ifem::test::shared_data(); \
     }                                                                              \
   } while (0)

@@ -17,12 +17,20 @@ namespace ifem::intrinsic {
 namespace {
 
 class SharedMesh : public ::testing::TestWithParam<std::string> {};
+// The meshes bundled in tests/data: the same checks from a plain clone.
+class BundledMesh : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(SharedMesh, IntrinsicDelaunayLaplacianOrNamedError) {
-  IFEM_REQUIRE_SHARED_DATA();
-  const auto path = test::shared_data() / "meshes" / GetParam();
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not in this corpus";
-  if (test::skip_in_quick_run(path)) GTEST_SKIP() << "large file skipped (IFEM_TEST_QUICK)";
+// The mesh of ../shared/data named by the test's parameter: skipped when ../shared/data is absent
+// (or in a quick run, for a large file); a listed file missing from a present corpus fails.
+#define IFEM_SHARED_MESH_PATH(path)                                                         \
+  IFEM_REQUIRE_SHARED_DATA();                                                               \
+  const auto path = test::shared_data() / "meshes" / GetParam();                            \
+  ASSERT_TRUE(std::filesystem::exists(path)) << path << " is listed but not in the corpus"; \
+  if (test::skip_in_quick_run(path)) GTEST_SKIP() << "large file skipped (IFEM_TEST_QUICK)"
+
+// Either a finite intrinsic Delaunay Laplacian (flip invariants checked) or a NonManifoldInput
+// naming the offending edge.
+void expect_idt_or_named_error(const std::filesystem::path& path) {
   const io::SurfaceInput in = io::read_mesh(path.string());
   const FaceListStats st = analyze_faces(in.triangles, static_cast<Index>(in.positions.rows()));
   IntrinsicTriangulation tri;
@@ -50,11 +58,7 @@ TEST_P(SharedMesh, IntrinsicDelaunayLaplacianOrNamedError) {
 
 // The automatic path (manifold or tufted cover) gives every mesh a finite Laplacian with
 // non-negative weights and a positive mass on every referenced vertex.
-TEST_P(SharedMesh, AutomaticPathHasNonNegativeWeights) {
-  IFEM_REQUIRE_SHARED_DATA();
-  const auto path = test::shared_data() / "meshes" / GetParam();
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not in this corpus";
-  if (test::skip_in_quick_run(path)) GTEST_SKIP() << "large file skipped (IFEM_TEST_QUICK)";
+void expect_automatic_path_good(const std::filesystem::path& path) {
   const io::SurfaceInput in = io::read_mesh(path.string());
   const SurfaceTriangulation s = build_surface(in.triangles, in.positions);
   s.tri.validate();
@@ -99,6 +103,24 @@ TEST_P(SharedMesh, AutomaticPathHasNonNegativeWeights) {
   }
 }
 
+TEST_P(SharedMesh, IntrinsicDelaunayLaplacianOrNamedError) {
+  IFEM_SHARED_MESH_PATH(path);
+  expect_idt_or_named_error(path);
+}
+
+TEST_P(SharedMesh, AutomaticPathHasNonNegativeWeights) {
+  IFEM_SHARED_MESH_PATH(path);
+  expect_automatic_path_good(path);
+}
+
+TEST_P(BundledMesh, IntrinsicDelaunayLaplacianOrNamedError) {
+  expect_idt_or_named_error(test::test_data() / GetParam());
+}
+
+TEST_P(BundledMesh, AutomaticPathHasNonNegativeWeights) {
+  expect_automatic_path_good(test::test_data() / GetParam());
+}
+
 // Every mesh of the corpus, listed so that a missing file is noticed (skipped, by name).
 INSTANTIATE_TEST_SUITE_P(
     Corpus, SharedMesh,
@@ -121,6 +143,29 @@ INSTANTIATE_TEST_SUITE_P(
       }
       return n;
     });
+
+std::string param_name(const ::testing::TestParamInfo<std::string>& param) {
+  std::string n = param.param;
+  for (char& c : n) {
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  }
+  return n;
+}
+
+INSTANTIATE_TEST_SUITE_P(TestData, BundledMesh,
+                         ::testing::Values("spot.obj", "bunny_npm_lowres.obj", "fan3.obj",
+                                           "tet_with_self_edge.ply", "triple_vierbein.obj"),
+                         param_name);
+
+// Every mesh file bundled in tests/data is in the list above.
+TEST(BundledMesh, ListIsComplete) {
+  int meshes = 0;
+  for (const auto& e : std::filesystem::directory_iterator(test::test_data())) {
+    const std::string ext = e.path().extension().string();
+    if (ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl") ++meshes;
+  }
+  EXPECT_EQ(meshes, 5);
+}
 
 TEST(SharedMesh, CorpusListIsComplete) {
   IFEM_REQUIRE_SHARED_DATA();

@@ -1,11 +1,11 @@
-// FlipOut geodesics against the exact polyhedral geodesic distances of ../shared/data/reference
-// (MANIFEST.md): every geodesic FlipOut returns is at least as long as the shortest one (to
-// round-off: a geodesic is only locally shortest), equal to it for a fraction of the pairs that
-// is printed per mesh, and on average within 1% of it. Where it is longer, the geodesic passes
-// a saddle vertex (total angle > 2π, both wedges ≥ π) that the Dijkstra start path wrapped the
-// other way round than the shortest geodesic does: a true geodesic, in another class.
-// Floors below are from this measurement (BENCHMARKS.md, "FlipOut accuracy"), under the lowest
-// value seen, so a regression in the shortening shows.
+// FlipOut geodesics against the exact polyhedral geodesic distances of tests/data/reference
+// (always) and ../shared/data/reference (MANIFEST.md; when present): every geodesic FlipOut returns
+// is at least as long as the shortest one (to round-off: a geodesic is only locally shortest),
+// equal to it for a fraction of the pairs that is printed per mesh, and on average within 1% of it.
+// Where it is longer, the geodesic passes a saddle vertex (total angle > 2π, both wedges ≥ π) that
+// the Dijkstra start path wrapped the other way round than the shortest geodesic does: a true
+// geodesic, in another class. Floors below are from this measurement (BENCHMARKS.md, "FlipOut
+// accuracy"), under the lowest value seen, so a regression in the shortening shows.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +13,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
-#include <regex>
 #include <string>
 
 #include "helpers.h"
@@ -39,41 +38,35 @@ struct Tally {
     sum_excess += std::max(rel, 0.0);
     worst_deficit = std::max(worst_deficit, -rel);
   }
-  double fraction() const { return checked ? double(equal) / checked : 1.0; }
-  double mean_excess() const { return checked ? sum_excess / checked : 0.0; }
+  // nothing checked is no evidence: 0 (below every floor), and the test asserts checked > 0
+  double fraction() const { return checked ? double(equal) / checked : 0.0; }
+  double mean_excess() const { return checked ? sum_excess / checked : 1.0; }
 };
 
 // The exact files of meshes FlipOut accepts (edge-manifold, orientable), small enough for a
 // quick run.
 TEST(FlipGeodesicReference, LengthsAgainstExactGeodesics) {
-  IFEM_REQUIRE_SHARED_DATA();
-  static const std::regex name(R"((.+)\.src(\d+)\.exact\.txt)");
   std::printf("%-24s %6s %6s | %-33s | %-33s\n", "mesh", "src", "V",
               "single-source: equal, mean, worst", "two-point: equal, mean, worst");
-  int meshes = 0;
-  for (const fs::path& p : test::shared_files("reference")) {
-    std::smatch mt;
-    const std::string fname = p.filename().string();
-    if (!std::regex_match(fname, mt, name)) continue;
-    fs::path mesh;
-    for (const auto& m : test::shared_files("meshes")) {
-      if (m.stem().string() == mt[1].str()) mesh = m;
-    }
-    if (mesh.empty()) continue;
-    const io::SurfaceInput in = io::read_mesh(mesh.string());
+  int bundled = 0, shared = 0;
+  for (const test::ReferenceCase& ref : test::reference_cases()) {
+    ASSERT_FALSE(ref.mesh.empty()) << ref.exact << ": no mesh " << ref.stem;
+    const std::string fname = ref.exact.filename().string();
+    const io::SurfaceInput in = io::read_mesh(ref.mesh.string());
     if (in.positions.rows() > 12000 && std::getenv("IFEM_TEST_LARGE") == nullptr) {
-      std::printf("%-24s %6s   skipped (large; set IFEM_TEST_LARGE=1)\n", mt[1].str().c_str(),
-                  mt[2].str().c_str());
+      std::printf("%-24s %6s   skipped (large; set IFEM_TEST_LARGE=1)\n", ref.stem.c_str(),
+                  ref.src_text.c_str());
       continue;
     }
-    const Eigen::VectorXd exact = io::read_values(p.string());
-    const Index src = static_cast<Index>(std::stol(mt[2].str()));
+    const Eigen::VectorXd exact = io::read_values(ref.exact.string());
+    ASSERT_EQ(exact.size(), in.positions.rows()) << fname;
+    const Index src = static_cast<Index>(ref.src);
     std::unique_ptr<SignpostTriangulation> st;
     try {
       st = std::make_unique<SignpostTriangulation>(in.triangles, in.positions, 0.0);
     } catch (const NonManifoldInput&) {
       std::printf("%-24s %6d   refused (nonmanifold / non-orientable): FlipOut needs a manifold\n",
-                  mt[1].str().c_str(), int(src));
+                  ref.stem.c_str(), int(src));
       continue;
     }
     const SingleSourceGeodesics g = single_source_geodesics(*st, src);
@@ -92,18 +85,21 @@ TEST(FlipGeodesicReference, LengthsAgainstExactGeodesics) {
       tp.add(shorten(s2, path).final_length, exact[v]);
     }
     std::printf("%-24s %6d %6d | %5.1f%% %8.1e %8.1e (%5d) | %5.1f%% %8.1e %8.1e (%3d)\n",
-                mt[1].str().c_str(), int(src), int(nv), 100 * ss.fraction(), ss.mean_excess(),
+                ref.stem.c_str(), int(src), int(nv), 100 * ss.fraction(), ss.mean_excess(),
                 ss.worst_excess, ss.checked, 100 * tp.fraction(), tp.mean_excess(), tp.worst_excess,
                 tp.checked);
+    EXPECT_GT(ss.checked, nv / 2) << fname;  // most vertices reachable on every reference mesh
+    EXPECT_GE(tp.checked, 30) << fname;
     EXPECT_LE(ss.worst_deficit, 1e-9) << fname;  // never shorter than the shortest
     EXPECT_LE(tp.worst_deficit, 1e-9) << fname;
     EXPECT_LE(ss.mean_excess(), 0.01) << fname;
     EXPECT_LE(tp.mean_excess(), 0.01) << fname;
     EXPECT_GE(ss.fraction(), 0.4) << fname;
     EXPECT_GE(tp.fraction(), 0.3) << fname;
-    ++meshes;
+    ++(ref.bundled ? bundled : shared);
   }
-  std::printf("%d reference files checked\n", meshes);
+  std::printf("%d bundled and %d shared reference files checked\n", bundled, shared);
+  test::expect_references_checked(bundled, shared);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// Smoothest and aligned direction fields (solvers/vector/direction_field.h): Poincaré–Hopf on spheres
-// and tori for n = 1, 2, 4; a parallel field on flat domains; constraints held; bad input.
+// Smoothest and aligned direction fields (solvers/vector/direction_field.h): Poincaré–Hopf on
+// spheres and tori for n = 1, 2, 4; a parallel field on flat domains; constraints held; bad input.
 #include "solvers/vector/direction_field.h"
 
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <complex>
 
 #include "intrinsic/core/errors.h"
-#include "test_util.h"
+#include "solvers/test_util.h"
 
 namespace ifem::solvers {
 namespace {

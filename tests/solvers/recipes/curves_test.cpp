@@ -14,7 +14,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
-#include "test_util.h"
+#include "solvers/test_util.h"
 
 namespace ifem {
 namespace {

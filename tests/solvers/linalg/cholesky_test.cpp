@@ -8,7 +8,7 @@
 
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
-#include "test_util.h"
+#include "solvers/test_util.h"
 
 namespace ifem::solvers {
 namespace {

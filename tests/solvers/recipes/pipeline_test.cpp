@@ -1,6 +1,6 @@
-// The library pipeline (solvers/recipes/pipeline.h): the path and its reason as enums on inputs built to
-// take each path, refinement as an option of the same step, results on the input's vertices,
-// and the recipes against known answers.
+// The library pipeline (solvers/recipes/pipeline.h): the path and its reason as enums on inputs
+// built to take each path, refinement as an option of the same step, results on the input's
+// vertices, and the recipes against known answers.
 #include "solvers/recipes/pipeline.h"
 
 #include <gtest/gtest.h>
@@ -13,7 +13,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/generators/mesh_generators.h"
-#include "test_util.h"
+#include "solvers/test_util.h"
 
 namespace ifem::solvers {
 namespace {

@@ -1,6 +1,6 @@
-// Direction fields aligned to curves (solvers/recipes/curve_fields.h): on a flat cylinder a straight
-// curve makes the field parallel to it everywhere; on a flat disk a loop through equally spaced
-// points of a circle holds the field tangent to the circle there, exactly; bad input.
+// Direction fields aligned to curves (solvers/recipes/curve_fields.h): on a flat cylinder a
+// straight curve makes the field parallel to it everywhere; on a flat disk a loop through equally
+// spaced points of a circle holds the field tangent to the circle there, exactly; bad input.
 #include "solvers/recipes/curve_fields.h"
 
 #include <gtest/gtest.h>
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "intrinsic/core/errors.h"
-#include "test_util.h"
+#include "solvers/test_util.h"
 
 namespace ifem::solvers {
 namespace {

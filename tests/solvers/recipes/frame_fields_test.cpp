@@ -1,5 +1,5 @@
-// Tangent fields on the frame path (solvers/recipes/tangent_fields.h on the point-cloud and tufted paths,
-// fem/frame_connection.h): transport on flat, cylindrical and spherical point clouds against
+// Tangent fields on the frame path (solvers/recipes/tangent_fields.h on the point-cloud and tufted
+// paths, fem/frame_connection.h): transport on flat, cylindrical and spherical point clouds against
 // the exact parallel transport, the log map against the plane's identity and the sphere's
 // great-circle distance, the smoothest field's smoothness, Poincaré–Hopf through the input's
 // faces on the tufted cover, the orientation of the normals, nonmanifold meshes, refusals.
@@ -16,10 +16,10 @@
 #include "fem/frame_connection.h"
 #include "helpers.h"
 #include "intrinsic/core/errors.h"
-#include "solvers/vector/direction_field.h"
 #include "solvers/recipes/tangent_fields.h"
-#include "tangent_test_util.h"
-#include "test_util.h"
+#include "solvers/tangent_test_util.h"
+#include "solvers/test_util.h"
+#include "solvers/vector/direction_field.h"
 
 namespace ifem::solvers {
 namespace {
@@ -411,7 +411,7 @@ TEST(FrameFields, NonmanifoldMeshesGiveFiniteTangentFields) {
   }
   for (const char* name : {"truck.obj", "conrod.off", "beetle_sutherland.obj"}) {
     const std::filesystem::path file = test::shared_data() / "meshes" / name;
-    if (!std::filesystem::exists(file)) continue;  // ../shared/data is optional
+    if (!test::has_shared_data()) continue;  // ../shared/data is optional; present, it has them
     check_nonmanifold(load_surface(file.string()), name);
   }
 }

@@ -1,5 +1,6 @@
 // Issue #5: does intrinsic Delaunay refinement make the heat method more accurate? Heat distance
-// against the exact geodesic distances in ../shared/data/reference (MANIFEST.md), CGAL's heat
+// against the exact geodesic distances in tests/data/reference and ../shared/data/reference
+// (MANIFEST.md), CGAL's heat
 // method as the baseline, in three modes:
 //  - no refine: `ifem distance` (intrinsic Delaunay, t = h², h = the input's mean edge length);
 //  - angle only: `--refine --resolution 0` (25°, t = h² from the input: the refined mesh's own
@@ -22,9 +23,9 @@
 
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/scalar/heat_distance.h"
 #include "solvers/recipes/pipeline.h"
-#include "test_util.h"
+#include "solvers/scalar/heat_distance.h"
+#include "solvers/test_util.h"
 
 namespace ifem::solvers {
 namespace {
@@ -36,7 +37,7 @@ double mean_rel(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) {
 }
 
 struct Case {
-  const char* mesh;  // file name in ../shared/data/meshes
+  const char* mesh;  // file name in tests/data or ../shared/data/meshes
   Index src;
   // Bounds relative to the baseline, CGAL's heat method on the same reference (so they stay
   // right if a reference is regenerated): the measured ratio (BENCHMARKS.md, "Intrinsic Delaunay
@@ -65,20 +66,39 @@ PreparedSurface prepare(const io::SurfaceInput& in, std::optional<double> resolu
   return prepare_surface(in, o);
 }
 
+// The reference of `stem`.src`src` (tests/data/reference, or ../shared/data/reference when
+// present), or nothing.
+std::optional<test::ReferenceCase> find_reference(const std::string& stem, Index src) {
+  for (const test::ReferenceCase& r : test::reference_cases()) {
+    if (r.stem == stem && r.src == src) return r;
+  }
+  return std::nullopt;
+}
+
+// Every case whose reference is bundled (tests/data/reference) runs from a plain clone; with
+// ../shared/data present every case must find its reference (a missing one fails), and only the
+// large meshes of a quick run are skipped. Fails when it checked no case.
 TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
-  IFEM_REQUIRE_SHARED_DATA();
   const bool sweep = std::getenv("IFEM_REFINE_SWEEP") != nullptr;
-  const fs::path ref = test::shared_data() / "reference";
   std::printf("%-18s %6s %7s %7s %7s | %9s %9s %9s %9s | %s\n", "mesh", "src", "V", "V ang",
               "V acc", "no refine", "angle", "accurate", "CGAL heat", "acc/CGAL");
+  int bundled = 0, shared = 0;
   for (std::size_t i = 0; i < std::size(kCases);) {
     // one mesh at a time: refine once per mode, factor once, every source of the mesh
-    const fs::path mesh = test::shared_data() / "meshes" / kCases[i].mesh;
     std::size_t j = i;
     while (j < std::size(kCases) && std::string(kCases[j].mesh) == kCases[i].mesh) ++j;
-    const std::string stem = mesh.stem().string();
-    if (!fs::exists(mesh) || test::skip_in_quick_run(mesh)) {
-      std::printf("%-18s (missing or large in a quick run, skipped)\n", stem.c_str());
+    const std::string stem = fs::path(kCases[i].mesh).stem().string();
+    const std::optional<test::ReferenceCase> first = find_reference(stem, kCases[i].src);
+    if (!first) {
+      EXPECT_FALSE(test::has_shared_data()) << stem << ": reference missing from ../shared/data";
+      std::printf("%-18s (needs ../shared/data, skipped)\n", stem.c_str());
+      i = j;
+      continue;
+    }
+    const fs::path mesh = first->mesh;
+    ASSERT_FALSE(mesh.empty()) << stem << ": no mesh beside its reference";
+    if (test::skip_in_quick_run(mesh)) {
+      std::printf("%-18s (large in a quick run, skipped)\n", stem.c_str());
       i = j;
       continue;
     }
@@ -95,8 +115,11 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
     for (; i < j; ++i) {
       const Case& c = kCases[i];
       const std::string tag = stem + ".src" + std::to_string(c.src);
-      const Eigen::VectorXd exact = io::read_values((ref / (tag + ".exact.txt")).string());
-      const Eigen::VectorXd cgal = io::read_values((ref / (tag + ".cgal-heat.txt")).string());
+      const std::optional<test::ReferenceCase> r = find_reference(stem, c.src);
+      ASSERT_TRUE(r.has_value()) << tag << ": reference missing";
+      ++(r->bundled ? bundled : shared);
+      const Eigen::VectorXd exact = io::read_values(r->exact.string());
+      const Eigen::VectorXd cgal = io::read_values(r->cgal_heat.string());
       ASSERT_EQ(exact.size(), in.positions.rows());
       const Eigen::VectorXd d0 = plain_solver.compute_distance({c.src});
       const Eigen::VectorXd d1 = on_input_vertices(angle, refined_solver.compute_distance({c.src}));
@@ -126,6 +149,7 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
       }
     }
   }
+  test::expect_references_checked(bundled, shared);
 }
 
 // conrod is nonmanifold (3 edges with 3+ faces): it takes the tufted path, and refinement runs
@@ -135,7 +159,7 @@ TEST(RefineAccuracy, TuftedCoverConrodRefinedVsExact) {
   IFEM_REQUIRE_SHARED_DATA();
   const fs::path mesh = test::shared_data() / "meshes" / "conrod.off";
   const fs::path ref = test::shared_data() / "reference";
-  if (!fs::exists(mesh)) GTEST_SKIP() << "conrod.off missing";
+  ASSERT_TRUE(fs::exists(mesh)) << mesh << ": ../shared/data is present, its conrod.off is not";
   const io::SurfaceInput in = io::read_mesh(mesh.string());
   const PreparedSurface plain = prepare(in, std::nullopt);
   ASSERT_EQ(plain.path, intrinsic::SurfacePath::kTufted) << plain.reason_detail;

@@ -13,7 +13,7 @@
 #include "intrinsic/io/mesh_io.h"
 #include "solvers/recipes/curve_fields.h"
 #include "solvers/recipes/tangent_fields.h"
-#include "test_util.h"
+#include "solvers/test_util.h"
 
 namespace ifem::solvers {
 namespace {

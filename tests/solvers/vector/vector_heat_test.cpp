@@ -1,6 +1,6 @@
-// The Vector Heat Method (solvers/vector/vector_heat.h) against known answers: parallel fields on a flat
-// domain are constant, the log map of a flat domain is the identity, on the unit sphere the log
-// map's radius is the great-circle distance and transport along a great circle keeps the angle
+// The Vector Heat Method (solvers/vector/vector_heat.h) against known answers: parallel fields on a
+// flat domain are constant, the log map of a flat domain is the identity, on the unit sphere the
+// log map's radius is the great-circle distance and transport along a great circle keeps the angle
 // to the arc; plus the closest-point extension, linearity, the 3D bases and bad input.
 #include "solvers/vector/vector_heat.h"
 
@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "intrinsic/core/errors.h"
-#include "tangent_test_util.h"
-#include "test_util.h"
+#include "solvers/tangent_test_util.h"
+#include "solvers/test_util.h"
 
 namespace ifem::solvers {
 namespace {

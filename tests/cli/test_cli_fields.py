@@ -1,0 +1,186 @@
+"""Tangent fields from the command line: `ifem field` (Poincaré–Hopf on spot, unit vectors,
+constraints, refusals), `ifem transport` / `ifem logmap` (the log map on a flat grid against
+the plane's), and all three on the frame path (point clouds, a nonmanifold mesh, spot forced
+onto the tufted cover)."""
+
+import math
+
+from clitools import SPOT_VERTICES, count_lines, grep, head_bytes, lines, obj_faces, \
+    obj_vertices
+
+
+def vectors(path):
+    return [tuple(float(t) for t in line.split()) for line in lines(path)]
+
+
+def norm(v):
+    return math.sqrt(sum(x * x for x in v[:3]))
+
+
+# field: Poincaré–Hopf on spot (genus 0: total index 2 for vectors, 8 quarter turns for
+# crosses), unit tangent vectors in the .txt (one line per input vertex), a constraints file,
+# and the refusals (--align-boundary on a surface without its own boundary, a bad line)
+def test_field(cli):
+    o, spot = cli.out, cli.spot
+    r = cli.ok("field", spot, "--symmetry", 4, "-o", o / "fc.ply", "--quiet")
+    assert grep("total index 8/4", r.out), r.describe()
+    # the input faces' indices: a face property after the index list
+    header = head_bytes(o / "fc.ply", 700).split("\n")
+    k = next(i for i, t in enumerate(header) if t.startswith("element face 5856"))
+    assert any(t.startswith("property double singularity") for t in header[k:k + 3]), header
+    r = cli.ok("field", spot, "-o", o / "fv.txt", "--quiet")
+    assert grep("total index 2/1", r.out), r.describe()
+    assert count_lines(o / "fv.txt") == SPOT_VERTICES
+    for v in vectors(o / "fv.txt"):
+        assert 1 - 1e-9 <= norm(v) <= 1 + 1e-9, v
+    (o / "fcon.txt").write_text("# vertex and direction\n0 1 0 0\n")
+    r = cli.ok("field", spot, "--constraints", o / "fcon.txt", "-o", o / "fk.ply", "--quiet")
+    assert grep("total index 2/1", r.out), r.describe()
+    r = cli.run("field", cli.fan3, "--align-boundary", "-o", o / "ff.ply", "--quiet")
+    assert r.rc != 0, r.describe()
+    assert grep("align_boundary needs the manifold path: this input took the tufted path",
+                r.err), r.describe()
+    r = cli.run("field", cli.fan3, "--refine", "--resolution", 0.2, "-o", o / "fl.txt", "--quiet")
+    assert r.rc != 0, r.describe()
+    assert grep("a direction field on the tufted path uses frames from the input's positions"
+                ".*do not refine", r.err), r.describe()
+    (o / "fbad.txt").write_text("0 1 0\n")
+    r = cli.run("field", spot, "--constraints", o / "fbad.txt", "-o", o / "fb.ply", "--quiet")
+    assert r.rc != 0, r.describe()
+    assert grep("fbad.txt:1: expected 'VERTEX X Y Z'", r.err), r.describe()
+    assert not (o / "fb.ply").exists()
+
+
+# transport / logmap: on a flat grid the log map's radius is the distance to the source (within
+# the heat method's error) and (u, v) turn like the plane: the points at ±x from the source
+# come out opposite; transported vectors are tangent and keep the length; refusals
+def test_vector_heat(cli):
+    o = cli.out
+    n = 20
+    grid = o / "vh_grid.obj"
+    with open(grid, "w") as f:
+        for j in range(n + 1):
+            for i in range(n + 1):
+                f.write(f"v {i / n:.6g} {j / n:.6g} 0\n")
+        for j in range(n):
+            for i in range(n):
+                a = j * (n + 1) + i + 1
+                f.write(f"f {a} {a + 1} {a + n + 2}\nf {a} {a + n + 2} {a + n + 1}\n")
+    lm = o / "vh_lm.txt"
+    r = cli.ok("logmap", grid, "--source", 220, "-o", lm, "--quiet")
+    assert grep("log map about vertex 220", r.out), r.describe()
+    assert count_lines(lm) == 441
+    uv = vectors(lm)
+    assert uv[220][0] == 0 and uv[220][1] == 0, uv[220]
+    for k, (u, v) in enumerate(p[:2] for p in uv):
+        x, y = (k % 21) / 20 - 0.5, (k // 21) / 20 - 0.5
+        assert abs(math.hypot(u, v) - math.hypot(x, y)) <= 0.06, (k, u, v)
+    assert uv[230][0] * uv[210][0] + uv[230][1] * uv[210][1] <= -0.2 * 0.24, (uv[230], uv[210])
+    t = o / "vh_t.txt"
+    r = cli.ok("transport", cli.spot, "--source", 0, "--vector", "0,0,2", "-o", t, "--quiet")
+    assert grep("2930 tangent vectors", r.out), r.describe()
+    for v in vectors(t):
+        assert 0.5 <= norm(v) <= 2.0 + 1e-9, v
+    r = cli.run("transport", cli.spot, "--source", 0, "--vector", "1,0", "-o", o / "vh_bad.txt",
+                "--quiet")
+    assert r.rc != 0, r.describe()
+    assert grep("expected three finite numbers", r.err), r.describe()
+    r = cli.run("logmap", cli.spot, "--source", 5000, "-o", o / "vh_bad.txt", "--quiet")
+    assert r.rc != 0, r.describe()
+    assert not (o / "vh_bad.txt").exists()
+
+
+def check_tangent(mesh, path, tol):
+    """Every vector tangent against the faces' area-weighted normal at its vertex, where those
+    normals do not cancel (|Σ n_f| ≥ ½ Σ |n_f|): |v·n| ≤ tol·|v|, and at least 90% checked."""
+    p = obj_vertices(mesh)
+    normal = [[0.0, 0.0, 0.0] for _ in p]
+    total = [0.0] * len(p)
+    for face in obj_faces(mesh):
+        i, j, k = (x - 1 for x in face[:3])
+        u = [p[j][c] - p[i][c] for c in range(3)]
+        w = [p[k][c] - p[i][c] for c in range(3)]
+        cross = (u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0])
+        length = norm(cross)
+        for x in (i, j, k):
+            for c in range(3):
+                normal[x][c] += cross[c]
+            total[x] += length
+    rows = vectors(path)
+    checked = 0
+    for r, v in enumerate(rows):
+        nn, vn = norm(normal[r]), norm(v)
+        if nn < 0.5 * total[r] or vn == 0:
+            continue
+        checked += 1
+        d = sum(v[c] * normal[r][c] for c in range(3)) / nn
+        assert abs(d) <= tol * vn, f"not tangent at {r + 1}: {d / vn}"
+    assert checked >= 0.9 * len(rows), (checked, len(rows))
+
+
+def check_on_unit_sphere(points, path):
+    """Tangent to the unit sphere at the points: |v·x| ≤ 0.05·|v| (normals by PCA)."""
+    for k, (x, v) in enumerate(zip(vectors(points), vectors(path))):
+        vn = norm(v)
+        d = sum(x[c] * v[c] for c in range(3))
+        assert vn != 0 and abs(d) <= 0.05 * vn, f"not tangent at {k + 1}: {d / vn if vn else 0}"
+
+
+def check_lengths(path, length):
+    for v in vectors(path):
+        assert length - 1e-6 <= norm(v) <= length + 1e-6, (v, length)
+
+
+def run_frame_path(cli, source, mesh, rows, tol, *options):
+    """field, transport and logmap on `source`: one row per input vertex, no NaN, field vectors
+    of unit length, transported ones of one length, tangent (when `mesh` is given), the log
+    map 0 at its source."""
+    o = cli.out
+    f, t, lm = o / "fp_f.txt", o / "fp_t.txt", o / "fp_l.txt"
+    r = cli.ok("field", source, "--symmetry", 4, "-o", f, "--quiet", *options)
+    assert grep("4-direction field", r.out), r.describe()
+    r = cli.ok("transport", source, "--source", 0, "--vector", "0,0,1", "-o", t, "--quiet",
+               *options)
+    assert grep(f"{rows} tangent vectors, 0 unreached", r.out), r.describe()
+    r = cli.ok("logmap", source, "--source", 0, "-o", lm, "--quiet", *options)
+    assert grep("log map about vertex 0", r.out), r.describe()
+    for path in (f, t, lm):
+        assert count_lines(path) == rows
+        assert "nan" not in path.read_text().lower(), path
+    check_lengths(f, 1)
+    check_lengths(t, norm(vectors(t)[0]))
+    if mesh is not None:
+        check_tangent(mesh, f, tol)
+        check_tangent(mesh, t, tol)
+    first = vectors(lm)[0]
+    assert first[0] == 0 and first[1] == 0, first
+
+
+# field, transport and logmap on the frame path (docs/decisions.md, "Tangent fields on point
+# clouds and tufted covers"): a point cloud (spot's vertices), a nonmanifold mesh
+# (triple_vierbein: 20 edges with 3 faces) and spot forced onto the tufted cover. One row per
+# input vertex; field vectors of unit length; transported vectors of one length (one source);
+# all tangent: |v·n| against the faces' area-weighted normals (where they do not cancel) below
+# 1e-6·|v| on meshes; on a unit-sphere point cloud (1,500 Fibonacci points, normals by PCA)
+# against the exact normal, below 0.05·|v|.
+def test_fields_frame_path(cli):
+    o = cli.out
+    sphere = o / "fp_sphere.xyz"
+    n, g = 1500, 3.14159265358979 * (3 - math.sqrt(5))
+    with open(sphere, "w") as f:
+        for i in range(n):
+            z = 1 - (2 * i + 1) / n
+            r = math.sqrt(1 - z * z)
+            f.write(f"{r * math.cos(g * i):.17g} {r * math.sin(g * i):.17g} {z:.17g}\n")
+    run_frame_path(cli, cli.spot_points("fp_spot.xyz"), None, SPOT_VERTICES, 0)
+    run_frame_path(cli, sphere, None, 1500, 0)
+    check_on_unit_sphere(sphere, o / "fp_f.txt")
+    check_on_unit_sphere(sphere, o / "fp_t.txt")
+    vierbein = cli.data / "triple_vierbein.obj"
+    run_frame_path(cli, vierbein, vierbein, 75, 1e-6)
+    run_frame_path(cli, cli.spot, cli.spot, SPOT_VERTICES, 1e-6, "--tufted")
+    # Poincaré–Hopf through the input's faces on the tufted path: 2 for vectors, 8/4 for crosses
+    r = cli.ok("field", cli.spot, "--tufted", "-o", o / "fp_f.ply", "--quiet")
+    assert grep("total index 2/1", r.out), r.describe()
+    r = cli.ok("field", cli.spot, "--tufted", "--symmetry", 4, "-o", o / "fp_f.ply", "--quiet")
+    assert grep("total index 8/4", r.out), r.describe()

@@ -1,0 +1,335 @@
+"""`ifem geodesic` (FlipOut): every output format, loops, face points, networks, Bézier curves,
+single-source lengths, and every refusal (exit code, one stderr line, no partial output).
+Lengths are checked against the 3D length of the written polylines and, where it is known,
+against the exact value (a cylinder's waist, a straight segment on a flat grid)."""
+
+import math
+import re
+
+import pytest
+
+from clitools import (SPOT_VERTICES, close, count_lines, grep, head_bytes, lines, numbers,
+                      obj_faces, obj_vertices, same_point, write_obj)
+
+
+def polylines(path):
+    """The curves of a .txt polyline file (curves separated by an empty line), as point lists."""
+    curves, current = [], []
+    for line in lines(path):
+        fields = line.split()
+        if not fields:
+            if current:
+                curves.append(current)
+            current = []
+            continue
+        current.append(tuple(float(x) for x in fields[:3]))
+    if current:
+        curves.append(current)
+    return curves
+
+
+def length3d(points):
+    return sum(math.dist(p, q) for p, q in zip(points, points[1:]))
+
+
+def final_length(log, curve=1):
+    """The length after FlipOut printed on the `curve N ... -> LENGTH, ...` line."""
+    for line in log.split("\n"):
+        m = re.match(rf"^curve {curve} .* -> ([0-9.e+-]*),", line)
+        if m:
+            return float(m.group(1))
+    raise AssertionError(f"no 'curve {curve} ... -> LENGTH,' line in:\n{log}")
+
+
+def point(text):
+    return tuple(float(x) for x in text.split())
+
+
+# a path through waypoints: the OBJ's polyline (one 'l' line through every 'v') has the printed
+# length; the same path as .txt and .ply holds the same points
+def test_geodesic(cli):
+    obj = cli.out / "spot_geo.obj"
+    log = cli.ok("geodesic", cli.spot, "--path", "0,657,1500", "-o", obj, "--quiet").out
+    text = lines(obj)
+    n = sum(1 for t in text if t.startswith("v "))
+    l_lines = [t for t in text if t.startswith("l ")]
+    assert len(l_lines) == 1
+    assert len(l_lines[0].split()) == n + 1
+    assert grep(rf"^curve 1 \(path through 3 points\): length .*, {n} points", log), log
+    assert grep(r"^FlipOut: [0-9]* flips, [0-9]* iterations, stopped: [a-z ]*, .* s$", log), log
+    assert grep(rf"^wrote .*spot_geo.obj: 1 curve, {n} points, length ", log), log
+    length = final_length(log)
+    assert close(length3d(obj_vertices(obj)), length)
+
+    txt = cli.out / "spot_geo.txt"
+    cli.ok("geodesic", cli.spot, "--path", "0,657,1500", "-o", txt, "--quiet")
+    assert count_lines(txt) == n
+    assert sum(1 for t in lines(txt) if t) == n
+    assert close(length3d(polylines(txt)[0]), length)
+
+    ply = cli.out / "spot_geo.ply"
+    cli.ok("geodesic", cli.spot, "--path", "0,657,1500", "-o", ply, "--quiet")
+    header_end = lines(ply).index("end_header")
+    header, body = lines(ply)[:header_end], lines(ply)[header_end + 1:]
+    assert "format ascii 1.0" in header[:12]
+    assert f"element vertex {n}" in header
+    assert f"element edge {n - 1}" in header
+    verts = [t for t in body if len(t.split()) == 3]
+    edges = [t for t in body if len(t.split()) == 2]
+    assert len(verts) == n and len(edges) == n - 1
+    for a, b in zip(verts, lines(txt)):
+        assert same_point(point(a), point(b)), (a, b)
+
+
+# a loop closes: first point == last (.txt), the 'l' line ends where it starts (.obj), the
+# printed length is the polyline's; a free loop on spot (genus 0: contractible) never gets longer
+# and either stays a closed curve or is reported collapsed
+def test_geodesic_loop(cli):
+    txt = cli.out / "spot_loop.txt"
+    log = cli.ok("geodesic", cli.spot, "--path", "0,657,1500", "--loop", "--pin", "-o", txt,
+                 "--quiet").out
+    assert grep(r"^curve 1 \(loop through 3 points, pinned\): length", log), log
+    pts = polylines(txt)[0]
+    assert same_point(pts[0], pts[-1])
+    assert close(length3d(pts), final_length(log))
+    obj = cli.out / "spot_loop.obj"
+    cli.ok("geodesic", cli.spot, "--path", "0,657,1500", "--loop", "--pin", "-o", obj, "--quiet")
+    l_line = [t for t in lines(obj) if t.startswith("l ")][0].split()
+    assert l_line[1] == "1" and l_line[-1] == "1" and len(l_line) > 4, l_line
+    assert len(obj_vertices(obj)) == count_lines(txt) - 1
+
+    free = cli.out / "spot_free.txt"
+    log = cli.ok("geodesic", cli.spot, "--path", "0,657,1500", "--loop", "-o", free,
+                 "--quiet").out
+    m = re.search(r"^curve 1 \(loop through 3 points\): length ([^ ]*) -> ([^,]*),", log, re.M)
+    assert m, log
+    before, after = float(m.group(1)), float(m.group(2))
+    assert 0 <= after <= before, (before, after)
+    if "collapsed" not in log:
+        pts = polylines(free)[0]
+        assert same_point(pts[0], pts[-1])
+        assert close(length3d(pts), after)
+
+
+# a loop around an open cylinder (24-gon of radius 1, 6 rings) started through three vertices on
+# different rings shrinks to a waist circle: the 24-gon's perimeter 48 sin(π/24)
+def test_geodesic_cylinder(cli):
+    n, m = 24, 6
+    verts = [(math.cos(2 * math.pi * i / n), math.sin(2 * math.pi * i / n), j)
+             for j in range(m) for i in range(n)]
+    faces = []
+    for j in range(m - 1):
+        for i in range(n):
+            a, b = j * n + i + 1, j * n + (i + 1) % n + 1
+            c, d = a + n, b + n
+            faces += [(a, b, d), (a, d, c)]
+    mesh = cli.out / "cylinder.obj"
+    write_obj(mesh, verts, faces)
+    txt = cli.out / "cyl_loop.txt"
+    log = cli.ok("geodesic", mesh, "--path", "24,104,64", "--loop", "-o", txt, "--quiet").out
+    length = final_length(log)
+    assert close(length, 48 * math.sin(math.pi / 24)), length
+    pts = polylines(txt)[0]
+    assert close(length3d(pts), length)
+    assert same_point(pts[0], pts[-1])
+
+
+# a face point: inserted at (1−u−v)·p0 + u·p1 + v·p2 of the file's face (computed here from the
+# OBJ), reported with that position, and the path starts there
+def test_geodesic_face_point(cli):
+    txt = cli.out / "spot_face.txt"
+    log = cli.ok("geodesic", cli.spot, "--path", "face:100:0.25:0.5,1500", "-o", txt,
+                 "--quiet").out
+    p = obj_vertices(cli.spot)
+    a, b, c = obj_faces(cli.spot)[100]
+    expected = tuple(.25 * p[a - 1][k] + .25 * p[b - 1][k] + .5 * p[c - 1][k] for k in range(3))
+    pts = polylines(txt)[0]
+    assert math.dist(expected, pts[0]) <= 1e-9, (expected, pts[0])
+    assert grep(r"^inserted face:100:0.25:0.5 as vertex 2930 at \(", log), log
+    m = re.search(r"^inserted .* at \((.*)\)$", log, re.M)
+    assert m, log
+    assert same_point(expected, tuple(float(x) for x in m.group(1).replace(",", " ").split()))
+    assert close(length3d(pts), final_length(log))
+
+
+# a network of two paths sharing an endpoint (comments and blank lines skipped): two curves,
+# the second starts where the first ends, each as long as printed
+def test_geodesic_network(cli):
+    net = cli.out / "net.txt"
+    net.write_text("# two paths meeting at vertex 657\n\npath 0 657   # first\n  path\t657 1500\n")
+    out = cli.out / "net.txt.out.txt"
+    log = cli.ok("geodesic", cli.spot, "--network", net, "-o", out, "--quiet").out
+    assert grep(r"^curve 1 \(path through 2 points \(.*net.txt:3\)\): length", log), log
+    assert grep(r"^curve 2 \(path through 2 points \(.*net.txt:4\)\): length", log), log
+    assert grep(r"^wrote .*: 2 curves, ", log), log
+    assert lines(out).count("") == 1
+    curves = polylines(out)
+    assert len(curves) == 2
+    assert same_point(curves[0][-1], curves[1][0])
+    for k, curve in enumerate(curves):
+        assert close(length3d(curve), final_length(log, k + 1))
+    obj = cli.out / "net.obj"
+    cli.ok("geodesic", cli.spot, "--network", net, "-o", obj, "--quiet")
+    assert sum(1 for t in lines(obj) if t.startswith("l ")) == 2
+
+
+# a geodesic Bézier curve with collinear control points on a flat grid (quads split along the
+# other diagonal, so the segment crosses faces) is the straight segment: length 10√2; degree 2,
+# 2 rounds: 2·2² + 1 control points
+def test_geodesic_bezier(cli):
+    n = 11
+    verts = [(i, j, 0) for j in range(n) for i in range(n)]
+    faces = []
+    for j in range(n - 1):
+        for i in range(n - 1):
+            a = j * n + i + 1
+            b, c = a + 1, a + n
+            faces += [(a, b, c), (b, c + 1, c)]
+    mesh = cli.out / "grid.obj"
+    write_obj(mesh, verts, faces)
+    txt = cli.out / "grid_bezier.txt"
+    log = cli.ok("geodesic", mesh, "--path", "0,48,120", "--bezier", 2, "-o", txt, "--quiet").out
+    assert grep("^Bézier: 9 control points after 2 rounds", log), log
+    m = re.search(r"^curve 1 \(Bézier curve of degree 2, 2 rounds\): length .* -> ([0-9.e+-]*),",
+                  log, re.M)
+    assert m, log
+    length = float(m.group(1))
+    assert close(length, 10 * math.sqrt(2)), length
+    pts = polylines(txt)[0]
+    assert close(length3d(pts), length)
+    assert same_point(pts[0], (0, 0, 0))
+    assert same_point(pts[-1], (10, 10, 0))
+
+
+# single-source lengths from vertex 0: one per vertex, 0 at the source, ≥ 0, and never shorter
+# than the straight 3D segment from the source (a true lower bound); .ply: the mesh + property
+def test_geodesic_all_from(cli):
+    txt = cli.out / "spot_ss.txt"
+    log = cli.ok("geodesic", cli.spot, "--all-from", 0, "-o", txt, "--quiet").out
+    assert grep(r"^wrote .*spot_ss.txt: 2930 values, max length [0-9.e+-]*, 0 unreachable",
+                log), log
+    assert count_lines(txt) == SPOT_VERTICES
+    assert lines(txt)[0] == "0"
+    p = obj_vertices(cli.spot)
+    values = numbers(txt)
+    assert len(values) == len(p) == SPOT_VERTICES
+    for v, (q, d) in enumerate(zip(p, values)):
+        chord = math.dist(p[0], q)
+        assert d >= 0 and d + 1e-9 >= chord, f"vertex {v}: {d} < {chord}"
+    ply = cli.out / "spot_ss.ply"
+    cli.ok("geodesic", cli.spot, "--all-from", 0, "-o", ply, "--quiet")
+    header = head_bytes(ply, 400)
+    assert grep("^element vertex 2930", header)
+    assert grep("^property double geodesic_length", header)
+    assert grep("^element face 5856", header)
+
+
+# refusals on the command line (exit 2, before any work): (regex, output name, arguments)
+USAGE_REFUSALS = [
+    ("--path '3': needs at least two points", "g1.obj", ["--path", "3", "--quiet"]),
+    (r"--path vertex 2930 out of range \[0, 2930\) \(the input has 2930 vertices\)", "g1.obj",
+     ["--path", "0,2930", "--quiet"]),
+    (r"'face:5856:0.1:0.1': face 5856 out of range \[0, 5856\)", "g1.obj",
+     ["--path", "0,face:5856:0.1:0.1", "--quiet"]),
+    ("points 2 and 3 are the same point '5'", "g1.obj", ["--path", "0,5,5", "--quiet"]),
+    ("points 3 and 1 are the same point '0'", "g1.obj", ["--path", "0,5,0", "--loop", "--quiet"]),
+    (r"--all-from 2930: vertex out of range \[0, 2930\)", "g1.txt",
+     ["--all-from", "2930", "--quiet"]),
+    ("--all-from writes one length per vertex", "g1.obj", ["--all-from", "0", "--quiet"]),
+    ("give exactly one of --path, --network, --all-from", "g1.obj", ["--quiet"]),
+    ("give exactly one of --path, --network, --all-from", "g1.txt",
+     ["--path", "0,1", "--all-from", "0", "--quiet"]),
+    ("--bezier takes --path's points as control points", "g1.obj",
+     ["--path", "0,1,2", "--loop", "--bezier", "2"]),
+    ("--pin keeps a loop's points", "g1.obj", ["--path", "0,1", "--pin"]),
+]
+
+
+@pytest.mark.parametrize("regex,name,args", USAGE_REFUSALS,
+                         ids=[" ".join(args) for _, _, args in USAGE_REFUSALS])
+def test_geodesic_usage_refusals(cli, regex, name, args):
+    out = cli.out / name
+    cli.fails_no_partial(regex, out, "geodesic", cli.spot, *args, "-o", out, rc=2)
+
+
+# malformed points: each token refused with exit 2 and what a point is
+def test_geodesic_bad_points(cli):
+    out = cli.out / "bad_p.obj"
+    for p in ["3x", "-1", "", "face:1:2", "face:x:0.1:0.1", "face:-1:0.1:0.1", "face:1:nan:0.1",
+              "face:1:0.1:inf", "face:1:0.7:0.7", "face:1:-0.1:0.2", "face:1:0.1:0.1:0.1",
+              "face:1e3:0.1:0.1", "face:99999999999:0:0", "2.5"]:
+        r = cli.run("geodesic", cli.spot, "--path", f"0,{p}", "-o", out, "--quiet")
+        assert r.rc == 2, f"exit {r.rc} for '{p}'\n" + r.describe()
+        assert r.err.count("\n") == 1, r.describe()
+        e = re.escape(p)
+        assert re.search(rf"^ifem geodesic: error: --path '0,{e}': '{e}'.*(face:F:u:v|u \+ v ≤ 1)",
+                         r.err), r.describe()
+        assert not out.exists()
+        assert not (cli.out / "bad_p.obj.tmp").exists()
+
+
+# a malformed network line is an error at FILE:LINE saying what was wrong, never skipped
+def test_geodesic_network_malformed(cli):
+    net, out = cli.out / "net_bad.txt", cli.out / "net_bad.obj"
+    for line in ["curve 0 1", "path 0", "loop", "path 0 x", "path 0 face:1:2", "path 0 2930",
+                 "path 3 3", "loop 4 5 4", "path 0 face:5856:0.1:0.1"]:
+        net.write_text(f"# net\n\npath 0 657\n{line}\n")
+        r = cli.run("geodesic", cli.spot, "--network", net, "-o", out, "--quiet")
+        assert r.rc == 1, f"exit {r.rc} for '{line}'\n" + r.describe()
+        assert r.err.count("\n") == 1, r.describe()
+        assert re.search(r"net_bad.txt:4: .*(expected|out of range|same point|not a)", r.err), \
+            f"for '{line}':\n" + r.describe()
+        assert not out.exists()
+        assert not (cli.out / "net_bad.obj.tmp").exists()
+    empty = cli.out / "net_empty.txt"
+    empty.write_text("# nothing\n\n")
+    r = cli.run("geodesic", cli.spot, "--network", empty, "-o", out, "--quiet")
+    assert r.rc != 0, r.describe()
+    assert grep("net_empty.txt: no curves", r.err), r.describe()
+    assert not out.exists()
+
+
+# refused inputs (exit 1, one line, no output): nonmanifold (fan3), non-orientable (a Möbius
+# strip made here), a point cloud (spot's vertices), points on two components (two spots)
+def test_geodesic_nonmanifold(cli):
+    out = cli.out / "g_nm.obj"
+    cli.fails_no_partial(
+        r"FlipOut needs an edge-manifold, orientable surface .*: edge \(2,4\) has 3 incident faces",
+        out, "geodesic", cli.fan3, "--path", "0,1", "-o", out, "--quiet")
+
+
+def test_geodesic_refused_inputs(cli):
+    n = 12
+    verts, faces = [], []
+    for i in range(n):
+        t = 2 * math.pi * i / n
+        for s in (-1, 1):
+            r = 1 + .3 * s * math.cos(t / 2)
+            verts.append((r * math.cos(t), r * math.sin(t), .3 * s * math.sin(t / 2)))
+    for i in range(n):
+        a = 2 * i + 1
+        b, j = a + 1, (i + 1) % n
+        c = 2 * j + 1
+        d = c + 1
+        if i == n - 1:
+            c, d = d, c
+        faces += [(a, b, d), (a, d, c)]
+    moebius = cli.out / "moebius.obj"
+    write_obj(moebius, verts, faces)
+    cli.refuse(1, "FlipOut needs an edge-manifold, orientable surface.*non-orientable",
+               cli.out / "g_mo.obj", "geodesic", moebius, "--path", "0,5")
+    cli.refuse(1, r"geodesic needs a triangle mesh \(the input has no faces",
+               cli.out / "g_pc.obj", "geodesic", cli.spot_points(), "--path", "0,1")
+    p = obj_vertices(cli.spot)
+    f = obj_faces(cli.spot)
+    two = cli.out / "two_spots.obj"
+    write_obj(two, p + [(x + 5, y, z) for x, y, z in p],
+              f + [tuple(i + len(p) for i in t) for t in f])
+    cli.refuse(1, "component", cli.out / "g_cc.obj", "geodesic", two, "--path", "0,3000")
+    r = cli.run("geodesic", two, "--network", "/dev/stdin", "-o", cli.out / "g_cc.txt",
+                "--quiet", stdin="path 0 657\npath 10 4000\n")
+    assert r.rc == 1, r.describe()
+    assert r.err.count("\n") == 1, r.describe()
+    assert re.search("component", r.err), r.describe()
+    assert not (cli.out / "g_cc.txt").exists()
+    assert not (cli.out / "g_cc.txt.tmp").exists()
