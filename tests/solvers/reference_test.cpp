@@ -16,8 +16,8 @@
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/surface/build_surface.h"
 #include "intrinsic/surface/face_analysis.h"
-#include "solvers/scalar/heat_distance.h"
 #include "solvers/recipes/pipeline.h"
+#include "solvers/scalar/heat_distance.h"
 #include "test_util.h"
 
 namespace ifem::solvers {
@@ -143,7 +143,7 @@ TEST(SolversReference, MixedPrecisionMatchesDouble) {
     if (test::skip_in_quick_run(mesh)) continue;
     const Eigen::VectorXd exact = io::read_values(p.string());
     const PreparedSurface s = prepare_surface(io::read_mesh(mesh.string()));
-    DistanceSettings mixed;
+    DistanceOptions mixed;
     mixed.precision = HeatDistanceOptions::Precision::kMixed;
     const Eigen::VectorXd d = geodesic_distance(s, {ref->src}, mixed);
     const Eigen::VectorXd d2 = geodesic_distance(s, {ref->src});
