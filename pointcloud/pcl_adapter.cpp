@@ -53,7 +53,7 @@ PclPoints convert(const pcl::PointCloud<Point>& cloud, bool with_normals) {
 
 template <class Point>
 intrinsic::IntrinsicTriangulation triangulate(const pcl::PointCloud<Point>& cloud,
-                                              const Options& options, Report* report,
+                                              const PointCloudOptions& options, Report* report,
                                               PclPoints* points_out) {
   PclPoints pts = from_pcl(cloud);
   intrinsic::IntrinsicTriangulation tri = pointcloud_triangulation(
@@ -89,14 +89,14 @@ PclPoints read_pcd(const std::string& path) {
 }
 
 intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::PointXYZ>& cloud,
-                                                    const Options& options, Report* report,
-                                                    PclPoints* points_out) {
+                                                    const PointCloudOptions& options,
+                                                    Report* report, PclPoints* points_out) {
   return triangulate(cloud, options, report, points_out);
 }
 
 intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::PointNormal>& cloud,
-                                                    const Options& options, Report* report,
-                                                    PclPoints* points_out) {
+                                                    const PointCloudOptions& options,
+                                                    Report* report, PclPoints* points_out) {
   return triangulate(cloud, options, report, points_out);
 }
 

@@ -47,13 +47,14 @@ PclPoints read_pcd(const std::string& path);
 /// @param[out] report optional: what pointcloud_triangulation() did
 /// @throws InvalidInput as pointcloud_triangulation()
 intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::PointXYZ>& cloud,
-                                                    const Options& options = {},
+                                                    const PointCloudOptions& options = {},
                                                     PclPoints* points_out = nullptr,
                                                     Report* report = nullptr);
 
-/// Same for a PointNormal cloud (its normals are used as Options::use_input_normals says).
+/// Same for a PointNormal cloud (its normals are used as PointCloudOptions::use_input_normals
+/// says).
 intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::PointNormal>& cloud,
-                                                    const Options& options = {},
+                                                    const PointCloudOptions& options = {},
                                                     PclPoints* points_out = nullptr,
                                                     Report* report = nullptr);
 
@@ -61,21 +62,23 @@ intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::P
 /// docs/decisions.md D-001): the implementation until the definitions in pcl_adapter.cpp move to
 /// the signatures above. Passing nullptr for both outputs is ambiguous: omit them instead.
 intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::PointXYZ>& cloud,
-                                                    const Options& options, Report* report,
+                                                    const PointCloudOptions& options,
+                                                    Report* report,
                                                     PclPoints* points_out = nullptr);
 /// Deprecated argument order, as above.
 intrinsic::IntrinsicTriangulation pcl_triangulation(const pcl::PointCloud<pcl::PointNormal>& cloud,
-                                                    const Options& options, Report* report,
+                                                    const PointCloudOptions& options,
+                                                    Report* report,
                                                     PclPoints* points_out = nullptr);
 
 inline intrinsic::IntrinsicTriangulation pcl_triangulation(
-    const pcl::PointCloud<pcl::PointXYZ>& cloud, const Options& options, PclPoints* points_out,
-    Report* report) {
+    const pcl::PointCloud<pcl::PointXYZ>& cloud, const PointCloudOptions& options,
+    PclPoints* points_out, Report* report) {
   return pcl_triangulation(cloud, options, report, points_out);
 }
 inline intrinsic::IntrinsicTriangulation pcl_triangulation(
-    const pcl::PointCloud<pcl::PointNormal>& cloud, const Options& options, PclPoints* points_out,
-    Report* report) {
+    const pcl::PointCloud<pcl::PointNormal>& cloud, const PointCloudOptions& options,
+    PclPoints* points_out, Report* report) {
   return pcl_triangulation(cloud, options, report, points_out);
 }
 

@@ -63,10 +63,12 @@ Eigen::Vector3d pca_normal(const std::vector<Eigen::Vector3d>& d) {
 
 }  // namespace
 
-void Options::validate() const {
-  if (k < 2) throw InvalidInput("pointcloud::Options::k must be ≥ 2, got " + std::to_string(k));
+void PointCloudOptions::validate() const {
+  if (k < 2)
+    throw InvalidInput("pointcloud::PointCloudOptions::k must be ≥ 2, got " + std::to_string(k));
   if (!(mollify_relative_epsilon >= 0.0) || !std::isfinite(mollify_relative_epsilon)) {
-    throw InvalidInput("pointcloud::Options::mollify_relative_epsilon must be finite and ≥ 0");
+    throw InvalidInput(
+        "pointcloud::PointCloudOptions::mollify_relative_epsilon must be finite and ≥ 0");
   }
 }
 
@@ -268,7 +270,7 @@ std::vector<Triangle> local_triangulations(const Positions& points, const Neighb
 }
 
 intrinsic::IntrinsicTriangulation pointcloud_triangulation(const Positions& points,
-                                                           const Options& options,
+                                                           const PointCloudOptions& options,
                                                            const Eigen::MatrixX3d* normals,
                                                            Report* report) {
   options.validate();
@@ -295,11 +297,11 @@ intrinsic::IntrinsicTriangulation pointcloud_triangulation(const Positions& poin
   int multiplicity = 3;
   {
     Stars st = compute_stars(points, nb, options.use_input_normals ? normals : nullptr, &rep);
-    if (options.merge == Options::Merge::kHalf) {
+    if (options.merge == PointCloudOptions::Merge::kHalf) {
       const int copies[4] = {0, 1, 1, 2};
       tris = distinct_triangles(st, copies, &rep);
       multiplicity = 2;
-    } else if (options.merge == Options::Merge::kUnion) {
+    } else if (options.merge == PointCloudOptions::Merge::kUnion) {
       const int copies[4] = {0, 1, 1, 1};
       tris = distinct_triangles(st, copies, &rep);
       multiplicity = 1;

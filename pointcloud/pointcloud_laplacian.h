@@ -15,7 +15,7 @@
 namespace ifem::pointcloud {
 
 /// Settings of the point-cloud pipeline.
-struct Options {
+struct PointCloudOptions {
   int k = 30;                     ///< neighbours per point, ≥ 2 (clamped to #P − 1)
   bool use_input_normals = true;  ///< use the given normals where finite and non-zero
   /// Mollification margin relative to the mean edge length (IntrinsicTriangulation::mollify);
@@ -38,7 +38,7 @@ struct Report {
   Index local_triangles = 0;     ///< triangles over all local triangulations (a triangle found
                                  ///< from each of its three corners counts three times)
   Index distinct_triangles = 0;  ///< distinct triangles among them (glued once or more into
-                                 ///< the cover, as Options::merge says)
+                                 ///< the cover, as PointCloudOptions::merge says)
   Index triangles_in_stars[3] = {0, 0, 0};  ///< distinct triangles found in 1, 2, 3 stars
   Index starless_points = 0;  ///< points whose own neighbourhood gave no triangle: fewer than
                               ///< 3 distinct neighbours, collinear, or all at the point
@@ -82,10 +82,11 @@ std::vector<Triangle> local_triangulations(const Positions& points, const Neighb
 /// @param points #P×3, finite (any number, including 0, 1, 2)
 /// @param normals optional #P×3 (e.g. from the file)
 /// @param[out] report optional: counts and stage times
-/// @throws InvalidInput on a non-finite coordinate, bad options (Options::validate()) or a
+/// @throws InvalidInput on a non-finite coordinate, bad options (PointCloudOptions::validate()) or
+/// a
 ///         normals size mismatch
 intrinsic::IntrinsicTriangulation pointcloud_triangulation(
-    const Positions& points, const Options& options = {}, const Eigen::MatrixX3d* normals = nullptr,
-    Report* report = nullptr);
+    const Positions& points, const PointCloudOptions& options = {},
+    const Eigen::MatrixX3d* normals = nullptr, Report* report = nullptr);
 
 }  // namespace ifem::pointcloud

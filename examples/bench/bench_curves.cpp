@@ -1,6 +1,7 @@
-// Benchmark section "curves": boundary-value problems with data on curves (solvers/recipes/curves.h) on
-// icospheres of about 10k, 100k and 1M faces, with 1, 10 and 100 geodesic paths through 3
-// vertices each and 1 and 10 closed loops through 3 vertices each (medians over --repeat runs):
+// Benchmark section "curves": boundary-value problems with data on curves
+// (solvers/recipes/curves.h) on icospheres of about 10k, 100k and 1M faces, with 1, 10 and 100
+// geodesic paths through 3 vertices each and 1 and 10 closed loops through 3 vertices each (medians
+// over --repeat runs):
 //  - insertion (prepare_curve_surface without refinement): its wall time, surface.seconds_build
 //    (the input's triangulation and the signpost one; the signposts alone are timed once per
 //    mesh), seconds_curves (FlipOut + marking) and surface.seconds_flip (the constrained Delaunay
@@ -307,7 +308,7 @@ struct Settings {
   int only_curves = 0;  // run only the cases with this many curves (0: all)
   bool solves = true;
   long max_refine_faces = 1100000;
-  solvers::RefineSettings refine;
+  solvers::SurfaceRefineOptions refine;
 };
 
 // The tables' rows, filled case by case (and echoed to stderr as they come).

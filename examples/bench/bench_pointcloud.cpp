@@ -4,7 +4,7 @@
 //
 //   ifem_bench pointcloud [--repeat 3] [--max-points 1000000] [--data ../shared/data/meshes]
 //   ifem_bench pointcloud --points N   (one cloud of ≈N points; for a clean peak-RSS figure)
-//   --merge none|half|union            (pointcloud::Options::merge; default half)
+//   --merge none|half|union            (pointcloud::PointCloudOptions::merge; default half)
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -81,7 +81,7 @@ Positions sphere_points(long n) {
   return m.positions;
 }
 
-pointcloud::Options g_cloud_options;
+pointcloud::PointCloudOptions g_cloud_options;
 
 void run_cloud(long n, int repeat) {
   const Positions p = sphere_points(n);
@@ -125,9 +125,9 @@ int pointcloud(int argc, char** argv) {
   const int repeat = static_cast<int>(int_option(argc, argv, "--repeat", 3));
   const long only = int_option(argc, argv, "--points", 0);
   const std::string merge = string_option(argc, argv, "--merge", "half");
-  g_cloud_options.merge = merge == "none"    ? pointcloud::Options::Merge::kNone
-                          : merge == "union" ? pointcloud::Options::Merge::kUnion
-                                             : pointcloud::Options::Merge::kHalf;
+  g_cloud_options.merge = merge == "none"    ? pointcloud::PointCloudOptions::Merge::kNone
+                          : merge == "union" ? pointcloud::PointCloudOptions::Merge::kUnion
+                                             : pointcloud::PointCloudOptions::Merge::kHalf;
   if (only > 0) {
     cloud_header();
     run_cloud(only, repeat);

@@ -83,14 +83,14 @@ io::SurfaceInput read_input(const std::string& file, const Args& args) {
 }
 
 PreparedSurface prepare_surface(io::SurfaceInput input, const Args& args,
-                                const std::optional<solvers::RefineSettings>& refine) {
+                                const std::optional<solvers::SurfaceRefineOptions>& refine) {
   solvers::PrepareOptions opt = prepare_options(args);
   opt.refine = refine;
   return solvers::prepare_surface(std::move(input), opt);
 }
 
 PreparedSurface prepare_surface(const std::string& file, const Args& args,
-                                const std::optional<solvers::RefineSettings>& refine) {
+                                const std::optional<solvers::SurfaceRefineOptions>& refine) {
   return prepare_surface(read_input(file, args), args, refine);
 }
 

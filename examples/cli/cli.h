@@ -47,10 +47,10 @@ io::SurfaceInput read_input(const std::string& file, const Args& args);
 /// boundary weights), manifold otherwise. On every path the triangulation's first #V_in
 /// vertices are the input's, in the input's order.
 PreparedSurface prepare_surface(io::SurfaceInput input, const Args& args,
-                                const std::optional<solvers::RefineSettings>& refine = {});
+                                const std::optional<solvers::SurfaceRefineOptions>& refine = {});
 /// read_input() then prepare_surface().
 PreparedSurface prepare_surface(const std::string& file, const Args& args,
-                                const std::optional<solvers::RefineSettings>& refine = {});
+                                const std::optional<solvers::SurfaceRefineOptions>& refine = {});
 
 /// Prints a progress line to stderr unless --quiet was given.
 void progress(const Args& args, const std::string& line);

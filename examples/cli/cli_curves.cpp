@@ -138,7 +138,7 @@ std::vector<solvers::CurveCondition> read_curves(const Args& args) {
 solvers::CurveSurface prepare_curves(io::SurfaceInput input,
                                      std::vector<solvers::CurveCondition> curves, const Args& args,
                                      bool need_values,
-                                     const std::optional<solvers::RefineSettings>& refine) {
+                                     const std::optional<solvers::SurfaceRefineOptions>& refine) {
   solvers::validate_curves(curves, static_cast<Index>(input.positions.rows()), need_values);
   solvers::CurveSurfaceOptions opt;
   opt.mollify_relative_epsilon = args.real("mollify");

@@ -1,7 +1,7 @@
 // Data on curves in the solver commands (`ifem poisson --curves`, `ifem distance --curves`):
 // the two options, the curves file's help, the options refused with curves, and the steps
-// around the library's solvers/recipes/curves.h (read the file, check it against the mesh, insert the
-// curves, write the results and the curves).
+// around the library's solvers/recipes/curves.h (read the file, check it against the mesh, insert
+// the curves, write the results and the curves).
 #pragma once
 
 #include <functional>
@@ -55,7 +55,7 @@ std::vector<solvers::CurveCondition> read_curves(const Args& args);
 solvers::CurveSurface prepare_curves(io::SurfaceInput input,
                                      std::vector<solvers::CurveCondition> curves, const Args& args,
                                      bool need_values,
-                                     const std::optional<solvers::RefineSettings>& refine);
+                                     const std::optional<solvers::SurfaceRefineOptions>& refine);
 
 /// Writes the per-vertex results (the input mesh + properties, or .txt) and, with
 /// --curves-out, the curves as OBJ polylines; every output is computed before this is called,

@@ -16,13 +16,14 @@
 #include "intrinsic/io/tokens.h"
 #include "results.h"
 #include "solvers/recipes/curves.h"
+#include "solvers/recipes/text_formats.h"
 #include "solvers/scalar/heat_distance.h"
 
 namespace ifem::cli {
 namespace {
 
 // --refine's defaults: the library's accurate mode (resolution, time factor, correction steps)
-const solvers::RefinedDistanceSettings kAccurate;
+const solvers::RefinedDistanceOptions kAccurate;
 
 // The heat method's line and the summary, for both forms of the command.
 void report(const Args& args, const ResultOutput& out, const Eigen::VectorXd& d, Index nv,
@@ -42,8 +43,8 @@ void report(const Args& args, const ResultOutput& out, const Eigen::VectorXd& d,
               nv, dmax, unreachable);
 }
 
-solvers::DistanceSettings distance_settings(const Args& args) {
-  solvers::DistanceSettings settings;
+solvers::DistanceOptions distance_settings(const Args& args) {
+  solvers::DistanceOptions settings;
   if (args.has("time-factor")) settings.time_factor = args.real("time-factor");
   if (args.has("correction-steps")) settings.correction_steps = args.count("correction-steps");
   if (args.has("mixed-precision")) {
@@ -52,48 +53,16 @@ solvers::DistanceSettings distance_settings(const Args& args) {
   return settings;
 }
 
-// --sources-batch FILE: one vertex id per line ('#' comments and blank lines skipped), in order
-// (repeats allowed); anything else is an error naming FILE:line. Read before the mesh; the ids
-// are checked against #V once it is loaded.
-std::vector<std::pair<Index, long>> read_batch_sources(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw IoError(path + ": cannot open");
-  std::vector<std::pair<Index, long>> ids;  // (vertex, line)
-  std::string line;
-  long lineno = 0;
-  while (std::getline(in, line)) {
-    ++lineno;
-    const std::vector<std::string> tokens = io::line_tokens(line);
-    if (tokens.empty()) continue;
-    long long v = 0;
-    if (tokens.size() != 1 || !io::parse_whole_integer(tokens[0], v) || v < 0 ||
-        v > std::numeric_limits<Index>::max()) {
-      throw IoError(path + ":" + std::to_string(lineno) +
-                    ": expected one vertex id (an integer ≥ 0) per line, got '" + line + "'");
-    }
-    ids.emplace_back(Index(v), lineno);
-  }
-  if (ids.empty()) throw InvalidInput(path + ": no vertex id (one per line)");
-  return ids;
-}
-
 // --sources-batch: one distance column per source, each from that source alone.
 int run_batch(const Args& args, const ResultOutput& out) {
   const std::string path = args.get("sources-batch");
-  const std::vector<std::pair<Index, long>> listed = read_batch_sources(path);
-  std::optional<solvers::RefineSettings> refine;
+  // the file is read before the mesh (a malformed one fails fast), its ids checked once #V is known
+  const std::vector<recipes::ListedVertex> listed = recipes::read_vertex_list(path);
+  std::optional<solvers::SurfaceRefineOptions> refine;
   if (args.has("refine")) refine = refine_settings(args, kAccurate.resolution, false);
   const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);
   const Index nv = s.n_input_vertices();
-  std::vector<Index> sources;
-  for (const auto& [v, lineno] : listed) {
-    if (v >= nv) {
-      throw InvalidInput(path + ":" + std::to_string(lineno) + ": vertex " + std::to_string(v) +
-                         " out of range [0, " + std::to_string(nv) + ") (the input has " +
-                         std::to_string(nv) + " vertices)");
-    }
-    sources.push_back(v);
-  }
+  const std::vector<Index> sources = recipes::checked_vertex_ids(path, listed, nv);
   const Stopwatch watch;
   std::vector<solvers::HeatDistanceReport> reps;
   const Eigen::MatrixXd d = solvers::geodesic_distances(s, sources, distance_settings(args), &reps);
@@ -125,7 +94,7 @@ int run_batch(const Args& args, const ResultOutput& out) {
 int run_curves(const Args& args, const ResultOutput& out) {
   std::vector<solvers::CurveCondition> curves = read_curves(args);  // fails fast, before the mesh
   io::SurfaceInput input = read_input(args.positional()[0], args);
-  std::optional<solvers::RefineSettings> refine;
+  std::optional<solvers::SurfaceRefineOptions> refine;
   if (args.has("refine")) refine = refine_settings(args, kAccurate.resolution, true);
   CurveRun run{prepare_curves(std::move(input), std::move(curves), args, false, refine), {}};
   const Stopwatch watch;
@@ -167,11 +136,11 @@ int run(const Args& args) {
   // --refine: the library's accurate mode (edges of about 0.4·h, t = ℓ²/4, one correction
   // step: solvers::distance_options; accuracy in BENCHMARKS.md, "Intrinsic Delaunay
   // refinement"); inserted vertices come after the input's, so sources and results keep ids
-  std::optional<solvers::RefineSettings> refine;
+  std::optional<solvers::SurfaceRefineOptions> refine;
   if (args.has("refine")) refine = refine_settings(args, kAccurate.resolution, false);
   const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);  // ids < #V
   const Index nv = s.n_input_vertices();
-  const solvers::DistanceSettings settings = distance_settings(args);
+  const solvers::DistanceOptions settings = distance_settings(args);
   const solvers::HeatDistanceOptions heat = solvers::distance_options(s, settings);
   const Stopwatch watch;
   solvers::HeatDistanceReport rep;

@@ -17,7 +17,7 @@ int run(const Args& args) {
   const Index k = args.count("k");               // ≥ 1 (table), < #V (prepare_surface)
   // refined: input vertices keep ids 0..#V_in-1, so the eigenvectors restricted to them are the
   // values on the input's vertices (inserted vertices only enrich the discretization)
-  std::optional<solvers::RefineSettings> refine;
+  std::optional<solvers::SurfaceRefineOptions> refine;
   if (args.has("refine")) refine = refine_settings(args, 0.0, false);
   const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);
   const Stopwatch watch;

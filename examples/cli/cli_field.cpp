@@ -14,42 +14,17 @@
 #include "results.h"
 #include "solvers/recipes/curve_fields.h"
 #include "solvers/recipes/tangent_fields.h"
+#include "solvers/recipes/text_formats.h"
 
 namespace ifem::cli {
 namespace {
 
-// Constraint lines 'VERTEX X Y Z' ('#' starts a comment).
-std::vector<solvers::InputDirection> read_directions(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw IoError(path + ": cannot open");
-  std::vector<solvers::InputDirection> out;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    const std::string body = line.substr(0, line.find('#'));
-    std::istringstream words(body);
-    std::vector<std::string> w;
-    for (std::string t; words >> t;) w.push_back(t);
-    if (w.empty()) continue;
-    long long v = 0;
-    solvers::InputDirection d;
-    bool ok = w.size() == 4 && io::parse_whole_integer(w[0], v) && v >= 0 && v < (1LL << 31);
-    for (int k = 0; ok && k < 3; ++k) ok = io::parse_whole_real(w[k + 1], d.direction[k]);
-    if (!ok) {
-      throw IoError(path + ":" + std::to_string(number) +
-                    ": expected 'VERTEX X Y Z' (a vertex id ≥ 0 and a direction), got '" + body +
-                    "'");
-    }
-    d.vertex = static_cast<Index>(v);
-    out.push_back(d);
-  }
-  return out;
-}
-
-solvers::FieldSettings field_settings(const Args& args) {
-  solvers::FieldSettings settings;
+solvers::FieldOptions field_settings(const Args& args) {
+  solvers::FieldOptions settings;
   settings.symmetry = static_cast<int>(args.count("symmetry"));
   settings.align_boundary = args.has("align-boundary");
-  if (args.has("constraints")) settings.constraints = read_directions(args.get("constraints"));
+  if (args.has("constraints"))
+    settings.constraints = recipes::read_constraints_file(args.get("constraints"));
   return settings;
 }
 
@@ -76,7 +51,7 @@ std::vector<io::VertexProperty> face_properties(const solvers::TangentFieldResul
   return {{"singularity", r.face_singularity.cast<double>()}};
 }
 
-void print_written(const ResultOutput& out, const solvers::FieldSettings& settings,
+void print_written(const ResultOutput& out, const solvers::FieldOptions& settings,
                    const solvers::TangentFieldResult& r) {
   std::printf("wrote %s: %d-direction field, %d singular faces, total index %ld/%d\n",
               out.path.c_str(), settings.symmetry, int(r.singular_faces), r.total_index,
@@ -87,9 +62,9 @@ void print_written(const ResultOutput& out, const solvers::FieldSettings& settin
 // along them (solvers/recipes/curve_fields.h).
 int run_curves(const Args& args, const ResultOutput& out) {
   std::vector<solvers::CurveCondition> curves = read_curves(args);  // fails fast, before the mesh
-  const solvers::FieldSettings settings = field_settings(args);
+  const solvers::FieldOptions settings = field_settings(args);
   io::SurfaceInput input = read_input(args.positional()[0], args);
-  std::optional<solvers::RefineSettings> refine;
+  std::optional<solvers::SurfaceRefineOptions> refine;
   if (args.has("refine")) refine = refine_settings(args, 0.0, true);
   CurveRun run{prepare_curves(std::move(input), std::move(curves), args, false, refine), {}};
   const Stopwatch watch;
@@ -113,8 +88,8 @@ int run(const Args& args) {
   const ResultOutput out = result_output(args);
   check_curve_options(args, {});
   if (args.has("curves")) return run_curves(args, out);
-  const solvers::FieldSettings settings = field_settings(args);
-  std::optional<solvers::RefineSettings> refine;
+  const solvers::FieldOptions settings = field_settings(args);
+  std::optional<solvers::SurfaceRefineOptions> refine;
   if (args.has("refine")) refine = refine_settings(args, 0.0, false);
   const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);
   const Stopwatch watch;

@@ -13,38 +13,11 @@
 #include "intrinsic/io/tokens.h"
 #include "results.h"
 #include "solvers/recipes/curves.h"
+#include "solvers/recipes/text_formats.h"
 #include "solvers/scalar/poisson.h"
 
 namespace ifem::cli {
 namespace {
-
-// "vertex value" lines; '#' comments and blank lines skipped, anything else is an error.
-void read_dirichlet(const std::string& path, Index nv, std::vector<Index>& vertices,
-                    std::vector<double>& values) {
-  std::ifstream in(path);
-  if (!in) throw IoError(path + ": cannot open");
-  std::string line;
-  long lineno = 0;
-  while (std::getline(in, line)) {
-    ++lineno;
-    const std::vector<std::string> tokens = io::line_tokens(line);
-    if (tokens.empty()) continue;  // blank or comment
-    const std::string where = path + ":" + std::to_string(lineno) + ": ";
-    long long v = 0;
-    double x = 0;
-    if (tokens.size() != 2 || !io::parse_whole_integer(tokens[0], v) ||
-        !io::parse_whole_real(tokens[1], x)) {
-      throw IoError(where + "expected 'vertex value' (a vertex id and a finite number), got '" +
-                    line + "'");
-    }
-    if (v < 0 || v >= nv) {
-      throw InvalidInput(where + "vertex " + tokens[0] + " out of range [0, " + std::to_string(nv) +
-                         ")");
-    }
-    vertices.push_back(Index(v));
-    values.push_back(x);
-  }
-}
 
 // --rhs: f on the input's vertices (default 0), every value finite.
 Eigen::VectorXd read_rhs(const Args& args, Index nv) {
@@ -71,7 +44,7 @@ struct PoissonInputs {
   Index nv = 0;
   Eigen::VectorXd f, g;
   std::vector<Index> dv;
-  std::optional<solvers::RefineSettings> refine;
+  std::optional<solvers::SurfaceRefineOptions> refine;
 };
 
 PoissonInputs read_poisson_inputs(const Args& args) {
@@ -79,9 +52,11 @@ PoissonInputs read_poisson_inputs(const Args& args) {
   in.input = read_input(args.positional()[0], args);
   in.nv = static_cast<Index>(in.input.positions.rows());
   in.f = read_rhs(args, in.nv);
-  std::vector<double> dval;
-  if (args.has("dirichlet")) read_dirichlet(args.get("dirichlet"), in.nv, in.dv, dval);
-  in.g = Eigen::Map<const Eigen::VectorXd>(dval.data(), Eigen::Index(dval.size()));
+  if (args.has("dirichlet")) {
+    recipes::DirichletValues d = recipes::read_dirichlet_file(args.get("dirichlet"), in.nv);
+    in.dv = std::move(d.vertices);
+    in.g = std::move(d.values);
+  }
   if (args.has("refine")) in.refine = refine_settings(args, 0.0, true);
   return in;
 }

@@ -49,9 +49,9 @@ OptionGroup refine_options_group(double resolution_default) {
                         "midpoints (the next pass relaxes the new vertices; default: no bound)")}};
 }
 
-solvers::RefineSettings refine_settings(const Args& args, double default_resolution,
-                                        bool need_signposts) {
-  solvers::RefineSettings r;  // every value below is range-checked by the option table
+solvers::SurfaceRefineOptions refine_settings(const Args& args, double default_resolution,
+                                              bool need_signposts) {
+  solvers::SurfaceRefineOptions r;  // every value below is range-checked by the option table
   r.min_angle_degrees = args.real("min-angle");
   r.resolution = args.real_or("resolution", default_resolution);
   r.max_area = args.real_or("max-area", 0.0);

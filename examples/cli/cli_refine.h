@@ -19,7 +19,7 @@ OptionGroup refine_options_group(double resolution_default);
 /// (default `default_resolution`; × the input's mean edge length), --max-area, --max-insertions,
 /// --relax ITER, --max-edge L; `need_signposts` refuses the tufted path (library message).
 /// @throws UsageError on --max-edge without --relax
-solvers::RefineSettings refine_settings(const Args& args, double default_resolution,
-                                        bool need_signposts);
+solvers::SurfaceRefineOptions refine_settings(const Args& args, double default_resolution,
+                                              bool need_signposts);
 
 }  // namespace ifem::cli

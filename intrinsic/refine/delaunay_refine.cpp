@@ -694,7 +694,7 @@ void check_refinement_budget(const IntrinsicTriangulation& tri, const RefineOpti
     << insertion_cap_for(tri, options) << "), about " << gb(e.bytes) << " at "
     << kRefineBytesPerVertex / 1024 << " KiB per vertex, above the memory budget of "
     << gb(e.budget) << ". Ask for less (a larger resolution or max area, a smaller minimum "
-    << "angle) or raise the budget: RefineOptions::max_memory_bytes / RefineSettings::"
+    << "angle) or raise the budget: RefineOptions::max_memory_bytes / SurfaceRefineOptions::"
     << "max_memory_bytes, `--memory-budget GB` in the CLI (default: half the physical memory, "
     << "or 80% of ulimit -v)";
   throw InvalidInput(m.str());

@@ -14,8 +14,15 @@ Conventions shared by every function:
   ``OSError``); numerical failures :class:`ifem.SolverError` (a ``RuntimeError``).
 - Long computations release the GIL.
 
-See the README's "Python" section for a quick start and a table mapping robust-laplacian's and
-potpourri3d's calls to ifem's.
+One name per operation: the functions named after the CLI's commands (``ifem.info``,
+``ifem.laplacian``, ``ifem.refine``, ``ifem.distance``, ``ifem.eigen``, ``ifem.poisson``,
+``ifem.geodesic``, ``ifem.field``, ``ifem.transport``, ``ifem.logmap``) also take a file's path
+instead of ``V, F``, read with its normals as the CLI reads it; ``knn`` is the neighbour count of
+the point-cloud path everywhere. Older names (``heat_distance``, ``direction_field``,
+``mesh_info``, ``VectorHeatSolver.log_map``) are deprecated aliases of the same functions.
+
+See the README's "Python" section for a quick start, the name table (operation | CLI | Python |
+C++) and a table mapping robust-laplacian's and potpourri3d's calls to ifem's.
 """
 
 from ._errors import *  # noqa: F401,F403

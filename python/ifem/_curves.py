@@ -27,10 +27,6 @@ from ._errors import InvalidInput
 _MAX_ROUNDS = 16
 
 
-def _format(x):
-    return repr(float(x))
-
-
 def _reals(x, what, origin):
     """None → empty; a number → [x]; a 1-D sequence → float64 array (finiteness is checked by
     the library, with the curve's name)."""
@@ -182,29 +178,13 @@ class Curve:
                 self._values, self.slit, self._right, self.origin or origin or "Curve")
 
     def to_line(self):
-        """The curve as a line of the CLI's curves file (numbers written to round-trip exactly).
+        """The curve as a line of the CLI's curves file (numbers written to round-trip exactly;
+        the library's writer, solvers::curve_line).
 
         Raises:
             InvalidInput: a curve without values (the file format needs them).
         """
-        if self._values.size == 0:
-            raise InvalidInput(f"{self.origin or 'Curve'}: a curve without values cannot be "
-                               "written to a curves file (every line starts with its values)")
-        words = []
-        if self.closed:
-            words.append("closed")
-        if self.bezier is not None:
-            words.append(f"bezier={self.bezier}")
-        if self.slit:
-            words.append("slit")
-        lists = [self._values] + ([self._right] if self.slit else [])
-        if self._values.size == 1:
-            words += [_format(v[0]) for v in lists]
-        else:
-            for v in lists:
-                words += [_format(x) for x in v] + [":"]
-        words += [str(int(v)) for v in self.vertices]
-        return " ".join(words)
+        return _ifem.curve_line(self._spec())
 
     def __repr__(self):
         args = [repr(self.vertices.tolist())]
@@ -244,10 +224,14 @@ def read_curves(path):
 
 def write_curves(path, curves):
     """Writes curves as a curves file that ``ifem poisson/distance --curves`` and
-    :func:`read_curves` read back (same curves, numbers round-trip exactly)."""
-    lines = [c.to_line() for c in _as_curves(curves)]
-    with open(os.fspath(path), "w", encoding="utf-8") as f:
-        f.write("\n".join(lines) + "\n")
+    :func:`read_curves` read back (same curves, numbers round-trip exactly): the library's
+    writer (solvers::write_curves_file), atomic (a temporary file, then renamed).
+
+    Raises:
+        InvalidInput: a curve without values.
+        IoError: the file cannot be written.
+    """
+    _ifem.write_curves_file(os.fspath(path), _specs(curves))
 
 
 def _as_curve(item, i):

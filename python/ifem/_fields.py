@@ -1,16 +1,20 @@
-"""Tangent fields: the smoothest n-direction field (vectors, lines, crosses), free or aligned."""
+"""Tangent fields: the smoothest n-direction field (vectors, lines, crosses), free or aligned
+(``ifem field``), and the Vector Heat Method's parallel transport and logarithmic map (``ifem
+transport``, ``ifem logmap``)."""
 
 import numpy as np
 
 from . import _ifem
 from ._curves import _specs
+from ._errors import InvalidInput
+from ._inputs import surface as _input
 
 
-def direction_field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
-                    directions=None, mollify=1e-5, return_info=False, *, normals=None,
-                    path="auto", knn=30, curves=None):
+def field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
+          directions=None, mollify=1e-5, return_info=False, *, normals=None, path="auto", knn=30,
+          curves=None):
     """The smoothest n-direction field on a mesh or point cloud, as unit 3D tangent vectors per
-    vertex.
+    vertex (``direction_field`` is its deprecated old name).
 
     The field is the smallest eigenvector of the connection Laplacian of the intrinsic
     Delaunay triangulation (Knöppel, Crane, Pinkall, Schröder 2013), or, with constraints, the
@@ -30,7 +34,7 @@ def direction_field(V, F=None, symmetry=1, align_boundary=False, constraint_vert
     circle gives a field exactly tangent to the circle there.
 
     Args:
-        V: #V×3 positions.
+        V: #V×3 positions, or a file's path (read with its normals, as the CLI reads it).
         F: #F×3 vertex ids; ``None`` (or empty) for a point cloud.
         symmetry: n ≥ 1 — 1 vectors, 2 lines, 4 crosses.
         align_boundary: hold the field along the boundary (meshes that take the manifold path).
@@ -74,12 +78,17 @@ def direction_field(V, F=None, symmetry=1, align_boundary=False, constraint_vert
         ...     V, F, symmetry=4, curves=[ifem.Curve([0, 40, 77]), ifem.Curve([5, 9, 13],
         ...                                                            closed=True)])
     """
+    V, F, normals = _input(V, F, normals)
     specs = None if curves is None else _specs(curves)
     vectors, angle, singularity, info = _ifem.direction_field(
         V, None if F is None or np.size(F) == 0 else F, int(symmetry), bool(align_boundary),
         constraint_vertices, directions, normals, float(mollify), str(path), int(knn), specs)
     out = (np.ascontiguousarray(vectors), angle, singularity)
     return out + (info,) if return_info else out
+
+
+#: Deprecated: the old name of :func:`field`.
+direction_field = field
 
 
 class VectorHeatSolver:
@@ -89,18 +98,19 @@ class VectorHeatSolver:
     ``PointCloudHeatSolver``, with 3D vectors in and out.
 
     Args:
-        V: #V×3 positions.
+        V: #V×3 positions, or a file's path (read with its normals, as the CLI reads it).
         F: #F×3 vertex ids; ``None`` (or empty) for a point cloud. Nonmanifold and
             non-orientable meshes (the tufted path) and point clouds use per-vertex 3D frames
             from the normals, oriented by propagation (see :func:`direction_field`); the log
             map's angle 0 is then the x axis projected to the source's tangent plane.
         mollify: relative mollification margin.
-        normals: optional #V×3 normals of a point cloud.
+        normals: optional #V×3 normals of a point cloud (a file's own when V is a path).
         path: ``'auto'``, ``'manifold'``, ``'tufted'`` or ``'pointcloud'``.
         knn: neighbours per point on the point-cloud path.
     """
 
     def __init__(self, V, F=None, mollify=1e-5, *, normals=None, path="auto", knn=30):
+        V, F, normals = _input(V, F, normals)
         self._solver = _ifem.VectorHeat(V, None if F is None or np.size(F) == 0 else F, normals,
                                         float(mollify), str(path), int(knn))
 
@@ -110,11 +120,15 @@ class VectorHeatSolver:
         where nothing arrives)."""
         return self._solver.transport(int(source), np.asarray(vector, float).reshape(1, 3))
 
-    def log_map(self, source):
+    def logmap(self, source):
         """The logarithmic map about vertex ``source``: #V×2 Riemannian coordinates
         (u, v) = d·(cos θ, sin θ), d the geodesic distance, θ the direction at the source
-        counter-clockwise from its first edge's direction."""
+        counter-clockwise from its first edge's direction (``log_map`` is its deprecated old
+        name)."""
         return self._solver.log_map(int(source))
+
+    #: Deprecated: the old name of :meth:`logmap`.
+    log_map = logmap
 
     @property
     def info(self):
@@ -122,4 +136,51 @@ class VectorHeatSolver:
         return self._solver.info()
 
 
-__all__ = ["direction_field", "VectorHeatSolver"]
+def _required(x, name, command):
+    if x is None:
+        raise InvalidInput(f"{name} is required (the CLI's --{name} of `ifem {command}`)")
+    return x
+
+
+def transport(V, F=None, source=None, vector=None, *, mollify=1e-5, normals=None, path="auto",
+              knn=30):
+    """Parallel transport of a tangent vector from one vertex to every vertex, as ``ifem
+    transport MESH --source S --vector X,Y,Z`` (the Vector Heat Method; for many queries on one
+    surface build a :class:`VectorHeatSolver`).
+
+    Args:
+        V: #V×3 positions, or a file's path (read with its normals, as the CLI reads it).
+        F: #F×3 vertex ids; ``None`` for a point cloud (and when V is a path).
+        source: the source vertex id.
+        vector: the 3D vector at the source (projected to its tangent plane, length kept).
+        mollify, normals, path, knn: as :class:`VectorHeatSolver`.
+
+    Returns:
+        #V×3 tangent vectors (0 where nothing arrives).
+    """
+    _required(source, "source", "transport")
+    _required(vector, "vector", "transport")
+    solver = VectorHeatSolver(V, F, mollify, normals=normals, path=path, knn=knn)
+    return solver.transport(source, vector)
+
+
+def logmap(V, F=None, source=None, *, mollify=1e-5, normals=None, path="auto", knn=30):
+    """The logarithmic map about one vertex, as ``ifem logmap MESH --source S`` (the Vector Heat
+    Method; for many sources on one surface build a :class:`VectorHeatSolver`).
+
+    Args:
+        V: #V×3 positions, or a file's path (read with its normals, as the CLI reads it: the
+            same file gives the same map in both).
+        F: #F×3 vertex ids; ``None`` for a point cloud (and when V is a path).
+        source: the source vertex id.
+        mollify, normals, path, knn: as :class:`VectorHeatSolver`.
+
+    Returns:
+        #V×2 Riemannian coordinates (u, v) = d·(cos θ, sin θ) (see
+        :meth:`VectorHeatSolver.logmap`).
+    """
+    _required(source, "source", "logmap")
+    return VectorHeatSolver(V, F, mollify, normals=normals, path=path, knn=knn).logmap(source)
+
+
+__all__ = ["field", "direction_field", "transport", "logmap", "VectorHeatSolver"]

@@ -25,7 +25,8 @@ from typing import List, Optional
 import numpy as np
 
 from . import _ifem
-from ._errors import InvalidInput, IoError
+from ._errors import InvalidInput
+from ._inputs import surface as _input
 
 
 @dataclass(frozen=True)
@@ -180,6 +181,7 @@ def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5):
     if pin and not loop:
         raise InvalidInput("pin=True applies to loops (an open path always passes through its "
                            "points): set loop=True or drop pin")
+    V, F, _ = _input(V, F)
     curves, report = _ifem.geodesic_curves(V, F, [(points, bool(loop), bool(pin))], ["points"],
                                            float(mollify))
     return _curves(curves, report)[0][0]
@@ -197,12 +199,13 @@ def _network_item(item, i, pin):
 
 
 def read_network(path):
-    """Reads the CLI's ``--network`` file into a list for :func:`geodesic_network`.
+    """Reads the CLI's ``--network`` file into a list for :func:`geodesic_network` (the
+    library's reader, the one ``ifem geodesic --network`` uses: same rules, same messages).
 
     One curve per line: ``path P0 P1 ...`` (an open geodesic through the points) or ``loop P0
     P1 ...`` (a closed one); each point a vertex id or ``face:F:u:v`` (the point with
-    barycentric coordinates (1 − u − v, u, v) in face F); ``#`` starts a comment, blank lines are
-    skipped.
+    barycentric coordinates (1 − u − v, u, v) in face F; u, v ≥ 0 and u + v ≤ 1, else the line
+    is refused); ``#`` starts a comment, blank lines are skipped.
 
     Returns:
         A list of dicts ``{'points': [...], 'loop': bool}``, face points as
@@ -211,39 +214,7 @@ def read_network(path):
     Raises:
         IoError: an unreadable file or a malformed line (naming ``path:line``).
     """
-    path = os.fspath(path)
-    try:
-        with open(path, encoding="utf-8") as f:
-            lines = f.read().splitlines()
-    except OSError as e:
-        raise IoError(f"{path}: cannot open ({e.strerror})") from None
-    curves = []
-    for n, line in enumerate(lines, 1):
-        tokens = line.split("#", 1)[0].split()
-        if not tokens:
-            continue
-        if tokens[0] not in ("path", "loop") or len(tokens) < 3:
-            raise IoError(f"{path}:{n}: expected 'path P0 P1 ...' or 'loop P0 P1 ...' (at least "
-                          f"two points), got '{line}'")
-        curves.append({"points": [_parse_point(t, f"{path}:{n}") for t in tokens[1:]],
-                       "loop": tokens[0] == "loop"})
-    if not curves:
-        raise IoError(f"{path}: no curves (expected 'path ...' or 'loop ...' lines)")
-    return curves
-
-
-def _parse_point(token, where):
-    try:
-        if token.startswith("face:"):
-            _, face, u, v = token.split(":")
-            u, v = float(u), float(v)
-            if not (np.isfinite(u) and np.isfinite(v)):
-                raise ValueError
-            return (int(face), max(0.0, 1.0 - u - v), u, v)
-        return int(token)
-    except ValueError:
-        raise IoError(f"{where}: '{token}' is not a point: expected a vertex id or face:F:u:v") \
-            from None
+    return _ifem.read_network(os.fspath(path))
 
 
 def geodesic_network(V, F, curves, pin=False, mollify=1e-5):
@@ -280,6 +251,7 @@ def geodesic_network(V, F, curves, pin=False, mollify=1e-5):
     if isinstance(curves, np.ndarray) or not isinstance(curves, (list, tuple)):
         raise InvalidInput("curves must be a list of curves (point lists or dicts) or a network "
                            f"file's path, got {type(curves).__name__}")
+    V, F, _ = _input(V, F)
     items = [_network_item(c, i, pin) for i, c in enumerate(curves)]
     names = [f"curves[{i}]" for i in range(len(items))]
     out, report = _ifem.geodesic_curves(V, F, items, names, float(mollify))
@@ -315,6 +287,7 @@ def bezier_curve(V, F, control_points, rounds=4, mollify=1e-5):
     """
     if isinstance(rounds, (bool, np.bool_)) or not isinstance(rounds, (int, np.integer)):
         raise InvalidInput(f"rounds must be an integer in [0, 16], got {rounds!r}")
+    V, F, _ = _input(V, F)
     curves, report = _ifem.bezier_curve(V, F, control_points, int(rounds), float(mollify))
     c = curves[0]
     return BezierCurve(report=_report(report), rounds=int(rounds),
@@ -346,11 +319,58 @@ def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5):
     Raises:
         InvalidInput: ``source`` out of range or not an integer.
     """
+    V, F, _ = _input(V, F)
     length, paths, info = _ifem.single_source_geodesics(V, F, source, bool(return_paths),
                                                         float(mollify))
     return SingleSourceGeodesics(length=length, paths=paths, **info)
 
 
-__all__ = ["geodesic_path", "geodesic_network", "bezier_curve", "single_source_geodesics",
+def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, network=None,
+             all_from=None, return_paths=False, mollify=1e-5):
+    """Geodesic curves by FlipOut, as ``ifem geodesic``: one function, the CLI's modes as
+    keywords. Give exactly one of
+
+    - ``points``: a path through them (``--path``), closed with ``loop=True`` (``--loop``,
+      ``pin`` as ``--pin``), or the control points of a Bézier curve with ``bezier=ROUNDS``
+      (``--bezier``): :func:`geodesic_path` / :func:`bezier_curve`;
+    - ``network``: a network file's path or a list of curves (``--network``):
+      :func:`geodesic_network`;
+    - ``all_from``: a source vertex (``--all-from``): :func:`single_source_geodesics`.
+
+    ``V`` may be a mesh file's path (F then None), as the CLI's MESH.
+
+    Returns:
+        GeodesicCurve, BezierCurve, GeodesicNetwork or SingleSourceGeodesics, as the mode's
+        function.
+
+    Raises:
+        InvalidInput: not exactly one mode, a keyword of another mode, and as the mode's
+            function.
+    """
+    modes = [name for name, x in (("points", points), ("network", network),
+                                  ("all_from", all_from)) if x is not None]
+    if len(modes) != 1:
+        raise InvalidInput("give exactly one of points, network, all_from (the CLI's --path, "
+                           f"--network, --all-from), got {modes or 'none'}")
+    if bezier is not None and (points is None or loop):
+        raise InvalidInput("bezier takes points as the control points of an open curve")
+    if loop and points is None:
+        raise InvalidInput("loop closes the points' curve (in a network, write loops as dicts "
+                           "{'points': [...], 'loop': True} or 'loop' lines)")
+    if return_paths and all_from is None:
+        raise InvalidInput("return_paths applies to all_from (single-source geodesics)")
+    V, F, _ = _input(V, F)
+    if all_from is not None:
+        return single_source_geodesics(V, F, all_from, return_paths, mollify)
+    if network is not None:
+        return geodesic_network(V, F, network, pin, mollify)
+    if bezier is not None:
+        if pin:
+            raise InvalidInput("pin applies to loops, not to a Bézier curve")
+        return bezier_curve(V, F, points, bezier, mollify)
+    return geodesic_path(V, F, points, loop, pin, mollify)
+
+
+__all__ = ["geodesic", "geodesic_path", "geodesic_network", "bezier_curve", "single_source_geodesics",
            "read_network", "GeodesicCurve", "BezierCurve", "GeodesicNetwork",
            "SingleSourceGeodesics", "FlipOutReport"]

@@ -3,6 +3,7 @@
 import os
 
 from . import _ifem
+from ._inputs import surface as _input
 
 
 def read_mesh(path, return_info=False):
@@ -48,8 +49,9 @@ def write_ply(path, V, F=None, binary=True, **vertex_properties):
     _ifem.write_ply(os.fspath(path), V, F, dict(vertex_properties), bool(binary))
 
 
-def mesh_info(V, F=None, knn=30, mollify=1e-5, path="auto"):
-    """What a mesh (or point cloud) is made of and what ifem does with it: ``ifem info --json``.
+def info(V, F=None, knn=30, mollify=1e-5, path="auto", *, normals=None):
+    """What a mesh (or point cloud) is made of and what ifem does with it: ``ifem info --json``
+    (``mesh_info`` is its deprecated old name).
 
     For a mesh: counts (``vertices``, ``edges``, ``faces``, ``polygons``,
     ``unreferenced_vertices``), topology (``components``, ``boundary_edges``, ``boundary_loops``,
@@ -62,16 +64,21 @@ def mesh_info(V, F=None, knn=30, mollify=1e-5, path="auto"):
     ``isolated_points``, ``starless_points``, ``coincident_points``, cover sizes, ``area``.
 
     Args:
-        V: #V×3 positions.
+        V: #V×3 positions, or a file's path (read with its normals, as the CLI reads it).
         F: #F×3 vertex ids, or None for a point cloud.
         knn: neighbours per point on the point-cloud path (as the solvers' knn).
+        normals: optional #V×3 normals of a point cloud (a file's own when V is a path).
         mollify: relative mollification margin.
         path: 'auto', 'manifold', 'tufted' or 'pointcloud' (a mesh's vertices as a cloud).
 
     Returns:
         dict, with the same keys and values as ``ifem info MESH --json``.
     """
-    return _ifem.mesh_info(V, F, int(knn), float(mollify), str(path))
+    V, F, normals = _input(V, F, normals)
+    return _ifem.mesh_info(V, F, int(knn), float(mollify), str(path), normals)
 
 
-__all__ = ["read_mesh", "write_ply", "mesh_info"]
+#: Deprecated: the old name of :func:`info`.
+mesh_info = info
+
+__all__ = ["read_mesh", "write_ply", "info", "mesh_info"]

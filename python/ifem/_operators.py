@@ -4,6 +4,8 @@ import numpy as np
 import scipy.sparse
 
 from . import _ifem
+from ._errors import InvalidInput
+from ._inputs import surface as _input
 
 
 def _csc(parts):
@@ -20,7 +22,8 @@ def _diag(m):
                                    copy=False)
 
 
-def laplacian(V, F, mollify=1e-5, path="auto", intrinsic_delaunay=True, return_info=False):
+def laplacian(V, F=None, mollify=1e-5, path="auto", intrinsic_delaunay=True, return_info=False,
+              *, knn=30, normals=None):
     """The cotan Laplacian ``L`` and lumped mass ``M`` of a triangle mesh, on its vertices.
 
     Built on the intrinsic Delaunay triangulation of the mesh: same vertices, same geometry,
@@ -34,8 +37,9 @@ def laplacian(V, F, mollify=1e-5, path="auto", intrinsic_delaunay=True, return_i
     for Poisson problems.
 
     Args:
-        V: #V×3 positions.
-        F: #F×3 vertex ids (at least one face; for a point cloud use point_cloud_laplacian).
+        V: #V×3 positions, or a file's path (read with its normals, as ``ifem laplacian``).
+        F: #F×3 vertex ids; None (or a file without faces): a point cloud, as
+            :func:`point_cloud_laplacian` with ``knn`` and ``normals``.
         mollify: relative mollification margin (every triangle made to satisfy
             a + b − c ≥ mollify × mean edge length by adding one length δ to every edge).
         path: ``'auto'`` (manifold when possible, else the tufted cover), ``'manifold'`` (raise
@@ -45,17 +49,21 @@ def laplacian(V, F, mollify=1e-5, path="auto", intrinsic_delaunay=True, return_i
         return_info: also return a dict: ``path``, ``reason``, ``flips``, ``mollify_delta``,
             ``dropped_faces``, ``reoriented_faces``, ``unreferenced_vertices``, ``seconds`` (the
             C++ library's own time; the rest of the call is the binding's).
+        knn, normals: a point cloud's neighbours per point and optional #V×3 normals.
 
     Returns:
         ``L, M`` (scipy.sparse.csc_matrix, #V×#V; unreferenced vertices have zero rows and zero
         mass), and ``info`` when asked.
     """
+    V, F, normals = _input(V, F, normals)
+    if F is None:
+        return point_cloud_laplacian(V, knn, normals, mollify, return_info)
     parts, m, info = _ifem.laplacian(V, F, float(mollify), str(path), bool(intrinsic_delaunay))
     L, M = _csc(parts), _diag(m)
     return (L, M, info) if return_info else (L, M)
 
 
-def point_cloud_laplacian(P, k=30, normals=None, mollify=1e-5, return_info=False):
+def point_cloud_laplacian(P, knn=30, normals=None, mollify=1e-5, return_info=False, *, k=None):
     """The Laplacian ``L`` and mass ``M`` of a point cloud (Sharp & Crane 2020).
 
     Each point's k nearest neighbours are projected to its tangent plane and Delaunay
@@ -64,7 +72,7 @@ def point_cloud_laplacian(P, k=30, normals=None, mollify=1e-5, return_info=False
 
     Args:
         P: #P×3 points.
-        k: neighbours per point, in [2, #P).
+        knn: neighbours per point, in [2, #P) (``k=`` is its deprecated old name).
         normals: optional #P×3 normals for the tangent planes (rows that are zero or not
             finite fall back to PCA of the neighbourhood).
         mollify: relative mollification margin.
@@ -73,7 +81,12 @@ def point_cloud_laplacian(P, k=30, normals=None, mollify=1e-5, return_info=False
     Returns:
         ``L, M`` (scipy.sparse.csc_matrix, #P×#P), and ``info`` when asked.
     """
-    parts, m, info = _ifem.point_cloud_laplacian(P, int(k), normals, float(mollify))
+    if k is not None:
+        if knn != 30 and knn != k:
+            raise InvalidInput(f"give knn (k is its deprecated old name), not both: knn={knn!r}, "
+                               f"k={k!r}")
+        knn = k
+    parts, m, info = _ifem.point_cloud_laplacian(P, int(knn), normals, float(mollify))
     L, M = _csc(parts), _diag(m)
     return (L, M, info) if return_info else (L, M)
 

@@ -16,6 +16,7 @@ import numpy as np
 
 from . import _ifem
 from ._errors import InvalidInput
+from ._inputs import surface as _input
 from ._operators import _csc, _diag
 
 
@@ -209,7 +210,7 @@ class RefinedTriangulation:
         return s + ")"
 
 
-def refine(V, F, min_angle=25, resolution=0, max_area=0, max_insertions=None, relax=0,
+def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=None, relax=0,
            max_edge=0, mollify=1e-5, memory_budget=None):
     """Intrinsic Delaunay refinement: a triangulation of the same surface with good angles.
 
@@ -227,7 +228,7 @@ def refine(V, F, min_angle=25, resolution=0, max_area=0, max_insertions=None, re
     refined Laplacian has non-negative weights everywhere.
 
     Args:
-        V: #V_in×3 positions.
+        V: #V_in×3 positions, or a mesh file's path (F then None), as ``ifem refine MESH``.
         F: #F_in×3 vertex ids of an edge-manifold, orientable mesh, with or without boundary.
         min_angle: smallest corner angle wanted, degrees, in (0, 30].
         resolution: also refine until edges are about ``resolution × h`` long (h: the input's
@@ -273,6 +274,7 @@ def refine(V, F, min_angle=25, resolution=0, max_area=0, max_insertions=None, re
     """
     mi = None if max_insertions is None else _int(max_insertions, "max_insertions")
     mb = None if memory_budget is None else float(memory_budget)
+    V, F, _ = _input(V, F)
     return RefinedTriangulation(_ifem.refine(
         V, F, float(min_angle), float(resolution), float(max_area), mi, _int(relax, "relax"),
         float(max_edge), float(mollify), mb))

@@ -32,6 +32,7 @@ import operator
 import numpy as np
 
 from . import _ifem
+from ._inputs import surface as _input
 from ._errors import InvalidInput
 
 # --- argument conversion (every failure an InvalidInput naming the argument) --------------------
@@ -138,7 +139,8 @@ class HeatDistanceSolver:
     the resolved region.
 
     Args:
-        V: #V×3 vertex positions (any real dtype).
+        V: #V×3 vertex positions (any real dtype), or a mesh / point-cloud file's path (read
+            with its normals, as the CLI reads it; F then None).
         F: #F×3 vertex ids, or None / empty for a point cloud.
         refine: the accurate mode of ``ifem distance --refine``: refine to edges of about
             ``0.4·h`` and 25° first (~10× the vertices), then ``t = 0.25·ℓ²`` (ℓ = 0.4·h) and one
@@ -151,6 +153,8 @@ class HeatDistanceSolver:
         path: ``'auto'``, ``'manifold'`` (raise NonManifoldInput if the mesh cannot take it),
             ``'tufted'`` or ``'pointcloud'`` (use only the vertices).
         knn: neighbours per point on the point-cloud path, in [2, #V).
+        normals: optional #V×3 normals of a point cloud (its tangent planes; rows zero or not
+            finite: PCA); a file's own normals when V is a path.
         min_angle, resolution, max_area, max_insertions: refinement settings (with
             ``refine=True`` only): corner angle bound in degrees, target edge length as a
             multiple of h (0.4 here, as in the CLI), area bound (absolute; 0: none), cap on
@@ -175,12 +179,13 @@ class HeatDistanceSolver:
 
     def __init__(self, V, F=None, refine=False, *, time_factor=None, correction_steps=None,
                  mollify=1e-5, path="auto", knn=30, min_angle=25.0, resolution=0.4,
-                 max_area=0.0, max_insertions=None, precision="double"):
+                 max_area=0.0, max_insertions=None, precision="double", normals=None):
+        V, F, normals = _input(V, F, normals)
         self._solver = _ifem.HeatDistanceSolver(
             V, _faces(F), _optional(time_factor, "time_factor", _real),
             _optional(correction_steps, "correction_steps", _int), *_surface(mollify, path, knn),
             _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4),
-            _precision(precision))
+            _precision(precision), normals)
 
     def compute_distance(self, sources=None, points=None):
         """Geodesic distance to the nearest source, on every input vertex.
@@ -277,18 +282,33 @@ def _precision(precision):
     return precision
 
 
-def heat_distance(V, F, sources=None, *, points=None, refine=False, time_factor=None,
-                  correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
-                  resolution=0.4, max_area=0.0, max_insertions=None, precision="double"):
-    """Geodesic distance from vertices (or surface points) in one call, as ``ifem distance``.
+def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=None,
+             correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
+             resolution=0.4, max_area=0.0, max_insertions=None, precision="double",
+             normals=None, curves=None):
+    """Geodesic distance from vertices (or surface points) in one call, as ``ifem distance``
+    (``heat_distance`` is its deprecated old name).
 
     Same arguments and result as ``HeatDistanceSolver(V, F, ...).compute_distance(sources,
     points)`` (see :class:`HeatDistanceSolver`); build the solver instead when you ask for
     several distances on the same surface: preparation and factorization dominate the cost.
 
+    With ``curves`` (the CLI's ``--curves``): the distance to the curves instead of to
+    sources, :func:`curve_distance` (a list of :class:`Curve` or a curves file's path).
+
     Returns:
         #V_in float64 array of distances (``inf`` where no source reaches).
     """
+    V, F, normals = _input(V, F, normals)
+    if curves is not None:
+        if sources is not None or points is not None:
+            raise InvalidInput("give sources, points or curves, not several (the CLI's --source, "
+                               "--curves)")
+        from ._curves import curve_distance
+        return curve_distance(V, F, curves, refine, time_factor=time_factor,
+                              correction_steps=correction_steps, min_angle=min_angle,
+                              resolution=resolution, max_area=max_area,
+                              max_insertions=max_insertions, mollify=mollify)
     refine_arg = _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4)
     t = _optional(time_factor, "time_factor", _real)
     c = _optional(correction_steps, "correction_steps", _int)
@@ -299,17 +319,21 @@ def heat_distance(V, F, sources=None, *, points=None, refine=False, time_factor=
     if points is not None:
         faces, bary = _points(points)  # checked before the work
         solver = _ifem.HeatDistanceSolver(V, _faces(F), t, c, *surface, refine_arg,
-                                          _precision(precision))
+                                          _precision(precision), normals)
         return solver.compute_distance_from_points(faces, bary)
     return _ifem.heat_distance(V, _faces(F), sources, t, c, *surface, refine_arg,
-                               _precision(precision))
+                               _precision(precision), normals)
+
+
+#: Deprecated: the old name of :func:`distance`.
+heat_distance = distance
 
 
 # --- eigenpairs ---------------------------------------------------------------------------------
 
 
-def eigen(V, F, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
-          resolution=0.0, max_area=0.0, max_insertions=None, return_info=False):
+def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
+          resolution=0.0, max_area=0.0, max_insertions=None, return_info=False, normals=None):
     """The k smallest Laplace–Beltrami eigenpairs ``L φ = λ M φ``, as ``ifem eigen``.
 
     L is the intrinsic Delaunay cotan Laplacian (positive semi-definite), M the lumped mass;
@@ -322,8 +346,8 @@ def eigen(V, F, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, min_an
         refine: intrinsic Delaunay refinement first (``min_angle``; ``resolution`` defaults to 0
             here, i.e. angles only): λ and φ are those of the refined triangulation, φ reported
             on the input's vertices.
-        mollify, path, knn, min_angle, resolution, max_area, max_insertions: as in
-            :class:`HeatDistanceSolver`.
+        mollify, path, knn, min_angle, resolution, max_area, max_insertions, normals: as in
+            :class:`HeatDistanceSolver` (V may be a file's path there too).
         return_info: also return a dict about the preparation (as
             :attr:`HeatDistanceSolver.info`, without the heat-method entries).
 
@@ -340,18 +364,19 @@ def eigen(V, F, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, min_an
         InvalidInput: bad arrays or options, k out of range.
         SolverError: Lanczos did not converge, or the factorization failed.
     """
+    V, F, normals = _input(V, F, normals)
     evals, evecs, info = _ifem.eigen(V, _faces(F), _int(k, "k"), *_surface(mollify, path, knn),
                                      _refine(refine, min_angle, resolution, max_area,
-                                             max_insertions, 0.0))
+                                             max_insertions, 0.0), normals)
     return (evals, evecs, info) if return_info else (evals, evecs)
 
 
 # --- Poisson ------------------------------------------------------------------------------------
 
 
-def poisson(V, F, rhs=None, dirichlet=None, screening=0.0, refine=False, *, mollify=1e-5,
+def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *, mollify=1e-5,
             path="auto", knn=30, min_angle=25.0, resolution=0.0, max_area=0.0,
-            max_insertions=None, return_info=False):
+            max_insertions=None, return_info=False, normals=None, curves=None):
     """Solves ``−Δu + c·u = f`` with Dirichlet values on chosen vertices, as ``ifem poisson``.
 
     Discretely ``(L + c M) u = M f`` (L the intrinsic Delaunay cotan Laplacian, positive
@@ -374,9 +399,11 @@ def poisson(V, F, rhs=None, dirichlet=None, screening=0.0, refine=False, *, moll
         screening: c ≥ 0, in 1 / length² units (0: plain Poisson).
         refine: intrinsic Delaunay refinement first (needs an edge-manifold, orientable mesh:
             f is interpolated linearly onto the inserted vertices); ``resolution`` defaults to 0.
-        mollify, path, knn, min_angle, resolution, max_area, max_insertions: as in
-            :class:`HeatDistanceSolver`.
+        mollify, path, knn, min_angle, resolution, max_area, max_insertions, normals: as in
+            :class:`HeatDistanceSolver` (V may be a file's path there too).
         return_info: also return a dict about the preparation.
+        curves: the CLI's ``--curves``: u held at the curves' values along them,
+            :func:`curve_poisson` (a list of :class:`Curve` or a curves file's path).
 
     Returns:
         u, #V_in float64 array in the input's vertex order (and ``info`` when asked).
@@ -387,12 +414,19 @@ def poisson(V, F, rhs=None, dirichlet=None, screening=0.0, refine=False, *, moll
             negative screening, bad options; refinement on a mesh without signposts.
         SolverError: the factorization failed.
     """
+    V, F, normals = _input(V, F, normals)
+    if curves is not None:
+        from ._curves import curve_poisson
+        return curve_poisson(V, F, curves, rhs, dirichlet, screening, refine, min_angle=min_angle,
+                             resolution=resolution, max_area=max_area,
+                             max_insertions=max_insertions, mollify=mollify,
+                             return_info=return_info)
     ids, values = _dirichlet(dirichlet)
     u, info = _ifem.poisson(V, _faces(F), rhs, ids, values, _real(screening, "screening"),
                             *_surface(mollify, path, knn),
                             _refine(refine, min_angle, resolution, max_area, max_insertions,
-                                    0.0))
+                                    0.0), normals)
     return (u, info) if return_info else u
 
 
-__all__ = ["HeatDistanceSolver", "heat_distance", "eigen", "poisson"]
+__all__ = ["HeatDistanceSolver", "distance", "heat_distance", "eigen", "poisson"]

@@ -1,6 +1,6 @@
 // Boundary-value problems with data on curves, as `ifem poisson --curves` and `ifem distance
-// --curves` compute them (solvers/recipes/curves.h, examples/cli/cli_curves.cpp): curves through input
-// vertices become edges of a constrained intrinsic Delaunay triangulation, then Poisson takes
+// --curves` compute them (solvers/recipes/curves.h, examples/cli/cli_curves.cpp): curves through
+// input vertices become edges of a constrained intrinsic Delaunay triangulation, then Poisson takes
 // its Dirichlet data on them or the heat method measures the distance to them.
 //
 // A curve crosses the boundary as a tuple (the Python layer's ifem.Curve flattens to it):
@@ -121,12 +121,23 @@ py::list read_curves_file(const std::string& path) {
   return out;
 }
 
+// The library's curves-file writer (solvers::write_curves_file), so Python writes what the CLI
+// and read_curves_file read.
+std::string curve_line(const py::handle& spec) { return solvers::curve_line(condition_from(spec)); }
+
+void write_curves_file(const std::string& path, const py::list& specs) {
+  std::vector<CurveCondition> curves;
+  for (const py::handle spec : specs) curves.push_back(condition_from(spec));
+  const py::gil_scoped_release release;
+  solvers::write_curves_file(path, curves);
+}
+
 // refine: None, or (min_angle, resolution, max_area, max_insertions) with Python's names in
 // the messages.
-std::optional<solvers::RefineSettings> refine_from(const py::handle& refine) {
+std::optional<solvers::SurfaceRefineOptions> refine_from(const py::handle& refine) {
   if (refine.is_none()) return std::nullopt;
   const py::tuple t = refine.cast<py::tuple>();
-  solvers::RefineSettings r;
+  solvers::SurfaceRefineOptions r;
   r.min_angle_degrees = t[0].cast<double>();
   r.resolution = t[1].cast<double>();
   r.max_area = t[2].cast<double>();
@@ -254,7 +265,7 @@ py::tuple curve_distance(const py::handle& V, const py::handle& F, const py::lis
     throw InvalidInput("correction_steps must be ≥ 0, got " + std::to_string(*correction_steps));
   }
   const solvers::CurveSurface s = prepare(surface_input(V, F), specs, refine, mollify, false);
-  solvers::DistanceSettings settings;
+  solvers::DistanceOptions settings;
   settings.time_factor = time_factor;
   settings.correction_steps = correction_steps;
   solvers::HeatDistanceReport report;
@@ -282,6 +293,8 @@ py::dict curve_surface_info(const solvers::CurveSurface& s) { return surface_inf
 void bind_curves(py::module_& m) {
   m.def("check_curve", &check_curve, py::arg("spec"));
   m.def("read_curves_file", &read_curves_file, py::arg("path"));
+  m.def("curve_line", &curve_line, py::arg("spec"));
+  m.def("write_curves_file", &write_curves_file, py::arg("path"), py::arg("specs"));
   m.def("curve_poisson", &curve_poisson, py::arg("V"), py::arg("F"), py::arg("curves"),
         py::arg("rhs"), py::arg("dirichlet_vertices"), py::arg("dirichlet_values"),
         py::arg("screening"), py::arg("refine"), py::arg("mollify"), py::arg("polylines"));

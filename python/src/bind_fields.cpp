@@ -1,5 +1,5 @@
-// Tangent fields: the smoothest n-direction field, free or aligned (solvers/recipes/tangent_fields.h),
-// as `ifem field` computes it.
+// Tangent fields: the smoothest n-direction field, free or aligned
+// (solvers/recipes/tangent_fields.h), as `ifem field` computes it.
 #include <pybind11/stl.h>
 
 #include <memory>
@@ -50,7 +50,7 @@ solvers::PreparedSurface prepared(io::SurfaceInput in, const SurfaceArgs& a) {
 // The field on the input with the curves inserted and held (solvers/recipes/curve_fields.h): curves
 // need the manifold path (signposts), so path must be 'auto' or 'manifold'.
 solvers::TangentFieldResult field_along_curves(io::SurfaceInput in, const py::list& curves,
-                                               const solvers::FieldSettings& settings,
+                                               const solvers::FieldOptions& settings,
                                                const SurfaceArgs& a, py::dict& info) {
   if (a.path != "auto" && a.path != "manifold") {
     throw InvalidInput(
@@ -75,7 +75,7 @@ py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry
                           bool align_boundary, const py::handle& vertices,
                           const py::handle& directions, const py::handle& normals,
                           const SurfaceArgs& a, const py::handle& curves) {
-  solvers::FieldSettings settings;
+  solvers::FieldOptions settings;
   settings.symmetry = symmetry;
   settings.align_boundary = align_boundary;
   io::SurfaceInput in = surface_input(V, F, normals);

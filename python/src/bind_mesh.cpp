@@ -113,8 +113,8 @@ py::dict summary_info(const solvers::MeshSummary& m) {
 }
 
 py::dict mesh_info(const py::handle& V, const py::handle& F, int k, double mollify,
-                   const std::string& path) {
-  io::SurfaceInput in = surface_input(V, F);
+                   const std::string& path, const py::handle& normals) {
+  io::SurfaceInput in = surface_input(V, F, normals);
   const std::string p = in.triangles.empty() ? "pointcloud" : path;
   const solvers::PreparedSurface s =
       prepare(std::move(in), prepare_options(mollify, p, true, k), p);
@@ -137,8 +137,8 @@ py::dict mesh_info(const py::handle& V, const py::handle& F, int k, double molli
 }  // namespace
 
 void bind_mesh(py::module_& m) {
-  m.def("mesh_info", &mesh_info, py::arg("V"), py::arg("F"), py::arg("k"), py::arg("mollify"),
-        py::arg("path"));
+  m.def("mesh_info", &mesh_info, py::arg("V"), py::arg("F"), py::arg("knn"), py::arg("mollify"),
+        py::arg("path"), py::arg("normals") = py::none());
   m.def("read_mesh", &read_mesh, py::arg("path"));
   m.def("write_ply", &write_ply, py::arg("path"), py::arg("V"), py::arg("F"), py::arg("properties"),
         py::arg("binary"));

@@ -44,10 +44,10 @@ void require_size(double x, const char* name) {
 }
 
 // The library's settings from the Python arguments, each checked under its Python name.
-solvers::RefineSettings refine_settings(double min_angle, double resolution, double max_area,
-                                        const std::optional<long long>& max_insertions,
-                                        long long relax, double max_edge,
-                                        const std::optional<double>& memory_budget) {
+solvers::SurfaceRefineOptions refine_settings(double min_angle, double resolution, double max_area,
+                                              const std::optional<long long>& max_insertions,
+                                              long long relax, double max_edge,
+                                              const std::optional<double>& memory_budget) {
   require(min_angle > 0.0 && min_angle <= 30.0,
           "min_angle must be in (0, 30] degrees (Chew's algorithm terminates up to 30°), got " +
               number(min_angle));
@@ -62,7 +62,7 @@ solvers::RefineSettings refine_settings(double min_angle, double resolution, dou
   require(max_edge == 0.0 || relax > 0, "max_edge splits long edges during relaxation: set relax");
   require(!memory_budget || *memory_budget > 0.0,
           "memory_budget must be None or > 0 gigabytes, got " + number(memory_budget.value_or(0)));
-  solvers::RefineSettings r;
+  solvers::SurfaceRefineOptions r;
   r.min_angle_degrees = min_angle;
   r.resolution = resolution;
   r.max_area = max_area;

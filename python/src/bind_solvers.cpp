@@ -55,19 +55,20 @@ struct SurfaceArgs {
   double mollify = intrinsic::kDefaultMollifyEpsilon;
   std::string path = "auto";
   int knn = 30;
+  py::object normals = py::none();  ///< #V×3 point normals, or None (as the CLI: a file's normals)
 };
 
 // `refine`: None (no refinement) or a dict of min_angle / resolution / max_area /
 // max_insertions, each None for the CLI's default (resolution: `default_resolution`).
-std::optional<solvers::RefineSettings> refine_settings(const py::handle& refine,
-                                                       double default_resolution,
-                                                       bool need_signposts) {
+std::optional<solvers::SurfaceRefineOptions> refine_settings(const py::handle& refine,
+                                                             double default_resolution,
+                                                             bool need_signposts) {
   if (refine.is_none()) return std::nullopt;
   const py::dict d = py::reinterpret_borrow<py::dict>(refine);
   auto get = [&](const char* key) -> py::object {
     return d.contains(key) ? py::object(d[key]) : py::object(py::none());
   };
-  solvers::RefineSettings r;
+  solvers::SurfaceRefineOptions r;
   if (!get("min_angle").is_none()) r.min_angle_degrees = get("min_angle").cast<double>();
   r.resolution =
       get("resolution").is_none() ? default_resolution : get("resolution").cast<double>();
@@ -97,7 +98,7 @@ io::SurfaceInput checked_input(const py::handle& V, const py::handle& F, const S
     throw InvalidInput("mollify must be in [0, 1] (relative to the mean edge length), got " +
                        num(a.mollify));
   }
-  io::SurfaceInput in = surface_input(V, F);
+  io::SurfaceInput in = surface_input(V, F, a.normals);
   const Index n = static_cast<Index>(in.positions.rows());
   if ((!in.has_faces() || a.path == "pointcloud") && (a.knn < 2 || a.knn >= n)) {
     throw InvalidInput("knn must be in [2, number of points) = [2, " + std::to_string(n) +
@@ -108,15 +109,15 @@ io::SurfaceInput checked_input(const py::handle& V, const py::handle& F, const S
 
 // prepare_surface() as the CLI runs it (GIL released inside prepare()).
 solvers::PreparedSurface prepare_checked(io::SurfaceInput in, const SurfaceArgs& a,
-                                         std::optional<solvers::RefineSettings> refine) {
+                                         std::optional<solvers::SurfaceRefineOptions> refine) {
   solvers::PrepareOptions o = prepare_options(a.mollify, a.path, true, a.knn);
   o.refine = std::move(refine);
   return prepare(std::move(in), o, a.path);
 }
 
-solvers::DistanceSettings distance_settings(std::optional<double> time_factor,
-                                            std::optional<int> correction_steps,
-                                            const std::string& precision) {
+solvers::DistanceOptions distance_settings(std::optional<double> time_factor,
+                                           std::optional<int> correction_steps,
+                                           const std::string& precision) {
   using Precision = solvers::HeatDistanceOptions::Precision;
   if (precision != "mixed" && precision != "double") {
     throw InvalidInput("precision must be 'mixed' or 'double', got '" + precision + "'");
@@ -176,7 +177,7 @@ std::pair<std::vector<Index>, Eigen::MatrixX3d> checked_points(const py::handle&
 class DistanceSolver {
  public:
   // mollify: the relative margin s was prepared with (the signposts are built with it too)
-  DistanceSolver(solvers::PreparedSurface s, const solvers::DistanceSettings& settings,
+  DistanceSolver(solvers::PreparedSurface s, const solvers::DistanceOptions& settings,
                  double mollify)
       : s_(std::move(s)),
         options_(solvers::distance_options(s_, settings)),
@@ -297,10 +298,10 @@ std::unique_ptr<DistanceSolver> make_distance_solver(const py::handle& V, const 
                                                      std::optional<int> correction_steps,
                                                      const SurfaceArgs& a, const py::handle& refine,
                                                      const std::string& precision) {
-  const solvers::DistanceSettings settings =
+  const solvers::DistanceOptions settings =
       distance_settings(time_factor, correction_steps, precision);
-  std::optional<solvers::RefineSettings> r =
-      refine_settings(refine, solvers::RefinedDistanceSettings{}.resolution, false);
+  std::optional<solvers::SurfaceRefineOptions> r =
+      refine_settings(refine, solvers::RefinedDistanceOptions{}.resolution, false);
   solvers::PreparedSurface s = prepare_checked(checked_input(V, F, a), a, std::move(r));
   const py::gil_scoped_release release;
   return std::make_unique<DistanceSolver>(std::move(s), settings, a.mollify);
@@ -313,10 +314,10 @@ py::array heat_distance(const py::handle& V, const py::handle& F, const py::hand
                         std::optional<double> time_factor, std::optional<int> correction_steps,
                         const SurfaceArgs& a, const py::handle& refine,
                         const std::string& precision) {
-  const solvers::DistanceSettings settings =
+  const solvers::DistanceOptions settings =
       distance_settings(time_factor, correction_steps, precision);
-  std::optional<solvers::RefineSettings> r =
-      refine_settings(refine, solvers::RefinedDistanceSettings{}.resolution, false);
+  std::optional<solvers::SurfaceRefineOptions> r =
+      refine_settings(refine, solvers::RefinedDistanceOptions{}.resolution, false);
   io::SurfaceInput in = checked_input(V, F, a);
   const std::vector<Index> ids =
       indices_from(sources, static_cast<Index>(in.positions.rows()), "sources");
@@ -331,7 +332,7 @@ py::array heat_distance(const py::handle& V, const py::handle& F, const py::hand
 
 py::tuple eigen(const py::handle& V, const py::handle& F, Index k, const SurfaceArgs& a,
                 const py::handle& refine) {
-  std::optional<solvers::RefineSettings> r = refine_settings(refine, 0.0, false);
+  std::optional<solvers::SurfaceRefineOptions> r = refine_settings(refine, 0.0, false);
   io::SurfaceInput in = checked_input(V, F, a);
   const Index n = static_cast<Index>(in.positions.rows());
   if (k < 1 || k >= n) {
@@ -369,7 +370,7 @@ py::tuple poisson(const py::handle& V, const py::handle& F, const py::handle& rh
   if (!(screening >= 0.0 && std::isfinite(screening))) {
     throw InvalidInput("screening must be finite and ≥ 0, got " + num(screening));
   }
-  std::optional<solvers::RefineSettings> r = refine_settings(refine, 0.0, true);
+  std::optional<solvers::SurfaceRefineOptions> r = refine_settings(refine, 0.0, true);
   io::SurfaceInput in = checked_input(V, F, a);
   const Index n = static_cast<Index>(in.positions.rows());
   const Eigen::VectorXd f = rhs.is_none() ? Eigen::VectorXd::Zero(n) : values_from(rhs, n, "rhs");
@@ -385,8 +386,9 @@ py::tuple poisson(const py::handle& V, const py::handle& F, const py::handle& rh
   return py::make_tuple(to_numpy(std::move(u)), surface_info(s));
 }
 
-SurfaceArgs surface_args(double mollify, const std::string& path, int knn) {
-  return {mollify, path, knn};
+SurfaceArgs surface_args(double mollify, const std::string& path, int knn,
+                         const py::handle& normals) {
+  return {mollify, path, knn, py::reinterpret_borrow<py::object>(normals)};
 }
 
 }  // namespace
@@ -397,13 +399,13 @@ void bind_solvers(py::module_& m) {
   py::class_<DistanceSolver>(m, "HeatDistanceSolver")
       .def(py::init([](const py::handle& V, const py::handle& F, Opt t, Steps c, double mollify,
                        const std::string& path, int knn, const py::handle& refine,
-                       const std::string& precision) {
-             return make_distance_solver(V, F, t, c, surface_args(mollify, path, knn), refine,
-                                         precision);
+                       const std::string& precision, const py::handle& normals) {
+             return make_distance_solver(V, F, t, c, surface_args(mollify, path, knn, normals),
+                                         refine, precision);
            }),
            py::arg("V"), py::arg("F"), py::arg("time_factor"), py::arg("correction_steps"),
            py::arg("mollify"), py::arg("path"), py::arg("knn"), py::arg("refine"),
-           py::arg("precision") = "double")
+           py::arg("precision") = "double", py::arg("normals") = py::none())
       .def("compute_distance", &DistanceSolver::distance, py::arg("sources"))
       .def("compute_distances", &DistanceSolver::distances, py::arg("sources"))
       .def("compute_distance_from_points", &DistanceSolver::distance_from_points, py::arg("faces"),
@@ -415,31 +417,32 @@ void bind_solvers(py::module_& m) {
       "heat_distance",
       [](const py::handle& V, const py::handle& F, const py::handle& sources, Opt t, Steps c,
          double mollify, const std::string& path, int knn, const py::handle& refine,
-         const std::string& precision) {
-        return heat_distance(V, F, sources, t, c, surface_args(mollify, path, knn), refine,
+         const std::string& precision, const py::handle& normals) {
+        return heat_distance(V, F, sources, t, c, surface_args(mollify, path, knn, normals), refine,
                              precision);
       },
       py::arg("V"), py::arg("F"), py::arg("sources"), py::arg("time_factor"),
       py::arg("correction_steps"), py::arg("mollify"), py::arg("path"), py::arg("knn"),
-      py::arg("refine"), py::arg("precision") = "double");
+      py::arg("refine"), py::arg("precision") = "double", py::arg("normals") = py::none());
   m.def(
       "eigen",
       [](const py::handle& V, const py::handle& F, Index k, double mollify, const std::string& path,
-         int knn, const py::handle& refine) {
-        return eigen(V, F, k, surface_args(mollify, path, knn), refine);
+         int knn, const py::handle& refine, const py::handle& normals) {
+        return eigen(V, F, k, surface_args(mollify, path, knn, normals), refine);
       },
       py::arg("V"), py::arg("F"), py::arg("k"), py::arg("mollify"), py::arg("path"), py::arg("knn"),
-      py::arg("refine"));
+      py::arg("refine"), py::arg("normals") = py::none());
   m.def(
       "poisson",
       [](const py::handle& V, const py::handle& F, const py::handle& rhs, const py::handle& ids,
          const py::handle& values, double screening, double mollify, const std::string& path,
-         int knn, const py::handle& refine) {
-        return poisson(V, F, rhs, ids, values, screening, surface_args(mollify, path, knn), refine);
+         int knn, const py::handle& refine, const py::handle& normals) {
+        return poisson(V, F, rhs, ids, values, screening, surface_args(mollify, path, knn, normals),
+                       refine);
       },
       py::arg("V"), py::arg("F"), py::arg("rhs"), py::arg("dirichlet_ids"),
       py::arg("dirichlet_values"), py::arg("screening"), py::arg("mollify"), py::arg("path"),
-      py::arg("knn"), py::arg("refine"));
+      py::arg("knn"), py::arg("refine"), py::arg("normals") = py::none());
 }
 
 }  // namespace ifem::python

@@ -309,3 +309,39 @@ def test_nonmanifold_mesh_is_refused():
     F = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
     with pytest.raises(ifem.NonManifoldInput, match="FlipOut needs an edge-manifold"):
         ifem.geodesic_path(V, F, [2, 3])
+
+
+def test_network_file_is_read_by_the_library(spot, tmp_path):
+    """One reader for network files (the CLI's): a face point with u + v > 1 is refused at
+    FILE:line (Python used to clamp it), and face points come back as (F, 1 - u - v, u, v)."""
+    V, F = spot
+    net = tmp_path / "net.txt"
+    net.write_text("# two curves\npath 0 face:40:0.25:0.5 1500\n\nloop 10 200 350\n")
+    assert ifem.read_network(net) == [{"points": [0, (40, 0.25, 0.25, 0.5), 1500], "loop": False},
+                                      {"points": [10, 200, 350], "loop": True}]
+    net.write_text("path 0 1500\npath 0 face:40:0.7:0.7\n")
+    with pytest.raises(ifem.IoError, match=r"net.txt:2: 'face:40:0.7:0.7': .*u \+ v ≤ 1"):
+        ifem.read_network(net)
+    with pytest.raises(ifem.IoError, match=r"net.txt:2: "):
+        ifem.geodesic(V, F, network=net)
+
+
+def test_geodesic_modes_are_keywords(spot):
+    V, F = spot
+    path = ifem.geodesic(V, F, points=[0, 500, 1200])
+    assert path.length == ifem.geodesic_path(V, F, [0, 500, 1200]).length
+    loop = ifem.geodesic(V, F, points=[0, 500, 1200], loop=True, pin=True)
+    assert loop.closed and loop.length == pytest.approx(
+        ifem.geodesic_path(V, F, [0, 500, 1200], loop=True, pin=True).length, abs=0)
+    b = ifem.geodesic(V, F, points=[0, 500, 1200], bezier=2)
+    assert isinstance(b, ifem.BezierCurve) and b.rounds == 2
+    ss = ifem.geodesic(V, F, all_from=7)
+    assert ss.length[7] == 0 and np.array_equal(ss.length,
+                                                ifem.single_source_geodesics(V, F, 7).length)
+    for kwargs, message in [({}, "exactly one of points, network, all_from"),
+                            ({"points": [0, 1], "all_from": 3}, "exactly one"),
+                            ({"all_from": 3, "bezier": 2}, "bezier takes points"),
+                            ({"network": [[0, 1]], "loop": True}, "loop closes"),
+                            ({"points": [0, 1], "return_paths": True}, "return_paths applies")]:
+        with pytest.raises(ifem.InvalidInput, match=message):
+            ifem.geodesic(V, F, **kwargs)

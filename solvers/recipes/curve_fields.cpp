@@ -43,8 +43,8 @@ std::vector<DirectionConstraint> curve_constraints(const intrinsic::IntrinsicTri
   return out;
 }
 
-TangentFieldResult curve_direction_field(const CurveSurface& s, const FieldSettings& settings) {
-  FieldSettings all = settings;
+TangentFieldResult curve_direction_field(const CurveSurface& s, const FieldOptions& settings) {
+  FieldOptions all = settings;
   const std::vector<DirectionConstraint> along =
       curve_constraints(s.surface.tri, s.network, fem::tangent_frames(s.surface.tri));
   all.intrinsic_constraints.insert(all.intrinsic_constraints.end(), along.begin(), along.end());

@@ -20,8 +20,8 @@
 #include "fem/connection.h"
 #include "intrinsic/geodesic/curve_network.h"
 #include "solvers/recipes/curves.h"
-#include "solvers/vector/direction_field.h"
 #include "solvers/recipes/tangent_fields.h"
+#include "solvers/vector/direction_field.h"
 
 namespace ifem::solvers {
 
@@ -44,6 +44,6 @@ std::vector<DirectionConstraint> curve_constraints(const intrinsic::IntrinsicTri
 /// with results on the input's vertices (direction_field_on()). The curves' values, if any, are
 /// not used; a slit is an ordinary curve here (the field is not cut).
 /// @throws InvalidInput as direction_field_on()
-TangentFieldResult curve_direction_field(const CurveSurface& s, const FieldSettings& settings);
+TangentFieldResult curve_direction_field(const CurveSurface& s, const FieldOptions& settings);
 
 }  // namespace ifem::solvers

@@ -214,8 +214,19 @@ void build_constrained(const CurveSurfaceOptions& opt, CurveSurface& out) {
 
 }  // namespace
 
+void CurveSurfaceOptions::validate() const {
+  if (!(mollify_relative_epsilon >= 0.0 && std::isfinite(mollify_relative_epsilon))) {
+    throw InvalidInput(
+        "CurveSurfaceOptions: mollify_relative_epsilon must be finite and ≥ 0, got " +
+        std::to_string(mollify_relative_epsilon));
+  }
+  flipout.validate();
+  if (refine) refine->validate();
+}
+
 CurveSurface prepare_curve_surface(io::SurfaceInput input, std::vector<CurveCondition> curves,
                                    const CurveSurfaceOptions& options) {
+  options.validate();
   if (options.refine) {
     options.refine->validate();
     if (options.refine->relax_iterations > 0) {
@@ -313,7 +324,7 @@ CurvePoissonResult curve_poisson(const CurveSurface& s, const Eigen::VectorXd& f
   return out;
 }
 
-Eigen::VectorXd curve_distance(const CurveSurface& s, const DistanceSettings& settings,
+Eigen::VectorXd curve_distance(const CurveSurface& s, const DistanceOptions& settings,
                                HeatDistanceReport* report) {
   std::vector<Index> sources;
   for (Index c = 0; c < s.network.n_curves(); ++c) {

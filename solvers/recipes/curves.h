@@ -59,6 +59,18 @@ struct CurveCondition {
 ///         what was expected); a file with no curve is an error too
 std::vector<CurveCondition> read_curves_file(const std::string& path);
 
+/// One curve as a line of a curves file (no newline): keywords, values (a constant, or lists
+/// with ':'), vertex ids; values in the shortest text that reads back exactly (integral ones
+/// with ".0", as Python writes them: "1.0"), so
+/// read_curves_file() gives the same curve back (its origin aside).
+/// @throws InvalidInput naming the curve (origin) when it has no values (every line needs them)
+std::string curve_line(const CurveCondition& curve);
+
+/// Writes curves as a curves file that read_curves_file() reads back (one curve_line() a
+/// line), atomically (path.tmp, then rename).
+/// @throws InvalidInput as curve_line(); IoError if the file cannot be written
+void write_curves_file(const std::string& path, const std::vector<CurveCondition>& curves);
+
 /// Checks curves against an input of n_vertices vertices: ids in range, ≥ 2 vertices,
 /// consecutive ones distinct, value counts as CurveCondition says, finite values, rounds in
 /// range. `need_values`: every curve must carry values (Poisson).
@@ -70,9 +82,11 @@ struct CurveSurfaceOptions {
   /// Relative mollification margin of the input (IntrinsicTriangulation::mollify), ≥ 0.
   double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;
   intrinsic::FlipOutOptions flipout;                 ///< how the curves are shortened
-  std::optional<RefineSettings> refine;              ///< constrained Delaunay refinement when set
+  std::optional<SurfaceRefineOptions> refine;        ///< constrained Delaunay refinement when set
                                                      ///< (relaxation is not offered with curves)
   std::function<void(const std::string&)> progress;  ///< one line per stage; none when empty
+  /// @throws InvalidInput naming the field (mollify_relative_epsilon, flipout, refine)
+  void validate() const;
 };
 
 /// A surface with curves as edges of its intrinsic triangulation.
@@ -127,7 +141,7 @@ CurvePoissonResult curve_poisson(const CurveSurface& s, const Eigen::VectorXd& f
 /// every curve vertex a source: exactly 0 on the curves), on the input's vertices (#V_in).
 /// Settings as geodesic_distance(); h is the input's.
 /// @throws SolverError if a factorization fails
-Eigen::VectorXd curve_distance(const CurveSurface& s, const DistanceSettings& settings = {},
+Eigen::VectorXd curve_distance(const CurveSurface& s, const DistanceOptions& settings = {},
                                HeatDistanceReport* report = nullptr);
 
 /// The curves as 3D polylines (traced over the input with the signposts), one per curve, in the

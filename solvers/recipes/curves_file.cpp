@@ -1,6 +1,6 @@
 // The curves file (read_curves_file) and the checks of curves against an input
-// (validate_curves): the text side of solvers/recipes/curves.h, apart from the geometry in curves.cpp so
-// the grammar and its messages can be read and tested on their own.
+// (validate_curves): the text side of solvers/recipes/curves.h, apart from the geometry in
+// curves.cpp so the grammar and its messages can be read and tested on their own.
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "intrinsic/core/errors.h"
+#include "intrinsic/io/detail.h"
 #include "intrinsic/io/tokens.h"
 #include "solvers/recipes/curves.h"
 
@@ -283,6 +284,48 @@ std::vector<CurveCondition> read_curves_file(const std::string& path) {
     throw IoError(path + ": no curve in the file (every line is blank or a comment)");
   }
   return curves;
+}
+
+std::string curve_line(const CurveCondition& c) {
+  const std::string name = c.origin.empty() ? std::string("curve") : c.origin;
+  if (c.values.empty()) {
+    throw InvalidInput(name +
+                       ": a curve without values cannot be written to a curves file (every "
+                       "line starts with its values)");
+  }
+  std::string line;
+  const auto word = [&line](const std::string& w) {
+    if (!line.empty()) line += ' ';
+    line += w;
+  };
+  const auto number = [&line](double x) {
+    if (!line.empty()) line += ' ';
+    const std::size_t start = line.size();
+    io::detail::append_double(line, x);
+    // a value reads as a number, not a vertex id: integral values get ".0" ("1.0", not "1")
+    if (line.find_first_not_of("-0123456789", start) == std::string::npos) line += ".0";
+  };
+  if (c.shape == intrinsic::CurveShape::kLoop) word("closed");
+  if (c.shape == intrinsic::CurveShape::kBezier) word("bezier=" + std::to_string(c.bezier_rounds));
+  if (c.slit) word("slit");
+  std::vector<const std::vector<double>*> lists = {&c.values};
+  if (c.slit) lists.push_back(&c.right_values);
+  if (c.values.size() == 1) {
+    for (const auto* l : lists) number(l->at(0));
+  } else {
+    for (const auto* l : lists) {
+      for (const double x : *l) number(x);
+      word(":");
+    }
+  }
+  for (const Index v : c.vertices) word(std::to_string(v));
+  return line;
+}
+
+void write_curves_file(const std::string& path, const std::vector<CurveCondition>& curves) {
+  std::string text;
+  for (const CurveCondition& c : curves) text += curve_line(c) + "\n";
+  io::detail::write_file_atomically(path, text);
 }
 
 void validate_curves(const std::vector<CurveCondition>& curves, Index n_vertices,

@@ -42,7 +42,7 @@ void require(bool ok, const std::string& what) {
 // ---- point clouds ---------------------------------------------------------------------------
 
 void prepare_point_cloud(const PrepareOptions& opt, PreparedSurface& s, const Progress& progress) {
-  pointcloud::Options pc;
+  pointcloud::PointCloudOptions pc;
   pc.k = opt.knn;
   pc.mollify_relative_epsilon = opt.mollify_relative_epsilon;
   pc.intrinsic_delaunay = opt.intrinsic_delaunay;
@@ -125,7 +125,7 @@ std::string describe(const intrinsic::RelaxReport& r) {
 }
 
 // Why refinement cannot run on s with these settings; "" when it can.
-std::string refine_refusal(const PreparedSurface& s, const RefineSettings& r) {
+std::string refine_refusal(const PreparedSurface& s, const SurfaceRefineOptions& r) {
   if (s.path == SurfacePath::kPointCloud) {
     return "refinement is not supported on point clouds (their tufted cover is glued from local "
            "triangulations, with a mass of its own)";
@@ -147,7 +147,7 @@ std::string refine_refusal(const PreparedSurface& s, const RefineSettings& r) {
 }
 
 // Refines the tufted cover itself, intrinsically (nonmanifold / non-orientable / forced).
-void refine_tufted(const RefineSettings& r, PreparedSurface& s, const Progress& progress) {
+void refine_tufted(const SurfaceRefineOptions& r, PreparedSurface& s, const Progress& progress) {
   Stopwatch watch;
   s.refine_report = intrinsic::delaunay_refine(s.tri, refine_options(r, s.target_edge_length));
   // inserted vertices count as interior for the heat method's boundary condition (the cover
@@ -158,8 +158,8 @@ void refine_tufted(const RefineSettings& r, PreparedSurface& s, const Progress& 
 }
 
 // Refines with signposts from the input's faces (same faces, same mollification), then relaxes.
-void refine_with_signposts(const RefineSettings& r, double mollify_epsilon, PreparedSurface& s,
-                           const Progress& progress) {
+void refine_with_signposts(const SurfaceRefineOptions& r, double mollify_epsilon,
+                           PreparedSurface& s, const Progress& progress) {
   Stopwatch watch;
   intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions, mollify_epsilon);
   s.refine_report = intrinsic::delaunay_refine(st, refine_options(r, s.target_edge_length));
@@ -186,7 +186,7 @@ void refine_with_signposts(const RefineSettings& r, double mollify_epsilon, Prep
 }
 
 void refine(const PrepareOptions& opt, PreparedSurface& s, const Progress& progress) {
-  const RefineSettings& r = *opt.refine;
+  const SurfaceRefineOptions& r = *opt.refine;
   const std::string refusal = refine_refusal(s, r);
   if (!refusal.empty()) throw InvalidInput(refusal);
   s.target_edge_length = r.resolution * s.input_mean_edge_length;
@@ -315,7 +315,7 @@ void check_input_vertex_ids(const PreparedSurface& s, const std::vector<Index>& 
 
 }  // namespace
 
-intrinsic::RefineOptions refine_options(const RefineSettings& r, double target_length) {
+intrinsic::RefineOptions refine_options(const SurfaceRefineOptions& r, double target_length) {
   intrinsic::RefineOptions o;
   o.min_angle_degrees = r.min_angle_degrees;
   o.max_area = r.max_area;
@@ -347,31 +347,33 @@ std::string describe(const intrinsic::RefineReport& r) {
   return m.str();
 }
 
-void RefineSettings::validate() const {
-  require(
-      min_angle_degrees > 0.0 && min_angle_degrees <= 30.0,
-      "RefineSettings: minimum angle must be in (0, 30] degrees, got " + fmt(min_angle_degrees));
+void SurfaceRefineOptions::validate() const {
+  require(min_angle_degrees > 0.0 && min_angle_degrees <= 30.0,
+          "SurfaceRefineOptions: minimum angle must be in (0, 30] degrees, got " +
+              fmt(min_angle_degrees));
   require(resolution >= 0.0 && std::isfinite(resolution),
-          "RefineSettings: resolution must be finite and ≥ 0, got " + fmt(resolution));
+          "SurfaceRefineOptions: resolution must be finite and ≥ 0, got " + fmt(resolution));
   require(max_area >= 0.0 && std::isfinite(max_area),
-          "RefineSettings: max_area must be finite and ≥ 0, got " + fmt(max_area));
+          "SurfaceRefineOptions: max_area must be finite and ≥ 0, got " + fmt(max_area));
   require(max_insertions >= -1,
-          "RefineSettings: max_insertions must be ≥ 0 (or −1 for the default), got " +
+          "SurfaceRefineOptions: max_insertions must be ≥ 0 (or −1 for the default), got " +
               std::to_string(max_insertions));
-  require(relax_iterations >= 0,
-          "RefineSettings: relax_iterations must be ≥ 0, got " + std::to_string(relax_iterations));
-  require(relax_max_edge >= 0.0 && std::isfinite(relax_max_edge),
-          "RefineSettings: relax_max_edge must be finite and ≥ 0, got " + fmt(relax_max_edge));
-  require(relax_max_edge == 0.0 || relax_iterations > 0,
-          "RefineSettings: relax_max_edge splits edges during relaxation: set relax_iterations");
+  require(relax_iterations >= 0, "SurfaceRefineOptions: relax_iterations must be ≥ 0, got " +
+                                     std::to_string(relax_iterations));
   require(
-      max_memory_bytes >= 0.0,
-      "RefineSettings: max_memory_bytes must be ≥ 0 (0: automatic), got " + fmt(max_memory_bytes));
+      relax_max_edge >= 0.0 && std::isfinite(relax_max_edge),
+      "SurfaceRefineOptions: relax_max_edge must be finite and ≥ 0, got " + fmt(relax_max_edge));
+  require(
+      relax_max_edge == 0.0 || relax_iterations > 0,
+      "SurfaceRefineOptions: relax_max_edge splits edges during relaxation: set relax_iterations");
+  require(max_memory_bytes >= 0.0,
+          "SurfaceRefineOptions: max_memory_bytes must be ≥ 0 (0: automatic), got " +
+              fmt(max_memory_bytes));
 }
 
-RefineSettings accurate_distance_refinement() {
-  RefineSettings r;
-  r.resolution = RefinedDistanceSettings{}.resolution;
+SurfaceRefineOptions accurate_distance_refinement() {
+  SurfaceRefineOptions r;
+  r.resolution = RefinedDistanceOptions{}.resolution;
   return r;
 }
 
@@ -444,8 +446,18 @@ Eigen::VectorXd from_input_vertices(const PreparedSurface& s, const Eigen::Vecto
   return values;
 }
 
-HeatDistanceOptions distance_options(const PreparedSurface& s, const DistanceSettings& settings) {
-  const RefinedDistanceSettings accurate;
+void DistanceOptions::validate() const {
+  require(
+      !time_factor || (*time_factor > 0.0 && std::isfinite(*time_factor)),
+      "DistanceOptions: time_factor must be finite and > 0, got " + fmt(time_factor.value_or(0)));
+  require(!correction_steps || *correction_steps >= 0,
+          "DistanceOptions: correction_steps must be ≥ 0, got " +
+              std::to_string(correction_steps.value_or(0)));
+}
+
+HeatDistanceOptions distance_options(const PreparedSurface& s, const DistanceOptions& settings) {
+  settings.validate();
+  const RefinedDistanceOptions accurate;
   const bool sized = s.target_edge_length > 0.0;
   HeatDistanceOptions o;
   o.time_factor = settings.time_factor.value_or(sized ? accurate.time_factor : 1.0);
@@ -468,7 +480,7 @@ namespace {
 // distance_options(), runs query(solver) and restricts its #V or #V×k values to the input.
 template <class Query>
 auto distance_recipe(const PreparedSurface& s, const std::vector<Index>& sources,
-                     const DistanceSettings& settings, const std::string& what, Query query) {
+                     const DistanceOptions& settings, const std::string& what, Query query) {
   require(!sources.empty(), what + ": no source vertex given");
   check_input_vertex_ids(s, sources, (what + ": source").c_str());
   return with_hint(s, [&] {
@@ -482,14 +494,14 @@ auto distance_recipe(const PreparedSurface& s, const std::vector<Index>& sources
 }  // namespace
 
 Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<Index>& sources,
-                                  const DistanceSettings& settings, HeatDistanceReport* report) {
+                                  const DistanceOptions& settings, HeatDistanceReport* report) {
   return distance_recipe(
       s, sources, settings, "geodesic_distance",
       [&](const HeatDistanceSolver& h) { return h.compute_distance(sources, report); });
 }
 
 Eigen::MatrixXd geodesic_distances(const PreparedSurface& s, const std::vector<Index>& sources,
-                                   const DistanceSettings& settings,
+                                   const DistanceOptions& settings,
                                    std::vector<HeatDistanceReport>* reports) {
   return distance_recipe(
       s, sources, settings, "geodesic_distances",

@@ -29,7 +29,7 @@
 namespace ifem::solvers {
 
 /// Intrinsic Delaunay refinement as part of preparing a surface.
-struct RefineSettings {
+struct SurfaceRefineOptions {
   double min_angle_degrees = 25.0;  ///< smallest corner angle wanted, degrees, in (0, 30]
   /// Target edge length as a multiple of h, the input's mean side length: triangles larger than
   /// the equilateral one of side resolution·h are split. 0 = no size bound.
@@ -52,23 +52,23 @@ struct RefineSettings {
 
 /// The refinement options for settings r with target edge length ℓ (absolute; 0: none): the
 /// area bound is the smaller of r.max_area and equilateral_area(ℓ).
-intrinsic::RefineOptions refine_options(const RefineSettings& r, double target_length);
+intrinsic::RefineOptions refine_options(const SurfaceRefineOptions& r, double target_length);
 
 /// One line for people: what a refinement did (vertices, insertions, flips, angles, caps).
 std::string describe(const intrinsic::RefineReport& r);
 
-/// The accurate distance mode's refinement (RefinedDistanceSettings: edges of about 0.4·h).
-RefineSettings accurate_distance_refinement();
+/// The accurate distance mode's refinement (RefinedDistanceOptions: edges of about 0.4·h).
+SurfaceRefineOptions accurate_distance_refinement();
 
 /// Options of prepare_surface().
 struct PrepareOptions {
   /// Relative mollification margin (IntrinsicTriangulation::mollify), ≥ 0.
   double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;
-  bool intrinsic_delaunay = true;        ///< flip to intrinsic Delaunay (refinement always does)
-  bool force_tufted = false;             ///< tufted cover even for an edge-manifold mesh
-  bool force_pointcloud = false;         ///< treat a mesh's vertices as a point cloud
-  int knn = 30;                          ///< neighbours per point on the point-cloud path, ≥ 2
-  std::optional<RefineSettings> refine;  ///< refine after the flips when set
+  bool intrinsic_delaunay = true;  ///< flip to intrinsic Delaunay (refinement always does)
+  bool force_tufted = false;       ///< tufted cover even for an edge-manifold mesh
+  bool force_pointcloud = false;   ///< treat a mesh's vertices as a point cloud
+  int knn = 30;                    ///< neighbours per point on the point-cloud path, ≥ 2
+  std::optional<SurfaceRefineOptions> refine;  ///< refine after the flips when set
   /// Receives one progress line per stage ("read ...", "path: ...", "refined: ..."); none when
   /// empty.
   std::function<void(const std::string&)> progress;
@@ -142,27 +142,29 @@ Eigen::MatrixXd on_input_vertices(const PreparedSurface& s, const Eigen::MatrixX
 Eigen::VectorXd from_input_vertices(const PreparedSurface& s, const Eigen::VectorXd& values);
 
 /// Heat-method settings of geodesic_distance(); unset fields take the defaults of the surface:
-/// the accurate mode's (RefinedDistanceSettings) when it was refined with a size bound, the
+/// the accurate mode's (RefinedDistanceOptions) when it was refined with a size bound, the
 /// paper's (t = h², no correction step) otherwise.
-struct DistanceSettings {
+struct DistanceOptions {
   std::optional<double> time_factor;    ///< m in t = m·h², > 0
   std::optional<int> correction_steps;  ///< ≥ 0
   /// Precision of the factors the queries read (HeatDistanceOptions::precision; default kDouble)
   std::optional<HeatDistanceOptions::Precision> precision;
+  /// @throws InvalidInput naming the field and its allowed range
+  void validate() const;
 };
 
 /// The heat-method options geodesic_distance() uses on s: h from the input's faces (or ℓ when
 /// refined with a size bound), the input's boundary, no further flips (s is already intrinsic
 /// Delaunay). Build a HeatDistanceSolver(s.tri, distance_options(s)) for many queries.
 HeatDistanceOptions distance_options(const PreparedSurface& s,
-                                     const DistanceSettings& settings = {});
+                                     const DistanceOptions& settings = {});
 
 /// Geodesic distance from input vertices (ids < #V_in) to every input vertex, #V_in; +inf where
 /// no source reaches, 0 at every source.
 /// @throws InvalidInput on an empty source list or an id out of [0, #V_in)
 /// @throws SolverError if a factorization fails
 Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<Index>& sources,
-                                  const DistanceSettings& settings = {},
+                                  const DistanceOptions& settings = {},
                                   HeatDistanceReport* report = nullptr);
 
 /// Geodesic distances from each of the given input vertices on its own (a distance matrix),
@@ -172,7 +174,7 @@ Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<In
 /// @throws InvalidInput on an empty list or an id out of [0, #V_in) (naming its position)
 /// @throws SolverError if a factorization fails
 Eigen::MatrixXd geodesic_distances(const PreparedSurface& s, const std::vector<Index>& sources,
-                                   const DistanceSettings& settings = {},
+                                   const DistanceOptions& settings = {},
                                    std::vector<HeatDistanceReport>* reports = nullptr);
 
 /// The k smallest eigenpairs of L φ = λ M φ on s.tri, eigenvectors restricted to the input's

@@ -20,7 +20,7 @@ namespace {
 
 // The constraints in the vertices' angular coordinates (directions projected with the basis).
 std::vector<DirectionConstraint> held_directions(const PreparedSurface& s,
-                                                 const FieldSettings& settings,
+                                                 const FieldOptions& settings,
                                                  const TangentBasis3d& basis,
                                                  const fem::TangentFrames& frames) {
   std::vector<DirectionConstraint> held;
@@ -107,7 +107,7 @@ TangentFieldResult field_result(const DirectionField& f, const TangentBasis3d& b
 }
 
 // direction_field_on() on the frame path.
-TangentFieldResult frame_field(const PreparedSurface& s, const FieldSettings& settings,
+TangentFieldResult frame_field(const PreparedSurface& s, const FieldOptions& settings,
                                const DirectionFieldOptions& o) {
   if (settings.align_boundary) {
     throw InvalidInput(std::string("align_boundary needs the manifold path: this input took the ") +
@@ -138,7 +138,21 @@ TangentFieldResult frame_field(const PreparedSurface& s, const FieldSettings& se
 
 }  // namespace
 
-TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSettings& settings) {
+void FieldOptions::validate() const {
+  if (symmetry < 1) {
+    throw InvalidInput("FieldOptions: symmetry must be ≥ 1, got " + std::to_string(symmetry));
+  }
+  for (std::size_t k = 0; k < intrinsic_constraints.size(); ++k) {
+    const DirectionConstraint& c = intrinsic_constraints[k];
+    if (c.vertex < 0 || !std::isfinite(c.angle)) {
+      throw InvalidInput("FieldOptions: intrinsic_constraints[" + std::to_string(k) +
+                         "] needs a vertex ≥ 0 and a finite angle");
+    }
+  }
+}
+
+TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldOptions& settings) {
+  settings.validate();
   DirectionFieldOptions o;
   o.symmetry = settings.symmetry;
   o.validate();

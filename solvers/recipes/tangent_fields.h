@@ -1,6 +1,7 @@
-// Tangent-field recipes on a prepared surface (solvers/recipes/pipeline.h), with results on the input's
-// vertices as 3D vectors: what `ifem field` (and the Python package) run. The fields themselves
-// are direction_field.h's (smoothest / aligned n-direction fields on the connection Laplacian).
+// Tangent-field recipes on a prepared surface (solvers/recipes/pipeline.h), with results on the
+// input's vertices as 3D vectors: what `ifem field` (and the Python package) run. The fields
+// themselves are direction_field.h's (smoothest / aligned n-direction fields on the connection
+// Laplacian).
 //
 // Two paths, as the surface was prepared: the manifold path uses the intrinsic angular
 // coordinates (fem/connection.h); the tufted path (nonmanifold / non-orientable meshes) and the
@@ -13,8 +14,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "solvers/vector/direction_field.h"
 #include "solvers/recipes/pipeline.h"
+#include "solvers/vector/direction_field.h"
 #include "solvers/vector/vector_heat.h"
 
 namespace ifem::solvers {
@@ -27,15 +28,19 @@ struct InputDirection {
 };
 
 /// What direction_field_on() computes.
-struct FieldSettings {
+struct FieldOptions {
   int symmetry = 1;             ///< n: 1 vectors, 2 lines, 4 crosses
   bool align_boundary = false;  ///< hold the field along the boundary (manifold path only)
   std::vector<InputDirection> constraints;
   /// Directions given on the triangulation itself: at any vertex of s.tri (inserted ones too),
   /// angles in the coordinates of fem::tangent_frames(s.tri), e.g. curve_constraints() along
-  /// curves (solvers/recipes/curve_fields.h). Held with the others (a vertex held several times takes
-  /// the mean of the n-th powers). Manifold path only.
+  /// curves (solvers/recipes/curve_fields.h). Held with the others (a vertex held several times
+  /// takes the mean of the n-th powers). Manifold path only.
   std::vector<DirectionConstraint> intrinsic_constraints;
+  /// @throws InvalidInput naming the field: symmetry < 1, an intrinsic constraint with a
+  ///         negative vertex or a non-finite angle (the input directions are checked against
+  ///         the surface by direction_field_on(), which knows #V and the tangent planes)
+  void validate() const;
 };
 
 /// A field on the input's vertices.
@@ -67,7 +72,7 @@ struct TangentFieldResult {
 /// @throws InvalidInput on bad settings, a vertex out of [0, #V_in), a direction normal to the
 ///         surface there, align_boundary off the manifold path, or a refined surface off the
 ///         manifold path (inserted vertices have no position for a frame)
-TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldSettings& settings);
+TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldOptions& settings);
 
 /// The index of an n-direction field around each face of the input (s.input.triangles, in
 /// order), in units of 1/n: solvers::face_indices() on the input triangulation, from the field

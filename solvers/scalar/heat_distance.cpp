@@ -20,8 +20,8 @@
 #include "intrinsic/core/lanes.h"  // IFEM_HOST_CLONES
 #include "intrinsic/core/union_find.h"
 #include "solvers/linalg/cholesky.h"
-#include "solvers/scalar/components.h"
 #include "solvers/linalg/parallel.h"
+#include "solvers/scalar/components.h"
 #include "solvers/scalar/poisson.h"
 
 namespace ifem::solvers {
@@ -126,6 +126,19 @@ void HeatDistanceOptions::validate() const {
   }
   if (correction_steps < 0) {
     throw InvalidInput("HeatDistanceOptions: correction_steps must be ≥ 0, got " +
+                       std::to_string(correction_steps));
+  }
+}
+
+void RefinedDistanceOptions::validate() const {
+  if (!(resolution > 0.0 && std::isfinite(resolution))) {
+    throw InvalidInput("RefinedDistanceOptions: resolution must be finite and > 0");
+  }
+  if (!(time_factor > 0.0 && std::isfinite(time_factor))) {
+    throw InvalidInput("RefinedDistanceOptions: time_factor must be finite and > 0");
+  }
+  if (correction_steps < 0) {
+    throw InvalidInput("RefinedDistanceOptions: correction_steps must be ≥ 0, got " +
                        std::to_string(correction_steps));
   }
 }

@@ -63,7 +63,7 @@ struct HeatDistanceOptions {
   /// fixed-point iteration of the eikonal normalization; cf. Belyaev & Fayolle, "On variational
   /// and PDE-based distance function approximations", CGF 2015). Each step costs a divergence
   /// and one back-substitution with the cached factor. It pays off with a small time step on a
-  /// fine mesh (RefinedDistanceSettings), not at the paper's t = h² (docs/decisions.md,
+  /// fine mesh (RefinedDistanceOptions), not at the paper's t = h² (docs/decisions.md,
   /// "Accurate distance mode"). ≥ 0; default 0 (the paper's method).
   int correction_steps = 0;
   /// Precision of the factor values the query's triangular solves read (factorizations and
@@ -89,7 +89,7 @@ struct HeatDistanceOptions {
 /// time_factor·ℓ² and correction_steps correction steps. Its accuracy against exact geodesics and
 /// CGAL's heat method: BENCHMARKS.md, "Intrinsic Delaunay refinement" (the one place for those
 /// figures); how the constants were chosen: docs/decisions.md, "Accurate distance mode".
-struct RefinedDistanceSettings {
+struct RefinedDistanceOptions {
   double resolution = 0.4;    ///< c in ℓ = c·h, relative to the input's h (> 0)
   double time_factor = 0.25;  ///< m in t = m·ℓ², relative to the target length ℓ (> 0)
   int correction_steps = 1;   ///< HeatDistanceOptions::correction_steps (≥ 0)
@@ -105,6 +105,9 @@ struct RefinedDistanceSettings {
     o.correction_steps = correction_steps;
     return o;
   }
+  /// @throws InvalidInput naming the field: resolution, time_factor not finite and > 0,
+  ///         correction_steps < 0
+  void validate() const;
 };
 
 /// What one distance query did.

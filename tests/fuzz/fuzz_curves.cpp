@@ -29,7 +29,7 @@ ifem::io::SurfaceInput grid_input() {
 void solve(std::vector<ifem::solvers::CurveCondition> curves) {
   static const ifem::io::SurfaceInput input = grid_input();
   ifem::solvers::CurveSurfaceOptions opt;
-  opt.refine = ifem::solvers::RefineSettings{};
+  opt.refine = ifem::solvers::SurfaceRefineOptions{};
   opt.refine->max_insertions = 2000;
   const ifem::solvers::CurveSurface s =
       ifem::solvers::prepare_curve_surface(input, std::move(curves), opt);

@@ -96,7 +96,7 @@ ifem::solvers::PrepareOptions options_for(const std::uint8_t* data, std::size_t 
   options.force_pointcloud = (bits & 3u) == 2u;
   options.intrinsic_delaunay = (bits & 4u) == 0u;
   if ((bits & 8u) != 0u) {
-    ifem::solvers::RefineSettings refine;
+    ifem::solvers::SurfaceRefineOptions refine;
     refine.max_insertions = 50;
     options.refine = refine;
   }

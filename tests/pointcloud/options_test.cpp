@@ -1,4 +1,5 @@
-// pointcloud::Options::validate() (docs/decisions.md, "Every options struct has validate()").
+// pointcloud::PointCloudOptions::validate() (docs/decisions.md, "Every options struct has
+// validate()").
 #include <gtest/gtest.h>
 
 #include <limits>
@@ -12,12 +13,12 @@ namespace ifem::pointcloud {
 namespace {
 
 TEST(OptionsValidate, PointCloudOptions) {
-  Options{}.validate();
-  test::expect_each_rejected(&Options::k, {1}, "Options::k");
-  test::expect_each_rejected(&Options::mollify_relative_epsilon,
+  PointCloudOptions{}.validate();
+  test::expect_each_rejected(&PointCloudOptions::k, {1}, "Options::k");
+  test::expect_each_rejected(&PointCloudOptions::mollify_relative_epsilon,
                              {-1e-5, std::numeric_limits<double>::infinity()},
                              "mollify_relative_epsilon");
-  Options a;
+  PointCloudOptions a;
   a.k = 1;
   // checked at the entry, before any work
   Positions p = Positions::Random(50, 3);

@@ -24,7 +24,8 @@ struct Ops {
   Report rep;
 };
 
-Ops build(const Positions& p, const Options& opt = {}, const Eigen::MatrixX3d* normals = nullptr) {
+Ops build(const Positions& p, const PointCloudOptions& opt = {},
+          const Eigen::MatrixX3d* normals = nullptr) {
   Ops o;
   o.tri = pointcloud_triangulation(p, opt, normals, &o.rep);
   o.L = fem::cotan_laplacian(o.tri);
@@ -143,8 +144,8 @@ TEST(PointCloudLaplacian, DuplicatePoints) {
   // 1/2 instead of 1/3 (total ≈ 2.5× instead of 2×)
   EXPECT_GT(o.m.sum(), 0.95 * 4 * M_PI);
   EXPECT_LT(o.m.sum(), 2.55 * 4 * M_PI);
-  Options exact;
-  exact.merge = Options::Merge::kNone;
+  PointCloudOptions exact;
+  exact.merge = PointCloudOptions::Merge::kNone;
   const Ops e = build(q, exact);
   expect_good(e, "duplicates, unmerged");
   EXPECT_LT(e.m.sum(), 2.05 * 4 * M_PI);
@@ -208,7 +209,7 @@ TEST(PointCloudLaplacian, NormalsAndErrors) {
   Report rep;
   pointcloud_triangulation(p, {}, &nrm, &rep);
   EXPECT_EQ(rep.normals_from_input, 298);
-  Options bad;
+  PointCloudOptions bad;
   bad.k = 1;
   EXPECT_THROW(pointcloud_triangulation(p, bad), InvalidInput);
   Positions q = p;

@@ -147,7 +147,7 @@ TEST_P(StraightCurveOnAFlatTube, FieldIsParallelToTheCurveEverywhere) {
   ASSERT_EQ(s.surface.tri.n_vertices(), s.n_input_vertices());  // nothing inserted
   const fem::TangentFrames frames = fem::tangent_frames(s.surface.tri);
   for (const int n : {1, 2, 4}) {
-    FieldSettings settings;
+    FieldOptions settings;
     settings.symmetry = n;
     const TangentFieldResult r = curve_direction_field(s, settings);
     EXPECT_EQ(r.constrained, Index(GetParam().around ? around : rows + 1)) << n;
@@ -186,7 +186,7 @@ TEST(CurveFields, CircleHoldsTheFieldTangentAtItsVertices) {
   const intrinsic::CurveChain ch = intrinsic::curve_chain(s.surface.tri, s.network, 0);
   ASSERT_EQ(ch.vertices.size(), ids.size() + 1);  // straight chords between the given vertices
   for (const int n : {1, 2, 4}) {
-    FieldSettings settings;
+    FieldOptions settings;
     settings.symmetry = n;
     const TangentFieldResult r = curve_direction_field(s, settings);
     double worst = 0.0;
@@ -210,7 +210,7 @@ TEST(CurveFields, CombinesWithDirectionsAndTheBoundary) {
       flat_disk(6),
       {curve({Index(1 + 3 * 3 * 2), Index(1 + 3 * 3 * 2 + 3)}, intrinsic::CurveShape::kPath)},
       exact());
-  FieldSettings settings;
+  FieldOptions settings;
   settings.symmetry = 4;
   settings.align_boundary = true;
   settings.constraints = {{0, Eigen::Vector3d(1, 1, 0)}};

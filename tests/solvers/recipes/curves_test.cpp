@@ -56,7 +56,7 @@ std::string sci(double x) {
 solvers::CurveSurfaceOptions refined_options() {
   solvers::CurveSurfaceOptions opt;
   opt.mollify_relative_epsilon = 0.0;
-  solvers::RefineSettings rs;
+  solvers::SurfaceRefineOptions rs;
   rs.min_angle_degrees = 28.0;
   rs.resolution = 0.5;
   opt.refine = rs;
@@ -403,7 +403,7 @@ TEST(CurvePoisson, SpotWithBezierLoopAndSlit) {
   slit.slit = true;
   slit.right_values = {0.75};
   solvers::CurveSurfaceOptions opt;
-  solvers::RefineSettings rs;
+  solvers::SurfaceRefineOptions rs;
   rs.resolution = 1.0;
   opt.refine = rs;
   const solvers::CurveSurface s =
@@ -442,7 +442,7 @@ TEST(CurvePoisson, SpotSmallAngleAndDenseBezier) {
   bez.vertices = {30, 60, 90, 120};
   bez.values = {0.0, 1.0};
   solvers::CurveSurfaceOptions opt;
-  opt.refine = solvers::RefineSettings{};
+  opt.refine = solvers::SurfaceRefineOptions{};
   const solvers::CurveSurface a = solvers::prepare_curve_surface(in, {path, slit}, opt);
   EXPECT_GT(a.surface.refine_report.constrained_floor, 0);
   EXPECT_FALSE(a.surface.refine_report.hit_insertion_cap);
@@ -472,7 +472,7 @@ TEST(CurveRefine, CurvePassingCloseToAVertexStaysBounded) {
   c.vertices = {3814, 3767, 3730};
   c.values = {1.0};
   solvers::CurveSurfaceOptions opt;
-  opt.refine = solvers::RefineSettings{};
+  opt.refine = solvers::SurfaceRefineOptions{};
   opt.refine->resolution = 1.0;
   const solvers::CurveSurface s = solvers::prepare_curve_surface(std::move(in), {c}, opt);
   const intrinsic::RefineReport& r = s.surface.refine_report;

@@ -260,7 +260,7 @@ double jump_fraction(const PreparedSurface& s, const TangentFieldResult& r) {
 TEST(FrameFields, SmoothestFieldOnASpherePointCloudIsSmoothForEveryK) {
   for (const int k : {8, 16}) {
     const PreparedSurface s = prepared_cloud(sphere_cloud(3000), k);
-    FieldSettings settings;
+    FieldOptions settings;
     const TangentFieldResult r = direction_field_on(s, settings);
     ASSERT_TRUE(r.vectors.allFinite());
     const double jumps = jump_fraction(s, r);
@@ -288,7 +288,7 @@ TEST(FrameFields, TuftedSphereKeepsPoincareHopfAndTheManifoldTransport) {
   const PreparedSurface manifold = prepare_surface(in);
   ASSERT_EQ(tufted.path, intrinsic::SurfacePath::kTufted);
   for (const int n : {1, 2, 4}) {
-    FieldSettings settings;
+    FieldOptions settings;
     settings.symmetry = n;
     const TangentFieldResult r = direction_field_on(tufted, settings);
     EXPECT_EQ(r.total_index, 2 * n) << "Poincaré–Hopf, n = " << n;
@@ -340,7 +340,7 @@ TEST(FrameFields, NormalsAreOrientedByPropagation) {
   const PreparedSurface mb = prepare_surface(test::as_input(test::moebius(40)));
   ASSERT_NE(mb.path, intrinsic::SurfacePath::kManifold);
   EXPECT_GT(frame_basis_3d(mb.input, mb.tri).orientation_conflicts, 0);
-  EXPECT_EQ(direction_field_on(mb, FieldSettings{}).vectors.allFinite(), true);
+  EXPECT_EQ(direction_field_on(mb, FieldOptions{}).vectors.allFinite(), true);
 }
 
 // --- nonmanifold meshes -------------------------------------------------------------------------
@@ -376,7 +376,7 @@ intrinsic::TriangleMesh book(int n) {
 void check_nonmanifold(const PreparedSurface& s, const char* name) {
   SCOPED_TRACE(name);
   ASSERT_NE(s.path, intrinsic::SurfacePath::kManifold);
-  const TangentFieldResult f = direction_field_on(s, FieldSettings{4, false, {}, {}});
+  const TangentFieldResult f = direction_field_on(s, FieldOptions{4, false, {}, {}});
   ASSERT_TRUE(f.vectors.allFinite());
   const VectorHeatSolver solver = vector_heat_solver(s);
   const TangentBasis3d& b = solver.frame_basis();
@@ -418,13 +418,13 @@ TEST(FrameFields, NonmanifoldMeshesGiveFiniteTangentFields) {
 
 TEST(FrameFields, RefinementAndBoundaryAlignmentAreRefusedOffTheManifoldPath) {
   PrepareOptions o;
-  o.refine = RefineSettings{};
+  o.refine = SurfaceRefineOptions{};
   o.refine->max_area = 0.01;
   const PreparedSurface s = prepare_surface(test::as_input(book(3)), o);
   ASSERT_GT(s.tri.n_vertices(), s.n_input_vertices());
-  EXPECT_THROW(direction_field_on(s, FieldSettings{}), InvalidInput);
+  EXPECT_THROW(direction_field_on(s, FieldOptions{}), InvalidInput);
   EXPECT_THROW(vector_heat_solver(s), InvalidInput);
-  FieldSettings along;
+  FieldOptions along;
   along.align_boundary = true;
   EXPECT_THROW(direction_field_on(prepare_surface(test::as_input(book(3))), along), InvalidInput);
 }

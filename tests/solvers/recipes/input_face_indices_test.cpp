@@ -65,12 +65,12 @@ TEST_P(InputFaceIndices, SumToNChiAfterFlipsAndRefinement) {
     for (const bool refine : {false, true}) {
       SCOPED_TRACE(std::string(m.name) + (refine ? ", refined" : ""));
       PrepareOptions o;
-      if (refine) o.refine = RefineSettings{};
+      if (refine) o.refine = SurfaceRefineOptions{};
       const PreparedSurface s = prepare_surface(input_of(m.mesh), o);
       ASSERT_EQ(s.path, intrinsic::SurfacePath::kManifold);
       EXPECT_GT(s.flips.flips, 0u);
       EXPECT_EQ(s.signposts.has_value(), refine);
-      FieldSettings settings;
+      FieldOptions settings;
       settings.symmetry = n;
       const TangentFieldResult r = direction_field_on(s, settings);
       ASSERT_EQ(r.face_singularity.size(), Eigen::Index(m.mesh.faces.size()));
@@ -201,7 +201,7 @@ TEST(InputFaceIndices, SumToNChiWithCurves) {
   const CurveSurface s = prepare_curve_surface(input_of(m), {bezier});
   EXPECT_GT(s.surface.tri.n_vertices(), s.n_input_vertices());
   for (const int n : {1, 4}) {
-    FieldSettings settings;
+    FieldOptions settings;
     settings.symmetry = n;
     const TangentFieldResult r = curve_direction_field(s, settings);
     EXPECT_EQ(total(r.face_singularity), 2 * n) << n;
@@ -212,7 +212,7 @@ TEST(InputFaceIndices, SumToNChiWithCurves) {
 TEST(InputFaceIndices, PlyFacePropertyReadsBack) {
   const intrinsic::TriangleMesh m = intrinsic::uv_sphere(10, 30);
   const PreparedSurface s = prepare_surface(input_of(m));
-  FieldSettings settings;
+  FieldOptions settings;
   settings.symmetry = 2;
   const TangentFieldResult r = direction_field_on(s, settings);
   const std::string path =

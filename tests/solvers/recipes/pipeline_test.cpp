@@ -83,7 +83,7 @@ TEST(Pipeline, NegativeBoundaryWeightsAreRefinable) {
   EXPECT_EQ(s.path, SurfacePath::kTufted);
   EXPECT_TRUE(s.supports_signposts());
   PrepareOptions opt;
-  opt.refine = RefineSettings{};
+  opt.refine = SurfaceRefineOptions{};
   const PreparedSurface r = prepare_surface(test::as_input(m), opt);
   EXPECT_EQ(r.path, SurfacePath::kManifold);
   EXPECT_TRUE(r.signposts.has_value());
@@ -93,7 +93,7 @@ TEST(Pipeline, NegativeBoundaryWeightsAreRefinable) {
 
 TEST(Pipeline, RefinementKeepsInputIdsAndCarriesData) {
   PrepareOptions opt;
-  opt.refine = RefineSettings{};
+  opt.refine = SurfaceRefineOptions{};
   opt.refine->resolution = 0.5;
   const intrinsic::TriangleMesh m = intrinsic::grid(8, 8);
   const PreparedSurface s = prepare_surface(test::as_input(m), opt);
@@ -114,7 +114,7 @@ TEST(Pipeline, RefinementKeepsInputIdsAndCarriesData) {
 
 TEST(Pipeline, RefusalsAreTyped) {
   PrepareOptions opt;
-  opt.refine = RefineSettings{};
+  opt.refine = SurfaceRefineOptions{};
   opt.refine->need_signposts = true;
   EXPECT_THROW(prepare_surface(test::as_input(book()), opt), InvalidInput);
   opt.refine->need_signposts = false;
@@ -152,24 +152,24 @@ TEST(Pipeline, OptionsAreValidated) {
                InvalidInput);
   for (const double angle : {0.0, -5.0, 31.0, std::nan("")}) {
     EXPECT_THROW(prepare_surface(in, with([&](PrepareOptions& o) {
-                                   o.refine = RefineSettings{};
+                                   o.refine = SurfaceRefineOptions{};
                                    o.refine->min_angle_degrees = angle;
                                  })),
                  InvalidInput)
         << angle;
   }
   EXPECT_THROW(prepare_surface(in, with([](PrepareOptions& o) {
-                                 o.refine = RefineSettings{};
+                                 o.refine = SurfaceRefineOptions{};
                                  o.refine->resolution = HUGE_VAL;
                                })),
                InvalidInput);
   EXPECT_THROW(prepare_surface(in, with([](PrepareOptions& o) {
-                                 o.refine = RefineSettings{};
+                                 o.refine = SurfaceRefineOptions{};
                                  o.refine->max_insertions = -2;
                                })),
                InvalidInput);
   EXPECT_THROW(prepare_surface(in, with([](PrepareOptions& o) {
-                                 o.refine = RefineSettings{};
+                                 o.refine = SurfaceRefineOptions{};
                                  o.refine->relax_max_edge = 0.1;  // without relaxation
                                })),
                InvalidInput);

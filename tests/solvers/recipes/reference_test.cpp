@@ -141,7 +141,7 @@ TEST(SolversReference, MixedPrecisionMatchesDouble) {
     if (test::skip_in_quick_run(mesh)) continue;
     const Eigen::VectorXd exact = io::read_values(c.exact.string());
     const PreparedSurface s = prepare_surface(io::read_mesh(mesh.string()));
-    DistanceSettings mixed;
+    DistanceOptions mixed;
     mixed.precision = HeatDistanceOptions::Precision::kMixed;
     const Eigen::VectorXd d = geodesic_distance(s, {ref->src}, mixed);
     const Eigen::VectorXd d2 = geodesic_distance(s, {ref->src});

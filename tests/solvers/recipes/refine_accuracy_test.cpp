@@ -60,7 +60,7 @@ const Case kCases[] = {
 PreparedSurface prepare(const io::SurfaceInput& in, std::optional<double> resolution) {
   PrepareOptions o;
   if (resolution) {
-    o.refine = RefineSettings{};
+    o.refine = SurfaceRefineOptions{};
     o.refine->resolution = *resolution;
   }
   return prepare_surface(in, o);
@@ -107,7 +107,7 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
     ASSERT_EQ(plain.path, intrinsic::SurfacePath::kManifold) << stem << ": " << plain.reason_detail;
     const PreparedSurface angle = prepare(in, 0.0);
     EXPECT_FALSE(angle.refine_report.hit_insertion_cap) << stem;
-    const PreparedSurface accurate = prepare(in, RefinedDistanceSettings{}.resolution);
+    const PreparedSurface accurate = prepare(in, RefinedDistanceOptions{}.resolution);
     EXPECT_FALSE(accurate.refine_report.hit_insertion_cap) << stem;
     const HeatDistanceSolver plain_solver(plain.tri, distance_options(plain)),
         refined_solver(angle.tri, distance_options(angle)),
@@ -141,7 +141,7 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
         for (const double m : {0.125, 0.25, 0.5, 1.0}) {
           for (const int steps : {0, 1}) {
             const Eigen::VectorXd d =
-                geodesic_distance(sw, {c.src}, DistanceSettings{m, steps, std::nullopt});
+                geodesic_distance(sw, {c.src}, DistanceOptions{m, steps, std::nullopt});
             std::printf(" m=%g/%d %.4f", m, steps, mean_rel(d, exact));
           }
         }
@@ -164,7 +164,7 @@ TEST(RefineAccuracy, TuftedCoverConrodRefinedVsExact) {
   const PreparedSurface plain = prepare(in, std::nullopt);
   ASSERT_EQ(plain.path, intrinsic::SurfacePath::kTufted) << plain.reason_detail;
   const double area = intrinsic::total_area(plain.tri);
-  const PreparedSurface accurate = prepare(in, RefinedDistanceSettings{}.resolution);
+  const PreparedSurface accurate = prepare(in, RefinedDistanceOptions{}.resolution);
   ASSERT_TRUE(accurate.refined);
   EXPECT_FALSE(accurate.signposts.has_value());  // refined on the cover itself
   const intrinsic::RefineReport& rep = accurate.refine_report;

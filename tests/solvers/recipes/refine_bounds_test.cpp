@@ -50,7 +50,7 @@ void expect_finite_operators(const intrinsic::IntrinsicTriangulation& tri) {
 
 TEST(RefineBudget, RefusesResolution1e4OnIcosphereFastWithTheEstimate) {
   solvers::PrepareOptions opt;
-  opt.refine = solvers::RefineSettings{};
+  opt.refine = solvers::SurfaceRefineOptions{};
   opt.refine->resolution = 1e-4;
   const auto t0 = std::chrono::steady_clock::now();
   try {
@@ -98,7 +98,7 @@ TEST(RefineBudget, RangeScanRefinesToFiniteOperators) {
   const auto file = test::shared_data() / "meshes" / "lato000_rangescan.ply";
   ASSERT_TRUE(std::filesystem::exists(file)) << file << ": ../shared/data is present, this is not";
   solvers::PrepareOptions opt;
-  opt.refine = solvers::RefineSettings{};
+  opt.refine = solvers::SurfaceRefineOptions{};
   opt.refine->need_signposts = true;
   const solvers::PreparedSurface s = solvers::prepare_surface(io::read_mesh(file.string()), opt);
   ASSERT_TRUE(s.refined);
@@ -134,7 +134,7 @@ intrinsic::TriangleMesh needle_soup(int components) {
 
 TEST(RefineBudget, SyntheticSoupRefinesToFiniteOperators) {
   solvers::PrepareOptions opt;
-  opt.refine = solvers::RefineSettings{};
+  opt.refine = solvers::SurfaceRefineOptions{};
   solvers::PreparedSurface s;
   try {
     s = solvers::prepare_surface(to_input(needle_soup(300)), opt);

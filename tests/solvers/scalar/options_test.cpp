@@ -25,7 +25,7 @@ using test::expect_rejected;
 
 TEST(OptionsValidate, HeatDistanceOptions) {
   HeatDistanceOptions{}.validate();
-  RefinedDistanceSettings{}.heat_options(0.1).validate();
+  RefinedDistanceOptions{}.heat_options(0.1).validate();
   expect_each_rejected(&HeatDistanceOptions::time_factor, {0.0}, "time_factor");
   expect_each_rejected(&HeatDistanceOptions::mean_edge_length, {-1.0}, "mean_edge_length");
   HeatDistanceOptions c;

@@ -1,0 +1,207 @@
+// The geodesic recipe (geodesic.h): signposts of the input, face points inserted, FlipOut or de
+// Casteljau, curves traced over the input.
+#include "solvers/recipes/geodesic.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/timer.h"
+#include "intrinsic/geodesic/input_surface.h"
+
+namespace ifem::recipes {
+namespace {
+
+using intrinsic::EdgePath;
+using intrinsic::SignpostTriangulation;
+
+constexpr int kMaxBezierRounds = 16;
+
+std::string range(Index n) { return "[0, " + std::to_string(n) + ")"; }
+
+// The signpost triangulation of the input: refused without faces (a point cloud), without
+// area, or when not edge-manifold and orientable (intrinsic::flipout_surface's messages).
+SignpostTriangulation signposts(const io::SurfaceInput& in, double mollify) {
+  if (!in.has_faces()) {
+    throw InvalidInput("geodesic needs a triangle mesh (the input has no faces: a point cloud)");
+  }
+  return intrinsic::flipout_surface(in, mollify);
+}
+
+// The intrinsic vertex ids of every curve's points: input vertices as given, face points
+// inserted (all before any path is built; the same face point twice is one vertex). Fills the
+// curves' `points` and out.inserted.
+std::vector<std::vector<Index>> insert_points(SignpostTriangulation& st, const io::SurfaceInput& in,
+                                              const std::vector<GivenCurve>& curves,
+                                              GeodesicCurves& out) {
+  const std::vector<Index> input_face = intrinsic::given_face_map(st, in.triangles.size());
+  std::map<std::tuple<Index, double, double, double>, Index> inserted;
+  std::vector<std::vector<Index>> ids(curves.size());
+  out.curves.resize(curves.size());
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    for (const GivenPoint& p : curves[c].points) {
+      Index v = p.vertex;
+      if (v == kInvalidIndex) {
+        const auto key = std::make_tuple(p.face, p.bary[0], p.bary[1], p.bary[2]);
+        auto it = inserted.find(key);
+        if (it == inserted.end()) {
+          const Eigen::Vector3d w(p.bary[0], p.bary[1], p.bary[2]);
+          const intrinsic::SurfacePoint sp =
+              intrinsic::given_face_point(st, in.triangles, input_face, p.face, w, p.token);
+          const Index before = st.intrinsic().n_vertices();
+          const Index added = intrinsic::insert_surface_point(st, sp);
+          it = inserted.emplace(key, added).first;
+          out.inserted.push_back(
+              {p.token, added, added < before, st.position(st.vertex_location(added))});
+        }
+        v = it->second;
+      }
+      ids[c].push_back(v);
+      out.curves[c].points.push_back(st.position(st.vertex_location(v)));
+    }
+  }
+  return ids;
+}
+
+// Lengths and traces of the shortened curves (tracing flips nothing: any order is fine).
+void trace_curves(const SignpostTriangulation& st, const std::vector<EdgePath>& paths,
+                  GeodesicCurves& run) {
+  std::vector<char> collapsed(paths.size(), 0);
+  for (const Index c : run.report.collapsed_loops) collapsed[static_cast<std::size_t>(c)] = 1;
+  for (std::size_t c = 0; c < paths.size(); ++c) {
+    GeodesicCurve& r = run.curves[c];
+    r.closed = paths[c].closed;
+    r.collapsed = collapsed[c] != 0;
+    r.length = intrinsic::path_length(st.intrinsic(), paths[c]);
+    if (!paths[c].steps.empty()) r.polyline = intrinsic::path_polyline(st, paths[c]);
+  }
+}
+
+}  // namespace
+
+void GeodesicOptions::validate() const {
+  if (!(mollify_relative_epsilon >= 0.0 && mollify_relative_epsilon <= 1.0)) {
+    throw InvalidInput(
+        "GeodesicOptions::mollify_relative_epsilon must be in [0, 1] (relative to the mean "
+        "edge length), got " +
+        std::to_string(mollify_relative_epsilon));
+  }
+  if (bezier_rounds && (*bezier_rounds < 0 || *bezier_rounds > kMaxBezierRounds)) {
+    throw InvalidInput("GeodesicOptions::bezier_rounds must be in [0, " +
+                       std::to_string(kMaxBezierRounds) + "], got " +
+                       std::to_string(*bezier_rounds));
+  }
+}
+
+std::string point_problem(const GivenPoint& p, const io::SurfaceInput& input) {
+  const Index nv = static_cast<Index>(input.positions.rows());
+  const Index nf = static_cast<Index>(input.triangles.size());
+  if (p.vertex != kInvalidIndex) {
+    if (p.vertex >= 0 && p.vertex < nv) return "";
+    return "vertex " + std::to_string(p.vertex) + " out of range " + range(nv) +
+           " (the input has " + std::to_string(nv) + " vertices)";
+  }
+  if (input.n_non_triangles > 0) {
+    return p.token + ": face points need a triangle mesh (the file has " +
+           std::to_string(input.n_non_triangles) + " faces with more than 3 corners)";
+  }
+  if (p.face < 0 || p.face >= nf) {
+    return p.token + ": face " + std::to_string(p.face) + " out of range " + range(nf) +
+           " (the input has " + std::to_string(nf) + " faces)";
+  }
+  double sum = 0.0;
+  for (const double b : p.bary) {
+    if (!(std::isfinite(b) && b >= 0.0)) {
+      return p.token + ": barycentric coordinates must be finite and ≥ 0";
+    }
+    sum += b;
+  }
+  if (std::abs(sum - 1.0) > 1e-9) return p.token + ": barycentric coordinates must sum to 1";
+  return "";
+}
+
+void check_curves(const std::vector<GivenCurve>& curves, const io::SurfaceInput& input) {
+  if (curves.empty()) throw InvalidInput("geodesic: no curves given");
+  for (const GivenCurve& c : curves) {
+    if (c.points.size() < 2) {
+      throw InvalidInput(c.origin + ": needs at least two points, got " +
+                         std::to_string(c.points.size()));
+    }
+    for (const GivenPoint& p : c.points) {
+      const std::string problem = point_problem(p, input);
+      if (!problem.empty()) throw InvalidInput(c.origin + ": " + problem);
+    }
+    const std::string repeated = repeated_point(c);
+    if (!repeated.empty()) throw InvalidInput(c.origin + ": " + repeated);
+  }
+}
+
+GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCurve>& curves,
+                        const GeodesicOptions& options) {
+  options.validate();
+  check_curves(curves, input);
+  if (options.bezier_rounds && (curves.size() != 1 || curves[0].closed)) {
+    throw InvalidInput("geodesic: a Bézier curve takes one open curve's points as control points");
+  }
+  GeodesicCurves run;
+  Stopwatch watch;
+  SignpostTriangulation st = signposts(input, options.mollify_relative_epsilon);
+  run.seconds_signposts = watch.restart();
+  const std::vector<std::vector<Index>> ids = insert_points(st, input, curves, run);
+  std::vector<EdgePath> paths;
+  if (options.bezier_rounds) {
+    intrinsic::BezierCurve b = intrinsic::bezier_curve(st, ids[0], *options.bezier_rounds);
+    run.report = b.report;
+    run.curves[0].initial_length = b.report.initial_length;
+    run.bezier_control_points = static_cast<Index>(b.controls.size());
+    run.bezier_midpoints = b.inserted_vertices;
+    paths.push_back(std::move(b.path));
+  } else {
+    std::vector<intrinsic::CurveThrough> through;
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+      through.push_back({ids[c], curves[c].closed, curves[c].pin, curves[c].origin});
+    }
+    std::vector<double> initial;
+    run.report = intrinsic::shorten_through(st, through, &paths, &initial);
+    for (std::size_t c = 0; c < curves.size(); ++c) run.curves[c].initial_length = initial[c];
+  }
+  trace_curves(st, paths, run);
+  run.seconds_flipout = watch.seconds();
+  return run;
+}
+
+SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,
+                            const GeodesicOptions& options) {
+  options.validate();
+  const Index nv = static_cast<Index>(input.positions.rows());
+  if (source < 0 || source >= nv) {
+    throw InvalidInput("source = " + std::to_string(source) + ": vertex out of range " + range(nv));
+  }
+  SignpostTriangulation st = signposts(input, options.mollify_relative_epsilon);
+  const Stopwatch watch;
+  const intrinsic::SingleSourceGeodesics g = intrinsic::single_source_geodesics(st, source);
+  SingleSourceResult r;
+  r.seconds = watch.seconds();
+  r.length = g.length.head(nv);
+  r.flips = g.flips;
+  r.iterations = g.iterations;
+  r.blocked = g.blocked;
+  for (Index v = 0; options.trace_paths && v < nv; ++v) {
+    const EdgePath& p = g.paths[static_cast<std::size_t>(v)];
+    if (!p.steps.empty()) {
+      r.paths.push_back(intrinsic::path_polyline(st, p));
+    } else if (v == source) {
+      r.paths.push_back({st.position(st.vertex_location(v))});
+    } else {
+      r.paths.emplace_back();
+    }
+  }
+  return r;
+}
+
+}  // namespace ifem::recipes

@@ -1,0 +1,100 @@
+// The geodesic recipe: geodesic paths, loops, networks and Bézier curves by FlipOut (Sharp &
+// Crane 2020: edge flips on a signpost intrinsic triangulation of the input), traced over the
+// input surface; or single-source geodesics from one vertex. What `ifem geodesic` and
+// `ifem.geodesic` (Python) run:
+//
+//   input mesh + points ──► signposts (intrinsic::flipout_surface)
+//                       ──► face points inserted as vertices, edge paths through the points
+//                       ──► FlipOut (all curves together: they never cross) or de Casteljau
+//                       ──► polylines on the input surface, lengths, FlipOut's report
+//
+// Needs an edge-manifold, orientable triangle mesh (with or without boundary).
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "intrinsic/geodesic/flip_geodesic.h"
+#include "intrinsic/io/mesh_io.h"
+#include "solvers/recipes/text_formats.h"
+
+namespace ifem::recipes {
+
+/// Options of geodesic().
+struct GeodesicOptions {
+  /// Relative mollification margin of the signpost triangulation, in [0, 1].
+  double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;
+  /// Set: one open curve whose points are the control points of a geodesic Bézier curve, with
+  /// this many rounds of de Casteljau subdivision, in [0, 16] (0: the geodesic control polygon).
+  std::optional<int> bezier_rounds;
+  /// Single-source mode: also trace every geodesic over the input (costs about one more search).
+  bool trace_paths = false;
+  /// @throws InvalidInput naming the field and its allowed range
+  void validate() const;
+};
+
+/// One curve once shortened, on the input surface.
+struct GeodesicCurve {
+  std::vector<Eigen::Vector3d> polyline;  ///< in order along the curve; a loop repeats its start
+  std::vector<Eigen::Vector3d> points;    ///< the given points' positions, in the order given
+  double initial_length = 0.0;            ///< the edge path's length before FlipOut
+  double length = 0.0;                    ///< after FlipOut (intrinsic: exact on the surface)
+  bool closed = false;
+  bool collapsed = false;  ///< a loop that shrank to a point (or around one vertex)
+};
+
+/// A face point inserted as a vertex of the signpost triangulation before the curves are built.
+struct InsertedPoint {
+  std::string token;  ///< the point as given (GivenPoint::token)
+  Index vertex = kInvalidIndex;
+  bool snapped = false;  ///< it fell on an existing vertex (within 1e-9 of it)
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+};
+
+/// What geodesic() computed for curves.
+struct GeodesicCurves {
+  std::vector<GeodesicCurve> curves;  ///< one per given curve, in order
+  intrinsic::FlipOutReport report;    ///< of all the curves together
+  std::vector<InsertedPoint> inserted;
+  Index bezier_control_points = 0;  ///< Bézier: control points after subdivision
+  Index bezier_midpoints = 0;       ///< Bézier: midpoints inserted
+  double seconds_signposts = 0.0, seconds_flipout = 0.0;
+};
+
+/// What geodesic() computed from one source vertex.
+struct SingleSourceResult {
+  Eigen::VectorXd length;  ///< #V_in: each vertex's geodesic length, +∞ where unreachable
+  /// With trace_paths: one polyline per input vertex (the source's: its own position;
+  /// unreachable: empty); else empty.
+  std::vector<std::vector<Eigen::Vector3d>> paths;
+  Index flips = 0, iterations = 0;
+  Index blocked = 0;  ///< vertices whose path was left bent (a blocked wedge)
+  double seconds = 0.0;
+};
+
+/// "" when p names a vertex / face of `input` (a face point also needs a triangle mesh), else
+/// what is wrong (naming the point and the range).
+std::string point_problem(const GivenPoint& p, const io::SurfaceInput& input);
+
+/// Checks every curve: ≥ 2 points, each as point_problem(), no repeated consecutive points.
+/// @throws InvalidInput "ORIGIN: problem"
+void check_curves(const std::vector<GivenCurve>& curves, const io::SurfaceInput& input);
+
+/// Geodesic curves through the given points (paths, loops, a network shortened together; with
+/// options.bezier_rounds one Bézier curve), traced over the input.
+/// @throws InvalidInput on bad options or curves (check_curves), an input without faces or
+///         area, points on different components
+/// @throws NonManifoldInput on a mesh that is not edge-manifold and orientable
+GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCurve>& curves,
+                        const GeodesicOptions& options = {});
+
+/// Single-source geodesics: a geodesic from `source` to every vertex (Dijkstra with FlipOut at
+/// the frontier) and their lengths.
+/// @throws InvalidInput on a source outside [0, #V_in), bad options, an input without faces
+/// @throws NonManifoldInput on a mesh that is not edge-manifold and orientable
+SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,
+                            const GeodesicOptions& options = {});
+
+}  // namespace ifem::recipes
