@@ -1,9 +1,11 @@
-// The `ifem` command line's parser, generated help and JSON writer, on the tool's own tables.
+// The `ifem` command line's parser (CLI11), generated help and JSON (nlohmann-json), on the
+// tool's own tables.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli.h"
@@ -179,31 +181,45 @@ TEST(Tables, DefaultsAreValidValues) {
   }
 }
 
+// `--json` text through nlohmann-json: every string is valid JSON whatever its bytes (the
+// hand-written writer's cases; U+FFFD is now written as its UTF-8 bytes, not as "\ufffd", and
+// DEL (0x7f) needs no escape in JSON), and each text parses back to the string it stands for.
+std::string quoted(const std::string& s) { return json_text(Json(s)); }
+
 TEST(Json, EscapesEverything) {
-  EXPECT_EQ(json_quote("a\"b\\c"), "\"a\\\"b\\\\c\"");
-  EXPECT_EQ(json_quote("\n\t\x01\x7f"), "\"\\n\\t\\u0001\\u007f\"");
-  EXPECT_EQ(json_quote("naïve €"), "\"naïve €\"");  // valid UTF-8 kept
-  EXPECT_EQ(json_quote("a\xff"
-                       "b"),
-            "\"a\\ufffdb\"");                                          // invalid byte
-  EXPECT_EQ(json_quote("\xc3"), "\"\\ufffd\"");                        // truncated sequence
-  EXPECT_EQ(json_quote("\xc0\xaf"), "\"\\ufffd\\ufffd\"");             // overlong
-  EXPECT_EQ(json_quote("\xed\xa0\x80"), "\"\\ufffd\\ufffd\\ufffd\"");  // surrogate
-  EXPECT_EQ(json_quote(std::string("a\0b", 3)), "\"a\\u0000b\"");
+  const std::string fffd = "\xef\xbf\xbd";  // U+FFFD REPLACEMENT CHARACTER in UTF-8
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"a\"b\\c", "\"a\\\"b\\\\c\""},
+      {"\n\t\x01\x7f", "\"\\n\\t\\u0001\x7f\""},
+      {"naïve €", "\"naïve €\""},                          // valid UTF-8 kept
+      {std::string("a\xff") + "b", "\"a" + fffd + "b\""},  // invalid byte
+      {"\xc3", "\"" + fffd + "\""},                        // truncated sequence
+      {"\xc0\xaf", "\"" + fffd + fffd + "\""},             // overlong
+      {"\xed\xa0\x80", "\"" + fffd + fffd + fffd + "\""},  // surrogate
+      {std::string("a\0b", 3), "\"a\\u0000b\""}};
+  for (const auto& [in, want] : cases) {
+    EXPECT_EQ(quoted(in), want);
+    // what a JSON reader gets back: the input where it was UTF-8 (the escaped cases), U+FFFD for
+    // each bad byte (the others, whose text is the string itself between its quotes)
+    const std::string unquoted = want.substr(1, want.size() - 2);
+    const bool escaped = unquoted.find('\\') != std::string::npos;
+    EXPECT_EQ(nlohmann::json::parse(quoted(in)).get<std::string>(), escaped ? in : unquoted);
+  }
 }
 
 TEST(Json, NumbersAndStructure) {
-  EXPECT_EQ(json_number(std::numeric_limits<double>::infinity()), "null");
-  EXPECT_EQ(json_number(std::nan("")), "null");
-  EXPECT_EQ(json_number(0.1), "0.1");
-  JsonWriter w;
-  w.begin_object().field("n", 3).field("x", 1.5).key("list").begin_array();
-  w.value("a").null().value(true).end_array().field("inf", 1e308 * 10).end_object();
-  EXPECT_EQ(w.str(), "{\"n\": 3, \"x\": 1.5, \"list\": [\"a\", null, true], \"inf\": null}");
-  JsonWriter bad;
-  bad.begin_object();
-  EXPECT_THROW(bad.value(1), std::logic_error);
-  EXPECT_THROW(bad.str(), std::logic_error);
+  EXPECT_EQ(json_text(Json(std::numeric_limits<double>::infinity())), "null");
+  EXPECT_EQ(json_text(Json(std::nan(""))), "null");
+  EXPECT_EQ(json_text(Json(0.1)), "0.1");  // shortest round-trip form
+  EXPECT_EQ(json_text(Json(1.0 / 3.0)), "0.3333333333333333");
+  Json doc;  // keys in the order they are set, as `ifem info --json` prints them
+  doc["n"] = 3;
+  doc["x"] = 1.5;
+  doc["list"] = {"a", nullptr, true};
+  doc["inf"] = 1e308 * 10;
+  EXPECT_EQ(json_text(doc),
+            "{\n  \"n\": 3,\n  \"x\": 1.5,\n  \"list\": [\n    \"a\",\n    null,\n    true\n  ],\n"
+            "  \"inf\": null\n}");
 }
 
 }  // namespace
