@@ -1,16 +1,27 @@
-// The `ifem` command line's parser (CLI11), generated help and JSON (nlohmann-json), on the
-// tool's own tables.
+// The `ifem` command line's parser (CLI11), generated help, JSON (nlohmann-json) and text
+// output, on the tool's own tables.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "cli.h"
+#include "intrinsic/io/mesh_io.h"
 #include "json.h"
 #include "options.h"
+#include "results.h"
 
 namespace ifem::cli {
 namespace {
@@ -220,6 +231,106 @@ TEST(Json, NumbersAndStructure) {
   EXPECT_EQ(json_text(doc),
             "{\n  \"n\": 3,\n  \"x\": 1.5,\n  \"list\": [\n    \"a\",\n    null,\n    true\n  ],\n"
             "  \"inf\": null\n}");
+}
+
+// Text outputs (.txt of distance / poisson / eigen, --sources-batch matrices, tangent vectors)
+// are the shortest form that reads back to the very same double: write, read, compare bits.
+std::uint64_t bits(double v) {
+  std::uint64_t b = 0;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+
+Eigen::MatrixXd awkward_values(Eigen::Index rows, Eigen::Index cols) {
+  Eigen::MatrixXd m(rows, cols);
+  const double fixed[] = {0.1,
+                          1.0 / 3.0,
+                          -0.0,
+                          std::numeric_limits<double>::denorm_min(),
+                          std::numeric_limits<double>::min(),
+                          std::numeric_limits<double>::max(),
+                          -std::numeric_limits<double>::max(),
+                          std::numeric_limits<double>::epsilon(),
+                          1e-300,
+                          123456789012345678.0,
+                          std::numeric_limits<double>::infinity(),
+                          -std::numeric_limits<double>::infinity()};
+  std::uint64_t state = 88172645463325252ull;  // xorshift64: any bit pattern that is a number
+  for (Eigen::Index k = 0; k < m.size(); ++k) {
+    if (k < Eigen::Index(std::size(fixed))) {
+      m.data()[k] = fixed[k];
+      continue;
+    }
+    double v = 0;
+    do {
+      state ^= state << 13;
+      state ^= state >> 7;
+      state ^= state << 17;
+      std::memcpy(&v, &state, sizeof v);
+    } while (!std::isfinite(v));
+    m.data()[k] = v;
+  }
+  return m;
+}
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("ifem_cli_args_test_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+TEST(TextOutput, RowsReadBackBitForBit) {
+  const Eigen::MatrixXd m = awkward_values(500, 7);
+  const std::string path = temp_path("rows.txt");
+  write_rows(path, m);
+  std::ifstream in(path);
+  std::string line;
+  Eigen::Index row = 0;
+  while (std::getline(in, line)) {
+    ASSERT_LT(row, m.rows());
+    std::istringstream words(line);
+    std::string word;
+    Eigen::Index col = 0;
+    while (words >> word) {
+      ASSERT_LT(col, m.cols()) << line;
+      double v = 0;
+      const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), v);
+      ASSERT_TRUE(ec == std::errc() && ptr == word.data() + word.size()) << word;
+      EXPECT_EQ(bits(v), bits(m(row, col))) << word << " at (" << row << ", " << col << ")";
+      ++col;
+    }
+    EXPECT_EQ(col, m.cols());
+    EXPECT_EQ(line.find("  "), std::string::npos) << "one space between columns";
+    ++row;
+  }
+  EXPECT_EQ(row, m.rows());
+  std::remove(path.c_str());
+}
+
+TEST(TextOutput, ValuesReadBackBitForBitInTheirShortestForm) {
+  Eigen::MatrixXd m = awkward_values(20000, 1);  // several flushes of the writer's buffer
+  m(20, 0) = std::nan("");
+  const Eigen::VectorXd v = m.col(0);
+  const std::string path = temp_path("values.txt");
+  io::write_values(path, v);
+  const Eigen::VectorXd back = io::read_values(path);
+  ASSERT_EQ(back.size(), v.size());
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    if (std::isnan(v[i])) {
+      EXPECT_TRUE(std::isnan(back[i])) << i;
+    } else {
+      EXPECT_EQ(bits(back[i]), bits(v[i])) << i;
+    }
+  }
+  std::ifstream in(path);
+  std::string first;
+  std::getline(in, first);
+  EXPECT_EQ(first, "0.1");  // the shortest form, not %.17g's 0.10000000000000001
+  std::remove(path.c_str());
+}
+
+TEST(TextOutput, UnwritablePathIsAnIoError) {
+  EXPECT_THROW(write_rows("/nonexistent-dir/x.txt", Eigen::MatrixXd::Ones(2, 2)), IoError);
 }
 
 }  // namespace
