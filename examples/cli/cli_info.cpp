@@ -13,15 +13,16 @@
 namespace ifem::cli {
 namespace {
 
-// Opens the JSON object with the fields every input has: the file and its format.
-JsonWriter& begin_json(JsonWriter& w, const std::string& file, const PreparedSurface& s) {
-  return w.begin_object().field("file", file).field("format", s.input.format);
+// The JSON object's first fields, the ones every input has: the file and its format.
+Json begin_json(const std::string& file, const PreparedSurface& s) {
+  return Json{{"file", file}, {"format", s.input.format}};
 }
 
 // Closes the JSON object with the path ifem takes and why, and prints it.
-void print_json(JsonWriter& w, const PreparedSurface& s) {
-  w.field("path", intrinsic::to_string(s.path)).field("path_reason", s.reason_detail).end_object();
-  std::printf("%s\n", w.str().c_str());
+void print_json(Json& j, const PreparedSurface& s) {
+  j["path"] = intrinsic::to_string(s.path);
+  j["path_reason"] = s.reason_detail;
+  std::printf("%s\n", json_text(j).c_str());
 }
 
 // The first line of the text report: the file and its format.
@@ -39,27 +40,26 @@ int print_pointcloud(const std::string& file, const PreparedSurface& s, bool jso
   const pointcloud::Report& c = s.cloud;
   const double area = intrinsic::total_area(s.tri);
   if (json) {
-    JsonWriter w;
-    begin_json(w, file, s)
-        .field("points", c.points)
-        .field("k", c.k)
-        .field("local_triangles", c.local_triangles)
-        .field("isolated_points", c.isolated_points)
-        .field("first_isolated_point", c.first_isolated_point)
-        .field("starless_points", c.starless_points)
-        .field("coincident_points", c.coincident_points)
-        .field("normals_from_file", c.normals_from_input)
-        .field("cover_faces", s.tri.n_faces())
-        .field("cover_edges", s.tri.n_edges())
-        .field("nonmanifold_edges", c.cover.nonmanifold_edges)
-        .field("area", area)
-        .field("mollify_delta", c.mollify.delta)
-        .field("flips_to_idt", c.flips.flips)
-        .field("seconds_knn", c.seconds_knn)
-        .field("seconds_local", c.seconds_local)
-        .field("seconds_cover", c.seconds_cover)
-        .field("seconds_idt", c.seconds_idt);
-    print_json(w, s);
+    Json j = begin_json(file, s);
+    j["points"] = c.points;
+    j["k"] = c.k;
+    j["local_triangles"] = c.local_triangles;
+    j["isolated_points"] = c.isolated_points;
+    j["first_isolated_point"] = c.first_isolated_point;
+    j["starless_points"] = c.starless_points;
+    j["coincident_points"] = c.coincident_points;
+    j["normals_from_file"] = c.normals_from_input;
+    j["cover_faces"] = s.tri.n_faces();
+    j["cover_edges"] = s.tri.n_edges();
+    j["nonmanifold_edges"] = c.cover.nonmanifold_edges;
+    j["area"] = area;
+    j["mollify_delta"] = c.mollify.delta;
+    j["flips_to_idt"] = c.flips.flips;
+    j["seconds_knn"] = c.seconds_knn;
+    j["seconds_local"] = c.seconds_local;
+    j["seconds_cover"] = c.seconds_cover;
+    j["seconds_idt"] = c.seconds_idt;
+    print_json(j, s);
     return 0;
   }
   print_text_header(file, s);
@@ -94,34 +94,28 @@ int run(const Args& args) {
     return print_pointcloud(file, s, args.has("json"));
   const solvers::MeshSummary m = solvers::summarize_mesh(s);
   if (args.has("json")) {
-    JsonWriter w;
-    begin_json(w, file, s)
-        .field("vertices", m.vertices)
-        .field("edges", m.edges)
-        .field("faces", m.faces)
-        .field("polygons", m.polygons)
-        .field("unreferenced_vertices", m.unreferenced_vertices)
-        .field("boundary_edges", m.boundary_edges)
-        .field("boundary_loops", m.boundary_loops)
-        .field("components", m.components)
-        .field("euler_characteristic", m.euler_characteristic)
-        .key("genus");
-    if (m.genus) {
-      w.value(*m.genus);
-    } else {
-      w.null();
-    }
-    w.field("nonmanifold_edges", m.nonmanifold_edges)
-        .field("nonmanifold_vertices", m.nonmanifold_vertices)
-        .field("dropped_degenerate_faces", m.dropped_degenerate_faces)
-        .field("duplicate_faces", m.duplicate_faces)
-        .field("reoriented_faces", m.reoriented_faces)
-        .field("min_angle_deg", m.min_angle_deg)
-        .field("max_angle_deg", m.max_angle_deg)
-        .field("non_delaunay_share", m.non_delaunay_share)
-        .field("flips_to_idt", m.flips_to_idt)
-        .field("mollify_delta", m.mollify_delta);
-    print_json(w, s);
+    Json j = begin_json(file, s);
+    j["vertices"] = m.vertices;
+    j["edges"] = m.edges;
+    j["faces"] = m.faces;
+    j["polygons"] = m.polygons;
+    j["unreferenced_vertices"] = m.unreferenced_vertices;
+    j["boundary_edges"] = m.boundary_edges;
+    j["boundary_loops"] = m.boundary_loops;
+    j["components"] = m.components;
+    j["euler_characteristic"] = m.euler_characteristic;
+    j["genus"] = m.genus ? Json(*m.genus) : Json(nullptr);
+    j["nonmanifold_edges"] = m.nonmanifold_edges;
+    j["nonmanifold_vertices"] = m.nonmanifold_vertices;
+    j["dropped_degenerate_faces"] = m.dropped_degenerate_faces;
+    j["duplicate_faces"] = m.duplicate_faces;
+    j["reoriented_faces"] = m.reoriented_faces;
+    j["min_angle_deg"] = m.min_angle_deg;
+    j["max_angle_deg"] = m.max_angle_deg;
+    j["non_delaunay_share"] = m.non_delaunay_share;
+    j["flips_to_idt"] = m.flips_to_idt;
+    j["mollify_delta"] = m.mollify_delta;
+    print_json(j, s);
     return 0;
   }
   print_text_header(file, s);

@@ -1,10 +1,11 @@
 #include "options.h"
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 
@@ -216,6 +217,166 @@ std::vector<Index> parse_vertex_list(const OptionSpec& spec, const std::string& 
   return out;
 }
 
+// ---- the CLI11 application of one command
+
+namespace {
+
+// A value check that throws the table's own UsageError: CLI11 would otherwise prefix its
+// ValidationError's text with the option's name ("--angle: ..."), and the messages are a contract.
+// `help_range` is what the help shows as the allowed values ("" for none).
+CLI::Validator value_check(const OptionSpec& spec, std::string help_range) {
+  return CLI::Validator(
+      [spec](std::string& value) -> std::string {
+        // CLI11 hands an option the next word whatever it is: "-o --quiet" gives -o "--quiet"
+        if (value.size() > 2 && value.compare(0, 2, "--") == 0) {
+          throw UsageError("option " + spec.display() + " needs a value (" + spec.placeholder +
+                           ": " + spec.describe_range() + ")");
+        }
+        switch (spec.kind) {
+          case Kind::kFlag:
+            break;
+          case Kind::kCount:
+          case Kind::kVertex:
+            parse_integer(spec, value);
+            break;
+          case Kind::kVertexList:
+            parse_vertex_list(spec, value);
+            break;
+          case Kind::kReal:
+            parse_real(spec, value);
+            break;
+          case Kind::kText:
+            if (value.empty()) fail_value(spec, value, "empty value");
+            if (!spec.extensions.empty() &&
+                std::find(spec.extensions.begin(), spec.extensions.end(),
+                          io::file_extension(value)) == spec.extensions.end()) {
+              throw UsageError(spec.display() + " '" + value + "': the output must end in " +
+                               join(spec.extensions, " or "));
+            }
+            break;
+        }
+        return {};
+      },
+      std::move(help_range), "range");
+}
+
+// "-k", "-o,--output", "--mollify": CLI11's name list for a spec.
+std::string cli11_names(const OptionSpec& s) {
+  std::string names;
+  if (s.alias) names = std::string("-") + s.alias + ",";
+  return names + "--" + s.name;
+}
+
+// The generated help in ifem's layout: "usage: ifem NAME ARGS -o OUT [options]", the prose,
+// every group as "Title:" with CLI11's option rows (help text from column kHelpColumn, then a
+// line "(default ...; range; required)"), then the epilogue.
+class HelpFormatter : public CLI::Formatter {
+ public:
+  HelpFormatter() { column_width(kHelpColumn); }
+
+  std::string make_help(const CLI::App* app, std::string, CLI::AppFormatMode) const override {
+    std::string out = make_usage(app, app->get_name()) + "\n" + make_description(app);
+    for (const std::string& group : app->get_groups()) {  // no blank line between groups
+      const auto opts = app->get_options(
+          [&](const CLI::Option* o) { return o->get_group() == group && o->nonpositional(); });
+      if (!group.empty() && !opts.empty()) out += make_group(group, false, opts);
+    }
+    return app->get_footer().empty() ? out : out + "\n" + app->get_footer();
+  }
+
+  std::string make_usage(const CLI::App* app, std::string name) const override {
+    std::string out = "usage: ifem " + name;
+    for (const CLI::Option* o : app->get_options()) {
+      if (o->get_positional() && !o->get_option_text().empty()) out += " " + o->get_option_text();
+    }
+    for (const CLI::Option* o : app->get_options()) {
+      if (o->nonpositional() && o->get_required()) {
+        const auto& s = o->get_snames();
+        out += " " + (s.empty() ? "--" + o->get_lnames().front() : "-" + s.front()) + " " +
+               o->get_option_text();
+      }
+    }
+    return out + " [options]\n";
+  }
+
+  std::string make_description(const CLI::App* app) const override {
+    const std::string prose = app->get_description();
+    return prose.empty() || prose.back() == '\n' ? prose : prose + "\n";
+  }
+
+  // "-k" (the short form is the name), "-o, --output", "--mollify"
+  std::string make_option_name(const CLI::Option* o, bool) const override {
+    const auto& shorts = o->get_snames();
+    const std::string& name = o->get_lnames().front();
+    if (shorts.empty()) return "--" + name;
+    return shorts.front() == name ? "-" + name : "-" + shorts.front() + ", --" + name;
+  }
+
+  std::string make_option_opts(const CLI::Option* o) const override {
+    return o->get_expected_max() == 0 ? "" : " " + o->get_option_text();  // " K"; flags: none
+  }
+
+  // the help text, then "(default 10; an integer in [1, 2147483647]; required)"
+  std::string make_option_desc(const CLI::Option* o) const override {
+    std::string desc = o->get_description();
+    while (!desc.empty() && desc.back() == '\n') desc.pop_back();
+    std::vector<std::string> facts;
+    if (!o->get_default_str().empty()) facts.push_back("default " + o->get_default_str());
+    // the range check's description: CLI11 appends it to the (empty) type name as ":RANGE"
+    const std::string range = o->get_expected_max() == 0 ? "" : o->get_type_name();
+    if (range.size() > 1) facts.push_back(range.substr(1));
+    if (o->get_required()) facts.emplace_back("required");
+    if (facts.empty()) return desc;
+    return (desc.empty() ? "(" : desc + "\n(") + CLI::detail::join(facts, "; ") + ")";
+  }
+};
+
+// The command's CLI11 application: every option of the table with its names, placeholder,
+// default, range check and group; -h/--help after the first group's options; the words that are
+// not options collected into `positional` (their number is check_complete()'s business).
+// Unknown options are left to the caller (allow_extras): the message is ifem's, not CLI11's.
+std::unique_ptr<CLI::App> make_app(const CommandSpec& command,
+                                   std::vector<std::string>* positional) {
+  auto app = std::make_unique<CLI::App>(command.prose, command.name);
+  app->formatter(std::make_shared<HelpFormatter>());
+  app->set_help_flag();  // -h/--help is an ordinary flag: run_command() prints the help
+  app->allow_extras();
+  app->footer(command.epilogue);
+  std::string names;
+  for (const std::string& p : command.positionals) names += (names.empty() ? "" : " ") + p;
+  app->add_option("ARGS", *positional)->option_text(names)->group("");  // on the usage line only
+  bool help_declared = false;
+  for (const OptionGroup& g : command.groups) {
+    for (const OptionSpec& s : g.options) help_declared = help_declared || s.name == "help";
+  }
+  for (std::size_t i = 0; i < command.groups.size(); ++i) {
+    const OptionGroup& g = command.groups[i];
+    for (const OptionSpec& s : g.options) {
+      CLI::Option* o = nullptr;
+      if (s.kind == Kind::kFlag) {
+        o = app->add_flag(cli11_names(s), s.help);
+      } else {
+        const bool range_in_help = s.kind != Kind::kText || !s.extensions.empty();
+        o = app->add_option(cli11_names(s), s.help)
+                ->option_text(s.placeholder)
+                ->type_name("")
+                ->default_str(s.default_value)
+                ->required(s.required)
+                ->check(value_check(s, range_in_help ? s.describe_range() : ""));
+      }
+      o->group(g.title)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    }
+    if (i == 0 && !help_declared) {
+      app->add_flag("-h,--help", "this help")
+          ->group(g.title)
+          ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    }
+  }
+  return app;
+}
+
+}  // namespace
+
 // ---- Args
 
 Args::Args(const CommandSpec& command, int argc, const char* const* argv)
@@ -224,83 +385,66 @@ Args::Args(const CommandSpec& command, int argc, const char* const* argv)
     specs_.insert(specs_.end(), g.options.begin(), g.options.end());
   }
   if (!find_long("help")) specs_.push_back(flag("help").short_alias('h'));
-  bool options_done = false;
-  for (int i = 0; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool looks_like_option = a.size() > 1 && a[0] == '-';
-    if (options_done || !looks_like_option) {
-      positional_.push_back(a);
-      continue;
-    }
-    if (a == "--") {
-      options_done = true;
-      continue;
-    }
-    std::string key = a, value;
-    bool inline_value = false;
-    const OptionSpec* s = nullptr;
-    if (a.compare(0, 2, "--") == 0) {
-      key = a.substr(2);
-      const auto eq = key.find('=');
-      if (eq != std::string::npos) {
-        inline_value = true;
-        value = key.substr(eq + 1);
-        key.resize(eq);
-      }
-      s = find_long(key);
-      key = "--" + key;
-    } else if (a.size() == 2) {
-      s = find_short(a[1]);
-    }
-    if (!s) throw UsageError("unknown option " + key + " (see --help)");
-    if (s->kind == Kind::kFlag) {
-      if (inline_value) {
-        throw UsageError("option " + s->display() + " takes no value, got '" + value + "'");
-      }
-      set(*s, "");
-      continue;
-    }
-    if (!inline_value) {
-      // "-o --quiet": the next word is an option, not this one's value
-      const bool next_is_option = i + 1 < argc &&
-                                  std::string(argv[i + 1]).compare(0, 2, "--") == 0 &&
-                                  std::string(argv[i + 1]).size() > 2;
-      if (i + 1 >= argc || next_is_option) {
-        throw UsageError("option " + s->display() + " needs a value (" + s->placeholder + ": " +
-                         s->describe_range() + ")");
-      }
-      value = argv[++i];
-    }
-    set(*s, value);
-  }
-}
+  const std::unique_ptr<CLI::App> app = make_app(command, &positional_);
 
-void Args::set(const OptionSpec& spec, const std::string& value) {
-  if (values_.count(spec.name)) throw UsageError("option " + spec.display() + " given twice");
-  switch (spec.kind) {
-    case Kind::kFlag:
+  // CLI11 reads "--name=" as "--name" and takes the next word; the table calls it an empty
+  // value, so it is passed on as one. CLI11 wants the words in reverse order.
+  std::vector<std::string> words;
+  for (int i = 0; i < argc; ++i) {
+    std::string w = argv[i];
+    if (w == "--") {
+      words.insert(words.end(), argv + i, argv + argc);
       break;
-    case Kind::kCount:
-    case Kind::kVertex:
-      parse_integer(spec, value);
-      break;
-    case Kind::kVertexList:
-      parse_vertex_list(spec, value);
-      break;
-    case Kind::kReal:
-      parse_real(spec, value);
-      break;
-    case Kind::kText:
-      if (value.empty()) fail_value(spec, value, "empty value");
-      if (!spec.extensions.empty() &&
-          std::find(spec.extensions.begin(), spec.extensions.end(), io::file_extension(value)) ==
-              spec.extensions.end()) {
-        throw UsageError(spec.display() + " '" + value + "': the output must end in " +
-                         join(spec.extensions, " or "));
-      }
-      break;
+    }
+    const OptionSpec* s = nullptr;
+    if (w.size() > 3 && w.compare(0, 2, "--") == 0 && w.back() == '=') {
+      s = find_long(w.substr(2, w.size() - 3));
+    }
+    if (s && s->kind != Kind::kFlag) {
+      w.pop_back();
+      words.push_back(w);
+      words.emplace_back();
+    } else {
+      words.push_back(std::move(w));
+    }
   }
-  values_[spec.name] = value;
+  std::reverse(words.begin(), words.end());
+  try {
+    app->parse(words);
+  } catch (const CLI::RequiredError&) {
+    // a missing required option waits for check_complete(): --help needs none
+  } catch (const CLI::ArgumentMismatch& e) {
+    // the words ran out before an option's value ("... -k"): CLI11 names it first ("--k: ...")
+    const std::string what = e.what();
+    for (const OptionSpec& s : specs_) {
+      if (what.rfind("--" + s.name + ":", 0) == 0) {
+        throw UsageError("option " + s.display() + " needs a value (" + s.placeholder + ": " +
+                         s.describe_range() + ")");
+      }
+    }
+    throw UsageError(what);
+  } catch (const CLI::ParseError& e) {
+    throw UsageError(e.what());
+  }
+  for (const std::string& word : app->remaining()) {
+    if (word == "--") continue;  // CLI11 keeps the end-of-options mark for a passthrough
+    throw UsageError("unknown option " + word.substr(0, word.find('=')) + " (see --help)");
+  }
+  for (const OptionSpec& s : specs_) {
+    const CLI::Option* o = app->get_option("--" + s.name);
+    const std::vector<std::string>& given = o->results();
+    if (given.empty()) continue;
+    if (given.size() > 1) throw UsageError("option " + s.display() + " given twice");
+    if (s.kind == Kind::kFlag) {
+      // a bare flag's result is CLI11's "true"; "--flag=VALUE" leaves VALUE
+      if (given[0] != "true") {
+        throw UsageError("option " + s.display() + " takes no value, got '" + given[0] + "'");
+      }
+      values_[s.name] = "";
+    } else {
+      values_[s.name] = given[0];
+    }
+  }
 }
 
 void Args::check_complete() const {
@@ -321,13 +465,6 @@ void Args::check_complete() const {
 const OptionSpec* Args::find_long(const std::string& name) const {
   for (const OptionSpec& s : specs_) {
     if (s.name == name) return &s;
-  }
-  return nullptr;
-}
-
-const OptionSpec* Args::find_short(char alias) const {
-  for (const OptionSpec& s : specs_) {
-    if (s.alias == alias) return &s;
   }
   return nullptr;
 }
@@ -403,76 +540,9 @@ void check_input_limits(const Args& args, Index n_vertices, bool pointcloud) {
 
 // ---- help
 
-namespace {
-
-std::string option_column(const OptionSpec& s) {
-  std::string col = "  ";
-  if (s.alias && s.display() != "--" + s.name) {
-    col += s.display();  // "-k": the short form is the name
-  } else if (s.alias) {
-    col += std::string("-") + s.alias + ", --" + s.name;
-  } else {
-    col += "--" + s.name;
-  }
-  if (s.kind != Kind::kFlag) col += " " + s.placeholder;
-  return col;
-}
-
-void append_option(std::ostringstream& out, const OptionSpec& s) {
-  std::vector<std::string> lines;
-  std::istringstream help(s.help);
-  for (std::string line; std::getline(help, line);) lines.push_back(line);
-  std::string facts;
-  if (!s.default_value.empty()) facts = "default " + s.default_value;
-  if (s.kind != Kind::kFlag && s.kind != Kind::kText) {
-    facts += (facts.empty() ? "" : "; ") + s.describe_range();
-  }
-  if (s.kind == Kind::kText && !s.extensions.empty()) facts += s.describe_range();
-  if (s.required) facts += (facts.empty() ? "" : "; ") + std::string("required");
-  if (!facts.empty()) lines.push_back("(" + facts + ")");
-  if (lines.empty()) lines.push_back("");
-  std::string col = option_column(s);
-  if (col.size() + 1 > kHelpColumn) {
-    out << col << "\n";
-    col.clear();
-  }
-  for (const std::string& line : lines) {
-    out << col << std::string(kHelpColumn - col.size(), ' ') << line << "\n";
-    col.clear();
-  }
-}
-
-}  // namespace
-
 std::string render_help(const CommandSpec& spec) {
-  std::ostringstream out;
-  out << "usage: ifem " << spec.name;
-  for (const std::string& p : spec.positionals) out << " " << p;
-  for (const OptionGroup& g : spec.groups) {
-    for (const OptionSpec& s : g.options) {
-      if (s.required) {
-        out << " " << (s.alias ? std::string("-") + s.alias : "--" + s.name) << " "
-            << s.placeholder;
-      }
-    }
-  }
-  out << " [options]\n\n" << spec.prose;
-  if (!spec.prose.empty() && spec.prose.back() != '\n') out << "\n";
-  bool help_listed = false;
-  for (std::size_t i = 0; i < spec.groups.size(); ++i) {
-    const OptionGroup& g = spec.groups[i];
-    out << "\n" << g.title << ":\n";
-    for (const OptionSpec& s : g.options) {
-      help_listed = help_listed || s.name == "help";
-      append_option(out, s);
-    }
-    if (i == 0 && !help_listed) {
-      append_option(out, flag("help").short_alias('h').explain("this help"));
-      help_listed = true;
-    }
-  }
-  if (!spec.epilogue.empty()) out << "\n" << spec.epilogue;
-  return out.str();
+  std::vector<std::string> positional;
+  return make_app(spec, &positional)->help();
 }
 
 }  // namespace ifem::cli

@@ -1,7 +1,9 @@
-// The `ifem` command line as data: each command declares its options in a table (OptionSpec),
-// and that one table drives both parsing (with checked narrowing and range checks) and the
-// generated `--help`, so the two cannot drift apart. Depends on nothing but the standard
-// library and ifem's error types (the parser is unit-tested on its own: cli_args_test).
+// The `ifem` command line as data: each command declares its options in a table (OptionSpec).
+// The table becomes a CLI11 application (libcli11-dev) that parses the command line and
+// generates `--help`, so the two cannot drift apart; the table adds what CLI11 does not say the
+// way ifem must: checked values (no partial parses, no silent narrowing, ranges), the messages
+// of bad command lines (exit code 2) and limits known only after loading the input.
+// The parser is unit-tested on its own (cli_args_test).
 #pragma once
 
 #include <limits>
@@ -101,8 +103,9 @@ struct CommandSpec {
   std::string epilogue;                  ///< examples etc., after the option list
 };
 
-/// The generated `ifem NAME --help`: usage line (positionals, required options), the prose,
-/// every group's options with placeholder, default and range, then the epilogue.
+/// The generated `ifem NAME --help` (CLI11's help of the table's application, in ifem's layout):
+/// usage line (positionals, required options), the prose, every group's options with
+/// placeholder, default and range, then the epilogue.
 std::string render_help(const CommandSpec& spec);
 
 /// Checked conversions of one value for `spec` (no partial parses, no silent narrowing).
@@ -115,8 +118,9 @@ std::vector<Index> parse_vertex_list(const OptionSpec& spec, const std::string& 
 /// against its spec. Typed access falls back on the spec's default.
 class Args {
  public:
-  /// Parses argv[0..argc) (the words after the command name). "--name value", "--name=value",
-  /// the short aliases ("-o value"), "--" ends options. -h/--help is always accepted.
+  /// Parses argv[0..argc) (the words after the command name) with CLI11: "--name value",
+  /// "--name=value", the short aliases ("-o value", "-ovalue"), "--" ends options. -h/--help is
+  /// always accepted. Every value is checked against its spec here (parse_integer() etc.).
   /// @throws UsageError on unknown options, missing / malformed / out-of-range values, a value
   ///   given to a flag, an option given twice
   Args(const CommandSpec& spec, int argc, const char* const* argv);
@@ -146,9 +150,7 @@ class Args {
   const std::vector<OptionSpec>& specs() const { return specs_; }
 
  private:
-  void set(const OptionSpec& spec, const std::string& value);
   const OptionSpec* find_long(const std::string& name) const;
-  const OptionSpec* find_short(char alias) const;
   std::string text_or_default(const OptionSpec& spec) const;
 
   std::vector<OptionSpec> specs_;

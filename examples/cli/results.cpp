@@ -54,15 +54,7 @@ void write_results(const ResultOutput& out, const io::SurfaceInput& input,
 }
 
 void write_rows(const std::string& path, const Eigen::MatrixXd& rows) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throw IoError(path + ": cannot write");
-  for (Eigen::Index i = 0; i < rows.rows(); ++i) {
-    for (Eigen::Index j = 0; j < rows.cols(); ++j) {
-      std::fprintf(f, j ? " %.17g" : "%.17g", rows(i, j));
-    }
-    std::fprintf(f, "\n");
-  }
-  if (std::fclose(f) != 0) throw IoError(path + ": cannot write");
+  io::write_rows(path, rows);
 }
 
 void write_npy(const std::string& path, const Eigen::MatrixXd& m) {

@@ -37,7 +37,8 @@ void write_results(const ResultOutput& out, const io::SurfaceInput& input,
                    const std::vector<io::VertexProperty>& face_properties = {});
 
 /// Writes a per-vertex matrix as text: one line per row (an input vertex), its columns separated
-/// by spaces, 17 significant digits (`x y z` tangent vectors, `u v` coordinates).
+/// by spaces, each value the shortest text that reads back to the same double (io::write_rows;
+/// `x y z` tangent vectors, `u v` coordinates, distance batches).
 /// @throws IoError if the file cannot be written
 void write_rows(const std::string& path, const Eigen::MatrixXd& rows);
 

@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <set>
+#include <vector>
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/io/detail.h"
@@ -277,15 +279,44 @@ Eigen::SparseMatrix<double> read_matrix_market(const std::string& path) {
   return A;
 }
 
-void write_values(const std::string& path, const Eigen::VectorXd& values) {
-  std::string out;
-  out.reserve(static_cast<std::size_t>(values.size()) * 24);
-  char buffer[64];
-  for (Eigen::Index i = 0; i < values.size(); ++i) {
-    const int n = std::snprintf(buffer, sizeof(buffer), "%.17g\n", values[i]);
-    out.append(buffer, static_cast<std::size_t>(n));
+namespace {
+
+// Writes the column-major rows × cols block at `data` as text, one line per row, through a
+// fixed buffer (a 50k × 64 batch is ~60 MB of text: no string of that size is built).
+void write_text_rows(const std::string& path, const double* data, Eigen::Index rows,
+                     Eigen::Index cols) {
+  constexpr std::size_t kLongest = 32;  // a double's shortest form is at most 24 characters
+  std::vector<char> buffer(std::size_t{1} << 20);
+  char* const end = buffer.data() + buffer.size();
+  std::FILE* f = detail::open_temporary(path, true);
+  bool ok = true;
+  char* p = buffer.data();
+  const auto flush = [&] {
+    const auto n = static_cast<std::size_t>(p - buffer.data());
+    ok = ok && std::fwrite(buffer.data(), 1, n, f) == n;
+    p = buffer.data();
+  };
+  for (Eigen::Index i = 0; i < rows && ok; ++i) {
+    for (Eigen::Index j = 0; j < cols; ++j) {
+      if (static_cast<std::size_t>(end - p) < kLongest) flush();
+      if (j > 0) *p++ = ' ';
+      p = std::to_chars(p, end, data[i + j * rows]).ptr;  // shortest round-trip form
+    }
+    if (p == end) flush();
+    *p++ = '\n';
   }
-  detail::write_file_atomically(path, out);
+  flush();
+  detail::close_and_rename(f, ok, path);
+}
+
+}  // namespace
+
+void write_values(const std::string& path, const Eigen::VectorXd& values) {
+  write_text_rows(path, values.data(), values.size(), 1);
+}
+
+void write_rows(const std::string& path, const Eigen::MatrixXd& rows) {
+  write_text_rows(path, rows.data(), rows.rows(), rows.cols());
 }
 
 Eigen::VectorXd read_values(const std::string& path) {

@@ -53,9 +53,15 @@ void write_matrix_market(const std::string& path, const Eigen::SparseMatrix<doub
 /// @throws IoError on a missing or malformed file (naming the line)
 Eigen::SparseMatrix<double> read_matrix_market(const std::string& path);
 
-/// Writes one value per line (%.17g; inf as "inf"), atomic.
+/// Writes one value per line, each the shortest text that reads back to the same double
+/// (std::to_chars; inf as "inf", nan as "nan"), atomic.
 /// @throws IoError if the file cannot be written
 void write_values(const std::string& path, const Eigen::VectorXd& values);
+
+/// Writes a matrix as text: one line per row, its columns separated by one space, each value
+/// as write_values() writes it (read_values() reads a one-column file back bit for bit), atomic.
+/// @throws IoError if the file cannot be written
+void write_rows(const std::string& path, const Eigen::MatrixXd& rows);
 
 /// Reads one value per line (blank lines and '#' comments skipped; "inf"/"nan" accepted).
 /// @throws IoError on a missing file or a malformed value (naming the line)

@@ -1,14 +1,27 @@
-// The `ifem` command line's parser, generated help and JSON writer, on the tool's own tables.
+// The `ifem` command line's parser (CLI11), generated help, JSON (nlohmann-json) and text
+// output, on the tool's own tables.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli.h"
+#include "intrinsic/io/mesh_io.h"
 #include "json.h"
 #include "options.h"
+#include "results.h"
 
 namespace ifem::cli {
 namespace {
@@ -179,31 +192,145 @@ TEST(Tables, DefaultsAreValidValues) {
   }
 }
 
+// `--json` text through nlohmann-json: every string is valid JSON whatever its bytes (the
+// hand-written writer's cases; U+FFFD is now written as its UTF-8 bytes, not as "\ufffd", and
+// DEL (0x7f) needs no escape in JSON), and each text parses back to the string it stands for.
+std::string quoted(const std::string& s) { return json_text(Json(s)); }
+
 TEST(Json, EscapesEverything) {
-  EXPECT_EQ(json_quote("a\"b\\c"), "\"a\\\"b\\\\c\"");
-  EXPECT_EQ(json_quote("\n\t\x01\x7f"), "\"\\n\\t\\u0001\\u007f\"");
-  EXPECT_EQ(json_quote("naïve €"), "\"naïve €\"");  // valid UTF-8 kept
-  EXPECT_EQ(json_quote("a\xff"
-                       "b"),
-            "\"a\\ufffdb\"");                                          // invalid byte
-  EXPECT_EQ(json_quote("\xc3"), "\"\\ufffd\"");                        // truncated sequence
-  EXPECT_EQ(json_quote("\xc0\xaf"), "\"\\ufffd\\ufffd\"");             // overlong
-  EXPECT_EQ(json_quote("\xed\xa0\x80"), "\"\\ufffd\\ufffd\\ufffd\"");  // surrogate
-  EXPECT_EQ(json_quote(std::string("a\0b", 3)), "\"a\\u0000b\"");
+  const std::string fffd = "\xef\xbf\xbd";  // U+FFFD REPLACEMENT CHARACTER in UTF-8
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"a\"b\\c", "\"a\\\"b\\\\c\""},
+      {"\n\t\x01\x7f", "\"\\n\\t\\u0001\x7f\""},
+      {"naïve €", "\"naïve €\""},                          // valid UTF-8 kept
+      {std::string("a\xff") + "b", "\"a" + fffd + "b\""},  // invalid byte
+      {"\xc3", "\"" + fffd + "\""},                        // truncated sequence
+      {"\xc0\xaf", "\"" + fffd + fffd + "\""},             // overlong
+      {"\xed\xa0\x80", "\"" + fffd + fffd + fffd + "\""},  // surrogate
+      {std::string("a\0b", 3), "\"a\\u0000b\""}};
+  for (const auto& [in, want] : cases) {
+    EXPECT_EQ(quoted(in), want);
+    // what a JSON reader gets back: the input where it was UTF-8 (the escaped cases), U+FFFD for
+    // each bad byte (the others, whose text is the string itself between its quotes)
+    const std::string unquoted = want.substr(1, want.size() - 2);
+    const bool escaped = unquoted.find('\\') != std::string::npos;
+    EXPECT_EQ(nlohmann::json::parse(quoted(in)).get<std::string>(), escaped ? in : unquoted);
+  }
 }
 
 TEST(Json, NumbersAndStructure) {
-  EXPECT_EQ(json_number(std::numeric_limits<double>::infinity()), "null");
-  EXPECT_EQ(json_number(std::nan("")), "null");
-  EXPECT_EQ(json_number(0.1), "0.1");
-  JsonWriter w;
-  w.begin_object().field("n", 3).field("x", 1.5).key("list").begin_array();
-  w.value("a").null().value(true).end_array().field("inf", 1e308 * 10).end_object();
-  EXPECT_EQ(w.str(), "{\"n\": 3, \"x\": 1.5, \"list\": [\"a\", null, true], \"inf\": null}");
-  JsonWriter bad;
-  bad.begin_object();
-  EXPECT_THROW(bad.value(1), std::logic_error);
-  EXPECT_THROW(bad.str(), std::logic_error);
+  EXPECT_EQ(json_text(Json(std::numeric_limits<double>::infinity())), "null");
+  EXPECT_EQ(json_text(Json(std::nan(""))), "null");
+  EXPECT_EQ(json_text(Json(0.1)), "0.1");  // shortest round-trip form
+  EXPECT_EQ(json_text(Json(1.0 / 3.0)), "0.3333333333333333");
+  Json doc;  // keys in the order they are set, as `ifem info --json` prints them
+  doc["n"] = 3;
+  doc["x"] = 1.5;
+  doc["list"] = {"a", nullptr, true};
+  doc["inf"] = 1e308 * 10;
+  EXPECT_EQ(json_text(doc),
+            "{\n  \"n\": 3,\n  \"x\": 1.5,\n  \"list\": [\n    \"a\",\n    null,\n    true\n  ],\n"
+            "  \"inf\": null\n}");
+}
+
+// Text outputs (.txt of distance / poisson / eigen, --sources-batch matrices, tangent vectors)
+// are the shortest form that reads back to the very same double: write, read, compare bits.
+std::uint64_t bits(double v) {
+  std::uint64_t b = 0;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+
+Eigen::MatrixXd awkward_values(Eigen::Index rows, Eigen::Index cols) {
+  Eigen::MatrixXd m(rows, cols);
+  const double fixed[] = {0.1,
+                          1.0 / 3.0,
+                          -0.0,
+                          std::numeric_limits<double>::denorm_min(),
+                          std::numeric_limits<double>::min(),
+                          std::numeric_limits<double>::max(),
+                          -std::numeric_limits<double>::max(),
+                          std::numeric_limits<double>::epsilon(),
+                          1e-300,
+                          123456789012345678.0,
+                          std::numeric_limits<double>::infinity(),
+                          -std::numeric_limits<double>::infinity()};
+  std::uint64_t state = 88172645463325252ull;  // xorshift64: any bit pattern that is a number
+  for (Eigen::Index k = 0; k < m.size(); ++k) {
+    if (k < Eigen::Index(std::size(fixed))) {
+      m.data()[k] = fixed[k];
+      continue;
+    }
+    double v = 0;
+    do {
+      state ^= state << 13;
+      state ^= state >> 7;
+      state ^= state << 17;
+      std::memcpy(&v, &state, sizeof v);
+    } while (!std::isfinite(v));
+    m.data()[k] = v;
+  }
+  return m;
+}
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("ifem_cli_args_test_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+TEST(TextOutput, RowsReadBackBitForBit) {
+  const Eigen::MatrixXd m = awkward_values(500, 7);
+  const std::string path = temp_path("rows.txt");
+  write_rows(path, m);
+  std::ifstream in(path);
+  std::string line;
+  Eigen::Index row = 0;
+  while (std::getline(in, line)) {
+    ASSERT_LT(row, m.rows());
+    std::istringstream words(line);
+    std::string word;
+    Eigen::Index col = 0;
+    while (words >> word) {
+      ASSERT_LT(col, m.cols()) << line;
+      double v = 0;
+      const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), v);
+      ASSERT_TRUE(ec == std::errc() && ptr == word.data() + word.size()) << word;
+      EXPECT_EQ(bits(v), bits(m(row, col))) << word << " at (" << row << ", " << col << ")";
+      ++col;
+    }
+    EXPECT_EQ(col, m.cols());
+    EXPECT_EQ(line.find("  "), std::string::npos) << "one space between columns";
+    ++row;
+  }
+  EXPECT_EQ(row, m.rows());
+  std::remove(path.c_str());
+}
+
+TEST(TextOutput, ValuesReadBackBitForBitInTheirShortestForm) {
+  Eigen::MatrixXd m = awkward_values(20000, 1);  // several flushes of the writer's buffer
+  m(20, 0) = std::nan("");
+  const Eigen::VectorXd v = m.col(0);
+  const std::string path = temp_path("values.txt");
+  io::write_values(path, v);
+  const Eigen::VectorXd back = io::read_values(path);
+  ASSERT_EQ(back.size(), v.size());
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    if (std::isnan(v[i])) {
+      EXPECT_TRUE(std::isnan(back[i])) << i;
+    } else {
+      EXPECT_EQ(bits(back[i]), bits(v[i])) << i;
+    }
+  }
+  std::ifstream in(path);
+  std::string first;
+  std::getline(in, first);
+  EXPECT_EQ(first, "0.1");  // the shortest form, not %.17g's 0.10000000000000001
+  std::remove(path.c_str());
+}
+
+TEST(TextOutput, UnwritablePathIsAnIoError) {
+  EXPECT_THROW(write_rows("/nonexistent-dir/x.txt", Eigen::MatrixXd::Ones(2, 2)), IoError);
 }
 
 }  // namespace
