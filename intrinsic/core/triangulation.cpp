@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "intrinsic/core/geometry.h"
-#include "intrinsic/core/parallel.h"
+#include "intrinsic/core/types.h"
 #include "intrinsic/core/side_pairs.h"
 
 namespace ifem {
@@ -461,7 +461,7 @@ FlipReport IntrinsicTriangulation::flip_to_delaunay(const std::function<bool(Ind
   // every edge's first test on the OpenMP team (the same flips follow: a test is redone once a
   // flip has changed the edge's diamond)
   std::vector<char> known(ne);
-#pragma omp parallel for schedule(static) if (parallel_pays(ne))
+#pragma omp parallel for schedule(static) if (ne >= kParallelMin)
   for (Index e = 0; e < ne; ++e) known[e] = is_delaunay(e) ? 1 : 2;
   return flip_stack(stack, &queued, &known, nullptr, flip);
 }
@@ -662,7 +662,7 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
   // one area per face (not one per halfedge): cot of the angle opposite each side
   const Index nf = tri.n_faces();
   std::vector<double> cot(tri.n_halfedges());
-#pragma omp parallel for schedule(static) if (parallel_pays(nf))
+#pragma omp parallel for schedule(static) if (nf >= kParallelMin)
   for (Index f = 0; f < nf; ++f) {
     // on lengths normalized by a power of two (exact): cotangents are dimensionless, so the
     // weights are the same bits at every scale and squares never over- or underflow
@@ -678,7 +678,7 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
   }
   const Index ne = tri.n_edges();
   Eigen::VectorXd w(ne);
-#pragma omp parallel for schedule(static) if (parallel_pays(ne))
+#pragma omp parallel for schedule(static) if (ne >= kParallelMin)
   for (Index e = 0; e < ne; ++e) {
     const Index h = tri.edge_halfedge(e);
     const Index t = tri.twin(h);
