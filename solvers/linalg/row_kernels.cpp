@@ -9,12 +9,16 @@
 
 namespace ifem::solvers {
 
-// Why hand-written vectors here (GCC vector extensions, compiled for AVX-512, AVX2 + FMA and the
-// baseline by IFEM_HOST_CLONES): the library is built for the baseline x86-64 ISA (SSE2), where
-// the compiler's own vectorization of these loops gets two lanes at most; the k columns of a
-// block row are one 8-lane operation on the host's widest vectors here, and GCC 12 turned the
-// plain loops' lane-wise comparisons into compare-and-branch per lane (measured:
-// docs/decisions.md, "Blocks of sources, sessions 12-14").
+// Why hand-written vectors here (GCC vector extensions, each function compiled for AVX-512,
+// AVX2 + FMA and the baseline by IFEM_HOST_CLONES, no ISA builtins): the library is built for
+// baseline x86-64 (SSE2: two doubles per vector), and these loops are the heat method's
+// block steps whose times were measured against plainer forms (docs/decisions.md, "Blocks of
+// sources, sessions 12-14"): the row divergence is bounded by its square roots and its corner
+// rows' cache misses (prefetching them: 1M faces, a block of 32, 90 -> 63 ms), and GCC 12 turned
+// a vector comparison used as a value into a compare and branch per lane (hence the integer
+// masks below); the output's transpose took 15 ms value by value at 1M faces (rows_to_output).
+// Not re-measured against plain `#pragma omp simd` loops in issue 28 (only the AVX-512 rsqrt14
+// builtin variant was dropped: see inverse_sqrt()).
 
 namespace {
 

@@ -15,7 +15,8 @@ namespace ifem::solvers {
 /// (corner 0 at the origin, corner 1 at (ℓ₀, 0), corner 2 at (x, y); y = 0 marks a degenerate
 /// face, which adds nothing); corner i gets half_s·(J e_i)·X, e_i the side opposite corner i and
 /// J the rotation by 90° (UnitGradientDivergence, solvers/scalar/heat_engine.h). Columns where
-/// ∇u is 0 or not finite on a face add 0 there. The faces are summed in order, so the bits depend on the faces and columns only.
+/// ∇u is 0 or not finite on a face add 0 there. The faces are summed in order, so the bits depend
+/// on the faces and columns only.
 /// @param U, div #V·k doubles each (row-major), not overlapping
 /// @param u_row, d_row null, or #V row numbers: vertex v's values are read at U + u_row[v]·k
 ///        and written at div + d_row[v]·k (not checked)

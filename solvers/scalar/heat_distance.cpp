@@ -140,9 +140,9 @@ struct HeatDistanceSolver::Impl {
   Eigen::VectorXd mass;
   double t = 0.0;      // time step, in units of scale²
   double scale = 1.0;  // tri's lengths are the input's divided by scale (a power of two)
-  std::optional<PoissonSolver> heat_neumann;            // (M + tL), Neumann
-  std::optional<PoissonSolver> heat_dirichlet;          // (M + tL), u = 0 on the boundary
-  std::optional<PoissonSolver> poisson;                 // L, pure Neumann per component
+  std::optional<PoissonSolver> heat_neumann;       // (M + tL), Neumann
+  std::optional<PoissonSolver> heat_dirichlet;     // (M + tL), u = 0 on the boundary
+  std::optional<PoissonSolver> poisson;            // L, pure Neumann per component
   std::optional<UnitGradientDivergence> unit_div;  // div(−∇u/|∇u|) with tri's face layouts
 
   // (M + tL) u = δ for a vector or every column of a matrix (one pass over each factor): the

@@ -66,8 +66,8 @@ UnitGradientDivergence::UnitGradientDivergence(const intrinsic::IntrinsicTriangu
 #pragma omp parallel for schedule(static) if (nf >= kParallelFaces)
   for (Index f = 0; f < nf; ++f) {
     const double l0 = tri.halfedge_length(3 * f);
-    const double area =
-        intrinsic::triangle_area(l0, tri.halfedge_length(3 * f + 1), tri.halfedge_length(3 * f + 2));
+    const double area = intrinsic::triangle_area(l0, tri.halfedge_length(3 * f + 1),
+                                                 tri.halfedge_length(3 * f + 2));
     const Eigen::Vector2d apex = fem::face_corner2(tri, f);
     double* fr = &frame_[3 * std::size_t(f)];
     fr[0] = l0;

@@ -230,7 +230,8 @@ TEST(SupernodalSolve, RowsInBlockOrder) {
         chol.solve_rows(expected.data(), k);
         RowMajor W(n, k);
         for (Index i = 0; i < n; ++i) W.row(i) = B.row((*order)[std::size_t(i)]);
-        CholeskyBlocks::solve_in_block_order(chol, W.data(), k, sources ? source_row.data() : nullptr);
+        CholeskyBlocks::solve_in_block_order(chol, W.data(), k,
+                                             sources ? source_row.data() : nullptr);
         RowMajor X(n, k);
         for (Index i = 0; i < n; ++i) X.row((*order)[std::size_t(i)]) = W.row(i);
         const std::string what =
@@ -253,7 +254,8 @@ TEST(SupernodalSolve, RowsInBlockOrder) {
       for (Index i = 0; i < n; ++i) W.row(i) = B.row((*order)[std::size_t(i)]);
       Eigen::VectorXd rows_in_order(n);
       for (Index i = 0; i < n; ++i) rows_in_order[i] = rows[(*order)[std::size_t(i)]];
-      CholeskyBlocks::solve_in_block_order(chol, W.data(), k, nullptr, rows_in_order.data(), sums.data());
+      CholeskyBlocks::solve_in_block_order(chol, W.data(), k, nullptr, rows_in_order.data(),
+                                           sums.data());
       RowMajor X(n, k);
       for (Index i = 0; i < n; ++i) X.row((*order)[std::size_t(i)]) = W.row(i);
       EXPECT_LT(rel_diff(X, expected), 1e-12) << "rank-one term, n = " << n;
