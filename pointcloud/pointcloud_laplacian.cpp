@@ -8,8 +8,8 @@
 #include <utility>
 
 #include "intrinsic/core/errors.h"
-#include "intrinsic/core/types.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/core/types.h"
 #include "pointcloud/local_delaunay.h"
 
 #ifdef _OPENMP

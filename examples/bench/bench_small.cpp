@@ -21,11 +21,11 @@
 
 #include "bench_util.h"
 #include "fem/operators.h"
-#include "solvers/linalg/memory.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
 #include "solvers/linalg/cholesky.h"
+#include "solvers/linalg/memory.h"
 #include "solvers/scalar/heat_distance.h"
 
 #if defined(_OPENMP)

@@ -9,8 +9,8 @@
 #include <utility>
 
 #include "intrinsic/core/geometry.h"
-#include "intrinsic/core/types.h"
 #include "intrinsic/core/side_pairs.h"
+#include "intrinsic/core/types.h"
 
 namespace ifem::intrinsic {
 namespace {

@@ -54,8 +54,8 @@ struct CholeskyOptions {
   /// Who runs the solves of a real factor (ComplexCholeskySolver ignores it):
   enum class SolveKernel {
     kCholmod,  ///< CHOLMOD's own, simplicial or supernodal as simplicial_solves says
-    /// Our supernodal kernel (solvers/linalg/supernodal_solve.h) over a copy of the supernodal factor:
-    /// in double precision (the same values as CHOLMOD's), or as floats (half the bytes per
+    /// Our supernodal kernel (solvers/linalg/supernodal_solve.h) over a copy of the supernodal
+    /// factor: in double precision (the same values as CHOLMOD's), or as floats (half the bytes per
     /// solve; each factor entry rounded to 6e-8 relative, so a solve's relative error grows
     /// to ~6e-8 × the condition number; what that means for the heat method: docs/decisions.md,
     /// "Heat queries: our supernodal solve kernel"). Large factors are solved over two halves of
