@@ -8,7 +8,7 @@
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
-#include "intrinsic/core/parallel.h"
+#include "intrinsic/core/types.h"
 
 namespace ifem::fem {
 
@@ -38,7 +38,7 @@ inline double wrap_half_turn(double x) {
 std::vector<double> corner_angles(const IntrinsicTriangulation& tri) {
   const Index nf = tri.n_faces();
   std::vector<double> corner(tri.n_halfedges());
-#pragma omp parallel for schedule(static) if (parallel_pays(nf))
+#pragma omp parallel for schedule(static) if (nf >= kParallelMin)
   for (Index f = 0; f < nf; ++f) {
     double l[3] = {tri.halfedge_length(3 * f), tri.halfedge_length(3 * f + 1),
                    tri.halfedge_length(3 * f + 2)};
@@ -123,7 +123,7 @@ std::vector<Index> lay_out_first_fans(const IntrinsicTriangulation& tri,
                                       const std::vector<Index>& outgoing, TangentFrames& frames) {
   const Index nv = tri.n_vertices();
   std::vector<char> pinched(nv, 0);
-#pragma omp parallel for schedule(static) if (parallel_pays(nv))
+#pragma omp parallel for schedule(static) if (nv >= kParallelMin)
   for (Index v = 0; v < nv; ++v) {
     const Index h0 = tri.vertex_halfedge(v);
     if (h0 == kInvalidIndex) continue;
@@ -177,7 +177,7 @@ void transports(const IntrinsicTriangulation& tri, const std::vector<double>& co
   const Index nh = tri.n_halfedges();
   frames.transport.resize(nh);
   const Eigen::VectorXd& angle = frames.halfedge_angle;
-#pragma omp parallel for schedule(static) if (parallel_pays(nh))
+#pragma omp parallel for schedule(static) if (nh >= kParallelMin)
   for (Index h = 0; h < nh; ++h) {
     const Index t = tri.twin(h);
     double back = 0.0;

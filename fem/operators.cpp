@@ -10,7 +10,7 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
-#include "intrinsic/core/parallel.h"
+#include "intrinsic/core/types.h"
 
 namespace ifem::fem {
 
@@ -137,7 +137,7 @@ SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri, const Eig
   Eigen::VectorXd diag;
   scatter_edges(tri, tails, w, outer, inner, value, fill, diag);
   std::vector<int> count(nv);
-#pragma omp parallel for schedule(static) if (parallel_pays(nv))
+#pragma omp parallel for schedule(static) if (nv >= kParallelMin)
   for (Index v = 0; v < nv; ++v) {
     int* r = inner + outer[v];
     double* x = value + outer[v];
@@ -153,7 +153,7 @@ SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri, const Eig
 Eigen::VectorXd face_areas(const IntrinsicTriangulation& tri) {
   const Index nf = tri.n_faces();
   Eigen::VectorXd a(nf);
-#pragma omp parallel for schedule(static) if (parallel_pays(nf))
+#pragma omp parallel for schedule(static) if (nf >= kParallelMin)
   for (Index f = 0; f < nf; ++f) a[f] = intrinsic::face_area(tri, f);
   return a;
 }

@@ -8,8 +8,8 @@
 #include <utility>
 
 #include "intrinsic/core/errors.h"
-#include "intrinsic/core/parallel.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/core/types.h"
 #include "pointcloud/local_delaunay.h"
 
 #ifdef _OPENMP
@@ -157,7 +157,7 @@ void gather_stars(std::vector<std::vector<Triangle>>& per_thread,
   const Index n = static_cast<Index>(st.offset.size()) - 1;
   if (spatial) {
     st.tris.resize(st.offset[n]);
-#pragma omp parallel for schedule(static) if (parallel_pays(n))
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
     for (Index i = 0; i < n; ++i) {
       const Triangle* src = per_thread[where[i].first].data() + where[i].second;
       std::copy(src, src + (st.offset[i + 1] - st.offset[i]), st.tris.data() + st.offset[i]);

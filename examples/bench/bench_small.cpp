@@ -6,9 +6,6 @@
 // `--what factor` times one factorization of the heat matrix M + L (analysis included)
 // supernodal-then-simplicial (the default) against simplicial from the start.
 //
-// `--load-check 0` makes every loop above its size threshold use the OpenMP team even when the
-// machine is busy (to measure the thresholds themselves).
-//
 // `--what precompute-threads` times the precompute with the default OpenMP threads and with one,
 // taking turns in one process.
 //
@@ -16,8 +13,7 @@
 // keeps it: retain_freed_memory()).
 //
 //   ifem_bench small --mesh FILE|icosphere:N [--what lm|precompute|precompute-threads|factor]
-//   [--repeat N]
-//                    [--load-check 0|1] [--retain-memory 0|1]
+//   [--repeat N] [--retain-memory 0|1]
 #include <cstdio>
 #include <ctime>
 #include <string>
@@ -25,12 +21,11 @@
 
 #include "bench_util.h"
 #include "fem/operators.h"
-#include "solvers/linalg/memory.h"
-#include "intrinsic/core/parallel.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
 #include "solvers/linalg/cholesky.h"
+#include "solvers/linalg/memory.h"
 #include "solvers/scalar/heat_distance.h"
 
 #if defined(_OPENMP)
@@ -67,8 +62,6 @@ int small(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 5));
   const std::string spec = string_option(argc, argv, "--mesh", "icosphere:23");
   const std::string what = string_option(argc, argv, "--what", "lm");
-  set_parallel_load_check(int_option(argc, argv, "--load-check", 1) != 0);
-  solvers::release_idle_blas_threads();  // as the CLI does: a short run's cores to itself
   if (int_option(argc, argv, "--retain-memory", 1) != 0) retain_freed_memory();  // as the CLI
   const Mesh m = load(spec);
   auto tri = intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);

@@ -11,7 +11,6 @@
 #include "cli.h"
 #include "intrinsic/core/errors.h"
 #include "solvers/linalg/memory.h"
-#include "solvers/linalg/cholesky.h"
 
 namespace {
 
@@ -47,9 +46,6 @@ int run_command(const ifem::cli::Command& cmd, int argc, const char* const* argv
 }  // namespace
 
 int main(int argc, char** argv) {
-  // OpenBLAS's worker threads spin from the moment it is loaded: a short run would share its
-  // cores with them (they come back on the first threaded BLAS call of a long one)
-  ifem::solvers::release_idle_blas_threads();
   // one job per process: memory freed between its steps is reused instead of faulted in again
   ifem::retain_freed_memory();
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {

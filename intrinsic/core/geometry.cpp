@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <vector>
 
-#include "intrinsic/core/parallel.h"
 
 namespace ifem::intrinsic {
 
@@ -33,7 +32,7 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
   // one area per face (not one per halfedge): cot of the angle opposite each side
   const Index nf = tri.n_faces();
   std::vector<double> cot(tri.n_halfedges());
-#pragma omp parallel for schedule(static) if (parallel_pays(nf))
+#pragma omp parallel for schedule(static) if (nf >= kParallelMin)
   for (Index f = 0; f < nf; ++f) {
     // on lengths normalized by a power of two (exact): cotangents are dimensionless, so the
     // weights are the same bits at every scale and squares never over- or underflow
@@ -49,7 +48,7 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
   }
   const Index ne = tri.n_edges();
   Eigen::VectorXd w(ne);
-#pragma omp parallel for schedule(static) if (parallel_pays(ne))
+#pragma omp parallel for schedule(static) if (ne >= kParallelMin)
   for (Index e = 0; e < ne; ++e) {
     const Index h = tri.edge_halfedge(e);
     const Index t = tri.twin(h);

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "intrinsic/core/parallel.h"
+#include "intrinsic/core/types.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -36,7 +36,7 @@ SideGroups group_sides_impl(Index n_faces, Index n_vertices, const Corner& corne
     }
   }
   // buckets are small (about the vertex degree): insertion sort, std::sort for the rare big one
-#pragma omp parallel for schedule(dynamic, 256) if (parallel_pays(n_vertices))
+#pragma omp parallel for schedule(dynamic, 256) if (n_vertices >= kParallelMin)
   for (Index v = 0; v < n_vertices; ++v) {
     if (start[v + 1] - start[v] < 2) continue;  // nothing to sort (and key may be empty)
     std::uint64_t* b = key.data() + start[v];

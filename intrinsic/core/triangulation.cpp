@@ -8,9 +8,14 @@
 #include <string>
 #include <utility>
 
-#include "intrinsic/core/parallel.h"
+<<<<<<< HEAD
 #include "intrinsic/core/side_pairs.h"
 #include "intrinsic/core/triangle_formulas.h"
+=======
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/core/side_pairs.h"
+#include "intrinsic/core/types.h"
+>>>>>>> h-linalg
 
 namespace ifem {
 
@@ -461,7 +466,7 @@ FlipReport IntrinsicTriangulation::flip_to_delaunay(const std::function<bool(Ind
   // every edge's first test on the OpenMP team (the same flips follow: a test is redone once a
   // flip has changed the edge's diamond)
   std::vector<char> known(ne);
-#pragma omp parallel for schedule(static) if (parallel_pays(ne))
+#pragma omp parallel for schedule(static) if (ne >= kParallelMin)
   for (Index e = 0; e < ne; ++e) known[e] = is_delaunay(e) ? 1 : 2;
   return flip_stack(stack, &queued, &known, nullptr, flip);
 }

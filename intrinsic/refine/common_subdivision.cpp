@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "intrinsic/core/first_error.h"
-#include "intrinsic/core/parallel.h"
+#include "intrinsic/core/types.h"
 #include "intrinsic/io/detail.h"
 #include "intrinsic/refine/delaunay_refine.h"
 
@@ -1292,7 +1292,7 @@ CommonSubdivision common_subdivision(const SignpostTriangulation& st, double max
   drop_crossings_at_ends(st, traces.paths);
   // ---- node ids and segments
   const Numbering num = number_path_points(traces.paths);
-  const bool parallel = parallel_pays(num.n_segs);
+  const bool parallel = num.n_segs >= kParallelMin;
   // ---- per segment its input face; side labels grouped by face
   std::vector<Index> seg_face(num.n_segs);
   std::vector<Index> label_begin;

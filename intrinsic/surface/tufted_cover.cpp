@@ -9,8 +9,8 @@
 #include <utility>
 
 #include "intrinsic/core/geometry.h"
-#include "intrinsic/core/parallel.h"
 #include "intrinsic/core/side_pairs.h"
+#include "intrinsic/core/types.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -62,7 +62,7 @@ CoverFaces cover_faces(const std::vector<Triangle>& faces, const std::vector<Ind
   c.tail.resize(nh);
   c.hlen.resize(nh);
   c.kept_tri.resize(nk);
-#pragma omp parallel for schedule(static) if (parallel_pays(nk))
+#pragma omp parallel for schedule(static) if (nk >= kParallelMin)
   for (Index k = 0; k < nk; ++k) {
     const Index f = kept[k];
     const Triangle& t = faces[f];
@@ -172,7 +172,7 @@ std::vector<Index> glue_cover(const SideGroups& groups, const CoverSides& sides,
   };
   const Index ng = groups.n_groups();
   Index n_boundary = 0, n_nonmanifold = 0, max_per_edge = 0;
-#pragma omp parallel if (parallel_pays(ng))
+#pragma omp parallel if (ng >= kParallelMin)
   {
     EdgeFanSorter fan{sides, kept, side, positions, {}, {}};  // per-thread scratch
 #pragma omp for schedule(dynamic, 256) reduction(+ : n_boundary, n_nonmanifold) \
@@ -257,7 +257,7 @@ IntrinsicTriangulation tufted_cover(const std::vector<Triangle>& faces, const Po
   Eigen::MatrixX3d side(nf, 3);
   static_assert(Positions::IsRowMajor, "rows of Positions are contiguous xyz triples");
   const double* xyz = positions.data();
-#pragma omp parallel for schedule(static) if (parallel_pays(nf))
+#pragma omp parallel for schedule(static) if (nf >= kParallelMin)
   for (Index f = 0; f < nf; ++f) {
     for (int s = 0; s < 3; ++s) {
       const Index a = faces[f][s], b = faces[f][(s + 1) % 3];

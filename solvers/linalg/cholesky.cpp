@@ -2,7 +2,6 @@
 
 #include <amd.h>
 #include <cholmod.h>
-#include <dlfcn.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +12,12 @@
 #include <string>
 #include <vector>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "intrinsic/core/errors.h"
+#include "solvers/linalg/cholesky_blocks.h"
 #include "solvers/linalg/flush_denormals.h"
 #include "solvers/linalg/supernodal_solve.h"
 
@@ -34,107 +38,34 @@ void CholeskyOptions::validate() const {
 
 namespace {
 
-// OpenBLAS's thread setter/getter, looked up once at run time (null with another BLAS).
-struct OpenBlasThreads {
-  using Set = void (*)(int);
-  using Get = int (*)();
-  Set set = nullptr;
-  Get get = nullptr;
-  OpenBlasThreads() {
-    set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-    get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-    if (!set || !get) set = nullptr, get = nullptr;
-  }
-  static const OpenBlasThreads& instance() {
-    static const OpenBlasThreads o;
-    return o;
-  }
-};
-
 // CHOLMOD's parallel loops (clearing and assembling supernodes) ask OpenMP for a fixed team of
 // CHOLMOD_OMP_NUM_THREADS = 4 threads whatever the core count, also when two factorizations
 // run side by side: on two cores that is 8 spinning threads, and a factorization alone ran
 // ~20% slower than with the loops serial (docs/decisions.md, "Cholesky: CHOLMOD's OpenMP loops
 // serial"). This scope makes OpenMP regions started by the calling thread serial (the per-thread
-// max-active-levels setting, OpenMP ≥ 5.0), looked up at run time so that the library needs no
-// OpenMP of its own; a no-op when the runtime is not loaded.
+// max-active-levels setting, OpenMP ≥ 5.0; CHOLMOD and the library share libgomp); a no-op in a
+// build without OpenMP.
 class SerialOpenMpScope {
  public:
   SerialOpenMpScope() {
-    const Api& api = Api::instance();
-    if (!api.get || !api.set) return;
-    saved_ = api.get();
-    if (saved_ != 0) api.set(0);
+#ifdef _OPENMP
+    saved_ = omp_get_max_active_levels();
+    if (saved_ != 0) omp_set_max_active_levels(0);
+#endif
   }
   ~SerialOpenMpScope() {
-    const Api& api = Api::instance();
-    if (api.set && saved_ > 0) api.set(saved_);
+#ifdef _OPENMP
+    if (saved_ > 0) omp_set_max_active_levels(saved_);
+#endif
   }
   SerialOpenMpScope(const SerialOpenMpScope&) = delete;
   SerialOpenMpScope& operator=(const SerialOpenMpScope&) = delete;
 
  private:
-  struct Api {
-    using Set = void (*)(int);
-    using Get = int (*)();
-    Set set = nullptr;
-    Get get = nullptr;
-    Api() {
-      set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
-      get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
-    }
-    static const Api& instance() {
-      static const Api api;
-      return api;
-    }
-  };
   int saved_ = -1;
 };
 
-std::mutex blas_scope_mutex;
-int blas_scope_depth = 0;
-int blas_scope_saved = 0;
-
 }  // namespace
-
-BlasThreadScope::BlasThreadScope(int threads) {
-  const OpenBlasThreads& o = OpenBlasThreads::instance();
-  if (threads <= 0 || !o.set) return;
-  std::lock_guard<std::mutex> lock(blas_scope_mutex);
-  if (blas_scope_depth++ == 0) {
-    blas_scope_saved = o.get();
-    if (blas_scope_saved != threads) o.set(threads);
-  }
-  active_ = true;
-}
-
-BlasThreadScope::~BlasThreadScope() {
-  if (!active_) return;
-  const OpenBlasThreads& o = OpenBlasThreads::instance();
-  std::lock_guard<std::mutex> lock(blas_scope_mutex);
-  if (--blas_scope_depth == 0 && o.get() != blas_scope_saved) o.set(blas_scope_saved);
-}
-
-void release_idle_blas_threads() {
-  using Shutdown = int (*)();
-  static const auto shutdown =
-      reinterpret_cast<Shutdown>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"));
-  static const auto* server_up = static_cast<const int*>(dlsym(RTLD_DEFAULT, "blas_server_avail"));
-  const OpenBlasThreads& o = OpenBlasThreads::instance();
-  if (!shutdown || !server_up || !o.set) return;  // not OpenBLAS's pthread build
-  std::lock_guard<std::mutex> lock(blas_scope_mutex);
-  if (blas_scope_depth > 0 || *server_up == 0) return;  // BLAS in use, or no workers
-  // One thread first, while the workers exist: any thread-count change after the shutdown
-  // would start them again (OpenBLAS re-initializes its server), and so would a BLAS call
-  // that still asked for two threads.
-  o.set(1);
-  shutdown();
-}
-
-int BlasThreadScope::current() {
-  const OpenBlasThreads& o = OpenBlasThreads::instance();
-  return o.get ? o.get() : 0;
-}
 
 struct CholeskySolver::Impl {
   cholmod_common common;
@@ -707,20 +638,20 @@ const SupernodalSolver* block_kernel(const CholeskySolver::Impl& im) {
 }
 }  // namespace
 
-const std::vector<int>* CholeskySolver::block_order() const {
-  const SupernodalSolver* k = block_kernel(*impl_);
+const std::vector<int>* CholeskyBlocks::block_order(const CholeskySolver& chol) {
+  const SupernodalSolver* k = block_kernel(*chol.impl_);
   return k ? &k->permutation() : nullptr;
 }
 
-void CholeskySolver::solve_rows_in_block_order(double* W, Eigen::Index cols, const int* source_rows,
-                                               const double* shift_rows,
-                                               const double* shift_sums) const {
-  const SupernodalSolver* k = block_kernel(*impl_);
+void CholeskyBlocks::solve_in_block_order(const CholeskySolver& chol, double* W, Eigen::Index cols,
+                                          const int* source_rows, const double* shift_rows,
+                                          const double* shift_sums) {
+  const SupernodalSolver* k = block_kernel(*chol.impl_);
   if (!k || cols < 2) {
-    throw InvalidInput("CholeskySolver::solve_rows_in_block_order: " +
+    throw InvalidInput("CholeskyBlocks::solve_in_block_order: " +
                        std::string(k ? "needs two or more columns" : "no block order here"));
   }
-  const BlasThreadScope threads(impl_->solve_blas_threads);
+  const BlasThreadScope threads(chol.impl_->solve_blas_threads);
   k->solve_rows_in_factor_order(W, cols, source_rows, shift_rows, shift_sums);
 }
 

@@ -9,6 +9,8 @@
 #include <memory>
 #include <vector>
 
+#include "solvers/linalg/blas_threads.h"
+
 namespace ifem::solvers {
 
 /// Real sparse matrix, column-major with 32-bit indices (the same type as SparseMatrix).
@@ -52,8 +54,8 @@ struct CholeskyOptions {
   /// Who runs the solves of a real factor (ComplexCholeskySolver ignores it):
   enum class SolveKernel {
     kCholmod,  ///< CHOLMOD's own, simplicial or supernodal as simplicial_solves says
-    /// Our supernodal kernel (solvers/linalg/supernodal_solve.h) over a copy of the supernodal factor:
-    /// in double precision (the same values as CHOLMOD's), or as floats (half the bytes per
+    /// Our supernodal kernel (solvers/linalg/supernodal_solve.h) over a copy of the supernodal
+    /// factor: in double precision (the same values as CHOLMOD's), or as floats (half the bytes per
     /// solve; each factor entry rounded to 6e-8 relative, so a solve's relative error grows
     /// to ~6e-8 × the condition number; what that means for the heat method: docs/decisions.md,
     /// "Heat queries: our supernodal solve kernel"). Large factors are solved over two halves of
@@ -83,32 +85,6 @@ struct CholeskyOptions {
   ///         supernodal kernel is asked for without a supernodal factorization
   void validate() const;
 };
-
-/// Sets OpenBLAS's thread count for a scope and restores it afterwards (process-wide: OpenBLAS
-/// has a single setting). Nested or concurrent scopes share the first scope's count; the last
-/// one to end restores the previous value. A no-op with any other BLAS (the function is looked
-/// up at run time, so the library does not depend on OpenBLAS) or when threads ≤ 0.
-class BlasThreadScope {
- public:
-  explicit BlasThreadScope(int threads);
-  ~BlasThreadScope();
-  BlasThreadScope(const BlasThreadScope&) = delete;
-  BlasThreadScope& operator=(const BlasThreadScope&) = delete;
-  /// The current OpenBLAS thread count, or 0 without OpenBLAS.
-  static int current();
-
- private:
-  bool active_ = false;
-};
-
-/// Sets OpenBLAS to one thread and ends its worker threads (a later openblas_set_num_threads()
-/// or BlasThreadScope with more than one thread starts them again). Why: OpenBLAS starts them
-/// when it is loaded, and each spins (sched_yield) for ~0.1 s before it sleeps, on a core the
-/// work could use: a 70 ms program took 124 ms of CPU and 144 ms instead of 71 and 80
-/// (docs/decisions.md, "Small meshes: one analysis, no threads below their size"). Call it
-/// where no BLAS call can be running in another thread, e.g. first thing in main(). A no-op
-/// with any other BLAS (looked up at run time) or when the workers are not running.
-void release_idle_blas_threads();
 
 /// AMD's fill-reducing ordering of the graph on nodes 0..n−1 with an edge {i, j} for every i in
 /// index[start[j] .. start[j+1]) (each edge listed once or twice, in either list; self-loops and
@@ -197,20 +173,6 @@ class CholeskySolver {
   /// after refactor()), or through a column-major copy for any other factor. Real factors only.
   /// @throws InvalidInput on a negative column count or a complex factor
   void solve_rows(double* X, Eigen::Index cols) const;
-  /// The row order of solve_rows()'s blocks of two or more columns where they run our kernel
-  /// (its own factor, or the copy over CHOLMOD's simplicial factor, built here if not yet): row
-  /// i of a block in this order is unknown (*order)[i]. Null when blocks take another path. The
-  /// vector lives until refactor() (the ordering itself never changes: one analysis).
-  const std::vector<int>* block_order() const;
-  /// solve_rows() on a block of `cols` ≥ 2 columns already in block_order() (non-null): no row
-  /// copies. source_rows (cols entries, or null): point sources, column j zero but in row
-  /// source_rows[j] of the block (SupernodalSolver::solve_rows_in_factor_order()). shift_rows
-  /// (n, in block_order()) and shift_sums (cols): solve for W − shift_rows·shift_sumsᵀ, the
-  /// rank-one term folded into the forward pass (SupernodalSolver::solve_rows_in_factor_order()).
-  /// @throws InvalidInput if block_order() is null or cols < 2
-  void solve_rows_in_block_order(double* W, Eigen::Index cols, const int* source_rows = nullptr,
-                                 const double* shift_rows = nullptr,
-                                 const double* shift_sums = nullptr) const;
 
   /// Size n of the factored matrix.
   Eigen::Index size() const;
@@ -233,6 +195,7 @@ class CholeskySolver {
 
  private:
   std::unique_ptr<Impl> impl_;
+  friend struct CholeskyBlocks;  // the heat method's block solves (cholesky_blocks.h)
 };
 
 /// Complex sparse matrix (same type as fem::ComplexSparseMatrix).

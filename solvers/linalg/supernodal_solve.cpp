@@ -12,9 +12,9 @@
 #include <utility>
 
 #include "intrinsic/core/errors.h"
-#include "intrinsic/core/huge_pages.h"
-#include "intrinsic/core/lanes.h"
 #include "solvers/linalg/flush_denormals.h"
+#include "solvers/linalg/huge_pages.h"
+#include "solvers/linalg/lanes.h"
 #include "solvers/linalg/parallel.h"
 
 namespace ifem::solvers {

@@ -16,12 +16,13 @@
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
-#include "intrinsic/core/huge_pages.h"
-#include "intrinsic/core/lanes.h"  // IFEM_HOST_CLONES
 #include "intrinsic/core/union_find.h"
 #include "solvers/linalg/cholesky.h"
+#include "solvers/linalg/huge_pages.h"
 #include "solvers/linalg/parallel.h"
+#include "solvers/linalg/row_kernels.h"
 #include "solvers/scalar/components.h"
+#include "solvers/scalar/heat_engine.h"
 #include "solvers/scalar/poisson.h"
 
 namespace ifem::solvers {
@@ -152,10 +153,10 @@ struct HeatDistanceSolver::Impl {
   Eigen::VectorXd mass;
   double t = 0.0;      // time step, in units of scale²
   double scale = 1.0;  // tri's lengths are the input's divided by scale (a power of two)
-  std::optional<PoissonSolver> heat_neumann;            // (M + tL), Neumann
-  std::optional<PoissonSolver> heat_dirichlet;          // (M + tL), u = 0 on the boundary
-  std::optional<PoissonSolver> poisson;                 // L, pure Neumann per component
-  std::optional<fem::UnitGradientDivergence> unit_div;  // div(−∇u/|∇u|) with tri's face layouts
+  std::optional<PoissonSolver> heat_neumann;       // (M + tL), Neumann
+  std::optional<PoissonSolver> heat_dirichlet;     // (M + tL), u = 0 on the boundary
+  std::optional<PoissonSolver> poisson;            // L, pure Neumann per component
+  std::optional<UnitGradientDivergence> unit_div;  // div(−∇u/|∇u|) with tri's face layouts
 
   // (M + tL) u = δ for a vector or every column of a matrix (one pass over each factor): the
   // Neumann solution, or on meshes with boundary the mean of the Neumann and the zero-Dirichlet
@@ -214,7 +215,7 @@ struct HeatDistanceSolver::Impl {
     std::vector<Index> vertex;     // row i of a block is vertex[i]
     std::vector<Index> row;        // vertex v is row row[v]
     std::vector<Index> local_row;  // the row of vertex number v of the breadth-first order
-    std::optional<fem::UnitGradientDivergence> div;  // unit_div in that order
+    std::optional<UnitGradientDivergence> div;  // unit_div in that order
   };
   mutable std::once_flag factor_order_once;
   mutable std::unique_ptr<FactorOrder> factor_order_;  // null: no shared order
@@ -260,7 +261,7 @@ struct HeatDistanceSolver::Impl {
     if (heat_dirichlet) {
       U = heat(Eigen::MatrixXd(U));
     } else {
-      heat_neumann->solve_weak_homogeneous_in_place(U);
+      PoissonBlocks::solve_in_place(*heat_neumann, U);
     }
   }
   // φ_j with L φ_j = div(−∇u_j/|∇u_j|) for the columns of U (on use_face[j] when not empty),
@@ -620,79 +621,6 @@ void over_vertex_tiles(Index nv, bool two_threads, const std::function<void(Inde
   });
 }
 
-// Columns [0, k) of rows [v0, v1) of a row-major block H: per column the largest finite value
-// (into hx) and the smallest, NaN once any value is NaN (into hn), over the rows whose label is
-// `comp` (every row when label is null). Branch-free per column: vectorized, for the host's
-// widest vectors.
-IFEM_HOST_CLONES void extremes_of_rows(const double* H, Index v0, Index v1, Eigen::Index k,
-                                       const Index* label, Index comp, double* __restrict hx,
-                                       double* __restrict hn) {
-  constexpr double kMax = std::numeric_limits<double>::max();
-  for (Index v = v0; v < v1; ++v) {
-    if (label && label[v] != comp) continue;
-    const double* __restrict h = H + v * k;
-    for (Eigen::Index j = 0; j < k; ++j) {
-      const double x = h[j];
-      hx[j] = x > hx[j] && x <= kMax ? x : hx[j];
-      hn[j] = x < hn[j] || x != x ? x : hn[j];
-    }
-  }
-}
-
-// out[j][v] = max(P[row[v]·k + j] − shift[j], 0)·scale for the vertices [t0, t1) and the k
-// columns: blocks of 8 vertices × 8 columns (8 rows' values loaded as vectors, clamped and
-// scaled, transposed in registers, stored as 8 consecutive values of each column), the rest one
-// value at a time. The same operations on every value as the scalar loop, so the same bits
-// (NaN stays NaN, −0 stays −0). Value by value, the output's transpose of a 1M-face block of 32
-// sources took 15 ms.
-IFEM_HOST_CLONES void rows_to_output(const double* P, const Index* row, Index t0, Index t1,
-                                     Eigen::Index k, const double* shift, double scale,
-                                     double* const* out) {
-  using V = lanes::Lanes<8>::V;
-  using I = lanes::IntLanes<8>::I;
-  auto value = [&](Index v, Eigen::Index j) {
-    out[j][v] = std::max(P[row[v] * k + j] - shift[j], 0.0) * scale;
-  };
-  const Eigen::Index k8 = k / 8 * 8;
-  Index v = t0;
-  for (; v + 8 <= t1; v += 8) {
-    for (Eigen::Index c = 0; c < k8; c += 8) {
-      const V sh = lanes::load<8>(shift + c);
-      V r[8];
-      for (int i = 0; i < 8; ++i) {
-        const V d = lanes::load<8>(P + row[v + i] * k + c) - sh;
-        const I negative = d < V{};
-        r[i] = lanes::bit_cast<V>(lanes::bit_cast<I>(d) & ~negative) * scale;
-      }
-      // 8 × 8 transpose: pairs of rows, pairs of pairs, halves
-      V a[8], b[8];
-      for (int p = 0; p < 8; p += 2) {
-        a[p] = __builtin_shufflevector(r[p], r[p + 1], 0, 8, 2, 10, 4, 12, 6, 14);
-        a[p + 1] = __builtin_shufflevector(r[p], r[p + 1], 1, 9, 3, 11, 5, 13, 7, 15);
-      }
-      for (int q = 0; q < 8; q += 4) {
-        for (int e = 0; e < 2; ++e) {
-          b[q + e] = __builtin_shufflevector(a[q + e], a[q + e + 2], 0, 1, 8, 9, 4, 5, 12, 13);
-          b[q + e + 2] =
-              __builtin_shufflevector(a[q + e], a[q + e + 2], 2, 3, 10, 11, 6, 7, 14, 15);
-        }
-      }
-      for (int q = 0; q < 4; ++q) {
-        lanes::store<8>(out[c + q] + v,
-                        __builtin_shufflevector(b[q], b[q + 4], 0, 1, 2, 3, 8, 9, 10, 11));
-        lanes::store<8>(out[c + q + 4] + v,
-                        __builtin_shufflevector(b[q], b[q + 4], 4, 5, 6, 7, 12, 13, 14, 15));
-      }
-    }
-    for (Eigen::Index j = k8; j < k; ++j) {
-      for (Index i = v; i < v + 8; ++i) value(i, j);
-    }
-  }
-  for (; v < t1; ++v) {
-    for (Eigen::Index j = 0; j < k; ++j) value(v, j);
-  }
-}
-
 }  // namespace
 
 void HeatDistanceSolver::Impl::heat_extremes(const double* H, Eigen::Index k,
@@ -762,8 +690,8 @@ void HeatDistanceSolver::Impl::finish_block(const std::vector<Index>& src,
 
 const HeatDistanceSolver::Impl::FactorOrder* HeatDistanceSolver::Impl::factor_order() const {
   std::call_once(factor_order_once, [this] {
-    const std::vector<int>* heat_order = heat_neumann->block_order();
-    const std::vector<int>* poisson_order = poisson->block_order();
+    const std::vector<int>* heat_order = PoissonBlocks::block_order(*heat_neumann);
+    const std::vector<int>* poisson_order = PoissonBlocks::block_order(*poisson);
     if (!one_component || !heat_order || !poisson_order || *heat_order != *poisson_order) return;
     auto fo = std::make_unique<FactorOrder>();
     fo->vertex.assign(heat_order->begin(), heat_order->end());
@@ -806,7 +734,7 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     source_row[j] = row_of(out_col[j]);
     H[source_row[j] * k + Index(j)] = 1.0;
   }
-  heat_neumann->solve_weak_homogeneous_rows_in_order(H, k, true, source_row.data());
+  PoissonBlocks::solve_rows_in_order(*heat_neumann, H, k, true, source_row.data());
   // the heat's extremes (one component: over every row)
   std::vector<double> mx, mn;
   heat_extremes(H, k, comp, two_threads, mx, mn);
@@ -817,7 +745,7 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
   // Its faces in three parts (add_rows_part()): the two halves of the order side by side on every
   // column (a face's 32 columns at once: 1M faces 41.6 -> 33.5 ms against two column halves over
   // every face), then the band between them by column halves.
-  const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
+  const Eigen::Index mid = UnitGradientDivergence::column_split(k);
   const Index* at_row = fo.local_row.data();
   run_halves(two_threads,
              [&](int half) { std::fill(P + nv * half / 2 * k, P + nv * (half + 1) / 2 * k, 0.0); });
@@ -827,7 +755,7 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     fo.div->add_rows_part(H, k, P, 2, half == 0 ? 0 : mid, half == 0 ? mid : k, at_row, at_row);
   });
   // the Poisson solve's compatibility sums aᵀ·div (two halves of the rows, summed as it would)
-  const Eigen::VectorXd* a = poisson->compatibility_weights();
+  const Eigen::VectorXd* a = PoissonBlocks::compatibility_weights(*poisson);
   std::vector<double> half_sum[2];
   if (a) {
     run_halves(two_threads, [&](int half) {
@@ -843,8 +771,8 @@ void HeatDistanceSolver::Impl::distance_block_in_order(
     for (std::size_t j = 0; j < kk; ++j) half_sum[0][j] += half_sum[1][j];
   }
   // φ − φ(source) below
-  poisson->solve_weak_homogeneous_rows_in_order(P, k, false, nullptr,
-                                                a ? half_sum[0].data() : nullptr);
+  PoissonBlocks::solve_rows_in_order(*poisson, P, k, false, nullptr,
+                                     a ? half_sum[0].data() : nullptr);
   std::vector<double> shift(static_cast<std::size_t>(k));
   for (Eigen::Index j = 0; j < k; ++j) {
     shift[std::size_t(j)] = P[fo.row[std::size_t(src[std::size_t(j)])] * k + j];
@@ -881,18 +809,18 @@ void HeatDistanceSolver::Impl::distance_block_rows(const std::vector<Index>& sou
     comp[std::size_t(j)] = comps.label[src[std::size_t(j)]];
     H[src[std::size_t(j)] * k + j] = 1.0;
   }
-  heat_neumann->solve_weak_homogeneous_rows_in_place(H, k);
+  PoissonBlocks::solve_rows_in_place(*heat_neumann, H, k);
   // resolved: every vertex of the source's component above the floor, i.e. its minimum (NaN
   // kept) above resolved_heat × its largest finite value
   std::vector<double> mx, mn;
   heat_extremes(H, k, comp, two_threads, mx, mn);
-  // the divergence: two ranges of columns on two threads (our threads, as every step of the
-  // block: an OpenMP team left spinning after its region slowed the next steps' threads)
-  const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
+  // the divergence: two ranges of columns on two threads (run_halves(), as every step of the
+  // block)
+  const Eigen::Index mid = UnitGradientDivergence::column_split(k);
   run_halves(two_threads && mid < k, [&](int half) {
     unit_div->apply_rows(H, k, P, half == 0 ? 0 : mid, half == 0 ? mid : k);
   });
-  poisson->solve_weak_homogeneous_rows_in_place(P, k, false);  // φ − φ(source) below
+  PoissonBlocks::solve_rows_in_place(*poisson, P, k, false);  // φ − φ(source) below
   std::vector<double> shift(static_cast<std::size_t>(k));
   for (Eigen::Index j = 0; j < k; ++j) shift[std::size_t(j)] = P[src[std::size_t(j)] * k + j];
   // out = max(φ − φ(source), 0)·scale on the source's component, ∞ elsewhere: rows to columns
@@ -917,7 +845,7 @@ void HeatDistanceSolver::Impl::integrate_block(const Eigen::Ref<const Eigen::Mat
                                                Eigen::Ref<Eigen::MatrixXd> phi) const {
   const Index nv = tri.n_vertices();
   unit_div->apply_columns(U, use_face, phi);
-  poisson->solve_weak_homogeneous_in_place(phi);
+  PoissonBlocks::solve_in_place(*poisson, phi);
   for (Eigen::Index j = 0; j < U.cols(); ++j) {
     const Index c = comps.label[src[std::size_t(j)]];
     const double shift = phi(src[std::size_t(j)], j);

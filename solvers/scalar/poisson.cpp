@@ -7,7 +7,9 @@
 #include <string>
 
 #include "intrinsic/core/errors.h"
+#include "solvers/linalg/cholesky_blocks.h"
 #include "solvers/linalg/parallel.h"
+#include "solvers/scalar/heat_engine.h"
 
 namespace ifem::solvers {
 
@@ -114,9 +116,9 @@ struct PoissonSolver::Impl {
         one_floating && order ? (compat_sums ? compat_sums : sums(floating_one)) : nullptr;
     zero_fixed();
     if (n > 0 && sum) {
-      chol->solve_rows_in_block_order(X, k, nullptr, weight_in_order.data(), sum);
+      CholeskyBlocks::solve_in_block_order(*chol, X, k, nullptr, weight_in_order.data(), sum);
     } else if (n > 0 && order) {
-      chol->solve_rows_in_block_order(X, k, source_rows);
+      CholeskyBlocks::solve_in_block_order(*chol, X, k, source_rows);
     } else if (n > 0) {
       chol->solve_rows(X, k);
     }
@@ -600,11 +602,10 @@ Eigen::MatrixXd PoissonSolver::solve_weak_homogeneous(const Eigen::MatrixXd& B) 
   return im.solve_many(B, &G);
 }
 
-void PoissonSolver::solve_weak_homogeneous_in_place(Eigen::Ref<Eigen::MatrixXd> B) const {
-  const Impl& im = *impl_;
+void PoissonBlocks::solve_in_place(const PoissonSolver& p, Eigen::Ref<Eigen::MatrixXd> B) {
+  const PoissonSolver::Impl& im = *p.impl_;
   if (B.rows() != im.n || (B.cols() > 1 && B.outerStride() != B.rows())) {
-    throw InvalidInput(
-        "PoissonSolver::solve_weak_homogeneous_in_place: need #V rows, columns contiguous");
+    throw InvalidInput("PoissonBlocks::solve_in_place: need #V rows, columns contiguous");
   }
   if (Index(im.unknown_vertex.size()) != im.n) {  // unknowns renumbered: through solve_many
     const Eigen::MatrixXd G = Eigen::MatrixXd::Zero(Eigen::Index(im.dirichlet.size()), B.cols());
@@ -614,40 +615,40 @@ void PoissonSolver::solve_weak_homogeneous_in_place(Eigen::Ref<Eigen::MatrixXd> 
   im.solve_many_identity(B);
 }
 
-void PoissonSolver::solve_weak_homogeneous_rows_in_place(double* X, Eigen::Index k,
-                                                         bool zero_mean) const {
-  const Impl& im = *impl_;
-  if (k < 1) throw InvalidInput("PoissonSolver::solve_weak_homogeneous_rows_in_place: k < 1");
+void PoissonBlocks::solve_rows_in_place(const PoissonSolver& p, double* X, Eigen::Index k,
+                                        bool zero_mean) {
+  const PoissonSolver::Impl& im = *p.impl_;
+  if (k < 1) throw InvalidInput("PoissonBlocks::solve_rows_in_place: k < 1");
   using RowBlock =
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
   RowBlock rows(X, im.n, k);
   if (!im.rows_direct()) {
     Eigen::MatrixXd B = rows;
-    solve_weak_homogeneous_in_place(B);
+    solve_in_place(p, B);
     rows = B;
     return;  // (with the zero mean: it costs nothing extra here)
   }
   im.solve_rows(X, k, zero_mean, nullptr, nullptr);
 }
 
-const std::vector<int>* PoissonSolver::block_order() const {
-  const Impl& im = *impl_;
-  return im.rows_direct() && im.n > 0 ? im.chol->block_order() : nullptr;
+const std::vector<int>* PoissonBlocks::block_order(const PoissonSolver& p) {
+  const PoissonSolver::Impl& im = *p.impl_;
+  return im.rows_direct() && im.n > 0 ? CholeskyBlocks::block_order(*im.chol) : nullptr;
 }
 
-const Eigen::VectorXd* PoissonSolver::compatibility_weights() const {
-  return impl_->one_floating ? &impl_->floating_one : nullptr;
+const Eigen::VectorXd* PoissonBlocks::compatibility_weights(const PoissonSolver& p) {
+  return p.impl_->one_floating ? &p.impl_->floating_one : nullptr;
 }
 
-void PoissonSolver::solve_weak_homogeneous_rows_in_order(double* W, Eigen::Index k, bool zero_mean,
-                                                         const int* source_rows,
-                                                         const double* compat_sums) const {
-  const std::vector<int>* order = block_order();
+void PoissonBlocks::solve_rows_in_order(const PoissonSolver& p, double* W, Eigen::Index k,
+                                        bool zero_mean, const int* source_rows,
+                                        const double* compat_sums) {
+  const std::vector<int>* order = block_order(p);
   if (!order || k < 2) {
-    throw InvalidInput("PoissonSolver::solve_weak_homogeneous_rows_in_order: " +
+    throw InvalidInput("PoissonBlocks::solve_rows_in_order: " +
                        std::string(order ? "needs two or more columns" : "no block order here"));
   }
-  impl_->solve_rows(W, k, zero_mean, order, source_rows, compat_sums);
+  p.impl_->solve_rows(W, k, zero_mean, order, source_rows, compat_sums);
 }
 
 const std::vector<Index>& PoissonSolver::dirichlet_vertices() const { return impl_->dirichlet; }

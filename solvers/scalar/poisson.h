@@ -95,44 +95,6 @@ class PoissonSolver {
   /// solve_weak() for every column of B (#V×k) with zero Dirichlet values.
   Eigen::MatrixXd solve_weak_homogeneous(const Eigen::MatrixXd& B) const;
 
-  /// solve_weak_homogeneous() written over B (#V×k, columns contiguous: a MatrixXd or a block of
-  /// its leading columns). When every vertex is an unknown (a solver built with a shared
-  /// analysis on a mesh without unreferenced vertices) no #V×k temporary is allocated, so a
-  /// caller that reuses B's storage takes no page faults per call.
-  /// @throws InvalidInput if B.rows() != #V or its columns are not contiguous
-  void solve_weak_homogeneous_in_place(Eigen::Ref<Eigen::MatrixXd> B) const;
-  /// solve_weak_homogeneous_in_place() for k columns stored row-major at X (#V × k: the k values
-  /// of vertex v contiguous at X + v·k), the layout CholeskySolver::solve_rows() and
-  /// fem::UnitGradientDivergence::apply_rows() work in: no transposes when every vertex is an
-  /// unknown and the pure-Neumann part is one component or none (else through a column-major
-  /// copy). Equal to the column-major solve to rounding.
-  /// @param zero_mean false: leave out the final zero-mean shift on a pure-Neumann component
-  ///        (each column then is right up to a constant there), for a caller that subtracts a
-  ///        value of its own anyway (the heat method's φ − φ(source))
-  /// @throws InvalidInput if k < 1
-  void solve_weak_homogeneous_rows_in_place(double* X, Eigen::Index k, bool zero_mean = true) const;
-  /// The vertex order of blocks for solve_weak_homogeneous_rows_in_order(): row i of such a
-  /// block is vertex (*order)[i], the factor's fill-reducing order. Null where that path does
-  /// not apply: where solve_weak_homogeneous_rows_in_place() copies (Dirichlet vertices, several
-  /// pure-Neumann components) or blocks do not run our kernel (CholeskySolver::block_order()).
-  const std::vector<int>* block_order() const;
-  /// solve_weak_homogeneous_rows_in_place() on a block of k ≥ 2 columns already in
-  /// block_order() (non-null), so that a caller keeping its block in that order across several
-  /// solves copies no rows. source_rows: point sources, as
-  /// CholeskySolver::solve_rows_in_block_order() (ignored on a pure-Neumann component, whose
-  /// compatibility shift fills every row). On a pure-Neumann component the shift's subtraction
-  /// is folded into the solve (no sweep of the block), and compat_sums (k values, or null), the
-  /// sums Σ_v a_v W(v, :) with a = compatibility_weights(), spare its other sweep to a caller
-  /// that has them from a sweep of its own.
-  /// @throws InvalidInput if block_order() is null or k < 2
-  void solve_weak_homogeneous_rows_in_order(double* W, Eigen::Index k, bool zero_mean = true,
-                                            const int* source_rows = nullptr,
-                                            const double* compat_sums = nullptr) const;
-  /// The weights a of the compatibility shift on a single pure-Neumann component (1 on its
-  /// vertices, 0 elsewhere; #V, vertex order): a right-hand side x is made compatible as
-  /// x − b·(aᵀx). Null when there is no such component (or several).
-  const Eigen::VectorXd* compatibility_weights() const;
-
   /// The Dirichlet vertices, in the constructor's order.
   const std::vector<Index>& dirichlet_vertices() const;
   /// Number of unknowns in the factored system (with a shared analysis: including the Dirichlet
@@ -148,6 +110,7 @@ class PoissonSolver {
                           const Components& components, std::vector<Index> dirichlet_vertices,
                           const PoissonOptions& options, bool keep_fixed);
   std::unique_ptr<Impl> impl_;
+  friend struct PoissonBlocks;  // the heat method's block solves (heat_engine.h)
 };
 
 /// One-off: solves (L + c·M) u = M f with u = dirichlet_values on dirichlet_vertices.

@@ -104,13 +104,13 @@ TEST_P(ExactNeighbourhoods, StarsUseExactlyTheKNeighbours) {
   }
 }
 
-// The whole pipeline with Options::k = k reports k and glues exactly the fans: every distinct
+// The whole pipeline with PointCloudOptions::k = k reports k and glues exactly the fans: every distinct
 // triangle found in all three stars of its corners.
 TEST_P(ExactNeighbourhoods, PipelineUsesK) {
   const int k = GetParam();
   const int flowers = 4;
   const Positions p = flower_cloud(k, flowers);
-  Options o;
+  PointCloudOptions o;
   o.k = k;
   Report rep;
   const intrinsic::IntrinsicTriangulation tri = pointcloud_triangulation(p, o, nullptr, &rep);

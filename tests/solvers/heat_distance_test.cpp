@@ -5,14 +5,40 @@
 #include <cmath>
 #include <limits>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "fem/gradient.h"
 #include "intrinsic/core/errors.h"
-#include "intrinsic/core/parallel.h"
-#include "solvers/linalg/parallel.h"
+#include "solvers/scalar/heat_engine.h"
 #include "test_util.h"
 
 namespace ifem::solvers {
 namespace {
+
+// Sets OpenMP's thread count (the library's only threads) for a scope.
+class OpenMpThreads {
+ public:
+  explicit OpenMpThreads(int threads) {
+#ifdef _OPENMP
+    saved_ = omp_get_max_threads();
+    omp_set_num_threads(threads);
+#else
+    (void)threads;
+#endif
+  }
+  ~OpenMpThreads() {
+#ifdef _OPENMP
+    omp_set_num_threads(saved_);
+#endif
+  }
+  OpenMpThreads(const OpenMpThreads&) = delete;
+  OpenMpThreads& operator=(const OpenMpThreads&) = delete;
+
+ private:
+  int saved_ = 1;
+};
 
 struct ErrorStats {
   double mean_rel = 0, max_rel = 0, linf_over_max = 0;
@@ -280,7 +306,7 @@ TEST(SolversHeatDistance, BatchRecomputesUnderflowingSourcesAlone) {
   EXPECT_GT(tall_reps[1].stages, 1);
 }
 
-// Results do not depend on the thread count (solvers::set_max_threads): bitwise, for both
+// Results do not depend on the thread count (OpenMP's, omp_set_num_threads): bitwise, for both
 // precisions, single and batched queries, on a sphere large enough for the solve kernel's
 // two-thread split (factors of ≥ 2M entries) and on a disk with boundary (two heat factors
 // solved side by side).
@@ -295,12 +321,11 @@ TEST(SolversHeatDistance, ThreadCountDoesNotChangeTheBits) {
       Eigen::VectorXd d[2];
       Eigen::MatrixXd D[2];
       for (const int threads : {1, 2}) {
-        set_max_threads(threads);
+        const OpenMpThreads team(threads);
         const HeatDistanceSolver solver(*tri, o);
         d[threads - 1] = solver.compute_distance({5});
         D[threads - 1] = solver.compute_distances({5, 900, 17});
       }
-      set_max_threads(0);
       EXPECT_TRUE(d[0] == d[1]) << tri->n_vertices() << " vertices";
       EXPECT_TRUE(D[0] == D[1]);
       EXPECT_LT((D[0].col(0) - d[0]).cwiseAbs().maxCoeff(), 1e-9 * d[0].maxCoeff());
@@ -351,9 +376,9 @@ TEST(SolversHeatDistance, FusedUnitGradientDivergenceMatchesComposition) {
     }
   }
   const Eigen::VectorXd ref = fem::divergence(tri, X);
-  const Eigen::VectorXd fused = fem::divergence_of_unit_gradient(tri, u, &use);
+  const Eigen::VectorXd fused = divergence_of_unit_gradient(tri, u, &use);
   EXPECT_LT((fused - ref).cwiseAbs().maxCoeff(), 1e-14 * ref.cwiseAbs().maxCoeff());
-  EXPECT_THROW(fem::divergence_of_unit_gradient(tri, Eigen::VectorXd(3)), InvalidInput);
+  EXPECT_THROW(divergence_of_unit_gradient(tri, Eigen::VectorXd(3)), InvalidInput);
 }
 
 // The per-face layouts computed once (UnitGradientDivergence) give, for k fields at once, each
@@ -363,7 +388,7 @@ TEST(SolversHeatDistance, FusedUnitGradientDivergenceMatchesComposition) {
 TEST(SolversHeatDistance, UnitGradientDivergenceColumnsMatchSingleFields) {
   const auto tri = test::make_tri(intrinsic::icosphere(40));  // 32,000 faces
   const Index nv = tri.n_vertices(), nf = tri.n_faces();
-  const fem::UnitGradientDivergence div(tri);
+  const UnitGradientDivergence div(tri);
   Eigen::MatrixXd U(nv, 4);
   for (Index v = 0; v < nv; ++v) {
     U(v, 0) = std::exp(-0.001 * v);
@@ -385,64 +410,62 @@ TEST(SolversHeatDistance, UnitGradientDivergenceColumnsMatchSingleFields) {
   EXPECT_EQ(D.col(2).cwiseAbs().maxCoeff(), 0.0);   // constant field: no direction anywhere
   EXPECT_GT(D.col(1).cwiseAbs().maxCoeff(), 1e-3);  // a unit field whatever the heat's scale
   // without masks: the free function, which builds the layouts itself
-  const Eigen::MatrixXd all = fem::divergence_of_unit_gradients(tri, U, {});
+  const Eigen::MatrixXd all = divergence_of_unit_gradients(tri, U, {});
   EXPECT_TRUE(all == div.apply_columns(U));
   EXPECT_THROW(div.apply_columns(Eigen::MatrixXd(3, 2)), InvalidInput);
 }
 
 // apply_rows(): the same divergence as apply_columns() on the row-major layout, for every chunk
 // width of its vector loops (8, 4, 2, 1 columns), with an underflowing field, a constant one and
-// a field with a NaN; on two threads (load check off) and on one (k < 16 never splits); with the
-// AVX-512 variant (vrsqrt14 and two Newton steps) where the host has it and the portable one.
+// a field with a NaN; on two OpenMP threads and on one (k < 16 never splits), to the same bits.
 TEST(SolversHeatDistance, UnitGradientDivergenceRowsMatchColumns) {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const auto tri = test::make_tri(intrinsic::icosphere(40));  // 32,000 faces
   const Index nv = tri.n_vertices();
-  const fem::UnitGradientDivergence div(tri);
-  set_parallel_load_check(false);
-  for (const bool avx512 : {true, false})
-    for (const int k : {1, 3, 8, 15, 16, 32, 39}) {
-      SCOPED_TRACE(avx512 ? "AVX-512 variant where the host has it" : "portable kernels");
-      fem::UnitGradientDivergence::allow_avx512(avx512);
-      Eigen::MatrixXd U(nv, k);
-      for (Index v = 0; v < nv; ++v) {
-        for (int j = 0; j < k; ++j) U(v, j) = std::exp(-0.001 * double((v * (j + 1)) % nv));
-      }
-      if (k > 1) U.col(1) *= 1e-200;
-      if (k > 2) U.col(2).setConstant(3.0);
-      if (k > 3) U(17, 3) = std::numeric_limits<double>::quiet_NaN();
-      // column 0 times 2⁻¹⁰⁴⁰ (subnormal values and gradients: still a unit field) and times 2¹⁰⁰⁰
-      // (exactly: the same unit gradients as column 0; no overflow in the normalization)
-      if (k > 4) U.col(4) = std::ldexp(1.0, -1040) * U.col(0);
-      if (k > 5) U.col(5) = std::ldexp(1.0, 1000) * U.col(0);
-      const Eigen::MatrixXd expected = div.apply_columns(U);
-      const RowMajor rows = U;
-      RowMajor out(nv, k);
-      out.setConstant(7.0);  // overwritten
-      div.apply_rows(rows.data(), k, out.data());
-      for (int j = 0; j < k; ++j) {
-        const double scale = std::max(expected.col(j).cwiseAbs().maxCoeff(), 1e-300);
-        EXPECT_LT((out.col(j) - expected.col(j)).cwiseAbs().maxCoeff(), 1e-13 * scale)
-            << "k = " << k << ", column " << j;
-      }
-      if (k > 2) {
-        EXPECT_EQ(out.col(2).cwiseAbs().maxCoeff(), 0.0);
-      }
-      for (int j : {1, 4, 5}) {
-        if (k > j) {
-          EXPECT_GT(out.col(j).cwiseAbs().maxCoeff(), 1e-3) << "column " << j;
-        }
-      }
-      if (k > 5) {
-        EXPECT_LT((out.col(5) - out.col(0)).cwiseAbs().maxCoeff(),
-                  1e-13 * out.col(0).cwiseAbs().maxCoeff());
-      }
-      if (k > 3) {
-        EXPECT_TRUE(out.col(3).allFinite());  // the NaN's faces add nothing
+  const UnitGradientDivergence div(tri);
+  for (const int k : {1, 3, 8, 15, 16, 32, 39}) {
+    Eigen::MatrixXd U(nv, k);
+    for (Index v = 0; v < nv; ++v) {
+      for (int j = 0; j < k; ++j) U(v, j) = std::exp(-0.001 * double((v * (j + 1)) % nv));
+    }
+    if (k > 1) U.col(1) *= 1e-200;
+    if (k > 2) U.col(2).setConstant(3.0);
+    if (k > 3) U(17, 3) = std::numeric_limits<double>::quiet_NaN();
+    // column 0 times 2⁻¹⁰⁴⁰ (subnormal values and gradients: still a unit field) and times 2¹⁰⁰⁰
+    // (exactly: the same unit gradients as column 0; no overflow in the normalization)
+    if (k > 4) U.col(4) = std::ldexp(1.0, -1040) * U.col(0);
+    if (k > 5) U.col(5) = std::ldexp(1.0, 1000) * U.col(0);
+    const Eigen::MatrixXd expected = div.apply_columns(U);
+    const RowMajor rows = U;
+    RowMajor out(nv, k), one_thread(nv, k);
+    out.setConstant(7.0);  // overwritten
+    div.apply_rows(rows.data(), k, out.data());
+    {
+      const OpenMpThreads team(1);
+      div.apply_rows(rows.data(), k, one_thread.data());
+    }
+    EXPECT_TRUE(one_thread == out) << "k = " << k << ": one thread and the team differ";
+    for (int j = 0; j < k; ++j) {
+      const double scale = std::max(expected.col(j).cwiseAbs().maxCoeff(), 1e-300);
+      EXPECT_LT((out.col(j) - expected.col(j)).cwiseAbs().maxCoeff(), 1e-13 * scale)
+          << "k = " << k << ", column " << j;
+    }
+    if (k > 2) {
+      EXPECT_EQ(out.col(2).cwiseAbs().maxCoeff(), 0.0);
+    }
+    for (int j : {1, 4, 5}) {
+      if (k > j) {
+        EXPECT_GT(out.col(j).cwiseAbs().maxCoeff(), 1e-3) << "column " << j;
       }
     }
-  fem::UnitGradientDivergence::allow_avx512(true);
-  set_parallel_load_check(true);
+    if (k > 5) {
+      EXPECT_LT((out.col(5) - out.col(0)).cwiseAbs().maxCoeff(),
+                1e-13 * out.col(0).cwiseAbs().maxCoeff());
+    }
+    if (k > 3) {
+      EXPECT_TRUE(out.col(3).allFinite());  // the NaN's faces add nothing
+    }
+  }
   double x = 0.0;
   EXPECT_THROW(div.apply_rows(&x, 0, &x), InvalidInput);
   EXPECT_THROW(div.apply_rows(&x, 1, &x, 0, 2), InvalidInput);
@@ -458,11 +481,11 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRelabeled) {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const auto tri = test::make_tri(test::jittered(intrinsic::icosphere(12), 0.02));
   const Index nv = tri.n_vertices();
-  const fem::UnitGradientDivergence div(tri);
+  const UnitGradientDivergence div(tri);
   std::vector<Index> new_index(static_cast<std::size_t>(nv));
   for (Index v = 0; v < nv; ++v) new_index[std::size_t(v)] = (v * 37 + 11) % nv;  // nv odd
   ASSERT_EQ(std::set<Index>(new_index.begin(), new_index.end()).size(), std::size_t(nv));
-  const fem::UnitGradientDivergence moved = div.relabeled(new_index);
+  const UnitGradientDivergence moved = div.relabeled(new_index);
   const int k = 19;
   RowMajor U(nv, k);
   for (Index v = 0; v < nv; ++v) {
@@ -483,7 +506,7 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRelabeled) {
   // u_row[v] of the block, as the heat method's blocks are read in the factor's order), and
   // writing through one too (d_row): the same arithmetic in the same face order, so the same
   // bits, for both column ranges
-  const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
+  const Eigen::Index mid = UnitGradientDivergence::column_split(k);
   RowMajor mapped(nv, k), mapped_out(nv, k);
   div.apply_rows(U_moved.data(), k, mapped.data(), 0, mid, new_index.data());
   div.apply_rows(U_moved.data(), k, mapped.data(), mid, k, new_index.data());
@@ -531,11 +554,11 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRowRanges) {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const auto tri = test::make_tri(intrinsic::icosphere(20));
   const Index nv = tri.n_vertices();
-  const fem::UnitGradientDivergence div(tri);
-  EXPECT_EQ(fem::UnitGradientDivergence::column_split(8), 8);
-  EXPECT_EQ(fem::UnitGradientDivergence::column_split(32), 16);
-  EXPECT_EQ(fem::UnitGradientDivergence::column_split(33), 16);
-  EXPECT_EQ(fem::UnitGradientDivergence::column_split(40), 24);
+  const UnitGradientDivergence div(tri);
+  EXPECT_EQ(UnitGradientDivergence::column_split(8), 8);
+  EXPECT_EQ(UnitGradientDivergence::column_split(32), 16);
+  EXPECT_EQ(UnitGradientDivergence::column_split(33), 16);
+  EXPECT_EQ(UnitGradientDivergence::column_split(40), 24);
   for (const int k : {8, 16, 32, 33}) {
     RowMajor U(nv, k);
     for (Index v = 0; v < nv; ++v) {
@@ -544,7 +567,7 @@ TEST(SolversHeatDistance, UnitGradientDivergenceRowRanges) {
     RowMajor whole(nv, k), parts(nv, k);
     div.apply_rows(U.data(), k, whole.data());
     parts.setConstant(7.0);
-    const Eigen::Index mid = fem::UnitGradientDivergence::column_split(k);
+    const Eigen::Index mid = UnitGradientDivergence::column_split(k);
     div.apply_rows(U.data(), k, parts.data(), 0, mid);
     if (mid < k) {
       EXPECT_EQ(parts(0, mid), 7.0) << "k = " << k;  // not touched yet

@@ -15,12 +15,12 @@
 
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
-#include "solvers/linalg/memory.h"
-#include "intrinsic/core/parallel.h"
 #include "solvers/linalg/cholesky.h"
+#include "solvers/linalg/memory.h"
+#include "solvers/linalg/parallel.h"
 #include "solvers/scalar/components.h"
 #include "solvers/scalar/heat_distance.h"
-#include "solvers/linalg/parallel.h"
+#include "solvers/scalar/heat_engine.h"
 #include "solvers/scalar/poisson.h"
 #include "test_util.h"
 
@@ -237,7 +237,7 @@ TEST(SolversSmallMesh, PoissonBlockCopyEqualsEntryLoop) {
   }
 }
 
-// solve_weak_homogeneous_in_place() gives solve_weak_homogeneous()'s bits, over a block of a wider
+// PoissonBlocks::solve_in_place() gives solve_weak_homogeneous()'s bits, over a block of a wider
 // matrix (the columns beside it untouched): through its own storage when every vertex is an
 // unknown (shared analysis: Dirichlet and pinned vertices as decoupled rows; one pure-Neumann
 // component or two), through solve_many() otherwise (unreferenced vertices, or no analysis).
@@ -271,11 +271,11 @@ TEST(SolversSmallMesh, PoissonSolveInPlaceEqualsSolve) {
       Eigen::MatrixXd wide = Eigen::MatrixXd::Random(n, 5);
       const Eigen::MatrixXd before = wide;
       const Eigen::MatrixXd expected = p.solve_weak_homogeneous(wide.leftCols(3));
-      p.solve_weak_homogeneous_in_place(wide.leftCols(3));
+      PoissonBlocks::solve_in_place(p, wide.leftCols(3));
       EXPECT_TRUE(wide.leftCols(3) == expected) << "solver " << i << ", " << unreferenced;
       EXPECT_TRUE(wide.rightCols(2) == before.rightCols(2)) << "solver " << i;
       Eigen::MatrixXd wrong(3, 2);
-      EXPECT_THROW(p.solve_weak_homogeneous_in_place(wrong), InvalidInput);
+      EXPECT_THROW(PoissonBlocks::solve_in_place(p, wrong), InvalidInput);
     }
   }
 }
@@ -305,12 +305,12 @@ TEST(SolversSmallMesh, PoissonRowsEqualColumns) {
         const Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, k);
         const Eigen::MatrixXd expected = p.solve_weak_homogeneous(B);
         RowMajor X = B;
-        p.solve_weak_homogeneous_rows_in_place(X.data(), k);
+        PoissonBlocks::solve_rows_in_place(p, X.data(), k);
         const double scale = expected.cwiseAbs().maxCoeff();
         EXPECT_LT((Eigen::MatrixXd(X) - expected).cwiseAbs().maxCoeff(), 1e-12 * scale)
             << "solver " << i << ", k = " << k;
         RowMajor Y = B;
-        p.solve_weak_homogeneous_rows_in_place(Y.data(), k, false);
+        PoissonBlocks::solve_rows_in_place(p, Y.data(), k, false);
         const bool floating = tri == &one && i == 0;  // one pure-Neumann component
         for (int j = 0; j < k; ++j) {
           const Eigen::VectorXd d = Y.col(j) - expected.col(j);
@@ -322,7 +322,7 @@ TEST(SolversSmallMesh, PoissonRowsEqualColumns) {
         }
       }
       double x = 0.0;
-      EXPECT_THROW(p.solve_weak_homogeneous_rows_in_place(&x, 0), InvalidInput);
+      EXPECT_THROW(PoissonBlocks::solve_rows_in_place(p, &x, 0), InvalidInput);
     }
   }
 }
@@ -339,7 +339,7 @@ TEST(SolversSmallMesh, PoissonRowsInBlockOrder) {
   const Components comps = connected_components(tri);
   const CholeskyAnalysis analysis = PoissonSolver::analyze(L, comps);
   const PoissonSolver p(L, mass, comps, std::vector<Index>{}, analysis);
-  const std::vector<int>* order = p.block_order();
+  const std::vector<int>* order = PoissonBlocks::block_order(p);
   ASSERT_NE(order, nullptr);
   const Index n = tri.n_vertices();
   ASSERT_EQ(Index(order->size()), n);
@@ -353,17 +353,17 @@ TEST(SolversSmallMesh, PoissonRowsInBlockOrder) {
       std::srand(unsigned(5 + k));
       const RowMajor B = Eigen::MatrixXd::Random(n, k);
       RowMajor expected = B;
-      p.solve_weak_homogeneous_rows_in_place(expected.data(), k, zero_mean);
+      PoissonBlocks::solve_rows_in_place(p, expected.data(), k, zero_mean);
       RowMajor W(n, k);
       for (Index i = 0; i < n; ++i) W.row(i) = B.row((*order)[std::size_t(i)]);
       // the compatibility sums from the caller's own sweep, or taken by the solve
-      const Eigen::VectorXd* a = p.compatibility_weights();
+      const Eigen::VectorXd* a = PoissonBlocks::compatibility_weights(p);
       ASSERT_NE(a, nullptr);
       Eigen::RowVectorXd sums = Eigen::RowVectorXd::Zero(k);
       for (Index i = 0; i < n; ++i) sums += (*a)[(*order)[std::size_t(i)]] * W.row(i);
       RowMajor W2 = W;
-      p.solve_weak_homogeneous_rows_in_order(W.data(), k, zero_mean);
-      p.solve_weak_homogeneous_rows_in_order(W2.data(), k, zero_mean, nullptr, sums.data());
+      PoissonBlocks::solve_rows_in_order(p, W.data(), k, zero_mean);
+      PoissonBlocks::solve_rows_in_order(p, W2.data(), k, zero_mean, nullptr, sums.data());
       RowMajor X(n, k), X2(n, k);
       for (Index i = 0; i < n; ++i) X.row((*order)[std::size_t(i)]) = W.row(i);
       for (Index i = 0; i < n; ++i) X2.row((*order)[std::size_t(i)]) = W2.row(i);
@@ -374,25 +374,27 @@ TEST(SolversSmallMesh, PoissonRowsInBlockOrder) {
     }
   }
   double x = 0.0;
-  EXPECT_THROW(p.solve_weak_homogeneous_rows_in_order(&x, 1), InvalidInput);
+  EXPECT_THROW(PoissonBlocks::solve_rows_in_order(p, &x, 1), InvalidInput);
   const PoissonSolver dirichlet(L, mass, comps, std::vector<Index>{0, 5});
-  EXPECT_EQ(dirichlet.block_order(), nullptr);
-  EXPECT_EQ(dirichlet.compatibility_weights(), nullptr);
-  EXPECT_THROW(dirichlet.solve_weak_homogeneous_rows_in_order(&x, 2), InvalidInput);
+  EXPECT_EQ(PoissonBlocks::block_order(dirichlet), nullptr);
+  EXPECT_EQ(PoissonBlocks::compatibility_weights(dirichlet), nullptr);
+  EXPECT_THROW(PoissonBlocks::solve_rows_in_order(dirichlet, &x, 2), InvalidInput);
   const auto two = test::make_tri(test::two_copies(intrinsic::icosphere(4), 3.0, 0));
   const PoissonSolver p2(fem::cotan_laplacian(two), fem::lumped_mass(two),
                          connected_components(two), std::vector<Index>{});
-  EXPECT_EQ(p2.block_order(), nullptr);
-  EXPECT_EQ(p2.compatibility_weights(), nullptr);  // two pure-Neumann components
+  EXPECT_EQ(PoissonBlocks::block_order(p2), nullptr);
+  EXPECT_EQ(PoissonBlocks::compatibility_weights(p2), nullptr);  // two pure-Neumann components
 }
 
-// run_parallel() through its kept helper threads: every job runs once, two jobs really run side
-// by side (each waits to see the other started), a job's exception comes back after all ran,
-// jobs started from a job run on its thread, and callers on several threads at once (the pool
-// busy: threads of their own) all get their work done.
-TEST(SolversSmallMesh, RunParallelHelpers) {
+#if defined(_OPENMP)
+// run_parallel() on OpenMP threads: every job runs once, two jobs really run side by side (each
+// waits to see the other started), a job's exception comes back after all ran, jobs started
+// from a job run on its thread (nested: the cores are taken), callers on several threads at once
+// all get their work done, and with one OpenMP thread the jobs run on the caller's.
+TEST(SolversSmallMesh, RunParallelOnOpenMpThreads) {
   if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one core";
-  set_max_threads(2);
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(2);
   for (int round = 0; round < 50; ++round) {
     std::atomic<int> started{0};
     std::atomic<bool> both{true};
@@ -435,8 +437,15 @@ TEST(SolversSmallMesh, RunParallelHelpers) {
   }
   for (std::thread& t : callers) t.join();
   EXPECT_EQ(total.load(), 3 * 200 * 3);
-  set_max_threads(0);
+  omp_set_num_threads(1);
+  std::thread::id ran_on[2];
+  run_parallel({[&] { ran_on[0] = std::this_thread::get_id(); },
+                [&] { ran_on[1] = std::this_thread::get_id(); }});
+  EXPECT_EQ(ran_on[0], std::this_thread::get_id());
+  EXPECT_EQ(ran_on[1], std::this_thread::get_id());
+  omp_set_num_threads(saved);
 }
+#endif
 
 // retain_freed_memory(): a 24 MB block freed and allocated again is not faulted in again (glibc
 // maps a fresh block of that size from the kernel by default: ~6000 faults). ctest runs each
@@ -467,15 +476,6 @@ TEST(SolversSmallMesh, RetainedMemoryIsNotFaultedAgain) {
 #endif
 }
 
-TEST(SolversSmallMesh, ParallelPaysOnlyFromItsSize) {
-  EXPECT_FALSE(parallel_pays(kParallelMin - 1));
-  EXPECT_FALSE(parallel_pays(10, 11));
-  set_parallel_load_check(false);
-  EXPECT_EQ(parallel_pays(kParallelMin), std::thread::hardware_concurrency() > 1);
-  set_parallel_load_check(true);
-  parallel_pays(kParallelMin);  // reads /proc/loadavg (either answer is right)
-}
-
 #if defined(_OPENMP)
 // The precompute and a query give the same bits with 1 and 2 OpenMP threads, on a mesh above
 // every parallel loop's threshold (and on a small one, below them).
@@ -484,7 +484,6 @@ TEST(SolversSmallMesh, HeatDistanceIsThreadCountIndependent) {
     const auto m = intrinsic::icosphere(n);
     const auto tri = intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
     const int saved = omp_get_max_threads();
-    set_parallel_load_check(false);  // 2 threads even when the machine is busy
     std::vector<Eigen::VectorXd> d;
     for (const int threads : {1, 2}) {
       omp_set_num_threads(threads);
@@ -493,7 +492,6 @@ TEST(SolversSmallMesh, HeatDistanceIsThreadCountIndependent) {
       d.push_back(solver.compute_distances({3, 11}).col(1));
     }
     omp_set_num_threads(saved);
-    set_parallel_load_check(true);
     EXPECT_EQ(d[0], d[2]) << n;
     EXPECT_EQ(d[1], d[3]) << n;
   }

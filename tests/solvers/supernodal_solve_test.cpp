@@ -10,10 +10,14 @@
 #include <string>
 #include <vector>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
 #include "solvers/linalg/cholesky.h"
-#include "solvers/linalg/parallel.h"
+#include "solvers/linalg/cholesky_blocks.h"
 #include "test_util.h"
 
 namespace ifem::solvers {
@@ -38,6 +42,16 @@ CholeskyOptions kernel_options(Kernel kernel) {
   return o;
 }
 
+// Sets OpenMP's thread count (the library's only threads): n, or the default for n = 0.
+void set_threads(int n) {
+#ifdef _OPENMP
+  static const int default_threads = omp_get_max_threads();
+  omp_set_num_threads(n > 0 ? n : default_threads);
+#else
+  (void)n;
+#endif
+}
+
 // Relative max-norm difference.
 double rel_diff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
@@ -46,9 +60,9 @@ double rel_diff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
 // Solves with 1 and with 2 threads; both must agree bit for bit.
 Eigen::MatrixXd solve_with_threads(const CholeskySolver& chol, const Eigen::MatrixXd& B,
                                    int threads) {
-  set_max_threads(threads);
+  set_threads(threads);
   Eigen::MatrixXd X = chol.solve(B);
-  set_max_threads(0);
+  set_threads(0);
   return X;
 }
 
@@ -88,10 +102,10 @@ Eigen::MatrixXd solve_rows_on_one_and_two_threads(const CholeskySolver& chol,
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   RowMajor X[2] = {B, B};
   for (const int threads : {1, 2}) {
-    set_max_threads(threads);
+    set_threads(threads);
     chol.solve_rows(X[threads - 1].data(), B.cols());
   }
-  set_max_threads(0);
+  set_threads(0);
   EXPECT_TRUE(X[0] == X[1]) << "thread count changed the result, k = " << B.cols();
   return X[0];
 }
@@ -194,7 +208,7 @@ TEST(SupernodalSolve, RowsInBlockOrder) {
     const Index n = Index(A.rows());
     for (const Kernel kernel : {Kernel::kSupernodalDouble, Kernel::kCholmod}) {
       const CholeskySolver chol(A, kernel_options(kernel));
-      const std::vector<int>* order = chol.block_order();
+      const std::vector<int>* order = CholeskyBlocks::block_order(chol);
       ASSERT_NE(order, nullptr);
       std::vector<int> position(static_cast<std::size_t>(n));
       for (Index i = 0; i < n; ++i) position[std::size_t((*order)[std::size_t(i)])] = int(i);
@@ -216,7 +230,8 @@ TEST(SupernodalSolve, RowsInBlockOrder) {
         chol.solve_rows(expected.data(), k);
         RowMajor W(n, k);
         for (Index i = 0; i < n; ++i) W.row(i) = B.row((*order)[std::size_t(i)]);
-        chol.solve_rows_in_block_order(W.data(), k, sources ? source_row.data() : nullptr);
+        CholeskyBlocks::solve_in_block_order(chol, W.data(), k,
+                                             sources ? source_row.data() : nullptr);
         RowMajor X(n, k);
         for (Index i = 0; i < n; ++i) X.row((*order)[std::size_t(i)]) = W.row(i);
         const std::string what =
@@ -239,12 +254,13 @@ TEST(SupernodalSolve, RowsInBlockOrder) {
       for (Index i = 0; i < n; ++i) W.row(i) = B.row((*order)[std::size_t(i)]);
       Eigen::VectorXd rows_in_order(n);
       for (Index i = 0; i < n; ++i) rows_in_order[i] = rows[(*order)[std::size_t(i)]];
-      chol.solve_rows_in_block_order(W.data(), k, nullptr, rows_in_order.data(), sums.data());
+      CholeskyBlocks::solve_in_block_order(chol, W.data(), k, nullptr, rows_in_order.data(),
+                                           sums.data());
       RowMajor X(n, k);
       for (Index i = 0; i < n; ++i) X.row((*order)[std::size_t(i)]) = W.row(i);
       EXPECT_LT(rel_diff(X, expected), 1e-12) << "rank-one term, n = " << n;
       double x = 0.0;
-      EXPECT_THROW(chol.solve_rows_in_block_order(&x, 1), InvalidInput);
+      EXPECT_THROW(CholeskyBlocks::solve_in_block_order(chol, &x, 1), InvalidInput);
     }
   }
 }
@@ -299,11 +315,11 @@ TEST(SupernodalSolve, TwoBinSplitOfAHandBuiltTree) {
     ASSERT_TRUE(solver.split());
     EXPECT_LT(solver.top_share(), 1e-5);  // the root's one entry
     Eigen::MatrixXd X1(B.rows(), B.cols()), X2(B.rows(), B.cols());
-    set_max_threads(1);
+    set_threads(1);
     solver.solve(B.data(), X1.data(), B.cols());
-    set_max_threads(2);
+    set_threads(2);
     solver.solve(B.data(), X2.data(), B.cols());
-    set_max_threads(0);
+    set_threads(0);
     EXPECT_TRUE(X1 == X2);
     EXPECT_LT(rel_diff(X1, X0), precision == FactorPrecision::kSingle ? 1e-4 : 1e-10);
   }
@@ -329,11 +345,11 @@ TEST(SupernodalSolve, BlocksOfColumnsRunTheBinsOfASmallFactor) {
   for (const int threads : {1, 2}) {
     using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
     RowMajor R = B;
-    set_max_threads(threads);
+    set_threads(threads);
     solver.solve_rows(R.data(), 32);
     X[threads - 1] = R;
   }
-  set_max_threads(0);
+  set_threads(0);
   EXPECT_TRUE(X[0] == X[1]);
   EXPECT_LT(rel_diff(X[0], X0), 1e-10);
 }
@@ -367,7 +383,6 @@ TEST(SupernodalSolve, RejectsASimplicialFactorization) {
   CholeskyOptions o = kernel_options(Kernel::kSupernodalDouble);
   o.supernodal = false;
   EXPECT_THROW(o.validate(), InvalidInput);
-  EXPECT_THROW(set_max_threads(-1), InvalidInput);
 }
 
 }  // namespace

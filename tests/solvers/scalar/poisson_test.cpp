@@ -4,7 +4,6 @@
 
 #include <cmath>
 
-#include "fem/gradient.h"
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
@@ -14,28 +13,6 @@ namespace ifem::solvers {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-TEST(SolversGradient, DivergenceOfGradientIsLaplacian) {
-  const auto tri = test::make_tri(test::jittered(intrinsic::icosphere(5), 0.02));
-  Eigen::VectorXd u(tri.n_vertices());
-  for (Index v = 0; v < tri.n_vertices(); ++v) u[v] = std::sin(0.37 * v) + 0.01 * v;
-  const Eigen::VectorXd Lu = fem::cotan_laplacian(tri) * u;
-  const Eigen::VectorXd dg = fem::divergence(tri, fem::gradient(tri, u));
-  EXPECT_LT((Lu - dg).norm(), 1e-10 * Lu.norm());
-}
-
-TEST(SolversGradient, LinearFunctionHasConstantGradient) {
-  auto m = test::jittered(intrinsic::grid(6, 5), 0.05);
-  m.positions.col(2).setZero();  // keep it flat
-  const auto tri = test::make_tri(m, false);
-  Eigen::VectorXd u(tri.n_vertices());
-  for (Index v = 0; v < tri.n_vertices(); ++v)
-    u[v] = 3.0 * m.positions(v, 0) - 2.0 * m.positions(v, 1);
-  const Eigen::MatrixX2d G = fem::gradient(tri, u);
-  for (Index f = 0; f < tri.n_faces(); ++f) EXPECT_NEAR(G.row(f).norm(), std::sqrt(13.0), 1e-9);
-  EXPECT_THROW(fem::gradient(tri, Eigen::VectorXd::Zero(3)), InvalidInput);
-  EXPECT_THROW(fem::divergence(tri, Eigen::MatrixX2d::Zero(2, 2)), InvalidInput);
-}
 
 // max error of L u = M f on [0,1]² with u = sin(πx) sin(πy) + xy, Dirichlet on the boundary
 double square_error(int n) {

@@ -12,7 +12,7 @@
 #include <sys/mman.h>
 #endif
 
-namespace ifem {
+namespace ifem::solvers {
 
 /// Asks the kernel to back [p, p + bytes) with huge pages where whole 2 MB pages fit inside it.
 /// Call before the memory is first touched (pages already faulted in stay small). A hint: a
@@ -67,4 +67,4 @@ struct HugePageAllocator {
 /// A vector of doubles on huge pages when large.
 using HugeVector = std::vector<double, HugePageAllocator<double>>;
 
-}  // namespace ifem
+}  // namespace ifem::solvers

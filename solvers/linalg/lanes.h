@@ -35,7 +35,7 @@
 #define IFEM_HOST_CLONES
 #endif
 
-namespace ifem::lanes {
+namespace ifem::solvers::lanes {
 
 /// Lanes<C>::V: C doubles as one vector value (C = 8, 4, 2) or a double (C = 1).
 template <int C>
@@ -128,4 +128,4 @@ template <bool Write = false>
   for (std::int64_t j = 0; j < n; j += 8) __builtin_prefetch(p + j, Write ? 1 : 0);
 }
 
-}  // namespace ifem::lanes
+}  // namespace ifem::solvers::lanes
