@@ -8,14 +8,9 @@
 #include <string>
 #include <utility>
 
-<<<<<<< HEAD
 #include "intrinsic/core/side_pairs.h"
 #include "intrinsic/core/triangle_formulas.h"
-=======
-#include "intrinsic/core/geometry.h"
-#include "intrinsic/core/side_pairs.h"
 #include "intrinsic/core/types.h"
->>>>>>> h-linalg
 
 namespace ifem {
 
