@@ -1,7 +1,7 @@
-// Benchmark section `field`: smoothest and aligned n-direction fields (solvers/vector/direction_field.h)
-// for n = 1 and 4 on icospheres of 10k..1M faces, rocketship and igea: seconds (connection
-// Laplacian, factorization and iterations; the tangent frames are built before the clock
-// starts), LOBPCG steps, energy and the sum of the singularities' indices.
+// Benchmark section `field`: smoothest and aligned n-direction fields
+// (solvers/vector/direction_field.h) for n = 1 and 4 on icospheres of 10k..1M faces, rocketship and
+// igea: seconds (connection Laplacian, factorization and iterations; the tangent frames are built
+// before the clock starts), LOBPCG steps, energy and the sum of the singularities' indices.
 //
 //   ifem_bench field [--repeat N] [--max-n 224] [--data DIR]
 #include <cstdio>
@@ -15,8 +15,8 @@
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
-#include "solvers/vector/direction_field.h"
 #include "solvers/recipes/pipeline.h"
+#include "solvers/vector/direction_field.h"
 
 namespace ifem::bench {
 namespace {

@@ -26,8 +26,8 @@
 #include "intrinsic/refine/signpost.h"
 #include "intrinsic/surface/build_surface.h"
 #include "intrinsic/surface/face_analysis.h"
-#include "solvers/scalar/heat_distance.h"
 #include "solvers/recipes/pipeline.h"
+#include "solvers/scalar/heat_distance.h"
 
 namespace ifem::bench {
 namespace {

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <vector>
 
-
 namespace ifem::intrinsic {
 
 double total_area(const IntrinsicTriangulation& tri) {

@@ -16,9 +16,9 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "solvers/linalg/cholesky.h"
+#include "solvers/linalg/parallel.h"
 #include "solvers/scalar/components.h"
 #include "solvers/scalar/heat_distance.h"
-#include "solvers/linalg/parallel.h"
 #include "solvers/scalar/poisson.h"
 
 namespace ifem::solvers {

@@ -104,8 +104,8 @@ TEST_P(ExactNeighbourhoods, StarsUseExactlyTheKNeighbours) {
   }
 }
 
-// The whole pipeline with PointCloudOptions::k = k reports k and glues exactly the fans: every distinct
-// triangle found in all three stars of its corners.
+// The whole pipeline with PointCloudOptions::k = k reports k and glues exactly the fans: every
+// distinct triangle found in all three stars of its corners.
 TEST_P(ExactNeighbourhoods, PipelineUsesK) {
   const int k = GetParam();
   const int flowers = 4;
