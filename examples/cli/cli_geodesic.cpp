@@ -26,15 +26,6 @@ using recipes::GeodesicCurve;
 using recipes::GivenCurve;
 using recipes::GivenPoint;
 
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> parts;
-  std::string part;
-  std::istringstream in(s);
-  while (std::getline(in, part, sep)) parts.push_back(part);
-  if (s.empty() || s.back() == sep) parts.emplace_back();
-  return parts;
-}
-
 // --path P0,P1[,...] as one curve (checked before the mesh is read).
 GivenCurve path_option(const Args& args) {
   GivenCurve c;
@@ -42,7 +33,7 @@ GivenCurve path_option(const Args& args) {
   c.closed = args.has("loop");
   c.pin = !c.closed || args.has("pin");
   const std::string given = args.get("path");
-  for (const std::string& token : split(given, ',')) {
+  for (const std::string& token : recipes::split_fields(given, ',')) {
     GivenPoint p;
     const std::string problem = recipes::parse_point_token(token, p);
     if (!problem.empty()) throw UsageError("--path '" + given + "': " + problem);

@@ -39,7 +39,11 @@ bool vertex_id(const std::string& t, Index& v) {
   return true;
 }
 
-std::vector<std::string> split(const std::string& s, char sep) {
+std::string range(Index n) { return "[0, " + std::to_string(n) + ")"; }
+
+}  // namespace
+
+std::vector<std::string> split_fields(const std::string& s, char sep) {
   std::vector<std::string> parts;
   std::string part;
   std::istringstream in(s);
@@ -47,10 +51,6 @@ std::vector<std::string> split(const std::string& s, char sep) {
   if (s.empty() || s.back() == sep) parts.emplace_back();
   return parts;
 }
-
-std::string range(Index n) { return "[0, " + std::to_string(n) + ")"; }
-
-}  // namespace
 
 std::vector<ListedVertex> read_vertex_list(const std::string& path) {
   std::vector<ListedVertex> ids;
@@ -131,7 +131,7 @@ std::string parse_point_token(const std::string& token, GivenPoint& p) {
     }
     return "";
   }
-  const std::vector<std::string> f = split(token, ':');
+  const std::vector<std::string> f = split_fields(token, ':');
   double u = 0, v = 0;
   if (f.size() != 4 || !vertex_id(f[1], p.face) || !parse_whole_real(f[2], u) ||
       !parse_whole_real(f[3], v)) {

@@ -77,6 +77,11 @@ struct GivenCurve {
   std::string origin;              ///< where it was given: "--path", "FILE:line", "curves[2]"
 };
 
+/// The fields of s between separators, empty ones included ("a,,b" → {"a", "", "b"}; "" →
+/// {""}; a trailing separator gives a last empty field): the tokenizer of the comma lists of
+/// the CLI's options and of the point tokens (face:F:u:v) in network files.
+std::vector<std::string> split_fields(const std::string& s, char sep);
+
 /// One point token, a vertex id (an integer ≥ 0) or face:F:u:v, into p (p.token = "'token'").
 /// @return "" on success, else what is wrong with it (naming the token)
 std::string parse_point_token(const std::string& token, GivenPoint& p);

@@ -335,3 +335,20 @@ TEST(RecipeNames, ForwardToTheSolvers) {
 
 }  // namespace
 }  // namespace ifem::recipes
+
+namespace ifem::recipes {
+namespace {
+
+// The one tokenizer of comma lists and point tokens: empty fields are kept, so "0,,1" is three
+// fields (the caller then names the empty one) and a trailing comma is an empty last field.
+TEST(RecipesTextFormats, SplitFieldsKeepsEmptyFields) {
+  EXPECT_EQ(split_fields("0,1,2", ','), (std::vector<std::string>{"0", "1", "2"}));
+  EXPECT_EQ(split_fields("0,,1", ','), (std::vector<std::string>{"0", "", "1"}));
+  EXPECT_EQ(split_fields("0,1,", ','), (std::vector<std::string>{"0", "1", ""}));
+  EXPECT_EQ(split_fields("", ','), (std::vector<std::string>{""}));
+  EXPECT_EQ(split_fields("face:3:0.25:0.5", ':'),
+            (std::vector<std::string>{"face", "3", "0.25", "0.5"}));
+}
+
+}  // namespace
+}  // namespace ifem::recipes
