@@ -25,14 +25,14 @@ done
 [ "${IFEM_NO_PCL:-0}" = 1 ] && with_pcl=0
 
 packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libspectra-dev
-          libnanoflann-dev libopenblas0-serial libgtest-dev libgmock-dev libomp-dev
+          libnanoflann-dev libopenblas0-pthread libgtest-dev libgmock-dev libomp-dev
           libcli11-dev nlohmann-json3-dev  # the ifem command's options and its --json output
           clang-format-14 python3 git   # these three: the style checks (ctest -L style)
           clang libclang-rt-14-dev      # the fuzz build (scripts/fuzz.sh): libFuzzer runtime
           python3-dev python3-numpy python3-scipy python3-pybind11 pybind11-dev python3-pytest)
 #         ^ the Python package (python/): built by default, tested by ctest with pytest
-# OpenBLAS makes CHOLMOD's supernodal factorization 3–4× faster than reference BLAS; its serial
-# build, because BLAS runs on one thread everywhere here (docs/decisions.md D-092).
+# OpenBLAS makes CHOLMOD's supernodal factorization 3–4× faster than reference BLAS (its pthread
+# build: the serial one is not safe for our side-by-side factorizations, docs/decisions.md D-092).
 if [ "$with_pcl" = 1 ] && [ -f pointcloud/pcl_adapter.cpp ]; then
   packages+=(libpcl-dev)
 fi
