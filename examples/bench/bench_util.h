@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <string>
@@ -20,11 +21,11 @@ inline double seconds_now() {
 
 /// Prints the load average (first line of a section: wall times are noisy on a shared machine).
 inline void print_load_average() {
-  std::ifstream load("/proc/loadavg");
-  std::string l1, l5, l15;
-  load >> l1 >> l5 >> l15;
-  std::printf("load average at start: %s %s %s (wall times are noisy on a shared machine)\n\n",
-              l1.c_str(), l5.c_str(), l15.c_str());
+  double load[3] = {0.0, 0.0, 0.0};
+  if (getloadavg(load, 3) != 3) return;
+  std::printf(
+      "load average at start: %.2f %.2f %.2f (wall times are noisy on a shared machine)\n\n",
+      load[0], load[1], load[2]);
 }
 
 /// M + L of the mollified intrinsic Delaunay triangulation of a mesh: the pattern (and, up to t,
