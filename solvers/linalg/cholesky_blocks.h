@@ -11,8 +11,8 @@ namespace ifem::solvers {
 class CholeskySolver;
 
 /// Access to a CholeskySolver's supernodal kernel for blocks kept in the kernel's row order
-/// across several solves (the heat method's queries: docs/decisions.md, "Blocks of sources,
-/// session 12"). Defined in cholesky.cpp.
+/// across several solves (the heat method's queries: docs/decisions.md D-058). Defined in
+/// cholesky.cpp.
 struct CholeskyBlocks {
   /// The row order of CholeskySolver::solve_rows()'s blocks of two or more columns where they
   /// run our kernel (its own factor, or the copy over CHOLMOD's simplicial factor, built here if

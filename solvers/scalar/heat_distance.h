@@ -166,7 +166,7 @@ class HeatDistanceSolver {
   /// (the block solves add in another order: ~1e-14 relative). The heat and Poisson solves of
   /// up to 32 sources at a time (fewer above 1M vertices: each #V×block matrix stays at 256 MB)
   /// go through each factor together, so a source in a block costs a fraction of a single query
-  /// (BENCHMARKS.md, "Blocks of sources, session 12": 7–11× cheaper from 10k to 1M faces).
+  /// (figures: BENCHMARKS.md, "heat distance, 32-source batch"; why: docs/decisions.md D-055).
   /// Without boundary or correction steps, a block of two or more stays in one row-major layout
   /// through both solves and the divergence, and where every vertex is in one component, in the
   /// solves' own row order (no copies around each solve); below 40k vertices the first such
