@@ -162,6 +162,67 @@ inline intrinsic::TriangleMesh skewed_quad() {
   return m;
 }
 
+/// A flat polygon made of the unit cells of the (n+1)×(n+1) lattice on [0, 1]² for which
+/// keep(i, j) holds (cell (i, j) = [i/n, (i+1)/n] × [j/n, (j+1)/n]), each split along its
+/// diagonal (i, j)–(i+1, j+1), the vertices of no kept cell dropped. Interior vertices move by
+/// up to `jitter`/n in x and y; boundary vertices other than the corners slide along their side
+/// by up to `jitter`/n, so the sides stay straight and every boundary vertex keeps angle sum π
+/// but the corners. Deterministic in seed.
+template <class Keep>
+intrinsic::TriangleMesh flat_lattice_polygon(int n, double jitter, unsigned seed, Keep keep) {
+  auto kept = [&](int i, int j) { return i >= 0 && j >= 0 && i < n && j < n && keep(i, j); };
+  std::vector<Index> id((n + 1) * (n + 1), kInvalidIndex);
+  std::vector<Eigen::Vector3d> p;
+  unsigned s = seed;
+  auto rnd = [&]() {
+    s = s * 1664525u + 1013904223u;
+    return 2.0 * ((s >> 8) / double(1u << 24) - 0.5);
+  };
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      const bool c[4] = {kept(i - 1, j - 1), kept(i, j - 1), kept(i - 1, j), kept(i, j)};
+      const int cells = c[0] + c[1] + c[2] + c[3];
+      if (cells == 0) continue;
+      Eigen::Vector3d x(double(i) / n, double(j) / n, 0.0);
+      const double dx = jitter * rnd() / n, dy = jitter * rnd() / n;
+      if (cells == 4) {
+        x += Eigen::Vector3d(dx, dy, 0.0);
+      } else if (cells == 2 && c[0] == c[2] && c[1] == c[3]) {  // on a vertical side
+        x.y() += dy;
+      } else if (cells == 2 && c[0] == c[1] && c[2] == c[3]) {  // on a horizontal side
+        x.x() += dx;
+      }
+      id[j * (n + 1) + i] = static_cast<Index>(p.size());
+      p.push_back(x);
+    }
+  }
+  intrinsic::TriangleMesh m;
+  m.positions.resize(static_cast<Eigen::Index>(p.size()), 3);
+  for (std::size_t v = 0; v < p.size(); ++v) m.positions.row(v) = p[v].transpose();
+  auto at = [&](int i, int j) { return id[j * (n + 1) + i]; };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      if (!kept(i, j)) continue;
+      m.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  return m;
+}
+
+/// The jittered flat unit square (flat_lattice_polygon): 4 corners of angle π/2, n + 1
+/// vertices per side.
+inline intrinsic::TriangleMesh flat_square(int n, double jitter, unsigned seed) {
+  return flat_lattice_polygon(n, jitter, seed, [](int, int) { return true; });
+}
+
+/// The jittered flat L: the unit square less its top-right quarter (n even), 5 corners of
+/// angle π/2 and one of 3π/2 at (1/2, 1/2).
+inline intrinsic::TriangleMesh flat_l_shape(int n, double jitter, unsigned seed) {
+  return flat_lattice_polygon(n, jitter, seed,
+                              [n](int i, int j) { return i < n / 2 || j < n / 2; });
+}
+
 /// Jitters a mesh's vertex positions by a deterministic pseudo-random amount (relative size
 /// `amount` of the mesh's scale), to produce non-Delaunay triangulations.
 inline intrinsic::TriangleMesh jittered(intrinsic::TriangleMesh m, double amount,

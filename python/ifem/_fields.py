@@ -37,7 +37,9 @@ def field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
         V: #V×3 positions, or a file's path (read with its normals, as the CLI reads it).
         F: #F×3 vertex ids; ``None`` (or empty) for a point cloud.
         symmetry: n ≥ 1 — 1 vectors, 2 lines, 4 crosses.
-        align_boundary: hold the field along the boundary (meshes that take the manifold path).
+        align_boundary: hold the field along the boundary (meshes that take the manifold path);
+            at a corner along both sides when ``symmetry`` allows it (a cross at 90° or 270°),
+            else along the ``symmetry``-direction mean of the two sides.
         constraint_vertices: vertex ids where a direction is held (with ``directions``).
         directions: #K×3 directions in space, projected to the tangent plane at each vertex.
         mollify: relative mollification margin.

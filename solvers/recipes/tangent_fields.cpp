@@ -41,7 +41,8 @@ std::vector<DirectionConstraint> held_directions(const PreparedSurface& s,
     held.push_back({c.vertex, std::atan2(y, x)});
   }
   if (settings.align_boundary) {
-    const std::vector<DirectionConstraint> b = boundary_constraints(s.tri, frames);
+    const std::vector<DirectionConstraint> b =
+        boundary_constraints(s.tri, frames, settings.symmetry);
     held.insert(held.end(), b.begin(), b.end());
   }
   const std::vector<DirectionConstraint>& given = settings.intrinsic_constraints;

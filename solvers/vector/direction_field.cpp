@@ -321,13 +321,45 @@ DirectionField aligned_field(const intrinsic::IntrinsicTriangulation& tri,
                        fem::lumped_mass(tri), connected_components(tri), constraints, options);
 }
 
+namespace {
+
+// The direction at tail(h) of the incoming boundary edge that closes h's fan (walking
+// counter-clockwise from h): the last halfedge's direction turned by its scaled corner.
+double incoming_boundary_direction(const intrinsic::IntrinsicTriangulation& tri,
+                                   const fem::TangentFrames& frames, Index h) {
+  Index x = h;
+  for (Index guard = 0; guard <= tri.n_halfedges(); ++guard) {
+    const Index n = tri.twin(T::prev(x));
+    if (n == kInvalidIndex || n == h) break;
+    x = n;
+  }
+  return frames.halfedge_angle[x] +
+         frames.angle_scale[tri.tail(x)] * intrinsic::corner_angle(tri, x);
+}
+
+}  // namespace
+
 std::vector<DirectionConstraint> boundary_constraints(const intrinsic::IntrinsicTriangulation& tri,
-                                                      const fem::TangentFrames& frames) {
+                                                      const fem::TangentFrames& frames,
+                                                      int symmetry) {
+  if (symmetry < 1) {
+    throw InvalidInput("boundary_constraints: symmetry must be ≥ 1, got " +
+                       std::to_string(symmetry));
+  }
+  if (frames.halfedge_angle.size() != tri.n_halfedges() ||
+      frames.angle_scale.size() != tri.n_vertices()) {
+    throw InvalidInput("boundary_constraints: the frames are not those of this triangulation");
+  }
   std::vector<DirectionConstraint> out;
   for (Index v = 0; v < tri.n_vertices(); ++v) {
     const Index h = tri.vertex_halfedge(v);
     if (h == kInvalidIndex || tri.twin(h) != kInvalidIndex) continue;
-    out.push_back({v, frames.halfedge_angle[h]});
+    const double a = frames.halfedge_angle[h];
+    const double b = incoming_boundary_direction(tri, frames, h) + intrinsic::kPi;
+    // n·(b − a) reduced to (−π, π]: the shorter arc between the two n-directions
+    double arc = std::remainder(symmetry * (b - a), kTwoPi);
+    if (arc <= -intrinsic::kPi) arc += kTwoPi;
+    out.push_back({v, a + 0.5 * arc / symmetry});
   }
   return out;
 }

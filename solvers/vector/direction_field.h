@@ -82,10 +82,20 @@ DirectionField aligned_field(const fem::ComplexSparseMatrix& L_n, const Eigen::V
                              const std::vector<DirectionConstraint>& constraints,
                              const DirectionFieldOptions& options = {});
 
-/// One constraint per boundary vertex: along its boundary (the direction of its outgoing
-/// boundary halfedge). Empty on a triangulation without boundary (e.g. a tufted cover).
+/// One constraint per boundary vertex: along its boundary, for n-direction fields (n =
+/// symmetry). The boundary's two tangents at v, the outgoing boundary edge (angle a) and the
+/// incoming one continued through v (angle b, the direction to the previous vertex plus π),
+/// agree as n-directions when n (b − a) is a multiple of 2π (a straight boundary for every n;
+/// a corner of angle π/2 or 3π/2 for n = 4); otherwise the constraint is their n-direction
+/// mean, the angle whose n-th multiple bisects the shorter arc from n a to n b (a tie, an arc
+/// of π, goes counter-clockwise from n a). So a cross field is along both sides of a square's
+/// or an L's corners, and a vector field takes the bisector of the two tangents (on a smooth
+/// boundary, the tangent to second order). Empty on a triangulation without boundary (e.g. a
+/// tufted cover). Angles in frames' coordinates (docs/decisions.md D-097).
+/// @throws InvalidInput if symmetry < 1 or the frames are not tri's
 std::vector<DirectionConstraint> boundary_constraints(const intrinsic::IntrinsicTriangulation& tri,
-                                                      const fem::TangentFrames& frames);
+                                                      const fem::TangentFrames& frames,
+                                                      int symmetry = 1);
 
 /// The index of the field around each face, in units of 1/n (#F integers; a vector field's
 /// index is ×1, a cross field's in quarter turns): the field's turning along the face's three

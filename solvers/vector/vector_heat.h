@@ -2,7 +2,8 @@
 // intrinsic triangulation: parallel transport of tangent vectors from sources, closest-point
 // extension of scalar data, and the logarithmic map. Tangent vectors are complex numbers in the
 // vertices' angular coordinates (fem/connection.h: angle 0 along tri.vertex_halfedge(v),
-// counter-clockwise with the faces' orientation, corner angles rescaled to fill 2π), or, on the
+// counter-clockwise with the faces' orientation, corner angles scaled to fill 2π at interior
+// vertices, true angles at boundary vertices whose angle sum is at most 2π), or, on the
 // frame path (tufted covers, point clouds), in per-vertex 3D frames (fem/frame_connection.h).
 // solvers/vector/tangent_basis.h turns them into 3D vectors on the input's vertices.
 #pragma once
@@ -146,9 +147,9 @@ class VectorHeatSolver {
   /// length unit of the triangulation passed in), arg z = the direction at the source in which
   /// the geodesic leaves for that vertex, counter-clockwise from the source's reference halfedge
   /// (triangulation().vertex_halfedge(source)), in the source's angular coordinate. 0 at the
-  /// source. At boundary vertices whose angle sum is far from π (a polygon's corners) the
-  /// half-plane rescaling of the angular coordinate distorts the angle (fem/connection.h). On
-  /// the frame path the angle is counter-clockwise about the source's normal from its e1.
+  /// source. A boundary source keeps its true angles (fem/connection.h), so there the angle is
+  /// in [0, Θ_v] for the vertices that geodesics inside the surface reach (Θ_v ≤ 2π). On the frame
+  /// path the angle is counter-clockwise about the source's normal from its e1.
   /// @throws InvalidInput if source is out of range or unreferenced
   Eigen::VectorXcd log_map(Index source, VectorHeatReport* report = nullptr) const;
 

@@ -1,6 +1,6 @@
 """Tangent fields from the command line: `ifem field` (Poincaré–Hopf on spot, unit vectors,
 constraints, refusals), `ifem transport` / `ifem logmap` (the log map on a flat grid against
-the plane's), and all three on the frame path (point clouds, a nonmanifold mesh, spot forced
+the plane's; transport on a flat L, exact at its corners), and all three on the frame path (point clouds, a nonmanifold mesh, spot forced
 onto the tufted cover)."""
 
 import math
@@ -88,6 +88,71 @@ def test_vector_heat(cli):
     r = cli.run("logmap", cli.spot, "--source", 5000, "-o", o / "vh_bad.txt", "--quiet")
     assert r.rc != 0, r.describe()
     assert not (o / "vh_bad.txt").exists()
+
+
+def write_flat_l(path, n=12, seed=3):
+    """The flat L (the unit square less its top-right quarter) as an OBJ: n×n cells split along
+    a diagonal, interior vertices jittered by up to 0.3/n, boundary vertices slid along their
+    straight sides; corners of π/2 and one of 3π/2 at (½, ½). Returns the vertex count."""
+    rng = seed
+
+    def rnd():
+        nonlocal rng
+        rng = (rng * 1103515245 + 12345) % 2 ** 31
+        return 0.6 * (rng / 2 ** 31 - 0.5) / n
+
+    def kept(i, j):
+        return 0 <= i < n and 0 <= j < n and (i < n // 2 or j < n // 2)
+
+    ids, lines_out = {}, []
+    for j in range(n + 1):
+        for i in range(n + 1):
+            c = [kept(i - 1, j - 1), kept(i, j - 1), kept(i - 1, j), kept(i, j)]
+            if not any(c):
+                continue
+            x, y = i / n, j / n
+            dx, dy = rnd(), rnd()
+            if all(c):
+                x, y = x + dx, y + dy
+            elif sum(c) == 2 and c[0] == c[2] and c[1] == c[3]:
+                y += dy
+            elif sum(c) == 2 and c[0] == c[1] and c[2] == c[3]:
+                x += dx
+            ids[(i, j)] = len(ids) + 1
+            lines_out.append(f"v {x:.17g} {y:.17g} 0\n")
+    for j in range(n):
+        for i in range(n):
+            if kept(i, j):
+                a, b = ids[(i, j)], ids[(i + 1, j)]
+                c, d = ids[(i + 1, j + 1)], ids[(i, j + 1)]
+                lines_out.append(f"f {a} {b} {c}\nf {a} {c} {d}\n")
+    with open(path, "w") as f:
+        f.writelines(lines_out)
+    return len(ids)
+
+
+# transport on a flat L: boundary vertices keep their true angles, so the connection is flat
+# and the transported vector is the source's (projected to z = 0, length kept) at EVERY vertex,
+# the six corners included (round-off only: 1e-7 covers the text output); a cross field along
+# the boundary fits every corner: the constant cross, total index 0
+def test_transport_flat_l(cli):
+    o = cli.out
+    mesh = o / "flat_l.obj"
+    nv = write_flat_l(mesh)
+    for source, vec in ((0, (0.6, -0.8, 0.5)), (nv // 2, (-1.0, 0.3, 0.0)), (nv - 1, (0, 2, 1))):
+        t = o / f"flat_l_t{source}.txt"
+        cli.ok("transport", mesh, "--source", source, "--vector", ",".join(map(str, vec)),
+               "-o", t, "--quiet")
+        got = vectors(t)
+        assert len(got) == nv
+        for k, v in enumerate(got):
+            assert max(abs(v[0] - vec[0]), abs(v[1] - vec[1]), abs(v[2])) <= 1e-7, (source, k, v)
+    r = cli.ok("field", mesh, "--symmetry", 4, "--align-boundary", "-o", o / "flat_l_f.txt",
+               "--quiet")
+    assert grep("total index 0/4", r.out), r.describe()
+    for k, v in enumerate(vectors(o / "flat_l_f.txt")):
+        a = 4 * math.atan2(v[1], v[0])
+        assert abs(math.cos(a) - 1) + abs(math.sin(a)) <= 1e-7, (k, v)
 
 
 def check_tangent(mesh, path, tol):

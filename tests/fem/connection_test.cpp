@@ -101,7 +101,10 @@ void expect_frame_properties(const IntrinsicTriangulation& tri, const TangentFra
   const std::vector<char> boundary = boundary_vertices(tri);
   for (Index v = 0; v < tri.n_vertices(); ++v) {
     EXPECT_NEAR(fr.angle_sum[v], theta[v], 1e-12 * theta[v]);
-    EXPECT_NEAR(fr.angle_scale[v] * theta[v], boundary[v] ? kPi : 2 * kPi, 1e-12) << v;
+    // interior fans fill one turn; boundary fans keep their true angles up to one turn
+    EXPECT_NEAR(fr.angle_scale[v] * theta[v], boundary[v] ? std::min(theta[v], 2 * kPi) : 2 * kPi,
+                1e-12)
+        << v;
     EXPECT_EQ(fr.halfedge_angle[tri.vertex_halfedge(v)], 0.0) << v;
   }
   for (Index h = 0; h < tri.n_halfedges(); ++h) {
@@ -113,8 +116,9 @@ void expect_frame_properties(const IntrinsicTriangulation& tri, const TangentFra
     const double step = fr.angle_scale[v] * intrinsic::corner_angle(tri, h);
     if (n != kInvalidIndex) {
       EXPECT_NEAR(wrapped(fr.halfedge_angle[n] - fr.halfedge_angle[h] - step), 0.0, 1e-12) << h;
-    } else {  // the fan's last side is the incoming boundary edge, at π
-      EXPECT_NEAR(wrapped(fr.halfedge_angle[h] + step - kPi), 0.0, 1e-12) << h;
+    } else {  // the fan's last side is the incoming boundary edge, at scale × Θ
+      EXPECT_NEAR(wrapped(fr.halfedge_angle[h] + step - fr.angle_scale[v] * theta[v]), 0.0, 1e-12)
+          << h;
     }
     if (tri.twin(h) != kInvalidIndex) {  // there and back again: unchanged
       EXPECT_LT(std::abs(fr.transport[h] * fr.transport[tri.twin(h)] - 1.0), 1e-14) << h;
@@ -152,10 +156,15 @@ TEST(Connection, HolonomyEqualsAngleDefect) {
     SCOPED_TRACE(tri.n_vertices());
     const TangentFrames fr = tangent_frames(tri);
     const Eigen::VectorXd defect = intrinsic::angle_defects(tri);  // π − Θ on the boundary
+    const std::vector<char> boundary = boundary_vertices(tri);
     double largest = 0.0;
     for (Index v = 0; v < tri.n_vertices(); ++v) {
-      EXPECT_NEAR(wrapped(fr.holonomy_around(tri, v) - defect[v]), 0.0, 1e-10) << v;
-      largest = std::max(largest, std::abs(defect[v]));
+      // a boundary vertex (Θ ≤ 2π here) keeps its true angles: no holonomy; the boundary's
+      // turning π − Θ is not the connection's
+      const double expected = boundary[v] ? 0.0 : defect[v];
+      EXPECT_LT(fr.angle_sum[v], boundary[v] ? 2 * kPi : 1e9) << v;
+      EXPECT_NEAR(wrapped(fr.holonomy_around(tri, v) - expected), 0.0, 1e-10) << v;
+      if (!boundary[v]) largest = std::max(largest, std::abs(defect[v]));
     }
     EXPECT_GT(largest, 1e-3);  // curved: the test compares non-trivial angles
   }
@@ -331,9 +340,16 @@ TEST(Connection, IntrinsicDelaunayWeightsAreNonNegative) {
 
 TEST(Connection, NonDelaunayInputCanBeIndefinite) {
   // Unlike the scalar cotan Laplacian, L is a sum of squares only with w ≥ 0: a negative weight
-  // on an edge of a face with holonomy (here at the quad's corners, scaled to π) makes it
-  // indefinite. The intrinsic Delaunay triangulation of the same quad is PSD.
-  IntrinsicTriangulation tri = from_mesh(test::skewed_quad());
+  // on an edge of a face with holonomy makes it indefinite. The skewed quad alone is flat with
+  // a straight-sided boundary, so its connection is trivial (L is the scalar Laplacian turned);
+  // doubled into a pillow (the back split along the other diagonal) its corners become cones
+  // whose holonomy sits in the faces of the negative edge 0–2. The intrinsic Delaunay
+  // triangulation of the same pillow is PSD.
+  intrinsic::TriangleMesh pillow = test::skewed_quad();
+  pillow.faces.push_back({1, 0, 3});
+  pillow.faces.push_back({1, 3, 2});
+  IntrinsicTriangulation tri = from_mesh(pillow);
+  ASSERT_FALSE(tri.has_boundary());
   ASSERT_LT(intrinsic::cotan_weights(tri).minCoeff(), 0.0);
   auto smallest = [&](int n) {
     const Eigen::MatrixXcd L = dense(connection_laplacian(tri, tangent_frames(tri), n));
@@ -481,6 +497,88 @@ void expect_matches_reference(const IntrinsicTriangulation& tri, const TangentFr
     expect_hermitian_psd(L);
     const Eigen::MatrixXcd diff = dense(L) - dense(reference_laplacian(tri, fr, n));
     EXPECT_LT(diff.cwiseAbs().maxCoeff(), 1e-13 * L.diagonal().cwiseAbs().maxCoeff());
+  }
+}
+
+// An open fan of k flat isosceles triangles (spokes 1, apex angle theta / k) about vertex 0:
+// a boundary vertex of angle sum theta, any theta (beyond 2π the fan overlaps itself, which
+// intrinsic lengths allow). Rim vertices 1..k+1.
+IntrinsicTriangulation boundary_fan(double theta, int k) {
+  std::vector<Triangle> faces;
+  Eigen::MatrixX3d l(k, 3);
+  for (int i = 0; i < k; ++i) {
+    faces.push_back({0, Index(i + 1), Index(i + 2)});
+    l.row(i) << 1.0, 2.0 * std::sin(theta / (2 * k)), 1.0;
+  }
+  return IntrinsicTriangulation::from_side_lengths(faces, k + 2, l);
+}
+
+// Boundary vertices keep their true angles up to one turn; beyond, the fan is compressed to
+// one turn (both boundary edges at angle 0) and its faces carry the excess as holonomy.
+TEST(Connection, BoundaryFanKeepsItsTrueAnglesUpToOneTurn) {
+  for (const double theta : {0.5 * kPi, kPi, 1.5 * kPi, 1.9 * kPi, 2 * kPi, 2.5 * kPi, 3 * kPi}) {
+    SCOPED_TRACE(theta);
+    const IntrinsicTriangulation tri = boundary_fan(theta, 12);
+    const TangentFrames fr = tangent_frames(tri);
+    const double scale = theta <= 2 * kPi ? 1.0 : 2 * kPi / theta;
+    EXPECT_NEAR(fr.angle_sum[0], theta, 1e-12);
+    EXPECT_NEAR(fr.angle_scale[0], scale, 1e-12);
+    // the spokes at their (scaled) true angles from the outgoing boundary edge 0 → 1
+    const Index h0 = tri.vertex_halfedge(0);
+    ASSERT_EQ(tri.twin(h0), kInvalidIndex);
+    Index x = h0;
+    for (int i = 0; i < 12; ++i) {
+      EXPECT_EQ(tri.head(x), i + 1);
+      EXPECT_NEAR(wrapped(fr.halfedge_angle[x] - scale * theta * i / 12), 0.0, 1e-12) << i;
+      if (i < 11) x = tri.twin(T::prev(x));
+    }
+    // the incoming boundary edge: at Θ (true), or back at 0 when compressed
+    const double last = fr.halfedge_angle[x] + scale * intrinsic::corner_angle(tri, x);
+    EXPECT_NEAR(wrapped(last - std::min(theta, 2 * kPi)), 0.0, 1e-12);
+    // holonomy: none up to one turn, the excess 2π − Θ beyond
+    const double expected = theta <= 2 * kPi ? 0.0 : 2 * kPi - theta;
+    EXPECT_NEAR(wrapped(fr.holonomy_around(tri, 0) - expected), 0.0, 1e-10);
+    for (Index f = 0; f < tri.n_faces(); ++f) {  // each face: its share (scale − 1)·Θ/k
+      const Complex loop = fr.transport[3 * f] * fr.transport[3 * f + 1] * fr.transport[3 * f + 2];
+      EXPECT_NEAR(wrapped(std::arg(loop) - expected / 12), 0.0, 1e-12) << f;
+    }
+    expect_matches_reference(tri, fr);
+  }
+}
+
+// Flat domains whose boundary has corners (a jittered square; an L with its reflex corner at
+// 3π/2, boundary vertices slid along their sides): no holonomy in any face, so a vector carried
+// around any closed path comes back unchanged, and L is the scalar cotan Laplacian turned by a
+// unit diagonal gauge (the same spectrum, with the negative weights of the non-Delaunay input).
+TEST(Connection, FlatDomainsWithCornersHaveNoHolonomy) {
+  for (const bool l_shape : {false, true}) {
+    SCOPED_TRACE(l_shape);
+    const TriangleMesh m = l_shape ? test::flat_l_shape(8, 0.3, 5) : test::flat_square(8, 0.3, 4);
+    const IntrinsicTriangulation tri = from_mesh(m);
+    const TangentFrames fr = tangent_frames(tri);
+    const std::vector<char> boundary = boundary_vertices(tri);
+    double min_theta = 10.0, max_theta = 0.0;
+    for (Index v = 0; v < tri.n_vertices(); ++v) {
+      if (!boundary[v]) continue;
+      EXPECT_EQ(fr.angle_scale[v], 1.0) << v;
+      min_theta = std::min(min_theta, fr.angle_sum[v]);
+      max_theta = std::max(max_theta, fr.angle_sum[v]);
+    }
+    EXPECT_NEAR(min_theta, kPi / 2, 1e-12);                    // the convex corners
+    EXPECT_NEAR(max_theta, l_shape ? 1.5 * kPi : kPi, 1e-12);  // the reflex one, or the sides
+    for (Index f = 0; f < tri.n_faces(); ++f) {
+      const Complex loop = fr.transport[3 * f] * fr.transport[3 * f + 1] * fr.transport[3 * f + 2];
+      EXPECT_LT(std::abs(loop - 1.0), 1e-13) << f;
+    }
+    for (Index v = 0; v < tri.n_vertices(); ++v) {
+      EXPECT_LT(std::abs(fr.holonomy_around(tri, v)), 1e-12) << v;
+    }
+    const Eigen::VectorXd mass = lumped_mass(tri);
+    const Eigen::VectorXd ev = generalized_eigenvalues(dense(connection_laplacian(tri, fr)), mass);
+    const Eigen::VectorXd scalar =
+        generalized_eigenvalues(Eigen::MatrixXd(cotan_laplacian(tri)), mass);
+    EXPECT_LT((ev - scalar).cwiseAbs().maxCoeff(), 1e-9 * scalar.maxCoeff());
+    EXPECT_LT(std::abs(ev[0]), 1e-9 * scalar.maxCoeff());  // a parallel field: the constant
   }
 }
 

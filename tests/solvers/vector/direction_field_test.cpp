@@ -9,11 +9,13 @@
 
 #include "intrinsic/core/errors.h"
 #include "solvers/test_util.h"
+#include "solvers/vector/tangent_basis.h"
 
 namespace ifem::solvers {
 namespace {
 
 using Complex = std::complex<double>;
+constexpr double kPi = 3.14159265358979323846;
 
 // A flat torus: an n×n periodic grid of unit squares split along a diagonal, all lengths from
 // the plane (zero curvature everywhere: a parallel field exists).
@@ -87,31 +89,79 @@ TEST(DirectionField, OneConstraintOnAFlatTorusIsTransportedEverywhere) {
   }
 }
 
-TEST(DirectionField, CrossFieldAlignedToASquaresBoundaryTurnsOnlyAtTheCorners) {
-  const intrinsic::TriangleMesh m = test::jittered(intrinsic::grid(10, 10), 0.02);
+// Boundary vertices keep their true angles, so a flat polygon's connection is trivial. A cross
+// field along the boundary of a square or an L fits every corner (π/2 and 3π/2 are quarter
+// turns): it is the constant field, parallel, no singularity anywhere. A vector field along the
+// boundary takes the bisector at each corner: Poincaré–Hopf with boundary (2π Σ index = the
+// field's turning along the boundary relative to transport + n Σ_interior (2π − Θ)), a
+// quarter turn of the boundary at each convex corner, so Σ index = χ = 1 on the square; on the
+// L, five convex corners and one reflex, also 1.
+TEST(DirectionField, FieldsAlignedToAFlatPolygonsBoundary) {
+  for (const bool l_shape : {false, true}) {
+    SCOPED_TRACE(l_shape);
+    const intrinsic::TriangleMesh m =
+        l_shape ? test::flat_l_shape(10, 0.3, 2) : test::flat_square(10, 0.3, 3);
+    const auto tri = test::make_tri(m);
+    const fem::TangentFrames frames = fem::tangent_frames(tri);
+    DirectionFieldOptions o;
+    o.symmetry = 4;
+    const std::vector<DirectionConstraint> held = boundary_constraints(tri, frames, 4);
+    EXPECT_EQ(Index(held.size()), 4 * 10);  // both perimeters are 4
+    const DirectionField f = aligned_field(tri, frames, held, o);
+    EXPECT_LT(max_parallel_defect(tri, frames, f.u, 4), 1e-9);
+    EXPECT_LT(f.energy, 1e-12);
+    EXPECT_EQ(face_indices(tri, frames, f.u, 4).cwiseAbs().sum(), 0);
+    // in 3D: every cross has an arm along x (the sides' directions)
+    const TangentBasis3d basis = tangent_basis_3d(m.positions, m.faces, {}, tri, frames);
+    for (Index v = 0; v < tri.n_vertices(); ++v) {
+      const double arm = std::arg(f.u[v]) / 4;
+      const Eigen::Vector3d d = std::cos(arm) * basis.e1.row(v) + std::sin(arm) * basis.e2.row(v);
+      EXPECT_LT(std::abs(std::polar(1.0, 4 * std::atan2(d.y(), d.x())) - 1.0), 1e-9) << v;
+    }
+    o.symmetry = 1;
+    const DirectionField g = aligned_field(tri, frames, boundary_constraints(tri, frames, 1), o);
+    const Eigen::VectorXi index = face_indices(tri, frames, g.u, 1);
+    EXPECT_EQ(index.sum(), 1);
+  }
+}
+
+// Poincaré–Hopf with boundary on a curved disk (a bump on a jittered square; boundary angle
+// sums ≤ 2π): for any field without zeros at the vertices, 2π Σ_f index_f = Σ over boundary
+// halfedges of the field's turning relative to transport + n Σ_interior (2π − Θ_v), and by
+// Gauss–Bonnet Σ_interior (2π − Θ_v) = 2πχ − Σ_boundary (π − Θ_v).
+TEST(DirectionField, IndicesOnADiskFollowPoincareHopfWithBoundary) {
+  intrinsic::TriangleMesh m = test::flat_square(12, 0.3, 8);
+  for (Eigen::Index v = 0; v < m.positions.rows(); ++v) {
+    const double x = m.positions(v, 0) - 0.5, y = m.positions(v, 1) - 0.45;
+    m.positions(v, 2) = 0.3 * std::exp(-(x * x + y * y) / 0.04);
+  }
   const auto tri = test::make_tri(m);
   const fem::TangentFrames frames = fem::tangent_frames(tri);
-  const std::vector<DirectionConstraint> held = boundary_constraints(tri, frames);
-  EXPECT_EQ(Index(held.size()), 4 * 10);
-  DirectionFieldOptions o;
-  o.symmetry = 4;
-  const DirectionField f = aligned_field(tri, frames, held, o);
-  // Poincaré–Hopf for a field along the boundary of a disk: indices sum to χ = 1, four quarter
-  // turns, all next to the square's corners (where the boundary turns), none inside
-  const Eigen::VectorXi index = face_indices(tri, frames, f.u, 4);
-  EXPECT_EQ(index.sum(), 4);
-  for (Index face = 0; face < tri.n_faces(); ++face) {
-    if (index[face] == 0) continue;
-    Eigen::RowVector3d c = Eigen::RowVector3d::Zero();
-    for (int k = 0; k < 3; ++k) c += m.positions.row(tri.tail(3 * face + k)) / 3.0;
-    const double to_corner =
-        std::min(std::min(c.x(), 1.0 - c.x()), 0.2) + std::min(std::min(c.y(), 1.0 - c.y()), 0.2);
-    EXPECT_LT(to_corner, 0.25) << "a singularity away from the corners, face " << face;
+  const Eigen::VectorXd theta = intrinsic::vertex_angle_sums(tri);
+  for (const int n : {1, 2, 4}) {
+    DirectionFieldOptions o;
+    o.symmetry = n;
+    for (const bool aligned : {false, true}) {
+      const DirectionField f =
+          aligned ? aligned_field(tri, frames, boundary_constraints(tri, frames, n), o)
+                  : smoothest_field(tri, frames, o);
+      double along = 0.0, boundary_turn = 0.0;
+      for (Index h = 0; h < tri.n_halfedges(); ++h) {
+        if (tri.twin(h) != kInvalidIndex) continue;
+        const Complex moved = std::pow(frames.transport[h], n) * f.u[tri.tail(h)];
+        along += std::arg(f.u[tri.head(h)] / moved);
+        boundary_turn += kPi - theta[tri.tail(h)];
+      }
+      const double expected = n * 1.0 + (along - n * boundary_turn) / (2 * kPi);
+      const Eigen::VectorXi index = face_indices(tri, frames, f.u, n);
+      EXPECT_NEAR(index.sum(), expected, 1e-6) << n << " " << aligned;
+      // aligned: a cross fits the square's corners (no index left), a vector takes the
+      // bisector there (index χ = 1); a line field meets a tie at each corner (either way)
+      if (aligned && n != 2) {
+        EXPECT_EQ(index.sum(), n == 4 ? 0 : 1) << n;
+      }
+    }
   }
-  // a vector field along the boundary has index 1 as well
-  o.symmetry = 1;
-  const DirectionField g = aligned_field(tri, frames, held, o);
-  EXPECT_EQ(face_indices(tri, frames, g.u, 1).sum(), 1);
 }
 
 TEST(DirectionField, BadInputIsRefused) {

@@ -54,8 +54,7 @@ bool on_grid_boundary(int n, Index v) {
 // --- flat domain --------------------------------------------------------------------------------
 
 // Angle error of transport on the flat grid: the transported field in 3D against the source's
-// vector, over interior vertices (the corners' angle sum π/2 makes the half-plane rescaling put
-// curvature there; test::ErrorStats::mean still counts the vertices next to them).
+// vector, over interior vertices (FlatDomainsWithCornersTransportExactly covers every vertex).
 test::ErrorStats flat_transport_error(int n) {
   const intrinsic::TriangleMesh m = flat_grid(n);
   const auto tri = test::make_tri(m, false);
@@ -82,11 +81,80 @@ test::ErrorStats flat_transport_error(int n) {
   return s;
 }
 
+// The connection of a flat domain is trivial (fem/connection.h), so the transported field is
+// the constant one up to round-off at every resolution (no discretization error to converge).
 TEST(SolversVectorHeat, FlatTransportIsConstant) {
-  const test::ErrorStats coarse = flat_transport_error(16);
-  const test::ErrorStats fine = flat_transport_error(32);
-  EXPECT_LT(fine.max, 0.02);
-  EXPECT_LE(fine.mean, coarse.mean);
+  for (const int n : {16, 32}) EXPECT_LT(flat_transport_error(n).max, 1e-12) << n;
+}
+
+// Flat domains with corners (the jittered square: corners π/2; the L: five corners π/2, one
+// 3π/2; boundary vertices slid along their straight sides): the connection is flat (boundary
+// vertices keep their true angles), so in a parallel gauge p (r_h = p_j / p_i) the connection
+// Laplacian is P L P* and the vector heat of z at s is p_v φ_v z / p_s, φ the scalar heat (> 0):
+// the transported direction is the source's at EVERY vertex, corners included, up to the
+// round-off of the fans' angle sums and of the solve (measured ≤ 6e-15 rad up to n = 24; the
+// bound 1e-12 leaves room for longer sums, and is 1e10 times below the 0.5° the issue asks
+// for). Returns the largest angle (rad) between the 3D vector at a vertex and the source's.
+double flat_domain_transport_max_angle(const intrinsic::TriangleMesh& m, Index src, double alpha,
+                                       Index* worst_vertex = nullptr) {
+  const auto tri = test::make_tri(m, false);
+  const VectorHeatSolver solver(tri);
+  const Complex z = std::polar(1.5, alpha);
+  VectorHeatReport rep;
+  const Eigen::VectorXcd x = solver.transport({{src, z}}, &rep);
+  EXPECT_EQ(rep.unreached_vertices, 0);
+  EXPECT_EQ(rep.unresolved_vertices, 0);
+  const TangentBasis3d basis =
+      tangent_basis_3d(m.positions, m.faces, {}, solver.triangulation(), solver.frames());
+  EXPECT_EQ(basis.fallback_vertices, 0);
+  const Eigen::MatrixX3d x3 = to_3d(x, basis);
+  const Eigen::Vector3d ref = x3.row(src).transpose();
+  double worst = 0.0;
+  for (Index v = 0; v < tri.n_vertices(); ++v) {
+    EXPECT_NEAR(std::abs(x[v]), 1.5, 1e-12);
+    const double e =
+        std::abs(test::signed_angle(ref, x3.row(v).transpose(), Eigen::Vector3d::UnitZ()));
+    if (e >= worst && worst_vertex) *worst_vertex = v;
+    worst = std::max(worst, e);
+  }
+  return worst;
+}
+
+// The vertex of m nearest to (x, y).
+Index nearest_vertex(const intrinsic::TriangleMesh& m, double x, double y) {
+  Index best = 0;
+  for (Index v = 0; v < m.positions.rows(); ++v) {
+    if (std::hypot(m.positions(v, 0) - x, m.positions(v, 1) - y) <
+        std::hypot(m.positions(best, 0) - x, m.positions(best, 1) - y)) {
+      best = v;
+    }
+  }
+  return best;
+}
+
+TEST(SolversVectorHeat, FlatDomainsWithCornersTransportExactly) {
+  double overall = 0.0;
+  for (const bool l_shape : {false, true}) {
+    for (const int n : {8, 24}) {
+      const intrinsic::TriangleMesh m =
+          l_shape ? test::flat_l_shape(n, 0.3, 7) : test::flat_square(n, 0.3, 9);
+      // sources: the centre of the square / the L's arm, next to the reflex corner, next to a
+      // convex corner, and a corner itself; directions in every quadrant
+      const Index sources[4] = {nearest_vertex(m, 0.27, 0.31), nearest_vertex(m, 0.47, 0.45),
+                                nearest_vertex(m, 0.9, 0.08), nearest_vertex(m, 0.0, 1.0)};
+      for (int k = 0; k < 4; ++k) {
+        const double alpha = -2.9 + 1.7 * k;
+        Index at = 0;
+        const double worst = flat_domain_transport_max_angle(m, sources[k], alpha, &at);
+        std::printf("flat %s n=%d source %d angle %.2f: max angle error %.3g rad at vertex %d\n",
+                    l_shape ? "L" : "square", n, int(sources[k]), alpha, worst, int(at));
+        EXPECT_LT(worst, 1e-12) << (l_shape ? "L" : "square") << " n " << n << " source "
+                                << sources[k] << " worst at " << at;
+        overall = std::max(overall, worst);
+      }
+    }
+  }
+  std::printf("flat domains with corners: max transport angle error %.3g rad\n", overall);
 }
 
 TEST(SolversVectorHeat, ExtensionTakesTheNearestSourcesValue) {
@@ -118,8 +186,8 @@ TEST(SolversVectorHeat, ExtensionTakesTheNearestSourcesValue) {
 }
 
 // Log map on the flat grid against the identity map in the source's frame: relative position
-// error over vertices at least 3h from the source, less the four corners (angle sum π/2: the
-// half-plane rescaling doubles their angles), and the angle of the reference halfedge's head.
+// error over vertices at least 3h from the source (corners included: boundary vertices keep
+// their true angles), and the angle of the reference halfedge's head.
 test::ErrorStats flat_log_map_error(int n) {
   const intrinsic::TriangleMesh m = flat_grid(n);
   const auto tri = test::make_tri(m, false);
@@ -134,7 +202,7 @@ test::ErrorStats flat_log_map_error(int n) {
   for (Index v = 0; v < tri.n_vertices(); ++v) {
     const Eigen::Vector3d d = (m.positions.row(v) - m.positions.row(src)).transpose();
     const Complex exact(d.dot(e1), d.dot(e2));
-    if (std::abs(exact) < 3.0 / n || solver.frames().angle_scale[v] > 1.5) continue;
+    if (std::abs(exact) < 3.0 / n) continue;
     s.add(std::abs(z[v] - exact) / std::abs(exact));
   }
   s.finish();
