@@ -38,6 +38,17 @@ std::vector<io::VertexProperty> report(const Args& args, const PreparedSurface& 
                           ? std::string()
                           : "; 3D frames, " + std::to_string(r.orientation_conflicts) +
                                 " neighbour pairs with opposite normals"));
+  if (r.components > 1 || r.empty_components > 0) {
+    progress(args, std::to_string(r.components) + " components: " +
+                       std::to_string(r.free_components) + " with their own smoothest field, " +
+                       std::to_string(r.components - r.free_components - r.empty_components) +
+                       " held by constraints, " + std::to_string(r.empty_components) +
+                       " without a field (" + std::to_string(r.flat_components) +
+                       " flat: zero area; vectors 0 0 0 there)" +
+                       (r.skipped_constraints > 0 ? ", " + std::to_string(r.skipped_constraints) +
+                                                        " directions on them skipped"
+                                                  : std::string()));
+  }
   return {{"fx", r.vectors.col(0)},
           {"fy", r.vectors.col(1)},
           {"fz", r.vectors.col(2)},
@@ -115,8 +126,11 @@ Command field_command() {
       "The smoothest N-direction field (N = 1 vectors, 2 lines, 4 crosses) on the\n"
       "intrinsic Delaunay triangulation: the smallest eigenvector of the connection\n"
       "Laplacian (Knöppel et al. 2013), or, with --align-boundary / --constraints /\n"
-      "--curves, the smoothest field through those directions. Components without a\n"
-      "constraint get their own smoothest field.\n"
+      "--curves, the smoothest field through those directions. Every connected\n"
+      "component without a constraint gets its own smoothest field (a triangle soup\n"
+      "works: one per piece); a component without area (e.g. one zero-area face: no\n"
+      "tangent plane) gets none: vectors 0 0 0 and angle 0 there, directions given on\n"
+      "it are skipped. A progress line counts the components and how each was treated.\n"
       "  OUT.ply: the input mesh with per-vertex properties fx fy fz (a unit tangent\n"
       "  vector: one of the N directions), angle (that direction in the vertex's own\n"
       "  coordinate: 0 along its first edge, counter-clockwise with the faces'\n"

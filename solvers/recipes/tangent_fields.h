@@ -63,11 +63,22 @@ struct TangentFieldResult {
   int iterations = 0;        ///< LOBPCG steps (0: every component constrained)
   /// Frame path: neighbour pairs whose oriented normals disagree (TangentBasis3d); 0 otherwise.
   Index orientation_conflicts = 0;
+  /// Connected components of s.tri (a triangle soup: one per piece), and how they were treated:
+  /// free_components took their own smoothest field (no constraint on them); empty_components
+  /// have no field, vectors 0 and angle 0 on all their vertices ("no direction"): the flat ones
+  /// (flat_components: no area in space, e.g. one zero-area face, so no tangent plane; given
+  /// directions there are skipped, skipped_constraints) and those whose operators are not finite.
+  Index components = 0;
+  Index free_components = 0;
+  Index empty_components = 0;
+  Index flat_components = 0;
+  Index skipped_constraints = 0;
 };
 
 /// The smoothest n-direction field on s (intrinsic Delaunay, refined or not), through the given
 /// directions and, when asked, along the boundary; components without any constraint get
-/// their globally smoothest field.
+/// their globally smoothest field, each on its own (any number of components: a triangle soup
+/// works), and components without area in space get none (TangentFieldResult::empty_components).
 /// On the frame path (tufted, point cloud) the field lives in frame_basis_3d()'s frames.
 /// @throws InvalidInput on bad settings, a vertex out of [0, #V_in), a direction normal to the
 ///         surface there, align_boundary off the manifold path, or a refined surface off the
