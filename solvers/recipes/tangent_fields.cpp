@@ -256,7 +256,11 @@ Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& 
                        " is zero, not finite or normal to the surface");
   }
   const Eigen::VectorXcd x = solver.transport({{source, z}}, report);
-  return to_3d(x.head(nv), basis);
+  Eigen::MatrixX3d out = to_3d(x.head(nv), basis);
+  for (Index v = 0; v < nv; ++v) {  // the solver's "none" is 0: NaN here, as distance's inf
+    if (x[v] == std::complex<double>(0.0)) out.row(v).setConstant(std::nan(""));
+  }
+  return out;
 }
 
 Eigen::MatrixX2d log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,

@@ -108,9 +108,12 @@ Eigen::VectorXi input_face_indices(const PreparedSurface& s, const fem::TangentF
 VectorHeatSolver vector_heat_solver(const PreparedSurface& s);
 
 /// Parallel transport of a 3D vector given at input vertex `source` (projected to its tangent
-/// plane, keeping its length) to every input vertex, as 3D tangent vectors (#V_in×3; 0 where no
-/// source reaches), in the tangent planes of the solver's bases (tangent_basis_3d() on the
-/// manifold path, solver.frame_basis() on the frame path).
+/// plane, keeping its length) to every input vertex, as 3D tangent vectors (#V_in×3), in the
+/// tangent planes of the solver's bases (tangent_basis_3d() on the manifold path,
+/// solver.frame_basis() on the frame path). Finite at every vertex the source reaches; NaN
+/// (all three coordinates) where it does not: other connected components (a triangle soup's
+/// other pieces), unreferenced vertices, and where the heat underflowed, as the report counts
+/// (unreached_vertices + unresolved_vertices); heat distance writes inf there.
 /// @throws InvalidInput on a source out of range or a vector normal to the surface there
 Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& solver,
                               Index source, const Eigen::Vector3d& vector,
