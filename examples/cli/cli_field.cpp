@@ -144,8 +144,9 @@ Command field_command() {
       "On nonmanifold meshes (the tufted cover) and point clouds the field lives in\n"
       "per-vertex 3D frames from the normals, oriented by propagation: angle is then\n"
       "from the x axis projected to the tangent plane; singularities come from the\n"
-      "input's faces (none for point clouds); --align-boundary and --refine are\n"
-      "refused there.\n"
+      "input's faces (none for point clouds); --refine is refused there, and\n"
+      "--align-boundary follows the input's boundary (edges of one face; refused for\n"
+      "point clouds).\n"
       "Constraints file: lines 'VERTEX X Y Z' (a 0-based input vertex and a direction,\n"
       "projected to the tangent plane there); '#' starts a comment.\n\n"
       "Aligned to curves (--curves FILE, format below; thesis Fig. 10 left): curves\n"
@@ -165,7 +166,7 @@ Command field_command() {
            .defaults_to("1")
            .explain("directions per vertex: 1 vectors, 2 lines, 4 crosses"),
        flag("align-boundary")
-           .explain("hold the field along the boundary (manifold meshes with boundary)"),
+           .explain("hold the field along the boundary (meshes with boundary)"),
        text("constraints", "FILE").explain("directions to hold (format above)"),
        text("output", "OUT")
            .short_alias('o')

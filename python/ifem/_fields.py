@@ -40,7 +40,7 @@ def field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
         V: #V×3 positions, or a file's path (read with its normals, as the CLI reads it).
         F: #F×3 vertex ids; ``None`` (or empty) for a point cloud.
         symmetry: n ≥ 1 — 1 vectors, 2 lines, 4 crosses.
-        align_boundary: hold the field along the boundary (meshes that take the manifold path).
+        align_boundary: hold the field along the boundary (meshes; not point clouds).
         constraint_vertices: vertex ids where a direction is held (with ``directions``).
         directions: #K×3 directions in space, projected to the tangent plane at each vertex.
         mollify: relative mollification margin.
@@ -75,7 +75,7 @@ def field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
 
     Raises:
         InvalidInput: bad arrays, symmetry < 1, a constraint vertex out of range or a direction
-            normal to the surface, ``align_boundary`` off the manifold path, curves on a point
+            normal to the surface, ``align_boundary`` on a point cloud, curves on a point
             cloud or a mesh that is not edge-manifold and orientable, a bad curve (named
             ``curves[i]`` or ``file:line``), two curves sharing an edge.
         IoError: an unreadable curves file.

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <map>
 #include <string>
+#include <utility>
 
 #include "fem/connection.h"
 #include "fem/frame_connection.h"
@@ -151,13 +153,41 @@ TangentFieldResult field_result(const DirectionField& f, const TangentBasis3d& b
   return r;
 }
 
+// The frame path's boundary directions, as boundary_constraints() on the manifold path: along
+// every edge of the input's faces that only one face has (the input's boundary; the tufted cover
+// has none), at its first vertex as the face runs (the edge leaving it; a vertex where several
+// leave takes the mean of their n-th powers). Skipped at vertices of flat components and where
+// the edge is normal to the frame.
+std::vector<DirectionConstraint> frame_boundary_directions(const PreparedSurface& s,
+                                                           const TangentBasis3d& basis,
+                                                           const Components& comps) {
+  if (s.input.triangles.empty()) {
+    throw InvalidInput("align_boundary needs a mesh's faces: a point cloud has no boundary");
+  }
+  std::map<std::pair<Index, Index>, int> uses;
+  auto key = [](Index a, Index b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
+  for (const Triangle& f : s.input.triangles) {
+    for (int k = 0; k < 3; ++k) ++uses[key(f[k], f[(k + 1) % 3])];
+  }
+  std::vector<DirectionConstraint> out;
+  for (const Triangle& f : s.input.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const Index a = f[k], b = f[(k + 1) % 3];
+      if (a == b || uses[key(a, b)] != 1) continue;
+      if (comps.label[a] == kInvalidIndex) continue;
+      const Eigen::Vector3d d = (s.input.positions.row(b) - s.input.positions.row(a)).transpose();
+      const double x = d.dot(basis.e1.row(a).transpose()), y = d.dot(basis.e2.row(a).transpose());
+      if (std::isfinite(x) && std::isfinite(y) && std::hypot(x, y) > 1e-9 * d.norm()) {
+        out.push_back({a, std::atan2(y, x)});
+      }
+    }
+  }
+  return out;
+}
+
 // direction_field_on() on the frame path.
 TangentFieldResult frame_field(const PreparedSurface& s, const FieldOptions& settings,
                                const DirectionFieldOptions& o) {
-  if (settings.align_boundary) {
-    throw InvalidInput(std::string("align_boundary needs the manifold path: this input took the ") +
-                       intrinsic::to_string(s.path) + " path (" + s.reason_detail + ")");
-  }
   if (!settings.intrinsic_constraints.empty()) {
     throw InvalidInput(std::string("intrinsic constraints (curves) need the manifold path: this "
                                    "input took the ") +
@@ -169,8 +199,14 @@ TangentFieldResult frame_field(const PreparedSurface& s, const FieldOptions& set
   const Eigen::VectorXd mass = fem::lumped_mass(s.tri);
   Index flat = 0, skipped = 0;
   const Components comps = field_components(s, triangulation_faces(s.tri), &flat);
-  const std::vector<DirectionConstraint> held =
-      held_directions(s, settings, basis, fem::TangentFrames{}, comps, &skipped);
+  FieldOptions given = settings;
+  given.align_boundary = false;  // held_directions() knows the manifold path's boundary only
+  std::vector<DirectionConstraint> held =
+      held_directions(s, given, basis, fem::TangentFrames{}, comps, &skipped);
+  if (settings.align_boundary) {
+    const std::vector<DirectionConstraint> b = frame_boundary_directions(s, basis, comps);
+    held.insert(held.end(), b.begin(), b.end());
+  }
   const DirectionField f =
       held.empty() ? smoothest_field(L, mass, comps, o) : aligned_field(L, mass, comps, held, o);
   TangentFieldResult r = field_result(f, basis, s.n_input_vertices(), settings.symmetry);

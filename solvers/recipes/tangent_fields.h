@@ -30,7 +30,10 @@ struct InputDirection {
 /// What direction_field_on() computes.
 struct FieldOptions {
   int symmetry = 1;             ///< n: 1 vectors, 2 lines, 4 crosses
-  bool align_boundary = false;  ///< hold the field along the boundary (manifold path only)
+  /// Hold the field along the boundary: at each boundary vertex along the boundary edge leaving
+  /// it (as the faces run); on the tufted path the input's boundary (edges of one input face).
+  /// Not for point clouds (no boundary edges).
+  bool align_boundary = false;
   std::vector<InputDirection> constraints;
   /// Directions given on the triangulation itself: at any vertex of s.tri (inserted ones too),
   /// angles in the coordinates of fem::tangent_frames(s.tri), e.g. curve_constraints() along
@@ -81,7 +84,7 @@ struct TangentFieldResult {
 /// works), and components without area in space get none (TangentFieldResult::empty_components).
 /// On the frame path (tufted, point cloud) the field lives in frame_basis_3d()'s frames.
 /// @throws InvalidInput on bad settings, a vertex out of [0, #V_in), a direction normal to the
-///         surface there, align_boundary off the manifold path, or a refined surface off the
+///         surface there, align_boundary on a point cloud, or a refined surface off the
 ///         manifold path (inserted vertices have no position for a frame)
 TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldOptions& settings);
 

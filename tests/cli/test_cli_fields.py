@@ -19,7 +19,7 @@ def norm(v):
 
 # field: Poincaré–Hopf on spot (genus 0: total index 2 for vectors, 8 quarter turns for
 # crosses), unit tangent vectors in the .txt (one line per input vertex), a constraints file,
-# and the refusals (--align-boundary on a surface without its own boundary, a bad line)
+# and the refusals (--align-boundary on a point cloud, a bad line)
 def test_field(cli):
     o, spot = cli.out, cli.spot
     r = cli.ok("field", spot, "--symmetry", 4, "-o", o / "fc.ply", "--quiet")
@@ -36,10 +36,12 @@ def test_field(cli):
     (o / "fcon.txt").write_text("# vertex and direction\n0 1 0 0\n")
     r = cli.ok("field", spot, "--constraints", o / "fcon.txt", "-o", o / "fk.ply", "--quiet")
     assert grep("total index 2/1", r.out), r.describe()
-    r = cli.run("field", cli.fan3, "--align-boundary", "-o", o / "ff.ply", "--quiet")
+    cli.ok("field", cli.fan3, "--align-boundary", "-o", o / "ff.ply", "--quiet")  # tufted
+    r = cli.run("field", cli.spot_points("f_cloud.xyz"), "--align-boundary", "-o",
+                o / "ff.ply", "--quiet")
     assert r.rc != 0, r.describe()
-    assert grep("align_boundary needs the manifold path: this input took the tufted path",
-                r.err), r.describe()
+    assert grep("align_boundary needs a mesh's faces: a point cloud has no boundary", r.err), \
+        r.describe()
     r = cli.run("field", cli.fan3, "--refine", "--resolution", 0.2, "-o", o / "fl.txt", "--quiet")
     assert r.rc != 0, r.describe()
     assert grep("a direction field on the tufted path uses frames from the input's positions"
@@ -234,9 +236,9 @@ def test_soup(cli):
             for v, row in enumerate(rows):
                 no_field = piece[v] in flat and path != ["--pointcloud"]
                 assert abs(norm(row) - (0 if no_field else 1)) <= 1e-9, (path, n, v, row)
-    for n in (1, 2, 4):
+    for n, path in ((1, []), (2, []), (4, []), (1, ["--tufted"])):
         r = cli.ok("field", soup, "--symmetry", n, "--align-boundary", "-o", o / "soup_a.txt",
-                   "--quiet")
+                   "--quiet", *path)
         assert grep(f"total index {9 * n}/{n}", r.out), r.describe()
     (o / "soup_c.txt").write_text("243 1 0 0\n240 0 1 0\n")
     r = cli.ok("field", soup, "--constraints", o / "soup_c.txt", "-o", o / "soup_c.ply")

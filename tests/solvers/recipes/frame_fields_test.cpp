@@ -416,7 +416,7 @@ TEST(FrameFields, NonmanifoldMeshesGiveFiniteTangentFields) {
   }
 }
 
-TEST(FrameFields, RefinementAndBoundaryAlignmentAreRefusedOffTheManifoldPath) {
+TEST(FrameFields, RefinementIsRefusedOffTheManifoldPathAndBoundaryAlignmentOnClouds) {
   PrepareOptions o;
   o.refine = SurfaceRefineOptions{};
   o.refine->max_area = 0.01;
@@ -426,7 +426,11 @@ TEST(FrameFields, RefinementAndBoundaryAlignmentAreRefusedOffTheManifoldPath) {
   EXPECT_THROW(vector_heat_solver(s), InvalidInput);
   FieldOptions along;
   along.align_boundary = true;
-  EXPECT_THROW(direction_field_on(prepare_surface(test::as_input(book(3))), along), InvalidInput);
+  EXPECT_THROW(direction_field_on(prepared_cloud(flat_cloud(8)), along), InvalidInput);
+  // the tufted path holds the input's boundary (the pages' outer edges)
+  const PreparedSurface b = prepare_surface(test::as_input(book(3)));
+  ASSERT_EQ(b.path, intrinsic::SurfacePath::kTufted);
+  EXPECT_GT(direction_field_on(b, along).constrained, 0);
 }
 
 }  // namespace

@@ -104,8 +104,14 @@ TEST_P(SoupFields, EveryPieceWithAreaGetsItsOwnFieldTheFlatOneNone) {
 }
 
 // Aligned to the boundary, each of the 9 disks carries index n (Poincaré–Hopf with the field
-// along the boundary: n·χ, χ = 1); the zero-area face none.
+// along the boundary: n·χ, χ = 1); the zero-area face none. On the tufted path n = 1 only: the
+// frame path's face indices (frame_face_indices) take each side's turn in (−π, π] of the n-th
+// power, and along a coarse boundary (a lone triangle: n·120° per side) that wraps.
 TEST(SoupFieldsAligned, EachDiskHasIndexN) {
+  const PreparedSurface tufted = soup(true);
+  FieldOptions one;
+  one.align_boundary = true;
+  EXPECT_EQ(direction_field_on(tufted, one).total_index, 9);
   const PreparedSurface s = soup(false);
   for (const int n : {1, 2, 4}) {
     FieldOptions o;
