@@ -1,8 +1,9 @@
 // Tangent fields and transport on a triangle soup (solvers/recipes/tangent_fields.h):
 // tests/data/soup_icosphere.obj, an icosphere cut into 8 pieces with their own (coincident)
 // vertices, a lone flat triangle and a zero-area face (tests/data/make_soup.py). On the manifold
-// and the tufted path: every piece with area gets its own smoothest field (unit vectors, the flat
-// triangle's parallel), the zero-area piece none (vectors 0), counted against an independent count
+// and the tufted path: every piece with area gets its own smoothest field (unit vectors; on the
+// tufted path the flat triangle's parallel), the zero-area piece none (vectors 0), counted against
+// an independent count
 // of the components; aligned to the boundary, Poincaré–Hopf per piece (index n on each of the 9
 // disks); transport finite on the source's piece and NaN on the others.
 #include <gtest/gtest.h>
@@ -85,8 +86,10 @@ TEST_P(SoupFields, EveryPieceWithAreaGetsItsOwnFieldTheFlatOneNone) {
     for (Index v = 0; v < s.n_input_vertices(); ++v) {
       EXPECT_NEAR(r.vectors.row(v).norm(), v >= kFlat ? 0.0 : 1.0, 1e-9) << v << ", n " << n;
     }
-    // the lone flat triangle's field is parallel: its corners' directions agree up to 2π/n
-    for (Index v = kLone + 1; v < kLone + 3; ++v) {
+    // on the frame path the lone flat triangle's field is parallel: its corners' directions
+    // agree up to 2π/n (the manifold path's coordinates are rescaled at boundary vertices, to
+    // π over their angle sum, fem/connection.h: its connection is not flat at a 45° corner)
+    for (Index v = kLone + 1; GetParam() && v < kLone + 3; ++v) {
       EXPECT_NEAR(r.vectors(v, 2), 0.0, 1e-9);
       const double turn = n * (std::atan2(r.vectors(v, 1), r.vectors(v, 0)) -
                                std::atan2(r.vectors(kLone, 1), r.vectors(kLone, 0)));
@@ -138,8 +141,11 @@ TEST_P(SoupFields, TransportIsFiniteOnTheSourcesPieceAndNaNElsewhere) {
         ++reached;
         ASSERT_TRUE(x.row(v).allFinite()) << v;
         EXPECT_NEAR(x.row(v).norm(), length, 1e-9) << v;
-        // on the flat triangle transport is the identity
-        if (source == kLone) EXPECT_LT((x.row(v) - Eigen::RowVector3d(1, 0, 0)).norm(), 1e-9);
+        // on the flat triangle transport is the identity (frame path; the manifold path's
+        // coordinates are rescaled at boundary vertices)
+        if (source == kLone && GetParam()) {
+          EXPECT_LT((x.row(v) - Eigen::RowVector3d(1, 0, 0)).norm(), 1e-9);
+        }
       } else {
         EXPECT_TRUE(x.row(v).array().isNaN().all()) << v;
       }
