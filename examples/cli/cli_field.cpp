@@ -39,15 +39,16 @@ std::vector<io::VertexProperty> report(const Args& args, const PreparedSurface& 
                           : "; 3D frames, " + std::to_string(r.orientation_conflicts) +
                                 " neighbour pairs with opposite normals"));
   if (r.components > 1 || r.empty_components > 0) {
-    progress(args, std::to_string(r.components) + " components: " +
-                       std::to_string(r.free_components) + " with their own smoothest field, " +
-                       std::to_string(r.components - r.free_components - r.empty_components) +
-                       " held by constraints, " + std::to_string(r.empty_components) +
-                       " without a field (" + std::to_string(r.flat_components) +
-                       " flat: zero area; vectors 0 0 0 there)" +
-                       (r.skipped_constraints > 0 ? ", " + std::to_string(r.skipped_constraints) +
-                                                        " directions on them skipped"
-                                                  : std::string()));
+    progress(args,
+             std::to_string(r.components) + " components: " + std::to_string(r.free_components) +
+                 " with their own smoothest field, " +
+                 std::to_string(r.components - r.free_components - r.empty_components) +
+                 " held by constraints, " + std::to_string(r.empty_components) +
+                 " without a field (" + std::to_string(r.flat_components) +
+                 " flat: zero area; vectors 0 0 0 there)" +
+                 (r.skipped_constraints > 0
+                      ? ", " + std::to_string(r.skipped_constraints) + " directions on them skipped"
+                      : std::string()));
   }
   return {{"fx", r.vectors.col(0)},
           {"fy", r.vectors.col(1)},
@@ -165,8 +166,7 @@ Command field_command() {
            .at_least(1)
            .defaults_to("1")
            .explain("directions per vertex: 1 vectors, 2 lines, 4 crosses"),
-       flag("align-boundary")
-           .explain("hold the field along the boundary (meshes with boundary)"),
+       flag("align-boundary").explain("hold the field along the boundary (meshes with boundary)"),
        text("constraints", "FILE").explain("directions to hold (format above)"),
        text("output", "OUT")
            .short_alias('o')

@@ -29,7 +29,7 @@ struct InputDirection {
 
 /// What direction_field_on() computes.
 struct FieldOptions {
-  int symmetry = 1;             ///< n: 1 vectors, 2 lines, 4 crosses
+  int symmetry = 1;  ///< n: 1 vectors, 2 lines, 4 crosses
   /// Hold the field along the boundary: at each boundary vertex along the boundary edge leaving
   /// it (as the faces run); on the tufted path the input's boundary (edges of one input face).
   /// Not for point clouds (no boundary edges).

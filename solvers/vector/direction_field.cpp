@@ -193,9 +193,8 @@ fem::ComplexSparseMatrix shifted_operator(const fem::ComplexSparseMatrix& L,
 // vector (Rayleigh–Ritz) of span{x, w, p}, p the previous step, orthonormalized first. Why not
 // plain inverse iteration: docs/decisions.md, "Direction fields: LOBPCG". Only the live
 // components of comps (live_components()) are solved; u = 0 elsewhere.
-DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L_all,
-                                 const Eigen::VectorXd& mass, const Components& all,
-                                 const DirectionFieldOptions& o) {
+DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L_all, const Eigen::VectorXd& mass,
+                                 const Components& all, const DirectionFieldOptions& o) {
   const Eigen::Index n = L_all.rows();
   const LiveComponents live = live_components(L_all, mass, all);
   const Components& comps = live.work;
@@ -244,8 +243,8 @@ DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L_all,
     f.energy = 0.0;
     for (Index c = 0; c < comps.count; ++c) {
       f.energy += rho[c];
-      converged = converged && std::abs(rho[c] - previous[c]) <=
-                                   o.tolerance * std::abs(rho[c]) + shift[c];
+      converged =
+          converged && std::abs(rho[c] - previous[c]) <= o.tolerance * std::abs(rho[c]) + shift[c];
     }
     f.energy /= double(std::max<Index>(comps.count - live.empty, 1));
     if (converged) break;

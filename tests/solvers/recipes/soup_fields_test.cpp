@@ -2,10 +2,10 @@
 // tests/data/soup_icosphere.obj, an icosphere cut into 8 pieces with their own (coincident)
 // vertices, a lone flat triangle and a zero-area face (tests/data/make_soup.py). On the manifold
 // and the tufted path: every piece with area gets its own smoothest field (unit vectors; on the
-// tufted path the flat triangle's parallel), the zero-area piece none (vectors 0), counted against
-// an independent count
-// of the components; aligned to the boundary, Poincaré–Hopf per piece (index n on each of the 9
-// disks); transport finite on the source's piece and NaN on the others.
+// tufted path the flat triangle's parallel), the zero-area piece none (vectors 0), counted
+// against an independent count of the components; aligned to the boundary, Poincaré–Hopf per
+// piece (index n on each of the 9 disks); transport finite on the source's piece and NaN on the
+// others.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -70,8 +70,8 @@ class SoupFields : public ::testing::TestWithParam<bool> {};  // param: the tuft
 
 TEST_P(SoupFields, EveryPieceWithAreaGetsItsOwnFieldTheFlatOneNone) {
   const PreparedSurface s = soup(GetParam());
-  EXPECT_EQ(s.path, GetParam() ? intrinsic::SurfacePath::kTufted
-                               : intrinsic::SurfacePath::kManifold);
+  EXPECT_EQ(s.path,
+            GetParam() ? intrinsic::SurfacePath::kTufted : intrinsic::SurfacePath::kManifold);
   const Pieces p = pieces(s.input);
   ASSERT_EQ(p.count, 10);
   ASSERT_EQ(p.flat, 1);
@@ -100,9 +100,10 @@ TEST_P(SoupFields, EveryPieceWithAreaGetsItsOwnFieldTheFlatOneNone) {
     const TangentFieldResult h = direction_field_on(s, o);
     EXPECT_EQ(h.skipped_constraints, 1);
     EXPECT_EQ(h.free_components, p.count - p.flat - 1);
-    EXPECT_NEAR(std::remainder(n * std::atan2(h.vectors(kLone, 1), h.vectors(kLone, 0)) -
-                                   n * kPi / 2, 2 * kPi),
-                0.0, 1e-9);
+    EXPECT_NEAR(
+        std::remainder(n * std::atan2(h.vectors(kLone, 1), h.vectors(kLone, 0)) - n * kPi / 2,
+                       2 * kPi),
+        0.0, 1e-9);
   }
 }
 
