@@ -62,8 +62,12 @@ def test_bad_input(spot):
         ifem.direction_field(V, F, constraint_vertices=[0, 1], directions=[[1, 0, 0]])
     with pytest.raises(ifem.InvalidInput, match="both vertices and directions"):
         ifem.direction_field(V, F, constraint_vertices=[0])
-    with pytest.raises(ifem.InvalidInput, match="align_boundary needs the manifold path"):
-        ifem.direction_field(*ifem.read_mesh(test_data("fan3.obj")), align_boundary=True)
+    with pytest.raises(ifem.InvalidInput, match="a point cloud has no boundary"):
+        ifem.direction_field(V, align_boundary=True)
+    # a nonmanifold mesh (the tufted path) is held along its input's boundary
+    vectors, _, _, info = ifem.direction_field(*ifem.read_mesh(test_data("fan3.obj")),
+                                               align_boundary=True, return_info=True)
+    assert info["path"] == "tufted" and info["constrained"] > 0
 
 
 def test_curves_match_cli(spot, tmp_path):
