@@ -38,6 +38,18 @@ std::vector<io::VertexProperty> report(const Args& args, const PreparedSurface& 
                           ? std::string()
                           : "; 3D frames, " + std::to_string(r.orientation_conflicts) +
                                 " neighbour pairs with opposite normals"));
+  if (r.components > 1 || r.empty_components > 0) {
+    progress(args,
+             std::to_string(r.components) + " components: " + std::to_string(r.free_components) +
+                 " with their own smoothest field, " +
+                 std::to_string(r.components - r.free_components - r.empty_components) +
+                 " held by constraints, " + std::to_string(r.empty_components) +
+                 " without a field (" + std::to_string(r.flat_components) +
+                 " flat: zero area; vectors 0 0 0 there)" +
+                 (r.skipped_constraints > 0
+                      ? ", " + std::to_string(r.skipped_constraints) + " directions on them skipped"
+                      : std::string()));
+  }
   return {{"fx", r.vectors.col(0)},
           {"fy", r.vectors.col(1)},
           {"fz", r.vectors.col(2)},
@@ -115,11 +127,15 @@ Command field_command() {
       "The smoothest N-direction field (N = 1 vectors, 2 lines, 4 crosses) on the\n"
       "intrinsic Delaunay triangulation: the smallest eigenvector of the connection\n"
       "Laplacian (Knöppel et al. 2013), or, with --align-boundary / --constraints /\n"
-      "--curves, the smoothest field through those directions. Components without a\n"
-      "constraint get their own smoothest field. Along the boundary, a corner holds\n"
-      "the field along both of its sides when N allows it (a cross at a corner of 90°\n"
-      "or 270°), else the N-direction mean of the two sides (for vectors the\n"
-      "bisector); on a flat polygon a cross field along the boundary is constant.\n"
+      "--curves, the smoothest field through those directions. Every connected\n"
+      "component without a constraint gets its own smoothest field (a triangle soup\n"
+      "works: one per piece); a component without area (e.g. one zero-area face: no\n"
+      "tangent plane) gets none: vectors 0 0 0 and angle 0 there, directions given on\n"
+      "it are skipped. A progress line counts the components and how each was treated.\n"
+      "Along the boundary, a corner holds the field along both of its sides when N\n"
+      "allows it (a cross at a corner of 90° or 270°), else the N-direction mean of\n"
+      "the two sides (for vectors the bisector); on a flat polygon a cross field\n"
+      "along the boundary is constant.\n"
       "  OUT.ply: the input mesh with per-vertex properties fx fy fz (a unit tangent\n"
       "  vector: one of the N directions), angle (that direction in the vertex's own\n"
       "  coordinate: 0 along its first edge, counter-clockwise with the faces'\n"
@@ -133,8 +149,9 @@ Command field_command() {
       "On nonmanifold meshes (the tufted cover) and point clouds the field lives in\n"
       "per-vertex 3D frames from the normals, oriented by propagation: angle is then\n"
       "from the x axis projected to the tangent plane; singularities come from the\n"
-      "input's faces (none for point clouds); --align-boundary and --refine are\n"
-      "refused there.\n"
+      "input's faces (none for point clouds); --refine is refused there, and\n"
+      "--align-boundary follows the input's boundary (edges of one face; refused for\n"
+      "point clouds).\n"
       "Constraints file: lines 'VERTEX X Y Z' (a 0-based input vertex and a direction,\n"
       "projected to the tangent plane there); '#' starts a comment.\n\n"
       "Aligned to curves (--curves FILE, format below; thesis Fig. 10 left): curves\n"
@@ -153,8 +170,7 @@ Command field_command() {
            .at_least(1)
            .defaults_to("1")
            .explain("directions per vertex: 1 vectors, 2 lines, 4 crosses"),
-       flag("align-boundary")
-           .explain("hold the field along the boundary (manifold meshes with boundary)"),
+       flag("align-boundary").explain("hold the field along the boundary (meshes with boundary)"),
        text("constraints", "FILE").explain("directions to hold (format above)"),
        text("output", "OUT")
            .short_alias('o')

@@ -46,8 +46,8 @@ int run_transport(const Args& args) {
   } else {
     write_rows(out.path, x);
   }
-  std::printf("wrote %s: %d tangent vectors, %d unreached vertices\n", out.path.c_str(),
-              int(x.rows()), int(report.unreached_vertices));
+  std::printf("wrote %s: %d tangent vectors, %d unreached vertices (nan)\n", out.path.c_str(),
+              int(x.rows()), int(report.unreached_vertices + report.unresolved_vertices));
   return 0;
 }
 
@@ -91,7 +91,11 @@ Command transport_command() {
       "prefactored matrices on the intrinsic Delaunay triangulation). The vector is\n"
       "projected to the source's tangent plane; its length is kept.\n"
       "  OUT.ply: the input mesh with per-vertex properties fx fy fz;\n"
-      "  OUT.txt: 'x y z' per input vertex, in order (0 0 0 where no source reaches).\n"
+      "  OUT.txt: 'x y z' per input vertex, in order.\n"
+      "Every vertex the source reaches gets a finite vector; the others (another\n"
+      "connected component, e.g. the other pieces of a triangle soup, vertices used by\n"
+      "no face, or so far that the heat underflows) get 'nan nan nan', counted in the\n"
+      "last line as unreached (as `ifem distance` writes inf there).\n"
       "On nonmanifold meshes (the tufted cover) and point clouds the vectors live in\n"
       "per-vertex frames from the normals (faces' or given ones, else PCA of the\n"
       "neighbours), oriented consistently by propagation; the transport between\n"

@@ -18,7 +18,10 @@ def field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
 
     The field is the smallest eigenvector of the connection Laplacian of the intrinsic
     Delaunay triangulation (Knöppel, Crane, Pinkall, Schröder 2013), or, with constraints, the
-    smoothest field through them (harmonic in the power representation). Same as
+    smoothest field through them (harmonic in the power representation). Each connected
+    component without a constraint gets its own smoothest field (a triangle soup works: one
+    per piece); a component without area in space has no tangent plane and gets no field
+    (vectors 0). Same as
     ``ifem field MESH --symmetry N [--align-boundary] [--constraints FILE] [--curves FILE]``.
     On nonmanifold or non-orientable meshes (the tufted path) and point clouds the connection
     comes from per-vertex 3D frames: normals from the faces (or ``normals``, else PCA of the
@@ -37,9 +40,9 @@ def field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
         V: #V×3 positions, or a file's path (read with its normals, as the CLI reads it).
         F: #F×3 vertex ids; ``None`` (or empty) for a point cloud.
         symmetry: n ≥ 1 — 1 vectors, 2 lines, 4 crosses.
-        align_boundary: hold the field along the boundary (meshes that take the manifold path);
-            at a corner along both sides when ``symmetry`` allows it (a cross at 90° or 270°),
-            else along the ``symmetry``-direction mean of the two sides.
+        align_boundary: hold the field along the boundary (meshes; not point clouds); at a corner
+            along both sides when ``symmetry`` allows it (a cross at 90° or 270°), else along the
+            ``symmetry``-direction mean of the two sides.
         constraint_vertices: vertex ids where a direction is held (with ``directions``).
         directions: #K×3 directions in space, projected to the tangent plane at each vertex.
         mollify: relative mollification margin.
@@ -49,7 +52,11 @@ def field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
             edges; sums to n·χ on a closed mesh; what ``ifem field -o OUT.ply`` writes as the
             face property ``singularity``; empty for point clouds —, ``constrained``,
             ``energy``, ``orientation_conflicts`` — neighbour pairs whose oriented normals
-            still disagree on the frame path —, ...; with curves, ``curves``: what inserting
+            still disagree on the frame path —, ``components`` (connected components: a
+            triangle soup's pieces), ``free_components`` (those that took their own smoothest
+            field), ``empty_components`` (those without a field: vectors 0 there),
+            ``flat_components`` (the empty ones without area in space, e.g. a lone zero-area
+            face) and ``skipped_constraints`` (directions given on them), ...; with curves, ``curves``: what inserting
             them did, as :func:`curve_poisson`'s info).
         normals: optional #V×3 normals of a point cloud (rows zero or not finite: PCA).
         path: ``'auto'``, ``'manifold'``, ``'tufted'`` or ``'pointcloud'``.
@@ -70,7 +77,7 @@ def field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
 
     Raises:
         InvalidInput: bad arrays, symmetry < 1, a constraint vertex out of range or a direction
-            normal to the surface, ``align_boundary`` off the manifold path, curves on a point
+            normal to the surface, ``align_boundary`` on a point cloud, curves on a point
             cloud or a mesh that is not edge-manifold and orientable, a bad curve (named
             ``curves[i]`` or ``file:line``), two curves sharing an edge.
         IoError: an unreadable curves file.
@@ -118,8 +125,9 @@ class VectorHeatSolver:
 
     def transport(self, source, vector):
         """Parallel transport of a 3D vector at vertex ``source`` (projected to its tangent
-        plane, length kept) to every vertex along shortest geodesics: #V×3 tangent vectors (0
-        where nothing arrives)."""
+        plane, length kept) to every vertex along shortest geodesics: #V×3 tangent vectors, finite
+        wherever the source reaches, NaN elsewhere (other components, e.g. a triangle soup's
+        other pieces; as ``distance`` gives inf there)."""
         return self._solver.transport(int(source), np.asarray(vector, float).reshape(1, 3))
 
     def logmap(self, source):
@@ -158,7 +166,8 @@ def transport(V, F=None, source=None, vector=None, *, mollify=1e-5, normals=None
         mollify, normals, path, knn: as :class:`VectorHeatSolver`.
 
     Returns:
-        #V×3 tangent vectors (0 where nothing arrives).
+        #V×3 tangent vectors: finite at every vertex the source reaches, NaN (all three
+        coordinates) at the others, as the CLI writes them.
     """
     _required(source, "source", "transport")
     _required(vector, "vector", "transport")

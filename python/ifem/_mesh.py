@@ -21,6 +21,10 @@ def read_mesh(path, return_info=False):
     Returns:
         ``V`` (#V×3 float64, file order) and ``F`` (#F×3 int32), and ``info`` when asked.
 
+    A point cloud's normals are not in ``V``: to compute as ``ifem COMMAND FILE`` does, pass the
+    path itself (``ifem.logmap("cloud.ply", source=0)``) or ``normals=info["normals"]``; arrays
+    alone take PCA normals, whose orientation may differ (a mirrored log map).
+
     Raises:
         IoError: missing file, unknown extension, malformed content, a face index out of range
             or a non-finite coordinate, with the file and line (or byte offset).

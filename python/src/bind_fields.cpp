@@ -101,6 +101,11 @@ py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry
   info["constrained"] = r.constrained;
   info["energy"] = r.energy;
   info["orientation_conflicts"] = r.orientation_conflicts;
+  info["components"] = r.components;
+  info["free_components"] = r.free_components;
+  info["empty_components"] = r.empty_components;
+  info["flat_components"] = r.flat_components;
+  info["skipped_constraints"] = r.skipped_constraints;
   return py::make_tuple(to_numpy(Eigen::MatrixXd(r.vectors)), to_numpy(std::move(r.angle)),
                         to_numpy(std::move(r.singularity)), info);
 }

@@ -62,8 +62,12 @@ def test_bad_input(spot):
         ifem.direction_field(V, F, constraint_vertices=[0, 1], directions=[[1, 0, 0]])
     with pytest.raises(ifem.InvalidInput, match="both vertices and directions"):
         ifem.direction_field(V, F, constraint_vertices=[0])
-    with pytest.raises(ifem.InvalidInput, match="align_boundary needs the manifold path"):
-        ifem.direction_field(*ifem.read_mesh(test_data("fan3.obj")), align_boundary=True)
+    with pytest.raises(ifem.InvalidInput, match="a point cloud has no boundary"):
+        ifem.direction_field(V, align_boundary=True)
+    # a nonmanifold mesh (the tufted path) is held along its input's boundary
+    vectors, _, _, info = ifem.direction_field(*ifem.read_mesh(test_data("fan3.obj")),
+                                               align_boundary=True, return_info=True)
+    assert info["path"] == "tufted" and info["constrained"] > 0
 
 
 def test_curves_match_cli(spot, tmp_path):
@@ -171,3 +175,54 @@ def test_nonmanifold_mesh_fields_are_finite():
     solver = ifem.VectorHeatSolver(V, F)
     assert np.isfinite(solver.transport(0, [0.0, 0.0, 1.0])).all()
     assert np.isfinite(solver.log_map(0)).all()
+
+
+def soup_pieces(V, F):
+    """Each vertex's piece, counted from the faces alone (scipy's connected components), and the
+    pieces without area."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    n = len(V)
+    rows = np.r_[F[:, 0], F[:, 1], F[:, 2]]
+    cols = np.r_[F[:, 1], F[:, 2], F[:, 0]]
+    count, piece = connected_components(coo_matrix((np.ones(len(rows)), (rows, cols)), (n, n)),
+                                        directed=False)
+    area = np.zeros(count)
+    np.add.at(area, piece[F[:, 0]], np.linalg.norm(
+        np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1) / 2)
+    return piece, count, np.flatnonzero(area == 0)
+
+
+# A triangle soup (tests/data/soup_icosphere.obj: 8 pieces of an icosphere with their own
+# coincident vertices, a lone flat triangle, a zero-area face), on the manifold and tufted
+# paths: a field for n = 1, 2, 4 with unit vectors on the pieces with area and 0 on the
+# zero-area one, the components counted as here, the CLI's numbers; transport finite on the
+# source's piece and NaN elsewhere, as the CLI writes it.
+@pytest.mark.parametrize("path", ["auto", "tufted"])
+def test_triangle_soup(tmp_path, path):
+    soup = test_data("soup_icosphere.obj")
+    V, F = ifem.read_mesh(soup)
+    piece, count, flat = soup_pieces(V, F)
+    assert (count, len(flat)) == (10, 1)
+    no_field = np.isin(piece, flat)
+    opts = [] if path == "auto" else ["--tufted"]
+    for n in (1, 2, 4):
+        vectors, _, _, info = ifem.field(V, F, symmetry=n, path=path, return_info=True)
+        assert (info["components"], info["free_components"], info["empty_components"],
+                info["flat_components"]) == (count, count - len(flat), len(flat), len(flat))
+        np.testing.assert_allclose(np.linalg.norm(vectors, axis=1), np.where(no_field, 0, 1),
+                                   atol=1e-9)
+        run_cli("field", soup, "--symmetry", n, "-o", tmp_path / "f.txt", "--quiet", *opts)
+        np.testing.assert_allclose(vectors, read_txt(tmp_path / "f.txt"), atol=1e-12)
+    for source in (0, 240):
+        x = ifem.transport(soup, source=source, vector=[1, 0, 0], path=path)
+        reached = piece == piece[source]
+        assert np.isfinite(x[reached]).all()
+        np.testing.assert_allclose(np.linalg.norm(x[reached], axis=1),
+                                   np.linalg.norm(x[source]), rtol=1e-9)
+        assert np.isnan(x[~reached]).all()
+        run_cli("transport", soup, "--source", source, "--vector", "1,0,0", "-o",
+                tmp_path / "t.txt", "--quiet", *opts)
+        np.testing.assert_array_equal(np.isnan(read_txt(tmp_path / "t.txt")), np.isnan(x))
+        np.testing.assert_allclose(read_txt(tmp_path / "t.txt")[reached], x[reached],
+                                   atol=1e-12)

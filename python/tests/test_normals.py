@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import ifem
-from conftest import read_txt, run_cli
+from conftest import read_txt, run_cli, shared_data
 
 
 def tilted_cloud(n=400):
@@ -67,3 +67,34 @@ def test_a_path_takes_no_faces(cloud):
     path, V, _ = cloud
     with pytest.raises(ifem.InvalidInput, match="V must"):
         ifem.logmap(path, [[0, 1, 2]], source=0)
+
+
+def test_field_python_equals_cli(cloud, tmp_path):
+    path, V, N = cloud
+    for n in (1, 4):
+        run_cli("field", path, "--symmetry", n, "-o", tmp_path / "f.txt", "--quiet")
+        cli = read_txt(tmp_path / "f.txt")
+        py = ifem.field(path, symmetry=n)[0]
+        np.testing.assert_allclose(py, cli, rtol=1e-9, atol=1e-12)
+        np.testing.assert_array_equal(ifem.field(V, symmetry=n, normals=N)[0], py)
+        # the field lies in the tangent planes of the file's normals, not of PCA's
+        assert np.abs(np.sum(py * N, axis=1)).max() <= 1e-9
+        assert np.abs(ifem.field(V, symmetry=n)[0] - cli).max() > 1e-3
+
+
+# A real scan's normals (../shared/data, skipped when absent): bunny16k_points_normals.ply
+# through a path, in Python and the CLI, for transport, field and logmap, the same numbers.
+def test_scan_with_normals_python_equals_cli(tmp_path):
+    path = shared_data("pointclouds/bunny16k_points_normals.ply")
+    V, F, info = ifem.read_mesh(path, return_info=True)
+    assert F.shape[0] == 0 and info["normals"].shape == V.shape
+    run_cli("logmap", path, "--source", 0, "-o", tmp_path / "l.txt", "--quiet")
+    np.testing.assert_allclose(ifem.logmap(path, source=0), read_txt(tmp_path / "l.txt"),
+                               rtol=1e-9, atol=1e-12)
+    run_cli("transport", path, "--source", 0, "--vector", "1,0,0", "-o", tmp_path / "t.txt",
+            "--quiet")
+    np.testing.assert_allclose(ifem.transport(path, source=0, vector=[1, 0, 0]),
+                               read_txt(tmp_path / "t.txt"), rtol=1e-9, atol=1e-12)
+    run_cli("field", path, "--symmetry", 2, "-o", tmp_path / "f.txt", "--quiet")
+    np.testing.assert_allclose(ifem.field(path, symmetry=2)[0], read_txt(tmp_path / "f.txt"),
+                               rtol=1e-9, atol=1e-12)

@@ -29,8 +29,11 @@ struct InputDirection {
 
 /// What direction_field_on() computes.
 struct FieldOptions {
-  int symmetry = 1;             ///< n: 1 vectors, 2 lines, 4 crosses
-  bool align_boundary = false;  ///< hold the field along the boundary (manifold path only)
+  int symmetry = 1;  ///< n: 1 vectors, 2 lines, 4 crosses
+  /// Hold the field along the boundary: at each boundary vertex along the boundary edge leaving
+  /// it (as the faces run); on the tufted path the input's boundary (edges of one input face).
+  /// Not for point clouds (no boundary edges).
+  bool align_boundary = false;
   std::vector<InputDirection> constraints;
   /// Directions given on the triangulation itself: at any vertex of s.tri (inserted ones too),
   /// angles in the coordinates of fem::tangent_frames(s.tri), e.g. curve_constraints() along
@@ -63,14 +66,25 @@ struct TangentFieldResult {
   int iterations = 0;        ///< LOBPCG steps (0: every component constrained)
   /// Frame path: neighbour pairs whose oriented normals disagree (TangentBasis3d); 0 otherwise.
   Index orientation_conflicts = 0;
+  /// Connected components of s.tri (a triangle soup: one per piece), and how they were treated:
+  /// free_components took their own smoothest field (no constraint on them); empty_components
+  /// have no field, vectors 0 and angle 0 on all their vertices ("no direction"): the flat ones
+  /// (flat_components: no area in space, e.g. one zero-area face, so no tangent plane; given
+  /// directions there are skipped, skipped_constraints) and those whose operators are not finite.
+  Index components = 0;
+  Index free_components = 0;
+  Index empty_components = 0;
+  Index flat_components = 0;
+  Index skipped_constraints = 0;
 };
 
 /// The smoothest n-direction field on s (intrinsic Delaunay, refined or not), through the given
 /// directions and, when asked, along the boundary; components without any constraint get
-/// their globally smoothest field.
+/// their globally smoothest field, each on its own (any number of components: a triangle soup
+/// works), and components without area in space get none (TangentFieldResult::empty_components).
 /// On the frame path (tufted, point cloud) the field lives in frame_basis_3d()'s frames.
 /// @throws InvalidInput on bad settings, a vertex out of [0, #V_in), a direction normal to the
-///         surface there, align_boundary off the manifold path, or a refined surface off the
+///         surface there, align_boundary on a point cloud, or a refined surface off the
 ///         manifold path (inserted vertices have no position for a frame)
 TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldOptions& settings);
 
@@ -97,9 +111,12 @@ Eigen::VectorXi input_face_indices(const PreparedSurface& s, const fem::TangentF
 VectorHeatSolver vector_heat_solver(const PreparedSurface& s);
 
 /// Parallel transport of a 3D vector given at input vertex `source` (projected to its tangent
-/// plane, keeping its length) to every input vertex, as 3D tangent vectors (#V_in×3; 0 where no
-/// source reaches), in the tangent planes of the solver's bases (tangent_basis_3d() on the
-/// manifold path, solver.frame_basis() on the frame path).
+/// plane, keeping its length) to every input vertex, as 3D tangent vectors (#V_in×3), in the
+/// tangent planes of the solver's bases (tangent_basis_3d() on the manifold path,
+/// solver.frame_basis() on the frame path). Finite at every vertex the source reaches; NaN
+/// (all three coordinates) where it does not: other connected components (a triangle soup's
+/// other pieces), unreferenced vertices, and where the heat underflowed, as the report counts
+/// (unreached_vertices + unresolved_vertices); heat distance writes inf there.
 /// @throws InvalidInput on a source out of range or a vector normal to the surface there
 Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& solver,
                               Index source, const Eigen::Vector3d& vector,

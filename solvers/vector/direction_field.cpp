@@ -109,19 +109,98 @@ std::vector<Eigen::Vector3cd> smallest_ritz(const SearchSpace& s, const Componen
   return y;
 }
 
+// The components that carry a field: some vertex of positive mass and only finite entries of L
+// on their rows. The others ("empty": all vertices unlabelled by the caller, zero mass, or a
+// non-finite operator) get u = 0; work.label is kInvalidIndex on their vertices.
+struct LiveComponents {
+  Components work;
+  Index empty = 0;
+};
+
+LiveComponents live_components(const fem::ComplexSparseMatrix& L, const Eigen::VectorXd& mass,
+                               const Components& comps) {
+  std::vector<char> has_mass(comps.count, 0), finite(comps.count, 1);
+  for (Eigen::Index v = 0; v < L.rows(); ++v) {
+    const Index c = comps.label[v];
+    if (c == kInvalidIndex) continue;
+    if (mass[v] > 0.0 && std::isfinite(mass[v])) has_mass[c] = 1;
+    if (!std::isfinite(mass[v])) finite[c] = 0;
+  }
+  for (int col = 0; col < L.outerSize(); ++col) {
+    for (fem::ComplexSparseMatrix::InnerIterator it(L, col); it; ++it) {
+      const Index c = comps.label[it.row()];
+      if (c != kInvalidIndex && !std::isfinite(std::abs(it.value()))) finite[c] = 0;
+    }
+  }
+  LiveComponents live{comps, 0};
+  for (Index c = 0; c < comps.count; ++c) live.empty += !(has_mass[c] && finite[c]);
+  for (Index& c : live.work.label) {
+    if (c != kInvalidIndex && !(has_mass[c] && finite[c])) c = kInvalidIndex;
+  }
+  return live;
+}
+
+// L without the rows and columns of the vertices outside the live components.
+fem::ComplexSparseMatrix restricted(const fem::ComplexSparseMatrix& L, const Components& work) {
+  std::vector<Eigen::Triplet<Complex>> entries;
+  entries.reserve(static_cast<std::size_t>(L.nonZeros()));
+  for (int col = 0; col < L.outerSize(); ++col) {
+    if (work.label[col] == kInvalidIndex) continue;
+    for (fem::ComplexSparseMatrix::InnerIterator it(L, col); it; ++it) {
+      if (work.label[it.row()] != kInvalidIndex) entries.emplace_back(it.row(), col, it.value());
+    }
+  }
+  fem::ComplexSparseMatrix out(L.rows(), L.cols());
+  out.setFromTriplets(entries.begin(), entries.end());
+  return out;
+}
+
+// L + ε_c M (L restricted to the live components), ε_c = 1e-8 · (largest diagonal of L on c) /
+// (largest mass on c): each component shifted on its own scale, so that a component much smaller
+// than the others (a small piece of a soup, a mollified zero-area face: masses 1e-13 of the
+// rest) is positive definite too; the identity on the other vertices and those of zero mass.
+// *shift: ε_c per component (0 on empty ones), the Rayleigh quotient below which an eigenvalue
+// is indistinguishable from 0 (a parallel field).
+fem::ComplexSparseMatrix shifted_operator(const fem::ComplexSparseMatrix& L,
+                                          const Eigen::VectorXd& mass, const Components& work,
+                                          std::vector<double>* shift) {
+  const Eigen::Index n = L.rows();
+  std::vector<double> diag(work.count, 0.0), heaviest(work.count, 0.0);
+  const Eigen::VectorXcd d = L.diagonal();
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const Index c = work.label[v];
+    if (c == kInvalidIndex) continue;
+    diag[c] = std::max(diag[c], std::abs(d[v]));
+    heaviest[c] = std::max(heaviest[c], mass[v]);
+  }
+  shift->assign(work.count, 0.0);
+  for (Index c = 0; c < work.count; ++c) {
+    if (heaviest[c] > 0.0) (*shift)[c] = 1e-8 * diag[c] / heaviest[c];
+  }
+  fem::ComplexSparseMatrix A = L;
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const Index c = work.label[v];
+    const bool solved = c != kInvalidIndex && mass[v] > 0.0;
+    const double scale = solved && diag[c] > 0.0 ? 1e-8 * diag[c] / heaviest[c] : 1.0;
+    A.coeffRef(v, v) += solved ? scale * mass[v] : 1.0;
+  }
+  return A;
+}
+
 // Smallest eigenvector of L u = λ M u on every component on its own (the matrices are block
 // diagonal over components), by LOBPCG with the exact preconditioner (L + εM)⁻¹ (Knyazev 2001):
 // each step does one solve, w = (L + εM)⁻¹ M x, as inverse iteration would, then takes the best
 // vector (Rayleigh–Ritz) of span{x, w, p}, p the previous step, orthonormalized first. Why not
-// plain inverse iteration: docs/decisions.md, "Direction fields: LOBPCG".
-DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L, const Eigen::VectorXd& mass,
-                                 const Components& comps, const DirectionFieldOptions& o) {
-  const Eigen::Index n = L.rows();
-  // a shift small against the spectrum keeps L + εM positive definite where λ = 0 (a torus)
-  const double eps = 1e-8 * L.diagonal().real().maxCoeff() / std::max(mass.maxCoeff(), 1e-300);
-  fem::ComplexSparseMatrix A = L;
-  for (Eigen::Index v = 0; v < n; ++v) A.coeffRef(v, v) += eps * mass[v] + (mass[v] > 0 ? 0 : 1);
-  const ComplexCholeskySolver solver(A);
+// plain inverse iteration: docs/decisions.md, "Direction fields: LOBPCG". Only the live
+// components of comps (live_components()) are solved; u = 0 elsewhere.
+DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L_all, const Eigen::VectorXd& mass,
+                                 const Components& all, const DirectionFieldOptions& o) {
+  const Eigen::Index n = L_all.rows();
+  const LiveComponents live = live_components(L_all, mass, all);
+  const Components& comps = live.work;
+  const fem::ComplexSparseMatrix L = live.empty > 0 ? restricted(L_all, comps) : L_all;
+  std::vector<double> shift;
+  const ComplexCholeskySolver solver(shifted_operator(L, mass, comps, &shift));
   std::mt19937 rng(7);
   std::normal_distribution<double> gauss;
   SearchSpace s{Eigen::MatrixXcd::Zero(n, 3), Eigen::MatrixXcd::Zero(n, 3)};
@@ -131,14 +210,20 @@ DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L, const Eigen:
   s.LS.col(0) = L * s.S.col(0);
   orthonormalize(s, 0, mass, comps);
   DirectionField f;
-  double previous = -1.0;
+  std::vector<double> rho(comps.count, 0.0), previous(comps.count, -1.0);
   for (f.iterations = 1; f.iterations <= o.max_iterations; ++f.iterations) {
     s.S.col(1) = solver.solve(Eigen::VectorXcd((mass.array() * s.S.col(0).array()).matrix()));
     s.LS.col(1) = L * s.S.col(1);
     orthonormalize(s, 1, mass, comps);
     orthonormalize(s, 2, mass, comps);
+    // L applied again: near convergence w and p are differences of nearly equal vectors scaled
+    // up to unit norm, and the same operations on LS drift away from L·S (on a one-triangle
+    // piece of a soup, to Ritz values of −10⁶ where λ ≈ 0); two products cost far less than
+    // the solve
+    s.LS.col(1) = L * s.S.col(1);
+    s.LS.col(2) = L * s.S.col(2);
     const std::vector<Eigen::Vector3cd> y = smallest_ritz(s, comps);
-    double lx = 0.0;
+    std::fill(rho.begin(), rho.end(), 0.0);
     for (Eigen::Index v = 0; v < n; ++v) {
       const Index c = comps.label[v];
       const Eigen::Vector3cd yc = c == kInvalidIndex ? Eigen::Vector3cd::Zero() : y[c];
@@ -148,12 +233,22 @@ DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L, const Eigen:
       s.LS(v, 0) = s.LS(v, 0) * yc[0] + lp;
       s.S(v, 2) = p;
       s.LS(v, 2) = lp;
-      lx += (std::conj(s.S(v, 0)) * s.LS(v, 0)).real();
+      if (c != kInvalidIndex) rho[c] += (std::conj(s.S(v, 0)) * s.LS(v, 0)).real();
     }
     orthonormalize(s, 0, mass, comps);  // renormalized: round-off creeps in over the steps
-    f.energy = lx / double(std::max<Index>(comps.count, 1));
-    if (std::abs(f.energy - previous) <= o.tolerance * std::max(std::abs(f.energy), 1e-300)) break;
-    previous = f.energy;
+    // converged when every component's Rayleigh quotient is: its change below the tolerance,
+    // relative, or below the component's shift (λ ≈ 0 on a flat piece, where a relative change
+    // is noise)
+    bool converged = true;
+    f.energy = 0.0;
+    for (Index c = 0; c < comps.count; ++c) {
+      f.energy += rho[c];
+      converged =
+          converged && std::abs(rho[c] - previous[c]) <= o.tolerance * std::abs(rho[c]) + shift[c];
+    }
+    f.energy /= double(std::max<Index>(comps.count - live.empty, 1));
+    if (converged) break;
+    previous = rho;
   }
   f.iterations = std::min(f.iterations, o.max_iterations);
   // a last plain inverse-iteration step: where the field is below round-off of its largest
@@ -164,6 +259,8 @@ DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L, const Eigen:
   f.energy = (x.adjoint() * (L * x))(0).real() /
              std::max((x.adjoint() * (mass.array() * x.array()).matrix())(0).real(), 1e-300);
   f.u = normalized_per_vertex(x);
+  f.empty_components = live.empty;
+  f.free_components = comps.count - live.empty;
   return f;
 }
 
@@ -201,9 +298,7 @@ DirectionField smoothest_field(const fem::ComplexSparseMatrix& L_n, const Eigen:
                                const Components& comps, const DirectionFieldOptions& options) {
   options.validate();
   check_operators(L_n, mass, comps);
-  DirectionField f = inverse_iteration(L_n, mass, comps, options);
-  f.free_components = comps.count;
-  return f;
+  return inverse_iteration(L_n, mass, comps, options);
 }
 
 DirectionField smoothest_field(const intrinsic::IntrinsicTriangulation& tri,
@@ -278,27 +373,32 @@ void solve_dirichlet(const fem::ComplexSparseMatrix& L, const std::vector<char>&
 
 }  // namespace
 
-DirectionField aligned_field(const fem::ComplexSparseMatrix& L, const Eigen::VectorXd& mass,
-                             const Components& comps,
+DirectionField aligned_field(const fem::ComplexSparseMatrix& L_all, const Eigen::VectorXd& mass,
+                             const Components& all,
                              const std::vector<DirectionConstraint>& constraints,
                              const DirectionFieldOptions& options) {
   options.validate();
-  check_operators(L, mass, comps);
-  const Index nv = static_cast<Index>(L.rows());
+  check_operators(L_all, mass, all);
+  const Index nv = static_cast<Index>(L_all.rows());
   DirectionField f;
   const std::vector<Complex> held = held_powers(constraints, nv, options.symmetry, &f.constrained);
+  const LiveComponents live = live_components(L_all, mass, all);
+  const Components& comps = live.work;
+  const fem::ComplexSparseMatrix L = live.empty > 0 ? restricted(L_all, comps) : L_all;
   std::vector<char> component_held(comps.count, 0), is_held(nv, 0), solve_here(nv, 0);
   for (Index v = 0; v < nv; ++v) {
-    is_held[v] = held[v] != Complex(0.0);
-    if (is_held[v] && comps.label[v] != kInvalidIndex) component_held[comps.label[v]] = 1;
+    is_held[v] = held[v] != Complex(0.0) && comps.label[v] != kInvalidIndex;
+    if (is_held[v]) component_held[comps.label[v]] = 1;
   }
   for (Index v = 0; v < nv; ++v) {
     solve_here[v] = comps.label[v] != kInvalidIndex && component_held[comps.label[v]];
   }
   Eigen::VectorXcd u = Eigen::VectorXcd::Zero(nv);
-  for (Index v = 0; v < nv; ++v) u[v] = held[v];
+  for (Index v = 0; v < nv; ++v) u[v] = is_held[v] ? held[v] : Complex(0.0);
   solve_dirichlet(L, is_held, solve_here, u);
   for (Index c = 0; c < comps.count; ++c) f.free_components += !component_held[c];
+  f.free_components -= live.empty;  // the empty ones hold nothing either, and have no field
+  f.empty_components = live.empty;
   if (f.free_components > 0) {  // their own smoothest field
     const DirectionField s = inverse_iteration(L, mass, comps, options);
     for (Index v = 0; v < nv; ++v) {

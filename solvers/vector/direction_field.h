@@ -46,13 +46,20 @@ struct DirectionField {
   int iterations = 0;     ///< LOBPCG steps (smoothest field)
   Index constrained = 0;  ///< vertices held by constraints
   Index free_components = 0;  ///< components without a constraint: their smoothest field
+  /// Components without a field (u = 0 on them, "no direction"): no vertex of positive mass
+  /// (a caller excludes a component by labelling its vertices kInvalidIndex while keeping
+  /// Components::count), or a non-finite entry of the mass or of L_n on their rows. Counted, not
+  /// an error; constraints on them are ignored.
+  Index empty_components = 0;
 };
 
 /// The globally smoothest n-direction field: the eigenvector of L_n u = λ M u with the smallest
 /// λ (LOBPCG preconditioned by a complex Cholesky factor of L_n + εM: one solve per step, as
 /// inverse iteration, converging in far fewer steps), normalized per vertex. On a
 /// flat torus λ = 0 (a parallel field); on a sphere λ > 0 and the field has singularities.
-/// Each connected component gets its own smoothest field.
+/// Each connected component gets its own smoothest field (shifted on its own scale: pieces of
+/// very different sizes, as in a triangle soup, converge alike), except the empty ones
+/// (DirectionField::empty_components).
 /// @throws InvalidInput on bad options; SolverError if a factorization fails
 DirectionField smoothest_field(const intrinsic::IntrinsicTriangulation& tri,
                                const fem::TangentFrames& frames,

@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <complex>
+#include <initializer_list>
 
+#include "fem/operators.h"
 #include "intrinsic/core/errors.h"
 #include "solvers/test_util.h"
 #include "solvers/vector/tangent_basis.h"
@@ -17,23 +19,27 @@ namespace {
 using Complex = std::complex<double>;
 constexpr double kPi = 3.14159265358979323846;
 
-// A flat torus: an n×n periodic grid of unit squares split along a diagonal, all lengths from
-// the plane (zero curvature everywhere: a parallel field exists).
-intrinsic::IntrinsicTriangulation flat_torus(int n) {
+// A flat torus: an n×n periodic grid of squares of side `side` split along a diagonal, all
+// lengths from the plane (zero curvature everywhere: a parallel field exists); `copies` disjoint
+// copies of it, copy k with side side·scale^k (vertices k·n² ..).
+intrinsic::IntrinsicTriangulation flat_torus(int n, int copies = 1, double scale = 1.0) {
   std::vector<Triangle> faces;
-  auto id = [n](int i, int j) { return Index(((j + n) % n) * n + (i + n) % n); };
-  Eigen::MatrixX3d lengths(2 * n * n, 3);
+  Eigen::MatrixX3d lengths(2 * n * n * copies, 3);
   const double d = std::sqrt(2.0);
   Index f = 0;
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      lengths.row(f++) << 1.0, 1.0, d;
-      faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-      lengths.row(f++) << d, 1.0, 1.0;
+  double side = 1.0;
+  for (int k = 0; k < copies; ++k, side *= scale) {
+    auto id = [n, k](int i, int j) { return Index(k * n * n + ((j + n) % n) * n + (i + n) % n); };
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+        lengths.row(f++) << side, side, d * side;
+        faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+        lengths.row(f++) << d * side, side, side;
+      }
     }
   }
-  return intrinsic::IntrinsicTriangulation::from_side_lengths(faces, n * n, lengths);
+  return intrinsic::IntrinsicTriangulation::from_side_lengths(faces, n * n * copies, lengths);
 }
 
 // The largest change of u across an edge relative to parallel transport (0: a parallel field).
@@ -162,6 +168,58 @@ TEST(DirectionField, IndicesOnADiskFollowPoincareHopfWithBoundary) {
       }
     }
   }
+}
+
+// A soup's pieces come in any size: three flat tori of sides 1, 1e-6 and 1e-12 (masses 1e-24
+// apart, as a mollified zero-area face against the rest) each get their own parallel field,
+// with one shift for all they made L + εM singular. A component whose vertices the caller
+// unlabels, or whose operator is not finite, gets no field (u = 0), counted, not an error.
+TEST(DirectionField, ComponentsOfAnySizeEachGetTheirOwnField) {
+  const auto tri = flat_torus(4, 3, 1e-6);
+  const fem::TangentFrames frames = fem::tangent_frames(tri);
+  const Components comps = connected_components(tri);
+  ASSERT_EQ(comps.count, 3);
+  for (const int n : {1, 2, 4}) {
+    DirectionFieldOptions o;
+    o.symmetry = n;
+    const DirectionField f = smoothest_field(tri, frames, o);
+    EXPECT_EQ(f.free_components, 3) << n;
+    EXPECT_EQ(f.empty_components, 0) << n;
+    EXPECT_LT(f.iterations, o.max_iterations) << "converged, n = " << n;
+    for (Index v = 0; v < tri.n_vertices(); ++v) ASSERT_NEAR(std::abs(f.u[v]), 1.0, 1e-12) << v;
+    EXPECT_LT(max_parallel_defect(tri, frames, f.u, n), 1e-6) << n;
+    // held at one vertex of the middle torus: that one is held, the other two are free
+    const DirectionField g = aligned_field(tri, frames, {{20, 0.3}}, o);
+    EXPECT_EQ(g.free_components, 2) << n;
+    EXPECT_NEAR(std::arg(g.u[20] * std::polar(1.0, -n * 0.3)), 0.0, 1e-9) << n;
+    EXPECT_LT(max_parallel_defect(tri, frames, g.u, n), 1e-6) << n;
+  }
+  const fem::ComplexSparseMatrix L = fem::connection_laplacian(tri, frames, 1);
+  const Eigen::VectorXd mass = fem::lumped_mass(tri);
+  Components some = comps;  // the smallest torus left out by the caller
+  for (Index v = 32; v < 48; ++v) some.label[v] = kInvalidIndex;
+  fem::ComplexSparseMatrix bad = L;  // the middle one with a non-finite entry
+  bad.coeffRef(17, 17) = std::nan("");
+  // u on each torus: 1 where it has a field, 0 where not
+  auto expect_fields = [](const DirectionField& f, std::initializer_list<bool> has) {
+    int k = 0;
+    for (const bool on : has) {
+      for (Index v = 16 * k; v < 16 * (k + 1); ++v) EXPECT_NEAR(std::abs(f.u[v]), on, 1e-12);
+      ++k;
+    }
+  };
+  const DirectionField a = smoothest_field(L, mass, some);
+  EXPECT_EQ(a.free_components, 2);
+  EXPECT_EQ(a.empty_components, 1);
+  expect_fields(a, {true, true, false});
+  const DirectionField b = aligned_field(L, mass, some, {{0, 0.5}, {40, 0.5}});
+  EXPECT_EQ(b.free_components, 1);  // the first is held, the last empty (its direction skipped)
+  EXPECT_EQ(b.empty_components, 1);
+  expect_fields(b, {true, true, false});
+  const DirectionField c = smoothest_field(bad, mass, some);
+  EXPECT_EQ(c.free_components, 1);
+  EXPECT_EQ(c.empty_components, 2);
+  expect_fields(c, {true, false, false});
 }
 
 TEST(DirectionField, BadInputIsRefused) {
