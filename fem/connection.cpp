@@ -54,7 +54,8 @@ std::vector<double> corner_angles(const IntrinsicTriangulation& tri) {
 }
 
 // Θ_v and angle_scale into frames; the number of outgoing halfedges of each vertex into
-// outgoing. A vertex with an outgoing boundary halfedge is a boundary vertex (its fans fill π).
+// outgoing. A vertex with an outgoing boundary halfedge is a boundary vertex: it keeps its true
+// angles (scale 1) while they fit in one turn, Θ ≤ 2π, and is compressed to one turn beyond.
 void angle_sums_and_scales(const IntrinsicTriangulation& tri, const std::vector<double>& corner,
                            TangentFrames& frames, std::vector<Index>& outgoing) {
   const Index nv = tri.n_vertices();
@@ -71,7 +72,8 @@ void angle_sums_and_scales(const IntrinsicTriangulation& tri, const std::vector<
   frames.angle_scale.resize(nv);
   for (Index v = 0; v < nv; ++v) {
     const double theta = frames.angle_sum[v];
-    frames.angle_scale[v] = theta > 0.0 ? (boundary[v] ? kPi : kTwoPi) / theta : 0.0;
+    const double turn = boundary[v] ? std::max(theta, kTwoPi) : theta;
+    frames.angle_scale[v] = theta > 0.0 ? kTwoPi / turn : 0.0;
   }
 }
 

@@ -4,23 +4,28 @@
 //
 // A tangent vector at vertex v is a complex number in v's angular coordinate: the outgoing
 // halfedges around v are laid out counter-clockwise (with the faces' orientation) from a
-// reference halfedge, tri.vertex_halfedge(v), at angle 0, with their corner angles rescaled so
-// that they fill 2π at an interior vertex (π at a boundary vertex, whose fan is a half-plane):
-// angle_scale(v) = 2π / Θ_v, resp. π / Θ_v, Θ_v the vertex angle sum. On a boundary vertex the
-// reference is the fan's outgoing boundary halfedge (what vertex_halfedge() holds; were it not,
-// the first halfedge of its fan is used), so the fan spans [0, π] and the incoming boundary edge
-// points at π. Parallel transport along the edge of halfedge h (tail i → head j) is the unit
-// complex number r_h that takes i's coordinate to j's: a vector at angle α at i, read at j, is
-// at α + arg r_h. It keeps the (rescaled) angle to the edge: the direction of h at i, θ_h, goes
-// to the direction pointing away from i at j, θ_twin(h) + π, so r_h = exp(i(θ_twin(h) − θ_h + π))
-// and r_twin(h) = conj(r_h). A boundary edge has no twin: its direction at j is read in face(h)
-// (θ_next(h) + scale_j × the corner angle of next(h)).
+// reference halfedge, tri.vertex_halfedge(v), at angle 0, with their corner angles scaled by
+// angle_scale(v). An interior vertex's fan is rescaled to fill 2π: angle_scale = 2π / Θ_v, Θ_v
+// the vertex angle sum. A boundary vertex keeps its true angles, angle_scale = 1, whenever they
+// fit in one turn (Θ_v ≤ 2π): its fan spans [0, Θ_v] and the directions (Θ_v, 2π) point out of
+// the surface. A boundary vertex with Θ_v > 2π is compressed to exactly one turn, angle_scale =
+// 2π / Θ_v, its two boundary edges both at angle 0, as at the tip of a slit (Θ = 2π), where they
+// coincide (docs/decisions.md D-096). On a boundary vertex the reference is the fan's outgoing
+// boundary halfedge (what vertex_halfedge() holds; were it not, the first halfedge of its fan
+// is used), so the incoming boundary edge points at angle_scale × Θ_v. Parallel transport along
+// the edge of halfedge h (tail i → head j) is the unit complex number r_h that takes i's
+// coordinate to j's: a vector at angle α at i, read at j, is at α + arg r_h. It keeps the
+// (scaled) angle to the edge: the direction of h at i, θ_h, goes to the direction pointing away
+// from i at j, θ_twin(h) + π, so r_h = exp(i(θ_twin(h) − θ_h + π)) and r_twin(h) = conj(r_h). A
+// boundary edge has no twin: its direction at j is read in face(h) (θ_next(h) + scale_j × the
+// corner angle of next(h)).
 //
-// With rescaled angles each face carries holonomy (the rotation of a vector carried around its
+// With scaled angles each face carries holonomy (the rotation of a vector carried around its
 // three sides) Σ_c (scale_c − 1) α_c over its corners c; the terms at v's corners sum to the
-// angle defect 2π − Θ_v (π − Θ_v on the boundary). So the connection of a flat domain is
-// trivial only if every boundary vertex has Θ = π: a flat cylinder or torus, not a square, whose
-// corners (Θ = π/2, scaled by 2) carry holonomy π/2 each.
+// angle defect 2π − Θ_v at an interior vertex, 0 at a boundary vertex with Θ_v ≤ 2π, 2π − Θ_v at
+// one with Θ_v > 2π. So the connection of a flat domain (every interior Θ = 2π, every boundary
+// Θ ≤ 2π: a square, an L-shape, an annulus) is trivial: transport is path independent and a
+// parallel field is constant.
 //
 // Vertices with several fans (a pinched, nonmanifold vertex) have their fans laid out one after
 // the other (the fan of vertex_halfedge(v) first, then in the order of their smallest halfedge
@@ -46,15 +51,17 @@ using ComplexSparseMatrix = Eigen::SparseMatrix<std::complex<double>, Eigen::Col
 /// Per-vertex angular coordinates and per-halfedge transport.
 struct TangentFrames {
   Eigen::VectorXd angle_sum;       ///< #V: Θ_v, radians (0 for an unreferenced vertex)
-  Eigen::VectorXd angle_scale;     ///< #V: 2π/Θ_v inside, π/Θ_v on the boundary, 0 unreferenced
+  Eigen::VectorXd angle_scale;     ///< #V: 2π/Θ_v inside, 2π/max(Θ_v, 2π) on the boundary
+                                   ///< (1 while Θ_v ≤ 2π), 0 unreferenced
   Eigen::VectorXd halfedge_angle;  ///< #H: direction of h at tail(h), radians, in [0, 2π)
   Eigen::VectorXcd transport;      ///< #H: r_h, |r_h| = 1, tail(h)'s coordinate → head(h)'s
   /// The holonomy of the discrete connection at vertex v, in (−π, π]: over the faces of v's fan
   /// (that of vertex_halfedge(v)), the angle a vector turns when transported around the face's
   /// three sides, arg(r_h r_next(h) r_prev(h)), less the share of the face's two other corners,
-  /// (angle_scale − 1) × corner angle each. Equals the angle defect 2π − Θ_v modulo 2π at an
-  /// interior vertex, π − Θ_v at a boundary vertex (a test and a check, not used by the
-  /// solvers; meaningless at a pinched vertex). 0 for an unreferenced vertex.
+  /// (angle_scale − 1) × corner angle each. Equals (angle_scale − 1) × Θ_v modulo 2π: the angle
+  /// defect 2π − Θ_v at an interior vertex, 0 at a boundary vertex with Θ_v ≤ 2π, 2π − Θ_v at
+  /// one with Θ_v > 2π (a test and a check, not used by the solvers; meaningless at a pinched
+  /// vertex). 0 for an unreferenced vertex.
   /// @throws InvalidInput if v is out of range or the frames are not tri's
   double holonomy_around(const intrinsic::IntrinsicTriangulation& tri, Index v) const;
 };
