@@ -288,7 +288,7 @@ TEST(SolversVectorHeat, UnreachedComponentsAndUnreferencedVertices) {
   EXPECT_NEAR(e[0], 3.0, 1e-12);
   const Eigen::VectorXcd z = solver.log_map(per_copy + 40, &rep);
   EXPECT_EQ(rep.unreached_vertices, per_copy + 3);
-  EXPECT_EQ(z[0], Complex(0.0));
+  EXPECT_TRUE(std::isnan(z[0].real()) && std::isnan(z[0].imag()));
   EXPECT_GT(std::abs(z[per_copy]), 0.5);
 }
 
