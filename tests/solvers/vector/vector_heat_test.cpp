@@ -267,6 +267,10 @@ TEST(SolversVectorHeat, ResultsFollowTheLengthScale) {
   const Eigen::VectorXcd la = a.log_map(60), lb = b.log_map(60);
   EXPECT_LT((1024.0 * la - lb).cwiseAbs().maxCoeff(), 1e-9 * lb.cwiseAbs().maxCoeff());
   EXPECT_GT(la.cwiseAbs().maxCoeff(), 0.5);  // in the input's unit (the square is 1 wide)
+  const Eigen::VectorXcd aa = a.log_map(60, LogMapMethod::kAffine);
+  const Eigen::VectorXcd ab = b.log_map(60, LogMapMethod::kAffine);
+  EXPECT_LT((1024.0 * aa - ab).cwiseAbs().maxCoeff(), 1e-9 * ab.cwiseAbs().maxCoeff());
+  EXPECT_GT(aa.cwiseAbs().maxCoeff(), 0.5);
 }
 
 // --- components, bad input ----------------------------------------------------------------------
