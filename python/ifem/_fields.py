@@ -120,7 +120,7 @@ class VectorHeatSolver:
         where nothing arrives)."""
         return self._solver.transport(int(source), np.asarray(vector, float).reshape(1, 3))
 
-    def logmap(self, source, method="vector-heat", return_distance=False):
+    def logmap(self, source, method="blend", return_distance=False):
         """The logarithmic map about vertex ``source``: #V×2 Riemannian coordinates
         (u, v) = d·(cos θ, sin θ), d the geodesic distance, θ the direction at the source
         counter-clockwise from its first edge's direction (``log_map`` is its deprecated old
@@ -128,10 +128,11 @@ class VectorHeatSolver:
         distance ``inf``; vertices where the heat underflows are nan with distance nan.
 
         Args:
-            method: ``'vector-heat'`` (the heat-method distance as radius: the smaller error
-                over a whole curved mesh) or ``'affine'`` (the affine heat method: exact on
-                flat regions, much smaller errors near the source and in angle, its radius
-                short far away on curved surfaces), as ``ifem logmap --method``.
+            method: ``'blend'`` (the default: per vertex the affine value where the two
+                methods agree, the vector heat value where they do not), ``'vector-heat'``
+                (the heat-method distance as radius) or ``'affine'`` (the affine heat method:
+                exact on flat regions, much smaller errors near the source and in angle, its
+                radius short far away on curved surfaces), as ``ifem logmap --method``.
             return_distance: also return d (#V, ``inf`` where unreached).
 
         Returns:
@@ -177,7 +178,7 @@ def transport(V, F=None, source=None, vector=None, *, mollify=1e-5, normals=None
     return solver.transport(source, vector)
 
 
-def logmap(V, F=None, source=None, *, method="vector-heat", return_distance=False, mollify=1e-5,
+def logmap(V, F=None, source=None, *, method="blend", return_distance=False, mollify=1e-5,
            normals=None, path="auto", knn=30):
     """The logarithmic map about one vertex, as ``ifem logmap MESH --source S`` (the Vector Heat
     Method; for many sources on one surface build a :class:`VectorHeatSolver`).

@@ -124,14 +124,16 @@ class VectorHeat {
     return to_numpy(Eigen::MatrixXd(out));
   }
 
-  // (uv #V×2, distance #V, {"unreached": n, "unresolved": n}); method "affine" or "vector-heat"
+  // (uv #V×2, distance #V, {"unreached": n, "unresolved": n}); method "blend", "affine" or "vector-heat"
   py::tuple log_map(const py::handle& source, const std::string& method) const {
     const Index v = single_vertex(source);
-    solvers::LogMapMethod m = solvers::LogMapMethod::kVectorHeat;
+    solvers::LogMapMethod m = solvers::LogMapMethod::kBlend;
     if (method == "affine") {
       m = solvers::LogMapMethod::kAffine;
-    } else if (method != "vector-heat") {
-      throw InvalidInput("method must be 'affine' or 'vector-heat', got '" + method + "'");
+    } else if (method == "vector-heat") {
+      m = solvers::LogMapMethod::kVectorHeat;
+    } else if (method != "blend") {
+      throw InvalidInput("method must be 'blend', 'affine' or 'vector-heat', got '" + method + "'");
     }
     solvers::LogMapResult r;
     {

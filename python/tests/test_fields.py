@@ -182,7 +182,7 @@ def test_logmap_methods_and_unreached(tmp_path):
     V2 = np.r_[V, V + [2.0, 0, 0], [[-5.0, 0, 0]]]
     F2 = np.r_[F, F + n]
     src = 8 * 17 + 8
-    for method in ("affine", "vector-heat"):
+    for method in ("affine", "vector-heat", "blend"):
         uv, d = ifem.logmap(V2, F2, source=src, method=method, return_distance=True)
         assert uv.shape == (2 * n + 1, 2) and d.shape == (2 * n + 1,)
         assert np.all(np.isnan(uv[n:])) and np.all(np.isinf(d[n:]))
@@ -195,7 +195,7 @@ def test_logmap_methods_and_unreached(tmp_path):
     rot = np.mean(z[keep] / exact[keep])
     rot /= abs(rot)
     assert np.abs(z / rot - exact).max() <= 1e-9
-    with pytest.raises(ifem.InvalidInput, match="method must be 'affine' or 'vector-heat'"):
+    with pytest.raises(ifem.InvalidInput, match="method must be 'blend', 'affine' or 'vector-heat'"):
         ifem.logmap(V, F, source=src, method="exact")
     path = tmp_path / "grid.obj"
     with open(path, "w") as f:

@@ -228,7 +228,7 @@ LogMapResult log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver
 
 Eigen::MatrixX2d log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,
                             VectorHeatReport* report) {
-  LogMapResult r = log_map_on(s, solver, source, LogMapMethod::kVectorHeat);
+  LogMapResult r = log_map_on(s, solver, source, LogMapMethod::kBlend);
   if (report) *report = r.report;
   return std::move(r.uv);
 }

@@ -126,7 +126,7 @@ struct LogMapResult {
 LogMapResult log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,
                         LogMapMethod method);
 
-/// log_map_on(s, solver, source, LogMapMethod::kVectorHeat).uv.
+/// log_map_on(s, solver, source, LogMapMethod::kBlend).uv (the default method).
 /// @throws InvalidInput on a source out of range or unreferenced
 Eigen::MatrixX2d log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,
                             VectorHeatReport* report = nullptr);

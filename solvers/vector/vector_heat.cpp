@@ -104,6 +104,18 @@ struct VectorHeatSolver::Impl {
                                   VectorHeatReport& rep) const;
   Eigen::VectorXcd vector_heat_log_map(Index source, const std::vector<char>& source_component,
                                        VectorHeatReport& rep) const;
+  // The vector heat log map from the transported frame H and the heat distance d.
+  Eigen::VectorXcd vector_heat_log_map_from(Index source, const std::vector<char>& source_component,
+                                            const Eigen::VectorXcd& horizontal,
+                                            const Eigen::VectorXd& d, VectorHeatReport& rep) const;
+  // The affine heat method's solves: w (#V) and zh (#V×2: z, and H the transported frame).
+  void affine_solves(Index source, Eigen::VectorXd& w, Eigen::MatrixXcd& zh) const;
+  // The affine values -(z/w)·conj(H)/|H|; NaN where w or H underflow or the value is not finite.
+  Eigen::VectorXcd affine_values(Index source, const std::vector<char>& source_component,
+                                 const Eigen::VectorXd& w, const Eigen::MatrixXcd& zh,
+                                 VectorHeatReport& rep) const;
+  Eigen::VectorXcd blend_log_map(Index source, const std::vector<char>& source_component,
+                                 VectorHeatReport& rep) const;
 };
 
 ComplexSparseMatrix VectorHeatSolver::Impl::connection(const fem::SparseMatrix& L) {
@@ -452,6 +464,13 @@ Eigen::VectorXcd VectorHeatSolver::Impl::vector_heat_log_map(
   } else {
     for (const auto& j : jobs) j();
   }
+  return vector_heat_log_map_from(source, source_component, horizontal, d, rep);
+}
+
+Eigen::VectorXcd VectorHeatSolver::Impl::vector_heat_log_map_from(
+    Index source, const std::vector<char>& source_component, const Eigen::VectorXcd& horizontal,
+    const Eigen::VectorXd& d, VectorHeatReport& rep) const {
+  const Index nv = tri.n_vertices();
   const Eigen::VectorXcd radial =
       frame_path ? frame_gradient_directions(d) : gradient_directions(d);
   std::vector<char> ok = resolved(horizontal.cwiseAbs(), source_component, rep);
@@ -505,42 +524,63 @@ Eigen::VectorXcd VectorHeatSolver::Impl::affine_rhs(const Eigen::VectorXd& w) co
 }
 
 // The affine heat method: w = (M + tL)⁻¹δ_s, z = (M + tL∇)⁻¹ affine_rhs(w), H = (M + tL∇)⁻¹
-// e^{i0}δ_s; z/w is the source's position in x's tangent plane (log_x(s)), read at the source
-// through the transported frame H. Vertices of a reached component where w or H underflow get
-// the vector heat method's value (its heat distance has the multi-stage handling).
-Eigen::VectorXcd VectorHeatSolver::Impl::affine_log_map(Index source,
-                                                        const std::vector<char>& source_component,
-                                                        VectorHeatReport& rep) const {
+// e^{i0}δ_s (one two-column solve with z).
+void VectorHeatSolver::Impl::affine_solves(Index source, Eigen::VectorXd& w,
+                                           Eigen::MatrixXcd& zh) const {
   const Index nv = tri.n_vertices();
   Eigen::MatrixXd delta = Eigen::MatrixXd::Zero(nv, 1);
   delta(source, 0) = 1.0;
-  const Eigen::VectorXd w = scalar_heat->solve_weak_homogeneous(delta).col(0);
+  w = scalar_heat->solve_weak_homogeneous(delta).col(0);
   Eigen::MatrixXcd rhs(nv, 2);
   rhs.col(0) = affine_rhs(w);
   rhs.col(1).setZero();
   rhs(source, 1) = 1.0;
-  const Eigen::MatrixXcd zh = vector_heat->solve(rhs);
+  zh = vector_heat->solve(rhs);
+}
+
+// z/w is the source's position in x's tangent plane (log_x(s)), read at the source through the
+// transported frame H.
+Eigen::VectorXcd VectorHeatSolver::Impl::affine_values(Index source,
+                                                       const std::vector<char>& source_component,
+                                                       const Eigen::VectorXd& w,
+                                                       const Eigen::MatrixXcd& zh,
+                                                       VectorHeatReport& rep) const {
+  const Index nv = tri.n_vertices();
   VectorHeatReport wrep, hrep;
   const std::vector<char> ok_w = resolved(w, source_component, wrep);
   const std::vector<char> ok_h = resolved(zh.col(1).cwiseAbs(), source_component, hrep);
   rep.unreached_vertices = wrep.unreached_vertices;
   Eigen::VectorXcd out = Eigen::VectorXcd::Constant(nv, Complex(kNaN, kNaN));
   out[source] = 0.0;
+  for (Index v = 0; v < nv; ++v) {
+    if (v == source || !ok_w[v] || !ok_h[v]) continue;
+    const Complex z = zh(v, 0), h = zh(v, 1);
+    const Complex value = -(z / w[v]) * std::conj(h) / std::abs(h);
+    if (std::isfinite(value.real()) && std::isfinite(value.imag())) out[v] = value;
+  }
+  return out;
+}
+
+// Vertices of a reached component where w or H underflow get the vector heat method's value
+// (its heat distance has the multi-stage handling).
+Eigen::VectorXcd VectorHeatSolver::Impl::affine_log_map(Index source,
+                                                        const std::vector<char>& source_component,
+                                                        VectorHeatReport& rep) const {
+  const Index nv = tri.n_vertices();
+  Eigen::VectorXd w;
+  Eigen::MatrixXcd zh;
+  affine_solves(source, w, zh);
+  Eigen::VectorXcd out = affine_values(source, source_component, w, zh, rep);
   std::vector<Index> fallback;
   for (Index v = 0; v < nv; ++v) {
     const Index c = comps.label[v];
     if (v == source || c == kInvalidIndex || !source_component[c]) continue;
-    const Complex z = zh(v, 0), h = zh(v, 1);
-    const Complex value = -(z / w[v]) * std::conj(h) / std::abs(h);
-    if (ok_w[v] && ok_h[v] && std::isfinite(value.real()) && std::isfinite(value.imag())) {
-      out[v] = value;
-    } else {
-      fallback.push_back(v);
-    }
+    if (!std::isfinite(out[v].real())) fallback.push_back(v);
   }
   if (!fallback.empty()) {
     VectorHeatReport frep;
-    const Eigen::VectorXcd vh = vector_heat_log_map(source, source_component, frep);
+    const Eigen::VectorXcd vh = vector_heat_log_map_from(
+        source, source_component, zh.col(1), distance_solver().compute_distance({source}), frep);
     for (const Index v : fallback) {
       out[v] = vh[v];
       if (!std::isfinite(vh[v].real())) ++rep.unresolved_vertices;
@@ -549,8 +589,54 @@ Eigen::VectorXcd VectorHeatSolver::Impl::affine_log_map(Index source,
   return out;
 }
 
+// Both methods from one transported frame H (the affine solve's second column) and one heat
+// distance d; per vertex the affine value z_A where it agrees with the vector heat value z_V,
+// z_V where it does not, a smooth step between. Disagreement, in units of the blend's scales:
+// e = max(s / (kBlendEdges·h), |z_A − z_V| / (kBlendRelative·max(d, h))), with s the affine
+// map's radial shortfall max(d − |z_A|, 0) plus the arc d·|arg(z_A/z_V)| between the two
+// directions (the affine map's failure mode far from the source on curved surfaces: its radius
+// falls short). β = 1 for e ≤ 1, 0 for e ≥ 2, smoothstep between; z = β z_A + (1 − β) z_V.
+Eigen::VectorXcd VectorHeatSolver::Impl::blend_log_map(Index source,
+                                                       const std::vector<char>& source_component,
+                                                       VectorHeatReport& rep) const {
+  constexpr double kBlendEdges = 0.5;      // the shortfall allowed, in mean edge lengths
+  constexpr double kBlendRelative = 0.05;  // the disagreement allowed, relative to d
+  const Index nv = tri.n_vertices();
+  Eigen::VectorXd w, d;
+  Eigen::MatrixXcd zh;
+  const std::vector<std::function<void()>> jobs = {
+      [&] { affine_solves(source, w, zh); },
+      [&] { d = distance_solver().compute_distance({source}); }};
+  if (nv >= kParallelQueryVertices) {
+    run_parallel(jobs);
+  } else {
+    for (const auto& j : jobs) j();
+  }
+  VectorHeatReport arep;
+  const Eigen::VectorXcd za = affine_values(source, source_component, w, zh, arep);
+  Eigen::VectorXcd out = vector_heat_log_map_from(source, source_component, zh.col(1), d, rep);
+  for (Index v = 0; v < nv; ++v) {
+    const Complex a = za[v], b = out[v];
+    if (v == source || !std::isfinite(a.real())) continue;
+    if (!std::isfinite(b.real())) {  // the vector heat value unresolved (counted): the affine one
+      out[v] = a;
+      --rep.unresolved_vertices;
+      continue;
+    }
+    const double dv = std::abs(b);
+    const double arc = dv * std::abs(std::arg(a / b));
+    const double shortfall = std::max(dv - std::abs(a), 0.0) + arc;
+    const double e = std::max(shortfall / (kBlendEdges * h_mean),
+                              std::abs(a - b) / (kBlendRelative * std::max(dv, h_mean)));
+    const double x = std::clamp(2.0 - e, 0.0, 1.0);
+    const double beta = x * x * (3.0 - 2.0 * x);
+    out[v] = beta * a + (1.0 - beta) * b;
+  }
+  return out;
+}
+
 Eigen::VectorXcd VectorHeatSolver::log_map(Index source, VectorHeatReport* report) const {
-  return log_map(source, LogMapMethod::kVectorHeat, report);
+  return log_map(source, LogMapMethod::kBlend, report);
 }
 
 Eigen::VectorXcd VectorHeatSolver::log_map(Index source, LogMapMethod method,
@@ -559,9 +645,12 @@ Eigen::VectorXcd VectorHeatSolver::log_map(Index source, LogMapMethod method,
   std::vector<char> seen(im.tri.n_vertices(), 0), source_component(im.comps.count, 0);
   im.check_source(source, "vector heat log_map: source", seen, source_component);
   VectorHeatReport rep;
-  Eigen::VectorXcd out = method == LogMapMethod::kAffine
-                             ? im.affine_log_map(source, source_component, rep)
-                             : im.vector_heat_log_map(source, source_component, rep);
+  Eigen::VectorXcd out;
+  switch (method) {
+    case LogMapMethod::kAffine: out = im.affine_log_map(source, source_component, rep); break;
+    case LogMapMethod::kBlend: out = im.blend_log_map(source, source_component, rep); break;
+    default: out = im.vector_heat_log_map(source, source_component, rep); break;
+  }
   out *= im.scale;
   if (report) *report = rep;
   return out;

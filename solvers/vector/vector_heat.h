@@ -64,6 +64,11 @@ enum class LogMapMethod {
   /// The affine heat method (Soliman, Sharp, "The Affine Heat Method", 2025): one scalar and
   /// one two-column vector heat solve, no distance solver; exact on a flat domain.
   kAffine,
+  /// Both, per vertex: the affine value where it agrees with the vector heat value, the vector
+  /// heat value where it does not, a smooth step between (the rule below). One scalar, one
+  /// two-column vector heat solve and one heat distance; builds a HeatDistanceSolver on first
+  /// use. Exact on a flat domain only where the vector heat value is within the rule's margin.
+  kBlend,
 };
 
 /// What one query did. A vertex the result does not define gets a zero vector (transport),
@@ -103,6 +108,12 @@ struct VectorHeatReport {
 ///    exactly s − x. The result is −(z_x/w_x)·conj(H_x)/|H_x| with H the transported frame (as
 ///    below). Vertices of a reached component where w or |H| underflow take the kVectorHeat
 ///    value (its distance has the multi-stage handling of underflow).
+///  - log_map, LogMapMethod::kBlend: z_A the kAffine value, z_V the kVectorHeat value (sharing
+///    the transported frame H), d = |z_V|, h the mean edge length; disagreement
+///    e = max(s / (0.5·h), |z_A − z_V| / (0.05·max(d, h))) with s = max(d − |z_A|, 0) +
+///    d·|arg(z_A / z_V)| (the affine radius's shortfall plus the arc between the two directions);
+///    β = 1 for e ≤ 1, 0 for e ≥ 2, a smoothstep between; z = β·z_A + (1 − β)·z_V. Where one
+///    of the two is undefined, the other.
 ///  - log_map, LogMapMethod::kVectorHeat: the radius is the heat-method distance d from the source
 ///    (HeatDistanceSolver: the one `ifem distance` computes, with its multi-stage handling of
 ///    underflow and the mean of Neumann and Dirichlet heat on boundaries); H = transport of e^{i0}
@@ -173,14 +184,13 @@ class VectorHeatSolver {
   /// its e1. Vertices in another component than the source's and unreferenced vertices
   /// (report->unreached_vertices; their geodesic distance is ∞) and vertices where neither
   /// method resolves the heat (report->unresolved_vertices) get NaN + NaN·i.
-  /// @param method kVectorHeat or kAffine (exact on flat regions, far smaller errors near the
-  ///        source and in angle, no distance solver; its radius falls short far from the
-  ///        source on curved surfaces: docs/decisions.md D-100)
+  /// @param method kBlend (the default), kVectorHeat or kAffine (exact on flat regions, far
+  ///        smaller errors near the source and in angle, no distance solver; its radius falls
+  ///        short far from the source on curved surfaces): docs/decisions.md D-100, D-103
   /// @throws InvalidInput if source is out of range or unreferenced
   Eigen::VectorXcd log_map(Index source, LogMapMethod method,
                            VectorHeatReport* report = nullptr) const;
-  /// log_map(source, LogMapMethod::kVectorHeat, report): the default, the smaller radius error
-  /// over whole curved meshes (docs/decisions.md D-100).
+  /// log_map(source, LogMapMethod::kBlend, report): the default (docs/decisions.md D-103).
   Eigen::VectorXcd log_map(Index source, VectorHeatReport* report = nullptr) const;
 
   /// The triangulation the solver works on (intrinsic Delaunay unless disabled), its lengths

@@ -241,7 +241,7 @@ def test_logmap_methods_and_unreached(cli):
     p = grid_obj(grid, n, copies=2, extra=2)
     per = (n + 1) ** 2
     src = 6 * (n + 1) + 6
-    for method in ("affine", "vector-heat"):
+    for method in ("affine", "vector-heat", "blend"):
         txt = o / f"lm_{method}.txt"
         r = cli.ok("logmap", grid, "--source", src, "--method", method, "-o", txt, "--quiet")
         assert grep(f"{per + 2} unreached vertices", r.out), r.describe()
@@ -274,7 +274,7 @@ def test_logmap_methods_and_unreached(cli):
     assert max(abs(abs(complex(*vh[k])) - abs(complex(*uv[k]))) for k in range(per)) > 1e-3
     r = cli.run("logmap", grid, "--source", src, "--method", "exact", "-o", o / "bad.txt")
     assert r.rc == 2, r.describe()
-    assert grep("expected 'affine' or 'vector-heat'", r.err), r.describe()
+    assert grep("expected 'blend', 'affine' or 'vector-heat'", r.err), r.describe()
     assert not (o / "bad.txt").exists()
     r = cli.ok("logmap", "--help")
     assert grep("--method", r.out) and grep("affine", r.out) and grep("local charts", r.out)
@@ -289,7 +289,7 @@ def test_logmap_scan_has_no_silent_zeros(cli, shared_data):
         cli.ok("distance", mesh, "--source", src, "-o", o / "d.txt", "--quiet")
         dist = [float(x) for x in lines(o / "d.txt")]
         unreachable = sum(1 for d in dist if math.isinf(d))
-        for method in ("affine", "vector-heat"):
+        for method in ("affine", "vector-heat", "blend"):
             r = cli.ok("logmap", mesh, "--source", src, "--method", method, "-o", o / "l.txt",
                        "--quiet")
             assert grep(f" {unreachable} unreached vertices", r.out), r.describe()
@@ -311,7 +311,7 @@ def test_logmap_underflow_is_reported(cli):
               [f for j in range(2) for i in range(n)
                for a in [j * (n + 1) + i + 1] for f in ((a, a + 1, a + n + 2),
                                                         (a, a + n + 2, a + n + 1))])
-    for method in ("affine", "vector-heat"):
+    for method in ("affine", "vector-heat", "blend"):
         out = cli.out / f"strip_{method}.txt"
         r = cli.ok("logmap", strip, "--source", 0, "--method", method, "-o", out, "--quiet")
         m = re.search(r"0 unreached vertices \(nan\), (\d+) unresolved", r.out)
