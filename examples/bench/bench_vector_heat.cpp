@@ -144,14 +144,15 @@ void ordering_row(const char* what, const Matrix& A, bool metis, int threads, in
   std::fflush(stdout);
 }
 
-// The two log-map methods on a prepared mesh file (what `ifem logmap` runs) against one scalar
+// The three log-map methods on a prepared mesh file (what `ifem logmap` runs) against one scalar
 // heat query of geodesic_distance() in the same process: solver precompute, then the first and
-// a later query of each method (the vector heat method's first builds its distance solver).
+// a later query of each method (the vector heat method's first builds its distance solver; the
+// blend runs after it and reuses it).
 void log_map_methods_row(const std::string& path, int repeat) {
   const solvers::PreparedSurface s = solvers::prepare_surface(io::read_mesh(path));
   const Index nv = s.n_input_vertices();
   const Index a = nv / 3, b = (2 * nv) / 3;
-  std::vector<double> heat, pre, aff_first, aff, vh_first, vh;
+  std::vector<double> heat, pre, aff_first, aff, vh_first, vh, blend;
   for (int r = 0; r < repeat; ++r) {
     {
       const solvers::HeatDistanceSolver d(s.tri, solvers::distance_options(s));
@@ -172,12 +173,14 @@ void log_map_methods_row(const std::string& path, int repeat) {
     time(b, solvers::LogMapMethod::kAffine, aff);
     time(a, solvers::LogMapMethod::kVectorHeat, vh_first);
     time(b, solvers::LogMapMethod::kVectorHeat, vh);
+    time(a, solvers::LogMapMethod::kBlend, blend);
   }
   const double hq = median(heat);
-  std::printf("| %s | %zu | %.4f | %.3f | %.4f | %.4f | %.2f | %.4f | %.4f | %.2f | %.0f |\n",
-              path.substr(path.find_last_of('/') + 1).c_str(), s.input.triangles.size(), hq,
-              median(pre), median(aff_first), median(aff), median(aff) / hq, median(vh_first),
-              median(vh), median(vh) / hq, peak_rss_mib());
+  std::printf(
+      "| %s | %zu | %.4f | %.3f | %.4f | %.4f | %.2f | %.4f | %.4f | %.2f | %.4f | %.2f | %.0f |\n",
+      path.substr(path.find_last_of('/') + 1).c_str(), s.input.triangles.size(), hq, median(pre),
+      median(aff_first), median(aff), median(aff) / hq, median(vh_first), median(vh),
+      median(vh) / hq, median(blend), median(blend) / hq, peak_rss_mib());
   std::fflush(stdout);
 }
 
@@ -191,11 +194,11 @@ int vector_heat(int argc, char** argv) {
   print_load_average();
   if (!log_map_meshes.empty()) {
     std::printf(
-        "## Log map: affine against vector heat (median of %d; heat query = one "
+        "## Log map: the three methods (median of %d; heat query = one "
         "HeatDistanceSolver query on the same surface)\n\n"
         "| mesh | faces | heat query s | vector heat precomp s | affine first s | affine s | "
-        "ratio | vector-heat first s | vector-heat s | ratio | peak MiB |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "ratio | vector-heat first s | vector-heat s | ratio | blend s | ratio | peak MiB |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
         repeat);
     std::size_t start = 0;
     while (start <= log_map_meshes.size()) {

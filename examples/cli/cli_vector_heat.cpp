@@ -133,7 +133,8 @@ Command transport_command() {
 
 Command logmap_command() {
   Command c;
-  c.summary = "logarithmic map (Riemannian coordinates) about a vertex (vector heat method)";
+  c.summary =
+      "logarithmic map (Riemannian coordinates) about a vertex (affine and vector heat methods)";
   c.spec.name = "logmap";
   c.spec.positionals = {"MESH"};
   c.spec.prose =

@@ -124,7 +124,8 @@ class VectorHeat {
     return to_numpy(Eigen::MatrixXd(out));
   }
 
-  // (uv #V×2, distance #V, {"unreached": n, "unresolved": n}); method "blend", "affine" or "vector-heat"
+  // (uv #V×2, distance #V, {"unreached": n, "unresolved": n}); method "blend", "affine" or
+  // "vector-heat"
   py::tuple log_map(const py::handle& source, const std::string& method) const {
     const Index v = single_vertex(source);
     solvers::LogMapMethod m = solvers::LogMapMethod::kBlend;

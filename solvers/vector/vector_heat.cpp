@@ -647,9 +647,15 @@ Eigen::VectorXcd VectorHeatSolver::log_map(Index source, LogMapMethod method,
   VectorHeatReport rep;
   Eigen::VectorXcd out;
   switch (method) {
-    case LogMapMethod::kAffine: out = im.affine_log_map(source, source_component, rep); break;
-    case LogMapMethod::kBlend: out = im.blend_log_map(source, source_component, rep); break;
-    default: out = im.vector_heat_log_map(source, source_component, rep); break;
+    case LogMapMethod::kAffine:
+      out = im.affine_log_map(source, source_component, rep);
+      break;
+    case LogMapMethod::kBlend:
+      out = im.blend_log_map(source, source_component, rep);
+      break;
+    default:
+      out = im.vector_heat_log_map(source, source_component, rep);
+      break;
   }
   out *= im.scale;
   if (report) *report = rep;

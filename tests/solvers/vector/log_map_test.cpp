@@ -74,9 +74,12 @@ intrinsic::TriangleMesh flat_cells(int n, int k, Keep keep, unsigned seed) {
 // referenced vertices at least 2h from the source.
 const char* method_name(LogMapMethod method) {
   switch (method) {
-    case LogMapMethod::kAffine: return "affine";
-    case LogMapMethod::kBlend: return "blend";
-    default: return "vector-heat";
+    case LogMapMethod::kAffine:
+      return "affine";
+    case LogMapMethod::kBlend:
+      return "blend";
+    default:
+      return "vector-heat";
   }
 }
 
@@ -108,9 +111,8 @@ test::ErrorStats flat_error(const intrinsic::TriangleMesh& m, Index src, const c
     s.add(std::isfinite(e) ? e : 1e9);
   }
   s.finish();
-  std::printf(
-      "flat %s, source %d: %s log map relative error mean %.3g max %.3g (%d vertices)\n", name,
-      int(src), method_name(method), s.mean, s.max, s.n);
+  std::printf("flat %s, source %d: %s log map relative error mean %.3g max %.3g (%d vertices)\n",
+              name, int(src), method_name(method), s.mean, s.max, s.n);
   return s;
 }
 
@@ -156,9 +158,10 @@ TEST(SolversLogMap, BlendOnFlatDomains) {
     Index src;
     bool interior;
   };
-  for (const Case& c : {Case{&sq, "square", 12 * 25 + 12, true}, Case{&sq, "square", 3 * 25 + 2, true},
-                        Case{&sq, "square", 0, false}, Case{&l, "L-shape", 6 * row + 6, true},
-                        Case{&l, "L-shape", 18 * row + 3, false}}) {
+  for (const Case& c :
+       {Case{&sq, "square", 12 * 25 + 12, true}, Case{&sq, "square", 3 * 25 + 2, true},
+        Case{&sq, "square", 0, false}, Case{&l, "L-shape", 6 * row + 6, true},
+        Case{&l, "L-shape", 18 * row + 3, false}}) {
     const test::ErrorStats b = flat_error(*c.mesh, c.src, c.name, LogMapMethod::kBlend);
     const test::ErrorStats v = flat_error(*c.mesh, c.src, c.name, LogMapMethod::kVectorHeat);
     EXPECT_LT(b.mean, v.mean) << c.name << " " << c.src;
@@ -221,8 +224,8 @@ void sphere_errors(int n, LogMapMethod method, test::ErrorStats& radius, test::E
   std::printf(
       "sphere n=%d (%d vertices) %s: radius relative error mean %.3g max %.3g; angle "
       "error mean %.3g max %.3g rad\n",
-      n, int(tri.n_vertices()), method_name(method),
-      radius.mean, radius.max, angle.mean, angle.max);
+      n, int(tri.n_vertices()), method_name(method), radius.mean, radius.max, angle.mean,
+      angle.max);
 }
 
 TEST(SolversLogMap, SphereRadiusAndAngle) {
@@ -296,9 +299,10 @@ TEST(SolversLogMap, RadiusAgainstExactReferences) {
 // rule does not meet), camelhead.src9741 1.07×, fandisk.src0 0.98×, terrain8k.src0 0.79×.
 TEST(SolversLogMap, BlendOnSharedReferences) {
   IFEM_REQUIRE_SHARED_DATA();
-  const std::vector<std::pair<std::string, double>> limits = {
-      {"spot.src657", 1.25}, {"camelhead.src9741", 1.12}, {"fandisk.src0", 1.1},
-      {"terrain8k.src0", 1.0}};
+  const std::vector<std::pair<std::string, double>> limits = {{"spot.src657", 1.25},
+                                                              {"camelhead.src9741", 1.12},
+                                                              {"fandisk.src0", 1.1},
+                                                              {"terrain8k.src0", 1.0}};
   int checked = 0;
   for (const test::ReferenceCase& c : test::reference_cases()) {
     const std::string name = c.stem + ".src" + c.src_text;

@@ -86,7 +86,10 @@ TEST(SolversVectorHeat, FlatTransportIsConstant) {
   const test::ErrorStats coarse = flat_transport_error(16);
   const test::ErrorStats fine = flat_transport_error(32);
   EXPECT_LT(fine.max, 0.02);
-  EXPECT_LE(fine.mean, coarse.mean);
+  // exact to rounding at both sizes (boundary vertices keep their true angles, fem/connection.h):
+  // comparing the two means would compare rounding
+  EXPECT_LT(coarse.mean, 1e-12);
+  EXPECT_LT(fine.mean, 1e-12);
 }
 
 TEST(SolversVectorHeat, ExtensionTakesTheNearestSourcesValue) {
