@@ -53,7 +53,8 @@ const Section kSections[] = {
      ifem::bench::eigen},
     {"vector_heat",
      "vector heat precompute, transport, extension, log map vs scalar heat 10k..1M faces; "
-     "complex factorization choices",
+     "complex factorization choices; --log-map-mesh F[,F...]: the two log-map methods "
+     "(affine, vector heat) on mesh files instead",
      ifem::bench::vector_heat},
     {"batch", "heat distances from k = 1, 8, 32, 128 sources at once vs one query per source",
      ifem::bench::batch},

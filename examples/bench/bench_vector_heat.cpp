@@ -4,6 +4,8 @@
 // 2n×2n form).
 //
 //   ifem_bench vector_heat [--repeat N] [--max-n 224] [--orderings N (icosphere(N); 0 = skip)]
+//                          [--log-map-mesh FILE[,FILE...] (the two log-map methods on these)]
+#include <algorithm>
 #include <complex>
 #include <cstdio>
 #include <fstream>
@@ -16,7 +18,10 @@
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/io/mesh_io.h"
 #include "solvers/linalg/cholesky.h"
+#include "solvers/recipes/pipeline.h"
+#include "solvers/recipes/tangent_fields.h"
 #include "solvers/scalar/heat_distance.h"
 #include "solvers/vector/vector_heat.h"
 
@@ -139,13 +144,70 @@ void ordering_row(const char* what, const Matrix& A, bool metis, int threads, in
   std::fflush(stdout);
 }
 
+// The three log-map methods on a prepared mesh file (what `ifem logmap` runs) against one scalar
+// heat query of geodesic_distance() in the same process: solver precompute, then the first and
+// a later query of each method (the vector heat method's first builds its distance solver; the
+// blend runs after it and reuses it).
+void log_map_methods_row(const std::string& path, int repeat) {
+  const solvers::PreparedSurface s = solvers::prepare_surface(io::read_mesh(path));
+  const Index nv = s.n_input_vertices();
+  const Index a = nv / 3, b = (2 * nv) / 3;
+  std::vector<double> heat, pre, aff_first, aff, vh_first, vh, blend;
+  for (int r = 0; r < repeat; ++r) {
+    {
+      const solvers::HeatDistanceSolver d(s.tri, solvers::distance_options(s));
+      d.compute_distance({a});  // warm-up
+      const double t0 = seconds_now();
+      d.compute_distance({b});
+      heat.push_back(seconds_now() - t0);
+    }
+    double t0 = seconds_now();
+    const solvers::VectorHeatSolver solver = solvers::vector_heat_solver(s);
+    pre.push_back(seconds_now() - t0);
+    const auto time = [&](Index v, solvers::LogMapMethod m, std::vector<double>& out) {
+      const double t1 = seconds_now();
+      solver.log_map(v, m);
+      out.push_back(seconds_now() - t1);
+    };
+    time(a, solvers::LogMapMethod::kAffine, aff_first);
+    time(b, solvers::LogMapMethod::kAffine, aff);
+    time(a, solvers::LogMapMethod::kVectorHeat, vh_first);
+    time(b, solvers::LogMapMethod::kVectorHeat, vh);
+    time(a, solvers::LogMapMethod::kBlend, blend);
+  }
+  const double hq = median(heat);
+  std::printf(
+      "| %s | %zu | %.4f | %.3f | %.4f | %.4f | %.2f | %.4f | %.4f | %.2f | %.4f | %.2f | %.0f |\n",
+      path.substr(path.find_last_of('/') + 1).c_str(), s.input.triangles.size(), hq, median(pre),
+      median(aff_first), median(aff), median(aff) / hq, median(vh_first), median(vh),
+      median(vh) / hq, median(blend), median(blend) / hq, peak_rss_mib());
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int vector_heat(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 3));
   const int max_n = int(int_option(argc, argv, "--max-n", 224));
   const int orderings_n = int(int_option(argc, argv, "--orderings", 224));
+  const std::string log_map_meshes = string_option(argc, argv, "--log-map-mesh", "");
   print_load_average();
+  if (!log_map_meshes.empty()) {
+    std::printf(
+        "## Log map: the three methods (median of %d; heat query = one "
+        "HeatDistanceSolver query on the same surface)\n\n"
+        "| mesh | faces | heat query s | vector heat precomp s | affine first s | affine s | "
+        "ratio | vector-heat first s | vector-heat s | ratio | blend s | ratio | peak MiB |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        repeat);
+    std::size_t start = 0;
+    while (start <= log_map_meshes.size()) {
+      const std::size_t comma = std::min(log_map_meshes.find(',', start), log_map_meshes.size());
+      log_map_methods_row(log_map_meshes.substr(start, comma - start), repeat);
+      start = comma + 1;
+    }
+    return 0;
+  }
   std::printf(
       "## Vector heat against scalar heat (median of %d; each run: fresh HeatDistanceSolver, "
       "then a fresh VectorHeatSolver)\n\n",

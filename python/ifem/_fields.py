@@ -130,12 +130,26 @@ class VectorHeatSolver:
         other pieces; as ``distance`` gives inf there)."""
         return self._solver.transport(int(source), np.asarray(vector, float).reshape(1, 3))
 
-    def logmap(self, source):
+    def logmap(self, source, method="blend", return_distance=False):
         """The logarithmic map about vertex ``source``: #V×2 Riemannian coordinates
         (u, v) = d·(cos θ, sin θ), d the geodesic distance, θ the direction at the source
         counter-clockwise from its first edge's direction (``log_map`` is its deprecated old
-        name)."""
-        return self._solver.log_map(int(source))
+        name). Vertices no path reaches (another component, unreferenced) are (nan, nan), their
+        distance ``inf``; vertices where the heat underflows are nan with distance nan.
+
+        Args:
+            method: ``'blend'`` (the default: per vertex the affine value where the two
+                methods agree, the vector heat value where they do not), ``'vector-heat'``
+                (the heat-method distance as radius) or ``'affine'`` (the affine heat method:
+                exact on flat regions, much smaller errors near the source and in angle, its
+                radius short far away on curved surfaces), as ``ifem logmap --method``.
+            return_distance: also return d (#V, ``inf`` where unreached).
+
+        Returns:
+            uv, or (uv, distance) with return_distance.
+        """
+        uv, d, _ = self._solver.log_map(int(source), str(method))
+        return (uv, d) if return_distance else uv
 
     #: Deprecated: the old name of :meth:`logmap`.
     log_map = logmap
@@ -175,7 +189,8 @@ def transport(V, F=None, source=None, vector=None, *, mollify=1e-5, normals=None
     return solver.transport(source, vector)
 
 
-def logmap(V, F=None, source=None, *, mollify=1e-5, normals=None, path="auto", knn=30):
+def logmap(V, F=None, source=None, *, method="blend", return_distance=False, mollify=1e-5,
+           normals=None, path="auto", knn=30):
     """The logarithmic map about one vertex, as ``ifem logmap MESH --source S`` (the Vector Heat
     Method; for many sources on one surface build a :class:`VectorHeatSolver`).
 
@@ -184,14 +199,17 @@ def logmap(V, F=None, source=None, *, mollify=1e-5, normals=None, path="auto", k
             same file gives the same map in both).
         F: #F×3 vertex ids; ``None`` for a point cloud (and when V is a path).
         source: the source vertex id.
+        method, return_distance: as :meth:`VectorHeatSolver.logmap`.
         mollify, normals, path, knn: as :class:`VectorHeatSolver`.
 
     Returns:
-        #V×2 Riemannian coordinates (u, v) = d·(cos θ, sin θ) (see
-        :meth:`VectorHeatSolver.logmap`).
+        #V×2 Riemannian coordinates (u, v) = d·(cos θ, sin θ), (nan, nan) where unreached (see
+        :meth:`VectorHeatSolver.logmap`); with return_distance also d (``inf`` where
+        unreached).
     """
     _required(source, "source", "logmap")
-    return VectorHeatSolver(V, F, mollify, normals=normals, path=path, knn=knn).logmap(source)
+    solver = VectorHeatSolver(V, F, mollify, normals=normals, path=path, knn=knn)
+    return solver.logmap(source, method=method, return_distance=return_distance)
 
 
 __all__ = ["field", "direction_field", "transport", "logmap", "VectorHeatSolver"]

@@ -129,14 +129,27 @@ class VectorHeat {
     return to_numpy(Eigen::MatrixXd(out));
   }
 
-  py::array log_map(const py::handle& source) const {
+  // (uv #V×2, distance #V, {"unreached": n, "unresolved": n}); method "blend", "affine" or
+  // "vector-heat"
+  py::tuple log_map(const py::handle& source, const std::string& method) const {
     const Index v = single_vertex(source);
-    Eigen::MatrixX2d uv;
+    solvers::LogMapMethod m = solvers::LogMapMethod::kBlend;
+    if (method == "affine") {
+      m = solvers::LogMapMethod::kAffine;
+    } else if (method == "vector-heat") {
+      m = solvers::LogMapMethod::kVectorHeat;
+    } else if (method != "blend") {
+      throw InvalidInput("method must be 'blend', 'affine' or 'vector-heat', got '" + method + "'");
+    }
+    solvers::LogMapResult r;
     {
       const py::gil_scoped_release release;
-      uv = solvers::log_map_on(s_, solver_, v);
+      r = solvers::log_map_on(s_, solver_, v, m);
     }
-    return to_numpy(Eigen::MatrixXd(uv));
+    py::dict counts;
+    counts["unreached"] = r.report.unreached_vertices;
+    counts["unresolved"] = r.report.unresolved_vertices;
+    return py::make_tuple(to_numpy(Eigen::MatrixXd(r.uv)), to_numpy(std::move(r.distance)), counts);
   }
 
   py::dict info() const { return surface_info(s_); }
@@ -167,7 +180,7 @@ void bind_fields(py::module_& m) {
            py::arg("V"), py::arg("F"), py::arg("normals"), py::arg("mollify"), py::arg("path"),
            py::arg("knn"))
       .def("transport", &VectorHeat::transport, py::arg("source"), py::arg("vector"))
-      .def("log_map", &VectorHeat::log_map, py::arg("source"))
+      .def("log_map", &VectorHeat::log_map, py::arg("source"), py::arg("method"))
       .def("info", &VectorHeat::info);
   m.def(
       "direction_field",

@@ -226,3 +226,37 @@ def test_triangle_soup(tmp_path, path):
         np.testing.assert_array_equal(np.isnan(read_txt(tmp_path / "t.txt")), np.isnan(x))
         np.testing.assert_allclose(read_txt(tmp_path / "t.txt")[reached], x[reached],
                                    atol=1e-12)
+
+
+# ifem.logmap(method=...): the affine method is the identity map (up to one rotation) on a flat
+# jittered square with its corners; a second copy and an unreferenced vertex are (nan, nan) with
+# distance inf, in both methods; a bad method is refused; the CLI's --method gives the same map
+def test_logmap_methods_and_unreached(tmp_path):
+    V, F = flat_grid(16)
+    n = len(V)
+    V2 = np.r_[V, V + [2.0, 0, 0], [[-5.0, 0, 0]]]
+    F2 = np.r_[F, F + n]
+    src = 8 * 17 + 8
+    for method in ("affine", "vector-heat", "blend"):
+        uv, d = ifem.logmap(V2, F2, source=src, method=method, return_distance=True)
+        assert uv.shape == (2 * n + 1, 2) and d.shape == (2 * n + 1,)
+        assert np.all(np.isnan(uv[n:])) and np.all(np.isinf(d[n:]))
+        assert np.all(np.isfinite(uv[:n])) and np.all(d[:n][np.arange(n) != src] > 0)
+        assert np.all(uv[src] == 0)
+    uv = ifem.logmap(V, F, source=src, method="affine")
+    exact = (V[:, 0] - V[src, 0]) + 1j * (V[:, 1] - V[src, 1])
+    z = uv[:, 0] + 1j * uv[:, 1]
+    keep = np.abs(exact) > 0
+    rot = np.mean(z[keep] / exact[keep])
+    rot /= abs(rot)
+    assert np.abs(z / rot - exact).max() <= 1e-9
+    with pytest.raises(ifem.InvalidInput, match="method must be 'blend', 'affine' or 'vector-heat'"):
+        ifem.logmap(V, F, source=src, method="exact")
+    path = tmp_path / "grid.obj"
+    with open(path, "w") as f:
+        f.writelines(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V)
+        f.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in F)
+    run_cli("logmap", path, "--source", src, "--method", "affine", "-o", tmp_path / "l.txt",
+            "--quiet")
+    assert np.abs(read_txt(tmp_path / "l.txt") - ifem.logmap(str(path), source=src,
+                                                              method="affine")).max() <= 1e-12

@@ -13,7 +13,7 @@
 //   ifem geodesic   recipes::geodesic()   FlipOut curves, single-source geodesics (geodesic.h)
 //   ifem field      recipes::field()      smoothest / aligned n-direction field
 //   ifem transport  recipes::transport()  parallel transport (vector heat method)
-//   ifem logmap     recipes::logmap()     logarithmic map (vector heat method)
+//   ifem logmap     recipes::logmap()     logarithmic map (affine + vector heat blend)
 //
 // These forward to the solvers:: functions that implement them (named after what they compute:
 // geodesic_distance, eigenmodes, direction_field_on, ...); use those for the variants (several

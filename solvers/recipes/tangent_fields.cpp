@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <map>
 #include <string>
 #include <utility>
@@ -300,18 +301,33 @@ Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& 
   return out;
 }
 
-Eigen::MatrixX2d log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,
-                            VectorHeatReport* report) {
+LogMapResult log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,
+                        LogMapMethod method) {
   const Index nv = s.n_input_vertices();
   if (source < 0 || source >= nv) {
     throw InvalidInput("log map: source " + std::to_string(source) + " out of range [0, " +
                        std::to_string(nv) + ")");
   }
-  const Eigen::VectorXcd z = solver.log_map(source, report);
+  LogMapResult r;
+  const Eigen::VectorXcd z = solver.log_map(source, method, &r.report);
   // the solver's angle 0 is the reference halfedge; the basis' e1 is that halfedge's direction
-  Eigen::MatrixX2d uv(nv, 2);
-  for (Index v = 0; v < nv; ++v) uv.row(v) << z[v].real(), z[v].imag();
-  return uv;
+  r.uv.resize(nv, 2);
+  for (Index v = 0; v < nv; ++v) r.uv.row(v) << z[v].real(), z[v].imag();
+  const Components comps = connected_components(solver.triangulation());
+  const Index c0 = comps.label[source];
+  r.distance.resize(nv);
+  for (Index v = 0; v < nv; ++v) {
+    const bool reached = comps.label[v] != kInvalidIndex && comps.label[v] == c0;
+    r.distance[v] = reached ? std::abs(z[v]) : std::numeric_limits<double>::infinity();
+  }
+  return r;
+}
+
+Eigen::MatrixX2d log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,
+                            VectorHeatReport* report) {
+  LogMapResult r = log_map_on(s, solver, source, LogMapMethod::kBlend);
+  if (report) *report = r.report;
+  return std::move(r.uv);
 }
 
 }  // namespace ifem::solvers

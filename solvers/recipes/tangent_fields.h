@@ -122,12 +122,28 @@ Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& 
                               Index source, const Eigen::Vector3d& vector,
                               VectorHeatReport* report = nullptr);
 
-/// The logarithmic map about input vertex `source`: per input vertex (#V_in×2) its Riemannian
-/// coordinates (u, v) = d·(cos θ, sin θ), d the geodesic distance and θ the direction in which
-/// the geodesic leaves the source, counter-clockwise (with the faces' orientation) from the
-/// source's reference direction, basis e1 of tangent_basis_3d() at the source (the direction
-/// of its first edge; on the frame path e1 of solver.frame_basis(): the x axis projected to the
-/// tangent plane, counter-clockwise about the oriented normal). (0, 0) at the source.
+/// The logarithmic map about input vertex `source`: per input vertex its Riemannian coordinates
+/// (u, v) = d·(cos θ, sin θ), d the geodesic distance and θ the direction in which the geodesic
+/// leaves the source, counter-clockwise (with the faces' orientation) from the source's
+/// reference direction, basis e1 of tangent_basis_3d() at the source (the direction of its
+/// first edge; on the frame path e1 of solver.frame_basis(): the x axis projected to the tangent
+/// plane, counter-clockwise about the oriented normal).
+struct LogMapResult {
+  /// #V_in×2: (0, 0) at the source; (NaN, NaN) where VectorHeatSolver::log_map() is undefined
+  /// (another component, unreferenced, unresolved)
+  Eigen::MatrixX2d uv;
+  /// #V_in: d = |(u, v)|; ∞ at vertices no path reaches (another component, unreferenced: as
+  /// HeatDistanceSolver), NaN where unresolved
+  Eigen::VectorXd distance;
+  VectorHeatReport report;  ///< unreached = the ∞ entries; unresolved = the NaN ones
+};
+
+/// The log map about `source` by `method` (VectorHeatSolver::log_map()).
+/// @throws InvalidInput on a source out of range or unreferenced
+LogMapResult log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,
+                        LogMapMethod method);
+
+/// log_map_on(s, solver, source, LogMapMethod::kBlend).uv (the default method).
 /// @throws InvalidInput on a source out of range or unreferenced
 Eigen::MatrixX2d log_map_on(const PreparedSurface& s, const VectorHeatSolver& solver, Index source,
                             VectorHeatReport* report = nullptr);

@@ -38,6 +38,7 @@ constexpr double kAbsoluteFloor = 1e-290;
 constexpr Index kParallelQueryVertices = 20000;
 // gradient_directions() rescales a corner's angles only where |angle_scale − 1| exceeds this.
 constexpr double kScaleRotation = 1e-3;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::string str(Index v) { return std::to_string(v); }
 
@@ -75,7 +76,7 @@ struct VectorHeatSolver::Impl {
   std::optional<ComplexCholeskySolver> vector_heat;  // M + tL∇
   std::optional<PoissonSolver> scalar_heat;          // M + tL, Neumann
   mutable std::mutex distance_mutex;
-  mutable std::unique_ptr<HeatDistanceSolver> distance;  // built by the first log_map()
+  mutable std::unique_ptr<HeatDistanceSolver> distance;  // built by the first vector-heat log_map()
 
   void factor();
   // Throws InvalidInput unless v is a referenced vertex not seen before; marks it seen and its
@@ -95,6 +96,26 @@ struct VectorHeatSolver::Impl {
   ComplexSparseMatrix connection(const fem::SparseMatrix& L);
   void construct(const IntrinsicTriangulation& tri_in, const VectorHeatOptions& options);
   const HeatDistanceSolver& distance_solver() const;
+  // The affine heat method's right-hand side t·Σ_j w_ij e_{i→j} w_j (#V, in the vertices'
+  // coordinates, units of scale) for the scalar heat w.
+  Eigen::VectorXcd affine_rhs(const Eigen::VectorXd& w) const;
+  // The log maps of the two methods (units of scale), NaN where undefined; rep counts.
+  Eigen::VectorXcd affine_log_map(Index source, const std::vector<char>& source_component,
+                                  VectorHeatReport& rep) const;
+  Eigen::VectorXcd vector_heat_log_map(Index source, const std::vector<char>& source_component,
+                                       VectorHeatReport& rep) const;
+  // The vector heat log map from the transported frame H and the heat distance d.
+  Eigen::VectorXcd vector_heat_log_map_from(Index source, const std::vector<char>& source_component,
+                                            const Eigen::VectorXcd& horizontal,
+                                            const Eigen::VectorXd& d, VectorHeatReport& rep) const;
+  // The affine heat method's solves: w (#V) and zh (#V×2: z, and H the transported frame).
+  void affine_solves(Index source, Eigen::VectorXd& w, Eigen::MatrixXcd& zh) const;
+  // The affine values -(z/w)·conj(H)/|H|; NaN where w or H underflow or the value is not finite.
+  Eigen::VectorXcd affine_values(Index source, const std::vector<char>& source_component,
+                                 const Eigen::VectorXd& w, const Eigen::MatrixXcd& zh,
+                                 VectorHeatReport& rep) const;
+  Eigen::VectorXcd blend_log_map(Index source, const std::vector<char>& source_component,
+                                 VectorHeatReport& rep) const;
 };
 
 ComplexSparseMatrix VectorHeatSolver::Impl::connection(const fem::SparseMatrix& L) {
@@ -374,12 +395,12 @@ Eigen::VectorXcd VectorHeatSolver::Impl::frame_gradient_directions(
   const Positions& p = frame_path->positions;
   const TangentBasis3d& b = frame_path->basis;
   Eigen::VectorXcd out = Eigen::VectorXcd::Zero(nv);
-  for (Index v = 0; v < nv; ++v) {
-    if (!std::isfinite(phi[v])) continue;
+  // Least squares over `around`; false when its points do not span the tangent plane.
+  auto fit = [&](Index v, const std::vector<Index>& around, Eigen::Vector2d& g) {
     Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
     Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
-    for (const Index w : frame_path->neighbours[v]) {
-      if (!std::isfinite(phi[w])) continue;
+    for (const Index w : around) {
+      if (w == v || !std::isfinite(phi[w])) continue;
       const Eigen::Vector3d d = (p.row(w) - p.row(v)).transpose();
       const Eigen::Vector2d q(d.dot(b.e1.row(v)), d.dot(b.e2.row(v)));
       const double q2 = q.squaredNorm();
@@ -387,10 +408,30 @@ Eigen::VectorXcd VectorHeatSolver::Impl::frame_gradient_directions(
       A += q * q.transpose() / q2;  // weight 1/|q|²: each neighbour's slope counts alike
       rhs += (phi[w] - phi[v]) * q / q2;
     }
-    if (!(A.determinant() > 1e-6 * A.trace() * A.trace())) continue;  // collinear or none
-    const Eigen::Vector2d g = A.inverse() * rhs;  // 2×2, well conditioned (checked above)
+    if (!(A.determinant() > 1e-6 * A.trace() * A.trace())) return false;  // collinear or none
+    g = A.inverse() * rhs;  // 2×2, well conditioned (checked above)
+    return true;
+  };
+  std::vector<Index> ring2;
+  for (Index v = 0; v < nv; ++v) {
+    if (!std::isfinite(phi[v])) continue;
+    Eigen::Vector2d g;
+    bool ok = fit(v, frame_path->neighbours[v], g);
+    if (!ok) {
+      // A vertex of the flipped tufted cover can keep a single neighbour (the tip of a face
+      // alone on the boundary): its two-ring spans the plane.
+      ring2.clear();
+      for (const Index w : frame_path->neighbours[v]) {
+        ring2.push_back(w);
+        const auto& n = frame_path->neighbours[w];
+        ring2.insert(ring2.end(), n.begin(), n.end());
+      }
+      std::sort(ring2.begin(), ring2.end());
+      ring2.erase(std::unique(ring2.begin(), ring2.end()), ring2.end());
+      ok = fit(v, ring2, g);
+    }
     const double len = g.norm();
-    if (len > 0.0 && std::isfinite(len)) out[v] = Complex(g.x(), g.y()) / len;
+    if (ok && len > 0.0 && std::isfinite(len)) out[v] = Complex(g.x(), g.y()) / len;
   }
   return out;
 }
@@ -408,28 +449,33 @@ const HeatDistanceSolver& VectorHeatSolver::Impl::distance_solver() const {
   return *distance;
 }
 
-Eigen::VectorXcd VectorHeatSolver::log_map(Index source, VectorHeatReport* report) const {
-  const Impl& im = *impl_;
-  const Index nv = im.tri.n_vertices();
-  std::vector<char> seen(nv, 0), source_component(im.comps.count, 0);
-  im.check_source(source, "vector heat log_map: source", seen, source_component);
+Eigen::VectorXcd VectorHeatSolver::Impl::vector_heat_log_map(
+    Index source, const std::vector<char>& source_component, VectorHeatReport& rep) const {
+  const Index nv = tri.n_vertices();
   Eigen::VectorXcd e0 = Eigen::VectorXcd::Zero(nv);
   e0[source] = 1.0;
   Eigen::VectorXcd horizontal;  // e^{i0} transported
   Eigen::VectorXd d;
   const std::vector<std::function<void()>> jobs = {
-      [&] { horizontal = im.vector_heat->solve(e0); },
-      [&] { d = im.distance_solver().compute_distance({source}) * im.scale; }};
+      [&] { horizontal = vector_heat->solve(e0); },
+      [&] { d = distance_solver().compute_distance({source}); }};
   if (nv >= kParallelQueryVertices) {
     run_parallel(jobs);  // independent solves, memory bound: side by side on large meshes
   } else {
     for (const auto& j : jobs) j();
   }
+  return vector_heat_log_map_from(source, source_component, horizontal, d, rep);
+}
+
+Eigen::VectorXcd VectorHeatSolver::Impl::vector_heat_log_map_from(
+    Index source, const std::vector<char>& source_component, const Eigen::VectorXcd& horizontal,
+    const Eigen::VectorXd& d, VectorHeatReport& rep) const {
+  const Index nv = tri.n_vertices();
   const Eigen::VectorXcd radial =
-      im.frame_path ? im.frame_gradient_directions(d) : im.gradient_directions(d);
-  VectorHeatReport rep;
-  std::vector<char> ok = im.resolved(horizontal.cwiseAbs(), source_component, rep);
-  Eigen::VectorXcd out = Eigen::VectorXcd::Zero(nv);
+      frame_path ? frame_gradient_directions(d) : gradient_directions(d);
+  std::vector<char> ok = resolved(horizontal.cwiseAbs(), source_component, rep);
+  Eigen::VectorXcd out = Eigen::VectorXcd::Constant(nv, Complex(kNaN, kNaN));
+  out[source] = 0.0;
   for (Index v = 0; v < nv; ++v) {
     if (v == source || !ok[v]) continue;
     if (!std::isfinite(d[v]) || radial[v] == Complex(0.0)) {
@@ -440,6 +486,178 @@ Eigen::VectorXcd VectorHeatSolver::log_map(Index source, VectorHeatReport* repor
     const Complex direction = radial[v] / horizontal[v];
     out[v] = d[v] * direction / std::abs(direction);
   }
+  return out;
+}
+
+// Per halfedge h (i → j) of face f, the weight c = cot(angle opposite h)/2 (divided by the
+// multiplicity, as cotan_laplacian()) adds t·c·e_{i→j}·w_j at i and t·c·e_{j→i}·w_i at j, e the
+// edge vector in the end's coordinate: ℓ·e^{iθ_h} at i and −r_h·ℓ·e^{iθ_h} at j (the transport
+// keeps the edge's direction), or on the frame path ℓ times the unit projection of the chord to
+// the end's tangent plane.
+Eigen::VectorXcd VectorHeatSolver::Impl::affine_rhs(const Eigen::VectorXd& w) const {
+  const Index nv = tri.n_vertices();
+  Eigen::VectorXcd b = Eigen::VectorXcd::Zero(nv);
+  const double k = t / (2.0 * tri.multiplicity());
+  // the chord i → j in i's frame, unit (0 when it is normal to the tangent plane)
+  auto chord = [this](Index i, Index j) {
+    const Positions& p = frame_path->positions;
+    const TangentBasis3d& fb = frame_path->basis;
+    const Eigen::Vector3d d = (p.row(j) - p.row(i)).transpose();
+    const Complex q(d.dot(fb.e1.row(i)), d.dot(fb.e2.row(i)));
+    const double l = std::abs(q);
+    return l > 0.0 && std::isfinite(l) ? q / l : Complex(0.0);
+  };
+  for (Index h = 0; h < tri.n_halfedges(); ++h) {
+    const Index i = tri.tail(h), j = tri.head(h);
+    if (i == j) continue;  // a self-edge carries no displacement between two vertices
+    const double c = k * intrinsic::halfedge_cotan(tri, h) * tri.halfedge_length(h);
+    if (!std::isfinite(c) || c == 0.0) continue;
+    if (frame_path) {
+      b[i] += c * w[j] * chord(i, j);
+      b[j] += c * w[i] * chord(j, i);
+    } else {
+      b[i] += c * w[j] * halfedge_unit[h];
+      b[j] -= c * w[i] * frames.transport[h] * halfedge_unit[h];
+    }
+  }
+  return b;
+}
+
+// The affine heat method: w = (M + tL)⁻¹δ_s, z = (M + tL∇)⁻¹ affine_rhs(w), H = (M + tL∇)⁻¹
+// e^{i0}δ_s (one two-column solve with z).
+void VectorHeatSolver::Impl::affine_solves(Index source, Eigen::VectorXd& w,
+                                           Eigen::MatrixXcd& zh) const {
+  const Index nv = tri.n_vertices();
+  Eigen::MatrixXd delta = Eigen::MatrixXd::Zero(nv, 1);
+  delta(source, 0) = 1.0;
+  w = scalar_heat->solve_weak_homogeneous(delta).col(0);
+  Eigen::MatrixXcd rhs(nv, 2);
+  rhs.col(0) = affine_rhs(w);
+  rhs.col(1).setZero();
+  rhs(source, 1) = 1.0;
+  zh = vector_heat->solve(rhs);
+}
+
+// z/w is the source's position in x's tangent plane (log_x(s)), read at the source through the
+// transported frame H.
+Eigen::VectorXcd VectorHeatSolver::Impl::affine_values(Index source,
+                                                       const std::vector<char>& source_component,
+                                                       const Eigen::VectorXd& w,
+                                                       const Eigen::MatrixXcd& zh,
+                                                       VectorHeatReport& rep) const {
+  const Index nv = tri.n_vertices();
+  VectorHeatReport wrep, hrep;
+  const std::vector<char> ok_w = resolved(w, source_component, wrep);
+  const std::vector<char> ok_h = resolved(zh.col(1).cwiseAbs(), source_component, hrep);
+  rep.unreached_vertices = wrep.unreached_vertices;
+  Eigen::VectorXcd out = Eigen::VectorXcd::Constant(nv, Complex(kNaN, kNaN));
+  out[source] = 0.0;
+  for (Index v = 0; v < nv; ++v) {
+    if (v == source || !ok_w[v] || !ok_h[v]) continue;
+    const Complex z = zh(v, 0), h = zh(v, 1);
+    const Complex value = -(z / w[v]) * std::conj(h) / std::abs(h);
+    if (std::isfinite(value.real()) && std::isfinite(value.imag())) out[v] = value;
+  }
+  return out;
+}
+
+// Vertices of a reached component where w or H underflow get the vector heat method's value
+// (its heat distance has the multi-stage handling).
+Eigen::VectorXcd VectorHeatSolver::Impl::affine_log_map(Index source,
+                                                        const std::vector<char>& source_component,
+                                                        VectorHeatReport& rep) const {
+  const Index nv = tri.n_vertices();
+  Eigen::VectorXd w;
+  Eigen::MatrixXcd zh;
+  affine_solves(source, w, zh);
+  Eigen::VectorXcd out = affine_values(source, source_component, w, zh, rep);
+  std::vector<Index> fallback;
+  for (Index v = 0; v < nv; ++v) {
+    const Index c = comps.label[v];
+    if (v == source || c == kInvalidIndex || !source_component[c]) continue;
+    if (!std::isfinite(out[v].real())) fallback.push_back(v);
+  }
+  if (!fallback.empty()) {
+    VectorHeatReport frep;
+    const Eigen::VectorXcd vh = vector_heat_log_map_from(
+        source, source_component, zh.col(1), distance_solver().compute_distance({source}), frep);
+    for (const Index v : fallback) {
+      out[v] = vh[v];
+      if (!std::isfinite(vh[v].real())) ++rep.unresolved_vertices;
+    }
+  }
+  return out;
+}
+
+// Both methods from one transported frame H (the affine solve's second column) and one heat
+// distance d; per vertex the affine value z_A where it agrees with the vector heat value z_V,
+// z_V where it does not, a smooth step between. Disagreement, in units of the blend's scales:
+// e = max(s / (kBlendEdges·h), |z_A − z_V| / (kBlendRelative·max(d, h))), with s the affine
+// map's radial shortfall max(d − |z_A|, 0) plus the arc d·|arg(z_A/z_V)| between the two
+// directions (the affine map's failure mode far from the source on curved surfaces: its radius
+// falls short). β = 1 for e ≤ 1, 0 for e ≥ 2, smoothstep between; z = β z_A + (1 − β) z_V.
+Eigen::VectorXcd VectorHeatSolver::Impl::blend_log_map(Index source,
+                                                       const std::vector<char>& source_component,
+                                                       VectorHeatReport& rep) const {
+  constexpr double kBlendEdges = 0.5;      // the shortfall allowed, in mean edge lengths
+  constexpr double kBlendRelative = 0.05;  // the disagreement allowed, relative to d
+  const Index nv = tri.n_vertices();
+  Eigen::VectorXd w, d;
+  Eigen::MatrixXcd zh;
+  const std::vector<std::function<void()>> jobs = {
+      [&] { affine_solves(source, w, zh); },
+      [&] { d = distance_solver().compute_distance({source}); }};
+  if (nv >= kParallelQueryVertices) {
+    run_parallel(jobs);
+  } else {
+    for (const auto& j : jobs) j();
+  }
+  VectorHeatReport arep;
+  const Eigen::VectorXcd za = affine_values(source, source_component, w, zh, arep);
+  Eigen::VectorXcd out = vector_heat_log_map_from(source, source_component, zh.col(1), d, rep);
+  for (Index v = 0; v < nv; ++v) {
+    const Complex a = za[v], b = out[v];
+    if (v == source || !std::isfinite(a.real())) continue;
+    if (!std::isfinite(b.real())) {  // the vector heat value unresolved (counted): the affine one
+      out[v] = a;
+      --rep.unresolved_vertices;
+      continue;
+    }
+    const double dv = std::abs(b);
+    const double arc = dv * std::abs(std::arg(a / b));
+    const double shortfall = std::max(dv - std::abs(a), 0.0) + arc;
+    const double e = std::max(shortfall / (kBlendEdges * h_mean),
+                              std::abs(a - b) / (kBlendRelative * std::max(dv, h_mean)));
+    const double x = std::clamp(2.0 - e, 0.0, 1.0);
+    const double beta = x * x * (3.0 - 2.0 * x);
+    out[v] = beta * a + (1.0 - beta) * b;
+  }
+  return out;
+}
+
+Eigen::VectorXcd VectorHeatSolver::log_map(Index source, VectorHeatReport* report) const {
+  return log_map(source, LogMapMethod::kBlend, report);
+}
+
+Eigen::VectorXcd VectorHeatSolver::log_map(Index source, LogMapMethod method,
+                                           VectorHeatReport* report) const {
+  const Impl& im = *impl_;
+  std::vector<char> seen(im.tri.n_vertices(), 0), source_component(im.comps.count, 0);
+  im.check_source(source, "vector heat log_map: source", seen, source_component);
+  VectorHeatReport rep;
+  Eigen::VectorXcd out;
+  switch (method) {
+    case LogMapMethod::kAffine:
+      out = im.affine_log_map(source, source_component, rep);
+      break;
+    case LogMapMethod::kBlend:
+      out = im.blend_log_map(source, source_component, rep);
+      break;
+    default:
+      out = im.vector_heat_log_map(source, source_component, rep);
+      break;
+  }
+  out *= im.scale;
   if (report) *report = rep;
   return out;
 }

@@ -57,8 +57,23 @@ struct ScalarSource {
   double value = 0.0;
 };
 
-/// What one query did. A vertex the result does not define gets a zero vector (transport,
-/// log_map) or NaN (extend_scalar).
+/// How VectorHeatSolver::log_map() finds each vertex's coordinates.
+enum class LogMapMethod {
+  /// The Vector Heat Method's log map: the heat-method distance and its gradient against the
+  /// transported frame; builds a HeatDistanceSolver on first use.
+  kVectorHeat,
+  /// The affine heat method (Soliman, Sharp, "The Affine Heat Method", 2025): one scalar and
+  /// one two-column vector heat solve, no distance solver; exact on a flat domain.
+  kAffine,
+  /// Both, per vertex: the affine value where it agrees with the vector heat value, the vector
+  /// heat value where it does not, a smooth step between (the rule below). One scalar, one
+  /// two-column vector heat solve and one heat distance; builds a HeatDistanceSolver on first
+  /// use. Exact on a flat domain only where the vector heat value is within the rule's margin.
+  kBlend,
+};
+
+/// What one query did. A vertex the result does not define gets a zero vector (transport),
+/// NaN + NaN·i (log_map) or NaN (extend_scalar).
 struct VectorHeatReport {
   /// Vertices in a connected component without a source, and unreferenced vertices.
   Index unreached_vertices = 0;
@@ -83,24 +98,42 @@ struct VectorHeatReport {
 ///    that length and the scalar solves are skipped.
 ///  - extend_scalar: u/φ with u = (M + tL)⁻¹ Σ value_s δ_s, φ = (M + tL)⁻¹ Σ δ_s: each vertex
 ///    gets (a smooth blend near the bisectors of) its nearest source's value.
-///  - log_map: the radius is the heat-method distance d from the source (HeatDistanceSolver:
-///    the one `ifem distance` computes, with its multi-stage handling of underflow and the mean
-///    of Neumann and Dirichlet heat on boundaries); H = transport of e^{i0} from the source (the
-///    parallel frame); the geodesic's direction at each vertex x is ∇d (the gradients of the
-///    faces around x, each turned into x's coordinate through its corner and rescaled, averaged
-///    with corner-angle weights); the angle is arg(∇d(x) / H(x)), since parallel transport keeps
-///    the angle between the geodesic and the transported frame. The paper's radial field (the
-///    vector heat of unit outward vectors on the source's one-ring) is not used: an irregular
-///    one-ring biases every direction by an angle that does not fall under refinement, where
-///    ∇d's error does (docs/decisions.md D-032).
+///  - log_map, LogMapMethod::kAffine (the affine heat method): diffuse the source as an affine
+///    point in homogeneous coordinates (z ∈ ℂ, w ∈ ℝ) per vertex, with the affine transport
+///    (z, w) ↦ (r z + r e w, w) along each edge (r the connection's rotation, e the edge
+///    vector). One backward Euler step from (0, δ_s): w = (M + tL)⁻¹δ_s (scalar heat) and
+///    z = (M + tL∇)⁻¹ b with b_i = t·Σ_j w_ij e_{i→j} w_j (w_ij the cotan weights, e_{i→j} the
+///    edge vector i → j in i's coordinate: length × the halfedge's direction; on the frame path
+///    the edge's length along the chord projected to i's tangent plane). z_x/w_x estimates
+///    log_x(s), the source seen from x; on a flat domain with exact boundary angles it is
+///    exactly s − x. The result is −(z_x/w_x)·conj(H_x)/|H_x| with H the transported frame (as
+///    below). Vertices of a reached component where w or |H| underflow take the kVectorHeat
+///    value (its distance has the multi-stage handling of underflow).
+///  - log_map, LogMapMethod::kBlend: z_A the kAffine value, z_V the kVectorHeat value (sharing
+///    the transported frame H), d = |z_V|, h the mean edge length; disagreement
+///    e = max(s / (0.5·h), |z_A − z_V| / (0.05·max(d, h))) with s = max(d − |z_A|, 0) +
+///    d·|arg(z_A / z_V)| (the affine radius's shortfall plus the arc between the two directions);
+///    β = 1 for e ≤ 1, 0 for e ≥ 2, a smoothstep between; z = β·z_A + (1 − β)·z_V. Where one
+///    of the two is undefined, the other.
+///  - log_map, LogMapMethod::kVectorHeat: the radius is the heat-method distance d from the source
+///    (HeatDistanceSolver: the one `ifem distance` computes, with its multi-stage handling of
+///    underflow and the mean of Neumann and Dirichlet heat on boundaries); H = transport of e^{i0}
+///    from the source (the parallel frame); the geodesic's direction at each vertex x is ∇d (the
+///    gradients of the faces around x, each turned into x's coordinate through its corner and
+///    rescaled, averaged with corner-angle weights); the angle is arg(∇d(x) / H(x)), since parallel
+///    transport keeps the angle between the geodesic and the transported frame. The paper's radial
+///    field (the vector heat of unit outward vectors on the source's one-ring) is not used: an
+///    irregular one-ring biases every direction by an angle that does not fall under refinement,
+///    where ∇d's error does (docs/decisions.md D-032).
 ///
 /// Conventions: results have one entry per vertex of triangulation() (#V: the input's ids);
 /// vectors are in the angular coordinates of frames(), which are those of triangulation() (the
 /// flipped copy: when the input is already intrinsic Delaunay, e.g. a PreparedSurface, no flip
 /// happens and the coordinates are the input's). Vertices no source reaches, and vertices where
-/// the heat underflows, get a zero vector / NaN (VectorHeatReport counts them). Where geodesics
-/// from a source meet (its cut locus: the antipode on a sphere) the diffused vectors cancel and
-/// the direction there is arbitrary, as in the paper. On tufted covers and point-cloud
+/// the heat underflows, get a zero vector (transport) / NaN (extend_scalar, log_map)
+/// (VectorHeatReport counts them). Where geodesics from a source meet (its cut locus: the
+/// antipode on a sphere) the diffused vectors cancel and the direction there is arbitrary, as
+/// in the paper. On tufted covers and point-cloud
 /// triangulations the intrinsic connection is not the surface's (fem/connection.h: vertices
 /// have several fans): use the frame path there.
 ///
@@ -109,8 +142,9 @@ struct VectorHeatReport {
 /// per-vertex 3D frames instead (fem::connection_laplacian_from_frames on L's pattern, frames
 /// from frame_basis_3d()): vectors are x + iy for x·e1 + y·e2, and the log map's direction at a
 /// vertex is the gradient of the distance by least squares over the vertex's neighbours
-/// (through the triangulation's edges), projected to its tangent plane: minimize
-/// Σ_j |d_j − d_v − g·(x_j − x_v)|² / |x_j − x_v|² over tangent g.
+/// (through the triangulation's edges; its two-ring where they do not span the tangent plane),
+/// projected to its tangent plane: minimize Σ_j |d_j − d_v − g·(x_j − x_v)|² / |x_j − x_v|²
+/// over tangent g.
 class VectorHeatSolver {
  public:
   /// @throws InvalidInput on bad options or a triangulation without faces
@@ -150,7 +184,16 @@ class VectorHeatSolver {
   /// source. A boundary source keeps its true angles (fem/connection.h), so there the angle is
   /// in [0, Θ_v] for the vertices that geodesics inside the surface reach (Θ_v ≤ 2π). On the frame
   /// path the angle is counter-clockwise about the source's normal from its e1.
+  /// Vertices in another component than the source's and unreferenced vertices
+  /// (report->unreached_vertices; their geodesic distance is ∞) and vertices where neither
+  /// method resolves the heat (report->unresolved_vertices) get NaN + NaN·i.
+  /// @param method kBlend (the default), kVectorHeat or kAffine (exact on flat regions, far
+  ///        smaller errors near the source and in angle, no distance solver; its radius falls
+  ///        short far from the source on curved surfaces): docs/decisions.md D-100, D-103
   /// @throws InvalidInput if source is out of range or unreferenced
+  Eigen::VectorXcd log_map(Index source, LogMapMethod method,
+                           VectorHeatReport* report = nullptr) const;
+  /// log_map(source, LogMapMethod::kBlend, report): the default (docs/decisions.md D-103).
   Eigen::VectorXcd log_map(Index source, VectorHeatReport* report = nullptr) const;
 
   /// The triangulation the solver works on (intrinsic Delaunay unless disabled), its lengths

@@ -4,9 +4,11 @@ the plane's; transport on a flat L, exact at its corners), and all three on the 
 onto the tufted cover)."""
 
 import math
+import re
+import struct
 
 from clitools import SPOT_VERTICES, count_lines, grep, head_bytes, lines, obj_faces, \
-    obj_vertices
+    obj_vertices, write_obj
 
 
 def vectors(path):
@@ -323,3 +325,142 @@ def test_soup(cli):
                     assert abs(norm(row) - norm(rows[source])) <= 1e-9, (v, row)
                 else:
                     assert all(math.isnan(x) for x in row), (v, row)
+
+
+def grid_obj(path, n, copies=1, extra=0):
+    """A flat n×n grid on the unit square (copies side by side, 2 apart in x), plus `extra`
+    unreferenced vertices at the end."""
+    vertices, faces = [], []
+    for c in range(copies):
+        base = len(vertices)
+        vertices += [(2.0 * c + i / n, j / n, 0.0) for j in range(n + 1) for i in range(n + 1)]
+        for j in range(n):
+            for i in range(n):
+                a = base + j * (n + 1) + i
+                faces += [(a, a + 1, a + n + 2), (a, a + n + 2, a + n + 1)]
+    vertices += [(-5.0 - k, 0.0, 0.0) for k in range(extra)]
+    write_obj(path, vertices, [tuple(x + 1 for x in f) for f in faces])
+    return vertices
+
+
+def ply_vertex_table(path):
+    """The vertex element of a .ply written by ifem (ascii or binary little endian) as a dict
+    property -> list of values."""
+    data = path.read_bytes()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().splitlines()
+    fmt = header[1].split()[1]
+    names, types, count, in_vertex = [], [], 0, False
+    for line in header:
+        w = line.split()
+        if w[0] == "element":
+            in_vertex = w[1] == "vertex"
+            if in_vertex:
+                count = int(w[2])
+        elif w[0] == "property" and in_vertex:
+            types.append({"float": "f", "double": "d", "float32": "f", "float64": "d"}[w[1]])
+            names.append(w[2])
+    if fmt == "ascii":
+        rows = [list(map(float, line.split()))
+                for line in data[end:].decode().splitlines()[:count]]
+    else:
+        row = struct.Struct("<" + "".join(types))
+        rows = [row.unpack_from(data, end + k * row.size) for k in range(count)]
+    return {name: [r[k] for r in rows] for k, name in enumerate(names)}
+
+
+# logmap --method: affine is the plane's identity map up to one rotation on a flat grid (the
+# vector heat method is not: its radius is a heat distance); a second copy and unreferenced
+# vertices are 'nan nan' in the .txt and distance inf in the .ply, counted; a bad method is a
+# usage error; --help teaches both
+def test_logmap_methods_and_unreached(cli):
+    o = cli.out
+    n = 12
+    grid = o / "two_grids.obj"
+    p = grid_obj(grid, n, copies=2, extra=2)
+    per = (n + 1) ** 2
+    src = 6 * (n + 1) + 6
+    for method in ("affine", "vector-heat", "blend"):
+        txt = o / f"lm_{method}.txt"
+        r = cli.ok("logmap", grid, "--source", src, "--method", method, "-o", txt, "--quiet")
+        assert grep(f"{per + 2} unreached vertices", r.out), r.describe()
+        uv = vectors(txt)
+        assert len(uv) == 2 * per + 2
+        assert all(math.isnan(u) and math.isnan(v) for u, v in uv[per:]), uv[per:per + 3]
+        assert all(math.isfinite(u) and math.isfinite(v) for u, v in uv[:per])
+        assert uv[src] == (0.0, 0.0)
+        assert all(math.hypot(u, v) > 0 for k, (u, v) in enumerate(uv[:per]) if k != src)
+        ply = o / f"lm_{method}.ply"
+        cli.ok("logmap", grid, "--source", src, "--method", method, "-o", ply, "--quiet")
+        t = ply_vertex_table(ply)
+        assert all(math.isinf(d) for d in t["distance"][per:]), t["distance"][per:per + 3]
+        assert all(math.isnan(u) for u in t["u"][per:])
+        assert all(math.isfinite(d) for d in t["distance"][:per])
+    uv = vectors(o / "lm_affine.txt")
+    rot = [0.0, 0.0]
+    for k in range(per):
+        if k == src:
+            continue
+        ex = complex(p[k][0] - p[src][0], p[k][1] - p[src][1])
+        z = complex(*uv[k]) / ex
+        rot[0] += z.real / abs(z)
+        rot[1] += z.imag / abs(z)
+    turn = complex(*rot) / abs(complex(*rot))
+    for k in range(per):
+        ex = complex(p[k][0] - p[src][0], p[k][1] - p[src][1])
+        assert abs(complex(*uv[k]) / turn - ex) <= 1e-6, (k, uv[k], ex)
+    vh = vectors(o / "lm_vector-heat.txt")
+    assert max(abs(abs(complex(*vh[k])) - abs(complex(*uv[k]))) for k in range(per)) > 1e-3
+    r = cli.run("logmap", grid, "--source", src, "--method", "exact", "-o", o / "bad.txt")
+    assert r.rc == 2, r.describe()
+    assert grep("expected 'blend', 'affine' or 'vector-heat'", r.err), r.describe()
+    assert not (o / "bad.txt").exists()
+    r = cli.ok("logmap", "--help")
+    assert grep("--method", r.out) and grep("affine", r.out) and grep("local charts", r.out)
+
+
+# a range scan with boundary ears takes the tufted path: every vertex `ifem distance` reaches
+# (finite) is nonzero in the log map except the source, every other one nan; the counts agree
+def test_logmap_scan_has_no_silent_zeros(cli, shared_data):
+    mesh = shared_data / "meshes" / "stanford_bunny_scan.obj"
+    o = cli.out
+    for src in (2000,):  # vertices 1884 and 21207 were (0, 0) from here
+        cli.ok("distance", mesh, "--source", src, "-o", o / "d.txt", "--quiet")
+        dist = [float(x) for x in lines(o / "d.txt")]
+        unreachable = sum(1 for d in dist if math.isinf(d))
+        for method in ("affine", "vector-heat", "blend"):
+            r = cli.ok("logmap", mesh, "--source", src, "--method", method, "-o", o / "l.txt",
+                       "--quiet")
+            assert grep(f" {unreachable} unreached vertices", r.out), r.describe()
+            assert not grep("unresolved", r.out), r.describe()
+            uv = vectors(o / "l.txt")
+            for k, (d, (u, v)) in enumerate(zip(dist, uv)):
+                if math.isinf(d):
+                    assert math.isnan(u) and math.isnan(v), (method, k)
+                elif k != src:
+                    assert math.hypot(u, v) > 0, (method, src, k, d)
+
+
+# a strip 1500 edges long: the heat underflows beyond ~700 edges from the source; those vertices
+# are nan and counted as unresolved (not unreached, not 0); before that the affine map is exact
+def test_logmap_underflow_is_reported(cli):
+    n = 1500
+    strip = cli.out / "strip.obj"
+    write_obj(strip, [(i, j, 0.0) for j in range(3) for i in range(n + 1)],
+              [f for j in range(2) for i in range(n)
+               for a in [j * (n + 1) + i + 1] for f in ((a, a + 1, a + n + 2),
+                                                        (a, a + n + 2, a + n + 1))])
+    for method in ("affine", "vector-heat", "blend"):
+        out = cli.out / f"strip_{method}.txt"
+        r = cli.ok("logmap", strip, "--source", 0, "--method", method, "-o", out, "--quiet")
+        m = re.search(r"0 unreached vertices \(nan\), (\d+) unresolved", r.out)
+        assert m, r.describe()
+        uv = vectors(out)
+        bad = [k for k, (u, v) in enumerate(uv) if math.isnan(u) or math.isnan(v)]
+        assert len(bad) == int(m.group(1)) and 0 < len(bad) < 0.6 * len(uv), r.describe()
+        assert all(k % (n + 1) > 600 for k in bad)
+        if method == "affine":
+            for k, (u, v) in enumerate(uv):
+                x, y = k % (n + 1), k // (n + 1)
+                if k % (n + 1) < 600 and k > 0:
+                    assert abs(math.hypot(u, v) - math.hypot(x, y)) <= 1e-9 * x, (k, u, v)

@@ -384,12 +384,23 @@ void check_nonmanifold(const PreparedSurface& s, const char* name) {
   while (std::abs(b.normal(source, 0)) > 0.9) ++source;  // a vector (1,0,0) not normal there
   VectorHeatReport report;
   const Eigen::MatrixX3d t = transport_on(s, solver, source, {1, 0, 0}, &report);
-  const Eigen::MatrixX2d uv = log_map_on(s, solver, source);
   // finite where the source reaches, NaN (all three) at the vertices the report counts
   const Index none = Index((t.array().isNaN().rowwise().count() == 3).count());
   EXPECT_EQ(none, report.unreached_vertices + report.unresolved_vertices);
   EXPECT_EQ(Index(t.array().isFinite().rowwise().all().count()), t.rows() - none);
-  ASSERT_TRUE(uv.allFinite());
+  const LogMapResult lm = log_map_on(s, solver, source, LogMapMethod::kVectorHeat);
+  const LogMapResult la = log_map_on(s, solver, source, LogMapMethod::kAffine);
+  // finite wherever a path reaches (finite distance), NaN elsewhere (another component)
+  for (const LogMapResult* r : {&lm, &la}) {
+    EXPECT_EQ(r->report.unresolved_vertices, 0);
+    for (Index v = 0; v < r->uv.rows(); ++v) {
+      if (std::isinf(r->distance[v])) {
+        EXPECT_TRUE(r->uv.row(v).array().isNaN().all()) << v;
+      } else {
+        EXPECT_TRUE(r->uv.row(v).allFinite()) << v;
+      }
+    }
+  }
   const double len = t.row(source).norm();
   for (Index v = 0; v < t.rows(); ++v) {
     if (f.vectors.row(v).isZero()) continue;  // isolated or unreferenced
