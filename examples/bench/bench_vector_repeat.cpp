@@ -1,0 +1,119 @@
+// Benchmark section `vector_repeat`: repeated queries on one vector heat solver (a user's
+// steady state: the solver built once, then one query after another), each against one scalar
+// heat query on the same surface measured in the same rounds (interleaved): the solver-level
+// transport and log map, the recipes' transport_on() and log_map_on() (3D vectors and uv), and
+// the smoothest 4-direction field (a whole computation: factorization and iterations).
+//
+//   ifem_bench vector_repeat [--n 23 | --mesh FILE] [--repeat 7] [--what LIST]
+//     --what: comma-separated among heat, transport, transport_on, log_map, log_map_on, field
+//             (default: all); `--what memory` builds the solver, runs one transport and one log
+//             map and prints the peak RSS (for /usr/bin/time -v)
+#include <complex>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bench_util.h"
+#include "fem/connection.h"
+#include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/io/mesh_io.h"
+#include "solvers/recipes/pipeline.h"
+#include "solvers/recipes/tangent_fields.h"
+#include "solvers/scalar/heat_distance.h"
+#include "solvers/vector/direction_field.h"
+#include "solvers/vector/vector_heat.h"
+
+namespace ifem::bench {
+
+int vector_repeat(int argc, char** argv) {
+  const int repeat = int(int_option(argc, argv, "--repeat", 7));
+  const int n = int(int_option(argc, argv, "--n", 23));
+  const std::string mesh = string_option(argc, argv, "--mesh", "");
+  std::string what = "," + string_option(argc, argv, "--what",
+                                         "heat,transport,transport_on,log_map,log_map_on,field") +
+                     ",";
+  auto wants = [&what](const char* op) {
+    return what.find("," + std::string(op) + ",") != std::string::npos;
+  };
+  io::SurfaceInput input;
+  std::string name;
+  if (mesh.empty()) {
+    const auto m = intrinsic::icosphere(n);
+    input.positions = m.positions;
+    input.triangles = m.faces;
+    name = "icosphere(" + std::to_string(n) + ")";
+  } else {
+    input = io::read_surface(mesh);
+    name = mesh.substr(mesh.find_last_of('/') + 1);
+  }
+  const solvers::PreparedSurface s = solvers::prepare_surface(std::move(input));
+  const Index nv = s.n_input_vertices();
+  const Index a = nv / 3, b = (2 * nv) / 3;
+  if (wants("memory")) {
+    double t0 = seconds_now();
+    const solvers::VectorHeatSolver vh = solvers::vector_heat_solver(s);
+    const double pre = seconds_now() - t0;
+    t0 = seconds_now();
+    solvers::transport_on(s, vh, a, Eigen::Vector3d(1.0, 0.5, 0.25));
+    const double tr = seconds_now() - t0;
+    t0 = seconds_now();
+    solvers::log_map_on(s, vh, b);
+    const double lm = seconds_now() - t0;
+    std::printf("%s | %ld faces | precompute %.3f s | transport_on %.4f s | first log_map_on %.4f s "
+                "| peak %.0f MiB\n",
+                name.c_str(), long(s.tri.n_faces()), pre, tr, lm, peak_rss_mib());
+    return 0;
+  }
+  print_load_average();
+  const solvers::HeatDistanceSolver heat(s.tri, solvers::distance_options(s));
+  const solvers::VectorHeatSolver vh = solvers::vector_heat_solver(s);
+  const Eigen::Vector3d vec(1.0, 0.5, 0.25);
+  const fem::TangentFrames frames = fem::tangent_frames(s.tri);
+  std::vector<std::pair<std::string, std::function<void()>>> ops;
+  Index q = 0;  // the queries' sources move through the vertices
+  auto next = [&q, nv] { return (q = (q + 7919) % nv); };
+  if (wants("heat")) ops.push_back({"scalar heat query", [&] { heat.compute_distance({next()}); }});
+  if (wants("transport")) {
+    ops.push_back({"transport (solver)", [&] {
+                     vh.transport({{next(), std::complex<double>(1.0, 0.5)}});
+                   }});
+  }
+  if (wants("transport_on")) {
+    ops.push_back({"transport_on (recipe)", [&] { solvers::transport_on(s, vh, next(), vec); }});
+  }
+  if (wants("log_map")) ops.push_back({"log map (solver)", [&] { vh.log_map(next()); }});
+  if (wants("log_map_on")) {
+    ops.push_back({"log_map_on (recipe)", [&] { solvers::log_map_on(s, vh, next()); }});
+  }
+  if (wants("field")) {
+    ops.push_back({"smoothest field n = 4", [&] {
+                     solvers::DirectionFieldOptions o;
+                     o.symmetry = 4;
+                     solvers::smoothest_field(s.tri, frames, o);
+                   }});
+  }
+  for (auto& op : ops) op.second();  // warm-up round (first log map builds its helpers)
+  std::vector<std::vector<double>> t(ops.size());
+  for (int r = 0; r < repeat; ++r) {
+    for (std::size_t i = 0; i < ops.size(); ++i) {
+      const double t0 = seconds_now();
+      ops[i].second();
+      t[i].push_back(seconds_now() - t0);
+    }
+  }
+  std::printf("## repeated queries on %s (%ld faces), median of %d interleaved rounds\n\n",
+              name.c_str(), long(s.tri.n_faces()), repeat);
+  std::printf("| operation | median s | min s | / scalar heat query |\n|---|---:|---:|---:|\n");
+  const double heat_median = wants("heat") ? median(t[0]) : 0.0;
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    const double m = median(t[i]);
+    std::printf("| %s | %.5f | %.5f | %.2f |\n", ops[i].first.c_str(), m,
+                *std::min_element(t[i].begin(), t[i].end()),
+                heat_median > 0.0 ? m / heat_median : 0.0);
+  }
+  std::printf("\npeak RSS %.0f MiB\n", peak_rss_mib());
+  return 0;
+}
+
+}  // namespace ifem::bench
