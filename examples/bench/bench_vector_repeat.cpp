@@ -4,18 +4,26 @@
 // transport and log map, the recipes' transport_on() and log_map_on() (3D vectors and uv), and
 // the smoothest 4-direction field (a whole computation: factorization and iterations).
 //
-//   ifem_bench vector_repeat [--n 23 | --mesh FILE] [--repeat 7] [--what LIST]
+//   ifem_bench vector_repeat [--n 23 | --mesh FILE] [--repeat 7] [--what LIST] [--cpu]
+//     --cpu: the process's CPU seconds instead of wall seconds (a loaded machine: with
+//            OMP_NUM_THREADS=1 the work, not the waits for a core)
 //     --what: comma-separated among heat, transport, transport_on, log_map, log_map_on, field
-//             (default: all); `--what memory` builds the solver, runs one transport and one log
+//             (default: these), solves (M + tL∇ alone, one point source and one dense
+//             right-hand side, CHOLMOD's solve and our kernel's on two factors of the matrix); `--what memory` builds the solver, runs one transport and one log
 //             map and prints the peak RSS (for /usr/bin/time -v)
 #include <complex>
+#include <ctime>
 #include <cstdio>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bench_util.h"
 #include "fem/connection.h"
+#include "fem/operators.h"
+#include "intrinsic/core/geometry.h"
+#include "solvers/linalg/cholesky.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
 #include "solvers/recipes/pipeline.h"
@@ -30,6 +38,13 @@ int vector_repeat(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 7));
   const int n = int(int_option(argc, argv, "--n", 23));
   const std::string mesh = string_option(argc, argv, "--mesh", "");
+  const bool cpu = has_flag(argc, argv, "--cpu");
+  auto now = [cpu] {
+    if (!cpu) return seconds_now();
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+  };
   std::string what = "," + string_option(argc, argv, "--what",
                                          "heat,transport,transport_on,log_map,log_map_on,field") +
                      ",";
@@ -93,17 +108,37 @@ int vector_repeat(int argc, char** argv) {
                      solvers::smoothest_field(s.tri, frames, o);
                    }});
   }
+  std::optional<solvers::ComplexCholeskySolver> chol_cholmod, chol_kernel;
+  Eigen::VectorXcd point, dense;
+  if (wants("solves")) {
+    const double h = intrinsic::mean_edge_length(s.tri);
+    solvers::ComplexSparseMatrix A = h * h * fem::connection_laplacian(s.tri, frames, 1);
+    const Eigen::VectorXd mass = fem::lumped_mass(s.tri);
+    for (Index v = 0; v < A.rows(); ++v) A.coeffRef(v, v) += mass[v] > 0.0 ? mass[v] : 1.0;
+    A.makeCompressed();
+    solvers::CholeskyOptions o;
+    chol_cholmod.emplace(A, o);
+    o.solve_kernel = solvers::CholeskyOptions::SolveKernel::kSupernodalDouble;
+    chol_kernel.emplace(A, o);
+    point = Eigen::VectorXcd::Zero(A.rows());
+    point[A.rows() / 3] = 1.0;
+    dense = Eigen::VectorXcd::Constant(A.rows(), std::complex<double>(1.0, -0.5));
+    ops.push_back({"M + tL∇ point source, CHOLMOD", [&] { chol_cholmod->solve(point); }});
+    ops.push_back({"M + tL∇ point source, our kernel", [&] { chol_kernel->solve(point); }});
+    ops.push_back({"M + tL∇ dense rhs, CHOLMOD", [&] { chol_cholmod->solve(dense); }});
+    ops.push_back({"M + tL∇ dense rhs, our kernel", [&] { chol_kernel->solve(dense); }});
+  }
   for (auto& op : ops) op.second();  // warm-up round (first log map builds its helpers)
   std::vector<std::vector<double>> t(ops.size());
   for (int r = 0; r < repeat; ++r) {
     for (std::size_t i = 0; i < ops.size(); ++i) {
-      const double t0 = seconds_now();
+      const double t0 = now();
       ops[i].second();
-      t[i].push_back(seconds_now() - t0);
+      t[i].push_back(now() - t0);
     }
   }
-  std::printf("## repeated queries on %s (%ld faces), median of %d interleaved rounds\n\n",
-              name.c_str(), long(s.tri.n_faces()), repeat);
+  std::printf("## repeated queries on %s (%ld faces), median of %d interleaved rounds (%s seconds)\n\n",
+              name.c_str(), long(s.tri.n_faces()), repeat, cpu ? "CPU" : "wall");
   std::printf("| operation | median s | min s | / scalar heat query |\n|---|---:|---:|---:|\n");
   const double heat_median = wants("heat") ? median(t[0]) : 0.0;
   for (std::size_t i = 0; i < ops.size(); ++i) {

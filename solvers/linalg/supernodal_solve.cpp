@@ -1061,11 +1061,41 @@ struct ComplexBlock {
   int nscol, nsrow, k1;
 };
 
+// Two complex values as one vector of four doubles (re, im, re, im), and the pairs swapped
+// (im, re, im, re): a product of complex numbers in two vector multiplications.
+using C2 = Lanes<4>::V;
+[[gnu::always_inline]] inline C2 load2(const Cx* p) { return load<4>(&p->re); }
+[[gnu::always_inline]] inline void store2(Cx* p, C2 v) { store<4>(&p->re, v); }
+[[gnu::always_inline]] inline C2 swap_pairs(C2 v) {
+#if defined(__clang__)
+  return __builtin_shufflevector(v, v, 1, 0, 3, 2);
+#else
+  typedef long long Mask __attribute__((vector_size(32)));
+  return __builtin_shuffle(v, Mask{1, 0, 3, 2});
+#endif
+}
+
+// dst[i] −= a[i]·y for i < count, y = (yr, yi) given as YR = (yr, yr, yr, yr) and YI = (−yi, yi,
+// −yi, yi): a·y = a·YR + swap(a)·YI; two entries per vector, the last one alone (the same
+// expression).
+[[gnu::always_inline]] inline void subtract_products(Cx* dst, const Cx* a, int count, C2 YR,
+                                                     C2 YI) {
+  int i = 0;
+  for (; i + 2 <= count; i += 2) {
+    const C2 l = load2(a + i);
+    store2(dst + i, load2(dst + i) - (l * YR + swap_pairs(l) * YI));
+  }
+  if (i < count) {
+    dst[i].re -= a[i].re * YR[0] + a[i].im * YI[0];
+    dst[i].im -= a[i].im * YR[1] + a[i].re * YI[1];
+  }
+}
+
 // Forward substitution of one supernode: y ← L11⁻¹ y (the supernode's rows of W, in place), and
 // the rows below, W[R[r]] (or the bin's accumulator for rows past col_end), −= (L21 y)[r].
-// T: scratch of m = nsrow − nscol entries.
-void complex_forward_block(const ComplexBlock& b, Cx* W, Cx* T, Cx* acc, const int* top_index,
-                           int col_end) {
+// T: scratch of m = nsrow − nscol entries (it collects −L21 y).
+IFEM_HOST_CLONES void complex_forward_block(const ComplexBlock& b, Cx* W, Cx* T, Cx* acc,
+                                            const int* top_index, int col_end) {
   const int nscol = b.nscol, nsrow = b.nsrow, m = nsrow - nscol;
   Cx* y = W + b.k1;
   for (int i = 0; i < m; ++i) T[i] = {0.0, 0.0};
@@ -1074,28 +1104,24 @@ void complex_forward_block(const ComplexBlock& b, Cx* W, Cx* T, Cx* acc, const i
     const double inv = 1.0 / col[j].re;  // the diagonal of L Lᴴ's factor is real
     const double yr = y[j].re * inv, yi = y[j].im * inv;
     y[j] = {yr, yi};
-    for (int i = j + 1; i < nscol; ++i) {
-      y[i].re -= col[i].re * yr - col[i].im * yi;
-      y[i].im -= col[i].re * yi + col[i].im * yr;
-    }
-    const Cx* below = col + nscol;
-    for (int i = 0; i < m; ++i) {
-      T[i].re += below[i].re * yr - below[i].im * yi;
-      T[i].im += below[i].re * yi + below[i].im * yr;
-    }
+    const C2 YR = {yr, yr, yr, yr}, YI = {-yi, yi, -yi, yi};
+    subtract_products(y + j + 1, col + j + 1, nscol - j - 1, YR, YI);
+    subtract_products(T, col + nscol, m, YR, YI);
   }
   const int* rows = b.R + nscol;
   for (int r = 0; r < m; ++r) {
     const int i = rows[r];
     Cx& dst = acc && i >= col_end ? acc[top_index[i]] : W[i];
-    dst.re -= T[r].re;
-    dst.im -= T[r].im;
+    dst.re += T[r].re;
+    dst.im += T[r].im;
   }
 }
 
 // Backward substitution of one supernode: y ← L11⁻ᴴ (y − L21ᴴ g), g the (final) rows below;
-// Z: scratch of nsrow entries, [y; g], so that each column is one conjugated dot product.
-void complex_backward_block(const ComplexBlock& b, Cx* W, Cx* Z) {
+// Z: scratch of nsrow entries, [y; g], so that each column is one conjugated dot product:
+// Σ conj(l)·z has real part Σ (l·z) over all lanes and imaginary part the alternating sum of
+// l·swap(z), in two independent pairs of vector sums (a fixed order).
+IFEM_HOST_CLONES void complex_backward_block(const ComplexBlock& b, Cx* W, Cx* Z) {
   const int nscol = b.nscol, nsrow = b.nsrow;
   Cx* y = W + b.k1;
   std::copy(y, y + nscol, Z);
@@ -1103,21 +1129,31 @@ void complex_backward_block(const ComplexBlock& b, Cx* W, Cx* Z) {
   for (int r = nscol; r < nsrow; ++r) Z[r] = W[rows[r]];
   for (int j = nscol - 1; j >= 0; --j) {
     const Cx* col = b.L + Int64(j) * nsrow;
-    // Σ conj(L_ij) Z_i over i > j, in two independent sums (a fixed order)
-    double r0 = 0.0, i0 = 0.0, r1 = 0.0, i1 = 0.0;
+    C2 p0 = {0.0, 0.0, 0.0, 0.0}, q0 = p0, p1 = p0, q1 = p0;
     int i = j + 1;
-    for (; i + 2 <= nsrow; i += 2) {
-      r0 += col[i].re * Z[i].re + col[i].im * Z[i].im;
-      i0 += col[i].re * Z[i].im - col[i].im * Z[i].re;
-      r1 += col[i + 1].re * Z[i + 1].re + col[i + 1].im * Z[i + 1].im;
-      i1 += col[i + 1].re * Z[i + 1].im - col[i + 1].im * Z[i + 1].re;
+    for (; i + 4 <= nsrow; i += 4) {
+      const C2 l0 = load2(col + i), z0 = load2(Z + i);
+      const C2 l1 = load2(col + i + 2), z1 = load2(Z + i + 2);
+      p0 += l0 * z0;
+      q0 += l0 * swap_pairs(z0);
+      p1 += l1 * z1;
+      q1 += l1 * swap_pairs(z1);
     }
+    if (i + 2 <= nsrow) {
+      const C2 l0 = load2(col + i), z0 = load2(Z + i);
+      p0 += l0 * z0;
+      q0 += l0 * swap_pairs(z0);
+      i += 2;
+    }
+    const C2 p = p0 + p1, q = q0 + q1;
+    double re = (p[0] + p[1]) + (p[2] + p[3]);
+    double im = (q[0] - q[1]) + (q[2] - q[3]);
     if (i < nsrow) {
-      r0 += col[i].re * Z[i].re + col[i].im * Z[i].im;
-      i0 += col[i].re * Z[i].im - col[i].im * Z[i].re;
+      re += col[i].re * Z[i].re + col[i].im * Z[i].im;
+      im += col[i].re * Z[i].im - col[i].im * Z[i].re;
     }
     const double inv = 1.0 / col[j].re;
-    Z[j] = {(Z[j].re - (r0 + r1)) * inv, (Z[j].im - (i0 + i1)) * inv};
+    Z[j] = {(Z[j].re - re) * inv, (Z[j].im - im) * inv};
   }
   std::copy(Z, Z + nscol, y);
 }
