@@ -14,6 +14,7 @@
 #include <complex>
 #include <ctime>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <optional>
 #include <string>
@@ -33,6 +34,17 @@
 #include "solvers/vector/vector_heat.h"
 
 namespace ifem::bench {
+namespace {
+// Resident set size now, in MiB (VmRSS).
+double rss_mib() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  }
+  return 0.0;
+}
+}  // namespace
 
 int vector_repeat(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 7));
@@ -66,18 +78,22 @@ int vector_repeat(int argc, char** argv) {
   const Index nv = s.n_input_vertices();
   const Index a = nv / 3, b = (2 * nv) / 3;
   if (wants("memory")) {
+    const double peak_surface = peak_rss_mib();
     double t0 = seconds_now();
     const solvers::VectorHeatSolver vh = solvers::vector_heat_solver(s);
     const double pre = seconds_now() - t0;
+    const double peak_pre = peak_rss_mib(), held_pre = rss_mib();
     t0 = seconds_now();
     solvers::transport_on(s, vh, a, Eigen::Vector3d(1.0, 0.5, 0.25));
     const double tr = seconds_now() - t0;
+    const double peak_transport = peak_rss_mib();
     t0 = seconds_now();
     solvers::log_map_on(s, vh, b);
     const double lm = seconds_now() - t0;
     std::printf("%s | %ld faces | precompute %.3f s | transport_on %.4f s | first log_map_on %.4f s "
-                "| peak %.0f MiB\n",
-                name.c_str(), long(s.tri.n_faces()), pre, tr, lm, peak_rss_mib());
+                "| peak %.0f MiB (after the surface %.0f, the precompute %.0f, the transport %.0f; held after the precompute %.0f, at the end %.0f)\n",
+                name.c_str(), long(s.tri.n_faces()), pre, tr, lm, peak_rss_mib(), peak_surface,
+                peak_pre, peak_transport, held_pre, rss_mib());
     return 0;
   }
   print_load_average();
