@@ -281,8 +281,12 @@ Eigen::VectorXcd VectorHeatSolver::transport(const std::vector<VectorSource>& so
   const Index nv = im.tri.n_vertices();
   std::vector<char> seen(nv, 0), source_component(im.comps.count, 0);
   Eigen::VectorXcd y0 = Eigen::VectorXcd::Zero(nv);
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(nv, 2);  // |vector| and 1 at the sources
   bool one_length = true;
+  for (const VectorSource& s : sources) {
+    one_length = one_length && std::abs(s.vector) == std::abs(sources[0].vector);
+  }
+  // |vector| and 1 at the sources, for the magnitudes' scalar heat (none for one length)
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(one_length ? 0 : nv, 2);
   for (std::size_t k = 0; k < sources.size(); ++k) {
     const std::string name = "vector heat transport: sources[" + std::to_string(k) + "]";
     const Index v = sources[k].vertex;
@@ -294,9 +298,7 @@ Eigen::VectorXcd VectorHeatSolver::transport(const std::vector<VectorSource>& so
     }
     if (!(len > 0.0)) throw InvalidInput(name + ".vector is zero (a source needs a direction)");
     y0[v] = z / len;
-    b(v, 0) = len;
-    b(v, 1) = 1.0;
-    one_length = one_length && len == std::abs(sources[0].vector);
+    if (!one_length) b(v, 0) = len, b(v, 1) = 1.0;
   }
   const Eigen::VectorXcd y = im.vector_heat->solve(y0);
   VectorHeatReport rep;
