@@ -96,6 +96,40 @@ int vector_repeat(int argc, char** argv) {
                 peak_pre, peak_transport, held_pre, rss_mib());
     return 0;
   }
+  if (wants("parts")) {  // what a vector heat solver holds, part by part (RSS growth, MiB)
+    double last = rss_mib();
+    auto report = [&last](const char* what, double extra = 0.0) {
+      const double now = rss_mib();
+      std::printf("%-44s +%6.0f MiB (held %.0f)", what, now - last, now);
+      if (extra > 0.0) std::printf("  nnz(L) %.3g", extra);
+      std::printf("\n");
+      last = now;
+    };
+    intrinsic::IntrinsicTriangulation tri = s.tri;
+    report("triangulation copy");
+    const fem::TangentFrames fr = fem::tangent_frames(tri);
+    report("tangent frames");
+    const double h = intrinsic::mean_edge_length(tri);
+    solvers::ComplexSparseMatrix A = h * h * fem::connection_laplacian(tri, fr, 1);
+    const Eigen::VectorXd mass = fem::lumped_mass(tri);
+    for (Index v = 0; v < A.rows(); ++v) A.coeffRef(v, v) += mass[v] > 0.0 ? mass[v] : 1.0;
+    A.makeCompressed();
+    report("M + tL∇ (complex sparse)");
+    solvers::CholeskyOptions o;
+    o.solve_kernel = solvers::CholeskyOptions::SolveKernel::kSupernodalDouble;
+    const solvers::ComplexCholeskySolver cc(A, o);
+    report("complex factor (CHOLMOD + kernel pattern)", cc.factor_nonzeros());
+    fem::SparseMatrix S = h * h * fem::cotan_laplacian(tri);
+    for (Index v = 0; v < S.rows(); ++v) S.coeffRef(v, v) += mass[v];
+    S.makeCompressed();
+    report("M + tL (real sparse)");
+    const solvers::CholeskySolver rc(S);
+    report("real factor (simplicial solves)", rc.factor_nonzeros());
+    const solvers::TangentBasis3d basis = solvers::tangent_basis_3d(s.input, tri, fr);
+    report("3D tangent bases");
+    std::printf("peak %.0f MiB\n", peak_rss_mib());
+    return 0;
+  }
   print_load_average();
   const solvers::HeatDistanceSolver heat(s.tri, solvers::distance_options(s));
   const solvers::VectorHeatSolver vh = solvers::vector_heat_solver(s);
