@@ -226,8 +226,8 @@ std::unique_ptr<ComplexSupernodalSolver> complex_kernel_of(const cholmod_factor*
   p.row_start.assign(pi, pi + ns + 1);
   p.value_start.assign(px, px + ns + 1);
   p.rows.assign(static_cast<const int*>(f->s), static_cast<const int*>(f->s) + pi[ns]);
-  return std::make_unique<ComplexSupernodalSolver>(
-      std::move(p), static_cast<const std::complex<double>*>(f->x));
+  return std::make_unique<ComplexSupernodalSolver>(std::move(p),
+                                                   static_cast<const std::complex<double>*>(f->x));
 }
 
 bool finite_value(double x) { return std::isfinite(x); }
@@ -770,7 +770,8 @@ ComplexCholeskySolver::ComplexCholeskySolver(const ComplexSparseMatrix& A_in,
     : impl_(std::make_unique<CholeskySolver::Impl>()) {
   options.validate();
   if (options.solve_kernel == CholeskyOptions::SolveKernel::kSupernodalSingle) {
-    throw InvalidInput("ComplexCholeskySolver: no single-precision solve kernel for complex factors");
+    throw InvalidInput(
+        "ComplexCholeskySolver: no single-precision solve kernel for complex factors");
   }
   check_matrix(A_in, "ComplexCholeskySolver");
   ComplexSparseMatrix storage;

@@ -207,9 +207,9 @@ using ComplexSparseMatrix = Eigen::SparseMatrix<std::complex<double>, Eigen::Col
 /// options and conventions as CholeskySolver: only the lower triangle of A is read (A is assumed
 /// Hermitian), solve() is const (serialized internally with CHOLMOD's solves, concurrent with our
 /// kernel's); the factor stays supernodal (simplicial_solves applies to real factors only).
-/// solve_kernel: kCholmod or kSupernodalDouble (ComplexSupernodalSolver on the factor in place). Why complex and not the real 2n×2n form [Re
-/// −Im; Im Re]: docs/decisions.md, "Vector heat: complex Cholesky" (less than half the factor time
-/// and half the factor size).
+/// solve_kernel: kCholmod or kSupernodalDouble (ComplexSupernodalSolver on the factor in place).
+/// Why complex and not the real 2n×2n form [Re −Im; Im Re]: docs/decisions.md, "Vector heat:
+/// complex Cholesky" (less than half the factor time and half the factor size).
 class ComplexCholeskySolver {
  public:
   /// Analyzes and factors A (#n×#n).

@@ -16,10 +16,10 @@
 #include "fem/connection.h"
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "solvers/linalg/cholesky.h"
 #include "solvers/linalg/supernodal_solve.h"
-#include "intrinsic/core/geometry.h"
 #include "solvers/test_util.h"
 
 namespace ifem::solvers {

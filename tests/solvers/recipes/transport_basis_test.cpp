@@ -36,8 +36,8 @@ void expect_kept_basis_transports_alike(const intrinsic::TriangleMesh& mesh) {
   for (const Index v : {Index(0), nv / 2, nv - 1}) {
     const Eigen::MatrixX3d x = transport_on(s, solver, v, vec);
     const std::complex<double> z(vec.dot(rebuilt.e1.row(v)), vec.dot(rebuilt.e2.row(v)));
-    const Eigen::MatrixX3d ref = to_3d(Eigen::VectorXcd(solver.transport({{v, z}}).head(nv)),
-                                       rebuilt);
+    const Eigen::MatrixX3d ref =
+        to_3d(Eigen::VectorXcd(solver.transport({{v, z}}).head(nv)), rebuilt);
     EXPECT_EQ(x, ref) << "source " << v;
     EXPECT_EQ(transport_on(s, solver, v, vec), x) << "a repeated call, source " << v;
   }
