@@ -86,7 +86,9 @@ void expect_kernel_matches_cholmod(const intrinsic::TriangleMesh& mesh, int symm
     EXPECT_EQ(X.col(j), ours.solve(Eigen::VectorXcd(block.col(j)))) << "column " << j;
   }
   // the large case runs the two bins (ComplexSupernodalSolver: entries ≥ kParallelEntries / 2)
-  if (expect_split) EXPECT_GE(ours.factor_nonzeros(), 0.5 * SupernodalSolver::kParallelEntries);
+  if (expect_split) {
+    EXPECT_GE(ours.factor_nonzeros(), 0.5 * SupernodalSolver::kParallelEntries);
+  }
 }
 
 TEST(ComplexSupernodal, MatchesCholmodSmallSphere) {
