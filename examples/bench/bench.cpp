@@ -20,6 +20,7 @@ int batch(int argc, char** argv);
 int query(int argc, char** argv);
 int field(int argc, char** argv);
 int small(int argc, char** argv);
+int vector_repeat(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -69,6 +70,10 @@ const Section kSections[] = {
      "one mesh in a fresh process: first and median L + M or heat precompute (compare "
      "OMP_NUM_THREADS=1 against the default: scripts/bench_small.sh)",
      ifem::bench::small},
+    {"vector_repeat",
+     "repeated transport, log map (solver and recipe) and a smoothest 4-field against one scalar "
+     "heat query, interleaved, on icosphere(--n 23) or --mesh FILE; --what memory: peak RSS",
+     ifem::bench::vector_repeat},
 };
 
 }  // namespace

@@ -82,6 +82,9 @@ struct CholeskySolver::Impl {
   // our supernodal kernel (CholeskyOptions::solve_kernel), holding the factor's values
   CholeskyOptions::SolveKernel kernel_kind = CholeskyOptions::SolveKernel::kCholmod;
   std::unique_ptr<SupernodalSolver> kernel;
+  // a complex factor's kernel (SolveKernel::kSupernodalDouble): it reads CHOLMOD's values in
+  // place, so the factor keeps them
+  std::unique_ptr<ComplexSupernodalSolver> complex_kernel;
   // Without it: our kernel over CHOLMOD's simplicial factor for solve_rows() with several
   // columns, built on the first such call (rows_kernel_for_blocks()), dropped by refactor().
   mutable std::mutex rows_kernel_mutex;
@@ -204,6 +207,29 @@ struct CholeskySolver::Impl {
 
 namespace {
 
+// ComplexCholeskySolver with our kernel: a view of CHOLMOD's numeric supernodal factor (the
+// pattern copied, the values read in place).
+std::unique_ptr<ComplexSupernodalSolver> complex_kernel_of(const cholmod_factor* f,
+                                                           const char* who) {
+  if (!f->is_super || f->xtype != CHOLMOD_COMPLEX || f->itype != CHOLMOD_INT || !f->x) {
+    throw SolverError(std::string(who) + ": the complex factor is not supernodal");
+  }
+  const auto* super = static_cast<const int*>(f->super);
+  const auto* pi = static_cast<const int*>(f->pi);
+  const auto* px = static_cast<const int*>(f->px);
+  const auto* perm = static_cast<const int*>(f->Perm);
+  const std::size_t ns = f->nsuper;
+  SupernodalPattern p;
+  p.n = static_cast<Eigen::Index>(f->n);
+  p.perm.assign(perm, perm + f->n);
+  p.super.assign(super, super + ns + 1);
+  p.row_start.assign(pi, pi + ns + 1);
+  p.value_start.assign(px, px + ns + 1);
+  p.rows.assign(static_cast<const int*>(f->s), static_cast<const int*>(f->s) + pi[ns]);
+  return std::make_unique<ComplexSupernodalSolver>(std::move(p),
+                                                   static_cast<const std::complex<double>*>(f->x));
+}
+
 bool finite_value(double x) { return std::isfinite(x); }
 bool finite_value(const std::complex<double>& z) {
   return std::isfinite(z.real()) && std::isfinite(z.imag());
@@ -295,6 +321,10 @@ void factor_and_convert(CholeskySolver::Impl& im, cholmod_sparse s, const Choles
   im.factorize(s, im.factor, who);
   im.factored_supernodal = im.factor->is_super;
   im.hand_factor_to_kernel(im.factor, who);
+  if (im.xtype == CHOLMOD_COMPLEX &&
+      options.solve_kernel == CholeskyOptions::SolveKernel::kSupernodalDouble) {
+    im.complex_kernel = complex_kernel_of(im.factor, who);
+  }
   // a complex factor stays supernodal: its supernodal solves are faster (simplicial_solves)
   if (!im.kernel && im.factor->is_super && options.simplicial_solves && im.xtype == CHOLMOD_REAL) {
     // to_ll = 1, to_super = 0, to_packed = 1, to_monotonic = 1
@@ -572,6 +602,11 @@ const SupernodalSolver* rows_kernel_for_blocks(const CholeskySolver::Impl& im) {
 // as interleaved (re, im) pairs when im.xtype is CHOLMOD_COMPLEX); X may alias B.
 void solve_raw(const CholeskySolver::Impl& im, const double* B, Eigen::Index cols, double* X) {
   if (cols == 0) return;
+  if (im.complex_kernel) {
+    im.complex_kernel->solve(reinterpret_cast<const std::complex<double>*>(B),
+                             reinterpret_cast<std::complex<double>*>(X), cols);
+    return;
+  }
   if (im.kernel) {
     // one BLAS thread: OpenBLAS's threaded kernels round differently (results must not depend
     // on its thread count), and our kernel runs its own two bins
@@ -734,6 +769,10 @@ ComplexCholeskySolver::ComplexCholeskySolver(const ComplexSparseMatrix& A_in,
                                              const CholeskyOptions& options)
     : impl_(std::make_unique<CholeskySolver::Impl>()) {
   options.validate();
+  if (options.solve_kernel == CholeskyOptions::SolveKernel::kSupernodalSingle) {
+    throw InvalidInput(
+        "ComplexCholeskySolver: no single-precision solve kernel for complex factors");
+  }
   check_matrix(A_in, "ComplexCholeskySolver");
   ComplexSparseMatrix storage;
   const ComplexSparseMatrix* A = compressed(A_in, storage);

@@ -51,7 +51,8 @@ struct CholeskyOptions {
   /// faster than simplicial ones and which skips the conversion's copy (docs/decisions.md,
   /// "Vector heat: complex Cholesky").
   bool simplicial_solves = true;
-  /// Who runs the solves of a real factor (ComplexCholeskySolver ignores it):
+  /// Who runs the solves (of a complex factor: kCholmod, or kSupernodalDouble for
+  /// ComplexSupernodalSolver reading CHOLMOD's supernodal factor in place, no copy):
   enum class SolveKernel {
     kCholmod,  ///< CHOLMOD's own, simplicial or supernodal as simplicial_solves says
     /// Our supernodal kernel (solvers/linalg/supernodal_solve.h) over a copy of the supernodal
@@ -204,15 +205,17 @@ using ComplexSparseMatrix = Eigen::SparseMatrix<std::complex<double>, Eigen::Col
 /// Cholesky factorization A = LLᴴ of a sparse Hermitian positive definite complex matrix (CHOLMOD
 /// complex xtype: Eigen's interleaved (re, im) storage is passed through without a copy). Same
 /// options and conventions as CholeskySolver: only the lower triangle of A is read (A is assumed
-/// Hermitian), solve() is const and serialized internally; the factor stays supernodal
-/// (simplicial_solves applies to real factors only). Why complex and not the real 2n×2n form [Re
-/// −Im; Im Re]: docs/decisions.md, "Vector heat: complex Cholesky" (less than half the factor time
-/// and half the factor size).
+/// Hermitian), solve() is const (serialized internally with CHOLMOD's solves, concurrent with our
+/// kernel's); the factor stays supernodal (simplicial_solves applies to real factors only).
+/// solve_kernel: kCholmod or kSupernodalDouble (ComplexSupernodalSolver on the factor in place).
+/// Why complex and not the real 2n×2n form [Re −Im; Im Re]: docs/decisions.md, "Vector heat:
+/// complex Cholesky" (less than half the factor time and half the factor size).
 class ComplexCholeskySolver {
  public:
   /// Analyzes and factors A (#n×#n).
   /// @throws InvalidInput if A is not square, is empty or has a non-finite entry, or on bad
-  ///         options; SolverError if A is not positive definite or CHOLMOD fails
+  ///         options (also kSupernodalSingle: no float kernel for complex factors);
+  ///         SolverError if A is not positive definite or CHOLMOD fails
   explicit ComplexCholeskySolver(const ComplexSparseMatrix& A, const CholeskyOptions& options = {});
   ~ComplexCholeskySolver();
   ComplexCholeskySolver(ComplexCholeskySolver&&) noexcept;

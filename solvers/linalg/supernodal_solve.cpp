@@ -1042,4 +1042,292 @@ std::int64_t SupernodalSolver::entries() const { return impl_->p.value_start.bac
 bool SupernodalSolver::split(Eigen::Index cols) const { return impl_->two_bins(int(cols)); }
 double SupernodalSolver::top_share() const { return impl_->split.top_share; }
 
+// --- ComplexSupernodalSolver -------------------------------------------------------------------
+// Against CHOLMOD's supernodal complex solve (zgemv/ztrsv per supernode) on the vector heat
+// method's M + tL∇ of igea (268k faces), one thread, CPU seconds, medians of 7 interleaved
+// (`OMP_NUM_THREADS=1 ifem_bench vector_repeat --mesh igea_268k.ply --what solves --cpu`): a point
+// source 0.061 -> 0.030 s (its forward pass visits the source's ancestors only), a dense
+// right-hand side 0.060 -> 0.046 s; the vector products of complex pairs below took them from
+// 0.042 and 0.057 s (plain complex arithmetic per entry, not vectorized). docs/decisions.md D-109.
+
+namespace {
+
+// Complex values as (re, im) pairs of doubles, multiplied by hand: std::complex's operator*
+// checks for infinities and NaNs on every product (__muldc3) unless the whole build takes
+// -fcx-limited-range.
+struct Cx {
+  double re, im;
+};
+static_assert(sizeof(Cx) == sizeof(std::complex<double>), "Cx is std::complex<double>'s layout");
+
+// One supernode's block: nsrow × nscol complex values, column-major; rows R; first column k1.
+struct ComplexBlock {
+  const Cx* L;
+  const int* R;
+  int nscol, nsrow, k1;
+};
+
+// Two complex values as one vector of four doubles (re, im, re, im), and the pairs swapped
+// (im, re, im, re): a product of complex numbers in two vector multiplications.
+using C2 = Lanes<4>::V;
+[[gnu::always_inline]] inline C2 load2(const Cx* p) { return load<4>(&p->re); }
+[[gnu::always_inline]] inline void store2(Cx* p, C2 v) { store<4>(&p->re, v); }
+[[gnu::always_inline]] inline C2 swap_pairs(C2 v) {
+#if defined(__clang__)
+  return __builtin_shufflevector(v, v, 1, 0, 3, 2);
+#else
+  typedef long long Mask __attribute__((vector_size(32)));
+  return __builtin_shuffle(v, Mask{1, 0, 3, 2});
+#endif
+}
+
+// dst[i] −= a[i]·y for i < count, y = (yr, yi) given as YR = (yr, yr, yr, yr) and YI = (−yi, yi,
+// −yi, yi): a·y = a·YR + swap(a)·YI; two entries per vector, the last one alone (the same
+// expression).
+[[gnu::always_inline]] inline void subtract_products(Cx* dst, const Cx* a, int count, C2 YR,
+                                                     C2 YI) {
+  int i = 0;
+  for (; i + 2 <= count; i += 2) {
+    const C2 l = load2(a + i);
+    store2(dst + i, load2(dst + i) - (l * YR + swap_pairs(l) * YI));
+  }
+  if (i < count) {
+    dst[i].re -= a[i].re * YR[0] + a[i].im * YI[0];
+    dst[i].im -= a[i].im * YR[1] + a[i].re * YI[1];
+  }
+}
+
+// Forward substitution of one supernode: y ← L11⁻¹ y (the supernode's rows of W, in place), and
+// the rows below, W[R[r]] (or the bin's accumulator for rows past col_end), −= (L21 y)[r].
+// T: scratch of m = nsrow − nscol entries (it collects −L21 y).
+IFEM_HOST_CLONES void complex_forward_block(const ComplexBlock& b, Cx* W, Cx* T, Cx* acc,
+                                            const int* top_index, int col_end) {
+  const int nscol = b.nscol, nsrow = b.nsrow, m = nsrow - nscol;
+  Cx* y = W + b.k1;
+  for (int i = 0; i < m; ++i) T[i] = {0.0, 0.0};
+  for (int j = 0; j < nscol; ++j) {
+    const Cx* col = b.L + Int64(j) * nsrow;
+    const double inv = 1.0 / col[j].re;  // the diagonal of L Lᴴ's factor is real
+    const double yr = y[j].re * inv, yi = y[j].im * inv;
+    y[j] = {yr, yi};
+    const C2 YR = {yr, yr, yr, yr}, YI = {-yi, yi, -yi, yi};
+    subtract_products(y + j + 1, col + j + 1, nscol - j - 1, YR, YI);
+    subtract_products(T, col + nscol, m, YR, YI);
+  }
+  const int* rows = b.R + nscol;
+  for (int r = 0; r < m; ++r) {
+    const int i = rows[r];
+    Cx& dst = acc && i >= col_end ? acc[top_index[i]] : W[i];
+    dst.re += T[r].re;
+    dst.im += T[r].im;
+  }
+}
+
+// Backward substitution of one supernode: y ← L11⁻ᴴ (y − L21ᴴ g), g the (final) rows below;
+// Z: scratch of nsrow entries, [y; g], so that each column is one conjugated dot product:
+// Σ conj(l)·z has real part Σ (l·z) over all lanes and imaginary part the alternating sum of
+// l·swap(z), in two independent pairs of vector sums (a fixed order).
+IFEM_HOST_CLONES void complex_backward_block(const ComplexBlock& b, Cx* W, Cx* Z) {
+  const int nscol = b.nscol, nsrow = b.nsrow;
+  Cx* y = W + b.k1;
+  std::copy(y, y + nscol, Z);
+  const int* rows = b.R;
+  for (int r = nscol; r < nsrow; ++r) Z[r] = W[rows[r]];
+  for (int j = nscol - 1; j >= 0; --j) {
+    const Cx* col = b.L + Int64(j) * nsrow;
+    C2 p0 = {0.0, 0.0, 0.0, 0.0}, q0 = p0, p1 = p0, q1 = p0;
+    int i = j + 1;
+    for (; i + 4 <= nsrow; i += 4) {
+      const C2 l0 = load2(col + i), z0 = load2(Z + i);
+      const C2 l1 = load2(col + i + 2), z1 = load2(Z + i + 2);
+      p0 += l0 * z0;
+      q0 += l0 * swap_pairs(z0);
+      p1 += l1 * z1;
+      q1 += l1 * swap_pairs(z1);
+    }
+    if (i + 2 <= nsrow) {
+      const C2 l0 = load2(col + i), z0 = load2(Z + i);
+      p0 += l0 * z0;
+      q0 += l0 * swap_pairs(z0);
+      i += 2;
+    }
+    const C2 p = p0 + p1, q = q0 + q1;
+    double re = (p[0] + p[1]) + (p[2] + p[3]);
+    double im = (q[0] - q[1]) + (q[2] - q[3]);
+    if (i < nsrow) {
+      re += col[i].re * Z[i].re + col[i].im * Z[i].im;
+      im += col[i].re * Z[i].im - col[i].im * Z[i].re;
+    }
+    const double inv = 1.0 / col[j].re;
+    Z[j] = {(Z[j].re - re) * inv, (Z[j].im - im) * inv};
+  }
+  std::copy(Z, Z + nscol, y);
+}
+
+}  // namespace
+
+struct ComplexSupernodalSolver::Impl {
+  SupernodalPattern p;
+  const Cx* values = nullptr;
+  int max_rows = 0;            // largest nsrow
+  std::vector<int> col_super;  // n: the supernode of each column
+  std::vector<int> parent;     // #supernodes: the elimination tree's parent, −1 at a root
+  bool split_tree = false;
+  Split split;
+  bool two_bins() const {
+    return split_tree && 2 * p.value_start.back() >= SupernodalSolver::kParallelEntries;
+  }
+  struct Scratch {
+    std::vector<Cx> W, T[2], acc[2];
+    std::vector<char> nonzero;
+    std::vector<int> reach;
+    template <class Vector>
+    static auto* sized(Vector& v, std::size_t n) {
+      if (v.size() < n) v.resize(n);
+      return v.data();
+    }
+  };
+  mutable std::mutex workspace_mutex;
+  mutable Scratch workspace;
+
+  ComplexBlock block(int s) const {
+    return {values + p.value_start[s], p.rows.data() + p.row_start[s], p.super[s + 1] - p.super[s],
+            int(p.row_start[s + 1] - p.row_start[s]), p.super[s]};
+  }
+  // The supernodes the forward pass visits for the nonzero rows (they and their ancestors,
+  // ascending) into reach; false when they hold half the factor or more (visit all).
+  bool forward_reach(const char* nonzero, std::vector<int>& reach) const;
+  void solve_permuted(Cx* W, Scratch& scr, const char* nonzero) const;
+};
+
+bool ComplexSupernodalSolver::Impl::forward_reach(const char* nonzero,
+                                                  std::vector<int>& reach) const {
+  const int ns = int(parent.size());
+  std::vector<char> mark(ns, 0);
+  Int64 work = 0;
+  for (Eigen::Index i = 0; i < p.n; ++i) {
+    if (!nonzero[i]) continue;
+    for (int s = col_super[i]; s >= 0 && !mark[s]; s = parent[s]) {
+      mark[s] = 1;
+      work += p.value_start[s + 1] - p.value_start[s];
+    }
+    if (2 * work >= p.value_start.back()) return false;
+  }
+  reach.clear();
+  for (int s = 0; s < ns; ++s) {
+    if (mark[s]) reach.push_back(s);
+  }
+  return true;
+}
+
+void ComplexSupernodalSolver::Impl::solve_permuted(Cx* W, Scratch& scr, const char* nonzero) const {
+  const int ns = int(p.super.size()) - 1;
+  const std::size_t rows = std::size_t(max_rows);
+  Cx* T = Scratch::sized(scr.T[0], rows);
+  const bool bins = two_bins();
+  if (forward_reach(nonzero, scr.reach)) {
+    for (const int s : scr.reach) complex_forward_block(block(s), W, T, nullptr, nullptr, 0);
+  } else if (bins) {
+    std::vector<std::function<void()>> jobs;
+    for (int b = 0; b < 2; ++b) {
+      scr.acc[b].assign(std::size_t(split.n_top), Cx{0.0, 0.0});
+      Cx* Tb = Scratch::sized(scr.T[b], rows);
+      jobs.emplace_back([this, W, Tb, b, &scr] {
+        const FlushDenormalsScope no_subnormals;
+        for (const Subtree& st : split.bin[b]) {
+          for (int s = st.first; s <= st.last; ++s) {
+            complex_forward_block(block(s), W, Tb, scr.acc[b].data(), split.top_index.data(),
+                                  st.col_end);
+          }
+        }
+      });
+    }
+    run_parallel(jobs);
+    for (const int s : split.top) {  // the bins' updates of the top's rows: bin 0, then bin 1
+      for (int c = p.super[s]; c < p.super[s + 1]; ++c) {
+        const Cx a0 = scr.acc[0][std::size_t(split.top_index[c])];
+        const Cx a1 = scr.acc[1][std::size_t(split.top_index[c])];
+        W[c] = {(W[c].re + a0.re) + a1.re, (W[c].im + a0.im) + a1.im};
+      }
+    }
+    for (const int s : split.top) complex_forward_block(block(s), W, T, nullptr, nullptr, 0);
+  } else {
+    for (int s = 0; s < ns; ++s) complex_forward_block(block(s), W, T, nullptr, nullptr, 0);
+  }
+  if (!bins) {
+    for (int s = ns - 1; s >= 0; --s) complex_backward_block(block(s), W, T);
+    return;
+  }
+  // the top from its root down, then the two bins side by side: a bin reads its own rows and
+  // the top's (final by then) and writes its own
+  for (auto it = split.top.rbegin(); it != split.top.rend(); ++it) {
+    complex_backward_block(block(*it), W, T);
+  }
+  std::vector<std::function<void()>> jobs;
+  for (int b = 0; b < 2; ++b) {
+    Cx* Zb = Scratch::sized(scr.T[b], rows);
+    jobs.emplace_back([this, W, Zb, b] {
+      const FlushDenormalsScope no_subnormals;
+      const auto& bin = split.bin[b];
+      for (auto st = bin.rbegin(); st != bin.rend(); ++st) {
+        for (int s = st->last; s >= st->first; --s) complex_backward_block(block(s), W, Zb);
+      }
+    });
+  }
+  run_parallel(jobs);
+}
+
+ComplexSupernodalSolver::ComplexSupernodalSolver(SupernodalPattern pattern,
+                                                 const std::complex<double>* values)
+    : impl_(std::make_unique<Impl>()) {
+  check_pattern(pattern);
+  Impl& im = *impl_;
+  im.p = std::move(pattern);
+  im.values = reinterpret_cast<const Cx*>(values);
+  const int ns = int(im.p.super.size()) - 1;
+  for (int s = 0; s < ns; ++s) {
+    im.max_rows = std::max(im.max_rows, int(im.p.row_start[s + 1] - im.p.row_start[s]));
+  }
+  std::vector<int> first;
+  if (supernodal_tree(im.p, im.col_super, im.parent, first)) {
+    im.split = split_tree(im.p, im.parent, first);
+    im.split_tree = true;
+  }
+}
+
+ComplexSupernodalSolver::~ComplexSupernodalSolver() = default;
+ComplexSupernodalSolver::ComplexSupernodalSolver(ComplexSupernodalSolver&&) noexcept = default;
+ComplexSupernodalSolver& ComplexSupernodalSolver::operator=(ComplexSupernodalSolver&&) noexcept =
+    default;
+
+void ComplexSupernodalSolver::solve(const std::complex<double>* b, std::complex<double>* x,
+                                    Eigen::Index cols) const {
+  const Impl& im = *impl_;
+  const Eigen::Index n = im.p.n;
+  std::unique_lock<std::mutex> lock(im.workspace_mutex, std::try_to_lock);
+  Impl::Scratch own;
+  Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
+  Cx* W = Impl::Scratch::sized(scr.W, std::size_t(n));
+  char* nonzero = Impl::Scratch::sized(scr.nonzero, std::size_t(n));
+  const std::vector<int>& perm = im.p.perm;
+  const FlushDenormalsScope no_subnormals;
+  for (Eigen::Index j = 0; j < cols; ++j) {
+    const Cx* bj = reinterpret_cast<const Cx*>(b) + j * n;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      W[i] = bj[perm[i]];
+      nonzero[i] = W[i].re != 0.0 || W[i].im != 0.0;
+    }
+    im.solve_permuted(W, scr, nonzero);
+    Cx* xj = reinterpret_cast<Cx*>(x) + j * n;
+    for (Eigen::Index i = 0; i < n; ++i) xj[perm[i]] = W[i];
+  }
+}
+
+std::size_t ComplexSupernodalSolver::bytes_per_pass() const {
+  const Impl& im = *impl_;
+  return std::size_t(im.p.value_start.back()) * sizeof(Cx) + im.p.rows.size() * sizeof(int);
+}
+
+bool ComplexSupernodalSolver::split() const { return impl_->two_bins(); }
+
 }  // namespace ifem::solvers

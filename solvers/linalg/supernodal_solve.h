@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <complex>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -87,6 +88,42 @@ class SupernodalSolver {
   bool split(Eigen::Index cols = 1) const;
   /// Share of the factor's entries in the serial top of the tree (0 without a split).
   double top_share() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Forward and backward substitution with a complex supernodal factor, P A Pᵀ = L Lᴴ (A Hermitian
+/// positive definite), in the layout of SupernodalPattern with complex values (CHOLMOD's complex
+/// supernodal factor: interleaved (re, im) pairs, a real positive diagonal). The values are read
+/// where they are, not copied: the caller keeps them alive and unchanged while the solver lives.
+/// The elimination tree is split as SupernodalSolver's; a solve whose factor is large (entries ≥
+/// SupernodalSolver::kParallelEntries / 2, postordered) runs the backward pass, and a dense
+/// forward pass, over the two bins on two threads (unless the caller is itself one of
+/// run_parallel()'s jobs); a right-hand side whose nonzero rows reach less than half of the
+/// factor (point sources) runs its forward pass on those rows' supernodes and their ancestors
+/// only. The choices depend on the factor and the right-hand side's nonzero rows only, so
+/// results are bitwise the same with one thread or two. solve() is const and may run
+/// concurrently from several threads.
+class ComplexSupernodalSolver {
+ public:
+  /// @param values value_start.back() complex entries, viewed (not copied)
+  /// @throws InvalidInput if the pattern is inconsistent (sizes, ranges, a parent before its
+  ///         child)
+  ComplexSupernodalSolver(SupernodalPattern pattern, const std::complex<double>* values);
+  ~ComplexSupernodalSolver();
+  ComplexSupernodalSolver(ComplexSupernodalSolver&&) noexcept;
+  ComplexSupernodalSolver& operator=(ComplexSupernodalSolver&&) noexcept;
+
+  /// Solves A X = B for `cols` columns stored column-major at b (n × cols) into x (may alias b),
+  /// one column after the other.
+  void solve(const std::complex<double>* b, std::complex<double>* x, Eigen::Index cols) const;
+  /// Bytes one pass over the factor reads (values and row indices): a solve makes two passes.
+  std::size_t bytes_per_pass() const;
+  /// True when a solve runs its backward pass over the two bins.
+  bool split() const;
 
   struct Impl;
 

@@ -273,7 +273,7 @@ VectorHeatSolver vector_heat_solver(const PreparedSurface& s) {
   if (on_frame_path(s, "the vector heat method (transport, log map)")) {
     return VectorHeatSolver(s.tri, s.input.positions, frame_basis_3d(s.input, s.tri), o);
   }
-  return VectorHeatSolver(s.tri, o);
+  return VectorHeatSolver(s.tri, s.input, o);  // keeps the 3D bases for transport_on()
 }
 
 Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& solver,
@@ -284,9 +284,12 @@ Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& 
     throw InvalidInput("transport: source " + std::to_string(source) + " out of range [0, " +
                        std::to_string(nv) + ")");
   }
-  const TangentBasis3d basis =
-      solver.on_frames() ? solver.frame_basis()
-                         : tangent_basis_3d(s.input, solver.triangulation(), solver.frames());
+  // the solver's own bases (vector_heat_solver(s) builds them once); rebuilt for a solver made
+  // without the input
+  TangentBasis3d rebuilt;
+  const bool kept = solver.basis_3d().e1.rows() == nv;
+  if (!kept) rebuilt = tangent_basis_3d(s.input, solver.triangulation(), solver.frames());
+  const TangentBasis3d& basis = kept ? solver.basis_3d() : rebuilt;
   const std::complex<double> z(vector.dot(basis.e1.row(source).transpose()),
                                vector.dot(basis.e2.row(source).transpose()));
   if (!std::isfinite(std::abs(z)) || std::abs(z) <= 1e-12 * vector.norm() || vector.norm() == 0) {

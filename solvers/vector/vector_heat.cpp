@@ -67,6 +67,7 @@ struct VectorHeatSolver::Impl {
   fem::TangentFrames frames;   // intrinsic path
   std::optional<FramePath> frame_path;
   TangentBasis3d no_basis;         // what frame_basis() returns on the intrinsic path
+  TangentBasis3d basis3d;          // intrinsic path built with an input: its 3D bases
   Eigen::VectorXcd halfedge_unit;  // e^{iθ_h}: the direction of h at its tail, #H
   Components comps;
   Eigen::VectorXd mass;
@@ -159,7 +160,12 @@ void VectorHeatSolver::Impl::factor() {
     A.makeCompressed();
     // AMD at one BLAS thread (run_parallel's), beside the real factor: the fastest of the
     // measured choices (docs/decisions.md, "Vector heat: complex Cholesky")
-    vector_heat.emplace(A, CholeskyOptions{});
+    // solves by our kernel on CHOLMOD's factor in place: a transport's point source runs the
+    // forward pass on its ancestors only, the backward pass on two threads (docs/decisions.md
+    // D-109)
+    CholeskyOptions chol;
+    chol.solve_kernel = CholeskyOptions::SolveKernel::kSupernodalDouble;
+    vector_heat.emplace(A, chol);
   };
   auto scalar_job = [this, &L] {
     comps = connected_components(tri);
@@ -227,6 +233,13 @@ VectorHeatSolver::VectorHeatSolver(const IntrinsicTriangulation& tri_in, const P
   impl_->construct(tri_in, options);
 }
 
+VectorHeatSolver::VectorHeatSolver(const IntrinsicTriangulation& tri_in,
+                                   const io::SurfaceInput& input, const VectorHeatOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->construct(tri_in, options);
+  impl_->basis3d = tangent_basis_3d(input, impl_->tri, impl_->frames);
+}
+
 VectorHeatSolver::~VectorHeatSolver() = default;
 VectorHeatSolver::VectorHeatSolver(VectorHeatSolver&&) noexcept = default;
 VectorHeatSolver& VectorHeatSolver::operator=(VectorHeatSolver&&) noexcept = default;
@@ -236,6 +249,9 @@ const fem::TangentFrames& VectorHeatSolver::frames() const { return impl_->frame
 bool VectorHeatSolver::on_frames() const { return impl_->frame_path.has_value(); }
 const TangentBasis3d& VectorHeatSolver::frame_basis() const {
   return impl_->frame_path ? impl_->frame_path->basis : impl_->no_basis;
+}
+const TangentBasis3d& VectorHeatSolver::basis_3d() const {
+  return impl_->frame_path ? impl_->frame_path->basis : impl_->basis3d;
 }
 double VectorHeatSolver::length_scale() const { return impl_->scale; }
 double VectorHeatSolver::time_step() const { return impl_->t * impl_->scale * impl_->scale; }
@@ -286,8 +302,12 @@ Eigen::VectorXcd VectorHeatSolver::transport(const std::vector<VectorSource>& so
   const Index nv = im.tri.n_vertices();
   std::vector<char> seen(nv, 0), source_component(im.comps.count, 0);
   Eigen::VectorXcd y0 = Eigen::VectorXcd::Zero(nv);
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(nv, 2);  // |vector| and 1 at the sources
   bool one_length = true;
+  for (const VectorSource& s : sources) {
+    one_length = one_length && std::abs(s.vector) == std::abs(sources[0].vector);
+  }
+  // |vector| and 1 at the sources, for the magnitudes' scalar heat (none for one length)
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(one_length ? 0 : nv, 2);
   for (std::size_t k = 0; k < sources.size(); ++k) {
     const std::string name = "vector heat transport: sources[" + std::to_string(k) + "]";
     const Index v = sources[k].vertex;
@@ -299,9 +319,7 @@ Eigen::VectorXcd VectorHeatSolver::transport(const std::vector<VectorSource>& so
     }
     if (!(len > 0.0)) throw InvalidInput(name + ".vector is zero (a source needs a direction)");
     y0[v] = z / len;
-    b(v, 0) = len;
-    b(v, 1) = 1.0;
-    one_length = one_length && len == std::abs(sources[0].vector);
+    if (!one_length) b(v, 0) = len, b(v, 1) = 1.0;
   }
   const Eigen::VectorXcd y = im.vector_heat->solve(y0);
   VectorHeatReport rep;

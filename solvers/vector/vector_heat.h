@@ -158,6 +158,12 @@ class VectorHeatSolver {
   ///         tri.n_vertices() rows
   VectorHeatSolver(const intrinsic::IntrinsicTriangulation& tri, const Positions& positions,
                    const TangentBasis3d& basis, const VectorHeatOptions& options = {});
+  /// The intrinsic path, with the 3D tangent bases of its angular coordinates built once here
+  /// (tangent_basis_3d(input, triangulation(), frames())) and kept: basis_3d(). input: the
+  /// surface tri was built from (its vertices are tri's first input.positions.rows()).
+  /// @throws as the first constructor, and as tangent_basis_3d()
+  VectorHeatSolver(const intrinsic::IntrinsicTriangulation& tri, const io::SurfaceInput& input,
+                   const VectorHeatOptions& options = {});
   ~VectorHeatSolver();
   VectorHeatSolver(VectorHeatSolver&&) noexcept;
   VectorHeatSolver& operator=(VectorHeatSolver&&) noexcept;
@@ -210,6 +216,9 @@ class VectorHeatSolver {
   bool on_frames() const;
   /// The frame path's 3D frames (empty on the intrinsic path).
   const TangentBasis3d& frame_basis() const;
+  /// The 3D tangent bases that place results in space: frame_basis() on the frame path; on the
+  /// intrinsic path those built by the constructor with an input, else empty (0 rows).
+  const TangentBasis3d& basis_3d() const;
   /// The heat time step t = m·h² (squared length units).
   double time_step() const;
 
