@@ -66,6 +66,12 @@ bool on_frame_path(const PreparedSurface& s, const char* what) {
   return true;
 }
 
+// The signposts of a refined surface, for the 3D bases of input vertices whose neighbours are
+// all inserted vertices (tangent_basis_3d); none otherwise.
+const intrinsic::SignpostTriangulation* signposts_of(const PreparedSurface& s) {
+  return s.signposts ? &*s.signposts : nullptr;
+}
+
 // The field's singular faces added to their lowest corner (input vertices only).
 void add_singularities(const std::vector<Triangle>& faces, const Eigen::VectorXi& index, Index nv,
                        TangentFieldResult& r) {
@@ -159,7 +165,7 @@ TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldOptio
   o.validate();
   if (on_frame_path(s, "a direction field")) return frame_field(s, settings, o);
   const fem::TangentFrames frames = fem::tangent_frames(s.tri);
-  const TangentBasis3d basis = tangent_basis_3d(s.input, s.tri, frames);
+  const TangentBasis3d basis = tangent_basis_3d(s.input, s.tri, frames, signposts_of(s));
   const std::vector<DirectionConstraint> held = held_directions(s, settings, basis, frames);
   const DirectionField f =
       held.empty() ? smoothest_field(s.tri, frames, o) : aligned_field(s.tri, frames, held, o);
@@ -191,8 +197,9 @@ Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& 
                        std::to_string(nv) + ")");
   }
   const TangentBasis3d basis =
-      solver.on_frames() ? solver.frame_basis()
-                         : tangent_basis_3d(s.input, solver.triangulation(), solver.frames());
+      solver.on_frames()
+          ? solver.frame_basis()
+          : tangent_basis_3d(s.input, solver.triangulation(), solver.frames(), signposts_of(s));
   const std::complex<double> z(vector.dot(basis.e1.row(source).transpose()),
                                vector.dot(basis.e2.row(source).transpose()));
   if (!std::isfinite(std::abs(z)) || std::abs(z) <= 1e-12 * vector.norm() || vector.norm() == 0) {

@@ -68,6 +68,8 @@ struct TangentFieldResult {
 /// The smoothest n-direction field on s (intrinsic Delaunay, refined or not), through the given
 /// directions and, when asked, along the boundary; components without any constraint get
 /// their globally smoothest field.
+/// Its 3D vectors are in tangent_basis_3d()'s bases, with s.signposts when refined (so right at
+/// every input vertex, those whose neighbours are all inserted vertices included).
 /// On the frame path (tufted, point cloud) the field lives in frame_basis_3d()'s frames.
 /// @throws InvalidInput on bad settings, a vertex out of [0, #V_in), a direction normal to the
 ///         surface there, align_boundary off the manifold path, or a refined surface off the
@@ -99,8 +101,9 @@ VectorHeatSolver vector_heat_solver(const PreparedSurface& s);
 /// Parallel transport of a 3D vector given at input vertex `source` (projected to its tangent
 /// plane, keeping its length) to every input vertex, as 3D tangent vectors (#V_in×3; 0 where no
 /// source reaches), in the tangent planes of the solver's bases (tangent_basis_3d() on the
-/// manifold path, solver.frame_basis() on the frame path).
-/// @throws InvalidInput on a source out of range or a vector normal to the surface there
+/// manifold path, with s.signposts when refined; solver.frame_basis() on the frame path).
+/// @throws InvalidInput on a source out of range or a vector normal to the surface there, or a
+///         solver whose triangulation is not s.tri's (when s has signposts)
 Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& solver,
                               Index source, const Eigen::Vector3d& vector,
                               VectorHeatReport* report = nullptr);
