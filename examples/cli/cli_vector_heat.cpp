@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <string>
 
 #include "cli.h"
+#include "cli_refine.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
 #include "intrinsic/io/tokens.h"
@@ -30,8 +32,12 @@ Eigen::Vector3d parse_vector(const std::string& text) {
   return v;
 }
 
-// Prepares the surface and the solver, with one progress line.
-PreparedSurface prepared(const Args& args) { return prepare_surface(args.positional()[0], args); }
+// Prepares the surface (refined with --refine), with one progress line.
+PreparedSurface prepared(const Args& args) {
+  std::optional<solvers::SurfaceRefineOptions> refine;
+  if (args.has("refine")) refine = refine_settings(args, 0.0, false);
+  return prepare_surface(args.positional()[0], args, refine);
+}
 
 int run_transport(const Args& args) {
   const ResultOutput out = result_output(args);
@@ -120,7 +126,9 @@ Command transport_command() {
       "On nonmanifold meshes (the tufted cover) and point clouds the vectors live in\n"
       "per-vertex frames from the normals (faces' or given ones, else PCA of the\n"
       "neighbours), oriented consistently by propagation; the transport between\n"
-      "neighbours is the minimal rotation of their normals (no --refine there).\n";
+      "neighbours is the minimal rotation of their normals (no --refine there).\n"
+      "With --refine the method runs on the refined triangulation; the vectors are\n"
+      "written at the input's vertices, in the directions the signposts place them in.\n";
   c.spec.groups = {
       {"Options",
        {source_option(), text("vector", "X,Y,Z").mandatory().explain("the vector at the source"),
@@ -128,7 +136,9 @@ Command transport_command() {
             .short_alias('o')
             .mandatory()
             .with_extensions({".ply", ".txt"})
-            .explain("OUT.ply (mesh + fx fy fz) or OUT.txt ('x y z' lines)")}},
+            .explain("OUT.ply (mesh + fx fy fz) or OUT.txt ('x y z' lines)"),
+        flag("refine").explain("intrinsic Delaunay refinement first (options below)")}},
+      refine_options_group(0.0),
       surface_options()};
   c.spec.epilogue = "example: ifem transport spot.obj --source 0 --vector 1,0,0 -o t.ply\n";
   c.run = run_transport;
@@ -181,7 +191,9 @@ Command logmap_command() {
             .short_alias('o')
             .mandatory()
             .with_extensions({".ply", ".txt"})
-            .explain("OUT.ply (mesh + u v distance) or OUT.txt")}},
+            .explain("OUT.ply (mesh + u v distance) or OUT.txt"),
+        flag("refine").explain("intrinsic Delaunay refinement first (options below)")}},
+      refine_options_group(0.0),
       surface_options()};
   c.spec.epilogue = "example: ifem logmap spot.obj --source 0 -o spot_logmap.ply\n";
   c.run = run_logmap;

@@ -300,17 +300,7 @@ FlipReport SignpostTriangulation::flip_to_delaunay_from(std::vector<Index> queue
 // ---------------------------------------------------------------------------------------------
 // Tracing over the input
 
-TraceResult SignpostTriangulation::trace_from_vertex(Index v, double phi, double distance,
-                                                     bool record) const {
-  const Index cap = trace_cap(input_);
-  Eigen::Vector2d p[3];
-  if (v >= n_input_vertices()) {
-    const SurfacePoint& s = location_[v];
-    const double a = frame_[v] + phi;
-    return trace_straight(input_, s, Eigen::Vector2d(std::cos(a), std::sin(a)), distance, -1, true,
-                          record, cap);
-  }
-  // the wedge of the input fan at v that contains direction phi
+Index SignpostTriangulation::input_wedge(Index v, double phi) const {
   const Index h0 = input_.vertex_halfedge(v);
   if (h0 == kInvalidIndex) {
     throw InvalidInput("trace: vertex " + std::to_string(v) + " has no faces");
@@ -353,17 +343,64 @@ TraceResult SignpostTriangulation::trace_from_vertex(Index v, double phi, double
     }
     if (found == kInvalidIndex) found = h0;
   }
-  const double alpha = std::clamp(phi - input_direction_[found], 0.0, input_corner_[found]);
-  const Index f = T::face(found);
-  const int s = T::side(found);
-  face_layout(input_, f, p);
+  return found;
+}
+
+// The unit direction at the corner of input halfedge `wedge` (at its tail) turned by alpha
+// (clamped to the corner) from the wedge's side, in its face's layout.
+Eigen::Vector2d SignpostTriangulation::wedge_direction(Index wedge, double alpha) const {
+  Eigen::Vector2d p[3];
+  alpha = std::clamp(alpha, 0.0, input_corner_[wedge]);
+  const int s = T::side(wedge);
+  face_layout(input_, T::face(wedge), p);
   const Eigen::Vector2d e = (p[(s + 1) % 3] - p[s]).normalized();
   const Eigen::Vector2d eperp(-e.y(), e.x());
+  return std::cos(alpha) * e + std::sin(alpha) * eperp;
+}
+
+TraceResult SignpostTriangulation::trace_from_vertex(Index v, double phi, double distance,
+                                                     bool record) const {
+  const Index cap = trace_cap(input_);
+  if (v >= n_input_vertices()) {
+    const SurfacePoint& s = location_[v];
+    const double a = frame_[v] + phi;
+    return trace_straight(input_, s, Eigen::Vector2d(std::cos(a), std::sin(a)), distance, -1, true,
+                          record, cap);
+  }
+  // the wedge of the input fan at v that contains direction phi
+  const Index found = input_wedge(v, phi);
+  const int s = T::side(found);
   SurfacePoint start;
-  start.face = f;
+  start.face = T::face(found);
   start.bary[s] = 1.0;
-  return trace_straight(input_, start, std::cos(alpha) * e + std::sin(alpha) * eperp, distance, s,
-                        true, record, cap);
+  return trace_straight(input_, start, wedge_direction(found, phi - input_direction_[found]),
+                        distance, s, true, record, cap);
+}
+
+Eigen::Vector3d SignpostTriangulation::halfedge_direction_3d(Index h) const {
+  if (h < 0 || h >= tri_.n_halfedges()) {
+    throw InvalidInput("halfedge_direction_3d: halfedge " + std::to_string(h) +
+                       " out of range [0, " + std::to_string(tri_.n_halfedges()) + ")");
+  }
+  const Index v = tri_.tail(h);
+  Index f = kInvalidIndex;
+  Eigen::Vector2d d;
+  if (v >= n_input_vertices()) {
+    f = location_[v].face;
+    const double a = frame_[v] + direction_[h];
+    d = Eigen::Vector2d(std::cos(a), std::sin(a));
+  } else {
+    const Index wedge = input_wedge(v, direction_[h]);
+    f = T::face(wedge);
+    d = wedge_direction(wedge, direction_[h] - input_direction_[wedge]);
+  }
+  // the layout's direction as barycentric velocity, then through the 3D corners
+  Eigen::Vector2d p[3];
+  face_layout(input_, f, p);
+  const Eigen::Vector3d db = barycentric_velocity(p, d);
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) x += db[k] * positions_.row(input_.tail(3 * f + k)).transpose();
+  return x.normalized();
 }
 
 void SignpostTriangulation::locate_from(Index h, Index v, double direction_v_to_u) {

@@ -133,6 +133,14 @@ class SignpostTriangulation {
   Eigen::Vector3d position(const SurfacePoint& p) const;
   /// 3D positions of all intrinsic vertices.
   Positions vertex_positions() const;
+  /// Unit 3D direction in which intrinsic halfedge h leaves its tail over the input surface, in
+  /// the plane of the input face where its straight line starts: at an input vertex the wedge of
+  /// the input fan that holds its signpost (as trace_halfedge() starts), at an inserted vertex
+  /// the face of its location. The face's layout is mapped affinely onto its 3D triangle: exact
+  /// when the input was not mollified (else off by about the relative change of that face's
+  /// lengths). No tracing: O(degree of the tail in the input).
+  /// @throws InvalidInput if h is out of range or its tail has no input faces
+  Eigen::Vector3d halfedge_direction_3d(Index h) const;
 
   // ===== Operations (all keep the signposts up to date) =====
 
@@ -206,6 +214,10 @@ class SignpostTriangulation {
                        std::vector<double>& sum, std::vector<char>& boundary) const;
   double wrap(Index v, double a) const;
   void add_vertex_records();
+  /// The outgoing input halfedge at input vertex v whose corner (wedge) holds direction phi.
+  Index input_wedge(Index v, double phi) const;
+  /// The unit direction alpha into the corner of input halfedge `wedge`, in its face's layout.
+  Eigen::Vector2d wedge_direction(Index wedge, double alpha) const;
   /// Starts a trace over the input at intrinsic vertex v in signpost direction phi.
   TraceResult trace_from_vertex(Index v, double phi, double distance, bool record) const;
   /// Locates vertex v (just inserted) by tracing from neighbour u along halfedge h = u→v.

@@ -82,6 +82,8 @@ struct TangentFieldResult {
 /// directions and, when asked, along the boundary; components without any constraint get
 /// their globally smoothest field, each on its own (any number of components: a triangle soup
 /// works), and components without area in space get none (TangentFieldResult::empty_components).
+/// Its 3D vectors are in tangent_basis_3d()'s bases, with s.signposts when refined (so right at
+/// every input vertex, those whose neighbours are all inserted vertices included).
 /// On the frame path (tufted, point cloud) the field lives in frame_basis_3d()'s frames.
 /// @throws InvalidInput on bad settings, a vertex out of [0, #V_in), a direction normal to the
 ///         surface there, align_boundary on a point cloud, or a refined surface off the
@@ -112,12 +114,13 @@ VectorHeatSolver vector_heat_solver(const PreparedSurface& s);
 
 /// Parallel transport of a 3D vector given at input vertex `source` (projected to its tangent
 /// plane, keeping its length) to every input vertex, as 3D tangent vectors (#V_in×3), in the
-/// tangent planes of the solver's bases (tangent_basis_3d() on the manifold path,
-/// solver.frame_basis() on the frame path). Finite at every vertex the source reaches; NaN
-/// (all three coordinates) where it does not: other connected components (a triangle soup's
+/// tangent planes of the solver's bases (tangent_basis_3d() on the manifold path, with
+/// s.signposts when refined; solver.frame_basis() on the frame path). Finite at every vertex
+/// the source reaches; NaN (all three coordinates) where it does not: other connected components (a triangle soup's
 /// other pieces), unreferenced vertices, and where the heat underflowed, as the report counts
 /// (unreached_vertices + unresolved_vertices); heat distance writes inf there.
-/// @throws InvalidInput on a source out of range or a vector normal to the surface there
+/// @throws InvalidInput on a source out of range or a vector normal to the surface there, or a
+///         solver whose triangulation is not s.tri's (when s has signposts)
 Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& solver,
                               Index source, const Eigen::Vector3d& vector,
                               VectorHeatReport* report = nullptr);

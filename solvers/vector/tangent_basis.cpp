@@ -131,25 +131,43 @@ void check_basis_inputs(const Positions& positions, const std::vector<Triangle>&
 
 namespace {
 
-// The chord from tail(h) to head(h) projected to the tail's tangent plane (unit normals).
-Eigen::Vector3d projected_chord(const Positions& p, const IntrinsicTriangulation& tri,
-                                const Eigen::MatrixX3d& normal, Index h) {
-  const Index v = tri.tail(h);
-  const Eigen::Vector3d nv = normal.row(v).transpose();
-  const Eigen::Vector3d d = (p.row(tri.head(h)) - p.row(v)).transpose();
-  return d - d.dot(nv) * nv;
-}
+// The direction in which halfedge h leaves its tail (an input vertex), projected to the tail's
+// tangent plane (unit normals), not normalized; zero where it is not known: with signposts their
+// exact 3D direction, else the chord to the head when that is another input vertex.
+class TangentDirections {
+ public:
+  TangentDirections(const Positions& p, const IntrinsicTriangulation& tri,
+                    const Eigen::MatrixX3d& normal, const intrinsic::SignpostTriangulation* st)
+      : p_(p), tri_(tri), normal_(normal), st_(st) {}
 
-// Per positioned vertex, the outgoing halfedge that fixes e1: the reference halfedge when its
-// head has a position (and a chord off the normal), else such a halfedge of smallest angle;
+  Eigen::Vector3d operator()(Index h) const {
+    const Index v = tri_.tail(h), w = tri_.head(h);
+    Eigen::Vector3d d;
+    if (st_ != nullptr) {
+      d = st_->halfedge_direction_3d(h);
+    } else if (w < p_.rows() && w != v) {
+      d = (p_.row(w) - p_.row(v)).transpose();
+    } else {
+      return Eigen::Vector3d::Zero();
+    }
+    const Eigen::Vector3d nv = normal_.row(v).transpose();
+    const Eigen::Vector3d t = d - d.dot(nv) * nv;
+    return t.allFinite() ? t : Eigen::Vector3d::Zero();
+  }
+
+ private:
+  const Positions& p_;
+  const IntrinsicTriangulation& tri_;
+  const Eigen::MatrixX3d& normal_;
+  const intrinsic::SignpostTriangulation* st_;
+};
+
+// Per input vertex, the outgoing halfedge that fixes e1: the reference halfedge when its
+// direction is known (and off the normal), else such a halfedge of smallest angle;
 // kInvalidIndex when there is none.
-std::vector<Index> anchors(const Positions& p, const IntrinsicTriangulation& tri,
-                           const fem::TangentFrames& frames, const Eigen::MatrixX3d& normal) {
-  const Index n = static_cast<Index>(p.rows());
-  auto usable = [&](Index h) {
-    const Index w = tri.head(h);
-    return w < n && w != tri.tail(h) && projected_chord(p, tri, normal, h).norm() > 0.0;
-  };
+std::vector<Index> anchors(Index n, const IntrinsicTriangulation& tri,
+                           const fem::TangentFrames& frames, const TangentDirections& direction) {
+  auto usable = [&](Index h) { return direction(h).norm() > 0.0; };
   std::vector<Index> anchor(static_cast<std::size_t>(n), kInvalidIndex);
   for (Index v = 0; v < n; ++v) {
     const Index h = tri.vertex_halfedge(v);
@@ -157,28 +175,32 @@ std::vector<Index> anchors(const Positions& p, const IntrinsicTriangulation& tri
   }
   for (Index h = 0; h < tri.n_halfedges(); ++h) {
     const Index v = tri.tail(h);
-    if (v >= n || !usable(h)) continue;
+    if (v >= n) continue;
     const Index a = anchor[v];
-    if (a == kInvalidIndex ||
-        (a != tri.vertex_halfedge(v) && frames.halfedge_angle[h] < frames.halfedge_angle[a])) {
+    if (a != kInvalidIndex && a == tri.vertex_halfedge(v)) continue;
+    if ((a == kInvalidIndex || frames.halfedge_angle[h] < frames.halfedge_angle[a]) && usable(h)) {
       anchor[v] = h;
     }
   }
   return anchor;
 }
 
-// Per vertex, > 0 when the chords turn counter-clockwise about the normal as the angles grow:
-// Σ_h sin(θ_h − θ_anchor) · sin(angle from the anchor's chord to h's, about the normal).
-Eigen::VectorXd orientation_votes(const Positions& p, const IntrinsicTriangulation& tri,
+// Per vertex, > 0 when the directions turn counter-clockwise about the normal as the angles grow:
+// Σ_h sin(θ_h − θ_anchor) · sin(angle from the anchor's direction to h's, about the normal).
+Eigen::VectorXd orientation_votes(Index n, const IntrinsicTriangulation& tri,
                                   const fem::TangentFrames& frames, const Eigen::MatrixX3d& normal,
+                                  const TangentDirections& direction,
                                   const std::vector<Index>& anchor) {
-  const Index n = static_cast<Index>(p.rows());
   Eigen::VectorXd vote = Eigen::VectorXd::Zero(n);
+  Eigen::MatrixX3d anchor_direction = Eigen::MatrixX3d::Zero(n, 3);
+  for (Index v = 0; v < n; ++v) {
+    if (anchor[v] != kInvalidIndex) anchor_direction.row(v) = direction(anchor[v]).transpose();
+  }
   for (Index h = 0; h < tri.n_halfedges(); ++h) {
-    const Index v = tri.tail(h), w = tri.head(h);
-    if (v >= n || w >= n || v == w || anchor[v] == kInvalidIndex) continue;
-    const Eigen::Vector3d a = projected_chord(p, tri, normal, anchor[v]);
-    const Eigen::Vector3d d = projected_chord(p, tri, normal, h);
+    const Index v = tri.tail(h);
+    if (v >= n || anchor[v] == kInvalidIndex || h == anchor[v]) continue;
+    const Eigen::Vector3d a = anchor_direction.row(v).transpose();
+    const Eigen::Vector3d d = direction(h);
     const double norms = a.norm() * d.norm();
     if (!(norms > 0.0)) continue;
     const double s = std::sin(frames.halfedge_angle[h] - frames.halfedge_angle[anchor[v]]);
@@ -187,13 +209,30 @@ Eigen::VectorXd orientation_votes(const Positions& p, const IntrinsicTriangulati
   return vote;
 }
 
+// With signposts: they must be those of tri (same vertices, halfedges and tails) over an input of
+// n vertices.
+void check_signposts(const intrinsic::SignpostTriangulation& st, const IntrinsicTriangulation& tri,
+                     Index n) {
+  const IntrinsicTriangulation& t = st.intrinsic();
+  bool same = st.n_input_vertices() == n && t.n_vertices() == tri.n_vertices() &&
+              t.n_halfedges() == tri.n_halfedges();
+  for (Index h = 0; same && h < tri.n_halfedges(); ++h) same = t.tail(h) == tri.tail(h);
+  if (!same) {
+    throw InvalidInput("tangent_basis_3d: the signposts are not those of the triangulation (" +
+                       str(t.n_vertices()) + " vertices, " + str(st.n_input_vertices()) +
+                       " input ones, against " + str(tri.n_vertices()) + " and " + str(n) + ")");
+  }
+}
+
 }  // namespace
 
 TangentBasis3d tangent_basis_3d(const Positions& p, const std::vector<Triangle>& triangles,
                                 const Eigen::MatrixX3d& normals, const IntrinsicTriangulation& tri,
-                                const fem::TangentFrames& frames) {
+                                const fem::TangentFrames& frames,
+                                const intrinsic::SignpostTriangulation* signposts) {
   check_basis_inputs(p, triangles, normals, tri, frames);
   const Index n = static_cast<Index>(p.rows());
+  if (signposts != nullptr) check_signposts(*signposts, tri, n);
   TangentBasis3d b;
   b.normal = raw_normals(p, triangles, normals, tri);
   std::vector<char> fallback(static_cast<std::size_t>(n), 0);
@@ -206,8 +245,9 @@ TangentBasis3d tangent_basis_3d(const Positions& p, const std::vector<Triangle>&
       fallback[v] = 1;
     }
   }
-  const std::vector<Index> anchor = anchors(p, tri, frames, b.normal);
-  const Eigen::VectorXd vote = orientation_votes(p, tri, frames, b.normal, anchor);
+  const TangentDirections direction(p, tri, b.normal, signposts);
+  const std::vector<Index> anchor = anchors(n, tri, frames, direction);
+  const Eigen::VectorXd vote = orientation_votes(n, tri, frames, b.normal, direction, anchor);
   b.e1.resize(n, 3);
   b.e2.resize(n, 3);
   for (Index v = 0; v < n; ++v) {
@@ -217,8 +257,8 @@ TangentBasis3d tangent_basis_3d(const Positions& p, const std::vector<Triangle>&
     if (anchor[v] == kInvalidIndex) {
       e1 = any_orthogonal(nv);
       fallback[v] = 1;
-    } else {  // the anchor's chord turned back by its angle to angle 0
-      const Eigen::Vector3d a = projected_chord(p, tri, b.normal, anchor[v]).normalized();
+    } else {  // the anchor's direction turned back by its angle to angle 0
+      const Eigen::Vector3d a = direction(anchor[v]).normalized();
       const double theta = frames.halfedge_angle[anchor[v]];
       e1 = std::cos(theta) * a - std::sin(theta) * nv.cross(a);
     }
@@ -230,8 +270,9 @@ TangentBasis3d tangent_basis_3d(const Positions& p, const std::vector<Triangle>&
 }
 
 TangentBasis3d tangent_basis_3d(const io::SurfaceInput& input, const IntrinsicTriangulation& tri,
-                                const fem::TangentFrames& frames) {
-  return tangent_basis_3d(input.positions, input.triangles, input.normals, tri, frames);
+                                const fem::TangentFrames& frames,
+                                const intrinsic::SignpostTriangulation* signposts) {
+  return tangent_basis_3d(input.positions, input.triangles, input.normals, tri, frames, signposts);
 }
 
 // --- frames for the frame path ------------------------------------------------------------------

@@ -11,6 +11,7 @@
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/core/types.h"
 #include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/signpost.h"
 
 namespace ifem::solvers {
 
@@ -19,8 +20,9 @@ struct TangentBasis3d {
   Eigen::MatrixX3d normal;  ///< #V_in×3 unit normal (sign: the faces' counter-clockwise side)
   Eigen::MatrixX3d e1;      ///< #V_in×3 unit, ⟂ normal: the direction of angle 0
   Eigen::MatrixX3d e2;      ///< #V_in×3 normal × e1: the direction of angle π/2
-  /// Vertices whose basis is a fallback: no intrinsic neighbour with a position (e1 is then an
-  /// arbitrary tangent direction), or no usable normal (a degenerate neighbourhood: normal z).
+  /// Vertices whose basis is a fallback: no outgoing halfedge with a known direction (without
+  /// signposts: no intrinsic neighbour with a position; e1 is then an arbitrary tangent
+  /// direction), or no usable normal (a degenerate neighbourhood: normal z).
   Index fallback_vertices = 0;
   /// frame_basis_3d(): neighbour pairs whose oriented normals disagree (n_i·n_j < 0).
   Index orientation_conflicts = 0;
@@ -33,22 +35,32 @@ struct TangentBasis3d {
 ///    of the vertex and its intrinsic neighbours. Its sign is then chosen so that the intrinsic
 ///    fan turns counter-clockwise about it (a vote over the outgoing halfedges), which makes it
 ///    agree with the angular coordinates even where the input's faces were reoriented.
-///  - e1: the direction of the vertex's reference halfedge (tri.vertex_halfedge(v)) towards its
-///    head's position, projected to the tangent plane; when the head is an inserted vertex (no
-///    position), the first outgoing halfedge with an input head, rotated back by its angle.
+///  - e1: the direction in which the vertex's reference halfedge (tri.vertex_halfedge(v))
+///    leaves it, projected to the tangent plane. With signposts (tri refined or flipped as a
+///    SignpostTriangulation) that is the halfedge's exact 3D direction on the input surface
+///    (SignpostTriangulation::halfedge_direction_3d(): its signpost placed in the input face
+///    it starts in), known for every halfedge, inserted heads included. Without, it is the
+///    chord towards the head's position; when the head is an inserted vertex (no position),
+///    the first outgoing halfedge with an input head, rotated back by its angle.
 /// @param frames tangent_frames(tri)
+/// @param signposts when tri has inserted vertices, the SignpostTriangulation it comes from
+///        (tri is its intrinsic(), possibly with all lengths scaled): without them an input
+///        vertex whose intrinsic neighbours are all inserted gets an arbitrary e1 (a fallback)
 /// @throws InvalidInput on size mismatches (positions rows > #V, normals neither empty nor
-///         #V_in×3, a triangle index out of range)
+///         #V_in×3, a triangle index out of range), or signposts whose triangulation is not
+///         tri's (other vertex or halfedge counts or tails, or #V_in input vertices)
 TangentBasis3d tangent_basis_3d(const Positions& positions, const std::vector<Triangle>& triangles,
                                 const Eigen::MatrixX3d& normals,
                                 const intrinsic::IntrinsicTriangulation& tri,
-                                const fem::TangentFrames& frames);
+                                const fem::TangentFrames& frames,
+                                const intrinsic::SignpostTriangulation* signposts = nullptr);
 
 /// tangent_basis_3d() of an input as read (its positions, triangles and, for point clouds,
 /// normals).
 TangentBasis3d tangent_basis_3d(const io::SurfaceInput& input,
                                 const intrinsic::IntrinsicTriangulation& tri,
-                                const fem::TangentFrames& frames);
+                                const fem::TangentFrames& frames,
+                                const intrinsic::SignpostTriangulation* signposts = nullptr);
 
 /// Per-vertex 3D frames for the frame path (fem/frame_connection.h: the tufted cover of a
 /// nonmanifold mesh, point clouds), where tangent vectors are x·e1 + y·e2 in space rather than
@@ -85,10 +97,11 @@ TangentBasis3d frame_basis_3d(const io::SurfaceInput& input,
 /// exact where the vertex's fan is flat (angle sum 2π) and its intrinsic edges point along the
 /// projected chords (edges of a planar neighbourhood). At a cone vertex the rescaling spreads
 /// the angle defect 2π − Θ_v over all directions, so a direction is off by at most about
-/// |2π − Θ_v|/2 (O(h²·K), K the Gaussian curvature, on a fine smooth mesh), plus the chord
-/// projection's error of O(h·κ) for a flipped (non-input) reference edge. On vertices with several
-/// fans (nonmanifold vertices, tufted covers, point clouds) the coordinate runs through all fans
-/// one after the other (fem/connection.h), so only directions in the reference fan map right.
+/// |2π − Θ_v|/2 (O(h²·K), K the Gaussian curvature, on a fine smooth mesh), plus, without
+/// signposts, the chord projection's error of O(h·κ) for a flipped (non-input) reference edge. On
+/// vertices with several fans (nonmanifold vertices, tufted covers, point clouds) the coordinate
+/// runs through all fans one after the other (fem/connection.h), so only directions in the
+/// reference fan map right.
 /// @throws InvalidInput if z has fewer entries than the basis
 Eigen::MatrixX3d to_3d(const Eigen::VectorXcd& z, const TangentBasis3d& basis);
 

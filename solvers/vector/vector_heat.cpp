@@ -234,10 +234,11 @@ VectorHeatSolver::VectorHeatSolver(const IntrinsicTriangulation& tri_in, const P
 }
 
 VectorHeatSolver::VectorHeatSolver(const IntrinsicTriangulation& tri_in,
-                                   const io::SurfaceInput& input, const VectorHeatOptions& options)
+                                   const io::SurfaceInput& input, const VectorHeatOptions& options,
+                                   const intrinsic::SignpostTriangulation* signposts)
     : impl_(std::make_unique<Impl>()) {
   impl_->construct(tri_in, options);
-  impl_->basis3d = tangent_basis_3d(input, impl_->tri, impl_->frames);
+  impl_->basis3d = tangent_basis_3d(input, impl_->tri, impl_->frames, signposts);
 }
 
 VectorHeatSolver::~VectorHeatSolver() = default;

@@ -159,11 +159,14 @@ class VectorHeatSolver {
   VectorHeatSolver(const intrinsic::IntrinsicTriangulation& tri, const Positions& positions,
                    const TangentBasis3d& basis, const VectorHeatOptions& options = {});
   /// The intrinsic path, with the 3D tangent bases of its angular coordinates built once here
-  /// (tangent_basis_3d(input, triangulation(), frames())) and kept: basis_3d(). input: the
-  /// surface tri was built from (its vertices are tri's first input.positions.rows()).
+  /// (tangent_basis_3d(input, triangulation(), frames(), signposts)) and kept: basis_3d().
+  /// input: the surface tri was built from (its vertices are tri's first input.positions.rows());
+  /// signposts: tri's signposts when tri was refined (optional; with them the bases are right at
+  /// input vertices whose neighbours are all inserted vertices, tangent_basis_3d()).
   /// @throws as the first constructor, and as tangent_basis_3d()
   VectorHeatSolver(const intrinsic::IntrinsicTriangulation& tri, const io::SurfaceInput& input,
-                   const VectorHeatOptions& options = {});
+                   const VectorHeatOptions& options = {},
+                   const intrinsic::SignpostTriangulation* signposts = nullptr);
   ~VectorHeatSolver();
   VectorHeatSolver(VectorHeatSolver&&) noexcept;
   VectorHeatSolver& operator=(VectorHeatSolver&&) noexcept;

@@ -1,6 +1,6 @@
 """Tangent fields from the command line: `ifem field` (Poincaré–Hopf on spot, unit vectors,
 constraints, refusals), `ifem transport` / `ifem logmap` (the log map on a flat grid against
-the plane's; transport on a flat L, exact at its corners), and all three on the frame path (point clouds, a nonmanifold mesh, spot forced
+the plane's; transport on a flat L, exact at its corners, refined too), and all three on the frame path (point clouds, a nonmanifold mesh, spot forced
 onto the tufted cover)."""
 
 import math
@@ -155,6 +155,34 @@ def test_transport_flat_l(cli):
                "--quiet")
     assert grep("total index 0/4", r.out), r.describe()
     for k, v in enumerate(vectors(o / "flat_l_f.txt")):
+        a = 4 * math.atan2(v[1], v[0])
+        assert abs(math.cos(a) - 1) + abs(math.sin(a)) <= 1e-7, (k, v)
+
+
+# the same after intrinsic Delaunay refinement (--refine --resolution 0.5 splits every input
+# edge, so many input vertices have only inserted neighbours: their 3D directions come from the
+# signposts): transport still returns the source's vector everywhere and the boundary-aligned
+# cross field is the constant cross
+def test_transport_and_field_flat_l_refined(cli):
+    o = cli.out
+    mesh = o / "flat_l_r.obj"
+    nv = write_flat_l(mesh)
+    vec = (0.6, -0.8, 0.5)
+    t = o / "flat_l_r_t.txt"
+    r = cli.ok("transport", mesh, "--source", nv // 3, "--vector", ",".join(map(str, vec)),
+               "--refine", "--resolution", 0.5, "-o", t)
+    assert grep("circumcenters", r.err), r.describe()  # refined
+    got = vectors(t)
+    assert len(got) == nv
+    for k, v in enumerate(got):
+        assert max(abs(v[0] - vec[0]), abs(v[1] - vec[1]), abs(v[2])) <= 1e-7, (k, v)
+    f = o / "flat_l_r_f.txt"
+    r = cli.ok("field", mesh, "--symmetry", 4, "--align-boundary", "--refine", "--resolution",
+               0.5, "-o", f, "--quiet")
+    assert grep("total index 0/4", r.out), r.describe()
+    got = vectors(f)
+    assert len(got) == nv
+    for k, v in enumerate(got):
         a = 4 * math.atan2(v[1], v[0])
         assert abs(math.cos(a) - 1) + abs(math.sin(a)) <= 1e-7, (k, v)
 

@@ -188,6 +188,59 @@ TEST(Signpost, LinearFunctionTransfersExactlyOnFlatMesh) {
   EXPECT_LT((st.intrinsic_to_input(g) - f).cwiseAbs().maxCoeff(), 1e-15);
 }
 
+// halfedge_direction_3d() on a refined flat mesh (rotated out of the xy plane): every halfedge
+// leaves its tail towards its head's position, at input vertices (the signpost placed in an
+// input wedge) and at inserted ones (the signpost in the location face's layout) alike.
+TEST(Signpost, HalfedgeDirection3dPointsAtTheHeadOnFlatMesh) {
+  TriangleMesh m = flat_jittered_grid(8, 0.08, 4);
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, -2.0, 0.5).normalized()).toRotationMatrix();
+  m.positions = (m.positions * turn.transpose()).eval();
+  SignpostTriangulation st(m.faces, m.positions);
+  RefineOptions opt;
+  opt.min_angle_degrees = 30;
+  opt.max_area = 0.002;
+  delaunay_refine(st, opt);
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  ASSERT_GT(tri.n_vertices(), 2 * st.n_input_vertices());
+  const Positions x = st.vertex_positions();
+  double worst_input = 0.0, worst_inserted = 0.0;
+  for (Index h = 0; h < tri.n_halfedges(); ++h) {
+    const Eigen::Vector3d want = (x.row(tri.head(h)) - x.row(tri.tail(h))).transpose().normalized();
+    const double err = (st.halfedge_direction_3d(h) - want).norm();
+    double& worst = tri.tail(h) < st.n_input_vertices() ? worst_input : worst_inserted;
+    worst = std::max(worst, err);
+  }
+  std::printf("halfedge_direction_3d flat: max error %.3g (input tails), %.3g (inserted)\n",
+              worst_input, worst_inserted);
+  EXPECT_LT(worst_input, 1e-9);
+  EXPECT_LT(worst_inserted, 1e-9);
+  EXPECT_THROW(st.halfedge_direction_3d(tri.n_halfedges()), InvalidInput);
+  EXPECT_THROW(st.halfedge_direction_3d(-1), InvalidInput);
+}
+
+// On a curved mesh the direction is that of the edge's traced path over the input (its first
+// segment, in the input face where it starts), and lies in that face's plane.
+TEST(Signpost, HalfedgeDirection3dFollowsTheTracedPath) {
+  const TriangleMesh m = jittered(icosphere(3), 0.05, 8);
+  SignpostTriangulation st(m.faces, m.positions);
+  RefineOptions opt;
+  opt.max_area = 0.01;
+  delaunay_refine(st, opt);
+  const IntrinsicTriangulation& tri = st.intrinsic();
+  ASSERT_GT(tri.n_vertices(), 2 * st.n_input_vertices());
+  double worst = 0.0;
+  for (Index h = 0; h < tri.n_halfedges(); ++h) {
+    const std::vector<SurfacePoint> path = st.trace_halfedge(h);
+    ASSERT_GE(path.size(), 2u);
+    const Eigen::Vector3d a = st.position(path[0]), b = st.position(path[1]);
+    if ((b - a).norm() < 1e-6) continue;  // a first crossing at rounding distance
+    worst = std::max(worst, (st.halfedge_direction_3d(h) - (b - a).normalized()).norm());
+  }
+  std::printf("halfedge_direction_3d on a refined icosphere: max error to the trace %.3g\n", worst);
+  EXPECT_LT(worst, 1e-6);
+}
+
 TEST(Signpost, TransferIsConsistentOnCurvedMesh) {
   const TriangleMesh m = jittered(icosphere(4), 0.02, 6);
   SignpostTriangulation st(m.faces, m.positions);

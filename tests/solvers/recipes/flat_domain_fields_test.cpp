@@ -1,12 +1,20 @@
 // The recipes' tangent fields on flat polygons with corners (solvers/recipes/tangent_fields.h):
 // boundary vertices keep their true angles (fem/connection.h), so on the manifold path transport
 // returns the source's 3D vector at every vertex, corners included, and a cross field along the
-// boundary of a square or an L is the constant cross, without singularities.
+// boundary of a square or an L is the constant cross, without singularities. Refined or not:
+// after refinement the 3D bases come from the signposts (tangent_basis_3d), right also at input
+// vertices whose neighbours are all inserted vertices; a refined icosphere checks the same
+// bases on a curved surface against the sphere's own parallel transport.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "helpers.h"
 #include "solvers/recipes/pipeline.h"
@@ -33,26 +41,123 @@ PreparedSurface prepared_polygon(bool l_shape, int n, unsigned seed, bool refine
   return s;
 }
 
+// Per input vertex of s, 1 when it has neighbours in s.tri and all of them are inserted
+// vertices: no input chord can fix its 3D basis there.
+std::vector<char> inserted_one_rings(const PreparedSurface& s) {
+  const Index nv = s.n_input_vertices();
+  std::vector<char> any(nv, 0), input(nv, 0);
+  for (Index h = 0; h < s.tri.n_halfedges(); ++h) {
+    const Index a = s.tri.tail(h), b = s.tri.head(h);
+    for (const auto& [v, w] : {std::pair{a, b}, std::pair{b, a}}) {
+      if (v >= nv) continue;
+      any[v] = 1;
+      if (w < nv) input[v] = 1;
+    }
+  }
+  std::vector<char> out(nv, 0);
+  for (Index v = 0; v < nv; ++v) out[v] = any[v] && !input[v];
+  return out;
+}
+
+Index count(const std::vector<char>& mask) {
+  return static_cast<Index>(std::count(mask.begin(), mask.end(), 1));
+}
+
+// The angle between two 3D vectors, radians.
+double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
 // Parallel transport of a 3D vector on a flat domain is the vector itself (projected to the
 // plane z = 0, its length kept): exact up to round-off (the connection is flat: see
-// vector_heat_test's FlatDomainsWithCornersTransportExactly), at every vertex.
+// vector_heat_test's FlatDomainsWithCornersTransportExactly), at every vertex; refined too,
+// where some input vertices have only inserted neighbours (asserted, so that the 3D bases from
+// the signposts are what is tested there).
 TEST(FlatDomainFields, TransportOnReturnsTheSourcesVectorEverywhere) {
   for (const bool l_shape : {false, true}) {
-    const PreparedSurface s = prepared_polygon(l_shape, 16, 21);
+    for (const bool refine : {false, true}) {
+      const std::string name = std::string(l_shape ? "L" : "square") + (refine ? " refined" : "");
+      SCOPED_TRACE(name);
+      const PreparedSurface s = prepared_polygon(l_shape, 16, 21, refine);
+      const std::vector<char> lonely = inserted_one_rings(s);
+      if (refine) {
+        EXPECT_GT(count(lonely), 0) << "no input vertex with an all-inserted one-ring";
+      }
+      const VectorHeatSolver solver = vector_heat_solver(s);
+      ASSERT_FALSE(solver.on_frames());
+      const Index nv = s.n_input_vertices();
+      for (const Index src : {Index(0), nv / 3, nv / 2, nv - 1}) {  // a corner, inside, a corner
+        const Eigen::Vector3d vec(std::cos(0.4 + src), std::sin(0.4 + src), 0.7);
+        const Eigen::RowVector3d want(vec.x(), vec.y(), 0.0);
+        VectorHeatReport rep;
+        const Eigen::MatrixX3d x = transport_on(s, solver, src, vec, &rep);
+        EXPECT_EQ(rep.unreached_vertices, 0);
+        double worst = 0.0, worst_angle = 0.0, worst_lonely = 0.0;
+        for (Index v = 0; v < nv; ++v) {
+          worst = std::max(worst, (x.row(v) - want).norm());
+          const double a = angle_between(x.row(v).transpose(), want.transpose());
+          worst_angle = std::max(worst_angle, a);
+          if (lonely[v]) worst_lonely = std::max(worst_lonely, a);
+        }
+        std::printf(
+            "transport_on flat %s source %d: max |x − v| %.3g, max angle %.3g rad (%.3g at %d "
+            "all-inserted one-rings)\n",
+            name.c_str(), int(src), worst, worst_angle, worst_lonely, int(count(lonely)));
+        EXPECT_LT(worst, 1e-10) << "source " << src;
+      }
+    }
+  }
+}
+
+// On a refined icosphere (a curved surface: the bases' normals are the faces' and the
+// directions the signposts') transport_on agrees with the sphere's parallel transport along
+// great circles (the rotation about p × q taking p to q) at the input vertices within 120° of
+// the source, the all-inserted one-rings included, to the discretization error; its vectors are
+// tangent to the sphere and all as long as the source's (the given vector projected to the
+// source's tangent plane).
+TEST(FlatDomainFields, RefinedSphereTransportFollowsGreatCircles) {
+  const intrinsic::TriangleMesh m = intrinsic::icosphere(4);
+  for (const bool refine : {false, true}) {
+    SCOPED_TRACE(refine ? "refined" : "unrefined");
+    PrepareOptions o;
+    if (refine) {
+      o.refine = SurfaceRefineOptions{};
+      o.refine->resolution = 0.5;
+    }
+    const PreparedSurface s = prepare_surface(test::as_input(m), o);
+    const std::vector<char> lonely = inserted_one_rings(s);
+    if (refine) {
+      EXPECT_GT(count(lonely), 0) << "no input vertex with an all-inserted one-ring";
+    }
     const VectorHeatSolver solver = vector_heat_solver(s);
-    ASSERT_FALSE(solver.on_frames());
     const Index nv = s.n_input_vertices();
-    for (const Index src : {Index(0), nv / 3, nv / 2, nv - 1}) {  // a corner, inside, a corner
-      const Eigen::Vector3d vec(std::cos(0.4 + src), std::sin(0.4 + src), 0.7);
-      const Eigen::RowVector3d want(vec.x(), vec.y(), 0.0);
-      VectorHeatReport rep;
-      const Eigen::MatrixX3d x = transport_on(s, solver, src, vec, &rep);
-      EXPECT_EQ(rep.unreached_vertices, 0);
-      double worst = 0.0;
-      for (Index v = 0; v < nv; ++v) worst = std::max(worst, (x.row(v) - want).norm());
-      std::printf("transport_on flat %s source %d: max |x − v| %.3g\n", l_shape ? "L" : "square",
-                  int(src), worst);
-      EXPECT_LT(worst, 1e-12) << (l_shape ? "L" : "square") << " source " << src;
+    for (const Index src : {Index(0), nv / 2}) {
+      const Eigen::Vector3d p = m.positions.row(src).transpose().normalized();
+      const Eigen::Vector3d u = p.cross(Eigen::Vector3d(0.3, -0.5, 0.8)).normalized();
+      const Eigen::MatrixX3d x = transport_on(s, solver, src, u);
+      double worst = 0.0, worst_lonely = 0.0, worst_normal = 0.0, worst_length = 0.0;
+      for (Index v = 0; v < nv; ++v) {
+        const Eigen::Vector3d q = m.positions.row(v).transpose().normalized();
+        const Eigen::Vector3d xv = x.row(v).transpose();
+        worst_normal = std::max(worst_normal, std::abs(xv.dot(q)) / xv.norm());
+        worst_length = std::max(worst_length, std::abs(xv.norm() - x.row(src).norm()));
+        if (p.dot(q) < -0.5) continue;
+        const Eigen::Vector3d axis = p.cross(q);
+        const double angle = std::atan2(axis.norm(), p.dot(q));
+        const Eigen::Vector3d want =
+            axis.norm() > 1e-12 ? Eigen::AngleAxisd(angle, axis.normalized()) * u : u;
+        const double a = angle_between(xv, want);
+        worst = std::max(worst, a);
+        if (lonely[v]) worst_lonely = std::max(worst_lonely, a);
+      }
+      std::printf(
+          "transport_on icosphere(4)%s source %d: max angle to the great-circle transport %.3g "
+          "rad (%.3g at %d all-inserted one-rings), max |x·n|/|x| %.3g\n",
+          refine ? " refined" : "", int(src), worst, worst_lonely, int(count(lonely)),
+          worst_normal);
+      EXPECT_LT(worst, 0.05) << "source " << src;
+      EXPECT_LT(worst_normal, 0.02) << "source " << src;
+      EXPECT_LT(worst_length, 1e-9) << "source " << src;
     }
   }
 }
@@ -75,12 +180,21 @@ TEST(FlatDomainFields, CrossFieldAlongTheBoundaryIsConstant) {
       EXPECT_EQ(r.singular_faces, 0);
       EXPECT_EQ(r.face_singularity.cwiseAbs().sum(), 0);
       EXPECT_LT(r.energy, 1e-12);
-      // in 3D (unrefined only: after refinement an input vertex whose neighbours are all
-      // inserted has no chord to fix its e1, and tangent_basis_3d falls back to any direction)
-      for (Index v = 0; v < (refine ? 0 : r.vectors.rows()); ++v) {
-        const double a = std::atan2(r.vectors(v, 1), r.vectors(v, 0));
-        EXPECT_LT(std::abs(std::polar(1.0, 4 * a) - 1.0), 1e-9) << v;
+      // in 3D: arms along x and y at every input vertex, those with only inserted neighbours
+      // included (their bases come from the signposts)
+      const std::vector<char> lonely = inserted_one_rings(s);
+      if (refine) {
+        EXPECT_GT(count(lonely), 0) << "no input vertex with an all-inserted one-ring";
       }
+      double worst = 0.0;
+      for (Index v = 0; v < r.vectors.rows(); ++v) {
+        const double a = std::atan2(r.vectors(v, 1), r.vectors(v, 0));
+        EXPECT_LT(std::abs(r.vectors(v, 2)), 1e-12) << v;
+        worst = std::max(worst, std::abs(std::arg(std::polar(1.0, 4 * a))) / 4);
+      }
+      std::printf("cross field along the boundary, %s%s: max angle to the axes %.3g rad\n",
+                  l_shape ? "L" : "square", refine ? " refined" : "", worst);
+      EXPECT_LT(worst, 1e-9);
       settings.symmetry = 1;
       const TangentFieldResult g = direction_field_on(s, settings);
       EXPECT_EQ(g.total_index, 1);
