@@ -294,8 +294,8 @@ Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& 
   // without the input
   TangentBasis3d rebuilt;
   const bool kept = solver.basis_3d().e1.rows() == nv;
-  if (!kept) rebuilt = tangent_basis_3d(s.input, solver.triangulation(), solver.frames(),
-                               signposts_of(s));
+  if (!kept)
+    rebuilt = tangent_basis_3d(s.input, solver.triangulation(), solver.frames(), signposts_of(s));
   const TangentBasis3d& basis = kept ? solver.basis_3d() : rebuilt;
   const std::complex<double> z(vector.dot(basis.e1.row(source).transpose()),
                                vector.dot(basis.e2.row(source).transpose()));

@@ -116,9 +116,9 @@ VectorHeatSolver vector_heat_solver(const PreparedSurface& s);
 /// plane, keeping its length) to every input vertex, as 3D tangent vectors (#V_in×3), in the
 /// tangent planes of the solver's bases (tangent_basis_3d() on the manifold path, with
 /// s.signposts when refined; solver.frame_basis() on the frame path). Finite at every vertex
-/// the source reaches; NaN (all three coordinates) where it does not: other connected components (a triangle soup's
-/// other pieces), unreferenced vertices, and where the heat underflowed, as the report counts
-/// (unreached_vertices + unresolved_vertices); heat distance writes inf there.
+/// the source reaches; NaN (all three coordinates) where it does not: other connected components (a
+/// triangle soup's other pieces), unreferenced vertices, and where the heat underflowed, as the
+/// report counts (unreached_vertices + unresolved_vertices); heat distance writes inf there.
 /// @throws InvalidInput on a source out of range or a vector normal to the surface there, or a
 ///         solver whose triangulation is not s.tri's (when s has signposts)
 Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& solver,

@@ -331,10 +331,13 @@ def test_soup(cli):
             for v, row in enumerate(rows):
                 no_field = piece[v] in flat and path != ["--pointcloud"]
                 assert abs(norm(row) - (0 if no_field else 1)) <= 1e-9, (path, n, v, row)
-    for n, path in ((1, []), (2, []), (4, []), (1, ["--tufted"])):
-        r = cli.ok("field", soup, "--symmetry", n, "--align-boundary", "-o", o / "soup_a.txt",
+    # vectors along the boundary: index χ = 1 per disk (the bisector at corners); crosses and
+    # line fields leave indices at corners they do not fit (Poincaré–Hopf with boundary, checked
+    # in soup_fields_test.cpp)
+    for path in ([], ["--tufted"]):
+        r = cli.ok("field", soup, "--symmetry", 1, "--align-boundary", "-o", o / "soup_a.txt",
                    "--quiet", *path)
-        assert grep(f"total index {9 * n}/{n}", r.out), r.describe()
+        assert grep("total index 9/1", r.out), r.describe()
     (o / "soup_c.txt").write_text("243 1 0 0\n240 0 1 0\n")
     r = cli.ok("field", soup, "--constraints", o / "soup_c.txt", "-o", o / "soup_c.ply")
     assert grep("1 directions on them skipped", r.err), r.describe()
@@ -491,4 +494,5 @@ def test_logmap_underflow_is_reported(cli):
             for k, (u, v) in enumerate(uv):
                 x, y = k % (n + 1), k // (n + 1)
                 if k % (n + 1) < 600 and k > 0:
-                    assert abs(math.hypot(u, v) - math.hypot(x, y)) <= 1e-9 * x, (k, u, v)
+                    assert abs(math.hypot(u, v) - math.hypot(x, y)) <= 1e-9 * math.hypot(x, y), \
+                        (k, u, v)

@@ -154,7 +154,8 @@ std::string param_name(const ::testing::TestParamInfo<std::string>& param) {
 
 INSTANTIATE_TEST_SUITE_P(TestData, BundledMesh,
                          ::testing::Values("spot.obj", "bunny_npm_lowres.obj", "fan3.obj",
-                                           "tet_with_self_edge.ply", "triple_vierbein.obj"),
+                                           "tet_with_self_edge.ply", "triple_vierbein.obj",
+                                           "soup_icosphere.obj"),
                          param_name);
 
 // Every mesh file bundled in tests/data is in the list above.
@@ -164,7 +165,7 @@ TEST(BundledMesh, ListIsComplete) {
     const std::string ext = e.path().extension().string();
     if (ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl") ++meshes;
   }
-  EXPECT_EQ(meshes, 5);
+  EXPECT_EQ(meshes, 6);
 }
 
 TEST(SharedMesh, CorpusListIsComplete) {
