@@ -16,8 +16,8 @@
 
 #include "fem/connection.h"
 #include "helpers.h"
-#include "intrinsic/core/geometry.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
 #include "solvers/recipes/tangent_fields.h"
 
 namespace ifem::solvers {
