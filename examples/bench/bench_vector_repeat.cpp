@@ -7,7 +7,8 @@
 //   ifem_bench vector_repeat [--n 23 | --mesh FILE] [--repeat 7] [--what LIST] [--cpu]
 //     --cpu: the process's CPU seconds instead of wall seconds (a loaded machine: with
 //            OMP_NUM_THREADS=1 the work, not the waits for a core)
-//     --what: comma-separated among heat, transport, transport_on, log_map, log_map_on, field
+//     --what: comma-separated among heat, transport, transport_on, log_map (the default
+//             method), log_map_affine, log_map_vector_heat, log_map_on, field
 //             (default: these), solves (M + tL∇ alone, one point source and one dense
 //             right-hand side, CHOLMOD's solve and our kernel's on two factors of the matrix);
 //             `--what memory` builds the solver, runs one transport and one log map and prints
@@ -149,7 +150,9 @@ int vector_repeat(int argc, char** argv) {
   const bool cpu = has_flag(argc, argv, "--cpu");
   std::string what =
       "," +
-      string_option(argc, argv, "--what", "heat,transport,transport_on,log_map,log_map_on,field") +
+      string_option(argc, argv, "--what",
+                    "heat,transport,transport_on,log_map,log_map_affine,log_map_vector_heat,"
+                    "log_map_on,field") +
       ",";
   auto wants = [&what](const char* op) {
     return what.find("," + std::string(op) + ",") != std::string::npos;
@@ -186,7 +189,15 @@ int vector_repeat(int argc, char** argv) {
   if (wants("transport_on")) {
     ops.push_back({"transport_on (recipe)", [&] { solvers::transport_on(s, vh, next(), vec); }});
   }
-  if (wants("log_map")) ops.push_back({"log map (solver)", [&] { vh.log_map(next()); }});
+  if (wants("log_map")) ops.push_back({"log map (solver, blend)", [&] { vh.log_map(next()); }});
+  if (wants("log_map_affine")) {
+    ops.push_back(
+        {"log map (solver, affine)", [&] { vh.log_map(next(), solvers::LogMapMethod::kAffine); }});
+  }
+  if (wants("log_map_vector_heat")) {
+    ops.push_back({"log map (solver, vector heat)",
+                   [&] { vh.log_map(next(), solvers::LogMapMethod::kVectorHeat); }});
+  }
   if (wants("log_map_on")) {
     ops.push_back({"log_map_on (recipe)", [&] { solvers::log_map_on(s, vh, next()); }});
   }
