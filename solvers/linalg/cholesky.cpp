@@ -65,6 +65,23 @@ class SerialOpenMpScope {
   int saved_ = -1;
 };
 
+// The pattern of CHOLMOD's numeric supernodal factor f (32-bit indices), for our kernels.
+SupernodalPattern supernodal_pattern(const cholmod_factor* f) {
+  const auto* super = static_cast<const int*>(f->super);
+  const auto* pi = static_cast<const int*>(f->pi);
+  const auto* px = static_cast<const int*>(f->px);
+  const auto* perm = static_cast<const int*>(f->Perm);
+  const std::size_t ns = f->nsuper;
+  SupernodalPattern p;
+  p.n = static_cast<Eigen::Index>(f->n);
+  p.perm.assign(perm, perm + f->n);
+  p.super.assign(super, super + ns + 1);
+  p.row_start.assign(pi, pi + ns + 1);
+  p.value_start.assign(px, px + ns + 1);
+  p.rows.assign(static_cast<const int*>(f->s), static_cast<const int*>(f->s) + pi[ns]);
+  return p;
+}
+
 }  // namespace
 
 struct CholeskySolver::Impl {
@@ -181,18 +198,7 @@ struct CholeskySolver::Impl {
   void hand_factor_to_kernel(cholmod_factor* f, const char* who) {
     if (kernel_kind == CholeskyOptions::SolveKernel::kCholmod || xtype != CHOLMOD_REAL) return;
     if (!f->is_super) throw SolverError(std::string(who) + ": factor is not supernodal");
-    const auto* super = static_cast<const int*>(f->super);
-    const auto* pi = static_cast<const int*>(f->pi);
-    const auto* px = static_cast<const int*>(f->px);
-    const auto* perm = static_cast<const int*>(f->Perm);
-    const std::size_t ns = f->nsuper;
-    SupernodalPattern p;
-    p.n = static_cast<Eigen::Index>(f->n);
-    p.perm.assign(perm, perm + f->n);
-    p.super.assign(super, super + ns + 1);
-    p.row_start.assign(pi, pi + ns + 1);
-    p.value_start.assign(px, px + ns + 1);
-    p.rows.assign(static_cast<const int*>(f->s), static_cast<const int*>(f->s) + pi[ns]);
+    SupernodalPattern p = supernodal_pattern(f);
     const FactorPrecision precision = kernel_kind == CholeskyOptions::SolveKernel::kSupernodalSingle
                                           ? FactorPrecision::kSingle
                                           : FactorPrecision::kDouble;
@@ -214,18 +220,7 @@ std::unique_ptr<ComplexSupernodalSolver> complex_kernel_of(const cholmod_factor*
   if (!f->is_super || f->xtype != CHOLMOD_COMPLEX || f->itype != CHOLMOD_INT || !f->x) {
     throw SolverError(std::string(who) + ": the complex factor is not supernodal");
   }
-  const auto* super = static_cast<const int*>(f->super);
-  const auto* pi = static_cast<const int*>(f->pi);
-  const auto* px = static_cast<const int*>(f->px);
-  const auto* perm = static_cast<const int*>(f->Perm);
-  const std::size_t ns = f->nsuper;
-  SupernodalPattern p;
-  p.n = static_cast<Eigen::Index>(f->n);
-  p.perm.assign(perm, perm + f->n);
-  p.super.assign(super, super + ns + 1);
-  p.row_start.assign(pi, pi + ns + 1);
-  p.value_start.assign(px, px + ns + 1);
-  p.rows.assign(static_cast<const int*>(f->s), static_cast<const int*>(f->s) + pi[ns]);
+  SupernodalPattern p = supernodal_pattern(f);
   return std::make_unique<ComplexSupernodalSolver>(std::move(p),
                                                    static_cast<const std::complex<double>*>(f->x));
 }
