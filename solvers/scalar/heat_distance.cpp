@@ -388,7 +388,9 @@ void build_solver(HeatDistanceSolver::Impl& im, const IntrinsicTriangulation& tr
   if (given_heat) {
     // one solve: (M + tL) u = b with b varying per vertex, the residual through our own L, M
     const Index nv = im.tri.n_vertices();
-    if (heat->n_unknowns() != nv || !heat->dirichlet_vertices().empty()) {
+    const auto referenced = Index(std::count_if(im.comps.label.begin(), im.comps.label.end(),
+                                                [](Index c) { return c != kInvalidIndex; }));
+    if (heat->n_unknowns() != referenced || !heat->dirichlet_vertices().empty()) {
       throw InvalidInput(
           "HeatDistanceSolver: the shared heat factor is not one of this triangulation "
           "(unknowns or Dirichlet vertices differ)");
