@@ -73,6 +73,15 @@ int memory_by_stage(const solvers::PreparedSurface& s, const std::string& name,
   return 0;
 }
 
+// `--what memory` with `--log-map blend|affine|vector-heat` (default blend).
+int memory_mode(int argc, char** argv, const solvers::PreparedSurface& s, const std::string& name) {
+  const std::string lm = string_option(argc, argv, "--log-map", "blend");
+  const solvers::LogMapMethod method = lm == "affine"        ? solvers::LogMapMethod::kAffine
+                                       : lm == "vector-heat" ? solvers::LogMapMethod::kVectorHeat
+                                                             : solvers::LogMapMethod::kBlend;
+  return memory_by_stage(s, name + " (log map: " + lm + ")", method);
+}
+
 // `--what parts`: the resident set's growth as the parts of a vector heat solver are built.
 int memory_by_part(const solvers::PreparedSurface& s) {
   double last = rss_mib();
@@ -169,13 +178,7 @@ int vector_repeat(int argc, char** argv) {
   }
   const solvers::PreparedSurface s = solvers::prepare_surface(std::move(input));
   const Index nv = s.n_input_vertices();
-  if (wants("memory")) {
-    const std::string lm = string_option(argc, argv, "--log-map", "blend");
-    const solvers::LogMapMethod method = lm == "affine"         ? solvers::LogMapMethod::kAffine
-                                         : lm == "vector-heat" ? solvers::LogMapMethod::kVectorHeat
-                                                               : solvers::LogMapMethod::kBlend;
-    return memory_by_stage(s, name + " (log map: " + lm + ")", method);
-  }
+  if (wants("memory")) return memory_mode(argc, argv, s, name);
   if (wants("parts")) return memory_by_part(s);
   print_load_average();
   const solvers::HeatDistanceSolver heat(s.tri, solvers::distance_options(s));

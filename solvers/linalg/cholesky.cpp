@@ -1,13 +1,12 @@
 #include "solvers/linalg/cholesky.h"
 
-#include <cstdlib>
-
 #include <amd.h>
 #include <cholmod.h>
 
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <mutex>
@@ -220,8 +219,8 @@ struct CholeskySolver::Impl {
       f->is_ll = 1;
       return;
     } else {
-      kernel = std::make_unique<SupernodalSolver>(
-          std::move(p), static_cast<const double*>(f->x), precision);
+      kernel = std::make_unique<SupernodalSolver>(std::move(p), static_cast<const double*>(f->x),
+                                                  precision);
     }
     // to_xtype = pattern: frees the values (if still CHOLMOD's), keeps the supernodal symbolic
     // factor

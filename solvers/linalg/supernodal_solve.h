@@ -58,8 +58,7 @@ class SupernodalSolver {
   /// over): the solver frees them with release(values) when it is destroyed. On a throw the
   /// values are not taken (the caller still owns them).
   /// @throws InvalidInput as above, or if values or release is null
-  static SupernodalSolver adopt(SupernodalPattern pattern, double* values,
-                                void (*release)(void*));
+  static SupernodalSolver adopt(SupernodalPattern pattern, double* values, void (*release)(void*));
   ~SupernodalSolver();
   SupernodalSolver(SupernodalSolver&&) noexcept;
   SupernodalSolver& operator=(SupernodalSolver&&) noexcept;

@@ -154,9 +154,9 @@ struct HeatDistanceSolver::Impl {
   double t = 0.0;      // time step, in units of scale²
   double scale = 1.0;  // tri's lengths are the input's divided by scale (a power of two)
   std::shared_ptr<const PoissonSolver> heat_neumann;  // (M + tL), Neumann (own or shared)
-  std::optional<PoissonSolver> heat_dirichlet;     // (M + tL), u = 0 on the boundary
-  std::optional<PoissonSolver> poisson;            // L, pure Neumann per component
-  std::optional<UnitGradientDivergence> unit_div;  // div(−∇u/|∇u|) with tri's face layouts
+  std::optional<PoissonSolver> heat_dirichlet;        // (M + tL), u = 0 on the boundary
+  std::optional<PoissonSolver> poisson;               // L, pure Neumann per component
+  std::optional<UnitGradientDivergence> unit_div;     // div(−∇u/|∇u|) with tri's face layouts
 
   // (M + tL) u = δ for a vector or every column of a matrix (one pass over each factor): the
   // Neumann solution, or on meshes with boundary the mean of the Neumann and the zero-Dirichlet
@@ -324,6 +324,31 @@ struct HeatDistanceSolver::Impl {
 
 namespace {
 
+// Throws InvalidInput unless `heat` factors M + tL of im's triangulation with natural
+// conditions: its unknowns, and the residual of one solve through im's own L and M.
+void check_heat_factor(const HeatDistanceSolver::Impl& im, const PoissonSolver& heat) {
+  // one solve: (M + tL) u = b with b varying per vertex, the residual through our own L, M
+  const Index nv = im.tri.n_vertices();
+  const auto referenced = Index(std::count_if(im.comps.label.begin(), im.comps.label.end(),
+                                              [](Index c) { return c != kInvalidIndex; }));
+  if (heat.n_unknowns() != referenced || !heat.dirichlet_vertices().empty()) {
+    throw InvalidInput(
+        "HeatDistanceSolver: the shared heat factor is not one of this triangulation "
+        "(unknowns or Dirichlet vertices differ)");
+  }
+  Eigen::VectorXd b(nv);
+  for (Index v = 0; v < nv; ++v) b[v] = im.mass[v] * double(1 + v % 7);
+  const Eigen::VectorXd u = heat.solve_weak(b, Eigen::VectorXd());
+  const Eigen::VectorXd Lu = im.L * u;
+  const Eigen::VectorXd r = im.t * Lu + im.mass.cwiseProduct(u) - b;
+  if (!(r.norm() <= 1e-8 * b.norm())) {
+    throw InvalidInput(
+        "HeatDistanceSolver: the shared heat factor is not M + tL of this triangulation "
+        "and time step (relative residual " +
+        std::to_string(r.norm() / b.norm()) + ")");
+  }
+}
+
 // The constructors: `heat` null builds the Neumann heat factor beside the others, else uses it
 // (after checking that it is M + tL on the solver's triangulation).
 void build_solver(HeatDistanceSolver::Impl& im, const IntrinsicTriangulation& tri_in,
@@ -386,34 +411,14 @@ void build_solver(HeatDistanceSolver::Impl& im, const IntrinsicTriangulation& tr
   im.one_component =
       std::all_of(im.comps.label.begin(), im.comps.label.end(), [](Index c) { return c == 0; });
   if (given_heat) {
-    // one solve: (M + tL) u = b with b varying per vertex, the residual through our own L, M
-    const Index nv = im.tri.n_vertices();
-    const auto referenced = Index(std::count_if(im.comps.label.begin(), im.comps.label.end(),
-                                                [](Index c) { return c != kInvalidIndex; }));
-    if (heat->n_unknowns() != referenced || !heat->dirichlet_vertices().empty()) {
-      throw InvalidInput(
-          "HeatDistanceSolver: the shared heat factor is not one of this triangulation "
-          "(unknowns or Dirichlet vertices differ)");
-    }
-    Eigen::VectorXd b(nv);
-    for (Index v = 0; v < nv; ++v) b[v] = im.mass[v] * double(1 + v % 7);
-    const Eigen::VectorXd u = heat->solve_weak(b, Eigen::VectorXd());
-    const Eigen::VectorXd Lu = im.L * u;
-    const Eigen::VectorXd r = im.t * Lu + im.mass.cwiseProduct(u) - b;
-    if (!(r.norm() <= 1e-8 * b.norm())) {
-      throw InvalidInput(
-          "HeatDistanceSolver: the shared heat factor is not M + tL of this triangulation "
-          "and time step (relative residual " +
-          std::to_string(r.norm() / b.norm()) + ")");
-    }
+    check_heat_factor(im, *heat);
     im.heat_neumann = std::move(heat);
   }
   std::vector<std::function<void()>> jobs;
   std::optional<PoissonSolver> own_heat;
   if (!given_heat) {
-    jobs.emplace_back([&] {
-      own_heat.emplace(tL, im.mass, im.comps, std::vector<Index>{}, analysis, heat_opt);
-    });
+    jobs.emplace_back(
+        [&] { own_heat.emplace(tL, im.mass, im.comps, std::vector<Index>{}, analysis, heat_opt); });
   }
   if (dirichlet_heat) {
     jobs.emplace_back(

@@ -165,8 +165,7 @@ class HeatDistanceSolver {
   ///         natural boundary conditions (checked by one solve: relative residual above 1e-8)
   /// @throws SolverError if a factorization fails
   HeatDistanceSolver(const intrinsic::IntrinsicTriangulation& tri,
-                     const HeatDistanceOptions& options,
-                     std::shared_ptr<const PoissonSolver> heat);
+                     const HeatDistanceOptions& options, std::shared_ptr<const PoissonSolver> heat);
   /// The heat factor the constructors build: M + tL on tri as given (no flips, no rescaling),
   /// natural (Neumann) boundary conditions, t in squared units of tri's lengths, factored with
   /// the query options of `precision` — for the constructor above and for the caller's own

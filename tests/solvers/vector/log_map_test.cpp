@@ -435,8 +435,8 @@ TEST(SolversLogMap, SharedHeatFactorEqualsSeparateFactors) {
     for (Index k = 0; k < 8; ++k) block.push_back(k * (nv / 8));
     EXPECT_TRUE(separate.compute_distances(block) == shared.compute_distances(block));
     // another t: refused
-    EXPECT_THROW(HeatDistanceSolver(tri, o, HeatDistanceSolver::heat_factor(
-                                                 tri, 2.0 * separate.time_step())),
+    EXPECT_THROW(HeatDistanceSolver(
+                     tri, o, HeatDistanceSolver::heat_factor(tri, 2.0 * separate.time_step())),
                  InvalidInput);
     // h outside [0.5, 1): the solver would rescale, so the factor cannot be its own
     HeatDistanceOptions o4 = o;
@@ -447,7 +447,8 @@ TEST(SolversLogMap, SharedHeatFactorEqualsSeparateFactors) {
   const intrinsic::TriangleMesh sq = flat_cells(
       6, 1, [](int, int) { return true; }, 9);
   intrinsic::TriangleMesh skew = sq;
-  for (Index v = 0; v < skew.positions.rows(); ++v) skew.positions(v, 0) += 3.0 * skew.positions(v, 1);
+  for (Index v = 0; v < skew.positions.rows(); ++v)
+    skew.positions(v, 0) += 3.0 * skew.positions(v, 1);
   const auto raw = test::make_tri(skew, false);
   HeatDistanceOptions o;
   o.mean_edge_length = 0.75;
