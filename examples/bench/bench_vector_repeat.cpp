@@ -11,8 +11,9 @@
 //             method), log_map_affine, log_map_vector_heat, log_map_on, field
 //             (default: these), solves (M + tL∇ alone, one point source and one dense
 //             right-hand side, CHOLMOD's solve and our kernel's on two factors of the matrix);
-//             `--what memory` builds the solver, runs one transport and one log map and prints
-//             the peak RSS by stage (for /usr/bin/time -v); `--what parts` what a solver's
+//             `--what memory` builds the solver, runs one transport and one log map
+//             (`--log-map blend|affine|vector-heat`, default blend) and prints the peak RSS
+//             by stage (for /usr/bin/time -v); `--what parts` what a solver's
 //             parts add to the resident set
 #include <complex>
 #include <cstdio>
@@ -48,7 +49,8 @@ double rss_mib() {
   return 0.0;
 }
 // `--what memory`: one solver, one transport, one log map; times and the peak RSS by stage.
-int memory_by_stage(const solvers::PreparedSurface& s, const std::string& name) {
+int memory_by_stage(const solvers::PreparedSurface& s, const std::string& name,
+                    solvers::LogMapMethod method) {
   const Index nv = s.n_input_vertices();
   const Index a = nv / 3, b = (2 * nv) / 3;
   const double peak_surface = peak_rss_mib();
@@ -61,7 +63,7 @@ int memory_by_stage(const solvers::PreparedSurface& s, const std::string& name) 
   const double tr = seconds_now() - t0;
   const double peak_transport = peak_rss_mib();
   t0 = seconds_now();
-  solvers::log_map_on(s, vh, b);
+  solvers::log_map_on(s, vh, b, method);
   const double lm = seconds_now() - t0;
   std::printf(
       "%s | %ld faces | precompute %.3f s | transport_on %.4f s | first log_map_on %.4f s "
@@ -70,6 +72,15 @@ int memory_by_stage(const solvers::PreparedSurface& s, const std::string& name) 
       name.c_str(), long(s.tri.n_faces()), pre, tr, lm, peak_rss_mib(), peak_surface, peak_pre,
       peak_transport, held_pre, rss_mib());
   return 0;
+}
+
+// `--what memory` with `--log-map blend|affine|vector-heat` (default blend).
+int memory_mode(int argc, char** argv, const solvers::PreparedSurface& s, const std::string& name) {
+  const std::string lm = string_option(argc, argv, "--log-map", "blend");
+  const solvers::LogMapMethod method = lm == "affine"        ? solvers::LogMapMethod::kAffine
+                                       : lm == "vector-heat" ? solvers::LogMapMethod::kVectorHeat
+                                                             : solvers::LogMapMethod::kBlend;
+  return memory_by_stage(s, name + " (log map: " + lm + ")", method);
 }
 
 // `--what parts`: the resident set's growth as the parts of a vector heat solver are built.
@@ -170,7 +181,7 @@ int vector_repeat(int argc, char** argv) {
   }
   const solvers::PreparedSurface s = solvers::prepare_surface(std::move(input));
   const Index nv = s.n_input_vertices();
-  if (wants("memory")) return memory_by_stage(s, name);
+  if (wants("memory")) return memory_mode(argc, argv, s, name);
   if (wants("parts")) return memory_by_part(s);
   print_load_average();
   const solvers::HeatDistanceSolver heat(s.tri, solvers::distance_options(s));

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <mutex>
@@ -35,6 +36,14 @@ void CholeskyOptions::validate() const {
     throw InvalidInput("CholeskyOptions: the supernodal solve kernel needs supernodal = true");
   }
 }
+
+namespace {
+
+// Frees factor values taken over from CHOLMOD: its allocator is SuiteSparse_config's default,
+// malloc/free (this library never replaces it).
+void release_cholmod_values(void* values) { std::free(values); }
+
+}  // namespace
 
 namespace {
 
@@ -202,9 +211,25 @@ struct CholeskySolver::Impl {
     const FactorPrecision precision = kernel_kind == CholeskyOptions::SolveKernel::kSupernodalSingle
                                           ? FactorPrecision::kSingle
                                           : FactorPrecision::kDouble;
-    kernel = std::make_unique<SupernodalSolver>(std::move(p), static_cast<const double*>(f->x),
-                                                precision);
-    // to_xtype = pattern: frees the values, keeps the supernodal symbolic factor
+    if (precision == FactorPrecision::kDouble) {
+      // our kernel takes CHOLMOD's values over (no second copy of the factor while it is
+      // handed over: the heat method's peak memory, docs/decisions.md D-112); CHOLMOD's
+      // allocator frees them
+      kernel = std::make_unique<SupernodalSolver>(SupernodalSolver::adopt(
+          std::move(p), static_cast<double*>(f->x), &release_cholmod_values));
+      // what cholmod_change_factor(CHOLMOD_PATTERN, ...) makes of a supernodal factor, without
+      // freeing the values (it refuses a numeric factor without them)
+      f->x = nullptr;
+      f->xtype = CHOLMOD_PATTERN;
+      f->minor = f->n;
+      f->is_ll = 1;
+      return;
+    } else {
+      kernel = std::make_unique<SupernodalSolver>(std::move(p), static_cast<const double*>(f->x),
+                                                  precision);
+    }
+    // to_xtype = pattern: frees the values (if still CHOLMOD's), keeps the supernodal symbolic
+    // factor
     if (!cholmod_change_factor(CHOLMOD_PATTERN, 1, 1, 1, 1, f, &common) || f->x) {
       throw SolverError(std::string(who) + ": dropping CHOLMOD's factor values failed");
     }

@@ -55,13 +55,13 @@ struct CholeskyOptions {
   /// ComplexSupernodalSolver reading CHOLMOD's supernodal factor in place, no copy):
   enum class SolveKernel {
     kCholmod,  ///< CHOLMOD's own, simplicial or supernodal as simplicial_solves says
-    /// Our supernodal kernel (solvers/linalg/supernodal_solve.h) over a copy of the supernodal
-    /// factor: in double precision (the same values as CHOLMOD's), or as floats (half the bytes per
-    /// solve; each factor entry rounded to 6e-8 relative, so a solve's relative error grows
-    /// to ~6e-8 × the condition number; what that means for the heat method: docs/decisions.md,
-    /// "Heat queries: our supernodal solve kernel"). Large factors are solved over two halves of
-    /// the elimination tree on two threads. CHOLMOD keeps only the symbolic factor. Needs
-    /// supernodal = true.
+    /// Our supernodal kernel (solvers/linalg/supernodal_solve.h) over the supernodal factor:
+    /// in double precision CHOLMOD's values themselves, taken over (no copy), or a copy as
+    /// floats (half the bytes per solve; each factor entry rounded to 6e-8 relative, so a solve's
+    /// relative error grows to ~6e-8 × the condition number; what that means for the heat method:
+    /// docs/decisions.md, "Heat queries: our supernodal solve kernel"). Large factors are solved
+    /// over two halves of the elimination tree on two threads. CHOLMOD keeps only the symbolic
+    /// factor. Needs supernodal = true.
     kSupernodalDouble,
     kSupernodalSingle,
   };

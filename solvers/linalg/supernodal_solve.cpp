@@ -669,6 +669,9 @@ struct SupernodalSolver::Impl {
   FactorPrecision precision = FactorPrecision::kDouble;
   std::vector<double> values_d;
   std::vector<float> values_f;
+  // the double values: values_d's, or adopted ones (freed by release)
+  const double* dvalues = nullptr;
+  std::unique_ptr<double, void (*)(void*)> adopted{nullptr, nullptr};
   int max_offdiag = 0;  // largest m = nsrow − nscol
   // row copies of at least this many values go on two threads
   static constexpr Int64 kParallelCopy = 1 << 18;
@@ -723,7 +726,7 @@ struct SupernodalSolver::Impl {
     if (precision == FactorPrecision::kSingle) {
       solve_permuted(values_f.data(), W, k, scr, nonzero, source_rows, shift);
     } else {
-      solve_permuted(values_d.data(), W, k, scr, nonzero, source_rows, shift);
+      solve_permuted(dvalues, W, k, scr, nonzero, source_rows, shift);
     }
   }
   // Per supernode, the columns whose point source (column j: row source_rows[j]) lies in its
@@ -933,17 +936,33 @@ void SupernodalSolver::Impl::copy_rows(const double* from, double* to, int k, bo
 }
 
 SupernodalSolver::SupernodalSolver(SupernodalPattern pattern, const double* values,
-                                   FactorPrecision precision)
-    : impl_(std::make_unique<Impl>()) {
+                                   FactorPrecision precision) {
+  init(std::move(pattern), values, precision, nullptr, nullptr);
+}
+
+SupernodalSolver SupernodalSolver::adopt(SupernodalPattern pattern, double* values,
+                                         void (*release)(void*)) {
+  if (!values || !release) throw InvalidInput("SupernodalSolver::adopt: null values or release");
+  SupernodalSolver s;
+  s.init(std::move(pattern), values, FactorPrecision::kDouble, values, release);
+  return s;
+}
+
+void SupernodalSolver::init(SupernodalPattern pattern, const double* values,
+                            FactorPrecision precision, double* owned, void (*release)(void*)) {
   check_pattern(pattern);
+  impl_ = std::make_unique<Impl>();
   Impl& im = *impl_;
   im.p = std::move(pattern);
   im.precision = precision;
   const Int64 count = im.p.value_start.back();
   if (precision == FactorPrecision::kSingle) {
     im.values_f.assign(values, values + count);
+  } else if (owned) {
+    im.dvalues = owned;  // taken over at the end: a throw before leaves them the caller's
   } else {
     im.values_d.assign(values, values + count);
+    im.dvalues = im.values_d.data();
   }
   const int ns = int(im.p.super.size()) - 1;
   for (int s = 0; s < ns; ++s) {
@@ -961,6 +980,7 @@ SupernodalSolver::SupernodalSolver(SupernodalPattern pattern, const double* valu
     im.split = split_tree(im.p, im.parent, first);
     im.split_tree = true;
   }
+  if (owned) im.adopted = std::unique_ptr<double, void (*)(void*)>(owned, release);
 }
 
 SupernodalSolver::~SupernodalSolver() = default;

@@ -53,6 +53,12 @@ class SupernodalSolver {
   /// Copies the factor values (value_start.back() doubles at `values`) in the given precision.
   /// @throws InvalidInput if the pattern is inconsistent (sizes, ranges, not postordered)
   SupernodalSolver(SupernodalPattern pattern, const double* values, FactorPrecision precision);
+  /// In double precision on the values at `values` themselves (value_start.back() doubles),
+  /// taking them over instead of copying (no second copy of the factor while it is handed
+  /// over): the solver frees them with release(values) when it is destroyed. On a throw the
+  /// values are not taken (the caller still owns them).
+  /// @throws InvalidInput as above, or if values or release is null
+  static SupernodalSolver adopt(SupernodalPattern pattern, double* values, void (*release)(void*));
   ~SupernodalSolver();
   SupernodalSolver(SupernodalSolver&&) noexcept;
   SupernodalSolver& operator=(SupernodalSolver&&) noexcept;
@@ -92,6 +98,9 @@ class SupernodalSolver {
   struct Impl;
 
  private:
+  SupernodalSolver() = default;
+  void init(SupernodalPattern pattern, const double* values, FactorPrecision precision,
+            double* owned, void (*release)(void*));
   std::unique_ptr<Impl> impl_;
 };
 

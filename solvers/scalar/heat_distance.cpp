@@ -153,10 +153,10 @@ struct HeatDistanceSolver::Impl {
   Eigen::VectorXd mass;
   double t = 0.0;      // time step, in units of scale²
   double scale = 1.0;  // tri's lengths are the input's divided by scale (a power of two)
-  std::optional<PoissonSolver> heat_neumann;       // (M + tL), Neumann
-  std::optional<PoissonSolver> heat_dirichlet;     // (M + tL), u = 0 on the boundary
-  std::optional<PoissonSolver> poisson;            // L, pure Neumann per component
-  std::optional<UnitGradientDivergence> unit_div;  // div(−∇u/|∇u|) with tri's face layouts
+  std::shared_ptr<const PoissonSolver> heat_neumann;  // (M + tL), Neumann (own or shared)
+  std::optional<PoissonSolver> heat_dirichlet;        // (M + tL), u = 0 on the boundary
+  std::optional<PoissonSolver> poisson;               // L, pure Neumann per component
+  std::optional<UnitGradientDivergence> unit_div;     // div(−∇u/|∇u|) with tri's face layouts
 
   // (M + tL) u = δ for a vector or every column of a matrix (one pass over each factor): the
   // Neumann solution, or on meshes with boundary the mean of the Neumann and the zero-Dirichlet
@@ -322,16 +322,51 @@ struct HeatDistanceSolver::Impl {
                                const Eigen::VectorXd& phi) const;
 };
 
-HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
-                                       const HeatDistanceOptions& options)
-    : impl_(std::make_unique<Impl>()) {
+namespace {
+
+// Throws InvalidInput unless `heat` factors M + tL of im's triangulation with natural
+// conditions: its unknowns, and the residual of one solve through im's own L and M.
+void check_heat_factor(const HeatDistanceSolver::Impl& im, const PoissonSolver& heat) {
+  // one solve: (M + tL) u = b with b varying per vertex, the residual through our own L, M
+  const Index nv = im.tri.n_vertices();
+  const auto referenced = Index(std::count_if(im.comps.label.begin(), im.comps.label.end(),
+                                              [](Index c) { return c != kInvalidIndex; }));
+  if (heat.n_unknowns() != referenced || !heat.dirichlet_vertices().empty()) {
+    throw InvalidInput(
+        "HeatDistanceSolver: the shared heat factor is not one of this triangulation "
+        "(unknowns or Dirichlet vertices differ)");
+  }
+  Eigen::VectorXd b(nv);
+  for (Index v = 0; v < nv; ++v) b[v] = im.mass[v] * double(1 + v % 7);
+  const Eigen::VectorXd u = heat.solve_weak(b, Eigen::VectorXd());
+  const Eigen::VectorXd Lu = im.L * u;
+  const Eigen::VectorXd r = im.t * Lu + im.mass.cwiseProduct(u) - b;
+  if (!(r.norm() <= 1e-8 * b.norm())) {
+    throw InvalidInput(
+        "HeatDistanceSolver: the shared heat factor is not M + tL of this triangulation "
+        "and time step (relative residual " +
+        std::to_string(r.norm() / b.norm()) + ")");
+  }
+}
+
+// The constructors: `heat` null builds the Neumann heat factor beside the others, else uses it
+// (after checking that it is M + tL on the solver's triangulation).
+void build_solver(HeatDistanceSolver::Impl& im, const IntrinsicTriangulation& tri_in,
+                  const HeatDistanceOptions& options, std::shared_ptr<const PoissonSolver> heat) {
   options.validate();
   if (tri_in.n_faces() == 0) throw InvalidInput("HeatDistanceSolver: triangulation has no faces");
-  Impl& im = *impl_;
+  const bool given_heat = heat != nullptr;
   im.opt = options;
   const double h_input = mean_edge_length(tri_in);
   im.tri = tri_in;
-  if (options.intrinsic_delaunay) im.tri.flip_to_delaunay();
+  if (options.intrinsic_delaunay) {
+    const auto flips = im.tri.flip_to_delaunay();
+    if (given_heat && flips.flips > 0) {
+      throw InvalidInput(
+          "HeatDistanceSolver: a shared heat factor needs a triangulation that is already "
+          "intrinsic Delaunay (or intrinsic_delaunay = false)");
+    }
+  }
   double h = options.mean_edge_length;
   if (h == 0.0) {
     h = options.step_length == HeatDistanceOptions::StepLength::kInput ? h_input
@@ -341,6 +376,12 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
   // Work in units of a power of two near h (exact): masses h², time steps and factors stay in
   // the double range for inputs from 1e-300 to 1e300, and the result is the same at every scale.
   im.scale = intrinsic::power_of_two_scale(h);
+  if (given_heat && im.scale != 1.0) {
+    throw InvalidInput(
+        "HeatDistanceSolver: a shared heat factor needs h in [0.5, 1) in the triangulation's "
+        "length unit, got h = " +
+        std::to_string(h));
+  }
   for (Index e = 0; e < im.tri.n_edges(); ++e) im.tri.set_length(e, im.tri.length(e) / im.scale);
   h /= im.scale;
   im.t = options.time_factor * h * h;
@@ -353,25 +394,33 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
       query_factor_options(options.precision, im.tri.n_vertices(), false);
   PoissonOptions heat_opt = query_factor_options(options.precision, im.tri.n_vertices(), true);
   heat_opt.screening = 1.0;  // tL + 1·M
+  const std::vector<Index> boundary = boundary_vertex_list(im.tri, options.boundary_vertices);
+  const bool dirichlet_heat =
+      options.boundary == HeatDistanceOptions::Boundary::kAverage && !boundary.empty();
   std::optional<CholeskyAnalysis> shared;
-  fem::SparseMatrix tL;
+  fem::SparseMatrix tL;  // only for the heat factors built here
   run_parallel({[&] { shared.emplace(PoissonSolver::analyze(im.tri, poisson_opt.cholesky)); },
                 [&] {
                   im.comps = connected_components(im.tri);
                   im.L = fem::cotan_laplacian(im.tri);
                   im.mass = fem::lumped_mass(im.tri);
-                  tL = im.t * im.L;
+                  if (!given_heat || dirichlet_heat) tL = im.t * im.L;
                   im.unit_div.emplace(im.tri);
                 }});
   const CholeskyAnalysis& analysis = *shared;
   im.one_component =
       std::all_of(im.comps.label.begin(), im.comps.label.end(), [](Index c) { return c == 0; });
-  const std::vector<Index> boundary = boundary_vertex_list(im.tri, options.boundary_vertices);
+  if (given_heat) {
+    check_heat_factor(im, *heat);
+    im.heat_neumann = std::move(heat);
+  }
   std::vector<std::function<void()>> jobs;
-  jobs.emplace_back([&] {
-    im.heat_neumann.emplace(tL, im.mass, im.comps, std::vector<Index>{}, analysis, heat_opt);
-  });
-  if (options.boundary == HeatDistanceOptions::Boundary::kAverage && !boundary.empty()) {
+  std::optional<PoissonSolver> own_heat;
+  if (!given_heat) {
+    jobs.emplace_back(
+        [&] { own_heat.emplace(tL, im.mass, im.comps, std::vector<Index>{}, analysis, heat_opt); });
+  }
+  if (dirichlet_heat) {
     jobs.emplace_back(
         [&] { im.heat_dirichlet.emplace(tL, im.mass, im.comps, boundary, analysis, heat_opt); });
   }
@@ -379,6 +428,48 @@ HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
     im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, analysis, poisson_opt);
   });
   run_parallel(jobs);
+  if (own_heat) im.heat_neumann = std::make_shared<const PoissonSolver>(std::move(*own_heat));
+}
+
+}  // namespace
+
+HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
+                                       const HeatDistanceOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  build_solver(*impl_, tri_in, options, nullptr);
+}
+
+HeatDistanceSolver::HeatDistanceSolver(const IntrinsicTriangulation& tri_in,
+                                       const HeatDistanceOptions& options,
+                                       std::shared_ptr<const PoissonSolver> heat)
+    : impl_(std::make_unique<Impl>()) {
+  if (!heat) throw InvalidInput("HeatDistanceSolver: the shared heat factor is null");
+  build_solver(*impl_, tri_in, options, std::move(heat));
+}
+
+std::shared_ptr<const PoissonSolver> HeatDistanceSolver::heat_factor(
+    const IntrinsicTriangulation& tri, double t, HeatDistanceOptions::Precision precision) {
+  if (tri.n_faces() == 0) throw InvalidInput("HeatDistanceSolver::heat_factor: no faces");
+  if (!(t > 0.0) || !std::isfinite(t)) {
+    throw InvalidInput("HeatDistanceSolver::heat_factor: t must be > 0 and finite, got " +
+                       std::to_string(t));
+  }
+  // as the constructor: the Poisson factor's analysis (shared there), the heat factor's options
+  const PoissonOptions poisson_opt = query_factor_options(precision, tri.n_vertices(), false);
+  PoissonOptions heat_opt = query_factor_options(precision, tri.n_vertices(), true);
+  heat_opt.screening = 1.0;
+  std::optional<CholeskyAnalysis> analysis;
+  Components comps;
+  fem::SparseMatrix tL;
+  Eigen::VectorXd mass;
+  run_parallel({[&] { analysis.emplace(PoissonSolver::analyze(tri, poisson_opt.cholesky)); },
+                [&] {
+                  comps = connected_components(tri);
+                  mass = fem::lumped_mass(tri);
+                  tL = t * fem::cotan_laplacian(tri);
+                }});
+  return std::make_shared<const PoissonSolver>(tL, mass, comps, std::vector<Index>{}, *analysis,
+                                               heat_opt);
 }
 
 HeatDistanceSolver::~HeatDistanceSolver() = default;

@@ -13,6 +13,8 @@
 
 namespace ifem::solvers {
 
+class PoissonSolver;
+
 /// A point on the surface (face + barycentric coordinates); for HeatDistanceSolver sources the
 /// face is one of triangulation()'s.
 using SurfacePoint = intrinsic::SurfacePoint;
@@ -150,6 +152,29 @@ class HeatDistanceSolver {
   /// @throws SolverError if a factorization fails
   explicit HeatDistanceSolver(const intrinsic::IntrinsicTriangulation& tri,
                               const HeatDistanceOptions& options = {});
+  /// The solver on a heat factor made by heat_factor() and shared, not copied: for a caller
+  /// that runs heat steps of its own on the same triangulation with the same t
+  /// (VectorHeatSolver), so that the two hold one factor of M + tL instead of two equal ones.
+  /// Results are bitwise those of the first constructor. tri must already be the solver's
+  /// triangulation: no flips happen (options.intrinsic_delaunay false, or tri intrinsic
+  /// Delaunay) and h lies in [0.5, 1) in tri's length unit (so length_scale() is 1); the
+  /// factor must be heat_factor(tri, time_step(), options.precision). On meshes with boundary
+  /// and Boundary::kAverage the zero-Dirichlet heat factor is still the solver's own.
+  /// @throws InvalidInput as the first constructor; if heat is null; if a flip would happen
+  ///         or length_scale() would not be 1; if heat is not a factor of M + tL on tri with
+  ///         natural boundary conditions (checked by one solve: relative residual above 1e-8)
+  /// @throws SolverError if a factorization fails
+  HeatDistanceSolver(const intrinsic::IntrinsicTriangulation& tri,
+                     const HeatDistanceOptions& options, std::shared_ptr<const PoissonSolver> heat);
+  /// The heat factor the constructors build: M + tL on tri as given (no flips, no rescaling),
+  /// natural (Neumann) boundary conditions, t in squared units of tri's lengths, factored with
+  /// the query options of `precision` — for the constructor above and for the caller's own
+  /// heat solves (PoissonSolver::solve_weak etc.; const, callable from several threads).
+  /// @throws InvalidInput on a triangulation without faces or t not > 0 and finite
+  /// @throws SolverError if the factorization fails
+  static std::shared_ptr<const PoissonSolver> heat_factor(
+      const intrinsic::IntrinsicTriangulation& tri, double t,
+      HeatDistanceOptions::Precision precision = HeatDistanceOptions::Precision::kDouble);
   ~HeatDistanceSolver();
   HeatDistanceSolver(HeatDistanceSolver&&) noexcept;
   HeatDistanceSolver& operator=(HeatDistanceSolver&&) noexcept;

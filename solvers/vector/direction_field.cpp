@@ -200,7 +200,11 @@ DirectionField inverse_iteration(const fem::ComplexSparseMatrix& L_all, const Ei
   const Components& comps = live.work;
   const fem::ComplexSparseMatrix L = live.empty > 0 ? restricted(L_all, comps) : L_all;
   std::vector<double> shift;
-  const ComplexCholeskySolver solver(shifted_operator(L, mass, comps, &shift));
+  // the iterations' dense solves by our kernel on CHOLMOD's factor in place (docs/decisions.md
+  // D-113: a smoothest 4-field 0.83-0.95 of CHOLMOD's time in most interleaved runs)
+  CholeskyOptions chol_opt;
+  chol_opt.solve_kernel = CholeskyOptions::SolveKernel::kSupernodalDouble;
+  const ComplexCholeskySolver solver(shifted_operator(L, mass, comps, &shift), chol_opt);
   std::mt19937 rng(7);
   std::normal_distribution<double> gauss;
   SearchSpace s{Eigen::MatrixXcd::Zero(n, 3), Eigen::MatrixXcd::Zero(n, 3)};

@@ -75,7 +75,8 @@ struct VectorHeatSolver::Impl {
   double t = 0.0;                                    // time step, in units of scale²
   double scale = 1.0;                                // a power of two near h
   std::optional<ComplexCholeskySolver> vector_heat;  // M + tL∇
-  std::optional<PoissonSolver> scalar_heat;          // M + tL, Neumann
+  // M + tL, Neumann: the heat distance's own factor, shared with the log map's distance solver
+  std::shared_ptr<const PoissonSolver> scalar_heat;
   mutable std::mutex distance_mutex;
   mutable std::unique_ptr<HeatDistanceSolver> distance;  // built by the first vector-heat log_map()
 
@@ -167,11 +168,12 @@ void VectorHeatSolver::Impl::factor() {
     chol.solve_kernel = CholeskyOptions::SolveKernel::kSupernodalDouble;
     vector_heat.emplace(A, chol);
   };
-  auto scalar_job = [this, &L] {
+  // the heat distance's factor of M + tL (its options and ordering), so that the log map's
+  // HeatDistanceSolver shares it instead of factoring the same matrix again (docs/decisions.md
+  // D-112)
+  auto scalar_job = [this] {
     comps = connected_components(tri);
-    PoissonOptions heat_opt;
-    heat_opt.screening = 1.0;  // tL + 1·M
-    scalar_heat.emplace(t * L, mass, comps, std::vector<Index>{}, heat_opt);
+    scalar_heat = HeatDistanceSolver::heat_factor(tri, t);
   };
   run_parallel({complex_job, scalar_job});
 }
@@ -463,7 +465,7 @@ const HeatDistanceSolver& VectorHeatSolver::Impl::distance_solver() const {
     o.mean_edge_length = h_mean;  // the same h and t as the vector heat step
     o.intrinsic_delaunay = false;
     o.boundary_vertices = opt.boundary_vertices;
-    distance = std::make_unique<HeatDistanceSolver>(tri, o);
+    distance = std::make_unique<HeatDistanceSolver>(tri, o, scalar_heat);
   }
   return *distance;
 }

@@ -86,8 +86,9 @@ struct VectorHeatReport {
 /// intrinsic Delaunay, builds its tangent frames, the connection Laplacian L∇ (n = 1), the cotan
 /// Laplacian L and the lumped mass M, and factors M + t·L∇ (complex Hermitian, CHOLMOD) and M + t·L
 /// (real) side by side; every query is back-substitutions. log_map() also needs geodesic distances:
-/// the first call builds a HeatDistanceSolver on the same triangulation with the same h and t (two
-/// more factorizations; later calls reuse it).
+/// the first call builds a HeatDistanceSolver on the same triangulation with the same h and t,
+/// sharing the solver's M + tL factor (HeatDistanceSolver::heat_factor): one more factorization,
+/// L's (two on meshes with boundary: also the zero-Dirichlet heat step); later calls reuse it.
 ///
 /// Method (per query, all heat steps one backward Euler step with the integrated delta as the
 /// right-hand side):

@@ -20,6 +20,7 @@
 #include "intrinsic/io/mesh_io.h"
 #include "solvers/recipes/pipeline.h"
 #include "solvers/recipes/tangent_fields.h"
+#include "solvers/scalar/heat_distance.h"
 #include "solvers/tangent_test_util.h"
 #include "solvers/test_util.h"
 #include "solvers/vector/vector_heat.h"
@@ -381,6 +382,79 @@ TEST(SolversLogMap, UnreachedVerticesAreNanAndCounted) {
       EXPECT_EQ(uv(40, 0), 0.0);
     }
   }
+}
+
+}  // namespace
+}  // namespace ifem::solvers
+
+namespace ifem::solvers {
+namespace {
+
+// The log map's distance solver shares the vector heat solver's scalar heat factor
+// (HeatDistanceSolver::heat_factor, docs/decisions.md D-112): a HeatDistanceSolver on a shared
+// factor gives bitwise the distances of one that factors on its own — single sources and a
+// block of sources, on a closed mesh below and above the size where queries run our supernodal
+// kernel (icosphere(20): 4,002 vertices, icosphere(64): 40,962) and on a jittered square with
+// boundary (its Dirichlet heat factor stays the solver's own); the vector heat log map's radius
+// is that distance; a factor of another time step or a triangulation that would be flipped is
+// refused.
+TEST(SolversLogMap, SharedHeatFactorEqualsSeparateFactors) {
+  std::vector<std::pair<std::string, intrinsic::TriangleMesh>> meshes;
+  meshes.emplace_back("icosphere(20)", intrinsic::icosphere(20));
+  meshes.emplace_back("icosphere(64)", intrinsic::icosphere(64));
+  meshes.emplace_back("square", flat_cells(
+                                    20, 1, [](int, int) { return true; }, 3));
+  for (const auto& [name, m] : meshes) {
+    SCOPED_TRACE(name);
+    const VectorHeatSolver vh(test::make_tri(m, false));
+    const intrinsic::IntrinsicTriangulation& tri = vh.triangulation();  // IDT, units of h
+    const double scale = vh.length_scale();
+    HeatDistanceOptions o;
+    o.mean_edge_length = intrinsic::mean_edge_length(test::make_tri(m, false)) / scale;
+    o.intrinsic_delaunay = false;
+    const HeatDistanceSolver separate(tri, o);
+    ASSERT_EQ(separate.length_scale(), 1.0);
+    const auto heat = HeatDistanceSolver::heat_factor(tri, separate.time_step());
+    const HeatDistanceSolver shared(tri, o, heat);
+    const Index nv = tri.n_vertices();
+    const std::vector<Index> sources = {0, nv / 3, nv - 1};
+    for (const Index s : sources) {
+      const Eigen::VectorXd a = separate.compute_distance({s});
+      const Eigen::VectorXd b = shared.compute_distance({s});
+      EXPECT_TRUE(a == b) << "source " << s << ": max difference " << (a - b).cwiseAbs().maxCoeff();
+      // the vector heat log map's radius is this distance (in the input's units)
+      const Eigen::VectorXcd z = vh.log_map(s, LogMapMethod::kVectorHeat);
+      double worst = 0.0;
+      for (Index v = 0; v < nv; ++v) {
+        worst = std::max(worst, std::abs(std::abs(z[v]) - a[v] * scale) / (a.maxCoeff() * scale));
+      }
+      EXPECT_LT(worst, 1e-12) << "source " << s;
+    }
+    EXPECT_TRUE(separate.compute_distance(sources) == shared.compute_distance(sources));
+    std::vector<Index> block;
+    for (Index k = 0; k < 8; ++k) block.push_back(k * (nv / 8));
+    EXPECT_TRUE(separate.compute_distances(block) == shared.compute_distances(block));
+    // another t: refused
+    EXPECT_THROW(HeatDistanceSolver(
+                     tri, o, HeatDistanceSolver::heat_factor(tri, 2.0 * separate.time_step())),
+                 InvalidInput);
+    // h outside [0.5, 1): the solver would rescale, so the factor cannot be its own
+    HeatDistanceOptions o4 = o;
+    o4.mean_edge_length = 4.0 * o.mean_edge_length;
+    EXPECT_THROW(HeatDistanceSolver(tri, o4, heat), InvalidInput);
+  }
+  // a triangulation that the solver would flip
+  const intrinsic::TriangleMesh sq = flat_cells(
+      6, 1, [](int, int) { return true; }, 9);
+  intrinsic::TriangleMesh skew = sq;
+  for (Index v = 0; v < skew.positions.rows(); ++v)
+    skew.positions(v, 0) += 3.0 * skew.positions(v, 1);
+  const auto raw = test::make_tri(skew, false);
+  HeatDistanceOptions o;
+  o.mean_edge_length = 0.75;
+  EXPECT_THROW(HeatDistanceSolver(raw, o, HeatDistanceSolver::heat_factor(raw, 0.75 * 0.75)),
+               InvalidInput);
+  EXPECT_THROW(HeatDistanceSolver(raw, o, nullptr), InvalidInput);
 }
 
 }  // namespace
