@@ -39,9 +39,9 @@ void CholeskyOptions::validate() const {
 
 namespace {
 
-// Frees factor values taken over from CHOLMOD: its allocator is SuiteSparse_config's default,
-// malloc/free (this library never replaces it).
-void release_cholmod_values(void* values) { std::free(values); }
+// Frees factor values taken over from CHOLMOD, through SuiteSparse's own free (whatever
+// allocator SuiteSparse_config holds).
+void release_cholmod_values(void* values) { SuiteSparse_free(values); }
 
 }  // namespace
 
@@ -202,8 +202,9 @@ struct CholeskySolver::Impl {
     }
   }
 
-  // With our supernodal kernel: copy the numeric supernodal factor f into it, then drop f's
-  // values (CHOLMOD keeps the symbolic factor, for refactor()).
+  // With our supernodal kernel: hand it the numeric supernodal factor f (double: its values
+  // taken over; single: rounded into a copy), then drop f's values (CHOLMOD keeps the symbolic
+  // factor, for refactor()).
   void hand_factor_to_kernel(cholmod_factor* f, const char* who) {
     if (kernel_kind == CholeskyOptions::SolveKernel::kCholmod || xtype != CHOLMOD_REAL) return;
     if (!f->is_super) throw SolverError(std::string(who) + ": factor is not supernodal");
@@ -224,12 +225,10 @@ struct CholeskySolver::Impl {
       f->minor = f->n;
       f->is_ll = 1;
       return;
-    } else {
-      kernel = std::make_unique<SupernodalSolver>(std::move(p), static_cast<const double*>(f->x),
-                                                  precision);
     }
-    // to_xtype = pattern: frees the values (if still CHOLMOD's), keeps the supernodal symbolic
-    // factor
+    kernel = std::make_unique<SupernodalSolver>(std::move(p), static_cast<const double*>(f->x),
+                                                precision);
+    // to_xtype = pattern: frees the values, keeps the supernodal symbolic factor
     if (!cholmod_change_factor(CHOLMOD_PATTERN, 1, 1, 1, 1, f, &common) || f->x) {
       throw SolverError(std::string(who) + ": dropping CHOLMOD's factor values failed");
     }
