@@ -121,6 +121,22 @@ int memory_by_part(const solvers::PreparedSurface& s) {
 
 using Ops = std::vector<std::pair<std::string, std::function<void()>>>;
 
+// The solver's log map, per method asked for (--what log_map, log_map_affine,
+// log_map_vector_heat), from the sources next() gives.
+template <class Next, class Wants>
+void add_log_map_ops(const solvers::VectorHeatSolver& vh, Next& next, const Wants& wants,
+                     Ops& ops) {
+  using solvers::LogMapMethod;
+  const std::pair<const char*, std::pair<const char*, LogMapMethod>> methods[] = {
+      {"log_map", {"log map (solver, blend)", LogMapMethod::kBlend}},
+      {"log_map_affine", {"log map (solver, affine)", LogMapMethod::kAffine}},
+      {"log_map_vector_heat", {"log map (solver, vector heat)", LogMapMethod::kVectorHeat}}};
+  for (const auto& [key, op] : methods) {
+    const LogMapMethod method = op.second;
+    if (wants(key)) ops.push_back({op.first, [&vh, &next, method] { vh.log_map(next(), method); }});
+  }
+}
+
 // A warm-up round (the first log map builds its helpers), then `repeat` rounds of every
 // operation in turn; one row per operation: median, minimum and the median's ratio to the first
 // operation's (the scalar heat query, when `heat_first`).
@@ -154,17 +170,16 @@ void time_rounds(const Ops& ops, int repeat, bool cpu, bool heat_first) {
 
 }  // namespace
 
+// --what's default: every repeated query.
+constexpr const char* kDefaultOps =
+    "heat,transport,transport_on,log_map,log_map_affine,log_map_vector_heat,log_map_on,field";
+
 int vector_repeat(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 7));
   const int n = int(int_option(argc, argv, "--n", 23));
   const std::string mesh = string_option(argc, argv, "--mesh", "");
   const bool cpu = has_flag(argc, argv, "--cpu");
-  std::string what =
-      "," +
-      string_option(argc, argv, "--what",
-                    "heat,transport,transport_on,log_map,log_map_affine,log_map_vector_heat,"
-                    "log_map_on,field") +
-      ",";
+  const std::string what = "," + string_option(argc, argv, "--what", kDefaultOps) + ",";
   auto wants = [&what](const char* op) {
     return what.find("," + std::string(op) + ",") != std::string::npos;
   };
@@ -200,15 +215,7 @@ int vector_repeat(int argc, char** argv) {
   if (wants("transport_on")) {
     ops.push_back({"transport_on (recipe)", [&] { solvers::transport_on(s, vh, next(), vec); }});
   }
-  if (wants("log_map")) ops.push_back({"log map (solver, blend)", [&] { vh.log_map(next()); }});
-  if (wants("log_map_affine")) {
-    ops.push_back(
-        {"log map (solver, affine)", [&] { vh.log_map(next(), solvers::LogMapMethod::kAffine); }});
-  }
-  if (wants("log_map_vector_heat")) {
-    ops.push_back({"log map (solver, vector heat)",
-                   [&] { vh.log_map(next(), solvers::LogMapMethod::kVectorHeat); }});
-  }
+  add_log_map_ops(vh, next, wants, ops);
   if (wants("log_map_on")) {
     ops.push_back({"log_map_on (recipe)", [&] { solvers::log_map_on(s, vh, next()); }});
   }
