@@ -89,16 +89,6 @@ void run_accurate(const std::string& name, const io::SurfaceInput& in, int repea
   std::fflush(stdout);
 }
 
-// Resident set size now, MiB (VmRSS).
-double rss_mib() {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
-  }
-  return 0.0;
-}
-
 // The common subdivision's peak memory (VmHWM after resetting it, minus the RSS before) against
 // its bound kSubdivisionBytesPerCrossing × (C + V + F_in), after refinement to the angle bound.
 void run_subdivision_memory(const std::string& name, const io::SurfaceInput& in) {

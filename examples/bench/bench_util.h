@@ -96,15 +96,22 @@ inline InterleavedTimes time_interleaved(int repeat, const std::vector<std::func
   return out;
 }
 
-/// Peak resident set size of this process so far, in MiB (VmHWM from /proc/self/status).
-inline double peak_rss_mib() {
+/// A size field of /proc/self/status ("VmHWM:", "VmRSS:"), in MiB (0 if absent).
+inline double status_mib(const char* field) {
   std::ifstream in("/proc/self/status");
   std::string line;
+  const std::size_t n = std::char_traits<char>::length(field);
   while (std::getline(in, line)) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+    if (line.rfind(field, 0) == 0) return std::stod(line.substr(n)) / 1024.0;
   }
   return 0.0;
 }
+
+/// Peak resident set size of this process so far, in MiB (VmHWM).
+inline double peak_rss_mib() { return status_mib("VmHWM:"); }
+
+/// Resident set size now, in MiB (VmRSS).
+inline double rss_mib() { return status_mib("VmRSS:"); }
 
 /// Parses "--repeat N" style integer options from argv (returns fallback when absent).
 inline long int_option(int argc, char** argv, const char* name, long fallback) {

@@ -39,15 +39,6 @@
 
 namespace ifem::bench {
 namespace {
-// Resident set size now, in MiB (VmRSS).
-double rss_mib() {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
-  }
-  return 0.0;
-}
 // `--what memory`: one solver, one transport, one log map; times and the peak RSS by stage.
 int memory_by_stage(const solvers::PreparedSurface& s, const std::string& name,
                     solvers::LogMapMethod method) {

@@ -662,6 +662,13 @@ void check_pattern(const SupernodalPattern& p) {
   if (!ok) throw InvalidInput("SupernodalSolver: inconsistent supernodal pattern");
 }
 
+// v's storage with room for at least n elements (scratch reused between solves grows only).
+template <class Vector>
+auto* sized(Vector& v, std::size_t n) {
+  if (v.size() < n) v.resize(n);
+  return v.data();
+}
+
 }  // namespace
 
 struct SupernodalSolver::Impl {
@@ -695,11 +702,6 @@ struct SupernodalSolver::Impl {
     HugeVector W;
     std::vector<double> T[2], S[2], acc[2];
     std::vector<char> nonzero;  // n: the rows of W a gather found nonzero
-    template <class Vector>
-    static auto* sized(Vector& v, std::size_t n) {
-      if (v.size() < n) v.resize(n);
-      return v.data();
-    }
   };
   // the scratch of the last solve, reused when no other solve holds it
   mutable std::mutex workspace_mutex;
@@ -765,8 +767,8 @@ void SupernodalSolver::Impl::forward_split(const Real* values, double* W, int k,
     acc[b].assign(std::size_t(split.n_top) * k, 0.0);
     jobs.emplace_back([this, values, W, k, b, acc, &scr, &columns, &shift] {
       const FlushDenormalsScope no_subnormals;
-      double* T = Scratch::sized(scr.T[b], scratch_rows(k));
-      double* S = Scratch::sized(scr.S[b], block_scratch);
+      double* T = sized(scr.T[b], scratch_rows(k));
+      double* S = sized(scr.S[b], block_scratch);
       for (const Subtree& st : split.bin[b]) {
         const TopAccumulator top{acc[b].data(), split.top_index.data(), st.col_end};
         for (int s = st.first; s <= st.last; ++s) {
@@ -803,8 +805,8 @@ void SupernodalSolver::Impl::top_in_column_halves(
   const int mid = k < 16 || top_work < double(kParallelEntries) ? k : (k / 2 + 7) / 8 * 8;
   run_halves(mid < k, [&](int half) {
     const FlushDenormalsScope no_subnormals;
-    double* T = Scratch::sized(scr.T[half], scratch_rows(k));
-    double* S = Scratch::sized(scr.S[half], block_scratch);
+    double* T = sized(scr.T[half], scratch_rows(k));
+    double* S = sized(scr.S[half], block_scratch);
     const Columns cols = half == 0 ? Columns{0, mid} : Columns{mid, k};
     if (cols.begin < cols.end) pass(cols, T, S);
   });
@@ -822,8 +824,8 @@ void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k
   for (int b = 0; b < 2; ++b) {
     jobs.emplace_back([this, values, W, k, b, &scr] {
       const FlushDenormalsScope no_subnormals;
-      double* Gb = Scratch::sized(scr.T[b], scratch_rows(k));
-      double* Sb = Scratch::sized(scr.S[b], block_scratch);
+      double* Gb = sized(scr.T[b], scratch_rows(k));
+      double* Sb = sized(scr.S[b], block_scratch);
       const auto& bin = split.bin[b];
       for (auto st = bin.rbegin(); st != bin.rend(); ++st) {
         for (int s = st->last; s >= st->first; --s) {
@@ -875,8 +877,8 @@ void SupernodalSolver::Impl::solve_permuted(const Real* values, double* W, int k
                                             const char* nonzero, const int* source_rows,
                                             const RankOne& shift) const {
   const int ns = int(p.super.size()) - 1;
-  double* T = Scratch::sized(scr.T[0], scratch_rows(k));
-  double* S = Scratch::sized(scr.S[0], block_scratch);
+  double* T = sized(scr.T[0], scratch_rows(k));
+  double* S = sized(scr.S[0], block_scratch);
   const Columns all{0, k};
   if (source_rows && !shift.rows) {
     // point sources: each supernode on the columns whose source is in its subtree (the others
@@ -997,7 +999,7 @@ void SupernodalSolver::solve(const double* b, double* x, Eigen::Index cols) cons
     std::unique_lock<std::mutex> lock(im.rows_mutex, std::try_to_lock);
     HugeVector own;
     HugeVector& rows = lock.owns_lock() ? im.rows_buffer : own;
-    double* R = Impl::Scratch::sized(rows, std::size_t(n) * std::size_t(cols));
+    double* R = sized(rows, std::size_t(n) * std::size_t(cols));
     columns_to_rows(b, n, int(cols), R);
     solve_rows(R, cols);
     rows_to_columns(R, n, int(cols), x);
@@ -1006,9 +1008,9 @@ void SupernodalSolver::solve(const double* b, double* x, Eigen::Index cols) cons
   std::unique_lock<std::mutex> lock(im.workspace_mutex, std::try_to_lock);
   Impl::Scratch own;
   Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
-  double* W = Impl::Scratch::sized(scr.W, std::size_t(n));
+  double* W = sized(scr.W, std::size_t(n));
   const std::vector<int>& perm = im.p.perm;
-  char* nonzero = Impl::Scratch::sized(scr.nonzero, std::size_t(n));
+  char* nonzero = sized(scr.nonzero, std::size_t(n));
   for (Eigen::Index i = 0; i < n; ++i) {
     W[i] = b[perm[i]];
     nonzero[i] = W[i] != 0.0;
@@ -1026,11 +1028,11 @@ void SupernodalSolver::solve_rows(double* X, Eigen::Index cols) const {
   std::unique_lock<std::mutex> lock(im.workspace_mutex, std::try_to_lock);
   Impl::Scratch own;
   Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
-  double* W = Impl::Scratch::sized(scr.W, std::size_t(n) * k);
+  double* W = sized(scr.W, std::size_t(n) * k);
   // whole rows in permuted order (contiguous k-value copies), two halves on two threads when
   // the block is large (a copy of 1M × 32 values is bandwidth-bound: one core's stream does not
   // saturate the memory)
-  char* nonzero = Impl::Scratch::sized(scr.nonzero, std::size_t(n));
+  char* nonzero = sized(scr.nonzero, std::size_t(n));
   im.copy_rows(X, W, k, true, nonzero);
   const FlushDenormalsScope no_subnormals;
   im.solve_permuted(W, k, scr, nonzero);
@@ -1201,11 +1203,6 @@ struct ComplexSupernodalSolver::Impl {
     std::vector<Cx> W, T[2], acc[2];
     std::vector<char> nonzero;
     std::vector<int> reach;
-    template <class Vector>
-    static auto* sized(Vector& v, std::size_t n) {
-      if (v.size() < n) v.resize(n);
-      return v.data();
-    }
   };
   mutable std::mutex workspace_mutex;
   mutable Scratch workspace;
@@ -1243,7 +1240,7 @@ bool ComplexSupernodalSolver::Impl::forward_reach(const char* nonzero,
 void ComplexSupernodalSolver::Impl::solve_permuted(Cx* W, Scratch& scr, const char* nonzero) const {
   const int ns = int(p.super.size()) - 1;
   const std::size_t rows = std::size_t(max_rows);
-  Cx* T = Scratch::sized(scr.T[0], rows);
+  Cx* T = sized(scr.T[0], rows);
   const bool bins = two_bins();
   if (forward_reach(nonzero, scr.reach)) {
     for (const int s : scr.reach) complex_forward_block(block(s), W, T, nullptr, nullptr, 0);
@@ -1251,7 +1248,7 @@ void ComplexSupernodalSolver::Impl::solve_permuted(Cx* W, Scratch& scr, const ch
     std::vector<std::function<void()>> jobs;
     for (int b = 0; b < 2; ++b) {
       scr.acc[b].assign(std::size_t(split.n_top), Cx{0.0, 0.0});
-      Cx* Tb = Scratch::sized(scr.T[b], rows);
+      Cx* Tb = sized(scr.T[b], rows);
       jobs.emplace_back([this, W, Tb, b, &scr] {
         const FlushDenormalsScope no_subnormals;
         for (const Subtree& st : split.bin[b]) {
@@ -1285,7 +1282,7 @@ void ComplexSupernodalSolver::Impl::solve_permuted(Cx* W, Scratch& scr, const ch
   }
   std::vector<std::function<void()>> jobs;
   for (int b = 0; b < 2; ++b) {
-    Cx* Zb = Scratch::sized(scr.T[b], rows);
+    Cx* Zb = sized(scr.T[b], rows);
     jobs.emplace_back([this, W, Zb, b] {
       const FlushDenormalsScope no_subnormals;
       const auto& bin = split.bin[b];
@@ -1327,8 +1324,8 @@ void ComplexSupernodalSolver::solve(const std::complex<double>* b, std::complex<
   std::unique_lock<std::mutex> lock(im.workspace_mutex, std::try_to_lock);
   Impl::Scratch own;
   Impl::Scratch& scr = lock.owns_lock() ? im.workspace : own;
-  Cx* W = Impl::Scratch::sized(scr.W, std::size_t(n));
-  char* nonzero = Impl::Scratch::sized(scr.nonzero, std::size_t(n));
+  Cx* W = sized(scr.W, std::size_t(n));
+  char* nonzero = sized(scr.nonzero, std::size_t(n));
   const std::vector<int>& perm = im.p.perm;
   const FlushDenormalsScope no_subnormals;
   for (Eigen::Index j = 0; j < cols; ++j) {
