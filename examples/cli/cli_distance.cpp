@@ -198,11 +198,14 @@ OptionGroup distance_options() {
                     "used by no face)"),
        real("time-factor", "m")
            .above(0)
-           .explain("t = m·h² (default 1; " + format_number(kAccurate.time_factor) +
+           .explain("t = m·h² (default " +
+                    format_number(solvers::HeatDistanceOptions{}.time_factor) + "; " +
+                    format_number(kAccurate.time_factor) +
                     " with --refine); larger is smoother, smaller\nis sharper but noisier"),
        count("correction-steps", "N")
            .explain("after the heat method, N times φ ← the solution of\n"
-                    "L φ = div(∇φ/|∇φ|) (default 0; " +
+                    "L φ = div(∇φ/|∇φ|) (default " +
+                    std::to_string(solvers::HeatDistanceOptions{}.correction_steps) + "; " +
                     std::to_string(kAccurate.correction_steps) + " with --refine)"),
        flag("mixed-precision")
            .explain("read the Poisson factor as floats in the solves (half its bytes per\n"

@@ -57,7 +57,7 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri);
 // mean_side_length() counts every side of every face of a face list as given (an interior edge
 // twice), from positions. The input mesh's h that the pipeline uses (heat time step, refinement
 // target length, mollification margin) is robust_side_length(), the same mean with outliers
-// clipped (docs/decisions.md D-011, D-012).
+// left out (docs/decisions.md D-011, D-012, D-132).
 
 /// Mean length over the edges of tri, each edge once (absolute, in the lengths' unit); 0 when
 /// tri has no edge.

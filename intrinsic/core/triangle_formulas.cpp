@@ -12,9 +12,11 @@ double robust_mean_length(std::vector<double> lengths) {
   const auto p99 = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() * 99 / 100);
   std::nth_element(lengths.begin(), p99, lengths.end());
   const double cap = kOutlierClip * *p99;
+  std::size_t kept = 0;
+  for (const double l : lengths) kept += l <= cap ? 1 : 0;
   double mean = 0.0;  // divided as it goes: huge lengths cannot overflow the sum
-  const double inv_n = 1.0 / static_cast<double>(lengths.size());
-  for (const double l : lengths) mean += std::min(l, cap) * inv_n;
+  const double inv_n = 1.0 / static_cast<double>(kept);
+  for (const double l : lengths) mean += l <= cap ? l * inv_n : 0.0;
   return mean;
 }
 

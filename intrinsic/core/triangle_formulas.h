@@ -99,12 +99,13 @@ inline Eigen::Vector2d triangle_apex(double base, double from_end, double from_o
 /// Area of the equilateral triangle of side l (the area bound that asks for edges of about l).
 inline double equilateral_area(double l) { return 0.4330127018922193 * l * l; }  // √3/4 l²
 
-/// A length scale of a set of lengths that a few outliers cannot move: the mean of the lengths,
-/// each clipped to at most kOutlierClip × their 99th percentile. Equal to the plain mean unless a
-/// length exceeds kOutlierClip × the 99th percentile; the lengths of a far outlier (fewer than
-/// 1% of them) then add at most kOutlierClip × p99 each to the sum. The heat method's time step,
-/// the refinement resolution's h and the mollification margin use it (docs/decisions.md D-012).
-/// In the lengths' unit; 0 for an empty set. O(n) (a copy, nth_element).
+/// A length scale of a set of lengths that a few outliers cannot move: the mean of the lengths
+/// at most kOutlierClip × their 99th percentile, the longer ones left out. Equal to the plain mean
+/// unless a length exceeds kOutlierClip × the 99th percentile; a far outlier's lengths (fewer
+/// than 1% of them) then only take their count out of the mean, whatever their size (a vertex
+/// pulled 10^4 model sizes away moves it as little as one pulled 10 away). The heat method's time
+/// step, the refinement resolution's h and the mollification margin use it (docs/decisions.md
+/// D-012, D-132). In the lengths' unit; 0 for an empty set. O(n) (a copy, nth_element).
 double robust_mean_length(std::vector<double> lengths);
 inline constexpr double kOutlierClip = 4.0;
 

@@ -164,7 +164,7 @@ class IntrinsicTriangulation {
 
   /// Adds the smallest uniform δ ≥ 0 to every edge length so that every face satisfies
   /// a + b − c ≥ ε for all three orderings, ε = relative_epsilon × robust_mean_length(edge lengths)
-  /// (the mean with lengths clipped at kOutlierClip × their 99th percentile: one far outlier vertex
+  /// (the mean of the lengths up to kOutlierClip × their 99th percentile: one far outlier vertex
   /// does not inflate every triangle's margin)
   /// (Sharp & Crane 2020, §4.5). Geometry unchanged when no face is below the margin.
   MollifyReport mollify(double relative_epsilon = kDefaultMollifyEpsilon);

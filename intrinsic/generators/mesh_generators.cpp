@@ -1,7 +1,9 @@
 #include "intrinsic/generators/mesh_generators.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <utility>
 
 #include "intrinsic/core/errors.h"
@@ -126,6 +128,48 @@ TriangleMesh grid(int nx, int ny, double width, double height, bool alternate) {
       } else {
         mesh.faces.push_back({a, b, d});
         mesh.faces.push_back({b, c, d});
+      }
+    }
+  }
+  return mesh;
+}
+
+TriangleMesh torus_knot_tube(int n_along, int n_around, double radius, int p, int q) {
+  if (n_along < 3 || n_around < 3 || !(radius > 0.0) || p < 1 || q < 1 || std::gcd(p, q) != 1) {
+    throw InvalidInput(
+        "torus_knot_tube: need n_along ≥ 3, n_around ≥ 3, radius > 0 and coprime p, q ≥ 1");
+  }
+  const double two_pi = 2.0 * std::acos(-1.0);
+  auto centre = [&](double s) {
+    const double r = 2.0 + std::cos(q * s);
+    return Eigen::Vector3d(r * std::cos(p * s), r * std::sin(p * s), std::sin(q * s));
+  };
+  TriangleMesh mesh;
+  mesh.positions.resize(Index(n_along) * n_around, 3);
+  for (int i = 0; i < n_along; ++i) {
+    const double s = two_pi * i / n_along, ds = 1e-4;
+    const Eigen::Vector3d c = centre(s);
+    const Eigen::Vector3d tangent = (centre(s + ds) - centre(s - ds)).normalized();
+    // the frame: the direction to the torus' core circle, made normal to the tangent
+    Eigen::Vector3d n = Eigen::Vector3d(c.x(), c.y(), 0.0).normalized() * 2.0 - c;
+    n = (n - n.dot(tangent) * tangent).normalized();
+    const Eigen::Vector3d b = tangent.cross(n);
+    for (int j = 0; j < n_around; ++j) {
+      const double a = two_pi * j / n_around;
+      mesh.positions.row(Index(i) * n_around + j) =
+          c + radius * (std::cos(a) * n + std::sin(a) * b);
+    }
+  }
+  auto id = [&](int i, int j) { return Index((i % n_along) * n_around + j % n_around); };
+  for (int i = 0; i < n_along; ++i) {
+    for (int j = 0; j < n_around; ++j) {
+      const Index a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if ((i + j) % 2 == 0) {  // (b − a) × (d − a) points inwards: a, d, c and a, c, b
+        mesh.faces.push_back({a, c, b});
+        mesh.faces.push_back({a, d, c});
+      } else {
+        mesh.faces.push_back({a, d, b});
+        mesh.faces.push_back({b, d, c});
       }
     }
   }

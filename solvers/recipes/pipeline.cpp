@@ -459,9 +459,10 @@ HeatDistanceOptions distance_options(const PreparedSurface& s, const DistanceOpt
   settings.validate();
   const RefinedDistanceOptions accurate;
   const bool sized = s.target_edge_length > 0.0;
-  HeatDistanceOptions o;
-  o.time_factor = settings.time_factor.value_or(sized ? accurate.time_factor : 1.0);
-  o.correction_steps = settings.correction_steps.value_or(sized ? accurate.correction_steps : 0);
+  HeatDistanceOptions o;  // its time_factor and correction_steps: the paper's, the one default
+  o.time_factor = settings.time_factor.value_or(sized ? accurate.time_factor : o.time_factor);
+  o.correction_steps =
+      settings.correction_steps.value_or(sized ? accurate.correction_steps : o.correction_steps);
   o.precision = settings.precision.value_or(o.precision);
   o.intrinsic_delaunay = false;  // prepare_surface already flipped (unless told not to)
   if (s.input.has_faces() && s.path != SurfacePath::kPointCloud) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -320,6 +322,57 @@ TEST(Triangulation, CanSplitEdgeAnswersBeforeSplitEdgeWouldRefuse) {
   EXPECT_TRUE(tri.can_split_edge(boundary));
   IntrinsicTriangulation copy = tri;
   EXPECT_THROW(copy.split_edge(self_glued, 0.5), InvalidInput);
+}
+
+}  // namespace
+}  // namespace ifem::intrinsic
+
+namespace ifem::intrinsic {
+namespace {
+
+// The length scale: the plain mean when nothing stands out; lengths beyond kOutlierClip × the
+// 99th percentile leave the mean whatever their size (a clipped mean would still add
+// kOutlierClip × p99 for each).
+TEST(Triangulation, RobustMeanLengthLeavesOutliersOut) {
+  std::vector<double> l(1000);
+  for (std::size_t i = 0; i < l.size(); ++i) l[i] = 1.0 + 0.001 * double(i % 7);
+  const double plain = std::accumulate(l.begin(), l.end(), 0.0) / double(l.size());
+  EXPECT_NEAR(robust_mean_length(l), plain, 1e-14);
+  for (const double far : {10.0, 1e4, 1e300}) {
+    std::vector<double> spiked = l;
+    for (int k = 0; k < 6; ++k) spiked[std::size_t(k) * 100] = far;  // 0.6% of the lengths
+    double kept = 0.0;
+    for (std::size_t i = 0; i < l.size(); ++i) kept += i % 100 == 0 && i < 600 ? 0.0 : l[i];
+    EXPECT_NEAR(robust_mean_length(spiked), kept / 994.0, 1e-14) << far;
+  }
+  EXPECT_EQ(robust_mean_length({}), 0.0);
+  EXPECT_EQ(robust_mean_length({2.5}), 2.5);
+}
+
+// The sliver knot: closed, genus 1, oriented (positive volume), sides along the knot several
+// times those around it.
+TEST(Triangulation, TorusKnotTubeIsAClosedSliverTorus) {
+  const TriangleMesh m = torus_knot_tube(100, 8, 0.1);
+  EXPECT_EQ(m.positions.rows(), 800);
+  EXPECT_EQ(m.faces.size(), 1600u);
+  const auto tri = IntrinsicTriangulation::from_positions(m.faces, m.positions);
+  tri.validate();
+  EXPECT_FALSE(tri.has_boundary());
+  EXPECT_EQ(euler_characteristic(tri), 0);
+  double volume = 0.0, longest = 0.0, shortest = 1e300;
+  for (const Triangle& t : m.faces) {
+    const Eigen::Vector3d a = m.positions.row(t[0]), b = m.positions.row(t[1]),
+                          c = m.positions.row(t[2]);
+    volume += a.dot(b.cross(c)) / 6.0;
+    longest = std::max(longest, (b - a).norm());
+    shortest = std::min(shortest, (b - a).norm());
+  }
+  const double tube = 0.01 * kPi;  // π r² per unit length; the knot is ~30 long
+  EXPECT_GT(volume, 0.5 * tube * 25.0);
+  EXPECT_LT(volume, tube * 40.0);
+  EXPECT_GT(longest / shortest, 3.0);
+  EXPECT_THROW(torus_knot_tube(100, 8, 0.1, 2, 4), InvalidInput);
+  EXPECT_THROW(torus_knot_tube(2, 8), InvalidInput);
 }
 
 }  // namespace

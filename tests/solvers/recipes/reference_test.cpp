@@ -64,8 +64,8 @@ Eigen::VectorXd read_cgal_heat(const fs::path& p, const Reference& ref) {
 // Per mesh and source, the mean relative error of `ifem distance` (the library pipeline:
 // prepare_surface + geodesic_distance) against CGAL's heat method on the same reference: at most
 // CGAL's on the sliver / nonmanifold meshes, where intrinsic Delaunay is the point, and within 6%
-// of it on the clean ones (there no step-length rule tried beats CGAL everywhere:
-// docs/decisions.md, "Heat step length (`HeatDistanceOptions::StepLength`)"). Relative to the
+// of it on the clean ones (there no step-length or boundary rule tried beats CGAL everywhere:
+// the optima of t conflict between meshes, docs/decisions.md D-011, D-133). Relative to the
 // baseline, not pinned at today's figures.
 TEST(SolversReference, HeatDistanceVsExact) {
   // references on a surface CGAL cut apart at nonmanifold vertices (MANIFEST.md, "repaired")
