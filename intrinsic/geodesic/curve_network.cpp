@@ -182,7 +182,8 @@ void check_curve_budget(const T& tri, const std::vector<CurveSpec>& specs, doubl
     const bool fine = e.segment_length[c] >= floor;
     if (fine && e.bytes <= e.budget) continue;
     const std::size_t d = specs[c].vertices.size() - 1;
-    const double polygon = e.segment_length[c] * double(d) * std::ldexp(1.0, specs[c].bezier_rounds);
+    const double polygon =
+        e.segment_length[c] * double(d) * std::ldexp(1.0, specs[c].bezier_rounds);
     int fit = specs[c].bezier_rounds;
     while (fit > 0 && (bezier_segment(polygon, d, fit) < floor ||
                        (others + bezier_vertices(d, fit)) * kRefineBytesPerVertex > e.budget)) {
@@ -220,8 +221,8 @@ std::string iteration_cap_message(const FlipOutReport& fo, const std::string& ac
   return m.str();
 }
 
-CurveEstimate estimate_curves(const IntrinsicTriangulation& tri, const std::vector<CurveSpec>& specs,
-                              double max_memory_bytes) {
+CurveEstimate estimate_curves(const IntrinsicTriangulation& tri,
+                              const std::vector<CurveSpec>& specs, double max_memory_bytes) {
   check_specs(tri, specs);
   CurveEstimate e;
   std::vector<double> lengths(static_cast<std::size_t>(tri.n_edges()));

@@ -85,8 +85,8 @@ inline constexpr double kMinBezierSegment = 1.0 / 16.0;
 /// The estimate above for specs on tri (specs checked as insert_curves() does); budget:
 /// max_memory_bytes, or default_memory_budget() when 0.
 /// @throws InvalidInput as insert_curves() on bad specs
-CurveEstimate estimate_curves(const IntrinsicTriangulation& tri, const std::vector<CurveSpec>& specs,
-                              double max_memory_bytes = 0.0);
+CurveEstimate estimate_curves(const IntrinsicTriangulation& tri,
+                              const std::vector<CurveSpec>& specs, double max_memory_bytes = 0.0);
 
 /// Refuses the first Bézier curve of specs whose estimate (estimate_curves(), all curves
 /// counted) exceeds the memory budget (max_memory_bytes; 0: default_memory_budget()) or whose

@@ -8,8 +8,8 @@
 #include <utility>
 
 #include "intrinsic/core/errors.h"
-#include "intrinsic/core/triangle_formulas.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/core/triangle_formulas.h"
 #include "intrinsic/core/union_find.h"
 
 namespace ifem::solvers {
@@ -20,7 +20,6 @@ using T = intrinsic::IntrinsicTriangulation;
 void report(const CurveSurfaceOptions& o, const std::string& line) {
   if (o.progress) o.progress(line);
 }
-
 
 intrinsic::CurveSpec to_spec(const CurveCondition& c) {
   intrinsic::CurveSpec s;
@@ -220,7 +219,8 @@ void build_constrained(const CurveSurfaceOptions& opt, CurveSurface& out) {
   const intrinsic::FlipOutReport& fo = out.network.flipout;
   out.seconds_curves = watch.restart();
   if (fo.stopped_by == intrinsic::FlipOutStop::kIterationCap && !opt.accept_partial) {
-    throw InvalidInput(intrinsic::iteration_cap_message(fo, "CurveSurfaceOptions::accept_partial, `--accept-partial` in the CLI"));
+    throw InvalidInput(intrinsic::iteration_cap_message(
+        fo, "CurveSurfaceOptions::accept_partial, `--accept-partial` in the CLI"));
   }
   std::ostringstream m;
   m << "curves: " << out.curves.size() << " inserted (" << fo.flips << " FlipOut flips, "

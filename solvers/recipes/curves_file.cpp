@@ -126,7 +126,8 @@ class LineParser {
 
   double value(const std::string& t, const char* what) const {
     double x = 0;
-    if (!parse_whole_real(t, x)) fail(io::quoted_excerpt(t) + " is not " + what + ": expected a finite number");
+    if (!parse_whole_real(t, x))
+      fail(io::quoted_excerpt(t) + " is not " + what + ": expected a finite number");
     return x;
   }
 

@@ -165,7 +165,8 @@ GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCu
     try {
       intrinsic::check_curve_budget(st.intrinsic(), {spec}, options.max_memory_bytes);
     } catch (const InvalidInput& e) {  // "curve 0: ..." → the curve as given
-      throw InvalidInput(curves[0].origin + std::string(e.what()).substr(std::string("curve 0").size()));
+      throw InvalidInput(curves[0].origin +
+                         std::string(e.what()).substr(std::string("curve 0").size()));
     }
     intrinsic::BezierCurve b =
         intrinsic::bezier_curve(st, ids[0], *options.bezier_rounds, options.flipout);
@@ -184,8 +185,8 @@ GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCu
     for (std::size_t c = 0; c < curves.size(); ++c) run.curves[c].initial_length = initial[c];
   }
   if (run.report.stopped_by == intrinsic::FlipOutStop::kIterationCap && !options.accept_partial) {
-    throw InvalidInput(
-        intrinsic::iteration_cap_message(run.report, "GeodesicOptions::accept_partial, `--accept-partial` in the CLI"));
+    throw InvalidInput(intrinsic::iteration_cap_message(
+        run.report, "GeodesicOptions::accept_partial, `--accept-partial` in the CLI"));
   }
   trace_curves(st, paths, run);
   run.seconds_flipout = watch.seconds();

@@ -92,8 +92,8 @@ struct TangentFieldResult {
 /// On the frame path (tufted, point cloud) the field lives in frame_basis_3d()'s frames.
 /// @throws InvalidInput on bad settings, a vertex out of [0, #V_in), a direction normal to the
 ///         surface there, two different directions at one vertex (each named by its origin,
-///         "FILE:line", or "direction K"), align_boundary on a point cloud, or a refined surface off the
-///         manifold path (inserted vertices have no position for a frame)
+///         "FILE:line", or "direction K"), align_boundary on a point cloud, or a refined surface
+///         off the manifold path (inserted vertices have no position for a frame)
 TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldOptions& settings);
 
 /// The index of an n-direction field around each face of the input (s.input.triangles, in

@@ -121,8 +121,9 @@ std::vector<solvers::InputDirection> read_constraints_file(const std::string& pa
     out.push_back(d);
   });
   if (out.empty()) {
-    throw IoError(path + ": no direction in the file (every line is blank or a comment; expected "
-                         "'VERTEX X Y Z' lines)");
+    throw IoError(path +
+                  ": no direction in the file (every line is blank or a comment; expected "
+                  "'VERTEX X Y Z' lines)");
   }
   return out;
 }
@@ -132,7 +133,8 @@ std::string parse_point_token(const std::string& token, GivenPoint& p) {
   p.token = "'" + token + "'";
   if (token.rfind("face:", 0) != 0) {
     if (!vertex_id(token, p.vertex)) {
-      return io::quoted_excerpt(token) + " is not a point: expected a vertex id (an integer ≥ 0) or face:F:u:v";
+      return io::quoted_excerpt(token) +
+             " is not a point: expected a vertex id (an integer ≥ 0) or face:F:u:v";
     }
     return "";
   }

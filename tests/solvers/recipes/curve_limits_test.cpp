@@ -39,7 +39,7 @@ TEST(QuotedExcerpt, EscapesControlBytesKeepsUtf8AndTruncates) {
   EXPECT_EQ(quoted_excerpt(std::string("a\0b", 3)), "'a\\0b'");
   EXPECT_EQ(quoted_excerpt("a\tb\r\n\\"), "'a\\tb\\r\\n\\\\'");
   EXPECT_EQ(quoted_excerpt("\x01\x1b\x7f"), "'\\x01\\x1b\\x7f'");
-  EXPECT_EQ(quoted_excerpt("≥ é"), "'≥ é'");                   // well-formed UTF-8 kept
+  EXPECT_EQ(quoted_excerpt("≥ é"), "'≥ é'");  // well-formed UTF-8 kept
   EXPECT_EQ(quoted_excerpt("\xff\xfe\xe2\x89"), "'\\xff\\xfe\\xe2\\x89'");  // malformed
   const std::string longer(100, 'x');
   EXPECT_EQ(quoted_excerpt(longer, 5), "'xxxxx'... (100 bytes)");
@@ -54,8 +54,8 @@ class FileErrors : public ::testing::Test {
   std::string write(const std::string& bytes) {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     const std::filesystem::path p =
-        std::filesystem::temp_directory_path() / ("ifem_limits_" + std::string(info->name()) +
-                                                  "_" + std::to_string(files_.size()) + ".txt");
+        std::filesystem::temp_directory_path() /
+        ("ifem_limits_" + std::string(info->name()) + "_" + std::to_string(files_.size()) + ".txt");
     std::ofstream(p, std::ios::binary) << bytes;
     files_.push_back(p);
     return p.string();
@@ -84,15 +84,15 @@ class FileErrors : public ::testing::Test {
   std::vector<std::filesystem::path> files_;
 };
 
-const std::string kJunk("\x00\x01\x1b[31m\rX\x7f\xff\n", 11);
+std::string junk() { return std::string("\x00\x01\x1b[31m\rX\x7f\xff\n", 11); }
 
 TEST_F(FileErrors, GarbageIsEscapedInEveryFormat) {
-  expect_clean_error("0 1 " + kJunk, 1, "'\\0\\x01\\x1b[31m' is not a vertex id",
+  expect_clean_error("0 1 " + junk(), 1, "'\\0\\x01\\x1b[31m' is not a vertex id",
                      solvers::read_curves_file);
-  expect_clean_error("path 0 " + kJunk, 1, "'\\0\\x01\\x1b[31m' is not a point",
+  expect_clean_error("path 0 " + junk(), 1, "'\\0\\x01\\x1b[31m' is not a point",
                      [](const std::string& p) { return recipes::read_network_file(p, false); });
-  expect_clean_error("1 " + kJunk, 1, "got '1 \\0\\x01", recipes::read_constraints_file);
-  expect_clean_error(kJunk, 1, "got '\\0\\x01", recipes::read_vertex_list);
+  expect_clean_error("1 " + junk(), 1, "got '1 \\0\\x01", recipes::read_constraints_file);
+  expect_clean_error(junk(), 1, "got '\\0\\x01", recipes::read_vertex_list);
   expect_clean_error("0 1 2 " + std::string(5000, '\x80') + "\n", 1, "... (5000 bytes)",
                      solvers::read_curves_file);
 }
@@ -129,8 +129,7 @@ TEST_F(FileErrors, ConstraintsFileOriginsEmptyAndConflicts) {
     solvers::direction_field_on(s, o);
     ADD_FAILURE() << "vertex 49 of 49 accepted";
   } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("F:9 (vertex 49): vertex out of range"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("F:9 (vertex 49): vertex out of range"), std::string::npos)
         << e.what();
   }
 }
@@ -200,8 +199,7 @@ TEST(BezierBudget, RefusedUpFrontWithTheRoundsThatFit) {
     solvers::prepare_curve_surface(in, {c}, o);
     ADD_FAILURE() << "a 100 kB budget accepted";
   } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("above the memory budget of 0.0001 GB"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("above the memory budget of 0.0001 GB"), std::string::npos)
         << e.what();
   }
 }
@@ -247,8 +245,7 @@ TEST(IterationCap, RefusedUnlessAccepted) {
 // tests/data/soup_icosphere.obj: curves on piece 0 (vertices 0..~30), a lone triangle
 // (240..242) and a zero-area face (243..245, mollified to a tiny triangle).
 TEST(SoupCurves, DistanceAtDefaultAndOtherMollifications) {
-  const io::SurfaceInput in =
-      io::read_surface((test::test_data() / "soup_icosphere.obj").string());
+  const io::SurfaceInput in = io::read_surface((test::test_data() / "soup_icosphere.obj").string());
   solvers::CurveCondition a, b;
   a.vertices = {0, 1};  // along the piece's boundary, past a reflex corner
   b.vertices = {5, 8, 13};
