@@ -14,7 +14,10 @@ std::vector<OptionSpec> curve_options(const std::string& use) {
               .with_extensions({".obj"})
               .explain("with --curves: the curves as inserted, traced over the input surface\n"
                        "('v' lines, one 'l' line per curve, in the file's order; a closed\n"
-                       "curve's 'l' line ends at its first point)")};
+                       "curve's 'l' line ends at its first point)"),
+          flag("accept-partial")
+              .explain("with --curves: go on with curves FlipOut left at its iteration cap\n"
+                       "(not geodesic yet; without it such curves are an error, exit 1)")};
 }
 
 std::string curves_file_help(bool values_used, const std::string& command) {
@@ -32,7 +35,10 @@ std::string curves_file_help(bool values_used, const std::string& command) {
       "              per-vertex values close back to A0)\n"
       "  bezier[=R]  a geodesic Bézier curve with v0 ... vk as control points, R rounds\n"
       "              of de Casteljau subdivision (R in [0, 16], default 4); its values:\n"
-      "              one, or two (at its two ends: A0 A1 : v0 ... vk)\n"
+      "              one, or two (at its two ends: A0 A1 : v0 ... vk). Degree d adds\n"
+      "              up to d(d+1)/2 · (2^R − 1) vertices: refused up front (with the\n"
+      "              most rounds that fit) over --memory-budget or when its segments\n"
+      "              would fall below 1/16 of the mesh's mean edge length\n"
       "  slit        a cut: the surface is cut open along the curve and u may jump\n"
       "              across it. VALUE becomes LEFT RIGHT (two numbers) and the list form\n"
       "              LEFTS : RIGHTS : VERTICES (as many lefts as rights)\n"
@@ -80,6 +86,9 @@ void check_curve_options(const Args& args, const std::vector<CurveRefusal>& refu
   if (!args.has("curves")) {
     if (args.has("curves-out")) {
       throw UsageError("--curves-out writes the curves of --curves FILE, which was not given");
+    }
+    if (args.has("accept-partial")) {
+      throw UsageError("--accept-partial accepts curves of --curves FILE, which was not given");
     }
     return;
   }
@@ -143,6 +152,9 @@ solvers::CurveSurface prepare_curves(io::SurfaceInput input,
   solvers::CurveSurfaceOptions opt;
   opt.mollify_relative_epsilon = args.real("mollify");
   opt.refine = refine;
+  opt.accept_partial = args.has("accept-partial");
+  // the vertices Bézier curves add against --memory-budget (0: the library's default)
+  opt.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;
   if (!args.has("quiet")) {
     opt.progress = [](const std::string& line) {
       std::fprintf(stderr, "ifem: %s\n", line.c_str());

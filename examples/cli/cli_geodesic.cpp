@@ -173,6 +173,9 @@ recipes::GeodesicOptions geodesic_options_of(const Args& args) {
   recipes::GeodesicOptions o;
   o.mollify_relative_epsilon = args.real("mollify");
   if (args.has("bezier")) o.bezier_rounds = static_cast<int>(args.count("bezier"));
+  o.flipout.max_iterations = args.count_or("max-iterations", -1);
+  o.accept_partial = args.has("accept-partial");
+  o.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;
   return o;
 }
 
@@ -288,6 +291,21 @@ OptionGroup geodesic_options() {
                .at_most(1)
                .defaults_to(format_number(intrinsic::kDefaultMollifyEpsilon))
                .explain("relative mollification margin (as other commands' --mollify)"),
+           count("max-iterations", "N")
+               .explain("FlipOut's cap on reroutes, all curves together (default\n"
+                        "10 × edges + 1000). Curves that reach it are not geodesic yet: an\n"
+                        "error (exit 1, nothing written, stating what was reached) unless\n"
+                        "--accept-partial"),
+           flag("accept-partial")
+               .explain("write curves that stopped at --max-iterations as they are (not\n"
+                        "geodesic; stdout says 'stopped: iteration cap')"),
+           real("memory-budget", "GB")
+               .above(0)
+               .explain("with --bezier: refuse a curve whose added vertices (estimated up\n"
+                        "front: d(d+1)/2 · (2^R − 1) for degree d, R rounds; 4 KiB each)\n"
+                        "exceed GB gigabytes (default: half the physical memory, or 80% of\n"
+                        "ulimit -v). Rounds whose segments fall below 1/16 of the mesh's mean\n"
+                        "edge length are refused too, naming the most rounds that fit"),
            flag("quiet").explain("no progress lines on stderr")}};
 }
 

@@ -37,7 +37,8 @@ OptionGroup refine_options_group(double resolution_default) {
                .explain("refuse a refinement whose estimated memory (about 4 KiB per\n"
                         "vertex, see the message) exceeds GB gigabytes, and stop\n"
                         "inserting there (default: half the physical memory, or 80%\n"
-                        "of ulimit -v)"),
+                        "of ulimit -v); with --curves, also Bézier curves whose added\n"
+                        "vertices (estimated up front) exceed it"),
            count("relax", "ITER")
                .defaults_to("0")
                .explain("then ITER passes of optimal Delaunay (ODT) relaxation of the\n"

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
+#include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
 
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/core/triangle_formulas.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -74,15 +78,17 @@ std::vector<double> control_arclengths(const T& tri, EdgePath& p, const CurveSpe
 }
 
 // Records curve c's steps in the network (edges, arc lengths, links).
-void record_curve(const T& tri, CurveNetwork& net, const EdgePath& p, Index c) {
+void record_curve(const T& tri, Index n_input, CurveNetwork& net, const EdgePath& p, Index c) {
   double s = 0.0;
   Index prev = kInvalidIndex;
   for (const PathStep& st : p.steps) {
     CurveEdge& r = net.edges[st.edge];
     if (r.curve != kInvalidIndex) {
-      const Index h = tri.edge_halfedge(st.edge);
-      const std::string edge = "the edge between intrinsic vertices " +
-                               std::to_string(tri.tail(h)) + " and " + std::to_string(tri.head(h));
+      const Index h = tri.edge_halfedge(st.edge), a = tri.tail(h), b = tri.head(h);
+      auto name = [&](Index v) {
+        return v < n_input ? "input vertex " + std::to_string(v) : std::string("a Bézier point");
+      };
+      const std::string edge = "the edge between " + name(a) + " and " + name(b);
       if (r.curve == c) {
         throw InvalidInput(curve_name(c) + " runs twice along " + edge +
                            " (its geodesic pieces overlap there: a waypoint the curve must turn "
@@ -124,16 +130,10 @@ void insert_beziers(SignpostTriangulation& st, const std::vector<CurveSpec>& spe
   }
 }
 
-}  // namespace
-
-CurveNetwork insert_curves(SignpostTriangulation& st, const std::vector<CurveSpec>& specs,
-                           const FlipOutOptions& options) {
-  options.validate();
-  const T& tri = st.intrinsic();
-  CurveNetwork net;
-  std::vector<EdgePath> paths(specs.size());
-  for (std::size_t c = 0; c < specs.size(); ++c) {  // what can be checked before any flip
-    const CurveSpec& sp = specs[c];                 // (components: when joined, below)
+// What can be checked before any flip (components: when joined).
+void check_specs(const T& tri, const std::vector<CurveSpec>& specs) {
+  for (std::size_t c = 0; c < specs.size(); ++c) {
+    const CurveSpec& sp = specs[c];
     const std::size_t k = sp.vertices.size();
     for_curve(c, [&] {
       if (k < 2) throw InvalidInput("needs at least 2 vertices, got " + std::to_string(k));
@@ -154,6 +154,107 @@ CurveNetwork insert_curves(SignpostTriangulation& st, const std::vector<CurveSpe
       }
     });
   }
+}
+
+// A Bézier curve's added vertices and final segment length with `rounds` rounds, its control
+// polygon (edge path) being `polygon` long.
+double bezier_vertices(std::size_t d, int rounds) {
+  return 0.5 * double(d) * double(d + 1) * (std::ldexp(1.0, rounds) - 1.0);
+}
+double bezier_segment(double polygon, std::size_t d, int rounds) {
+  return polygon / (double(d) * std::ldexp(1.0, rounds));
+}
+
+std::string figure(double x) {
+  std::ostringstream m;
+  m << std::setprecision(3) << x;
+  return m.str();
+}
+
+}  // namespace
+
+void check_curve_budget(const T& tri, const std::vector<CurveSpec>& specs, double max_bytes) {
+  const CurveEstimate e = estimate_curves(tri, specs, max_bytes);
+  const double floor = kMinBezierSegment * e.mean_edge_length;
+  for (std::size_t c = 0; c < specs.size(); ++c) {
+    if (specs[c].shape != CurveShape::kBezier) continue;
+    const double others = e.vertices - e.added_vertices[c];  // #V and the other curves
+    const bool fine = e.segment_length[c] >= floor;
+    if (fine && e.bytes <= e.budget) continue;
+    const std::size_t d = specs[c].vertices.size() - 1;
+    const double polygon =
+        e.segment_length[c] * double(d) * std::ldexp(1.0, specs[c].bezier_rounds);
+    int fit = specs[c].bezier_rounds;
+    while (fit > 0 && (bezier_segment(polygon, d, fit) < floor ||
+                       (others + bezier_vertices(d, fit)) * kRefineBytesPerVertex > e.budget)) {
+      --fit;
+    }
+    std::ostringstream m;
+    m << curve_name(c) << ": a Bézier curve of degree " << d << " with " << specs[c].bezier_rounds
+      << " rounds adds up to " << figure(e.added_vertices[c]) << " vertices, segments of about "
+      << figure(e.segment_length[c]) << " (" << figure(e.segment_length[c] / e.mean_edge_length)
+      << " × the mesh's mean edge length " << figure(e.mean_edge_length) << "); ";
+    if (!fine) {
+      m << "below " << figure(kMinBezierSegment) << " × it the mesh cannot show the difference "
+        << "and the midpoints come a round-off apart";
+    } else {
+      m << "about " << figure(e.bytes / 1e9) << " GB at " << kRefineBytesPerVertex / 1024
+        << " KiB per vertex, above the memory budget of " << figure(e.budget / 1e9)
+        << " GB (`--memory-budget GB` in the CLI)";
+    }
+    if ((others + bezier_vertices(d, fit)) * kRefineBytesPerVertex > e.budget) {
+      m << ". The mesh alone (" << figure(others) << " vertices) is over that budget: raise it";
+    } else {
+      m << ". Use at most " << fit << " rounds";
+    }
+    throw InvalidInput(m.str());
+  }
+}
+
+std::string iteration_cap_message(const FlipOutReport& fo, const std::string& accept) {
+  std::ostringstream m;
+  m << "FlipOut stopped at its iteration cap (" << fo.iterations << " reroutes, " << fo.flips
+    << " flips) before the curves were geodesic: total length " << fo.initial_length << " -> "
+    << fo.final_length << " so far, not a geodesic network. Raise the cap "
+    << "(FlipOutOptions::max_iterations, `--max-iterations N` in `ifem geodesic`) or accept the "
+    << "partial result (" << accept << ")";
+  return m.str();
+}
+
+CurveEstimate estimate_curves(const IntrinsicTriangulation& tri,
+                              const std::vector<CurveSpec>& specs, double max_memory_bytes) {
+  check_specs(tri, specs);
+  CurveEstimate e;
+  std::vector<double> lengths(static_cast<std::size_t>(tri.n_edges()));
+  for (Index i = 0; i < tri.n_edges(); ++i) lengths[i] = tri.length(i);
+  e.mean_edge_length = lengths.empty() ? 0.0 : robust_mean_length(std::move(lengths));
+  e.budget = max_memory_bytes > 0.0 ? max_memory_bytes : default_memory_budget();
+  e.added_vertices.assign(specs.size(), 0.0);
+  e.segment_length.assign(specs.size(), 0.0);
+  e.vertices = double(tri.n_vertices());
+  std::optional<EdgePathFinder> finder;
+  for (std::size_t c = 0; c < specs.size(); ++c) {
+    const CurveSpec& sp = specs[c];
+    if (sp.shape != CurveShape::kBezier) continue;
+    if (!finder) finder.emplace(tri);
+    const EdgePath p = for_curve(c, [&] { return finder->through(sp.vertices, false, true); });
+    const std::size_t d = sp.vertices.size() - 1;
+    e.added_vertices[c] = bezier_vertices(d, sp.bezier_rounds);
+    e.segment_length[c] = bezier_segment(path_length(tri, p), d, sp.bezier_rounds);
+    e.vertices += e.added_vertices[c];
+  }
+  e.bytes = e.vertices * kRefineBytesPerVertex;
+  return e;
+}
+
+CurveNetwork insert_curves(SignpostTriangulation& st, const std::vector<CurveSpec>& specs,
+                           const FlipOutOptions& options, double max_memory_bytes) {
+  options.validate();
+  const T& tri = st.intrinsic();
+  CurveNetwork net;
+  std::vector<EdgePath> paths(specs.size());
+  check_specs(tri, specs);
+  check_curve_budget(tri, specs, max_memory_bytes);
   insert_beziers(st, specs, options, paths, net);
   std::vector<EdgePath> geodesics;
   std::vector<std::size_t> which;
@@ -185,7 +286,7 @@ CurveNetwork insert_curves(SignpostTriangulation& st, const std::vector<CurveSpe
     } else {
       net.control_arclength[c] = control_arclengths(tri, paths[c], specs[c], c);
     }
-    record_curve(tri, net, paths[c], static_cast<Index>(c));
+    record_curve(tri, st.n_input_vertices(), net, paths[c], static_cast<Index>(c));
   }
   return net;
 }

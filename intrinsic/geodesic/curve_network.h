@@ -62,15 +62,56 @@ struct CurveNetwork {
   EdgeConstraints constraints(const IntrinsicTriangulation& tri);
 };
 
+/// What inserting curves adds, estimated before any flip (one edge-path search per Bézier
+/// curve). A Bézier curve of degree d = #control − 1 and R rounds splits 2^R − 1 pieces and
+/// inserts d(d+1)/2 midpoints per split: at most d(d+1)/2 · (2^R − 1) vertices (fewer where a
+/// midpoint is an existing vertex). Its final control polygon has d·2^R segments of about
+/// L / (d·2^R), L the length of the shortest edge path through its control points (≥ the
+/// curve's length, so the figure is generous). Paths and loops add no vertex.
+struct CurveEstimate {
+  std::vector<double> added_vertices;  ///< per curve (0 for paths and loops)
+  std::vector<double> segment_length;  ///< per Bézier curve: L / (d·2^R) (0 for the others)
+  double vertices = 0.0;               ///< #V + every curve's added vertices
+  double bytes = 0.0;                  ///< vertices × kRefineBytesPerVertex
+  double budget = 0.0;                 ///< the memory budget compared with
+  double mean_edge_length = 0.0;       ///< h: robust mean of the triangulation's edge lengths
+};
+
+/// Bézier segments shorter than this × h (CurveEstimate) are refused: subdivision below the
+/// mesh's resolution inserts midpoints a round-off apart (triangles of zero area) and shows
+/// nothing the mesh can resolve (docs/decisions.md D-137).
+inline constexpr double kMinBezierSegment = 1.0 / 16.0;
+
+/// The estimate above for specs on tri (specs checked as insert_curves() does); budget:
+/// max_memory_bytes, or default_memory_budget() when 0.
+/// @throws InvalidInput as insert_curves() on bad specs
+CurveEstimate estimate_curves(const IntrinsicTriangulation& tri,
+                              const std::vector<CurveSpec>& specs, double max_memory_bytes = 0.0);
+
+/// Refuses the first Bézier curve of specs whose estimate (estimate_curves(), all curves
+/// counted) exceeds the memory budget (max_memory_bytes; 0: default_memory_budget()) or whose
+/// segments fall below kMinBezierSegment·h, stating the figures and the most rounds that fit.
+/// @throws InvalidInput naming the curve (by index) as said, or as insert_curves() on bad specs
+void check_curve_budget(const IntrinsicTriangulation& tri, const std::vector<CurveSpec>& specs,
+                        double max_memory_bytes = 0.0);
+
+/// The refusal of curves FlipOut left at its iteration cap: what was reached (reroutes, flips,
+/// total length before → after), that the result is not geodesic, and how to go on (raise
+/// FlipOutOptions::max_iterations, or `accept`, the caller's option that accepts it).
+std::string iteration_cap_message(const FlipOutReport& report, const std::string& accept);
+
 /// Makes the curves edges of st and marks them: Bézier curves first (each with the earlier ones
 /// fixed), then the paths and loops through their vertices (pinned at each), shortened together by
 /// FlipOut with the Bézier curves fixed. Curves may meet and cross at vertices; they may not share
 /// an edge.
+/// Before any flip, check_curve_budget(st.intrinsic(), specs, max_memory_bytes). Messages name
+/// input vertex ids only (vertices a Bézier curve inserted are called so).
 /// @throws InvalidInput naming the curve (by index) on bad vertices (out of range, fewer than 2,
-///         consecutive repeats, on different components), bad rounds, or two curves sharing an
-///         edge (naming both); on a curve FlipOut leaves not made of consecutive edges
+///         consecutive repeats, on different components), bad rounds, a Bézier curve over the
+///         budget, or two curves sharing an edge (naming both); on a curve FlipOut leaves not
+///         made of consecutive edges
 CurveNetwork insert_curves(SignpostTriangulation& st, const std::vector<CurveSpec>& specs,
-                           const FlipOutOptions& options = {});
+                           const FlipOutOptions& options = {}, double max_memory_bytes = 0.0);
 
 /// The vertices of curve c in order along it (#edges + 1 for an open curve, the first repeated at
 /// the end of a loop), with the arc length at each, and for each edge the halfedge running along

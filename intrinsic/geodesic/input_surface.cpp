@@ -71,7 +71,8 @@ SurfacePoint given_face_point(const SignpostTriangulation& st,
 }
 
 FlipOutReport shorten_through(SignpostTriangulation& st, const std::vector<CurveThrough>& curves,
-                              std::vector<EdgePath>* paths, std::vector<double>* initial_lengths) {
+                              std::vector<EdgePath>* paths, std::vector<double>* initial_lengths,
+                              const FlipOutOptions& options) {
   paths->clear();
   initial_lengths->clear();
   for (const CurveThrough& c : curves) {
@@ -83,7 +84,7 @@ FlipOutReport shorten_through(SignpostTriangulation& st, const std::vector<Curve
     }
     initial_lengths->push_back(path_length(st.intrinsic(), paths->back()));
   }
-  return shorten(st, *paths);
+  return shorten(st, *paths, options);
 }
 
 }  // namespace ifem::intrinsic

@@ -50,9 +50,10 @@ struct CurveThrough {
 
 /// The shortest edge path through each curve's points (Dijkstra), then all of them shortened
 /// together by FlipOut. paths: the geodesics, one per curve; initial_lengths: each edge path's
-/// length before shortening.
+/// length before shortening; options: how FlipOut runs.
 /// @throws InvalidInput prefixed with the curve's name (e.g. points on different components)
 FlipOutReport shorten_through(SignpostTriangulation& st, const std::vector<CurveThrough>& curves,
-                              std::vector<EdgePath>* paths, std::vector<double>* initial_lengths);
+                              std::vector<EdgePath>* paths, std::vector<double>* initial_lengths,
+                              const FlipOutOptions& options = {});
 
 }  // namespace ifem::intrinsic

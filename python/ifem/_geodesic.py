@@ -183,7 +183,7 @@ def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5):
                            "points): set loop=True or drop pin")
     V, F, _ = _input(V, F)
     curves, report = _ifem.geodesic_curves(V, F, [(points, bool(loop), bool(pin))], ["points"],
-                                           float(mollify))
+                                           float(mollify), -1, False)
     return _curves(curves, report)[0][0]
 
 
@@ -217,7 +217,8 @@ def read_network(path):
     return _ifem.read_network(os.fspath(path))
 
 
-def geodesic_network(V, F, curves, pin=False, mollify=1e-5):
+def geodesic_network(V, F, curves, pin=False, mollify=1e-5, max_iterations=None,
+                     accept_partial=False):
     """Several geodesic paths and loops, shortened together (FlipOut on a curve network).
 
     The curves never cross each other (a bend that would need to flip an edge of another curve
@@ -233,13 +234,19 @@ def geodesic_network(V, F, curves, pin=False, mollify=1e-5):
             (see :func:`read_network`).
         pin: the default ``pin`` of loops (keep passing through their points).
         mollify: relative mollification margin.
+        max_iterations: FlipOut's cap on reroutes, all curves together (None: 10 × #E + 1000;
+            ``--max-iterations``).
+        accept_partial: return curves that stopped at the cap as they are (not geodesic;
+            ``report.stopped_by == 'iteration cap'``); False raises (``--accept-partial``).
 
     Returns:
         GeodesicNetwork: ``curves`` (a :class:`GeodesicCurve` each), ``report``, and the
         conveniences ``polylines`` and ``lengths``.
 
     Raises:
-        InvalidInput: as :func:`geodesic_path`, naming the curve (``curves[2][1]``).
+        InvalidInput: as :func:`geodesic_path`, naming the curve (``curves[2][1]``); curves
+            that stopped at the iteration cap without ``accept_partial`` (stating what was
+            reached).
         IoError: a network file that cannot be read.
 
     Example:
@@ -254,12 +261,16 @@ def geodesic_network(V, F, curves, pin=False, mollify=1e-5):
     V, F, _ = _input(V, F)
     items = [_network_item(c, i, pin) for i, c in enumerate(curves)]
     names = [f"curves[{i}]" for i in range(len(items))]
-    out, report = _ifem.geodesic_curves(V, F, items, names, float(mollify))
+    cap = -1 if max_iterations is None else max_iterations
+    if isinstance(cap, (bool, np.bool_)) or not isinstance(cap, (int, np.integer)) or cap < -1:
+        raise InvalidInput(f"max_iterations must be an integer ≥ 0 (or None), got {cap!r}")
+    out, report = _ifem.geodesic_curves(V, F, items, names, float(mollify), int(cap),
+                                        bool(accept_partial))
     cs, r = _curves(out, report)
     return GeodesicNetwork(curves=cs, report=r)
 
 
-def bezier_curve(V, F, control_points, rounds=4, mollify=1e-5):
+def bezier_curve(V, F, control_points, rounds=4, mollify=1e-5, memory_budget=None):
     """A geodesic Bézier curve with the given control points (de Casteljau with geodesics).
 
     Each round splits every Bézier piece at t = 1/2, taking midpoints halfway along FlipOut
@@ -276,6 +287,9 @@ def bezier_curve(V, F, control_points, rounds=4, mollify=1e-5):
         rounds: subdivision rounds in [0, 16] (0: the geodesic control polygon itself); the
             control polygon grows to degree · 2^rounds + 1 points.
         mollify: relative mollification margin.
+        memory_budget: GB for the vertices the curve adds, estimated up front (d(d+1)/2 ·
+            (2^rounds − 1) for degree d, 4 KiB each; None: half the physical memory;
+            ``--memory-budget``).
 
     Returns:
         BezierCurve: a :class:`GeodesicCurve` (``polyline``, ``length``, ``report``) with
@@ -283,12 +297,19 @@ def bezier_curve(V, F, control_points, rounds=4, mollify=1e-5):
 
     Raises:
         InvalidInput: bad control points (as :func:`geodesic_path`, named
-            ``control_points[i]``) or ``rounds`` out of range.
+            ``control_points[i]``) or ``rounds`` out of range; before any work, rounds whose
+            estimate exceeds ``memory_budget`` or whose segments fall below 1/16 of the mesh's
+            mean edge length (the message gives the figures and the most rounds that fit).
     """
     if isinstance(rounds, (bool, np.bool_)) or not isinstance(rounds, (int, np.integer)):
         raise InvalidInput(f"rounds must be an integer in [0, 16], got {rounds!r}")
     V, F, _ = _input(V, F)
-    curves, report = _ifem.bezier_curve(V, F, control_points, int(rounds), float(mollify))
+    budget = 0.0 if memory_budget is None else float(memory_budget) * 1e9
+    if not budget >= 0.0:
+        raise InvalidInput(f"memory_budget must be a number of GB > 0 (or None), got "
+                           f"{memory_budget!r}")
+    curves, report = _ifem.bezier_curve(V, F, control_points, int(rounds), float(mollify),
+                                        budget)
     c = curves[0]
     return BezierCurve(report=_report(report), rounds=int(rounds),
                        control_points=report["bezier_control_points"],
@@ -326,7 +347,8 @@ def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5):
 
 
 def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, network=None,
-             all_from=None, return_paths=False, mollify=1e-5):
+             all_from=None, return_paths=False, mollify=1e-5, max_iterations=None,
+             accept_partial=False, memory_budget=None):
     """Geodesic curves by FlipOut, as ``ifem geodesic``: one function, the CLI's modes as
     keywords. Give exactly one of
 
@@ -337,7 +359,9 @@ def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, netw
       :func:`geodesic_network`;
     - ``all_from``: a source vertex (``--all-from``): :func:`single_source_geodesics`.
 
-    ``V`` may be a mesh file's path (F then None), as the CLI's MESH.
+    ``V`` may be a mesh file's path (F then None), as the CLI's MESH. ``max_iterations`` and
+    ``accept_partial`` (``--max-iterations``, ``--accept-partial``) go to networks,
+    ``memory_budget`` (``--memory-budget``) to Bézier curves.
 
     Returns:
         GeodesicCurve, BezierCurve, GeodesicNetwork or SingleSourceGeodesics, as the mode's
@@ -359,15 +383,20 @@ def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, netw
                            "{'points': [...], 'loop': True} or 'loop' lines)")
     if return_paths and all_from is None:
         raise InvalidInput("return_paths applies to all_from (single-source geodesics)")
+    if (max_iterations is not None or accept_partial) and network is None:
+        raise InvalidInput("max_iterations and accept_partial apply to network (FlipOut on "
+                           "a curve network)")
+    if memory_budget is not None and bezier is None:
+        raise InvalidInput("memory_budget applies to bezier (the vertices a Bézier curve adds)")
     V, F, _ = _input(V, F)
     if all_from is not None:
         return single_source_geodesics(V, F, all_from, return_paths, mollify)
     if network is not None:
-        return geodesic_network(V, F, network, pin, mollify)
+        return geodesic_network(V, F, network, pin, mollify, max_iterations, accept_partial)
     if bezier is not None:
         if pin:
             raise InvalidInput("pin applies to loops, not to a Bézier curve")
-        return bezier_curve(V, F, points, bezier, mollify)
+        return bezier_curve(V, F, points, bezier, mollify, memory_budget)
     return geodesic_path(V, F, points, loop, pin, mollify)
 
 

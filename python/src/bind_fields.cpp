@@ -31,7 +31,8 @@ std::vector<solvers::InputDirection> input_directions(const py::handle& vertices
   }
   std::vector<solvers::InputDirection> out(ids.size());
   for (std::size_t k = 0; k < ids.size(); ++k) {
-    out[k] = {ids[k], d.row(static_cast<Eigen::Index>(k)).transpose()};
+    out[k] = {ids[k], d.row(static_cast<Eigen::Index>(k)).transpose(),
+              "constraint_vertices[" + std::to_string(k) + "]"};
   }
   return out;
 }

@@ -215,7 +215,8 @@ recipes::GeodesicOptions options_of(double mollify) {
 
 // curves: a list of (points, closed, pin), each named by the matching entry of `names`.
 py::tuple geodesic_curves(const py::handle& V, const py::handle& F, const py::list& curves,
-                          const std::vector<std::string>& names, double mollify) {
+                          const std::vector<std::string>& names, double mollify,
+                          Index max_iterations, bool accept_partial) {
   const io::SurfaceInput in = triangle_mesh(V, F);
   const Index nv = static_cast<Index>(in.positions.rows());
   const Index nf = static_cast<Index>(in.triangles.size());
@@ -225,7 +226,9 @@ py::tuple geodesic_curves(const py::handle& V, const py::handle& F, const py::li
     const py::tuple t = curves[c].cast<py::tuple>();
     specs.push_back(curve_from(t[0], t[1].cast<bool>(), t[2].cast<bool>(), nv, nf, names.at(c)));
   }
-  const recipes::GeodesicOptions o = options_of(mollify);
+  recipes::GeodesicOptions o = options_of(mollify);
+  o.flipout.max_iterations = max_iterations;
+  o.accept_partial = accept_partial;
   recipes::GeodesicCurves run;
   {
     const py::gil_scoped_release release;
@@ -236,7 +239,7 @@ py::tuple geodesic_curves(const py::handle& V, const py::handle& F, const py::li
 
 // One geodesic Bézier curve with the given control points (the CLI's --path ... --bezier R).
 py::tuple bezier_curve(const py::handle& V, const py::handle& F, const py::handle& control,
-                       int rounds, double mollify) {
+                       int rounds, double mollify, double memory_budget_bytes) {
   const io::SurfaceInput in = triangle_mesh(V, F);
   const Index nv = static_cast<Index>(in.positions.rows());
   const CurveSpec spec = curve_from(control, false, true, nv,
@@ -248,6 +251,7 @@ py::tuple bezier_curve(const py::handle& V, const py::handle& F, const py::handl
   }
   recipes::GeodesicOptions o = options_of(mollify);
   o.bezier_rounds = rounds;
+  o.max_memory_bytes = memory_budget_bytes;
   recipes::GeodesicCurves run;
   {
     const py::gil_scoped_release release;
@@ -319,9 +323,9 @@ py::list read_network(const std::string& path) {
 
 void bind_geodesic(py::module_& m) {
   m.def("geodesic_curves", &geodesic_curves, py::arg("V"), py::arg("F"), py::arg("curves"),
-        py::arg("names"), py::arg("mollify"));
+        py::arg("names"), py::arg("mollify"), py::arg("max_iterations"), py::arg("accept_partial"));
   m.def("bezier_curve", &bezier_curve, py::arg("V"), py::arg("F"), py::arg("control_points"),
-        py::arg("rounds"), py::arg("mollify"));
+        py::arg("rounds"), py::arg("mollify"), py::arg("memory_budget_bytes"));
   m.def("single_source_geodesics", &single_source, py::arg("V"), py::arg("F"), py::arg("source"),
         py::arg("return_paths"), py::arg("mollify"));
   m.def("read_network", &read_network, py::arg("path"));

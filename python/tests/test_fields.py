@@ -62,6 +62,13 @@ def test_bad_input(spot):
         ifem.direction_field(V, F, constraint_vertices=[0, 1], directions=[[1, 0, 0]])
     with pytest.raises(ifem.InvalidInput, match="both vertices and directions"):
         ifem.direction_field(V, F, constraint_vertices=[0])
+    # two different directions at one vertex, named by position (the same one twice is held)
+    with pytest.raises(ifem.InvalidInput, match=r"constraint_vertices\[2\] \(vertex 5\): a "
+                                                r"second, different direction at the vertex of "
+                                                r"constraint_vertices\[0\]"):
+        ifem.direction_field(V, F, constraint_vertices=[5, 7, 5],
+                             directions=[[1, 0, 0], [0, 1, 0], [0, 1, 0]])
+    ifem.direction_field(V, F, constraint_vertices=[5, 5], directions=[[1, 0, 0], [2, 0, 0]])
     with pytest.raises(ifem.InvalidInput, match="a point cloud has no boundary"):
         ifem.direction_field(V, align_boundary=True)
     # a nonmanifold mesh (the tufted path) is held along its input's boundary

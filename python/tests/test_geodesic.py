@@ -345,3 +345,22 @@ def test_geodesic_modes_are_keywords(spot):
                             ({"points": [0, 1], "return_paths": True}, "return_paths applies")]:
         with pytest.raises(ifem.InvalidInput, match=message):
             ifem.geodesic(V, F, **kwargs)
+
+
+# issue 30: a network stopped at FlipOut's iteration cap is not geodesic: an error stating what
+# was reached, unless accepted; a Bézier curve finer than the mesh or over its memory budget is
+# refused before any work, with the rounds that fit (which complete)
+def test_iteration_cap_and_bezier_budget(spot):
+    V, F = spot
+    net = [[0, 500, 1000], [10, 700, 1400], {"points": [20, 900, 1800], "loop": True}]
+    with pytest.raises(ifem.InvalidInput, match=r"iteration cap \(3 reroutes.*accept"):
+        ifem.geodesic_network(V, F, net, max_iterations=3)
+    partial = ifem.geodesic(V, F, network=net, max_iterations=3, accept_partial=True)
+    assert partial.report.stopped_by == "iteration cap"
+    assert ifem.geodesic_network(V, F, net).report.stopped_by != "iteration cap"
+    with pytest.raises(ifem.InvalidInput, match=r"control_points: a Bézier curve of degree 3 "
+                                                r"with 16 rounds .*Use at most 8 rounds"):
+        ifem.bezier_curve(V, F, [0, 500, 1000, 1500], rounds=16)
+    assert ifem.bezier_curve(V, F, [0, 500, 1000, 1500], rounds=8).midpoints > 0
+    with pytest.raises(ifem.InvalidInput, match="above the memory budget of 0.001 GB"):
+        ifem.geodesic(V, F, [0, 500, 1000, 1500], bezier=4, memory_budget=0.001)

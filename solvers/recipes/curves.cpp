@@ -9,6 +9,7 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/core/triangle_formulas.h"
 #include "intrinsic/core/union_find.h"
 
 namespace ifem::solvers {
@@ -169,6 +170,37 @@ void gather_curve_values(const CurveSurface& s, const CutOpen& cut, CurveValues&
   }
 }
 
+// Curves whose insertion left triangles of zero area (cotan weights that are not finite) are
+// refused here, named by origin: later the Laplacian would name internal edge ids.
+void require_nondegenerate(const T& tri, const CurveSurface& out) {
+  std::vector<Index> curve_at(tri.n_vertices(), kInvalidIndex);
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const Index c = out.network.edges[e].curve;
+    if (c == kInvalidIndex) continue;
+    const Index h = tri.edge_halfedge(e);
+    curve_at[tri.tail(h)] = curve_at[tri.head(h)] = c;
+  }
+  Index bad = 0, culprit = kInvalidIndex;
+  for (Index f = 0; f < tri.n_faces(); ++f) {
+    const double a = tri.halfedge_length(3 * f), b = tri.halfedge_length(3 * f + 1),
+                 c = tri.halfedge_length(3 * f + 2);
+    if (intrinsic::triangle_area(a, b, c) > 0.0) continue;
+    Index on = kInvalidIndex;  // a curve through a corner (others are the input's own faces)
+    for (int k = 0; k < 3 && on == kInvalidIndex; ++k) on = curve_at[tri.tail(3 * f + k)];
+    if (on == kInvalidIndex) continue;
+    ++bad;
+    if (culprit == kInvalidIndex) culprit = on;
+  }
+  if (bad == 0) return;
+  const std::string who = out.curves[culprit].origin.empty()
+                              ? "curve " + std::to_string(culprit)
+                              : "the curve at " + out.curves[culprit].origin;
+  throw InvalidInput(who + " left " + std::to_string(bad) +
+                     " triangles of zero area in the triangulation (points too close together "
+                     "for the mesh's resolution); a Bézier curve with fewer rounds, other "
+                     "vertices or a larger --mollify");
+}
+
 // Inserts the curves, flips to the constrained Delaunay triangulation and refines (constrained)
 // when asked; fills out.network, out.surface.tri / signposts and the reports.
 void build_constrained(const CurveSurfaceOptions& opt, CurveSurface& out) {
@@ -180,12 +212,16 @@ void build_constrained(const CurveSurfaceOptions& opt, CurveSurface& out) {
   for (const CurveCondition& c : out.curves) specs.push_back(to_spec(c));
   s.seconds_build += watch.restart();  // the signposts; seconds_curves: FlipOut and marking
   try {
-    out.network = intrinsic::insert_curves(st, specs, opt.flipout);
+    out.network = intrinsic::insert_curves(st, specs, opt.flipout, opt.max_memory_bytes);
   } catch (const InvalidInput& e) {
     throw InvalidInput(with_origins(e.what(), out.curves));
   }
   const intrinsic::FlipOutReport& fo = out.network.flipout;
   out.seconds_curves = watch.restart();
+  if (fo.stopped_by == intrinsic::FlipOutStop::kIterationCap && !opt.accept_partial) {
+    throw InvalidInput(intrinsic::iteration_cap_message(
+        fo, "CurveSurfaceOptions::accept_partial, `--accept-partial` in the CLI"));
+  }
   std::ostringstream m;
   m << "curves: " << out.curves.size() << " inserted (" << fo.flips << " FlipOut flips, "
     << out.network.bezier_midpoints << " Bézier midpoints; " << intrinsic::to_string(fo.stopped_by)
@@ -208,6 +244,7 @@ void build_constrained(const CurveSurfaceOptions& opt, CurveSurface& out) {
   out.network.constrained.resize(ne, 0);
   out.network.edges.resize(ne);
   out.signs = intrinsic::cotan_signs(st.intrinsic(), out.network.constrained);
+  require_nondegenerate(st.intrinsic(), out);
   s.tri = st.intrinsic();
   s.signposts = std::move(st);
 }
@@ -219,6 +256,10 @@ void CurveSurfaceOptions::validate() const {
     throw InvalidInput(
         "CurveSurfaceOptions: mollify_relative_epsilon must be finite and ≥ 0, got " +
         std::to_string(mollify_relative_epsilon));
+  }
+  if (!(max_memory_bytes >= 0.0)) {
+    throw InvalidInput("CurveSurfaceOptions: max_memory_bytes must be ≥ 0 (0: automatic), got " +
+                       std::to_string(max_memory_bytes));
   }
   flipout.validate();
   if (refine) refine->validate();

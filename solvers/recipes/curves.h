@@ -85,7 +85,15 @@ struct CurveSurfaceOptions {
   std::optional<SurfaceRefineOptions> refine;        ///< constrained Delaunay refinement when set
                                                      ///< (relaxation is not offered with curves)
   std::function<void(const std::string&)> progress;  ///< one line per stage; none when empty
-  /// @throws InvalidInput naming the field (mollify_relative_epsilon, flipout, refine)
+  /// Memory budget, bytes, of the vertices Bézier curves add (intrinsic::estimate_curves(),
+  /// checked before any flip); 0: intrinsic::default_memory_budget(). With refine, its
+  /// max_memory_bytes applies to the refinement.
+  double max_memory_bytes = 0.0;
+  /// Accept curves whose shortening stopped at FlipOut's iteration cap (flipout.max_iterations)
+  /// before they were geodesic: false refuses them (InvalidInput stating what was reached).
+  bool accept_partial = false;
+  /// @throws InvalidInput naming the field (mollify_relative_epsilon, flipout, refine,
+  ///         max_memory_bytes)
   void validate() const;
 };
 
@@ -109,7 +117,9 @@ struct CurveSurface {
 /// curves are split, never crossed).
 /// @throws InvalidInput on bad curves (validate_curves; need_values false), a point cloud or a
 ///         mesh that is not edge-manifold and orientable (curves need signposts), overlapping
-///         curves, bad options
+///         curves, Bézier curves over the budget (intrinsic::insert_curves), curves FlipOut left
+///         at its iteration cap (unless accept_partial), curves that leave triangles of zero
+///         area (named by origin, never by internal ids), bad options
 /// @throws NonManifoldInput from the mesh build
 CurveSurface prepare_curve_surface(io::SurfaceInput input, std::vector<CurveCondition> curves,
                                    const CurveSurfaceOptions& options = {});

@@ -61,8 +61,8 @@ class LineParser {
     }
     double x = 0;
     if (tokens_[i] != ":" && !parse_whole_real(tokens_[i], x)) {
-      fail("'" + tokens_[i] +
-           "' is neither a keyword (closed, bezier, bezier=R, slit) nor a value (a finite "
+      fail(io::quoted_excerpt(tokens_[i]) +
+           " is neither a keyword (closed, bezier, bezier=R, slit) nor a value (a finite "
            "number)");
     }
     std::vector<std::vector<std::string>> groups(1);
@@ -118,7 +118,7 @@ class LineParser {
   int parse_rounds(const std::string& t) const {
     long long r = 0;
     if (!parse_whole_integer(t.substr(7), r) || r < 0 || r > kMaxBezierRounds) {
-      fail("'" + t + "': expected bezier=R with R an integer in [0, " +
+      fail(io::quoted_excerpt(t) + ": expected bezier=R with R an integer in [0, " +
            std::to_string(kMaxBezierRounds) + "] (de Casteljau rounds)");
     }
     return static_cast<int>(r);
@@ -126,7 +126,8 @@ class LineParser {
 
   double value(const std::string& t, const char* what) const {
     double x = 0;
-    if (!parse_whole_real(t, x)) fail("'" + t + "' is not " + what + ": expected a finite number");
+    if (!parse_whole_real(t, x))
+      fail(io::quoted_excerpt(t) + " is not " + what + ": expected a finite number");
     return x;
   }
 
@@ -140,7 +141,7 @@ class LineParser {
     for (const std::string& w : words) {
       long long v = 0;
       if (!parse_whole_integer(w, v) || v < 0 || v > std::numeric_limits<Index>::max()) {
-        fail("'" + w + "' is not a vertex id: expected an integer in [0, " +
+        fail(io::quoted_excerpt(w) + " is not a vertex id: expected an integer in [0, " +
              std::to_string(std::numeric_limits<Index>::max()) + "]" +
              (is_keyword(w) ? " (keywords come first on the line)" : ""));
       }

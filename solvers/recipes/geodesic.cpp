@@ -12,6 +12,7 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/geodesic/curve_network.h"
 #include "intrinsic/geodesic/input_surface.h"
 
 namespace ifem::recipes {
@@ -96,6 +97,11 @@ void GeodesicOptions::validate() const {
                        std::to_string(kMaxBezierRounds) + "], got " +
                        std::to_string(*bezier_rounds));
   }
+  if (!(max_memory_bytes >= 0.0)) {
+    throw InvalidInput("GeodesicOptions::max_memory_bytes must be ≥ 0 (0: automatic), got " +
+                       std::to_string(max_memory_bytes));
+  }
+  flipout.validate();
 }
 
 std::string point_problem(const GivenPoint& p, const io::SurfaceInput& input) {
@@ -155,7 +161,15 @@ GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCu
   const std::vector<std::vector<Index>> ids = insert_points(st, input, curves, run);
   std::vector<EdgePath> paths;
   if (options.bezier_rounds) {
-    intrinsic::BezierCurve b = intrinsic::bezier_curve(st, ids[0], *options.bezier_rounds);
+    intrinsic::CurveSpec spec{ids[0], intrinsic::CurveShape::kBezier, *options.bezier_rounds};
+    try {
+      intrinsic::check_curve_budget(st.intrinsic(), {spec}, options.max_memory_bytes);
+    } catch (const InvalidInput& e) {  // "curve 0: ..." → the curve as given
+      throw InvalidInput(curves[0].origin +
+                         std::string(e.what()).substr(std::string("curve 0").size()));
+    }
+    intrinsic::BezierCurve b =
+        intrinsic::bezier_curve(st, ids[0], *options.bezier_rounds, options.flipout);
     run.report = b.report;
     run.curves[0].initial_length = b.report.initial_length;
     run.bezier_control_points = static_cast<Index>(b.controls.size());
@@ -167,8 +181,12 @@ GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCu
       through.push_back({ids[c], curves[c].closed, curves[c].pin, curves[c].origin});
     }
     std::vector<double> initial;
-    run.report = intrinsic::shorten_through(st, through, &paths, &initial);
+    run.report = intrinsic::shorten_through(st, through, &paths, &initial, options.flipout);
     for (std::size_t c = 0; c < curves.size(); ++c) run.curves[c].initial_length = initial[c];
+  }
+  if (run.report.stopped_by == intrinsic::FlipOutStop::kIterationCap && !options.accept_partial) {
+    throw InvalidInput(intrinsic::iteration_cap_message(
+        run.report, "GeodesicOptions::accept_partial, `--accept-partial` in the CLI"));
   }
   trace_curves(st, paths, run);
   run.seconds_flipout = watch.seconds();

@@ -31,6 +31,13 @@ struct GeodesicOptions {
   std::optional<int> bezier_rounds;
   /// Single-source mode: also trace every geodesic over the input (costs about one more search).
   bool trace_paths = false;
+  intrinsic::FlipOutOptions flipout;  ///< how curves are shortened (iteration cap, ...)
+  /// Curves that stopped at FlipOut's iteration cap are not geodesic: false refuses them
+  /// (InvalidInput stating what was reached), true returns them as they are.
+  bool accept_partial = false;
+  /// Memory budget, bytes, of the vertices a Bézier curve adds (intrinsic::check_curve_budget(),
+  /// before any flip); 0: intrinsic::default_memory_budget().
+  double max_memory_bytes = 0.0;
   /// @throws InvalidInput naming the field and its allowed range
   void validate() const;
 };
@@ -85,7 +92,9 @@ void check_curves(const std::vector<GivenCurve>& curves, const io::SurfaceInput&
 /// Geodesic curves through the given points (paths, loops, a network shortened together; with
 /// options.bezier_rounds one Bézier curve), traced over the input.
 /// @throws InvalidInput on bad options or curves (check_curves), an input without faces or
-///         area, points on different components
+///         area, points on different components, a Bézier curve over its budget
+///         (intrinsic::check_curve_budget), curves left at FlipOut's iteration cap (unless
+///         accept_partial; intrinsic::iteration_cap_message)
 /// @throws NonManifoldInput on a mesh that is not edge-manifold and orientable
 GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCurve>& curves,
                         const GeodesicOptions& options = {});

@@ -33,13 +33,27 @@ std::vector<DirectionConstraint> held_directions(const PreparedSurface& s,
   std::vector<DirectionConstraint> held;
   const Index nv = s.n_input_vertices();
   *skipped = 0;
+  auto name = [&](std::size_t k) {
+    const InputDirection& c = settings.constraints[k];
+    return (c.origin.empty() ? "direction " + std::to_string(k) : c.origin) + " (vertex " +
+           std::to_string(c.vertex) + ")";
+  };
+  std::vector<std::size_t> first(nv, settings.constraints.size());  // per vertex: its first
   for (std::size_t k = 0; k < settings.constraints.size(); ++k) {
     const InputDirection& c = settings.constraints[k];
-    const std::string where =
-        "direction " + std::to_string(k) + " (vertex " + std::to_string(c.vertex) + ")";
+    const std::string where = name(k);
     if (c.vertex < 0 || c.vertex >= nv) {
       throw InvalidInput(where + ": vertex out of range [0, " + std::to_string(nv) + ")");
     }
+    std::size_t& seen = first[c.vertex];
+    if (seen < k) {  // a second direction at one vertex: the same one (any length) or refused
+      const Eigen::Vector3d a = settings.constraints[seen].direction.normalized();
+      if ((a - c.direction.normalized()).norm() > 1e-12) {
+        throw InvalidInput(where + ": a second, different direction at the vertex of " +
+                           name(seen) + "; one direction per vertex");
+      }
+    }
+    seen = std::min(seen, k);
     if (comps.label[c.vertex] == kInvalidIndex) {
       ++*skipped;
       continue;

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "solvers/recipes/pipeline.h"
@@ -25,6 +26,8 @@ namespace ifem::solvers {
 struct InputDirection {
   Index vertex = kInvalidIndex;        ///< input vertex id
   Eigen::Vector3d direction{1, 0, 0};  ///< any length; must not be normal to the surface
+  /// Where it was given, for messages ("FILE:line"); empty: named "direction K" by its index.
+  std::string origin;
 };
 
 /// What direction_field_on() computes.
@@ -34,6 +37,8 @@ struct FieldOptions {
   /// it (as the faces run); on the tufted path the input's boundary (edges of one input face).
   /// Not for point clouds (no boundary edges).
   bool align_boundary = false;
+  /// Directions held at input vertices: one per vertex (the same direction given again is
+  /// fine, a different one is refused naming both).
   std::vector<InputDirection> constraints;
   /// Directions given on the triangulation itself: at any vertex of s.tri (inserted ones too),
   /// angles in the coordinates of fem::tangent_frames(s.tri), e.g. curve_constraints() along
@@ -86,8 +91,9 @@ struct TangentFieldResult {
 /// every input vertex, those whose neighbours are all inserted vertices included).
 /// On the frame path (tufted, point cloud) the field lives in frame_basis_3d()'s frames.
 /// @throws InvalidInput on bad settings, a vertex out of [0, #V_in), a direction normal to the
-///         surface there, align_boundary on a point cloud, or a refined surface off the
-///         manifold path (inserted vertices have no position for a frame)
+///         surface there, two different directions at one vertex (each named by its origin,
+///         "FILE:line", or "direction K"), align_boundary on a point cloud, or a refined surface
+///         off the manifold path (inserted vertices have no position for a frame)
 TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldOptions& settings);
 
 /// The index of an n-direction field around each face of the input (s.input.triangles, in

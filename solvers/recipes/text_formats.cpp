@@ -58,8 +58,8 @@ std::vector<ListedVertex> read_vertex_list(const std::string& path) {
                           const std::string& text) {
     Index v = 0;
     if (tokens.size() != 1 || !vertex_id(tokens[0], v)) {
-      throw IoError(where + ": expected one vertex id (an integer ≥ 0) per line, got '" + text +
-                    "'");
+      throw IoError(where + ": expected one vertex id (an integer ≥ 0) per line, got " +
+                    io::quoted_excerpt(text));
     }
     ids.push_back({v, n});
   });
@@ -91,8 +91,8 @@ DirichletValues read_dirichlet_file(const std::string& path, Index n_vertices) {
     double x = 0;
     if (tokens.size() != 2 || !parse_whole_integer(tokens[0], v) ||
         !parse_whole_real(tokens[1], x)) {
-      throw IoError(where + ": expected 'vertex value' (a vertex id and a finite number), got '" +
-                    text + "'");
+      throw IoError(where + ": expected 'vertex value' (a vertex id and a finite number), got " +
+                    io::quoted_excerpt(text));
     }
     if (v < 0 || v >= n_vertices) {
       throw InvalidInput(where + ": vertex " + tokens[0] + " out of range " + range(n_vertices));
@@ -111,14 +111,20 @@ std::vector<solvers::InputDirection> read_constraints_file(const std::string& pa
   for_each_line(path, [&](const std::string& where, long, const std::vector<std::string>& tokens,
                           const std::string& text) {
     solvers::InputDirection d;
+    d.origin = where;
     bool ok = tokens.size() == 4 && vertex_id(tokens[0], d.vertex);
     for (int k = 0; ok && k < 3; ++k) ok = parse_whole_real(tokens[k + 1], d.direction[k]);
     if (!ok) {
-      throw IoError(where + ": expected 'VERTEX X Y Z' (a vertex id ≥ 0 and a direction), got '" +
-                    text.substr(0, text.find('#')) + "'");
+      throw IoError(where + ": expected 'VERTEX X Y Z' (a vertex id ≥ 0 and a direction), got " +
+                    io::quoted_excerpt(text.substr(0, text.find('#'))));
     }
     out.push_back(d);
   });
+  if (out.empty()) {
+    throw IoError(path +
+                  ": no direction in the file (every line is blank or a comment; expected "
+                  "'VERTEX X Y Z' lines)");
+  }
   return out;
 }
 
@@ -127,7 +133,8 @@ std::string parse_point_token(const std::string& token, GivenPoint& p) {
   p.token = "'" + token + "'";
   if (token.rfind("face:", 0) != 0) {
     if (!vertex_id(token, p.vertex)) {
-      return "'" + token + "' is not a point: expected a vertex id (an integer ≥ 0) or face:F:u:v";
+      return io::quoted_excerpt(token) +
+             " is not a point: expected a vertex id (an integer ≥ 0) or face:F:u:v";
     }
     return "";
   }
@@ -136,14 +143,14 @@ std::string parse_point_token(const std::string& token, GivenPoint& p) {
   if (f.size() != 4 || !vertex_id(f[1], p.face) || !parse_whole_real(f[2], u) ||
       !parse_whole_real(f[3], v)) {
     p.face = kInvalidIndex;
-    return "'" + token +
-           "' is not a point: expected face:F:u:v (a face point: F a 0-based face index, u and "
+    return io::quoted_excerpt(token) +
+           " is not a point: expected face:F:u:v (a face point: F a 0-based face index, u and "
            "v finite numbers) or a vertex id";
   }
   if (u < 0.0 || v < 0.0 || u + v > 1.0 + 1e-12) {
     p.face = kInvalidIndex;
-    return "'" + token +
-           "': the barycentric coordinates (1 − u − v, u, v) must be ≥ 0 (u, v ≥ 0, u + v ≤ 1)";
+    return io::quoted_excerpt(token) +
+           ": the barycentric coordinates (1 − u − v, u, v) must be ≥ 0 (u, v ≥ 0, u + v ≤ 1)";
   }
   p.bary = {std::max(0.0, 1.0 - u - v), u, v};
   return "";
@@ -168,7 +175,7 @@ std::vector<GivenCurve> read_network_file(const std::string& path, bool pin_loop
                           const std::string& text) {
     if ((tokens[0] != "path" && tokens[0] != "loop") || tokens.size() < 3) {
       throw IoError(where + ": expected 'path P0 P1 ...' or 'loop P0 P1 ...' (at least two " +
-                    "points), got '" + text + "'");
+                    "points), got " + io::quoted_excerpt(text));
     }
     GivenCurve c;
     c.origin = where;

@@ -53,8 +53,11 @@ struct DirichletValues {
 DirichletValues read_dirichlet_file(const std::string& path, Index n_vertices);
 
 /// A constraints file: 'VERTEX X Y Z' per line, a direction to hold at an input vertex (any
-/// length, finite). The vertex range is checked by the field recipe (it knows #V).
-/// @throws IoError naming "FILE:line" on an unreadable file or a malformed line
+/// length, finite); each direction's origin is "FILE:line". The vertex range and conflicting
+/// directions at one vertex are checked by the field recipe (it knows #V; arrays from Python
+/// go there too).
+/// @throws IoError naming "FILE:line" on an unreadable file or a malformed line; a file with
+///         no direction is an error too
 std::vector<solvers::InputDirection> read_constraints_file(const std::string& path);
 
 /// A point of a geodesic curve as given: an input vertex, or a point inside a face of the

@@ -71,7 +71,10 @@ struct WeightedPoint {
 // range on large meshes), the Poisson factor as floats with kMixed (docs/decisions.md, "Heat
 // queries: our supernodal solve kernel"). Below kOwnKernelVertices CHOLMOD solves, and the
 // factors are simplicial when they have little fill (faster to factor: docs/decisions.md,
-// "Simplicial factors below 64 flops per entry").
+// "Simplicial factors below 64 flops per entry"). The heat factor tL + M is positive definite
+// whenever every referenced vertex has mass, so it skips the numerical-singularity test (made
+// for pinned Laplacians): a component of almost no area (a mollified zero-area piece of a soup,
+// masses 1e-12 of the rest) gives pivots on its own scale, not a singular matrix (D-136).
 PoissonOptions query_factor_options(HeatDistanceOptions::Precision precision, Index n_vertices,
                                     bool heat) {
   using Kernel = CholeskyOptions::SolveKernel;
@@ -83,6 +86,7 @@ PoissonOptions query_factor_options(HeatDistanceOptions::Precision precision, In
   } else {
     o.cholesky.simplicial_below_flops_per_entry = kSimplicialBelowFlopsPerEntry;
   }
+  if (heat) o.cholesky.min_rcond = 0.0;
   return o;
 }
 

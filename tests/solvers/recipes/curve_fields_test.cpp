@@ -213,7 +213,7 @@ TEST(CurveFields, CombinesWithDirectionsAndTheBoundary) {
   FieldOptions settings;
   settings.symmetry = 4;
   settings.align_boundary = true;
-  settings.constraints = {{0, Eigen::Vector3d(1, 1, 0)}};
+  settings.constraints = {{0, Eigen::Vector3d(1, 1, 0), ""}};
   const TangentFieldResult r = curve_direction_field(s, settings);
   const intrinsic::CurveChain ch = intrinsic::curve_chain(s.surface.tri, s.network, 0);
   EXPECT_EQ(r.constrained, Index(36 + 1 + ch.vertices.size()));  // boundary, vertex 0, curve

@@ -99,7 +99,7 @@ TEST_P(SoupFields, EveryPieceWithAreaGetsItsOwnFieldTheFlatOneNone) {
       EXPECT_NEAR(std::remainder(turn, 2 * kPi), 0.0, 1e-4) << v << ", n " << n;
     }
     // a direction on the zero-area face is skipped; one on a piece holds that piece
-    o.constraints = {{kFlat, {1, 0, 0}}, {kLone, {0, 1, 0}}};
+    o.constraints = {{kFlat, {1, 0, 0}, ""}, {kLone, {0, 1, 0}, ""}};
     const TangentFieldResult h = direction_field_on(s, o);
     EXPECT_EQ(h.skipped_constraints, 1);
     EXPECT_EQ(h.free_components, p.count - p.flat - 1);
