@@ -14,7 +14,11 @@ std::vector<OptionSpec> curve_options(const std::string& use) {
               .with_extensions({".obj"})
               .explain("with --curves: the curves as inserted, traced over the input surface\n"
                        "('v' lines, one 'l' line per curve, in the file's order; a closed\n"
-                       "curve's 'l' line ends at its first point)")};
+                       "curve's 'l' line ends at its first point)"),
+          flag("no-conform")
+              .explain("with --curves --refine: keep curve and boundary edges whose cotan\n"
+                       "weight is negative after refinement (by default they are split\n"
+                       "until every weight is >= 0, so u stays within the curves' values)")};
 }
 
 std::string curves_file_help(bool values_used, const std::string& command) {
@@ -81,7 +85,13 @@ void check_curve_options(const Args& args, const std::vector<CurveRefusal>& refu
     if (args.has("curves-out")) {
       throw UsageError("--curves-out writes the curves of --curves FILE, which was not given");
     }
+    if (args.has("no-conform")) {
+      throw UsageError("--no-conform applies to --curves with --refine; --curves was not given");
+    }
     return;
+  }
+  if (args.has("no-conform") && !args.has("refine")) {
+    throw UsageError("--no-conform turns off a step of --refine, which was not given");
   }
   std::vector<CurveRefusal> all = refused;
   all.insert(all.end(), std::begin(kCurveRefusals), std::end(kCurveRefusals));
@@ -143,6 +153,7 @@ solvers::CurveSurface prepare_curves(io::SurfaceInput input,
   solvers::CurveSurfaceOptions opt;
   opt.mollify_relative_epsilon = args.real("mollify");
   opt.refine = refine;
+  if (opt.refine && args.has("no-conform")) opt.refine->conform = false;
   if (!args.has("quiet")) {
     opt.progress = [](const std::string& line) {
       std::fprintf(stderr, "ifem: %s\n", line.c_str());

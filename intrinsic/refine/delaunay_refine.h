@@ -32,6 +32,13 @@ struct RefineOptions {
   /// is farther. Same bound and termination argument. Fewer insertions on most meshes, more on
   /// meshes with rings of short sides, hence off by default (docs/decisions.md D-015).
   bool off_centers = false;
+  /// With constraints: after the angle and size refinement, split constrained and boundary
+  /// edges whose cotan weight is negative (opposite angles summing above π; on the boundary,
+  /// one above π/2), at their midpoint or on concentric shells around a corner, until every
+  /// cotan weight is ≥ 0 (conforming Delaunay refinement: the discrete maximum principle holds;
+  /// details and what is not guaranteed in intrinsic/refine/conforming.h). Splits may lower
+  /// the minimum angle (the report's min_angle_after). Without constraints: no effect.
+  bool conform = true;
   /// Memory budget, bytes, for the refined triangulation and what is built on it (see
   /// estimate_refinement()): a request whose estimate exceeds it is refused before any work,
   /// and refinement stops (hit_insertion_cap) where the vertices would cost more than it.
@@ -118,6 +125,17 @@ struct RefineReport {
                                    ///< angles midpoint splits would cascade); the bad triangles
                                    ///< there stay (bad_faces_left)
   Index failed_traces = 0;         ///< bad triangles skipped because tracing failed
+  /// The conforming step (RefineOptions::conform, with constraints): constrained and boundary
+  /// edges split because their cotan weight was negative (also counted in insertions), of which
+  /// on a concentric shell around a corner rather than at the midpoint.
+  Index conforming_splits = 0, conforming_shell_splits = 0;
+  bool conforming_hit_cap = false;  ///< the conforming step stopped at its cap
+  /// Constrained and boundary edges whose cotan weight is still negative at the end (with
+  /// constraints and conform; else not counted: 0), of which shorter than the conforming floor
+  /// (2^-30 × the mean edge length: where barriers meet at small angles), and the most negative
+  /// (cot α + cot β) / (|cot α| + |cot β|) over them, in [−1, 0] (0 when none).
+  Index negative_barrier_weights = 0, negative_barrier_floor = 0;
+  double min_relative_barrier_weight = 0.0;
   std::size_t flips = 0;           ///< edge flips (initial Delaunay + after insertions)
   bool hit_insertion_cap = false;  ///< stopped by max_insertions
   Index needle_faces = 0;          ///< triangles left alone: each small angle sits in a vertex
