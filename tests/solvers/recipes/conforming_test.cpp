@@ -156,9 +156,9 @@ Outcome solve_and_check(const io::SurfaceInput& in, const std::vector<CurveCondi
   o.negative = s.signs.negative_constrained + s.signs.negative_unconstrained;
   const intrinsic::RefineReport& rep = s.surface.refine_report;
   o.conforming_splits = rep.conforming_splits;
-  if (getenv("CONF_DEBUG")) printf("conform %d neg %d below %g above %g: %s\n", int(conform), int(o.negative), o.below, o.above, solvers::describe(rep).c_str());
   if (conform) {
     EXPECT_EQ(o.negative, rep.negative_barrier_weights) << solvers::describe(rep);
+    EXPECT_EQ(rep.insertions, rep.vertices_after - rep.vertices_before);
     EXPECT_FALSE(rep.conforming_hit_cap);
   }
   return o;
@@ -176,6 +176,8 @@ TEST_P(HoleyScan, MaximumPrincipleHoldsAfterConformingRefinement) {
   const Outcome off = solve_and_check(in, curves, false);
   const Outcome on = solve_and_check(in, curves, true);
   RecordProperty("negative_weights_without", int(off.negative));
+  RecordProperty("conforming_splits", int(on.conforming_splits));
+  EXPECT_GT(on.conforming_splits, 0);
   EXPECT_EQ(on.negative, 0);
   EXPECT_LE(on.below, 1e-12);
   EXPECT_LE(on.above, 1e-12);
