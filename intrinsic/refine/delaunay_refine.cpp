@@ -586,7 +586,8 @@ class Refiner {
         memory_budget(options_) / kRefineBytesPerVertex - double(tri_.n_vertices());
     const double cap = std::max(0.0, std::min(affordable, 10.0 * double(tri_.n_edges())));
     const detail::ConformHost ch{
-        tri_, flags_,
+        tri_,
+        flags_,
         [this](Index e, double t) {
           const Index v = split(e, t);
           cones_->add_vertex(v, true);
@@ -595,7 +596,9 @@ class Refiner {
         [this](const std::vector<Index>& queue, std::vector<Index>* touched) {
           return host_.flip_to_delaunay_from(queue, touched).flips;
         },
-        rep_.vertices_before, kConformFloor * mean_length_, static_cast<Index>(cap)};
+        rep_.vertices_before,
+        kConformFloor * mean_length_,
+        static_cast<Index>(cap)};
     const detail::ConformOutcome c = detail::conform_barriers(ch);
     rep_.conforming_splits = c.splits;
     rep_.conforming_shell_splits = c.shell_splits;

@@ -53,10 +53,12 @@ struct RefineOptions {
 /// Delaunay flips never flip them, and refinement never crosses them: a point that would land
 /// across a constrained edge, or inside its diametral circle, splits that edge at its midpoint
 /// instead (as boundary edges are split), and a constrained edge facing an obtuse angle is split
-/// too (split_encroached_boundary), so the result is a constrained Delaunay triangulation whose
-/// cotan weights are non-negative except at the documented exceptions (small angles between
-/// constraints, RefineReport::needle_faces). Corners between two constrained (or boundary) edges
-/// at a vertex form their own fan: one below the bound is left alone, as a boundary needle.
+/// too (split_encroached_boundary), so the result is a constrained Delaunay triangulation. Then,
+/// with RefineOptions::conform, constrained and boundary edges whose cotan weight is still
+/// negative are split (intrinsic/refine/conforming.h), so every cotan weight is non-negative
+/// except those counted in RefineReport::negative_barrier_weights (edges below the conforming
+/// floor where constraints meet at tiny angles). Corners between two constrained (or boundary)
+/// edges at a vertex form their own fan: one below the bound is left alone, as a boundary needle.
 struct EdgeConstraints {
   /// #E flags, 1 on a constrained edge (entries past the end count as 0). delaunay_refine()
   /// grows it to the new edge count after every insertion; the halves of a split constrained
@@ -125,6 +127,16 @@ struct RefineReport {
                                    ///< angles midpoint splits would cascade); the bad triangles
                                    ///< there stay (bad_faces_left)
   Index failed_traces = 0;         ///< bad triangles skipped because tracing failed
+  std::size_t flips = 0;           ///< edge flips (initial Delaunay + after insertions)
+  bool hit_insertion_cap = false;  ///< stopped by max_insertions
+  Index needle_faces = 0;          ///< triangles left alone: each small angle sits in a vertex
+                                   ///< fan (cone) whose total angle is below the bound (2×
+                                   ///< bound inside); per fan at a pinched vertex
+  Index bad_faces_left = 0;        ///< other triangles still below the bounds at the end
+  double min_angle_before = 0.0;   ///< smallest corner angle, degrees, of the input's intrinsic
+                                   ///< Delaunay triangulation (before any insertion)
+  double min_angle_after = 0.0;    ///< smallest corner angle at the end, degrees (all faces)
+  double min_angle_after_excluding_needles = 0.0;  ///< same, degrees, ignoring needle_faces
   /// The conforming step (RefineOptions::conform, with constraints): constrained and boundary
   /// edges split because their cotan weight was negative (also counted in insertions), of which
   /// on a concentric shell around a corner rather than at the midpoint.
@@ -136,16 +148,6 @@ struct RefineReport {
   /// (cot α + cot β) / (|cot α| + |cot β|) over them, in [−1, 0] (0 when none).
   Index negative_barrier_weights = 0, negative_barrier_floor = 0;
   double min_relative_barrier_weight = 0.0;
-  std::size_t flips = 0;           ///< edge flips (initial Delaunay + after insertions)
-  bool hit_insertion_cap = false;  ///< stopped by max_insertions
-  Index needle_faces = 0;          ///< triangles left alone: each small angle sits in a vertex
-                                   ///< fan (cone) whose total angle is below the bound (2×
-                                   ///< bound inside); per fan at a pinched vertex
-  Index bad_faces_left = 0;        ///< other triangles still below the bounds at the end
-  double min_angle_before = 0.0;   ///< smallest corner angle, degrees, of the input's intrinsic
-                                   ///< Delaunay triangulation (before any insertion)
-  double min_angle_after = 0.0;    ///< smallest corner angle at the end, degrees (all faces)
-  double min_angle_after_excluding_needles = 0.0;  ///< same, degrees, ignoring needle_faces
 };
 
 /// Refines `st` in place: flips to intrinsic Delaunay, then repeatedly takes the worst bad
@@ -158,7 +160,8 @@ struct RefineReport {
 /// D-015). Terminates on every input (the insertion cap).
 /// Input vertices keep their ids; inserted vertices are appended. The surface never changes.
 /// With `constraints`, constrained refinement (EdgeConstraints): constrained edges are never
-/// flipped or crossed, only split; the report's constrained_splits counts those splits.
+/// flipped or crossed, only split; the report's constrained_splits counts those splits, and
+/// conforming_splits those of the final conforming step (RefineOptions::conform).
 /// @throws InvalidInput on bad options (RefineOptions::validate())
 RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options = {},
                              EdgeConstraints* constraints = nullptr);

@@ -113,8 +113,7 @@ CurveCondition curve(std::vector<Index> vertices, std::vector<double> values) {
 std::vector<CurveCondition> hard_curves(const io::SurfaceInput& in) {
   auto at = [&](double x, double y) { return nearest(in, x, y); };
   return {curve({at(0.1, 0.1), at(0.9, 0.5), at(0.25, 0.5)}, {0.0}),
-          curve({at(0.1, 0.1), at(0.9, 0.7)}, {0.5}),
-          curve({at(0.1, 0.9), at(0.9, 0.85)}, {1.0}),
+          curve({at(0.1, 0.1), at(0.9, 0.7)}, {0.5}), curve({at(0.1, 0.9), at(0.9, 0.85)}, {1.0}),
           curve({at(0.3, 0.95), at(0.62, 0.2)}, {0.0, 1.0})};
 }
 
