@@ -92,6 +92,7 @@ ConformOutcome conform_barriers(const ConformHost& host) {
     bool shell = false;
     const double t = split_fraction(host, e, &shell);
     const Index v = host.split(e, t);
+    if (v == kInvalidIndex) continue;  // counted by the host
     ++out.splits;
     if (shell) ++out.shell_splits;
     outgoing(tri, v, star);

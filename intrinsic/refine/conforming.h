@@ -39,7 +39,8 @@ struct ConformHost {
   const IntrinsicTriangulation& tri;
   const std::vector<char>* flags;  ///< constrained edges (may be null: boundary edges only)
   /// splits edge e at fraction t from the tail of edge_halfedge(e), keeping the constraints
-  /// (flags grown, the far half constrained too); returns the new vertex
+  /// (flags grown, the far half constrained too); returns the new vertex, or kInvalidIndex when
+  /// it made none
   std::function<Index(Index e, double t)> split;
   /// local Delaunay repair from the queued edges (never flipping constrained ones), appending
   /// the faces of every flip to `touched`; returns the number of flips

@@ -588,11 +588,7 @@ class Refiner {
     const detail::ConformHost ch{
         tri_,
         flags_,
-        [this](Index e, double t) {
-          const Index v = split(e, t);
-          cones_->add_vertex(v, true);
-          return v;
-        },
+        [this](Index e, double t) { return conforming_split(e, t); },
         [this](const std::vector<Index>& queue, std::vector<Index>* touched) {
           return host_.flip_to_delaunay_from(queue, touched).flips;
         },
@@ -607,6 +603,29 @@ class Refiner {
     rep_.negative_barrier_weights = c.negative_left;
     rep_.negative_barrier_floor = c.floor_left;
     rep_.min_relative_barrier_weight = c.min_relative_weight;
+  }
+
+  // A split of the conforming step. Signposts may fail to locate the new vertex on the input
+  // (TraceError) after the split is made: the constraints are then kept all the same (counted
+  // as a failed trace). kInvalidIndex if no vertex was made.
+  Index conforming_split(Index e, double t) {
+    const Index n_before = tri_.n_vertices(), new_edge = tri_.n_edges();
+    const bool constrained = bar_.constrained(e);
+    Index v = kInvalidIndex;
+    try {
+      v = split(e, t);
+    } catch (const TraceError&) {
+      ++rep_.failed_traces;
+      if (tri_.n_vertices() == n_before) return kInvalidIndex;
+      v = n_before;
+      grow_flags();
+      if (constrained) {
+        (*flags_)[new_edge] = 1;
+        if (cons_->on_split) cons_->on_split(e, new_edge, v, t);
+      }
+    }
+    cones_->add_vertex(v, true);
+    return v;
   }
 
   // Restores Delaunay around the new vertex v (the sides opposite v, then whatever flips
