@@ -17,7 +17,11 @@ std::vector<OptionSpec> curve_options(const std::string& use) {
                        "curve's 'l' line ends at its first point)"),
           flag("accept-partial")
               .explain("with --curves: go on with curves FlipOut left at its iteration cap\n"
-                       "(not geodesic yet; without it such curves are an error, exit 1)")};
+                       "(not geodesic yet; without it such curves are an error, exit 1)"),
+          flag("no-conform")
+              .explain("with --curves --refine: keep curve and boundary edges whose cotan\n"
+                       "weight is negative after refinement (by default they are split\n"
+                       "until every weight is >= 0, so u stays within the curves' values)")};
 }
 
 std::string curves_file_help(bool values_used, const std::string& command) {
@@ -90,7 +94,13 @@ void check_curve_options(const Args& args, const std::vector<CurveRefusal>& refu
     if (args.has("accept-partial")) {
       throw UsageError("--accept-partial accepts curves of --curves FILE, which was not given");
     }
+    if (args.has("no-conform")) {
+      throw UsageError("--no-conform applies to --curves with --refine; --curves was not given");
+    }
     return;
+  }
+  if (args.has("no-conform") && !args.has("refine")) {
+    throw UsageError("--no-conform turns off a step of --refine, which was not given");
   }
   std::vector<CurveRefusal> all = refused;
   all.insert(all.end(), std::begin(kCurveRefusals), std::end(kCurveRefusals));
@@ -155,6 +165,7 @@ solvers::CurveSurface prepare_curves(io::SurfaceInput input,
   opt.accept_partial = args.has("accept-partial");
   // the vertices Bézier curves add against --memory-budget (0: the library's default)
   opt.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;
+  if (opt.refine && args.has("no-conform")) opt.refine->conform = false;
   if (!args.has("quiet")) {
     opt.progress = [](const std::string& line) {
       std::fprintf(stderr, "ifem: %s\n", line.c_str());

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/refine/conforming.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -299,6 +300,13 @@ double memory_budget(const RefineOptions& options) {
 // split_boundary()).
 constexpr double kConstrainedFloor = 1.0 / 1024.0;
 
+// Curve and boundary edges shorter than this fraction of the mean edge length are not split by
+// the conforming step (conforming.h): about 30 halvings of an average edge, where the weight test
+// still has about 7 digits (rounding of the neighbouring sides, ~1e-16 of the mean, against the
+// edge). Far below kConstrainedFloor: the conforming splits converge at small angles between
+// curves (concentric shells) where the angle-driven splits above do not (docs/decisions.md D-140).
+constexpr double kConformFloor = 0x1p-30;
+
 // How far from the midpoint of a bad face's shortest side an off-center goes, as a fraction of
 // the distance at which the isosceles triangle on that side has exactly the bound at its apex
 // (Üngör 2004); 0.95 as in Shewchuk's Triangle, so that the new triangle is just above it.
@@ -334,7 +342,8 @@ class Refiner {
   RefineReport run() {
     grow_flags();
     rep_.flips += host_.flip_to_delaunay().flips;
-    constrained_floor_ = kConstrainedFloor * mean_edge_length(tri_);
+    mean_length_ = mean_edge_length(tri_);
+    constrained_floor_ = kConstrainedFloor * mean_length_;
     double before = kPi;
     for (Index f = 0; f < tri_.n_faces(); ++f) before = std::min(before, min_corner_angle(tri_, f));
     rep_.min_angle_before = before / kDeg;
@@ -362,6 +371,7 @@ class Refiner {
         if (again.kind == 1) queue.push(f, again.bucket);
       }
     }
+    if (flags_ && options_.conform) conform();
     measure_result();
     return rep_;
   }
@@ -568,6 +578,56 @@ class Refiner {
     return split(e, 0.5);
   }
 
+  // The conforming step (conforming.h): constrained and boundary edges with a negative cotan
+  // weight are split, corners being the vertices that existed before refinement; capped by
+  // 10 splits per edge and by the memory budget.
+  void conform() {
+    const double affordable =
+        memory_budget(options_) / kRefineBytesPerVertex - double(tri_.n_vertices());
+    const double cap = std::max(0.0, std::min(affordable, 10.0 * double(tri_.n_edges())));
+    const detail::ConformHost ch{
+        tri_,
+        flags_,
+        [this](Index e, double t) { return conforming_split(e, t); },
+        [this](const std::vector<Index>& queue, std::vector<Index>* touched) {
+          return host_.flip_to_delaunay_from(queue, touched).flips;
+        },
+        rep_.vertices_before,
+        kConformFloor * mean_length_,
+        static_cast<Index>(cap)};
+    const detail::ConformOutcome c = detail::conform_barriers(ch);
+    rep_.conforming_splits = c.splits;
+    rep_.conforming_shell_splits = c.shell_splits;
+    rep_.conforming_hit_cap = c.hit_cap;
+    rep_.flips += c.flips;
+    rep_.negative_barrier_weights = c.negative_left;
+    rep_.negative_barrier_floor = c.floor_left;
+    rep_.min_relative_barrier_weight = c.min_relative_weight;
+  }
+
+  // A split of the conforming step. Signposts may fail to locate the new vertex on the input
+  // (TraceError) after the split is made: the constraints are then kept all the same (counted
+  // as a failed trace). kInvalidIndex if no vertex was made.
+  Index conforming_split(Index e, double t) {
+    const Index n_before = tri_.n_vertices(), new_edge = tri_.n_edges();
+    const bool constrained = bar_.constrained(e);
+    Index v = kInvalidIndex;
+    try {
+      v = split(e, t);
+    } catch (const TraceError&) {
+      ++rep_.failed_traces;
+      if (tri_.n_vertices() == n_before) return kInvalidIndex;
+      v = n_before;
+      grow_flags();
+      if (constrained) {
+        (*flags_)[new_edge] = 1;
+        if (cons_->on_split) cons_->on_split(e, new_edge, v, t);
+      }
+    }
+    cones_->add_vertex(v, true);
+    return v;
+  }
+
   // Restores Delaunay around the new vertex v (the sides opposite v, then whatever flips
   // reach) and queues the faces it touched that are bad.
   void restore_delaunay_around(Index v, BadFaceQueue& queue) {
@@ -640,6 +700,7 @@ class Refiner {
   double bound_ = 0.0, cos_bound_ = 1.0, max_area_ = 0.0;
   Index cap_ = 0;
   double constrained_floor_ = 0.0;  // shortest constrained edge split (absolute)
+  double mean_length_ = 0.0;        // mean edge length after the first Delaunay flips
   RefineReport rep_;
   std::optional<Cones> cones_;  // made after the first Delaunay flips
   std::vector<Index> touched_, flip_queue_;

@@ -32,6 +32,13 @@ struct RefineOptions {
   /// is farther. Same bound and termination argument. Fewer insertions on most meshes, more on
   /// meshes with rings of short sides, hence off by default (docs/decisions.md D-015).
   bool off_centers = false;
+  /// With constraints: after the angle and size refinement, split constrained and boundary
+  /// edges whose cotan weight is negative (opposite angles summing above π; on the boundary,
+  /// one above π/2), at their midpoint or on concentric shells around a corner, until every
+  /// cotan weight is ≥ 0 (conforming Delaunay refinement: the discrete maximum principle holds;
+  /// details and what is not guaranteed in intrinsic/refine/conforming.h). Splits may lower
+  /// the minimum angle (the report's min_angle_after). Without constraints: no effect.
+  bool conform = true;
   /// Memory budget, bytes, for the refined triangulation and what is built on it (see
   /// estimate_refinement()): a request whose estimate exceeds it is refused before any work,
   /// and refinement stops (hit_insertion_cap) where the vertices would cost more than it.
@@ -46,10 +53,12 @@ struct RefineOptions {
 /// Delaunay flips never flip them, and refinement never crosses them: a point that would land
 /// across a constrained edge, or inside its diametral circle, splits that edge at its midpoint
 /// instead (as boundary edges are split), and a constrained edge facing an obtuse angle is split
-/// too (split_encroached_boundary), so the result is a constrained Delaunay triangulation whose
-/// cotan weights are non-negative except at the documented exceptions (small angles between
-/// constraints, RefineReport::needle_faces). Corners between two constrained (or boundary) edges
-/// at a vertex form their own fan: one below the bound is left alone, as a boundary needle.
+/// too (split_encroached_boundary), so the result is a constrained Delaunay triangulation. Then,
+/// with RefineOptions::conform, constrained and boundary edges whose cotan weight is still
+/// negative are split (intrinsic/refine/conforming.h), so every cotan weight is non-negative
+/// except those counted in RefineReport::negative_barrier_weights (edges below the conforming
+/// floor where constraints meet at tiny angles). Corners between two constrained (or boundary)
+/// edges at a vertex form their own fan: one below the bound is left alone, as a boundary needle.
 struct EdgeConstraints {
   /// #E flags, 1 on a constrained edge (entries past the end count as 0). delaunay_refine()
   /// grows it to the new edge count after every insertion; the halves of a split constrained
@@ -128,6 +137,17 @@ struct RefineReport {
                                    ///< Delaunay triangulation (before any insertion)
   double min_angle_after = 0.0;    ///< smallest corner angle at the end, degrees (all faces)
   double min_angle_after_excluding_needles = 0.0;  ///< same, degrees, ignoring needle_faces
+  /// The conforming step (RefineOptions::conform, with constraints): constrained and boundary
+  /// edges split because their cotan weight was negative (also counted in insertions), of which
+  /// on a concentric shell around a corner rather than at the midpoint.
+  Index conforming_splits = 0, conforming_shell_splits = 0;
+  bool conforming_hit_cap = false;  ///< the conforming step stopped at its cap
+  /// Constrained and boundary edges whose cotan weight is still negative at the end (with
+  /// constraints and conform; else not counted: 0), of which shorter than the conforming floor
+  /// (2^-30 × the mean edge length: where barriers meet at small angles), and the most negative
+  /// (cot α + cot β) / (|cot α| + |cot β|) over them, in [−1, 0] (0 when none).
+  Index negative_barrier_weights = 0, negative_barrier_floor = 0;
+  double min_relative_barrier_weight = 0.0;
 };
 
 /// Refines `st` in place: flips to intrinsic Delaunay, then repeatedly takes the worst bad
@@ -140,7 +160,8 @@ struct RefineReport {
 /// D-015). Terminates on every input (the insertion cap).
 /// Input vertices keep their ids; inserted vertices are appended. The surface never changes.
 /// With `constraints`, constrained refinement (EdgeConstraints): constrained edges are never
-/// flipped or crossed, only split; the report's constrained_splits counts those splits.
+/// flipped or crossed, only split; the report's constrained_splits counts those splits, and
+/// conforming_splits those of the final conforming step (RefineOptions::conform).
 /// @throws InvalidInput on bad options (RefineOptions::validate())
 RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options = {},
                              EdgeConstraints* constraints = nullptr);

@@ -263,11 +263,11 @@ def _specs(curves):
     return [c._spec(f"curves[{i}]") for i, c in enumerate(_as_curves(curves))]
 
 
-def _refine(refine, min_angle, resolution, max_area, max_insertions):
+def _refine(refine, min_angle, resolution, max_area, max_insertions, conform=True):
     if not refine:
         return None
     return (float(min_angle), float(resolution), float(max_area),
-            -1 if max_insertions is None else int(max_insertions))
+            -1 if max_insertions is None else int(max_insertions), bool(conform))
 
 
 def _dirichlet(dirichlet):
@@ -289,7 +289,7 @@ def _results(value, lines, info, return_polylines, return_info):
 
 def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
                   min_angle=25.0, resolution=0.0, max_area=0.0, max_insertions=None,
-                  mollify=1e-5, return_polylines=False, return_info=False):
+                  conform=True, mollify=1e-5, return_polylines=False, return_info=False):
     """Solves (L + c·M) u = M f with u held at the curves' values along them.
 
     The curves are inserted as constrained edges of the intrinsic Delaunay triangulation
@@ -320,6 +320,9 @@ def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=
             triangles larger than the equilateral one of side resolution × mean edge length; 0:
             no size bound), ``max_area`` (absolute; 0: none) and ``max_insertions`` (None: the
             library's cap), as the CLI's ``--min-angle``, ``--resolution``, ... .
+        conform: with refine, split curve and boundary edges whose cotan weight is still
+            negative after refinement until every weight is ≥ 0, so that u stays within the
+            curves' values (the discrete maximum principle; False: ``--no-conform``).
         mollify: relative mollification margin.
         return_polylines: also return the curves as inserted, traced over the input: one
             (#points, 3) array per curve in the order given (a closed curve repeats its first
@@ -330,7 +333,9 @@ def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=
             report), ``bezier_midpoints``, ``curve_lengths``, ``constrained_flips``,
             ``non_delaunay_curve_edges``, ``negative_weights_on_curves`` /
             ``negative_weights_elsewhere``, ``min_weight``, ``vertices`` (of the constrained
-            triangulation), ``refined`` (and ``refine``, a summary), ``mollify_delta``.
+            triangulation), ``refined`` (and ``refine``, a summary; ``conforming_splits``,
+            ``negative_barrier_weights``: curve and boundary edges whose weight stays negative,
+            ``min_relative_barrier_weight``), ``mollify_delta``.
 
     Returns:
         ``u`` (#V float64, the input's vertices; a vertex on a slit: the mean of its sides), then
@@ -352,14 +357,14 @@ def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=
     dv, dval = _dirichlet(dirichlet)
     u, lines, info = _ifem.curve_poisson(
         V, F, specs, rhs, dv, dval, float(screening),
-        _refine(refine, min_angle, resolution, max_area, max_insertions), float(mollify),
-        bool(return_polylines))
+        _refine(refine, min_angle, resolution, max_area, max_insertions, conform),
+        float(mollify), bool(return_polylines))
     return _results(u, lines, info, return_polylines, return_info)
 
 
 def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_steps=None,
                    min_angle=25.0, resolution=0.4, max_area=0.0, max_insertions=None,
-                   mollify=1e-5, return_polylines=False, return_info=False):
+                   conform=True, mollify=1e-5, return_polylines=False, return_info=False):
     """Geodesic distance to the nearest curve (heat method on the constrained triangulation).
 
     Every vertex on a curve is a source, so the distance is exactly 0 along the curves (not
@@ -376,7 +381,7 @@ def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_s
         time_factor: m in t = m·h² (None: 1, or 0.25 with refine's size bound).
         correction_steps: φ ← solution of L φ = div(∇φ/|∇φ|), this many times (None: 0, or 1
             when refined with a size bound).
-        min_angle, resolution, max_area, max_insertions: refinement settings (see
+        min_angle, resolution, max_area, max_insertions, conform: refinement settings (see
             :func:`curve_poisson`).
         mollify: relative mollification margin.
         return_polylines: also return the curves' polylines (as :func:`curve_poisson`).
@@ -391,7 +396,7 @@ def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_s
     """
     specs = _specs(curves)
     d, lines, info = _ifem.curve_distance(
-        V, F, specs, _refine(refine, min_angle, resolution, max_area, max_insertions),
+        V, F, specs, _refine(refine, min_angle, resolution, max_area, max_insertions, conform),
         None if time_factor is None else float(time_factor),
         None if correction_steps is None else int(correction_steps), float(mollify),
         bool(return_polylines))

@@ -132,8 +132,8 @@ void write_curves_file(const std::string& path, const py::list& specs) {
   solvers::write_curves_file(path, curves);
 }
 
-// refine: None, or (min_angle, resolution, max_area, max_insertions) with Python's names in
-// the messages.
+// refine: None, or (min_angle, resolution, max_area, max_insertions[, conform]) with Python's
+// names in the messages.
 std::optional<solvers::SurfaceRefineOptions> refine_from(const py::handle& refine) {
   if (refine.is_none()) return std::nullopt;
   const py::tuple t = refine.cast<py::tuple>();
@@ -142,6 +142,7 @@ std::optional<solvers::SurfaceRefineOptions> refine_from(const py::handle& refin
   r.resolution = t[1].cast<double>();
   r.max_area = t[2].cast<double>();
   r.max_insertions = t[3].cast<Index>();
+  if (t.size() > 4) r.conform = t[4].cast<bool>();
   r.need_signposts = true;
   if (!(r.min_angle_degrees > 0.0 && r.min_angle_degrees <= 30.0)) {
     throw InvalidInput("min_angle must be in (0, 30] degrees, got " +
@@ -199,7 +200,13 @@ py::dict surface_info(const solvers::CurveSurface& s) {
   d["min_weight"] = s.signs.min_weight;
   d["vertices"] = s.surface.tri.n_vertices();
   d["refined"] = s.surface.refined;
-  if (s.surface.refined) d["refine"] = solvers::describe(s.surface.refine_report);
+  if (s.surface.refined) {
+    const intrinsic::RefineReport& r = s.surface.refine_report;
+    d["refine"] = solvers::describe(r);
+    d["conforming_splits"] = r.conforming_splits;
+    d["negative_barrier_weights"] = r.negative_barrier_weights;
+    d["min_relative_barrier_weight"] = r.min_relative_barrier_weight;
+  }
   d["mollify_delta"] = s.surface.mollify.delta;
   return d;
 }

@@ -339,3 +339,29 @@ def test_nonmanifold_mesh_is_refused():
     F = np.r_[F, [[6, 7, len(V) - 1]]]  # a third triangle on the interior edge 6–7
     with pytest.raises(ifem.InvalidInput, match="curves need an edge-manifold, orientable mesh"):
         ifem.curve_poisson(V, F, [ifem.Curve(row(n, 2), 0)])
+
+
+def holey_scan(seed):
+    """tests/data/make_holey_scan.py's mesh with many small holes and its hard curves."""
+    import sys
+    sys.path.insert(0, str(conftest.TEST_DATA))
+    import make_holey_scan as m
+    V, F = m.holey_scan(seed=seed)
+    curves = [ifem.Curve(vertices, values if len(values) > 1 else values[0])
+              for vertices, values in m.hard_curves(V)]
+    return np.array(V, float), np.array(F, np.int64), curves
+
+
+# Refined curve problems keep the maximum principle (conforming refinement: curve and boundary
+# edges with negative cotan weights are split); conform=False keeps those weights.
+@pytest.mark.parametrize("seed", [4, 7])
+def test_curve_poisson_refined_keeps_the_maximum_principle(seed):
+    V, F, curves = holey_scan(seed)
+    u, info = ifem.curve_poisson(V, F, curves, refine=True, return_info=True)
+    assert info["conforming_splits"] > 0
+    assert info["negative_barrier_weights"] == 0
+    assert info["negative_weights_on_curves"] == 0 and info["negative_weights_elsewhere"] == 0
+    assert u.min() >= -1e-12 and u.max() <= 1 + 1e-12
+    u0, info0 = ifem.curve_poisson(V, F, curves, refine=True, conform=False, return_info=True)
+    assert info0["conforming_splits"] == 0
+    assert info0["negative_weights_on_curves"] + info0["negative_weights_elsewhere"] > 0

@@ -325,6 +325,7 @@ intrinsic::RefineOptions refine_options(const SurfaceRefineOptions& r, double ta
   }
   o.max_insertions = r.max_insertions;
   o.max_memory_bytes = r.max_memory_bytes;
+  o.conform = r.conform;
   return o;
 }
 
@@ -341,6 +342,16 @@ std::string describe(const intrinsic::RefineReport& r) {
   if (r.constrained_floor) {
     m << ", " << r.constrained_floor << " curve splits refused (curves meeting at small angles)";
   }
+  if (r.conforming_splits) {
+    m << ", " << r.conforming_splits << " conforming splits (negative cotan weights on curves "
+      << "or the boundary)";
+  }
+  if (r.negative_barrier_weights) {
+    m << "; " << r.negative_barrier_weights << " curve or boundary edges keep a negative cotan "
+      << "weight (" << r.negative_barrier_floor << " below the split floor, most negative "
+      << r.min_relative_barrier_weight << " relative)";
+  }
+  if (r.conforming_hit_cap) m << "; conforming splits STOPPED at their cap";
   if (r.hit_insertion_cap) {
     m << "; STOPPED at the insertion cap, " << r.bad_faces_left << " triangles still bad";
   }

@@ -46,6 +46,9 @@ struct SurfaceRefineOptions {
   /// (intrinsic::estimate_refinement()) exceeds it is refused up front. 0: half the physical
   /// memory (or 80% of ulimit -v); +∞: none.
   double max_memory_bytes = 0.0;
+  /// With constraints (curves): split curve and boundary edges whose cotan weight is negative
+  /// after refinement (RefineOptions::conform), so the maximum principle holds.
+  bool conform = true;
   /// @throws InvalidInput naming the field and its allowed range
   void validate() const;
 };

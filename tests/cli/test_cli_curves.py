@@ -6,8 +6,9 @@ neighbours 764, 813; 1500's 1496, 1498; 2000's 2001, 126), so FlipOut leaves the
 no other input vertex lies on them."""
 
 import math
+import sys
 
-from clitools import SPOT_VERTICES, count_lines, grep, head_bytes, lines, numbers
+from clitools import SPOT_VERTICES, count_lines, grep, head_bytes, lines, numbers, write_obj
 
 
 def value_at(path, vertex):
@@ -242,3 +243,36 @@ def test_field_curves(cli):
     (o / "fcu1.txt").write_text("0 0 2\n")
     cli.refuse(1, "curves need an edge-manifold, orientable mesh", o / "fcu_f.ply", "field",
                cli.fan3, "--curves", o / "fcu1.txt")
+
+
+def holey_scan_files(cli, seed):
+    """tests/data/make_holey_scan.py's mesh (many small holes) and hard curves, written out."""
+    sys.path.insert(0, str(cli.data))
+    import make_holey_scan as m
+    V, F = m.holey_scan(seed=seed)
+    mesh, curves = cli.out / f"holey{seed}.obj", cli.out / f"holey{seed}.txt"
+    write_obj(mesh, V, [tuple(i + 1 for i in f) for f in F])
+    curves.write_text(m.curves_text(m.hard_curves(V)))
+    return mesh, curves
+
+
+# Refined curve problems keep the maximum principle: curve and boundary edges with negative cotan
+# weights are split (conforming refinement). --no-conform keeps them: there the holes and the
+# sharp curves leave negative weights and u leaves [0, 1] by far more than rounding.
+def test_poisson_curves_refine_conforms(cli):
+    mesh, curves = holey_scan_files(cli, 4)
+    u, u0 = cli.out / "holey_u.txt", cli.out / "holey_u0.txt"
+    r = cli.ok("poisson", mesh, "--curves", curves, "--refine", "-o", u)
+    assert grep(r"[1-9][0-9]* conforming splits", r.err), r.describe()
+    assert not grep("negative cotan weights: ", r.err), r.describe()
+    assert not grep("keep a negative cotan weight", r.err), r.describe()
+    within_unit_interval(u)
+    r0 = cli.ok("poisson", mesh, "--curves", curves, "--refine", "--no-conform", "-o", u0)
+    assert grep("negative cotan weights: [1-9][0-9]* on curve edges", r0.err), r0.describe()
+    assert not grep("conforming splits", r0.err), r0.describe()
+    values = numbers(u0)
+    assert min(values) < -1e-6 or max(values) > 1 + 1e-6, (min(values), max(values))
+    cli.refuse(2, "--no-conform turns off a step of --refine, which was not given",
+               cli.out / "holey_u1.txt", "poisson", mesh, "--curves", curves, "--no-conform")
+    cli.refuse(2, "--no-conform applies to --curves with --refine; --curves was not given",
+               cli.out / "holey_u1.txt", "poisson", mesh, "--refine", "--no-conform")
