@@ -41,28 +41,36 @@ double beta(const T& tri, const std::vector<Index>& w, std::size_t i) {
 
 }  // namespace
 
-std::vector<Index> wedge_faces(const IntrinsicTriangulation& tri, Index start, Index end) {
-  if (start == kInvalidIndex || end == kInvalidIndex) return {};
-  std::vector<Index> w{start};
+void wedge_faces(const IntrinsicTriangulation& tri, Index start, Index end, std::vector<Index>* w) {
+  w->clear();
+  if (start == kInvalidIndex || end == kInvalidIndex) return;
+  w->push_back(start);
   for (Index x = start; T::prev(x) != end;) {
     x = tri.twin(T::prev(x));
-    if (x == kInvalidIndex || static_cast<Index>(w.size()) > tri.n_halfedges()) return {};
-    w.push_back(x);
+    if (x == kInvalidIndex || static_cast<Index>(w->size()) > tri.n_halfedges()) {
+      w->clear();
+      return;
+    }
+    w->push_back(x);
   }
-  return w;
 }
 
-double wedge_angle(const IntrinsicTriangulation& tri, const std::vector<Index>& w) {
-  if (w.empty()) return kInf;
-  double a = 0.0;
-  for (const Index x : w) a += corner_angle(tri, x);
+double wedge_angle(const IntrinsicTriangulation& tri, Index start, Index end) {
+  if (start == kInvalidIndex || end == kInvalidIndex) return kInf;
+  double a = corner_angle(tri, start);
+  Index n = 1;
+  for (Index x = start; T::prev(x) != end; ++n) {
+    x = tri.twin(T::prev(x));
+    if (x == kInvalidIndex || n > tri.n_halfedges()) return kInf;
+    a += corner_angle(tri, x);
+  }
   return a;
 }
 
-std::vector<Index> joint_wedge(const IntrinsicTriangulation& tri, const PathStep& in,
-                               const PathStep& out, int side) {
-  if (side == 0) return wedge_faces(tri, step_halfedge(tri, out), step_halfedge(tri, in));
-  return wedge_faces(tri, step_halfedge(tri, reversed(in)), step_halfedge(tri, reversed(out)));
+std::pair<Index, Index> joint_wedge_ends(const IntrinsicTriangulation& tri, const PathStep& in,
+                                         const PathStep& out, int side) {
+  if (side == 0) return {step_halfedge(tri, out), step_halfedge(tri, in)};
+  return {step_halfedge(tri, reversed(in)), step_halfedge(tri, reversed(out))};
 }
 
 FlipNetwork::FlipNetwork(SignpostTriangulation& st, std::vector<int>& uses,
@@ -144,8 +152,9 @@ bool FlipNetwork::is_joint(Index a) const {
   return a != kInvalidIndex && nodes_[a].alive && nodes_[a].next != kInvalidIndex;
 }
 
-std::vector<Index> FlipNetwork::joint_wedge(Index a, int side) const {
-  return detail::joint_wedge(st_.intrinsic(), nodes_[a].step, nodes_[nodes_[a].next].step, side);
+std::pair<Index, Index> FlipNetwork::joint_wedge_ends(Index a, int side) const {
+  return detail::joint_wedge_ends(st_.intrinsic(), nodes_[a].step, nodes_[nodes_[a].next].step,
+                                  side);
 }
 
 Eigen::Vector2d FlipNetwork::joint_angles(Index a) const {
@@ -153,12 +162,14 @@ Eigen::Vector2d FlipNetwork::joint_angles(Index a) const {
   const PathStep& out = nodes_[nodes_[a].next].step;
   if (a != nodes_[a].next && in.edge == out.edge && in.forward != out.forward) return {0.0, 0.0};
   const T& tri = st_.intrinsic();
-  const double side0 = wedge_angle(tri, joint_wedge(a, 0));
+  const auto [s0, e0] = joint_wedge_ends(a, 0);
+  const double side0 = wedge_angle(tri, s0, e0);
   const Index b = step_head(tri, in);
   if (std::isfinite(side0) && !st_.is_boundary_vertex(b)) {
     return {side0, st_.vertex_angle_sum(b) - side0};  // the two wedges make the whole fan
   }
-  return {side0, wedge_angle(tri, joint_wedge(a, 1))};
+  const auto [s1, e1] = joint_wedge_ends(a, 1);
+  return {side0, wedge_angle(tri, s1, e1)};
 }
 
 void FlipNetwork::push_joint(Index a) {
@@ -193,40 +204,57 @@ bool FlipNetwork::remove_backtrack(Index a) {
 }
 
 // Flips the wedge's interior edges whose angle β at their far end is < π (their diamonds are
-// then convex: the wedge angle is < π too) until none is left. Returns the final wedge, or an
-// empty one when the wedge holds a curve edge or a fixed edge (straightening would cross it),
-// or an edge with β < π that cannot be flipped.
-std::vector<Index> FlipNetwork::flip_wedge(Index a, int side) {
+// then convex: the wedge angle is < π too) until none is left. Leaves the final wedge in wedge_
+// and returns true, or returns false when the wedge holds a curve edge or a fixed edge
+// (straightening would cross it), or an edge with β < π that cannot be flipped.
+// Each pass scans the wedge from its start for the first edge to flip; a flip at index k
+// changes only the faces k − 1 and k, so the next pass resumes at k − 1: the β before it, and
+// which of those edges refused to flip, are those of the pass before (same faces, same bits).
+bool FlipNetwork::flip_wedge(Index a, int side) {
   const T& tri = st_.intrinsic();
-  std::vector<Index> w = joint_wedge(a, side);
+  std::vector<Index>& w = wedge_;
+  const auto [start, end] = joint_wedge_ends(a, side);
+  wedge_faces(tri, start, end, &w);
   for (std::size_t j = 1; j < w.size(); ++j) {
     const Index e = tri.edge(w[j]);
-    if (uses_[e] > 0 || (fixed_ != nullptr && (*fixed_)[e] != 0)) return {};
+    if (uses_[e] > 0 || (fixed_ != nullptr && (*fixed_)[e] != 0)) return false;
   }
+  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  std::size_t from = 1, refused = kNone;  // refused: the first index that refused to flip
   for (std::size_t guard = w.size(); guard > 0 && !w.empty(); --guard) {
-    bool flipped = false, refused = false;
-    for (std::size_t j = 1; j < w.size() && !flipped; ++j) {
+    std::size_t flipped = kNone;
+    for (std::size_t j = from; j < w.size(); ++j) {
       if (beta(tri, w, j) >= kPi - kFlatSlack) continue;
       const Index e = tri.edge(w[j]);
       if (st_.flip_edge(e)) {
-        flipped = true;
+        flipped = j;
         ++flips_;
         if (on_flip) on_flip(e);
-      } else {
-        refused = true;
+        break;
       }
+      refused = std::min(refused, j);
     }
-    if (!flipped) return refused ? std::vector<Index>{} : w;
-    w = joint_wedge(a, side);
+    if (flipped == kNone) return refused == kNone && !w.empty();
+    from = std::max<std::size_t>(1, flipped - 1);
+    // a Δ-complex wedge may pass a face twice: the prefix is unchanged only if the flip's two
+    // faces are not in it
+    const Index f0 = T::face(w[flipped - 1]), f1 = T::face(w[flipped]);
+    for (std::size_t i = 0; i < from; ++i) {
+      if (T::face(w[i]) == f0 || T::face(w[i]) == f1) from = 1;
+    }
+    if (refused >= from) refused = kNone;  // those are scanned again
+    const auto [s, t] = joint_wedge_ends(a, side);  // a flip moves halfedges between slots
+    wedge_faces(tri, s, t, &w);
   }
-  return {};
+  return false;
 }
 
-// Replaces the steps of joint a (a and its next) by the outer boundary of wedge w.
-void FlipNetwork::reroute(Index a, int side, const std::vector<Index>& w) {
+// Replaces the steps of joint a (a and its next) by the outer boundary of the wedge in wedge_.
+void FlipNetwork::reroute(Index a, int side) {
   const T& tri = st_.intrinsic();
-  std::vector<PathStep> chain;
-  for (const Index x : w) chain.push_back(step_along(tri, T::next(x)));
+  std::vector<PathStep>& chain = chain_;
+  chain.clear();
+  for (const Index x : wedge_) chain.push_back(step_along(tri, T::next(x)));
   if (side == 0) {  // the chain runs from the outgoing step's head to the incoming step's tail
     std::reverse(chain.begin(), chain.end());
     for (PathStep& c : chain) c = reversed(c);
@@ -270,9 +298,8 @@ bool FlipNetwork::straighten(Index a, const Eigen::Vector2d& angles) {
   const int first = angles[0] <= angles[1] ? 0 : 1;
   for (const int side : {first, 1 - first}) {
     if (!(angles[side] < limit_)) continue;
-    const std::vector<Index> w = flip_wedge(a, side);
-    if (w.empty()) continue;
-    reroute(a, side, w);
+    if (!flip_wedge(a, side)) continue;
+    reroute(a, side);
     return true;
   }
   return false;
@@ -404,8 +431,9 @@ Eigen::Vector2d wedge_angles(const IntrinsicTriangulation& tri, const EdgePath& 
   const PathStep& in = path.steps[i == 0 ? n - 1 : i - 1];
   const PathStep& out = path.steps[i];
   if (n > 1 && in.edge == out.edge && in.forward != out.forward) return {0.0, 0.0};
-  return {detail::wedge_angle(tri, detail::joint_wedge(tri, in, out, 0)),
-          detail::wedge_angle(tri, detail::joint_wedge(tri, in, out, 1))};
+  const auto [s0, e0] = detail::joint_wedge_ends(tri, in, out, 0);
+  const auto [s1, e1] = detail::joint_wedge_ends(tri, in, out, 1);
+  return {detail::wedge_angle(tri, s0, e0), detail::wedge_angle(tri, s1, e1)};
 }
 
 double min_wedge_angle(const IntrinsicTriangulation& tri, const EdgePath& path) {

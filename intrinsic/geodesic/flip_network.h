@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <queue>
+#include <utility>
 #include <vector>
 
 #include "intrinsic/geodesic/flip_geodesic.h"
@@ -14,14 +15,16 @@ namespace ifem::intrinsic::detail {
 
 /// The faces swept counter-clockwise around a vertex b from the edge of `start` (a halfedge
 /// leaving b) to the edge of `end` (a halfedge entering b), each given by its halfedge x leaving
-/// b (face(x) spans from x to prev(x)). Empty if either is invalid, a boundary side is met
-/// first, or the walk does not close.
-std::vector<Index> wedge_faces(const IntrinsicTriangulation& tri, Index start, Index end);
-/// Sum of the corner angles at b of a wedge (+∞ for an empty one).
-double wedge_angle(const IntrinsicTriangulation& tri, const std::vector<Index>& w);
-/// The wedge of side `side` at the joint of steps `in` → `out` (see wedge_angles()).
-std::vector<Index> joint_wedge(const IntrinsicTriangulation& tri, const PathStep& in,
-                               const PathStep& out, int side);
+/// b (face(x) spans from x to prev(x)), written over *w (its capacity is reused). Empty if either
+/// is invalid, a boundary side is met first, or the walk does not close.
+void wedge_faces(const IntrinsicTriangulation& tri, Index start, Index end, std::vector<Index>* w);
+/// Sum of the corner angles at b of the wedge wedge_faces(tri, start, end) would give, in its
+/// order, without storing it (+∞ for an empty one).
+double wedge_angle(const IntrinsicTriangulation& tri, Index start, Index end);
+/// The (start, end) halfedges of the wedge of side `side` at the joint of steps `in` → `out`
+/// (see wedge_angles()), for wedge_faces() and wedge_angle().
+std::pair<Index, Index> joint_wedge_ends(const IntrinsicTriangulation& tri, const PathStep& in,
+                                         const PathStep& out, int side);
 
 class FlipNetwork {
  public:
@@ -67,13 +70,13 @@ class FlipNetwork {
 
   bool is_joint(Index a) const;
   Eigen::Vector2d joint_angles(Index a) const;
-  std::vector<Index> joint_wedge(Index a, int side) const;
+  std::pair<Index, Index> joint_wedge_ends(Index a, int side) const;
   void push_joint(Index a);
   Index new_node(const PathStep& s, Index curve);
   void link(Index a, Index b);
   bool remove_backtrack(Index a);
-  std::vector<Index> flip_wedge(Index a, int side);
-  void reroute(Index a, int side, const std::vector<Index>& wedge);
+  bool flip_wedge(Index a, int side);
+  void reroute(Index a, int side);
   bool straighten(Index a, const Eigen::Vector2d& angles);
   Index push_all_bends();
   void finish(FlipOutReport& report) const;
@@ -86,6 +89,8 @@ class FlipNetwork {
   std::priority_queue<Bend, std::vector<Bend>, std::greater<Bend>> queue_;
   double limit_ = 0.0;  // π − ε
   Index flips_ = 0;
+  std::vector<Index> wedge_;               // flip_wedge()'s wedge, read by reroute()
+  std::vector<PathStep> chain_;            // reroute()'s scratch
 };
 
 }  // namespace ifem::intrinsic::detail
