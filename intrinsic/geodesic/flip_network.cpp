@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <new>
 #include <limits>
 #include <string>
 #include <utility>
@@ -34,9 +36,19 @@ PathStep step_along(const T& tri, Index h) {
   return {e, tri.edge_halfedge(e) == h};
 }
 
-// Angle inside the wedge at the far end of its interior edge w[i] (0 < i < #w).
-double beta(const T& tri, const std::vector<Index>& w, std::size_t i) {
-  return corner_angle(tri, T::prev(w[i - 1])) + corner_angle(tri, T::next(w[i]));
+// Sum of corner(x) over the wedge wedge_faces(tri, start, end) would give, in its order (+∞ if
+// it would be empty).
+template <class Corner>
+double sum_wedge(const T& tri, Index start, Index end, Corner&& corner) {
+  if (start == kInvalidIndex || end == kInvalidIndex) return kInf;
+  double a = corner(start);
+  Index n = 1;
+  for (Index x = start; T::prev(x) != end; ++n) {
+    x = tri.twin(T::prev(x));
+    if (x == kInvalidIndex || n > tri.n_halfedges()) return kInf;
+    a += corner(x);
+  }
+  return a;
 }
 
 }  // namespace
@@ -56,15 +68,7 @@ void wedge_faces(const IntrinsicTriangulation& tri, Index start, Index end, std:
 }
 
 double wedge_angle(const IntrinsicTriangulation& tri, Index start, Index end) {
-  if (start == kInvalidIndex || end == kInvalidIndex) return kInf;
-  double a = corner_angle(tri, start);
-  Index n = 1;
-  for (Index x = start; T::prev(x) != end; ++n) {
-    x = tri.twin(T::prev(x));
-    if (x == kInvalidIndex || n > tri.n_halfedges()) return kInf;
-    a += corner_angle(tri, x);
-  }
-  return a;
+  return sum_wedge(tri, start, end, [&tri](Index h) { return corner_angle(tri, h); });
 }
 
 std::pair<Index, Index> joint_wedge_ends(const IntrinsicTriangulation& tri, const PathStep& in,
@@ -77,6 +81,31 @@ FlipNetwork::FlipNetwork(SignpostTriangulation& st, std::vector<int>& uses,
                          const std::vector<char>* fixed)
     : st_(st), uses_(uses), fixed_(fixed) {
   uses_.resize(st.intrinsic().n_edges(), 0);
+  // uninitialized and calloc'ed: pages are touched only where the curves go
+  const auto nh = static_cast<std::size_t>(st.intrinsic().n_halfedges());
+  corner_.reset(new double[std::max<std::size_t>(nh, 1)]);
+  corner_known_.reset(static_cast<unsigned char*>(std::calloc(std::max<std::size_t>(nh, 1), 1)));
+  if (!corner_known_) throw std::bad_alloc();
+}
+
+double FlipNetwork::corner(Index h) {
+  if (corner_known_.get()[h] == 0) {
+    corner_[h] = corner_angle(st_.intrinsic(), h);
+    corner_known_.get()[h] = 1;
+  }
+  return corner_[h];
+}
+
+void FlipNetwork::forget_corners(Index e) {
+  const T& tri = st_.intrinsic();
+  const Index h = tri.edge_halfedge(e);
+  for (const Index f : {T::face(h), T::face(tri.twin(h))}) {
+    std::fill_n(corner_known_.get() + 3 * f, 3, static_cast<unsigned char>(0));
+  }
+}
+
+double FlipNetwork::beta(const std::vector<Index>& w, std::size_t i) {
+  return corner(T::prev(w[i - 1])) + corner(T::next(w[i]));
 }
 
 Index FlipNetwork::new_node(const PathStep& s, Index curve) {
@@ -97,7 +126,7 @@ void FlipNetwork::link(Index a, Index b) {
   if (b != kInvalidIndex) nodes_[b].prev = a;
 }
 
-Index FlipNetwork::add(const EdgePath& path, Index id) {
+Index FlipNetwork::add(const EdgePath& path, Index id, const KnownJoints* known) {
   const T& tri = st_.intrinsic();
   const Index n = static_cast<Index>(path.steps.size());
   const std::string where = "curve " + std::to_string(id) + ": ";
@@ -132,6 +161,15 @@ Index FlipNetwork::add(const EdgePath& path, Index id) {
     }
     nodes_[ids[j == 0 ? n - 1 : j - 1]].pin_head = true;
   }
+  if (known != nullptr) {
+    constexpr double kStraight = std::numeric_limits<double>::infinity();
+    for (Index j = 1; j < std::min(known->straight_below, n); ++j) {
+      set_angles(ids[j - 1], {kStraight, kStraight});
+    }
+    for (const auto& [j, angles] : known->bent) {
+      if (j >= 1 && j < n) set_angles(ids[j - 1], angles);
+    }
+  }
   return c;
 }
 
@@ -157,19 +195,35 @@ std::pair<Index, Index> FlipNetwork::joint_wedge_ends(Index a, int side) const {
                                   side);
 }
 
-Eigen::Vector2d FlipNetwork::joint_angles(Index a) const {
+void FlipNetwork::set_angles(Index a, const Eigen::Vector2d& angles) {
+  Node& n = nodes_[a];
+  n.angles = angles;
+  n.angles_stamp = n.stamp;
+  n.angles_known = true;
+}
+
+Eigen::Vector2d FlipNetwork::joint_angles(Index a) {
+  const Node& n = nodes_[a];
+  if (n.angles_known && n.angles_stamp == n.stamp) return n.angles;
+  const Eigen::Vector2d angles = walk_joint_angles(a);
+  set_angles(a, angles);
+  return angles;
+}
+
+Eigen::Vector2d FlipNetwork::walk_joint_angles(Index a) {
   const PathStep& in = nodes_[a].step;
   const PathStep& out = nodes_[nodes_[a].next].step;
   if (a != nodes_[a].next && in.edge == out.edge && in.forward != out.forward) return {0.0, 0.0};
   const T& tri = st_.intrinsic();
   const auto [s0, e0] = joint_wedge_ends(a, 0);
-  const double side0 = wedge_angle(tri, s0, e0);
+  const auto corner = [this](Index h) { return this->corner(h); };
+  const double side0 = sum_wedge(tri, s0, e0, corner);
   const Index b = step_head(tri, in);
   if (std::isfinite(side0) && !st_.is_boundary_vertex(b)) {
     return {side0, st_.vertex_angle_sum(b) - side0};  // the two wedges make the whole fan
   }
   const auto [s1, e1] = joint_wedge_ends(a, 1);
-  return {side0, wedge_angle(tri, s1, e1)};
+  return {side0, sum_wedge(tri, s1, e1, corner)};
 }
 
 void FlipNetwork::push_joint(Index a) {
@@ -203,6 +257,22 @@ bool FlipNetwork::remove_backtrack(Index a) {
   return true;
 }
 
+// Whether the wedge from start to end holds a curve edge or a fixed edge, or does not close
+// (its walk stops at the first such edge: a blocked joint at a vertex of high valence is
+// common in single-source geodesics).
+bool FlipNetwork::wedge_blocked(Index start, Index end) const {
+  const T& tri = st_.intrinsic();
+  if (start == kInvalidIndex || end == kInvalidIndex) return true;
+  Index n = 1;
+  for (Index x = start; T::prev(x) != end; ++n) {
+    x = tri.twin(T::prev(x));
+    if (x == kInvalidIndex || n > tri.n_halfedges()) return true;
+    const Index e = tri.edge(x);
+    if (uses_[e] > 0 || (fixed_ != nullptr && (*fixed_)[e] != 0)) return true;
+  }
+  return false;
+}
+
 // Flips the wedge's interior edges whose angle β at their far end is < π (their diamonds are
 // then convex: the wedge angle is < π too) until none is left. Leaves the final wedge in wedge_
 // and returns true, or returns false when the wedge holds a curve edge or a fixed edge
@@ -214,19 +284,17 @@ bool FlipNetwork::flip_wedge(Index a, int side) {
   const T& tri = st_.intrinsic();
   std::vector<Index>& w = wedge_;
   const auto [start, end] = joint_wedge_ends(a, side);
+  if (wedge_blocked(start, end)) return false;
   wedge_faces(tri, start, end, &w);
-  for (std::size_t j = 1; j < w.size(); ++j) {
-    const Index e = tri.edge(w[j]);
-    if (uses_[e] > 0 || (fixed_ != nullptr && (*fixed_)[e] != 0)) return false;
-  }
   constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
   std::size_t from = 1, refused = kNone;  // refused: the first index that refused to flip
   for (std::size_t guard = w.size(); guard > 0 && !w.empty(); --guard) {
     std::size_t flipped = kNone;
     for (std::size_t j = from; j < w.size(); ++j) {
-      if (beta(tri, w, j) >= kPi - kFlatSlack) continue;
+      if (beta(w, j) >= kPi - kFlatSlack) continue;
       const Index e = tri.edge(w[j]);
       if (st_.flip_edge(e)) {
+        forget_corners(e);
         flipped = j;
         ++flips_;
         if (on_flip) on_flip(e);
@@ -395,6 +463,19 @@ void FlipNetwork::run(const FlipOutOptions& options, FlipOutReport& rep) {
   }
   queue_ = {};
   finish(rep);
+}
+
+FlipNetwork::KnownJoints FlipNetwork::known_joints(Index ci) {
+  KnownJoints k;
+  const Index first = curves_[ci].first;
+  if (first == kInvalidIndex || curves_[ci].closed) return k;
+  Index j = 1;
+  for (Index x = first; nodes_[x].next != kInvalidIndex; x = nodes_[x].next, ++j) {
+    const Eigen::Vector2d angles = joint_angles(x);
+    if (angles.minCoeff() < limit_) k.bent.emplace_back(j, angles);
+  }
+  k.straight_below = j;
+  return k;
 }
 
 EdgePath FlipNetwork::extract(Index ci) const {

@@ -4,7 +4,9 @@
 // finds the next bend without rescanning the curves.
 #pragma once
 
+#include <cstdlib>
 #include <functional>
+#include <memory>
 #include <queue>
 #include <utility>
 #include <vector>
@@ -32,9 +34,18 @@ class FlipNetwork {
   /// keeps the accepted paths counted across runs); `fixed`: optional #E flags never flipped.
   FlipNetwork(SignpostTriangulation& st, std::vector<int>& uses, const std::vector<char>* fixed);
 
-  /// Adds a curve (its steps are counted in uses); returns its id. @throws InvalidInput if the
-  /// steps are not consecutive or a pinned joint is out of range
-  Index add(const EdgePath& path, Index id_for_messages);
+  /// What a caller knows of a curve's joints from an earlier run. A joint's wedge angles are
+  /// those of the surface between its two steps: flips change them only by rounding, so they
+  /// hold as long as the steps do. Joint i is the one between steps i − 1 and i.
+  struct KnownJoints {
+    Index straight_below = 0;  ///< joints 1 .. straight_below − 1 are not bent, but for `bent`
+    std::vector<std::pair<Index, Eigen::Vector2d>> bent;  ///< (joint, its two wedge angles)
+  };
+
+  /// Adds a curve (its steps are counted in uses); returns its id. `known` (optional) spares
+  /// the wedge walks of joints whose angles are known. @throws InvalidInput if the steps are
+  /// not consecutive or a pinned joint is out of range
+  Index add(const EdgePath& path, Index id_for_messages, const KnownJoints* known = nullptr);
   /// Forgets every curve without uncounting their steps (they stay as obstacles).
   void release_curves();
   /// Forgets every curve and uncounts its steps.
@@ -43,6 +54,8 @@ class FlipNetwork {
   void run(const FlipOutOptions& options, FlipOutReport& report);
   /// The current curve c as an EdgePath (pinned joints renumbered).
   EdgePath extract(Index c) const;
+  /// The joints of open curve c now bent by less than the last run's limit, for add().
+  KnownJoints known_joints(Index c);
   Index n_curves() const { return static_cast<Index>(curves_.size()); }
   /// Called after every successful flip with the flipped edge.
   std::function<void(Index)> on_flip;
@@ -55,6 +68,9 @@ class FlipNetwork {
     unsigned stamp = 0;     // changes whenever the joint at this node's head changes
     bool pin_head = false;  // the joint at this node's head is pinned
     bool alive = true;
+    bool angles_known = false;  // angles hold the joint's wedge angles at stamp angles_stamp
+    unsigned angles_stamp = 0;
+    Eigen::Vector2d angles{0.0, 0.0};
   };
   struct Curve {
     Index first = kInvalidIndex;  // kInvalidIndex: no steps
@@ -69,12 +85,18 @@ class FlipNetwork {
   };
 
   bool is_joint(Index a) const;
-  Eigen::Vector2d joint_angles(Index a) const;
+  Eigen::Vector2d joint_angles(Index a);  // memoized per node and stamp
+  Eigen::Vector2d walk_joint_angles(Index a);
+  double corner(Index h);  // corner_angle(h), computed once per unflipped face
+  void forget_corners(Index e);  // after flipping e
+  double beta(const std::vector<Index>& w, std::size_t i);  // angle at the far end of w[i]
+  void set_angles(Index a, const Eigen::Vector2d& angles);
   std::pair<Index, Index> joint_wedge_ends(Index a, int side) const;
   void push_joint(Index a);
   Index new_node(const PathStep& s, Index curve);
   void link(Index a, Index b);
   bool remove_backtrack(Index a);
+  bool wedge_blocked(Index start, Index end) const;
   bool flip_wedge(Index a, int side);
   void reroute(Index a, int side);
   bool straighten(Index a, const Eigen::Vector2d& angles);
@@ -90,6 +112,9 @@ class FlipNetwork {
   double limit_ = 0.0;  // π − ε
   Index flips_ = 0;
   std::vector<Index> wedge_;               // flip_wedge()'s wedge, read by reroute()
+  // corner angles by halfedge, valid where corner_known_ is set (all flips are this network's)
+  std::unique_ptr<double[]> corner_;
+  std::unique_ptr<unsigned char, void (*)(void*)> corner_known_{nullptr, std::free};
   std::vector<PathStep> chain_;            // reroute()'s scratch
 };
 
