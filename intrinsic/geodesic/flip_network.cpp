@@ -38,12 +38,14 @@ PathStep step_along(const T& tri, Index h) {
 
 // Sum of corner(x) over the wedge wedge_faces(tri, start, end) would give, in its order (+∞ if
 // it would be empty).
+// With max_faces > 0, NaN once the walk passes that many faces.
 template <class Corner>
-double sum_wedge(const T& tri, Index start, Index end, Corner&& corner) {
+double sum_wedge(const T& tri, Index start, Index end, Corner&& corner, Index max_faces = 0) {
   if (start == kInvalidIndex || end == kInvalidIndex) return kInf;
   double a = corner(start);
   Index n = 1;
   for (Index x = start; T::prev(x) != end; ++n) {
+    if (max_faces > 0 && n >= max_faces) return std::numeric_limits<double>::quiet_NaN();
     x = tri.twin(T::prev(x));
     if (x == kInvalidIndex || n > tri.n_halfedges()) return kInf;
     a += corner(x);
@@ -210,20 +212,34 @@ Eigen::Vector2d FlipNetwork::joint_angles(Index a) {
   return angles;
 }
 
+// The joint's two wedge angles. Inside the surface, the signposts at b give them in O(1) (the
+// directions of the two steps differ by the side-0 wedge angle, up to rounding accumulated over
+// flips): a joint that is straight by a margin above that rounding needs no walk. A bent joint
+// is summed face by face on side 0, as shorten() always did (the same bits), unless side 0
+// holds more than kLongWedge faces (a hub of single-source geodesics): then the signposts'
+// figure stands.
 Eigen::Vector2d FlipNetwork::walk_joint_angles(Index a) {
+  constexpr Index kLongWedge = 32;
+  constexpr double kMargin = 1e-9;  // radians; signpost rounding is ~1e-13 even at hubs
   const PathStep& in = nodes_[a].step;
   const PathStep& out = nodes_[nodes_[a].next].step;
   if (a != nodes_[a].next && in.edge == out.edge && in.forward != out.forward) return {0.0, 0.0};
   const T& tri = st_.intrinsic();
   const auto [s0, e0] = joint_wedge_ends(a, 0);
   const auto corner = [this](Index h) { return this->corner(h); };
-  const double side0 = sum_wedge(tri, s0, e0, corner);
   const Index b = step_head(tri, in);
-  if (std::isfinite(side0) && !st_.is_boundary_vertex(b)) {
-    return {side0, st_.vertex_angle_sum(b) - side0};  // the two wedges make the whole fan
+  if (!st_.is_boundary_vertex(b) && s0 != kInvalidIndex && e0 != kInvalidIndex) {
+    const double theta = st_.vertex_angle_sum(b);
+    double est = st_.halfedge_direction(tri.twin(e0)) - st_.halfedge_direction(s0);
+    if (est < 0.0) est += theta;
+    const bool clear = est > kMargin && theta - est > kMargin;  // not a full turn or none
+    if (clear && std::min(est, theta - est) >= limit_ + kMargin) return {est, theta - est};
+    const double side0 = sum_wedge(tri, s0, e0, corner, clear ? kLongWedge : 0);
+    if (std::isnan(side0) && clear) return {est, theta - est};
+    if (std::isfinite(side0)) return {side0, theta - side0};  // the two wedges: the whole fan
   }
   const auto [s1, e1] = joint_wedge_ends(a, 1);
-  return {side0, sum_wedge(tri, s1, e1, corner)};
+  return {sum_wedge(tri, s0, e0, corner), sum_wedge(tri, s1, e1, corner)};
 }
 
 void FlipNetwork::push_joint(Index a) {
