@@ -83,27 +83,23 @@ FlipNetwork::FlipNetwork(SignpostTriangulation& st, std::vector<int>& uses,
                          const std::vector<char>* fixed)
     : st_(st), uses_(uses), fixed_(fixed) {
   uses_.resize(st.intrinsic().n_edges(), 0);
-  // uninitialized and calloc'ed: pages are touched only where the curves go
+  // calloc'ed: zero (not yet computed) and touched only where the curves go
   const auto nh = static_cast<std::size_t>(st.intrinsic().n_halfedges());
-  corner_.reset(new double[std::max<std::size_t>(nh, 1)]);
-  corner_known_.reset(static_cast<unsigned char*>(std::calloc(std::max<std::size_t>(nh, 1), 1)));
-  if (!corner_known_) throw std::bad_alloc();
+  corner_.reset(static_cast<double*>(std::calloc(std::max<std::size_t>(nh, 1), sizeof(double))));
+  if (!corner_) throw std::bad_alloc();
 }
 
+// 0 marks "not computed" (a corner of exactly 0, in a flat face, is merely recomputed).
 double FlipNetwork::corner(Index h) {
-  if (corner_known_.get()[h] == 0) {
-    corner_[h] = corner_angle(st_.intrinsic(), h);
-    corner_known_.get()[h] = 1;
-  }
-  return corner_[h];
+  double& c = corner_.get()[h];
+  if (c == 0.0) c = corner_angle(st_.intrinsic(), h);
+  return c;
 }
 
 void FlipNetwork::forget_corners(Index e) {
   const T& tri = st_.intrinsic();
   const Index h = tri.edge_halfedge(e);
-  for (const Index f : {T::face(h), T::face(tri.twin(h))}) {
-    std::fill_n(corner_known_.get() + 3 * f, 3, static_cast<unsigned char>(0));
-  }
+  for (const Index f : {T::face(h), T::face(tri.twin(h))}) std::fill_n(corner_.get() + 3 * f, 3, 0.0);
 }
 
 double FlipNetwork::beta(const std::vector<Index>& w, std::size_t i) {

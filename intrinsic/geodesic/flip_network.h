@@ -112,9 +112,8 @@ class FlipNetwork {
   double limit_ = 0.0;  // π − ε
   Index flips_ = 0;
   std::vector<Index> wedge_;               // flip_wedge()'s wedge, read by reroute()
-  // corner angles by halfedge, valid where corner_known_ is set (all flips are this network's)
-  std::unique_ptr<double[]> corner_;
-  std::unique_ptr<unsigned char, void (*)(void*)> corner_known_{nullptr, std::free};
+  // corner angles by halfedge, 0 where not computed (all flips are this network's)
+  std::unique_ptr<double, void (*)(void*)> corner_{nullptr, std::free};
   std::vector<PathStep> chain_;            // reroute()'s scratch
 };
 
