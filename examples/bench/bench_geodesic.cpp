@@ -158,8 +158,8 @@ void mesh_row(const std::string& spec, int repeat, bool ssad) {
       "flipout mesh %s faces %zu shorten_s %.6f flips %d us_per_flip %.4f length %.17g "
       "ssad_s %.4f ssad_flips %d ssad_blocked %d ssad_length_sum %.17g\n",
       spec.c_str(), m.faces.size(), median(ts), int(rep.flips),
-      1e6 * median(ts) / std::max(1, int(rep.flips)), rep.final_length,
-      ssad ? median(t_ssad) : 0.0, int(g.flips), int(g.blocked), total);
+      1e6 * median(ts) / std::max(1, int(rep.flips)), rep.final_length, ssad ? median(t_ssad) : 0.0,
+      int(g.flips), int(g.blocked), total);
 }
 
 }  // namespace

@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <new>
 #include <limits>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -99,7 +99,9 @@ double FlipNetwork::corner(Index h) {
 void FlipNetwork::forget_corners(Index e) {
   const T& tri = st_.intrinsic();
   const Index h = tri.edge_halfedge(e);
-  for (const Index f : {T::face(h), T::face(tri.twin(h))}) std::fill_n(corner_.get() + 3 * f, 3, 0.0);
+  for (const Index f : {T::face(h), T::face(tri.twin(h))}) {
+    std::fill_n(corner_.get() + 3 * f, 3, 0.0);
+  }
 }
 
 double FlipNetwork::beta(const std::vector<Index>& w, std::size_t i) {
@@ -322,7 +324,7 @@ bool FlipNetwork::flip_wedge(Index a, int side) {
     for (std::size_t i = 0; i < from; ++i) {
       if (T::face(w[i]) == f0 || T::face(w[i]) == f1) from = 1;
     }
-    if (refused >= from) refused = kNone;  // those are scanned again
+    if (refused >= from) refused = kNone;           // those are scanned again
     const auto [s, t] = joint_wedge_ends(a, side);  // a flip moves halfedges between slots
     wedge_faces(tri, s, t, &w);
   }

@@ -2,6 +2,13 @@
 // include flip_geodesic.h). Curves are held as linked lists of steps so that a reroute splices
 // in O(chain) and a priority queue of joints (smallest wedge angle first, lazily re-validated)
 // finds the next bend without rescanning the curves.
+//
+// Cost per flip: corner angles are computed once per face between flips (a calloc'ed #H cache,
+// touched only where the curves go), a joint's wedge angles once per change of its steps; a
+// joint at an interior vertex that is straight by a margin is judged from the signposts at
+// its vertex in O(1), and a bent one is summed face by face over its side-0 wedge (over at most
+// 32 faces: past that, the signposts' figure). All flips during a network's life must be its
+// own (the corner cache follows them).
 #pragma once
 
 #include <cstdlib>
@@ -32,6 +39,7 @@ class FlipNetwork {
  public:
   /// `uses`: #E counts of curve steps per edge, shared with the caller (single-source geodesics
   /// keeps the accepted paths counted across runs); `fixed`: optional #E flags never flipped.
+  /// Allocates #H doubles (zero pages until used). @throws std::bad_alloc
   FlipNetwork(SignpostTriangulation& st, std::vector<int>& uses, const std::vector<char>* fixed);
 
   /// What a caller knows of a curve's joints from an earlier run. A joint's wedge angles are
@@ -87,7 +95,7 @@ class FlipNetwork {
   bool is_joint(Index a) const;
   Eigen::Vector2d joint_angles(Index a);  // memoized per node and stamp
   Eigen::Vector2d walk_joint_angles(Index a);
-  double corner(Index h);  // corner_angle(h), computed once per unflipped face
+  double corner(Index h);        // corner_angle(h), computed once per unflipped face
   void forget_corners(Index e);  // after flipping e
   double beta(const std::vector<Index>& w, std::size_t i);  // angle at the far end of w[i]
   void set_angles(Index a, const Eigen::Vector2d& angles);
@@ -111,10 +119,10 @@ class FlipNetwork {
   std::priority_queue<Bend, std::vector<Bend>, std::greater<Bend>> queue_;
   double limit_ = 0.0;  // π − ε
   Index flips_ = 0;
-  std::vector<Index> wedge_;               // flip_wedge()'s wedge, read by reroute()
+  std::vector<Index> wedge_;  // flip_wedge()'s wedge, read by reroute()
   // corner angles by halfedge, 0 where not computed (all flips are this network's)
   std::unique_ptr<double, void (*)(void*)> corner_{nullptr, std::free};
-  std::vector<PathStep> chain_;            // reroute()'s scratch
+  std::vector<PathStep> chain_;  // reroute()'s scratch
 };
 
 }  // namespace ifem::intrinsic::detail
