@@ -86,7 +86,9 @@ FlipNetwork::FlipNetwork(SignpostTriangulation& st, std::vector<int>& uses,
   // calloc'ed: zero (not yet computed) and touched only where the curves go
   const auto nh = static_cast<std::size_t>(st.intrinsic().n_halfedges());
   corner_.reset(static_cast<double*>(std::calloc(std::max<std::size_t>(nh, 1), sizeof(double))));
-  if (!corner_) throw std::bad_alloc();
+  const auto nv = static_cast<std::size_t>(st.intrinsic().n_vertices());
+  fan_.reset(static_cast<unsigned char*>(std::calloc(std::max<std::size_t>(nv, 1), 1)));
+  if (!corner_ || !fan_) throw std::bad_alloc();
 }
 
 // 0 marks "not computed" (a corner of exactly 0, in a flat face, is merely recomputed).
@@ -102,6 +104,33 @@ void FlipNetwork::forget_corners(Index e) {
   for (const Index f : {T::face(h), T::face(tri.twin(h))}) {
     std::fill_n(corner_.get() + 3 * f, 3, 0.0);
   }
+}
+
+// Whether v's edges make one closed fan (not on the boundary, not pinched): only then do its
+// signposts measure wedges (a pinched vertex's fans share one angle range). Flips keep a
+// vertex's fans, so the answer is kept per vertex, from one walk around v the first time:
+// the fan closes, and across its largest signpost the directions wrap by exactly that
+// halfedge's corner (in one fan of several they jump by the other fans' angles too).
+bool FlipNetwork::one_closed_fan(Index v) {
+  unsigned char& known = fan_.get()[v];
+  if (known == 0) {
+    known = 2;
+    const T& tri = st_.intrinsic();
+    const Index h0 = tri.vertex_halfedge(v);
+    if (!st_.is_boundary_vertex(v) && h0 != kInvalidIndex) {
+      Index x = h0, top = h0;
+      for (Index n = 0; n <= tri.n_halfedges() && x != kInvalidIndex; ++n) {
+        if (st_.halfedge_direction(x) > st_.halfedge_direction(top)) top = x;
+        x = tri.twin(T::prev(x));
+        if (x == h0) break;
+      }
+      const double theta = st_.vertex_angle_sum(v);
+      const double gap =
+          st_.halfedge_direction(tri.twin(T::prev(top))) - st_.halfedge_direction(top) + theta;
+      if (x == h0 && std::abs(gap - corner(top)) <= 1e-9 * theta) known = 1;
+    }
+  }
+  return known == 1;
 }
 
 double FlipNetwork::beta(const std::vector<Index>& w, std::size_t i) {
@@ -226,18 +255,24 @@ Eigen::Vector2d FlipNetwork::walk_joint_angles(Index a) {
   const auto [s0, e0] = joint_wedge_ends(a, 0);
   const auto corner = [this](Index h) { return this->corner(h); };
   const Index b = step_head(tri, in);
-  if (!st_.is_boundary_vertex(b) && s0 != kInvalidIndex && e0 != kInvalidIndex) {
+  if (one_closed_fan(b) && s0 != kInvalidIndex && e0 != kInvalidIndex) {
     const double theta = st_.vertex_angle_sum(b);
     double est = st_.halfedge_direction(tri.twin(e0)) - st_.halfedge_direction(s0);
     if (est < 0.0) est += theta;
     const bool clear = est > kMargin && theta - est > kMargin;  // not a full turn or none
     if (clear && std::min(est, theta - est) >= limit_ + kMargin) return {est, theta - est};
-    const double side0 = sum_wedge(tri, s0, e0, corner, clear ? kLongWedge : 0);
-    if (std::isnan(side0) && clear) return {est, theta - est};
-    if (std::isfinite(side0)) return {side0, theta - side0};  // the two wedges: the whole fan
+    if (clear) {
+      const double side0 = sum_wedge(tri, s0, e0, corner, kLongWedge);
+      if (std::isnan(side0)) return {est, theta - est};
+      if (std::isfinite(side0)) return {side0, theta - side0};  // as below, the same bits
+    }
+  }
+  const double side0 = sum_wedge(tri, s0, e0, corner);
+  if (std::isfinite(side0) && !st_.is_boundary_vertex(b)) {
+    return {side0, st_.vertex_angle_sum(b) - side0};  // the two wedges make the whole fan
   }
   const auto [s1, e1] = joint_wedge_ends(a, 1);
-  return {sum_wedge(tri, s0, e0, corner), sum_wedge(tri, s1, e1, corner)};
+  return {side0, sum_wedge(tri, s1, e1, corner)};
 }
 
 void FlipNetwork::push_joint(Index a) {

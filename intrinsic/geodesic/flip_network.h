@@ -5,10 +5,10 @@
 //
 // Cost per flip: corner angles are computed once per face between flips (a calloc'ed #H cache,
 // touched only where the curves go), a joint's wedge angles once per change of its steps; a
-// joint at an interior vertex that is straight by a margin is judged from the signposts at
-// its vertex in O(1), and a bent one is summed face by face over its side-0 wedge (over at most
-// 32 faces: past that, the signposts' figure). All flips during a network's life must be its
-// own (the corner cache follows them).
+// joint at an interior vertex (one closed fan) that is straight by a margin is judged from the
+// signposts at its vertex in O(1), and a bent one is summed face by face over its side-0 wedge
+// (over at most 32 faces: past that, the signposts' figure). All flips during a network's life must
+// be its own (the corner cache follows them).
 #pragma once
 
 #include <cstdlib>
@@ -39,7 +39,7 @@ class FlipNetwork {
  public:
   /// `uses`: #E counts of curve steps per edge, shared with the caller (single-source geodesics
   /// keeps the accepted paths counted across runs); `fixed`: optional #E flags never flipped.
-  /// Allocates #H doubles (zero pages until used). @throws std::bad_alloc
+  /// Allocates #H doubles and #V bytes (zero pages until used). @throws std::bad_alloc
   FlipNetwork(SignpostTriangulation& st, std::vector<int>& uses, const std::vector<char>* fixed);
 
   /// What a caller knows of a curve's joints from an earlier run. A joint's wedge angles are
@@ -95,8 +95,9 @@ class FlipNetwork {
   bool is_joint(Index a) const;
   Eigen::Vector2d joint_angles(Index a);  // memoized per node and stamp
   Eigen::Vector2d walk_joint_angles(Index a);
-  double corner(Index h);        // corner_angle(h), computed once per unflipped face
-  void forget_corners(Index e);  // after flipping e
+  double corner(Index h);  // corner_angle(h), computed once per unflipped face
+  bool one_closed_fan(Index v);
+  void forget_corners(Index e);                             // after flipping e
   double beta(const std::vector<Index>& w, std::size_t i);  // angle at the far end of w[i]
   void set_angles(Index a, const Eigen::Vector2d& angles);
   std::pair<Index, Index> joint_wedge_ends(Index a, int side) const;
@@ -122,6 +123,8 @@ class FlipNetwork {
   std::vector<Index> wedge_;  // flip_wedge()'s wedge, read by reroute()
   // corner angles by halfedge, 0 where not computed (all flips are this network's)
   std::unique_ptr<double, void (*)(void*)> corner_{nullptr, std::free};
+  // per vertex: 0 not yet known, 1 one closed fan, 2 boundary or pinched (one_closed_fan())
+  std::unique_ptr<unsigned char, void (*)(void*)> fan_{nullptr, std::free};
   std::vector<PathStep> chain_;  // reroute()'s scratch
 };
 
