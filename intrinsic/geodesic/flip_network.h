@@ -6,9 +6,9 @@
 // Cost per flip: corner angles are computed once per face between flips (a calloc'ed #H cache,
 // touched only where the curves go), a joint's wedge angles once per change of its steps; a
 // joint at an interior vertex (one closed fan) that is straight by a margin is judged from the
-// signposts at its vertex in O(1), and a bent one is summed face by face over its side-0 wedge
-// (over at most 32 faces: past that, the signposts' figure). All flips during a network's life must
-// be its own (the corner cache follows them).
+// signposts at its vertex in O(1), and a bent one is summed face by face over its side-0
+// wedge (over at most 32 faces: past that, the signposts' figure). All flips during a
+// network's life must be its own (the corner cache follows them). docs/decisions.md D-128.
 #pragma once
 
 #include <cstdlib>
