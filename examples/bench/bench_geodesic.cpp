@@ -10,13 +10,24 @@
 //  - the process's peak resident memory after each row (it only grows: rows run in size order).
 //
 //   ifem_bench geodesic [--repeat 5] [--max-faces 1100000] [--max-ssad-faces 110000]
+//
+// With --mesh FILE|icosphere:N, one mesh only, one line for scripts (scripts/bench_flipout.sh
+// runs two builds side by side): the shortening of the path from vertex 0 to the vertex
+// farthest from it in space (its median time, flips and µs per flip) and, unless --ssad 0,
+// single-source geodesics from vertex 0 (median time, flips, blocked vertices). Times are the
+// thread's CPU seconds, so that a loaded machine does not count other processes' time.
+//
+//   ifem_bench geodesic --mesh FILE|icosphere:N [--repeat 5] [--ssad 1]
 #include <cmath>
 #include <cstdio>
+#include <ctime>
+#include <string>
 #include <vector>
 
 #include "bench_util.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
+#include "intrinsic/io/mesh_io.h"
 
 namespace ifem::bench {
 namespace {
@@ -103,10 +114,63 @@ void other_rows(int n, int repeat, bool ssad) {
       bez.report.final_length, peak_rss_mib());
 }
 
+// CPU time of this thread (the machine may be shared: wall time would count other processes).
+double thread_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+// One mesh, one line: shortening (time, flips, µs per flip) and single-source geodesics.
+void mesh_row(const std::string& spec, int repeat, bool ssad) {
+  TriangleMesh m;
+  const std::string ico = "icosphere:";
+  if (spec.rfind(ico, 0) == 0) {
+    m = icosphere(std::stoi(spec.substr(ico.size())));
+  } else {
+    const io::SurfaceInput in = io::read_mesh(spec);
+    m.faces = in.triangles;
+    m.positions = in.positions;
+  }
+  Index far = 1;
+  for (Index v = 1; v < m.positions.rows(); ++v) {
+    const auto d = [&](Index u) { return (m.positions.row(u) - m.positions.row(0)).norm(); };
+    if (d(v) > d(far)) far = v;
+  }
+  std::vector<double> ts, t_ssad;
+  FlipOutReport rep;
+  SingleSourceGeodesics g;
+  for (int k = 0; k < repeat; ++k) {
+    SignpostTriangulation st(m.faces, m.positions);
+    EdgePath path = shortest_edge_path(st, 0, far);
+    const double t0 = thread_seconds();
+    rep = shorten(st, path);
+    ts.push_back(thread_seconds() - t0);
+    if (!ssad) continue;
+    SignpostTriangulation st2(m.faces, m.positions);
+    const double t1 = thread_seconds();
+    g = single_source_geodesics(st2, 0);
+    t_ssad.push_back(thread_seconds() - t1);
+  }
+  double total = 0.0;
+  for (Index v = 0; ssad && v < g.length.size(); ++v) total += g.length[v];
+  std::printf(
+      "flipout mesh %s faces %zu shorten_s %.6f flips %d us_per_flip %.4f length %.17g "
+      "ssad_s %.4f ssad_flips %d ssad_blocked %d ssad_length_sum %.17g\n",
+      spec.c_str(), m.faces.size(), median(ts), int(rep.flips),
+      1e6 * median(ts) / std::max(1, int(rep.flips)), rep.final_length, ssad ? median(t_ssad) : 0.0,
+      int(g.flips), int(g.blocked), total);
+}
+
 }  // namespace
 
 int geodesic(int argc, char** argv) {
   const int repeat = int(int_option(argc, argv, "--repeat", 5));
+  const std::string spec = string_option(argc, argv, "--mesh", "");
+  if (!spec.empty()) {
+    mesh_row(spec, repeat, int_option(argc, argv, "--ssad", 1) != 0);
+    return 0;
+  }
   const long max_faces = int_option(argc, argv, "--max-faces", 1100000);
   const long max_ssad = int_option(argc, argv, "--max-ssad-faces", 110000);
   const int sizes[] = {23, 71, 224};  // 10,580 / 100,820 / 1,003,520 faces

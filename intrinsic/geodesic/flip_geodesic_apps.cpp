@@ -257,9 +257,9 @@ constexpr int kMaxSplices = 8;
 // If the path passes an accepted vertex y whose geodesic is shorter than the path's part up to
 // y, replaces that part by y's geodesic (the best such y) and returns true. A path held up at a
 // wedge by an earlier geodesic (it cannot cross it) usually has such a y: the vertex where it
-// meets that geodesic.
+// meets that geodesic. *spliced_at: y.
 bool splice_shorter_prefix(const T& tri, const SingleSourceGeodesics& g,
-                           const std::vector<char>& accepted, EdgePath* path) {
+                           const std::vector<char>& accepted, EdgePath* path, Index* spliced_at) {
   const std::vector<Index> pv = path_vertices(tri, *path);
   const double total = path_length(tri, *path);
   double prefix = 0.0, best_gain = -1e-12 * total;  // equal lengths too: the other side of a cone
@@ -277,6 +277,7 @@ bool splice_shorter_prefix(const T& tri, const SingleSourceGeodesics& g,
     if (!same) best_gain = gain, best = k;
   }
   if (best == 0) return false;
+  *spliced_at = pv[best];
   EdgePath spliced = g.paths[pv[best]];
   spliced.steps.insert(spliced.steps.end(), path->steps.begin() + best, path->steps.end());
   *path = std::move(spliced);
@@ -341,6 +342,9 @@ SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index s
   };
   std::vector<int> uses(tri.n_edges(), 0);
   detail::FlipNetwork net(st, uses, nullptr);
+  // per accepted vertex, the joints of its path left bent (blocked) by its run
+  std::vector<std::vector<std::pair<Index, Eigen::Vector2d>>> bent(nv);
+  detail::FlipNetwork::KnownJoints known;
   net.on_flip = [&](Index e) {  // a flip may join the accepted region to a new vertex
     const Index h = tri.edge_halfedge(e);
     offer(e, tri.tail(h), tri.head(h));
@@ -363,15 +367,20 @@ SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index s
     if (!along && !(tri.head(h) == top.parent && tri.tail(h) == top.v)) continue;  // flipped
     EdgePath path = out.paths[top.parent];
     path.steps.push_back({top.edge, along});
+    Index prefix_from = top.parent;  // the accepted vertex whose path starts this one
     for (int attempt = 0; attempt < kMaxSplices; ++attempt) {
-      net.add(path, top.v);
+      // the prefix's joints are as its run left them: only their bent ones need a look
+      known.straight_below = static_cast<Index>(out.paths[prefix_from].steps.size());
+      known.bent = bent[prefix_from];
+      net.add(path, top.v, &known);
       rep = {};
       net.run(options, rep);
       path = net.extract(0);
       out.iterations += rep.iterations;
-      if (!splice_shorter_prefix(tri, out, accepted, &path)) break;
+      if (!splice_shorter_prefix(tri, out, accepted, &path, &prefix_from)) break;
       net.drop_curves();
     }
+    bent[top.v] = net.known_joints(0).bent;
     net.release_curves();  // the accepted path stays counted: an obstacle from now on
     if (rep.stopped_by != FlipOutStop::kConverged) ++out.blocked;
     out.paths[top.v] = std::move(path);

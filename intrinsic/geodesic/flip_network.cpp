@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,41 +36,105 @@ PathStep step_along(const T& tri, Index h) {
   return {e, tri.edge_halfedge(e) == h};
 }
 
-// Angle inside the wedge at the far end of its interior edge w[i] (0 < i < #w).
-double beta(const T& tri, const std::vector<Index>& w, std::size_t i) {
-  return corner_angle(tri, T::prev(w[i - 1])) + corner_angle(tri, T::next(w[i]));
+// Sum of corner(x) over the wedge wedge_faces(tri, start, end) would give, in its order (+∞ if
+// it would be empty).
+// With max_faces > 0, NaN once the walk passes that many faces.
+template <class Corner>
+double sum_wedge(const T& tri, Index start, Index end, Corner&& corner, Index max_faces = 0) {
+  if (start == kInvalidIndex || end == kInvalidIndex) return kInf;
+  double a = corner(start);
+  Index n = 1;
+  for (Index x = start; T::prev(x) != end; ++n) {
+    if (max_faces > 0 && n >= max_faces) return std::numeric_limits<double>::quiet_NaN();
+    x = tri.twin(T::prev(x));
+    if (x == kInvalidIndex || n > tri.n_halfedges()) return kInf;
+    a += corner(x);
+  }
+  return a;
 }
 
 }  // namespace
 
-std::vector<Index> wedge_faces(const IntrinsicTriangulation& tri, Index start, Index end) {
-  if (start == kInvalidIndex || end == kInvalidIndex) return {};
-  std::vector<Index> w{start};
+void wedge_faces(const IntrinsicTriangulation& tri, Index start, Index end, std::vector<Index>* w) {
+  w->clear();
+  if (start == kInvalidIndex || end == kInvalidIndex) return;
+  w->push_back(start);
   for (Index x = start; T::prev(x) != end;) {
     x = tri.twin(T::prev(x));
-    if (x == kInvalidIndex || static_cast<Index>(w.size()) > tri.n_halfedges()) return {};
-    w.push_back(x);
+    if (x == kInvalidIndex || static_cast<Index>(w->size()) > tri.n_halfedges()) {
+      w->clear();
+      return;
+    }
+    w->push_back(x);
   }
-  return w;
 }
 
-double wedge_angle(const IntrinsicTriangulation& tri, const std::vector<Index>& w) {
-  if (w.empty()) return kInf;
-  double a = 0.0;
-  for (const Index x : w) a += corner_angle(tri, x);
-  return a;
+double wedge_angle(const IntrinsicTriangulation& tri, Index start, Index end) {
+  return sum_wedge(tri, start, end, [&tri](Index h) { return corner_angle(tri, h); });
 }
 
-std::vector<Index> joint_wedge(const IntrinsicTriangulation& tri, const PathStep& in,
-                               const PathStep& out, int side) {
-  if (side == 0) return wedge_faces(tri, step_halfedge(tri, out), step_halfedge(tri, in));
-  return wedge_faces(tri, step_halfedge(tri, reversed(in)), step_halfedge(tri, reversed(out)));
+std::pair<Index, Index> joint_wedge_ends(const IntrinsicTriangulation& tri, const PathStep& in,
+                                         const PathStep& out, int side) {
+  if (side == 0) return {step_halfedge(tri, out), step_halfedge(tri, in)};
+  return {step_halfedge(tri, reversed(in)), step_halfedge(tri, reversed(out))};
 }
 
 FlipNetwork::FlipNetwork(SignpostTriangulation& st, std::vector<int>& uses,
                          const std::vector<char>* fixed)
     : st_(st), uses_(uses), fixed_(fixed) {
   uses_.resize(st.intrinsic().n_edges(), 0);
+  // calloc'ed: zero (not yet computed) and touched only where the curves go
+  const auto nh = static_cast<std::size_t>(st.intrinsic().n_halfedges());
+  corner_.reset(static_cast<double*>(std::calloc(std::max<std::size_t>(nh, 1), sizeof(double))));
+  const auto nv = static_cast<std::size_t>(st.intrinsic().n_vertices());
+  fan_.reset(static_cast<unsigned char*>(std::calloc(std::max<std::size_t>(nv, 1), 1)));
+  if (!corner_ || !fan_) throw std::bad_alloc();
+}
+
+// 0 marks "not computed" (a corner of exactly 0, in a flat face, is merely recomputed).
+double FlipNetwork::corner(Index h) {
+  double& c = corner_.get()[h];
+  if (c == 0.0) c = corner_angle(st_.intrinsic(), h);
+  return c;
+}
+
+void FlipNetwork::forget_corners(Index e) {
+  const T& tri = st_.intrinsic();
+  const Index h = tri.edge_halfedge(e);
+  for (const Index f : {T::face(h), T::face(tri.twin(h))}) {
+    std::fill_n(corner_.get() + 3 * f, 3, 0.0);
+  }
+}
+
+// Whether v's edges make one closed fan (not on the boundary, not pinched): only then do its
+// signposts measure wedges (a pinched vertex's fans share one angle range). Flips keep a
+// vertex's fans, so the answer is kept per vertex, from one walk around v the first time:
+// the fan closes, and across its largest signpost the directions wrap by exactly that
+// halfedge's corner (in one fan of several they jump by the other fans' angles too).
+bool FlipNetwork::one_closed_fan(Index v) {
+  unsigned char& known = fan_.get()[v];
+  if (known == 0) {
+    known = 2;
+    const T& tri = st_.intrinsic();
+    const Index h0 = tri.vertex_halfedge(v);
+    if (!st_.is_boundary_vertex(v) && h0 != kInvalidIndex) {
+      Index x = h0, top = h0;
+      for (Index n = 0; n <= tri.n_halfedges() && x != kInvalidIndex; ++n) {
+        if (st_.halfedge_direction(x) > st_.halfedge_direction(top)) top = x;
+        x = tri.twin(T::prev(x));
+        if (x == h0) break;
+      }
+      const double theta = st_.vertex_angle_sum(v);
+      const double gap =
+          st_.halfedge_direction(tri.twin(T::prev(top))) - st_.halfedge_direction(top) + theta;
+      if (x == h0 && std::abs(gap - corner(top)) <= 1e-9 * theta) known = 1;
+    }
+  }
+  return known == 1;
+}
+
+double FlipNetwork::beta(const std::vector<Index>& w, std::size_t i) {
+  return corner(T::prev(w[i - 1])) + corner(T::next(w[i]));
 }
 
 Index FlipNetwork::new_node(const PathStep& s, Index curve) {
@@ -89,7 +155,7 @@ void FlipNetwork::link(Index a, Index b) {
   if (b != kInvalidIndex) nodes_[b].prev = a;
 }
 
-Index FlipNetwork::add(const EdgePath& path, Index id) {
+Index FlipNetwork::add(const EdgePath& path, Index id, const KnownJoints* known) {
   const T& tri = st_.intrinsic();
   const Index n = static_cast<Index>(path.steps.size());
   const std::string where = "curve " + std::to_string(id) + ": ";
@@ -124,6 +190,15 @@ Index FlipNetwork::add(const EdgePath& path, Index id) {
     }
     nodes_[ids[j == 0 ? n - 1 : j - 1]].pin_head = true;
   }
+  if (known != nullptr) {
+    constexpr double kStraight = std::numeric_limits<double>::infinity();
+    for (Index j = 1; j < std::min(known->straight_below, n); ++j) {
+      set_angles(ids[j - 1], {kStraight, kStraight});
+    }
+    for (const auto& [j, angles] : known->bent) {
+      if (j >= 1 && j < n) set_angles(ids[j - 1], angles);
+    }
+  }
   return c;
 }
 
@@ -144,21 +219,60 @@ bool FlipNetwork::is_joint(Index a) const {
   return a != kInvalidIndex && nodes_[a].alive && nodes_[a].next != kInvalidIndex;
 }
 
-std::vector<Index> FlipNetwork::joint_wedge(Index a, int side) const {
-  return detail::joint_wedge(st_.intrinsic(), nodes_[a].step, nodes_[nodes_[a].next].step, side);
+std::pair<Index, Index> FlipNetwork::joint_wedge_ends(Index a, int side) const {
+  return detail::joint_wedge_ends(st_.intrinsic(), nodes_[a].step, nodes_[nodes_[a].next].step,
+                                  side);
 }
 
-Eigen::Vector2d FlipNetwork::joint_angles(Index a) const {
+void FlipNetwork::set_angles(Index a, const Eigen::Vector2d& angles) {
+  Node& n = nodes_[a];
+  n.angles = angles;
+  n.angles_stamp = n.stamp;
+  n.angles_known = true;
+}
+
+Eigen::Vector2d FlipNetwork::joint_angles(Index a) {
+  const Node& n = nodes_[a];
+  if (n.angles_known && n.angles_stamp == n.stamp) return n.angles;
+  const Eigen::Vector2d angles = walk_joint_angles(a);
+  set_angles(a, angles);
+  return angles;
+}
+
+// The joint's two wedge angles. Inside the surface, the signposts at b give them in O(1) (the
+// directions of the two steps differ by the side-0 wedge angle, up to rounding accumulated over
+// flips): a joint that is straight by a margin above that rounding needs no walk. A bent joint
+// is summed face by face on side 0, as shorten() always did (the same bits), unless side 0
+// holds more than kLongWedge faces (a hub of single-source geodesics): then the signposts'
+// figure stands.
+Eigen::Vector2d FlipNetwork::walk_joint_angles(Index a) {
+  constexpr Index kLongWedge = 32;
+  constexpr double kMargin = 1e-9;  // radians; signpost rounding is ~1e-13 even at hubs
   const PathStep& in = nodes_[a].step;
   const PathStep& out = nodes_[nodes_[a].next].step;
   if (a != nodes_[a].next && in.edge == out.edge && in.forward != out.forward) return {0.0, 0.0};
   const T& tri = st_.intrinsic();
-  const double side0 = wedge_angle(tri, joint_wedge(a, 0));
+  const auto [s0, e0] = joint_wedge_ends(a, 0);
+  const auto corner = [this](Index h) { return this->corner(h); };
   const Index b = step_head(tri, in);
+  if (one_closed_fan(b) && s0 != kInvalidIndex && e0 != kInvalidIndex) {
+    const double theta = st_.vertex_angle_sum(b);
+    double est = st_.halfedge_direction(tri.twin(e0)) - st_.halfedge_direction(s0);
+    if (est < 0.0) est += theta;
+    const bool clear = est > kMargin && theta - est > kMargin;  // not a full turn or none
+    if (clear && std::min(est, theta - est) >= limit_ + kMargin) return {est, theta - est};
+    if (clear) {
+      const double side0 = sum_wedge(tri, s0, e0, corner, kLongWedge);
+      if (std::isnan(side0)) return {est, theta - est};
+      if (std::isfinite(side0)) return {side0, theta - side0};  // as below, the same bits
+    }
+  }
+  const double side0 = sum_wedge(tri, s0, e0, corner);
   if (std::isfinite(side0) && !st_.is_boundary_vertex(b)) {
     return {side0, st_.vertex_angle_sum(b) - side0};  // the two wedges make the whole fan
   }
-  return {side0, wedge_angle(tri, joint_wedge(a, 1))};
+  const auto [s1, e1] = joint_wedge_ends(a, 1);
+  return {side0, sum_wedge(tri, s1, e1, corner)};
 }
 
 void FlipNetwork::push_joint(Index a) {
@@ -192,41 +306,72 @@ bool FlipNetwork::remove_backtrack(Index a) {
   return true;
 }
 
-// Flips the wedge's interior edges whose angle β at their far end is < π (their diamonds are
-// then convex: the wedge angle is < π too) until none is left. Returns the final wedge, or an
-// empty one when the wedge holds a curve edge or a fixed edge (straightening would cross it),
-// or an edge with β < π that cannot be flipped.
-std::vector<Index> FlipNetwork::flip_wedge(Index a, int side) {
+// Whether the wedge from start to end holds a curve edge or a fixed edge, or does not close
+// (its walk stops at the first such edge: a blocked joint at a vertex of high valence is
+// common in single-source geodesics).
+bool FlipNetwork::wedge_blocked(Index start, Index end) const {
   const T& tri = st_.intrinsic();
-  std::vector<Index> w = joint_wedge(a, side);
-  for (std::size_t j = 1; j < w.size(); ++j) {
-    const Index e = tri.edge(w[j]);
-    if (uses_[e] > 0 || (fixed_ != nullptr && (*fixed_)[e] != 0)) return {};
+  if (start == kInvalidIndex || end == kInvalidIndex) return true;
+  Index n = 1;
+  for (Index x = start; T::prev(x) != end; ++n) {
+    x = tri.twin(T::prev(x));
+    if (x == kInvalidIndex || n > tri.n_halfedges()) return true;
+    const Index e = tri.edge(x);
+    if (uses_[e] > 0 || (fixed_ != nullptr && (*fixed_)[e] != 0)) return true;
   }
-  for (std::size_t guard = w.size(); guard > 0 && !w.empty(); --guard) {
-    bool flipped = false, refused = false;
-    for (std::size_t j = 1; j < w.size() && !flipped; ++j) {
-      if (beta(tri, w, j) >= kPi - kFlatSlack) continue;
-      const Index e = tri.edge(w[j]);
-      if (st_.flip_edge(e)) {
-        flipped = true;
-        ++flips_;
-        if (on_flip) on_flip(e);
-      } else {
-        refused = true;
-      }
-    }
-    if (!flipped) return refused ? std::vector<Index>{} : w;
-    w = joint_wedge(a, side);
-  }
-  return {};
+  return false;
 }
 
-// Replaces the steps of joint a (a and its next) by the outer boundary of wedge w.
-void FlipNetwork::reroute(Index a, int side, const std::vector<Index>& w) {
+// Flips the wedge's interior edges whose angle β at their far end is < π (their diamonds are
+// then convex: the wedge angle is < π too) until none is left. Leaves the final wedge in wedge_
+// and returns true, or returns false when the wedge holds a curve edge or a fixed edge
+// (straightening would cross it), or an edge with β < π that cannot be flipped.
+// Each pass scans the wedge from its start for the first edge to flip; a flip at index k
+// changes only the faces k − 1 and k, so the next pass resumes at k − 1: the β before it, and
+// which of those edges refused to flip, are those of the pass before (same faces, same bits).
+bool FlipNetwork::flip_wedge(Index a, int side) {
   const T& tri = st_.intrinsic();
-  std::vector<PathStep> chain;
-  for (const Index x : w) chain.push_back(step_along(tri, T::next(x)));
+  std::vector<Index>& w = wedge_;
+  const auto [start, end] = joint_wedge_ends(a, side);
+  if (wedge_blocked(start, end)) return false;
+  wedge_faces(tri, start, end, &w);
+  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  std::size_t from = 1, refused = kNone;  // refused: the first index that refused to flip
+  for (std::size_t guard = w.size(); guard > 0 && !w.empty(); --guard) {
+    std::size_t flipped = kNone;
+    for (std::size_t j = from; j < w.size(); ++j) {
+      if (beta(w, j) >= kPi - kFlatSlack) continue;
+      const Index e = tri.edge(w[j]);
+      if (st_.flip_edge(e)) {
+        forget_corners(e);
+        flipped = j;
+        ++flips_;
+        if (on_flip) on_flip(e);
+        break;
+      }
+      refused = std::min(refused, j);
+    }
+    if (flipped == kNone) return refused == kNone && !w.empty();
+    from = std::max<std::size_t>(1, flipped - 1);
+    // a Δ-complex wedge may pass a face twice: the prefix is unchanged only if the flip's two
+    // faces are not in it
+    const Index f0 = T::face(w[flipped - 1]), f1 = T::face(w[flipped]);
+    for (std::size_t i = 0; i < from; ++i) {
+      if (T::face(w[i]) == f0 || T::face(w[i]) == f1) from = 1;
+    }
+    if (refused >= from) refused = kNone;           // those are scanned again
+    const auto [s, t] = joint_wedge_ends(a, side);  // a flip moves halfedges between slots
+    wedge_faces(tri, s, t, &w);
+  }
+  return false;
+}
+
+// Replaces the steps of joint a (a and its next) by the outer boundary of the wedge in wedge_.
+void FlipNetwork::reroute(Index a, int side) {
+  const T& tri = st_.intrinsic();
+  std::vector<PathStep>& chain = chain_;
+  chain.clear();
+  for (const Index x : wedge_) chain.push_back(step_along(tri, T::next(x)));
   if (side == 0) {  // the chain runs from the outgoing step's head to the incoming step's tail
     std::reverse(chain.begin(), chain.end());
     for (PathStep& c : chain) c = reversed(c);
@@ -270,9 +415,8 @@ bool FlipNetwork::straighten(Index a, const Eigen::Vector2d& angles) {
   const int first = angles[0] <= angles[1] ? 0 : 1;
   for (const int side : {first, 1 - first}) {
     if (!(angles[side] < limit_)) continue;
-    const std::vector<Index> w = flip_wedge(a, side);
-    if (w.empty()) continue;
-    reroute(a, side, w);
+    if (!flip_wedge(a, side)) continue;
+    reroute(a, side);
     return true;
   }
   return false;
@@ -370,6 +514,19 @@ void FlipNetwork::run(const FlipOutOptions& options, FlipOutReport& rep) {
   finish(rep);
 }
 
+FlipNetwork::KnownJoints FlipNetwork::known_joints(Index ci) {
+  KnownJoints k;
+  const Index first = curves_[ci].first;
+  if (first == kInvalidIndex || curves_[ci].closed) return k;
+  Index j = 1;
+  for (Index x = first; nodes_[x].next != kInvalidIndex; x = nodes_[x].next, ++j) {
+    const Eigen::Vector2d angles = joint_angles(x);
+    if (angles.minCoeff() < limit_) k.bent.emplace_back(j, angles);
+  }
+  k.straight_below = j;
+  return k;
+}
+
 EdgePath FlipNetwork::extract(Index ci) const {
   EdgePath p;
   p.closed = curves_[ci].closed;
@@ -404,8 +561,9 @@ Eigen::Vector2d wedge_angles(const IntrinsicTriangulation& tri, const EdgePath& 
   const PathStep& in = path.steps[i == 0 ? n - 1 : i - 1];
   const PathStep& out = path.steps[i];
   if (n > 1 && in.edge == out.edge && in.forward != out.forward) return {0.0, 0.0};
-  return {detail::wedge_angle(tri, detail::joint_wedge(tri, in, out, 0)),
-          detail::wedge_angle(tri, detail::joint_wedge(tri, in, out, 1))};
+  const auto [s0, e0] = detail::joint_wedge_ends(tri, in, out, 0);
+  const auto [s1, e1] = detail::joint_wedge_ends(tri, in, out, 1);
+  return {detail::wedge_angle(tri, s0, e0), detail::wedge_angle(tri, s1, e1)};
 }
 
 double min_wedge_angle(const IntrinsicTriangulation& tri, const EdgePath& path) {

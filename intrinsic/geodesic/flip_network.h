@@ -2,10 +2,20 @@
 // include flip_geodesic.h). Curves are held as linked lists of steps so that a reroute splices
 // in O(chain) and a priority queue of joints (smallest wedge angle first, lazily re-validated)
 // finds the next bend without rescanning the curves.
+//
+// Cost per flip: corner angles are computed once per face between flips (a calloc'ed #H cache,
+// touched only where the curves go), a joint's wedge angles once per change of its steps; a
+// joint at an interior vertex (one closed fan) that is straight by a margin is judged from the
+// signposts at its vertex in O(1), and a bent one is summed face by face over its side-0
+// wedge (over at most 32 faces: past that, the signposts' figure). All flips during a
+// network's life must be its own (the corner cache follows them). docs/decisions.md D-128.
 #pragma once
 
+#include <cstdlib>
 #include <functional>
+#include <memory>
 #include <queue>
+#include <utility>
 #include <vector>
 
 #include "intrinsic/geodesic/flip_geodesic.h"
@@ -14,24 +24,36 @@ namespace ifem::intrinsic::detail {
 
 /// The faces swept counter-clockwise around a vertex b from the edge of `start` (a halfedge
 /// leaving b) to the edge of `end` (a halfedge entering b), each given by its halfedge x leaving
-/// b (face(x) spans from x to prev(x)). Empty if either is invalid, a boundary side is met
-/// first, or the walk does not close.
-std::vector<Index> wedge_faces(const IntrinsicTriangulation& tri, Index start, Index end);
-/// Sum of the corner angles at b of a wedge (+∞ for an empty one).
-double wedge_angle(const IntrinsicTriangulation& tri, const std::vector<Index>& w);
-/// The wedge of side `side` at the joint of steps `in` → `out` (see wedge_angles()).
-std::vector<Index> joint_wedge(const IntrinsicTriangulation& tri, const PathStep& in,
-                               const PathStep& out, int side);
+/// b (face(x) spans from x to prev(x)), written over *w (its capacity is reused). Empty if either
+/// is invalid, a boundary side is met first, or the walk does not close.
+void wedge_faces(const IntrinsicTriangulation& tri, Index start, Index end, std::vector<Index>* w);
+/// Sum of the corner angles at b of the wedge wedge_faces(tri, start, end) would give, in its
+/// order, without storing it (+∞ for an empty one).
+double wedge_angle(const IntrinsicTriangulation& tri, Index start, Index end);
+/// The (start, end) halfedges of the wedge of side `side` at the joint of steps `in` → `out`
+/// (see wedge_angles()), for wedge_faces() and wedge_angle().
+std::pair<Index, Index> joint_wedge_ends(const IntrinsicTriangulation& tri, const PathStep& in,
+                                         const PathStep& out, int side);
 
 class FlipNetwork {
  public:
   /// `uses`: #E counts of curve steps per edge, shared with the caller (single-source geodesics
   /// keeps the accepted paths counted across runs); `fixed`: optional #E flags never flipped.
+  /// Allocates #H doubles and #V bytes (zero pages until used). @throws std::bad_alloc
   FlipNetwork(SignpostTriangulation& st, std::vector<int>& uses, const std::vector<char>* fixed);
 
-  /// Adds a curve (its steps are counted in uses); returns its id. @throws InvalidInput if the
-  /// steps are not consecutive or a pinned joint is out of range
-  Index add(const EdgePath& path, Index id_for_messages);
+  /// What a caller knows of a curve's joints from an earlier run. A joint's wedge angles are
+  /// those of the surface between its two steps: flips change them only by rounding, so they
+  /// hold as long as the steps do. Joint i is the one between steps i − 1 and i.
+  struct KnownJoints {
+    Index straight_below = 0;  ///< joints 1 .. straight_below − 1 are not bent, but for `bent`
+    std::vector<std::pair<Index, Eigen::Vector2d>> bent;  ///< (joint, its two wedge angles)
+  };
+
+  /// Adds a curve (its steps are counted in uses); returns its id. `known` (optional) spares
+  /// the wedge walks of joints whose angles are known. @throws InvalidInput if the steps are
+  /// not consecutive or a pinned joint is out of range
+  Index add(const EdgePath& path, Index id_for_messages, const KnownJoints* known = nullptr);
   /// Forgets every curve without uncounting their steps (they stay as obstacles).
   void release_curves();
   /// Forgets every curve and uncounts its steps.
@@ -40,6 +62,8 @@ class FlipNetwork {
   void run(const FlipOutOptions& options, FlipOutReport& report);
   /// The current curve c as an EdgePath (pinned joints renumbered).
   EdgePath extract(Index c) const;
+  /// The joints of open curve c now bent by less than the last run's limit, for add().
+  KnownJoints known_joints(Index c);
   Index n_curves() const { return static_cast<Index>(curves_.size()); }
   /// Called after every successful flip with the flipped edge.
   std::function<void(Index)> on_flip;
@@ -52,6 +76,9 @@ class FlipNetwork {
     unsigned stamp = 0;     // changes whenever the joint at this node's head changes
     bool pin_head = false;  // the joint at this node's head is pinned
     bool alive = true;
+    bool angles_known = false;  // angles hold the joint's wedge angles at stamp angles_stamp
+    unsigned angles_stamp = 0;
+    Eigen::Vector2d angles{0.0, 0.0};
   };
   struct Curve {
     Index first = kInvalidIndex;  // kInvalidIndex: no steps
@@ -66,14 +93,21 @@ class FlipNetwork {
   };
 
   bool is_joint(Index a) const;
-  Eigen::Vector2d joint_angles(Index a) const;
-  std::vector<Index> joint_wedge(Index a, int side) const;
+  Eigen::Vector2d joint_angles(Index a);  // memoized per node and stamp
+  Eigen::Vector2d walk_joint_angles(Index a);
+  double corner(Index h);  // corner_angle(h), computed once per unflipped face
+  bool one_closed_fan(Index v);
+  void forget_corners(Index e);                             // after flipping e
+  double beta(const std::vector<Index>& w, std::size_t i);  // angle at the far end of w[i]
+  void set_angles(Index a, const Eigen::Vector2d& angles);
+  std::pair<Index, Index> joint_wedge_ends(Index a, int side) const;
   void push_joint(Index a);
   Index new_node(const PathStep& s, Index curve);
   void link(Index a, Index b);
   bool remove_backtrack(Index a);
-  std::vector<Index> flip_wedge(Index a, int side);
-  void reroute(Index a, int side, const std::vector<Index>& wedge);
+  bool wedge_blocked(Index start, Index end) const;
+  bool flip_wedge(Index a, int side);
+  void reroute(Index a, int side);
   bool straighten(Index a, const Eigen::Vector2d& angles);
   Index push_all_bends();
   void finish(FlipOutReport& report) const;
@@ -86,6 +120,12 @@ class FlipNetwork {
   std::priority_queue<Bend, std::vector<Bend>, std::greater<Bend>> queue_;
   double limit_ = 0.0;  // π − ε
   Index flips_ = 0;
+  std::vector<Index> wedge_;  // flip_wedge()'s wedge, read by reroute()
+  // corner angles by halfedge, 0 where not computed (all flips are this network's)
+  std::unique_ptr<double, void (*)(void*)> corner_{nullptr, std::free};
+  // per vertex: 0 not yet known, 1 one closed fan, 2 boundary or pinched (one_closed_fan())
+  std::unique_ptr<unsigned char, void (*)(void*)> fan_{nullptr, std::free};
+  std::vector<PathStep> chain_;  // reroute()'s scratch
 };
 
 }  // namespace ifem::intrinsic::detail

@@ -6,9 +6,11 @@
 #include <cmath>
 #include <vector>
 
+#include "helpers.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/io/mesh_io.h"
 #include "intrinsic/refine/delaunay_refine.h"
 
 namespace ifem::intrinsic {
@@ -477,6 +479,33 @@ TEST(FlipGeodesic, SingleSourceOnASphere) {
       equal, checked, int(g.blocked));
   EXPECT_EQ(g.blocked, 0);
   EXPECT_THROW(single_source_geodesics(st, -1), InvalidInput);
+}
+
+// Single-source geodesics judge most joints from the signposts at their vertex and hand a
+// path's joints on to the paths that extend it, without summing wedges again; spot's run
+// makes vertices of high valence (wedges of hundreds of faces) and blocked paths. Every
+// joint is checked here by summing its wedges face by face: a path whose run converged is
+// straight everywhere, so only blocked runs may leave a bent joint, and the reported lengths
+// are those of the paths.
+TEST(FlipGeodesic, SingleSourceJointsAgreeWithWedgeSums) {
+  const io::SurfaceInput in = io::read_mesh((test::test_data() / "spot.obj").string());
+  const double limit = kPi - FlipOutOptions{}.angle_epsilon;
+  for (const Index src : {0, 1234}) {
+    SignpostTriangulation st(in.triangles, in.positions);
+    const SingleSourceGeodesics g = single_source_geodesics(st, src);
+    const IntrinsicTriangulation& tri = st.intrinsic();
+    Index bent = 0;
+    for (Index v = 0; v < tri.n_vertices(); ++v) {
+      const EdgePath& p = g.paths[v];
+      ASSERT_NEAR(path_length(tri, p), g.length[v], 1e-12 * std::max(1.0, g.length[v])) << v;
+      if (min_wedge_angle(tri, p) < limit) ++bent;
+    }
+    std::vector<Index> valence(tri.n_vertices(), 0);
+    for (Index h = 0; h < tri.n_halfedges(); ++h) ++valence[tri.tail(h)];
+    const Index max_valence = *std::max_element(valence.begin(), valence.end());
+    EXPECT_LE(bent, g.blocked) << "source " << src;
+    EXPECT_GT(max_valence, 64) << "no hub: the long-wedge branch is not exercised";
+  }
 }
 
 // Two tetrahedra sharing one vertex (edge-manifold, pinched there): single-source geodesics
