@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
@@ -167,6 +168,7 @@ class Cones {
       bool fan_boundary = false;
       const double theta = fan_angle(bar, h, 2.0 * bound_, &fan_boundary);
       state_[tri.tail(h)] |= unfixable(theta, fan_boundary) ? kSomeUnfixable : kSomeFixable;
+      if (fan_boundary && unfixable(theta, true)) state_[tri.tail(h)] |= kNeedleApex;
       Index x = h;  // mark the fan's corners (from h both ways)
       for (Index k = 0; k < nh && x != kInvalidIndex && !seen[x]; ++k) {
         seen[x] = 1;
@@ -189,6 +191,11 @@ class Cones {
     const double theta = fan_angle(Barriers{tri, flags_}, h, 2.0 * bound_, &fan_boundary);
     return unfixable(theta, fan_boundary);
   }
+  /// Whether input vertex v is the apex of a needle: a fan between two barrier sides (boundary
+  /// or constrained) whose angle is below the bound.
+  bool is_needle_apex(Index v) const {
+    return v >= 0 && v < static_cast<Index>(state_.size()) && (state_[v] & kNeedleApex) != 0;
+  }
   /// A vertex with a side without twin (or a constrained edge) starting or ending at it.
   bool is_boundary(Index v) const { return boundary_[v] != 0; }
   /// Records inserted vertex v (flat: never a needle).
@@ -198,7 +205,7 @@ class Cones {
   }
 
  private:
-  static constexpr char kSomeUnfixable = 1, kSomeFixable = 2, kCached = 4;
+  static constexpr char kSomeUnfixable = 1, kSomeFixable = 2, kCached = 4, kNeedleApex = 8;
   bool unfixable(double theta, bool boundary) const {
     return boundary ? theta < bound_ : theta < 2.0 * bound_;
   }
@@ -351,16 +358,14 @@ class Refiner {
         rep_.hit_insertion_cap = true;
         break;
       }
-      const Index splits_before = rep_.constrained_splits;
       const Index v = insert_for(f, verdict);
       if (v == kInvalidIndex) continue;
       ++rep_.insertions;
       restore_delaunay_around(v, queue);
-      // a split of a curve edge instead of f's point may leave f as it was: keep it queued
-      if (rep_.constrained_splits != splits_before) {
-        const Verdict again = classify(f);
-        if (again.kind == 1) queue.push(f, again.bucket);
-      }
+      // a split of a boundary or curve edge instead of f's point may leave f as it was, away
+      // from the flips: keep it queued
+      const Verdict again = classify(f);
+      if (again.kind == 1) queue.push(f, again.bucket);
     }
     measure_result();
     return rep_;
@@ -409,7 +414,7 @@ class Refiner {
       }
     }
     v.kind = 1;
-    if (worst <= 1.0) {
+    if (worst <= 1.0 && !in_needle_shadow(l, f)) {
       v.bucket = angle_bucket(worst);
       return v;
     }
@@ -437,6 +442,49 @@ class Refiner {
     }
     v.kind = small ? 2 : 0;
     return v;
+  }
+
+  // Whether face f (side lengths l) lies in the shadow of a needle (a boundary or constrained
+  // fan whose angle is below the bound): its shortest side joins two vertices of that needle
+  // (its apex, or vertices inserted on its two sides). Its small corners are then forced by the
+  // needle: inside a wedge of angle α, a triangle with corners on both sides has a corner of at
+  // most about α unless its sides are as short as the wedge is wide there, so fixing it makes a
+  // smaller one nearer the apex, round after round (Ruppert's small-input-angle case), until
+  // the lengths underflow. Such faces are left alone, like the needle's own corner.
+  bool in_needle_shadow(const double l[3], Index f) const {
+    if (chain_.empty()) return false;  // no barrier split yet: no vertex on a needle's side
+    int k = 0;
+    for (int j = 1; j < 3; ++j) {
+      if (l[j] < l[k]) k = j;
+    }
+    const Index u = tri_.tail(3 * f + k), w = tri_.tail(3 * f + (k + 1) % 3);
+    const std::array<Index, 2> cu = chain(u), cw = chain(w);
+    for (const Index apex : cu) {
+      if (apex == kInvalidIndex || !cones_->is_needle_apex(apex)) continue;
+      if (cw[0] == apex || cw[1] == apex) {
+        if (cu != cw || u == apex || w == apex) return true;  // across the needle, or at its apex
+      }
+    }
+    return false;
+  }
+
+  // The original vertices at the ends of the barrier side vertex v lies on: {v, v} for a vertex
+  // there before refinement, the side's ends for a vertex inserted on a barrier (boundary or
+  // constrained) edge, none (kInvalidIndex) for other inserted vertices.
+  std::array<Index, 2> chain(Index v) const {
+    if (v < rep_.vertices_before) return {v, v};
+    const std::size_t i = static_cast<std::size_t>(v - rep_.vertices_before);
+    return i < chain_.size() ? chain_[i] : std::array<Index, 2>{kInvalidIndex, kInvalidIndex};
+  }
+
+  // Records the chain (see chain()) of vertex m inserted on barrier edge (x, y).
+  void record_chain(Index m, Index x, Index y) {
+    std::array<Index, 2> c = {x, y};
+    if (x >= rep_.vertices_before && chain(x)[0] != kInvalidIndex) c = chain(x);
+    else if (y >= rep_.vertices_before && chain(y)[0] != kInvalidIndex) c = chain(y);
+    const std::size_t i = static_cast<std::size_t>(m - rep_.vertices_before);
+    if (chain_.size() <= i) chain_.resize(i + 1, {kInvalidIndex, kInvalidIndex});
+    chain_[i] = c;
   }
 
   // The point to insert for bad face f in its layout p: the circumcenter, or the off-center
@@ -539,9 +587,13 @@ class Refiner {
   // edges, and the half of a constrained edge beyond the new vertex is constrained too.
   Index split(Index e, double t) {
     const bool constrained = bar_.constrained(e);
+    const Index h = tri_.edge_halfedge(e);
+    const bool barrier = bar_(h);
+    const Index x = tri_.tail(h), y = tri_.head(h);
     const Index new_edge = tri_.n_edges();  // split_edge's first new edge: new vertex → old head
     const Index v = host_.split_edge(e, t);
     grow_flags();
+    if (barrier) record_chain(v, x, y);
     if (constrained) {
       (*flags_)[new_edge] = 1;
       if (cons_->on_split) cons_->on_split(e, new_edge, v, t);
@@ -642,6 +694,8 @@ class Refiner {
   double constrained_floor_ = 0.0;  // shortest constrained edge split (absolute)
   RefineReport rep_;
   std::optional<Cones> cones_;  // made after the first Delaunay flips
+  // per inserted vertex (v − vertices_before), for those on a barrier side: chain()
+  std::vector<std::array<Index, 2>> chain_;
   std::vector<Index> touched_, flip_queue_;
 };
 
