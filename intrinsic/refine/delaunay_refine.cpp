@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -302,6 +303,15 @@ double memory_budget(const RefineOptions& options) {
   return options.max_memory_bytes > 0.0 ? options.max_memory_bytes : default_memory_budget();
 }
 
+// A face with a fixable small corner whose shortest side is below this fraction of its local
+// scale (Refiner::init_scale(): the shortest edge at its vertices before refinement) is left
+// alone. Refinement that terminates never gets near it (Ruppert's and Chew's bounds keep edges
+// above a constant fraction of the local feature size); insertions that cascade towards a point
+// (a minimum angle above what Chew's algorithm guarantees, about 26.5°, near a boundary corner)
+// halve the lengths every few insertions and would underflow after some 400 rounds: 2^-20
+// stops them after 20 (docs/decisions.md D-121).
+constexpr double kScaleFloor = 0x1.0p-20;
+
 // Constrained edges shorter than this fraction of the mean edge length are not split (see
 // split_boundary()).
 constexpr double kConstrainedFloor = 1.0 / 1024.0;
@@ -345,6 +355,8 @@ class Refiner {
     double before = kPi;
     for (Index f = 0; f < tri_.n_faces(); ++f) before = std::min(before, min_corner_angle(tri_, f));
     rep_.min_angle_before = before / kDeg;
+    for (Index f = 0; f < tri_.n_faces(); ++f) check_face(f, "", true);
+    init_scale();
     cones_.emplace(tri_, bound_, flags_);
     BadFaceQueue queue(tri_.n_faces());
     for (Index f = 0; f < tri_.n_faces(); ++f) {
@@ -374,8 +386,8 @@ class Refiner {
  private:
   static constexpr double kDeg = kPi / 180.0;
 
-  // kind 0 = good, 1 = bad, 2 = needle (every small corner unfixable); a bad face's queue
-  // bucket.
+  // kind 0 = good, 1 = bad, 2 = needle (every small corner unfixable), 3 = bad but below the
+  // scale floor (left alone); a bad face's queue bucket.
   struct Verdict {
     int kind = 0;
     int bucket = 0;
@@ -415,6 +427,10 @@ class Refiner {
     }
     v.kind = 1;
     if (worst <= 1.0 && !in_needle_shadow(l, f)) {
+      if (std::min({l[0], l[1], l[2]}) < kScaleFloor * face_scale(f)) {
+        v.kind = 3;
+        return v;
+      }
       v.bucket = angle_bucket(worst);
       return v;
     }
@@ -468,6 +484,24 @@ class Refiner {
     return false;
   }
 
+  // The local scale: for a vertex there before refinement, its shortest edge in the initial
+  // Delaunay triangulation; an inserted vertex takes the smallest scale of the bad face it was
+  // inserted for (so a cascade keeps the scale where it started).
+  void init_scale() {
+    scale_.assign(static_cast<std::size_t>(tri_.n_vertices()),
+                  std::numeric_limits<double>::infinity());
+    for (Index e = 0; e < tri_.n_edges(); ++e) {
+      const Index h = tri_.edge_halfedge(e);
+      for (const Index x : {tri_.tail(h), tri_.head(h)}) {
+        scale_[x] = std::min(scale_[x], tri_.length(e));
+      }
+    }
+  }
+  double face_scale(Index f) const {
+    return std::min({scale_[tri_.tail(3 * f)], scale_[tri_.tail(3 * f + 1)],
+                     scale_[tri_.tail(3 * f + 2)]});
+  }
+
   // The original vertices at the ends of the barrier side vertex v lies on: {v, v} for a vertex
   // there before refinement, the side's ends for a vertex inserted on a barrier (boundary or
   // constrained) edge, none (kInvalidIndex) for other inserted vertices.
@@ -512,6 +546,7 @@ class Refiner {
   // (in a face, on a side, or at a boundary edge it splits). Returns the new vertex, or
   // kInvalidIndex when the trace or the insertion failed (counted in failed_traces).
   Index insert_for(Index f, const Verdict& verdict) {
+    const double scale = face_scale(f);
     Eigen::Vector2d p[3];
     face_layout(tri_, f, p);
     const Eigen::Vector2d target = target_point(p, verdict);
@@ -536,6 +571,8 @@ class Refiner {
         return kInvalidIndex;
       }
       cones_->add_vertex(v, on_boundary);
+      scale_.resize(static_cast<std::size_t>(v) + 1, scale);
+      scale_[v] = scale;
       return v;
     } catch (const TraceError&) {  // the trace, or locating the new vertex (signposts)
       ++rep_.failed_traces;
@@ -645,8 +682,10 @@ class Refiner {
   }
 
   // Throws Error naming face f and `when` unless f's side lengths are finite and positive and
-  // its area is: the Laplacian and mass matrix of the result must be finite.
-  void check_face(Index f, const std::string& when) const {
+  // its area is: the Laplacian and mass matrix of the result must be finite. `input`: f is a
+  // face of the input's intrinsic Delaunay triangulation (before any insertion), else one that
+  // refinement made.
+  void check_face(Index f, const std::string& when, bool input = false) const {
     const double a = tri_.halfedge_length(3 * f), b = tri_.halfedge_length(3 * f + 1),
                  c = tri_.halfedge_length(3 * f + 2);
     const double area = face_area(tri_, f);
@@ -655,10 +694,19 @@ class Refiner {
       return;
     }
     std::ostringstream m;
-    m << "delaunay_refine: " << when << " (insertion " << rep_.insertions << "), face " << f
-      << " has side lengths " << a << ", " << b << ", " << c << " and area " << area
-      << ": its cotan weights and mass would not be finite. The input is degenerate there "
-      << "(coincident vertices, zero-area faces); repair it or raise the mollification";
+    m << std::setprecision(6) << "delaunay_refine: ";
+    if (input) {
+      m << "face " << f << " of the input's intrinsic Delaunay triangulation has side lengths "
+        << a << ", " << b << ", " << c << " and area " << area
+        << ": its cotan weights and mass would not be finite. The input is degenerate there "
+        << "(coincident vertices, zero-area faces); repair it or raise the mollification";
+    } else {
+      m << when << " (insertion " << rep_.insertions << "), face " << f << " has side lengths "
+        << a << ", " << b << ", " << c << " and area " << area
+        << ": refinement made a degenerate triangle (the input's faces were valid). This is a "
+        << "defect of the refinement, not of the input; please report it with the input. "
+        << "A smaller minimum angle avoids it";
+    }
     throw Error(m.str());
   }
 
@@ -676,7 +724,8 @@ class Refiner {
         ++rep_.needle_faces;
       } else {
         after_ok = std::min(after_ok, a);
-        if (c == 1) ++rep_.bad_faces_left;
+        if (c == 1 || c == 3) ++rep_.bad_faces_left;
+        if (c == 3) ++rep_.scale_floor_faces;
       }
     }
     rep_.min_angle_after = after / kDeg;
@@ -696,6 +745,7 @@ class Refiner {
   std::optional<Cones> cones_;  // made after the first Delaunay flips
   // per inserted vertex (v − vertices_before), for those on a barrier side: chain()
   std::vector<std::array<Index, 2>> chain_;
+  std::vector<double> scale_;  // per vertex: the local scale (init_scale())
   std::vector<Index> touched_, flip_queue_;
 };
 

@@ -124,6 +124,12 @@ struct RefineReport {
                                    ///< fan (cone) whose total angle is below the bound (2×
                                    ///< bound inside); per fan at a pinched vertex
   Index bad_faces_left = 0;        ///< other triangles still below the bounds at the end
+                                   ///< (scale_floor_faces included)
+  Index scale_floor_faces = 0;     ///< bad triangles left alone because their shortest side is
+                                   ///< below 2^-20 of the local scale (the shortest input edge
+                                   ///< at their vertices): insertions there were cascading
+                                   ///< towards a point (min_angle_degrees above ≈ 26.5°, where
+                                   ///< Chew's algorithm has no termination guarantee)
   double min_angle_before = 0.0;   ///< smallest corner angle, degrees, of the input's intrinsic
                                    ///< Delaunay triangulation (before any insertion)
   double min_angle_after = 0.0;    ///< smallest corner angle at the end, degrees (all faces)

@@ -341,6 +341,10 @@ std::string describe(const intrinsic::RefineReport& r) {
   if (r.constrained_floor) {
     m << ", " << r.constrained_floor << " curve splits refused (curves meeting at small angles)";
   }
+  if (r.scale_floor_faces) {
+    m << ", " << r.scale_floor_faces << " bad triangles left at the scale floor (insertions there "
+      << "were cascading: a minimum angle above about 26.5° has no termination guarantee)";
+  }
   if (r.hit_insertion_cap) {
     m << "; STOPPED at the insertion cap, " << r.bad_faces_left << " triangles still bad";
   }
