@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <string>
 #include <map>
+#include <string>
 #include <utility>
 
 #include "intrinsic/core/errors.h"
@@ -193,8 +193,10 @@ std::vector<char> scan_cells(const RangeScanOptions& o, const std::vector<int>& 
       char& c = cell[j * nx + i];
       if (mixed && cut) c = kCellDropped;
       const double u = rng.uniform();
-      if (u < o.dropout) c = kCellDropped;
-      else if (u < o.dropout + o.half_cells && c == kCellKept) c = kCellHalf;
+      if (u < o.dropout)
+        c = kCellDropped;
+      else if (u < o.dropout + o.half_cells && c == kCellKept)
+        c = kCellHalf;
     }
   }
   // islands: a patch of 1×1 or 2×1 cells with a moat of dropped cells around it
@@ -244,7 +246,7 @@ TriangleMesh range_scan(const RangeScanOptions& o) {
   std::vector<int> label(ns, -1);  // the topmost disc a sample sees, −1: background
   for (int j = 0; j <= ny; ++j) {
     for (int i = 0; i <= nx; ++i) {
-      const bool inner_x = i > 0 && i < nx, inner_y = j > 0 && j < ny;
+      const bool inner_x = i > 0 && i<nx, inner_y = j> 0 && j < ny;
       const double px = (i + (inner_x ? o.jitter * (2.0 * rng.uniform() - 1.0) : 0.0)) * hx;
       const double py = (j + (inner_y ? o.jitter * (2.0 * rng.uniform() - 1.0) : 0.0)) * hy;
       const int s = j * (nx + 1) + i;

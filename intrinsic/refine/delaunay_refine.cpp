@@ -498,8 +498,8 @@ class Refiner {
     }
   }
   double face_scale(Index f) const {
-    return std::min({scale_[tri_.tail(3 * f)], scale_[tri_.tail(3 * f + 1)],
-                     scale_[tri_.tail(3 * f + 2)]});
+    return std::min(
+        {scale_[tri_.tail(3 * f)], scale_[tri_.tail(3 * f + 1)], scale_[tri_.tail(3 * f + 2)]});
   }
 
   // The original vertices at the ends of the barrier side vertex v lies on: {v, v} for a vertex
@@ -514,8 +514,10 @@ class Refiner {
   // Records the chain (see chain()) of vertex m inserted on barrier edge (x, y).
   void record_chain(Index m, Index x, Index y) {
     std::array<Index, 2> c = {x, y};
-    if (x >= rep_.vertices_before && chain(x)[0] != kInvalidIndex) c = chain(x);
-    else if (y >= rep_.vertices_before && chain(y)[0] != kInvalidIndex) c = chain(y);
+    if (x >= rep_.vertices_before && chain(x)[0] != kInvalidIndex)
+      c = chain(x);
+    else if (y >= rep_.vertices_before && chain(y)[0] != kInvalidIndex)
+      c = chain(y);
     const std::size_t i = static_cast<std::size_t>(m - rep_.vertices_before);
     if (chain_.size() <= i) chain_.resize(i + 1, {kInvalidIndex, kInvalidIndex});
     chain_[i] = c;
@@ -696,13 +698,13 @@ class Refiner {
     std::ostringstream m;
     m << std::setprecision(6) << "delaunay_refine: ";
     if (input) {
-      m << "face " << f << " of the input's intrinsic Delaunay triangulation has side lengths "
-        << a << ", " << b << ", " << c << " and area " << area
+      m << "face " << f << " of the input's intrinsic Delaunay triangulation has side lengths " << a
+        << ", " << b << ", " << c << " and area " << area
         << ": its cotan weights and mass would not be finite. The input is degenerate there "
         << "(coincident vertices, zero-area faces); repair it or raise the mollification";
     } else {
-      m << when << " (insertion " << rep_.insertions << "), face " << f << " has side lengths "
-        << a << ", " << b << ", " << c << " and area " << area
+      m << when << " (insertion " << rep_.insertions << "), face " << f << " has side lengths " << a
+        << ", " << b << ", " << c << " and area " << area
         << ": refinement made a degenerate triangle (the input's faces were valid). This is a "
         << "defect of the refinement, not of the input; please report it with the input. "
         << "A smaller minimum angle avoids it";
