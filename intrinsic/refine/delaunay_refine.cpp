@@ -12,6 +12,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "intrinsic/core/geometry.h"
@@ -169,18 +170,22 @@ class Cones {
       bool fan_boundary = false;
       const double theta = fan_angle(bar, h, 2.0 * bound_, &fan_boundary);
       state_[tri.tail(h)] |= unfixable(theta, fan_boundary) ? kSomeUnfixable : kSomeFixable;
-      if (fan_boundary && unfixable(theta, true)) state_[tri.tail(h)] |= kNeedleApex;
+      corners_.clear();
       Index x = h;  // mark the fan's corners (from h both ways)
       for (Index k = 0; k < nh && x != kInvalidIndex && !seen[x]; ++k) {
         seen[x] = 1;
+        corners_.push_back(x);
         x = bar.across(T::prev(x));
       }
       x = bar.across(h);
       for (Index k = 0; k < nh && x != kInvalidIndex && !seen[T::next(x)]; ++k) {
         seen[T::next(x)] = 1;
+        corners_.push_back(T::next(x));
         x = bar.across(T::next(x));
       }
+      if (fan_boundary && unfixable(theta, true)) add_needle_sides(bar);
     }
+    std::sort(needle_sides_.begin(), needle_sides_.end());
   }
   /// Whether the corner at tail(h) lies in a fan no insertion can fix.
   bool unfixable(const IntrinsicTriangulation& tri, Index h) const {
@@ -192,10 +197,11 @@ class Cones {
     const double theta = fan_angle(Barriers{tri, flags_}, h, 2.0 * bound_, &fan_boundary);
     return unfixable(theta, fan_boundary);
   }
-  /// Whether input vertex v is the apex of a needle: a fan between two barrier sides (boundary
-  /// or constrained) whose angle is below the bound.
-  bool is_needle_apex(Index v) const {
-    return v >= 0 && v < static_cast<Index>(state_.size()) && (state_[v] & kNeedleApex) != 0;
+  /// Whether the edge from original vertex `apex` to original vertex `end` is a side of a
+  /// needle at apex: a fan between two barrier sides (boundary or constrained) whose angle is
+  /// below the bound.
+  bool is_needle_side(Index apex, Index end) const {
+    return std::binary_search(needle_sides_.begin(), needle_sides_.end(), std::pair{apex, end});
   }
   /// A vertex with a side without twin (or a constrained edge) starting or ending at it.
   bool is_boundary(Index v) const { return boundary_[v] != 0; }
@@ -206,7 +212,15 @@ class Cones {
   }
 
  private:
-  static constexpr char kSomeUnfixable = 1, kSomeFixable = 2, kCached = 4, kNeedleApex = 8;
+  static constexpr char kSomeUnfixable = 1, kSomeFixable = 2, kCached = 4;
+  // records the barrier sides of the fan whose corners are corners_ (a needle)
+  void add_needle_sides(const Barriers& bar) {
+    for (const Index x : corners_) {
+      const Index v = bar.tri.tail(x);
+      if (bar(x)) needle_sides_.push_back({v, bar.tri.head(x)});
+      if (bar(T::prev(x))) needle_sides_.push_back({v, bar.tri.tail(T::prev(x))});
+    }
+  }
   bool unfixable(double theta, bool boundary) const {
     return boundary ? theta < bound_ : theta < 2.0 * bound_;
   }
@@ -214,6 +228,8 @@ class Cones {
   const std::vector<char>* flags_;
   std::vector<char> state_;     // per input vertex: kCached, and which kinds of fans it has
   std::vector<char> boundary_;  // per vertex
+  std::vector<std::pair<Index, Index>> needle_sides_;  // (apex, other end), sorted
+  std::vector<Index> corners_;                         // scratch: one fan's corners
 };
 
 }  // namespace
@@ -475,11 +491,15 @@ class Refiner {
     }
     const Index u = tri_.tail(3 * f + k), w = tri_.tail(3 * f + (k + 1) % 3);
     const std::array<Index, 2> cu = chain(u), cw = chain(w);
+    // u (or w) is the apex itself, or lies on a side of the needle there
+    auto on_needle = [this](Index apex, Index x, const std::array<Index, 2>& c) {
+      if (x == apex) return true;
+      if (c[0] != apex && c[1] != apex) return false;
+      return cones_->is_needle_side(apex, c[0] == apex ? c[1] : c[0]);
+    };
     for (const Index apex : cu) {
-      if (apex == kInvalidIndex || !cones_->is_needle_apex(apex)) continue;
-      if (cw[0] == apex || cw[1] == apex) {
-        if (cu != cw || u == apex || w == apex) return true;  // across the needle, or at its apex
-      }
+      if (apex == kInvalidIndex || !on_needle(apex, u, cu) || !on_needle(apex, w, cw)) continue;
+      if (cu != cw || u == apex || w == apex) return true;  // across the needle, or at its apex
     }
     return false;
   }
