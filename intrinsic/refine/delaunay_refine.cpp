@@ -602,6 +602,35 @@ class Refiner {
     }
   }
 
+  // A barrier side whose diametral circle holds point x (in face g's layout p): of g, or of a
+  // face glued to a side of g (x carried into its layout across that side); kInvalidIndex if
+  // none.
+  Index encroached_side(Index g, const Eigen::Vector2d p[3], const Eigen::Vector2d& x) const {
+    for (int s = 0; s < 3; ++s) {
+      if (bar_(3 * g + s) && (p[s] - x).dot(p[(s + 1) % 3] - x) < 0.0) return 3 * g + s;
+    }
+    for (int s = 0; s < 3; ++s) {
+      const Index t = bar_.across(3 * g + s);
+      if (t == kInvalidIndex || T::face(t) == g) continue;
+      // x relative to side s (from p[s] to p[s+1]): along and across it
+      const Eigen::Vector2d e = p[(s + 1) % 3] - p[s];
+      const double len2 = e.squaredNorm();
+      if (!(len2 > 0.0)) continue;
+      const double along = (x - p[s]).dot(e) / len2, across = cross2(e, x - p[s]) / len2;
+      Eigen::Vector2d q[3];
+      face_layout(tri_, T::face(t), q);
+      const int st = T::side(t);  // t runs from p[s+1] to p[s]: the other face's side st
+      const Eigen::Vector2d a = q[(st + 1) % 3], b = q[st];  // images of p[s], p[s+1]
+      const Eigen::Vector2d f = b - a;
+      const Eigen::Vector2d y = a + along * f + across * Eigen::Vector2d(-f.y(), f.x());
+      for (int k = 0; k < 3; ++k) {
+        const Index h = 3 * T::face(t) + k;
+        if (h != t && bar_(h) && (q[k] - y).dot(q[(k + 1) % 3] - y) < 0.0) return h;
+      }
+    }
+    return kInvalidIndex;
+  }
+
   // Inserts at the end of trace r: splits the boundary edge it hit, a boundary side whose
   // diametral circle the point encroaches (Chew), the side it lies on (within rounding), or
   // inserts in the face. kInvalidIndex when the edge to split cannot be split.
@@ -614,15 +643,11 @@ class Refiner {
       if (bary[j] < bary[k]) k = j;
     }
     // Chew: a circumcenter inside the diametral circle of a boundary side of the face it
-    // lands in splits that side at its midpoint instead
-    Index encroached = kInvalidIndex;
+    // lands in, or of a face glued to it, splits that side at its midpoint instead
     Eigen::Vector2d p[3];
     face_layout(tri_, g, p);
     const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
-    for (int s = 0; s < 3; ++s) {
-      if (!bar_(3 * g + s)) continue;
-      if ((p[s] - x).dot(p[(s + 1) % 3] - x) < 0.0) encroached = 3 * g + s;
-    }
+    const Index encroached = encroached_side(g, p, x);
     if (encroached != kInvalidIndex) return split_boundary(tri_.edge(encroached), on_boundary);
     if (bary[k] < 1e-9) {
       // on (or within rounding of) a side: split that edge
