@@ -1,5 +1,6 @@
 // Benchmark section "refine": intrinsic Delaunay refinement (signposts, Chew's 2nd algorithm)
-// on spot.obj, rocketship.ply, a uv sphere of needle triangles (156k faces) and igea_268k.ply.
+// on spot.obj, rocketship.ply, a uv sphere of needle triangles (156k faces), igea_268k.ply and
+// generated range scans (range_scan(): 224×224 cells, about 95k faces, depth jumps 0.5 and 2).
 // Times exclude reading the file; "build" is the signpost triangulation's construction
 // (+ mollification 1e-5, as the CLI does), "refine" includes the initial flips to Delaunay,
 // "trace-all" traces every intrinsic edge over the input, "common subd." builds the overlay
@@ -136,6 +137,19 @@ int refine(int argc, char** argv) {
   }
   const intrinsic::TriangleMesh m = intrinsic::uv_sphere(40, 2000);  // 156,000 faces
   run_case("uv_sphere(40, 2000)", m.faces, m.positions, repeat, opt);
+  // generated single-view range scans (about 95k faces, 40+ components, needle rims)
+  for (const double jump : {0.5, 2.0}) {
+    for (const unsigned long seed : {1UL, 2UL}) {
+      intrinsic::RangeScanOptions so;
+      so.nx = so.ny = 224;
+      so.seed = seed;
+      so.depth_jump = jump;
+      const intrinsic::TriangleMesh scan = intrinsic::range_scan(so);
+      char name[64];
+      std::snprintf(name, sizeof name, "range_scan(224,%lu,%.1f)", seed, jump);
+      run_case(name, scan.faces, scan.positions, repeat, opt);
+    }
+  }
   std::printf("common subdivision peak memory vs its bound (angle bound only, once)\n");
   for (const char* file : {"lato000_rangescan.ply", "rocketship.ply"}) {
     const std::filesystem::path path = std::filesystem::path(data) / file;

@@ -160,6 +160,12 @@ void print_summary(const PreparedSurface& s, double min_angle_input) {
         rr.passes, rr.moved, rr.splits, rr.min_angle_before, rr.min_angle_after,
         rr.mean_min_angle_before, rr.mean_min_angle_after);
   }
+  if (r.scale_floor_faces) {
+    std::printf(
+        "%d triangles left below the bound at the scale floor (insertions there were cascading "
+        "towards a point: --min-angle above about 26.5° has no termination guarantee)\n",
+        r.scale_floor_faces);
+  }
   if (r.hit_insertion_cap) {
     std::printf("stopped at the insertion cap: %d triangles still below the bounds\n",
                 r.bad_faces_left);

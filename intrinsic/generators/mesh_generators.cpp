@@ -1,9 +1,12 @@
 #include "intrinsic/generators/mesh_generators.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <numeric>
+#include <string>
 #include <utility>
 
 #include "intrinsic/core/errors.h"
@@ -182,6 +185,163 @@ TriangleMesh tetrahedron() {
   const double s = 1.0 / std::sqrt(3.0);
   mesh.positions << s, s, s, s, -s, -s, -s, s, -s, -s, -s, s;
   mesh.faces = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+  return mesh;
+}
+
+}  // namespace ifem::intrinsic
+
+namespace ifem::intrinsic {
+namespace {
+
+// SplitMix64 (Steele, Lea & Flood 2014): a small deterministic generator, the same stream on
+// every platform (std distributions are not).
+class SplitMix {
+ public:
+  explicit SplitMix(unsigned long seed) : s_(0x9E3779B97F4A7C15ULL * (seed + 1)) {}
+  std::uint64_t next() {
+    std::uint64_t z = (s_ += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return double(next() >> 11) * 0x1.0p-53; }  // [0, 1)
+  int below(int n) { return static_cast<int>(uniform() * n); }   // [0, n)
+
+ private:
+  std::uint64_t s_;
+};
+
+struct ScanDisc {
+  double cx, cy, r, dz;
+  bool rim;  // keep the cells across its rim (needles) instead of cutting them out
+};
+
+// Cell states of range_scan()
+constexpr char kCellKept = 0, kCellDropped = 1, kCellHalf = 2, kCellIsland = 3;
+
+// Per cell: kept, dropped (dropout, cut rims, the moats around islands) or half.
+std::vector<char> scan_cells(const RangeScanOptions& o, const std::vector<int>& label,
+                             const std::vector<ScanDisc>& discs, SplitMix& rng) {
+  const int nx = o.nx, ny = o.ny;
+  auto sample = [&](int i, int j) { return j * (nx + 1) + i; };
+  std::vector<char> cell(static_cast<std::size_t>(nx) * ny, kCellKept);
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const int l[4] = {label[sample(i, j)], label[sample(i + 1, j)], label[sample(i + 1, j + 1)],
+                        label[sample(i, j + 1)]};
+      bool mixed = false, cut = false;
+      for (int k = 0; k < 4; ++k) {
+        if (l[k] != l[0]) mixed = true;
+        if (l[k] >= 0 && !discs[l[k]].rim) cut = true;
+      }
+      char& c = cell[j * nx + i];
+      if (mixed && cut) c = kCellDropped;
+      const double u = rng.uniform();
+      if (u < o.dropout)
+        c = kCellDropped;
+      else if (u < o.dropout + o.half_cells && c == kCellKept)
+        c = kCellHalf;
+    }
+  }
+  // islands: a patch of 1×1 or 2×1 cells with a moat of dropped cells around it
+  for (int k = 0; k < o.islands; ++k) {
+    const int w = 1 + rng.below(2);
+    const int i0 = 1 + rng.below(nx - w - 2), j0 = 1 + rng.below(ny - 3);
+    for (int j = j0 - 1; j <= j0 + 1; ++j) {
+      for (int i = i0 - 1; i <= i0 + w; ++i) {
+        char& c = cell[j * nx + i];
+        if (c == kCellIsland) continue;  // another island's patch stays
+        c = (j == j0 && i >= i0 && i < i0 + w) ? kCellIsland : kCellDropped;
+      }
+    }
+  }
+  return cell;
+}
+
+}  // namespace
+
+void RangeScanOptions::validate() const {
+  auto bad = [](const std::string& what) { throw InvalidInput("range_scan: " + what); };
+  if (nx < 4 || ny < 4) bad("nx and ny must be ≥ 4");
+  if (objects < 0 || islands < 0) bad("objects and islands must be ≥ 0");
+  if (!(depth_jump > 0.0) || !std::isfinite(depth_jump)) bad("depth_jump must be finite and > 0");
+  if (!(rim_fraction >= 0.0 && rim_fraction <= 1.0)) bad("rim_fraction must be in [0, 1]");
+  if (!(dropout >= 0.0 && dropout < 1.0)) bad("dropout must be in [0, 1)");
+  if (!(half_cells >= 0.0 && half_cells < 1.0)) bad("half_cells must be in [0, 1)");
+  if (!(jitter >= 0.0 && jitter <= 0.45)) bad("jitter must be in [0, 0.45]");
+  if (!(depth_noise >= 0.0) || !std::isfinite(depth_noise)) bad("depth_noise must be ≥ 0");
+}
+
+TriangleMesh range_scan(const RangeScanOptions& o) {
+  o.validate();
+  SplitMix rng(o.seed);
+  const int nx = o.nx, ny = o.ny;
+  const double hx = 1.0 / nx, hy = 1.0 / ny;
+  std::vector<ScanDisc> discs(o.objects);
+  for (ScanDisc& d : discs) {
+    d.cx = rng.uniform();
+    d.cy = rng.uniform();
+    d.r = std::max(1.5 * hx, 0.015 + 0.05 * rng.uniform());
+    d.dz = (rng.uniform() < 0.7 ? 1.0 : -1.0) * o.depth_jump * (0.5 + rng.uniform());
+    d.rim = rng.uniform() < o.rim_fraction;
+  }
+  const int ns = (nx + 1) * (ny + 1);
+  Positions x(ns, 3);
+  std::vector<int> label(ns, -1);  // the topmost disc a sample sees, −1: background
+  for (int j = 0; j <= ny; ++j) {
+    for (int i = 0; i <= nx; ++i) {
+      const bool inner_x = i > 0 && i<nx, inner_y = j> 0 && j < ny;
+      const double px = (i + (inner_x ? o.jitter * (2.0 * rng.uniform() - 1.0) : 0.0)) * hx;
+      const double py = (j + (inner_y ? o.jitter * (2.0 * rng.uniform() - 1.0) : 0.0)) * hy;
+      const int s = j * (nx + 1) + i;
+      double z = 0.05 * std::sin(7.0 * px) * std::cos(5.0 * py);
+      for (int k = 0; k < o.objects; ++k) {
+        const ScanDisc& d = discs[k];
+        if ((px - d.cx) * (px - d.cx) + (py - d.cy) * (py - d.cy) < d.r * d.r) label[s] = k;
+      }
+      if (label[s] >= 0) z += discs[label[s]].dz;
+      z += o.depth_noise * (2.0 * rng.uniform() - 1.0);
+      x.row(s) = Eigen::RowVector3d(px, py, z);
+    }
+  }
+  const std::vector<char> cell = scan_cells(o, label, discs, rng);
+  std::vector<Triangle> faces;
+  faces.reserve(2 * cell.size());
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const char c = cell[j * nx + i];
+      if (c == kCellDropped) continue;
+      const Index a = j * (nx + 1) + i, b = a + 1, d = a + nx + 1, e = d + 1;  // e = (i+1, j+1)
+      Triangle t[2];
+      if ((i + j) % 2 == 0) {
+        t[0] = {a, b, e};
+        t[1] = {a, e, d};
+      } else {
+        t[0] = {a, b, d};
+        t[1] = {b, e, d};
+      }
+      faces.push_back(t[0]);
+      if (c != kCellHalf) faces.push_back(t[1]);
+    }
+  }
+  // keep the samples the faces use, in order
+  std::vector<Index> id(ns, kInvalidIndex);
+  for (const Triangle& t : faces) {
+    for (const Index v : t) id[v] = 0;
+  }
+  TriangleMesh mesh;
+  Index n = 0;
+  for (int s = 0; s < ns; ++s) {
+    if (id[s] == 0) id[s] = n++;
+  }
+  mesh.positions.resize(n, 3);
+  for (int s = 0; s < ns; ++s) {
+    if (id[s] != kInvalidIndex) mesh.positions.row(id[s]) = x.row(s);
+  }
+  for (Triangle& t : faces) {
+    for (Index& v : t) v = id[v];
+  }
+  mesh.faces = std::move(faces);
   return mesh;
 }
 

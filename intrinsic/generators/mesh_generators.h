@@ -36,4 +36,33 @@ TriangleMesh torus_knot_tube(int n_along, int n_around, double radius = 0.1, int
 /// Regular tetrahedron inscribed in the unit sphere.
 TriangleMesh tetrahedron();
 
+/// What range_scan() puts into the scan.
+struct RangeScanOptions {
+  int nx = 100, ny = 100;   ///< sample grid cells (nx+1)×(ny+1) samples over [0,1]², each ≥ 4
+  unsigned long seed = 1;   ///< every random choice below
+  int objects = 40;         ///< discs standing out of (or sunk into) the background, ≥ 0
+  double depth_jump = 0.5;  ///< depth step at a disc's rim (absolute, > 0; the grid step is 1/nx)
+  /// Fraction of the discs whose rim is kept as a band of needle triangles spanning the depth
+  /// jump (the others are cut out: separate components), in [0, 1].
+  double rim_fraction = 0.3;
+  int islands = 12;             ///< tiny components of one or two cells cut out of the grid, ≥ 0
+  double dropout = 0.01;        ///< probability that a cell is missing (holes), in [0, 1)
+  double half_cells = 0.01;     ///< probability that a cell keeps one triangle only, in [0, 1)
+  double jitter = 0.25;         ///< sample displacement in the view plane, cells, in [0, 0.45]
+  double depth_noise = 0.0005;  ///< random depth added per sample (absolute), ≥ 0
+  /// @throws InvalidInput naming the field outside its range
+  void validate() const;
+};
+
+/// A synthetic single-view range scan: a height field z(x, y) over a jittered grid seen along
+/// z, a wavy background with disc-shaped objects at other depths. Cells across a disc's rim
+/// are cut out (so that disc is its own component) or kept as needle triangles spanning the
+/// depth jump (long and thin: rim_fraction of the discs); missing cells make holes and
+/// vertices where two fans touch (nonmanifold vertices); islands are tiny components of a few
+/// triangles. The faces are edge-manifold and oriented (normals towards +z), every face has
+/// positive area, samples no face uses are dropped. Deterministic in the options (own random
+/// generator, no std distributions). At most 2·nx·ny faces.
+/// @throws InvalidInput on bad options (RangeScanOptions::validate())
+TriangleMesh range_scan(const RangeScanOptions& options);
+
 }  // namespace ifem::intrinsic

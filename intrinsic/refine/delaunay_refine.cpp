@@ -4,12 +4,15 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "intrinsic/core/geometry.h"
@@ -168,17 +171,22 @@ class Cones {
       bool fan_boundary = false;
       const double theta = fan_angle(bar, h, 2.0 * bound_, &fan_boundary);
       state_[tri.tail(h)] |= unfixable(theta, fan_boundary) ? kSomeUnfixable : kSomeFixable;
+      corners_.clear();
       Index x = h;  // mark the fan's corners (from h both ways)
       for (Index k = 0; k < nh && x != kInvalidIndex && !seen[x]; ++k) {
         seen[x] = 1;
+        corners_.push_back(x);
         x = bar.across(T::prev(x));
       }
       x = bar.across(h);
       for (Index k = 0; k < nh && x != kInvalidIndex && !seen[T::next(x)]; ++k) {
         seen[T::next(x)] = 1;
+        corners_.push_back(T::next(x));
         x = bar.across(T::next(x));
       }
+      if (fan_boundary && unfixable(theta, true)) add_needle_sides(bar);
     }
+    std::sort(needle_sides_.begin(), needle_sides_.end());
   }
   /// Whether the corner at tail(h) lies in a fan no insertion can fix.
   bool unfixable(const IntrinsicTriangulation& tri, Index h) const {
@@ -190,6 +198,12 @@ class Cones {
     const double theta = fan_angle(Barriers{tri, flags_}, h, 2.0 * bound_, &fan_boundary);
     return unfixable(theta, fan_boundary);
   }
+  /// Whether the edge from original vertex `apex` to original vertex `end` is a side of a
+  /// needle at apex: a fan between two barrier sides (boundary or constrained) whose angle is
+  /// below the bound.
+  bool is_needle_side(Index apex, Index end) const {
+    return std::binary_search(needle_sides_.begin(), needle_sides_.end(), std::pair{apex, end});
+  }
   /// A vertex with a side without twin (or a constrained edge) starting or ending at it.
   bool is_boundary(Index v) const { return boundary_[v] != 0; }
   /// Records inserted vertex v (flat: never a needle).
@@ -200,6 +214,14 @@ class Cones {
 
  private:
   static constexpr char kSomeUnfixable = 1, kSomeFixable = 2, kCached = 4;
+  // records the barrier sides of the fan whose corners are corners_ (a needle)
+  void add_needle_sides(const Barriers& bar) {
+    for (const Index x : corners_) {
+      const Index v = bar.tri.tail(x);
+      if (bar(x)) needle_sides_.push_back({v, bar.tri.head(x)});
+      if (bar(T::prev(x))) needle_sides_.push_back({v, bar.tri.tail(T::prev(x))});
+    }
+  }
   bool unfixable(double theta, bool boundary) const {
     return boundary ? theta < bound_ : theta < 2.0 * bound_;
   }
@@ -207,6 +229,8 @@ class Cones {
   const std::vector<char>* flags_;
   std::vector<char> state_;     // per input vertex: kCached, and which kinds of fans it has
   std::vector<char> boundary_;  // per vertex
+  std::vector<std::pair<Index, Index>> needle_sides_;  // (apex, other end), sorted
+  std::vector<Index> corners_;                         // scratch: one fan's corners
 };
 
 }  // namespace
@@ -296,6 +320,15 @@ double memory_budget(const RefineOptions& options) {
   return options.max_memory_bytes > 0.0 ? options.max_memory_bytes : default_memory_budget();
 }
 
+// A face with a fixable small corner whose shortest side is below this fraction of its local
+// scale (Refiner::init_scale(): the shortest edge at its vertices before refinement) is left
+// alone. Refinement that terminates never gets near it (Ruppert's and Chew's bounds keep edges
+// above a constant fraction of the local feature size); insertions that cascade towards a point
+// (a minimum angle above what Chew's algorithm guarantees, about 26.5°, near a boundary corner)
+// halve the lengths every few insertions and would underflow after some 400 rounds: 2^-20
+// stops them after 20 (docs/decisions.md D-121).
+constexpr double kScaleFloor = 0x1.0p-20;
+
 // Constrained edges shorter than this fraction of the mean edge length are not split (see
 // split_boundary()).
 constexpr double kConstrainedFloor = 1.0 / 1024.0;
@@ -347,6 +380,8 @@ class Refiner {
     double before = kPi;
     for (Index f = 0; f < tri_.n_faces(); ++f) before = std::min(before, min_corner_angle(tri_, f));
     rep_.min_angle_before = before / kDeg;
+    for (Index f = 0; f < tri_.n_faces(); ++f) check_face(f, "", true);
+    init_scale();
     cones_.emplace(tri_, bound_, flags_);
     BadFaceQueue queue(tri_.n_faces());
     for (Index f = 0; f < tri_.n_faces(); ++f) {
@@ -360,16 +395,14 @@ class Refiner {
         rep_.hit_insertion_cap = true;
         break;
       }
-      const Index splits_before = rep_.constrained_splits;
       const Index v = insert_for(f, verdict);
       if (v == kInvalidIndex) continue;
       ++rep_.insertions;
       restore_delaunay_around(v, queue);
-      // a split of a curve edge instead of f's point may leave f as it was: keep it queued
-      if (rep_.constrained_splits != splits_before) {
-        const Verdict again = classify(f);
-        if (again.kind == 1) queue.push(f, again.bucket);
-      }
+      // a split of a boundary or curve edge instead of f's point may leave f as it was, away
+      // from the flips: keep it queued
+      const Verdict again = classify(f);
+      if (again.kind == 1) queue.push(f, again.bucket);
     }
     if (flags_ && options_.conform) conform();
     measure_result();
@@ -379,8 +412,8 @@ class Refiner {
  private:
   static constexpr double kDeg = kPi / 180.0;
 
-  // kind 0 = good, 1 = bad, 2 = needle (every small corner unfixable); a bad face's queue
-  // bucket.
+  // kind 0 = good, 1 = bad, 2 = needle (every small corner unfixable), 3 = bad but below the
+  // scale floor (left alone); a bad face's queue bucket.
   struct Verdict {
     int kind = 0;
     int bucket = 0;
@@ -419,7 +452,11 @@ class Refiner {
       }
     }
     v.kind = 1;
-    if (worst <= 1.0) {
+    if (worst <= 1.0 && !in_needle_shadow(l, f)) {
+      if (std::min({l[0], l[1], l[2]}) < kScaleFloor * face_scale(f)) {
+        v.kind = 3;
+        return v;
+      }
       v.bucket = angle_bucket(worst);
       return v;
     }
@@ -449,6 +486,73 @@ class Refiner {
     return v;
   }
 
+  // Whether face f (side lengths l) lies in the shadow of a needle (a boundary or constrained
+  // fan whose angle is below the bound): its shortest side joins two vertices of that needle
+  // (its apex, or vertices inserted on its two sides). Its small corners are then forced by the
+  // needle: inside a wedge of angle α, a triangle with corners on both sides has a corner of at
+  // most about α unless its sides are as short as the wedge is wide there, so fixing it makes a
+  // smaller one nearer the apex, round after round (Ruppert's small-input-angle case), until
+  // the lengths underflow. Such faces are left alone, like the needle's own corner.
+  bool in_needle_shadow(const double l[3], Index f) const {
+    if (chain_.empty()) return false;  // no barrier split yet: no vertex on a needle's side
+    int k = 0;
+    for (int j = 1; j < 3; ++j) {
+      if (l[j] < l[k]) k = j;
+    }
+    const Index u = tri_.tail(3 * f + k), w = tri_.tail(3 * f + (k + 1) % 3);
+    const std::array<Index, 2> cu = chain(u), cw = chain(w);
+    // u (or w) is the apex itself, or lies on a side of the needle there
+    auto on_needle = [this](Index apex, Index x, const std::array<Index, 2>& c) {
+      if (x == apex) return true;
+      if (c[0] != apex && c[1] != apex) return false;
+      return cones_->is_needle_side(apex, c[0] == apex ? c[1] : c[0]);
+    };
+    for (const Index apex : cu) {
+      if (apex == kInvalidIndex || !on_needle(apex, u, cu) || !on_needle(apex, w, cw)) continue;
+      if (cu != cw || u == apex || w == apex) return true;  // across the needle, or at its apex
+    }
+    return false;
+  }
+
+  // The local scale: for a vertex there before refinement, its shortest edge in the initial
+  // Delaunay triangulation; an inserted vertex takes the smallest scale of the bad face it was
+  // inserted for (so a cascade keeps the scale where it started).
+  void init_scale() {
+    scale_.assign(static_cast<std::size_t>(tri_.n_vertices()),
+                  std::numeric_limits<double>::infinity());
+    for (Index e = 0; e < tri_.n_edges(); ++e) {
+      const Index h = tri_.edge_halfedge(e);
+      for (const Index x : {tri_.tail(h), tri_.head(h)}) {
+        scale_[x] = std::min(scale_[x], tri_.length(e));
+      }
+    }
+  }
+  double face_scale(Index f) const {
+    return std::min(
+        {scale_[tri_.tail(3 * f)], scale_[tri_.tail(3 * f + 1)], scale_[tri_.tail(3 * f + 2)]});
+  }
+
+  // The original vertices at the ends of the barrier side vertex v lies on: {v, v} for a vertex
+  // there before refinement, the side's ends for a vertex inserted on a barrier (boundary or
+  // constrained) edge, none (kInvalidIndex) for other inserted vertices.
+  std::array<Index, 2> chain(Index v) const {
+    if (v < rep_.vertices_before) return {v, v};
+    const std::size_t i = static_cast<std::size_t>(v - rep_.vertices_before);
+    return i < chain_.size() ? chain_[i] : std::array<Index, 2>{kInvalidIndex, kInvalidIndex};
+  }
+
+  // Records the chain (see chain()) of vertex m inserted on barrier edge (x, y).
+  void record_chain(Index m, Index x, Index y) {
+    std::array<Index, 2> c = {x, y};
+    if (x >= rep_.vertices_before && chain(x)[0] != kInvalidIndex)
+      c = chain(x);
+    else if (y >= rep_.vertices_before && chain(y)[0] != kInvalidIndex)
+      c = chain(y);
+    const std::size_t i = static_cast<std::size_t>(m - rep_.vertices_before);
+    if (chain_.size() <= i) chain_.resize(i + 1, {kInvalidIndex, kInvalidIndex});
+    chain_[i] = c;
+  }
+
   // The point to insert for bad face f in its layout p: the circumcenter, or the off-center
   // for an angle-bad face when asked.
   Eigen::Vector2d target_point(const Eigen::Vector2d p[3], const Verdict& verdict) const {
@@ -474,6 +578,7 @@ class Refiner {
   // (in a face, on a side, or at a boundary edge it splits). Returns the new vertex, or
   // kInvalidIndex when the trace or the insertion failed (counted in failed_traces).
   Index insert_for(Index f, const Verdict& verdict) {
+    const double scale = face_scale(f);
     Eigen::Vector2d p[3];
     face_layout(tri_, f, p);
     const Eigen::Vector2d target = target_point(p, verdict);
@@ -498,11 +603,42 @@ class Refiner {
         return kInvalidIndex;
       }
       cones_->add_vertex(v, on_boundary);
+      scale_.resize(static_cast<std::size_t>(v) + 1, scale);
+      scale_[v] = scale;
       return v;
     } catch (const TraceError&) {  // the trace, or locating the new vertex (signposts)
       ++rep_.failed_traces;
       return kInvalidIndex;
     }
+  }
+
+  // A barrier side whose diametral circle holds point x (in face g's layout p): of g, or of a
+  // face glued to a side of g (x carried into its layout across that side); kInvalidIndex if
+  // none.
+  Index encroached_side(Index g, const Eigen::Vector2d p[3], const Eigen::Vector2d& x) const {
+    for (int s = 0; s < 3; ++s) {
+      if (bar_(3 * g + s) && (p[s] - x).dot(p[(s + 1) % 3] - x) < 0.0) return 3 * g + s;
+    }
+    for (int s = 0; s < 3; ++s) {
+      const Index t = bar_.across(3 * g + s);
+      if (t == kInvalidIndex || T::face(t) == g) continue;
+      // x relative to side s (from p[s] to p[s+1]): along and across it
+      const Eigen::Vector2d e = p[(s + 1) % 3] - p[s];
+      const double len2 = e.squaredNorm();
+      if (!(len2 > 0.0)) continue;
+      const double along = (x - p[s]).dot(e) / len2, across = cross2(e, x - p[s]) / len2;
+      Eigen::Vector2d q[3];
+      face_layout(tri_, T::face(t), q);
+      const int st = T::side(t);  // t runs from p[s+1] to p[s]: the other face's side st
+      const Eigen::Vector2d a = q[(st + 1) % 3], b = q[st];  // images of p[s], p[s+1]
+      const Eigen::Vector2d f = b - a;
+      const Eigen::Vector2d y = a + along * f + across * Eigen::Vector2d(-f.y(), f.x());
+      for (int k = 0; k < 3; ++k) {
+        const Index h = 3 * T::face(t) + k;
+        if (h != t && bar_(h) && (q[k] - y).dot(q[(k + 1) % 3] - y) < 0.0) return h;
+      }
+    }
+    return kInvalidIndex;
   }
 
   // Inserts at the end of trace r: splits the boundary edge it hit, a boundary side whose
@@ -517,15 +653,11 @@ class Refiner {
       if (bary[j] < bary[k]) k = j;
     }
     // Chew: a circumcenter inside the diametral circle of a boundary side of the face it
-    // lands in splits that side at its midpoint instead
-    Index encroached = kInvalidIndex;
+    // lands in, or of a face glued to it, splits that side at its midpoint instead
     Eigen::Vector2d p[3];
     face_layout(tri_, g, p);
     const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
-    for (int s = 0; s < 3; ++s) {
-      if (!bar_(3 * g + s)) continue;
-      if ((p[s] - x).dot(p[(s + 1) % 3] - x) < 0.0) encroached = 3 * g + s;
-    }
+    const Index encroached = encroached_side(g, p, x);
     if (encroached != kInvalidIndex) return split_boundary(tri_.edge(encroached), on_boundary);
     if (bary[k] < 1e-9) {
       // on (or within rounding of) a side: split that edge
@@ -549,9 +681,13 @@ class Refiner {
   // edges, and the half of a constrained edge beyond the new vertex is constrained too.
   Index split(Index e, double t) {
     const bool constrained = bar_.constrained(e);
+    const Index h = tri_.edge_halfedge(e);
+    const bool barrier = bar_(h);
+    const Index x = tri_.tail(h), y = tri_.head(h);
     const Index new_edge = tri_.n_edges();  // split_edge's first new edge: new vertex → old head
     const Index v = host_.split_edge(e, t);
     grow_flags();
+    if (barrier) record_chain(v, x, y);
     if (constrained) {
       (*flags_)[new_edge] = 1;
       if (cons_->on_split) cons_->on_split(e, new_edge, v, t);
@@ -653,8 +789,10 @@ class Refiner {
   }
 
   // Throws Error naming face f and `when` unless f's side lengths are finite and positive and
-  // its area is: the Laplacian and mass matrix of the result must be finite.
-  void check_face(Index f, const std::string& when) const {
+  // its area is: the Laplacian and mass matrix of the result must be finite. `input`: f is a
+  // face of the input's intrinsic Delaunay triangulation (before any insertion), else one that
+  // refinement made.
+  void check_face(Index f, const std::string& when, bool input = false) const {
     const double a = tri_.halfedge_length(3 * f), b = tri_.halfedge_length(3 * f + 1),
                  c = tri_.halfedge_length(3 * f + 2);
     const double area = face_area(tri_, f);
@@ -663,10 +801,19 @@ class Refiner {
       return;
     }
     std::ostringstream m;
-    m << "delaunay_refine: " << when << " (insertion " << rep_.insertions << "), face " << f
-      << " has side lengths " << a << ", " << b << ", " << c << " and area " << area
-      << ": its cotan weights and mass would not be finite. The input is degenerate there "
-      << "(coincident vertices, zero-area faces); repair it or raise the mollification";
+    m << std::setprecision(6) << "delaunay_refine: ";
+    if (input) {
+      m << "face " << f << " of the input's intrinsic Delaunay triangulation has side lengths " << a
+        << ", " << b << ", " << c << " and area " << area
+        << ": its cotan weights and mass would not be finite. The input is degenerate there "
+        << "(coincident vertices, zero-area faces); repair it or raise the mollification";
+    } else {
+      m << when << " (insertion " << rep_.insertions << "), face " << f << " has side lengths " << a
+        << ", " << b << ", " << c << " and area " << area
+        << ": refinement made a degenerate triangle (the input's faces were valid). This is a "
+        << "defect of the refinement, not of the input; please report it with the input. "
+        << "A smaller minimum angle avoids it";
+    }
     throw Error(m.str());
   }
 
@@ -684,7 +831,8 @@ class Refiner {
         ++rep_.needle_faces;
       } else {
         after_ok = std::min(after_ok, a);
-        if (c == 1) ++rep_.bad_faces_left;
+        if (c == 1 || c == 3) ++rep_.bad_faces_left;
+        if (c == 3) ++rep_.scale_floor_faces;
       }
     }
     rep_.min_angle_after = after / kDeg;
@@ -703,6 +851,9 @@ class Refiner {
   double mean_length_ = 0.0;        // mean edge length after the first Delaunay flips
   RefineReport rep_;
   std::optional<Cones> cones_;  // made after the first Delaunay flips
+  // per inserted vertex (v − vertices_before), for those on a barrier side: chain()
+  std::vector<std::array<Index, 2>> chain_;
+  std::vector<double> scale_;  // per vertex: the local scale (init_scale())
   std::vector<Index> touched_, flip_queue_;
 };
 

@@ -131,8 +131,18 @@ struct RefineReport {
   bool hit_insertion_cap = false;  ///< stopped by max_insertions
   Index needle_faces = 0;          ///< triangles left alone: each small angle sits in a vertex
                                    ///< fan (cone) whose total angle is below the bound (2×
-                                   ///< bound inside); per fan at a pinched vertex
+                                   ///< bound inside; per fan at a pinched vertex), or the
+                                   ///< triangle lies in the shadow of a needle: its shortest
+                                   ///< side joins the two sides of a boundary (or constrained)
+                                   ///< fan below the bound, where fixing it would only make a
+                                   ///< smaller one nearer the apex (docs/decisions.md D-120)
   Index bad_faces_left = 0;        ///< other triangles still below the bounds at the end
+                                   ///< (scale_floor_faces included)
+  Index scale_floor_faces = 0;     ///< bad triangles left alone because their shortest side is
+                                   ///< below 2^-20 of the local scale (the shortest input edge
+                                   ///< at their vertices): insertions there were cascading
+                                   ///< towards a point (min_angle_degrees above ≈ 26.5°, where
+                                   ///< Chew's algorithm has no termination guarantee)
   double min_angle_before = 0.0;   ///< smallest corner angle, degrees, of the input's intrinsic
                                    ///< Delaunay triangulation (before any insertion)
   double min_angle_after = 0.0;    ///< smallest corner angle at the end, degrees (all faces)

@@ -256,7 +256,9 @@ def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=Non
           ``relax`` may split more (``n_vertices`` counts all);
         - ``flips``, ``failed_traces``;
         - ``hit_insertion_cap`` (stopped by ``max_insertions`` or the memory budget, with
-          ``bad_faces_left`` triangles still below the bounds), ``needle_faces`` (left alone);
+          ``bad_faces_left`` triangles still below the bounds), ``needle_faces`` (left alone),
+          ``scale_floor_faces`` (bad triangles left where insertions were cascading, counted in
+          ``bad_faces_left``; only above about 26.5°);
         - smallest corner angles in degrees: ``min_angle_input`` (the input triangles),
           ``min_angle_before`` (their intrinsic Delaunay triangulation), ``min_angle_after``
           and ``min_angle_after_excluding_needles`` (the result);

@@ -137,6 +137,7 @@ py::dict report_dict(const solvers::PreparedSurface& s, double min_angle_input, 
   d["hit_insertion_cap"] = r.hit_insertion_cap;
   d["needle_faces"] = r.needle_faces;
   d["bad_faces_left"] = r.bad_faces_left;
+  d["scale_floor_faces"] = r.scale_floor_faces;
   d["min_angle_input"] = min_angle_input;
   d["min_angle_before"] = r.min_angle_before;
   d["min_angle_after"] = r.min_angle_after;

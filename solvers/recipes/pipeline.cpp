@@ -352,6 +352,10 @@ std::string describe(const intrinsic::RefineReport& r) {
       << r.min_relative_barrier_weight << " relative)";
   }
   if (r.conforming_hit_cap) m << "; conforming splits STOPPED at their cap";
+  if (r.scale_floor_faces) {
+    m << ", " << r.scale_floor_faces << " bad triangles left at the scale floor (insertions there "
+      << "were cascading: a minimum angle above about 26.5° has no termination guarantee)";
+  }
   if (r.hit_insertion_cap) {
     m << "; STOPPED at the insertion cap, " << r.bad_faces_left << " triangles still bad";
   }
