@@ -148,7 +148,17 @@ void print_curves(const recipes::GeodesicCurves& run, const std::vector<GivenCur
   std::printf(", %.3g s\n", run.seconds_flipout);
 }
 
+// --start as the library's enum. @throws UsageError
+intrinsic::StartPath start_path(const Args& args) {
+  const std::string s = args.has("start") ? args.get("start") : "best";
+  if (s == "best") return intrinsic::StartPath::kBest;
+  if (s == "guided") return intrinsic::StartPath::kGuided;
+  if (s == "dijkstra") return intrinsic::StartPath::kDijkstra;
+  throw UsageError("--start '" + s + "': expected 'best', 'guided' or 'dijkstra'");
+}
+
 void check_modes(const Args& args) {
+  (void)start_path(args);  // a bad --start is refused before the mesh is read
   const int modes = args.has("path") + args.has("network") + args.has("all-from");
   if (modes != 1) {
     throw UsageError("give exactly one of --path, --network, --all-from (see --help)");
@@ -167,15 +177,6 @@ void check_modes(const Args& args) {
     throw UsageError("--output '" + args.get("output") +
                      "': --all-from writes one length per vertex, to a .ply or .txt");
   }
-}
-
-// --start as the library's enum. @throws UsageError
-intrinsic::StartPath start_path(const Args& args) {
-  const std::string s = args.has("start") ? args.get("start") : "best";
-  if (s == "best") return intrinsic::StartPath::kBest;
-  if (s == "guided") return intrinsic::StartPath::kGuided;
-  if (s == "dijkstra") return intrinsic::StartPath::kDijkstra;
-  throw UsageError("--start '" + s + "': expected 'best', 'guided' or 'dijkstra'");
 }
 
 recipes::GeodesicOptions geodesic_options_of(const Args& args) {

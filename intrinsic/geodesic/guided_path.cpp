@@ -363,8 +363,8 @@ EdgePath reversed_path(const EdgePath& p) {
 
 FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const Eigen::VectorXd* guide_to_b,
-                                const Eigen::VectorXd* guide_to_a,
-                                const ShortestGeodesicOptions& o, EdgePath* path) {
+                                const Eigen::VectorXd* guide_to_a, const ShortestGeodesicOptions& o,
+                                EdgePath* path) {
   o.validate();
   const T& tri = st.intrinsic();
   std::vector<EdgePath> starts{shortest_edge_path(tri, a, b)};  // validates a and b
@@ -375,7 +375,8 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
   if (o.start == StartPath::kGuided) starts.clear();
   for (const StripSide side : {StripSide::kShorter, StripSide::kLeft, StripSide::kRight}) {
     if (guide_to_b) starts.push_back(descent_edge_path(tri, a, b, *guide_to_b, side));
-    if (guide_to_a) starts.push_back(reversed_path(descent_edge_path(tri, b, a, *guide_to_a, side)));
+    if (guide_to_a)
+      starts.push_back(reversed_path(descent_edge_path(tri, b, a, *guide_to_a, side)));
   }
   std::unique_ptr<SignpostTriangulation> best;
   FlipOutReport best_report;

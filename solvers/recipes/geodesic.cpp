@@ -89,8 +89,9 @@ void trace_curves(const SignpostTriangulation& st, const std::vector<EdgePath>& 
 // two points by intrinsic::shortest_geodesic, other curves together from Dijkstra edge paths.
 intrinsic::FlipOutReport shorten_curves(SignpostTriangulation& st, const io::SurfaceInput& input,
                                         const std::vector<intrinsic::CurveThrough>& through,
-                                        const GeodesicOptions& options, std::vector<EdgePath>* paths,
-                                        std::vector<double>* initial, double* seconds_guide) {
+                                        const GeodesicOptions& options,
+                                        std::vector<EdgePath>* paths, std::vector<double>* initial,
+                                        double* seconds_guide) {
   const intrinsic::CurveThrough& c = through[0];
   intrinsic::FlipOutReport report;
   if (options.start != intrinsic::StartPath::kDijkstra && through.size() == 1 && !c.closed &&
@@ -103,7 +104,7 @@ intrinsic::FlipOutReport shorten_curves(SignpostTriangulation& st, const io::Sur
     paths->assign(1, EdgePath{});
     try {
       report = intrinsic::shortest_geodesic(st, c.vertices[0], c.vertices[1], &to_b, &to_a, o,
-                                           &(*paths)[0]);
+                                            &(*paths)[0]);
     } catch (const InvalidInput& e) {
       throw InvalidInput(c.name + ": " + e.what());
     }
@@ -250,8 +251,7 @@ GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCu
       through.push_back({ids[c], curves[c].closed, curves[c].pin, curves[c].origin});
     }
     std::vector<double> initial;
-    run.report =
-        shorten_curves(st, input, through, options, &paths, &initial, &run.seconds_guide);
+    run.report = shorten_curves(st, input, through, options, &paths, &initial, &run.seconds_guide);
     for (std::size_t c = 0; c < curves.size(); ++c) run.curves[c].initial_length = initial[c];
   }
   trace_curves(st, paths, run);

@@ -19,8 +19,8 @@
 
 #include "helpers.h"
 #include "intrinsic/core/errors.h"
-#include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/geodesic/guided_path.h"
 #include "intrinsic/io/mesh_io.h"
 #include "solvers/recipes/geodesic.h"
