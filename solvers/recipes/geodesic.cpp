@@ -25,6 +25,11 @@ using intrinsic::SignpostTriangulation;
 
 constexpr int kMaxBezierRounds = 16;
 
+// Inputs up to this many vertices get the refined (accurate) guide; larger ones the heat method
+// on the input's intrinsic Delaunay triangulation (the refinement's ~9× vertices cost tens of
+// seconds there: docs/decisions.md D-124).
+constexpr Index kRefinedGuideMaxVertices = 20000;
+
 std::string range(Index n) { return "[0, " + std::to_string(n) + ")"; }
 
 // The signpost triangulation of the input: refused without faces (a point cloud), without
@@ -157,7 +162,9 @@ Eigen::MatrixXd StartGuide::to_each(const SignpostTriangulation& st,
 
 void StartGuide::build() {
   solvers::PrepareOptions o;
-  o.refine = solvers::accurate_distance_refinement();
+  if (input_.positions.rows() <= kRefinedGuideMaxVertices) {
+    o.refine = solvers::accurate_distance_refinement();
+  }
   try {
     surface_ = std::make_unique<solvers::PreparedSurface>(solvers::prepare_surface(input_, o));
   } catch (const Error&) {  // refinement refused: the guide needs no accuracy guarantee

@@ -91,8 +91,9 @@ struct SingleSourceResult {
 };
 
 /// The guide of FlipOut's guided start paths (intrinsic::descent_edge_path): the accurate heat
-/// distance (`ifem distance --refine`: refined to edges of about 0.4·h; unrefined when the
-/// refinement is refused) to a vertex, on every vertex of a signpost triangulation of the input.
+/// distance (`ifem distance --refine`: refined to edges of about 0.4·h) to a vertex, on every
+/// vertex of a signpost triangulation of the input; on inputs above 20,000 vertices, or when the
+/// refinement is refused, the heat method on the input's intrinsic Delaunay triangulation.
 /// The refinement and factorization happen at the first call; later calls cost a heat solve.
 class StartGuide {
  public:
