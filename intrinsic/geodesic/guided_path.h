@@ -15,12 +15,19 @@
 
 namespace ifem::intrinsic {
 
+/// Which side of the crossed face strips descent_edge_path() runs along.
+enum class StripSide {
+  kShorter,  ///< per strip (between two vertices the curve touches), the shorter side
+  kLeft,     ///< always the side on the curve's left (looking towards b)
+  kRight,
+};
+
 /// An edge path from a to b homotopic to the steepest-descent curve of `guide` from a: the curve
 /// follows −∇φ (φ linear on each face) across faces, and along an edge where the descent
 /// directions of its two faces meet (a valley) or where it runs into the boundary, it goes to
 /// that edge's lower end; from a vertex it leaves into the face whose corner holds −∇φ, or
 /// along the steepest descending edge. The path runs along the side of each crossed face strip
-/// (between two vertices the curve touches) that is shorter; once a face has b as a corner, it
+/// (between two vertices the curve touches) that `side` picks; once a face has b as a corner, it
 /// goes straight to b. Where the descent stalls (a vertex with no lower neighbour that is not b,
 /// a vertex reached twice, more than 4·#F + 100 face crossings), it is the Dijkstra edge path
 /// (shortest_edge_path) instead.
@@ -28,12 +35,6 @@ namespace ifem::intrinsic {
 ///        component
 /// @throws InvalidInput if a or b is out of range, a == b, guide has the wrong size, or b is not
 ///         reachable from a
-/// Which side of the crossed face strips descent_edge_path() runs along.
-enum class StripSide {
-  kShorter,  ///< per strip (between two vertices the curve touches), the shorter side
-  kLeft,     ///< always the side on the curve's left (looking towards b)
-  kRight,
-};
 EdgePath descent_edge_path(const IntrinsicTriangulation& tri, Index a, Index b,
                            const Eigen::VectorXd& guide, StripSide side = StripSide::kShorter);
 
@@ -70,7 +71,8 @@ struct ShortestGeodesicOptions {
 /// #starts × (copy of st + FlipOut + the side search's trials, each a copy and a FlipOut).
 /// @param guide_to_b nullptr, or #V of st.intrinsic(): ≈ the distance to b (descent_edge_path())
 /// @param guide_to_a nullptr, or the same for a (its descent from b, reversed, is a start too:
-///        each guide is least accurate near its own source, so the two disagree where one errs)
+///        the two descents differ, and where one ends in a longer class the other often does
+///        not; docs/decisions.md D-124)
 /// @throws InvalidInput as shortest_edge_path(), on bad options or a guide of the wrong size
 FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const Eigen::VectorXd* guide_to_b,
