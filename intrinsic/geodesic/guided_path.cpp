@@ -320,21 +320,24 @@ std::vector<EdgePath> other_sides(const T& tri, const EdgePath& path) {
 
 FlipOutReport shorten_over_sides(SignpostTriangulation& st, EdgePath& path,
                                  const FlipOutOptions& options, int rounds) {
+  const bool opened = !st.recording_flips();
   FlipOutReport rep = shorten(st, path, options);
   const double initial = rep.initial_length;
   for (int r = 0; r < rounds; ++r) {
     bool better = false;
     for (const EdgePath& start : other_sides(st.intrinsic(), path)) {
-      SignpostTriangulation trial = st;
+      const std::size_t mark = st.flip_journal_mark();
       EdgePath p = start;
-      const FlipOutReport t = shorten(trial, p, options);
+      const FlipOutReport t = shorten(st, p, options);
       if (t.final_length < rep.final_length * (1.0 - 1e-12)) {
-        st = std::move(trial), path = std::move(p), rep = t, better = true;
+        path = std::move(p), rep = t, better = true;
         break;
       }
+      st.undo_flips(mark);  // the trial's flips only: st is the one the geodesic lies on again
     }
     if (!better) break;
   }
+  if (opened && st.recording_flips()) st.end_flip_journal();
   rep.initial_length = initial;
   return rep;
 }
@@ -352,6 +355,21 @@ void ShortestGeodesicOptions::validate() const {
 }
 
 namespace {
+
+bool same_steps(const EdgePath& p, const EdgePath& q) {
+  return std::equal(p.steps.begin(), p.steps.end(), q.steps.begin(), q.steps.end(),
+                    [](const PathStep& x, const PathStep& y) {
+                      return x.edge == y.edge && x.forward == y.forward;
+                    });
+}
+
+// True when starts[i] repeats an earlier start (its FlipOut and side search would too).
+bool repeats_earlier(const std::vector<EdgePath>& starts, std::size_t i) {
+  for (std::size_t j = 0; j < i; ++j) {
+    if (same_steps(starts[j], starts[i])) return true;
+  }
+  return false;
+}
 
 EdgePath reversed_path(const EdgePath& p) {
   EdgePath r;
@@ -378,17 +396,22 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
     if (guide_to_a)
       starts.push_back(reversed_path(descent_edge_path(tri, b, a, *guide_to_a, side)));
   }
-  std::unique_ptr<SignpostTriangulation> best;
+  // every start on st itself: its flips are undone after it (the winner's are redone at the end)
+  const bool opened = !st.recording_flips();
+  const std::size_t mark = st.flip_journal_mark();
+  std::vector<Index> best_flips;
   FlipOutReport best_report;
-  for (const EdgePath& start : starts) {
-    auto trial = std::make_unique<SignpostTriangulation>(st);
-    EdgePath p = start;
-    const FlipOutReport r = shorten_over_sides(*trial, p, o.flipout, o.side_rounds);
-    if (!best || r.final_length < best_report.final_length) {
-      best = std::move(trial), best_report = r, *path = std::move(p);
+  for (std::size_t i = 0; i < starts.size(); ++i) {
+    if (repeats_earlier(starts, i)) continue;
+    EdgePath p = starts[i];
+    const FlipOutReport r = shorten_over_sides(st, p, o.flipout, o.side_rounds);
+    if (i == 0 || r.final_length < best_report.final_length) {
+      best_report = r, *path = std::move(p), best_flips = st.flips_since(mark);
     }
+    st.undo_flips(mark);
   }
-  st = std::move(*best);
+  if (opened) st.end_flip_journal();
+  for (const Index e : best_flips) st.flip_edge(e);
   return best_report;
 }
 

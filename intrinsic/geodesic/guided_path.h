@@ -46,8 +46,10 @@ const char* to_string(StartPath start);
 
 /// FlipOut on one open path without pinned joints, then a search over the neighbouring classes:
 /// from the geodesic found, a start path that passes a vertex next to it (a corner of a face along
-/// it, or one it runs through) on that vertex's other side, shortened on a copy of st and kept when
-/// shorter; repeated from each improvement, at most `rounds` times.
+/// it, or one it runs through) on that vertex's other side, shortened on st and kept when shorter,
+/// else its flips are undone (SignpostTriangulation::undo_flips()); repeated from each
+/// improvement, at most `rounds` times. A trial costs its FlipOut plus O(#V + #E) of
+/// bookkeeping; st ends holding the result's flips only.
 FlipOutReport shorten_over_sides(SignpostTriangulation& st, EdgePath& path,
                                  const FlipOutOptions& options = {}, int rounds = 8);
 
@@ -66,9 +68,12 @@ struct ShortestGeodesicOptions {
 };
 
 /// A geodesic from vertex a to vertex b that is the shortest one far more often than FlipOut from
-/// one start path: every start (see ShortestGeodesicOptions) is shortened on its own copy of st,
-/// and st becomes the copy holding the shortest result (*path lives on it). Costs about
-/// #starts × (copy of st + FlipOut + the side search's trials, each a copy and a FlipOut).
+/// one start path: every distinct start (see ShortestGeodesicOptions; a start equal to an
+/// earlier one is skipped) is shortened on st, its flips undone afterwards, and the shortest
+/// result's flips are redone at the end: st then holds exactly what shortening that start alone
+/// gives (*path lives on it). No copy of st. Costs about #starts (≤ 7) × (FlipOut + the side
+/// search's trials, each a FlipOut and O(#V + #E) of bookkeeping). A flip record the caller
+/// opened (SignpostTriangulation::flip_journal_mark()) stays open and holds the result's flips.
 /// @param guide_to_b nullptr, or #V of st.intrinsic(): ≈ the distance to b (descent_edge_path())
 /// @param guide_to_a nullptr, or the same for a (its descent from b, reversed, is a start too:
 ///        the two descents differ, and where one ends in a longer class the other often does
