@@ -225,6 +225,7 @@ int run(const Args& args) {
   if (run.seconds_guide > 0.0) {
     progress(args, "start guide (heat distance) in " + std::to_string(run.seconds_guide) + " s");
   }
+  if (!run.start_won.empty()) progress(args, "start path kept: " + run.start_won);
   print_curves(run, specs, args.has("network"),
                args.has("bezier") ? static_cast<int>(args.count("bezier")) : -1);
   write_curves(out.path, run.curves);
@@ -303,11 +304,15 @@ OptionGroup geodesic_options() {
            text("start", "S")
                .defaults_to("best")
                .explain("FlipOut's start paths. best: for a path between two points, the\n"
-                        "shortest edge path and three paths down the accurate heat distance\n"
-                        "to the end (`ifem distance --refine`), each shortened and then moved\n"
-                        "over the vertices beside it while that shortens it; the shortest\n"
-                        "geodesic wins (the globally shortest one far more often; costs a\n"
-                        "heat solve and many FlipOut runs). guided: the same without the\n"
+                        "shortest edge path and six paths down a heat distance (three to\n"
+                        "the end, three to the start reversed; the accurate distance of\n"
+                        "`ifem distance --refine` up to 20,000 vertices, the plain heat\n"
+                        "method above), each shortened and then moved over the vertices\n"
+                        "beside it while that shortens it; the shortest geodesic wins and\n"
+                        "a progress line names its start (the globally shortest one far\n"
+                        "more often). Cost: one heat solve of two sources plus at most 7\n"
+                        "such searches, each tried on the one triangulation and undone (no\n"
+                        "copies): the heat solve dominates. guided: the same without the\n"
                         "edge path. dijkstra: the shortest edge path, one FlipOut (fastest;\n"
                         "the result may go round a vertex the wrong way). Other curves\n"
                         "(several points, loops, networks, --bezier) always start from\n"

@@ -382,19 +382,28 @@ EdgePath reversed_path(const EdgePath& p) {
 FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const Eigen::VectorXd* guide_to_b,
                                 const Eigen::VectorXd* guide_to_a, const ShortestGeodesicOptions& o,
-                                EdgePath* path) {
+                                EdgePath* path, std::string* won) {
   o.validate();
   const T& tri = st.intrinsic();
   std::vector<EdgePath> starts{shortest_edge_path(tri, a, b)};  // validates a and b
+  std::vector<std::string> names{"dijkstra"};
   if (o.start == StartPath::kDijkstra || (guide_to_b == nullptr && guide_to_a == nullptr)) {
     *path = starts[0];
+    if (won != nullptr) *won = names[0];
     return shorten(st, *path, o.flipout);
   }
-  if (o.start == StartPath::kGuided) starts.clear();
-  for (const StripSide side : {StripSide::kShorter, StripSide::kLeft, StripSide::kRight}) {
-    if (guide_to_b) starts.push_back(descent_edge_path(tri, a, b, *guide_to_b, side));
-    if (guide_to_a)
+  if (o.start == StartPath::kGuided) starts.clear(), names.clear();
+  const char* side_names[3] = {"shorter", "left", "right"};
+  for (int k = 0; k < 3; ++k) {
+    const auto side = static_cast<StripSide>(k);
+    if (guide_to_b) {
+      starts.push_back(descent_edge_path(tri, a, b, *guide_to_b, side));
+      names.push_back(std::string("descent to b, ") + side_names[k] + " side");
+    }
+    if (guide_to_a) {
       starts.push_back(reversed_path(descent_edge_path(tri, b, a, *guide_to_a, side)));
+      names.push_back(std::string("descent to a, reversed, ") + side_names[k] + " side");
+    }
   }
   // every start on st itself: its flips are undone after it (the winner's are redone at the end)
   const bool opened = !st.recording_flips();
@@ -407,6 +416,7 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
     const FlipOutReport r = shorten_over_sides(st, p, o.flipout, o.side_rounds);
     if (i == 0 || r.final_length < best_report.final_length) {
       best_report = r, *path = std::move(p), best_flips = st.flips_since(mark);
+      if (won != nullptr) *won = names[i];
     }
     st.undo_flips(mark);
   }

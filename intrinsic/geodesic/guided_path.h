@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "intrinsic/geodesic/flip_geodesic.h"
@@ -78,10 +79,13 @@ struct ShortestGeodesicOptions {
 /// @param guide_to_a nullptr, or the same for a (its descent from b, reversed, is a start too:
 ///        the two descents differ, and where one ends in a longer class the other often does
 ///        not; docs/decisions.md D-124)
+/// @param won nullptr, or set to the start that gave the result: "dijkstra", or "descent to b"
+///        / "descent to a, reversed" with its strip side ("shorter", "left", "right")
 /// @throws InvalidInput as shortest_edge_path(), on bad options or a guide of the wrong size
 FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const Eigen::VectorXd* guide_to_b,
                                 const Eigen::VectorXd* guide_to_a,
-                                const ShortestGeodesicOptions& options, EdgePath* path);
+                                const ShortestGeodesicOptions& options, EdgePath* path,
+                                std::string* won = nullptr);
 
 }  // namespace ifem::intrinsic

@@ -96,7 +96,7 @@ intrinsic::FlipOutReport shorten_curves(SignpostTriangulation& st, const io::Sur
                                         const std::vector<intrinsic::CurveThrough>& through,
                                         const GeodesicOptions& options,
                                         std::vector<EdgePath>* paths, std::vector<double>* initial,
-                                        double* seconds_guide) {
+                                        double* seconds_guide, std::string* won) {
   const intrinsic::CurveThrough& c = through[0];
   intrinsic::FlipOutReport report;
   if (options.start != intrinsic::StartPath::kDijkstra && through.size() == 1 && !c.closed &&
@@ -109,7 +109,7 @@ intrinsic::FlipOutReport shorten_curves(SignpostTriangulation& st, const io::Sur
     paths->assign(1, EdgePath{});
     try {
       report = intrinsic::shortest_geodesic(st, c.vertices[0], c.vertices[1], &to_b, &to_a, o,
-                                            &(*paths)[0]);
+                                            &(*paths)[0], won);
     } catch (const InvalidInput& e) {
       throw InvalidInput(c.name + ": " + e.what());
     }
@@ -258,7 +258,8 @@ GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCu
       through.push_back({ids[c], curves[c].closed, curves[c].pin, curves[c].origin});
     }
     std::vector<double> initial;
-    run.report = shorten_curves(st, input, through, options, &paths, &initial, &run.seconds_guide);
+    run.report = shorten_curves(st, input, through, options, &paths, &initial, &run.seconds_guide,
+                                &run.start_won);
     for (std::size_t c = 0; c < curves.size(); ++c) run.curves[c].initial_length = initial[c];
   }
   trace_curves(st, paths, run);

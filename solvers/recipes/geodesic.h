@@ -39,9 +39,11 @@ struct GeodesicOptions {
   /// Single-source mode: also trace every geodesic over the input (costs about one more search).
   bool trace_paths = false;
   /// FlipOut's start paths for one open path between two points (intrinsic::shortest_geodesic):
-  /// kBest (default) shortens the Dijkstra edge path and three paths down a guide (the accurate
-  /// heat distance to the end point, solved here) each with the search over neighbouring
-  /// classes, and keeps the shortest; kGuided the guided ones only; kDijkstra the Dijkstra path
+  /// kBest (default) shortens the Dijkstra edge path and six paths down a guide (StartGuide: a
+  /// heat distance to each end point, one solve of two sources here) each with the search over
+  /// neighbouring classes, and keeps the shortest. Its cost is the guide plus at most 7 such
+  /// searches, all on one triangulation whose flips are undone between them (no copies);
+  /// kGuided the guided ones only; kDijkstra the Dijkstra path
   /// alone (one FlipOut: fastest, but FlipOut keeps its start's class, so the geodesic is more
   /// often not the shortest one). Other curves (loops, networks, several points, Bézier) always
   /// start from Dijkstra edge paths, shortened together.
@@ -77,6 +79,9 @@ struct GeodesicCurves {
   Index bezier_midpoints = 0;       ///< Bézier: midpoints inserted
   double seconds_signposts = 0.0, seconds_flipout = 0.0;
   double seconds_guide = 0.0;  ///< the guide's refinement and heat solve (0 when not used)
+  /// The start path the kept geodesic came from (intrinsic::shortest_geodesic()'s `won`) for a
+  /// path between two points; empty for other curves.
+  std::string start_won;
 };
 
 /// What geodesic() computed from one source vertex.
