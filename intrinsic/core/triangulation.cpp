@@ -391,7 +391,8 @@ void IntrinsicTriangulation::save_diamond(Index e, FlipUndo* u) const {
   }
   u->n_halfedges = n;
   const Index verts[4] = {tail_[h], tail_[t], tail_[prev(h)], tail_[prev(t)]};
-  for (int k = 0; k < 4; ++k) u->vertex[k] = verts[k], u->vertex_halfedge[k] = vertex_halfedge_[verts[k]];
+  for (int k = 0; k < 4; ++k)
+    u->vertex[k] = verts[k], u->vertex_halfedge[k] = vertex_halfedge_[verts[k]];
 }
 
 void IntrinsicTriangulation::undo_flip(const FlipUndo& u) {

@@ -969,10 +969,9 @@ TEST(SignpostJournal, UndoRestoresBitForBitAndRedoReplays) {
   TriangleMesh refined = jittered(grid(9, 7), 0.05, 3);  // boundary; inserted vertices below
   SignpostTriangulation with_inserted(refined.faces, refined.positions);
   delaunay_refine(with_inserted);
-  for (SignpostTriangulation st :
-       {SignpostTriangulation(jittered(icosphere(4), 0.1, 2).faces,
-                              jittered(icosphere(4), 0.1, 2).positions),
-        with_inserted}) {
+  for (SignpostTriangulation st : {SignpostTriangulation(jittered(icosphere(4), 0.1, 2).faces,
+                                                         jittered(icosphere(4), 0.1, 2).positions),
+                                   with_inserted}) {
     const FlipState s0(st);
     const std::size_t m0 = st.flip_journal_mark();
     EXPECT_EQ(m0, 0u);
