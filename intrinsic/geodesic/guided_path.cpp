@@ -386,7 +386,7 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
   o.validate();
   const T& tri = st.intrinsic();
   std::vector<EdgePath> starts{shortest_edge_path(tri, a, b)};  // validates a and b
-  std::vector<std::string> names{"dijkstra"};
+  std::vector<std::string> names{"shortest edge path"};
   if (o.start == StartPath::kDijkstra || (guide_to_b == nullptr && guide_to_a == nullptr)) {
     *path = starts[0];
     if (won != nullptr) *won = names[0];

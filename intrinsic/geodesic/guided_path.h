@@ -79,8 +79,9 @@ struct ShortestGeodesicOptions {
 /// @param guide_to_a nullptr, or the same for a (its descent from b, reversed, is a start too:
 ///        the two descents differ, and where one ends in a longer class the other often does
 ///        not; docs/decisions.md D-124)
-/// @param won nullptr, or set to the start that gave the result: "dijkstra", or "descent to b"
-///        / "descent to a, reversed" with its strip side ("shorter", "left", "right")
+/// @param won nullptr, or set to the start the result came from (before its side search):
+///        "shortest edge path" (the Dijkstra one), or "descent to b, S side" / "descent to a,
+///        reversed, S side" with S the StripSide ("shorter", "left", "right")
 /// @throws InvalidInput as shortest_edge_path(), on bad options or a guide of the wrong size
 FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const Eigen::VectorXd* guide_to_b,
