@@ -160,7 +160,7 @@ class SignpostTriangulation {
   FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched,
                                    const std::vector<char>& fixed_edges);
 
-  // ===== Undoing flips (trying paths on one triangulation instead of on copies) =====
+  // ===== Undoing flips (e.g. trying several FlipOut start paths on one triangulation) =====
 
   /// Starts recording flips (every flip_edge(), also those of flip_to_delaunay*() and FlipOut)
   /// if not recording yet, and returns the number recorded so far: a mark for undo_flips().
