@@ -148,7 +148,17 @@ void print_curves(const recipes::GeodesicCurves& run, const std::vector<GivenCur
   std::printf(", %.3g s\n", run.seconds_flipout);
 }
 
+// --start as the library's enum. @throws UsageError
+intrinsic::StartPath start_path(const Args& args) {
+  const std::string s = args.has("start") ? args.get("start") : "best";
+  if (s == "best") return intrinsic::StartPath::kBest;
+  if (s == "guided") return intrinsic::StartPath::kGuided;
+  if (s == "dijkstra") return intrinsic::StartPath::kDijkstra;
+  throw UsageError("--start '" + s + "': expected 'best', 'guided' or 'dijkstra'");
+}
+
 void check_modes(const Args& args) {
+  (void)start_path(args);  // a bad --start is refused before the mesh is read
   const int modes = args.has("path") + args.has("network") + args.has("all-from");
   if (modes != 1) {
     throw UsageError("give exactly one of --path, --network, --all-from (see --help)");
@@ -172,6 +182,7 @@ void check_modes(const Args& args) {
 recipes::GeodesicOptions geodesic_options_of(const Args& args) {
   recipes::GeodesicOptions o;
   o.mollify_relative_epsilon = args.real("mollify");
+  o.start = start_path(args);
   if (args.has("bezier")) o.bezier_rounds = static_cast<int>(args.count("bezier"));
   o.flipout.max_iterations = args.count_or("max-iterations", -1);
   o.accept_partial = args.has("accept-partial");
@@ -214,6 +225,10 @@ int run(const Args& args) {
   if (args.has("path")) check_path_points(specs[0], in);
   const recipes::GeodesicCurves run = recipes::geodesic(in, specs, geodesic_options_of(args));
   progress(args, "signpost triangulation in " + std::to_string(run.seconds_signposts) + " s");
+  if (run.seconds_guide > 0.0) {
+    progress(args, "start guide (heat distance) in " + std::to_string(run.seconds_guide) + " s");
+  }
+  if (!run.start_won.empty()) progress(args, "start path kept: " + run.start_won);
   print_curves(run, specs, args.has("network"),
                args.has("bezier") ? static_cast<int>(args.count("bezier")) : -1);
   write_curves(out.path, run.curves);
@@ -233,7 +248,9 @@ const char* const kProse =
     "Geodesic Paths in Triangle Meshes by Just Flipping Edges\"). A curve starts as a\n"
     "shortest path along mesh edges; wherever it bends by less than π, the intrinsic\n"
     "edges inside the bend are flipped until it can run straight across, so it ends\n"
-    "up a geodesic (locally shortest; not always the globally shortest one). The\n"
+    "up a geodesic: locally shortest, in the class of its start around the vertices\n"
+    "(which side of each it passes). For a path between two points FlipOut therefore\n"
+    "starts from several paths (--start) and keeps the shortest geodesic. The\n"
     "surface never changes: the curves are traced over the input and written as\n"
     "polylines of points on its faces.\n\n"
     "Points (P): a vertex id (0-based, the file's vertex order), or a point inside a\n"
@@ -254,6 +271,7 @@ const char* const kEpilogue =
     "the flips, iterations, why it stopped and the time.\n\n"
     "examples:\n"
     "  ifem geodesic bunny.obj --path 0,500,1200 -o path.obj\n"
+    "  ifem geodesic bunny.obj --path 0,1200 --start dijkstra -o fast.obj\n"
     "  ifem geodesic torus.obj --path 10,200,350 --loop -o loop.ply\n"
     "  ifem geodesic bunny.obj --path face:12:0.3:0.3,800,1500 --bezier 4 -o curve.txt\n"
     "  ifem geodesic bunny.obj --network curves.txt -o net.obj\n"
@@ -286,6 +304,22 @@ OptionGroup geodesic_options() {
                         "(one 'x y z' a line, an empty line between curves). --all-from:\n"
                         "OUT.ply (the mesh, vertex property 'geodesic_length') or OUT.txt (one\n"
                         "length a line, input vertex order; 'inf' where unreachable)"),
+           text("start", "S")
+               .defaults_to("best")
+               .explain("FlipOut's start paths. best: for a path between two points, the\n"
+                        "shortest edge path and six paths down a heat distance (three to\n"
+                        "the end, three to the start reversed; the accurate distance of\n"
+                        "`ifem distance --refine` up to 20,000 vertices, the plain heat\n"
+                        "method above), each shortened and then moved over the vertices\n"
+                        "beside it while that shortens it; the shortest geodesic wins and\n"
+                        "a progress line names its start (the globally shortest one far\n"
+                        "more often). Cost: one heat solve of two sources plus at most 7\n"
+                        "such searches, each tried on the one triangulation and undone (no\n"
+                        "copies): the heat solve dominates. guided: the same without the\n"
+                        "edge path. dijkstra: the shortest edge path, one FlipOut (fastest;\n"
+                        "the result may go round a vertex the wrong way). Other curves\n"
+                        "(several points, loops, networks, --bezier) always start from\n"
+                        "shortest edge paths"),
            real("mollify", "F")
                .at_least(0)
                .at_most(1)

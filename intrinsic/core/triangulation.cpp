@@ -371,6 +371,43 @@ bool IntrinsicTriangulation::is_delaunay(Index e) const {
   return !bad;
 }
 
+void IntrinsicTriangulation::save_diamond(Index e, FlipUndo* u) const {
+  const Index h = edge_halfedge_[e], t = twin_[h];
+  const Index sides[4] = {next(h), prev(h), next(t), prev(t)};
+  u->edge = e;
+  u->length = length_[e];
+  int n = 0;
+  auto keep = [&](Index x) {
+    u->halfedge[n] = x, u->tail[n] = tail_[x], u->twin[n] = twin_[x], u->edge_of[n] = edge_[x];
+    ++n;
+  };
+  keep(h), keep(t);
+  for (int k = 0; k < 4; ++k) {
+    keep(sides[k]);
+    const Index o = twin_[sides[k]];
+    if (o != kInvalidIndex) keep(o);
+    u->side_edge[k] = edge_[sides[k]];
+    u->side_edge_halfedge[k] = edge_halfedge_[edge_[sides[k]]];
+  }
+  u->n_halfedges = n;
+  const Index verts[4] = {tail_[h], tail_[t], tail_[prev(h)], tail_[prev(t)]};
+  for (int k = 0; k < 4; ++k)
+    u->vertex[k] = verts[k], u->vertex_halfedge[k] = vertex_halfedge_[verts[k]];
+}
+
+void IntrinsicTriangulation::undo_flip(const FlipUndo& u) {
+  // every saved entry holds its value from before the flip: the order of writing is free
+  for (int k = 0; k < u.n_halfedges; ++k) {
+    const Index x = u.halfedge[k];
+    tail_[x] = u.tail[k], twin_[x] = u.twin[k], edge_[x] = u.edge_of[k];
+  }
+  for (int k = 0; k < 4; ++k) {
+    edge_halfedge_[u.side_edge[k]] = u.side_edge_halfedge[k];
+    vertex_halfedge_[u.vertex[k]] = u.vertex_halfedge[k];
+  }
+  length_[u.edge] = u.length;
+}
+
 IntrinsicTriangulation::SlotMove IntrinsicTriangulation::record_slot_move(int n, const Index* from,
                                                                           const Index* to) const {
   SlotMove m;
@@ -396,7 +433,9 @@ void IntrinsicTriangulation::finish_slot_move(const SlotMove& m) {
   }
 }
 
-bool IntrinsicTriangulation::flip_edge(Index e) {
+bool IntrinsicTriangulation::flip_edge(Index e) { return flip_edge(e, nullptr); }
+
+bool IntrinsicTriangulation::flip_edge(Index e, FlipUndo* undo) {
   const Index h = edge_halfedge_[e];
   const Index t = twin_[h];
   if (t == kInvalidIndex || face(h) == face(t)) return false;
@@ -406,6 +445,7 @@ bool IntrinsicTriangulation::flip_edge(Index e) {
   const double l_new = flipped_length(length_[e], length_[edge_[h1]], length_[edge_[h2]],
                                       length_[edge_[t1]], length_[edge_[t2]]);
   if (!std::isfinite(l_new) || l_new <= 0.0) return false;
+  if (undo != nullptr) save_diamond(e, undo);
 
   // Old faces (a,b,c) = (h,h1,h2) and (b,a,d) = (t,t1,t2). New faces keep the slots:
   // face(h) = (d,c,a) with h: d→c, h1: c→a (was h2), h2: a→d (was t1);

@@ -143,6 +143,22 @@ class IntrinsicTriangulation {
   /// non-Delaunay edge of a triangulation with positive face areas is flippable.
   bool flip_edge(Index e);
 
+  /// Every entry one flip_edge() writes, as it was before the flip (the diamond's six halfedges,
+  /// the outer partners of its four sides, their edges, its corners, the flipped edge's length).
+  struct FlipUndo {
+    Index edge = kInvalidIndex;  ///< the flipped edge
+    double length = 0.0;
+    int n_halfedges = 0;
+    Index halfedge[10], tail[10], twin[10], edge_of[10];
+    Index side_edge[4], side_edge_halfedge[4];
+    Index vertex[4], vertex_halfedge[4];
+  };
+  /// flip_edge(e), filling *undo (when the flip happens) so that undo_flip(*undo) restores the
+  /// triangulation bit for bit (gluing, edge ids, lengths).
+  bool flip_edge(Index e, FlipUndo* undo);
+  /// Undoes the flip `undo` was filled by. Precondition: every later flip is undone first.
+  void undo_flip(const FlipUndo& undo);
+
   /// Flips non-Delaunay edges until every edge is Delaunay. Terminates on every input
   /// (tolerance, NaN-safe test, and a cap of 50·E + 1000 flips that is reported if reached).
   FlipReport flip_to_delaunay();
@@ -240,6 +256,7 @@ class IntrinsicTriangulation {
     }
   };
   SlotMove record_slot_move(int n, const Index* from, const Index* to) const;
+  void save_diamond(Index e, FlipUndo* undo) const;
   // The flip loop of flip_to_delaunay() and flip_to_delaunay_from(): pops edges, flips the
   // non-Delaunay ones, pushes the diamond's sides (only those not queued when `queued` is given).
   // `known`, when given: a test already made per edge (1 Delaunay, 2 not, 0 none), used until a

@@ -262,7 +262,15 @@ bool SignpostTriangulation::flip_edge(Index e) {
   const Index h1 = T::next(h), h2 = T::prev(h), t1 = T::next(t), t2 = T::prev(t);
   const double dh1 = direction_[h1], dh2 = direction_[h2], dt1 = direction_[t1],
                dt2 = direction_[t2];
-  if (!tri_.flip_edge(e)) return false;
+  if (recording_) {
+    FlipRecord r;
+    if (!tri_.flip_edge(e, &r.tri)) return false;
+    const double d[6] = {direction_[h], direction_[t], dh1, dh2, dt1, dt2};
+    std::copy(d, d + 6, r.direction);
+    journal_.push_back(r);
+  } else if (!tri_.flip_edge(e)) {
+    return false;
+  }
   // slots keep their sides' signposts: h1 ← h2, h2 ← t1, t1 ← t2, t2 ← h1
   direction_[h1] = dh2;
   direction_[h2] = dt1;
@@ -272,6 +280,51 @@ bool SignpostTriangulation::flip_edge(Index e) {
   direction_[h] = wrap(tri_.tail(h), direction_[t1] + corner_angle(tri_, t1));
   direction_[t] = wrap(tri_.tail(t), direction_[h1] + corner_angle(tri_, h1));
   return true;
+}
+
+std::size_t SignpostTriangulation::flip_journal_mark() {
+  recording_ = true;
+  return journal_.size();
+}
+
+void SignpostTriangulation::undo_flips(std::size_t mark) {
+  if (!recording_ || mark > journal_.size()) {
+    throw InvalidInput("undo_flips: mark " + std::to_string(mark) + " but " +
+                       (recording_ ? std::to_string(journal_.size()) + " flips recorded"
+                                   : std::string("not recording flips")));
+  }
+  while (journal_.size() > mark) {
+    const FlipRecord& r = journal_.back();
+    tri_.undo_flip(r.tri);
+    const Index h = r.tri.halfedge[0], t = r.tri.halfedge[1];  // save_diamond's order
+    const Index slots[6] = {h, t, T::next(h), T::prev(h), T::next(t), T::prev(t)};
+    for (int k = 0; k < 6; ++k) direction_[slots[k]] = r.direction[k];
+    journal_.pop_back();
+  }
+}
+
+std::vector<Index> SignpostTriangulation::flips_since(std::size_t mark) const {
+  if (!recording_ || mark > journal_.size()) {
+    throw InvalidInput("flips_since: mark " + std::to_string(mark) + " but " +
+                       (recording_ ? std::to_string(journal_.size()) + " flips recorded"
+                                   : std::string("not recording flips")));
+  }
+  std::vector<Index> edges;
+  for (std::size_t k = mark; k < journal_.size(); ++k) edges.push_back(journal_[k].tri.edge);
+  return edges;
+}
+
+void SignpostTriangulation::end_flip_journal() {
+  recording_ = false;
+  journal_.clear();
+  journal_.shrink_to_fit();
+}
+
+void SignpostTriangulation::check_not_recording(const char* what) const {
+  if (recording_) {
+    throw InvalidInput(std::string(what) +
+                       ": the triangulation is recording flips (end_flip_journal() first)");
+  }
 }
 
 FlipReport SignpostTriangulation::flip_to_delaunay_from(std::vector<Index> queue,
@@ -467,6 +520,7 @@ std::vector<std::vector<Eigen::Vector3d>> SignpostTriangulation::traced_edges_3d
 // Insertion
 
 Index SignpostTriangulation::insert_vertex(Index f, const Eigen::Vector3d& bary) {
+  check_not_recording("insert_vertex");
   const double d1 = direction_[3 * f + 1], d2 = direction_[3 * f + 2];
   const Index v = tri_.insert_vertex_in_face(f, bary);
   add_vertex_records();
@@ -493,6 +547,7 @@ Index SignpostTriangulation::insert_vertex(Index f, const Eigen::Vector3d& bary)
 }
 
 Index SignpostTriangulation::split_edge(Index e, double t) {
+  check_not_recording("split_edge");
   const Index h = tri_.edge_halfedge(e);
   const Index tw = tri_.twin(h);
   const bool interior = tw != kInvalidIndex;

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -159,11 +160,31 @@ class SignpostTriangulation {
   FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched,
                                    const std::vector<char>& fixed_edges);
 
+  // ===== Undoing flips (e.g. trying several FlipOut start paths on one triangulation) =====
+
+  /// Starts recording flips (every flip_edge(), also those of flip_to_delaunay*() and FlipOut)
+  /// if not recording yet, and returns the number recorded so far: a mark for undo_flips().
+  std::size_t flip_journal_mark();
+  /// True between the first flip_journal_mark() and end_flip_journal().
+  bool recording_flips() const { return recording_; }
+  /// Undoes the flips recorded after `mark`, newest first: gluing, edge ids, lengths and
+  /// signposts become bit for bit what they were at the mark (vertex locations never change
+  /// by flips). O(flips undone). @throws InvalidInput if not recording or mark > recorded
+  void undo_flips(std::size_t mark);
+  /// The edges flipped after `mark`, in order: flipping them again in this order from the
+  /// state at the mark gives the same triangulation (flips are deterministic).
+  /// @throws InvalidInput as undo_flips()
+  std::vector<Index> flips_since(std::size_t mark) const;
+  /// Stops recording and forgets the record (the flips stay).
+  void end_flip_journal();
+
   /// Inserts a vertex in intrinsic face f at barycentric coordinates `bary` (all > 0) and
   /// locates it on the input; returns its id (n_vertices() before the call).
+  /// @throws InvalidInput while recording flips (recording_flips())
   Index insert_vertex(Index f, const Eigen::Vector3d& bary);
   /// Splits intrinsic edge e at fraction t ∈ (0, 1) of its length from the tail of
   /// edge_halfedge(e) (boundary edges included); returns the new vertex id.
+  /// @throws InvalidInput while recording flips (recording_flips())
   Index split_edge(Index e, double t);
 
   /// The star of an inserted interior vertex v laid out isometrically in the plane (v is flat,
@@ -238,6 +259,13 @@ class SignpostTriangulation {
   std::vector<SurfacePoint> location_;   // #V intrinsic
   std::vector<double> frame_;            // #V: for inserted vertices, the angle (in the layout
                                          // of its location face) of signpost direction 0
+  struct FlipRecord {
+    IntrinsicTriangulation::FlipUndo tri;
+    double direction[6];  // signposts of the diamond's halfedges h, t, next/prev of h, of t
+  };
+  bool recording_ = false;
+  std::vector<FlipRecord> journal_;
+  void check_not_recording(const char* what) const;
 };
 
 }  // namespace ifem::intrinsic

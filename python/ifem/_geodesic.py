@@ -144,7 +144,7 @@ def _curves(curves, report):
     return [GeodesicCurve(report=r, **c) for c in curves], r
 
 
-def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5):
+def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5, start="best"):
     """A geodesic through points of a mesh, in order (FlipOut).
 
     The curve starts as a shortest path along mesh edges through the points and is shortened by
@@ -153,7 +153,11 @@ def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5):
     (``loop=True``) is free to slide off its points (they only shape its start) unless
     ``pin=True``. A loop that can shrink to a point does (``collapsed``).
 
-    Same as ``ifem geodesic MESH --path P0,P1,... [--loop] [--pin] -o OUT.txt``.
+    FlipOut keeps the class of its start path around the vertices (which side of each it
+    passes), so a path between two points starts from several paths (``start``) and the
+    shortest geodesic is kept.
+
+    Same as ``ifem geodesic MESH --path P0,P1,... [--loop] [--pin] [--start S] -o OUT.txt``.
 
     Args:
         V: #V×3 positions.
@@ -164,6 +168,12 @@ def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5):
         loop: a closed curve through the points, back to the first.
         pin: keep the loop passing through its points (paths always are).
         mollify: relative mollification margin of the intrinsic triangulation (in [0, 1]).
+        start: FlipOut's start paths for a path between two points: ``"best"`` (the shortest
+            edge path and three paths down the accurate heat distance to the end, each
+            shortened and moved over the vertices beside it while that shortens it; the
+            shortest geodesic wins), ``"guided"`` (the same without the edge path) or
+            ``"dijkstra"`` (the shortest edge path, one FlipOut: fastest, not always the
+            shortest geodesic). Other curves always start from shortest edge paths.
 
     Returns:
         GeodesicCurve: ``polyline`` (#points×3), ``length``, ``initial_length``, ``report``
@@ -183,7 +193,7 @@ def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5):
                            "points): set loop=True or drop pin")
     V, F, _ = _input(V, F)
     curves, report = _ifem.geodesic_curves(V, F, [(points, bool(loop), bool(pin))], ["points"],
-                                           float(mollify), -1, False)
+                                           float(mollify), -1, False, str(start))
     return _curves(curves, report)[0][0]
 
 
@@ -348,7 +358,7 @@ def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5):
 
 def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, network=None,
              all_from=None, return_paths=False, mollify=1e-5, max_iterations=None,
-             accept_partial=False, memory_budget=None):
+             accept_partial=False, memory_budget=None, start="best"):
     """Geodesic curves by FlipOut, as ``ifem geodesic``: one function, the CLI's modes as
     keywords. Give exactly one of
 
@@ -361,7 +371,8 @@ def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, netw
 
     ``V`` may be a mesh file's path (F then None), as the CLI's MESH. ``max_iterations`` and
     ``accept_partial`` (``--max-iterations``, ``--accept-partial``) go to networks,
-    ``memory_budget`` (``--memory-budget``) to Bézier curves.
+    ``memory_budget`` (``--memory-budget``) to Bézier curves, ``start`` (``--start``) to
+    :func:`geodesic_path`.
 
     Returns:
         GeodesicCurve, BezierCurve, GeodesicNetwork or SingleSourceGeodesics, as the mode's
@@ -397,7 +408,7 @@ def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, netw
         if pin:
             raise InvalidInput("pin applies to loops, not to a Bézier curve")
         return bezier_curve(V, F, points, bezier, mollify, memory_budget)
-    return geodesic_path(V, F, points, loop, pin, mollify)
+    return geodesic_path(V, F, points, loop, pin, mollify, start)
 
 
 __all__ = ["geodesic", "geodesic_path", "geodesic_network", "bezier_curve", "single_source_geodesics",

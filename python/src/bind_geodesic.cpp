@@ -213,10 +213,18 @@ recipes::GeodesicOptions options_of(double mollify) {
   return o;
 }
 
+// The start paths' name as the library's enum (the CLI's --start).
+intrinsic::StartPath start_of(const std::string& s) {
+  if (s == "best") return intrinsic::StartPath::kBest;
+  if (s == "guided") return intrinsic::StartPath::kGuided;
+  if (s == "dijkstra") return intrinsic::StartPath::kDijkstra;
+  throw InvalidInput("start = '" + s + "': expected 'best', 'guided' or 'dijkstra'");
+}
+
 // curves: a list of (points, closed, pin), each named by the matching entry of `names`.
 py::tuple geodesic_curves(const py::handle& V, const py::handle& F, const py::list& curves,
                           const std::vector<std::string>& names, double mollify,
-                          Index max_iterations, bool accept_partial) {
+                          Index max_iterations, bool accept_partial, const std::string& start) {
   const io::SurfaceInput in = triangle_mesh(V, F);
   const Index nv = static_cast<Index>(in.positions.rows());
   const Index nf = static_cast<Index>(in.triangles.size());
@@ -229,6 +237,7 @@ py::tuple geodesic_curves(const py::handle& V, const py::handle& F, const py::li
   recipes::GeodesicOptions o = options_of(mollify);
   o.flipout.max_iterations = max_iterations;
   o.accept_partial = accept_partial;
+  o.start = start_of(start);
   recipes::GeodesicCurves run;
   {
     const py::gil_scoped_release release;
@@ -323,7 +332,8 @@ py::list read_network(const std::string& path) {
 
 void bind_geodesic(py::module_& m) {
   m.def("geodesic_curves", &geodesic_curves, py::arg("V"), py::arg("F"), py::arg("curves"),
-        py::arg("names"), py::arg("mollify"), py::arg("max_iterations"), py::arg("accept_partial"));
+        py::arg("names"), py::arg("mollify"), py::arg("max_iterations"), py::arg("accept_partial"),
+        py::arg("start") = "best");
   m.def("bezier_curve", &bezier_curve, py::arg("V"), py::arg("F"), py::arg("control_points"),
         py::arg("rounds"), py::arg("mollify"), py::arg("memory_budget_bytes"));
   m.def("single_source_geodesics", &single_source, py::arg("V"), py::arg("F"), py::arg("source"),

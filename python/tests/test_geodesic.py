@@ -70,6 +70,27 @@ def test_path_through_vertices_and_a_face_point_matches_cli(spot, tmp_path):
     assert np.abs(c.polyline - c.points[1]).sum(axis=1).min() <= 1e-12
 
 
+# start: the CLI's --start; from spot's vertex 2222 to 0 the shortest edge path wraps a vertex the
+# other way than the shortest geodesic: "dijkstra" ends 0.37% above the exact distance
+# (tests/data/reference/spot.src0.exact.txt), the default ("best") on it
+def test_start_paths_match_cli_and_the_exact_distance(spot, tmp_path):
+    V, F = spot
+    exact = float(np.loadtxt(test_data("reference/spot.src0.exact.txt"))[2222])
+    lengths = {}
+    for start in ["dijkstra", "best"]:
+        out = run_cli("geodesic", SPOT, "--path", "2222,0", "--start", start, "-o",
+                      tmp_path / f"{start}.txt", "--quiet")
+        c = ifem.geodesic(V, F, [2222, 0], start=start)
+        (P,) = read_txt_polylines(tmp_path / f"{start}.txt")
+        assert c.polyline.shape == P.shape and abs(c.polyline - P).max() <= 1e-12
+        assert_report_matches(c.report, out, [(c.initial_length, c.length)])
+        lengths[start] = c.length
+    assert abs(lengths["best"] - exact) <= 1e-6 * exact
+    assert lengths["dijkstra"] > exact * (1 + 1e-3)
+    with pytest.raises(ifem.InvalidInput, match="start = 'fast'"):
+        ifem.geodesic_path(V, F, [2222, 0], start="fast")
+
+
 @pytest.mark.parametrize("pin", [False, True])
 def test_loop_matches_cli(spot, tmp_path, pin):
     V, F = spot

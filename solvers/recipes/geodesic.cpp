@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -14,6 +15,8 @@
 #include "intrinsic/core/timer.h"
 #include "intrinsic/geodesic/curve_network.h"
 #include "intrinsic/geodesic/input_surface.h"
+#include "solvers/recipes/pipeline.h"
+#include "solvers/scalar/heat_distance.h"
 
 namespace ifem::recipes {
 namespace {
@@ -22,6 +25,11 @@ using intrinsic::EdgePath;
 using intrinsic::SignpostTriangulation;
 
 constexpr int kMaxBezierRounds = 16;
+
+// Inputs up to this many vertices get the refined (accurate) guide; larger ones the heat method
+// on the input's intrinsic Delaunay triangulation (the refinement's ~9× vertices cost tens of
+// seconds there: docs/decisions.md D-124).
+constexpr Index kRefinedGuideMaxVertices = 20000;
 
 std::string range(Index n) { return "[0, " + std::to_string(n) + ")"; }
 
@@ -83,7 +91,91 @@ void trace_curves(const SignpostTriangulation& st, const std::vector<EdgePath>& 
   }
 }
 
+// The curves shortened as options.start says (GeodesicOptions::start): one open path between
+// two points by intrinsic::shortest_geodesic, other curves together from Dijkstra edge paths.
+intrinsic::FlipOutReport shorten_curves(SignpostTriangulation& st, const io::SurfaceInput& input,
+                                        const std::vector<intrinsic::CurveThrough>& through,
+                                        const GeodesicOptions& options,
+                                        std::vector<EdgePath>* paths, std::vector<double>* initial,
+                                        double* seconds_guide, std::string* won) {
+  const intrinsic::CurveThrough& c = through[0];
+  intrinsic::FlipOutReport report;
+  if (options.start != intrinsic::StartPath::kDijkstra && through.size() == 1 && !c.closed &&
+      c.vertices.size() == 2) {
+    StartGuide guide(input);
+    const Eigen::MatrixXd phi = guide.to_each(st, {c.vertices[1], c.vertices[0]});
+    const Eigen::VectorXd to_b = phi.col(0), to_a = phi.col(1);
+    intrinsic::ShortestGeodesicOptions o;
+    o.start = options.start;
+    o.flipout = options.flipout;
+    paths->assign(1, EdgePath{});
+    try {
+      report = intrinsic::shortest_geodesic(st, c.vertices[0], c.vertices[1], &to_b, &to_a, o,
+                                            &(*paths)[0], won);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(c.name + ": " + e.what());
+    }
+    initial->assign(1, report.initial_length);
+    *seconds_guide = guide.seconds;
+  } else {
+    report = intrinsic::shorten_through(st, through, paths, initial, options.flipout);
+  }
+  return report;
+}
+
 }  // namespace
+
+StartGuide::StartGuide(const io::SurfaceInput& input) : input_(input) {}
+StartGuide::~StartGuide() = default;
+
+Eigen::VectorXd StartGuide::to(const SignpostTriangulation& st, Index target) {
+  return to_each(st, {target}).col(0);
+}
+
+Eigen::MatrixXd StartGuide::to_each(const SignpostTriangulation& st,
+                                    const std::vector<Index>& targets) {
+  Stopwatch watch;
+  if (!solver_) build();
+  const Index nv = static_cast<Index>(input_.positions.rows());
+  std::vector<Index> sources;
+  for (const Index target : targets) {
+    Index source = target;
+    if (source >= nv) {  // an inserted point: its input face's nearest corner
+      const intrinsic::SurfacePoint& p = st.vertex_location(target);
+      Eigen::Index k = 0;
+      p.bary.maxCoeff(&k);
+      source = st.input().tail(3 * p.face + k);
+    }
+    sources.push_back(source);
+  }
+  const Eigen::MatrixXd d =
+      solvers::on_input_vertices(*surface_, solver_->compute_distances(sources));
+  const intrinsic::IntrinsicTriangulation& tri = st.intrinsic();
+  Eigen::MatrixXd phi(tri.n_vertices(), d.cols());
+  phi.topRows(nv) = d;
+  for (Index v = nv; v < tri.n_vertices(); ++v) {
+    const intrinsic::SurfacePoint& p = st.vertex_location(v);
+    phi.row(v).setZero();
+    for (int i = 0; i < 3; ++i) phi.row(v) += p.bary[i] * d.row(st.input().tail(3 * p.face + i));
+  }
+  seconds += watch.seconds();
+  return phi;
+}
+
+void StartGuide::build() {
+  solvers::PrepareOptions o;
+  if (input_.positions.rows() <= kRefinedGuideMaxVertices) {
+    o.refine = solvers::accurate_distance_refinement();
+  }
+  try {
+    surface_ = std::make_unique<solvers::PreparedSurface>(solvers::prepare_surface(input_, o));
+  } catch (const Error&) {  // refinement refused: the guide needs no accuracy guarantee
+    o.refine.reset();
+    surface_ = std::make_unique<solvers::PreparedSurface>(solvers::prepare_surface(input_, o));
+  }
+  solver_ = std::make_unique<solvers::HeatDistanceSolver>(surface_->tri,
+                                                          solvers::distance_options(*surface_));
+}
 
 void GeodesicOptions::validate() const {
   if (!(mollify_relative_epsilon >= 0.0 && mollify_relative_epsilon <= 1.0)) {
@@ -181,7 +273,8 @@ GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCu
       through.push_back({ids[c], curves[c].closed, curves[c].pin, curves[c].origin});
     }
     std::vector<double> initial;
-    run.report = intrinsic::shorten_through(st, through, &paths, &initial, options.flipout);
+    run.report = shorten_curves(st, input, through, options, &paths, &initial, &run.seconds_guide,
+                                &run.start_won);
     for (std::size_t c = 0; c < curves.size(); ++c) run.curves[c].initial_length = initial[c];
   }
   if (run.report.stopped_by == intrinsic::FlipOutStop::kIterationCap && !options.accept_partial) {

@@ -12,13 +12,20 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "intrinsic/geodesic/flip_geodesic.h"
+#include "intrinsic/geodesic/guided_path.h"
 #include "intrinsic/io/mesh_io.h"
 #include "solvers/recipes/text_formats.h"
+
+namespace ifem::solvers {
+struct PreparedSurface;
+class HeatDistanceSolver;
+}  // namespace ifem::solvers
 
 namespace ifem::recipes {
 
@@ -38,6 +45,16 @@ struct GeodesicOptions {
   /// Memory budget, bytes, of the vertices a Bézier curve adds (intrinsic::check_curve_budget(),
   /// before any flip); 0: intrinsic::default_memory_budget().
   double max_memory_bytes = 0.0;
+  /// FlipOut's start paths for one open path between two points (intrinsic::shortest_geodesic):
+  /// kBest (default) shortens the Dijkstra edge path and six paths down a guide (StartGuide: a
+  /// heat distance to each end point, one solve of two sources here) each with the search over
+  /// neighbouring classes, and keeps the shortest. Its cost is the guide plus at most 7 such
+  /// searches, all on one triangulation whose flips are undone between them (no copies);
+  /// kGuided the guided ones only; kDijkstra the Dijkstra path
+  /// alone (one FlipOut: fastest, but FlipOut keeps its start's class, so the geodesic is more
+  /// often not the shortest one). Other curves (loops, networks, several points, Bézier) always
+  /// start from Dijkstra edge paths, shortened together.
+  intrinsic::StartPath start = intrinsic::StartPath::kBest;
   /// @throws InvalidInput naming the field and its allowed range
   void validate() const;
 };
@@ -68,6 +85,10 @@ struct GeodesicCurves {
   Index bezier_control_points = 0;  ///< Bézier: control points after subdivision
   Index bezier_midpoints = 0;       ///< Bézier: midpoints inserted
   double seconds_signposts = 0.0, seconds_flipout = 0.0;
+  double seconds_guide = 0.0;  ///< the guide's refinement and heat solve (0 when not used)
+  /// The start path the kept geodesic came from (intrinsic::shortest_geodesic()'s `won`) for a
+  /// path between two points; empty for other curves.
+  std::string start_won;
 };
 
 /// What geodesic() computed from one source vertex.
@@ -79,6 +100,31 @@ struct SingleSourceResult {
   Index flips = 0, iterations = 0;
   Index blocked = 0;  ///< vertices whose path was left bent (a blocked wedge)
   double seconds = 0.0;
+};
+
+/// The guide of FlipOut's guided start paths (intrinsic::descent_edge_path): the accurate heat
+/// distance (`ifem distance --refine`: refined to edges of about 0.4·h) to a vertex, on every
+/// vertex of a signpost triangulation of the input; on inputs above 20,000 vertices, or when the
+/// refinement is refused, the heat method on the input's intrinsic Delaunay triangulation.
+/// The refinement and factorization happen at the first call; later calls cost a heat solve.
+class StartGuide {
+ public:
+  /// @param input the mesh st was built from (flipout_surface); kept by reference
+  explicit StartGuide(const io::SurfaceInput& input);
+  ~StartGuide();
+  /// #V of st.intrinsic(): ≈ the distance to `target` (an inserted vertex: to the nearest corner
+  /// of its input face), linear over input faces at inserted vertices; +∞ where unreachable.
+  Eigen::VectorXd to(const intrinsic::SignpostTriangulation& st, Index target);
+  /// to() for each target, one column each (the heat solves batched: cheaper than one by one).
+  Eigen::MatrixXd to_each(const intrinsic::SignpostTriangulation& st,
+                          const std::vector<Index>& targets);
+  double seconds = 0.0;  ///< spent in to() so far
+
+ private:
+  void build();
+  const io::SurfaceInput& input_;
+  std::unique_ptr<solvers::PreparedSurface> surface_;
+  std::unique_ptr<solvers::HeatDistanceSolver> solver_;
 };
 
 /// "" when p names a vertex / face of `input` (a face point also needs a triangle mesh), else

@@ -152,6 +152,28 @@ def test_geodesic_face_point(cli):
     assert close(length3d(pts), final_length(log))
 
 
+# --start: from spot's vertex 2222 to 0 the shortest edge path goes round a vertex on the other
+# side than the shortest geodesic, so FlipOut from it (--start dijkstra) ends 0.37% longer than
+# the exact distance (tests/data/reference/spot.src0.exact.txt); the default start (best) finds
+# the shortest geodesic
+def test_geodesic_start(cli):
+    exact = float(lines(cli.data / "reference" / "spot.src0.exact.txt")[2222])
+    out = {}
+    for start in ["dijkstra", "best"]:
+        txt = cli.out / f"start_{start}.txt"
+        log = cli.ok("geodesic", cli.spot, "--path", "2222,0", "--start", start, "-o", txt,
+                     "--quiet").out
+        out[start] = final_length(log)
+        assert close(length3d(polylines(txt)[0]), out[start])
+    assert abs(out["best"] - exact) <= 1e-6 * exact, (out, exact)
+    assert out["dijkstra"] > exact * (1 + 1e-3), (out, exact)
+    log = cli.ok("geodesic", cli.spot, "--path", "2222,0", "-o", cli.out / "start.txt").err
+    assert grep(r"^ifem: start guide \(heat distance\) in [0-9.e-]* s$", log), log
+    kept = r"^ifem: start path kept: (shortest edge path|descent to (b|a, reversed), " \
+           r"(shorter|left|right) side)$"
+    assert grep(kept, log), log
+
+
 # a network of two paths sharing an endpoint (comments and blank lines skipped): two curves,
 # the second starts where the first ends, each as long as printed
 def test_geodesic_network(cli):
@@ -242,6 +264,8 @@ USAGE_REFUSALS = [
     ("--bezier takes --path's points as control points", "g1.obj",
      ["--path", "0,1,2", "--loop", "--bezier", "2"]),
     ("--pin keeps a loop's points", "g1.obj", ["--path", "0,1", "--pin"]),
+    ("--start 'fast': expected 'best', 'guided' or 'dijkstra'", "g1.obj",
+     ["--path", "0,1", "--start", "fast"]),
 ]
 
 

@@ -937,6 +937,69 @@ TEST(SignpostSave, RoundTripIsExact) {
   expect_traces_consistent(c);
 }
 
+// Everything flips may change: gluing, edge ids, lengths, signposts (compared bit for bit).
+struct FlipState {
+  std::vector<Index> tail, twin, edge, edge_halfedge, vertex_halfedge;
+  std::vector<double> length, direction;
+  explicit FlipState(const SignpostTriangulation& st) {
+    const IntrinsicTriangulation& t = st.intrinsic();
+    tail = t.tails(), twin = t.twins(), edge = t.edges(), length = t.lengths();
+    for (Index e = 0; e < t.n_edges(); ++e) edge_halfedge.push_back(t.edge_halfedge(e));
+    for (Index v = 0; v < t.n_vertices(); ++v) vertex_halfedge.push_back(t.vertex_halfedge(v));
+    for (Index h = 0; h < t.n_halfedges(); ++h) direction.push_back(st.halfedge_direction(h));
+  }
+  bool operator==(const FlipState& o) const {
+    return tail == o.tail && twin == o.twin && edge == o.edge && length == o.length &&
+           edge_halfedge == o.edge_halfedge && vertex_halfedge == o.vertex_halfedge &&
+           direction == o.direction;
+  }
+};
+
+// Flips random edges (a fixed pseudo-random sequence); returns how many flipped.
+int random_flips(SignpostTriangulation& st, int tries, std::uint32_t seed) {
+  int flipped = 0;
+  for (int k = 0; k < tries; ++k) {
+    seed = seed * 1664525u + 1013904223u;
+    flipped += st.flip_edge(static_cast<Index>((seed >> 8) % st.intrinsic().n_edges())) ? 1 : 0;
+  }
+  return flipped;
+}
+
+TEST(SignpostJournal, UndoRestoresBitForBitAndRedoReplays) {
+  TriangleMesh refined = jittered(grid(9, 7), 0.05, 3);  // boundary; inserted vertices below
+  SignpostTriangulation with_inserted(refined.faces, refined.positions);
+  delaunay_refine(with_inserted);
+  for (SignpostTriangulation st : {SignpostTriangulation(jittered(icosphere(4), 0.1, 2).faces,
+                                                         jittered(icosphere(4), 0.1, 2).positions),
+                                   with_inserted}) {
+    const FlipState s0(st);
+    const std::size_t m0 = st.flip_journal_mark();
+    EXPECT_EQ(m0, 0u);
+    st.flip_to_delaunay();
+    const FlipState s1(st);
+    const std::size_t m1 = st.flip_journal_mark();
+    ASSERT_GT(random_flips(st, 400, 7), 100);
+    const std::vector<Index> replay = st.flips_since(m1);
+    const FlipState s2(st);
+    EXPECT_FALSE(s2 == s1);
+    st.undo_flips(m1);
+    EXPECT_TRUE(FlipState(st) == s1);
+    for (const Index e : replay) ASSERT_TRUE(st.flip_edge(e));
+    EXPECT_TRUE(FlipState(st) == s2);  // redoing the recorded flips gives the same state
+    st.intrinsic().validate();
+    expect_traces_consistent(st);
+    st.undo_flips(m0);
+    EXPECT_TRUE(FlipState(st) == s0);
+    EXPECT_THROW(st.undo_flips(1), InvalidInput);  // past the record
+    EXPECT_THROW(st.insert_vertex(0, Eigen::Vector3d(0.3, 0.3, 0.4)), InvalidInput);
+    st.end_flip_journal();
+    EXPECT_FALSE(st.recording_flips());
+    EXPECT_THROW(st.undo_flips(0), InvalidInput);
+    random_flips(st, 50, 11);  // flips after the record are kept
+    EXPECT_FALSE(FlipState(st) == s0);
+  }
+}
+
 TEST(SignpostSave, MalformedFilesNameTheProblem) {
   const auto tmp = std::filesystem::temp_directory_path() / "ifem_signpost_bad.ifem";
   auto write = [&](const std::string& text) {

@@ -1,0 +1,428 @@
+// Start paths along the descent of a guide potential (guided_path.h).
+#include "intrinsic/geodesic/guided_path.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/triangle_formulas.h"
+
+namespace ifem::intrinsic {
+namespace {
+
+using T = IntrinsicTriangulation;
+
+// A corner position below this fraction of a side counts as reaching the corner.
+constexpr double kCornerSnap = 1e-7;
+
+struct Layout {
+  Eigen::Vector2d p[3];
+};
+
+Layout layout_of(const T& tri, Index f) {
+  Layout l;
+  face_layout(tri, f, l.p);
+  return l;
+}
+
+// −∇φ in face f's layout (φ linear on the face); zero on a degenerate face.
+Eigen::Vector2d descent(const T& tri, const Eigen::VectorXd& phi, Index f, const Layout& l) {
+  const double area2 = cross2(l.p[1] - l.p[0], l.p[2] - l.p[0]);
+  if (!(area2 > 0.0)) return Eigen::Vector2d::Zero();
+  Eigen::Vector2d g = Eigen::Vector2d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector2d e = l.p[(i + 2) % 3] - l.p[(i + 1) % 3];
+    g += phi[tri.tail(3 * f + i)] * Eigen::Vector2d(-e.y(), e.x());
+  }
+  return -g / area2;
+}
+
+PathStep step_along(const T& tri, Index h, bool along) {
+  const Index e = tri.edge(h);
+  return {e, along ? tri.edge_halfedge(e) == h : tri.edge_halfedge(e) != h};
+}
+
+// The side of face f from corner i to corner j (nothing when i == j).
+void face_step(const T& tri, Index f, int i, int j, std::vector<PathStep>* out) {
+  if (i == j) return;
+  if (j == (i + 1) % 3) {
+    out->push_back(step_along(tri, 3 * f + i, true));
+  } else {
+    out->push_back(step_along(tri, 3 * f + j, false));
+  }
+}
+
+// The two sides of the strip of faces the descent curve crosses between two vertices.
+struct Strip {
+  std::vector<PathStep> left, right;
+  void to_corner(const T& tri, Index f, int lc, int rc, int k) {
+    face_step(tri, f, lc, k, &left);
+    face_step(tri, f, rc, k, &right);
+  }
+};
+
+double steps_length(const T& tri, const std::vector<PathStep>& s) {
+  double l = 0.0;
+  for (const PathStep& x : s) l += tri.length(x.edge);
+  return l;
+}
+
+// The side of face f (other than `skip`) through which the ray x + s·d leaves it, and the
+// parameter t along that side (from its tail); false when none is found (degenerate face).
+bool exit_side(const Layout& l, const Eigen::Vector2d& x, const Eigen::Vector2d& d, int skip,
+               int* side, double* t) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < 3; ++j) {
+    if (j == skip) continue;
+    const Eigen::Vector2d e = l.p[(j + 1) % 3] - l.p[j];
+    const double den = cross2(d, e);
+    if (!(cross2(e, d) < 0.0)) continue;  // not leaving through this side
+    const Eigen::Vector2d w = l.p[j] - x;
+    const double s = cross2(w, e) / den;
+    if (s < -1e-12 * e.norm() || s >= best) continue;
+    best = s;
+    *side = j;
+    *t = std::clamp(cross2(w, d) / den, 0.0, 1.0);
+  }
+  return std::isfinite(best);
+}
+
+// Where a leg of the descent from vertex v leaves v: the outgoing halfedge whose corner holds
+// −∇φ, or kInvalidIndex.
+Index leaving_corner(const T& tri, const Eigen::VectorXd& phi, Index v, Eigen::Vector2d* dir) {
+  const Index h0 = tri.vertex_halfedge(v);
+  Index x = h0;
+  for (Index guard = 0; x != kInvalidIndex && guard <= tri.n_halfedges(); ++guard) {
+    const Index f = T::face(x);
+    const int c = static_cast<int>(T::side(x));
+    const Layout l = layout_of(tri, f);
+    const Eigen::Vector2d d = descent(tri, phi, f, l);
+    if (d.squaredNorm() > 0.0 && cross2(l.p[(c + 1) % 3] - l.p[c], d) >= 0.0 &&
+        cross2(d, l.p[(c + 2) % 3] - l.p[c]) >= 0.0) {
+      *dir = d;
+      return x;
+    }
+    x = tri.twin(T::prev(x));
+    if (x == h0) break;
+  }
+  return kInvalidIndex;
+}
+
+// The steepest descending edge at v (an outgoing halfedge, or the incoming boundary side
+// reversed: *along false), or kInvalidIndex when no neighbour is lower.
+Index steepest_edge(const T& tri, const Eigen::VectorXd& phi, Index v, bool* along) {
+  Index best = kInvalidIndex;
+  double slope = 0.0;
+  auto consider = [&](Index h, bool fwd, Index u) {
+    const double s = (phi[v] - phi[u]) / tri.length(tri.edge(h));
+    if (s > slope) slope = s, best = h, *along = fwd;
+  };
+  const Index h0 = tri.vertex_halfedge(v);
+  Index x = h0;
+  for (Index guard = 0; x != kInvalidIndex && guard <= tri.n_halfedges(); ++guard) {
+    consider(x, true, tri.head(x));
+    const Index n = tri.twin(T::prev(x));
+    if (n == kInvalidIndex) consider(T::prev(x), false, tri.tail(T::prev(x)));
+    if (n == h0 || n == kInvalidIndex) break;
+    x = n;
+  }
+  return best;
+}
+
+// Follows the descent from face f, entered with strip corners lc (left) / rc (right) at point x
+// (entered through side `in`, −1 from a corner), until it reaches a vertex; adds the strip's
+// sides to *strip and returns that vertex, or kInvalidIndex when it stalls.
+Index follow(const T& tri, const Eigen::VectorXd& phi, Index b, Index f, int lc, int rc, int in,
+             Eigen::Vector2d x, Eigen::Vector2d d, Index* budget, Strip* strip) {
+  for (; (*budget)-- > 0;) {
+    for (int k = 0; k < 3; ++k) {
+      if (tri.tail(3 * f + k) != b) continue;
+      strip->to_corner(tri, f, lc, rc, k);
+      return b;
+    }
+    const Layout l = layout_of(tri, f);
+    int j = -1;
+    double t = 0.0;
+    if (!exit_side(l, x, d, in, &j, &t)) return kInvalidIndex;
+    const int tail_c = j, head_c = (j + 1) % 3;
+    const Index h = 3 * f + j, ht = tri.twin(h);
+    if (t < kCornerSnap || t > 1.0 - kCornerSnap || ht == kInvalidIndex) {
+      // a corner, or the boundary: to the side's corner the curve reaches / the lower one
+      const bool to_tail = ht == kInvalidIndex ? phi[tri.tail(h)] <= phi[tri.head(h)] : t < 0.5;
+      const int k = to_tail ? tail_c : head_c;
+      strip->to_corner(tri, f, lc, rc, k);
+      return tri.tail(3 * f + k);
+    }
+    face_step(tri, f, lc, head_c, &strip->left);
+    face_step(tri, f, rc, tail_c, &strip->right);
+    const Index g = T::face(ht);
+    const int s_in = static_cast<int>(T::side(ht));
+    const Layout lg = layout_of(tri, g);
+    x = lg.p[(s_in + 1) % 3] + t * (lg.p[s_in] - lg.p[(s_in + 1) % 3]);
+    d = descent(tri, phi, g, lg);
+    f = g, lc = s_in, rc = (s_in + 1) % 3, in = s_in;
+    if (!(cross2(lg.p[rc] - lg.p[lc], d) > 0.0)) {  // a valley along this edge: to its lower end
+      const int k = phi[tri.tail(3 * g + lc)] <= phi[tri.tail(3 * g + rc)] ? lc : rc;
+      strip->to_corner(tri, g, lc, rc, k);
+      return tri.tail(3 * g + k);
+    }
+  }
+  return kInvalidIndex;
+}
+
+// One leg of the descent from vertex v to the next vertex it reaches (appended to *steps);
+// kInvalidIndex when it stalls.
+Index descend_from(const T& tri, const Eigen::VectorXd& phi, Index v, Index b, StripSide pick,
+                   Index* budget, std::vector<PathStep>* steps) {
+  Eigen::Vector2d d;
+  const Index x = leaving_corner(tri, phi, v, &d);
+  if (x == kInvalidIndex) {
+    bool along = true;
+    const Index h = steepest_edge(tri, phi, v, &along);
+    if (h == kInvalidIndex) return kInvalidIndex;
+    steps->push_back(step_along(tri, h, along));
+    return along ? tri.head(h) : tri.tail(h);
+  }
+  const Index f = T::face(x);
+  const int c = static_cast<int>(T::side(x));
+  const Layout l = layout_of(tri, f);
+  Strip strip;
+  const Index w = follow(tri, phi, b, f, c, c, -1, l.p[c], d, budget, &strip);
+  if (w == kInvalidIndex) return w;
+  const bool left = pick == StripSide::kShorter
+                        ? steps_length(tri, strip.left) <= steps_length(tri, strip.right)
+                        : pick == StripSide::kLeft;
+  const std::vector<PathStep>& side = left ? strip.left : strip.right;
+  steps->insert(steps->end(), side.begin(), side.end());
+  return w;
+}
+
+void check_vertex(const T& tri, Index v, const char* name) {
+  if (v < 0 || v >= tri.n_vertices()) {
+    throw InvalidInput(std::string("descent_edge_path: ") + name + " = " + std::to_string(v) +
+                       " is out of range [0, " + std::to_string(tri.n_vertices()) + ")");
+  }
+}
+
+}  // namespace
+
+const char* to_string(StartPath start) {
+  switch (start) {
+    case StartPath::kDijkstra:
+      return "dijkstra";
+    case StartPath::kGuided:
+      return "guided";
+    case StartPath::kBest:
+      return "best";
+  }
+  return "?";
+}
+
+EdgePath descent_edge_path(const T& tri, Index a, Index b, const Eigen::VectorXd& guide,
+                           StripSide side) {
+  check_vertex(tri, a, "a");
+  check_vertex(tri, b, "b");
+  if (guide.size() != tri.n_vertices()) {
+    throw InvalidInput("descent_edge_path: the guide has " + std::to_string(guide.size()) +
+                       " values, the triangulation " + std::to_string(tri.n_vertices()) +
+                       " vertices");
+  }
+  if (a == b) throw InvalidInput("descent_edge_path: a == b (" + std::to_string(a) + ")");
+  EdgePath path;
+  std::vector<char> seen(static_cast<std::size_t>(tri.n_vertices()), 0);
+  Index budget = 4 * tri.n_faces() + 100;
+  for (Index v = a; v != b;) {
+    seen[v] = 1;
+    if (!std::isfinite(guide[v])) return shortest_edge_path(tri, a, b);
+    v = descend_from(tri, guide, v, b, side, &budget, &path.steps);
+    if (v == kInvalidIndex || seen[v]) return shortest_edge_path(tri, a, b);
+  }
+  return path;
+}
+
+}  // namespace ifem::intrinsic
+
+namespace ifem::intrinsic {
+namespace {
+
+// The link of vertex c from u to w: from outgoing halfedge o_u (c → u) to o_w (c → w), turning
+// clockwise (cw) or counter-clockwise around c; false at the boundary or after a whole turn.
+bool around_vertex(const T& tri, Index o_u, Index o_w, bool cw, std::vector<PathStep>* route) {
+  Index x = o_u;
+  for (Index guard = 0; guard <= tri.n_halfedges(); ++guard) {
+    if (x == o_w) return !route->empty();
+    if (cw) {
+      const Index t = tri.twin(x);
+      if (t == kInvalidIndex) return false;
+      route->push_back(step_along(tri, T::prev(t), false));
+      x = T::next(t);
+    } else {
+      route->push_back(step_along(tri, T::next(x), true));
+      x = tri.twin(T::prev(x));
+      if (x == kInvalidIndex) return false;
+    }
+    if (x == o_u) return false;
+  }
+  return false;
+}
+
+PathStep reversed(PathStep s) { return {s.edge, !s.forward}; }
+
+// Start paths that pass the vertices next to `path` on their other side: for each step, around
+// the third corner of the face on either side of it; for each interior vertex, around each of
+// its two wedges. At most one per vertex.
+std::vector<EdgePath> other_sides(const T& tri, const EdgePath& path) {
+  std::vector<EdgePath> out;
+  std::vector<char> tried(static_cast<std::size_t>(tri.n_vertices()), 0);
+  auto add = [&](std::size_t first, std::size_t count, Index c, const std::vector<PathStep>& r) {
+    EdgePath p;
+    p.steps.assign(path.steps.begin(), path.steps.begin() + first);
+    p.steps.insert(p.steps.end(), r.begin(), r.end());
+    p.steps.insert(p.steps.end(), path.steps.begin() + first + count, path.steps.end());
+    out.push_back(std::move(p));
+    tried[c] = 1;
+  };
+  const std::size_t n = path.steps.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Index h = step_halfedge(tri, path.steps[i]);
+    for (const Index side : {h, h == kInvalidIndex ? kInvalidIndex : tri.twin(h)}) {
+      if (side == kInvalidIndex) continue;
+      const Index c = tri.tail(T::prev(side));
+      if (tried[c]) continue;
+      std::vector<PathStep> r;
+      const bool left = side == h;  // the face on the path's left: its corner c, turn clockwise
+      const Index o_u = left ? T::prev(side) : tri.twin(T::next(side));
+      const Index o_w = left ? tri.twin(T::next(side)) : T::prev(side);
+      if (o_u != kInvalidIndex && o_w != kInvalidIndex && around_vertex(tri, o_u, o_w, left, &r)) {
+        add(i, 1, c, r);
+      }
+    }
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    const Index c = step_tail(tri, path.steps[i]);
+    if (tried[c]) continue;
+    const Index o_u = step_halfedge(tri, reversed(path.steps[i - 1]));
+    const Index o_w = step_halfedge(tri, path.steps[i]);
+    if (o_u == kInvalidIndex || o_w == kInvalidIndex) continue;
+    for (const bool cw : {true, false}) {
+      std::vector<PathStep> r;
+      if (around_vertex(tri, o_u, o_w, cw, &r)) add(i - 1, 2, c, r);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+FlipOutReport shorten_over_sides(SignpostTriangulation& st, EdgePath& path,
+                                 const FlipOutOptions& options, int rounds) {
+  const bool opened = !st.recording_flips();
+  FlipOutReport rep = shorten(st, path, options);
+  const double initial = rep.initial_length;
+  for (int r = 0; r < rounds; ++r) {
+    bool better = false;
+    for (const EdgePath& start : other_sides(st.intrinsic(), path)) {
+      const std::size_t mark = st.flip_journal_mark();
+      EdgePath p = start;
+      const FlipOutReport t = shorten(st, p, options);
+      if (t.final_length < rep.final_length * (1.0 - 1e-12)) {
+        path = std::move(p), rep = t, better = true;
+        break;
+      }
+      st.undo_flips(mark);  // the trial's flips only: st is the one the geodesic lies on again
+    }
+    if (!better) break;
+  }
+  if (opened && st.recording_flips()) st.end_flip_journal();
+  rep.initial_length = initial;
+  return rep;
+}
+
+}  // namespace ifem::intrinsic
+
+namespace ifem::intrinsic {
+
+void ShortestGeodesicOptions::validate() const {
+  flipout.validate();
+  if (side_rounds < 0) {
+    throw InvalidInput("ShortestGeodesicOptions::side_rounds must be ≥ 0, got " +
+                       std::to_string(side_rounds));
+  }
+}
+
+namespace {
+
+bool same_steps(const EdgePath& p, const EdgePath& q) {
+  return std::equal(p.steps.begin(), p.steps.end(), q.steps.begin(), q.steps.end(),
+                    [](const PathStep& x, const PathStep& y) {
+                      return x.edge == y.edge && x.forward == y.forward;
+                    });
+}
+
+// True when starts[i] repeats an earlier start (its FlipOut and side search would too).
+bool repeats_earlier(const std::vector<EdgePath>& starts, std::size_t i) {
+  for (std::size_t j = 0; j < i; ++j) {
+    if (same_steps(starts[j], starts[i])) return true;
+  }
+  return false;
+}
+
+EdgePath reversed_path(const EdgePath& p) {
+  EdgePath r;
+  for (auto it = p.steps.rbegin(); it != p.steps.rend(); ++it) r.steps.push_back(reversed(*it));
+  return r;
+}
+
+}  // namespace
+
+FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
+                                const Eigen::VectorXd* guide_to_b,
+                                const Eigen::VectorXd* guide_to_a, const ShortestGeodesicOptions& o,
+                                EdgePath* path, std::string* won) {
+  o.validate();
+  const T& tri = st.intrinsic();
+  std::vector<EdgePath> starts{shortest_edge_path(tri, a, b)};  // validates a and b
+  std::vector<std::string> names{"shortest edge path"};
+  if (o.start == StartPath::kDijkstra || (guide_to_b == nullptr && guide_to_a == nullptr)) {
+    *path = starts[0];
+    if (won != nullptr) *won = names[0];
+    return shorten(st, *path, o.flipout);
+  }
+  if (o.start == StartPath::kGuided) starts.clear(), names.clear();
+  const char* side_names[3] = {"shorter", "left", "right"};
+  for (int k = 0; k < 3; ++k) {
+    const auto side = static_cast<StripSide>(k);
+    if (guide_to_b) {
+      starts.push_back(descent_edge_path(tri, a, b, *guide_to_b, side));
+      names.push_back(std::string("descent to b, ") + side_names[k] + " side");
+    }
+    if (guide_to_a) {
+      starts.push_back(reversed_path(descent_edge_path(tri, b, a, *guide_to_a, side)));
+      names.push_back(std::string("descent to a, reversed, ") + side_names[k] + " side");
+    }
+  }
+  // every start on st itself: its flips are undone after it (the winner's are redone at the end)
+  const bool opened = !st.recording_flips();
+  const std::size_t mark = st.flip_journal_mark();
+  std::vector<Index> best_flips;
+  FlipOutReport best_report;
+  for (std::size_t i = 0; i < starts.size(); ++i) {
+    if (repeats_earlier(starts, i)) continue;
+    EdgePath p = starts[i];
+    const FlipOutReport r = shorten_over_sides(st, p, o.flipout, o.side_rounds);
+    if (i == 0 || r.final_length < best_report.final_length) {
+      best_report = r, *path = std::move(p), best_flips = st.flips_since(mark);
+      if (won != nullptr) *won = names[i];
+    }
+    st.undo_flips(mark);
+  }
+  if (opened) st.end_flip_journal();
+  for (const Index e : best_flips) st.flip_edge(e);
+  return best_report;
+}
+
+}  // namespace ifem::intrinsic

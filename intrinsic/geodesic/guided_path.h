@@ -1,0 +1,92 @@
+// Start paths for FlipOut in the homotopy class of the shortest geodesic. FlipOut keeps the class
+// of its start path around the vertices the path does not touch (a saddle vertex, total angle
+// > 2π, can hold a geodesic on either side), so a Dijkstra edge path that passes such a vertex on
+// the other side than the shortest geodesic ends as a longer geodesic. A guide potential φ ≈ the
+// distance to the target (e.g. the heat method's, computed by the caller: this layer solves no
+// linear systems) tells the side: the curve of steepest descent of φ runs beside the shortest
+// geodesic, and an edge path along one side of the faces it crosses is in its class (no vertex
+// lies between the two).
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "intrinsic/geodesic/flip_geodesic.h"
+
+namespace ifem::intrinsic {
+
+/// Which side of the crossed face strips descent_edge_path() runs along.
+enum class StripSide {
+  kShorter,  ///< per strip (between two vertices the curve touches), the shorter side
+  kLeft,     ///< always the side on the curve's left (looking towards b)
+  kRight,
+};
+
+/// An edge path from a to b homotopic to the steepest-descent curve of `guide` from a: the curve
+/// follows −∇φ (φ linear on each face) across faces, and along an edge where the descent
+/// directions of its two faces meet (a valley) or where it runs into the boundary, it goes to
+/// that edge's lower end; from a vertex it leaves into the face whose corner holds −∇φ, or
+/// along the steepest descending edge. The path runs along the side of each crossed face strip
+/// (between two vertices the curve touches) that `side` picks; once a face has b as a corner, it
+/// goes straight to b. Where the descent stalls (a vertex with no lower neighbour that is not b,
+/// a vertex reached twice, more than 4·#F + 100 face crossings), it is the Dijkstra edge path
+/// (shortest_edge_path) instead.
+/// @param guide #V of tri: a potential decreasing towards b (≈ distance to b), finite on a's
+///        component
+/// @throws InvalidInput if a or b is out of range, a == b, guide has the wrong size, or b is not
+///         reachable from a
+EdgePath descent_edge_path(const IntrinsicTriangulation& tri, Index a, Index b,
+                           const Eigen::VectorXd& guide, StripSide side = StripSide::kShorter);
+
+/// Which start paths shortest_geodesic() shortens (see ShortestGeodesicOptions::start).
+enum class StartPath { kDijkstra, kGuided, kBest };
+
+/// A readable name ("dijkstra", "guided", "best").
+const char* to_string(StartPath start);
+
+/// FlipOut on one open path without pinned joints, then a search over the neighbouring classes:
+/// from the geodesic found, a start path that passes a vertex next to it (a corner of a face along
+/// it, or one it runs through) on that vertex's other side, shortened on st and kept when shorter,
+/// else its flips are undone (SignpostTriangulation::undo_flips()); repeated from each
+/// improvement, at most `rounds` times. A trial costs its FlipOut plus O(#V + #E) of
+/// bookkeeping; st ends holding the result's flips only.
+FlipOutReport shorten_over_sides(SignpostTriangulation& st, EdgePath& path,
+                                 const FlipOutOptions& options = {}, int rounds = 8);
+
+/// How shortest_geodesic() searches.
+struct ShortestGeodesicOptions {
+  /// kDijkstra: FlipOut from the Dijkstra edge path only (no side search); kGuided: from the
+  /// guided start paths (StripSide kShorter, kLeft, kRight; a → b down the guide to b and,
+  /// reversed, b → a down the guide to a, for each guide given); kBest: those and the Dijkstra
+  /// path. Every start but kDijkstra's is followed by shorten_over_sides(). Without a guide:
+  /// kDijkstra.
+  StartPath start = StartPath::kBest;
+  int side_rounds = 8;  ///< shorten_over_sides() rounds, ≥ 0 (0: FlipOut only)
+  FlipOutOptions flipout;
+  /// @throws InvalidInput naming the field (side_rounds < 0, bad flipout options)
+  void validate() const;
+};
+
+/// A geodesic from vertex a to vertex b that is the shortest one far more often than FlipOut from
+/// one start path: every distinct start (see ShortestGeodesicOptions; a start equal to an
+/// earlier one is skipped) is shortened on st, its flips undone afterwards, and the shortest
+/// result's flips are redone at the end: st then holds exactly what shortening that start alone
+/// gives (*path lives on it). No copy of st. Costs about #starts (≤ 7) × (FlipOut + the side
+/// search's trials, each a FlipOut and O(#V + #E) of bookkeeping). A flip record the caller
+/// opened (SignpostTriangulation::flip_journal_mark()) stays open and holds the result's flips.
+/// @param guide_to_b nullptr, or #V of st.intrinsic(): ≈ the distance to b (descent_edge_path())
+/// @param guide_to_a nullptr, or the same for a (its descent from b, reversed, is a start too:
+///        the two descents differ, and where one ends in a longer class the other often does
+///        not; docs/decisions.md D-124)
+/// @param won nullptr, or set to the start the result came from (before its side search):
+///        "shortest edge path" (the Dijkstra one), or "descent to b, S side" / "descent to a,
+///        reversed, S side" with S the StripSide ("shorter", "left", "right")
+/// @throws InvalidInput as shortest_edge_path(), on bad options or a guide of the wrong size
+FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
+                                const Eigen::VectorXd* guide_to_b,
+                                const Eigen::VectorXd* guide_to_a,
+                                const ShortestGeodesicOptions& options, EdgePath* path,
+                                std::string* won = nullptr);
+
+}  // namespace ifem::intrinsic
