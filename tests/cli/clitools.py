@@ -163,3 +163,20 @@ class Cli:
                 if line.startswith("v "):
                     f.write(" ".join(line.split(" ")[1:4]) + "\n")
         return path
+
+
+def face_components(n_vertices, faces):
+    """The connected piece of each vertex (0-based ids; a label per vertex, equal labels = one
+    piece), joining the corners of every face (union-find); a vertex in no face is its own."""
+    parent = list(range(n_vertices))
+
+    def find(v):
+        while parent[v] != v:
+            parent[v] = parent[parent[v]]
+            v = parent[v]
+        return v
+
+    for face in faces:
+        for u in face[1:]:
+            parent[find(u)] = find(face[0])
+    return [find(v) for v in range(n_vertices)]

@@ -7,8 +7,8 @@ import math
 import re
 import struct
 
-from clitools import SPOT_VERTICES, count_lines, grep, head_bytes, lines, obj_faces, \
-    obj_vertices, write_obj
+from clitools import SPOT_VERTICES, count_lines, face_components, grep, head_bytes, lines, \
+    obj_faces, obj_vertices, write_obj
 
 
 def vectors(path):
@@ -287,18 +287,7 @@ def soup_pieces(path):
     """The pieces of an OBJ counted from its faces alone (union-find): the piece of each vertex
     (0-based) and the set of pieces without area."""
     verts, faces = obj_vertices(path), [tuple(i - 1 for i in f) for f in obj_faces(path)]
-    parent = list(range(len(verts)))
-
-    def find(v):
-        while parent[v] != v:
-            parent[v] = parent[parent[v]]
-            v = parent[v]
-        return v
-
-    for a, b, c in faces:
-        parent[find(b)] = find(a)
-        parent[find(c)] = find(a)
-    piece = [find(v) for v in range(len(verts))]
+    piece = face_components(len(verts), faces)
     area = {p: 0.0 for p in piece}
     for a, b, c in faces:
         u = [verts[b][k] - verts[a][k] for k in range(3)]

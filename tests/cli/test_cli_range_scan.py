@@ -11,7 +11,7 @@ import re
 import numpy as np
 import pytest
 
-from clitools import count_lines, grep, numbers
+from clitools import count_lines, face_components, grep, numbers
 
 
 def range_scan(n, seed, jump=2.0, objects=30, rim_fraction=0.3, islands=6):
@@ -72,28 +72,13 @@ def write_off(path, pos, faces):
         f.writelines(f"3 {t[0]} {t[1]} {t[2]}\n" for t in faces)
 
 
-def component_labels(n_vertices, faces):
-    parent = list(range(n_vertices))
-
-    def find(v):
-        while parent[v] != v:
-            parent[v] = parent[parent[v]]
-            v = parent[v]
-        return v
-
-    for a, b, c in faces:
-        for u, w in ((a, b), (b, c)):
-            parent[find(u)] = find(w)
-    return [find(v) for v in range(n_vertices)]
-
-
 def components(n_vertices, faces):
-    return len(set(component_labels(n_vertices, faces)))
+    return len(set(face_components(n_vertices, faces)))
 
 
 def largest_component_vertices(pos, faces, targets):
     """Per target (x, y): the vertex of the largest component nearest to it."""
-    labels = np.array(component_labels(len(pos), faces))
+    labels = np.array(face_components(len(pos), faces))
     big = np.bincount(labels).argmax()
     ids = np.flatnonzero(labels == big)
     return [int(ids[np.argmin(np.linalg.norm(pos[ids, :2] - t, axis=1))]) for t in targets]
@@ -161,7 +146,7 @@ def test_poisson_refine_scan(cli, scan, curves):
     assert grep("refined: ", r.output), r.describe()
     u = numbers(out)
     assert len(u) == len(pos)
-    labels = component_labels(len(pos), faces)
+    labels = face_components(len(pos), faces)
     held = [u[v] for v in range(len(pos)) if labels[v] == labels[a]]
     assert all(math.isfinite(v) for v in u)
     if not curves:
