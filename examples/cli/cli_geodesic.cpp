@@ -150,11 +150,12 @@ void print_curves(const recipes::GeodesicCurves& run, const std::vector<GivenCur
 
 // --start as the library's enum. @throws UsageError
 intrinsic::StartPath start_path(const Args& args) {
-  const std::string s = args.has("start") ? args.get("start") : "best";
-  if (s == "best") return intrinsic::StartPath::kBest;
-  if (s == "guided") return intrinsic::StartPath::kGuided;
-  if (s == "dijkstra") return intrinsic::StartPath::kDijkstra;
-  throw UsageError("--start '" + s + "': expected 'best', 'guided' or 'dijkstra'");
+  if (!args.has("start")) return intrinsic::StartPath::kBest;
+  try {
+    return intrinsic::start_path_from(args.get("start"));
+  } catch (const InvalidInput& e) {
+    throw UsageError(std::string("--start ") + e.what());
+  }
 }
 
 void check_modes(const Args& args) {

@@ -222,6 +222,13 @@ const char* to_string(StartPath start) {
   return "?";
 }
 
+StartPath start_path_from(const std::string& name) {
+  for (StartPath s : {StartPath::kBest, StartPath::kGuided, StartPath::kDijkstra}) {
+    if (name == to_string(s)) return s;
+  }
+  throw InvalidInput("'" + name + "': expected 'best', 'guided' or 'dijkstra'");
+}
+
 EdgePath descent_edge_path(const T& tri, Index a, Index b, const Eigen::VectorXd& guide,
                            StripSide side) {
   check_vertex(tri, a, "a");

@@ -44,6 +44,9 @@ enum class StartPath { kDijkstra, kGuided, kBest };
 
 /// A readable name ("dijkstra", "guided", "best").
 const char* to_string(StartPath start);
+/// The StartPath named `name` (to_string()'s names: the CLI's --start, Python's start=).
+/// @throws InvalidInput "'NAME': expected 'best', 'guided' or 'dijkstra'"
+StartPath start_path_from(const std::string& name);
 
 /// FlipOut on one open path without pinned joints, then a search over the neighbouring classes:
 /// from the geodesic found, a start path that passes a vertex next to it (a corner of a face along

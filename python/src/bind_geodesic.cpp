@@ -215,10 +215,11 @@ recipes::GeodesicOptions options_of(double mollify) {
 
 // The start paths' name as the library's enum (the CLI's --start).
 intrinsic::StartPath start_of(const std::string& s) {
-  if (s == "best") return intrinsic::StartPath::kBest;
-  if (s == "guided") return intrinsic::StartPath::kGuided;
-  if (s == "dijkstra") return intrinsic::StartPath::kDijkstra;
-  throw InvalidInput("start = '" + s + "': expected 'best', 'guided' or 'dijkstra'");
+  try {
+    return intrinsic::start_path_from(s);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(std::string("start = ") + e.what());
+  }
 }
 
 // curves: a list of (points, closed, pin), each named by the matching entry of `names`.

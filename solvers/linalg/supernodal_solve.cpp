@@ -669,6 +669,30 @@ auto* sized(Vector& v, std::size_t n) {
   return v.data();
 }
 
+// The supernodes a forward pass must visit for the nonzero rows (they and their ancestors in the
+// elimination tree `parent`), ascending, into reach; false when they hold half the factor or more
+// (visit all). Shared by the real and the complex kernel.
+bool supernodes_reached(const SupernodalPattern& p, const std::vector<int>& col_super,
+                        const std::vector<int>& parent, const char* nonzero,
+                        std::vector<int>& reach) {
+  const int ns = int(parent.size());
+  std::vector<char> mark(ns, 0);
+  Int64 work = 0;
+  for (Eigen::Index i = 0; i < p.n; ++i) {
+    if (!nonzero[i]) continue;
+    for (int s = col_super[i]; s >= 0 && !mark[s]; s = parent[s]) {
+      mark[s] = 1;
+      work += p.value_start[s + 1] - p.value_start[s];
+    }
+    if (2 * work >= p.value_start.back()) return false;
+  }
+  reach.clear();
+  for (int s = 0; s < ns; ++s) {
+    if (mark[s]) reach.push_back(s);
+  }
+  return true;
+}
+
 }  // namespace
 
 struct SupernodalSolver::Impl {
@@ -838,22 +862,9 @@ void SupernodalSolver::Impl::backward_split(const Real* values, double* W, int k
 }
 
 std::vector<int> SupernodalSolver::Impl::forward_reach(const char* nonzero) const {
-  const int ns = int(parent.size());
-  std::vector<char> mark(ns, 0);
-  Int64 work = 0;
-  for (Eigen::Index i = 0; i < p.n; ++i) {
-    if (!nonzero[i]) continue;
-    for (int s = col_super[i]; s >= 0 && !mark[s]; s = parent[s]) {
-      mark[s] = 1;
-      work += p.value_start[s + 1] - p.value_start[s];
-    }
-    if (2 * work >= p.value_start.back()) return {};  // dense enough: a full pass
-  }
   std::vector<int> reach;
-  for (int s = 0; s < ns; ++s) {
-    if (mark[s]) reach.push_back(s);
-  }
-  return reach;
+  if (!supernodes_reached(p, col_super, parent, nonzero, reach)) reach.clear();
+  return reach;  // empty: a full pass
 }
 
 std::vector<Columns> SupernodalSolver::Impl::source_columns(const int* source_rows, int k) const {
@@ -1219,22 +1230,7 @@ struct ComplexSupernodalSolver::Impl {
 
 bool ComplexSupernodalSolver::Impl::forward_reach(const char* nonzero,
                                                   std::vector<int>& reach) const {
-  const int ns = int(parent.size());
-  std::vector<char> mark(ns, 0);
-  Int64 work = 0;
-  for (Eigen::Index i = 0; i < p.n; ++i) {
-    if (!nonzero[i]) continue;
-    for (int s = col_super[i]; s >= 0 && !mark[s]; s = parent[s]) {
-      mark[s] = 1;
-      work += p.value_start[s + 1] - p.value_start[s];
-    }
-    if (2 * work >= p.value_start.back()) return false;
-  }
-  reach.clear();
-  for (int s = 0; s < ns; ++s) {
-    if (mark[s]) reach.push_back(s);
-  }
-  return true;
+  return supernodes_reached(p, col_super, parent, nonzero, reach);
 }
 
 void ComplexSupernodalSolver::Impl::solve_permuted(Cx* W, Scratch& scr, const char* nonzero) const {
