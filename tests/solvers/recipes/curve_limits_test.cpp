@@ -157,7 +157,9 @@ TEST(BezierBudget, EstimateBoundsTheInsertedVertices) {
       const intrinsic::BezierCurve b = intrinsic::bezier_curve(st, ctrl, rounds);
       EXPECT_LE(b.inserted_vertices, e.added_vertices[0]);
       // on a grid a midpoint at round 1 may be a vertex already; later most are new
-      if (rounds == 3) EXPECT_GE(b.inserted_vertices, 0.8 * e.added_vertices[0]);
+      if (rounds == 3) {
+        EXPECT_GE(b.inserted_vertices, 0.8 * e.added_vertices[0]);
+      }
       // the segment figure is generous: at least the final polygon's mean segment
       EXPECT_GE(e.segment_length[0] * (1 + 1e-12),
                 b.report.final_length / double(b.controls.size() - 1));
