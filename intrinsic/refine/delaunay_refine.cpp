@@ -527,6 +527,13 @@ class Refiner {
       }
     }
   }
+  // Every vertex made by refinement gets a scale (the faces around it are classified by it).
+  void set_scale(Index v, double scale) {
+    if (scale_.size() <= static_cast<std::size_t>(v)) {
+      scale_.resize(static_cast<std::size_t>(v) + 1, std::numeric_limits<double>::infinity());
+    }
+    scale_[v] = scale;
+  }
   double face_scale(Index f) const {
     return std::min(
         {scale_[tri_.tail(3 * f)], scale_[tri_.tail(3 * f + 1)], scale_[tri_.tail(3 * f + 2)]});
@@ -603,8 +610,7 @@ class Refiner {
         return kInvalidIndex;
       }
       cones_->add_vertex(v, on_boundary);
-      scale_.resize(static_cast<std::size_t>(v) + 1, scale);
-      scale_[v] = scale;
+      set_scale(v, scale);
       return v;
     } catch (const TraceError&) {  // the trace, or locating the new vertex (signposts)
       ++rep_.failed_traces;
@@ -747,6 +753,8 @@ class Refiner {
   Index conforming_split(Index e, double t) {
     const Index n_before = tri_.n_vertices(), new_edge = tri_.n_edges();
     const bool constrained = bar_.constrained(e);
+    const Index h = tri_.edge_halfedge(e);
+    const double scale = std::min(scale_[tri_.tail(h)], scale_[tri_.head(h)]);
     Index v = kInvalidIndex;
     try {
       v = split(e, t);
@@ -761,6 +769,7 @@ class Refiner {
       }
     }
     cones_->add_vertex(v, true);
+    set_scale(v, scale);
     return v;
   }
 
@@ -819,6 +828,10 @@ class Refiner {
 
   // The report's final counts and angles; every face checked (check_face()).
   void measure_result() {
+    if (scale_.size() != static_cast<std::size_t>(tri_.n_vertices())) {
+      throw Error("delaunay_refine: internal error: " + std::to_string(tri_.n_vertices()) +
+                  " vertices but " + std::to_string(scale_.size()) + " local scales");
+    }
     for (Index f = 0; f < tri_.n_faces(); ++f) check_face(f, "at the end of refinement");
     rep_.vertices_after = tri_.n_vertices();
     rep_.insertions = rep_.vertices_after - rep_.vertices_before;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/generators/mesh_generators.h"
 #include "solvers/recipes/curves.h"
 
 namespace ifem {
@@ -219,6 +220,35 @@ TEST(Conforming, CurvesMeetingAtSmallAngles) {
     EXPECT_LE(on.below, 1e-12) << deg << "°";
     EXPECT_LE(on.above, 1e-12) << deg << "°";
   }
+}
+
+// Found by the curves fuzzer: two curves sharing a vertex on a jittered 6×6 grid, refined with
+// conforming splits. The splits made vertices without a local scale, which the final
+// classification then read past the end of its array (a heap overflow under AddressSanitizer;
+// refinement now checks that every vertex has one). Both curves keep their data's range.
+TEST(Conforming, CurvesSharingAVertexOnAJitteredGrid) {
+  const intrinsic::TriangleMesh m = intrinsic::grid(6, 6);
+  io::SurfaceInput in;
+  in.positions = m.positions;
+  in.triangles = m.faces;
+  for (Index v = 0; v < in.positions.rows(); ++v) {
+    const int i = v % 7, j = v / 7;
+    if (i > 0 && i < 6 && j > 0 && j < 6) in.positions(v, 0) += 0.03 * std::sin(3.0 * v);
+  }
+  std::vector<CurveCondition> curves(2);
+  curves[0].vertices = {4, 8, 42};
+  curves[0].values = {0.52};
+  curves[1].vertices = {8, 24};
+  curves[1].values = {0.5};
+  solvers::CurveSurfaceOptions opt;
+  opt.refine = solvers::SurfaceRefineOptions{};
+  opt.refine->max_insertions = 2000;
+  const solvers::CurveSurface s = solvers::prepare_curve_surface(in, curves, opt);
+  ASSERT_GT(s.surface.refine_report.conforming_splits, 0);
+  const solvers::CurvePoissonResult r = solvers::curve_poisson(s, Eigen::VectorXd());
+  ASSERT_EQ(r.u.size(), in.positions.rows());
+  EXPECT_GE(r.u.minCoeff(), 0.5 - 1e-12);
+  EXPECT_LE(r.u.maxCoeff(), 0.52 + 1e-12);
 }
 
 }  // namespace
