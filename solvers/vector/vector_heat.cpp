@@ -28,7 +28,6 @@ using Complex = std::complex<double>;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // A vertex's heat (|Y|, φ) is resolved above this fraction of its component's largest value, and
 // above an absolute floor that keeps clear of subnormals (as HeatDistanceOptions::resolved_heat).
 constexpr double kResolvedRelative = 1e-270;
