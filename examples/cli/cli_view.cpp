@@ -21,7 +21,8 @@ void add_field_files(recipes::Scene& scene, const Args& args) {
   const std::vector<std::string> files = recipes::split_fields(args.get("field"), ',');
   const int symmetry = static_cast<int>(args.count("symmetry"));
   for (const std::string& file : files) {
-    if (file.empty()) throw UsageError("--field: an empty file name in '" + args.get("field") + "'");
+    if (file.empty())
+      throw UsageError("--field: an empty file name in '" + args.get("field") + "'");
     const std::string prefix = files.size() > 1 ? stem(file) + ": " : "";
     if (io::file_extension(file) == ".txt") {
       recipes::add_field(scene, {stem(file), "", io::read_values(file)});
@@ -63,11 +64,12 @@ int run(const Args& args) {
                        " intrinsic edges over the input");
   }
   recipes::write_view_page(out, scene, three);
-  std::printf("wrote %s: %d %s, %zu fields, %zu curve files, %zu intrinsic edges, %d glyphs, %zu "
-              "singularities\n",
-              out.c_str(), int(scene.positions.rows()), scene.faces.empty() ? "points" : "vertices",
-              scene.fields.size(), scene.curves.size(), scene.intrinsic_edges.size(),
-              int(scene.glyph_segments.rows() / 2), scene.singularities.size());
+  std::printf(
+      "wrote %s: %d %s, %zu fields, %zu curve files, %zu intrinsic edges, %d glyphs, %zu "
+      "singularities\n",
+      out.c_str(), int(scene.positions.rows()), scene.faces.empty() ? "points" : "vertices",
+      scene.fields.size(), scene.curves.size(), scene.intrinsic_edges.size(),
+      int(scene.glyph_segments.rows() / 2), scene.singularities.size());
   return 0;
 }
 
@@ -116,8 +118,9 @@ Command view_command() {
             .explain("directions per glyph (1 vectors, 2 lines, 4 crosses)"),
         text("units", "U").explain("units of the values, shown in the legend"),
         text("title", "T").explain("the page's title (default: MESH's name)"),
-        text("three", "DIR").explain("the three.js package directory (default: $IFEM_THREE_DIR,\n"
-                                     "then where scripts/setup.sh installs it)"),
+        text("three", "DIR")
+            .explain("the three.js package directory (default: $IFEM_THREE_DIR,\n"
+                     "then where scripts/setup.sh installs it)"),
         flag("quiet").explain("no progress lines on stderr")}}};
   c.spec.epilogue =
       "examples:\n"

@@ -35,7 +35,8 @@ double bbox_diagonal(const Positions& p) {
 double mean_edge_length(const Scene& s) {
   double sum = 0.0;
   for (const Triangle& t : s.faces) {
-    for (int k = 0; k < 3; ++k) sum += (s.positions.row(t[k]) - s.positions.row(t[(k + 1) % 3])).norm();
+    for (int k = 0; k < 3; ++k)
+      sum += (s.positions.row(t[k]) - s.positions.row(t[(k + 1) % 3])).norm();
   }
   return s.faces.empty() ? 0.0 : sum / (3.0 * double(s.faces.size()));
 }
@@ -206,7 +207,8 @@ std::string fill_template(const std::string& page,
   std::vector<std::pair<std::size_t, std::size_t>> at;  // position in page, index in fills
   for (std::size_t i = 0; i < fills.size(); ++i) {
     const std::size_t pos = page.find(fills[i].first);
-    if (pos == std::string::npos) throw std::logic_error("view page template lacks " + fills[i].first);
+    if (pos == std::string::npos)
+      throw std::logic_error("view page template lacks " + fills[i].first);
     at.emplace_back(pos, i);
   }
   std::sort(at.begin(), at.end());
@@ -402,8 +404,7 @@ std::string find_three_js(const std::string& hint) {
 
 std::string view_page(const Scene& scene, const std::string& three_dir) {
   const std::string three = module_data_url(three_dir + "/build/three.module.min.js");
-  const std::string orbit =
-      module_data_url(three_dir + "/examples/jsm/controls/OrbitControls.js");
+  const std::string orbit = module_data_url(three_dir + "/examples/jsm/controls/OrbitControls.js");
   return fill_template(kViewPageTemplate,
                        {{"\"IFEM_THREE_URL\"", "\"" + three + "\""},
                         {"\"IFEM_ORBIT_URL\"", "\"" + orbit + "\""},

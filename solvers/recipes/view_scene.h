@@ -3,11 +3,12 @@
 // intrinsic triangulation's edges traced over the input), assembled from the project's own
 // outputs, and the self-contained HTML page that draws it offline in a browser.
 //
-//   mesh file ──► view_scene() ──► add_properties()      PLY outputs (fields, fx fy fz, singularity)
-//                                  add_polylines()       OBJ polylines (--curves-out, geodesic -o)
-//                                  add_intrinsic_edges() a saved .ifem triangulation
-//             ──► view_page() / write_view_page()        one HTML file: the page template (in the
-//                                                        repository) + the scene + three.js
+//   mesh file ──► view_scene() ──► add_properties()       PLY outputs: fields, fx fy fz,
+//                                                         singularity
+//                                  add_polylines()        OBJ polylines (--curves-out, geodesic)
+//                                  add_intrinsic_edges()  a saved .ifem triangulation
+//             ──► view_page() / write_view_page()         one HTML file: the page template (in
+//                                                         the repository), scene and three.js
 //
 // The page embeds three.js (npm package `three`, version kThreeVersion, installed by
 // scripts/setup.sh; never copied into the repository): find_three_js() says where it is.

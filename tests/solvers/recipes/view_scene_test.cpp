@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -49,8 +48,8 @@ double point_triangle_distance(const Vec& p, const Vec& a, const Vec& b, const V
 double distance_to_mesh(const Vec& p, const intrinsic::TriangleMesh& m) {
   double best = INFINITY;
   for (const Triangle& t : m.faces) {
-    best = std::min(best, point_triangle_distance(p, m.positions.row(t[0]),
-                                                  m.positions.row(t[1]), m.positions.row(t[2])));
+    best = std::min(best, point_triangle_distance(p, m.positions.row(t[0]), m.positions.row(t[1]),
+                                                  m.positions.row(t[2])));
   }
   return best;
 }
@@ -117,9 +116,9 @@ TEST(ViewScene, IntrinsicEdgesAfterInsertionsLieOnTheInput) {
 TEST(ViewScene, IntrinsicEdgesOfAnotherMeshAreRefused) {
   const intrinsic::TriangleMesh m = intrinsic::uv_sphere(6, 12), other = intrinsic::icosphere(2);
   Scene scene = view_scene(input_of(m), "t");
-  EXPECT_THROW(add_intrinsic_edges(scene, intrinsic::SignpostTriangulation(other.faces,
-                                                                           other.positions)),
-               InvalidInput);
+  EXPECT_THROW(
+      add_intrinsic_edges(scene, intrinsic::SignpostTriangulation(other.faces, other.positions)),
+      InvalidInput);
   intrinsic::TriangleMesh moved = m;
   moved.positions(5, 0) += 1e-6;
   EXPECT_THROW(
@@ -170,15 +169,14 @@ TEST(ViewScene, GlyphsOfAnNDirectionField) {
 
 class ViewFiles : public ::testing::Test {
  protected:
-  std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                              ("ifem_view_" + std::string(::testing::UnitTest::GetInstance()
-                                                              ->current_test_info()
-                                                              ->name()));
-  void SetUp() override { std::filesystem::create_directories(dir); }
-  void TearDown() override { std::filesystem::remove_all(dir); }
+  std::filesystem::path dir_ =
+      std::filesystem::temp_directory_path() /
+      ("ifem_view_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+  void SetUp() override { std::filesystem::create_directories(dir_); }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string write(const std::string& name, const std::string& text) {
-    std::ofstream((dir / name).string()) << text;
-    return (dir / name).string();
+    std::ofstream((dir_ / name).string()) << text;
+    return (dir_ / name).string();
   }
 };
 
@@ -191,8 +189,8 @@ TEST_F(ViewFiles, ObjPolylines) {
   EXPECT_EQ(lines[0][3], Vec(0, 0, 0));
   EXPECT_EQ(lines[1][0], Vec(1, 1, 0));
   EXPECT_EQ(lines[1][1], Vec(1, 0, 0));
-  for (const char* bad : {"v 0 0\nl 1 1\n", "v 0 0 0\nl 1 2\n", "v 0 0 0\nl 1 x\n",
-                          "v 0 0 nan\n"}) {
+  for (const char* bad :
+       {"v 0 0\nl 1 1\n", "v 0 0 0\nl 1 2\n", "v 0 0 0\nl 1 x\n", "v 0 0 nan\n"}) {
     try {
       read_obj_polylines(write("bad.obj", bad));
       ADD_FAILURE() << bad;
@@ -203,13 +201,13 @@ TEST_F(ViewFiles, ObjPolylines) {
 }
 
 TEST_F(ViewFiles, PageHasEveryPartInlinedAndEscaped) {
-  std::filesystem::create_directories(dir / "three/build");
-  std::filesystem::create_directories(dir / "three/examples/jsm/controls");
+  std::filesystem::create_directories(dir_ / "three/build");
+  std::filesystem::create_directories(dir_ / "three/examples/jsm/controls");
   write("three/build/three.module.min.js", "export const MARK = 1;");
   write("three/examples/jsm/controls/OrbitControls.js", "export const ORBIT = 2;");
-  const std::string three = (dir / "three").string();
+  const std::string three = (dir_ / "three").string();
   EXPECT_EQ(find_three_js(three), three);
-  EXPECT_THROW(find_three_js((dir / "none").string()), IoError);
+  EXPECT_THROW(find_three_js((dir_ / "none").string()), IoError);
 
   const intrinsic::TriangleMesh m = intrinsic::icosphere(1);
   Scene s = view_scene(input_of(m), "a </script> & <b>");
