@@ -130,6 +130,20 @@ def test_refusals(cli, tmp_path):
     assert "--triangulation" in r.output and "examples:" in r.output
 
 
+# a PLY mesh with its own vertex properties is coloured by them; a point cloud gets no faces
+def test_mesh_properties_and_point_cloud(cli, spot_outputs):
+    d, t = spot_outputs
+    page = cli.out / "d.html"
+    r = view(cli, d, "-o", page, "--quiet")
+    assert "2930 vertices, 1 fields" in r.output, r.describe()
+    assert [f["name"] for f in scene_of(page)["fields"]] == ["distance"]
+    cloud = cli.spot_points()
+    r = view(cli, cloud, "--field", t, "-o", cli.out / "cloud.html", "--quiet")
+    assert "2930 points, 1 fields" in r.output, r.describe()
+    s = scene_of(cli.out / "cloud.html")
+    assert s["faces"] == "" and s["vertices"] == SPOT_VERTICES
+
+
 def chromium_selftest(page, tmp_path):
     """Loads PAGE#selftest in headless Chromium with every network request refused; the JSON
     the page writes into #ifem-selftest."""
