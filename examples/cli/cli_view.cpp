@@ -54,6 +54,9 @@ int run(const Args& args) {
   }
   if (args.has("curves")) {
     for (const std::string& file : recipes::split_fields(args.get("curves"), ',')) {
+      if (io::file_extension(file) != ".obj") {
+        throw UsageError("--curves: '" + file + "' is not an .obj polyline file");
+      }
       recipes::add_polylines(scene, stem(file), recipes::read_obj_polylines(file));
     }
   }

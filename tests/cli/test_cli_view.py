@@ -126,6 +126,8 @@ def test_refusals(cli, tmp_path):
     cli.fails_no_partial("fan.ply: 4 vertices, the mesh has 2930", out, "view", cli.spot,
                          "--field", o / "fan.ply", "-o", out, "--quiet")
     cli.fails("symmetry", "view", cli.spot, "--symmetry", 7, "-o", out)
+    cli.fails_no_partial("not an .obj polyline file", out, "view", cli.spot, "--curves",
+                         o / "fan.ply", "-o", out, "--quiet")
     r = cli.ok("view", "--help")
     assert "--triangulation" in r.output and "examples:" in r.output
 
