@@ -154,7 +154,8 @@ def chromium_selftest(page, tmp_path):
            "--no-first-run", "--disable-extensions", "--disable-background-networking",
            "--disable-component-update", "--disable-sync", "--disable-default-apps",
            "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-           "--disable-gpu-compositing", "--in-process-gpu", "--window-size=600,500",
+           "--disable-gpu-compositing", "--in-process-gpu", "--disable-dev-shm-usage",
+           "--window-size=600,500",
            "--proxy-server=http://127.0.0.1:9", "--host-resolver-rules=MAP * ~NOTFOUND",
            "--dump-dom", pathlib.Path(page).resolve().as_uri() + "#selftest"]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=90)
