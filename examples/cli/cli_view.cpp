@@ -45,9 +45,13 @@ int run(const Args& args) {
   const std::string out = args.get("output");
   // three.js first: a missing install fails before any work
   const std::string three = recipes::find_three_js(args.has("three") ? args.get("three") : "");
-  const io::SurfaceInput input = read_input(mesh, args);
+  io::SurfaceInput input = read_input(mesh, args);
+  std::vector<io::VertexProperty> own = std::move(input.vertex_properties);
+  input.vertex_properties.clear();
   recipes::Scene scene =
       recipes::view_scene(input, args.has("title") ? args.get("title") : stem(mesh));
+  // MESH's own properties (a PLY output given as MESH), with its glyphs at --symmetry
+  recipes::add_properties(scene, own, "", static_cast<int>(args.count("symmetry")));
   add_field_files(scene, args);
   if (args.has("units")) {
     for (recipes::SceneField& f : scene.fields) f.units = args.get("units");
