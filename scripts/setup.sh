@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs everything ifem needs from Debian packages (idempotent; as root or through sudo),
-# then configures and builds Release in ./build on all cores.
+# three.js from the npm registry (for `ifem view`'s page, into BUILD_DIR/web), then configures
+# and builds Release in ./build on all cores.
 #
 #   scripts/setup.sh [--no-pcl] [--no-build] [--build-dir DIR]
 #
@@ -33,6 +34,11 @@ packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libspectra-dev
 #         ^ the Python package (python/): built by default, tested by ctest with pytest
 # OpenBLAS makes CHOLMOD's supernodal factorization 3–4× faster than reference BLAS (its pthread
 # build: the serial one is not safe for our side-by-side factorizations, docs/decisions.md D-092).
+# `ifem view`: npm fetches three.js (below); headless Chromium runs the page's tests
+# (tests/cli/test_cli_view.py). Each only when its command is missing (a Node.js from elsewhere
+# would conflict with Debian's npm).
+command -v npm >/dev/null || packages+=(npm)
+command -v chromium >/dev/null || packages+=(chromium)
 if [ "$with_pcl" = 1 ] && [ -f pointcloud/pcl_adapter.cpp ]; then
   packages+=(libpcl-dev)
 fi
@@ -52,6 +58,18 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 else
   echo "setup.sh: all packages present"
+fi
+
+# three.js for `ifem view` (the version the page is written for, solvers/recipes/view_scene.h),
+# installed once; the page embeds it, so nothing of it is in the repository.
+three_version=$(sed -n 's/.*kThreeVersion = "\(.*\)";/\1/p' solvers/recipes/view_scene.h)
+three_json="$build_dir/web/node_modules/three/package.json"
+if grep -q "\"version\": \"$three_version\"" "$three_json" 2>/dev/null; then
+  echo "setup.sh: three.js $three_version present"
+else
+  echo "setup.sh: installing three.js $three_version (npm) into $build_dir/web"
+  mkdir -p "$build_dir/web"
+  npm install --prefix "$build_dir/web" --no-audit --no-fund --silent "three@$three_version"
 fi
 
 if [ "$do_build" = 1 ]; then

@@ -183,6 +183,17 @@ class RefinedTriangulation:
             return np.stack(cols, axis=1) if cols else np.zeros((self.n_vertices, 0))
         return self._h.from_input(a)
 
+    def traced_edges(self):
+        """The intrinsic edges traced over the input surface through the signposts: one k×3
+        array of 3D points per intrinsic edge (edge order), from one endpoint to the other,
+        every point on a face of the input (its crossings of the input's edges in between) —
+        the lines :func:`view` draws with ``triangulation=``, as ``ifem refine --lines`` writes.
+
+        Raises:
+            TraceError: a trace failed (a degenerate input).
+        """
+        return _ifem.traced_edges(self._h)
+
     def save(self, path):
         """Saves the input and the refined triangulation (gluing, lengths, signposts, inserted
         vertices' places) to a text file, format ``ifem-signpost 1`` (as ``ifem refine

@@ -22,14 +22,6 @@ namespace ifem::python {
 
 namespace {
 
-// The refined triangulation and what refining it reported (no report after load()).
-struct Refined {
-  explicit Refined(intrinsic::SignpostTriangulation&& s) : st(std::move(s)) {}
-  intrinsic::SignpostTriangulation st;
-  std::optional<py::dict> report;    // built while the GIL is held
-  double memory_budget_bytes = 0.0;  // for the common subdivision; 0: the library's default
-};
-
 // ---- arguments ------------------------------------------------------------------------------
 
 void require(bool ok, const std::string& what) {

@@ -9,6 +9,10 @@
 
 #include <pybind11/pybind11.h>
 
+#include <optional>
+#include <utility>
+
+#include "intrinsic/refine/signpost.h"
 #include "solvers/recipes/curves.h"
 #include "solvers/recipes/pipeline.h"
 
@@ -23,6 +27,16 @@ void bind_refine(py::module_& m);     // refinement handle, common subdivision, 
 void bind_geodesic(py::module_& m);   // FlipOut paths, loops, networks, Bézier curves
 void bind_curves(py::module_& m);     // boundary-value problems with data on curves
 void bind_fields(py::module_& m);     // tangent fields: smoothest direction fields
+void bind_view(py::module_& m);       // `ifem view`'s page
+
+/// The refined triangulation (ifem.refine's handle, bind_refine.cpp) and what refining it
+/// reported (no report after load()); bind_view.cpp traces its edges.
+struct Refined {
+  explicit Refined(intrinsic::SignpostTriangulation&& s) : st(std::move(s)) {}
+  intrinsic::SignpostTriangulation st;
+  std::optional<py::dict> report;    // built while the GIL is held
+  double memory_budget_bytes = 0.0;  // for the common subdivision; 0: the library's default
+};
 
 /// PrepareOptions from the keyword arguments every surface function shares (Python names):
 /// mollify (relative margin ≥ 0), path ('auto' | 'manifold' | 'tufted' | 'pointcloud'),

@@ -14,6 +14,7 @@
 //   ifem field      recipes::field()      smoothest / aligned n-direction field
 //   ifem transport  recipes::transport()  parallel transport (vector heat method)
 //   ifem logmap     recipes::logmap()     logarithmic map (affine + vector heat blend)
+//   ifem view       recipes::view()       one offline HTML page of a scene (view_scene.h)
 //
 // These forward to the solvers:: functions that implement them (named after what they compute:
 // geodesic_distance, eigenmodes, direction_field_on, ...); use those for the variants (several
@@ -21,6 +22,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -29,6 +31,7 @@
 #include "solvers/recipes/pipeline.h"
 #include "solvers/recipes/surface_summary.h"
 #include "solvers/recipes/tangent_fields.h"
+#include "solvers/recipes/view_scene.h"
 
 namespace ifem::recipes {
 
@@ -95,6 +98,13 @@ inline Eigen::MatrixX3d transport(const PreparedSurface& s, Index source,
 /// (solvers::log_map_on with a solver built for this one query).
 inline Eigen::MatrixX2d logmap(const PreparedSurface& s, Index source) {
   return solvers::log_map_on(s, solvers::vector_heat_solver(s), source);
+}
+
+/// `ifem view`: writes the page of a scene (view_scene() and the add_*() of view_scene.h) to
+/// `path`, with three.js from find_three_js(three_dir).
+/// @throws IoError if three.js is not found or the page cannot be written
+inline void view(const Scene& scene, const std::string& path, const std::string& three_dir = "") {
+  write_view_page(path, scene, find_three_js(three_dir));
 }
 
 }  // namespace ifem::recipes
