@@ -3,26 +3,31 @@
 # three.js from the npm registry (for `ifem view`'s page, into BUILD_DIR/web), then configures
 # and builds Release in ./build on all cores.
 #
-#   scripts/setup.sh [--no-pcl] [--no-build] [--build-dir DIR]
+#   scripts/setup.sh [--with-pcl | --no-pcl] [--no-build] [--build-dir DIR]
 #
-# --no-pcl     skip the optional PCL adapter's ~400 packages (the core never needs PCL)
+# --with-pcl   also install PCL (~400 packages, ~1 GiB installed) and build its optional adapter
+#              (IFEM_WITH_PCL=1 does the same); by default the adapter is built only if PCL is
+#              already installed (the core never needs PCL)
+# --no-pcl     never build the PCL adapter, even if PCL is installed
 # --no-build   install packages only
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-with_pcl=1
+with_pcl=auto
 do_build=1
 build_dir=build
 while [ $# -gt 0 ]; do
   case "$1" in
+    --with-pcl) with_pcl=1 ;;
     --no-pcl) with_pcl=0 ;;
     --no-build) do_build=0 ;;
     --build-dir) build_dir="$2"; shift ;;
-    -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
     *) echo "setup.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
 done
+[ "${IFEM_WITH_PCL:-0}" = 1 ] && with_pcl=1
 [ "${IFEM_NO_PCL:-0}" = 1 ] && with_pcl=0
 
 packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libspectra-dev
@@ -73,9 +78,11 @@ else
 fi
 
 if [ "$do_build" = 1 ]; then
-  # ON when PCL was asked for (a broken PCL install fails loudly), OFF with --no-pcl
-  pcl_option=OFF
+  # ON when PCL was asked for (a broken PCL install fails loudly), OFF with --no-pcl, else AUTO
+  # (built when CMake finds PCL)
+  pcl_option=AUTO
   [ "$with_pcl" = 1 ] && [ -f pointcloud/pcl_adapter.cpp ] && pcl_option=ON
+  [ "$with_pcl" = 0 ] && pcl_option=OFF
   cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DIFEM_WITH_PCL="$pcl_option" >/dev/null
   cmake --build "$build_dir" -j"$(nproc)"
   # The Python package, where Debian's python3 finds it (/usr/local/lib/python3.X/dist-packages):
