@@ -14,6 +14,7 @@
 //   ifem field      recipes::field()      smoothest / aligned n-direction field
 //   ifem transport  recipes::transport()  parallel transport (vector heat method)
 //   ifem logmap     recipes::logmap()     logarithmic map (affine + vector heat blend)
+//   ifem render     recipes::render()     a picture of a mesh, a field and curves (render.h)
 //
 // These forward to the solvers:: functions that implement them (named after what they compute:
 // geodesic_distance, eigenmodes, direction_field_on, ...); use those for the variants (several
@@ -27,6 +28,7 @@
 #include "fem/operators.h"
 #include "solvers/recipes/geodesic.h"
 #include "solvers/recipes/pipeline.h"
+#include "solvers/recipes/render.h"
 #include "solvers/recipes/surface_summary.h"
 #include "solvers/recipes/tangent_fields.h"
 
@@ -95,6 +97,13 @@ inline Eigen::MatrixX3d transport(const PreparedSurface& s, Index source,
 /// (solvers::log_map_on with a solver built for this one query).
 inline Eigen::MatrixX2d logmap(const PreparedSurface& s, Index source) {
   return solvers::log_map_on(s, solvers::vector_heat_solver(s), source);
+}
+
+/// `ifem render`: a picture of a mesh, a per-vertex field and curves (solvers::render_scene;
+/// write it with solvers::write_png). Needs no prepared surface: it draws the input as given.
+inline solvers::Rendering render(const solvers::RenderScene& scene,
+                                 const solvers::RenderOptions& options = {}) {
+  return solvers::render_scene(scene, options);
 }
 
 }  // namespace ifem::recipes
