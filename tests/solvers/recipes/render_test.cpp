@@ -1,0 +1,322 @@
+// The software rasterizer (solvers/recipes/render.h) against what an orthographic picture of a
+// unit sphere must show: the projected disc's area, the colour map's order from top to bottom,
+// one dark band per isoline at the row its level projects to, curves hidden behind the
+// surface; the PNG read back to the same pixels; the same bytes twice.
+#include "solvers/recipes/render.h"
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "intrinsic/core/errors.h"
+#include "intrinsic/generators/mesh_generators.h"
+#include "solvers/recipes/recipes.h"
+
+namespace ifem::solvers {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Unit icosphere coloured by height (y).
+RenderScene sphere_by_height(int n = 16) {
+  const intrinsic::TriangleMesh m = intrinsic::icosphere(n);
+  RenderScene s;
+  s.positions = m.positions;
+  s.triangles = m.faces;
+  s.field = m.positions.col(1);
+  s.field_name = "y";
+  return s;
+}
+
+void set_view(RenderOptions& o, const char* name) {
+  const auto [azimuth, elevation] = named_view(name);
+  o.azimuth_deg = azimuth;
+  o.elevation_deg = elevation;
+}
+
+bool is_background(const Image& img, int x, int y, const RenderOptions& o) {
+  return img.pixel(x, y) == o.background;
+}
+
+long count_foreground(const Image& img, const RenderOptions& o) {
+  long n = 0;
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) n += !is_background(img, x, y, o);
+  }
+  return n;
+}
+
+TEST(Render, SizeAsAskedAndPngDecodesToThePixels) {
+  RenderOptions o;
+  o.width = 157;
+  o.height = 93;
+  const Image img = render_scene(sphere_by_height(4), o).image;
+  ASSERT_EQ(img.width, 157);
+  ASSERT_EQ(img.height, 93);
+  ASSERT_EQ(img.rgb.size(), 157u * 93u * 3u);
+  const std::vector<std::uint8_t> png = encode_png(img);
+  ASSERT_GT(png.size(), 8u + 25u + 12u + 12u);
+  EXPECT_EQ(std::string(png.begin() + 1, png.begin() + 4), "PNG");
+  // IHDR: width and height big-endian at bytes 16..23, its CRC after the 13 data bytes
+  auto u32 = [&](std::size_t at) {
+    return (std::uint32_t(png[at]) << 24) | (std::uint32_t(png[at + 1]) << 16) |
+           (std::uint32_t(png[at + 2]) << 8) | std::uint32_t(png[at + 3]);
+  };
+  EXPECT_EQ(u32(16), 157u);
+  EXPECT_EQ(u32(20), 93u);
+  EXPECT_EQ(u32(29), crc32(0L, png.data() + 12, 17));
+  // IDAT right after IHDR: inflate, drop each row's filter byte, compare with the pixels
+  const std::uint32_t idat_len = u32(33);
+  ASSERT_EQ(std::string(png.begin() + 37, png.begin() + 41), "IDAT");
+  std::vector<std::uint8_t> raw(93 * (1 + 157 * 3));
+  uLongf raw_len = raw.size();
+  ASSERT_EQ(uncompress(raw.data(), &raw_len, png.data() + 41, idat_len), Z_OK);
+  ASSERT_EQ(raw_len, raw.size());
+  for (int y = 0; y < 93; ++y) {
+    ASSERT_EQ(raw[y * (1 + 157 * 3)], 0);
+    ASSERT_TRUE(std::equal(img.rgb.begin() + y * 157 * 3, img.rgb.begin() + (y + 1) * 157 * 3,
+                           raw.begin() + y * (1 + 157 * 3) + 1));
+  }
+  EXPECT_EQ(std::string(png.end() - 8, png.end() - 4), "IEND");
+}
+
+// The unit sphere's picture is a disc of radius fill · min(W, H) / 2: its pixel count lies
+// between the inscribed polygon's disc shrunk by a pixel and the disc grown by a pixel.
+TEST(Render, SphereCoversItsProjectedDisc) {
+  const RenderScene s = sphere_by_height(16);
+  // the icosphere's silhouette stays within cos(edge angle) of the unit circle
+  const double inner = std::cos(1.2 / 16.0);
+  struct Case {
+    int w, h, ss;
+    double fill;
+  };
+  for (const Case c : {Case{400, 300, 1, 0.9}, Case{300, 400, 2, 0.9}, Case{257, 131, 3, 0.5},
+                       Case{200, 200, 1, 1.5}}) {
+    RenderOptions o;
+    o.width = c.w;
+    o.height = c.h;
+    o.supersample = c.ss;
+    o.fill = c.fill;
+    const long n = count_foreground(render_scene(s, o).image, o);
+    const double r = c.fill * 0.5 * std::min(c.w, c.h);
+    const double lo = kPi * std::pow(r * inner - 1.0, 2);
+    const double hi = kPi * std::pow(r + 1.0, 2);
+    if (r * inner - 1.0 >= 0.5 * std::hypot(c.w, c.h)) {  // zoomed in: the disc covers it all
+      EXPECT_EQ(n, static_cast<long>(c.w) * c.h) << c.w << "x" << c.h << " fill " << c.fill;
+      continue;
+    }
+    EXPECT_GE(n, lo) << c.w << "x" << c.h << " fill " << c.fill;
+    EXPECT_LE(n, hi) << c.w << "x" << c.h << " fill " << c.fill;
+  }
+}
+
+/// Mean of channel c / (R + G + B) over the foreground pixels of rows [y0, y1).
+double chroma(const Image& img, const RenderOptions& o, int y0, int y1, int c) {
+  double sum = 0.0;
+  long n = 0;
+  for (int y = y0; y < y1; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      if (is_background(img, x, y, o)) continue;
+      const auto p = img.pixel(x, y);
+      const double total = p[0] + p[1] + p[2];
+      if (total > 0) sum += p[c] / total, ++n;
+    }
+  }
+  return n > 0 ? sum / n : std::nan("");
+}
+
+double chroma_of(ColorMap map, double t, int c) {
+  const auto p = colormap_color(map, t);
+  return static_cast<double>(p[c]) / (p[0] + p[1] + p[2]);
+}
+
+// Shading scales a pixel's three channels alike, so the chromaticity (channel / sum) is the
+// colour map's: the upper half (y > 0, high values) must have the map's upper colours.
+TEST(Render, HeightColoursOrderedAsTheColourMap) {
+  const RenderScene s = sphere_by_height(16);
+  RenderOptions o;
+  o.width = 320;
+  o.height = 240;
+  for (const char* view : {"front", "back", "left", "right"}) {
+    set_view(o, view);
+    o.colormap = ColorMap::kViridis;  // blue share falls from violet (low) to yellow (high)
+    Image img = render_scene(s, o).image;
+    const double top = chroma(img, o, 0, o.height / 2, 2), bottom = chroma(img, o, o.height / 2, o.height, 2);
+    EXPECT_LT(top, chroma_of(ColorMap::kViridis, 0.5, 2)) << view;
+    EXPECT_GT(bottom, chroma_of(ColorMap::kViridis, 0.5, 2)) << view;
+    o.colormap = ColorMap::kDiverging;  // red above, blue below
+    img = render_scene(s, o).image;
+    EXPECT_GT(chroma(img, o, 0, o.height / 2 - 2, 0), chroma(img, o, 0, o.height / 2 - 2, 2)) << view;
+    EXPECT_GT(chroma(img, o, o.height / 2 + 2, o.height, 2), chroma(img, o, o.height / 2 + 2, o.height, 0))
+        << view;
+  }
+  // from the top (camera on +y) only the upper hemisphere shows: every pixel above the middle
+  // of the map; from below, every pixel under it
+  for (const char* view : {"top", "bottom"}) {
+    set_view(o, view);
+    o.colormap = ColorMap::kDiverging;
+    const Image img = render_scene(s, o).image;
+    const bool up = std::string(view) == "top";
+    for (int y = 0; y < img.height; ++y) {
+      for (int x = 0; x < img.width; ++x) {
+        if (is_background(img, x, y, o)) continue;
+        const auto p = img.pixel(x, y);
+        const int high = up ? 0 : 2, low = up ? 2 : 0;  // red above the middle, blue below
+        ASSERT_GE(p[high], p[low]) << view << " at " << x << "," << y;
+      }
+    }
+  }
+}
+
+// N isolines of the height: N dark bands, each at the row its level projects to (orthographic:
+// y = c lands on row H/2 − c · fill · min(W, H)/2), and nothing else changes.
+TEST(Render, IsolinesAddOneBandPerLevelAtItsRow) {
+  const RenderScene s = sphere_by_height(24);
+  RenderOptions o;
+  o.width = 300;
+  o.height = 300;
+  o.supersample = 1;
+  const Image plain = render_scene(s, o).image;
+  const double r = o.fill * 0.5 * o.height;
+  for (int n : {1, 3, 7}) {
+    o.isolines = n;
+    const Image lines = render_scene(s, o).image;
+    std::vector<double> rows;
+    for (int k = 1; k <= n; ++k) rows.push_back(0.5 * o.height - r * (-1.0 + 2.0 * k / (n + 1)));
+    long changed = 0;
+    for (int y = 0; y < o.height; ++y) {
+      for (int x = 0; x < o.width; ++x) {
+        if (lines.pixel(x, y) == plain.pixel(x, y)) continue;
+        ++changed;
+        double nearest = 1e9;
+        for (double row : rows) nearest = std::min(nearest, std::abs(y + 0.5 - row));
+        ASSERT_LE(nearest, 2.0) << "changed pixel " << x << "," << y << " with " << n;
+        const auto p = lines.pixel(x, y);
+        ASSERT_LT(p[0] + p[1] + p[2], 3 * 60) << "an isoline pixel is dark";
+      }
+    }
+    // the middle column crosses each band once
+    int bands = 0;
+    bool inside = false;
+    for (int y = 0; y < o.height; ++y) {
+      const bool c = lines.pixel(o.width / 2, y) != plain.pixel(o.width / 2, y);
+      bands += c && !inside;
+      inside = c;
+    }
+    EXPECT_EQ(bands, n);
+    EXPECT_GT(changed, n * r) << "each isoline is a line across the disc";
+  }
+}
+
+TEST(Render, SameBytesTwiceAndOptionsChangeThem) {
+  RenderScene s = sphere_by_height(20);
+  s.curves.push_back({{-1, 0, 1.0}, {1, 0, 1.0}});
+  RenderOptions o;
+  o.width = 200;
+  o.height = 150;
+  o.isolines = 5;
+  o.wireframe = true;
+  o.azimuth_deg = 30;
+  o.elevation_deg = 20;
+  const std::vector<std::uint8_t> a = encode_png(render_scene(s, o).image);
+  const std::vector<std::uint8_t> b = encode_png(recipes::render(s, o).image);
+  EXPECT_EQ(a, b);
+  o.azimuth_deg = 31;
+  EXPECT_NE(a, encode_png(render_scene(s, o).image));
+}
+
+bool has_red(const Image& img) {
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      const auto p = img.pixel(x, y);
+      if (p[0] > 150 && p[1] < 100 && p[2] < 100) return true;
+    }
+  }
+  return false;
+}
+
+// A curve on the near side shows; the same curve on the far side is hidden by the surface.
+TEST(Render, CurvesBehindTheSurfaceAreHidden) {
+  RenderScene s = sphere_by_height(16);
+  s.field.resize(0);  // grey surface: red can only come from the curve
+  std::vector<Eigen::Vector3d> near, far;
+  for (int k = 0; k <= 40; ++k) {
+    const double a = -1.2 + 2.4 * k / 40.0;
+    near.emplace_back(std::sin(a), 0.0, std::cos(a));
+    far.emplace_back(std::sin(a), 0.0, -std::cos(a));
+  }
+  RenderOptions o;
+  o.width = 160;
+  o.height = 120;
+  s.curves = {near};
+  EXPECT_TRUE(has_red(render_scene(s, o).image));
+  s.curves = {far};
+  EXPECT_FALSE(has_red(render_scene(s, o).image));
+  o.azimuth_deg = 180;  // now the far curve faces the camera
+  EXPECT_TRUE(has_red(render_scene(s, o).image));
+}
+
+TEST(Render, PointCloudDrawnAsPoints) {
+  RenderScene s = sphere_by_height(6);
+  s.triangles.clear();
+  RenderOptions o;
+  o.width = 200;
+  o.height = 200;
+  o.point_size = 2.0;
+  const long n = count_foreground(render_scene(s, o).image, o);
+  EXPECT_GT(n, s.positions.rows() / 2);  // the near half at least, points rarely overlap
+  EXPECT_LE(n, s.positions.rows() * 9);  // a 2-pixel square touches at most 3×3 pixels
+}
+
+TEST(Render, RefusesWhatItCannotDraw) {
+  RenderScene s = sphere_by_height(2);
+  RenderOptions o;
+  o.isolines = 2;
+  RenderScene no_field = s;
+  no_field.field.resize(0);
+  EXPECT_THROW(render_scene(no_field, o), InvalidInput);
+  RenderScene short_field = s;
+  short_field.field.resize(3);
+  EXPECT_THROW(render_scene(short_field, {}), InvalidInput);
+  RenderScene bad_face = s;
+  bad_face.triangles[0][1] = static_cast<Index>(s.positions.rows());
+  EXPECT_THROW(render_scene(bad_face, {}), InvalidInput);
+  for (auto edit : std::vector<void (*)(RenderOptions&)>{
+           [](RenderOptions& r) { r.width = 0; }, [](RenderOptions& r) { r.supersample = 5; },
+           [](RenderOptions& r) { r.elevation_deg = 91; },
+           [](RenderOptions& r) { r.width = 16384, r.height = 16384; },
+           [](RenderOptions& r) { r.range_lo = 1, r.range_hi = 1; }}) {
+    RenderOptions bad;
+    edit(bad);
+    EXPECT_THROW(bad.validate(), InvalidInput);
+  }
+  EXPECT_THROW(named_view("side"), InvalidInput);
+  EXPECT_THROW(colormap_from_name("jet"), InvalidInput);
+}
+
+TEST(Render, ReadsPolylinesOfAnObjFile) {
+  const auto path = std::filesystem::temp_directory_path() / "ifem_render_test_lines.obj";
+  std::ofstream(path) << "# curves\nv 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\nl -1 1\nl 2\n";
+  const auto lines = read_polylines_obj(path.string());
+  ASSERT_EQ(lines.size(), 2u);  // the one-point 'l' line is dropped
+  EXPECT_EQ(lines[0].size(), 3u);
+  EXPECT_EQ(lines[1][0], Eigen::Vector3d(1, 1, 0));
+  EXPECT_EQ(lines[1][1], Eigen::Vector3d(0, 0, 0));
+  std::ofstream(path) << "v 0 0 0\nv 1 0 0\nl 1 3\n";
+  try {
+    read_polylines_obj(path.string());
+    ADD_FAILURE() << "an id out of range was accepted";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 3"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace ifem::solvers
