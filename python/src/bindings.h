@@ -23,6 +23,7 @@ void bind_refine(py::module_& m);     // refinement handle, common subdivision, 
 void bind_geodesic(py::module_& m);   // FlipOut paths, loops, networks, Bézier curves
 void bind_curves(py::module_& m);     // boundary-value problems with data on curves
 void bind_fields(py::module_& m);     // tangent fields: smoothest direction fields
+void bind_render(py::module_& m);     // headless pictures (PNG)
 
 /// PrepareOptions from the keyword arguments every surface function shares (Python names):
 /// mollify (relative margin ≥ 0), path ('auto' | 'manifold' | 'tufted' | 'pointcloud'),

@@ -105,4 +105,5 @@ PYBIND11_MODULE(_ifem, m) {
   ip::bind_geodesic(m);
   ip::bind_curves(m);
   ip::bind_fields(m);
+  ip::bind_render(m);
 }
