@@ -19,8 +19,7 @@ std::array<int, 2> parse_size(const std::string& text) {
   const std::size_t x = text.find_first_of("xX");
   long long w = 0, h = 0;
   if (x == std::string::npos || !io::parse_whole_integer(text.substr(0, x), w) ||
-      !io::parse_whole_integer(text.substr(x + 1), h) || w < 1 || h < 1 || w > 16384 ||
-      h > 16384) {
+      !io::parse_whole_integer(text.substr(x + 1), h) || w < 1 || h < 1 || w > 16384 || h > 16384) {
     throw UsageError("--size: expected WIDTHxHEIGHT with each side in [1, 16384], got " +
                      io::quoted_excerpt(text));
   }
@@ -149,8 +148,10 @@ Command render_command() {
       "examples:\n"
       "  ifem distance spot.obj --source 0 -o spot_distance.ply\n"
       "  ifem render spot_distance.ply --isolines 12 --view right -o spot.png\n"
-      "  ifem render spot.obj --field spot_modes.ply --property phi3 --colormap diverging -o m.png\n"
-      "  ifem render spot.obj --wireframe --curves paths.obj --azimuth 30 --elevation 20 -o w.png\n";
+      "  ifem render spot.obj --field spot_modes.ply --property phi3 --colormap diverging -o "
+      "m.png\n"
+      "  ifem render spot.obj --wireframe --curves paths.obj --azimuth 30 --elevation 20 -o "
+      "w.png\n";
   c.run = run;
   return c;
 }

@@ -34,9 +34,9 @@ struct Knot {
 
 // Viridis-like: violet → blue → teal → green → yellow, luminance rising with t.
 constexpr Knot kViridisKnots[] = {
-    {0.000, {68, 1, 84}},     {0.125, {71, 44, 122}},  {0.250, {59, 81, 139}},
-    {0.375, {44, 113, 142}},  {0.500, {33, 144, 141}}, {0.625, {39, 173, 129}},
-    {0.750, {92, 200, 99}},   {0.875, {170, 220, 50}}, {1.000, {253, 231, 37}}};
+    {0.000, {68, 1, 84}},    {0.125, {71, 44, 122}},  {0.250, {59, 81, 139}},
+    {0.375, {44, 113, 142}}, {0.500, {33, 144, 141}}, {0.625, {39, 173, 129}},
+    {0.750, {92, 200, 99}},  {0.875, {170, 220, 50}}, {1.000, {253, 231, 37}}};
 constexpr Knot kDivergingKnots[] = {{0.00, {40, 70, 180}},
                                     {0.25, {120, 150, 225}},
                                     {0.50, {225, 225, 225}},
@@ -49,15 +49,19 @@ void interpolate(const Knot (&knots)[N], double t, double out[3]) {
   std::size_t i = 0;
   while (i + 2 < N && t > knots[i + 1].t) ++i;
   const double s = (t - knots[i].t) / (knots[i + 1].t - knots[i].t);
-  for (int c = 0; c < 3; ++c) out[c] = knots[i].rgb[c] + s * (knots[i + 1].rgb[c] - knots[i].rgb[c]);
+  for (int c = 0; c < 3; ++c)
+    out[c] = knots[i].rgb[c] + s * (knots[i + 1].rgb[c] - knots[i].rgb[c]);
 }
 
 void map_color(ColorMap map, double t, double out[3]) {
   t = std::clamp(t, 0.0, 1.0);
   switch (map) {
-    case ColorMap::kViridis: return interpolate(kViridisKnots, t, out);
-    case ColorMap::kDiverging: return interpolate(kDivergingKnots, t, out);
-    case ColorMap::kGray: return interpolate(kGrayKnots, t, out);
+    case ColorMap::kViridis:
+      return interpolate(kViridisKnots, t, out);
+    case ColorMap::kDiverging:
+      return interpolate(kDivergingKnots, t, out);
+    case ColorMap::kGray:
+      return interpolate(kGrayKnots, t, out);
   }
 }
 
@@ -81,15 +85,18 @@ Camera make_camera(const RenderScene& scene, const RenderOptions& o, int w, int 
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   };
-  for (Eigen::Index i = 0; i < scene.positions.rows(); ++i) grow(scene.positions.row(i).transpose());
-  for (const auto& c : scene.curves) for (const auto& p : c) grow(p);
+  for (Eigen::Index i = 0; i < scene.positions.rows(); ++i)
+    grow(scene.positions.row(i).transpose());
+  for (const auto& c : scene.curves)
+    for (const auto& p : c) grow(p);
   Camera cam;
   cam.center = 0.5 * (lo + hi);
   double r2 = 0.0;
   for (Eigen::Index i = 0; i < scene.positions.rows(); ++i) {
     r2 = std::max(r2, (scene.positions.row(i).transpose() - cam.center).squaredNorm());
   }
-  for (const auto& c : scene.curves) for (const auto& p : c) r2 = std::max(r2, (p - cam.center).squaredNorm());
+  for (const auto& c : scene.curves)
+    for (const auto& p : c) r2 = std::max(r2, (p - cam.center).squaredNorm());
   cam.radius = r2 > 0.0 ? std::sqrt(r2) : 1.0;
   const double a = o.azimuth_deg * kPi / 180.0, e = o.elevation_deg * kPi / 180.0;
   cam.dir = {std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a)};
@@ -128,17 +135,21 @@ void rasterize_triangle(Canvas& cv, Index f, const Eigen::Vector3d& p0, const Ei
   const double area = (p1.x() - p0.x()) * (p2.y() - p0.y()) - (p1.y() - p0.y()) * (p2.x() - p0.x());
   if (!(std::abs(area) > 1e-12)) return;  // edge-on (or NaN)
   const int x0 = std::max(0, static_cast<int>(std::floor(std::min({p0.x(), p1.x(), p2.x()}))));
-  const int x1 = std::min(cv.w - 1, static_cast<int>(std::ceil(std::max({p0.x(), p1.x(), p2.x()}))));
+  const int x1 =
+      std::min(cv.w - 1, static_cast<int>(std::ceil(std::max({p0.x(), p1.x(), p2.x()}))));
   const int y0 = std::max(0, static_cast<int>(std::floor(std::min({p0.y(), p1.y(), p2.y()}))));
-  const int y1 = std::min(cv.h - 1, static_cast<int>(std::ceil(std::max({p0.y(), p1.y(), p2.y()}))));
+  const int y1 =
+      std::min(cv.h - 1, static_cast<int>(std::ceil(std::max({p0.y(), p1.y(), p2.y()}))));
   const double inv = 1.0 / area;
   for (int y = y0; y <= y1; ++y) {
     const double py = y + 0.5;
     for (int x = x0; x <= x1; ++x) {
       const double px = x + 0.5;
       // barycentrics of p0..p2 from the signed areas of the opposite sub-triangles
-      const double w1 = ((px - p0.x()) * (p2.y() - p0.y()) - (py - p0.y()) * (p2.x() - p0.x())) * inv;
-      const double w2 = ((p1.x() - p0.x()) * (py - p0.y()) - (p1.y() - p0.y()) * (px - p0.x())) * inv;
+      const double w1 =
+          ((px - p0.x()) * (p2.y() - p0.y()) - (py - p0.y()) * (p2.x() - p0.x())) * inv;
+      const double w2 =
+          ((p1.x() - p0.x()) * (py - p0.y()) - (p1.y() - p0.y()) * (px - p0.x())) * inv;
       const double w0 = 1.0 - w1 - w2;
       if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0) continue;
       const float z = static_cast<float>(w0 * p0.z() + w1 * p1.z() + w2 * p2.z());
@@ -267,8 +278,8 @@ void draw_isolines(Canvas& cv, const Camera& cam, const RenderScene& s, const Sh
         const int i = e, j = (e + 1) % 3;
         if ((v[i] < level) == (v[j] < level)) continue;
         const double u = (level - v[i]) / (v[j] - v[i]);
-        ends[n++] = (1.0 - u) * s.positions.row(t[i]).transpose() +
-                    u * s.positions.row(t[j]).transpose();
+        ends[n++] =
+            (1.0 - u) * s.positions.row(t[i]).transpose() + u * s.positions.row(t[j]).transpose();
       }
       if (n == 2) draw_segment(cv, cam, ends[0], ends[1], pen);
     }
@@ -314,7 +325,8 @@ Image downsample(const Canvas& cv, int s) {
       }
       for (int c = 0; c < 3; ++c) {
         const double v = std::clamp(std::round(sum[c] * norm), 0.0, 255.0);
-        img.rgb[(static_cast<std::size_t>(y) * img.width + x) * 3 + c] = static_cast<std::uint8_t>(v);
+        img.rgb[(static_cast<std::size_t>(y) * img.width + x) * 3 + c] =
+            static_cast<std::uint8_t>(v);
       }
     }
   }
@@ -445,7 +457,8 @@ Rendering render_scene(const RenderScene& scene, const RenderOptions& o) {
   }
   for (std::size_t f = 0; f < scene.triangles.size(); ++f) {
     const Triangle& t = scene.triangles[f];
-    rasterize_triangle(cv, static_cast<Index>(f), projected[t[0]], projected[t[1]], projected[t[2]]);
+    rasterize_triangle(cv, static_cast<Index>(f), projected[t[0]], projected[t[1]],
+                       projected[t[2]]);
   }
   shade_pixels(cv, scene, sh);
   if (scene.triangles.empty()) draw_points(cv, cam, scene, sh, o.point_size * s);
@@ -494,7 +507,8 @@ ColorMap colormap_from_name(const std::string& name) {
 std::array<std::uint8_t, 3> colormap_color(ColorMap map, double t) {
   double c[3];
   map_color(map, t, c);
-  return {static_cast<std::uint8_t>(std::lround(c[0])), static_cast<std::uint8_t>(std::lround(c[1])),
+  return {static_cast<std::uint8_t>(std::lround(c[0])),
+          static_cast<std::uint8_t>(std::lround(c[1])),
           static_cast<std::uint8_t>(std::lround(c[2]))};
 }
 

@@ -52,8 +52,8 @@ enum class ColorMap { kViridis, kDiverging, kGray };
 /// surface is light grey. Isolines: `isolines` = N levels lo + k (hi − lo) / (N + 1), k = 1..N,
 /// as dark lines traced across each face (N lines, N + 1 bands).
 struct RenderOptions {
-  int width = 800;   ///< pixels, [1, 16384]
-  int height = 600;  ///< pixels, [1, 16384]
+  int width = 800;             ///< pixels, [1, 16384]
+  int height = 600;            ///< pixels, [1, 16384]
   double azimuth_deg = 0.0;    ///< any finite value
   double elevation_deg = 0.0;  ///< [−90, 90]
   double fill = 0.9;           ///< (0, 10]: the scene's bounding sphere over half the image
@@ -62,8 +62,8 @@ struct RenderOptions {
   /// ±max |value|). lo < hi when both are given.
   double range_lo = std::numeric_limits<double>::quiet_NaN();
   double range_hi = std::numeric_limits<double>::quiet_NaN();
-  int isolines = 0;        ///< [0, 1000] isolines of the field (needs a field when > 0)
-  bool wireframe = false;  ///< the mesh's edges as thin dark lines
+  int isolines = 0;          ///< [0, 1000] isolines of the field (needs a field when > 0)
+  bool wireframe = false;    ///< the mesh's edges as thin dark lines
   double line_width = 1.0;   ///< isolines and wireframe, output pixels, (0, 64]
   double curve_width = 3.0;  ///< curves, output pixels, (0, 64]
   double point_size = 3.0;   ///< a point cloud's points, output pixels, (0, 64]

@@ -52,7 +52,8 @@ std::vector<std::uint8_t> encode_png(const Image& image) {
   }
   uLongf packed_size = compressBound(static_cast<uLong>(raw.size()));
   std::vector<std::uint8_t> packed(packed_size);
-  if (compress2(packed.data(), &packed_size, raw.data(), static_cast<uLong>(raw.size()), 6) != Z_OK) {
+  if (compress2(packed.data(), &packed_size, raw.data(), static_cast<uLong>(raw.size()), 6) !=
+      Z_OK) {
     throw Error("encode_png: zlib failed to compress the image");
   }
   packed.resize(packed_size);
@@ -79,8 +80,9 @@ std::vector<std::vector<Eigen::Vector3d>> read_polylines_obj(const std::string& 
       Eigen::Vector3d p;
       if (tokens.size() < 4 || !io::parse_whole_real(tokens[1], p.x()) ||
           !io::parse_whole_real(tokens[2], p.y()) || !io::parse_whole_real(tokens[3], p.z())) {
-        io::detail::fail_line(path, line_no, "a 'v' line needs three finite numbers, got " +
-                                                 io::quoted_excerpt(line));
+        io::detail::fail_line(
+            path, line_no,
+            "a 'v' line needs three finite numbers, got " + io::quoted_excerpt(line));
       }
       points.push_back(p);
     } else if (tokens[0] == "l") {
@@ -91,9 +93,9 @@ std::vector<std::vector<Eigen::Vector3d>> read_polylines_obj(const std::string& 
         const std::string head = tokens[k].substr(0, tokens[k].find('/'));
         const long long n = static_cast<long long>(points.size());
         if (!io::parse_whole_integer(head, id) || id == 0 || id > n || id < -n) {
-          io::detail::fail_line(path, line_no, "point id " + io::quoted_excerpt(tokens[k]) +
-                                                   " is not in 1.." + std::to_string(n) +
-                                                   " (or -" + std::to_string(n) + "..-1)");
+          io::detail::fail_line(path, line_no,
+                                "point id " + io::quoted_excerpt(tokens[k]) + " is not in 1.." +
+                                    std::to_string(n) + " (or -" + std::to_string(n) + "..-1)");
         }
         polyline.push_back(points[id > 0 ? id - 1 : n + id]);
       }

@@ -147,13 +147,16 @@ TEST(Render, HeightColoursOrderedAsTheColourMap) {
     set_view(o, view);
     o.colormap = ColorMap::kViridis;  // blue share falls from violet (low) to yellow (high)
     Image img = render_scene(s, o).image;
-    const double top = chroma(img, o, 0, o.height / 2, 2), bottom = chroma(img, o, o.height / 2, o.height, 2);
+    const double top = chroma(img, o, 0, o.height / 2, 2),
+                 bottom = chroma(img, o, o.height / 2, o.height, 2);
     EXPECT_LT(top, chroma_of(ColorMap::kViridis, 0.5, 2)) << view;
     EXPECT_GT(bottom, chroma_of(ColorMap::kViridis, 0.5, 2)) << view;
     o.colormap = ColorMap::kDiverging;  // red above, blue below
     img = render_scene(s, o).image;
-    EXPECT_GT(chroma(img, o, 0, o.height / 2 - 2, 0), chroma(img, o, 0, o.height / 2 - 2, 2)) << view;
-    EXPECT_GT(chroma(img, o, o.height / 2 + 2, o.height, 2), chroma(img, o, o.height / 2 + 2, o.height, 0))
+    EXPECT_GT(chroma(img, o, 0, o.height / 2 - 2, 0), chroma(img, o, 0, o.height / 2 - 2, 2))
+        << view;
+    EXPECT_GT(chroma(img, o, o.height / 2 + 2, o.height, 2),
+              chroma(img, o, o.height / 2 + 2, o.height, 0))
         << view;
   }
   // from the top (camera on +y) only the upper hemisphere shows: every pixel above the middle
