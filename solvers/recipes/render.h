@@ -82,6 +82,7 @@ struct Image {
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> rgb;  ///< width · height · 3 bytes, rows top to bottom
+  /// The pixel in column x (< width) of row y (< height), rows counted from the top.
   std::array<std::uint8_t, 3> pixel(int x, int y) const;
 };
 

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -263,6 +264,36 @@ TEST(Render, CurvesBehindTheSurfaceAreHidden) {
   EXPECT_FALSE(has_red(render_scene(s, o).image));
   o.azimuth_deg = 180;  // now the far curve faces the camera
   EXPECT_TRUE(has_red(render_scene(s, o).image));
+}
+
+// Non-finite values (unreachable vertices of a distance) are left out of the range and drawn
+// grey; the diverging map's default range is symmetric about 0; a given range is kept.
+TEST(Render, RangeOfTheFiniteValues) {
+  RenderScene s = sphere_by_height(16);
+  for (Eigen::Index i = 0; i < s.field.size(); ++i) {
+    if (s.positions(i, 1) > 0.5) s.field[i] = std::numeric_limits<double>::infinity();
+  }
+  RenderOptions o;
+  o.width = 120;
+  o.height = 120;
+  Rendering r = render_scene(s, o);
+  EXPECT_EQ(r.range_lo, -1.0);
+  EXPECT_LE(r.range_hi, 0.5);
+  EXPECT_GT(r.range_hi, 0.4);
+  const auto top = r.image.pixel(60, 60 - static_cast<int>(0.8 * 54));  // y ≈ 0.8: grey
+  EXPECT_LE(std::max({top[0], top[1], top[2]}) - std::min({top[0], top[1], top[2]}), 2);
+  const auto low = r.image.pixel(60, 60 + static_cast<int>(0.5 * 54));  // y ≈ −0.5: coloured
+  EXPECT_GT(std::max({low[0], low[1], low[2]}) - std::min({low[0], low[1], low[2]}), 30);
+  s.field = s.positions.col(1).array() + 0.5;
+  o.colormap = ColorMap::kDiverging;
+  r = render_scene(s, o);
+  EXPECT_EQ(r.range_lo, -1.5);
+  EXPECT_EQ(r.range_hi, 1.5);
+  o.range_lo = -3.0;
+  o.range_hi = 7.0;
+  r = render_scene(s, o);
+  EXPECT_EQ(r.range_lo, -3.0);
+  EXPECT_EQ(r.range_hi, 7.0);
 }
 
 TEST(Render, PointCloudDrawnAsPoints) {
