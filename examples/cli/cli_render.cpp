@@ -42,6 +42,7 @@ solvers::RenderOptions render_options(const Args& args) {
     o.wireframe = args.has("wireframe");
     o.supersample = args.count("supersample");
     o.fill = args.real("fill");
+    o.curve_width = args.real("curve-width");
     o.validate();
   } catch (const InvalidInput& e) {
     throw UsageError(e.what());
@@ -64,7 +65,7 @@ int run(const Args& args) {
   }
   solvers::RenderScene scene =
       solvers::scene_from_input(input, args.has("property") ? args.get("property") : "");
-  if (args.has("curves")) scene.curves = solvers::read_polylines_obj(args.get("curves"));
+  if (args.has("curves")) scene.curves = solvers::read_polylines(args.get("curves"));
   const Stopwatch watch;
   const solvers::Rendering r = recipes::render(scene, options);
   const std::string out = args.get("output");
@@ -129,10 +130,16 @@ Command render_command() {
             .defaults_to("0")
             .explain("N dark isolines at LO + k (HI − LO) / (N + 1), k = 1..N"),
         flag("wireframe").explain("the mesh's edges as thin dark lines"),
-        text("curves", "CURVES.obj")
-            .with_extensions({".obj"})
-            .explain("polylines to draw in red (the 'l' lines of --curves-out or\n"
-                     "ifem geodesic -o files)"),
+        text("curves", "CURVES")
+            .with_extensions({".obj", ".ply"})
+            .explain("polylines to draw in red: the 'l' lines of an OBJ (--curves-out,\n"
+                     "ifem geodesic -o) or a PLY line set (ifem refine --lines: the\n"
+                     "intrinsic edges over the input; add --wireframe for the input's)"),
+        real("curve-width", "W")
+            .above(0)
+            .at_most(64)
+            .defaults_to("3")
+            .explain("the curves' width in pixels"),
         count("supersample", "S")
             .at_least(1)
             .at_most(4)

@@ -12,7 +12,7 @@ from ._inputs import is_path
 
 def render(V, F=None, field=None, output=None, *, view="front", azimuth=None, elevation=None,
            size=(800, 600), colormap="viridis", range=None, isolines=0, wireframe=False,
-           curves=None, supersample=2, fill=0.9, return_range=False):
+           curves=None, curve_width=3.0, supersample=2, fill=0.9, return_range=False):
     """A picture of a mesh coloured by a per-vertex field, without a display (``ifem render``).
 
     A software rasterizer (no GPU, display or browser): the same call gives the same pixels.
@@ -36,8 +36,10 @@ def render(V, F=None, field=None, output=None, *, view="front", azimuth=None, el
         range: (lo, hi) of the colour map; None: the field's finite min and max.
         isolines: N dark isolines at lo + k (hi − lo) / (N + 1), k = 1..N (needs a field).
         wireframe: draw the mesh's edges.
-        curves: polylines to draw in red: a list of k×3 arrays, or an OBJ file's path (the
-            'l' lines that ``--curves-out`` and ``ifem geodesic -o`` write).
+        curves: polylines to draw in red: a list of k×3 arrays, or a file's path: an OBJ's
+            'l' lines (``--curves-out``, ``ifem geodesic -o``) or a PLY line set (``ifem refine
+            --lines``: the intrinsic edges traced over the input).
+        curve_width: the curves' width in pixels.
         supersample: anti-aliasing factor S in 1..4 (drawn S× larger, then averaged).
         fill: the bounding sphere's share of half the picture (> 1 zooms in).
         return_range: also return the colour range used, (lo, hi) (NaN without a field).
@@ -66,7 +68,7 @@ def render(V, F=None, field=None, output=None, *, view="front", azimuth=None, el
     if isinstance(field, str):
         raise InvalidInput("render: a property name needs V to be a file's path")
     if is_path(curves):
-        curves = [np.asarray(c) for c in _ifem.read_polylines_obj(os.fsdecode(curves))]
+        curves = [np.asarray(c) for c in _ifem.read_polylines(os.fsdecode(curves))]
     az, el = _ifem.named_view(view)
     if azimuth is not None:
         az = float(azimuth)
@@ -77,7 +79,7 @@ def render(V, F=None, field=None, output=None, *, view="front", azimuth=None, el
     out = "" if output is None else os.fsdecode(output)
     image, lo, hi = _ifem.render(V, F, field, curves, (int(width), int(height)), az, el,
                                  colormap, (lo, hi), int(isolines), bool(wireframe),
-                                 int(supersample), float(fill), out)
+                                 int(supersample), float(fill), float(curve_width), out)
     return (image, (lo, hi)) if return_range else image
 
 

@@ -42,7 +42,7 @@ std::vector<std::vector<Eigen::Vector3d>> curves_from(const py::handle& curves) 
 py::tuple render(const py::handle& V, const py::handle& F, const py::handle& field,
                  const py::handle& curves, std::pair<int, int> size, double azimuth,
                  double elevation, const std::string& colormap, std::pair<double, double> range,
-                 int isolines, bool wireframe, int supersample, double fill,
+                 int isolines, bool wireframe, int supersample, double fill, double curve_width,
                  const std::string& output) {
   solvers::RenderScene scene;
   scene.positions = positions_from(V, "V");
@@ -60,6 +60,7 @@ py::tuple render(const py::handle& V, const py::handle& F, const py::handle& fie
   o.wireframe = wireframe;
   o.supersample = supersample;
   o.fill = fill;
+  o.curve_width = curve_width;
   solvers::Rendering r;
   {
     const py::gil_scoped_release release;
@@ -77,7 +78,7 @@ void bind_render(py::module_& m) {
   m.def("render", &render, py::arg("V"), py::arg("F"), py::arg("field"), py::arg("curves"),
         py::arg("size"), py::arg("azimuth"), py::arg("elevation"), py::arg("colormap"),
         py::arg("range"), py::arg("isolines"), py::arg("wireframe"), py::arg("supersample"),
-        py::arg("fill"), py::arg("output"));
+        py::arg("fill"), py::arg("curve_width"), py::arg("output"));
   m.def(
       "named_view",
       [](const std::string& name) {
@@ -86,12 +87,12 @@ void bind_render(py::module_& m) {
       },
       py::arg("name"));
   m.def(
-      "read_polylines_obj",
+      "read_polylines",
       [](const std::string& path) {
         std::vector<std::vector<Eigen::Vector3d>> lines;
         {
           const py::gil_scoped_release release;
-          lines = solvers::read_polylines_obj(path);
+          lines = solvers::read_polylines(path);
         }
         py::list out;
         for (const auto& line : lines) {

@@ -91,6 +91,13 @@ def test_curves_and_points(tmp_path):
     (tmp_path / "c.obj").write_text("".join(f"v {x} {y} {z}\n" for x, y, z in near) +
                                     "l " + " ".join(str(i + 1) for i in range(30)) + "\n")
     assert red(ifem.render(V, F, curves=tmp_path / "c.obj", size=(100, 80))) > 20
+    (tmp_path / "c.ply").write_text(
+        f"ply\nformat ascii 1.0\nelement vertex 30\nproperty double x\nproperty double y\n"
+        f"property double z\nelement edge 29\nproperty int vertex1\nproperty int vertex2\n"
+        f"end_header\n" + "".join(f"{x} {y} {z}\n" for x, y, z in near) +
+        "".join(f"{i} {i + 1}\n" for i in range(29)))
+    from_ply = ifem.render(V, F, curves=str(tmp_path / "c.ply"), size=(100, 80))
+    assert np.array_equal(from_ply, ifem.render(V, F, curves=tmp_path / "c.obj", size=(100, 80)))
     points = ifem.render(V, None, V[:, 1], size=(100, 80))
     assert 0 < (points != 255).any(axis=2).sum() < 100 * 80 / 2
 

@@ -118,6 +118,17 @@ RenderScene scene_from_input(const io::SurfaceInput& input, const std::string& p
 /// @throws IoError on a missing file, a malformed 'v' or 'l' line, an id out of range (FILE:line)
 std::vector<std::vector<Eigen::Vector3d>> read_polylines_obj(const std::string& path);
 
+/// The polylines of a PLY line set: 'vertex' (x, y, z) and 'edge' (vertex1, vertex2, 0-based)
+/// elements, ASCII or binary (what `ifem refine --lines` writes: the intrinsic edges traced over
+/// the input). Consecutive edges that share an end form one polyline; other elements are
+/// skipped (binary: when they have no list property).
+/// @throws IoError on a missing or malformed file, an id out of range
+std::vector<std::vector<Eigen::Vector3d>> read_polylines_ply(const std::string& path);
+
+/// read_polylines_obj() or read_polylines_ply() by the extension (.obj / .ply, any case).
+/// @throws IoError as those, and on another extension
+std::vector<std::vector<Eigen::Vector3d>> read_polylines(const std::string& path);
+
 /// The PNG file of an image (8-bit RGB, no interlace, every row filter 0, zlib level 6).
 std::vector<std::uint8_t> encode_png(const Image& image);
 

@@ -1,7 +1,7 @@
 """`ifem render`: the PNG read back (size, pixels) on a unit sphere coloured by height (the
 projected disc's area, the colour map's order, one isoline band per level), a distance field
-on spot from a PLY or through --field (the same bytes), curves drawn, the same bytes twice,
-and the refusals (bad size, view, property, isolines without a field) with no partial file."""
+on spot from a PLY or through --field (the same bytes), curves drawn (OBJ polylines, the
+intrinsic edges of `ifem refine --lines`), the same bytes twice, and the refusals (bad size, view, property, isolines without a field) with no partial file."""
 
 import math
 import struct
@@ -133,6 +133,21 @@ def test_distance_field_curves_and_determinism(cli):
     assert red > 10, "the geodesic shows from one side or the other"
 
 
+# the intrinsic triangulation over the input (the thesis's figures): `ifem refine --lines`
+# (binary or --ascii) drawn with --curves over --wireframe; the two files give the same bytes
+def test_intrinsic_edges_over_the_input(cli):
+    o = cli.out
+    cli.ok("refine", cli.spot, "--lines", o / "e.ply", "--quiet")
+    cli.ok("refine", cli.spot, "--lines", o / "ea.ply", "--ascii", "--quiet")
+    for name in ("e", "ea"):
+        cli.ok("render", cli.spot, "--wireframe", "--curves", o / f"{name}.ply", "--curve-width",
+               1, "--size", "160x120", "-o", o / f"{name}.png", "--quiet")
+    assert (o / "e.png").read_bytes() == (o / "ea.png").read_bytes()
+    _, _, rows = read_png(o / "e.png")
+    red = sum(p[0] > 150 and p[1] < 100 and p[2] < 100 for row in rows for p in row)
+    assert red > 1000, red
+
+
 def test_refusals(cli):
     o = cli.out
     png = o / "x.png"
@@ -150,3 +165,8 @@ def test_refusals(cli):
     cli.refuse(1, r"has 42 vertices, .*spot.obj has 2930", png, "render", cli.spot, "--field",
                sphere)
     cli.refuse(2, r"\.png", o / "x.jpg", "render", cli.spot)
+    cli.refuse(2, r"--curves", png, "render", cli.spot, "--curves", o / "c.txt")
+    (o / "bad.ply").write_text("ply\nformat ascii 1.0\nelement vertex 1\nproperty double x\n"
+                               "property double y\nproperty double z\nend_header\n0 0 0\n")
+    cli.refuse(1, r"needs 'vertex' and 'edge' elements", png, "render", cli.spot, "--curves",
+               o / "bad.ply")

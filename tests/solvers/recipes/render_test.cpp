@@ -17,6 +17,7 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/refine/common_subdivision.h"
 #include "solvers/recipes/recipes.h"
 
 namespace ifem::solvers {
@@ -350,6 +351,56 @@ TEST(Render, ReadsPolylinesOfAnObjFile) {
     EXPECT_NE(std::string(e.what()).find("line 3"), std::string::npos) << e.what();
   }
   std::filesystem::remove(path);
+}
+
+// PLY line sets as ifem refine --lines writes them (binary and ASCII) read back polyline by
+// polyline; a big-endian file with an extra element; refusals name the problem.
+TEST(Render, ReadsPlyLineSets) {
+  const std::vector<std::vector<Eigen::Vector3d>> lines = {{{0, 0, 0}, {1, 0, 0}, {1, 2, 0.5}},
+                                                           {{-1, -1, -1}, {0.25, 0.5, 1e-3}}};
+  const auto path =
+      (std::filesystem::temp_directory_path() / "ifem_render_test_lines.ply").string();
+  for (bool binary : {true, false}) {
+    intrinsic::write_polylines_ply(path, lines, binary, "test");
+    EXPECT_EQ(read_polylines(path), lines) << (binary ? "binary" : "ascii");
+  }
+  std::string be =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "property float z\nproperty uchar red\nelement face 0\nproperty uchar flags\n"
+      "element edge 1\nproperty ushort vertex2\nproperty ushort vertex1\nend_header\n";
+  const unsigned char body[] = {0x3f, 0x80, 0, 0, 0,    0,    0, 0, 0xc0, 0, 0, 0, 7,  // 1 0 -2
+                                0,    0,    0, 0, 0x40, 0x40, 0, 0, 0,    0, 0, 0, 9,  // 0 3 0
+                                0,    0,    0, 1};                                     // 1 → 0
+  be.append(reinterpret_cast<const char*>(body), sizeof body);
+  std::ofstream(path, std::ios::binary) << be;
+  const auto read = read_polylines(path);
+  ASSERT_EQ(read.size(), 1u);
+  ASSERT_EQ(read[0].size(), 2u);
+  EXPECT_EQ(read[0][0], Eigen::Vector3d(0, 3, 0));  // vertex1 = 1 (listed second)
+  EXPECT_EQ(read[0][1], Eigen::Vector3d(1, 0, -2));
+  auto refused = [&](const std::string& text, const std::string& why) {
+    std::ofstream(path, std::ios::binary) << text;
+    try {
+      read_polylines(path);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const IoError& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  };
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\n"
+      "property double y\nproperty double z\n";
+  refused(head + "end_header\n0 0 0\n1 1 1\n", "needs 'vertex' and 'edge' elements");
+  refused(head +
+              "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n"
+              "0 0 0\n1 1 1\n0 2\n",
+          "edge 0: vertex ids must be in [0, 2)");
+  refused(head +
+              "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n"
+              "0 0 0\n1 nan 1\n0 1\n",
+          "vertex 1: not a finite number");
+  std::filesystem::remove(path);
+  EXPECT_THROW(read_polylines("lines.txt"), IoError);
 }
 
 }  // namespace
