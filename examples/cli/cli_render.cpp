@@ -79,6 +79,65 @@ int run(const Args& args) {
   return 0;
 }
 
+OptionGroup render_options_group() {
+  return {"Options",
+          {text("output", "OUT.png")
+               .short_alias('o')
+               .mandatory()
+               .with_extensions({".png"})
+               .explain("the picture"),
+           text("property", "NAME")
+               .explain("the per-vertex property to colour by (default: the first one; none:\n"
+                        "a grey surface)"),
+           text("field", "VALUES.ply")
+               .with_extensions({".ply"})
+               .explain("take the properties from this PLY instead of MESH (same vertex count,\n"
+                        "e.g. ifem render spot.obj --field spot_distance.ply)"),
+           text("view", "NAME")
+               .defaults_to("front")
+               .explain("front (camera on +z), back, left, right (+x), top (+y), bottom"),
+           real("azimuth", "DEG")
+               .explain("camera direction about +y, degrees (0 = front, 90 = right);\n"
+                        "overrides --view's"),
+           real("elevation", "DEG")
+               .at_least(-90)
+               .at_most(90)
+               .explain("camera height, degrees (90 = top); overrides --view's"),
+           text("size", "WxH").defaults_to("800x600").explain("picture size in pixels"),
+           text("colormap", "NAME")
+               .defaults_to("viridis")
+               .explain("viridis (dark violet low → yellow high), diverging (blue → grey → red,\n"
+                        "range symmetric about 0 by default), gray"),
+           real("min", "LO").explain("low end of the colour range (default: the field's minimum)"),
+           real("max", "HI").explain("high end of the colour range (default: the field's maximum)"),
+           count("isolines", "N")
+               .at_most(1000)
+               .defaults_to("0")
+               .explain("N dark isolines at LO + k (HI − LO) / (N + 1), k = 1..N"),
+           flag("wireframe").explain("the mesh's edges as thin dark lines"),
+           text("curves", "CURVES")
+               .with_extensions({".obj", ".ply"})
+               .explain("polylines to draw in red: the 'l' lines of an OBJ (--curves-out,\n"
+                        "ifem geodesic -o) or a PLY line set (ifem refine --lines: the\n"
+                        "intrinsic edges over the input; add --wireframe for the input's)"),
+           real("curve-width", "W")
+               .above(0)
+               .at_most(64)
+               .defaults_to("3")
+               .explain("the curves' width in pixels"),
+           count("supersample", "S")
+               .at_least(1)
+               .at_most(4)
+               .defaults_to("2")
+               .explain("anti-aliasing: draw S× larger, then average S×S pixels"),
+           real("fill", "F")
+               .above(0)
+               .at_most(10)
+               .defaults_to("0.9")
+               .explain("the scene's bounding sphere over half the picture (> 1 zooms in)"),
+           flag("quiet").explain("no progress lines on stderr")}};
+}
+
 }  // namespace
 
 Command render_command() {
@@ -94,63 +153,7 @@ Command render_command() {
       "camera. Camera: orthographic, aimed at the centre of the bounding box; +y is up in\n"
       "the side views (front = camera on +z). The whole scene fits the picture whatever the\n"
       "view. stdout names the property and the colour range used.\n";
-  c.spec.groups = {
-      {"Options",
-       {text("output", "OUT.png")
-            .short_alias('o')
-            .mandatory()
-            .with_extensions({".png"})
-            .explain("the picture"),
-        text("property", "NAME")
-            .explain("the per-vertex property to colour by (default: the first one; none:\n"
-                     "a grey surface)"),
-        text("field", "VALUES.ply")
-            .with_extensions({".ply"})
-            .explain("take the properties from this PLY instead of MESH (same vertex count,\n"
-                     "e.g. ifem render spot.obj --field spot_distance.ply)"),
-        text("view", "NAME")
-            .defaults_to("front")
-            .explain("front (camera on +z), back, left, right (+x), top (+y), bottom"),
-        real("azimuth", "DEG")
-            .explain("camera direction about +y, degrees (0 = front, 90 = right);\n"
-                     "overrides --view's"),
-        real("elevation", "DEG")
-            .at_least(-90)
-            .at_most(90)
-            .explain("camera height, degrees (90 = top); overrides --view's"),
-        text("size", "WxH").defaults_to("800x600").explain("picture size in pixels"),
-        text("colormap", "NAME")
-            .defaults_to("viridis")
-            .explain("viridis (dark violet low → yellow high), diverging (blue → grey → red,\n"
-                     "range symmetric about 0 by default), gray"),
-        real("min", "LO").explain("low end of the colour range (default: the field's minimum)"),
-        real("max", "HI").explain("high end of the colour range (default: the field's maximum)"),
-        count("isolines", "N")
-            .at_most(1000)
-            .defaults_to("0")
-            .explain("N dark isolines at LO + k (HI − LO) / (N + 1), k = 1..N"),
-        flag("wireframe").explain("the mesh's edges as thin dark lines"),
-        text("curves", "CURVES")
-            .with_extensions({".obj", ".ply"})
-            .explain("polylines to draw in red: the 'l' lines of an OBJ (--curves-out,\n"
-                     "ifem geodesic -o) or a PLY line set (ifem refine --lines: the\n"
-                     "intrinsic edges over the input; add --wireframe for the input's)"),
-        real("curve-width", "W")
-            .above(0)
-            .at_most(64)
-            .defaults_to("3")
-            .explain("the curves' width in pixels"),
-        count("supersample", "S")
-            .at_least(1)
-            .at_most(4)
-            .defaults_to("2")
-            .explain("anti-aliasing: draw S× larger, then average S×S pixels"),
-        real("fill", "F")
-            .above(0)
-            .at_most(10)
-            .defaults_to("0.9")
-            .explain("the scene's bounding sphere over half the picture (> 1 zooms in)"),
-        flag("quiet").explain("no progress lines on stderr")}}};
+  c.spec.groups = {render_options_group()};
   c.spec.epilogue =
       "examples:\n"
       "  ifem distance spot.obj --source 0 -o spot_distance.ply\n"
