@@ -43,6 +43,7 @@ solvers::RenderOptions render_options(const Args& args) {
     o.supersample = args.count("supersample");
     o.fill = args.real("fill");
     o.curve_width = args.real("curve-width");
+    o.legend = args.has("legend");
     o.validate();
   } catch (const InvalidInput& e) {
     throw UsageError(e.what());
@@ -114,6 +115,9 @@ OptionGroup render_options_group() {
                .at_most(1000)
                .defaults_to("0")
                .explain("N dark isolines at LO + k (HI − LO) / (N + 1), k = 1..N"),
+           flag("legend").explain(
+               "a colour bar at the right edge with the range's ends (and a tick per\n"
+               "isoline); the mesh moves left to make room"),
            flag("wireframe").explain("the mesh's edges as thin dark lines"),
            text("curves", "CURVES")
                .with_extensions({".obj", ".ply"})

@@ -12,7 +12,8 @@ from ._inputs import is_path
 
 def render(V, F=None, field=None, output=None, *, view="front", azimuth=None, elevation=None,
            size=(800, 600), colormap="viridis", range=None, isolines=0, wireframe=False,
-           curves=None, curve_width=3.0, supersample=2, fill=0.9, return_range=False):
+           curves=None, curve_width=3.0, legend=False, supersample=2, fill=0.9,
+           return_range=False):
     """A picture of a mesh coloured by a per-vertex field, without a display (``ifem render``).
 
     A software rasterizer (no GPU, display or browser): the same call gives the same pixels.
@@ -40,6 +41,8 @@ def render(V, F=None, field=None, output=None, *, view="front", azimuth=None, el
             'l' lines (``--curves-out``, ``ifem geodesic -o``) or a PLY line set (``ifem refine
             --lines``: the intrinsic edges traced over the input).
         curve_width: the curves' width in pixels.
+        legend: a colour bar at the right edge with the range's ends written beside it (and a
+            tick per isoline); the mesh is framed left of it. Needs a field.
         supersample: anti-aliasing factor S in 1..4 (drawn S× larger, then averaged).
         fill: the bounding sphere's share of half the picture (> 1 zooms in).
         return_range: also return the colour range used, (lo, hi) (NaN without a field).
@@ -79,7 +82,8 @@ def render(V, F=None, field=None, output=None, *, view="front", azimuth=None, el
     out = "" if output is None else os.fsdecode(output)
     image, lo, hi = _ifem.render(V, F, field, curves, (int(width), int(height)), az, el,
                                  colormap, (lo, hi), int(isolines), bool(wireframe),
-                                 int(supersample), float(fill), float(curve_width), out)
+                                 int(supersample), float(fill), float(curve_width),
+                                 bool(legend), out)
     return (image, (lo, hi)) if return_range else image
 
 

@@ -43,7 +43,7 @@ py::tuple render(const py::handle& V, const py::handle& F, const py::handle& fie
                  const py::handle& curves, std::pair<int, int> size, double azimuth,
                  double elevation, const std::string& colormap, std::pair<double, double> range,
                  int isolines, bool wireframe, int supersample, double fill, double curve_width,
-                 const std::string& output) {
+                 bool legend, const std::string& output) {
   solvers::RenderScene scene;
   scene.positions = positions_from(V, "V");
   const Index n = static_cast<Index>(scene.positions.rows());
@@ -61,6 +61,7 @@ py::tuple render(const py::handle& V, const py::handle& F, const py::handle& fie
   o.supersample = supersample;
   o.fill = fill;
   o.curve_width = curve_width;
+  o.legend = legend;
   solvers::Rendering r;
   {
     const py::gil_scoped_release release;
@@ -78,7 +79,7 @@ void bind_render(py::module_& m) {
   m.def("render", &render, py::arg("V"), py::arg("F"), py::arg("field"), py::arg("curves"),
         py::arg("size"), py::arg("azimuth"), py::arg("elevation"), py::arg("colormap"),
         py::arg("range"), py::arg("isolines"), py::arg("wireframe"), py::arg("supersample"),
-        py::arg("fill"), py::arg("curve_width"), py::arg("output"));
+        py::arg("fill"), py::arg("curve_width"), py::arg("legend"), py::arg("output"));
   m.def(
       "named_view",
       [](const std::string& name) {

@@ -62,6 +62,9 @@ def test_sphere_by_height():
     plain = ifem.render(V, F, V[:, 1], size=(160, 120), supersample=1)
     col = (lines[:, 80] != plain[:, 80]).any(axis=1)
     assert int((col[1:] & ~col[:-1]).sum() + col[0]) == 3
+    with_legend = ifem.render(V, F, V[:, 1], size=(160, 120), legend=True)
+    assert with_legend.shape == img.shape and (with_legend[:, -12:] != 255).any()
+    assert (img[:, -12:] == 255).all()
 
 
 def test_same_pixels_as_the_cli(tmp_path):

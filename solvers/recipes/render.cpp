@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <utility>
@@ -78,6 +79,7 @@ struct Camera {
   }
 };
 
+/// The camera of a picture whose scene area is the first w columns (subpixels) of h rows.
 Camera make_camera(const RenderScene& scene, const RenderOptions& o, int w, int h) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
@@ -333,6 +335,88 @@ Image downsample(const Canvas& cv, int s) {
   return img;
 }
 
+// ---- legend: a colour bar with its range written in a 5×7 pixel font ----
+
+/// Rows of 5 pixels (bit 4 = leftmost) of the characters a "%.4g" number uses.
+struct Glyph {
+  char c;
+  std::uint8_t rows[7];
+};
+constexpr Glyph kGlyphs[] = {
+    {'0', {14, 17, 19, 21, 25, 17, 14}}, {'1', {4, 12, 4, 4, 4, 4, 14}},
+    {'2', {14, 17, 1, 2, 4, 8, 31}},     {'3', {31, 2, 4, 2, 1, 17, 14}},
+    {'4', {2, 6, 10, 18, 31, 2, 2}},     {'5', {31, 16, 30, 1, 1, 17, 14}},
+    {'6', {6, 8, 16, 30, 17, 17, 14}},   {'7', {31, 1, 2, 4, 8, 8, 8}},
+    {'8', {14, 17, 17, 14, 17, 17, 14}}, {'9', {14, 17, 17, 15, 1, 2, 12}},
+    {'.', {0, 0, 0, 0, 0, 12, 12}},      {'-', {0, 0, 0, 31, 0, 0, 0}},
+    {'+', {0, 4, 4, 31, 4, 4, 0}},       {'e', {0, 0, 14, 17, 31, 16, 14}}};
+
+std::string legend_label(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+/// Pixel size of one font pixel: 1 up to 449 rows, then one more per 300 rows.
+int legend_scale(int height) { return std::max(1, static_cast<int>(std::lround(height / 300.0))); }
+
+int legend_width(int height, double lo, double hi) {
+  const int k = legend_scale(height);
+  const std::size_t chars = std::max(legend_label(lo).size(), legend_label(hi).size());
+  return 4 * k + static_cast<int>(chars) * 6 * k + 3 * k + 8 * k + 4 * k;
+}
+
+void fill_rect(Image& img, int x0, int y0, int x1, int y1, const std::uint8_t rgb[3]) {
+  for (int y = std::max(0, y0); y < std::min(img.height, y1); ++y) {
+    for (int x = std::max(0, x0); x < std::min(img.width, x1); ++x) {
+      for (int c = 0; c < 3; ++c)
+        img.rgb[(static_cast<std::size_t>(y) * img.width + x) * 3 + c] = rgb[c];
+    }
+  }
+}
+
+/// `text` right-aligned at column `right`, vertically centred on row `mid`.
+void draw_text(Image& img, const std::string& text, int right, int mid, int k) {
+  const std::uint8_t ink[3] = {20, 20, 20};
+  int x = right - static_cast<int>(text.size()) * 6 * k + k;
+  for (char ch : text) {
+    for (const Glyph& g : kGlyphs) {
+      if (g.c != ch) continue;
+      for (int r = 0; r < 7; ++r) {
+        for (int b = 0; b < 5; ++b) {
+          if ((g.rows[r] >> (4 - b)) & 1) {
+            const int px = x + b * k, py = mid - (7 * k) / 2 + r * k;
+            fill_rect(img, px, py, px + k, py + k, ink);
+          }
+        }
+      }
+    }
+    x += 6 * k;
+  }
+}
+
+/// The colour bar (hi at the top) right of column img.width − legend_width, its range beside
+/// it and a tick per isoline level.
+void draw_legend(Image& img, const RenderOptions& o, double lo, double hi) {
+  const int k = legend_scale(img.height);
+  const int x1 = img.width - 4 * k, x0 = x1 - 8 * k;
+  const int y0 = static_cast<int>(std::lround(0.1 * img.height));
+  const int y1 = std::max(y0 + 2, static_cast<int>(std::lround(0.9 * img.height)));
+  const std::uint8_t frame[3] = {20, 20, 20};
+  fill_rect(img, x0 - 1, y0 - 1, x1 + 1, y1 + 1, frame);
+  for (int y = y0; y < y1; ++y) {
+    const auto c = colormap_color(o.colormap, 1.0 - (y - y0 + 0.5) / (y1 - y0));
+    const std::uint8_t rgb[3] = {c[0], c[1], c[2]};
+    fill_rect(img, x0, y, x1, y + 1, rgb);
+  }
+  for (int j = 1; j <= o.isolines; ++j) {
+    const int y = y1 - static_cast<int>(std::lround((y1 - y0) * j / (o.isolines + 1.0)));
+    fill_rect(img, x0, y, x1, y + 1, frame);
+  }
+  draw_text(img, legend_label(hi), x0 - 3 * k, y0, k);
+  draw_text(img, legend_label(lo), x0 - 3 * k, y1, k);
+}
+
 /// The colour map's range: the options' when given, else the field's finite extent.
 std::pair<double, double> field_range(const RenderScene& s, const RenderOptions& o) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -368,6 +452,30 @@ void check_positive(const std::string& name, double v, double hi) {
   if (!(v > 0.0 && v <= hi)) {
     throw InvalidInput("render: " + name + " must be in (0, " + std::to_string(hi) + "], got " +
                        std::to_string(v));
+  }
+}
+
+/// Wireframe, isolines and curves over the shaded surface. Lines sit on the surface: they pass
+/// where the surface is at most a depth bias in front (1% of the scene's radius plus the pen's
+/// half width at a 45° slope).
+void draw_lines(Canvas& cv, const Camera& cam, const RenderScene& scene, const Shading& sh,
+                const RenderOptions& o) {
+  const int s = o.supersample;
+  auto pen = [&](double width, const float rgb[3]) {
+    Pen p;
+    p.width = width * s;
+    p.bias = 0.01 * cam.radius + 0.5 * p.width / cam.scale;
+    for (int c = 0; c < 3; ++c) p.rgb[c] = rgb[c];
+    return p;
+  };
+  if (o.wireframe) draw_wireframe(cv, cam, scene, pen(o.line_width, kWireGrey));
+  if (o.isolines > 0) draw_isolines(cv, cam, scene, sh, o.isolines, pen(o.line_width, kLineDark));
+  const float curve_rgb[3] = {static_cast<float>(o.curve_color[0]),
+                              static_cast<float>(o.curve_color[1]),
+                              static_cast<float>(o.curve_color[2])};
+  const Pen curve_pen = pen(o.curve_width, curve_rgb);
+  for (const auto& c : scene.curves) {
+    for (std::size_t k = 1; k < c.size(); ++k) draw_segment(cv, cam, c[k - 1], c[k], curve_pen);
   }
 }
 
@@ -438,18 +546,27 @@ Rendering render_scene(const RenderScene& scene, const RenderOptions& o) {
   if (o.isolines > 0 && !has_field) {
     throw InvalidInput("render: isolines need a field (a per-vertex property)");
   }
-  const int s = o.supersample;
-  Canvas cv(o.width * s, o.height * s, o.background);
-  const Camera cam = make_camera(scene, o, cv.w, cv.h);
+  if (o.legend && !has_field) throw InvalidInput("render: a legend needs a field");
   Shading sh;
   sh.map = o.colormap;
   sh.has_field = has_field;
   sh.ambient = o.ambient;
-  sh.light = (cam.dir + 0.5 * cam.up - 0.35 * cam.right).normalized();
   Rendering out;
   out.range_lo = out.range_hi = std::numeric_limits<double>::quiet_NaN();
   if (has_field) std::tie(sh.lo, sh.hi) = field_range(scene, o);
   if (has_field) std::tie(out.range_lo, out.range_hi) = std::make_pair(sh.lo, sh.hi);
+  out.scene_width = o.width;
+  if (o.legend) {
+    out.scene_width = o.width - legend_width(o.height, sh.lo, sh.hi);
+    if (out.scene_width < o.height / 4 || out.scene_width < 1) {
+      throw InvalidInput("render: the picture is too narrow for a legend (" +
+                         std::to_string(o.width) + " pixels)");
+    }
+  }
+  const int s = o.supersample;
+  Canvas cv(o.width * s, o.height * s, o.background);
+  const Camera cam = make_camera(scene, o, out.scene_width * s, cv.h);
+  sh.light = (cam.dir + 0.5 * cam.up - 0.35 * cam.right).normalized();
 
   std::vector<Eigen::Vector3d> projected(scene.positions.rows());
   for (Eigen::Index i = 0; i < scene.positions.rows(); ++i) {
@@ -462,26 +579,9 @@ Rendering render_scene(const RenderScene& scene, const RenderOptions& o) {
   }
   shade_pixels(cv, scene, sh);
   if (scene.triangles.empty()) draw_points(cv, cam, scene, sh, o.point_size * s);
-
-  // lines sit on the surface: let them through where the surface is at most a depth bias in
-  // front (1% of the scene's radius plus the pen's half width at a 45° slope)
-  auto pen = [&](double width, const float rgb[3]) {
-    Pen p;
-    p.width = width * s;
-    p.bias = 0.01 * cam.radius + 0.5 * p.width / cam.scale;
-    for (int c = 0; c < 3; ++c) p.rgb[c] = rgb[c];
-    return p;
-  };
-  if (o.wireframe) draw_wireframe(cv, cam, scene, pen(o.line_width, kWireGrey));
-  if (o.isolines > 0) draw_isolines(cv, cam, scene, sh, o.isolines, pen(o.line_width, kLineDark));
-  const float curve_rgb[3] = {static_cast<float>(o.curve_color[0]),
-                              static_cast<float>(o.curve_color[1]),
-                              static_cast<float>(o.curve_color[2])};
-  const Pen curve_pen = pen(o.curve_width, curve_rgb);
-  for (const auto& c : scene.curves) {
-    for (std::size_t k = 1; k < c.size(); ++k) draw_segment(cv, cam, c[k - 1], c[k], curve_pen);
-  }
+  draw_lines(cv, cam, scene, sh, o);
   out.image = downsample(cv, s);
+  if (o.legend) draw_legend(out.image, o, sh.lo, sh.hi);
   return out;
 }
 

@@ -44,7 +44,8 @@ enum class ColorMap { kViridis, kDiverging, kGray };
 /// is (cos a, 0, −sin a), its up d × right: +y is up in side views. Named views: front (0, 0),
 /// camera on +z; right (90, 0), on +x; back (180, 0); left (−90, 0); top (0, 90), on +y with −z
 /// up in the image; bottom (0, −90), +z up. Framing: the sphere around the box's centre through
-/// the scene's farthest point has the image radius `fill` · min(W, H) / 2, whatever the view.
+/// the scene's farthest point has the image radius `fill` · min(W', H) / 2, whatever the view,
+/// centred in the W' columns of the scene area (W' = W, or W less the legend's columns).
 ///
 /// Colour: value t = (v − lo) / (hi − lo) clamped to [0, 1] through the colour map, times the
 /// shade ambient + (1 − ambient) |n · l| (n the interpolated vertex normal, l the light: from
@@ -72,6 +73,9 @@ struct RenderOptions {
   std::array<std::uint8_t, 3> background = {255, 255, 255};
   std::array<std::uint8_t, 3> curve_color = {220, 30, 30};
   double ambient = 0.3;  ///< [0, 1]
+  /// A colour bar at the right edge (high end at the top, a tick per isoline, lo and hi written
+  /// beside it); the scene is framed in the columns left of it. Needs a field.
+  bool legend = false;
 
   /// @throws InvalidInput naming the option and its allowed range
   void validate() const;
@@ -91,11 +95,12 @@ struct Rendering {
   Image image;
   double range_lo = 0.0;
   double range_hi = 0.0;
+  int scene_width = 0;  ///< columns framing the scene: the width, less the legend's when drawn
 };
 
 /// Draws the scene. Deterministic: the same scene and options give the same pixels.
-/// @throws InvalidInput from scene.validate() / options.validate(), and for isolines without a
-///   field
+/// @throws InvalidInput from scene.validate() / options.validate(), for isolines or a legend
+///   without a field, and for a legend that leaves the scene less than a quarter of the height
 Rendering render_scene(const RenderScene& scene, const RenderOptions& options);
 
 /// The camera direction (azimuth, elevation) in degrees of a named view: front back left right

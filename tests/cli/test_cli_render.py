@@ -158,6 +158,7 @@ def test_refusals(cli):
     cli.refuse(2, r"unknown colour map 'jet'", png, "render", cli.spot, "--colormap", "jet")
     cli.refuse(2, r"colour range needs lo < hi", png, "render", cli.spot, "--min", 1, "--max", 0)
     cli.refuse(1, r"isolines need a field", png, "render", cli.spot, "--isolines", 3)
+    cli.refuse(1, r"a legend needs a field", png, "render", cli.spot, "--legend")
     cli.refuse(1, r"no per-vertex property", png, "render", cli.spot, "--property", "height")
     sphere = write_sphere_ply(o / "sphere.ply", 6, 8)
     cli.refuse(1, r"no per-vertex property 'nope' \(the input has: height\)", png, "render",

@@ -297,6 +297,66 @@ TEST(Render, RangeOfTheFiniteValues) {
   EXPECT_EQ(r.range_hi, 7.0);
 }
 
+// The legend: the scene left of it is the picture of the narrower size; the bar runs from the
+// map's top colour to its bottom one, with one dark tick per isoline; the labels are dark
+// pixels left of the bar, more of them for a longer number.
+TEST(Render, LegendBarAndLabels) {
+  const RenderScene s = sphere_by_height(12);
+  RenderOptions o;
+  o.width = 320;
+  o.height = 200;
+  o.supersample = 1;
+  o.legend = true;
+  o.isolines = 3;
+  const Rendering r = render_scene(s, o);
+  ASSERT_GT(r.scene_width, o.width / 2);
+  ASSERT_LT(r.scene_width, o.width);
+  RenderOptions narrow = o;
+  narrow.legend = false;
+  narrow.width = r.scene_width;
+  const Image left = render_scene(s, narrow).image;
+  for (int y = 0; y < o.height; ++y) {
+    for (int x = 0; x < r.scene_width; ++x) ASSERT_EQ(r.image.pixel(x, y), left.pixel(x, y));
+  }
+  const int bar_x = o.width - 4 - 4;  // the bar's middle column (font scale 1 at 200 rows)
+  const int y0 = 20, y1 = 180;        // 0.1 H, 0.9 H
+  auto near = [](std::array<std::uint8_t, 3> a, std::array<std::uint8_t, 3> b) {
+    for (int c = 0; c < 3; ++c) {
+      if (std::abs(a[c] - b[c]) > 3) return false;
+    }
+    return true;
+  };
+  EXPECT_TRUE(near(r.image.pixel(bar_x, y0), colormap_color(o.colormap, 1.0)));
+  EXPECT_TRUE(near(r.image.pixel(bar_x, y1 - 1), colormap_color(o.colormap, 0.0)));
+  int ticks = 0;
+  for (int y = y0 + 1; y < y1 - 1; ++y) {
+    const auto p = r.image.pixel(bar_x, y);
+    ticks += p[0] + p[1] + p[2] < 3 * 30;
+  }
+  EXPECT_EQ(ticks, 3);
+  auto ink = [&](const Image& img, int x0, int x1) {
+    long n = 0;
+    for (int y = 0; y < img.height; ++y) {
+      for (int x = x0; x < x1; ++x) {
+        const auto p = img.pixel(x, y);
+        n += p[0] + p[1] + p[2] < 3 * 30;
+      }
+    }
+    return n;
+  };
+  const long short_labels = ink(r.image, r.scene_width, bar_x - 6);  // "1", "-1"
+  EXPECT_GT(short_labels, 10);
+  RenderOptions wide = o;
+  wide.range_lo = -1.23456;
+  const Rendering longer = render_scene(s, wide);
+  EXPECT_LT(longer.scene_width, r.scene_width);
+  EXPECT_GT(ink(longer.image, longer.scene_width, bar_x - 6), short_labels);
+  RenderScene no_field = s;
+  no_field.field.resize(0);
+  o.isolines = 0;
+  EXPECT_THROW(render_scene(no_field, o), InvalidInput);
+}
+
 TEST(Render, PointCloudDrawnAsPoints) {
   RenderScene s = sphere_by_height(6);
   s.triangles.clear();
