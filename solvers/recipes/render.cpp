@@ -298,14 +298,17 @@ void draw_wireframe(Canvas& cv, const Camera& cam, const RenderScene& s, const P
   }
 }
 
+/// A point cloud's points as squares, without normals to light them: shaded by depth instead
+/// (linearly, the farthest half as bright as the nearest with a field, a third without).
 void draw_points(Canvas& cv, const Camera& cam, const RenderScene& s, const Shading& sh,
                  double size) {
   for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
     const Eigen::Vector3d p = cam.project(s.positions.row(i).transpose());
     double col[3];
     sh.base_color(sh.has_field ? s.field[i] : 0.0, col);
-    const float c[3] = {static_cast<float>(col[0]), static_cast<float>(col[1]),
-                        static_cast<float>(col[2])};
+    const double shade = (sh.has_field ? 0.75 : 0.5) + 0.25 * p.z() / cam.radius;
+    const float c[3] = {static_cast<float>(col[0] * shade), static_cast<float>(col[1] * shade),
+                        static_cast<float>(col[2] * shade)};
     stamp(cv, p.x(), p.y(), p.z(), size, 0.0, c, true);
   }
 }
