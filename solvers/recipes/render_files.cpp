@@ -123,6 +123,7 @@ bool read_item(const std::string& path, const std::string& text, bool ascii, boo
                const LineSetElement& e, std::size_t item, std::size_t& pos, double out[3]) {
   const std::string where = e.name + " " + std::to_string(item) + ": ";
   if (ascii) {
+    if (pos >= text.size()) io::detail::fail_file(path, where + "truncated");
     const std::size_t end = std::min(text.find('\n', pos), text.size());
     const std::vector<std::string> t = io::line_tokens(text.substr(pos, end - pos));
     pos = end + 1;
@@ -152,6 +153,22 @@ bool read_item(const std::string& path, const std::string& text, bool ascii, boo
     pos += p.size;
   }
   return e.name == "vertex" || e.name == "edge";
+}
+
+/// A vertex element needs x, y, z and an edge element vertex1, vertex2, each once.
+void check_roles(const std::string& path, const LineSetElement& e) {
+  const int needed = e.name == "vertex" ? 3 : e.name == "edge" ? 2 : 0;
+  int seen[3] = {0, 0, 0};
+  for (const LineSetProperty& p : e.properties) {
+    if (p.role >= 0) ++seen[p.role];
+  }
+  for (int r = 0; r < needed; ++r) {
+    if (seen[r] != 1) {
+      io::detail::fail_file(path, "the '" + e.name + "' element needs " +
+                                      (needed == 3 ? "x, y and z" : "vertex1 and vertex2") +
+                                      ", each once");
+    }
+  }
 }
 
 /// Consecutive edges sharing an end (b of one = a of the next) joined into one polyline.
@@ -227,6 +244,8 @@ std::vector<std::vector<Eigen::Vector3d>> read_polylines_ply(const std::string& 
   for (const LineSetElement& e : elements) {
     has_vertex |= e.name == "vertex";
     has_edge |= e.name == "edge";
+    check_roles(path, e);
+    if (!ascii && e.properties.empty()) continue;  // items of no bytes
     for (std::size_t i = 0; i < e.count; ++i) {
       double v[3] = {0.0, 0.0, 0.0};
       if (!read_item(path, text, ascii, swap, e, i, pos, v)) continue;

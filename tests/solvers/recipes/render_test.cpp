@@ -459,8 +459,59 @@ TEST(Render, ReadsPlyLineSets) {
               "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n"
               "0 0 0\n1 nan 1\n0 1\n",
           "vertex 1: not a finite number");
+  refused(head + "element edge 1\nproperty int vertex1\nend_header\n0 0 0\n1 1 1\n0\n",
+          "needs vertex1 and vertex2");
+  refused(head +
+              "element edge 3\nproperty int vertex1\nproperty int vertex2\nend_header\n"
+              "0 0 0\n1 1 1\n0 1\n",
+          "edge 1: truncated");
   std::filesystem::remove(path);
   EXPECT_THROW(read_polylines("lines.txt"), IoError);
+}
+
+// Damaged files (bytes changed, cut short) either read or throw IoError: never another
+// exception, a crash or a hang (scripts/sanitize.sh runs this under AddressSanitizer too).
+TEST(Render, DamagedPolylineFilesThrowIoErrorOnly) {
+  const std::vector<std::vector<Eigen::Vector3d>> lines = {{{0, 0, 0}, {1, 0, 0}, {1, 2, 0.5}},
+                                                           {{-1, -1, -1}, {0.25, 0.5, 1e-3}}};
+  const auto dir = std::filesystem::temp_directory_path();
+  std::vector<std::pair<std::string, std::string>> originals;  // extension, bytes
+  for (bool binary : {true, false}) {
+    const std::string p = (dir / "ifem_render_damaged_src.ply").string();
+    intrinsic::write_polylines_ply(p, lines, binary, "damaged");
+    std::ifstream in(p, std::ios::binary);
+    originals.push_back({".ply", std::string(std::istreambuf_iterator<char>(in), {})});
+    std::filesystem::remove(p);
+  }
+  originals.push_back({".obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\nl -1 1\n"});
+  std::uint64_t state = 12345;
+  auto next = [&]() {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<std::size_t>(state >> 33);
+  };
+  const char* bytes = "0123456789 -.\nexyzlv\xff\x00";
+  int read = 0, refused = 0;
+  for (const auto& [ext, original] : originals) {
+    const std::string p = (dir / ("ifem_render_damaged" + ext)).string();
+    for (int trial = 0; trial < 150; ++trial) {
+      std::string text = original;
+      if (trial % 5 == 0) {
+        text.resize(next() % text.size());
+      } else {
+        for (int k = 0; k < 1 + trial % 3; ++k) text[next() % text.size()] = bytes[next() % 22];
+      }
+      std::ofstream(p, std::ios::binary) << text;
+      try {
+        read_polylines(p);
+        ++read;
+      } catch (const IoError&) {
+        ++refused;
+      }
+    }
+    std::filesystem::remove(p);
+  }
+  EXPECT_GT(read, 0);
+  EXPECT_GT(refused, 0);
 }
 
 }  // namespace
