@@ -32,6 +32,7 @@ done
 
 packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libspectra-dev
           libnanoflann-dev libopenblas0-pthread libgtest-dev libgmock-dev libomp-dev
+          zlib1g-dev                    # ifem render: the PNG's deflate stream
           libcli11-dev nlohmann-json3-dev  # the ifem command's options and its --json output
           clang-format-14 python3 git   # these three: the style checks (ctest -L style)
           clang libclang-rt-14-dev      # the fuzz build (scripts/fuzz.sh): libFuzzer runtime

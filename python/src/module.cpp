@@ -106,4 +106,5 @@ PYBIND11_MODULE(_ifem, m) {
   ip::bind_curves(m);
   ip::bind_fields(m);
   ip::bind_view(m);
+  ip::bind_render(m);
 }

@@ -15,6 +15,7 @@
 //   ifem transport  recipes::transport()  parallel transport (vector heat method)
 //   ifem logmap     recipes::logmap()     logarithmic map (affine + vector heat blend)
 //   ifem view       recipes::view()       one offline HTML page of a scene (view_scene.h)
+//   ifem render     recipes::render()     a picture of a mesh, a field and curves (render.h)
 //
 // These forward to the solvers:: functions that implement them (named after what they compute:
 // geodesic_distance, eigenmodes, direction_field_on, ...); use those for the variants (several
@@ -29,6 +30,7 @@
 #include "fem/operators.h"
 #include "solvers/recipes/geodesic.h"
 #include "solvers/recipes/pipeline.h"
+#include "solvers/recipes/render.h"
 #include "solvers/recipes/surface_summary.h"
 #include "solvers/recipes/tangent_fields.h"
 #include "solvers/recipes/view_scene.h"
@@ -105,6 +107,13 @@ inline Eigen::MatrixX2d logmap(const PreparedSurface& s, Index source) {
 /// @throws IoError if three.js is not found or the page cannot be written
 inline void view(const Scene& scene, const std::string& path, const std::string& three_dir = "") {
   write_view_page(path, scene, find_three_js(three_dir));
+}
+
+/// `ifem render`: a picture of a mesh, a per-vertex field and curves (solvers::render_scene;
+/// write it with solvers::write_png). Needs no prepared surface: it draws the input as given.
+inline solvers::Rendering render(const solvers::RenderScene& scene,
+                                 const solvers::RenderOptions& options = {}) {
+  return solvers::render_scene(scene, options);
 }
 
 }  // namespace ifem::recipes
