@@ -28,6 +28,7 @@ void bind_geodesic(py::module_& m);   // FlipOut paths, loops, networks, Bézier
 void bind_curves(py::module_& m);     // boundary-value problems with data on curves
 void bind_fields(py::module_& m);     // tangent fields: smoothest direction fields
 void bind_view(py::module_& m);       // `ifem view`'s page
+void bind_render(py::module_& m);     // headless pictures (PNG)
 
 /// The refined triangulation (ifem.refine's handle, bind_refine.cpp) and what refining it
 /// reported (no report after load()); bind_view.cpp traces its edges.
@@ -37,7 +38,6 @@ struct Refined {
   std::optional<py::dict> report;    // built while the GIL is held
   double memory_budget_bytes = 0.0;  // for the common subdivision; 0: the library's default
 };
-void bind_render(py::module_& m);     // headless pictures (PNG)
 
 /// PrepareOptions from the keyword arguments every surface function shares (Python names):
 /// mollify (relative margin ≥ 0), path ('auto' | 'manifold' | 'tufted' | 'pointcloud'),
