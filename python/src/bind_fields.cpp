@@ -134,13 +134,11 @@ class VectorHeat {
   // "vector-heat"
   py::tuple log_map(const py::handle& source, const std::string& method) const {
     const Index v = single_vertex(source);
-    solvers::LogMapMethod m = solvers::LogMapMethod::kBlend;
-    if (method == "affine") {
-      m = solvers::LogMapMethod::kAffine;
-    } else if (method == "vector-heat") {
-      m = solvers::LogMapMethod::kVectorHeat;
-    } else if (method != "blend") {
-      throw InvalidInput("method must be 'blend', 'affine' or 'vector-heat', got '" + method + "'");
+    solvers::LogMapMethod m;
+    try {
+      m = solvers::log_map_method_from(method);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(std::string("method = ") + e.what());
     }
     solvers::LogMapResult r;
     {
