@@ -308,8 +308,10 @@ py::tuple curve_distance(const py::handle& V, const py::handle& F, const py::lis
 
 solvers::CurveSurface prepare_with_curves(io::SurfaceInput input, const py::list& specs,
                                           const py::handle& refine, double mollify,
-                                          bool need_values) {
-  return prepare(std::move(input), specs, refine, mollify, need_values, {});
+                                          bool need_values, Index max_iterations,
+                                          bool accept_partial) {
+  return prepare(std::move(input), specs, refine, mollify, need_values,
+                 {max_iterations, accept_partial});
 }
 
 py::dict curve_surface_info(const solvers::CurveSurface& s) { return surface_info(s); }
