@@ -68,9 +68,7 @@ int memory_by_stage(const solvers::PreparedSurface& s, const std::string& name,
 // `--what memory` with `--log-map blend|affine|vector-heat` (default blend).
 int memory_mode(int argc, char** argv, const solvers::PreparedSurface& s, const std::string& name) {
   const std::string lm = string_option(argc, argv, "--log-map", "blend");
-  const solvers::LogMapMethod method = lm == "affine"        ? solvers::LogMapMethod::kAffine
-                                       : lm == "vector-heat" ? solvers::LogMapMethod::kVectorHeat
-                                                             : solvers::LogMapMethod::kBlend;
+  const solvers::LogMapMethod method = solvers::log_map_method_from(lm);
   return memory_by_stage(s, name + " (log map: " + lm + ")", method);
 }
 

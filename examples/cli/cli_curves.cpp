@@ -15,9 +15,15 @@ std::vector<OptionSpec> curve_options(const std::string& use) {
               .explain("with --curves: the curves as inserted, traced over the input surface\n"
                        "('v' lines, one 'l' line per curve, in the file's order; a closed\n"
                        "curve's 'l' line ends at its first point)"),
+          count("max-iterations", "N")
+              .explain("with --curves: FlipOut's cap on reroutes, all curves together\n"
+                       "(default 10 × edges + 1000); curves that reach it are not geodesic\n"
+                       "yet: an error (exit 1, stating what was reached) unless\n"
+                       "--accept-partial"),
           flag("accept-partial")
               .explain("with --curves: go on with curves FlipOut left at its iteration cap\n"
-                       "(not geodesic yet; without it such curves are an error, exit 1)"),
+                       "(--max-iterations; not geodesic yet; without it such curves are an\n"
+                       "error, exit 1)"),
           flag("no-conform")
               .explain("with --curves --refine: keep curve and boundary edges whose cotan\n"
                        "weight is negative after refinement (by default they are split\n"
@@ -94,6 +100,11 @@ void check_curve_options(const Args& args, const std::vector<CurveRefusal>& refu
     if (args.has("accept-partial")) {
       throw UsageError("--accept-partial accepts curves of --curves FILE, which was not given");
     }
+    if (args.has("max-iterations")) {
+      throw UsageError(
+          "--max-iterations caps FlipOut on the curves of --curves FILE, which was "
+          "not given");
+    }
     if (args.has("no-conform")) {
       throw UsageError("--no-conform applies to --curves with --refine; --curves was not given");
     }
@@ -163,6 +174,7 @@ solvers::CurveSurface prepare_curves(io::SurfaceInput input,
   opt.mollify_relative_epsilon = args.real("mollify");
   opt.refine = refine;
   opt.accept_partial = args.has("accept-partial");
+  opt.flipout.max_iterations = args.count_or("max-iterations", -1);
   // the vertices Bézier curves add against --memory-budget (0: the library's default)
   opt.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;
   if (opt.refine && args.has("no-conform")) opt.refine->conform = false;

@@ -229,7 +229,7 @@ int run(const Args& args) {
   if (run.seconds_guide > 0.0) {
     progress(args, "start guide (heat distance) in " + std::to_string(run.seconds_guide) + " s");
   }
-  if (!run.start_won.empty()) progress(args, "start path kept: " + run.start_won);
+  if (!run.start_won.empty()) progress(args, "start won: " + run.start_won);
   print_curves(run, specs, args.has("network"),
                args.has("bezier") ? static_cast<int>(args.count("bezier")) : -1);
   write_curves(out.path, run.curves);

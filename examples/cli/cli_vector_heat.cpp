@@ -61,11 +61,12 @@ int run_transport(const Args& args) {
 
 // --method as the library's enum. @throws UsageError
 solvers::LogMapMethod logmap_method(const Args& args) {
-  const std::string m = args.has("method") ? args.get("method") : "blend";
-  if (m == "blend") return solvers::LogMapMethod::kBlend;
-  if (m == "affine") return solvers::LogMapMethod::kAffine;
-  if (m == "vector-heat") return solvers::LogMapMethod::kVectorHeat;
-  throw UsageError("--method '" + m + "': expected 'blend', 'affine' or 'vector-heat'");
+  if (!args.has("method")) return solvers::LogMapMethod::kBlend;
+  try {
+    return solvers::log_map_method_from(args.get("method"));
+  } catch (const InvalidInput& e) {
+    throw UsageError(std::string("--method ") + e.what());
+  }
 }
 
 int run_logmap(const Args& args) {

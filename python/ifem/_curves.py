@@ -270,6 +270,16 @@ def _refine(refine, min_angle, resolution, max_area, max_insertions, conform=Tru
             -1 if max_insertions is None else int(max_insertions), bool(conform))
 
 
+def _flipout_cap(max_iterations):
+    """FlipOut's cap as the binding takes it: None → −1 (the library's default, 10 × #E + 1000)."""
+    if max_iterations is None:
+        return -1
+    cap = max_iterations
+    if isinstance(cap, (bool, np.bool_)) or not isinstance(cap, (int, np.integer)) or cap < 0:
+        raise InvalidInput(f"max_iterations must be an integer ≥ 0 (or None), got {cap!r}")
+    return int(cap)
+
+
 def _dirichlet(dirichlet):
     """None, {vertex: value} or (vertices, values) → (vertices, values) or (None, None)."""
     if dirichlet is None:
@@ -289,7 +299,8 @@ def _results(value, lines, info, return_polylines, return_info):
 
 def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
                   min_angle=25.0, resolution=0.0, max_area=0.0, max_insertions=None,
-                  conform=True, mollify=1e-5, return_polylines=False, return_info=False):
+                  conform=True, mollify=1e-5, max_iterations=None, accept_partial=False,
+                  return_polylines=False, return_info=False):
     """Solves (L + c·M) u = M f with u held at the curves' values along them.
 
     The curves are inserted as constrained edges of the intrinsic Delaunay triangulation
@@ -324,6 +335,11 @@ def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=
             negative after refinement until every weight is ≥ 0, so that u stays within the
             curves' values (the discrete maximum principle; False: ``--no-conform``).
         mollify: relative mollification margin.
+        max_iterations: FlipOut's cap on reroutes while the curves are shortened, all curves
+            together (None: 10 × #E + 1000; ``--max-iterations``).
+        accept_partial: go on with curves that stopped at that cap (not geodesic yet;
+            ``info['flipout']['stopped_by'] == 'iteration cap'``); False raises InvalidInput
+            stating what was reached (``--accept-partial``).
         return_polylines: also return the curves as inserted, traced over the input: one
             (#points, 3) array per curve in the order given (a closed curve repeats its first
             point), as ``--curves-out`` writes them.
@@ -344,7 +360,8 @@ def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=
     Raises:
         InvalidInput: a bad curve (named ``curves[i]`` or ``file:line``: vertex out of range,
             fewer than 2 vertices, a wrong number of values, NaN, no value), two curves sharing
-            an edge, a Dirichlet vertex on a curve, sizes, bad options.
+            an edge, a Dirichlet vertex on a curve, sizes, bad options; curves FlipOut left at
+            ``max_iterations`` without ``accept_partial``.
         NonManifoldInput / InvalidInput: a mesh curves cannot be drawn on (nonmanifold,
             non-orientable, a point cloud).
         IoError: an unreadable curves file.
@@ -358,13 +375,15 @@ def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=
     u, lines, info = _ifem.curve_poisson(
         V, F, specs, rhs, dv, dval, float(screening),
         _refine(refine, min_angle, resolution, max_area, max_insertions, conform),
-        float(mollify), bool(return_polylines))
+        float(mollify), bool(return_polylines), _flipout_cap(max_iterations),
+        bool(accept_partial))
     return _results(u, lines, info, return_polylines, return_info)
 
 
 def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_steps=None,
                    min_angle=25.0, resolution=0.4, max_area=0.0, max_insertions=None,
-                   conform=True, mollify=1e-5, return_polylines=False, return_info=False):
+                   conform=True, mollify=1e-5, max_iterations=None, accept_partial=False,
+                   return_polylines=False, return_info=False):
     """Geodesic distance to the nearest curve (heat method on the constrained triangulation).
 
     Every vertex on a curve is a source, so the distance is exactly 0 along the curves (not
@@ -384,6 +403,9 @@ def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_s
         min_angle, resolution, max_area, max_insertions, conform: refinement settings (see
             :func:`curve_poisson`).
         mollify: relative mollification margin.
+        max_iterations, accept_partial: FlipOut's cap on the curves and whether curves left at
+            it are accepted (see :func:`curve_poisson`; ``--max-iterations``,
+            ``--accept-partial``).
         return_polylines: also return the curves' polylines (as :func:`curve_poisson`).
         return_info: also return a dict (as :func:`curve_poisson`'s, plus ``stages``).
 
@@ -399,7 +421,7 @@ def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_s
         V, F, specs, _refine(refine, min_angle, resolution, max_area, max_insertions, conform),
         None if time_factor is None else float(time_factor),
         None if correction_steps is None else int(correction_steps), float(mollify),
-        bool(return_polylines))
+        bool(return_polylines), _flipout_cap(max_iterations), bool(accept_partial))
     return _results(d, lines, info, return_polylines, return_info)
 
 

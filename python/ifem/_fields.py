@@ -5,14 +5,14 @@ transport``, ``ifem logmap``)."""
 import numpy as np
 
 from . import _ifem
-from ._curves import _specs
+from ._curves import _flipout_cap, _specs
 from ._errors import InvalidInput
 from ._inputs import surface as _input
 
 
 def field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
           directions=None, mollify=1e-5, return_info=False, *, normals=None, path="auto", knn=30,
-          curves=None):
+          curves=None, max_iterations=None, accept_partial=False):
     """The smoothest n-direction field on a mesh or point cloud, as unit 3D tangent vectors per
     vertex (``direction_field`` is its deprecated old name).
 
@@ -66,6 +66,9 @@ def field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
             curves' values are not used and may be omitted, e.g. ``ifem.Curve([3, 8, 20, 31],
             bezier=True)``). Needs an edge-manifold, orientable mesh (path 'auto' or
             'manifold').
+        max_iterations, accept_partial: with curves, FlipOut's cap on them and whether curves
+            left at it are accepted (as :func:`curve_poisson`; ``--max-iterations``,
+            ``--accept-partial``).
 
     Returns:
         ``vectors`` (#V×3: a unit tangent vector per vertex, one of the n directions; 0 where
@@ -87,11 +90,15 @@ def field(V, F=None, symmetry=1, align_boundary=False, constraint_vertices=None,
         ...     V, F, symmetry=4, curves=[ifem.Curve([0, 40, 77]), ifem.Curve([5, 9, 13],
         ...                                                            closed=True)])
     """
+    if curves is None and (max_iterations is not None or accept_partial):
+        raise InvalidInput("max_iterations and accept_partial apply to curves (FlipOut on the "
+                           "curves), which were not given")
     V, F, normals = _input(V, F, normals)
     specs = None if curves is None else _specs(curves)
     vectors, angle, singularity, info = _ifem.direction_field(
         V, None if F is None or np.size(F) == 0 else F, int(symmetry), bool(align_boundary),
-        constraint_vertices, directions, normals, float(mollify), str(path), int(knn), specs)
+        constraint_vertices, directions, normals, float(mollify), str(path), int(knn), specs,
+        _flipout_cap(max_iterations), bool(accept_partial))
     out = (np.ascontiguousarray(vectors), angle, singularity)
     return out + (info,) if return_info else out
 

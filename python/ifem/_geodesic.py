@@ -69,6 +69,10 @@ class GeodesicCurve:
         points: (#given, 3) positions of the points the curve was given (vertices or face
             points), in the order given.
         report: FlipOut's report (shared by all curves of a network).
+        start_won: the start path the geodesic came from, for a path between two points with
+            ``start='best'`` or ``'guided'``: ``'shortest edge path'``, ``'descent to b, S
+            side'`` or ``'descent to a, reversed, S side'`` (S: ``shorter``, ``left``,
+            ``right``); as the CLI's ``start won:`` line. ``''`` for other curves.
     """
     polyline: np.ndarray
     length: float
@@ -77,6 +81,7 @@ class GeodesicCurve:
     collapsed: bool
     points: np.ndarray
     report: FlipOutReport
+    start_won: str
 
 
 @dataclass(frozen=True)

@@ -166,9 +166,16 @@ std::optional<solvers::SurfaceRefineOptions> refine_from(const py::handle& refin
   return r;
 }
 
+// FlipOut's cap on the curves (−1: the library's default) and whether curves left at it are
+// accepted (CurveSurfaceOptions::flipout.max_iterations, accept_partial).
+struct CurveFlipOut {
+  Index max_iterations = -1;
+  bool accept_partial = false;
+};
+
 // The input with its curves inserted (and refined when asked), GIL released.
 solvers::CurveSurface prepare(io::SurfaceInput in, const py::list& specs, const py::handle& refine,
-                              double mollify, bool need_values) {
+                              double mollify, bool need_values, const CurveFlipOut& flipout) {
   std::vector<CurveCondition> curves = conditions_from(specs);
   if (!(mollify >= 0.0 && mollify <= 1.0)) {
     throw InvalidInput("mollify must be in [0, 1] (relative to the mean edge length), got " +
@@ -178,6 +185,12 @@ solvers::CurveSurface prepare(io::SurfaceInput in, const py::list& specs, const 
   solvers::CurveSurfaceOptions opt;
   opt.mollify_relative_epsilon = mollify;
   opt.refine = refine_from(refine);
+  if (flipout.max_iterations < -1) {
+    throw InvalidInput("max_iterations must be ≥ 0 (or None for the default), got " +
+                       std::to_string(flipout.max_iterations));
+  }
+  opt.flipout.max_iterations = flipout.max_iterations;
+  opt.accept_partial = flipout.accept_partial;
   const py::gil_scoped_release release;
   return solvers::prepare_curve_surface(std::move(in), std::move(curves), opt);
 }
@@ -231,7 +244,8 @@ py::object polylines_of(const solvers::CurveSurface& s, bool want) {
 py::tuple curve_poisson(const py::handle& V, const py::handle& F, const py::list& specs,
                         const py::handle& rhs, const py::handle& dirichlet_vertices,
                         const py::handle& dirichlet_values, double screening,
-                        const py::handle& refine, double mollify, bool want_polylines) {
+                        const py::handle& refine, double mollify, bool want_polylines,
+                        Index max_iterations, bool accept_partial) {
   io::SurfaceInput in = surface_input(V, F);
   const Index nv = static_cast<Index>(in.positions.rows());
   Eigen::VectorXd f;
@@ -245,7 +259,8 @@ py::tuple curve_poisson(const py::handle& V, const py::handle& F, const py::list
   if (!(screening >= 0.0 && std::isfinite(screening))) {
     throw InvalidInput("screening must be finite and ≥ 0, got " + std::to_string(screening));
   }
-  const solvers::CurveSurface s = prepare(std::move(in), specs, refine, mollify, true);
+  const solvers::CurveSurface s =
+      prepare(std::move(in), specs, refine, mollify, true, {max_iterations, accept_partial});
   solvers::PoissonOptions opt;
   opt.screening = screening;
   solvers::CurvePoissonResult r;
@@ -264,14 +279,16 @@ py::tuple curve_poisson(const py::handle& V, const py::handle& F, const py::list
 // (d, polylines or None, info); time_factor / correction_steps: None for the library's choice.
 py::tuple curve_distance(const py::handle& V, const py::handle& F, const py::list& specs,
                          const py::handle& refine, std::optional<double> time_factor,
-                         std::optional<int> correction_steps, double mollify, bool want_polylines) {
+                         std::optional<int> correction_steps, double mollify, bool want_polylines,
+                         Index max_iterations, bool accept_partial) {
   if (time_factor && !(*time_factor > 0.0 && std::isfinite(*time_factor))) {
     throw InvalidInput("time_factor must be finite and > 0, got " + std::to_string(*time_factor));
   }
   if (correction_steps && *correction_steps < 0) {
     throw InvalidInput("correction_steps must be ≥ 0, got " + std::to_string(*correction_steps));
   }
-  const solvers::CurveSurface s = prepare(surface_input(V, F), specs, refine, mollify, false);
+  const solvers::CurveSurface s =
+      prepare(surface_input(V, F), specs, refine, mollify, false, {max_iterations, accept_partial});
   solvers::DistanceOptions settings;
   settings.time_factor = time_factor;
   settings.correction_steps = correction_steps;
@@ -291,8 +308,10 @@ py::tuple curve_distance(const py::handle& V, const py::handle& F, const py::lis
 
 solvers::CurveSurface prepare_with_curves(io::SurfaceInput input, const py::list& specs,
                                           const py::handle& refine, double mollify,
-                                          bool need_values) {
-  return prepare(std::move(input), specs, refine, mollify, need_values);
+                                          bool need_values, Index max_iterations,
+                                          bool accept_partial) {
+  return prepare(std::move(input), specs, refine, mollify, need_values,
+                 {max_iterations, accept_partial});
 }
 
 py::dict curve_surface_info(const solvers::CurveSurface& s) { return surface_info(s); }
@@ -304,10 +323,11 @@ void bind_curves(py::module_& m) {
   m.def("write_curves_file", &write_curves_file, py::arg("path"), py::arg("specs"));
   m.def("curve_poisson", &curve_poisson, py::arg("V"), py::arg("F"), py::arg("curves"),
         py::arg("rhs"), py::arg("dirichlet_vertices"), py::arg("dirichlet_values"),
-        py::arg("screening"), py::arg("refine"), py::arg("mollify"), py::arg("polylines"));
+        py::arg("screening"), py::arg("refine"), py::arg("mollify"), py::arg("polylines"),
+        py::arg("max_iterations"), py::arg("accept_partial"));
   m.def("curve_distance", &curve_distance, py::arg("V"), py::arg("F"), py::arg("curves"),
         py::arg("refine"), py::arg("time_factor"), py::arg("correction_steps"), py::arg("mollify"),
-        py::arg("polylines"));
+        py::arg("polylines"), py::arg("max_iterations"), py::arg("accept_partial"));
 }
 
 }  // namespace ifem::python

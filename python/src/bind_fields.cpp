@@ -42,6 +42,8 @@ struct SurfaceArgs {
   double mollify = 1e-5;
   std::string path = "auto";
   int knn = 30;
+  Index max_iterations = -1;    ///< with curves: FlipOut's cap (−1: the library's default)
+  bool accept_partial = false;  ///< with curves: accept curves left at that cap
 };
 
 solvers::PreparedSurface prepared(io::SurfaceInput in, const SurfaceArgs& a) {
@@ -59,8 +61,8 @@ solvers::TangentFieldResult field_along_curves(io::SurfaceInput in, const py::li
         "mesh), not path='" +
         a.path + "'");
   }
-  const solvers::CurveSurface s =
-      prepare_with_curves(std::move(in), curves, py::none(), a.mollify, false);
+  const solvers::CurveSurface s = prepare_with_curves(std::move(in), curves, py::none(), a.mollify,
+                                                      false, a.max_iterations, a.accept_partial);
   solvers::TangentFieldResult r;
   {
     const py::gil_scoped_release release;
@@ -134,13 +136,11 @@ class VectorHeat {
   // "vector-heat"
   py::tuple log_map(const py::handle& source, const std::string& method) const {
     const Index v = single_vertex(source);
-    solvers::LogMapMethod m = solvers::LogMapMethod::kBlend;
-    if (method == "affine") {
-      m = solvers::LogMapMethod::kAffine;
-    } else if (method == "vector-heat") {
-      m = solvers::LogMapMethod::kVectorHeat;
-    } else if (method != "blend") {
-      throw InvalidInput("method must be 'blend', 'affine' or 'vector-heat', got '" + method + "'");
+    solvers::LogMapMethod m;
+    try {
+      m = solvers::log_map_method_from(method);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(std::string("method = ") + e.what());
     }
     solvers::LogMapResult r;
     {
@@ -187,13 +187,16 @@ void bind_fields(py::module_& m) {
       "direction_field",
       [](const py::handle& V, const py::handle& F, int symmetry, bool align_boundary,
          const py::handle& vertices, const py::handle& directions, const py::handle& normals,
-         double mollify, const std::string& path, int knn, const py::handle& curves) {
+         double mollify, const std::string& path, int knn, const py::handle& curves,
+         Index max_iterations, bool accept_partial) {
         return direction_field(V, F, symmetry, align_boundary, vertices, directions, normals,
-                               SurfaceArgs{mollify, path, knn}, curves);
+                               SurfaceArgs{mollify, path, knn, max_iterations, accept_partial},
+                               curves);
       },
       py::arg("V"), py::arg("F"), py::arg("symmetry"), py::arg("align_boundary"),
       py::arg("vertices"), py::arg("directions"), py::arg("normals"), py::arg("mollify"),
-      py::arg("path"), py::arg("knn"), py::arg("curves"));
+      py::arg("path"), py::arg("knn"), py::arg("curves"), py::arg("max_iterations") = -1,
+      py::arg("accept_partial") = false);
 }
 
 }  // namespace ifem::python

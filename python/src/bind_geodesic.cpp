@@ -199,6 +199,7 @@ py::tuple run_result(const recipes::GeodesicCurves& run) {
     d["length"] = c.length;
     d["closed"] = c.closed;
     d["collapsed"] = c.collapsed;
+    d["start_won"] = run.start_won;  // one curve when set (a path between two points)
     curves.append(d);
   }
   py::dict report = report_dict(run.report);

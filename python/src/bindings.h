@@ -57,11 +57,14 @@ py::dict surface_info(const solvers::PreparedSurface& s);
 
 /// solvers::prepare_curve_surface() of an input and curve specs (ifem.Curve's tuples, see
 /// bind_curves.cpp), with the GIL released; refine: None or (min_angle, resolution, max_area,
-/// max_insertions). `need_values`: every curve must carry values (Poisson).
+/// max_insertions). `need_values`: every curve must carry values (Poisson). max_iterations:
+/// FlipOut's cap on the curves (−1: the library's default); accept_partial: curves left at it
+/// are accepted (CurveSurfaceOptions).
 /// @throws InvalidInput naming the curve, as validate_curves(), and on bad options
 solvers::CurveSurface prepare_with_curves(io::SurfaceInput input, const py::list& specs,
                                           const py::handle& refine, double mollify,
-                                          bool need_values);
+                                          bool need_values, Index max_iterations = -1,
+                                          bool accept_partial = false);
 
 /// What inserting curves did (FlipOut, flips, weights' signs, refinement), for `info` dicts.
 py::dict curve_surface_info(const solvers::CurveSurface& s);

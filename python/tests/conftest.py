@@ -34,11 +34,16 @@ def cli_path():
     return exe
 
 
-def run_cli(*args):
-    """Runs `ifem ARGS...` and returns its stdout; fails the test on a non-zero exit."""
+def run_cli_logged(*args):
+    """Runs `ifem ARGS...` and returns (stdout, stderr); fails the test on a non-zero exit."""
     r = subprocess.run([cli_path(), *map(str, args)], capture_output=True, text=True)
     assert r.returncode == 0, f"ifem {' '.join(map(str, args))} failed:\n{r.stderr}"
-    return r.stdout
+    return r.stdout, r.stderr
+
+
+def run_cli(*args):
+    """Runs `ifem ARGS...` and returns its stdout; fails the test on a non-zero exit."""
+    return run_cli_logged(*args)[0]
 
 
 def read_txt(path):

@@ -114,6 +114,30 @@ def test_distance_settings_match_cli(spot, spot_curves, tmp_path):
     assert abs(d - ifem.curve_distance(V, F, spot_curves)).max() > 1e-6  # the settings matter
 
 
+# FlipOut's cap on the curves (the CLI's --max-iterations): reaching it is an error stating what
+# was reached unless accept_partial (--accept-partial), and then the result is the CLI's
+def test_iteration_cap_matches_cli(spot, tmp_path):
+    V, F = spot
+    curves = [ifem.Curve([0, 1500], [0, 1])]  # partial curves of a network could overlap
+    ifem.write_curves(tmp_path / "c.txt", curves)
+    for fn in (ifem.curve_poisson, ifem.curve_distance):
+        with pytest.raises(ifem.InvalidInput, match=r"iteration cap \(3 reroutes.*accept"):
+            fn(V, F, curves, max_iterations=3)
+    for fn, cmd in ((ifem.curve_poisson, "poisson"), (ifem.curve_distance, "distance")):
+        run_cli(cmd, SPOT, "--curves", tmp_path / "c.txt", "--max-iterations", 3,
+                "--accept-partial", "-o", tmp_path / "x.txt", "--quiet")
+        x, info = fn(V, F, curves, max_iterations=3, accept_partial=True, return_info=True)
+        assert info["flipout"]["stopped_by"] == "iteration cap"
+        assert info["flipout"]["iterations"] == 3
+        assert abs(x - read_txt(tmp_path / "x.txt")).max() <= 1e-12
+        full, info = fn(V, F, curves, return_info=True)
+        assert info["flipout"]["stopped_by"] != "iteration cap"
+        assert abs(full - x).max() > 1e-6  # the cap matters
+    for bad in (-1, 2.5, "3", True):
+        with pytest.raises(ifem.InvalidInput, match="max_iterations must be an integer ≥ 0"):
+            ifem.curve_distance(V, F, curves, max_iterations=bad)
+
+
 def test_flat_grid_file_matches_cli(tmp_path):
     n = 12
     V, F = flat_grid(n)

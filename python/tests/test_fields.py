@@ -93,6 +93,23 @@ def test_curves_match_cli(spot, tmp_path):
     assert np.array_equal(again, vectors)
 
 
+# FlipOut's cap on the curves (--max-iterations): an error unless accept_partial
+# (--accept-partial), then the CLI's field; refused without curves
+def test_curves_iteration_cap_matches_cli(spot, tmp_path):
+    V, F = spot
+    (tmp_path / "c.txt").write_text("0 0 1500\n")
+    with pytest.raises(ifem.InvalidInput, match=r"iteration cap \(3 reroutes.*accept"):
+        ifem.field(V, F, symmetry=2, curves=tmp_path / "c.txt", max_iterations=3)
+    vectors, _, _, info = ifem.field(V, F, symmetry=2, curves=tmp_path / "c.txt",
+                                     max_iterations=3, accept_partial=True, return_info=True)
+    assert info["curves"]["flipout"]["stopped_by"] == "iteration cap"
+    run_cli("field", test_data("spot.obj"), "--symmetry", 2, "--curves", tmp_path / "c.txt",
+            "--max-iterations", 3, "--accept-partial", "-o", tmp_path / "f.txt", "--quiet")
+    assert np.abs(vectors - read_txt(tmp_path / "f.txt")).max() <= 1e-12
+    with pytest.raises(ifem.InvalidInput, match="apply to curves"):
+        ifem.field(V, F, accept_partial=True)
+
+
 def test_straight_curve_holds_the_field_along_it():
     n, row = 12, 5
     V, F = flat_grid(n, straight_rows=(row,))
@@ -257,7 +274,9 @@ def test_logmap_methods_and_unreached(tmp_path):
     rot = np.mean(z[keep] / exact[keep])
     rot /= abs(rot)
     assert np.abs(z / rot - exact).max() <= 1e-9
-    with pytest.raises(ifem.InvalidInput, match="method must be 'blend', 'affine' or 'vector-heat'"):
+    # the library's one parser (solvers::log_map_method_from), as `logmap --method` says it
+    with pytest.raises(ifem.InvalidInput,
+                       match="method = 'exact': expected 'blend', 'affine' or 'vector-heat'"):
         ifem.logmap(V, F, source=src, method="exact")
     path = tmp_path / "grid.obj"
     with open(path, "w") as f:

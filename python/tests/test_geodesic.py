@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import ifem
-from conftest import flat_grid, read_obj_polylines, read_txt, run_cli, test_data
+from conftest import (flat_grid, read_obj_polylines, read_txt, run_cli, run_cli_logged,
+                      test_data)
 
 SPOT = test_data("spot.obj")
 
@@ -78,13 +79,22 @@ def test_start_paths_match_cli_and_the_exact_distance(spot, tmp_path):
     exact = float(np.loadtxt(test_data("reference/spot.src0.exact.txt"))[2222])
     lengths = {}
     for start in ["dijkstra", "best"]:
-        out = run_cli("geodesic", SPOT, "--path", "2222,0", "--start", start, "-o",
-                      tmp_path / f"{start}.txt", "--quiet")
+        out, log = run_cli_logged("geodesic", SPOT, "--path", "2222,0", "--start", start, "-o",
+                                  tmp_path / f"{start}.txt")
         c = ifem.geodesic(V, F, [2222, 0], start=start)
         (P,) = read_txt_polylines(tmp_path / f"{start}.txt")
         assert c.polyline.shape == P.shape and abs(c.polyline - P).max() <= 1e-12
         assert_report_matches(c.report, out, [(c.initial_length, c.length)])
         lengths[start] = c.length
+        # which start won: the library's GeodesicCurves::start_won, the CLI's "start won:" line
+        won = re.findall(r"^ifem: start won: (.*)$", log, re.M)
+        assert won == ([c.start_won] if c.start_won else []), (won, c.start_won)
+        assert (c.start_won == "") == (start == "dijkstra"), c.start_won
+    assert re.fullmatch(r"shortest edge path|descent to (b|a, reversed), "
+                        r"(shorter|left|right) side", ifem.geodesic(V, F, [2222, 0]).start_won)
+    # a network (several curves shortened together) starts from shortest edge paths
+    assert [c.start_won for c in ifem.geodesic_network(V, F, [[0, 500], [10, 700]]).curves] == \
+        ["", ""]
     assert abs(lengths["best"] - exact) <= 1e-6 * exact
     assert lengths["dijkstra"] > exact * (1 + 1e-3)
     with pytest.raises(ifem.InvalidInput, match="start = 'fast'"):

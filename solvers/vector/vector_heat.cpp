@@ -682,4 +682,24 @@ Eigen::VectorXcd VectorHeatSolver::log_map(Index source, LogMapMethod method,
   return out;
 }
 
+const char* to_string(LogMapMethod method) {
+  switch (method) {
+    case LogMapMethod::kVectorHeat:
+      return "vector-heat";
+    case LogMapMethod::kAffine:
+      return "affine";
+    case LogMapMethod::kBlend:
+      return "blend";
+  }
+  return "?";
+}
+
+LogMapMethod log_map_method_from(const std::string& name) {
+  for (const LogMapMethod m :
+       {LogMapMethod::kBlend, LogMapMethod::kAffine, LogMapMethod::kVectorHeat}) {
+    if (name == to_string(m)) return m;
+  }
+  throw InvalidInput("'" + name + "': expected 'blend', 'affine' or 'vector-heat'");
+}
+
 }  // namespace ifem::solvers

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <complex>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "fem/connection.h"
@@ -71,6 +72,13 @@ enum class LogMapMethod {
   /// use. Exact on a flat domain only where the vector heat value is within the rule's margin.
   kBlend,
 };
+
+/// A readable name: "vector-heat", "affine", "blend" (the CLI's `logmap --method`, Python's
+/// method=).
+const char* to_string(LogMapMethod method);
+/// The LogMapMethod named `name` (to_string()'s names): the one parser of the CLI and Python.
+/// @throws InvalidInput "'NAME': expected 'blend', 'affine' or 'vector-heat'"
+LogMapMethod log_map_method_from(const std::string& name);
 
 /// What one query did. A vertex the result does not define gets a zero vector (transport),
 /// NaN + NaN·i (log_map) or NaN (extend_scalar).

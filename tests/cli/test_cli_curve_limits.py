@@ -73,6 +73,17 @@ def test_iteration_cap_is_an_error_unless_accepted(cli):
     assert "stopped: iteration cap" not in r.out, r.out  # the default cap: it finishes
     cli.refuse(2, "--accept-partial accepts curves of --curves FILE", o / "d.txt", "distance",
                spot, "--source", 0, "--accept-partial")
+    # the same cap on a curves file (poisson/distance/field --curves --max-iterations)
+    curves = o / "cap_curves.txt"
+    curves.write_text("0 1 : 0 1500\n")
+    cli.refuse(1, r"FlipOut stopped at its iteration cap \(3 reroutes.*--accept-partial",
+               o / "cap_u.txt", "poisson", spot, "--curves", curves, "--max-iterations", 3)
+    r = cli.ok("poisson", spot, "--curves", curves, "--max-iterations", 3, "--accept-partial",
+               "-o", o / "cap_u.txt", "--quiet")
+    assert len(numbers(o / "cap_u.txt")) == SPOT_VERTICES
+    cli.ok("distance", spot, "--curves", curves, "-o", o / "cap_d.txt", "--quiet")
+    cli.refuse(2, "--max-iterations caps FlipOut on the curves of --curves FILE", o / "d.txt",
+               "distance", spot, "--source", 0, "--max-iterations", 3)
 
 
 def test_garbage_in_files_is_escaped_on_one_line(cli):

@@ -433,7 +433,7 @@ def test_logmap_methods_and_unreached(cli):
     assert max(abs(abs(complex(*vh[k])) - abs(complex(*uv[k]))) for k in range(per)) > 1e-3
     r = cli.run("logmap", grid, "--source", src, "--method", "exact", "-o", o / "bad.txt")
     assert r.rc == 2, r.describe()
-    assert grep("expected 'blend', 'affine' or 'vector-heat'", r.err), r.describe()
+    assert grep("--method 'exact': expected 'blend', 'affine' or 'vector-heat'", r.err), r.describe()
     assert not (o / "bad.txt").exists()
     r = cli.ok("logmap", "--help")
     assert grep("--method", r.out) and grep("affine", r.out) and grep("local charts", r.out)

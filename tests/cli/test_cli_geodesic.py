@@ -169,7 +169,7 @@ def test_geodesic_start(cli):
     assert out["dijkstra"] > exact * (1 + 1e-3), (out, exact)
     log = cli.ok("geodesic", cli.spot, "--path", "2222,0", "-o", cli.out / "start.txt").err
     assert grep(r"^ifem: start guide \(heat distance\) in [0-9.e-]* s$", log), log
-    kept = r"^ifem: start path kept: (shortest edge path|descent to (b|a, reversed), " \
+    kept = r"^ifem: start won: (shortest edge path|descent to (b|a, reversed), " \
            r"(shorter|left|right) side)$"
     assert grep(kept, log), log
 

@@ -73,16 +73,6 @@ intrinsic::TriangleMesh flat_cells(int n, int k, Keep keep, unsigned seed) {
 // The affine log map about `src` against positions − source, after the one rotation that best
 // aligns them (the source's angular coordinate is not the x axis): relative error over the
 // referenced vertices at least 2h from the source.
-const char* method_name(LogMapMethod method) {
-  switch (method) {
-    case LogMapMethod::kAffine:
-      return "affine";
-    case LogMapMethod::kBlend:
-      return "blend";
-    default:
-      return "vector-heat";
-  }
-}
 
 test::ErrorStats flat_error(const intrinsic::TriangleMesh& m, Index src, const char* name,
                             LogMapMethod method = LogMapMethod::kAffine) {
@@ -113,8 +103,27 @@ test::ErrorStats flat_error(const intrinsic::TriangleMesh& m, Index src, const c
   }
   s.finish();
   std::printf("flat %s, source %d: %s log map relative error mean %.3g max %.3g (%d vertices)\n",
-              name, int(src), method_name(method), s.mean, s.max, s.n);
+              name, int(src), to_string(method), s.mean, s.max, s.n);
   return s;
+}
+
+// The one parser of method names (the CLI's --method, Python's method=): every name round-trips,
+// anything else is refused with the three names.
+TEST(SolversLogMap, MethodNames) {
+  for (const LogMapMethod m :
+       {LogMapMethod::kVectorHeat, LogMapMethod::kAffine, LogMapMethod::kBlend}) {
+    EXPECT_EQ(log_map_method_from(to_string(m)), m) << to_string(m);
+  }
+  EXPECT_STREQ(to_string(LogMapMethod::kVectorHeat), "vector-heat");
+  for (const char* bad : {"", "Blend", "vector_heat", "affine "}) {
+    try {
+      log_map_method_from(bad);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const InvalidInput& e) {
+      EXPECT_EQ(std::string(e.what()),
+                "'" + std::string(bad) + "': expected 'blend', 'affine' or 'vector-heat'");
+    }
+  }
 }
 
 TEST(SolversLogMap, AffineIsTheIdentityOnAJitteredSquare) {
@@ -225,8 +234,7 @@ void sphere_errors(int n, LogMapMethod method, test::ErrorStats& radius, test::E
   std::printf(
       "sphere n=%d (%d vertices) %s: radius relative error mean %.3g max %.3g; angle "
       "error mean %.3g max %.3g rad\n",
-      n, int(tri.n_vertices()), method_name(method), radius.mean, radius.max, angle.mean,
-      angle.max);
+      n, int(tri.n_vertices()), to_string(method), radius.mean, radius.max, angle.mean, angle.max);
 }
 
 TEST(SolversLogMap, SphereRadiusAndAngle) {
