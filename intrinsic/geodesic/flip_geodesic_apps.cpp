@@ -318,21 +318,29 @@ double straight_run(const SignpostTriangulation& st, const EdgePath& path,
   return r;
 }
 
-// The priority of reaching vertex `to` over edge e from accepted vertex u: the straight distance
-// from the start p of u's last straight run (length run[u], ending at u) to `to`, laid out
-// across the smaller wedge at u between the run and e (the length of the geodesic p → to in that
-// wedge when no vertex lies between them), plus the length up to p. A wedge ≥ π, or a vertex
-// whose signposts measure no wedge (boundary, pinched): the edge path's length through u.
-// A better order and choice of parent than the edge path's length alone: behind a vertex of
-// positive curvature it tells the side (docs/decisions.md D-144).
-double unfolded_key(const SignpostTriangulation& st, const SingleSourceGeodesics& g,
-                    const std::vector<double>& run, const std::vector<char>& pinched, Index e,
-                    Index u) {
+// What the search keeps of an accepted vertex for unfolded_key(), in one place (it is read at
+// every offer: two per flip).
+struct Reached {
+  double length = 0.0;  // of its geodesic
+  double run = 0.0;     // of its geodesic's last straight run (0: the source)
+  PathStep last;        // its geodesic's last step (edge kInvalidIndex: the source)
+};
+
+// The priority of reaching a vertex over edge e from accepted vertex u: the straight distance
+// from the start p of u's last straight run (ending at u) to it, laid out across the smaller
+// wedge at u between the run and e (the length of the geodesic from p in that wedge when no
+// vertex lies between them), plus the length up to p. A wedge ≥ π, or a vertex whose signposts
+// measure no wedge (boundary, pinched): the edge path's length through u. A better order and
+// choice of parent than the edge path's length alone: behind a vertex of positive curvature it
+// tells the side (docs/decisions.md D-144).
+double unfolded_key(const SignpostTriangulation& st, const std::vector<char>& pinched, Index e,
+                    Index u, const Reached& at) {
   const T& tri = st.intrinsic();
-  const double l = tri.length(e), d = g.length[u], r = run[u];
-  const EdgePath& p = g.paths[u];
-  if (p.steps.empty() || r <= 0.0 || pinched[u] || st.is_boundary_vertex(u)) return d + l;
-  const Index back = step_halfedge(tri, {p.steps.back().edge, !p.steps.back().forward});
+  const double l = tri.length(e), d = at.length, r = at.run;
+  if (at.last.edge == kInvalidIndex || r <= 0.0 || pinched[u] || st.is_boundary_vertex(u)) {
+    return d + l;
+  }
+  const Index back = step_halfedge(tri, {at.last.edge, !at.last.forward});
   const Index h = tri.edge_halfedge(e);
   const Index out_h = tri.tail(h) == u ? h : tri.twin(h);
   if (back == kInvalidIndex || out_h == kInvalidIndex) return d + l;
@@ -396,7 +404,7 @@ class SingleSource {
         options_(options),
         source_(source),
         accepted_(tri_.n_vertices(), 0),
-        run_(tri_.n_vertices(), 0.0),
+        reached_(tri_.n_vertices()),
         pinched_(pinched_vertices(tri_)),
         bent_(tri_.n_vertices()),
         uses_(tri_.n_edges(), 0),
@@ -442,12 +450,15 @@ class SingleSource {
 
   void offer(Index e, Index from, Index to) {
     if (accepted_[from] && !accepted_[to]) {
-      queue_.push({unfolded_key(st_, out_, run_, pinched_, e, from), to, from, e});
+      queue_.push({unfolded_key(st_, pinched_, e, from, reached_[from]), to, from, e});
     }
   }
 
   void accept(Index v, EdgePath path, double length) {
-    run_[v] = straight_run(st_, path, pinched_);
+    Reached& at = reached_[v];
+    at.length = length;
+    at.run = straight_run(st_, path, pinched_);
+    if (!path.steps.empty()) at.last = path.steps.back();
     out_.paths[v] = std::move(path);
     accepted_[v] = 1;
     out_.length[v] = length;
@@ -494,7 +505,7 @@ class SingleSource {
     std::vector<Index> edges;                      // to v
     for_each_edge_at(tri_, v, pinched_[v] != 0, [&](Index e, Index u) {
       if (!accepted_[u] || u == parent) return;
-      const double key = unfolded_key(st_, out_, run_, pinched_, e, u);
+      const double key = unfolded_key(st_, pinched_, e, u, reached_[u]);
       if (converged && !(key < rep->final_length * (1.0 + kTieRelative))) return;
       starts.push_back({key, static_cast<Index>(edges.size())});
       edges.push_back(e);
@@ -532,7 +543,7 @@ class SingleSource {
   Index source_;
   SingleSourceGeodesics out_;
   std::vector<char> accepted_;
-  std::vector<double> run_;  // per accepted vertex: its path's last straight run
+  std::vector<Reached> reached_;  // per accepted vertex
   std::vector<char> pinched_;
   // per accepted vertex, the joints of its path left bent (blocked) by its run
   std::vector<std::vector<std::pair<Index, Eigen::Vector2d>>> bent_;
