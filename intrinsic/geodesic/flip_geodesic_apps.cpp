@@ -489,7 +489,8 @@ class SingleSource {
       *path = net_.extract(0);
       out_.iterations += rep.iterations;
       // the last attempt's result stands (the network's curve, counted as an obstacle)
-      if (attempt + 1 == kMaxSplices || !splice_shorter_prefix(tri_, out_, accepted_, path, &from)) {
+      if (attempt + 1 == kMaxSplices ||
+          !splice_shorter_prefix(tri_, out_, accepted_, path, &from)) {
         break;
       }
       net_.drop_curves();
