@@ -233,8 +233,8 @@ BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& co
 /// whose unfolded length is within 1e-5 of the length found (the other side of a vertex of
 /// positive curvature) are. The shortest result is kept; losers' flips stay (the surface is
 /// unchanged). Lengths are those geodesics' lengths: ≥ the exact distance, equal to it whenever
-/// the geodesic found is the shortest one (not guaranteed; 97–99% of vertices on the reference
-/// meshes, docs/decisions.md D-144).
+/// the geodesic found is the shortest one (not guaranteed; 94.6–100% of the vertices on the
+/// reference meshes, 40–77% on one of slivers: docs/decisions.md D-144).
 struct SingleSourceGeodesics {
   Eigen::VectorXd length;        ///< #V (intrinsic vertices at the call): +∞ where unreachable
   std::vector<EdgePath> paths;   ///< #V: the geodesic to each vertex (empty: source, unreached)
