@@ -224,8 +224,17 @@ BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& co
 /// from `source` that makes every accepted path a geodesic by FlipOut before accepting it,
 /// holding the paths accepted earlier fixed (their edges are never flipped), so that at the end
 /// the triangulation contains a geodesic from the source to every reached vertex as an edge
-/// path. Lengths are those geodesics' lengths: ≥ the exact distance, equal to it whenever the
-/// geodesic found is the shortest one (most vertices in practice; not guaranteed).
+/// path. A vertex is reached from the accepted neighbour u that minimizes the unfolded length:
+/// the straight distance from the start of u's geodesic's last straight run, laid out across
+/// the wedge at u (the edge path's length through u where no wedge < π is measured: boundary,
+/// pinched vertex). Its start path is u's geodesic and the edge to it; when FlipOut leaves that
+/// path bent (blocked by accepted paths), up to 8 other accepted neighbours' starts are
+/// shortened too, best unfolded length first, until one converges; when it converges, those
+/// whose unfolded length is within 1e-5 of the length found (the other side of a vertex of
+/// positive curvature) are. The shortest result is kept; losers' flips stay (the surface is
+/// unchanged). Lengths are those geodesics' lengths: ≥ the exact distance, equal to it whenever
+/// the geodesic found is the shortest one (not guaranteed; 94.6–100% of the vertices on the
+/// reference meshes, 40–77% on one of slivers: docs/decisions.md D-144).
 struct SingleSourceGeodesics {
   Eigen::VectorXd length;        ///< #V (intrinsic vertices at the call): +∞ where unreachable
   std::vector<EdgePath> paths;   ///< #V: the geodesic to each vertex (empty: source, unreached)

@@ -284,6 +284,74 @@ bool splice_shorter_prefix(const T& tri, const SingleSourceGeodesics& g,
   return true;
 }
 
+// Whether a path through vertex w (entering along halfedge `in`, leaving along `out_h`, both
+// at w: in arrives at w, out_h leaves it) goes straight there: one of its two wedge angles is π
+// within kStraightTol (radians), read from the signposts. False at a boundary or pinched vertex
+// (there the signposts measure no wedge): a turn.
+constexpr double kStraightTol = 1e-5;
+bool straight_at(const SignpostTriangulation& st, Index in, Index out_h,
+                 const std::vector<char>& pinched) {
+  const T& tri = st.intrinsic();
+  const Index w = tri.tail(out_h);
+  if (pinched[w] || st.is_boundary_vertex(w) || tri.twin(in) == kInvalidIndex) return false;
+  const double theta = st.vertex_angle_sum(w);
+  double a = st.halfedge_direction(out_h) - st.halfedge_direction(tri.twin(in));
+  if (a < 0.0) a += theta;
+  return std::abs(a - kPi) <= kStraightTol || std::abs(theta - a - kPi) <= kStraightTol;
+}
+
+// The length of the path's last straight run: back from its end to the last vertex where it
+// turns (or to its start).
+double straight_run(const SignpostTriangulation& st, const EdgePath& path,
+                    const std::vector<char>& pinched) {
+  const T& tri = st.intrinsic();
+  double r = 0.0;
+  for (std::size_t i = path.steps.size(); i-- > 0;) {
+    r += tri.length(path.steps[i].edge);
+    if (i == 0) break;
+    const Index in = step_halfedge(tri, path.steps[i - 1]);
+    const Index out_h = step_halfedge(tri, path.steps[i]);
+    if (in == kInvalidIndex || out_h == kInvalidIndex || !straight_at(st, in, out_h, pinched)) {
+      break;
+    }
+  }
+  return r;
+}
+
+// What the search keeps of an accepted vertex for unfolded_key(), in one place (it is read at
+// every offer: two per flip).
+struct Reached {
+  double length = 0.0;  // of its geodesic
+  double run = 0.0;     // of its geodesic's last straight run (0: the source)
+  PathStep last;        // its geodesic's last step (edge kInvalidIndex: the source)
+};
+
+// The priority of reaching a vertex over edge e from accepted vertex u: the straight distance
+// from the start p of u's last straight run (ending at u) to it, laid out across the smaller
+// wedge at u between the run and e (the length of the geodesic from p in that wedge when no
+// vertex lies between them), plus the length up to p. A wedge ≥ π, or a vertex whose signposts
+// measure no wedge (boundary, pinched): the edge path's length through u. A better order and
+// choice of parent than the edge path's length alone: behind a vertex of positive curvature it
+// tells the side (docs/decisions.md D-144).
+double unfolded_key(const SignpostTriangulation& st, const std::vector<char>& pinched, Index e,
+                    Index u, const Reached& at) {
+  const T& tri = st.intrinsic();
+  const double l = tri.length(e), d = at.length, r = at.run;
+  if (at.last.edge == kInvalidIndex || r <= 0.0 || pinched[u] || st.is_boundary_vertex(u)) {
+    return d + l;
+  }
+  const Index back = step_halfedge(tri, {at.last.edge, !at.last.forward});
+  const Index h = tri.edge_halfedge(e);
+  const Index out_h = tri.tail(h) == u ? h : tri.twin(h);
+  if (back == kInvalidIndex || out_h == kInvalidIndex) return d + l;
+  const double theta = st.vertex_angle_sum(u);
+  double a = st.halfedge_direction(out_h) - st.halfedge_direction(back);
+  if (a < 0.0) a += theta;
+  a = std::min(a, theta - a);
+  if (!(a < kPi)) return d + l;
+  return d - r + std::sqrt(std::max(0.0, r * r + l * l - 2.0 * r * l * std::cos(a)));
+}
+
 }  // namespace
 
 BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& control, int rounds,
@@ -317,79 +385,185 @@ BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& co
   return out;
 }
 
-SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index source,
-                                              const FlipOutOptions& options) {
-  options.validate();
-  const T& tri = st.intrinsic();
-  const Index nv = tri.n_vertices();
-  if (source < 0 || source >= nv) {
-    throw InvalidInput("single_source_geodesics: source " + std::to_string(source) +
-                       " is out of range [0, " + std::to_string(nv) + ")");
+namespace {
+
+// Other starts tried for a vertex (docs/decisions.md D-144): when its run ends blocked, the
+// geodesics of up to kOtherStarts other accepted neighbours (best unfolded key first), each
+// followed by the edge to the vertex, until one converges; when it converges, the neighbours
+// whose key is within kTieRelative of the length found (the other side of a vertex of positive
+// curvature, a near-tie the first start cannot tell). The shortest result wins.
+constexpr int kOtherStarts = 8;
+constexpr double kTieRelative = 1e-5;
+
+// single_source_geodesics()'s state: the search's queue and the accepted vertices' paths.
+class SingleSource {
+ public:
+  SingleSource(SignpostTriangulation& st, Index source, const FlipOutOptions& options)
+      : st_(st),
+        tri_(st.intrinsic()),
+        options_(options),
+        source_(source),
+        accepted_(tri_.n_vertices(), 0),
+        reached_(tri_.n_vertices()),
+        pinched_(pinched_vertices(tri_)),
+        bent_(tri_.n_vertices()),
+        uses_(tri_.n_edges(), 0),
+        net_(st, uses_, nullptr) {
+    out_.length = Eigen::VectorXd::Constant(tri_.n_vertices(), kInf);
+    out_.paths.resize(tri_.n_vertices());
+    net_.on_flip = [this](Index e) {  // a flip may join the accepted region to a new vertex
+      ++out_.flips;
+      const Index h = tri_.edge_halfedge(e);
+      offer(e, tri_.tail(h), tri_.head(h));
+      offer(e, tri_.head(h), tri_.tail(h));
+    };
   }
-  SingleSourceGeodesics out;
-  out.length = Eigen::VectorXd::Constant(nv, kInf);
-  out.paths.resize(nv);
-  std::vector<char> accepted(nv, 0);
+
+  SingleSourceGeodesics solve() {
+    accept(source_, EdgePath{}, 0.0);
+    while (!queue_.empty()) {
+      const Entry top = queue_.top();
+      queue_.pop();
+      if (accepted_[top.v]) continue;
+      const PathStep last = step_from(top.edge, top.parent, top.v);
+      if (last.edge == kInvalidIndex) continue;  // flipped since it was offered
+      EdgePath path = out_.paths[top.parent];
+      path.steps.push_back(last);
+      FlipOutReport rep = shorten_from(top.parent, top.v, &path);
+      try_other_starts(top.v, top.parent, &path, &rep);
+      bent_[top.v] = net_.known_joints(0).bent;
+      net_.release_curves();  // the accepted path stays counted: an obstacle from now on
+      if (rep.stopped_by != FlipOutStop::kConverged) ++out_.blocked;
+      accept(top.v, std::move(path), rep.final_length);
+    }
+    out_.tree_edges.assign(tri_.n_edges(), 0);
+    for (Index e = 0; e < tri_.n_edges(); ++e) out_.tree_edges[e] = uses_[e] > 0 ? 1 : 0;
+    return std::move(out_);
+  }
+
+ private:
   struct Entry {
     double d;
     Index v, parent, edge;
     bool operator>(const Entry& o) const { return d > o.d; }
   };
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  auto offer = [&](Index e, Index from, Index to) {
-    if (accepted[from] && !accepted[to])
-      queue.push({out.length[from] + tri.length(e), to, from, e});
-  };
-  std::vector<int> uses(tri.n_edges(), 0);
-  detail::FlipNetwork net(st, uses, nullptr);
-  // per accepted vertex, the joints of its path left bent (blocked) by its run
-  std::vector<std::vector<std::pair<Index, Eigen::Vector2d>>> bent(nv);
-  detail::FlipNetwork::KnownJoints known;
-  net.on_flip = [&](Index e) {  // a flip may join the accepted region to a new vertex
-    const Index h = tri.edge_halfedge(e);
-    offer(e, tri.tail(h), tri.head(h));
-    offer(e, tri.head(h), tri.tail(h));
-  };
-  const std::vector<char> pinched = pinched_vertices(tri);
-  auto accept = [&](Index v, double length) {
-    accepted[v] = 1;
-    out.length[v] = length;
-    for_each_edge_at(tri, v, pinched[v] != 0, [&](Index e, Index u) { offer(e, v, u); });
-  };
-  accept(source, 0.0);
-  FlipOutReport rep;
-  while (!queue.empty()) {
-    const Entry top = queue.top();
-    queue.pop();
-    if (accepted[top.v]) continue;
-    const Index h = tri.edge_halfedge(top.edge);
-    const bool along = tri.tail(h) == top.parent && tri.head(h) == top.v;
-    if (!along && !(tri.head(h) == top.parent && tri.tail(h) == top.v)) continue;  // flipped
-    EdgePath path = out.paths[top.parent];
-    path.steps.push_back({top.edge, along});
-    Index prefix_from = top.parent;  // the accepted vertex whose path starts this one
+
+  void offer(Index e, Index from, Index to) {
+    if (accepted_[from] && !accepted_[to]) {
+      queue_.push({unfolded_key(st_, pinched_, e, from, reached_[from]), to, from, e});
+    }
+  }
+
+  void accept(Index v, EdgePath path, double length) {
+    Reached& at = reached_[v];
+    at.length = length;
+    at.run = straight_run(st_, path, pinched_);
+    if (!path.steps.empty()) at.last = path.steps.back();
+    out_.paths[v] = std::move(path);
+    accepted_[v] = 1;
+    out_.length[v] = length;
+    for_each_edge_at(tri_, v, pinched_[v] != 0, [&](Index e, Index u) { offer(e, v, u); });
+  }
+
+  // The step along edge e from a to b, or edge kInvalidIndex when e no longer joins them.
+  PathStep step_from(Index e, Index a, Index b) const {
+    const Index h = tri_.edge_halfedge(e);
+    if (tri_.tail(h) == a && tri_.head(h) == b) return {e, true};
+    if (tri_.head(h) == a && tri_.tail(h) == b) return {e, false};
+    return {kInvalidIndex, true};
+  }
+
+  // FlipOut of *path (the geodesic of accepted vertex `from` and one edge to v) with the accepted
+  // paths as obstacles, then a shorter accepted prefix spliced in and shortened again (at most
+  // kMaxSplices runs). The result is the network's curve 0, counted in uses_.
+  FlipOutReport shorten_from(Index from, Index v, EdgePath* path) {
+    FlipOutReport rep;
+    detail::FlipNetwork::KnownJoints known;
     for (int attempt = 0; attempt < kMaxSplices; ++attempt) {
       // the prefix's joints are as its run left them: only their bent ones need a look
-      known.straight_below = static_cast<Index>(out.paths[prefix_from].steps.size());
-      known.bent = bent[prefix_from];
-      net.add(path, top.v, &known);
+      known.straight_below = static_cast<Index>(out_.paths[from].steps.size());
+      known.bent = bent_[from];
+      net_.add(*path, v, &known);
       rep = {};
-      net.run(options, rep);
-      path = net.extract(0);
-      out.iterations += rep.iterations;
-      if (!splice_shorter_prefix(tri, out, accepted, &path, &prefix_from)) break;
-      net.drop_curves();
+      net_.run(options_, rep);
+      *path = net_.extract(0);
+      out_.iterations += rep.iterations;
+      // the last attempt's result stands (the network's curve, counted as an obstacle)
+      if (attempt + 1 == kMaxSplices ||
+          !splice_shorter_prefix(tri_, out_, accepted_, path, &from)) {
+        break;
+      }
+      net_.drop_curves();
     }
-    bent[top.v] = net.known_joints(0).bent;
-    net.release_curves();  // the accepted path stays counted: an obstacle from now on
-    if (rep.stopped_by != FlipOutStop::kConverged) ++out.blocked;
-    out.paths[top.v] = std::move(path);
-    accept(top.v, rep.final_length);
+    return rep;
   }
-  out.flips = rep.flips;
-  out.tree_edges.assign(tri.n_edges(), 0);
-  for (Index e = 0; e < tri.n_edges(); ++e) out.tree_edges[e] = uses[e] > 0 ? 1 : 0;
-  return out;
+
+  // The other starts (see kOtherStarts) for v, whose geodesic from `parent` is *path (the
+  // network's curve 0, counted); *path and *rep become the shortest result, left as curve 0.
+  void try_other_starts(Index v, Index parent, EdgePath* path, FlipOutReport* rep) {
+    const bool converged = rep->stopped_by == FlipOutStop::kConverged;
+    std::vector<std::pair<double, Index>> starts;  // (unfolded key, index in edges)
+    std::vector<Index> edges;                      // to v
+    for_each_edge_at(tri_, v, pinched_[v] != 0, [&](Index e, Index u) {
+      if (!accepted_[u] || u == parent) return;
+      const double key = unfolded_key(st_, pinched_, e, u, reached_[u]);
+      if (converged && !(key < rep->final_length * (1.0 + kTieRelative))) return;
+      starts.push_back({key, static_cast<Index>(edges.size())});
+      edges.push_back(e);
+    });
+    if (starts.empty()) return;
+    std::sort(starts.begin(), starts.end());
+    if (static_cast<int>(starts.size()) > kOtherStarts) starts.resize(kOtherStarts);
+    net_.release_curves();  // the best path so far stays counted: an obstacle to the trials
+    for (const auto& [key, k] : starts) {
+      const Index e = edges[static_cast<std::size_t>(k)];
+      const Index h = tri_.edge_halfedge(e);
+      const Index u = tri_.tail(h) == v ? tri_.head(h) : tri_.tail(h);
+      const PathStep last = step_from(e, u, v);
+      if (last.edge == kInvalidIndex || !accepted_[u]) continue;  // flipped by a trial
+      EdgePath trial = out_.paths[u];
+      trial.steps.push_back(last);
+      const FlipOutReport r = shorten_from(u, v, &trial);
+      if (!(r.final_length < rep->final_length)) {
+        net_.drop_curves();
+        continue;
+      }
+      for (const PathStep& s : path->steps) --uses_[s.edge];  // the old best: no obstacle now
+      *path = std::move(trial);
+      *rep = r;
+      net_.release_curves();
+      if (r.stopped_by == FlipOutStop::kConverged) break;
+    }
+    for (const PathStep& s : path->steps) --uses_[s.edge];
+    net_.add(*path, v);  // counted again, and the network's curve 0 for known_joints()
+  }
+
+  SignpostTriangulation& st_;
+  const T& tri_;
+  const FlipOutOptions& options_;
+  Index source_;
+  SingleSourceGeodesics out_;
+  std::vector<char> accepted_;
+  std::vector<Reached> reached_;  // per accepted vertex
+  std::vector<char> pinched_;
+  // per accepted vertex, the joints of its path left bent (blocked) by its run
+  std::vector<std::vector<std::pair<Index, Eigen::Vector2d>>> bent_;
+  std::vector<int> uses_;
+  detail::FlipNetwork net_;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue_;
+};
+
+}  // namespace
+
+SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index source,
+                                              const FlipOutOptions& options) {
+  options.validate();
+  const Index nv = st.intrinsic().n_vertices();
+  if (source < 0 || source >= nv) {
+    throw InvalidInput("single_source_geodesics: source " + std::to_string(source) +
+                       " is out of range [0, " + std::to_string(nv) + ")");
+  }
+  return SingleSource(st, source, options).solve();
 }
 
 }  // namespace ifem::intrinsic
