@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/refine/signpost.h"
+#include "solvers/recipes/render.h"
 #include "solvers/recipes/text_formats.h"
 #include "solvers/recipes/view_scene.h"
 
@@ -61,7 +62,7 @@ int run(const Args& args) {
       if (io::file_extension(file) != ".obj") {
         throw UsageError("--curves: '" + file + "' is not an .obj polyline file");
       }
-      recipes::add_polylines(scene, stem(file), recipes::read_obj_polylines(file));
+      recipes::add_polylines(scene, stem(file), solvers::read_polylines_obj(file));
     }
   }
   if (args.has("triangulation")) {
