@@ -19,8 +19,7 @@ Command render_command();
 std::vector<Command> all_commands() {
   return {info_command(),      laplacian_command(), refine_command(),   distance_command(),
           eigen_command(),     poisson_command(),   geodesic_command(), field_command(),
-          transport_command(), logmap_command(),    view_command(),
-          render_command()};
+          transport_command(), logmap_command(),    view_command(),     render_command()};
 }
 
 }  // namespace ifem::cli

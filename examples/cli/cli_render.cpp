@@ -89,8 +89,8 @@ recipes::Scene read_scene(const Args& args) {
 
 int run(const Args& args) {
   const solvers::RenderOptions options = render_options(args);  // checked before any reading
-  const solvers::RenderScene scene = recipes::render_scene_of(
-      read_scene(args), args.has("property") ? args.get("property") : "");
+  const solvers::RenderScene scene =
+      recipes::render_scene_of(read_scene(args), args.has("property") ? args.get("property") : "");
   const Stopwatch watch;
   const solvers::Rendering r = recipes::render(scene, options);
   const std::string out = args.get("output");
@@ -189,7 +189,8 @@ Command render_command() {
       "poisson ... wrote) or of --field, through a colour map, shaded by a light from the\n"
       "camera. Over it: the input's wireframe, a saved intrinsic triangulation's edges\n"
       "(blue), field glyphs (fx fy fz properties, dark) and curves (red): the scene ifem\n"
-      "view shows, as a picture. Camera: orthographic, aimed at the centre of the bounding box; +y is up in\n"
+      "view shows, as a picture. Camera: orthographic, aimed at the centre of the bounding box; +y "
+      "is up in\n"
       "the side views (front = camera on +z). The whole scene fits the picture whatever the\n"
       "view. stdout names the property and the colour range used.\n";
   c.spec.groups = {render_options_group()};

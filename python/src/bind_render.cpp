@@ -88,7 +88,8 @@ void bind_render(py::module_& m) {
   m.def("render", &render, py::arg("V"), py::arg("F"), py::arg("field"), py::arg("curves"),
         py::arg("size"), py::arg("azimuth"), py::arg("elevation"), py::arg("colormap"),
         py::arg("range"), py::arg("isolines"), py::arg("wireframe"), py::arg("supersample"),
-        py::arg("fill"), py::arg("curve_width"), py::arg("legend"), py::arg("refined"), py::arg("output"));
+        py::arg("fill"), py::arg("curve_width"), py::arg("legend"), py::arg("refined"),
+        py::arg("output"));
   m.def(
       "named_view",
       [](const std::string& name) {

@@ -37,7 +37,7 @@ struct Refined {
   std::optional<py::dict> report;    // built while the GIL is held
   double memory_budget_bytes = 0.0;  // for the common subdivision; 0: the library's default
 };
-void bind_render(py::module_& m);     // headless pictures (PNG)
+void bind_render(py::module_& m);  // headless pictures (PNG)
 
 /// PrepareOptions from the keyword arguments every surface function shares (Python names):
 /// mollify (relative margin ≥ 0), path ('auto' | 'manifold' | 'tufted' | 'pointcloud'),

@@ -80,7 +80,7 @@ struct RenderOptions {
   std::array<std::uint8_t, 3> curve_color = {220, 30, 30};
   std::array<std::uint8_t, 3> intrinsic_color = {20, 70, 210};  ///< the intrinsic edges
   double intrinsic_width = 1.5;  ///< the intrinsic edges, output pixels, (0, 64]
-  double ambient = 0.3;  ///< [0, 1]
+  double ambient = 0.3;          ///< [0, 1]
   /// A colour bar at the right edge (high end at the top, a tick per isoline, lo and hi written
   /// beside it); the scene is framed in the columns left of it. Needs a field.
   bool legend = false;

@@ -311,11 +311,12 @@ solvers::RenderScene render_scene_of(const Scene& scene, const std::string& prop
     r.field = chosen->values;
     r.field_name = chosen->name;
   }
-  for (const SceneCurves& c : scene.curves) r.curves.insert(r.curves.end(), c.lines.begin(), c.lines.end());
+  for (const SceneCurves& c : scene.curves)
+    r.curves.insert(r.curves.end(), c.lines.begin(), c.lines.end());
   r.intrinsic_edges = scene.intrinsic_edges;
   for (Eigen::Index i = 0; i + 1 < scene.glyph_segments.rows(); i += 2) {
-    r.glyphs.push_back({scene.glyph_segments.row(i).transpose(),
-                        scene.glyph_segments.row(i + 1).transpose()});
+    r.glyphs.push_back(
+        {scene.glyph_segments.row(i).transpose(), scene.glyph_segments.row(i + 1).transpose()});
   }
   return r;
 }
