@@ -189,10 +189,10 @@ Command render_command() {
       "poisson ... wrote) or of --field, through a colour map, shaded by a light from the\n"
       "camera. Over it: the input's wireframe, a saved intrinsic triangulation's edges\n"
       "(blue), field glyphs (fx fy fz properties, dark) and curves (red): the scene ifem\n"
-      "view shows, as a picture. Camera: orthographic, aimed at the centre of the bounding box; +y "
-      "is up in\n"
-      "the side views (front = camera on +z). The whole scene fits the picture whatever the\n"
-      "view. stdout names the property and the colour range used.\n";
+      "view shows, as a picture. Camera: orthographic, aimed at the centre of the\n"
+      "bounding box; +y is up in the side views (front = camera on +z). The whole scene\n"
+      "fits the picture whatever the view. stdout names the property and the colour range\n"
+      "used.\n";
   c.spec.groups = {render_options_group()};
   c.spec.epilogue =
       "examples:\n"
