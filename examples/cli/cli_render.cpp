@@ -10,7 +10,6 @@
 #include "intrinsic/core/timer.h"
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/io/tokens.h"
-#include "intrinsic/refine/signpost.h"
 #include "solvers/recipes/recipes.h"
 #include "solvers/recipes/view_scene.h"
 
@@ -78,12 +77,7 @@ recipes::Scene read_scene(const Args& args) {
     const std::string file = args.get("curves");
     recipes::add_polylines(scene, stem(file), solvers::read_polylines(file));
   }
-  if (args.has("triangulation")) {
-    const auto st = intrinsic::SignpostTriangulation::load(args.get("triangulation"));
-    recipes::add_intrinsic_edges(scene, st);
-    progress(args, "traced " + std::to_string(scene.intrinsic_edges.size()) +
-                       " intrinsic edges over the input");
-  }
+  add_triangulation(scene, args);
   return scene;
 }
 
