@@ -5,7 +5,7 @@
 #   scripts/gallery.sh [IFEM]     IFEM: the ifem executable (default build/examples/ifem)
 #   IFEM_GALLERY_MESHES=DIR       where thingi10k_90225.obj and block.off are (default
 #                                 ../shared/data/meshes; absent: a generated sliver band)
-# Runs in a temporary directory; about a minute on 2 cores.
+# Runs in a temporary directory; 3-6 s wall on 2 shared cores. Same bytes every run.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 ifem=$(realpath "${1:-$repo/build/examples/ifem}")
