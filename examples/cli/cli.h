@@ -12,6 +12,10 @@
 #include "options.h"
 #include "solvers/recipes/pipeline.h"
 
+namespace ifem::recipes {
+struct Scene;
+}
+
 namespace ifem::cli {
 
 /// One subcommand: its table (parsing and help) and its body.
@@ -54,5 +58,10 @@ PreparedSurface prepare_surface(const std::string& file, const Args& args,
 
 /// Prints a progress line to stderr unless --quiet was given.
 void progress(const Args& args, const std::string& line);
+
+/// --triangulation FILE.ifem of `ifem view` and `ifem render`, when given: the saved intrinsic
+/// triangulation's edges traced into scene.intrinsic_edges (recipes::add_intrinsic_edges), and
+/// a progress line. @throws IoError, InvalidInput (another mesh's triangulation), TraceError
+void add_triangulation(recipes::Scene& scene, const Args& args);
 
 }  // namespace ifem::cli

@@ -2,6 +2,7 @@
 // (solvers/recipes/render.h).
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include "cli.h"
@@ -10,6 +11,7 @@
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/io/tokens.h"
 #include "solvers/recipes/recipes.h"
+#include "solvers/recipes/view_scene.h"
 
 namespace ifem::cli {
 namespace {
@@ -51,10 +53,15 @@ solvers::RenderOptions render_options(const Args& args) {
   return o;
 }
 
-int run(const Args& args) {
-  const solvers::RenderOptions options = render_options(args);  // checked before any reading
+std::string stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
+
+/// What `ifem view` would show for the same inputs (recipes::Scene), MESH's own properties or
+/// --field's, the curves and the traced intrinsic edges.
+recipes::Scene read_scene(const Args& args) {
   const std::string mesh = args.positional()[0];
   io::SurfaceInput input = io::read_surface(mesh);
+  std::vector<io::VertexProperty> properties = std::move(input.vertex_properties);
+  input.vertex_properties.clear();
   if (args.has("field")) {
     io::SurfaceInput values = io::read_surface(args.get("field"));
     if (values.positions.rows() != input.positions.rows()) {
@@ -62,11 +69,22 @@ int run(const Args& args) {
                          std::to_string(values.positions.rows()) + " vertices, " + mesh + " has " +
                          std::to_string(input.positions.rows()));
     }
-    input.vertex_properties = std::move(values.vertex_properties);
+    properties = std::move(values.vertex_properties);
   }
-  solvers::RenderScene scene =
-      solvers::scene_from_input(input, args.has("property") ? args.get("property") : "");
-  if (args.has("curves")) scene.curves = solvers::read_polylines(args.get("curves"));
+  recipes::Scene scene = recipes::view_scene(input, stem(mesh));
+  recipes::add_properties(scene, properties, "", static_cast<int>(args.count("symmetry")));
+  if (args.has("curves")) {
+    const std::string file = args.get("curves");
+    recipes::add_polylines(scene, stem(file), solvers::read_polylines(file));
+  }
+  add_triangulation(scene, args);
+  return scene;
+}
+
+int run(const Args& args) {
+  const solvers::RenderOptions options = render_options(args);  // checked before any reading
+  const solvers::RenderScene scene =
+      recipes::render_scene_of(read_scene(args), args.has("property") ? args.get("property") : "");
   const Stopwatch watch;
   const solvers::Rendering r = recipes::render(scene, options);
   const std::string out = args.get("output");
@@ -124,6 +142,15 @@ OptionGroup render_options_group() {
                .explain("polylines to draw in red: the 'l' lines of an OBJ (--curves-out,\n"
                         "ifem geodesic -o) or a PLY line set (ifem refine --lines: the\n"
                         "intrinsic edges over the input; add --wireframe for the input's)"),
+           text("triangulation", "FILE.ifem")
+               .explain("a saved intrinsic triangulation of MESH (ifem refine --save): its\n"
+                        "edges traced over the surface, in blue (what ifem view shows)"),
+           count("symmetry", "N")
+               .at_least(1)
+               .at_most(6)
+               .defaults_to("1")
+               .explain("directions per glyph when the properties hold fx fy fz (ifem field):\n"
+                        "1 vectors, 2 lines, 4 crosses"),
            real("curve-width", "W")
                .above(0)
                .at_most(64)
@@ -154,9 +181,12 @@ Command render_command() {
       "software rasterizer: no GPU, display or browser, and the same command gives the same\n"
       "bytes. The colour is a per-vertex property of MESH (a PLY that ifem distance, eigen,\n"
       "poisson ... wrote) or of --field, through a colour map, shaded by a light from the\n"
-      "camera. Camera: orthographic, aimed at the centre of the bounding box; +y is up in\n"
-      "the side views (front = camera on +z). The whole scene fits the picture whatever the\n"
-      "view. stdout names the property and the colour range used.\n";
+      "camera. Over it: the input's wireframe, a saved intrinsic triangulation's edges\n"
+      "(blue), field glyphs (fx fy fz properties, dark) and curves (red): the scene ifem\n"
+      "view shows, as a picture. Camera: orthographic, aimed at the centre of the\n"
+      "bounding box; +y is up in the side views (front = camera on +z). The whole scene\n"
+      "fits the picture whatever the view. stdout names the property and the colour range\n"
+      "used.\n";
   c.spec.groups = {render_options_group()};
   c.spec.epilogue =
       "examples:\n"
@@ -165,7 +195,9 @@ Command render_command() {
       "  ifem render spot.obj --field spot_modes.ply --property phi3 --colormap diverging -o "
       "m.png\n"
       "  ifem render spot.obj --wireframe --curves paths.obj --azimuth 30 --elevation 20 -o "
-      "w.png\n";
+      "w.png\n"
+      "  ifem refine spot.obj --save spot.ifem\n"
+      "  ifem render spot.obj --triangulation spot.ifem --wireframe -o spot_idt.png\n";
   c.run = run;
   return c;
 }

@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/refine/signpost.h"
+#include "solvers/recipes/render.h"
 #include "solvers/recipes/text_formats.h"
 #include "solvers/recipes/view_scene.h"
 
@@ -61,15 +62,10 @@ int run(const Args& args) {
       if (io::file_extension(file) != ".obj") {
         throw UsageError("--curves: '" + file + "' is not an .obj polyline file");
       }
-      recipes::add_polylines(scene, stem(file), recipes::read_obj_polylines(file));
+      recipes::add_polylines(scene, stem(file), solvers::read_polylines_obj(file));
     }
   }
-  if (args.has("triangulation")) {
-    const auto st = intrinsic::SignpostTriangulation::load(args.get("triangulation"));
-    recipes::add_intrinsic_edges(scene, st);
-    progress(args, "traced " + std::to_string(scene.intrinsic_edges.size()) +
-                       " intrinsic edges over the input");
-  }
+  add_triangulation(scene, args);
   recipes::write_view_page(out, scene, three);
   std::printf(
       "wrote %s: %d %s, %zu fields, %zu curve files, %zu intrinsic edges, %d glyphs, %zu "
@@ -81,6 +77,14 @@ int run(const Args& args) {
 }
 
 }  // namespace
+
+void add_triangulation(recipes::Scene& scene, const Args& args) {
+  if (!args.has("triangulation")) return;
+  const auto st = intrinsic::SignpostTriangulation::load(args.get("triangulation"));
+  recipes::add_intrinsic_edges(scene, st);
+  progress(args, "traced " + std::to_string(scene.intrinsic_edges.size()) +
+                     " intrinsic edges over the input");
+}
 
 Command view_command() {
   Command c;

@@ -12,8 +12,8 @@ from ._inputs import is_path
 
 def render(V, F=None, field=None, output=None, *, view="front", azimuth=None, elevation=None,
            size=(800, 600), colormap="viridis", range=None, isolines=0, wireframe=False,
-           curves=None, curve_width=3.0, legend=False, supersample=2, fill=0.9,
-           return_range=False):
+           curves=None, curve_width=3.0, triangulation=None, legend=False, supersample=2,
+           fill=0.9, return_range=False):
     """A picture of a mesh coloured by a per-vertex field, without a display (``ifem render``).
 
     A software rasterizer (no GPU, display or browser): the same call gives the same pixels.
@@ -41,6 +41,9 @@ def render(V, F=None, field=None, output=None, *, view="front", azimuth=None, el
             'l' lines (``--curves-out``, ``ifem geodesic -o``) or a PLY line set (``ifem refine
             --lines``: the intrinsic edges traced over the input).
         curve_width: the curves' width in pixels.
+        triangulation: a :class:`RefinedTriangulation` made on this mesh (:func:`refine`,
+            :func:`load_refined`): its intrinsic edges traced over the input, drawn in blue
+            (as ``ifem render --triangulation`` and :func:`view` draw them).
         legend: a colour bar at the right edge with the range's ends written beside it (and a
             tick per isoline); the mesh is framed left of it. Needs a field.
         supersample: anti-aliasing factor S in 1..4 (drawn S× larger, then averaged).
@@ -53,7 +56,7 @@ def render(V, F=None, field=None, output=None, *, view="front", azimuth=None, el
 
     Raises:
         InvalidInput: bad arrays, an unknown view, colour map or property, a size or option out
-            of range, isolines without a field.
+            of range, isolines without a field, a triangulation made on another mesh.
         IoError: a file that cannot be read or written.
     """
     if is_path(V) and F is None:
@@ -83,7 +86,8 @@ def render(V, F=None, field=None, output=None, *, view="front", azimuth=None, el
     image, lo, hi = _ifem.render(V, F, field, curves, (int(width), int(height)), az, el,
                                  colormap, (lo, hi), int(isolines), bool(wireframe),
                                  int(supersample), float(fill), float(curve_width),
-                                 bool(legend), out)
+                                 bool(legend),
+                                 None if triangulation is None else triangulation._h, out)
     return (image, (lo, hi)) if return_range else image
 
 

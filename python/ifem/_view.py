@@ -54,7 +54,7 @@ def view(V, F=None, path="ifem_view.html", *, title="", units="", vectors=None, 
     if curves is not None:
         if isinstance(curves, (str, bytes, os.PathLike)):
             name = os.path.splitext(os.path.basename(os.fsdecode(curves)))[0]
-            groups = [(name, list(_ifem.read_obj_polylines(os.fsdecode(curves))))]
+            groups = [(name, list(_ifem.read_polylines(os.fsdecode(curves))))]
         elif isinstance(curves, dict):
             groups = [(str(k), list(v)) for k, v in curves.items()]
         else:

@@ -11,6 +11,7 @@
 #include "bindings.h"
 #include "intrinsic/core/errors.h"
 #include "solvers/recipes/recipes.h"
+#include "solvers/recipes/view_scene.h"
 
 namespace ifem::python {
 
@@ -43,7 +44,7 @@ py::tuple render(const py::handle& V, const py::handle& F, const py::handle& fie
                  const py::handle& curves, std::pair<int, int> size, double azimuth,
                  double elevation, const std::string& colormap, std::pair<double, double> range,
                  int isolines, bool wireframe, int supersample, double fill, double curve_width,
-                 bool legend, const std::string& output) {
+                 bool legend, const py::handle& refined, const std::string& output) {
   solvers::RenderScene scene;
   scene.positions = positions_from(V, "V");
   const Index n = static_cast<Index>(scene.positions.rows());
@@ -65,6 +66,14 @@ py::tuple render(const py::handle& V, const py::handle& F, const py::handle& fie
   solvers::Rendering r;
   {
     const py::gil_scoped_release release;
+    if (!refined.is_none()) {
+      // traced as `ifem view` traces them (checks that the triangulation is of this mesh)
+      recipes::Scene traced;
+      traced.positions = scene.positions;
+      traced.faces = scene.triangles;
+      recipes::add_intrinsic_edges(traced, refined.cast<const Refined&>().st);
+      scene.intrinsic_edges = std::move(traced.intrinsic_edges);
+    }
     r = recipes::render(scene, o);
     if (!output.empty()) solvers::write_png(output, r.image);
   }
@@ -79,7 +88,8 @@ void bind_render(py::module_& m) {
   m.def("render", &render, py::arg("V"), py::arg("F"), py::arg("field"), py::arg("curves"),
         py::arg("size"), py::arg("azimuth"), py::arg("elevation"), py::arg("colormap"),
         py::arg("range"), py::arg("isolines"), py::arg("wireframe"), py::arg("supersample"),
-        py::arg("fill"), py::arg("curve_width"), py::arg("legend"), py::arg("output"));
+        py::arg("fill"), py::arg("curve_width"), py::arg("legend"), py::arg("refined"),
+        py::arg("output"));
   m.def(
       "named_view",
       [](const std::string& name) {

@@ -112,10 +112,6 @@ void bind_view(py::module_& m) {
         py::arg("units"), py::arg("vectors"), py::arg("symmetry"), py::arg("singularity"),
         py::arg("curves"), py::arg("refined"), py::arg("title"), py::arg("three_dir"));
   m.def("traced_edges", &traced_edges, py::arg("refined"));
-  m.def(
-      "read_obj_polylines",
-      [](const std::string& path) { return to_arrays(recipes::read_obj_polylines(path)); },
-      py::arg("path"));
 }
 
 }  // namespace ifem::python

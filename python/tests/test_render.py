@@ -119,3 +119,16 @@ def test_refusals():
         ifem.render(V, F, size=(0, 10))
     with pytest.raises(ifem.InvalidInput, match="no per-vertex property 'x'"):
         ifem.render(test_data("spot.obj"), field="x")
+
+
+def test_triangulation_edges_drawn_in_blue():
+    """triangulation= draws the intrinsic edges as ifem.view traces them: blue pixels on a grey
+    map, more after refinement than after flips only; another mesh's triangulation refused."""
+    V, F = sphere(10, 20)
+    blue = []
+    for r in (None, ifem.refine(V, F, max_insertions=0), ifem.refine(V, F, resolution=0.5)):
+        img = ifem.render(V, F, size=(320, 240), colormap="gray", triangulation=r).astype(int)
+        blue.append(int(((img[..., 2] > img[..., 0] + 60) & (img[..., 2] > img[..., 1] + 30)).sum()))
+    assert blue[0] == 0 and 1000 < blue[1] and blue[1] * 1.1 < blue[2], blue
+    with pytest.raises(ifem.InvalidInput, match="another mesh"):
+        ifem.render(V + 1.0, F, triangulation=ifem.refine(V, F, max_insertions=0))

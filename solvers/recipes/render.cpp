@@ -476,6 +476,15 @@ void draw_lines(Canvas& cv, const Camera& cam, const RenderScene& scene, const S
   const float curve_rgb[3] = {static_cast<float>(o.curve_color[0]),
                               static_cast<float>(o.curve_color[1]),
                               static_cast<float>(o.curve_color[2])};
+  const float intrinsic_rgb[3] = {static_cast<float>(o.intrinsic_color[0]),
+                                  static_cast<float>(o.intrinsic_color[1]),
+                                  static_cast<float>(o.intrinsic_color[2])};
+  const Pen intrinsic_pen = pen(o.intrinsic_width, intrinsic_rgb);
+  for (const auto& c : scene.intrinsic_edges) {
+    for (std::size_t k = 1; k < c.size(); ++k) draw_segment(cv, cam, c[k - 1], c[k], intrinsic_pen);
+  }
+  const Pen glyph_pen = pen(o.line_width, kLineDark);
+  for (const auto& g : scene.glyphs) draw_segment(cv, cam, g[0], g[1], glyph_pen);
   const Pen curve_pen = pen(o.curve_width, curve_rgb);
   for (const auto& c : scene.curves) {
     for (std::size_t k = 1; k < c.size(); ++k) draw_segment(cv, cam, c[k - 1], c[k], curve_pen);
@@ -501,13 +510,19 @@ void RenderScene::validate() const {
                        "has " + std::to_string(field.size()) + " values for " + std::to_string(n) +
                        " vertices");
   }
-  for (std::size_t c = 0; c < curves.size(); ++c) {
-    for (const auto& p : curves[c]) {
-      if (!p.allFinite()) {
-        throw InvalidInput("render: curve " + std::to_string(c) + " has a non-finite point");
+  auto check_lines = [](const auto& lines, const char* what) {
+    for (std::size_t c = 0; c < lines.size(); ++c) {
+      for (const auto& p : lines[c]) {
+        if (!p.allFinite()) {
+          throw InvalidInput(std::string("render: ") + what + " " + std::to_string(c) +
+                             " has a non-finite point");
+        }
       }
     }
-  }
+  };
+  check_lines(curves, "curve");
+  check_lines(intrinsic_edges, "intrinsic edge");
+  check_lines(glyphs, "glyph");
 }
 
 void RenderOptions::validate() const {
@@ -526,6 +541,7 @@ void RenderOptions::validate() const {
   check_range("isolines", isolines, 0, 1000);
   check_positive("line width", line_width, 64.0);
   check_positive("curve width", curve_width, 64.0);
+  check_positive("intrinsic edge width", intrinsic_width, 64.0);
   check_positive("point size", point_size, 64.0);
   check_range("ambient", ambient, 0.0, 1.0);
   if (std::isinf(range_lo) || std::isinf(range_hi)) {
@@ -613,32 +629,6 @@ std::array<std::uint8_t, 3> colormap_color(ColorMap map, double t) {
   return {static_cast<std::uint8_t>(std::lround(c[0])),
           static_cast<std::uint8_t>(std::lround(c[1])),
           static_cast<std::uint8_t>(std::lround(c[2]))};
-}
-
-RenderScene scene_from_input(const io::SurfaceInput& input, const std::string& property) {
-  RenderScene s;
-  s.positions = input.positions;
-  s.triangles = input.triangles;
-  if (input.vertex_properties.empty()) {
-    if (!property.empty()) {
-      throw InvalidInput("render: the input has no per-vertex property (asked for " +
-                         io::detail::quoted(property) + ")");
-    }
-    return s;
-  }
-  const io::VertexProperty* chosen = property.empty() ? &input.vertex_properties.front() : nullptr;
-  std::string names;
-  for (const io::VertexProperty& p : input.vertex_properties) {
-    if (p.name == property) chosen = &p;
-    names += (names.empty() ? "" : ", ") + p.name;
-  }
-  if (chosen == nullptr) {
-    throw InvalidInput("render: no per-vertex property " + io::detail::quoted(property) +
-                       " (the input has: " + names + ")");
-  }
-  s.field = chosen->values;
-  s.field_name = chosen->name;
-  return s;
 }
 
 }  // namespace ifem::solvers

@@ -17,16 +17,22 @@
 namespace ifem::solvers {
 
 /// What a picture shows: a mesh (or, without faces, a point cloud drawn as points), at most
-/// one per-vertex scalar field, and polylines (curves on the surface, geodesic paths).
+/// one per-vertex scalar field, polylines (curves on the surface, geodesic paths), intrinsic
+/// edges and field glyphs. recipes::render_scene_of() makes one from `ifem view`'s Scene.
 struct RenderScene {
   Positions positions;              ///< #V×3
   std::vector<Triangle> triangles;  ///< #F, ids < #V; empty: the vertices are drawn as points
   Eigen::VectorXd field;            ///< #V values (non-finite ones drawn grey), or empty: no field
   std::string field_name;           ///< shown in messages only
   std::vector<std::vector<Eigen::Vector3d>> curves;  ///< polylines, each ≥ 2 points
+  /// An intrinsic triangulation's edges traced over the surface, one polyline each (≥ 2
+  /// points), drawn in RenderOptions::intrinsic_color under the curves.
+  std::vector<std::vector<Eigen::Vector3d>> intrinsic_edges;
+  /// Tangent-field glyphs, one segment (2 points) each, drawn as thin dark lines.
+  std::vector<std::array<Eigen::Vector3d, 2>> glyphs;
 
   /// @throws InvalidInput on a face id out of range, a field of the wrong length, a non-finite
-  ///   position or curve point, an empty scene
+  ///   position, curve, intrinsic edge or glyph point, an empty scene
   void validate() const;
 };
 
@@ -72,7 +78,9 @@ struct RenderOptions {
   int supersample = 2;
   std::array<std::uint8_t, 3> background = {255, 255, 255};
   std::array<std::uint8_t, 3> curve_color = {220, 30, 30};
-  double ambient = 0.3;  ///< [0, 1]
+  std::array<std::uint8_t, 3> intrinsic_color = {20, 70, 210};  ///< the intrinsic edges
+  double intrinsic_width = 1.5;  ///< the intrinsic edges, output pixels, (0, 64]
+  double ambient = 0.3;          ///< [0, 1]
   /// A colour bar at the right edge (high end at the top, a tick per isoline, lo and hi written
   /// beside it); the scene is framed in the columns left of it. Needs a field.
   bool legend = false;
@@ -112,11 +120,6 @@ ColorMap colormap_from_name(const std::string& name);
 
 /// The colour map's colour at t (clamped to [0, 1]), unshaded.
 std::array<std::uint8_t, 3> colormap_color(ColorMap map, double t);
-
-/// The scene of a file's contents: its positions and faces, and the per-vertex property
-/// `property` as the field ("" = the first property the file has, or none when it has none).
-/// @throws InvalidInput when `property` is not among the file's properties (naming those)
-RenderScene scene_from_input(const io::SurfaceInput& input, const std::string& property);
 
 /// The polylines of an OBJ file's 'v' and 'l' lines (what --curves-out and `ifem geodesic -o`
 /// write; negative ids count back from the last 'v'), each ≥ 2 points. Other lines are ignored.

@@ -293,46 +293,32 @@ void add_polylines(Scene& scene, const std::string& name, const Polylines& lines
   scene.curves.push_back(std::move(c));
 }
 
-Polylines read_obj_polylines(const std::string& path) {
-  std::istringstream in(io::detail::read_file(path));
-  std::vector<Eigen::Vector3d> points;
-  std::vector<std::pair<std::size_t, std::vector<long long>>> lines;  // line number, indices
-  std::size_t number = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++number;
-    const std::vector<std::string> t = io::line_tokens(line);
-    if (t.empty() || (t[0] != "v" && t[0] != "l")) continue;
-    if (t[0] == "v") {
-      Eigen::Vector3d p;
-      if (t.size() < 4 || !io::parse_whole_real(t[1], p[0]) || !io::parse_whole_real(t[2], p[1]) ||
-          !io::parse_whole_real(t[3], p[2])) {
-        io::detail::fail_line(path, number, "a 'v' line needs three finite numbers");
-      }
-      points.push_back(p);
-      continue;
-    }
-    std::vector<long long> ids;
-    for (std::size_t k = 1; k < t.size(); ++k) {
-      long long id = 0;
-      const std::string word = t[k].substr(0, t[k].find('/'));
-      if (!io::parse_whole_integer(word, id) || id == 0) {
-        io::detail::fail_line(path, number, "bad vertex index " + io::detail::quoted(t[k]));
-      }
-      ids.push_back(id > 0 ? id - 1 : static_cast<long long>(points.size()) + id);
-      if (ids.back() < 0 || ids.back() >= static_cast<long long>(points.size())) {
-        io::detail::fail_line(path, number, "vertex index " + t[k] + " out of range");
-      }
-    }
-    lines.emplace_back(number, std::move(ids));
+solvers::RenderScene render_scene_of(const Scene& scene, const std::string& property) {
+  solvers::RenderScene r;
+  r.positions = scene.positions;
+  r.triangles = scene.faces;
+  const SceneField* chosen = nullptr;
+  std::string names;
+  for (const SceneField& f : scene.fields) {
+    if (f.name == property || (property.empty() && chosen == nullptr)) chosen = &f;
+    names += (names.empty() ? "" : ", ") + f.name;
   }
-  Polylines out;
-  for (const auto& [line_number, ids] : lines) {
-    (void)line_number;
-    std::vector<Eigen::Vector3d> line;
-    for (const long long id : ids) line.push_back(points[std::size_t(id)]);
-    out.push_back(std::move(line));
+  if (chosen == nullptr && !property.empty()) {
+    throw InvalidInput("render: no per-vertex property " + io::detail::quoted(property) +
+                       " (the input has: " + (names.empty() ? "none" : names) + ")");
   }
-  return out;
+  if (chosen != nullptr) {
+    r.field = chosen->values;
+    r.field_name = chosen->name;
+  }
+  for (const SceneCurves& c : scene.curves)
+    r.curves.insert(r.curves.end(), c.lines.begin(), c.lines.end());
+  r.intrinsic_edges = scene.intrinsic_edges;
+  for (Eigen::Index i = 0; i + 1 < scene.glyph_segments.rows(); i += 2) {
+    r.glyphs.push_back(
+        {scene.glyph_segments.row(i).transpose(), scene.glyph_segments.row(i + 1).transpose()});
+  }
+  return r;
 }
 
 void add_intrinsic_edges(Scene& scene, const intrinsic::SignpostTriangulation& st) {

@@ -5,10 +5,12 @@
 //
 //   mesh file ──► view_scene() ──► add_properties()       PLY outputs: fields, fx fy fz,
 //                                                         singularity
-//                                  add_polylines()        OBJ polylines (--curves-out, geodesic)
+//                                  add_polylines()        OBJ polylines (--curves-out, geodesic;
+//                                                         solvers::read_polylines)
 //                                  add_intrinsic_edges()  a saved .ifem triangulation
 //             ──► view_page() / write_view_page()         one HTML file: the page template (in
 //                                                         the repository), scene and three.js
+//             ──► render_scene_of() ──► solvers::render_scene()   the same scene as a PNG
 //
 // The page embeds three.js (npm package `three`, version kThreeVersion, installed by
 // scripts/setup.sh; never copied into the repository): find_three_js() says where it is.
@@ -21,6 +23,7 @@
 #include "intrinsic/core/types.h"
 #include "intrinsic/io/surface_input.h"
 #include "intrinsic/refine/signpost.h"
+#include "solvers/recipes/render.h"
 
 namespace ifem::recipes {
 
@@ -84,18 +87,19 @@ void add_field(Scene& scene, SceneField field);
 /// @throws InvalidInput on a non-finite point
 void add_polylines(Scene& scene, const std::string& name, const Polylines& lines);
 
-/// Reads the polylines of an OBJ file ('v x y z' and 'l i j k ...' lines, 1-based or negative
-/// indices; other lines are ignored): what `ifem geodesic -o OUT.obj` and --curves-out write.
-/// @throws IoError naming FILE:line on an unreadable file, a malformed 'v' or 'l' line or an
-///         index out of range
-Polylines read_obj_polylines(const std::string& path);
-
 /// Traces every intrinsic edge of `st` over its input (SignpostTriangulation::traced_edges_3d())
 /// into scene.intrinsic_edges: one polyline per intrinsic edge, every point on an input face.
 /// @throws InvalidInput if st's input does not have the scene's vertices (count, or positions
 ///         farther apart than 1e-9 × the bounding box diagonal)
 /// @throws TraceError when a trace fails
 void add_intrinsic_edges(Scene& scene, const intrinsic::SignpostTriangulation& st);
+
+/// The same scene for `ifem render` (solvers::render_scene): positions, faces, the field named
+/// `property` ("" = the first field, or none when the scene has none), every curve group's
+/// polylines as curves, the intrinsic edges and the glyph segments. Singularities are not
+/// drawn (colour by the `singularity` field to see them).
+/// @throws InvalidInput when `property` is not a field of the scene (naming those it has)
+solvers::RenderScene render_scene_of(const Scene& scene, const std::string& property = "");
 
 /// The scene as JSON text (the page's data block): positions, faces and segments as
 /// little-endian float32 / uint32 arrays in base64, field values as float32 in base64 with

@@ -148,6 +148,33 @@ def test_intrinsic_edges_over_the_input(cli):
     assert red > 1000, red
 
 
+def blue(rows):
+    """Pixels of the intrinsic edges' colour (blue well above red and green)."""
+    return sum(p[2] > p[0] + 60 and p[2] > p[1] + 30 for row in rows for p in row)
+
+
+# --triangulation draws what `ifem view --triangulation` shows: the saved triangulation's edges
+# traced over the input, in blue (on a grey colour map, so nothing else is blue); flips only (no insertion) draw fewer than flips + refinement,
+# and a triangulation of another mesh is refused
+def test_triangulation_as_ifem_view_draws_it(cli):
+    o = cli.out
+    sphere = write_sphere_ply(o / "sphere.ply", 10, 20)
+    cli.ok("refine", sphere, "--max-insertions", 0, "--save", o / "flip.ifem", "--quiet")
+    cli.ok("refine", sphere, "--resolution", 0.5, "--save", o / "ref.ifem", "--quiet")
+    counts = []
+    for name in ("flip", "ref"):
+        r = cli.ok("render", sphere, "--triangulation", o / f"{name}.ifem", "--size", "320x240",
+                   "--colormap", "gray", "-o", o / f"{name}.png", "--quiet")
+        assert grep(r"wrote .*\(320x240\)", r.out), r.describe()
+        counts.append(blue(read_png(o / f"{name}.png")[2]))
+    cli.ok("render", sphere, "--size", "320x240", "--colormap", "gray", "-o", o / "none.png",
+           "--quiet")
+    assert blue(read_png(o / "none.png")[2]) == 0
+    assert 1000 < counts[0] and counts[0] * 1.1 < counts[1], counts
+    cli.refuse(1, r"triangulation|vertices", o / "x.png", "render", cli.spot, "--triangulation",
+               o / "flip.ifem")
+
+
 def test_refusals(cli):
     o = cli.out
     png = o / "x.png"

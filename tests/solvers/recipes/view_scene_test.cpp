@@ -15,6 +15,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/refine/signpost.h"
+#include "solvers/recipes/render.h"
 
 namespace ifem::recipes {
 namespace {
@@ -113,6 +114,69 @@ TEST(ViewScene, IntrinsicEdgesAfterInsertionsLieOnTheInput) {
   expect_traced_edges(m, st);
 }
 
+// Pixels of the intrinsic edges' colour (blue well above red) in a render of the scene.
+long blue_pixels(const Scene& scene) {
+  solvers::RenderOptions o;
+  o.width = 320;
+  o.height = 240;
+  const solvers::Image img = solvers::render_scene(render_scene_of(scene), o).image;
+  long n = 0;
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      const auto p = img.pixel(x, y);
+      n += p[2] > p[0] + 60 && p[2] > p[1] + 30;
+    }
+  }
+  return n;
+}
+
+TEST(ViewScene, RenderDrawsTheIntrinsicEdgesThePageShows) {
+  const intrinsic::TriangleMesh m = sheared_grid(8);
+  Scene scene = view_scene(input_of(m), "t");
+  EXPECT_EQ(blue_pixels(scene), 0);  // a grey surface on white: nothing blue
+  intrinsic::SignpostTriangulation st(m.faces, m.positions);
+  ASSERT_GT(st.flip_to_delaunay().flips, 0u);
+  add_intrinsic_edges(scene, st);
+  const solvers::RenderScene r = render_scene_of(scene);
+  EXPECT_EQ(r.intrinsic_edges, scene.intrinsic_edges);
+  const long flipped = blue_pixels(scene);
+  EXPECT_GT(flipped, 1000);
+  // more intrinsic edges (inserted vertices: three more edges each) draw more blue pixels
+  for (Index f = 0; f < 90; f += 3) st.insert_vertex(f, Vec(0.3, 0.3, 0.4));
+  st.flip_to_delaunay();
+  ASSERT_GT(st.intrinsic().n_edges(), Index(scene.intrinsic_edges.size()) + 60);
+  scene.intrinsic_edges.clear();
+  add_intrinsic_edges(scene, st);
+  EXPECT_GT(blue_pixels(scene), flipped + flipped / 10);
+}
+
+TEST(ViewScene, RenderSceneTakesTheNamedFieldCurvesAndGlyphs) {
+  const intrinsic::TriangleMesh m = intrinsic::icosphere(1);
+  Scene scene = view_scene(input_of(m), "t");
+  EXPECT_EQ(render_scene_of(scene).field.size(), 0);  // no field: a grey surface
+  add_field(scene, {"x", "", m.positions.col(0)});
+  add_field(scene, {"y", "", m.positions.col(1)});
+  add_polylines(scene, "a", {{Vec(0, 0, 1), Vec(1, 0, 0)}});
+  add_polylines(scene, "b", {{Vec(0, 1, 0), Vec(1, 0, 0), Vec(0, 0, 1)}});
+  scene.glyph_segments.resize(4, 3);
+  scene.glyph_segments << 0, 0, 1, 0.1, 0, 1, 1, 0, 0, 1, 0.1, 0;
+  solvers::RenderScene r = render_scene_of(scene);
+  EXPECT_EQ(r.field_name, "x");  // the first field by default
+  EXPECT_EQ(r.field, m.positions.col(0));
+  r = render_scene_of(scene, "y");
+  EXPECT_EQ(r.field, m.positions.col(1));
+  ASSERT_EQ(r.curves.size(), 2u);  // every group's polylines
+  EXPECT_EQ(r.curves[1].size(), 3u);
+  ASSERT_EQ(r.glyphs.size(), 2u);
+  EXPECT_EQ(r.glyphs[1][1], Vec(1, 0.1, 0));
+  try {
+    render_scene_of(scene, "z");
+    ADD_FAILURE() << "an unknown property was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("x, y"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ViewScene, IntrinsicEdgesOfAnotherMeshAreRefused) {
   const intrinsic::TriangleMesh m = intrinsic::uv_sphere(6, 12), other = intrinsic::icosphere(2);
   Scene scene = view_scene(input_of(m), "t");
@@ -180,8 +244,8 @@ class ViewFiles : public ::testing::Test {
   }
 };
 
-TEST_F(ViewFiles, ObjPolylines) {
-  const Polylines lines = read_obj_polylines(
+TEST_F(ViewFiles, ObjPolylines) {  // the one OBJ polyline reader, as view and render use it
+  const Polylines lines = solvers::read_polylines_obj(
       write("c.obj", "# curves\nv 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3 1\nvn 0 0 1\nl -1 -2\n"));
   ASSERT_EQ(lines.size(), 2u);
   ASSERT_EQ(lines[0].size(), 4u);
@@ -192,7 +256,7 @@ TEST_F(ViewFiles, ObjPolylines) {
   for (const char* bad :
        {"v 0 0\nl 1 1\n", "v 0 0 0\nl 1 2\n", "v 0 0 0\nl 1 x\n", "v 0 0 nan\n"}) {
     try {
-      read_obj_polylines(write("bad.obj", bad));
+      solvers::read_polylines_obj(write("bad.obj", bad));
       ADD_FAILURE() << bad;
     } catch (const IoError& e) {
       EXPECT_NE(std::string(e.what()).find("bad.obj, line"), std::string::npos) << e.what();
