@@ -1,5 +1,4 @@
 #include "solvers/scalar/heat_distance.h"
-#include "solvers/scalar/path_bounds.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -24,6 +23,7 @@
 #include "solvers/linalg/row_kernels.h"
 #include "solvers/scalar/components.h"
 #include "solvers/scalar/heat_engine.h"
+#include "solvers/scalar/path_bounds.h"
 #include "solvers/scalar/poisson.h"
 
 namespace ifem::solvers {
@@ -174,11 +174,10 @@ struct HeatDistanceSolver::Impl {
     if (!opt.path_bounds) return;
     const Eigen::VectorXd upper = paths.shortest_paths(seeds) * scale;
     const Index rows = Index(opt.vertex_positions.rows());
-    const bool chord = vertex_sources.size() <= 64 &&
-                       std::all_of(vertex_sources.begin(), vertex_sources.end(),
-                                   [rows](Index v) { return v < rows; });
-    clamp_to_bounds(d, upper, opt.vertex_positions,
-                    chord ? vertex_sources : std::vector<Index>{});
+    const bool chord =
+        vertex_sources.size() <= 64 && std::all_of(vertex_sources.begin(), vertex_sources.end(),
+                                                   [rows](Index v) { return v < rows; });
+    clamp_to_bounds(d, upper, opt.vertex_positions, chord ? vertex_sources : std::vector<Index>{});
   }
 
   // (M + tL) u = δ for a vector or every column of a matrix (one pass over each factor): the
@@ -374,6 +373,8 @@ void check_heat_factor(const HeatDistanceSolver::Impl& im, const PoissonSolver& 
 
 // The constructors: `heat` null builds the Neumann heat factor beside the others, else uses it
 // (after checking that it is M + tL on the solver's triangulation).
+// Long function: the set-up's order (checks, flips, scale, assembly beside the analysis, the
+// factorizations side by side) reads best in one place.
 void build_solver(HeatDistanceSolver::Impl& im, const IntrinsicTriangulation& tri_in,
                   const HeatDistanceOptions& options, std::shared_ptr<const PoissonSolver> heat) {
   options.validate();

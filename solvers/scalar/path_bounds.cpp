@@ -34,7 +34,8 @@ bool diamond_diagonal(const IntrinsicTriangulation& tri, Index h, Arc* out) {
   const double bc = tri.halfedge_length(IntrinsicTriangulation::next(h));
   const double ad = tri.halfedge_length(IntrinsicTriangulation::next(t));
   const double bd = tri.halfedge_length(IntrinsicTriangulation::prev(t));
-  const double cx = (ac * ac - bc * bc + l * l) / (2 * l), dx = (ad * ad - bd * bd + l * l) / (2 * l);
+  const double cx = (ac * ac - bc * bc + l * l) / (2 * l),
+               dx = (ad * ad - bd * bd + l * l) / (2 * l);
   const double cy = std::sqrt(std::max(0.0, ac * ac - cx * cx));
   const double dy = -std::sqrt(std::max(0.0, ad * ad - dx * dx));
   if (!(cy > 0.0) || !(dy < 0.0)) return false;
@@ -127,7 +128,8 @@ void clamp_to_bounds(Eigen::Ref<Eigen::VectorXd> d, const Eigen::VectorXd& upper
     double x = std::min(d[v], upper[v]);
     if (v < n_lower) {
       double chord = std::numeric_limits<double>::infinity();
-      for (const Index s : sources) chord = std::min(chord, (positions.row(v) - positions.row(s)).norm());
+      for (const Index s : sources)
+        chord = std::min(chord, (positions.row(v) - positions.row(s)).norm());
       x = std::max(x, chord);
     }
     d[v] = x;
