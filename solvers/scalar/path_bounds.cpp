@@ -47,6 +47,14 @@ bool diamond_diagonal(const IntrinsicTriangulation& tri, Index h, Arc* out) {
   return true;
 }
 
+// |x_v − x_s| without overflow or underflow at any scale, and exactly 2^k times as large for
+// positions scaled by 2^k (the largest coordinate difference is divided out and multiplied back).
+double scaled_norm(const Positions& x, Index v, Index s) {
+  const Eigen::RowVector3d diff = x.row(v) - x.row(s);
+  const double m = diff.cwiseAbs().maxCoeff();
+  return m > 0.0 && std::isfinite(m) ? m * (diff / m).norm() : m;
+}
+
 }  // namespace
 
 PathGraph::PathGraph(const IntrinsicTriangulation& tri) {
@@ -128,8 +136,7 @@ void clamp_to_bounds(Eigen::Ref<Eigen::VectorXd> d, const Eigen::VectorXd& upper
     double x = std::min(d[v], upper[v]);
     if (v < n_lower) {
       double chord = std::numeric_limits<double>::infinity();
-      for (const Index s : sources)
-        chord = std::min(chord, (positions.row(v) - positions.row(s)).norm());
+      for (const Index s : sources) chord = std::min(chord, scaled_norm(positions, v, s));
       x = std::max(x, chord);
     }
     d[v] = x;

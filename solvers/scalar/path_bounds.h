@@ -40,7 +40,8 @@ class PathGraph {
 };
 
 /// d ← max(lower, min(d, upper)) per vertex, lower = the straight-line (chord) distance from
-/// the nearest source in `positions` (a geodesic is never shorter than the chord), upper =
+/// the nearest source in `positions` (a geodesic is never shorter than the chord; the sources
+/// must be the points measured from, not samples of a curve), upper =
 /// `upper` (e.g. PathGraph::shortest_paths). Rows of d beyond positions.rows() get only the
 /// upper bound; non-finite entries of d (unreachable) stay.
 /// @param d #V distances (absolute), changed in place
