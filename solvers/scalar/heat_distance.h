@@ -86,8 +86,9 @@ struct HeatDistanceOptions {
   /// and, for vertex sources, at least the straight-line distance to the nearest source when
   /// vertex_positions is given. A clamp into a true interval never increases any vertex's error;
   /// with it the default distance is at or below CGAL's heat method's mean error on every
-  /// reference (docs/decisions.md D-141). Cost: a Dijkstra over ~6 arcs per vertex per source
-  /// (figures: BENCHMARKS.md, "Path bounds"). Off: the heat method's values as they are.
+  /// reference (docs/decisions.md D-141). Cost: a Dijkstra over ~12 arcs per vertex per query,
+  /// and per column of compute_distances(), where it outweighs the block solves: set it off for
+  /// throughput (figures: BENCHMARKS.md, "Path bounds"). Off: the heat method's values as they are.
   bool path_bounds = true;
   /// Positions (absolute, the triangulation's length unit) of vertices 0..rows−1 (rows ≤ #V,
   /// e.g. the input mesh's vertices before refinement inserted more) for the straight-line lower
