@@ -375,7 +375,11 @@ Eigen::VectorXd curve_distance(const CurveSurface& s, const DistanceOptions& set
   std::sort(sources.begin(), sources.end());
   sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
   if (sources.empty()) throw InvalidInput("curve_distance: no curve");
-  const HeatDistanceSolver solver(s.surface.tri, distance_options(s.surface, settings));
+  HeatDistanceOptions options = distance_options(s.surface, settings);
+  // the sources stand for whole curves, which pass closer than the chord to their vertices: the
+  // path bound (to the curves' vertices) holds, the straight-line lower bound does not (D-141)
+  options.vertex_positions.resize(0, 3);
+  const HeatDistanceSolver solver(s.surface.tri, options);
   Eigen::VectorXd d = on_input_vertices(s.surface, solver.compute_distance(sources, report));
   for (Eigen::Index i = 0; i < d.size(); ++i) {
     if (std::isnan(d[i])) throw SolverError("curve_distance: the distance is not a number");

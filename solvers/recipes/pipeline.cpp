@@ -485,6 +485,8 @@ HeatDistanceOptions distance_options(const PreparedSurface& s, const DistanceOpt
     // input's boundary (a tufted cover has none of its own)
     o.mean_edge_length = sized ? s.target_edge_length : s.input_mean_edge_length;
     o.boundary_vertices = s.boundary_vertex;
+    // the input's vertices, for path_bounds' straight-line lower bound (D-141)
+    o.vertex_positions = s.input.positions;
   }
   o.validate();
   return o;

@@ -157,7 +157,8 @@ struct DistanceOptions {
 };
 
 /// The heat-method options geodesic_distance() uses on s: h from the input's faces (or ℓ when
-/// refined with a size bound), the input's boundary, no further flips (s is already intrinsic
+/// refined with a size bound), the input's boundary and vertex positions (path bounds' straight-
+/// line lower bound, HeatDistanceOptions::path_bounds), no further flips (s is already intrinsic
 /// Delaunay). Build a HeatDistanceSolver(s.tri, distance_options(s)) for many queries.
 HeatDistanceOptions distance_options(const PreparedSurface& s,
                                      const DistanceOptions& settings = {});

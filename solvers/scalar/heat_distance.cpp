@@ -23,6 +23,7 @@
 #include "solvers/linalg/row_kernels.h"
 #include "solvers/scalar/components.h"
 #include "solvers/scalar/heat_engine.h"
+#include "solvers/scalar/path_bounds.h"
 #include "solvers/scalar/poisson.h"
 
 namespace ifem::solvers {
@@ -133,6 +134,9 @@ void HeatDistanceOptions::validate() const {
     throw InvalidInput("HeatDistanceOptions: correction_steps must be ≥ 0, got " +
                        std::to_string(correction_steps));
   }
+  if (!vertex_positions.allFinite()) {
+    throw InvalidInput("HeatDistanceOptions: vertex_positions must be finite");
+  }
 }
 
 void RefinedDistanceOptions::validate() const {
@@ -161,6 +165,20 @@ struct HeatDistanceSolver::Impl {
   std::optional<PoissonSolver> heat_dirichlet;        // (M + tL), u = 0 on the boundary
   std::optional<PoissonSolver> poisson;               // L, pure Neumann per component
   std::optional<UnitGradientDivergence> unit_div;     // div(−∇u/|∇u|) with tri's face layouts
+  PathGraph paths;  // options.path_bounds: upper bounds (tri's unit: × scale for absolute)
+
+  // options.path_bounds: d (absolute) clamped into [chord to the nearest vertex source, shortest
+  // PathGraph path from the seeds (vertex, start length in tri's unit)].
+  void clamp(Eigen::Ref<Eigen::VectorXd> d, const std::vector<std::pair<Index, double>>& seeds,
+             const std::vector<Index>& vertex_sources) const {
+    if (!opt.path_bounds) return;
+    const Eigen::VectorXd upper = paths.shortest_paths(seeds) * scale;
+    const Index rows = Index(opt.vertex_positions.rows());
+    const bool chord =
+        vertex_sources.size() <= 64 && std::all_of(vertex_sources.begin(), vertex_sources.end(),
+                                                   [rows](Index v) { return v < rows; });
+    clamp_to_bounds(d, upper, opt.vertex_positions, chord ? vertex_sources : std::vector<Index>{});
+  }
 
   // (M + tL) u = δ for a vector or every column of a matrix (one pass over each factor): the
   // Neumann solution, or on meshes with boundary the mean of the Neumann and the zero-Dirichlet
@@ -355,10 +373,15 @@ void check_heat_factor(const HeatDistanceSolver::Impl& im, const PoissonSolver& 
 
 // The constructors: `heat` null builds the Neumann heat factor beside the others, else uses it
 // (after checking that it is M + tL on the solver's triangulation).
+// Long function: the set-up's order (checks, flips, scale, assembly beside the analysis, the
+// factorizations side by side) reads best in one place.
 void build_solver(HeatDistanceSolver::Impl& im, const IntrinsicTriangulation& tri_in,
                   const HeatDistanceOptions& options, std::shared_ptr<const PoissonSolver> heat) {
   options.validate();
   if (tri_in.n_faces() == 0) throw InvalidInput("HeatDistanceSolver: triangulation has no faces");
+  if (options.vertex_positions.rows() > tri_in.n_vertices()) {
+    throw InvalidInput("HeatDistanceOptions: vertex_positions has more rows than vertices");
+  }
   const bool given_heat = heat != nullptr;
   im.opt = options;
   const double h_input = mean_edge_length(tri_in);
@@ -410,6 +433,7 @@ void build_solver(HeatDistanceSolver::Impl& im, const IntrinsicTriangulation& tr
                   im.mass = fem::lumped_mass(im.tri);
                   if (!given_heat || dirichlet_heat) tL = im.t * im.L;
                   im.unit_div.emplace(im.tri);
+                  if (options.path_bounds) im.paths = PathGraph(im.tri);
                 }});
   const CholeskyAnalysis& analysis = *shared;
   im.one_component =
@@ -507,7 +531,11 @@ Eigen::VectorXd HeatDistanceSolver::compute_distance(const std::vector<Index>& s
     p.weight[0] = 1.0;
     pts.push_back(p);
   }
-  return im.distance(pts, report) * im.scale;
+  Eigen::VectorXd d = im.distance(pts, report) * im.scale;
+  std::vector<std::pair<Index, double>> seeds;
+  for (const Index v : s) seeds.push_back({v, 0.0});
+  im.clamp(d, seeds, s);
+  return d;
 }
 
 Eigen::VectorXd HeatDistanceSolver::compute_distance_from_points(
@@ -538,7 +566,13 @@ Eigen::VectorXd HeatDistanceSolver::compute_distance_from_points(
     }
     pts.push_back(p);
   }
-  return im.distance(pts, report) * im.scale;
+  Eigen::VectorXd d = im.distance(pts, report) * im.scale;
+  std::vector<std::pair<Index, double>> seeds;
+  for (const WeightedPoint& p : pts) {
+    for (int i = 0; i < p.n; ++i) seeds.push_back({p.vertex[i], p.corner_distance[i]});
+  }
+  im.clamp(d, seeds, {});
+  return d;
 }
 
 Eigen::MatrixXd HeatDistanceSolver::compute_distances(
@@ -592,6 +626,12 @@ void HeatDistanceSolver::compute_distances(const std::vector<Index>& sources, Ei
       im.distance_block(sources, first, std::min(block, k - first), out, reps, scratch);
     }
     out *= im.scale;
+  }
+  if (im.opt.path_bounds) {
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const Index v = sources[std::size_t(j)];
+      im.clamp(out.col(j), {{v, 0.0}}, {v});
+    }
   }
   if (reports) *reports = std::move(reps);
 }

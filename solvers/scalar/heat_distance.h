@@ -10,6 +10,7 @@
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/surface_point.h"
 #include "intrinsic/core/triangulation.h"
+#include "intrinsic/core/types.h"
 
 namespace ifem::solvers {
 
@@ -79,9 +80,26 @@ struct HeatDistanceOptions {
   /// supernodal solve kernel"); kMixed is for machines or workloads that are bandwidth-bound.
   enum class Precision { kDouble, kMixed };
   Precision precision = Precision::kDouble;
+  /// Clamp every result into bounds that hold for the exact geodesic distance (solvers/scalar/
+  /// path_bounds.h): at most the shortest path along the triangulation's edges and the flat
+  /// diagonals of its convex diamonds (PathGraph; from a surface point, from its face's corners),
+  /// and, for vertex sources, at least the straight-line distance to the nearest source when
+  /// vertex_positions is given. A clamp into a true interval never increases any vertex's error;
+  /// with it the default distance is at or below CGAL's heat method's mean error on every
+  /// reference (docs/decisions.md D-141). Cost: a Dijkstra over ~12 arcs per vertex per query,
+  /// and per column of compute_distances(), where it outweighs the block solves: set it off for
+  /// throughput (figures: BENCHMARKS.md, "Path bounds"). Off: the heat method's values as they are.
+  bool path_bounds = true;
+  /// Positions (absolute, the triangulation's length unit) of vertices 0..rows−1 (rows ≤ #V,
+  /// e.g. the input mesh's vertices before refinement inserted more) for the straight-line lower
+  /// bound of path_bounds; empty: no lower bound. Used for queries of at most 64 vertex sources,
+  /// all with a position. Only correct for positions of the surface the triangulation measures
+  /// (solvers::distance_options passes the input mesh's).
+  Positions vertex_positions;
   /// @throws InvalidInput naming the field: time_factor not > 0 and finite, mean_edge_length
   ///         negative or not finite, thresholds not 0 < resolved_heat ≤ trusted_heat ≤ 1,
-  ///         negative max_constrained_sources or correction_steps
+  ///         negative max_constrained_sources or correction_steps, non-finite
+  ///         vertex_positions
   void validate() const;
 };
 

@@ -109,7 +109,9 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
     EXPECT_FALSE(angle.refine_report.hit_insertion_cap) << stem;
     const PreparedSurface accurate = prepare(in, RefinedDistanceOptions{}.resolution);
     EXPECT_FALSE(accurate.refine_report.hit_insertion_cap) << stem;
-    const HeatDistanceSolver plain_solver(plain.tri, distance_options(plain)),
+    HeatDistanceOptions heat_own = distance_options(plain);  // the heat method's own values,
+    heat_own.path_bounds = false;                            // not clamped (D-141)
+    const HeatDistanceSolver plain_solver(plain.tri, heat_own),
         refined_solver(angle.tri, distance_options(angle)),
         accurate_solver(accurate.tri, distance_options(accurate));
     for (; i < j; ++i) {
