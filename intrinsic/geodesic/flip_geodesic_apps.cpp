@@ -318,7 +318,8 @@ BezierCurve bezier_curve(SignpostTriangulation& st, const std::vector<Index>& co
 }
 
 SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index source,
-                                              const FlipOutOptions& options) {
+                                              const FlipOutOptions& options,
+                                              const ProgressCallback& on_progress) {
   options.validate();
   const T& tri = st.intrinsic();
   const Index nv = tri.n_vertices();
@@ -357,6 +358,8 @@ SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index s
     for_each_edge_at(tri, v, pinched[v] != 0, [&](Index e, Index u) { offer(e, v, u); });
   };
   accept(source, 0.0);
+  ProgressMeter meter(on_progress, "single-source geodesics", double(nv));
+  double n_accepted = 1.0;
   FlipOutReport rep;
   while (!queue.empty()) {
     const Entry top = queue.top();
@@ -385,7 +388,9 @@ SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index s
     if (rep.stopped_by != FlipOutStop::kConverged) ++out.blocked;
     out.paths[top.v] = std::move(path);
     accept(top.v, rep.final_length);
+    meter.update(++n_accepted);
   }
+  meter.finish();
   out.flips = rep.flips;
   out.tree_edges.assign(tri.n_edges(), 0);
   for (Index e = 0; e < tri.n_edges(); ++e) out.tree_edges[e] = uses[e] > 0 ? 1 : 0;

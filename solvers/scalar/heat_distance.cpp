@@ -541,15 +541,17 @@ Eigen::VectorXd HeatDistanceSolver::compute_distance_from_points(
   return im.distance(pts, report) * im.scale;
 }
 
-Eigen::MatrixXd HeatDistanceSolver::compute_distances(
-    const std::vector<Index>& sources, std::vector<HeatDistanceReport>* reports) const {
+Eigen::MatrixXd HeatDistanceSolver::compute_distances(const std::vector<Index>& sources,
+                                                      std::vector<HeatDistanceReport>* reports,
+                                                      const ProgressCallback& on_progress) const {
   Eigen::MatrixXd out;
-  compute_distances(sources, out, reports);
+  compute_distances(sources, out, reports, on_progress);
   return out;
 }
 
 void HeatDistanceSolver::compute_distances(const std::vector<Index>& sources, Eigen::MatrixXd& out,
-                                           std::vector<HeatDistanceReport>* reports) const {
+                                           std::vector<HeatDistanceReport>* reports,
+                                           const ProgressCallback& on_progress) const {
   if (sources.empty()) throw InvalidInput("heat distance: the source list is empty");
   const Impl& im = *impl_;
   const Index nv = im.tri.n_vertices();
@@ -577,12 +579,14 @@ void HeatDistanceSolver::compute_distances(const std::vector<Index>& sources, Ei
     advise_huge_pages(out.data(), sizeof(double) * std::size_t(out.size()));  // not yet touched
   }
   std::vector<HeatDistanceReport> reps(sources.size());
+  ProgressMeter meter(on_progress, "heat distances", double(k));
   if (im.rows_path(block)) {
     for (HugeVector* m : {&scratch.heat_rows, &scratch.phi_rows}) {
       if (m->size() < std::size_t(nv) * std::size_t(block)) m->resize(std::size_t(nv) * block);
     }
     for (Eigen::Index first = 0; first < k; first += block) {
       im.distance_block_rows(sources, first, std::min(block, k - first), out, reps, scratch);
+      meter.update(double(first + block));
     }
   } else {
     for (Eigen::MatrixXd* m : {&scratch.heat, &scratch.phi}) {
@@ -590,9 +594,11 @@ void HeatDistanceSolver::compute_distances(const std::vector<Index>& sources, Ei
     }
     for (Eigen::Index first = 0; first < k; first += block) {
       im.distance_block(sources, first, std::min(block, k - first), out, reps, scratch);
+      meter.update(double(first + block));
     }
     out *= im.scale;
   }
+  meter.finish();
   if (reports) *reports = std::move(reps);
 }
 
