@@ -24,6 +24,14 @@ void bind_geodesic(py::module_& m);   // FlipOut paths, loops, networks, Bézier
 void bind_curves(py::module_& m);     // boundary-value problems with data on curves
 void bind_fields(py::module_& m);     // tangent fields: smoothest direction fields
 
+/// The library's ProgressCallback for a Python `progress` argument: None gives an empty one (no
+/// reports, no cost); a callable is called as progress(fraction, stage) with the GIL taken for
+/// the call. The callable is held by pointer, without a reference: the caller's argument keeps
+/// it alive during the call, and copies of the callback made with the GIL released touch no
+/// reference count. An exception it raises ends the computation and reaches the caller.
+/// @throws InvalidInput if `progress` is neither None nor callable
+ProgressCallback progress_callback(const py::handle& progress);
+
 /// PrepareOptions from the keyword arguments every surface function shares (Python names):
 /// mollify (relative margin ≥ 0), path ('auto' | 'manifold' | 'tufted' | 'pointcloud'),
 /// intrinsic_delaunay (bool), k (neighbours on the point-cloud path).
