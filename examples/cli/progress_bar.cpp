@@ -58,8 +58,8 @@ void draw(double fraction, std::string_view stage) {
   if (seconds_between(kProcessStart, now) < delay_seconds()) return;
   const int percent = static_cast<int>(std::floor(100.0 * std::clamp(fraction, 0.0, 1.0)));
   const bool same_stage = s.shown && s.last_stage == stage;
-  if (same_stage && (percent == s.last_percent ||
-                     seconds_between(s.last_draw, now) < kMinSecondsBetweenDraws)) {
+  if (same_stage &&
+      (percent == s.last_percent || seconds_between(s.last_draw, now) < kMinSecondsBetweenDraws)) {
     return;
   }
   const int filled = static_cast<int>(std::lround(kBarWidth * fraction));

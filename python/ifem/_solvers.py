@@ -392,7 +392,7 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
 
 def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *, mollify=1e-5,
             path="auto", knn=30, min_angle=25.0, resolution=0.0, max_area=0.0,
-            max_insertions=None, return_info=False, normals=None, curves=None):
+            max_insertions=None, return_info=False, normals=None, curves=None, progress=None):
     """Solves ``−Δu + c·u = f`` with Dirichlet values on chosen vertices, as ``ifem poisson``.
 
     Discretely ``(L + c M) u = M f`` (L the intrinsic Delaunay cotan Laplacian, positive
@@ -420,6 +420,9 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
         return_info: also return a dict about the preparation.
         curves: the CLI's ``--curves``: u held at the curves' values along them,
             :func:`curve_poisson` (a list of :class:`Curve` or a curves file's path).
+        progress: None (default: nothing is reported, nothing printed) or a callable
+            ``progress(fraction, stage)``, told how refinement goes (``refine=True``: stage
+            ``"refine"``; 0 first, non-decreasing, exactly 1 last); ignored with ``curves``.
 
     Returns:
         u, #V_in float64 array in the input's vertex order (and ``info`` when asked).
@@ -441,7 +444,7 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
     u, info = _ifem.poisson(V, _faces(F), rhs, ids, values, _real(screening, "screening"),
                             *_surface(mollify, path, knn),
                             _refine(refine, min_angle, resolution, max_area, max_insertions,
-                                    0.0), normals)
+                                    0.0), normals, progress)
     return (u, info) if return_info else u
 
 

@@ -71,6 +71,10 @@ def test_eigen_and_single_source_and_read_report_their_stages():
     rd = Recorder()
     ifem.read_mesh(test_data("spot.obj"), progress=rd)
     well_formed(rd.stage("read"))
+    well_formed(rd.stage("parse"))
+    pr = Recorder()
+    ifem.poisson(V2, F2, np.ones(V2.shape[0]), {0: 0.0}, refine=True, resolution=0.5, progress=pr)
+    well_formed(pr.stage("refine"))
 
 
 def test_nothing_printed_without_a_callable(capfd):

@@ -177,8 +177,8 @@ TEST(Progress, EigenpairsReportSolves) {
 
 TEST(Progress, ReadAndPipelineReportTheirStagesInOrder) {
   const intrinsic::TriangleMesh mesh = intrinsic::icosphere(40);  // 32k faces: a 0.8 MB PLY
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / ("ifem_progress_test_" + std::to_string(::getpid()) + ".ply");
+  const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                     ("ifem_progress_test_" + std::to_string(::getpid()) + ".ply");
   io::write_ply(path.string(), mesh.positions, mesh.faces, {}, false);
   Recorder read;
   const io::SurfaceInput in = io::read_surface(path.string(), read.callback());
