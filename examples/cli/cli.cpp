@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "intrinsic/core/errors.h"
+#include "progress_bar.h"
 #ifdef IFEM_HAVE_PCL
 #include "pointcloud/pcl_adapter.h"
 #endif
@@ -29,11 +30,15 @@ OptionGroup surface_options() {
                .defaults_to("30")
                .limited_by(InputLimit::kBelowPointCount)
                .explain("neighbours per point for point clouds (< the number of points)"),
-           flag("quiet").explain("no progress lines on stderr")}};
+           flag("quiet").explain(
+               "no progress lines and no progress bar on stderr (the bar is drawn\nonly when "
+               "stderr is a terminal, once the command has run 2 s)")}};
 }
 
 void progress(const Args& args, const std::string& line) {
-  if (!args.has("quiet")) std::fprintf(stderr, "ifem: %s\n", line.c_str());
+  if (args.has("quiet")) return;
+  clear_progress_bar();
+  std::fprintf(stderr, "ifem: %s\n", line.c_str());
 }
 
 solvers::PrepareOptions prepare_options(const Args& args) {
@@ -45,15 +50,17 @@ solvers::PrepareOptions prepare_options(const Args& args) {
   opt.knn = args.count("knn");
   if (!args.has("quiet")) {
     opt.progress = [](const std::string& line) {
+      clear_progress_bar();
       std::fprintf(stderr, "ifem: %s\n", line.c_str());
     };
   }
+  opt.on_progress = progress_bar(args);
   return opt;
 }
 
 // .pcd goes through the optional PCL adapter; everything else through io::read_surface.
 static io::SurfaceInput read_file(const std::string& file, const Args& args) {
-  if (io::file_extension(file) != ".pcd") return io::read_surface(file);
+  if (io::file_extension(file) != ".pcd") return io::read_surface(file, progress_bar(args));
 #ifdef IFEM_HAVE_PCL
   pointcloud::PclPoints pts = pointcloud::read_pcd(file);
   io::SurfaceInput in;

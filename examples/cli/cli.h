@@ -10,6 +10,7 @@
 
 #include "intrinsic/io/mesh_io.h"
 #include "options.h"
+#include "progress_bar.h"
 #include "solvers/recipes/pipeline.h"
 
 namespace ifem::recipes {

@@ -180,9 +180,11 @@ solvers::CurveSurface prepare_curves(io::SurfaceInput input,
   if (opt.refine && args.has("no-conform")) opt.refine->conform = false;
   if (!args.has("quiet")) {
     opt.progress = [](const std::string& line) {
+      clear_progress_bar();
       std::fprintf(stderr, "ifem: %s\n", line.c_str());
     };
   }
+  opt.on_progress = progress_bar(args);
   solvers::CurveSurface s =
       solvers::prepare_curve_surface(std::move(input), std::move(curves), opt);
   report_surface(args, s);

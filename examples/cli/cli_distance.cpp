@@ -50,6 +50,7 @@ solvers::DistanceOptions distance_settings(const Args& args) {
   if (args.has("mixed-precision")) {
     settings.precision = solvers::HeatDistanceOptions::Precision::kMixed;
   }
+  settings.on_progress = progress_bar(args);
   return settings;
 }
 

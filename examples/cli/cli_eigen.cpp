@@ -21,7 +21,9 @@ int run(const Args& args) {
   if (args.has("refine")) refine = refine_settings(args, 0.0, false);
   const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);
   const Stopwatch watch;
-  const solvers::EigenPairs ep = solvers::eigenmodes(s, k);  // vectors on the input's vertices
+  solvers::EigenOptions eo;
+  eo.on_progress = progress_bar(args);
+  const solvers::EigenPairs ep = solvers::eigenmodes(s, k, eo);  // vectors on the input's vertices
   progress(args, "eigenpairs in " + std::to_string(watch.seconds()) + " s");
   std::vector<io::VertexProperty> props;
   for (Index j = 0; j < k; ++j) props.push_back({"phi" + std::to_string(j), ep.vectors.col(j)});

@@ -188,6 +188,7 @@ recipes::GeodesicOptions geodesic_options_of(const Args& args) {
   o.flipout.max_iterations = args.count_or("max-iterations", -1);
   o.accept_partial = args.has("accept-partial");
   o.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;
+  o.on_progress = progress_bar(args);
   return o;
 }
 
@@ -344,7 +345,9 @@ OptionGroup geodesic_options() {
                         "exceed GB gigabytes (default: half the physical memory, or 80% of\n"
                         "ulimit -v). Rounds whose segments fall below 1/16 of the mesh's mean\n"
                         "edge length are refused too, naming the most rounds that fit"),
-           flag("quiet").explain("no progress lines on stderr")}};
+           flag("quiet").explain(
+               "no progress lines and no progress bar on stderr (the bar is drawn\nonly when "
+               "stderr is a terminal, once the command has run 2 s)")}};
 }
 
 }  // namespace

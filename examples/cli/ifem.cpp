@@ -40,7 +40,14 @@ int run_command(const ifem::cli::Command& cmd, int argc, const char* const* argv
     return 0;
   }
   args.check_complete();
-  return cmd.run(args);
+  try {
+    const int status = cmd.run(args);
+    ifem::cli::clear_progress_bar();
+    return status;
+  } catch (...) {
+    ifem::cli::clear_progress_bar();  // the error line starts at the left margin
+    throw;
+  }
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "intrinsic/core/progress.h"
 #include "intrinsic/core/surface_point.h"
 #include "intrinsic/core/types.h"
 #include "intrinsic/refine/signpost.h"
@@ -243,8 +244,10 @@ struct SingleSourceGeodesics {
   Index iterations = 0;
   Index blocked = 0;  ///< vertices whose path was left bent (a blocked wedge)
 };
+/// @param on_progress optional: stage "single-source geodesics", vertices accepted over #V
 /// @throws InvalidInput if source is out of range or options are invalid
 SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index source,
-                                              const FlipOutOptions& options = {});
+                                              const FlipOutOptions& options = {},
+                                              const ProgressCallback& on_progress = {});
 
 }  // namespace ifem::intrinsic

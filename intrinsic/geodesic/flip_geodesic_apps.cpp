@@ -419,8 +419,10 @@ class SingleSource {
     };
   }
 
-  SingleSourceGeodesics solve() {
+  SingleSourceGeodesics solve(const ProgressCallback& on_progress) {
     accept(source_, EdgePath{}, 0.0);
+    ProgressMeter meter(on_progress, "single-source geodesics", double(tri_.n_vertices()));
+    double n_accepted = 1.0;
     while (!queue_.empty()) {
       const Entry top = queue_.top();
       queue_.pop();
@@ -435,7 +437,9 @@ class SingleSource {
       net_.release_curves();  // the accepted path stays counted: an obstacle from now on
       if (rep.stopped_by != FlipOutStop::kConverged) ++out_.blocked;
       accept(top.v, std::move(path), rep.final_length);
+      meter.update(++n_accepted);
     }
+    meter.finish();
     out_.tree_edges.assign(tri_.n_edges(), 0);
     for (Index e = 0; e < tri_.n_edges(); ++e) out_.tree_edges[e] = uses_[e] > 0 ? 1 : 0;
     return std::move(out_);
@@ -556,14 +560,15 @@ class SingleSource {
 }  // namespace
 
 SingleSourceGeodesics single_source_geodesics(SignpostTriangulation& st, Index source,
-                                              const FlipOutOptions& options) {
+                                              const FlipOutOptions& options,
+                                              const ProgressCallback& on_progress) {
   options.validate();
   const Index nv = st.intrinsic().n_vertices();
   if (source < 0 || source >= nv) {
     throw InvalidInput("single_source_geodesics: source " + std::to_string(source) +
                        " is out of range [0, " + std::to_string(nv) + ")");
   }
-  return SingleSource(st, source, options).solve();
+  return SingleSource(st, source, options).solve(on_progress);
 }
 
 }  // namespace ifem::intrinsic

@@ -11,7 +11,7 @@
 
 namespace ifem::io::detail {
 
-std::string read_file(const std::string& path) {
+std::string read_file(const std::string& path, const ProgressCallback* on_progress) {
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(status)) fail_file(path, "cannot open: no such file");
@@ -22,14 +22,18 @@ std::string read_file(const std::string& path) {
   char buffer[1 << 16];
   const auto size = std::filesystem::file_size(path, ec);
   if (!ec) bytes.reserve(static_cast<std::size_t>(size));
+  static const ProgressCallback kNone;
+  ProgressMeter meter(on_progress ? *on_progress : kNone, "read", ec ? 1.0 : double(size) + 1.0);
   for (;;) {
     const std::size_t got = std::fread(buffer, 1, sizeof(buffer), f);
     bytes.append(buffer, got);
+    meter.update(double(bytes.size()));
     if (got < sizeof(buffer)) break;
   }
   const bool failed = std::ferror(f) != 0;
   std::fclose(f);
   if (failed) fail_file(path, "read error");
+  meter.finish();
   return bytes;
 }
 

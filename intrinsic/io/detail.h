@@ -12,13 +12,15 @@
 #include <vector>
 
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/progress.h"
 #include "intrinsic/io/surface_input.h"
 
 namespace ifem::io::detail {
 
-/// Reads a whole file into memory.
+/// Reads a whole file into memory, reporting stage "read" (bytes read over the file's size) to
+/// `on_progress` when it is given and not empty.
 /// @throws IoError if the file is missing, a directory, or unreadable
-std::string read_file(const std::string& path);
+std::string read_file(const std::string& path, const ProgressCallback* on_progress = nullptr);
 
 /// Writes `bytes` to `path.tmp`, then renames it to `path`; removes the tmp file on failure.
 /// @throws IoError if any step fails
@@ -218,7 +220,9 @@ inline bool host_is_little_endian() {
 }
 
 // Format readers: `bytes` is the whole file.
-SurfaceInput read_obj(const std::string& path, const std::string& bytes);
+/// (OBJ: reports stage "parse", the bytes parsed over the file's, to `on_progress` if given.)
+SurfaceInput read_obj(const std::string& path, const std::string& bytes,
+                      const ProgressCallback* on_progress = nullptr);
 SurfaceInput read_off(const std::string& path, const std::string& bytes);
 SurfaceInput read_ply(const std::string& path, const std::string& bytes);
 SurfaceInput read_stl(const std::string& path, const std::string& bytes);

@@ -48,21 +48,21 @@ std::string file_extension(const std::string& path) {
   return ext;
 }
 
-SurfaceInput read_surface(const std::string& path) {
+SurfaceInput read_surface(const std::string& path, const ProgressCallback& on_progress) {
   const std::string ext = file_extension(path);
   using Reader = SurfaceInput (*)(const std::string&, const std::string&);
   Reader reader = nullptr;
-  if (ext == ".obj") reader = detail::read_obj;
+  const bool obj = ext == ".obj";  // its reader also reports its parsing
   if (ext == ".off") reader = detail::read_off;
   if (ext == ".ply") reader = detail::read_ply;
   if (ext == ".stl") reader = detail::read_stl;
   if (ext == ".xyz" || ext == ".txt") reader = detail::read_xyz;
-  if (reader == nullptr) {
+  if (reader == nullptr && !obj) {
     fail_file(path, "unknown extension " + detail::quoted(ext) +
                         " (expected .obj, .off, .ply, .stl, .xyz or .txt)");
   }
-  const std::string bytes = detail::read_file(path);
-  SurfaceInput s = reader(path, bytes);
+  const std::string bytes = detail::read_file(path, &on_progress);
+  SurfaceInput s = obj ? detail::read_obj(path, bytes, &on_progress) : reader(path, bytes);
   detail::triangulate_polygons(s);
   if (s.positions.rows() == 0) fail_file(path, "no vertices (empty " + s.format + " file)");
   return s;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "intrinsic/core/progress.h"
 #include "intrinsic/core/types.h"
 #include "intrinsic/io/surface_input.h"
 
@@ -21,9 +22,11 @@ std::string file_extension(const std::string& path);
 
 /// Reads a mesh or point cloud, choosing the format from the extension (.obj .off .ply .stl
 /// .xyz .txt; case-insensitive). A file with no faces is a point cloud.
+/// @param on_progress optional (ProgressCallback): stage "read", the bytes read over the file's
+///        size; then for OBJ stage "parse", the bytes parsed
 /// @throws IoError on a missing file, unknown extension, malformed or truncated content, a face
 ///         index out of range, or a NaN/inf coordinate (with file and line / byte offset)
-SurfaceInput read_surface(const std::string& path);
+SurfaceInput read_surface(const std::string& path, const ProgressCallback& on_progress = {});
 
 /// Same, but a file without faces is an error ("no faces") — for commands that need a mesh.
 /// @throws IoError as read_surface(), and on a file without faces

@@ -59,7 +59,10 @@ Index parse_corner(const TextCursor& c, std::string_view token, std::size_t n_ve
 
 }  // namespace
 
-SurfaceInput read_obj(const std::string& path, const std::string& bytes) {
+SurfaceInput read_obj(const std::string& path, const std::string& bytes,
+                      const ProgressCallback* on_progress) {
+  static const ProgressCallback kNone;
+  ProgressMeter meter(on_progress ? *on_progress : kNone, "parse", double(bytes.size()) + 1.0);
   SurfaceInput out;
   out.format = "obj";
   std::vector<double> xyz;
@@ -69,6 +72,7 @@ SurfaceInput read_obj(const std::string& path, const std::string& bytes) {
   TextCursor c(path, bytes.data(), end);
   while (c.next_content_line()) {
     const char* p = c.pos();
+    meter.update(double(p - bytes.data()));
     const char k = p[0];
     const bool keyword_ends = p + 1 == end || is_blank(p[1]) || p[1] == '\n' || p[1] == '#';
     if (k == 'v' && keyword_ends) {
@@ -95,6 +99,7 @@ SurfaceInput read_obj(const std::string& path, const std::string& bytes) {
   set_positions(out, xyz);
   out.normals.resize(0, 3);
   check_max_index(path, sink, static_cast<Index>(out.positions.rows()), false, 1);
+  meter.finish();
   return out;
 }
 

@@ -373,6 +373,9 @@ class Refiner {
   }
 
   RefineReport run() {
+    const double expected =
+        options_.on_progress ? estimate_refinement(tri_, options_).insertions : 1.0;
+    ProgressMeter meter(options_.on_progress, "refine", std::max(expected, 1.0), true);
     grow_flags();
     rep_.flips += host_.flip_to_delaunay().flips;
     mean_length_ = mean_edge_length(tri_);
@@ -398,6 +401,7 @@ class Refiner {
       const Index v = insert_for(f, verdict);
       if (v == kInvalidIndex) continue;
       ++rep_.insertions;
+      meter.update(double(rep_.insertions));
       restore_delaunay_around(v, queue);
       // a split of a boundary or curve edge instead of f's point may leave f as it was, away
       // from the flips: keep it queued
@@ -406,6 +410,7 @@ class Refiner {
     }
     if (flags_ && options_.conform) conform();
     measure_result();
+    meter.finish();
     return rep_;
   }
 

@@ -8,6 +8,7 @@
 #include <functional>
 #include <vector>
 
+#include "intrinsic/core/progress.h"
 #include "intrinsic/refine/signpost.h"
 
 namespace ifem::intrinsic {
@@ -44,6 +45,10 @@ struct RefineOptions {
   /// and refinement stops (hit_insertion_cap) where the vertices would cost more than it.
   /// 0: default_memory_budget(); +∞: no budget. ≥ 0.
   double max_memory_bytes = 0.0;
+  /// Progress, stage "refine": insertions made over estimate_refinement()'s insertions
+  /// (saturating_fraction(): an underestimate slows the bar near its end instead of filling it),
+  /// 1 when the refinement is done. Empty: none.
+  ProgressCallback on_progress;
   /// @throws InvalidInput naming the field: min_angle_degrees outside (0, 30], max_area
   ///         negative or not finite, max_insertions < −1, max_memory_bytes negative or NaN
   void validate() const;

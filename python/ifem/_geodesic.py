@@ -331,7 +331,7 @@ def bezier_curve(V, F, control_points, rounds=4, mollify=1e-5, memory_budget=Non
                        midpoints=report["bezier_midpoints"], **c)
 
 
-def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5):
+def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5, progress=None):
     """Geodesics from one vertex to every vertex, and their lengths (FlipOut in a Dijkstra).
 
     A Dijkstra search from ``source`` that straightens every path by FlipOut before accepting
@@ -348,6 +348,9 @@ def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5):
         return_paths: also trace every geodesic over the input (one polyline per vertex; costs
             about as much as the search again).
         mollify: relative mollification margin.
+        progress: None (default: nothing is reported, nothing printed) or a callable
+            ``progress(fraction, stage)``, stage ``"single-source geodesics"``: the vertices
+            accepted over #V (0 first, non-decreasing, exactly 1 last).
 
     Returns:
         SingleSourceGeodesics: ``length`` (#V, ``inf`` where unreachable), ``paths`` (when
@@ -358,13 +361,13 @@ def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5):
     """
     V, F, _ = _input(V, F)
     length, paths, info = _ifem.single_source_geodesics(V, F, source, bool(return_paths),
-                                                        float(mollify))
+                                                        float(mollify), progress)
     return SingleSourceGeodesics(length=length, paths=paths, **info)
 
 
 def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, network=None,
              all_from=None, return_paths=False, mollify=1e-5, max_iterations=None,
-             accept_partial=False, memory_budget=None, start="best"):
+             accept_partial=False, memory_budget=None, start="best", progress=None):
     """Geodesic curves by FlipOut, as ``ifem geodesic``: one function, the CLI's modes as
     keywords. Give exactly one of
 
@@ -378,7 +381,8 @@ def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, netw
     ``V`` may be a mesh file's path (F then None), as the CLI's MESH. ``max_iterations`` and
     ``accept_partial`` (``--max-iterations``, ``--accept-partial``) go to networks,
     ``memory_budget`` (``--memory-budget``) to Bézier curves, ``start`` (``--start``) to
-    :func:`geodesic_path`.
+    :func:`geodesic_path`, ``progress`` (a callable ``progress(fraction, stage)``; None: none)
+    to :func:`single_source_geodesics`.
 
     Returns:
         GeodesicCurve, BezierCurve, GeodesicNetwork or SingleSourceGeodesics, as the mode's
@@ -400,6 +404,8 @@ def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, netw
                            "{'points': [...], 'loop': True} or 'loop' lines)")
     if return_paths and all_from is None:
         raise InvalidInput("return_paths applies to all_from (single-source geodesics)")
+    if progress is not None and all_from is None:
+        raise InvalidInput("progress applies to all_from (single-source geodesics)")
     if (max_iterations is not None or accept_partial) and network is None:
         raise InvalidInput("max_iterations and accept_partial apply to network (FlipOut on "
                            "a curve network)")
@@ -407,7 +413,7 @@ def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, netw
         raise InvalidInput("memory_budget applies to bezier (the vertices a Bézier curve adds)")
     V, F, _ = _input(V, F)
     if all_from is not None:
-        return single_source_geodesics(V, F, all_from, return_paths, mollify)
+        return single_source_geodesics(V, F, all_from, return_paths, mollify, progress)
     if network is not None:
         return geodesic_network(V, F, network, pin, mollify, max_iterations, accept_partial)
     if bezier is not None:

@@ -6,7 +6,7 @@ from . import _ifem
 from ._inputs import surface as _input
 
 
-def read_mesh(path, return_info=False):
+def read_mesh(path, return_info=False, progress=None):
     """Reads a mesh or a point cloud: OBJ, OFF, PLY (ASCII / binary), STL (ASCII / binary), XYZ.
 
     Polygons are triangulated (each n-gon into n − 2 triangles); a file without faces is a
@@ -17,6 +17,9 @@ def read_mesh(path, return_info=False):
         return_info: also return a dict with what the file held besides V and F: ``format``,
             ``polygons``, ``non_triangles``, ``welded_vertices`` (STL), ``normals`` (#V×3 when
             the file has them) and ``vertex_properties`` (name → #V array, PLY).
+        progress: None (default: nothing is reported, nothing printed) or a callable
+            ``progress(fraction, stage)``, stage ``"read"``: the bytes read over the file's size
+            (0 first, non-decreasing, exactly 1 last).
 
     Returns:
         ``V`` (#V×3 float64, file order) and ``F`` (#F×3 int32), and ``info`` when asked.
@@ -29,7 +32,7 @@ def read_mesh(path, return_info=False):
         IoError: missing file, unknown extension, malformed content, a face index out of range
             or a non-finite coordinate, with the file and line (or byte offset).
     """
-    V, F, info = _ifem.read_mesh(os.fspath(path))
+    V, F, info = _ifem.read_mesh(os.fspath(path), progress)
     return (V, F, info) if return_info else (V, F)
 
 

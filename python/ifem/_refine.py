@@ -222,7 +222,7 @@ class RefinedTriangulation:
 
 
 def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=None, relax=0,
-           max_edge=0, mollify=1e-5, memory_budget=None):
+           max_edge=0, mollify=1e-5, memory_budget=None, progress=None):
     """Intrinsic Delaunay refinement: a triangulation of the same surface with good angles.
 
     The mesh is made intrinsic Delaunay by edge flips, then vertices are inserted at the
@@ -258,6 +258,9 @@ def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=Non
         memory_budget: gigabytes; a request whose estimated memory (about 4 KiB per vertex)
             exceeds it is refused up front, and insertion stops there; the common subdivision
             is held to it too. None: half the physical memory (or 80% of ``ulimit -v``).
+        progress: None (default: nothing is reported, nothing printed) or a callable
+            ``progress(fraction, stage)``, stage ``"refine"``: the insertions made over their
+            estimate (0 first, non-decreasing, exactly 1 last).
 
     Returns:
         A :class:`RefinedTriangulation`, whose ``report`` dict holds:
@@ -290,7 +293,7 @@ def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=Non
     V, F, _ = _input(V, F)
     return RefinedTriangulation(_ifem.refine(
         V, F, float(min_angle), float(resolution), float(max_area), mi, _int(relax, "relax"),
-        float(max_edge), float(mollify), mb))
+        float(max_edge), float(mollify), mb, progress))
 
 
 def load_refined(path):

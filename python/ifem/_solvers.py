@@ -164,6 +164,10 @@ class HeatDistanceSolver:
             relative (the heat factor stays double). Not faster on a machine where the solves
             are not memory-bound (``BENCHMARKS.md``, "Heat queries"); the CLI's
             ``--mixed-precision``.
+        progress: None (default: nothing is reported, nothing printed) or a callable
+            ``progress(fraction, stage)``, called during the long stages with the fraction done
+            (0 first, non-decreasing, exactly 1 last) and the stage's name (``"refine"`` here;
+            ``"heat distances"`` in :meth:`compute_distances`).
 
     Raises:
         InvalidInput: bad arrays or options (the message names the argument).
@@ -179,13 +183,14 @@ class HeatDistanceSolver:
 
     def __init__(self, V, F=None, refine=False, *, time_factor=None, correction_steps=None,
                  mollify=1e-5, path="auto", knn=30, min_angle=25.0, resolution=0.4,
-                 max_area=0.0, max_insertions=None, precision="double", normals=None):
+                 max_area=0.0, max_insertions=None, precision="double", normals=None,
+                 progress=None):
         V, F, normals = _input(V, F, normals)
         self._solver = _ifem.HeatDistanceSolver(
             V, _faces(F), _optional(time_factor, "time_factor", _real),
             _optional(correction_steps, "correction_steps", _int), *_surface(mollify, path, knn),
             _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4),
-            _precision(precision), normals)
+            _precision(precision), normals, progress)
 
     def compute_distance(self, sources=None, points=None):
         """Geodesic distance to the nearest source, on every input vertex.
@@ -221,7 +226,7 @@ class HeatDistanceSolver:
         faces, bary = _points(points)
         return self._solver.compute_distance_from_points(faces, bary)
 
-    def compute_distances(self, sources):
+    def compute_distances(self, sources, progress=None):
         """Geodesic distances from each source on its own: a distance matrix.
 
         Column ``j`` equals ``compute_distance(sources[j])`` up to rounding (~1e-14 relative),
@@ -232,6 +237,9 @@ class HeatDistanceSolver:
         Args:
             sources: a sequence / 1-D integer array of vertex ids (0-based ids of the input, each
                 used by some face); repeats give equal columns.
+            progress: None or a callable ``progress(fraction, stage)``: stage
+                ``"heat distances"``, the fraction of the sources done, after each block of up to
+                32 (0 first, exactly 1 last). Nothing is printed either way.
 
         Returns:
             #V_in × k float64 array (Fortran order), column j the distances from
@@ -242,7 +250,7 @@ class HeatDistanceSolver:
             InvalidInput: an id out of range or unreferenced (naming its position), an empty
                 list, a non-integer dtype.
         """
-        return self._solver.compute_distances(sources)
+        return self._solver.compute_distances(sources, progress)
 
     @property
     def n_input_vertices(self):
@@ -285,7 +293,7 @@ def _precision(precision):
 def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=None,
              correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
              resolution=0.4, max_area=0.0, max_insertions=None, precision="double",
-             normals=None, curves=None):
+             normals=None, curves=None, progress=None):
     """Geodesic distance from vertices (or surface points) in one call, as ``ifem distance``
     (``heat_distance`` is its deprecated old name).
 
@@ -295,6 +303,9 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
 
     With ``curves`` (the CLI's ``--curves``): the distance to the curves instead of to
     sources, :func:`curve_distance` (a list of :class:`Curve` or a curves file's path).
+
+    ``progress``: None or a callable ``progress(fraction, stage)``, told how refinement
+    (``refine=True``: stage ``"refine"``) goes; ignored with ``curves``.
 
     Returns:
         #V_in float64 array of distances (``inf`` where no source reaches).
@@ -319,10 +330,10 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
     if points is not None:
         faces, bary = _points(points)  # checked before the work
         solver = _ifem.HeatDistanceSolver(V, _faces(F), t, c, *surface, refine_arg,
-                                          _precision(precision), normals)
+                                          _precision(precision), normals, progress)
         return solver.compute_distance_from_points(faces, bary)
     return _ifem.heat_distance(V, _faces(F), sources, t, c, *surface, refine_arg,
-                               _precision(precision), normals)
+                               _precision(precision), normals, progress)
 
 
 #: Deprecated: the old name of :func:`distance`.
@@ -333,7 +344,8 @@ heat_distance = distance
 
 
 def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
-          resolution=0.0, max_area=0.0, max_insertions=None, return_info=False, normals=None):
+          resolution=0.0, max_area=0.0, max_insertions=None, return_info=False, normals=None,
+          progress=None):
     """The k smallest Laplace–Beltrami eigenpairs ``L φ = λ M φ``, as ``ifem eigen``.
 
     L is the intrinsic Delaunay cotan Laplacian (positive semi-definite), M the lumped mass;
@@ -350,6 +362,10 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
             :class:`HeatDistanceSolver` (V may be a file's path there too).
         return_info: also return a dict about the preparation (as
             :attr:`HeatDistanceSolver.info`, without the heat-method entries).
+        progress: None (default: nothing is reported, nothing printed) or a callable
+            ``progress(fraction, stage)``, called during the long stages with the fraction done
+            (0 first, non-decreasing, exactly 1 last) and the stage's name (``"refine"`` with
+            ``refine=True``, then ``"eigenpairs"``: the Lanczos solves done over an estimate).
 
     Returns:
         ``evals`` (k,) ascending, in 1 / length² units (λ ≥ 0 up to round-off; λ = 0 once per
@@ -367,7 +383,7 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
     V, F, normals = _input(V, F, normals)
     evals, evecs, info = _ifem.eigen(V, _faces(F), _int(k, "k"), *_surface(mollify, path, knn),
                                      _refine(refine, min_angle, resolution, max_area,
-                                             max_insertions, 0.0), normals)
+                                             max_insertions, 0.0), normals, progress)
     return (evals, evecs, info) if return_info else (evals, evecs)
 
 
@@ -376,7 +392,7 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
 
 def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *, mollify=1e-5,
             path="auto", knn=30, min_angle=25.0, resolution=0.0, max_area=0.0,
-            max_insertions=None, return_info=False, normals=None, curves=None):
+            max_insertions=None, return_info=False, normals=None, curves=None, progress=None):
     """Solves ``−Δu + c·u = f`` with Dirichlet values on chosen vertices, as ``ifem poisson``.
 
     Discretely ``(L + c M) u = M f`` (L the intrinsic Delaunay cotan Laplacian, positive
@@ -404,6 +420,9 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
         return_info: also return a dict about the preparation.
         curves: the CLI's ``--curves``: u held at the curves' values along them,
             :func:`curve_poisson` (a list of :class:`Curve` or a curves file's path).
+        progress: None (default: nothing is reported, nothing printed) or a callable
+            ``progress(fraction, stage)``, told how refinement goes (``refine=True``: stage
+            ``"refine"``; 0 first, non-decreasing, exactly 1 last); ignored with ``curves``.
 
     Returns:
         u, #V_in float64 array in the input's vertex order (and ``info`` when asked).
@@ -425,7 +444,7 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
     u, info = _ifem.poisson(V, _faces(F), rhs, ids, values, _real(screening, "screening"),
                             *_surface(mollify, path, knn),
                             _refine(refine, min_angle, resolution, max_area, max_insertions,
-                                    0.0), normals)
+                                    0.0), normals, progress)
     return (u, info) if return_info else u
 
 

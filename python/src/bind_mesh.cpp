@@ -17,11 +17,12 @@ namespace ifem::python {
 namespace {
 
 // (V, F, info): F is 0×3 for a point cloud; info holds what the reader repaired or found.
-py::tuple read_mesh(const std::string& path) {
+py::tuple read_mesh(const std::string& path, const py::handle& progress) {
+  const ProgressCallback on_progress = progress_callback(progress);
   io::SurfaceInput in;
   {
     const py::gil_scoped_release release;
-    in = io::read_surface(path);
+    in = io::read_surface(path, on_progress);
   }
   py::dict info;
   info["format"] = in.format;
@@ -139,7 +140,7 @@ py::dict mesh_info(const py::handle& V, const py::handle& F, int k, double molli
 void bind_mesh(py::module_& m) {
   m.def("mesh_info", &mesh_info, py::arg("V"), py::arg("F"), py::arg("knn"), py::arg("mollify"),
         py::arg("path"), py::arg("normals") = py::none());
-  m.def("read_mesh", &read_mesh, py::arg("path"));
+  m.def("read_mesh", &read_mesh, py::arg("path"), py::arg("progress") = py::none());
   m.def("write_ply", &write_ply, py::arg("path"), py::arg("V"), py::arg("F"), py::arg("properties"),
         py::arg("binary"));
 }

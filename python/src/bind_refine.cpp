@@ -147,7 +147,7 @@ std::unique_ptr<Refined> refine(const py::handle& V, const py::handle& F, double
                                 double resolution, double max_area,
                                 std::optional<long long> max_insertions, long long relax,
                                 double max_edge, double mollify,
-                                std::optional<double> memory_budget) {
+                                std::optional<double> memory_budget, const py::handle& progress) {
   io::SurfaceInput in = surface_input(V, F);
   require(!in.triangles.empty(), "F has no faces: refinement needs a triangle mesh");
   require(std::isfinite(mollify) && mollify >= 0.0,
@@ -156,6 +156,7 @@ std::unique_ptr<Refined> refine(const py::handle& V, const py::handle& F, double
   solvers::PrepareOptions o = prepare_options(mollify, "auto", true, 30);
   o.refine = refine_settings(min_angle, resolution, max_area, max_insertions, relax, max_edge,
                              memory_budget);
+  o.on_progress = progress_callback(progress);
   solvers::PreparedSurface s;
   double angle = 0.0, seconds = 0.0;
   {
@@ -263,7 +264,7 @@ void bind_refine(py::module_& m) {
       .def("save", &save, py::arg("path"));
   m.def("refine", &refine, py::arg("V"), py::arg("F"), py::arg("min_angle"), py::arg("resolution"),
         py::arg("max_area"), py::arg("max_insertions"), py::arg("relax"), py::arg("max_edge"),
-        py::arg("mollify"), py::arg("memory_budget"));
+        py::arg("mollify"), py::arg("memory_budget"), py::arg("progress") = py::none());
   m.def("load_refined", &load, py::arg("path"));
 }
 

@@ -56,6 +56,7 @@ struct SurfaceArgs {
   std::string path = "auto";
   int knn = 30;
   py::object normals = py::none();  ///< #V×3 point normals, or None (as the CLI: a file's normals)
+  py::object progress = py::none();  ///< progress(fraction, stage), or None (progress_callback)
 };
 
 // `refine`: None (no refinement) or a dict of min_angle / resolution / max_area /
@@ -112,6 +113,7 @@ solvers::PreparedSurface prepare_checked(io::SurfaceInput in, const SurfaceArgs&
                                          std::optional<solvers::SurfaceRefineOptions> refine) {
   solvers::PrepareOptions o = prepare_options(a.mollify, a.path, true, a.knn);
   o.refine = std::move(refine);
+  o.on_progress = progress_callback(a.progress);
   return prepare(std::move(in), o, a.path);
 }
 
@@ -129,8 +131,11 @@ solvers::DistanceOptions distance_settings(std::optional<double> time_factor,
   if (correction_steps && *correction_steps < 0) {
     throw InvalidInput("correction_steps must be ≥ 0, got " + std::to_string(*correction_steps));
   }
-  return {time_factor, correction_steps,
-          precision == "double" ? Precision::kDouble : Precision::kMixed};
+  solvers::DistanceOptions o;
+  o.time_factor = time_factor;
+  o.correction_steps = correction_steps;
+  o.precision = precision == "double" ? Precision::kDouble : Precision::kMixed;
+  return o;
 }
 
 // A per-input-vertex result checked as the pipeline checks it (NaN: degenerate operators).
@@ -189,9 +194,11 @@ class DistanceSolver {
         sources, [this](const std::vector<Index>& ids) { return solver_.compute_distance(ids); });
   }
 
-  py::array distances(const py::handle& sources) const {
-    return timed_query(
-        sources, [this](const std::vector<Index>& ids) { return solver_.compute_distances(ids); });
+  py::array distances(const py::handle& sources, const py::handle& progress) const {
+    const ProgressCallback on_progress = progress_callback(progress);
+    return timed_query(sources, [&](const std::vector<Index>& ids) {
+      return solver_.compute_distances(ids, nullptr, on_progress);
+    });
   }
 
   py::array distance_from_points(const py::handle& faces, const py::handle& bary) {
@@ -340,10 +347,12 @@ py::tuple eigen(const py::handle& V, const py::handle& F, Index k, const Surface
                        "), got " + std::to_string(k));
   }
   const solvers::PreparedSurface s = prepare_checked(std::move(in), a, std::move(r));
+  solvers::EigenOptions eo;
+  eo.on_progress = progress_callback(a.progress);
   solvers::EigenPairs ep;
   {
     const py::gil_scoped_release release;
-    ep = solvers::eigenmodes(s, k);
+    ep = solvers::eigenmodes(s, k, eo);
   }
   return py::make_tuple(to_numpy(std::move(ep.values)), to_numpy(std::move(ep.vectors)),
                         surface_info(s));
@@ -387,8 +396,9 @@ py::tuple poisson(const py::handle& V, const py::handle& F, const py::handle& rh
 }
 
 SurfaceArgs surface_args(double mollify, const std::string& path, int knn,
-                         const py::handle& normals) {
-  return {mollify, path, knn, py::reinterpret_borrow<py::object>(normals)};
+                         const py::handle& normals, const py::handle& progress) {
+  return {mollify, path, knn, py::reinterpret_borrow<py::object>(normals),
+          py::reinterpret_borrow<py::object>(progress)};
 }
 
 }  // namespace
@@ -399,15 +409,19 @@ void bind_solvers(py::module_& m) {
   py::class_<DistanceSolver>(m, "HeatDistanceSolver")
       .def(py::init([](const py::handle& V, const py::handle& F, Opt t, Steps c, double mollify,
                        const std::string& path, int knn, const py::handle& refine,
-                       const std::string& precision, const py::handle& normals) {
-             return make_distance_solver(V, F, t, c, surface_args(mollify, path, knn, normals),
+                       const std::string& precision, const py::handle& normals,
+                       const py::handle& progress) {
+             return make_distance_solver(V, F, t, c,
+                                         surface_args(mollify, path, knn, normals, progress),
                                          refine, precision);
            }),
            py::arg("V"), py::arg("F"), py::arg("time_factor"), py::arg("correction_steps"),
            py::arg("mollify"), py::arg("path"), py::arg("knn"), py::arg("refine"),
-           py::arg("precision") = "double", py::arg("normals") = py::none())
+           py::arg("precision") = "double", py::arg("normals") = py::none(),
+           py::arg("progress") = py::none())
       .def("compute_distance", &DistanceSolver::distance, py::arg("sources"))
-      .def("compute_distances", &DistanceSolver::distances, py::arg("sources"))
+      .def("compute_distances", &DistanceSolver::distances, py::arg("sources"),
+           py::arg("progress") = py::none())
       .def("compute_distance_from_points", &DistanceSolver::distance_from_points, py::arg("faces"),
            py::arg("bary"))
       .def_property_readonly("info", &DistanceSolver::info)
@@ -417,32 +431,35 @@ void bind_solvers(py::module_& m) {
       "heat_distance",
       [](const py::handle& V, const py::handle& F, const py::handle& sources, Opt t, Steps c,
          double mollify, const std::string& path, int knn, const py::handle& refine,
-         const std::string& precision, const py::handle& normals) {
-        return heat_distance(V, F, sources, t, c, surface_args(mollify, path, knn, normals), refine,
+         const std::string& precision, const py::handle& normals, const py::handle& progress) {
+        return heat_distance(V, F, sources, t, c,
+                             surface_args(mollify, path, knn, normals, progress), refine,
                              precision);
       },
       py::arg("V"), py::arg("F"), py::arg("sources"), py::arg("time_factor"),
       py::arg("correction_steps"), py::arg("mollify"), py::arg("path"), py::arg("knn"),
-      py::arg("refine"), py::arg("precision") = "double", py::arg("normals") = py::none());
+      py::arg("refine"), py::arg("precision") = "double", py::arg("normals") = py::none(),
+      py::arg("progress") = py::none());
   m.def(
       "eigen",
       [](const py::handle& V, const py::handle& F, Index k, double mollify, const std::string& path,
-         int knn, const py::handle& refine, const py::handle& normals) {
-        return eigen(V, F, k, surface_args(mollify, path, knn, normals), refine);
+         int knn, const py::handle& refine, const py::handle& normals, const py::handle& progress) {
+        return eigen(V, F, k, surface_args(mollify, path, knn, normals, progress), refine);
       },
       py::arg("V"), py::arg("F"), py::arg("k"), py::arg("mollify"), py::arg("path"), py::arg("knn"),
-      py::arg("refine"), py::arg("normals") = py::none());
+      py::arg("refine"), py::arg("normals") = py::none(), py::arg("progress") = py::none());
   m.def(
       "poisson",
       [](const py::handle& V, const py::handle& F, const py::handle& rhs, const py::handle& ids,
          const py::handle& values, double screening, double mollify, const std::string& path,
-         int knn, const py::handle& refine, const py::handle& normals) {
-        return poisson(V, F, rhs, ids, values, screening, surface_args(mollify, path, knn, normals),
-                       refine);
+         int knn, const py::handle& refine, const py::handle& normals, const py::handle& progress) {
+        return poisson(V, F, rhs, ids, values, screening,
+                       surface_args(mollify, path, knn, normals, progress), refine);
       },
       py::arg("V"), py::arg("F"), py::arg("rhs"), py::arg("dirichlet_ids"),
       py::arg("dirichlet_values"), py::arg("screening"), py::arg("mollify"), py::arg("path"),
-      py::arg("knn"), py::arg("refine"), py::arg("normals") = py::none());
+      py::arg("knn"), py::arg("refine"), py::arg("normals") = py::none(),
+      py::arg("progress") = py::none());
 }
 
 }  // namespace ifem::python

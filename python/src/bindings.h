@@ -39,6 +39,14 @@ struct Refined {
   double memory_budget_bytes = 0.0;  // for the common subdivision; 0: the library's default
 };
 
+/// The library's ProgressCallback for a Python `progress` argument: None gives an empty one (no
+/// reports, no cost); a callable is called as progress(fraction, stage) with the GIL taken for
+/// the call. The callable is held by pointer, without a reference: the caller's argument keeps
+/// it alive during the call, and copies of the callback made with the GIL released touch no
+/// reference count. An exception it raises ends the computation and reaches the caller.
+/// @throws InvalidInput if `progress` is neither None nor callable
+ProgressCallback progress_callback(const py::handle& progress);
+
 /// PrepareOptions from the keyword arguments every surface function shares (Python names):
 /// mollify (relative margin ≥ 0), path ('auto' | 'manifold' | 'tufted' | 'pointcloud'),
 /// intrinsic_delaunay (bool), k (neighbours on the point-cloud path).

@@ -41,6 +41,20 @@ void translate(std::exception_ptr p) {
 
 }  // namespace
 
+ProgressCallback progress_callback(const py::handle& progress) {
+  if (progress.is_none()) return {};
+  if (!PyCallable_Check(progress.ptr())) {
+    throw InvalidInput("progress must be None or a callable progress(fraction, stage), got " +
+                       py::repr(progress).cast<std::string>());
+  }
+  PyObject* callable = progress.ptr();
+  return [callable](double fraction, std::string_view stage) {
+    const py::gil_scoped_acquire gil;
+    const py::handle fn(callable);
+    fn(fraction, py::str(stage.data(), stage.size()));
+  };
+}
+
 solvers::PrepareOptions prepare_options(double mollify, const std::string& path,
                                         bool intrinsic_delaunay, int k) {
   if (path != "auto" && path != "manifold" && path != "tufted" && path != "pointcloud") {

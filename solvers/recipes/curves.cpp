@@ -234,8 +234,9 @@ void build_constrained(const CurveSurfaceOptions& opt, CurveSurface& out) {
   if (opt.refine) {
     s.target_edge_length = opt.refine->resolution * s.input_mean_edge_length;
     intrinsic::EdgeConstraints ec = out.network.constraints(st.intrinsic());
-    s.refine_report =
-        intrinsic::delaunay_refine(st, refine_options(*opt.refine, s.target_edge_length), &ec);
+    intrinsic::RefineOptions ro = refine_options(*opt.refine, s.target_edge_length);
+    ro.on_progress = opt.on_progress;
+    s.refine_report = intrinsic::delaunay_refine(st, ro, &ec);
     s.refined = true;
     s.seconds_refine = watch.restart();
     report(opt, describe(s.refine_report) + " in " + std::to_string(s.seconds_refine) + " s");

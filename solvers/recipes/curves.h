@@ -85,6 +85,8 @@ struct CurveSurfaceOptions {
   std::optional<SurfaceRefineOptions> refine;        ///< constrained Delaunay refinement when set
                                                      ///< (relaxation is not offered with curves)
   std::function<void(const std::string&)> progress;  ///< one line per stage; none when empty
+  /// Progress of the constrained refinement (RefineOptions::on_progress); empty: none
+  ProgressCallback on_progress;
   /// Memory budget, bytes, of the vertices Bézier curves add (intrinsic::estimate_curves(),
   /// checked before any flip); 0: intrinsic::default_memory_budget(). With refine, its
   /// max_memory_bytes applies to the refinement.

@@ -295,7 +295,8 @@ SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,
   }
   SignpostTriangulation st = signposts(input, options.mollify_relative_epsilon);
   const Stopwatch watch;
-  const intrinsic::SingleSourceGeodesics g = intrinsic::single_source_geodesics(st, source);
+  const intrinsic::SingleSourceGeodesics g =
+      intrinsic::single_source_geodesics(st, source, {}, options.on_progress);
   SingleSourceResult r;
   r.seconds = watch.seconds();
   r.length = g.length.head(nv);

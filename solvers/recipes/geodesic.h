@@ -55,6 +55,9 @@ struct GeodesicOptions {
   /// often not the shortest one). Other curves (loops, networks, several points, Bézier) always
   /// start from Dijkstra edge paths, shortened together.
   intrinsic::StartPath start = intrinsic::StartPath::kBest;
+  /// Progress of single-source mode (intrinsic::single_source_geodesics()'s, stage
+  /// "single-source geodesics"); empty: none.
+  ProgressCallback on_progress;
   /// @throws InvalidInput naming the field and its allowed range
   void validate() const;
 };

@@ -17,16 +17,19 @@ namespace {
 using intrinsic::PathReason;
 using intrinsic::SurfacePath;
 
-// Sends a progress line to the caller's sink, if any.
+// Sends a progress line to the caller's sink, if any; holds the caller's fraction callback.
 class Progress {
  public:
-  explicit Progress(const std::function<void(const std::string&)>& sink) : sink_(sink) {}
+  Progress(const std::function<void(const std::string&)>& sink, const ProgressCallback& fraction)
+      : sink_(sink), fraction_(fraction) {}
   void operator()(const std::string& line) const {
     if (sink_) sink_(line);
   }
+  const ProgressCallback& fraction() const { return fraction_; }
 
  private:
   const std::function<void(const std::string&)>& sink_;
+  const ProgressCallback& fraction_;
 };
 
 std::string fmt(double x) {
@@ -149,7 +152,9 @@ std::string refine_refusal(const PreparedSurface& s, const SurfaceRefineOptions&
 // Refines the tufted cover itself, intrinsically (nonmanifold / non-orientable / forced).
 void refine_tufted(const SurfaceRefineOptions& r, PreparedSurface& s, const Progress& progress) {
   Stopwatch watch;
-  s.refine_report = intrinsic::delaunay_refine(s.tri, refine_options(r, s.target_edge_length));
+  intrinsic::RefineOptions refine_opt = refine_options(r, s.target_edge_length);
+  refine_opt.on_progress = progress.fraction();
+  s.refine_report = intrinsic::delaunay_refine(s.tri, refine_opt);
   // inserted vertices count as interior for the heat method's boundary condition (the cover
   // folds across the input's boundary edges: they are interior edges of it)
   if (!s.boundary_vertex.empty()) s.boundary_vertex.resize(s.tri.n_vertices(), 0);
@@ -162,7 +167,9 @@ void refine_with_signposts(const SurfaceRefineOptions& r, double mollify_epsilon
                            PreparedSurface& s, const Progress& progress) {
   Stopwatch watch;
   intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions, mollify_epsilon);
-  s.refine_report = intrinsic::delaunay_refine(st, refine_options(r, s.target_edge_length));
+  intrinsic::RefineOptions refine_opt = refine_options(r, s.target_edge_length);
+  refine_opt.on_progress = progress.fraction();
+  s.refine_report = intrinsic::delaunay_refine(st, refine_opt);
   if (s.path != SurfacePath::kManifold) {
     s.path = SurfacePath::kManifold;  // the encroached boundary edges were split
     s.reason = PathReason::kEdgeManifoldOrientable;
@@ -410,7 +417,7 @@ bool PreparedSurface::supports_signposts() const {
 
 PreparedSurface prepare_surface(io::SurfaceInput input, const PrepareOptions& options) {
   options.validate();
-  const Progress progress(options.progress);
+  const Progress progress(options.progress, options.on_progress);
   PreparedSurface s;
   s.input = std::move(input);
   s.mollify_relative_epsilon = options.mollify_relative_epsilon;
@@ -427,7 +434,7 @@ PreparedSurface prepare_surface(io::SurfaceInput input, const PrepareOptions& op
 
 PreparedSurface load_surface(const std::string& path, const PrepareOptions& options) {
   options.validate();
-  io::SurfaceInput in = io::read_surface(path);
+  io::SurfaceInput in = io::read_surface(path, options.on_progress);
   if (options.progress) {
     options.progress("read " + path + ": " + std::to_string(in.positions.rows()) + " vertices, " +
                      std::to_string(in.n_polygons) + " faces (" + in.format + ")");
@@ -521,9 +528,10 @@ Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<In
 Eigen::MatrixXd geodesic_distances(const PreparedSurface& s, const std::vector<Index>& sources,
                                    const DistanceOptions& settings,
                                    std::vector<HeatDistanceReport>* reports) {
-  return distance_recipe(
-      s, sources, settings, "geodesic_distances",
-      [&](const HeatDistanceSolver& h) { return h.compute_distances(sources, reports); });
+  return distance_recipe(s, sources, settings, "geodesic_distances",
+                         [&](const HeatDistanceSolver& h) {
+                           return h.compute_distances(sources, reports, settings.on_progress);
+                         });
 }
 
 EigenPairs eigenmodes(const PreparedSurface& s, Index k, const EigenOptions& options) {

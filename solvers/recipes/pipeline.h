@@ -75,6 +75,9 @@ struct PrepareOptions {
   /// Receives one progress line per stage ("read ...", "path: ...", "refined: ..."); none when
   /// empty.
   std::function<void(const std::string&)> progress;
+  /// Progress of the long stages, as fractions (ProgressCallback): "read" (load_surface()) and
+  /// "refine" (RefineOptions::on_progress). Empty: none.
+  ProgressCallback on_progress;
   /// @throws InvalidInput naming the field and its allowed range
   void validate() const;
 };
@@ -152,6 +155,8 @@ struct DistanceOptions {
   std::optional<int> correction_steps;  ///< ≥ 0
   /// Precision of the factors the queries read (HeatDistanceOptions::precision; default kDouble)
   std::optional<HeatDistanceOptions::Precision> precision;
+  /// Progress of geodesic_distances() (HeatDistanceSolver::compute_distances()); empty: none
+  ProgressCallback on_progress;
   /// @throws InvalidInput naming the field and its allowed range
   void validate() const;
 };

@@ -46,9 +46,16 @@ class ShiftInvertOp {
     chol_ = std::make_unique<CholeskySolver>(A, copt);
   }
   // one back-substitution per Lanczos step: no allocation (CHOLMOD's workspace is kept)
-  void perform_op(const double* x, double* y) const { chol_->solve(x, y); }
+  void perform_op(const double* x, double* y) const {
+    chol_->solve(x, y);
+    if (meter_) meter_->update(++solves_);
+  }
+  // counts the back-substitutions into `meter` from now on
+  void report_to(ProgressMeter* meter) { meter_ = meter; }
 
  private:
+  ProgressMeter* meter_ = nullptr;
+  mutable double solves_ = 0.0;
   const fem::SparseMatrix& L_;
   const Eigen::VectorXd& m_;
   std::unique_ptr<CholeskySolver> chol_;
@@ -152,6 +159,10 @@ EigenPairs eigenpairs(const fem::SparseMatrix& L_full, const Eigen::VectorXd& ma
   // at one thread: faster than Eigen's own kernels, and OpenBLAS's threaded GEMV changes the
   // round-off with the thread count (docs/decisions.md, "Eigenpairs: Spectra over OpenBLAS")
   const BlasThreadScope one_blas_thread(1);
+  // Lanczos fills a basis of ncv vectors, then each restart adds ncv − nev: a few restarts
+  const double expected_solves = double(ncv) + 3.0 * double(ncv - nev);
+  ProgressMeter meter(options.on_progress, "eigenpairs", expected_solves, true);
+  op.report_to(&meter);
   eigs.init();
   const Eigen::Index nconv = eigs.compute(Spectra::SortRule::LargestMagn, options.max_iterations,
                                           options.tolerance, Spectra::SortRule::SmallestAlge);
@@ -161,6 +172,7 @@ EigenPairs eigenpairs(const fem::SparseMatrix& L_full, const Eigen::VectorXd& ma
                       " iterations (asked for " + std::to_string(k) +
                       "); try a larger ncv or max_iterations");
   }
+  meter.finish();
   const Eigen::VectorXd values = eigs.eigenvalues();
   const Eigen::MatrixXd vectors = eigs.eigenvectors();
   // ascending order (Spectra's SmallestAlge sorting already is, but do not rely on it)

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "fem/operators.h"
+#include "intrinsic/core/progress.h"
 #include "intrinsic/core/triangulation.h"
 
 namespace ifem::solvers {
@@ -26,6 +27,10 @@ struct EigenOptions {
   /// σ = −shift_scale / (total area): slightly negative so that L − σM is positive definite.
   /// Relative (dimensionless: σ is in 1 / area units); > 0.
   double shift_scale = 1e-2;
+  /// Progress, stage "eigenpairs": back-substitutions made over an estimate of those Lanczos
+  /// needs (ncv for the first basis, then ncv − nev per restart for a few restarts;
+  /// saturating_fraction()), 1 when done (ProgressCallback). Empty: none.
+  ProgressCallback on_progress;
   /// @throws InvalidInput naming the fields and their ranges when one is out of range
   void validate() const;
 };

@@ -575,15 +575,17 @@ Eigen::VectorXd HeatDistanceSolver::compute_distance_from_points(
   return d;
 }
 
-Eigen::MatrixXd HeatDistanceSolver::compute_distances(
-    const std::vector<Index>& sources, std::vector<HeatDistanceReport>* reports) const {
+Eigen::MatrixXd HeatDistanceSolver::compute_distances(const std::vector<Index>& sources,
+                                                      std::vector<HeatDistanceReport>* reports,
+                                                      const ProgressCallback& on_progress) const {
   Eigen::MatrixXd out;
-  compute_distances(sources, out, reports);
+  compute_distances(sources, out, reports, on_progress);
   return out;
 }
 
 void HeatDistanceSolver::compute_distances(const std::vector<Index>& sources, Eigen::MatrixXd& out,
-                                           std::vector<HeatDistanceReport>* reports) const {
+                                           std::vector<HeatDistanceReport>* reports,
+                                           const ProgressCallback& on_progress) const {
   if (sources.empty()) throw InvalidInput("heat distance: the source list is empty");
   const Impl& im = *impl_;
   const Index nv = im.tri.n_vertices();
@@ -611,12 +613,15 @@ void HeatDistanceSolver::compute_distances(const std::vector<Index>& sources, Ei
     advise_huge_pages(out.data(), sizeof(double) * std::size_t(out.size()));  // not yet touched
   }
   std::vector<HeatDistanceReport> reps(sources.size());
+  // the path bounds cost about as much as the solves (BENCHMARKS.md "Path bounds"): half the bar
+  ProgressMeter meter(on_progress, "heat distances", double(im.opt.path_bounds ? 2 * k : k));
   if (im.rows_path(block)) {
     for (HugeVector* m : {&scratch.heat_rows, &scratch.phi_rows}) {
       if (m->size() < std::size_t(nv) * std::size_t(block)) m->resize(std::size_t(nv) * block);
     }
     for (Eigen::Index first = 0; first < k; first += block) {
       im.distance_block_rows(sources, first, std::min(block, k - first), out, reps, scratch);
+      meter.update(double(std::min(first + block, k)));
     }
   } else {
     for (Eigen::MatrixXd* m : {&scratch.heat, &scratch.phi}) {
@@ -624,6 +629,7 @@ void HeatDistanceSolver::compute_distances(const std::vector<Index>& sources, Ei
     }
     for (Eigen::Index first = 0; first < k; first += block) {
       im.distance_block(sources, first, std::min(block, k - first), out, reps, scratch);
+      meter.update(double(std::min(first + block, k)));
     }
     out *= im.scale;
   }
@@ -631,8 +637,10 @@ void HeatDistanceSolver::compute_distances(const std::vector<Index>& sources, Ei
     for (Eigen::Index j = 0; j < k; ++j) {
       const Index v = sources[std::size_t(j)];
       im.clamp(out.col(j), {{v, 0.0}}, {v});
+      meter.update(double(k + j + 1));
     }
   }
+  meter.finish();
   if (reports) *reports = std::move(reps);
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/core/progress.h"
 #include "intrinsic/core/surface_point.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/core/types.h"
@@ -223,16 +224,20 @@ class HeatDistanceSolver {
   /// unresolved_vertices) is recomputed alone by compute_distance()'s multi-stage path.
   /// @param sources vertex ids in [0, #V), each referenced by a face; repeats give equal columns
   /// @param[out] reports optional: one per source, in order
+  /// @param on_progress optional: stage "heat distances", sources done over sources asked, after
+  ///        each block (a per-call argument: the solver is shared between threads)
   /// @throws InvalidInput on an empty list, or naming sources[j]: out of range or unreferenced
   Eigen::MatrixXd compute_distances(const std::vector<Index>& sources,
-                                    std::vector<HeatDistanceReport>* reports = nullptr) const;
+                                    std::vector<HeatDistanceReport>* reports = nullptr,
+                                    const ProgressCallback& on_progress = {}) const;
   /// compute_distances() into `out`, resized to #V×k; an `out` of that size already is written
   /// in place (no allocation): for a caller computing many batches, e.g. a distance matrix in
   /// blocks. A fresh matrix's memory is zeroed by the system on first touch: at 1M faces the
   /// 256 MB of a block of 32 cost 35–55 ms of its ~0.4 s that way (BENCHMARKS.md).
   /// @throws as compute_distances() (out is then unspecified)
   void compute_distances(const std::vector<Index>& sources, Eigen::MatrixXd& out,
-                         std::vector<HeatDistanceReport>* reports = nullptr) const;
+                         std::vector<HeatDistanceReport>* reports = nullptr,
+                         const ProgressCallback& on_progress = {}) const;
 
   /// Distance to the nearest of the given surface points, #V.
   /// @param sources points whose faces are faces of triangulation()

@@ -143,7 +143,7 @@ TEST(RefineAccuracy, HeatDistanceRefinedVsExact) {
         for (const double m : {0.125, 0.25, 0.5, 1.0}) {
           for (const int steps : {0, 1}) {
             const Eigen::VectorXd d =
-                geodesic_distance(sw, {c.src}, DistanceOptions{m, steps, std::nullopt});
+                geodesic_distance(sw, {c.src}, DistanceOptions{m, steps, std::nullopt, {}});
             std::printf(" m=%g/%d %.4f", m, steps, mean_rel(d, exact));
           }
         }
