@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdlib>
 #include <limits>
 #include <new>
@@ -15,6 +16,7 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/core/triangle_formulas.h"
 
 namespace ifem::intrinsic::detail {
 
@@ -135,6 +137,32 @@ bool FlipNetwork::one_closed_fan(Index v) {
 
 double FlipNetwork::beta(const std::vector<Index>& w, std::size_t i) {
   return corner(T::prev(w[i - 1])) + corner(T::next(w[i]));
+}
+
+// beta(w, i) >= π − kFlatSlack, the same answer, mostly without atan2: with both corners cached
+// their sum; else from the atan2 arguments (x_k, y_k) of the two corners (y_k ≥ 0, so each
+// corner θ_k = atan2(y_k, x_k) is in [0, π]): sin(θ1 + θ2) = (y1 x2 + x1 y2) / (r1 r2). When
+// that cross term, less its rounding bound, exceeds kSure·r1 r2 (r_k ≤ |x_k| + y_k), the sum is
+// in (kSure, π − kSure) and beta() (atan2 within an ulp, one rounded add) is below π − kFlatSlack;
+// below −kSure·r1 r2 the sum is in (π + kSure, 2π − kSure). In between (within 1e-9 rad of 0 or
+// π, or NaN) beta() decides.
+bool FlipNetwork::beta_at_least_flat(const std::vector<Index>& w, std::size_t i) {
+  const Index h1 = T::prev(w[i - 1]), h2 = T::next(w[i]);
+  const double c1 = corner_.get()[h1], c2 = corner_.get()[h2];
+  if (c1 != 0.0 && c2 != 0.0) return c1 + c2 >= kPi - kFlatSlack;
+  constexpr double kSure = 1e-9, kRound = 1e-15;  // kRound > 4 unit roundoffs
+  const T& tri = st_.intrinsic();
+  double y1 = 0.0, x1 = 0.0, y2 = 0.0, x2 = 0.0;
+  opposite_angle_args(tri.halfedge_length(T::next(h1)), tri.halfedge_length(h1),
+                      tri.halfedge_length(T::prev(h1)), &y1, &x1);
+  opposite_angle_args(tri.halfedge_length(T::next(h2)), tri.halfedge_length(h2),
+                      tri.halfedge_length(T::prev(h2)), &y2, &x2);
+  const double p = y1 * x2, q = x1 * y2, cross = p + q;
+  const double bound =
+      kSure * (std::abs(x1) + y1) * (std::abs(x2) + y2) + kRound * (std::abs(p) + std::abs(q));
+  if (cross > bound) return false;
+  if (cross < -bound) return true;
+  return beta(w, i) >= kPi - kFlatSlack;
 }
 
 Index FlipNetwork::new_node(const PathStep& s, Index curve) {
@@ -340,10 +368,14 @@ bool FlipNetwork::flip_wedge(Index a, int side) {
   for (std::size_t guard = w.size(); guard > 0 && !w.empty(); --guard) {
     std::size_t flipped = kNone;
     for (std::size_t j = from; j < w.size(); ++j) {
-      if (beta(w, j) >= kPi - kFlatSlack) continue;
+      if (beta_at_least_flat(w, j)) continue;
       const Index e = tri.edge(w[j]);
-      if (st_.flip_edge(e)) {
+      double measured[2];  // the signposts' two new corners, cached for the β tests
+      if (st_.flip_edge(e, measured)) {
         forget_corners(e);
+        const Index h = tri.edge_halfedge(e);
+        corner_.get()[T::next(tri.twin(h))] = measured[0];
+        corner_.get()[T::next(h)] = measured[1];
         flipped = j;
         ++flips_;
         if (on_flip) on_flip(e);
@@ -361,9 +393,30 @@ bool FlipNetwork::flip_wedge(Index a, int side) {
     }
     if (refused >= from) refused = kNone;           // those are scanned again
     const auto [s, t] = joint_wedge_ends(a, side);  // a flip moves halfedges between slots
-    wedge_faces(tri, s, t, &w);
+    if (!merge_flipped(flipped, f0, f1, s, t)) wedge_faces(tri, s, t, &w);
   }
   return false;
+}
+
+// After the flip of the edge between wedge faces k − 1 and k (f0, f1), those two are one face
+// at the joint: the wedge is w[0..k−2], that face's halfedge, w[k+1..], the walk
+// wedge_faces(s, t) would make, when no other face of the wedge is f0 or f1 (a Δ-complex wedge
+// may pass a face twice), the joint's ends (s, t) are where they were and the new face is glued
+// on to w[k+1]. Else false, wedge_ unchanged: the caller walks anew.
+bool FlipNetwork::merge_flipped(std::size_t k, Index f0, Index f1, Index s, Index t) {
+  std::vector<Index>& w = wedge_;
+  if (k < 2 || k + 2 > w.size() || s != w[0] || t != T::prev(w.back())) return false;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    if (i + 1 == k || i == k) continue;
+    if (T::face(w[i]) == f0 || T::face(w[i]) == f1) return false;
+  }
+  const T& tri = st_.intrinsic();
+  const Index y = tri.twin(T::prev(w[k - 2]));
+  if (y == kInvalidIndex || (T::face(y) != f0 && T::face(y) != f1)) return false;
+  if (T::prev(y) == t || tri.twin(T::prev(y)) != w[k + 1]) return false;
+  w[k - 1] = y;
+  w.erase(w.begin() + static_cast<std::ptrdiff_t>(k));
+  return true;
 }
 
 // Replaces the steps of joint a (a and its next) by the outer boundary of the wedge in wedge_.

@@ -99,6 +99,7 @@ class FlipNetwork {
   bool one_closed_fan(Index v);
   void forget_corners(Index e);                             // after flipping e
   double beta(const std::vector<Index>& w, std::size_t i);  // angle at the far end of w[i]
+  bool beta_at_least_flat(const std::vector<Index>& w, std::size_t i);  // β ≥ π − slack
   void set_angles(Index a, const Eigen::Vector2d& angles);
   std::pair<Index, Index> joint_wedge_ends(Index a, int side) const;
   void push_joint(Index a);
@@ -107,6 +108,7 @@ class FlipNetwork {
   bool remove_backtrack(Index a);
   bool wedge_blocked(Index start, Index end) const;
   bool flip_wedge(Index a, int side);
+  bool merge_flipped(std::size_t k, Index f0, Index f1, Index s, Index t);  // wedge_ after a flip
   void reroute(Index a, int side);
   bool straighten(Index a, const Eigen::Vector2d& angles);
   Index push_all_bends();
