@@ -455,10 +455,9 @@ bool IntrinsicTriangulation::flip_edge(Index e, FlipUndo* undo) {
   const SlotMove mv = record_slot_move(4, from, to);
   // vertex_halfedge entries that pointed into the diamond move with their sides (a Δ-complex
   // may repeat vertices among a, b, c, d: visit each once)
-  Index verts[4] = {a, b, c, d};
-  std::sort(verts, verts + 4);
+  const Index verts[4] = {a, b, c, d};
   for (int k = 0; k < 4; ++k) {
-    if (k > 0 && verts[k] == verts[k - 1]) continue;
+    if (std::find(verts, verts + k, verts[k]) != verts + k) continue;  // seen already
     Index& vh = vertex_halfedge_[verts[k]];
     if (vh == h)
       vh = h2;  // a: a→d now sits in slot h2

@@ -11,6 +11,7 @@
 #include <limits>
 #include <new>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -406,9 +407,11 @@ bool FlipNetwork::flip_wedge(Index a, int side) {
 bool FlipNetwork::merge_flipped(std::size_t k, Index f0, Index f1, Index s, Index t) {
   std::vector<Index>& w = wedge_;
   if (k < 2 || k + 2 > w.size() || s != w[0] || t != T::prev(w.back())) return false;
+  const auto in_face = [](Index x, Index f) {  // T::face(x) == f without a division
+    return static_cast<std::make_unsigned_t<Index>>(x - 3 * f) < 3;
+  };
   for (std::size_t i = 0; i < w.size(); ++i) {
-    if (i + 1 == k || i == k) continue;
-    if (T::face(w[i]) == f0 || T::face(w[i]) == f1) return false;
+    if (i + 1 != k && i != k && (in_face(w[i], f0) || in_face(w[i], f1))) return false;
   }
   const T& tri = st_.intrinsic();
   const Index y = tri.twin(T::prev(w[k - 2]));
