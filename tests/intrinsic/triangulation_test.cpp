@@ -407,7 +407,8 @@ TEST(Triangulation, OppositeAngleArgsAreTheAtan2Arguments) {
       opposite_angle_args(side_a(a1, 1.0, 0.7), 1.0, 0.7, &y1, &x1);
       opposite_angle_args(side_a(a2, 0.9, 1.3), 0.9, 1.3, &y2, &x2);
       const double cross = y1 * x2 + x1 * y2;  // ∝ sin(α1 + α2): negative above π
-      EXPECT_EQ(cross < 0.0, sign > 0.0) << d;
+      const bool below_zero = cross < 0.0;
+      EXPECT_EQ(below_zero, sign > 0.0) << d;
     }
   }
 }
