@@ -7,12 +7,11 @@
 // touched only where the curves go; the flip's two new corners come from the signpost update),
 // and a joint's wedge angles once per change of its steps. The flip test β < π reads the sign
 // of sin β from the two corners' atan2 arguments (atan2 only within 1e-9 rad of 0 or π: the
-// same answers), and the wedge after a flip is the one before with the two flipped faces
-// merged. A joint at an interior vertex (one closed fan) that is straight by a margin is judged
-// from the signposts at its vertex in O(1), and a bent one is summed face by face over its
-// side-0 wedge (over at most 32 faces: past that, the signposts' figure). All flips during a
-// network's life must be its own (the corner cache follows them). docs/decisions.md D-128,
-// D-147.
+// same answers). A joint at an interior vertex (one closed fan) that is straight by a margin
+// is judged from the signposts at its vertex in O(1), and a bent one is summed face by face
+// over its side-0 wedge (over at most 32 faces: past that, the signposts' figure). All flips
+// during a network's life must be its own (the corner cache follows them). docs/decisions.md
+// D-128, D-147.
 #pragma once
 
 #include <cstdlib>
@@ -112,7 +111,6 @@ class FlipNetwork {
   bool remove_backtrack(Index a);
   bool wedge_blocked(Index start, Index end) const;
   bool flip_wedge(Index a, int side);
-  bool merge_flipped(std::size_t k, Index f0, Index f1, Index s, Index t);  // wedge_ after a flip
   void reroute(Index a, int side);
   bool straighten(Index a, const Eigen::Vector2d& angles);
   Index push_all_bends();
