@@ -62,12 +62,23 @@ inline double triangle_area(double a, double b, double c) {
   return p > 0.0 ? (0.25 * std::sqrt(p)) * s * s : 0.0;
 }
 
+/// The two arguments opposite_angle() hands to atan2 for the angle opposite side a: *y = 4 ×
+/// area ≥ 0 and *x = b² + c² − a², on the lengths scaled by length_normalizer (so (x, y) points
+/// at the angle: a sum of such angles is below π where the cross products say so, without
+/// atan2). opposite_angle(a, b, c) is std::atan2(*y, *x), bit for bit.
+inline void opposite_angle_args(double a, double b, double c, double* y, double* x) {
+  const double s = length_normalizer(std::max({a, b, c}));
+  if (s != 1.0) a /= s, b /= s, c /= s;
+  *y = 4.0 * triangle_area(a, b, c);
+  *x = b * b + c * c - a * a;
+}
+
 /// Angle opposite side a in a triangle with sides a, b, c, in [0, π]; atan2 form, accurate for
 /// needles and caps alike, and the same at every scale (lengths scaled by a power of two).
 inline double opposite_angle(double a, double b, double c) {
-  const double s = length_normalizer(std::max({a, b, c}));
-  if (s != 1.0) a /= s, b /= s, c /= s;
-  return std::atan2(4.0 * triangle_area(a, b, c), b * b + c * c - a * a);
+  double y = 0.0, x = 0.0;
+  opposite_angle_args(a, b, c, &y, &x);
+  return std::atan2(y, x);
 }
 
 /// Cotangent of the angle opposite side a (dimensionless: the same at every scale); ±inf for a

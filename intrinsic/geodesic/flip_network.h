@@ -4,11 +4,14 @@
 // finds the next bend without rescanning the curves.
 //
 // Cost per flip: corner angles are computed once per face between flips (a calloc'ed #H cache,
-// touched only where the curves go), a joint's wedge angles once per change of its steps; a
-// joint at an interior vertex (one closed fan) that is straight by a margin is judged from the
-// signposts at its vertex in O(1), and a bent one is summed face by face over its side-0
-// wedge (over at most 32 faces: past that, the signposts' figure). All flips during a
-// network's life must be its own (the corner cache follows them). docs/decisions.md D-128.
+// touched only where the curves go; the flip's two new corners come from the signpost update),
+// and a joint's wedge angles once per change of its steps. The flip test β < π reads the sign
+// of sin β from the two corners' atan2 arguments (atan2 only within 1e-9 rad of 0 or π: the
+// same answers). A joint at an interior vertex (one closed fan) that is straight by a margin
+// is judged from the signposts at its vertex in O(1), and a bent one is summed face by face
+// over its side-0 wedge (over at most 32 faces: past that, the signposts' figure). All flips
+// during a network's life must be its own (the corner cache follows them). docs/decisions.md
+// D-128, D-147.
 #pragma once
 
 #include <cstdlib>
@@ -99,6 +102,7 @@ class FlipNetwork {
   bool one_closed_fan(Index v);
   void forget_corners(Index e);                             // after flipping e
   double beta(const std::vector<Index>& w, std::size_t i);  // angle at the far end of w[i]
+  bool beta_at_least_flat(const std::vector<Index>& w, std::size_t i);  // β ≥ π − slack
   void set_angles(Index a, const Eigen::Vector2d& angles);
   std::pair<Index, Index> joint_wedge_ends(Index a, int side) const;
   void push_joint(Index a);

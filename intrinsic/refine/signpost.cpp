@@ -255,7 +255,9 @@ Positions SignpostTriangulation::vertex_positions() const {
 // ---------------------------------------------------------------------------------------------
 // Flips
 
-bool SignpostTriangulation::flip_edge(Index e) {
+bool SignpostTriangulation::flip_edge(Index e) { return flip_edge(e, nullptr); }
+
+bool SignpostTriangulation::flip_edge(Index e, double* corners) {
   const Index h = tri_.edge_halfedge(e);
   const Index t = tri_.twin(h);
   if (t == kInvalidIndex) return false;
@@ -277,8 +279,10 @@ bool SignpostTriangulation::flip_edge(Index e) {
   direction_[t1] = dt2;
   direction_[t2] = dh1;
   // h = d→c is t1 = d→b turned by face(t)'s corner at d; t = c→d is h1 = c→a turned likewise
-  direction_[h] = wrap(tri_.tail(h), direction_[t1] + corner_angle(tri_, t1));
-  direction_[t] = wrap(tri_.tail(t), direction_[h1] + corner_angle(tri_, h1));
+  const double at_t1 = corner_angle(tri_, t1), at_h1 = corner_angle(tri_, h1);
+  direction_[h] = wrap(tri_.tail(h), direction_[t1] + at_t1);
+  direction_[t] = wrap(tri_.tail(t), direction_[h1] + at_h1);
+  if (corners != nullptr) corners[0] = at_t1, corners[1] = at_h1;
   return true;
 }
 

@@ -148,6 +148,11 @@ class SignpostTriangulation {
   /// Flips intrinsic edge e (see IntrinsicTriangulation::flip_edge) and updates the
   /// signposts of the diamond in O(1).
   bool flip_edge(Index e);
+  /// The same flip; when it happens and `corners` is not null, writes the two corner angles
+  /// the signpost update measured: corners[0] = corner_angle(intrinsic(), next(twin(h))) and
+  /// corners[1] = corner_angle(intrinsic(), next(h)), h = intrinsic().edge_halfedge(e) after
+  /// the flip (the same bits corner_angle() gives; a caller caching corners saves two atan2).
+  bool flip_edge(Index e, double* corners);
   /// Flips to intrinsic Delaunay, updating the signposts.
   FlipReport flip_to_delaunay();
   /// Flips non-Delaunay edges reachable from the queue of edges given (local repair after an

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <numeric>
 
@@ -373,6 +374,43 @@ TEST(Triangulation, TorusKnotTubeIsAClosedSliverTorus) {
   EXPECT_GT(longest / shortest, 3.0);
   EXPECT_THROW(torus_knot_tube(100, 8, 0.1, 2, 4), InvalidInput);
   EXPECT_THROW(torus_knot_tube(2, 8), InvalidInput);
+}
+
+// opposite_angle_args() hands out exactly what opposite_angle() gives atan2 (FlipOut's flip
+// test reads the sign of sin(α1 + α2) from them, D-147): the same bits on ordinary triangles,
+// needles, caps and at extreme scales, and the cross term y1·x2 + x1·y2 has the sign of
+// sin(α1 + α2) for pairs of angles summing to π ± 1e-7 .. π ± 1e-2.
+TEST(Triangulation, OppositeAngleArgsAreTheAtan2Arguments) {
+  // the triangle with an angle `alpha` between sides b and c: a from the law of cosines
+  const auto side_a = [](double alpha, double b, double c) {
+    return std::sqrt(std::max(0.0, b * b + c * c - 2.0 * b * c * std::cos(alpha)));
+  };
+  int checked = 0;
+  for (const double scale : {1.0, 0x1p-300, 0x1p300}) {
+    for (const double alpha : {1e-9, 1e-3, 0.5, 1.5707963267948966, 2.5, 3.14159}) {
+      for (const double ratio : {1.0, 3.0, 1e6}) {
+        const double b = scale, c = scale * ratio, a = scale * side_a(alpha, 1.0, ratio);
+        double y = -1.0, x = 0.0;
+        opposite_angle_args(a, b, c, &y, &x);
+        EXPECT_GE(y, 0.0);
+        const double direct = opposite_angle(a, b, c), via = std::atan2(y, x);
+        EXPECT_EQ(std::memcmp(&direct, &via, sizeof direct), 0) << alpha << " " << ratio;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 54);
+  for (const double d : {1e-7, 1e-4, 1e-2}) {
+    for (const double sign : {-1.0, 1.0}) {
+      const double a1 = 1.2, a2 = kPi - 1.2 + sign * d;  // sum π + sign·d
+      double y1 = 0.0, x1 = 0.0, y2 = 0.0, x2 = 0.0;
+      opposite_angle_args(side_a(a1, 1.0, 0.7), 1.0, 0.7, &y1, &x1);
+      opposite_angle_args(side_a(a2, 0.9, 1.3), 0.9, 1.3, &y2, &x2);
+      const double cross = y1 * x2 + x1 * y2;  // ∝ sin(α1 + α2): negative above π
+      const bool below_zero = cross < 0.0;
+      EXPECT_EQ(below_zero, sign > 0.0) << d;
+    }
+  }
 }
 
 }  // namespace
