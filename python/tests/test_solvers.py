@@ -217,12 +217,12 @@ def flat_distance_error(n, refine):
     return (abs(d - exact)[far] / exact[far]).max()
 
 
-def test_flat_distance_converges_to_euclidean():
-    plain = [flat_distance_error(n, False) for n in (41, 81)]
-    refined = [flat_distance_error(n, True) for n in (21, 41)]
-    assert max(plain) < 0.05 and plain[1] < plain[0]
-    assert max(refined) < 0.05 and refined[1] < refined[0]
-    assert refined[1] < plain[0]  # the accurate mode is more accurate at the same n
+def test_flat_distance_is_euclidean():
+    # On a plane the straight-line lower bound of the path bounds (docs/decisions.md D-141) is
+    # the exact distance, and the heat method underestimates it there: the bound decides, to rounding,
+    # plain and refined (the heat method's own convergence is tested unclamped in C++).
+    errors = [flat_distance_error(n, r) for n, r in ((21, False), (41, False), (21, True))]
+    assert max(errors) < 1e-12, errors
 
 
 def test_sphere_eigenvalues():

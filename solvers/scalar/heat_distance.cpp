@@ -571,7 +571,16 @@ Eigen::VectorXd HeatDistanceSolver::compute_distance_from_points(
   for (const WeightedPoint& p : pts) {
     for (int i = 0; i < p.n; ++i) seeds.push_back({p.vertex[i], p.corner_distance[i]});
   }
-  im.clamp(d, seeds, {});
+  // the straight-line lower bound needs every source at a vertex (a point at a face's corner is
+  // that vertex: the same distances as the vertex source)
+  std::vector<Index> at_vertices;
+  for (const SurfacePoint& sp : sources) {
+    for (int i = 0; i < 3; ++i) {
+      if (sp.bary[i] == 1.0) at_vertices.push_back(im.tri.tail(3 * sp.face + i));
+    }
+  }
+  if (at_vertices.size() != sources.size()) at_vertices.clear();
+  im.clamp(d, seeds, at_vertices);
   return d;
 }
 
