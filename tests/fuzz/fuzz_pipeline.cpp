@@ -79,7 +79,10 @@ Reader sniff_reader(const std::string& bytes, const char** path) {
   for (const char* keyword : {"v", "vn", "vt", "f", "o", "g", "s", "l", "usemtl", "mtllib"}) {
     if (t == keyword) {
       *path = "fuzz.obj";
-      return ifem::io::detail::read_obj;
+      // a captureless lambda: read_obj's progress argument has a default a pointer would drop
+      return [](const std::string& p, const std::string& bytes) {
+        return ifem::io::detail::read_obj(p, bytes);
+      };
     }
   }
   *path = "fuzz.xyz";
