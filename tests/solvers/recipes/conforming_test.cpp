@@ -15,6 +15,7 @@
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "solvers/recipes/curves.h"
+#include "solvers/test_util.h"
 
 namespace ifem {
 namespace {
@@ -227,10 +228,7 @@ TEST(Conforming, CurvesMeetingAtSmallAngles) {
 // classification then read past the end of its array (a heap overflow under AddressSanitizer;
 // refinement now checks that every vertex has one). Both curves keep their data's range.
 TEST(Conforming, CurvesSharingAVertexOnAJitteredGrid) {
-  const intrinsic::TriangleMesh m = intrinsic::grid(6, 6);
-  io::SurfaceInput in;
-  in.positions = m.positions;
-  in.triangles = m.faces;
+  io::SurfaceInput in = test::as_input(intrinsic::grid(6, 6));
   for (Index v = 0; v < in.positions.rows(); ++v) {
     const int i = v % 7, j = v / 7;
     if (i > 0 && i < 6 && j > 0 && j < 6) in.positions(v, 0) += 0.03 * std::sin(3.0 * v);

@@ -16,6 +16,7 @@
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/refine/signpost.h"
 #include "solvers/recipes/render.h"
+#include "solvers/test_util.h"
 
 namespace ifem::recipes {
 namespace {
@@ -55,17 +56,11 @@ double distance_to_mesh(const Vec& p, const intrinsic::TriangleMesh& m) {
   return best;
 }
 
-io::SurfaceInput input_of(const intrinsic::TriangleMesh& m) {
-  io::SurfaceInput in;
-  in.positions = m.positions;
-  in.triangles = m.faces;
-  return in;
-}
 
 // Every intrinsic edge is one polyline from its tail to its head, every point on the input.
 void expect_traced_edges(const intrinsic::TriangleMesh& m,
                          const intrinsic::SignpostTriangulation& st) {
-  Scene scene = view_scene(input_of(m), "t");
+  Scene scene = view_scene(test::as_input(m), "t");
   add_intrinsic_edges(scene, st);
   const auto& tri = st.intrinsic();
   ASSERT_EQ(scene.intrinsic_edges.size(), std::size_t(tri.n_edges()));
@@ -132,7 +127,7 @@ long blue_pixels(const Scene& scene) {
 
 TEST(ViewScene, RenderDrawsTheIntrinsicEdgesThePageShows) {
   const intrinsic::TriangleMesh m = sheared_grid(8);
-  Scene scene = view_scene(input_of(m), "t");
+  Scene scene = view_scene(test::as_input(m), "t");
   EXPECT_EQ(blue_pixels(scene), 0);  // a grey surface on white: nothing blue
   intrinsic::SignpostTriangulation st(m.faces, m.positions);
   ASSERT_GT(st.flip_to_delaunay().flips, 0u);
@@ -152,7 +147,7 @@ TEST(ViewScene, RenderDrawsTheIntrinsicEdgesThePageShows) {
 
 TEST(ViewScene, RenderSceneTakesTheNamedFieldCurvesAndGlyphs) {
   const intrinsic::TriangleMesh m = intrinsic::icosphere(1);
-  Scene scene = view_scene(input_of(m), "t");
+  Scene scene = view_scene(test::as_input(m), "t");
   EXPECT_EQ(render_scene_of(scene).field.size(), 0);  // no field: a grey surface
   add_field(scene, {"x", "", m.positions.col(0)});
   add_field(scene, {"y", "", m.positions.col(1)});
@@ -179,7 +174,7 @@ TEST(ViewScene, RenderSceneTakesTheNamedFieldCurvesAndGlyphs) {
 
 TEST(ViewScene, IntrinsicEdgesOfAnotherMeshAreRefused) {
   const intrinsic::TriangleMesh m = intrinsic::uv_sphere(6, 12), other = intrinsic::icosphere(2);
-  Scene scene = view_scene(input_of(m), "t");
+  Scene scene = view_scene(test::as_input(m), "t");
   EXPECT_THROW(
       add_intrinsic_edges(scene, intrinsic::SignpostTriangulation(other.faces, other.positions)),
       InvalidInput);
@@ -203,7 +198,7 @@ TEST(ViewScene, GlyphsOfAnNDirectionField) {
   }
   sing[0] = 0.25, sing[7] = -0.25;
   for (const int symmetry : {1, 2, 4}) {
-    Scene s = view_scene(input_of(m), "t");
+    Scene s = view_scene(test::as_input(m), "t");
     add_properties(s, {{"fx", fx}, {"fy", fy}, {"fz", fz}, {"singularity", sing}}, "", symmetry);
     ASSERT_EQ(s.glyph_segments.rows(), 2 * symmetry * n);
     ASSERT_EQ(s.singularities.size(), 2u);
@@ -223,7 +218,7 @@ TEST(ViewScene, GlyphsOfAnNDirectionField) {
       }
     }
   }
-  Scene s = view_scene(input_of(m), "t");
+  Scene s = view_scene(test::as_input(m), "t");
   EXPECT_THROW(add_properties(s, {{"fx", fx}}, "", 7), InvalidInput);
   EXPECT_THROW(add_properties(s, {{"short", Eigen::VectorXd::Zero(n - 1)}}), InvalidInput);
   add_field(s, {"a", "", fx});
@@ -274,7 +269,7 @@ TEST_F(ViewFiles, PageHasEveryPartInlinedAndEscaped) {
   EXPECT_THROW(find_three_js((dir_ / "none").string()), IoError);
 
   const intrinsic::TriangleMesh m = intrinsic::icosphere(1);
-  Scene s = view_scene(input_of(m), "a </script> & <b>");
+  Scene s = view_scene(test::as_input(m), "a </script> & <b>");
   add_field(s, {"h</script>", "m", Eigen::VectorXd::LinSpaced(m.positions.rows(), -1.0, 1.0)});
   add_polylines(s, "c", {{Vec(0, 0, 1), Vec(1, 0, 0)}, {Vec(0, 0, 1)}});
   ASSERT_EQ(s.curves[0].lines.size(), 1u);  // the one-point polyline is dropped
