@@ -56,7 +56,6 @@ double distance_to_mesh(const Vec& p, const intrinsic::TriangleMesh& m) {
   return best;
 }
 
-
 // Every intrinsic edge is one polyline from its tail to its head, every point on the input.
 void expect_traced_edges(const intrinsic::TriangleMesh& m,
                          const intrinsic::SignpostTriangulation& st) {
