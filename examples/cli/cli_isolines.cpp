@@ -213,7 +213,7 @@ Command isolines_command() {
             .with_extensions({".obj", ".ply"})
             .explain("OUT.obj: 'v' and 'l' lines, a loop's 'l' line ends at its first\n"
                      "point (ifem view --curves shows it); OUT.ply: a line set (vertex\n"
-                     "and edge elements)"),
+                     "and edge elements; a loop repeats its first point)"),
         text("property", "NAME")
             .explain("the per-vertex property of FIELD.ply (default: its only one)"),
         text("values", "C1,C2,...").explain("the levels, each within the field's range"),

@@ -4,6 +4,7 @@
 
 #include "intrinsic/io/detail.h"
 #include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/common_subdivision.h"
 
 namespace ifem::cli {
 
@@ -39,42 +40,12 @@ void write_polylines_obj(const std::string& path, const std::vector<Polyline>& l
   io::detail::write_file_atomically(path, polylines_obj(lines, closed, title));
 }
 
-std::string polylines_ply(const std::vector<Polyline>& lines, const std::vector<char>& closed,
-                          const std::string& title) {
-  std::string vertices, edges;
-  std::size_t n_vertices = 0, n_edges = 0;
-  for (std::size_t c = 0; c < lines.size(); ++c) {
-    const Polyline& p = lines[c];
-    if (p.size() < 2) continue;
-    const bool loop = c < closed.size() && closed[c];
-    const std::size_t n = p.size() - (loop ? 1 : 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      for (int d = 0; d < 3; ++d) {
-        if (d > 0) vertices += ' ';
-        io::detail::append_double(vertices, p[i][d]);
-      }
-      vertices += '\n';
-      if (i + 1 < n || loop) {
-        const std::size_t next = i + 1 < n ? i + 1 : 0;
-        edges += std::to_string(n_vertices + i) + ' ' + std::to_string(n_vertices + next) + '\n';
-        ++n_edges;
-      }
-    }
-    n_vertices += n;
-  }
-  return "ply\nformat ascii 1.0\ncomment " + title + "\nelement vertex " +
-         std::to_string(n_vertices) +
-         "\nproperty double x\nproperty double y\nproperty double z\nelement edge " +
-         std::to_string(n_edges) + "\nproperty int vertex1\nproperty int vertex2\nend_header\n" +
-         vertices + edges;
-}
-
 void write_polylines(const std::string& path, const std::vector<Polyline>& lines,
                      const std::vector<char>& closed, const std::string& title) {
   const std::string ext = io::file_extension(path);
   if (ext == ".obj") return write_polylines_obj(path, lines, closed, title);
   if (ext != ".ply") throw std::logic_error("write_polylines: " + path + " is not .obj or .ply");
-  io::detail::write_file_atomically(path, polylines_ply(lines, closed, title));
+  intrinsic::write_polylines_ply(path, lines, false, title);
 }
 
 }  // namespace ifem::cli
