@@ -64,9 +64,10 @@ py::dict isolines(const py::handle& V, const py::handle& F, const py::handle& f,
   }
   std::size_t n = 0;
   for (const auto& l : lines) n += l.points.size();
-  Positions points(Eigen::Index(n), 3);
-  Eigen::MatrixXd bary(Eigen::Index(n), 3);
-  Eigen::VectorXd param(Eigen::Index(n)), line_value(Eigen::Index(lines.size()));
+  Positions points = Positions::Zero(Eigen::Index(n), 3);
+  Eigen::MatrixXd bary = Eigen::MatrixXd::Zero(Eigen::Index(n), 3);
+  Eigen::VectorXd param = Eigen::VectorXd::Zero(Eigen::Index(n));
+  Eigen::VectorXd line_value = Eigen::VectorXd::Zero(Eigen::Index(lines.size()));
   std::vector<Index> faces, below, above, offsets{0}, level;
   std::vector<bool> closed;
   Eigen::Index r = 0;
