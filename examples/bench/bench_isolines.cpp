@@ -25,9 +25,10 @@ int isolines(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--levels")) levels = std::atoi(argv[i + 1]);
   }
   print_load_average();
-  std::printf("isolines of a heat distance from vertex 0 (%d levels) vs that heat query, "
-              "interleaved, median (min) of %d\n",
-              levels, repeat);
+  std::printf(
+      "isolines of a heat distance from vertex 0 (%d levels) vs that heat query, "
+      "interleaved, median (min) of %d\n",
+      levels, repeat);
   for (int n : {23, 71, 224}) {
     if (n > max_n) break;
     const intrinsic::TriangleMesh m = intrinsic::icosphere(n);
@@ -37,19 +38,20 @@ int isolines(int argc, char** argv) {
     const Eigen::VectorXd d = solver.compute_distance({0});
     const std::vector<double> c = recipes::isoline_levels(d, levels);
     std::size_t pieces = 0, points = 0;
-    const InterleavedTimes t = time_interleaved(
-        repeat, {[&] { solver.compute_distance({0}); },
-                 [&] {
-                   const auto lines = recipes::isolines(m.positions, m.faces, d, c);
-                   pieces = lines.size();
-                   points = 0;
-                   for (const auto& l : lines) points += l.points.size();
-                 }});
+    const InterleavedTimes t = time_interleaved(repeat, {[&] { solver.compute_distance({0}); },
+                                                         [&] {
+                                                           const auto lines = recipes::isolines(
+                                                               m.positions, m.faces, d, c);
+                                                           pieces = lines.size();
+                                                           points = 0;
+                                                           for (const auto& l : lines)
+                                                             points += l.points.size();
+                                                         }});
     std::printf(
         "icosphere(%d), %zu faces: heat query %.4f s (%.4f), isolines %.4f s (%.4f): %.3f× the "
         "query (min: %.3f×); %zu pieces, %zu points\n",
-        n, m.faces.size(), t.median[0], t.min[0], t.median[1], t.min[1],
-        t.median[1] / t.median[0], t.min[1] / t.min[0], pieces, points);
+        n, m.faces.size(), t.median[0], t.min[0], t.median[1], t.min[1], t.median[1] / t.median[0],
+        t.min[1] / t.min[0], pieces, points);
   }
   return 0;
 }

@@ -95,8 +95,8 @@ int run(const Args& args) {
   if (args.has("values") == args.has("count")) {
     throw UsageError("give exactly one of --values c1,c2,... and --count N (see --help)");
   }
-  const std::vector<double> given = args.has("values") ? parse_values(args.get("values"))
-                                                       : std::vector<double>{};
+  const std::vector<double> given =
+      args.has("values") ? parse_values(args.get("values")) : std::vector<double>{};
   const io::SurfaceInput input = read_input(args.positional()[0], args);
   check_faces(input, args.positional()[0]);
   const Eigen::VectorXd f = read_field(args, Index(input.positions.rows()));
@@ -165,7 +165,8 @@ std::vector<OptionSpec> isoline_options(const std::string& field) {
 
 void check_isoline_options(const Args& args) {
   if (args.has("isolines") != args.has("isolines-out")) {
-    throw UsageError("--isolines N and --isolines-out FILE go together (the levels and their file)");
+    throw UsageError(
+        "--isolines N and --isolines-out FILE go together (the levels and their file)");
   }
 }
 
@@ -176,8 +177,8 @@ std::optional<IsolineOutput> isolines_if_asked(const Args& args, const io::Surfa
   const Eigen::VectorXd fi = f.head(input.positions.rows());
   const std::vector<double> levels = recipes::isoline_levels(fi, args.count("isolines"));
   return make_output(args.get("isolines-out"),
-                     recipes::isolines(input.positions, input.triangles, fi, levels),
-                     levels.size(), "ifem isolines of " + name);
+                     recipes::isolines(input.positions, input.triangles, fi, levels), levels.size(),
+                     "ifem isolines of " + name);
 }
 
 void write_isolines(const IsolineOutput& out) {

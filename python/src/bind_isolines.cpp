@@ -21,7 +21,8 @@ using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 // A 1-D real array (non-finite values kept: the recipe decides what they mean).
 Eigen::VectorXd reals_from(const py::handle& h, const char* name) {
-  if (h.is_none()) throw InvalidInput(std::string(name) + " must be a 1-D array of numbers, got None");
+  if (h.is_none())
+    throw InvalidInput(std::string(name) + " must be a 1-D array of numbers, got None");
   const Doubles a = Doubles::ensure(h);
   if (!a) {
     PyErr_Clear();

@@ -119,8 +119,7 @@ solvers::PreparedSurface prepare_checked(io::SurfaceInput in, const SurfaceArgs&
 
 solvers::DistanceOptions distance_settings(std::optional<double> time_factor,
                                            std::optional<int> correction_steps,
-                                           const std::string& precision,
-                                           bool path_bounds = true) {
+                                           const std::string& precision, bool path_bounds = true) {
   using Precision = solvers::HeatDistanceOptions::Precision;
   if (precision != "mixed" && precision != "double") {
     throw InvalidInput("precision must be 'mixed' or 'double', got '" + precision + "'");
@@ -438,8 +437,8 @@ void bind_solvers(py::module_& m) {
          const std::string& precision, const py::handle& normals, const py::handle& progress,
          bool path_bounds) {
         return heat_distance(V, F, sources, t, c,
-                             surface_args(mollify, path, knn, normals, progress), refine,
-                             precision, path_bounds);
+                             surface_args(mollify, path, knn, normals, progress), refine, precision,
+                             path_bounds);
       },
       py::arg("V"), py::arg("F"), py::arg("sources"), py::arg("time_factor"),
       py::arg("correction_steps"), py::arg("mollify"), py::arg("path"), py::arg("knn"),

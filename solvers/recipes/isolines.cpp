@@ -180,9 +180,9 @@ class Chainer {
 };
 
 // The polylines of one level from its cut triangles (ascending).
-void level_isolines(const Positions& x, const std::vector<Triangle>& tris,
-                    const Eigen::VectorXd& f, double c, Index level,
-                    const std::vector<Index>& cut_triangles, std::vector<Isoline>& out) {
+void level_isolines(const Positions& x, const std::vector<Triangle>& tris, const Eigen::VectorXd& f,
+                    double c, Index level, const std::vector<Index>& cut_triangles,
+                    std::vector<Isoline>& out) {
   LevelCut cut(x, tris, f, c);
   for (Index t : cut_triangles) cut.cut(t);
   auto& segments = cut.segments();
@@ -221,16 +221,15 @@ std::vector<Isoline> isolines(const Positions& positions, const std::vector<Tria
   const auto [lo, hi] = finite_range(f);
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i]) || values[i] < lo || values[i] > hi) {
-      throw InvalidInput("isolines: value " + number(values[i]) + " is outside the field's range [" +
-                         number(lo) + ", " + number(hi) + "]");
+      throw InvalidInput("isolines: value " + number(values[i]) +
+                         " is outside the field's range [" + number(lo) + ", " + number(hi) + "]");
     }
   }
   // the levels in ascending order: a triangle is cut by those in (min f, max f]
   std::vector<Index> order(values.size());
   std::iota(order.begin(), order.end(), Index(0));
-  std::sort(order.begin(), order.end(), [&](Index a, Index b) {
-    return values[std::size_t(a)] < values[std::size_t(b)];
-  });
+  std::sort(order.begin(), order.end(),
+            [&](Index a, Index b) { return values[std::size_t(a)] < values[std::size_t(b)]; });
   std::vector<double> sorted(values.size());
   for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = values[std::size_t(order[i])];
   std::vector<std::vector<Index>> cut(values.size());

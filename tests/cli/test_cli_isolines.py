@@ -167,8 +167,8 @@ def test_isolines_bad_input(cli):
     cli.fails_no_partial(r"'x' is not a finite number", out, "isolines", cli.spot, "d.ply",
                          "--values", "0.1,x", "-o", out, rc=2)
     cli.fails_no_partial(r"--isolines N and --isolines-out FILE go together", out, "distance",
-                         cli.spot, "--source", "0", "--isolines", "3", "-o", out.with_suffix(".ply"),
-                         rc=2)
+                         cli.spot, "--source", "0", "--isolines", "3", "-o",
+                         out.with_suffix(".ply"), rc=2)
     (cli.out / "pts.xyz").write_text("0 0 0\n1 0 0\n0 1 0\n1 1 1\n")
     write_values(cli.out / "four.txt", [0.0, 1.0, 2.0, 3.0])
     cli.fails_no_partial(r"need a mesh with faces", out, "isolines", "pts.xyz", "four.txt",

@@ -32,8 +32,8 @@ TriangleMesh standing_torus(int nu, int nv, double R, double r) {
   }
   for (int i = 0; i < nu; ++i) {
     for (int j = 0; j < nv; ++j) {
-      const Index a = i * nv + j, b = ((i + 1) % nu) * nv + j, c = ((i + 1) % nu) * nv + (j + 1) % nv,
-                  d = i * nv + (j + 1) % nv;
+      const Index a = i * nv + j, b = ((i + 1) % nu) * nv + j,
+                  c = ((i + 1) % nu) * nv + (j + 1) % nv, d = i * nv + (j + 1) % nv;
       m.faces.push_back({a, b, c});
       m.faces.push_back({a, c, d});
     }
@@ -58,8 +58,8 @@ void expect_on_level(const TriangleMesh& m, const Eigen::VectorXd& f, const Isol
       EXPECT_GT(f[p.above], c);
     }
     EXPECT_NEAR((1 - p.t) * f[p.below] + p.t * f[p.above], c, 1e-12);
-    const Eigen::Vector3d x =
-        (1 - p.t) * m.positions.row(p.below).transpose() + p.t * m.positions.row(p.above).transpose();
+    const Eigen::Vector3d x = (1 - p.t) * m.positions.row(p.below).transpose() +
+                              p.t * m.positions.row(p.above).transpose();
     EXPECT_LT((x - p.position).norm(), 1e-14);
     ASSERT_GE(p.face, 0);
     Eigen::Vector3d y = Eigen::Vector3d::Zero();
