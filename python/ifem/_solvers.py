@@ -322,7 +322,7 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
 
     ``path_bounds``: True (default) clamps every value into bounds the exact distance
     satisfies; False returns the heat method's values as solved (the CLI's
-    ``--no-path-bounds``); see :class:`HeatDistanceSolver`. Sources and points only.
+    ``--no-path-bounds``); see :class:`HeatDistanceSolver`.
 
     Returns:
         #V_in float64 array of distances (``inf`` where no source reaches).
@@ -336,7 +336,8 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
         return curve_distance(V, F, curves, refine, time_factor=time_factor,
                               correction_steps=correction_steps, min_angle=min_angle,
                               resolution=resolution, max_area=max_area,
-                              max_insertions=max_insertions, mollify=mollify)
+                              max_insertions=max_insertions, mollify=mollify,
+                              path_bounds=path_bounds)
     refine_arg = _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4)
     t = _optional(time_factor, "time_factor", _real)
     c = _optional(correction_steps, "correction_steps", _int)

@@ -116,3 +116,12 @@ def test_distance_path_bounds_switch():
     assert ifem.HeatDistanceSolver(V, F).info["path_bounds"] is True
     with pytest.raises(ifem.InvalidInput, match="path_bounds must be True or False"):
         ifem.distance(V, F, 0, path_bounds="no")
+
+
+def test_curve_distance_path_bounds_switch():
+    V, F = flat_grid(12, jitter=0.35)
+    loop = ifem.Curve([14, 20, 98, 92], closed=True)
+    on = ifem.distance(V, F, curves=[loop])
+    off = ifem.distance(V, F, curves=[loop], path_bounds=False)
+    assert np.all(on <= off + 1e-12)  # the clamp here is the upper bound only
+    assert np.any(on < off - 1e-9)
