@@ -169,6 +169,10 @@ def test_isolines_bad_input(cli):
     cli.fails_no_partial(r"--isolines N and --isolines-out FILE go together", out, "distance",
                          cli.spot, "--source", "0", "--isolines", "3", "-o",
                          out.with_suffix(".ply"), rc=2)
+    (cli.out / "one.txt").write_text("0\n")
+    cli.fails_no_partial(r"--isolines: one field only", out, "distance", cli.spot,
+                         "--sources-batch", "one.txt", "--isolines", "3", "--isolines-out", out,
+                         "-o", "d.npy", rc=2)
     (cli.out / "pts.xyz").write_text("0 0 0\n1 0 0\n0 1 0\n1 1 1\n")
     write_values(cli.out / "four.txt", [0.0, 1.0, 2.0, 3.0])
     cli.fails_no_partial(r"need a mesh with faces", out, "isolines", "pts.xyz", "four.txt",
