@@ -262,7 +262,9 @@ Command distance_command() {
       "\nexamples: ifem distance bunny.obj --source 0 -o bunny_dist.ply\n"
       "          ifem distance part.obj --source 0 --refine -o part_dist.ply\n"
       "          ifem distance bunny.obj --sources-batch landmarks.txt -o D.npy\n"
-      "          ifem distance bunny.obj --curves curves.txt --curves-out c.obj -o d.ply\n";
+      "          ifem distance bunny.obj --curves curves.txt --curves-out c.obj -o d.ply\n"
+      "          ifem distance bunny.obj --source 0 --isolines 10 --isolines-out iso.obj -o "
+      "d.ply\n";
   c.run = run;
   return c;
 }

@@ -29,9 +29,9 @@ struct IsolinePoint {
   /// The position is (1 − t)·V[below] + t·V[above], t = (c − f(below)) / (f(above) − f(below))
   /// in [0, 1] (0 at a vertex point); f interpolated there equals c up to rounding.
   double t = 0.0;
-  /// As a surface point: the first triangle (lowest row of F) holding the edge (or vertex), and
-  /// the barycentric coordinates of the point for that row's corners F(face, 0..2) (≥ 0, sum 1,
-  /// at most two nonzero).
+  /// As a surface point: a triangle holding the edge (or vertex), the first in F's order among
+  /// those the level cuts, and the barycentric coordinates of the point for that row's corners
+  /// F(face, 0..2) (≥ 0, sum 1, at most two nonzero).
   Index face = kInvalidIndex;
   Eigen::Vector3d bary = Eigen::Vector3d::Zero();
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< in V's unit
