@@ -51,10 +51,10 @@ struct Isoline {
 };
 
 /// The isolines of f at each value, in the order of `values`; the pieces of one value in a fixed
-/// order (open ones first), the same for the same input. Triangles with a non-finite f at a corner
-/// are skipped (e.g. the inf of unreachable vertices in a distance). Degenerate triangles and any
-/// connectivity (boundary, nonmanifold, several components) are accepted. Cost: one pass over F
-/// plus the cut triangles.
+/// order (those through an end or branch point first, then the loops), the same for the same
+/// input. Triangles with a non-finite f at a corner are skipped (e.g. the inf of unreachable
+/// vertices in a distance). Degenerate triangles and any connectivity (boundary, nonmanifold,
+/// several components) are accepted. Cost: one pass over F plus the cut triangles.
 /// @param positions #V×3 (finite)
 /// @param triangles #F triangles of vertex ids in [0, #V)
 /// @param f #V values (finite or not)
