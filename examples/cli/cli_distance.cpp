@@ -10,6 +10,7 @@
 
 #include "cli.h"
 #include "cli_curves.h"
+#include "cli_isolines.h"
 #include "cli_refine.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
@@ -50,6 +51,7 @@ solvers::DistanceOptions distance_settings(const Args& args) {
   if (args.has("mixed-precision")) {
     settings.precision = solvers::HeatDistanceOptions::Precision::kMixed;
   }
+  settings.path_bounds = !args.has("no-path-bounds");
   settings.on_progress = progress_bar(args);
   return settings;
 }
@@ -103,7 +105,9 @@ int run_curves(const Args& args, const ResultOutput& out) {
   const Eigen::VectorXd d = solvers::curve_distance(run.surface, distance_settings(args), &rep);
   const double seconds = watch.seconds();
   run.polylines = curve_polylines_if_asked(args, run.surface);
+  const auto iso = isolines_if_asked(args, run.surface.surface.input, d, "distance");
   write_curve_outputs(args, out, run, {{"distance", d}});
+  if (iso) write_isolines(*iso);
   report(args, out, d, run.surface.n_input_vertices(), "", seconds, rep);
   print_curves_written(args, run);
   return 0;
@@ -115,6 +119,10 @@ int run(const Args& args) {
                               "the curves are the sources (--curves gives the "
                               "distance to the nearest curve)"},
                              {"sources-batch", "the curves are the sources"}});
+  check_isoline_options(args);
+  if (args.has("sources-batch") && args.has("isolines")) {
+    throw UsageError("--isolines: one field only (not with --sources-batch's columns)");
+  }
   if (args.has("sources-batch") && args.has("source")) {
     throw UsageError(
         "--sources-batch and --source cannot be used together: --source gives the "
@@ -147,7 +155,9 @@ int run(const Args& args) {
   solvers::HeatDistanceReport rep;
   const Eigen::VectorXd d = solvers::geodesic_distance(s, sources, settings, &rep);
   const double seconds = watch.seconds();
+  const auto iso = isolines_if_asked(args, s.input, d, "distance");
   write_results(out, s, {{"distance", d}});
+  if (iso) write_isolines(*iso);
   report(args, out, d, nv,
          "t = " + format_number(heat.time_factor) +
              "·h² (h = " + format_number(heat.mean_edge_length) + "), " +
@@ -167,7 +177,8 @@ const char* const kProse =
     "Meshes with boundary use the mean of the Neumann and Dirichlet heat solutions.\n"
     "Each value is then clamped into bounds the exact distance always satisfies: at\n"
     "least the straight-line distance to the nearest source, at most the shortest\n"
-    "path along edges and across flat diamonds (never less accurate; docs D-141).\n\n"
+    "path along edges and across flat diamonds (never less accurate; docs D-141;\n"
+    "--no-path-bounds skips it: faster for many sources, the method's raw values).\n\n"
     "Many sources, each on its own (--sources-batch FILE, instead of --source): a\n"
     "distance matrix, one column per source (landmarks, descriptors, embeddings).\n"
     "The solves of up to 32 sources go through the factors together, so a source\n"
@@ -216,6 +227,9 @@ OptionGroup distance_options() {
                     "query; distances move by at most ~3e-7 relative, far below the method's\n"
                     "~1% error). Pays only where the solves are memory-bound: not on the\n"
                     "machine of BENCHMARKS.md, \"Heat queries\""),
+       flag("no-path-bounds")
+           .explain("the heat method's values as solved, without the clamp into the\n"
+                    "bounds above (to see or measure the method's own error)"),
        flag("refine").explain(
            "the accurate mode: intrinsic Delaunay refinement first (25° and, by\n"
            "default, edges of about 0.4·h: ~10× the vertices), then t = m·ℓ² with\n"
@@ -228,6 +242,8 @@ OptionGroup distance_options() {
       "the distance to these curves instead of --source (only where they run\n"
       "counts; their values are ignored)");
   g.options.insert(g.options.end(), curves.begin(), curves.end());
+  const std::vector<OptionSpec> iso = isoline_options("distance");
+  g.options.insert(g.options.end(), iso.begin(), iso.end());
   return g;
 }
 
@@ -246,7 +262,9 @@ Command distance_command() {
       "\nexamples: ifem distance bunny.obj --source 0 -o bunny_dist.ply\n"
       "          ifem distance part.obj --source 0 --refine -o part_dist.ply\n"
       "          ifem distance bunny.obj --sources-batch landmarks.txt -o D.npy\n"
-      "          ifem distance bunny.obj --curves curves.txt --curves-out c.obj -o d.ply\n";
+      "          ifem distance bunny.obj --curves curves.txt --curves-out c.obj -o d.ply\n"
+      "          ifem distance bunny.obj --source 0 --isolines 10 --isolines-out iso.obj -o "
+      "d.ply\n";
   c.run = run;
   return c;
 }

@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "cli_curves.h"
+#include "cli_isolines.h"
 #include "cli_refine.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
@@ -78,7 +79,9 @@ int run_curves(const Args& args, const ResultOutput& out) {
                      std::to_string(r.slit_copies) +
                      " slit copies (vertices added by cutting slits open)");
   run.polylines = curve_polylines_if_asked(args, run.surface);
+  const auto iso = isolines_if_asked(args, run.surface.surface.input, r.u, "u");
   write_curve_outputs(args, out, run, {{"u", r.u}});
+  if (iso) write_isolines(*iso);
   std::printf("wrote %s: %d values, %zu curves, u in [%.6g, %.6g]\n", out.path.c_str(), nv,
               run.surface.curves.size(), nv > 0 ? r.u.minCoeff() : 0.0,
               nv > 0 ? r.u.maxCoeff() : 0.0);
@@ -89,6 +92,7 @@ int run_curves(const Args& args, const ResultOutput& out) {
 int run(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
   check_curve_options(args, {});
+  check_isoline_options(args);
   if (args.has("curves")) return run_curves(args, out);
   // refined (signposts needed): f is interpolated linearly onto the inserted vertices, which lie
   // on input faces; the Dirichlet vertices are input vertices, which keep their ids
@@ -101,7 +105,9 @@ int run(const Args& args) {
   const Stopwatch watch;
   const Eigen::VectorXd u = solvers::poisson(s, in.f, dv, in.g, opt);  // on the input's vertices
   progress(args, "solved in " + std::to_string(watch.seconds()) + " s");
+  const auto iso = isolines_if_asked(args, s.input, u, "u");
   write_results(out, s, {{"u", u}});
+  if (iso) write_isolines(*iso);
   std::printf("wrote %s: %d values, %zu Dirichlet vertices%s\n", out.path.c_str(), nv, dv.size(),
               dv.empty() && opt.screening == 0 ? " (none: zero-mean solution per component)" : "");
   return 0;
@@ -153,6 +159,8 @@ OptionGroup poisson_options() {
       "u = the curves' values on every vertex along them (Dirichlet data on\n"
       "curves; with --refine, on the vertices refinement puts on them too)");
   g.options.insert(g.options.end(), curves.begin(), curves.end());
+  const std::vector<OptionSpec> iso = isoline_options("u");
+  g.options.insert(g.options.end(), iso.begin(), iso.end());
   return g;
 }
 

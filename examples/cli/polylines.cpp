@@ -1,6 +1,10 @@
 #include "polylines.h"
 
+#include <stdexcept>
+
 #include "intrinsic/io/detail.h"
+#include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/common_subdivision.h"
 
 namespace ifem::cli {
 
@@ -34,6 +38,14 @@ std::string polylines_obj(const std::vector<Polyline>& lines, const std::vector<
 void write_polylines_obj(const std::string& path, const std::vector<Polyline>& lines,
                          const std::vector<char>& closed, const std::string& title) {
   io::detail::write_file_atomically(path, polylines_obj(lines, closed, title));
+}
+
+void write_polylines(const std::string& path, const std::vector<Polyline>& lines,
+                     const std::vector<char>& closed, const std::string& title) {
+  const std::string ext = io::file_extension(path);
+  if (ext == ".obj") return write_polylines_obj(path, lines, closed, title);
+  if (ext != ".ply") throw std::logic_error("write_polylines: " + path + " is not .obj or .ply");
+  intrinsic::write_polylines_ply(path, lines, false, title);
 }
 
 }  // namespace ifem::cli

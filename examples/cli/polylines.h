@@ -22,4 +22,12 @@ std::string polylines_obj(const std::vector<Polyline>& lines, const std::vector<
 void write_polylines_obj(const std::string& path, const std::vector<Polyline>& lines,
                          const std::vector<char>& closed, const std::string& title);
 
+/// Writes polylines_obj() (path ending in .obj, any case) or an ASCII PLY line set
+/// (intrinsic::write_polylines_ply: vertex and edge elements, a closed polyline's first point
+/// repeated at its end) to `path` atomically (path.tmp, then rename).
+/// @throws IoError if it cannot be written; std::logic_error on another extension (a bug: the
+///   extension is checked when the command starts)
+void write_polylines(const std::string& path, const std::vector<Polyline>& lines,
+                     const std::vector<char>& closed, const std::string& title);
+
 }  // namespace ifem::cli

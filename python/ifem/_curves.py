@@ -23,6 +23,7 @@ import numpy as np
 
 from . import _ifem
 from ._errors import InvalidInput
+from ._solvers import _path_bounds
 
 _MAX_ROUNDS = 16
 
@@ -383,7 +384,7 @@ def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=
 def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_steps=None,
                    min_angle=25.0, resolution=0.4, max_area=0.0, max_insertions=None,
                    conform=True, mollify=1e-5, max_iterations=None, accept_partial=False,
-                   return_polylines=False, return_info=False):
+                   return_polylines=False, return_info=False, path_bounds=True):
     """Geodesic distance to the nearest curve (heat method on the constrained triangulation).
 
     Every vertex on a curve is a source, so the distance is exactly 0 along the curves (not
@@ -408,6 +409,9 @@ def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_s
             ``--accept-partial``).
         return_polylines: also return the curves' polylines (as :func:`curve_poisson`).
         return_info: also return a dict (as :func:`curve_poisson`'s, plus ``stages``).
+        path_bounds: True (default): values clamped to at most the shortest path along edges
+            and across flat diamonds from the curves; False: the heat method's values as
+            solved (``--no-path-bounds``).
 
     Returns:
         ``d`` (#V float64; ``inf`` where no curve reaches), then the polylines and the info
@@ -421,7 +425,8 @@ def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_s
         V, F, specs, _refine(refine, min_angle, resolution, max_area, max_insertions, conform),
         None if time_factor is None else float(time_factor),
         None if correction_steps is None else int(correction_steps), float(mollify),
-        bool(return_polylines), _flipout_cap(max_iterations), bool(accept_partial))
+        bool(return_polylines), _flipout_cap(max_iterations), bool(accept_partial),
+        _path_bounds(path_bounds))
     return _results(d, lines, info, return_polylines, return_info)
 
 

@@ -164,6 +164,11 @@ class HeatDistanceSolver:
             relative (the heat factor stays double). Not faster on a machine where the solves
             are not memory-bound (``BENCHMARKS.md``, "Heat queries"); the CLI's
             ``--mixed-precision``.
+        path_bounds: True (default): every distance clamped into bounds the exact geodesic
+            distance satisfies (at most the shortest path along edges and across flat
+            diamonds, at least the straight line to the nearest vertex source), which never
+            makes a value less accurate. False: the heat method's values as solved (the CLI's
+            ``--no-path-bounds``; faster for many sources).
         progress: None (default: nothing is reported, nothing printed) or a callable
             ``progress(fraction, stage)``, called during the long stages with the fraction done
             (0 first, non-decreasing, exactly 1 last) and the stage's name (``"refine"`` here;
@@ -184,13 +189,13 @@ class HeatDistanceSolver:
     def __init__(self, V, F=None, refine=False, *, time_factor=None, correction_steps=None,
                  mollify=1e-5, path="auto", knn=30, min_angle=25.0, resolution=0.4,
                  max_area=0.0, max_insertions=None, precision="double", normals=None,
-                 progress=None):
+                 progress=None, path_bounds=True):
         V, F, normals = _input(V, F, normals)
         self._solver = _ifem.HeatDistanceSolver(
             V, _faces(F), _optional(time_factor, "time_factor", _real),
             _optional(correction_steps, "correction_steps", _int), *_surface(mollify, path, knn),
             _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4),
-            _precision(precision), normals, progress)
+            _precision(precision), normals, progress, _path_bounds(path_bounds))
 
     def compute_distance(self, sources=None, points=None):
         """Geodesic distance to the nearest source, on every input vertex.
@@ -290,10 +295,18 @@ def _precision(precision):
     return precision
 
 
+def _path_bounds(path_bounds):
+    """path_bounds as a bool (checked here: numpy bools pass, other values are refused)."""
+    if path_bounds is not True and path_bounds is not False and not isinstance(path_bounds,
+                                                                                np.bool_):
+        raise InvalidInput(f"path_bounds must be True or False, got {path_bounds!r}")
+    return bool(path_bounds)
+
+
 def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=None,
              correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
              resolution=0.4, max_area=0.0, max_insertions=None, precision="double",
-             normals=None, curves=None, progress=None):
+             normals=None, curves=None, progress=None, path_bounds=True):
     """Geodesic distance from vertices (or surface points) in one call, as ``ifem distance``
     (``heat_distance`` is its deprecated old name).
 
@@ -307,6 +320,10 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
     ``progress``: None or a callable ``progress(fraction, stage)``, told how refinement
     (``refine=True``: stage ``"refine"``) goes; ignored with ``curves``.
 
+    ``path_bounds``: True (default) clamps every value into bounds the exact distance
+    satisfies; False returns the heat method's values as solved (the CLI's
+    ``--no-path-bounds``); see :class:`HeatDistanceSolver`.
+
     Returns:
         #V_in float64 array of distances (``inf`` where no source reaches).
     """
@@ -319,7 +336,8 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
         return curve_distance(V, F, curves, refine, time_factor=time_factor,
                               correction_steps=correction_steps, min_angle=min_angle,
                               resolution=resolution, max_area=max_area,
-                              max_insertions=max_insertions, mollify=mollify)
+                              max_insertions=max_insertions, mollify=mollify,
+                              path_bounds=path_bounds)
     refine_arg = _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4)
     t = _optional(time_factor, "time_factor", _real)
     c = _optional(correction_steps, "correction_steps", _int)
@@ -330,10 +348,12 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
     if points is not None:
         faces, bary = _points(points)  # checked before the work
         solver = _ifem.HeatDistanceSolver(V, _faces(F), t, c, *surface, refine_arg,
-                                          _precision(precision), normals, progress)
+                                          _precision(precision), normals, progress,
+                                          _path_bounds(path_bounds))
         return solver.compute_distance_from_points(faces, bary)
     return _ifem.heat_distance(V, _faces(F), sources, t, c, *surface, refine_arg,
-                               _precision(precision), normals, progress)
+                               _precision(precision), normals, progress,
+                               _path_bounds(path_bounds))
 
 
 #: Deprecated: the old name of :func:`distance`.

@@ -280,7 +280,7 @@ py::tuple curve_poisson(const py::handle& V, const py::handle& F, const py::list
 py::tuple curve_distance(const py::handle& V, const py::handle& F, const py::list& specs,
                          const py::handle& refine, std::optional<double> time_factor,
                          std::optional<int> correction_steps, double mollify, bool want_polylines,
-                         Index max_iterations, bool accept_partial) {
+                         Index max_iterations, bool accept_partial, bool path_bounds) {
   if (time_factor && !(*time_factor > 0.0 && std::isfinite(*time_factor))) {
     throw InvalidInput("time_factor must be finite and > 0, got " + std::to_string(*time_factor));
   }
@@ -292,6 +292,7 @@ py::tuple curve_distance(const py::handle& V, const py::handle& F, const py::lis
   solvers::DistanceOptions settings;
   settings.time_factor = time_factor;
   settings.correction_steps = correction_steps;
+  settings.path_bounds = path_bounds;
   solvers::HeatDistanceReport report;
   Eigen::VectorXd d;
   {
@@ -327,7 +328,8 @@ void bind_curves(py::module_& m) {
         py::arg("max_iterations"), py::arg("accept_partial"));
   m.def("curve_distance", &curve_distance, py::arg("V"), py::arg("F"), py::arg("curves"),
         py::arg("refine"), py::arg("time_factor"), py::arg("correction_steps"), py::arg("mollify"),
-        py::arg("polylines"), py::arg("max_iterations"), py::arg("accept_partial"));
+        py::arg("polylines"), py::arg("max_iterations"), py::arg("accept_partial"),
+        py::arg("path_bounds") = true);
 }
 
 }  // namespace ifem::python

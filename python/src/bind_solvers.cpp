@@ -119,7 +119,7 @@ solvers::PreparedSurface prepare_checked(io::SurfaceInput in, const SurfaceArgs&
 
 solvers::DistanceOptions distance_settings(std::optional<double> time_factor,
                                            std::optional<int> correction_steps,
-                                           const std::string& precision) {
+                                           const std::string& precision, bool path_bounds = true) {
   using Precision = solvers::HeatDistanceOptions::Precision;
   if (precision != "mixed" && precision != "double") {
     throw InvalidInput("precision must be 'mixed' or 'double', got '" + precision + "'");
@@ -135,6 +135,7 @@ solvers::DistanceOptions distance_settings(std::optional<double> time_factor,
   o.time_factor = time_factor;
   o.correction_steps = correction_steps;
   o.precision = precision == "double" ? Precision::kDouble : Precision::kMixed;
+  o.path_bounds = path_bounds;
   return o;
 }
 
@@ -230,6 +231,7 @@ class DistanceSolver {
     d["correction_steps"] = options_.correction_steps;
     d["precision"] =
         options_.precision == solvers::HeatDistanceOptions::Precision::kDouble ? "double" : "mixed";
+    d["path_bounds"] = options_.path_bounds;
     d["time_step"] = solver_.time_step();
     d["step_length"] = options_.mean_edge_length;
     return d;
@@ -304,9 +306,10 @@ std::unique_ptr<DistanceSolver> make_distance_solver(const py::handle& V, const 
                                                      std::optional<double> time_factor,
                                                      std::optional<int> correction_steps,
                                                      const SurfaceArgs& a, const py::handle& refine,
-                                                     const std::string& precision) {
+                                                     const std::string& precision,
+                                                     bool path_bounds) {
   const solvers::DistanceOptions settings =
-      distance_settings(time_factor, correction_steps, precision);
+      distance_settings(time_factor, correction_steps, precision, path_bounds);
   std::optional<solvers::SurfaceRefineOptions> r =
       refine_settings(refine, solvers::RefinedDistanceOptions{}.resolution, false);
   solvers::PreparedSurface s = prepare_checked(checked_input(V, F, a), a, std::move(r));
@@ -320,9 +323,9 @@ std::unique_ptr<DistanceSolver> make_distance_solver(const py::handle& V, const 
 py::array heat_distance(const py::handle& V, const py::handle& F, const py::handle& sources,
                         std::optional<double> time_factor, std::optional<int> correction_steps,
                         const SurfaceArgs& a, const py::handle& refine,
-                        const std::string& precision) {
+                        const std::string& precision, bool path_bounds) {
   const solvers::DistanceOptions settings =
-      distance_settings(time_factor, correction_steps, precision);
+      distance_settings(time_factor, correction_steps, precision, path_bounds);
   std::optional<solvers::SurfaceRefineOptions> r =
       refine_settings(refine, solvers::RefinedDistanceOptions{}.resolution, false);
   io::SurfaceInput in = checked_input(V, F, a);
@@ -410,15 +413,15 @@ void bind_solvers(py::module_& m) {
       .def(py::init([](const py::handle& V, const py::handle& F, Opt t, Steps c, double mollify,
                        const std::string& path, int knn, const py::handle& refine,
                        const std::string& precision, const py::handle& normals,
-                       const py::handle& progress) {
+                       const py::handle& progress, bool path_bounds) {
              return make_distance_solver(V, F, t, c,
                                          surface_args(mollify, path, knn, normals, progress),
-                                         refine, precision);
+                                         refine, precision, path_bounds);
            }),
            py::arg("V"), py::arg("F"), py::arg("time_factor"), py::arg("correction_steps"),
            py::arg("mollify"), py::arg("path"), py::arg("knn"), py::arg("refine"),
            py::arg("precision") = "double", py::arg("normals") = py::none(),
-           py::arg("progress") = py::none())
+           py::arg("progress") = py::none(), py::arg("path_bounds") = true)
       .def("compute_distance", &DistanceSolver::distance, py::arg("sources"))
       .def("compute_distances", &DistanceSolver::distances, py::arg("sources"),
            py::arg("progress") = py::none())
@@ -431,15 +434,16 @@ void bind_solvers(py::module_& m) {
       "heat_distance",
       [](const py::handle& V, const py::handle& F, const py::handle& sources, Opt t, Steps c,
          double mollify, const std::string& path, int knn, const py::handle& refine,
-         const std::string& precision, const py::handle& normals, const py::handle& progress) {
+         const std::string& precision, const py::handle& normals, const py::handle& progress,
+         bool path_bounds) {
         return heat_distance(V, F, sources, t, c,
-                             surface_args(mollify, path, knn, normals, progress), refine,
-                             precision);
+                             surface_args(mollify, path, knn, normals, progress), refine, precision,
+                             path_bounds);
       },
       py::arg("V"), py::arg("F"), py::arg("sources"), py::arg("time_factor"),
       py::arg("correction_steps"), py::arg("mollify"), py::arg("path"), py::arg("knn"),
       py::arg("refine"), py::arg("precision") = "double", py::arg("normals") = py::none(),
-      py::arg("progress") = py::none());
+      py::arg("progress") = py::none(), py::arg("path_bounds") = true);
   m.def(
       "eigen",
       [](const py::handle& V, const py::handle& F, Index k, double mollify, const std::string& path,

@@ -16,7 +16,8 @@ from conftest import cli_path
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 README = ROOT / "README.md"
-CXX_HEADERS = [ROOT / "solvers" / "recipes" / "recipes.h", ROOT / "solvers" / "recipes" / "geodesic.h"]
+CXX_HEADERS = [ROOT / "solvers" / "recipes" / "recipes.h", ROOT / "solvers" / "recipes" / "geodesic.h",
+               ROOT / "solvers" / "recipes" / "isolines.h"]
 HEADER = ["operation", "CLI", "Python", "C++"]
 
 

@@ -155,6 +155,9 @@ struct DistanceOptions {
   std::optional<int> correction_steps;  ///< ≥ 0
   /// Precision of the factors the queries read (HeatDistanceOptions::precision; default kDouble)
   std::optional<HeatDistanceOptions::Precision> precision;
+  /// Clamp into the bounds every exact distance satisfies (HeatDistanceOptions::path_bounds);
+  /// false: the heat method's values as solved
+  bool path_bounds = true;
   /// Progress of geodesic_distances() (HeatDistanceSolver::compute_distances()); empty: none
   ProgressCallback on_progress;
   /// @throws InvalidInput naming the field and its allowed range
