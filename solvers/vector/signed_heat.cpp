@@ -1,0 +1,257 @@
+// The signed heat method (signed_heat.h).
+#include "solvers/vector/signed_heat.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <string>
+
+#include "fem/connection.h"
+#include "fem/frame_connection.h"
+#include "fem/operators.h"
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
+#include "solvers/linalg/cholesky.h"
+#include "solvers/scalar/components.h"
+#include "solvers/scalar/poisson.h"
+
+namespace ifem::solvers {
+namespace {
+
+using cd = std::complex<double>;
+
+// |Y| is resolved above this fraction of its component's largest value and above an absolute
+// floor clear of subnormals (as the vector heat method's transport).
+constexpr double kResolvedRelative = 1e-270;
+constexpr double kAbsoluteFloor = 1e-290;
+
+// Per edge (via tri.edge_halfedge(e), tail a → head b): the edge vector read at a and at b.
+struct EdgeVectors {
+  Eigen::VectorXcd at_tail, at_head;
+};
+
+EdgeVectors intrinsic_edge_vectors(const intrinsic::IntrinsicTriangulation& tri,
+                                   const fem::TangentFrames& frames) {
+  EdgeVectors ev{Eigen::VectorXcd(tri.n_edges()), Eigen::VectorXcd(tri.n_edges())};
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const Index h = tri.edge_halfedge(e);
+    const double l = tri.length(e);
+    ev.at_tail[e] = std::polar(l, frames.halfedge_angle[h]);
+    ev.at_head[e] = std::polar(l, frames.halfedge_angle[h]) * frames.transport[h];
+  }
+  return ev;
+}
+
+// The chord c in v's frame, scaled to length l (0 where c is normal to the tangent plane).
+cd in_frame(const TangentBasis3d& basis, Index v, const Eigen::Vector3d& c, double l) {
+  const cd z(c.dot(basis.e1.row(v)), c.dot(basis.e2.row(v)));
+  const double r = std::abs(z);
+  return r > 0.0 ? z * (l / r) : cd(0.0);
+}
+
+EdgeVectors frame_edge_vectors(const intrinsic::IntrinsicTriangulation& tri,
+                               const Positions& positions, const TangentBasis3d& basis) {
+  EdgeVectors ev{Eigen::VectorXcd(tri.n_edges()), Eigen::VectorXcd(tri.n_edges())};
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const Index h = tri.edge_halfedge(e);
+    const Index a = tri.tail(h), b = tri.head(h);
+    const Eigen::Vector3d c = (positions.row(b) - positions.row(a)).transpose();
+    ev.at_tail[e] = in_frame(basis, a, c, tri.length(e));
+    ev.at_head[e] = in_frame(basis, b, c, tri.length(e));
+  }
+  return ev;
+}
+
+void check_sources(const intrinsic::IntrinsicTriangulation& tri, const SignedHeatSources& s,
+                   const SignedHeatOptions& options) {
+  options.validate();
+  const Index nv = tri.n_vertices();
+  if (s.normals.size() != nv) {
+    throw InvalidInput("signed_heat_distance: " + std::to_string(s.normals.size()) +
+                       " normals for " + std::to_string(nv) + " vertices");
+  }
+  if (!s.normals.allFinite()) throw InvalidInput("signed_heat_distance: a normal is not finite");
+  if (s.normals.cwiseAbs().maxCoeff() == 0.0) {
+    throw InvalidInput("signed_heat_distance: no source (every normal is zero)");
+  }
+  if (s.zero_set.empty()) throw InvalidInput("signed_heat_distance: the zero set is empty");
+  std::vector<char> seen(nv, 0);
+  for (const Index v : s.zero_set) {
+    if (v < 0 || v >= nv || tri.vertex_halfedge(v) == kInvalidIndex) {
+      throw InvalidInput("signed_heat_distance: zero-set vertex " + std::to_string(v) +
+                         " is out of range or used by no face");
+    }
+    if (seen[v]++) {
+      throw InvalidInput("signed_heat_distance: zero-set vertex " + std::to_string(v) +
+                         " is repeated");
+    }
+  }
+  if (!s.zero_weights.empty() && s.zero_weights.size() != s.zero_set.size()) {
+    throw InvalidInput("signed_heat_distance: " + std::to_string(s.zero_weights.size()) +
+                       " zero-set weights for " + std::to_string(s.zero_set.size()) + " vertices");
+  }
+  for (const double w : s.zero_weights) {
+    if (!(w >= 0.0) || !std::isfinite(w)) {
+      throw InvalidInput("signed_heat_distance: a zero-set weight is negative or not finite");
+    }
+  }
+}
+
+// X = Y/|Y| where resolved, 0 elsewhere; counts the unresolved vertices of reached components.
+Eigen::VectorXcd unit_field(const Eigen::VectorXcd& y, const Components& comps,
+                            const std::vector<char>& reached, SignedHeatReport& rep) {
+  std::vector<double> largest(comps.count, 0.0);
+  for (Eigen::Index v = 0; v < y.size(); ++v) {
+    const Index c = comps.label[v];
+    if (c != kInvalidIndex) largest[c] = std::max(largest[c], std::abs(y[v]));
+  }
+  Eigen::VectorXcd x = Eigen::VectorXcd::Zero(y.size());
+  for (Eigen::Index v = 0; v < y.size(); ++v) {
+    const Index c = comps.label[v];
+    if (c == kInvalidIndex || !reached[c]) continue;
+    const double r = std::abs(y[v]);
+    if (r > std::max(kResolvedRelative * largest[c], kAbsoluteFloor) && std::isfinite(r)) {
+      x[v] = y[v] / r;
+    } else {
+      ++rep.unresolved_vertices;
+    }
+  }
+  return x;
+}
+
+// b = d₀ᵀ W α: the weak divergence whose Poisson solution fits ∇φ to X edge by edge.
+Eigen::VectorXd edge_divergence(const intrinsic::IntrinsicTriangulation& tri,
+                                const EdgeVectors& ev, const Eigen::VectorXcd& x) {
+  const Eigen::VectorXd w = intrinsic::cotan_weights(tri) / double(tri.multiplicity());
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(tri.n_vertices());
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const Index h = tri.edge_halfedge(e);
+    const Index a = tri.tail(h), bv = tri.head(h);
+    if (a == bv) continue;
+    const double alpha =
+        0.5 * (std::real(std::conj(ev.at_tail[e]) * x[a]) + std::real(std::conj(ev.at_head[e]) * x[bv]));
+    b[a] -= w[e] * alpha;
+    b[bv] += w[e] * alpha;
+  }
+  return b;
+}
+
+// The Poisson step and the level set; NaN on vertices of unreached components.
+Eigen::VectorXd recover(const intrinsic::IntrinsicTriangulation& tri, const Eigen::VectorXd& b,
+                        const SignedHeatSources& s, const SignedHeatOptions& options,
+                        const Components& comps, const std::vector<char>& reached) {
+  const Index nv = tri.n_vertices();
+  Eigen::VectorXd phi;
+  if (options.level_set == SignedLevelSet::kZeroSet) {
+    const PoissonSolver poisson(tri, s.zero_set);
+    phi = poisson.solve_weak(b, Eigen::VectorXd::Zero(Eigen::Index(s.zero_set.size())));
+  } else {
+    const PoissonSolver poisson(tri, {});
+    phi = poisson.solve_weak(b, Eigen::VectorXd());
+    std::vector<double> sum(comps.count, 0.0), weight(comps.count, 0.0);
+    for (std::size_t k = 0; k < s.zero_set.size(); ++k) {
+      const Index v = s.zero_set[k];
+      const double wk = s.zero_weights.empty() ? 1.0 : s.zero_weights[k];
+      sum[comps.label[v]] += wk * phi[v];
+      weight[comps.label[v]] += wk;
+    }
+    for (Index v = 0; v < nv; ++v) {
+      const Index c = comps.label[v];
+      if (c != kInvalidIndex && weight[c] > 0.0) phi[v] -= sum[c] / weight[c];
+    }
+  }
+  for (Index v = 0; v < nv; ++v) {
+    const Index c = comps.label[v];
+    if (c == kInvalidIndex || !reached[c]) phi[v] = std::numeric_limits<double>::quiet_NaN();
+  }
+  return phi;
+}
+
+Eigen::VectorXd run(const intrinsic::IntrinsicTriangulation& tri,
+                    const fem::ComplexSparseMatrix& connection, const EdgeVectors& ev,
+                    const SignedHeatSources& s, const SignedHeatOptions& options,
+                    SignedHeatReport* report) {
+  SignedHeatReport rep;
+  const Index nv = tri.n_vertices();
+  const double h =
+      options.mean_edge_length > 0.0 ? options.mean_edge_length : intrinsic::mean_edge_length(tri);
+  const double t = options.time_factor * h * h;
+  rep.time_step = t;
+  const Components comps = connected_components(tri);
+  // a component is reached when it holds a zero-set vertex and a nonzero normal
+  std::vector<char> has_zero(comps.count, 0), has_normal(comps.count, 0), reached(comps.count, 0);
+  for (const Index v : s.zero_set) has_zero[comps.label[v]] = 1;
+  for (Index v = 0; v < nv; ++v) {
+    if (comps.label[v] != kInvalidIndex && s.normals[v] != cd(0.0)) has_normal[comps.label[v]] = 1;
+  }
+  for (Index c = 0; c < comps.count; ++c) reached[c] = has_zero[c] && has_normal[c];
+  for (Index v = 0; v < nv; ++v) {
+    const Index c = comps.label[v];
+    if (c == kInvalidIndex || !reached[c]) ++rep.unreached_vertices;
+  }
+  const Eigen::VectorXd mass = fem::lumped_mass(tri);
+  fem::ComplexSparseMatrix a = connection * cd(t);
+  for (Index v = 0; v < nv; ++v) {
+    // unreferenced vertices: a unit diagonal keeps the matrix definite (their rows are empty)
+    a.coeffRef(v, v) += cd(mass[v] > 0.0 ? mass[v] : 1.0);
+  }
+  a.makeCompressed();
+  const ComplexCholeskySolver vector_heat(a);
+  const Eigen::VectorXcd y = vector_heat.solve(s.normals);
+  const Eigen::VectorXcd x = unit_field(y, comps, reached, rep);
+  Eigen::VectorXd phi = recover(tri, edge_divergence(tri, ev, x), s, options, comps, reached);
+  if (report) *report = rep;
+  return phi;
+}
+
+}  // namespace
+
+const char* to_string(SignedLevelSet level_set) {
+  return level_set == SignedLevelSet::kZeroSet ? "zero-set" : "mean";
+}
+
+SignedLevelSet signed_level_set_from(const std::string& name) {
+  if (name == "zero-set") return SignedLevelSet::kZeroSet;
+  if (name == "mean") return SignedLevelSet::kMean;
+  throw InvalidInput("'" + name + "': expected 'zero-set' or 'mean'");
+}
+
+void SignedHeatOptions::validate() const {
+  if (!(time_factor > 0.0) || !std::isfinite(time_factor)) {
+    throw InvalidInput("SignedHeatOptions: time_factor must be > 0 and finite, got " +
+                       std::to_string(time_factor));
+  }
+  if (!(mean_edge_length >= 0.0) || !std::isfinite(mean_edge_length)) {
+    throw InvalidInput("SignedHeatOptions: mean_edge_length must be ≥ 0 and finite, got " +
+                       std::to_string(mean_edge_length));
+  }
+}
+
+Eigen::VectorXd signed_heat_distance(const intrinsic::IntrinsicTriangulation& tri,
+                                     const SignedHeatSources& sources,
+                                     const SignedHeatOptions& options, SignedHeatReport* report) {
+  check_sources(tri, sources, options);
+  const fem::TangentFrames frames = fem::tangent_frames(tri);
+  return run(tri, fem::connection_laplacian(tri, frames), intrinsic_edge_vectors(tri, frames),
+             sources, options, report);
+}
+
+Eigen::VectorXd signed_heat_distance(const intrinsic::IntrinsicTriangulation& tri,
+                                     const Positions& positions, const TangentBasis3d& basis,
+                                     const SignedHeatSources& sources,
+                                     const SignedHeatOptions& options, SignedHeatReport* report) {
+  check_sources(tri, sources, options);
+  const Index nv = tri.n_vertices();
+  if (positions.rows() != nv || basis.normal.rows() != nv || basis.e1.rows() != nv ||
+      basis.e2.rows() != nv) {
+    throw InvalidInput("signed_heat_distance: positions (" + std::to_string(positions.rows()) +
+                       " rows) and frames (" + std::to_string(basis.normal.rows()) +
+                       ") must have one row per vertex (" + std::to_string(nv) + ")");
+  }
+  const fem::ComplexSparseMatrix connection = fem::connection_laplacian_from_frames(
+      fem::cotan_laplacian(tri), basis.normal, basis.e1, basis.e2);
+  return run(tri, connection, frame_edge_vectors(tri, positions, basis), sources, options, report);
+}
+
+}  // namespace ifem::solvers
