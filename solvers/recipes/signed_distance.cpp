@@ -25,11 +25,52 @@ SignedHeatOptions heat_options(const PreparedSurface& s, const SignedDistanceOpt
   return o;
 }
 
+// The curves on a copy of the constrained triangulation, each curve edge split into pieces of
+// at most `target` (a long curve edge leaves its normals at two far-apart vertices and slivers
+// beside it; with pieces of about h the diffusion sees the curve as the paper's source), then
+// flipped to the constrained Delaunay triangulation again. from[e]: the vertex curve edge e
+// starts at (the curve runs from[e] → the other end), kInvalidIndex on other edges.
+struct SplitCurves {
+  intrinsic::IntrinsicTriangulation tri;
+  std::vector<Index> from;
+};
+
+SplitCurves split_curves(const CurveSurface& s, double target) {
+  SplitCurves out{s.surface.tri, std::vector<Index>(s.surface.tri.n_edges(), kInvalidIndex)};
+  intrinsic::IntrinsicTriangulation& tri = out.tri;
+  std::vector<Index>& from = out.from;
+  std::vector<Index> curve_edges;
+  for (Index c = 0; c < s.network.n_curves(); ++c) {
+    const intrinsic::CurveChain ch = intrinsic::curve_chain(tri, s.network, c);
+    for (std::size_t i = 0; i < ch.edges.size(); ++i) {
+      from[ch.edges[i]] = ch.vertices[i];
+      curve_edges.push_back(ch.edges[i]);
+    }
+  }
+  for (const Index e : curve_edges) {
+    Index cur = e;
+    for (int p = int(std::ceil(tri.length(e) / target - 1e-9)); p >= 2; --p) {
+      if (!tri.can_split_edge(cur)) break;
+      const Index h = tri.edge_halfedge(cur);
+      const Index a = tri.tail(h), start = from[cur];
+      const Index ne = tri.n_edges();  // the new edge m–head(h)
+      const Index m = tri.split_edge(cur, 1.0 / p);
+      from.resize(std::size_t(tri.n_edges()), kInvalidIndex);
+      // cur is now a–m, ne is m–b: the curve runs a → m → b, or b → m → a
+      from[cur] = start == a ? a : m;
+      from[ne] = start == a ? m : start;
+      cur = ne;
+    }
+  }
+  tri.flip_to_delaunay([&](Index e) { return from[e] == kInvalidIndex && tri.flip_edge(e); });
+  return out;
+}
+
 // The curves' integrated normals (right-hand side of the direction of travel: the direction
 // turned by −π/2 in the counter-clockwise angular coordinates), their vertices and the length
 // each vertex stands for.
-SignedHeatSources curve_sources(const CurveSurface& s) {
-  const intrinsic::IntrinsicTriangulation& tri = s.surface.tri;
+SignedHeatSources curve_sources(const SplitCurves& c) {
+  const intrinsic::IntrinsicTriangulation& tri = c.tri;
   const fem::TangentFrames frames = fem::tangent_frames(tri);
   constexpr double kPi = intrinsic::kPi;
   SignedHeatSources src;
@@ -39,20 +80,19 @@ SignedHeatSources curve_sources(const CurveSurface& s) {
     src.normals[v] += std::polar(half_length, direction - 0.5 * kPi);
     share[v] = std::max(share[v], 0.0) + half_length;
   };
-  for (Index c = 0; c < s.network.n_curves(); ++c) {
-    const intrinsic::CurveChain ch = intrinsic::curve_chain(tri, s.network, c);
-    for (std::size_t i = 0; i < ch.edges.size(); ++i) {
-      const Index a = ch.vertices[i], b = ch.vertices[i + 1];  // the curve runs a → b
-      const double half = 0.5 * tri.length(ch.edges[i]);
-      const Index h = ch.left_halfedges[i];
-      if (h != kInvalidIndex) {  // h runs a → b (fem/connection.h: θ_h + arg r_h at head(h))
-        add(a, frames.halfedge_angle[h], half);
-        add(b, frames.halfedge_angle[h] + std::arg(frames.transport[h]), half);
-      } else {  // against a boundary side: its only halfedge runs b → a
-        const Index g = tri.edge_halfedge(ch.edges[i]);
-        add(a, frames.halfedge_angle[g] + std::arg(frames.transport[g]) + kPi, half);
-        add(b, frames.halfedge_angle[g] + kPi, half);
-      }
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    if (c.from[e] == kInvalidIndex) continue;
+    const Index g = tri.edge_halfedge(e);
+    const double half = 0.5 * tri.length(e);
+    // θ_g at tail(g) towards head(g); θ_g + arg r_g at head(g) pointing away from tail(g)
+    const double at_tail = frames.halfedge_angle[g];
+    const double at_head = at_tail + std::arg(frames.transport[g]);
+    if (tri.tail(g) == c.from[e]) {  // the curve runs along g
+      add(tri.tail(g), at_tail, half);
+      add(tri.head(g), at_head, half);
+    } else {  // against g: travelling head → tail
+      add(tri.head(g), at_head + kPi, half);
+      add(tri.tail(g), at_tail + kPi, half);
     }
   }
   for (Index v = 0; v < tri.n_vertices(); ++v) {
@@ -75,9 +115,11 @@ void SignedDistanceOptions::validate() const {
 
 Eigen::VectorXd signed_distance(const CurveSurface& s, const SignedDistanceOptions& options,
                                 SignedDistanceReport* report) {
-  const SignedHeatOptions o = heat_options(s.surface, options);
-  const SignedHeatSources src = curve_sources(s);
-  return on_input_vertices(s.surface, signed_heat_distance(s.surface.tri, src, o, report));
+  SignedHeatOptions o = heat_options(s.surface, options);
+  if (!(o.mean_edge_length > 0.0)) o.mean_edge_length = intrinsic::mean_edge_length(s.surface.tri);
+  const SplitCurves split = split_curves(s, o.mean_edge_length);
+  const Eigen::VectorXd d = signed_heat_distance(split.tri, curve_sources(split), o, report);
+  return d.head(s.n_input_vertices());
 }
 
 Eigen::VectorXd signed_distance(const PreparedSurface& s, const std::vector<InputDirection>& points,

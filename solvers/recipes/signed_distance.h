@@ -2,7 +2,9 @@
 // signed_heat.h) on the prepared surfaces of the other recipes, results on the input's vertices:
 //
 //   input mesh + curves  ──► prepare_curve_surface() (curves as constrained edges, curves.h)
-//                        ──► signed_distance(CurveSurface): normals of the curve edges, intrinsic
+//                        ──► signed_distance(CurveSurface): on a copy of its triangulation, curve
+//                            edges split into pieces of at most h (FlipOut leaves long ones) and
+//                            flipped to constrained Delaunay; normals of the pieces; intrinsic
 //                            path (an edge-manifold, orientable mesh)
 //   input (mesh, tufted cover, point cloud) + oriented points (an input vertex and a 3D normal)
 //                        ──► prepare_surface()  (pipeline.h)
@@ -38,7 +40,8 @@ using SignedDistanceReport = SignedHeatReport;
 
 /// Signed distance to the curves of s (every curve counts, its values and slits ignored), #V_in
 /// in the input's order: 0 on the curves' vertices (kZeroSet), the side by the convention above.
-/// Curves may be open, broken into pieces, or have gaps: the diffused normals fill in.
+/// Curves may be open, broken into pieces, or have gaps: the diffused normals fill in. h: the
+/// input's (distance_options(s.surface)), the split length and the heat step's.
 /// @throws InvalidInput on bad options; SolverError if a factorization fails
 Eigen::VectorXd signed_distance(const CurveSurface& s, const SignedDistanceOptions& options = {},
                                 SignedDistanceReport* report = nullptr);

@@ -6,6 +6,9 @@
 #include <complex>
 #include <limits>
 #include <string>
+#include <vector>
+
+#include <Eigen/SparseCore>
 
 #include "fem/connection.h"
 #include "fem/frame_connection.h"
@@ -61,6 +64,49 @@ EdgeVectors frame_edge_vectors(const intrinsic::IntrinsicTriangulation& tri,
     ev.at_head[e] = in_frame(basis, b, c, tri.length(e));
   }
   return ev;
+}
+
+// The cotan weights clamped to ≥ 0 (not divided by the multiplicity): curves inserted as
+// constrained edges may leave large negative weights (a curve edge across a nearly flat triangle
+// pair), which make M + tL∇ indefinite and the Poisson step ill-conditioned (signed_heat.h).
+Eigen::VectorXd clamped_weights(const intrinsic::IntrinsicTriangulation& tri) {
+  Eigen::VectorXd w = intrinsic::cotan_weights(tri);
+  for (Eigen::Index e = 0; e < w.size(); ++e) {
+    if (!std::isfinite(w[e])) {
+      throw Error("signed_heat_distance: the cotan weight of edge " + std::to_string(e) +
+                  " is not finite (a face of zero area: mollify the triangulation first)");
+    }
+    w[e] = std::max(w[e], 0.0);
+  }
+  return w;
+}
+
+// The connection Laplacian (n = 1, fem/connection.h's convention: x*Lx = Σ w |x_j − r_{i→j} x_i|²)
+// on the weights w (divided by the multiplicity here).
+fem::ComplexSparseMatrix intrinsic_connection(const intrinsic::IntrinsicTriangulation& tri,
+                                              const fem::TangentFrames& frames,
+                                              const Eigen::VectorXd& weights) {
+  const Eigen::VectorXd w = weights / double(tri.multiplicity());
+  std::vector<Eigen::Triplet<cd>> t;
+  t.reserve(4 * std::size_t(tri.n_edges()));
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const double we = std::max(w[e], 0.0);
+    if (!(we > 0.0)) continue;
+    const Index h = tri.edge_halfedge(e);
+    const Index i = tri.tail(h), j = tri.head(h);
+    const cd r = frames.transport[h];  // i's coordinate → j's
+    if (i == j) {
+      t.emplace_back(i, i, we * std::norm(cd(1.0) - r));
+      continue;
+    }
+    t.emplace_back(i, i, we);
+    t.emplace_back(j, j, we);
+    t.emplace_back(j, i, -we * r);
+    t.emplace_back(i, j, -we * std::conj(r));
+  }
+  fem::ComplexSparseMatrix a(tri.n_vertices(), tri.n_vertices());
+  a.setFromTriplets(t.begin(), t.end());
+  return a;
 }
 
 void check_sources(const intrinsic::IntrinsicTriangulation& tri, const SignedHeatSources& s,
@@ -122,8 +168,9 @@ Eigen::VectorXcd unit_field(const Eigen::VectorXcd& y, const Components& comps,
 
 // b = d₀ᵀ W α: the weak divergence whose Poisson solution fits ∇φ to X edge by edge.
 Eigen::VectorXd edge_divergence(const intrinsic::IntrinsicTriangulation& tri,
-                                const EdgeVectors& ev, const Eigen::VectorXcd& x) {
-  const Eigen::VectorXd w = intrinsic::cotan_weights(tri) / double(tri.multiplicity());
+                                const Eigen::VectorXd& weights, const EdgeVectors& ev,
+                                const Eigen::VectorXcd& x) {
+  const Eigen::VectorXd w = weights / double(tri.multiplicity());
   Eigen::VectorXd b = Eigen::VectorXd::Zero(tri.n_vertices());
   for (Index e = 0; e < tri.n_edges(); ++e) {
     const Index h = tri.edge_halfedge(e);
@@ -138,16 +185,17 @@ Eigen::VectorXd edge_divergence(const intrinsic::IntrinsicTriangulation& tri,
 }
 
 // The Poisson step and the level set; NaN on vertices of unreached components.
-Eigen::VectorXd recover(const intrinsic::IntrinsicTriangulation& tri, const Eigen::VectorXd& b,
+Eigen::VectorXd recover(const intrinsic::IntrinsicTriangulation& tri, const fem::SparseMatrix& l,
+                        const Eigen::VectorXd& mass, const Eigen::VectorXd& b,
                         const SignedHeatSources& s, const SignedHeatOptions& options,
                         const Components& comps, const std::vector<char>& reached) {
   const Index nv = tri.n_vertices();
   Eigen::VectorXd phi;
   if (options.level_set == SignedLevelSet::kZeroSet) {
-    const PoissonSolver poisson(tri, s.zero_set);
+    const PoissonSolver poisson(l, mass, comps, s.zero_set);
     phi = poisson.solve_weak(b, Eigen::VectorXd::Zero(Eigen::Index(s.zero_set.size())));
   } else {
-    const PoissonSolver poisson(tri, {});
+    const PoissonSolver poisson(l, mass, comps, {});
     phi = poisson.solve_weak(b, Eigen::VectorXd());
     std::vector<double> sum(comps.count, 0.0), weight(comps.count, 0.0);
     for (std::size_t k = 0; k < s.zero_set.size(); ++k) {
@@ -168,8 +216,9 @@ Eigen::VectorXd recover(const intrinsic::IntrinsicTriangulation& tri, const Eige
   return phi;
 }
 
-Eigen::VectorXd run(const intrinsic::IntrinsicTriangulation& tri,
-                    const fem::ComplexSparseMatrix& connection, const EdgeVectors& ev,
+Eigen::VectorXd run(const intrinsic::IntrinsicTriangulation& tri, const Eigen::VectorXd& weights,
+                    const fem::SparseMatrix& l, const fem::ComplexSparseMatrix& connection,
+                    const EdgeVectors& ev,
                     const SignedHeatSources& s, const SignedHeatOptions& options,
                     SignedHeatReport* report) {
   SignedHeatReport rep;
@@ -200,7 +249,8 @@ Eigen::VectorXd run(const intrinsic::IntrinsicTriangulation& tri,
   const ComplexCholeskySolver vector_heat(a);
   const Eigen::VectorXcd y = vector_heat.solve(s.normals);
   const Eigen::VectorXcd x = unit_field(y, comps, reached, rep);
-  Eigen::VectorXd phi = recover(tri, edge_divergence(tri, ev, x), s, options, comps, reached);
+  Eigen::VectorXd phi =
+      recover(tri, l, mass, edge_divergence(tri, weights, ev, x), s, options, comps, reached);
   if (report) *report = rep;
   return phi;
 }
@@ -233,8 +283,9 @@ Eigen::VectorXd signed_heat_distance(const intrinsic::IntrinsicTriangulation& tr
                                      const SignedHeatOptions& options, SignedHeatReport* report) {
   check_sources(tri, sources, options);
   const fem::TangentFrames frames = fem::tangent_frames(tri);
-  return run(tri, fem::connection_laplacian(tri, frames), intrinsic_edge_vectors(tri, frames),
-             sources, options, report);
+  const Eigen::VectorXd w = clamped_weights(tri);
+  return run(tri, w, fem::laplacian_from_weights(tri, w), intrinsic_connection(tri, frames, w),
+             intrinsic_edge_vectors(tri, frames), sources, options, report);
 }
 
 Eigen::VectorXd signed_heat_distance(const intrinsic::IntrinsicTriangulation& tri,
@@ -249,9 +300,12 @@ Eigen::VectorXd signed_heat_distance(const intrinsic::IntrinsicTriangulation& tr
                        " rows) and frames (" + std::to_string(basis.normal.rows()) +
                        ") must have one row per vertex (" + std::to_string(nv) + ")");
   }
-  const fem::ComplexSparseMatrix connection = fem::connection_laplacian_from_frames(
-      fem::cotan_laplacian(tri), basis.normal, basis.e1, basis.e2);
-  return run(tri, connection, frame_edge_vectors(tri, positions, basis), sources, options, report);
+  const Eigen::VectorXd w = clamped_weights(tri);
+  const fem::SparseMatrix l = fem::laplacian_from_weights(tri, w);
+  const fem::ComplexSparseMatrix connection =
+      fem::connection_laplacian_from_frames(l, basis.normal, basis.e1, basis.e2);
+  return run(tri, w, l, connection, frame_edge_vectors(tri, positions, basis), sources, options,
+             report);
 }
 
 }  // namespace ifem::solvers

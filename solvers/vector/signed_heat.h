@@ -9,11 +9,15 @@
 //     ──► level set:     φ = 0 on the sources' zero set (Dirichlet: the paper's "preserve the
 //                        zero set"), or φ shifted so its weighted mean there is 0
 //
-// L is the cotan Laplacian, M the lumped mass, L∇ the connection Laplacian (n = 1) of the
-// tangent coordinates in use, t = m·h². The integrated 1-form α on edge ij is the trapezoidal
-// rule: ½ (X_i · e_ij|_i + X_j · e_ij|_j), with e_ij the edge vector (length ℓ_ij) read in i's
-// and j's coordinates; W the cotan weights. For X = ∇φ of a linear φ on a flat domain this is
-// exact, so φ is then reproduced exactly.
+// W holds the cotan weights clamped to ≥ 0, L = d₀ᵀ W d₀ the Laplacian on them, M the lumped
+// mass, L∇ the connection Laplacian (n = 1) on the same weights in the tangent coordinates in
+// use, t = m·h². Curves inserted as constrained edges can leave large negative cotan weights
+// (a curve edge across a nearly flat triangle pair): they would make M + tL∇ indefinite and the
+// Poisson step ill-conditioned, while the clamped operators are positive (semi)definite on every
+// triangulation. The integrated 1-form α on edge ij is the trapezoidal rule,
+// ½ (X_i · e_ij|_i + X_j · e_ij|_j), with e_ij the edge vector (length ℓ_ij) read in i's and j's
+// coordinates. For X = ∇φ of a linear φ on a flat domain α is exact, so φ is reproduced exactly
+// whatever the (positive) weights: the clamping costs no consistency.
 //
 // Tangent coordinates, two paths as the vector heat method (solvers/vector/vector_heat.h):
 //  - intrinsic: the angular coordinates of fem::tangent_frames(tri) (manifold meshes, refined or
@@ -88,9 +92,8 @@ struct SignedHeatReport {
   double time_step = 0.0;  ///< t, squared length units
 };
 
-/// Signed heat distance on tri as given (no flips: on an intrinsic Delaunay triangulation, or
-/// one with constrained edges, whose connection Laplacian must still make M + tL∇ positive
-/// definite), intrinsic path: sources.normals in the angular coordinates of
+/// Signed heat distance on tri as given (no flips: intrinsic Delaunay, or constrained Delaunay
+/// with curves as edges), intrinsic path: sources.normals in the angular coordinates of
 /// fem::tangent_frames(tri). #V values, NaN on unreached vertices.
 /// @throws InvalidInput on bad options, sizes, a zero set out of range, repeated, unreferenced
 ///         or empty, no nonzero normal, non-finite normals or weights
