@@ -28,10 +28,9 @@ void report(const Args& args, const ResultOutput& out, const Eigen::VectorXd& d,
             const solvers::SignedDistanceReport& rep) {
   progress(args, "signed heat method: t = " + format_number(rep.time_step) + ", " +
                      format_number(seconds) + " s" +
-                     (rep.unresolved_vertices > 0
-                          ? ", " + std::to_string(rep.unresolved_vertices) +
-                                " vertices where the heat underflowed"
-                          : ""));
+                     (rep.unresolved_vertices > 0 ? ", " + std::to_string(rep.unresolved_vertices) +
+                                                        " vertices where the heat underflowed"
+                                                  : ""));
   double lo = 0.0, hi = 0.0;
   Index unreached = 0;
   for (Eigen::Index v = 0; v < d.size(); ++v) {
@@ -50,7 +49,8 @@ int run_signed_curves(const Args& args, const ResultOutput& out) {
   std::vector<solvers::CurveCondition> curves = read_curves(args);  // fails fast, before the mesh
   io::SurfaceInput input = read_input(args.positional()[0], args);
   std::optional<solvers::SurfaceRefineOptions> refine;
-  if (args.has("refine")) refine = refine_settings(args, solvers::RefinedDistanceOptions{}.resolution, true);
+  if (args.has("refine"))
+    refine = refine_settings(args, solvers::RefinedDistanceOptions{}.resolution, true);
   CurveRun run{prepare_curves(std::move(input), std::move(curves), args, false, refine), {}};
   const Stopwatch watch;
   solvers::SignedDistanceReport rep;
@@ -80,18 +80,18 @@ int run_signed_points(const Args& args, const ResultOutput& out) {
 }  // namespace
 
 std::vector<OptionSpec> signed_options() {
-  return {flag("signed").explain(
-              "signed distance by the signed heat method, to --curves FILE or to\n"
-              "--points FILE (see \"Signed distance\" below); writes the property\n"
-              "'signed_distance'"),
-          text("points", "FILE")
-              .explain("with --signed: oriented points, 'VERTEX NX NY NZ' per line (an input\n"
-                       "vertex and its normal, along the surface, to the positive side)"),
-          text("level-set", "MODE")
-              .defaults_to("zero-set")
-              .explain("with --signed: 'zero-set' holds the value 0 on the curves' vertices\n"
-                       "(or the points); 'mean' only makes its mean there 0, so the zero\n"
-                       "level may move off a broken or noisy curve")};
+  return {
+      flag("signed").explain("signed distance by the signed heat method, to --curves FILE or to\n"
+                             "--points FILE (see \"Signed distance\" below); writes the property\n"
+                             "'signed_distance'"),
+      text("points", "FILE")
+          .explain("with --signed: oriented points, 'VERTEX NX NY NZ' per line (an input\n"
+                   "vertex and its normal, along the surface, to the positive side)"),
+      text("level-set", "MODE")
+          .defaults_to("zero-set")
+          .explain("with --signed: 'zero-set' holds the value 0 on the curves' vertices\n"
+                   "(or the points); 'mean' only makes its mean there 0, so the zero\n"
+                   "level may move off a broken or noisy curve")};
 }
 
 std::string signed_help() {

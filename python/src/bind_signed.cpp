@@ -50,8 +50,10 @@ py::tuple signed_distance(const py::handle& V, const py::handle& F, const py::ha
   py::dict info;
   if (!curves.is_none()) {
     if (path != "auto" && path != "manifold") {
-      throw InvalidInput("curves need the manifold path (an edge-manifold, orientable mesh), not "
-                         "path='" + path + "'");
+      throw InvalidInput(
+          "curves need the manifold path (an edge-manifold, orientable mesh), not "
+          "path='" +
+          path + "'");
     }
     const solvers::CurveSurface s =
         prepare_with_curves(surface_input(V, F, normals), curves.cast<py::list>(), refine, mollify,

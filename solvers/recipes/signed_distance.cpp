@@ -14,7 +14,7 @@
 namespace ifem::solvers {
 namespace {
 
-using cd = std::complex<double>;
+using Complex = std::complex<double>;
 
 SignedHeatOptions heat_options(const PreparedSurface& s, const SignedDistanceOptions& options) {
   options.validate();
@@ -134,7 +134,8 @@ Eigen::VectorXd signed_distance(const PreparedSurface& s, const std::vector<Inpu
         "vertex must be an input vertex: do not refine");
   }
   const TangentBasis3d basis = frame_basis_3d(s.input, s.tri);
-  const double h = o.mean_edge_length > 0.0 ? o.mean_edge_length : intrinsic::mean_edge_length(s.tri);
+  const double h =
+      o.mean_edge_length > 0.0 ? o.mean_edge_length : intrinsic::mean_edge_length(s.tri);
   SignedHeatSources src;
   src.normals = Eigen::VectorXcd::Zero(nv);
   for (std::size_t k = 0; k < points.size(); ++k) {
@@ -148,21 +149,22 @@ Eigen::VectorXd signed_distance(const PreparedSurface& s, const std::vector<Inpu
     if (!(len > 0.0) || !std::isfinite(len)) {
       throw InvalidInput("signed_distance: " + name + ": the normal is zero or not finite");
     }
-    const cd z(p.direction.dot(basis.e1.row(p.vertex)), p.direction.dot(basis.e2.row(p.vertex)));
+    const Complex z(p.direction.dot(basis.e1.row(p.vertex)),
+                    p.direction.dot(basis.e2.row(p.vertex)));
     if (std::abs(z) < 1e-3 * len) {
       throw InvalidInput("signed_distance: " + name +
                          ": the normal is normal to the surface (it must point along it, to the "
                          "positive side)");
     }
-    if (src.normals[p.vertex] != cd(0.0)) {
+    if (src.normals[p.vertex] != Complex(0.0)) {
       throw InvalidInput("signed_distance: " + name + ": vertex " + std::to_string(p.vertex) +
                          " is given twice");
     }
     src.normals[p.vertex] = z * (h / std::abs(z));
     src.zero_set.push_back(p.vertex);
   }
-  return on_input_vertices(
-      s, signed_heat_distance(s.tri, s.input.positions, basis, src, o, report));
+  return on_input_vertices(s,
+                           signed_heat_distance(s.tri, s.input.positions, basis, src, o, report));
 }
 
 }  // namespace ifem::solvers

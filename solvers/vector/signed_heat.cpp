@@ -1,14 +1,14 @@
 // The signed heat method (signed_heat.h).
 #include "solvers/vector/signed_heat.h"
 
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/SparseCore>
 
 #include "fem/connection.h"
 #include "fem/frame_connection.h"
@@ -16,13 +16,14 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "solvers/linalg/cholesky.h"
+#include "solvers/linalg/parallel.h"
 #include "solvers/scalar/components.h"
 #include "solvers/scalar/poisson.h"
 
 namespace ifem::solvers {
 namespace {
 
-using cd = std::complex<double>;
+using Complex = std::complex<double>;
 
 // |Y| is resolved above this fraction of its component's largest value and above an absolute
 // floor clear of subnormals (as the vector heat method's transport).
@@ -47,10 +48,10 @@ EdgeVectors intrinsic_edge_vectors(const intrinsic::IntrinsicTriangulation& tri,
 }
 
 // The chord c in v's frame, scaled to length l (0 where c is normal to the tangent plane).
-cd in_frame(const TangentBasis3d& basis, Index v, const Eigen::Vector3d& c, double l) {
-  const cd z(c.dot(basis.e1.row(v)), c.dot(basis.e2.row(v)));
+Complex in_frame(const TangentBasis3d& basis, Index v, const Eigen::Vector3d& c, double l) {
+  const Complex z(c.dot(basis.e1.row(v)), c.dot(basis.e2.row(v)));
   const double r = std::abs(z);
-  return r > 0.0 ? z * (l / r) : cd(0.0);
+  return r > 0.0 ? z * (l / r) : Complex(0.0);
 }
 
 EdgeVectors frame_edge_vectors(const intrinsic::IntrinsicTriangulation& tri,
@@ -87,16 +88,16 @@ fem::ComplexSparseMatrix intrinsic_connection(const intrinsic::IntrinsicTriangul
                                               const fem::TangentFrames& frames,
                                               const Eigen::VectorXd& weights) {
   const Eigen::VectorXd w = weights / double(tri.multiplicity());
-  std::vector<Eigen::Triplet<cd>> t;
+  std::vector<Eigen::Triplet<Complex>> t;
   t.reserve(4 * std::size_t(tri.n_edges()));
   for (Index e = 0; e < tri.n_edges(); ++e) {
     const double we = std::max(w[e], 0.0);
     if (!(we > 0.0)) continue;
     const Index h = tri.edge_halfedge(e);
     const Index i = tri.tail(h), j = tri.head(h);
-    const cd r = frames.transport[h];  // i's coordinate → j's
+    const Complex r = frames.transport[h];  // i's coordinate → j's
     if (i == j) {
-      t.emplace_back(i, i, we * std::norm(cd(1.0) - r));
+      t.emplace_back(i, i, we * std::norm(Complex(1.0) - r));
       continue;
     }
     t.emplace_back(i, i, we);
@@ -176,8 +177,8 @@ Eigen::VectorXd edge_divergence(const intrinsic::IntrinsicTriangulation& tri,
     const Index h = tri.edge_halfedge(e);
     const Index a = tri.tail(h), bv = tri.head(h);
     if (a == bv) continue;
-    const double alpha =
-        0.5 * (std::real(std::conj(ev.at_tail[e]) * x[a]) + std::real(std::conj(ev.at_head[e]) * x[bv]));
+    const double alpha = 0.5 * (std::real(std::conj(ev.at_tail[e]) * x[a]) +
+                                std::real(std::conj(ev.at_head[e]) * x[bv]));
     b[a] -= w[e] * alpha;
     b[bv] += w[e] * alpha;
   }
@@ -185,17 +186,14 @@ Eigen::VectorXd edge_divergence(const intrinsic::IntrinsicTriangulation& tri,
 }
 
 // The Poisson step and the level set; NaN on vertices of unreached components.
-Eigen::VectorXd recover(const intrinsic::IntrinsicTriangulation& tri, const fem::SparseMatrix& l,
-                        const Eigen::VectorXd& mass, const Eigen::VectorXd& b,
+Eigen::VectorXd recover(const PoissonSolver& poisson, const Eigen::VectorXd& b,
                         const SignedHeatSources& s, const SignedHeatOptions& options,
                         const Components& comps, const std::vector<char>& reached) {
-  const Index nv = tri.n_vertices();
+  const Index nv = static_cast<Index>(b.size());
   Eigen::VectorXd phi;
   if (options.level_set == SignedLevelSet::kZeroSet) {
-    const PoissonSolver poisson(l, mass, comps, s.zero_set);
     phi = poisson.solve_weak(b, Eigen::VectorXd::Zero(Eigen::Index(s.zero_set.size())));
   } else {
-    const PoissonSolver poisson(l, mass, comps, {});
     phi = poisson.solve_weak(b, Eigen::VectorXd());
     std::vector<double> sum(comps.count, 0.0), weight(comps.count, 0.0);
     for (std::size_t k = 0; k < s.zero_set.size(); ++k) {
@@ -218,9 +216,8 @@ Eigen::VectorXd recover(const intrinsic::IntrinsicTriangulation& tri, const fem:
 
 Eigen::VectorXd run(const intrinsic::IntrinsicTriangulation& tri, const Eigen::VectorXd& weights,
                     const fem::SparseMatrix& l, const fem::ComplexSparseMatrix& connection,
-                    const EdgeVectors& ev,
-                    const SignedHeatSources& s, const SignedHeatOptions& options,
-                    SignedHeatReport* report) {
+                    const EdgeVectors& ev, const SignedHeatSources& s,
+                    const SignedHeatOptions& options, SignedHeatReport* report) {
   SignedHeatReport rep;
   const Index nv = tri.n_vertices();
   const double h =
@@ -232,7 +229,8 @@ Eigen::VectorXd run(const intrinsic::IntrinsicTriangulation& tri, const Eigen::V
   std::vector<char> has_zero(comps.count, 0), has_normal(comps.count, 0), reached(comps.count, 0);
   for (const Index v : s.zero_set) has_zero[comps.label[v]] = 1;
   for (Index v = 0; v < nv; ++v) {
-    if (comps.label[v] != kInvalidIndex && s.normals[v] != cd(0.0)) has_normal[comps.label[v]] = 1;
+    if (comps.label[v] != kInvalidIndex && s.normals[v] != Complex(0.0))
+      has_normal[comps.label[v]] = 1;
   }
   for (Index c = 0; c < comps.count; ++c) reached[c] = has_zero[c] && has_normal[c];
   for (Index v = 0; v < nv; ++v) {
@@ -240,17 +238,25 @@ Eigen::VectorXd run(const intrinsic::IntrinsicTriangulation& tri, const Eigen::V
     if (c == kInvalidIndex || !reached[c]) ++rep.unreached_vertices;
   }
   const Eigen::VectorXd mass = fem::lumped_mass(tri);
-  fem::ComplexSparseMatrix a = connection * cd(t);
+  fem::ComplexSparseMatrix a = connection * Complex(t);
   for (Index v = 0; v < nv; ++v) {
     // unreferenced vertices: a unit diagonal keeps the matrix definite (their rows are empty)
-    a.coeffRef(v, v) += cd(mass[v] > 0.0 ? mass[v] : 1.0);
+    a.coeffRef(v, v) += Complex(mass[v] > 0.0 ? mass[v] : 1.0);
   }
   a.makeCompressed();
-  const ComplexCholeskySolver vector_heat(a);
-  const Eigen::VectorXcd y = vector_heat.solve(s.normals);
+  // the two factorizations are independent: side by side (as the vector heat method's)
+  Eigen::VectorXcd y;
+  std::optional<PoissonSolver> poisson;
+  PoissonOptions po;
+  po.cholesky.factor_blas_threads = 1;
+  run_parallel({[&] { y = ComplexCholeskySolver(a).solve(s.normals); },
+                [&] {
+                  const bool zero_set = options.level_set == SignedLevelSet::kZeroSet;
+                  poisson.emplace(l, mass, comps, zero_set ? s.zero_set : std::vector<Index>(), po);
+                }});
   const Eigen::VectorXcd x = unit_field(y, comps, reached, rep);
   Eigen::VectorXd phi =
-      recover(tri, l, mass, edge_divergence(tri, weights, ev, x), s, options, comps, reached);
+      recover(*poisson, edge_divergence(tri, weights, ev, x), s, options, comps, reached);
   if (report) *report = rep;
   return phi;
 }
