@@ -113,7 +113,6 @@ int run_curves(const Args& args, const ResultOutput& out) {
 int run(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
   check_signed_options(args);
-  if (args.has("signed") && args.has("points")) return run_signed(args, out);
   check_curve_options(args, {{"source",
                               "the curves are the sources (--curves gives the "
                               "distance to the nearest curve)"},

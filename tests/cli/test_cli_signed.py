@@ -103,3 +103,16 @@ def test_signed_refusals(cli):
     pts.write_text("5000 1 0 0\n")
     cli.refuse(1, "vertex 5000 is out of range", bad, "distance", mesh, "--signed", "--points",
                pts)
+
+
+def test_signed_curves_need_an_edge_manifold_mesh(cli):
+    bad = cli.out / "bad.txt"
+    curves = cli.out / "c.txt"
+    curves.write_text("0 0 1\n")
+    cli.refuse(1, "edge-manifold", bad, "distance", cli.data / "triple_vierbein.obj", "--signed",
+               "--curves", curves)
+    mesh, _ = square(cli)
+    pts = cli.out / "p.txt"
+    pts.write_text("5 1 0 0\n")
+    cli.refuse(2, "--curves-out", bad, "distance", mesh, "--signed", "--points", pts,
+               "--curves-out", cli.out / "c.obj")
