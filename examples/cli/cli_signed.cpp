@@ -28,6 +28,7 @@ void report(const Args& args, const ResultOutput& out, const Eigen::VectorXd& d,
             const solvers::SignedDistanceReport& rep) {
   progress(args, "signed heat method: t = " + format_number(rep.time_step) + ", " +
                      format_number(seconds) + " s" +
+                     (rep.stages > 1 ? ", " + std::to_string(rep.stages) + " stages" : "") +
                      (rep.unresolved_vertices > 0 ? ", " + std::to_string(rep.unresolved_vertices) +
                                                         " vertices where the heat underflowed"
                                                   : ""));

@@ -29,6 +29,8 @@ using Complex = std::complex<double>;
 // floor clear of subnormals (as the vector heat method's transport).
 constexpr double kResolvedRelative = 1e-270;
 constexpr double kAbsoluteFloor = 1e-290;
+// Stages of unit_field() at most (each reaches about 700·√t further).
+constexpr int kMaxStages = 64;
 
 // Per edge (via tri.edge_halfedge(e), tail a → head b): the edge vector read at a and at b.
 struct EdgeVectors {
@@ -144,26 +146,64 @@ void check_sources(const intrinsic::IntrinsicTriangulation& tri, const SignedHea
     }
   }
 }
-
-// X = Y/|Y| where resolved, 0 elsewhere; counts the unresolved vertices of reached components.
-Eigen::VectorXcd unit_field(const Eigen::VectorXcd& y, const Components& comps,
-                            const std::vector<char>& reached, SignedHeatReport& rep) {
+// X = Y/|Y| on the vertices still open whose |Y| is resolved (above kResolvedRelative of the
+// largest |Y| over the open vertices of its component, and above kAbsoluteFloor), which are then
+// closed; returns how many.
+Index resolve(const Eigen::VectorXcd& y, const Components& comps, std::vector<char>& open,
+              Eigen::VectorXcd& x) {
   std::vector<double> largest(comps.count, 0.0);
   for (Eigen::Index v = 0; v < y.size(); ++v) {
-    const Index c = comps.label[v];
-    if (c != kInvalidIndex) largest[c] = std::max(largest[c], std::abs(y[v]));
+    if (open[v]) largest[comps.label[v]] = std::max(largest[comps.label[v]], std::abs(y[v]));
   }
-  Eigen::VectorXcd x = Eigen::VectorXcd::Zero(y.size());
+  Index n = 0;
   for (Eigen::Index v = 0; v < y.size(); ++v) {
-    const Index c = comps.label[v];
-    if (c == kInvalidIndex || !reached[c]) continue;
+    if (!open[v]) continue;
     const double r = std::abs(y[v]);
-    if (r > std::max(kResolvedRelative * largest[c], kAbsoluteFloor) && std::isfinite(r)) {
+    if (r > std::max(kResolvedRelative * largest[comps.label[v]], kAbsoluteFloor) &&
+        std::isfinite(r)) {
       x[v] = y[v] / r;
-    } else {
-      ++rep.unresolved_vertices;
+      open[v] = 0;
+      ++n;
     }
   }
+  return n;
+}
+
+// The next stage's sources: X on the closed vertices of reached components next to an open one.
+Eigen::VectorXcd frontier(const intrinsic::IntrinsicTriangulation& tri,
+                          const std::vector<char>& open, const Eigen::VectorXcd& x) {
+  Eigen::VectorXcd y0 = Eigen::VectorXcd::Zero(x.size());
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const Index h = tri.edge_halfedge(e);
+    const Index a = tri.tail(h), b = tri.head(h);
+    if (open[a] && !open[b]) y0[b] = x[b];
+    if (open[b] && !open[a]) y0[a] = x[a];
+  }
+  return y0;
+}
+
+// The unit field: X from the sources' diffusion, then, where the heat underflowed (beyond about
+// 700·√t from every source), further stages diffusing X from the frontier of the resolved
+// region with the same factor, until every vertex of a reached component is resolved.
+Eigen::VectorXcd unit_field(const intrinsic::IntrinsicTriangulation& tri,
+                            const ComplexCholeskySolver& factor, const Eigen::VectorXcd& y,
+                            const Components& comps, const std::vector<char>& reached,
+                            SignedHeatReport& rep) {
+  const Index nv = tri.n_vertices();
+  std::vector<char> open(nv, 0);
+  for (Index v = 0; v < nv; ++v) {
+    const Index c = comps.label[v];
+    open[v] = c != kInvalidIndex && reached[c];
+  }
+  Eigen::VectorXcd x = Eigen::VectorXcd::Zero(nv);
+  resolve(y, comps, open, x);
+  for (int stage = 1; stage < kMaxStages; ++stage) {
+    const Eigen::VectorXcd y0 = frontier(tri, open, x);
+    if (y0.cwiseAbs().maxCoeff() == 0.0) break;
+    if (resolve(factor.solve(y0), comps, open, x) == 0) break;
+    rep.stages = stage + 1;
+  }
+  for (Index v = 0; v < nv; ++v) rep.unresolved_vertices += open[v];
   return x;
 }
 
@@ -245,16 +285,17 @@ Eigen::VectorXd run(const intrinsic::IntrinsicTriangulation& tri, const Eigen::V
   }
   a.makeCompressed();
   // the two factorizations are independent: side by side (as the vector heat method's)
-  Eigen::VectorXcd y;
+  std::optional<ComplexCholeskySolver> vector_heat;
   std::optional<PoissonSolver> poisson;
   PoissonOptions po;
   po.cholesky.factor_blas_threads = 1;
-  run_parallel({[&] { y = ComplexCholeskySolver(a).solve(s.normals); },
+  run_parallel({[&] { vector_heat.emplace(a); },
                 [&] {
                   const bool zero_set = options.level_set == SignedLevelSet::kZeroSet;
                   poisson.emplace(l, mass, comps, zero_set ? s.zero_set : std::vector<Index>(), po);
                 }});
-  const Eigen::VectorXcd x = unit_field(y, comps, reached, rep);
+  const Eigen::VectorXcd x =
+      unit_field(tri, *vector_heat, vector_heat->solve(s.normals), comps, reached, rep);
   Eigen::VectorXd phi =
       recover(*poisson, edge_divergence(tri, weights, ev, x), s, options, comps, reached);
   if (report) *report = rep;

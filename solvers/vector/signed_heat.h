@@ -4,7 +4,8 @@
 //
 //   integrated normals Y₀ (#V, tangent vectors)
 //     ──► vector heat:   Y = (M + t L∇)⁻¹ Y₀                 (one backward Euler step)
-//     ──► unit field:    X = Y / |Y|                        (per vertex)
+//     ──► unit field:    X = Y / |Y|                        (per vertex; where Y underflowed,
+//                        further stages diffuse X from the resolved region's frontier)
 //     ──► Poisson:       L φ = d₀ᵀ W α,  α_ij = ∫_ij X·dl    (the least-squares φ with ∇φ ≈ X)
 //     ──► level set:     φ = 0 on the sources' zero set (Dirichlet: the paper's "preserve the
 //                        zero set"), or φ shifted so its weighted mean there is 0
@@ -86,9 +87,12 @@ struct SignedHeatSources {
 struct SignedHeatReport {
   /// Vertices in a connected component without a source (NaN), and unreferenced vertices.
   Index unreached_vertices = 0;
-  /// Vertices of a reached component where |Y| underflowed (below 1e-270 of the component's
-  /// largest, or below 1e-290): X = 0 there, φ is then only the Poisson step's smooth fill.
+  /// Vertices of a reached component where |Y| underflowed in every stage (below 1e-270 of the
+  /// component's largest, or below 1e-290): X = 0 there, φ is only the Poisson step's fill.
   Index unresolved_vertices = 0;
+  /// Diffusion stages: 1, or more where the heat underflowed (about 700·√t from the sources):
+  /// each further stage diffuses X from the frontier of the resolved region (same factor).
+  int stages = 1;
   double time_step = 0.0;  ///< t, squared length units
 };
 

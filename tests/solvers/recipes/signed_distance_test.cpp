@@ -234,6 +234,24 @@ TEST(SignedDistance, OrientedPointsOnPointCloudAndTuftedMesh) {
   }
 }
 
+// A straight cut across a long strip (1000 × 10 cells, h = 0.05): beyond about 700 h the vector
+// heat underflows, and a second stage from the resolved frontier carries X on; d is x − 1 (right
+// of the upward cut positive) to rounding on the whole strip.
+TEST(SignedDistance, LongStripNeedsASecondStage) {
+  intrinsic::TriangleMesh m = intrinsic::grid(1000, 10, 50.0, 0.5);
+  CurveCondition c;
+  c.vertices = {20, 10 * 1001 + 20};
+  const solvers::CurveSurface s = solvers::prepare_curve_surface(test::as_input(m), {c});
+  solvers::SignedDistanceReport rep;
+  const Eigen::VectorXd d = solvers::signed_distance(s, {}, &rep);
+  EXPECT_GE(rep.stages, 2);
+  EXPECT_EQ(rep.unresolved_vertices, 0);
+  double worst = 0;
+  for (Index v = 0; v < d.size(); ++v)
+    worst = std::max(worst, std::abs(d[v] - (m.positions(v, 0) - 1)));
+  EXPECT_LT(worst, 1e-6);
+}
+
 // A loop on spot: FlipOut leaves 5 long curve edges (split into pieces of about h for the
 // sources) with large negative cotan weights (constrained, across nearly flat triangle pairs:
 // clamped); |d| stays close to the unsigned heat distance to the same curve near it (0.003
