@@ -107,7 +107,9 @@ std::string signed_help() {
          "inside. Curves need an edge-manifold, orientable mesh (--refine allowed). For\n"
          "--points the side the normals point to is positive; points work on every input\n"
          "(manifold, nonmanifold through the tufted cover, point clouds), not refined.\n"
-         "|φ| is the distance near the sources; far off, a smooth generalization of it.\n";
+         "|φ| is the distance near the sources; far off, a smooth generalization of it.\n"
+         "--time-factor m: t = m·h² (default 1; with --refine h is the target length ℓ);\n"
+         "larger smooths over gaps and noise. Curve edges longer than h are split first.\n";
 }
 
 void check_signed_options(const Args& args) {
