@@ -12,6 +12,7 @@
 #include "cli_curves.h"
 #include "cli_isolines.h"
 #include "cli_refine.h"
+#include "cli_signed.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
 #include "intrinsic/io/tokens.h"
@@ -115,6 +116,7 @@ int run_curves(const Args& args, const ResultOutput& out) {
 
 int run(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
+  check_signed_options(args);
   check_curve_options(args, {{"source",
                               "the curves are the sources (--curves gives the "
                               "distance to the nearest curve)"},
@@ -134,6 +136,7 @@ int run(const Args& args) {
                      "': .npy holds a matrix, written only with "
                      "--sources-batch (use .ply or .txt)");
   }
+  if (args.has("signed")) return run_signed(args, out);
   if (args.has("curves")) return run_curves(args, out);
   if (args.has("sources-batch")) return run_batch(args, out);
   if (!args.has("source")) {
@@ -244,6 +247,8 @@ OptionGroup distance_options() {
   g.options.insert(g.options.end(), curves.begin(), curves.end());
   const std::vector<OptionSpec> iso = isoline_options("distance");
   g.options.insert(g.options.end(), iso.begin(), iso.end());
+  const std::vector<OptionSpec> signed_distance = signed_options();
+  g.options.insert(g.options.end(), signed_distance.begin(), signed_distance.end());
   return g;
 }
 
@@ -251,20 +256,22 @@ OptionGroup distance_options() {
 
 Command distance_command() {
   Command c;
-  c.summary = "geodesic distance from vertices or curves (heat method, intrinsic Delaunay)";
+  c.summary = "geodesic distance from vertices or curves, signed distance (heat methods)";
   c.spec.name = "distance";
   c.spec.positionals = {"MESH"};
   c.spec.prose = kProse;
   c.spec.groups = {distance_options(), refine_options_group(kAccurate.resolution),
                    surface_options()};
   c.spec.epilogue =
-      curves_file_help(false) +
+      curves_file_help(false) + signed_help() +
       "\nexamples: ifem distance bunny.obj --source 0 -o bunny_dist.ply\n"
       "          ifem distance part.obj --source 0 --refine -o part_dist.ply\n"
       "          ifem distance bunny.obj --sources-batch landmarks.txt -o D.npy\n"
       "          ifem distance bunny.obj --curves curves.txt --curves-out c.obj -o d.ply\n"
       "          ifem distance bunny.obj --source 0 --isolines 10 --isolines-out iso.obj -o "
-      "d.ply\n";
+      "d.ply\n"
+      "          ifem distance bunny.obj --signed --curves curves.txt -o sd.ply\n"
+      "          ifem distance scan.ply --signed --points oriented.txt -o sd.ply\n";
   c.run = run;
   return c;
 }

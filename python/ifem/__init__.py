@@ -47,8 +47,11 @@ from ._render import *  # noqa: F401,F403
 from ._render import __all__ as _render_all
 from ._isolines import *  # noqa: F401,F403
 from ._isolines import __all__ as _isolines_all
+from ._signed import *  # noqa: F401,F403
+from ._signed import __all__ as _signed_all
 
 __version__ = "0.1.0"
 
 __all__ = (_errors_all + _mesh_all + _operators_all + _solvers_all + _refine_all +
-           _geodesic_all + _curves_all + _fields_all + _view_all + _render_all + _isolines_all)
+           _geodesic_all + _curves_all + _fields_all + _view_all + _render_all + _isolines_all +
+           _signed_all)

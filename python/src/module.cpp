@@ -122,4 +122,5 @@ PYBIND11_MODULE(_ifem, m) {
   ip::bind_view(m);
   ip::bind_render(m);
   ip::bind_isolines(m);
+  ip::bind_signed(m);
 }
