@@ -15,11 +15,13 @@ Command transport_command();
 Command logmap_command();
 Command view_command();
 Command render_command();
+Command trace_command();
 
 std::vector<Command> all_commands() {
   return {info_command(),      laplacian_command(), refine_command(),   distance_command(),
           eigen_command(),     poisson_command(),   geodesic_command(), field_command(),
-          transport_command(), logmap_command(),    view_command(),     render_command()};
+          transport_command(), logmap_command(),    view_command(),     render_command(),
+          trace_command()};
 }
 
 }  // namespace ifem::cli
