@@ -116,8 +116,7 @@ int run(const Args& args) {
     try {
       rays.push_back(tracer.trace(from, dirs[i], length, options));
     } catch (const InvalidInput& e) {
-      throw InvalidInput((dirs.size() > 1 ? "ray " + std::to_string(i + 1) + ": " : "") +
-                         e.what());
+      throw InvalidInput((dirs.size() > 1 ? "ray " + std::to_string(i + 1) + ": " : "") + e.what());
     }
   }
   if (args.has("output")) write_rays(args.get("output"), rays);
@@ -180,8 +179,10 @@ OptionGroup trace_options() {
                .explain("the direction to leave in (3D, any length > 0; see above)"),
            text("directions", "FILE")
                .explain("several rays from P: one direction 'X Y Z' a line ('#' comments)"),
-           real("length", "L").mandatory().at_least(0).explain(
-               "how far to go, in the mesh's length unit"),
+           real("length", "L")
+               .mandatory()
+               .at_least(0)
+               .explain("how far to go, in the mesh's length unit"),
            flag("slide").explain("at the boundary, go on along it (default: stop there)"),
            text("output", "OUT")
                .short_alias('o')

@@ -182,8 +182,9 @@ GeodesicTracer::Start GeodesicTracer::vertex_start(Index v, const Eigen::Vector3
   }
   const std::vector<Index> fan = vertex_fan(tri_, v);
   if (static_cast<Index>(fan.size()) != out_degree_[v]) {
-    throw InvalidInput(where + " is pinched (its faces form several fans): no single tangent "
-                               "plane; start from a face point (face:F:u:v) next to it");
+    throw InvalidInput(where +
+                       " is pinched (its faces form several fans): no single tangent "
+                       "plane; start from a face point (face:F:u:v) next to it");
   }
   const bool boundary = tri_.twin(fan.front()) == kInvalidIndex;
   const Eigen::Vector3d xv = input_.positions.row(v).transpose();

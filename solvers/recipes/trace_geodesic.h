@@ -99,12 +99,12 @@ class GeodesicTracer {
   Eigen::Vector3d position(Index f, const Eigen::Vector3d& bary) const;
   InputSurfacePoint on_input(Index f, const Eigen::Vector3d& bary) const;
 
-  io::SurfaceInput input_;           // positions, triangles, n_non_triangles (a copy)
+  io::SurfaceInput input_;  // positions, triangles, n_non_triangles (a copy)
   intrinsic::IntrinsicTriangulation tri_;
-  std::vector<Index> face_origin_;   // #F of tri_: the given face
-  std::vector<Index> given_face_;    // #given faces: face of tri_, or kInvalidIndex (dropped)
-  std::vector<Index> out_degree_;    // #V: halfedges leaving each vertex
-  double merge_distance_ = 0.0;      // polyline points closer than this are one
+  std::vector<Index> face_origin_;  // #F of tri_: the given face
+  std::vector<Index> given_face_;   // #given faces: face of tri_, or kInvalidIndex (dropped)
+  std::vector<Index> out_degree_;   // #V: halfedges leaving each vertex
+  double merge_distance_ = 0.0;     // polyline points closer than this are one
 };
 
 /// A directions file (`ifem trace --directions`): one direction 'X Y Z' (three finite numbers,

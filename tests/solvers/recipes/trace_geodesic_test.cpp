@@ -9,7 +9,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
 #include <cmath>
 #include <string>
 #include <vector>
@@ -312,8 +311,7 @@ TEST(TraceGeodesic, BadInputsAreRefused) {
   bowtie.positions.resize(5, 3);
   bowtie.positions << 0, 0, 0, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0;
   bowtie.triangles = {{0, 1, 2}, {0, 3, 4}};
-  expect_invalid(GeodesicTracer(bowtie), vertex_point(0), Eigen::Vector3d(1, 1, 0), 0.1,
-                 "pinched");
+  expect_invalid(GeodesicTracer(bowtie), vertex_point(0), Eigen::Vector3d(1, 1, 0), 0.1, "pinched");
   io::SurfaceInput fin = bowtie;
   fin.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
   EXPECT_THROW(GeodesicTracer{fin}, NonManifoldInput);
