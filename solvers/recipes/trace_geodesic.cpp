@@ -93,7 +93,17 @@ GeodesicTracer::GeodesicTracer(const io::SurfaceInput& input) {
   input_.triangles = input.triangles;
   input_.n_non_triangles = input.n_non_triangles;
   intrinsic::BuildReport report;
-  tri_ = IntrinsicTriangulation::from_positions(input.triangles, input.positions, &report);
+  try {
+    tri_ = IntrinsicTriangulation::from_positions(input.triangles, input.positions, &report);
+  } catch (const NonManifoldInput& e) {
+    std::string why = e.what();
+    const std::size_t advice = why.find("; use the tufted cover");
+    if (advice != std::string::npos) why.resize(advice);
+    throw NonManifoldInput(
+        "trace needs an edge-manifold, orientable surface (a ray has no single way on across an "
+        "edge of 3+ faces), and this mesh is not: " +
+        why);
+  }
   face_origin_ = report.face_origin;
   given_face_.assign(input.triangles.size(), kInvalidIndex);
   bool area = false;
