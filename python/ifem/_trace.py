@@ -115,7 +115,7 @@ def trace(V, F=None, start=None, direction=None, length=None, *, slide=False):
     length = float(length)
     if not (np.isfinite(length) and length >= 0):
         raise InvalidInput(f"length = {length!r} must be finite and ≥ 0")
-    rays = _ifem.trace_rays(V, F, _start(start), d.reshape(-1, 3), length, bool(slide))
+    rays = _ifem.trace_rays(V, F, _start(start), d.ravel().tolist(), length, bool(slide))
     out = [_ray(r) for r in rays]
     return out[0] if single else out
 

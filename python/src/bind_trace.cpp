@@ -48,9 +48,9 @@ py::dict ray_dict(const recipes::GeodesicRay& r) {
   return d;
 }
 
-// One ray per row of `directions` (k×3), all from `start`.
+// One ray per direction (`directions`: k×3 values, row after row), all from `start`.
 py::list trace_rays(const py::handle& V, const py::handle& F, const std::vector<double>& start,
-                    const Eigen::MatrixX3d& directions, double length, bool slide) {
+                    const std::vector<double>& directions, double length, bool slide) {
   const io::SurfaceInput in = surface_input(V, F);
   const recipes::GivenPoint p = start_from(start);
   recipes::TraceGeodesicOptions o;
@@ -59,11 +59,13 @@ py::list trace_rays(const py::handle& V, const py::handle& F, const std::vector<
   {
     const py::gil_scoped_release release;
     const recipes::GeodesicTracer tracer(in);
-    for (Eigen::Index i = 0; i < directions.rows(); ++i) {
+    const std::size_t k = directions.size() / 3;
+    for (std::size_t i = 0; i < k; ++i) {
+      const Eigen::Vector3d d(directions[3 * i], directions[3 * i + 1], directions[3 * i + 2]);
       try {
-        rays.push_back(tracer.trace(p, directions.row(i).transpose(), length, o));
+        rays.push_back(tracer.trace(p, d, length, o));
       } catch (const InvalidInput& e) {
-        if (directions.rows() == 1) throw;
+        if (k == 1) throw;
         throw InvalidInput("direction[" + std::to_string(i) + "]: " + e.what());
       }
     }
