@@ -41,7 +41,9 @@ namespace ifem::recipes {
 
 /// How trace_geodesic() runs.
 struct TraceGeodesicOptions {
-  /// At a boundary side the ray goes on along the boundary (false: it stops there).
+  /// At a boundary side the ray goes on along the boundary, towards the end it was heading to,
+  /// for the rest of its length; it stops where it meets a side square on (|cos| ≤ 1e-12), as
+  /// at a right-angled boundary corner. false: it stops at the first boundary side.
   bool slide_on_boundary = false;
 };
 
