@@ -22,6 +22,7 @@ int field(int argc, char** argv);
 int small(int argc, char** argv);
 int vector_repeat(int argc, char** argv);
 int isolines(int argc, char** argv);
+int trace(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -79,6 +80,10 @@ const Section kSections[] = {
      "isolines of a heat distance (--levels 10) vs the heat query that made it, icospheres "
      "10k..1M faces (--max-n 224)",
      ifem::bench::isolines},
+    {"trace",
+     "straight geodesics (ifem trace): 1000 rays as long as the diameter on a 100k-face "
+     "icosphere and the armadillo; time per ray and per side crossed",
+     ifem::bench::trace},
 };
 
 }  // namespace

@@ -135,7 +135,8 @@ TraceResult trace_straight(const IntrinsicTriangulation& tri, const SurfacePoint
     }
     if (tw == kInvalidIndex) {
       const double c = d.dot(e);
-      if (slide_on_boundary && c != 0.0 && r.slides < max_steps) {
+      // (meeting the side square on, at rounding level, is a stop: no side to slide towards)
+      if (slide_on_boundary && std::abs(c) > 1e-12 && r.slides < max_steps) {
         // a line of the input surface cannot leave it: this is rounding, run along the side
         d = c > 0.0 ? e : Eigen::Vector2d(-e);
         ++r.slides;

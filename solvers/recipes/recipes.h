@@ -16,6 +16,7 @@
 //   ifem logmap     recipes::logmap()     logarithmic map (affine + vector heat blend)
 //   ifem view       recipes::view()       one offline HTML page of a scene (view_scene.h)
 //   ifem render     recipes::render()     a picture of a mesh, a field and curves (render.h)
+//   ifem trace      recipes::trace()      straight geodesics from a point (trace_geodesic.h)
 //
 // These forward to the solvers:: functions that implement them (named after what they compute:
 // geodesic_distance, eigenmodes, direction_field_on, ...); use those for the variants (several
@@ -33,6 +34,7 @@
 #include "solvers/recipes/render.h"
 #include "solvers/recipes/surface_summary.h"
 #include "solvers/recipes/tangent_fields.h"
+#include "solvers/recipes/trace_geodesic.h"
 #include "solvers/recipes/view_scene.h"
 
 namespace ifem::recipes {
@@ -114,6 +116,15 @@ inline void view(const Scene& scene, const std::string& path, const std::string&
 inline solvers::Rendering render(const solvers::RenderScene& scene,
                                  const solvers::RenderOptions& options = {}) {
   return solvers::render_scene(scene, options);
+}
+
+/// `ifem trace`: the straight geodesic from `start` in `direction` for `length` over the input
+/// as given (trace_geodesic(); many rays from one input: GeodesicTracer).
+/// @throws InvalidInput, NonManifoldInput, TraceError as GeodesicTracer
+inline GeodesicRay trace(const io::SurfaceInput& input, const GivenPoint& start,
+                         const Eigen::Vector3d& direction, double length,
+                         const TraceGeodesicOptions& options = {}) {
+  return trace_geodesic(input, start, direction, length, options);
 }
 
 }  // namespace ifem::recipes
