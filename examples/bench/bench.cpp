@@ -21,6 +21,7 @@ int query(int argc, char** argv);
 int field(int argc, char** argv);
 int small(int argc, char** argv);
 int vector_repeat(int argc, char** argv);
+int integer(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -74,6 +75,10 @@ const Section kSections[] = {
      "repeated transport, log map (solver and recipe) and a smoothest 4-field against one scalar "
      "heat query, interleaved, on icosphere(--n 23) or --mesh FILE; --what memory: peak RSS",
      ifem::bench::vector_repeat},
+    {"integer",
+     "flips to Delaunay with normal coordinates vs signposts (interleaved), tracing every edge "
+     "with each: rocketship, igea (--mesh F[,F...])",
+     ifem::bench::integer},
 };
 
 }  // namespace
