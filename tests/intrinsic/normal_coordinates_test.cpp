@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -38,12 +39,13 @@ double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
 
 // n(e) equals the number of input sides the signpost trace of e crosses, and each crossing
 // lies where the signpost trace puts it; an edge with n = −1 lies along its input edge.
+// Checks every `stride`-th edge.
 void expect_matches_signposts(const NormalCoordinateTriangulation& nc,
-                              const SignpostTriangulation& st, double rel_tol) {
+                              const SignpostTriangulation& st, double rel_tol, Index stride = 1) {
   const IntrinsicTriangulation& tri = nc.intrinsic();
   ASSERT_EQ(tri.tails(), st.intrinsic().tails());
   const double tol = rel_tol * mesh_scale(nc.input());
-  for (Index e = 0; e < tri.n_edges(); ++e) {
+  for (Index e = 0; e < tri.n_edges(); e += stride) {
     const Index h = tri.edge_halfedge(e);
     const std::vector<SurfacePoint> path = st.trace_halfedge(h);
     const int n = nc.normal_coordinate(e);
@@ -187,6 +189,9 @@ void run_random(const TriangleMesh& mesh, int n_ops, unsigned seed, double rel_t
   SignpostTriangulation st(mesh.faces, mesh.positions);
   random_operations(nc, st, n_ops, seed, kinds, std::getenv("IFEM_NC_DEBUG") != nullptr);
   if (::testing::Test::HasFailure()) return;
+  Index crossed = 0;  // the operations moved edges off the input: something to check
+  for (Index e = 0; e < nc.intrinsic().n_edges(); ++e) crossed += nc.normal_coordinate(e) > 0;
+  EXPECT_GT(crossed, 5);
   {
     SCOPED_TRACE("after the random operations");
     expect_matches_signposts(nc, st, rel_tol);
@@ -295,6 +300,25 @@ TEST(NormalCoordinates, NeedleMeshDelaunayAgreesWithSignposts) {
   nc.validate();
   expect_matches_signposts(nc, st, 1e-9);
   expect_input_edges_recovered(nc);
+}
+
+// Real scans and CAD meshes of ../shared (mollified, as the CLI does): Delaunay flipping with
+// both representations, the integers valid and equal to the signpost counts on a sample of
+// about 3000 edges per mesh.
+TEST(NormalCoordinates, SharedMeshesDelaunayAgreesWithSignposts) {
+  IFEM_REQUIRE_SHARED_DATA();
+  for (const char* name : {"rocketship.ply", "spot.obj", "fandisk.off"}) {
+    const auto path = test::shared_data() / "meshes" / name;
+    if (!std::filesystem::exists(path)) continue;
+    SCOPED_TRACE(name);
+    const io::SurfaceInput in = io::read_mesh(path.string());
+    NormalCoordinateTriangulation nc(in.triangles, in.positions, kDefaultMollifyEpsilon);
+    SignpostTriangulation st(in.triangles, in.positions, kDefaultMollifyEpsilon);
+    EXPECT_EQ(nc.flip_to_delaunay().flips, st.flip_to_delaunay().flips);
+    ASSERT_NO_THROW(nc.validate());
+    const Index stride = std::max<Index>(1, nc.intrinsic().n_edges() / 3000);
+    expect_matches_signposts(nc, st, 1e-8, stride);
+  }
 }
 
 }  // namespace
