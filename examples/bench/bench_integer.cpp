@@ -76,10 +76,10 @@ int integer(int argc, char** argv) {
   std::stringstream ss(list);
   std::string name;
   while (std::getline(ss, name, ',')) {
-    const std::filesystem::path p = std::filesystem::path(name).is_absolute() ||
-                                            std::filesystem::exists(name)
-                                        ? std::filesystem::path(name)
-                                        : std::filesystem::path(data) / name;
+    const std::filesystem::path p =
+        std::filesystem::path(name).is_absolute() || std::filesystem::exists(name)
+            ? std::filesystem::path(name)
+            : std::filesystem::path(data) / name;
     if (!std::filesystem::exists(p)) {
       std::printf("%-22s (absent, skipped)\n", name.c_str());
       continue;
