@@ -1,9 +1,10 @@
 // Benchmark section "integer": the two correspondences side by side, interleaved in one run:
 // flips to intrinsic Delaunay with normal coordinates (NormalCoordinateTriangulation) and with
 // signposts (SignpostTriangulation), and the bare IntrinsicTriangulation as the anchor (no
-// correspondence kept); then tracing every intrinsic edge of the Delaunay triangulation over
-// the input, once, with each. Inputs are mollified (1e-5) as the CLI does; times exclude
-// reading the file and building the triangulations (each round starts from a copy).
+// correspondence kept); then, once with each, tracing every intrinsic edge of the Delaunay
+// triangulation over the input and building the common subdivision (the integer one on one
+// thread, the signpost one on the default threads). Inputs are mollified (1e-5) as the CLI does;
+// times exclude reading the file and building the triangulations (each round starts from a copy).
 //
 //   ifem_bench integer [--repeat 5] [--data ../shared/data/meshes] [--mesh F[,F...]]
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "bench_util.h"
+#include "intrinsic/integer/integer_subdivision.h"
 #include "intrinsic/integer/normal_coordinates.h"
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/refine/signpost.h"
@@ -57,13 +59,20 @@ void run_mesh(const std::string& path, int repeat) {
   t0 = seconds_now();
   for (Index e = 0; e < ne; ++e) points += st.trace_edge(e).size();
   const double trace_st = seconds_now() - t0;
+  t0 = seconds_now();
+  const std::size_t cs_nc = intrinsic::common_subdivision(nc).faces.size();
+  const double sub_nc = seconds_now() - t0;
+  t0 = seconds_now();
+  const std::size_t cs_st = intrinsic::common_subdivision(st).faces.size();
+  const double sub_st = seconds_now() - t0;
   std::printf(
       "%-22s %8zu faces  flips %8zu  IDT: integer %7.4f s  signposts %7.4f s  bare %7.4f s"
       "  integer/signposts %5.2f  |  trace all (1 thread): integer %7.3f s  signposts %7.3f s"
-      "  (%zu crossings)\n",
+      "  (%zu crossings)  |  common subd.: integer %7.3f s (%zu triangles)  signposts %7.3f s"
+      " (%zu)\n",
       std::filesystem::path(path).filename().string().c_str(), in.triangles.size(), flips,
       median(t_nc), median(t_st), median(t_tri), median(t_nc) / median(t_st), trace_nc, trace_st,
-      crossings);
+      crossings, sub_nc, cs_nc, sub_st, cs_st);
   (void)points;
 }
 

@@ -56,7 +56,10 @@ NormalCoordinateTriangulation::NormalCoordinateTriangulation(const std::vector<T
                                                              double mollify_relative_epsilon,
                                                              BuildReport* report)
     : positions_(positions) {
-  input_ = IntrinsicTriangulation::from_positions(faces, positions, report);
+  BuildReport build;
+  input_ = IntrinsicTriangulation::from_positions(faces, positions, &build);
+  face_origin_ = build.face_origin;
+  if (report != nullptr) *report = build;
   if (mollify_relative_epsilon > 0.0) input_.mollify(mollify_relative_epsilon);
   tri_ = input_;
   const Index nv = input_.n_vertices(), nh = input_.n_halfedges();

@@ -58,6 +58,8 @@ class NormalCoordinateTriangulation {
   const IntrinsicTriangulation& input() const { return input_; }
   const Positions& input_positions() const { return positions_; }
   Index n_input_vertices() const { return input_.n_vertices(); }
+  /// For each face of input(), the index of the given face it came from.
+  const std::vector<Index>& input_face_origin() const { return face_origin_; }
   /// n(e): input edges crossing intrinsic edge e, or −1 if e runs along an input edge.
   int normal_coordinate(Index e) const { return n_[e]; }
   /// r(h) in [0, #spokes(tail(h))), 0 at a vertex without spokes.
@@ -129,6 +131,7 @@ class NormalCoordinateTriangulation {
   IntrinsicTriangulation input_;
   IntrinsicTriangulation tri_;
   Positions positions_;
+  std::vector<Index> face_origin_;               // #F input: index into the faces given
   std::vector<int> n_;                           // #E intrinsic
   std::vector<int> r_;                           // #H intrinsic
   std::vector<std::vector<InputSpoke>> spokes_;  // #V intrinsic

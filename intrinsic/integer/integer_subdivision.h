@@ -1,0 +1,24 @@
+// The common subdivision from integer coordinates: the overlay of the intrinsic and the input
+// triangulations, with its combinatorics read from the normal coordinates and roundabouts.
+#pragma once
+
+#include "intrinsic/integer/normal_coordinates.h"
+#include "intrinsic/refine/common_subdivision.h"
+
+namespace ifem::intrinsic {
+
+/// The common subdivision of nc, in the format of common_subdivision(SignpostTriangulation):
+/// vertices are input vertices (same ids), then inserted intrinsic vertices (same ids as in
+/// nc.intrinsic()), then the crossings of every intrinsic edge (edge by edge, in the order of
+/// trace_edge()); each polygon (one intrinsic face ∩ one input face, bounded by arcs of input
+/// edges and pieces of intrinsic sides) is split into a fan of triangles recording both faces
+/// (input_face as an index into the faces given). Which input face a polygon lies in comes from
+/// the integers (the side of an input edge an arc leaves it on; across uncrossed sides, the
+/// neighbour's); positions come from the traced crossings (positions along input edges), and an
+/// inserted vertex's position from a rigid map of its intrinsic face's layout onto the input
+/// face, fixed by two known points of a polygon it is a corner of.
+/// @throws InvalidInput if the coordinates are inconsistent, or an inserted vertex cannot be
+///         placed (no polygon around it has two known points)
+CommonSubdivision common_subdivision(const NormalCoordinateTriangulation& nc);
+
+}  // namespace ifem::intrinsic
