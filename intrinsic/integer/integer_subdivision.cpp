@@ -38,6 +38,8 @@ class Builder {
   explicit Builder(const NormalCoordinateTriangulation& nc)
       : nc_(nc), tri_(nc.intrinsic()), in_(nc.input()) {}
   CommonSubdivision run();
+  /// After run(): the input face each inserted vertex was placed in (−1 otherwise), by id.
+  const std::vector<Index>& placed_face() const { return placed_face_; }
 
  private:
   void trace_all();
@@ -61,7 +63,8 @@ class Builder {
   std::vector<std::vector<InputCrossing>> trace_;  // #E
   std::vector<Index> first_crossing_;              // #E: output id of its first crossing
   std::vector<Polygon> polys_;
-  std::vector<Index> side_poly_;  // #H: the polygon along an uncrossed side (n = 0), or −1
+  std::vector<Index> side_poly_;    // #H: the polygon along an uncrossed side (n = 0), or −1
+  std::vector<Index> placed_face_;  // #V
 };
 
 void Builder::trace_all() {
@@ -223,6 +226,7 @@ void Builder::propagate_faces() {
 void Builder::place_vertices(CommonSubdivision& out) {
   const Index nv = tri_.n_vertices(), n_in = nc_.n_input_vertices();
   std::vector<char> known(out.positions.rows(), 1);
+  placed_face_.assign(nv, kInvalidIndex);
   const Positions& x = nc_.input_positions();
   for (Index v = 0; v < n_in; ++v) out.positions.row(v) = x.row(v);
   auto on_edge = [&](Index e, double t) {
@@ -272,6 +276,7 @@ void Builder::place_vertices(CommonSubdivision& out) {
         const Eigen::Vector2d d = p.xy[k] - p.xy[k1];
         out.positions.row(p.vertex[k]) = q1 + d.dot(u2) * u + d.dot(w2) * w;
         known[p.vertex[k]] = 1;
+        placed_face_[p.vertex[k]] = p.input;
         changed = true;
       }
     }
@@ -311,6 +316,50 @@ CommonSubdivision Builder::run() {
 
 CommonSubdivision common_subdivision(const NormalCoordinateTriangulation& nc) {
   return Builder(nc).run();
+}
+
+std::vector<SurfacePoint> vertex_locations(const NormalCoordinateTriangulation& nc) {
+  const IntrinsicTriangulation& tri = nc.intrinsic();
+  const IntrinsicTriangulation& in = nc.input();
+  const Index nv = tri.n_vertices(), n_in = nc.n_input_vertices();
+  std::vector<SurfacePoint> out(nv);
+  for (Index v = 0; v < n_in; ++v) {
+    const Index h = in.vertex_halfedge(v);
+    if (h == kInvalidIndex) continue;
+    out[v].face = T::face(h);
+    out[v].bary[T::side(h)] = 1.0;
+  }
+  bool in_faces = false;
+  for (Index v = n_in; v < nv; ++v) {
+    const auto& spokes = nc.spokes(v);
+    if (spokes.empty()) {
+      in_faces = true;
+      continue;
+    }
+    const Index h = in.edge_halfedge(spokes[0].input_edge);
+    out[v].face = T::face(h);
+    out[v].bary[T::side(h)] = 1.0 - spokes[0].at;
+    out[v].bary[(T::side(h) + 1) % 3] = spokes[0].at;
+  }
+  if (!in_faces) return out;
+  Builder builder(nc);
+  const CommonSubdivision cs = builder.run();
+  const Positions& x = nc.input_positions();
+  for (Index v = n_in; v < nv; ++v) {
+    const Index f = builder.placed_face()[v];
+    if (!nc.spokes(v).empty() || f == kInvalidIndex) continue;
+    // barycentric coordinates of the placed point in its input face's plane
+    const Eigen::Vector3d a = x.row(in.tail(3 * f)), b = x.row(in.tail(3 * f + 1)),
+                          c = x.row(in.tail(3 * f + 2));
+    const Eigen::Vector3d p = cs.positions.row(v);
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double nn = n.squaredNorm();
+    Eigen::Vector3d bary((c - b).cross(p - b).dot(n) / nn, (a - c).cross(p - c).dot(n) / nn, 0.0);
+    bary[2] = 1.0 - bary[0] - bary[1];
+    out[v].face = f;
+    out[v].bary = bary.cwiseMax(0.0) / bary.cwiseMax(0.0).sum();
+  }
+  return out;
 }
 
 }  // namespace ifem::intrinsic

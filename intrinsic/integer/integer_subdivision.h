@@ -2,6 +2,8 @@
 // triangulations, with its combinatorics read from the normal coordinates and roundabouts.
 #pragma once
 
+#include <vector>
+
 #include "intrinsic/integer/normal_coordinates.h"
 #include "intrinsic/refine/common_subdivision.h"
 
@@ -20,5 +22,13 @@ namespace ifem::intrinsic {
 /// @throws InvalidInput if the coordinates are inconsistent, or an inserted vertex cannot be
 ///         placed (no polygon around it has two known points)
 CommonSubdivision common_subdivision(const NormalCoordinateTriangulation& nc);
+
+/// Where every intrinsic vertex of nc lies on the input (a face of nc.input() and barycentric
+/// coordinates, as SignpostTriangulation::vertex_location): input vertices at a corner of a
+/// face, vertices on an input edge on that edge's side, vertices inside faces as
+/// common_subdivision() places them (so the call builds it when there are such vertices:
+/// O(size of the overlay)). Unreferenced vertices get the default SurfacePoint.
+/// @throws InvalidInput as common_subdivision()
+std::vector<SurfacePoint> vertex_locations(const NormalCoordinateTriangulation& nc);
 
 }  // namespace ifem::intrinsic

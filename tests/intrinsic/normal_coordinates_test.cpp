@@ -373,6 +373,20 @@ void expect_same_overlay(const NormalCoordinateTriangulation& nc, const Signpost
   }
 }
 
+// Every intrinsic vertex is located where the signposts locate it (3D, 1e-8 of the mesh size:
+// signpost locations of inserted vertices carry a few 1e-9).
+void expect_same_locations(const NormalCoordinateTriangulation& nc,
+                           const SignpostTriangulation& st) {
+  const std::vector<SurfacePoint> loc = vertex_locations(nc);
+  const double tol = 1e-8 * mesh_scale(nc.input());
+  for (Index v = 0; v < nc.intrinsic().n_vertices(); ++v) {
+    ASSERT_NE(loc[v].face, kInvalidIndex) << "vertex " << v;
+    EXPECT_NEAR(loc[v].bary.sum(), 1.0, 1e-12);
+    EXPECT_LT((st.position(loc[v]) - st.position(st.vertex_location(v))).norm(), tol)
+        << "vertex " << v;
+  }
+}
+
 TEST(NormalCoordinates, CommonSubdivisionPartitionsAreas) {
   const std::vector<TriangleMesh> meshes = {test::jittered(icosphere(2), 0.04, 8),
                                             test::flat_square(6, 0.3, 9)};
@@ -386,6 +400,7 @@ TEST(NormalCoordinates, CommonSubdivisionPartitionsAreas) {
     random_operations(nc, st, 150, 10 + static_cast<unsigned>(i), i == 0 ? 7 : 6);
     expect_area_partition(nc);
     expect_same_overlay(nc, st);
+    expect_same_locations(nc, st);
     nc.flip_to_delaunay();
     st.flip_to_delaunay();
     expect_area_partition(nc);
