@@ -83,9 +83,10 @@ void Builder::trace_all() {
 Index Builder::side_input_face(Index h) const {
   const Index a = tri_.tail(h), b = tri_.head(h), tw = tri_.twin(h);
   const InputSpoke& sa = spoke(a, nc_.roundabout(h));
-  const InputSpoke& sb = tw != kInvalidIndex ? spoke(b, nc_.roundabout(tw)) : nc_.spokes(b).back();
+  const double at_b =
+      tw != kInvalidIndex ? spoke(b, nc_.roundabout(tw)).at : nc_.vertex_at(b, sa.input_edge);
   const Index h0 = in_.edge_halfedge(sa.input_edge);
-  return sb.at > sa.at ? T::face(h0) : T::face(in_.twin(h0));
+  return at_b > sa.at ? T::face(h0) : T::face(in_.twin(h0));
 }
 
 std::vector<Entry> Builder::boundary(Index g, const Eigen::Vector2d p[3], int c[3][3],

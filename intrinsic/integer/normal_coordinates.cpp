@@ -67,34 +67,58 @@ NormalCoordinateTriangulation::NormalCoordinateTriangulation(const std::vector<T
   r_.assign(nh, 0);
   spokes_.assign(nv, {});
   std::vector<Index> out_degree(nv, 0);
-  for (Index h = 0; h < nh; ++h) ++out_degree[input_.tail(h)];
-  // every outgoing side is a spoke, in counter-clockwise order (h → twin(prev(h))); a boundary
-  // fan also ends with the incoming boundary side, seen from v
+  std::vector<std::vector<Index>> boundary_out(nv);  // outgoing boundary sides: fan starts
+  for (Index h = 0; h < nh; ++h) {
+    ++out_degree[input_.tail(h)];
+    if (input_.twin(h) == kInvalidIndex) boundary_out[input_.tail(h)].push_back(h);
+  }
   for (Index v = 0; v < nv; ++v) {
     const Index h0 = input_.vertex_halfedge(v);
     if (h0 == kInvalidIndex) continue;
-    auto& list = spokes_[v];
-    Index h = h0;
-    for (Index guard = 0; guard <= nh; ++guard) {
-      const Index e = input_.edge(h);
-      r_[h] = static_cast<int>(list.size());
-      list.push_back({e, input_.edge_halfedge(e) == h ? 0.0 : 1.0});
-      const Index p = T::prev(h);
-      const Index tw = input_.twin(p);
-      if (tw == kInvalidIndex) {
-        const Index ep = input_.edge(p);
-        list.push_back({ep, input_.edge_halfedge(ep) == p ? 1.0 : 0.0});
-        break;
-      }
-      h = tw;
-      if (h == h0) break;
+    // a boundary vertex may have several fans (each starts at an outgoing boundary side), listed
+    // one after the other: counter-clockwise steps never leave a boundary fan, so its indices
+    // never wrap; a closed fan is the vertex's only one
+    Index walked = 0;
+    if (boundary_out[v].empty()) {
+      walked = add_fan(v, h0);
+    } else {
+      for (const Index h : boundary_out[v]) walked += add_fan(v, h);
     }
-    const Index fan = static_cast<Index>(list.size()) - (input_.twin(h0) == kInvalidIndex ? 1 : 0);
-    if (fan != out_degree[v]) {
+    if (walked != out_degree[v]) {
       throw NonManifoldInput("normal coordinates: vertex " + std::to_string(v) +
-                             " has more than one fan of faces (not supported)");
+                             " has a closed fan of faces and another fan (not supported)");
     }
   }
+}
+
+// Appends the spokes of v's fan from outgoing side h0 (counter-clockwise, h → twin(prev(h)); a
+// boundary fan also ends with its incoming boundary side, seen from v) and sets their
+// roundabouts; returns the number of outgoing sides walked.
+Index NormalCoordinateTriangulation::add_fan(Index v, Index h0) {
+  auto& list = spokes_[v];
+  const Index nh = input_.n_halfedges();
+  Index h = h0, walked = 0;
+  for (Index guard = 0; guard <= nh; ++guard) {
+    const Index e = input_.edge(h);
+    r_[h] = static_cast<int>(list.size());
+    list.push_back({e, input_.edge_halfedge(e) == h ? 0.0 : 1.0});
+    ++walked;
+    const Index p = T::prev(h);
+    const Index tw = input_.twin(p);
+    if (tw == kInvalidIndex) {
+      const Index ep = input_.edge(p);
+      list.push_back({ep, input_.edge_halfedge(ep) == p ? 1.0 : 0.0});
+      break;
+    }
+    h = tw;
+    if (h == h0) break;
+  }
+  return walked;
+}
+
+double NormalCoordinateTriangulation::vertex_at(Index v, Index input_edge) const {
+  if (v >= n_input_vertices()) return spokes_[v].empty() ? 0.0 : spokes_[v][0].at;
+  return input_.tail(input_.edge_halfedge(input_edge)) == v ? 0.0 : 1.0;
 }
 
 Index NormalCoordinateTriangulation::input_edge_along(Index h) const {
@@ -363,8 +387,8 @@ Index NormalCoordinateTriangulation::split_edge(Index e, double t) {
   std::vector<InputSpoke> m_spokes;
   if (n_e < 0) {
     const InputSpoke& sa = spokes_[a][r_[h]];
-    const InputSpoke& sb = interior ? spokes_[b][r_[tw]] : spokes_[b].back();
-    const InputSpoke s{sa.input_edge, sa.at + t * (sb.at - sa.at)};
+    const double at_b = interior ? spokes_[b][r_[tw]].at : vertex_at(b, sa.input_edge);
+    const InputSpoke s{sa.input_edge, sa.at + t * (at_b - sa.at)};
     m_spokes = {s, s};
   }
   const Index e_mb = tri_.n_edges();

@@ -45,10 +45,12 @@ struct InputSpoke {
 class NormalCoordinateTriangulation {
  public:
   /// Builds the input triangulation (as IntrinsicTriangulation::from_positions) and starts the
-  /// intrinsic triangulation as a copy of it: every n(e) = −1.
+  /// intrinsic triangulation as a copy of it: every n(e) = −1. Vertices may have several fans
+  /// of faces when all of them have boundary.
   /// @param mollify_relative_epsilon if > 0, both triangulations are mollified with this margin
   ///        (IntrinsicTriangulation::mollify), as SignpostTriangulation does
-  /// @throws InvalidInput / NonManifoldInput as IntrinsicTriangulation::from_positions
+  /// @throws InvalidInput / NonManifoldInput as IntrinsicTriangulation::from_positions;
+  ///         NonManifoldInput for a vertex with a closed fan of faces and another fan
   NormalCoordinateTriangulation(const std::vector<Triangle>& faces, const Positions& positions,
                                 double mollify_relative_epsilon = 0.0,
                                 BuildReport* report = nullptr);
@@ -65,10 +67,13 @@ class NormalCoordinateTriangulation {
   /// r(h) in [0, #spokes(tail(h))), 0 at a vertex without spokes.
   int roundabout(Index h) const { return r_[h]; }
   /// The spokes of intrinsic vertex v, counter-clockwise (on the boundary, starting along the
-  /// outgoing boundary side).
+  /// outgoing boundary side; a vertex with several boundary fans lists them one after another).
   const std::vector<InputSpoke>& spokes(Index v) const { return spokes_[v]; }
   /// The input edge intrinsic halfedge h runs along (n = −1), else kInvalidIndex.
   Index input_edge_along(Index h) const;
+  /// The position of vertex v along input().edge_halfedge(input_edge), as a fraction from its
+  /// tail. Precondition: v lies on that input edge (an end of it, or a vertex inserted on it).
+  double vertex_at(Index v, Index input_edge) const;
 
   // ===== Operations (all keep the normal coordinates and roundabouts up to date) =====
 
@@ -127,6 +132,7 @@ class NormalCoordinateTriangulation {
   ArcEnd follow(Index h, int p, Eigen::Vector2d a, Eigen::Vector2d b) const;
   std::vector<Arc> face_arcs(Index f, const Eigen::Vector2d p[3]) const;
   void grow_records();
+  Index add_fan(Index v, Index h0);
 
   IntrinsicTriangulation input_;
   IntrinsicTriangulation tri_;

@@ -408,6 +408,23 @@ TEST(NormalCoordinates, CommonSubdivisionPartitionsAreas) {
   }
 }
 
+// Two flat fans of two triangles sharing only their centre (a vertex with two boundary fans, as
+// in range scans): its spokes are listed fan after fan.
+TEST(NormalCoordinates, VertexWithTwoBoundaryFans) {
+  Positions x(7, 3);
+  x << 0, 0, 0, 1, -0.5, 0, 1.2, 0.3, 0, 0.4, 1, 0, -1, 0.5, 0, -1.2, -0.3, 0, -0.4, -1, 0;
+  const std::vector<Triangle> f = {{0, 1, 2}, {0, 2, 3}, {0, 4, 5}, {0, 5, 6}};
+  NormalCoordinateTriangulation nc(f, x);
+  SignpostTriangulation st(f, x);
+  ASSERT_EQ(nc.spokes(0).size(), 6u);
+  random_operations(nc, st, 60, 21, 6);
+  EXPECT_GT(nc.intrinsic().n_vertices(), 10);
+  nc.flip_to_delaunay();
+  nc.validate();
+  expect_input_edges_recovered(nc);
+  expect_area_partition(nc);
+}
+
 // Real scans and CAD meshes of ../shared (mollified, as the CLI does): Delaunay flipping with
 // both representations, the integers valid and equal to the signpost counts on a sample of
 // about 3000 edges per mesh, and the same overlay pieces (spot, fandisk).
