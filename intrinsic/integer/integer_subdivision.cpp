@@ -51,10 +51,8 @@ class Builder {
   Index side_input_face(Index h) const;
   void propagate_faces();
   void place_vertices(CommonSubdivision& out);
-  const InputSpoke& spoke(Index v, long r) const {
-    const auto& s = nc_.spokes(v);
-    const long d = static_cast<long>(s.size());
-    return s[((r % d) + d) % d];
+  const InputSpoke& spoke(Index v, int r, long steps = 0) const {
+    return nc_.spokes(v)[nc_.spoke_index(v, r, steps)];
   }
 
   const NormalCoordinateTriangulation& nc_;
@@ -96,9 +94,9 @@ std::vector<Entry> Builder::boundary(Index g, const Eigen::Vector2d p[3], int c[
   for (int k = 0; k < 3; ++k) {
     const Index h = 3 * g + k, v = tri_.tail(h);
     if (c[2][k] == 0) b.push_back({v, p[k]});
-    const long base = nc_.roundabout(h) + (nc_.normal_coordinate(tri_.edge(h)) < 0 ? 1 : 0);
+    const long base = nc_.normal_coordinate(tri_.edge(h)) < 0 ? 1 : 0;
     for (int j = c[2][k]; j >= 1; --j) {  // the fan, from side k+2's neighbour to side k's
-      const InputSpoke& s = spoke(v, base + j - 1);
+      const InputSpoke& s = spoke(v, nc_.roundabout(h), base + j - 1);
       b.push_back({v, p[k], -1, s.input_edge, s.at});
     }
     const Index e = tri_.edge(h);

@@ -66,43 +66,46 @@ NormalCoordinateTriangulation::NormalCoordinateTriangulation(const std::vector<T
   n_.assign(input_.n_edges(), -1);
   r_.assign(nh, 0);
   spokes_.assign(nv, {});
-  std::vector<Index> out_degree(nv, 0);
+  fans_.assign(nv, {});
   std::vector<std::vector<Index>> boundary_out(nv);  // outgoing boundary sides: fan starts
   for (Index h = 0; h < nh; ++h) {
-    ++out_degree[input_.tail(h)];
     if (input_.twin(h) == kInvalidIndex) boundary_out[input_.tail(h)].push_back(h);
   }
+  // each fan of faces at a vertex gives a run of spokes: a boundary fan starts at its outgoing
+  // boundary side (counter-clockwise steps never leave it, so its indices never wrap), a closed
+  // fan anywhere (its indices wrap within the fan: spoke_index())
+  std::vector<char> seen(nh, 0);
   for (Index v = 0; v < nv; ++v) {
     const Index h0 = input_.vertex_halfedge(v);
     if (h0 == kInvalidIndex) continue;
-    // a boundary vertex may have several fans (each starts at an outgoing boundary side), listed
-    // one after the other: counter-clockwise steps never leave a boundary fan, so its indices
-    // never wrap; a closed fan is the vertex's only one
-    Index walked = 0;
-    if (boundary_out[v].empty()) {
-      walked = add_fan(v, h0);
+    if (boundary_out[v].empty()) add_fan(v, h0, seen);
+    for (const Index h : boundary_out[v]) add_fan(v, h, seen);
+  }
+  for (Index h = 0; h < nh; ++h) {
+    if (!seen[h]) add_fan(input_.tail(h), h, seen);  // a further closed fan (pinched vertex)
+  }
+  for (Index v = 0; v < nv; ++v) {
+    if (fans_[v].size() > 1) {
+      fans_[v].push_back(static_cast<int>(spokes_[v].size()));
     } else {
-      for (const Index h : boundary_out[v]) walked += add_fan(v, h);
-    }
-    if (walked != out_degree[v]) {
-      throw NonManifoldInput("normal coordinates: vertex " + std::to_string(v) +
-                             " has a closed fan of faces and another fan (not supported)");
+      fans_[v].clear();
     }
   }
 }
 
 // Appends the spokes of v's fan from outgoing side h0 (counter-clockwise, h → twin(prev(h)); a
-// boundary fan also ends with its incoming boundary side, seen from v) and sets their
-// roundabouts; returns the number of outgoing sides walked.
-Index NormalCoordinateTriangulation::add_fan(Index v, Index h0) {
+// boundary fan also ends with its incoming boundary side, seen from v), records the fan's first
+// index and sets the roundabouts of its sides.
+void NormalCoordinateTriangulation::add_fan(Index v, Index h0, std::vector<char>& seen) {
   auto& list = spokes_[v];
+  fans_[v].push_back(static_cast<int>(list.size()));
   const Index nh = input_.n_halfedges();
-  Index h = h0, walked = 0;
+  Index h = h0;
   for (Index guard = 0; guard <= nh; ++guard) {
     const Index e = input_.edge(h);
     r_[h] = static_cast<int>(list.size());
+    seen[h] = 1;
     list.push_back({e, input_.edge_halfedge(e) == h ? 0.0 : 1.0});
-    ++walked;
     const Index p = T::prev(h);
     const Index tw = input_.twin(p);
     if (tw == kInvalidIndex) {
@@ -113,7 +116,6 @@ Index NormalCoordinateTriangulation::add_fan(Index v, Index h0) {
     h = tw;
     if (h == h0) break;
   }
-  return walked;
 }
 
 double NormalCoordinateTriangulation::vertex_at(Index v, Index input_edge) const {
@@ -128,10 +130,17 @@ Index NormalCoordinateTriangulation::input_edge_along(Index h) const {
   return spokes_[v][r_[h]].input_edge;
 }
 
-int NormalCoordinateTriangulation::spoke_mod(Index v, long r) const {
-  const long d = static_cast<long>(spokes_[v].size());
+int NormalCoordinateTriangulation::spoke_index(Index v, int r, long steps) const {
+  long first = 0, d = static_cast<long>(spokes_[v].size());
   if (d == 0) return 0;
-  return static_cast<int>(((r % d) + d) % d);
+  const auto& fans = fans_[v];
+  if (!fans.empty()) {  // several fans: stay within r's
+    std::size_t k = 0;
+    while (k + 2 < fans.size() && fans[k + 1] <= r) ++k;
+    first = fans[k];
+    d = fans[k + 1] - fans[k];
+  }
+  return static_cast<int>(first + (((r - first + steps) % d) + d) % d);
 }
 
 NormalCoordinateTriangulation::FaceCounts NormalCoordinateTriangulation::counts(Index f) const {
@@ -152,6 +161,7 @@ void NormalCoordinateTriangulation::grow_records() {
   n_.resize(tri_.n_edges(), 0);
   r_.resize(tri_.n_halfedges(), 0);
   spokes_.resize(tri_.n_vertices());
+  fans_.resize(tri_.n_vertices());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -181,9 +191,8 @@ bool NormalCoordinateTriangulation::flip_edge(Index e) {
             std::max(0, cB1 + cA2 - n) + (n_[e] < 0 ? 1 : 0);
   }
   // c→d turns from c→a past the arcs of c's fan that end on a's side; d→c from d→b likewise
-  const long rc = long(r_[h2]) + (shared(h2) ? 1 : 0) + std::max(0, std::min(cA1 + fC1, cA2) - cA1);
-  const long rd =
-      long(r_[t2]) + (shared(t2) ? 1 : 0) + std::max(0, cA2 + fD2 - std::max(cA2, n - cB1));
+  const long rc = (shared(h2) ? 1 : 0) + std::max(0, std::min(cA1 + fC1, cA2) - cA1);
+  const long rd = (shared(t2) ? 1 : 0) + std::max(0, cA2 + fD2 - std::max(cA2, n - cB1));
   const int rh1 = r_[h1], rh2 = r_[h2], rt1 = r_[t1], rt2 = r_[t2];
   if (!tri_.flip_edge(e)) return false;
   // slots keep their sides' roundabouts: h1 ← h2, h2 ← t1, t1 ← t2, t2 ← h1
@@ -191,8 +200,8 @@ bool NormalCoordinateTriangulation::flip_edge(Index e) {
   r_[h2] = rt1;
   r_[t1] = rt2;
   r_[t2] = rh1;
-  r_[t] = spoke_mod(c, rc);  // t = c→d
-  r_[h] = spoke_mod(d, rd);  // h = d→c
+  r_[t] = spoke_index(c, rh2, rc);  // t = c→d
+  r_[h] = spoke_index(d, rt2, rd);  // h = d→c
   n_[e] = n_new;
   return true;
 }
@@ -221,8 +230,7 @@ NormalCoordinateTriangulation::ArcEnd NormalCoordinateTriangulation::follow(
     } else if (p <= c.corner[s] + c.fan[(s + 2) % 3]) {  // ends at the opposite corner
       ArcEnd end;
       end.vertex = tri_.tail(hp);
-      end.spoke =
-          spoke_mod(end.vertex, long(r_[hp]) + (shared(hp) ? 1 : 0) + (p - c.corner[s] - 1));
+      end.spoke = spoke_index(end.vertex, r_[hp], (shared(hp) ? 1 : 0) + (p - c.corner[s] - 1));
       end.pos = z;
       if (spokes_[end.vertex].empty()) inconsistent("arc ends at a vertex without spokes");
       return end;
@@ -322,10 +330,11 @@ Index NormalCoordinateTriangulation::insert_vertex(Index f, const Eigen::Vector3
       }
     }
   }
-  long r_old[3];
+  int r_old[3], shared_side[3];
   Index corner[3];
   for (int k = 0; k < 3; ++k) {
-    r_old[k] = r_[3 * f + k] + (shared(3 * f + k) ? 1 : 0);
+    r_old[k] = r_[3 * f + k];
+    shared_side[k] = shared(3 * f + k) ? 1 : 0;
     corner[k] = tri_.tail(3 * f + k);
   }
   const int r1 = r_[3 * f + 1], r2 = r_[3 * f + 2];
@@ -333,12 +342,12 @@ Index NormalCoordinateTriangulation::insert_vertex(Index f, const Eigen::Vector3
   const Index v = tri_.insert_vertex_in_face(f, bary);
   grow_records();
   const Index f1 = tri_.n_faces() - 2, f2 = f1 + 1;
-  r_[3 * f1] = r1;                                              // c1→c2 moved
-  r_[3 * f2] = r2;                                              // c2→c0 moved
-  r_[3 * f2 + 1] = spoke_mod(corner[0], r_old[0] + before[0]);  // c0→v
-  r_[3 * f + 1] = spoke_mod(corner[1], r_old[1] + before[1]);   // c1→v
-  r_[3 * f1 + 1] = spoke_mod(corner[2], r_old[2] + before[2]);  // c2→v
-  r_[3 * f + 2] = r_[3 * f1 + 2] = r_[3 * f2 + 2] = 0;          // v has no spokes
+  r_[3 * f1] = r1;                                                                // c1→c2 moved
+  r_[3 * f2] = r2;                                                                // c2→c0 moved
+  r_[3 * f2 + 1] = spoke_index(corner[0], r_old[0], shared_side[0] + before[0]);  // c0→v
+  r_[3 * f + 1] = spoke_index(corner[1], r_old[1], shared_side[1] + before[1]);   // c1→v
+  r_[3 * f1 + 1] = spoke_index(corner[2], r_old[2], shared_side[2] + before[2]);  // c2→v
+  r_[3 * f + 2] = r_[3 * f1 + 2] = r_[3 * f2 + 2] = 0;                            // v has no spokes
   for (int k = 0; k < 3; ++k) n_[e0 + k] = crossing[k];
   return v;
 }
@@ -380,8 +389,9 @@ Index NormalCoordinateTriangulation::split_edge(Index e, double t) {
   int c_before = 0, d_before = 0;
   const int n_mc = count_diagonal(h, t, &c_before);
   const int n_md = interior ? count_diagonal(tw, 1.0 - t, &d_before) : 0;
-  const long rc = long(r_[h2]) + (shared(h2) ? 1 : 0) + c_before;
-  const long rd = interior ? long(r_[t2]) + (shared(t2) ? 1 : 0) + d_before : 0;
+  const int rh2 = r_[h2], rt2 = interior ? r_[t2] : 0;
+  const long rc = (shared(h2) ? 1 : 0) + c_before;
+  const long rd = interior ? (shared(t2) ? 1 : 0) + d_before : 0;
   const int rh1 = r_[h1], rt1 = interior ? r_[t1] : 0;
   // a vertex on an input edge: two spokes, 0 toward b and 1 toward a
   std::vector<InputSpoke> m_spokes;
@@ -400,16 +410,16 @@ Index NormalCoordinateTriangulation::split_edge(Index e, double t) {
   n_[e] = n_e < 0 ? -1 : q;
   n_[e_mb] = n_e < 0 ? -1 : n - q;
   n_[e_mb + 1] = n_mc;
-  r_[3 * g1 + 1] = rh1;               // b→c moved
-  r_[3 * g1 + 2] = spoke_mod(c, rc);  // c→m
-  r_[3 * g1] = 0;                     // m→b
-  r_[h1] = on_input ? 1 : 0;          // m→c
+  r_[3 * g1 + 1] = rh1;                      // b→c moved
+  r_[3 * g1 + 2] = spoke_index(c, rh2, rc);  // c→m
+  r_[3 * g1] = 0;                            // m→b
+  r_[h1] = on_input ? 1 : 0;                 // m→c
   if (interior) {
     n_[e_mb + 2] = n_md;
-    r_[3 * g2 + 1] = rt1;               // a→d moved
-    r_[3 * g2 + 2] = spoke_mod(d, rd);  // d→m
-    r_[3 * g2] = on_input ? 1 : 0;      // m→a
-    r_[t1] = 0;                         // m→d
+    r_[3 * g2 + 1] = rt1;                      // a→d moved
+    r_[3 * g2 + 2] = spoke_index(d, rt2, rd);  // d→m
+    r_[3 * g2] = on_input ? 1 : 0;             // m→a
+    r_[t1] = 0;                                // m→d
   }
   return m;
 }

@@ -45,12 +45,11 @@ struct InputSpoke {
 class NormalCoordinateTriangulation {
  public:
   /// Builds the input triangulation (as IntrinsicTriangulation::from_positions) and starts the
-  /// intrinsic triangulation as a copy of it: every n(e) = −1. Vertices may have several fans
-  /// of faces when all of them have boundary.
+  /// intrinsic triangulation as a copy of it: every n(e) = −1. A vertex may have several fans
+  /// of faces (spokes are listed fan after fan).
   /// @param mollify_relative_epsilon if > 0, both triangulations are mollified with this margin
   ///        (IntrinsicTriangulation::mollify), as SignpostTriangulation does
-  /// @throws InvalidInput / NonManifoldInput as IntrinsicTriangulation::from_positions;
-  ///         NonManifoldInput for a vertex with a closed fan of faces and another fan
+  /// @throws InvalidInput / NonManifoldInput as IntrinsicTriangulation::from_positions
   NormalCoordinateTriangulation(const std::vector<Triangle>& faces, const Positions& positions,
                                 double mollify_relative_epsilon = 0.0,
                                 BuildReport* report = nullptr);
@@ -67,8 +66,12 @@ class NormalCoordinateTriangulation {
   /// r(h) in [0, #spokes(tail(h))), 0 at a vertex without spokes.
   int roundabout(Index h) const { return r_[h]; }
   /// The spokes of intrinsic vertex v, counter-clockwise (on the boundary, starting along the
-  /// outgoing boundary side; a vertex with several boundary fans lists them one after another).
+  /// outgoing boundary side; a vertex with several fans of faces lists them one after another).
   const std::vector<InputSpoke>& spokes(Index v) const { return spokes_[v]; }
+  /// The index of the spoke `steps` counter-clockwise from spoke r of vertex v, within the fan
+  /// of faces spoke r belongs to (indices wrap within a closed fan); 0 at a vertex without
+  /// spokes. Precondition: r < spokes(v).size() when v has spokes.
+  int spoke_index(Index v, int r, long steps) const;
   /// The input edge intrinsic halfedge h runs along (n = −1), else kInvalidIndex.
   Index input_edge_along(Index h) const;
   /// The position of vertex v along input().edge_halfedge(input_edge), as a fraction from its
@@ -127,12 +130,11 @@ class NormalCoordinateTriangulation {
     int from_corner = -1;  // corner x is at, or −1
   };
   FaceCounts counts(Index f) const;
-  int spoke_mod(Index v, long r) const;
   bool shared(Index h) const { return n_[tri_.edge(h)] < 0; }
   ArcEnd follow(Index h, int p, Eigen::Vector2d a, Eigen::Vector2d b) const;
   std::vector<Arc> face_arcs(Index f, const Eigen::Vector2d p[3]) const;
   void grow_records();
-  Index add_fan(Index v, Index h0);
+  void add_fan(Index v, Index h0, std::vector<char>& seen);
 
   IntrinsicTriangulation input_;
   IntrinsicTriangulation tri_;
@@ -141,6 +143,8 @@ class NormalCoordinateTriangulation {
   std::vector<int> n_;                           // #E intrinsic
   std::vector<int> r_;                           // #H intrinsic
   std::vector<std::vector<InputSpoke>> spokes_;  // #V intrinsic
+  std::vector<std::vector<int>> fans_;  // #V: first spoke of each fan + end, for vertices with
+                                        // several fans (empty otherwise)
 };
 
 }  // namespace ifem::intrinsic

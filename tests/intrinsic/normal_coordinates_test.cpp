@@ -425,6 +425,31 @@ TEST(NormalCoordinates, VertexWithTwoBoundaryFans) {
   expect_area_partition(nc);
 }
 
+// Two closed spheres pinched at one vertex (two closed fans there): roundabouts wrap within
+// each fan. Random operations, then the invariants (no signposts: they keep one fan per vertex).
+TEST(NormalCoordinates, PinchedVertexWithTwoClosedFans) {
+  const TriangleMesh a = test::jittered(icosphere(1), 0.05, 31);
+  TriangleMesh m = a;
+  const Index n = static_cast<Index>(a.positions.rows());
+  m.positions.conservativeResize(2 * n - 1, 3);
+  auto id = [n](Index v) { return v == 0 ? 0 : n + v - 1; };  // vertex 0 shared
+  for (Index v = 1; v < n; ++v) {
+    m.positions.row(id(v)) = a.positions.row(v) + Eigen::RowVector3d(0.0, 0.0, 0.3 * (v % 2));
+  }
+  for (const Triangle& t : a.faces) m.faces.push_back({id(t[0]), id(t[1]), id(t[2])});
+  NormalCoordinateTriangulation nc(m.faces, m.positions);
+  SignpostTriangulation st(m.faces, m.positions);
+  ASSERT_EQ(nc.spokes(0).size(), 10u);
+  random_operations(nc, st, 200, 32, 7);
+  nc.flip_to_delaunay();
+  nc.validate();
+  Index crossed = 0;
+  for (Index e = 0; e < nc.intrinsic().n_edges(); ++e) crossed += nc.normal_coordinate(e) > 0;
+  EXPECT_GT(crossed, 5);
+  expect_input_edges_recovered(nc);
+  expect_area_partition(nc);
+}
+
 // Real scans and CAD meshes of ../shared (mollified, as the CLI does): Delaunay flipping with
 // both representations, the integers valid and equal to the signpost counts on a sample of
 // about 3000 edges per mesh, and the same overlay pieces (spot, fandisk).
