@@ -1,5 +1,6 @@
 // The common subdivision from integer coordinates: the overlay of the intrinsic and the input
-// triangulations, with its combinatorics read from the normal coordinates and roundabouts.
+// triangulations, with its combinatorics read from the normal coordinates and roundabouts
+// (docs/decisions.md D-193).
 #pragma once
 
 #include <vector>
