@@ -23,6 +23,7 @@ int small(int argc, char** argv);
 int vector_repeat(int argc, char** argv);
 int isolines(int argc, char** argv);
 int trace(int argc, char** argv);
+int integer(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -84,6 +85,10 @@ const Section kSections[] = {
      "straight geodesics (ifem trace): 1000 rays as long as the diameter on a 100k-face "
      "icosphere and the armadillo; time per ray and per side crossed",
      ifem::bench::trace},
+    {"integer",
+     "flips to Delaunay with normal coordinates vs signposts (interleaved), tracing every edge "
+     "with each: rocketship, igea (--mesh F[,F...])",
+     ifem::bench::integer},
 };
 
 }  // namespace

@@ -5,10 +5,12 @@ Tiny valid inputs, one file per case and format: a closed tetrahedron, an open s
 triangles with a boundary), a quad polygon, a nonmanifold fan (three triangles on one edge), a
 Moebius-like non-orientable strip, a sliver (nearly zero-area triangle) and a point cloud. The
 files are committed (a few KB in all); rerun after changing a case. The signpost seeds are
-written by save() itself: make_signpost_seeds.cpp.
+written by save() itself: make_signpost_seeds.cpp. The integer seeds are operation sequences
+(fuzz_integer.cpp: a mesh byte, then 4 bytes per operation), pseudo-random with fixed seeds.
 """
 import math
 import os
+import random
 import struct
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -123,6 +125,10 @@ def main():
           "2 3 2\n1 3\n2 1\n")
     write("matrix_market", "skew.mtx", "%%MatrixMarket matrix coordinate integer skew-symmetric\n"
           "3 3 2\n2 1 1\n3 2 -4\n")
+    for i in range(6):  # even: the icosphere, odd: the square; 16..56 operations
+        r = random.Random(100 + i)
+        write("integer", f"ops-{i}.bin",
+              bytes([i % 2] + [r.randrange(256) for _ in range(4 * (16 + 8 * i))]))
 
 
 if __name__ == "__main__":

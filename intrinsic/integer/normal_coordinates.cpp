@@ -1,0 +1,447 @@
+// Normal coordinates and roundabouts (normal_coordinates.h). Notation used throughout: in a
+// face with sides 0, 1, 2 (side s runs from corner s to corner s+1) and clamped coordinates
+// n[s] = max(n, 0), the input edges inside the face are arcs of two kinds:
+//   corner[k]: arcs cutting off corner k (crossing side k and side k+2),
+//   fan[k]:    arcs leaving corner k (crossing the opposite side k+1).
+// Arcs are disjoint, so at most one corner has a fan, and n[s] = corner[s] + corner[s+1] +
+// fan[s+2]. Along side s, counted from corner s, the crossings are: corner[s] arcs of corner s,
+// then fan[s+2] arcs of the opposite corner, then corner[s+1] arcs of corner s+1.
+#include "intrinsic/integer/normal_coordinates.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "intrinsic/core/errors.h"
+#include "intrinsic/core/geometry.h"
+
+namespace ifem::intrinsic {
+namespace {
+
+using T = IntrinsicTriangulation;
+
+double cross2d(const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
+  return u.x() * v.y() - u.y() * v.x();
+}
+
+// The third corner of a triangle laid out on a→b, to the left of a→b, at distance la from a
+// and lb from b.
+Eigen::Vector2d place_left(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double la,
+                           double lb) {
+  const Eigen::Vector2d ab = b - a;
+  const double d = ab.norm();
+  const Eigen::Vector2d u = ab / d, w(-u.y(), u.x());
+  const double x = (la * la - lb * lb + d * d) / (2.0 * d);
+  const double y = std::sqrt(std::max(0.0, la * la - x * x));
+  return a + x * u + y * w;
+}
+
+// True if the segments (p, q) and (x, y) cross at one interior point of both.
+bool segments_cross(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& x,
+                    const Eigen::Vector2d& y) {
+  const double o1 = cross2d(q - p, x - p), o2 = cross2d(q - p, y - p);
+  const double o3 = cross2d(y - x, p - x), o4 = cross2d(y - x, q - x);
+  return ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0)) &&
+         ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0));
+}
+
+[[noreturn]] void inconsistent(const std::string& what) {
+  throw InvalidInput("normal coordinates: " + what);
+}
+
+}  // namespace
+
+NormalCoordinateTriangulation::NormalCoordinateTriangulation(const std::vector<Triangle>& faces,
+                                                             const Positions& positions,
+                                                             double mollify_relative_epsilon,
+                                                             BuildReport* report)
+    : positions_(positions) {
+  BuildReport build;
+  input_ = IntrinsicTriangulation::from_positions(faces, positions, &build);
+  face_origin_ = build.face_origin;
+  if (report != nullptr) *report = build;
+  if (mollify_relative_epsilon > 0.0) input_.mollify(mollify_relative_epsilon);
+  tri_ = input_;
+  const Index nv = input_.n_vertices(), nh = input_.n_halfedges();
+  n_.assign(input_.n_edges(), -1);
+  r_.assign(nh, 0);
+  spokes_.assign(nv, {});
+  fans_.assign(nv, {});
+  std::vector<std::vector<Index>> boundary_out(nv);  // outgoing boundary sides: fan starts
+  for (Index h = 0; h < nh; ++h) {
+    if (input_.twin(h) == kInvalidIndex) boundary_out[input_.tail(h)].push_back(h);
+  }
+  // each fan of faces at a vertex gives a run of spokes: a boundary fan starts at its outgoing
+  // boundary side (counter-clockwise steps never leave it, so its indices never wrap), a closed
+  // fan anywhere (its indices wrap within the fan: spoke_index())
+  std::vector<char> seen(nh, 0);
+  for (Index v = 0; v < nv; ++v) {
+    const Index h0 = input_.vertex_halfedge(v);
+    if (h0 == kInvalidIndex) continue;
+    if (boundary_out[v].empty()) add_fan(v, h0, seen);
+    for (const Index h : boundary_out[v]) add_fan(v, h, seen);
+  }
+  for (Index h = 0; h < nh; ++h) {
+    if (!seen[h]) add_fan(input_.tail(h), h, seen);  // a further closed fan (pinched vertex)
+  }
+  for (Index v = 0; v < nv; ++v) {
+    if (fans_[v].size() > 1) {
+      fans_[v].push_back(static_cast<int>(spokes_[v].size()));
+    } else {
+      fans_[v].clear();
+    }
+  }
+}
+
+// Appends the spokes of v's fan from outgoing side h0 (counter-clockwise, h → twin(prev(h)); a
+// boundary fan also ends with its incoming boundary side, seen from v), records the fan's first
+// index and sets the roundabouts of its sides.
+void NormalCoordinateTriangulation::add_fan(Index v, Index h0, std::vector<char>& seen) {
+  auto& list = spokes_[v];
+  fans_[v].push_back(static_cast<int>(list.size()));
+  const Index nh = input_.n_halfedges();
+  Index h = h0;
+  for (Index guard = 0; guard <= nh; ++guard) {
+    const Index e = input_.edge(h);
+    r_[h] = static_cast<int>(list.size());
+    seen[h] = 1;
+    list.push_back({e, input_.edge_halfedge(e) == h ? 0.0 : 1.0});
+    const Index p = T::prev(h);
+    const Index tw = input_.twin(p);
+    if (tw == kInvalidIndex) {
+      const Index ep = input_.edge(p);
+      list.push_back({ep, input_.edge_halfedge(ep) == p ? 1.0 : 0.0});
+      break;
+    }
+    h = tw;
+    if (h == h0) break;
+  }
+}
+
+double NormalCoordinateTriangulation::vertex_at(Index v, Index input_edge) const {
+  if (v >= n_input_vertices()) return spokes_[v].empty() ? 0.0 : spokes_[v][0].at;
+  return input_.tail(input_.edge_halfedge(input_edge)) == v ? 0.0 : 1.0;
+}
+
+Index NormalCoordinateTriangulation::input_edge_along(Index h) const {
+  if (n_[tri_.edge(h)] >= 0) return kInvalidIndex;
+  const Index v = tri_.tail(h);
+  if (spokes_[v].empty()) inconsistent("edge along an input edge at a vertex without spokes");
+  return spokes_[v][r_[h]].input_edge;
+}
+
+int NormalCoordinateTriangulation::spoke_index(Index v, int r, long steps) const {
+  long first = 0, d = static_cast<long>(spokes_[v].size());
+  if (d == 0) return 0;
+  const auto& fans = fans_[v];
+  if (!fans.empty()) {  // several fans: stay within r's
+    std::size_t k = 0;
+    while (k + 2 < fans.size() && fans[k + 1] <= r) ++k;
+    first = fans[k];
+    d = fans[k + 1] - fans[k];
+  }
+  return static_cast<int>(first + (((r - first + steps) % d) + d) % d);
+}
+
+NormalCoordinateTriangulation::FaceCounts NormalCoordinateTriangulation::counts(Index f) const {
+  FaceCounts c;
+  for (int s = 0; s < 3; ++s) c.n[s] = std::max(0, n_[tri_.edge(3 * f + s)]);
+  for (int k = 0; k < 3; ++k) {
+    c.fan[k] = std::max(0, c.n[(k + 1) % 3] - c.n[k] - c.n[(k + 2) % 3]);
+  }
+  for (int k = 0; k < 3; ++k) {
+    const int twice = c.n[k] + c.n[(k + 2) % 3] - c.n[(k + 1) % 3] - c.fan[(k + 1) % 3] -
+                      c.fan[(k + 2) % 3] + c.fan[k];
+    c.corner[k] = twice / 2;
+  }
+  return c;
+}
+
+void NormalCoordinateTriangulation::grow_records() {
+  n_.resize(tri_.n_edges(), 0);
+  r_.resize(tri_.n_halfedges(), 0);
+  spokes_.resize(tri_.n_vertices());
+  fans_.resize(tri_.n_vertices());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Flips: integers only
+
+bool NormalCoordinateTriangulation::flip_edge(Index e) {
+  const Index h = tri_.edge_halfedge(e);
+  const Index t = tri_.twin(h);
+  if (t == kInvalidIndex || T::face(h) == T::face(t)) return false;
+  const Index h1 = T::next(h), h2 = T::prev(h), t1 = T::next(t), t2 = T::prev(t);
+  const Index c = tri_.tail(h2), d = tri_.tail(t2);
+  // diamond a→b = h in face (a, b, c), b→a = t in face (b, a, d); positions along h from a
+  const FaceCounts A = counts(T::face(h)), B = counts(T::face(t));
+  const int sh = T::side(h), st = T::side(t);
+  const int n = std::max(0, n_[e]);
+  const int cA1 = A.corner[sh], cB1 = A.corner[(sh + 1) % 3], cC1 = A.corner[(sh + 2) % 3];
+  const int fA1 = A.fan[sh], fB1 = A.fan[(sh + 1) % 3], fC1 = A.fan[(sh + 2) % 3];
+  const int cB2 = B.corner[st], cA2 = B.corner[(st + 1) % 3], cD2 = B.corner[(st + 2) % 3];
+  const int fB2 = B.fan[st], fA2 = B.fan[(st + 1) % 3], fD2 = B.fan[(st + 2) % 3];
+  // arcs from c and arcs from d meeting across h: an input edge c–d, the new edge runs along it
+  const int along = std::max(0, std::min(cA1 + fC1, cA2 + fD2) - std::max(cA1, cA2));
+  int n_new = -1;
+  if (along == 0) {
+    // every arc not crossing h separates c or d from h; an arc crossing h crosses c–d when
+    // its two halves end on sides of different corners (a and b); the old input edge a–b too
+    n_new = cC1 + fA1 + fB1 + cD2 + fA2 + fB2 + std::max(0, cA1 + cB2 - n) +
+            std::max(0, cB1 + cA2 - n) + (n_[e] < 0 ? 1 : 0);
+  }
+  // c→d turns from c→a past the arcs of c's fan that end on a's side; d→c from d→b likewise
+  const long rc = (shared(h2) ? 1 : 0) + std::max(0, std::min(cA1 + fC1, cA2) - cA1);
+  const long rd = (shared(t2) ? 1 : 0) + std::max(0, cA2 + fD2 - std::max(cA2, n - cB1));
+  const int rh1 = r_[h1], rh2 = r_[h2], rt1 = r_[t1], rt2 = r_[t2];
+  if (!tri_.flip_edge(e)) return false;
+  // slots keep their sides' roundabouts: h1 ← h2, h2 ← t1, t1 ← t2, t2 ← h1
+  r_[h1] = rh2;
+  r_[h2] = rt1;
+  r_[t1] = rt2;
+  r_[t2] = rh1;
+  r_[t] = spoke_index(c, rh2, rc);  // t = c→d
+  r_[h] = spoke_index(d, rt2, rd);  // h = d→c
+  n_[e] = n_new;
+  return true;
+}
+
+FlipReport NormalCoordinateTriangulation::flip_to_delaunay() {
+  return tri_.flip_to_delaunay([this](Index e) { return flip_edge(e); });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tracing
+
+NormalCoordinateTriangulation::ArcEnd NormalCoordinateTriangulation::follow(
+    Index h, int p, Eigen::Vector2d a, Eigen::Vector2d b) const {
+  // the arc enters face(h) through side h at position p from tail(h) (laid out at a, head at b)
+  const Index cap = 4 * tri_.n_faces() + 1000;
+  for (Index step = 0; step < cap; ++step) {
+    const Index f = T::face(h);
+    const int s = T::side(h);
+    const FaceCounts c = counts(f);
+    if (p < 1 || p > c.n[s]) inconsistent("arc position out of range in face " + std::to_string(f));
+    const Index hn = T::next(h), hp = T::prev(h);
+    const Eigen::Vector2d z = place_left(a, b, tri_.halfedge_length(hp), tri_.halfedge_length(hn));
+    if (p <= c.corner[s]) {  // around corner s: leaves through side s+2, as p-th from a
+      h = tri_.twin(hp);
+      b = z;
+    } else if (p <= c.corner[s] + c.fan[(s + 2) % 3]) {  // ends at the opposite corner
+      ArcEnd end;
+      end.vertex = tri_.tail(hp);
+      end.spoke = spoke_index(end.vertex, r_[hp], (shared(hp) ? 1 : 0) + (p - c.corner[s] - 1));
+      end.pos = z;
+      if (spokes_[end.vertex].empty()) inconsistent("arc ends at a vertex without spokes");
+      return end;
+    } else {  // around corner s+1: leaves through side s+1, q-th from b
+      const int q = c.n[s] - p + 1;
+      h = tri_.twin(hn);
+      p = c.n[(s + 1) % 3] - q + 1;
+      a = z;
+    }
+    if (h == kInvalidIndex) inconsistent("arc crosses the boundary");
+  }
+  inconsistent("arc does not end");
+}
+
+std::vector<InputCrossing> NormalCoordinateTriangulation::trace_halfedge(Index h) const {
+  std::vector<InputCrossing> out;
+  const int n = n_[tri_.edge(h)];
+  if (n <= 0) return out;
+  const Index tw = tri_.twin(h);
+  if (tw == kInvalidIndex) inconsistent("boundary edge crossed by input edges");
+  const double len = tri_.halfedge_length(h);
+  const Eigen::Vector2d a(0.0, 0.0), b(len, 0.0);
+  out.reserve(n);
+  for (int p = 1; p <= n; ++p) {
+    const ArcEnd e1 = follow(h, p, a, b);           // in face(h), above the x axis
+    const ArcEnd e2 = follow(tw, n - p + 1, b, a);  // in face(tw), below
+    const InputSpoke& s1 = spokes_[e1.vertex][e1.spoke];
+    const InputSpoke& s2 = spokes_[e2.vertex][e2.spoke];
+    if (s1.input_edge != s2.input_edge) inconsistent("arc ends on two different input edges");
+    const double dy = e1.pos.y() - e2.pos.y();
+    const double s = dy != 0.0 ? -e2.pos.y() / dy : 0.5;
+    const double x = e2.pos.x() + s * (e1.pos.x() - e2.pos.x());
+    out.push_back({s1.input_edge, x / len, s2.at + s * (s1.at - s2.at)});
+  }
+  return out;
+}
+
+std::vector<InputCrossing> NormalCoordinateTriangulation::trace_edge(Index e) const {
+  return trace_halfedge(tri_.edge_halfedge(e));
+}
+
+SurfacePoint NormalCoordinateTriangulation::crossing_point(const InputCrossing& c) const {
+  const Index h = input_.edge_halfedge(c.input_edge);
+  SurfacePoint p;
+  p.face = T::face(h);
+  p.bary[T::side(h)] = 1.0 - c.input_t;
+  p.bary[(T::side(h) + 1) % 3] = c.input_t;
+  return p;
+}
+
+Eigen::Vector3d NormalCoordinateTriangulation::crossing_position(const InputCrossing& c) const {
+  const Index h = input_.edge_halfedge(c.input_edge);
+  const Eigen::Vector3d x0 = positions_.row(input_.tail(h)), x1 = positions_.row(input_.head(h));
+  return (1.0 - c.input_t) * x0 + c.input_t * x1;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Insertion and splitting: where the new edges fall among the arcs of the cut faces
+
+std::vector<NormalCoordinateTriangulation::Arc> NormalCoordinateTriangulation::face_arcs(
+    Index f, const Eigen::Vector2d p[3]) const {
+  const FaceCounts c = counts(f);
+  std::vector<InputCrossing> trace[3];
+  for (int s = 0; s < 3; ++s) {
+    if (c.n[s] > 0) trace[s] = trace_halfedge(3 * f + s);
+  }
+  auto at = [&](int s, int k) {  // k-th crossing (1-based) of side s from corner s
+    const double t = trace[s][k - 1].t;
+    return Eigen::Vector2d(p[s] + t * (p[(s + 1) % 3] - p[s]));
+  };
+  std::vector<Arc> arcs;
+  for (int k = 0; k < 3; ++k) {
+    const int s2 = (k + 2) % 3;
+    for (int i = 1; i <= c.corner[k]; ++i) arcs.push_back({at(k, i), at(s2, c.n[s2] - i + 1), -1});
+    const int s1 = (k + 1) % 3;
+    for (int j = 1; j <= c.fan[k]; ++j) arcs.push_back({p[k], at(s1, c.corner[s1] + j), k});
+  }
+  return arcs;
+}
+
+Index NormalCoordinateTriangulation::insert_vertex(Index f, const Eigen::Vector3d& bary) {
+  if (f < 0 || f >= tri_.n_faces()) {
+    throw InvalidInput("insert_vertex: face " + std::to_string(f) + " out of range");
+  }
+  Eigen::Vector2d p[3];
+  face_layout(tri_, f, p);
+  const std::vector<Arc> arcs = face_arcs(f, p);
+  const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
+  int crossing[3] = {0, 0, 0}, before[3] = {0, 0, 0};
+  for (const Arc& arc : arcs) {
+    for (int k = 0; k < 3; ++k) {
+      if (arc.from_corner == k) {
+        // turning counter-clockwise at corner k from side k, this spoke comes before x
+        if (cross2d(arc.y - p[k], x - p[k]) > 0.0) ++before[k];
+      } else if (segments_cross(x, p[k], arc.x, arc.y)) {
+        ++crossing[k];
+      }
+    }
+  }
+  int r_old[3], shared_side[3];
+  Index corner[3];
+  for (int k = 0; k < 3; ++k) {
+    r_old[k] = r_[3 * f + k];
+    shared_side[k] = shared(3 * f + k) ? 1 : 0;
+    corner[k] = tri_.tail(3 * f + k);
+  }
+  const int r1 = r_[3 * f + 1], r2 = r_[3 * f + 2];
+  const Index e0 = tri_.n_edges();
+  const Index v = tri_.insert_vertex_in_face(f, bary);
+  grow_records();
+  const Index f1 = tri_.n_faces() - 2, f2 = f1 + 1;
+  r_[3 * f1] = r1;                                                                // c1→c2 moved
+  r_[3 * f2] = r2;                                                                // c2→c0 moved
+  r_[3 * f2 + 1] = spoke_index(corner[0], r_old[0], shared_side[0] + before[0]);  // c0→v
+  r_[3 * f + 1] = spoke_index(corner[1], r_old[1], shared_side[1] + before[1]);   // c1→v
+  r_[3 * f1 + 1] = spoke_index(corner[2], r_old[2], shared_side[2] + before[2]);  // c2→v
+  r_[3 * f + 2] = r_[3 * f1 + 2] = r_[3 * f2 + 2] = 0;                            // v has no spokes
+  for (int k = 0; k < 3; ++k) n_[e0 + k] = crossing[k];
+  return v;
+}
+
+// Long function: one straight sequence (measure both faces, split, write every new record),
+// kept together so the slot bookkeeping reads against triangulation.h's split_edge layout.
+Index NormalCoordinateTriangulation::split_edge(Index e, double t) {
+  if (e < 0 || e >= tri_.n_edges() || !tri_.can_split_edge(e)) return tri_.split_edge(e, t);
+  const Index h = tri_.edge_halfedge(e), tw = tri_.twin(h);
+  const bool interior = tw != kInvalidIndex;
+  const Index h1 = T::next(h), h2 = T::prev(h);
+  const Index t1 = interior ? T::next(tw) : kInvalidIndex,
+              t2 = interior ? T::prev(tw) : kInvalidIndex;
+  const Index a = tri_.tail(h), b = tri_.head(h), c = tri_.tail(h2);
+  const Index d = interior ? tri_.tail(t2) : kInvalidIndex;
+  const int n_e = n_[e], n = std::max(0, n_e);
+  int q = 0;  // crossings between a and the new vertex
+  if (n > 0) {
+    for (const InputCrossing& x : trace_halfedge(h)) q += x.t < t ? 1 : 0;
+  }
+  // new diagonals m–c and m–d: the arcs of each face crossing them
+  auto count_diagonal = [&](Index side_h, double frac_from_tail, int* fan_before) {
+    Eigen::Vector2d p[3];
+    const Index f = T::face(side_h);
+    const int s = T::side(side_h), k = (s + 2) % 3;
+    face_layout(tri_, f, p);
+    const Eigen::Vector2d m = p[s] + frac_from_tail * (p[(s + 1) % 3] - p[s]);
+    int count = 0;
+    *fan_before = 0;
+    for (const Arc& arc : face_arcs(f, p)) {
+      if (arc.from_corner == k) {
+        if (cross2d(arc.y - p[k], m - p[k]) > 0.0) ++*fan_before;
+      } else if (segments_cross(m, p[k], arc.x, arc.y)) {
+        ++count;
+      }
+    }
+    return count;
+  };
+  int c_before = 0, d_before = 0;
+  const int n_mc = count_diagonal(h, t, &c_before);
+  const int n_md = interior ? count_diagonal(tw, 1.0 - t, &d_before) : 0;
+  const int rh2 = r_[h2], rt2 = interior ? r_[t2] : 0;
+  const long rc = (shared(h2) ? 1 : 0) + c_before;
+  const long rd = interior ? (shared(t2) ? 1 : 0) + d_before : 0;
+  const int rh1 = r_[h1], rt1 = interior ? r_[t1] : 0;
+  // a vertex on an input edge: two spokes, 0 toward b and 1 toward a
+  std::vector<InputSpoke> m_spokes;
+  if (n_e < 0) {
+    const InputSpoke& sa = spokes_[a][r_[h]];
+    const double at_b = interior ? spokes_[b][r_[tw]].at : vertex_at(b, sa.input_edge);
+    const InputSpoke s{sa.input_edge, sa.at + t * (at_b - sa.at)};
+    m_spokes = {s, s};
+  }
+  const Index e_mb = tri_.n_edges();
+  const Index m = tri_.split_edge(e, t);
+  grow_records();
+  const Index g1 = interior ? tri_.n_faces() - 2 : tri_.n_faces() - 1, g2 = g1 + 1;
+  const bool on_input = !m_spokes.empty();
+  spokes_[m] = std::move(m_spokes);
+  n_[e] = n_e < 0 ? -1 : q;
+  n_[e_mb] = n_e < 0 ? -1 : n - q;
+  n_[e_mb + 1] = n_mc;
+  r_[3 * g1 + 1] = rh1;                      // b→c moved
+  r_[3 * g1 + 2] = spoke_index(c, rh2, rc);  // c→m
+  r_[3 * g1] = 0;                            // m→b
+  r_[h1] = on_input ? 1 : 0;                 // m→c
+  if (interior) {
+    n_[e_mb + 2] = n_md;
+    r_[3 * g2 + 1] = rt1;                      // a→d moved
+    r_[3 * g2 + 2] = spoke_index(d, rt2, rd);  // d→m
+    r_[3 * g2] = on_input ? 1 : 0;             // m→a
+    r_[t1] = 0;                                // m→d
+  }
+  return m;
+}
+
+void NormalCoordinateTriangulation::validate() const {
+  for (Index f = 0; f < tri_.n_faces(); ++f) {
+    const FaceCounts c = counts(f);
+    int fans = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int twice = c.n[k] + c.n[(k + 2) % 3] - c.n[(k + 1) % 3] - c.fan[(k + 1) % 3] -
+                        c.fan[(k + 2) % 3] + c.fan[k];
+      if (twice < 0 || twice % 2 != 0) inconsistent("face " + std::to_string(f) + " has no arcs");
+      fans += c.fan[k] > 0 ? 1 : 0;
+    }
+    if (fans > 1) inconsistent("face " + std::to_string(f) + " has arcs leaving two corners");
+  }
+  for (Index h = 0; h < tri_.n_halfedges(); ++h) {
+    const auto d = static_cast<int>(spokes_[tri_.tail(h)].size());
+    if (r_[h] < 0 || (d > 0 && r_[h] >= d) || (d == 0 && r_[h] != 0)) {
+      inconsistent("roundabout of halfedge " + std::to_string(h) + " out of range");
+    }
+  }
+}
+
+}  // namespace ifem::intrinsic

@@ -1,0 +1,150 @@
+// Integer coordinates for intrinsic triangulations (Gillespie, Sharp & Crane 2021, "Integer
+// Coordinates for Intrinsic Geometry Processing"): a second way, besides signposts, to keep the
+// correspondence between an intrinsic triangulation and the input mesh it lives on.
+//
+// Per intrinsic edge e, the normal coordinate n(e) counts the input edges that cross e
+// transversally; n(e) = −1 means e runs along (a piece of) an input edge. Per intrinsic
+// halfedge h leaving a vertex v that input edges leave ("spokes", see below), the roundabout
+// r(h) is the index, in v's counter-clockwise list of spokes, of the first spoke met turning
+// counter-clockwise from h (h's own spoke when h runs along one). Flips update both with
+// integer formulas only; insertions and edge splits measure where the new edges fall among the
+// input edges of the one or two faces they cut (floating point only for positions along edges).
+// docs/decisions.md D-190..D-192.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "intrinsic/core/surface_point.h"
+#include "intrinsic/core/triangulation.h"
+
+namespace ifem::intrinsic {
+
+/// One input edge crossing an intrinsic halfedge (NormalCoordinateTriangulation::trace_halfedge).
+struct InputCrossing {
+  Index input_edge = kInvalidIndex;  ///< edge of input() crossed
+  double t = 0.0;  ///< where, as a fraction of the intrinsic halfedge from its tail, in (0, 1)
+  double input_t = 0.0;  ///< where, as a fraction of input().edge_halfedge(input_edge) from its
+                         ///< tail, in (0, 1)
+};
+
+/// A spoke: one direction in which an input edge leaves an intrinsic vertex. Input vertices
+/// have one per incident input edge end (a self-loop gives two); a vertex inserted on an input
+/// edge (split_edge of an edge with n = −1) has two, one per direction along it; a vertex
+/// inserted in a face has none.
+struct InputSpoke {
+  Index input_edge = kInvalidIndex;  ///< edge of input()
+  double at = 0.0;  ///< the vertex's position along input().edge_halfedge(input_edge), as a
+                    ///< fraction from its tail (0 or 1 at input vertices)
+};
+
+/// An intrinsic triangulation with normal coordinates and roundabouts, over an input mesh kept
+/// alongside. Every operation goes through IntrinsicTriangulation's own flip / insertion /
+/// split with the same arguments, so its geometry (edge lengths, edge and halfedge ids) is
+/// exactly that of a SignpostTriangulation driven by the same calls.
+class NormalCoordinateTriangulation {
+ public:
+  /// Builds the input triangulation (as IntrinsicTriangulation::from_positions) and starts the
+  /// intrinsic triangulation as a copy of it: every n(e) = −1. A vertex may have several fans
+  /// of faces (spokes are listed fan after fan).
+  /// @param mollify_relative_epsilon if > 0, both triangulations are mollified with this margin
+  ///        (IntrinsicTriangulation::mollify), as SignpostTriangulation does
+  /// @throws InvalidInput / NonManifoldInput as IntrinsicTriangulation::from_positions
+  NormalCoordinateTriangulation(const std::vector<Triangle>& faces, const Positions& positions,
+                                double mollify_relative_epsilon = 0.0,
+                                BuildReport* report = nullptr);
+
+  // ===== Access =====
+  const IntrinsicTriangulation& intrinsic() const { return tri_; }
+  const IntrinsicTriangulation& input() const { return input_; }
+  const Positions& input_positions() const { return positions_; }
+  Index n_input_vertices() const { return input_.n_vertices(); }
+  /// For each face of input(), the index of the given face it came from.
+  const std::vector<Index>& input_face_origin() const { return face_origin_; }
+  /// n(e): input edges crossing intrinsic edge e, or −1 if e runs along an input edge.
+  int normal_coordinate(Index e) const { return n_[e]; }
+  /// r(h) in [0, #spokes(tail(h))), 0 at a vertex without spokes.
+  int roundabout(Index h) const { return r_[h]; }
+  /// The spokes of intrinsic vertex v, counter-clockwise (on the boundary, starting along the
+  /// outgoing boundary side; a vertex with several fans of faces lists them one after another).
+  const std::vector<InputSpoke>& spokes(Index v) const { return spokes_[v]; }
+  /// The index of the spoke `steps` counter-clockwise from spoke r of vertex v, within the fan
+  /// of faces spoke r belongs to (indices wrap within a closed fan); 0 at a vertex without
+  /// spokes. Precondition: r < spokes(v).size() when v has spokes.
+  int spoke_index(Index v, int r, long steps) const;
+  /// The input edge intrinsic halfedge h runs along (n = −1), else kInvalidIndex.
+  Index input_edge_along(Index h) const;
+  /// The position of vertex v along input().edge_halfedge(input_edge), as a fraction from its
+  /// tail. Precondition: v lies on that input edge (an end of it, or a vertex inserted on it).
+  double vertex_at(Index v, Index input_edge) const;
+
+  // ===== Operations (all keep the normal coordinates and roundabouts up to date) =====
+
+  /// IntrinsicTriangulation::flip_edge, with the integer update. O(1).
+  bool flip_edge(Index e);
+  /// IntrinsicTriangulation::flip_to_delaunay through flip_edge().
+  FlipReport flip_to_delaunay();
+  /// Inserts a vertex in intrinsic face f at barycentric coordinates `bary` (all > 0), as
+  /// IntrinsicTriangulation::insert_vertex_in_face(f, bary); returns its id. Traces f's three
+  /// sides (O(their crossings × the length of the crossing input edges in faces)).
+  Index insert_vertex(Index f, const Eigen::Vector3d& bary);
+  /// Splits intrinsic edge e at fraction t ∈ (0, 1) from the tail of edge_halfedge(e), as
+  /// IntrinsicTriangulation::split_edge(e, t) (boundary edges included); returns the new vertex.
+  /// A vertex on an input edge (n(e) = −1) gets two spokes.
+  /// @throws InvalidInput as IntrinsicTriangulation::split_edge
+  Index split_edge(Index e, double t);
+
+  // ===== Tracing from the integers =====
+
+  /// The input edges crossing intrinsic halfedge h, in order from its tail (n(edge(h)) of them;
+  /// none when n ≤ 0). Each is found by following its arcs through the intrinsic faces to the
+  /// vertices it leaves (roundabouts name it), and placed by laying those faces out in the
+  /// plane. Does not build the common subdivision.
+  /// @throws InvalidInput if the coordinates are inconsistent (a bug, or a broken invariant)
+  std::vector<InputCrossing> trace_halfedge(Index h) const;
+  /// trace_halfedge(intrinsic().edge_halfedge(e)).
+  std::vector<InputCrossing> trace_edge(Index e) const;
+  /// A crossing as a point of the input surface (on the input edge's side of its face).
+  SurfacePoint crossing_point(const InputCrossing& c) const;
+  /// A crossing in 3D (on the straight input edge between its vertices' positions).
+  Eigen::Vector3d crossing_position(const InputCrossing& c) const;
+
+  /// Checks the integer invariants: per face, the three coordinates admit normal arcs (even
+  /// sums, at most one corner with arcs ending at it), roundabouts in range.
+  /// @throws InvalidInput naming the first face or halfedge that fails
+  void validate() const;
+
+ private:
+  struct FaceCounts {
+    int n[3];       // max(n, 0) of sides 0, 1, 2
+    int corner[3];  // arcs cutting off corner k (crossing sides k and k+2)
+    int fan[3];     // arcs leaving corner k (crossing side k+1)
+  };
+  struct ArcEnd {
+    Index vertex = kInvalidIndex;
+    int spoke = 0;
+    Eigen::Vector2d pos;
+  };
+  struct Arc {
+    Eigen::Vector2d x, y;
+    int from_corner = -1;  // corner x is at, or −1
+  };
+  FaceCounts counts(Index f) const;
+  bool shared(Index h) const { return n_[tri_.edge(h)] < 0; }
+  ArcEnd follow(Index h, int p, Eigen::Vector2d a, Eigen::Vector2d b) const;
+  std::vector<Arc> face_arcs(Index f, const Eigen::Vector2d p[3]) const;
+  void grow_records();
+  void add_fan(Index v, Index h0, std::vector<char>& seen);
+
+  IntrinsicTriangulation input_;
+  IntrinsicTriangulation tri_;
+  Positions positions_;
+  std::vector<Index> face_origin_;               // #F input: index into the faces given
+  std::vector<int> n_;                           // #E intrinsic
+  std::vector<int> r_;                           // #H intrinsic
+  std::vector<std::vector<InputSpoke>> spokes_;  // #V intrinsic
+  std::vector<std::vector<int>> fans_;  // #V: first spoke of each fan + end, for vertices with
+                                        // several fans (empty otherwise)
+};
+
+}  // namespace ifem::intrinsic

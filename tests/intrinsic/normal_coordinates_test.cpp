@@ -1,0 +1,475 @@
+// Normal coordinates against signposts: both representations are driven by the same calls (so
+// their intrinsic triangulations are identical), and the integers must equal what the
+// signpost tracer counts, the traced crossings must sit where the signposts put them, and every
+// input edge must come back as a connected sequence of crossings.
+#include "intrinsic/integer/normal_coordinates.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "helpers.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/integer/integer_subdivision.h"
+#include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/signpost.h"
+
+namespace ifem::intrinsic {
+namespace {
+
+using T = IntrinsicTriangulation;
+
+double mesh_scale(const IntrinsicTriangulation& input) {
+  double s = 0.0;
+  for (Index e = 0; e < input.n_edges(); ++e) s = std::max(s, input.length(e));
+  return s;
+}
+
+double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                           const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+// n(e) equals the number of input sides the signpost trace of e crosses, and each crossing
+// lies where the signpost trace puts it; an edge with n = −1 lies along its input edge.
+// Checks every `stride`-th edge.
+void expect_matches_signposts(const NormalCoordinateTriangulation& nc,
+                              const SignpostTriangulation& st, double rel_tol, Index stride = 1) {
+  const IntrinsicTriangulation& tri = nc.intrinsic();
+  ASSERT_EQ(tri.tails(), st.intrinsic().tails());
+  const double tol = rel_tol * mesh_scale(nc.input());
+  for (Index e = 0; e < tri.n_edges(); e += stride) {
+    const Index h = tri.edge_halfedge(e);
+    const std::vector<SurfacePoint> path = st.trace_halfedge(h);
+    const int n = nc.normal_coordinate(e);
+    if (n < 0) {
+      const Index ie = nc.input_edge_along(h);
+      ASSERT_NE(ie, kInvalidIndex) << "edge " << e;
+      const Index ih = nc.input().edge_halfedge(ie);
+      const Eigen::Vector3d a = nc.input_positions().row(nc.input().tail(ih));
+      const Eigen::Vector3d b = nc.input_positions().row(nc.input().head(ih));
+      for (const SurfacePoint& p : path) {
+        ASSERT_LT(distance_to_segment(st.position(p), a, b), tol) << "edge " << e;
+      }
+      continue;
+    }
+    ASSERT_GE(path.size(), 2u);
+    // the crossings the signposts found, less those at an end (a trace leaving a vertex that
+    // lies on an input edge may first step over that edge, at rounding level)
+    std::vector<Eigen::Vector3d> found;
+    // (the signposts locate such a vertex within a few 1e-9: a looser tolerance there)
+    const Eigen::Vector3d first = st.position(path.front()), last = st.position(path.back());
+    auto end_tol = [&](Index v) {
+      return v >= nc.n_input_vertices() && !nc.spokes(v).empty() ? 1e-6 * tol / rel_tol : tol;
+    };
+    const double tol_first = end_tol(tri.tail(h)), tol_last = end_tol(tri.head(h));
+    for (std::size_t i = 1; i + 1 < path.size(); ++i) {
+      const Eigen::Vector3d y = st.position(path[i]);
+      if ((y - first).norm() > tol_first && (y - last).norm() > tol_last) found.push_back(y);
+    }
+    ASSERT_EQ(static_cast<int>(found.size()), n)
+        << "edge " << e << " (" << tri.tail(h) << ", " << tri.head(h) << "), path " << path.size()
+        << ", input vertices " << nc.n_input_vertices() << ", spokes "
+        << nc.spokes(tri.tail(h)).size() << " " << nc.spokes(tri.head(h)).size() << ", to ends "
+        << (found.empty() ? -1.0 : (found[0] - first).norm()) << " "
+        << (found.empty() ? -1.0 : (found[0] - last).norm()) << ", length " << tri.length(e);
+    const std::vector<InputCrossing> crossings = nc.trace_edge(e);
+    ASSERT_EQ(static_cast<int>(crossings.size()), n);
+    double last_t = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const InputCrossing& c = crossings[i];
+      EXPECT_GT(c.t, last_t) << "edge " << e;
+      last_t = c.t;
+      const Eigen::Vector3d x = nc.crossing_position(c);
+      const Eigen::Vector3d& y = found[i];
+      ASSERT_LT((x - y).norm(), tol) << "edge " << e << " crossing " << i;
+      const SurfacePoint sp = nc.crossing_point(c);
+      ASSERT_LT((st.position(sp) - x).norm(), tol);
+    }
+  }
+}
+
+// Every input edge is recovered: its crossings (over all intrinsic edges), sorted along it,
+// are distinct, consecutive ones lie on two sides of one intrinsic face (or are separated by
+// a vertex on the input edge), and an input edge that no intrinsic edge runs along is crossed.
+void expect_input_edges_recovered(const NormalCoordinateTriangulation& nc) {
+  const IntrinsicTriangulation& tri = nc.intrinsic();
+  struct Hit {
+    double at;
+    Index edge;
+  };
+  std::vector<std::vector<Hit>> hits(nc.input().n_edges());
+  std::vector<std::vector<double>> stops(nc.input().n_edges());  // vertices on the input edge
+  std::vector<char> along(nc.input().n_edges(), 0);
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const Index h = tri.edge_halfedge(e);
+    if (nc.normal_coordinate(e) < 0) along[nc.input_edge_along(h)] = 1;
+    for (const InputCrossing& c : nc.trace_edge(e)) hits[c.input_edge].push_back({c.input_t, e});
+  }
+  for (Index v = nc.n_input_vertices(); v < tri.n_vertices(); ++v) {
+    for (const InputSpoke& s : nc.spokes(v)) stops[s.input_edge].push_back(s.at);
+  }
+  auto share_face = [&](Index e1, Index e2) {
+    for (const Index h : {tri.edge_halfedge(e1), tri.twin(tri.edge_halfedge(e1))}) {
+      if (h == kInvalidIndex) continue;
+      for (int k = 0; k < 3; ++k) {
+        if (tri.edge(3 * T::face(h) + k) == e2) return true;
+      }
+    }
+    return false;
+  };
+  for (Index ie = 0; ie < nc.input().n_edges(); ++ie) {
+    auto& list = hits[ie];
+    if (!along[ie]) {
+      ASSERT_FALSE(list.empty()) << "input edge " << ie << " lost";
+    }
+    std::sort(list.begin(), list.end(), [](const Hit& a, const Hit& b) { return a.at < b.at; });
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      ASSERT_GT(list[i].at, 0.0);
+      ASSERT_LT(list[i].at, 1.0);
+      if (i == 0) continue;
+      ASSERT_GT(list[i].at, list[i - 1].at) << "input edge " << ie;
+      const bool stop_between = std::any_of(stops[ie].begin(), stops[ie].end(), [&](double s) {
+        return s > list[i - 1].at && s < list[i].at;
+      });
+      if (!stop_between) {
+        ASSERT_TRUE(share_face(list[i - 1].edge, list[i].edge))
+            << "input edge " << ie << ": crossings " << i - 1 << ", " << i << " not adjacent";
+      }
+    }
+  }
+}
+
+// Random flips, insertions in faces and edge splits applied to both representations. With
+// IFEM_NC_DEBUG set in the environment, the signpost comparison runs after every operation
+// (finds the first operation that goes wrong).
+// kinds: bit 0 flips, bit 1 insertions in faces, bit 2 edge splits.
+void random_operations(NormalCoordinateTriangulation& nc, SignpostTriangulation& st, int n_ops,
+                       unsigned seed, int kinds, bool check_each = false) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int op = 0; op < n_ops; ++op) {
+    const IntrinsicTriangulation& tri = nc.intrinsic();
+    const int kind = static_cast<int>(rng() % 4);
+    if (!(kinds & (1 << std::max(kind - 1, 0)))) continue;
+    if (kind <= 1) {  // flips: twice as often
+      const Index e = static_cast<Index>(rng() % tri.n_edges());
+      const bool a = nc.flip_edge(e), b = st.flip_edge(e);
+      ASSERT_EQ(a, b);
+    } else if (kind == 2) {
+      const Index f = static_cast<Index>(rng() % tri.n_faces());
+      Eigen::Vector3d bary(0.2 + unit(rng), 0.2 + unit(rng), 0.2 + unit(rng));
+      bary /= bary.sum();
+      ASSERT_EQ(nc.insert_vertex(f, bary), st.insert_vertex(f, bary));
+    } else {
+      const Index e = static_cast<Index>(rng() % tri.n_edges());
+      if (!tri.can_split_edge(e)) continue;
+      const double t = 0.25 + 0.5 * unit(rng);
+      ASSERT_EQ(nc.split_edge(e, t), st.split_edge(e, t));
+    }
+    ASSERT_NO_THROW(nc.validate()) << "after operation " << op;
+    if (check_each) {
+      SCOPED_TRACE("after operation " + std::to_string(op) + " kind " + std::to_string(kind));
+      expect_matches_signposts(nc, st, 1e-8);
+      if (::testing::Test::HasFailure()) return;
+    }
+  }
+}
+
+void run_random(const TriangleMesh& mesh, int n_ops, unsigned seed, double rel_tol = 1e-9,
+                int kinds = 7) {
+  NormalCoordinateTriangulation nc(mesh.faces, mesh.positions);
+  SignpostTriangulation st(mesh.faces, mesh.positions);
+  random_operations(nc, st, n_ops, seed, kinds, std::getenv("IFEM_NC_DEBUG") != nullptr);
+  if (::testing::Test::HasFailure()) return;
+  Index crossed = 0;  // the operations moved edges off the input: something to check
+  for (Index e = 0; e < nc.intrinsic().n_edges(); ++e) crossed += nc.normal_coordinate(e) > 0;
+  EXPECT_GT(crossed, 5);
+  {
+    SCOPED_TRACE("after the random operations");
+    expect_matches_signposts(nc, st, rel_tol);
+    expect_input_edges_recovered(nc);
+  }
+  // then Delaunay: the same flips, still in agreement
+  const FlipReport a = nc.flip_to_delaunay();
+  const FlipReport b = st.flip_to_delaunay();
+  EXPECT_EQ(a.flips, b.flips);
+  nc.validate();
+  SCOPED_TRACE("after Delaunay flipping");
+  expect_matches_signposts(nc, st, rel_tol);
+  expect_input_edges_recovered(nc);
+}
+
+TEST(NormalCoordinates, StartAsInput) {
+  const TriangleMesh m = test::jittered(icosphere(2), 0.05, 3);
+  NormalCoordinateTriangulation nc(m.faces, m.positions);
+  nc.validate();
+  for (Index e = 0; e < nc.intrinsic().n_edges(); ++e) {
+    EXPECT_EQ(nc.normal_coordinate(e), -1);
+    EXPECT_EQ(nc.input_edge_along(nc.intrinsic().edge_halfedge(e)), e);
+  }
+  std::size_t spokes = 0;
+  for (Index v = 0; v < nc.n_input_vertices(); ++v) spokes += nc.spokes(v).size();
+  EXPECT_EQ(spokes, 2u * static_cast<std::size_t>(nc.input().n_edges()));
+}
+
+// One flip on a flat square of two triangles: the new diagonal crosses the old one, once.
+TEST(NormalCoordinates, OneFlipCrossesTheOldDiagonal) {
+  Positions x(4, 3);
+  x << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
+  const std::vector<Triangle> f = {{0, 1, 2}, {0, 2, 3}};
+  NormalCoordinateTriangulation nc(f, x);
+  Index diag = kInvalidIndex;
+  for (Index e = 0; e < nc.intrinsic().n_edges(); ++e) {
+    if (!nc.intrinsic().is_boundary_edge(e)) diag = e;
+  }
+  ASSERT_TRUE(nc.flip_edge(diag));
+  EXPECT_EQ(nc.normal_coordinate(diag), 1);
+  const auto c = nc.trace_edge(diag);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_NEAR(c[0].t, 0.5, 1e-14);
+  EXPECT_NEAR(c[0].input_t, 0.5, 1e-14);
+  ASSERT_TRUE(nc.flip_edge(diag));  // back: along the input diagonal again
+  EXPECT_EQ(nc.normal_coordinate(diag), -1);
+  nc.validate();
+}
+
+TEST(NormalCoordinates, RandomFlipsIcosphere) {
+  run_random(test::jittered(icosphere(2), 0.04, 1), 150, 1, 1e-9, 1);
+}
+
+TEST(NormalCoordinates, RandomInsertionsIcosphere) {
+  run_random(test::jittered(icosphere(2), 0.04, 1), 100, 1, 1e-9, 3);
+}
+
+TEST(NormalCoordinates, RandomSplitsIcosphere) {
+  run_random(test::jittered(icosphere(2), 0.04, 1), 100, 1, 1e-9, 5);
+}
+
+TEST(NormalCoordinates, RandomOperationsIcosphere) {
+  for (const unsigned seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    run_random(test::jittered(icosphere(2), 0.04, seed), 150, seed, 1e-8);
+  }
+}
+
+TEST(NormalCoordinates, RandomOperationsFlatSquareWithBoundary) {
+  for (const unsigned seed : {4u, 5u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    run_random(test::flat_square(6, 0.3, seed), 150, seed, 1e-8);
+  }
+}
+
+TEST(NormalCoordinates, RandomOperationsTestData) {
+  for (const char* name : {"bunny_npm_lowres.obj"}) {
+    SCOPED_TRACE(name);
+    const io::SurfaceInput in = io::read_mesh((test::test_data() / name).string());
+    run_random({in.positions, in.triangles}, 120, 7, 1e-8);
+  }
+}
+
+// A flat ellipse (semi-axes 1 and 0.08) fanned from one boundary vertex: needles everywhere.
+TriangleMesh needle_fan(int n) {
+  TriangleMesh m;
+  m.positions.resize(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * 3.14159265358979 * i / n;
+    m.positions.row(i) << std::cos(a), 0.08 * std::sin(a), 0.0;
+  }
+  for (int i = 1; i + 1 < n; ++i) m.faces.push_back({0, i, i + 1});
+  return m;
+}
+
+// Needles: a strongly non-Delaunay input whose Delaunay flipping moves many edges far.
+TEST(NormalCoordinates, NeedleMeshDelaunayAgreesWithSignposts) {
+  const TriangleMesh m = needle_fan(60);
+  NormalCoordinateTriangulation nc(m.faces, m.positions);
+  SignpostTriangulation st(m.faces, m.positions);
+  const FlipReport a = nc.flip_to_delaunay();
+  const FlipReport b = st.flip_to_delaunay();
+  EXPECT_GT(a.flips, 0u);
+  EXPECT_EQ(a.flips, b.flips);
+  EXPECT_EQ(nc.intrinsic().lengths(), st.intrinsic().lengths());
+  nc.validate();
+  expect_matches_signposts(nc, st, 1e-9);
+  expect_input_edges_recovered(nc);
+}
+
+// The common subdivision from the integers partitions both triangulations: its triangles'
+// areas sum, per input face, to that face's area and, per intrinsic face, to that face's area
+// (1e-12 relative to the mean face area).
+void expect_area_partition(const NormalCoordinateTriangulation& nc) {
+  const CommonSubdivision cs = common_subdivision(nc);
+  const IntrinsicTriangulation& tri = nc.intrinsic();
+  const Positions& x = nc.input_positions();
+  std::vector<double> by_input(nc.input().n_faces(), 0.0), by_intrinsic(tri.n_faces(), 0.0);
+  double total = 0.0;
+  for (std::size_t i = 0; i < cs.faces.size(); ++i) {
+    const Triangle& t = cs.faces[i];
+    const Eigen::Vector3d a = cs.positions.row(t[0]), b = cs.positions.row(t[1]),
+                          c = cs.positions.row(t[2]);
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    by_input[cs.input_face[i]] += area;
+    by_intrinsic[cs.intrinsic_face[i]] += area;
+  }
+  std::vector<double> input_area(nc.input().n_faces());
+  for (Index f = 0; f < nc.input().n_faces(); ++f) {
+    const Eigen::Vector3d a = x.row(nc.input().tail(3 * f)), b = x.row(nc.input().tail(3 * f + 1)),
+                          c = x.row(nc.input().tail(3 * f + 2));
+    input_area[f] = 0.5 * (b - a).cross(c - a).norm();
+    total += input_area[f];
+  }
+  const double tol = 1e-12 * total / static_cast<double>(nc.input().n_faces());
+  for (Index f = 0; f < nc.input().n_faces(); ++f) {
+    ASSERT_NEAR(by_input[f], input_area[f], tol) << "input face " << f;
+  }
+  for (Index g = 0; g < tri.n_faces(); ++g) {
+    ASSERT_NEAR(by_intrinsic[g], face_area(tri, g), tol) << "intrinsic face " << g;
+  }
+  std::size_t crossings = 0;
+  for (Index e = 0; e < tri.n_edges(); ++e) crossings += std::max(0, nc.normal_coordinate(e));
+  EXPECT_EQ(cs.crossings, crossings);
+}
+
+// The two overlays agree: the area of every (intrinsic face, input face) piece is the same
+// from the integers as from the signposts (1e-9 relative to the mean face area).
+void expect_same_overlay(const NormalCoordinateTriangulation& nc, const SignpostTriangulation& st) {
+  auto pieces = [](const CommonSubdivision& cs) {
+    std::map<std::pair<Index, Index>, double> out;
+    for (std::size_t i = 0; i < cs.faces.size(); ++i) {
+      const Triangle& t = cs.faces[i];
+      const Eigen::Vector3d a = cs.positions.row(t[0]), b = cs.positions.row(t[1]),
+                            c = cs.positions.row(t[2]);
+      out[{cs.intrinsic_face[i], cs.input_face[i]}] += 0.5 * (b - a).cross(c - a).norm();
+    }
+    return out;
+  };
+  const auto a = pieces(common_subdivision(nc)), b = pieces(common_subdivision(st));
+  double total = 0.0;
+  for (const auto& [key, area] : b) total += area;
+  const double tol = 1e-9 * total / static_cast<double>(nc.input().n_faces());
+  for (const auto& [key, area] : a) {
+    const auto it = b.find(key);
+    const double other = it == b.end() ? 0.0 : it->second;
+    EXPECT_NEAR(area, other, tol) << "intrinsic face " << key.first << ", input face "
+                                  << key.second;
+  }
+  for (const auto& [key, area] : b) {
+    if (a.find(key) == a.end()) {
+      EXPECT_LT(area, tol) << "piece missing from the integers";
+    }
+  }
+}
+
+// Every intrinsic vertex is located where the signposts locate it (3D, 1e-8 of the mesh size:
+// signpost locations of inserted vertices carry a few 1e-9).
+void expect_same_locations(const NormalCoordinateTriangulation& nc,
+                           const SignpostTriangulation& st) {
+  const std::vector<SurfacePoint> loc = vertex_locations(nc);
+  const double tol = 1e-8 * mesh_scale(nc.input());
+  for (Index v = 0; v < nc.intrinsic().n_vertices(); ++v) {
+    ASSERT_NE(loc[v].face, kInvalidIndex) << "vertex " << v;
+    EXPECT_NEAR(loc[v].bary.sum(), 1.0, 1e-12);
+    EXPECT_LT((st.position(loc[v]) - st.position(st.vertex_location(v))).norm(), tol)
+        << "vertex " << v;
+  }
+}
+
+TEST(NormalCoordinates, CommonSubdivisionPartitionsAreas) {
+  const std::vector<TriangleMesh> meshes = {test::jittered(icosphere(2), 0.04, 8),
+                                            test::flat_square(6, 0.3, 9)};
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    SCOPED_TRACE("mesh " + std::to_string(i));
+    NormalCoordinateTriangulation nc(meshes[i].faces, meshes[i].positions);
+    SignpostTriangulation st(meshes[i].faces, meshes[i].positions);
+    expect_area_partition(nc);  // the input itself
+    // on the square, no random flips: flipping an edge at a straight boundary vertex (angle π)
+    // may pass the convexity test at rounding level and leave a flat triangle
+    random_operations(nc, st, 150, 10 + static_cast<unsigned>(i), i == 0 ? 7 : 6);
+    expect_area_partition(nc);
+    expect_same_overlay(nc, st);
+    expect_same_locations(nc, st);
+    nc.flip_to_delaunay();
+    st.flip_to_delaunay();
+    expect_area_partition(nc);
+    expect_same_overlay(nc, st);
+  }
+}
+
+// Two flat fans of two triangles sharing only their centre (a vertex with two boundary fans, as
+// in range scans): its spokes are listed fan after fan.
+TEST(NormalCoordinates, VertexWithTwoBoundaryFans) {
+  Positions x(7, 3);
+  x << 0, 0, 0, 1, -0.5, 0, 1.2, 0.3, 0, 0.4, 1, 0, -1, 0.5, 0, -1.2, -0.3, 0, -0.4, -1, 0;
+  const std::vector<Triangle> f = {{0, 1, 2}, {0, 2, 3}, {0, 4, 5}, {0, 5, 6}};
+  NormalCoordinateTriangulation nc(f, x);
+  SignpostTriangulation st(f, x);
+  ASSERT_EQ(nc.spokes(0).size(), 6u);
+  random_operations(nc, st, 60, 21, 6);
+  EXPECT_GT(nc.intrinsic().n_vertices(), 10);
+  nc.flip_to_delaunay();
+  nc.validate();
+  expect_input_edges_recovered(nc);
+  expect_area_partition(nc);
+}
+
+// Two closed spheres pinched at one vertex (two closed fans there): roundabouts wrap within
+// each fan. Random operations, then the invariants (no signposts: they keep one fan per vertex).
+TEST(NormalCoordinates, PinchedVertexWithTwoClosedFans) {
+  const TriangleMesh a = test::jittered(icosphere(1), 0.05, 31);
+  TriangleMesh m = a;
+  const Index n = static_cast<Index>(a.positions.rows());
+  m.positions.conservativeResize(2 * n - 1, 3);
+  auto id = [n](Index v) { return v == 0 ? 0 : n + v - 1; };  // vertex 0 shared
+  for (Index v = 1; v < n; ++v) {
+    m.positions.row(id(v)) = a.positions.row(v) + Eigen::RowVector3d(0.0, 0.0, 0.3 * (v % 2));
+  }
+  for (const Triangle& t : a.faces) m.faces.push_back({id(t[0]), id(t[1]), id(t[2])});
+  NormalCoordinateTriangulation nc(m.faces, m.positions);
+  SignpostTriangulation st(m.faces, m.positions);
+  ASSERT_EQ(nc.spokes(0).size(), 10u);
+  random_operations(nc, st, 200, 32, 7);
+  nc.flip_to_delaunay();
+  nc.validate();
+  Index crossed = 0;
+  for (Index e = 0; e < nc.intrinsic().n_edges(); ++e) crossed += nc.normal_coordinate(e) > 0;
+  EXPECT_GT(crossed, 5);
+  expect_input_edges_recovered(nc);
+  expect_area_partition(nc);
+}
+
+// Real scans and CAD meshes of ../shared (mollified, as the CLI does): Delaunay flipping with
+// both representations, the integers valid and equal to the signpost counts on a sample of
+// about 3000 edges per mesh, and the same overlay pieces (spot, fandisk).
+TEST(NormalCoordinates, SharedMeshesDelaunayAgreesWithSignposts) {
+  IFEM_REQUIRE_SHARED_DATA();
+  for (const char* name : {"rocketship.ply", "spot.obj", "fandisk.off"}) {
+    const auto path = test::shared_data() / "meshes" / name;
+    if (!std::filesystem::exists(path)) continue;
+    SCOPED_TRACE(name);
+    const io::SurfaceInput in = io::read_mesh(path.string());
+    NormalCoordinateTriangulation nc(in.triangles, in.positions, kDefaultMollifyEpsilon);
+    SignpostTriangulation st(in.triangles, in.positions, kDefaultMollifyEpsilon);
+    EXPECT_EQ(nc.flip_to_delaunay().flips, st.flip_to_delaunay().flips);
+    ASSERT_NO_THROW(nc.validate());
+    const Index stride = std::max<Index>(1, nc.intrinsic().n_edges() / 3000);
+    expect_matches_signposts(nc, st, 1e-8, stride);
+    // the two overlays (about 2 s on rocketship's 56k faces: smaller meshes only)
+    if (nc.input().n_faces() < 20000) expect_same_overlay(nc, st);
+  }
+}
+
+}  // namespace
+}  // namespace ifem::intrinsic
