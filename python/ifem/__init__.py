@@ -45,8 +45,10 @@ from ._view import *  # noqa: F401,F403
 from ._view import __all__ as _view_all
 from ._render import *  # noqa: F401,F403
 from ._render import __all__ as _render_all
+from ._exact import *  # noqa: F401,F403
+from ._exact import __all__ as _exact_all
 
 __version__ = "0.1.0"
 
 __all__ = (_errors_all + _mesh_all + _operators_all + _solvers_all + _refine_all +
-           _geodesic_all + _curves_all + _fields_all + _view_all + _render_all)
+           _geodesic_all + _curves_all + _fields_all + _view_all + _render_all + _exact_all)

@@ -29,6 +29,7 @@ void bind_curves(py::module_& m);     // boundary-value problems with data on cu
 void bind_fields(py::module_& m);     // tangent fields: smoothest direction fields
 void bind_view(py::module_& m);       // `ifem view`'s page
 void bind_render(py::module_& m);     // headless pictures (PNG)
+void bind_exact(py::module_& m);      // exact geodesic distance
 
 /// The refined triangulation (ifem.refine's handle, bind_refine.cpp) and what refining it
 /// reported (no report after load()); bind_view.cpp traces its edges.

@@ -121,4 +121,5 @@ PYBIND11_MODULE(_ifem, m) {
   ip::bind_fields(m);
   ip::bind_view(m);
   ip::bind_render(m);
+  ip::bind_exact(m);
 }
