@@ -18,7 +18,8 @@ const char* exact_flag_help() {
          "the tufted cover (--tufted, nonmanifold meshes) and after --refine (same\n"
          "surface, same distances). Cost: time and memory grow about as #F^1.5\n"
          "(64 bytes per window; figures in BENCHMARKS.md); --memory-budget GB stops\n"
-         "it with the figures instead of exhausting memory. Takes --source only";
+         "it with the figures instead of exhausting memory. Takes --source only;\n"
+         "--mollify defaults to 0 here (the input's own lengths)";
 }
 
 int run_exact_distance(const Args& args, const ResultOutput& out) {
@@ -33,7 +34,11 @@ int run_exact_distance(const Args& args, const ResultOutput& out) {
   const std::vector<Index> sources = args.vertices("source");
   std::optional<solvers::SurfaceRefineOptions> refine;
   if (args.has("refine")) refine = refine_settings(args, 0.0, false);
-  const PreparedSurface s = prepare_surface(args.positional()[0], args, refine);
+  solvers::PrepareOptions prep = prepare_options(args);
+  // exact on the input's own lengths: mollify only when asked (0 still repairs strict violations)
+  if (!args.has("mollify")) prep.mollify_relative_epsilon = 0.0;
+  prep.refine = refine;
+  const PreparedSurface s = solvers::prepare_surface(read_input(args.positional()[0], args), prep);
   intrinsic::ExactDistanceOptions o;
   o.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;  // 0: the library's default
   const Stopwatch watch;
