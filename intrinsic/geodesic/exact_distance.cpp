@@ -140,17 +140,23 @@ class Propagator {
     }
   }
 
-  // Lowers v's distance to d (a path's length: through `parent`, crossing its halfedge at x);
-  // true when it did and v is a pseudo-source, which then needs arrive().
+  // Lowers v's distance to d (a path's length: through `parent`, crossing its halfedge at x).
+  // True when v is a pseudo-source still to emit whose arrival the caller may record
+  // (arrive()): d is its distance now, or ties it to rounding (kTie) while no arrival is known.
+  // A tie keeps a known arrival: that path is as short, and its windows pass v.
   bool relax(Index v, double d, Index parent, double x) {
-    if (!(d < out_.distance[v])) return false;
+    const double cur = out_.distance[v];
+    if (!(d < cur)) {
+      return d <= cur * (1.0 + kTie) && pseudo_[v] && !emitted_[v] &&
+             arrive_he_[v] == kInvalidIndex;
+    }
     out_.distance[v] = d;
     out_.vertex_parent[v] = parent;
     out_.vertex_x[v] = x;
     if (!pseudo_[v] || emitted_[v]) return false;
-    arrive_he_[v] = kInvalidIndex;  // no shadow known: emit into every corner
+    if (d < cur * (1.0 - kTie)) arrive_he_[v] = kInvalidIndex;  // not a tie: forget the arrival
     queue_.push({d, -1 - v});
-    return true;
+    return arrive_he_[v] == kInvalidIndex;
   }
   // The path reaching v arrives straight from the direction at angle phi counter-clockwise from
   // the outgoing halfedge o (tail(o) = v), through a window that also has rays on both sides
@@ -283,6 +289,7 @@ class Propagator {
   void propagate(Index id);
 
   static constexpr double kTrimSlack = 1e-13;  // trimming stops short by this × the edge
+  static constexpr double kTie = 1e-12;        // distances this close (relative) tie
   const T& tri_;
   ExactDistance& out_;
   const Index nv_;
