@@ -81,6 +81,8 @@ class Propagator {
     std::vector<Index> fill(start_.begin(), start_.end() - 1);
     for (Index h = 0; h < tri.n_halfedges(); ++h) out_he_[fill[tri.tail(h)]++] = h;
     find_pseudo_sources();
+    apex_.resize(static_cast<std::size_t>(tri.n_halfedges()));
+    for (Index h = 0; h < tri.n_halfedges(); ++h) apex_[h] = apex_of(tri, h);
   }
 
   void add_vertex_source(Index v) {
@@ -192,7 +194,27 @@ class Propagator {
         return false;
       }
     }
-    return w.b1 > w.b0;
+    if (!(w.b1 > w.b0)) return false;
+    // The far corner of face(h) and the near one of the face behind: a vertex that beats both
+    // ends of w beats all of it (the points p with dv + |v p| < σ + |I p| form a convex set).
+    const Vec2 c = apex_[w.h];
+    if (beats(tri_.tail(T::prev(w.h)), c, w)) return false;
+    const Index t = tri_.twin(w.h);
+    if (t != kInvalidIndex) {
+      const Vec2 d = apex_[t];
+      if (beats(tri_.tail(T::prev(t)), Vec2(L - d.x(), -d.y()), w)) return false;
+    }
+    return true;
+  }
+
+  // True when vertex v at `pos` (in w's frame) reaches both ends of w more cheaply than w.
+  bool beats(Index v, const Vec2& pos, const Window& w) const {
+    const double dv = out_.distance[v];
+    if (!(dv < kInf)) return false;
+    const double e0 = std::hypot(w.b0 - w.ix, w.iy) + w.sigma;
+    if (!(dv + std::hypot(w.b0 - pos.x(), pos.y()) < e0 * (1.0 - kTie))) return false;
+    const double e1 = std::hypot(w.b1 - w.ix, w.iy) + w.sigma;
+    return dv + std::hypot(w.b1 - pos.x(), pos.y()) < e1 * (1.0 - kTie);
   }
 
   void push_window(Window w) {
@@ -297,6 +319,7 @@ class Propagator {
   double budget_ = 0.0;
   std::vector<double> split_d_, split_x_;
   std::vector<char> pseudo_, emitted_;
+  std::vector<Vec2> apex_;  // per halfedge: apex_of()
   std::vector<Index> arrive_he_;
   std::vector<double> arrive_phi_;
   struct Corner {
@@ -313,7 +336,7 @@ void Propagator::propagate(Index id) {
   if (!trim(w)) return;
   const Index h = w.h;
   const double L = tri_.halfedge_length(h);
-  const Vec2 img(w.ix, w.iy), c = apex_of(tri_, h);
+  const Vec2 img(w.ix, w.iy), c = apex_[h];
   const Vec2 p0(w.b0, 0.0), p1(w.b1, 0.0);
   relax(tri_.tail(h), w.sigma + (p0 - img).norm() + w.b0, id, w.b0);
   relax(tri_.head(h), w.sigma + (p1 - img).norm() + (L - w.b1), id, w.b1);
@@ -341,7 +364,7 @@ void Propagator::propagate(Index id) {
     const Index g = tri_.twin(T::prev(h));
     if (g != kInvalidIndex) {
       const double lac = tri_.halfedge_length(g);
-      const Vec2 a(0.0, 0.0), u = c / c.norm();
+      const Vec2 a(0.0, 0.0), u = c / lac;
       const double t0 = ray_fraction(a, c, img, w.b0);
       const double t1 = left_end == xc ? 1.0 : ray_fraction(a, c, img, left_end);
       push_window({t0 * lac, t1 * lac, u.dot(img), std::min(0.0, cross2(u, img)), w.sigma, g, id});
@@ -351,7 +374,7 @@ void Propagator::propagate(Index id) {
     const Index g = tri_.twin(T::next(h));
     if (g != kInvalidIndex) {
       const double lcb = tri_.halfedge_length(g);
-      const Vec2 b(L, 0.0), u = (b - c) / (b - c).norm(), r = img - c;
+      const Vec2 b(L, 0.0), u = (b - c) / lcb, r = img - c;
       const double t0 = right_start == xc ? 0.0 : ray_fraction(c, b, img, right_start);
       const double t1 = ray_fraction(c, b, img, w.b1);
       push_window({t0 * lcb, t1 * lcb, u.dot(r), std::min(0.0, cross2(u, r)), w.sigma, g, id});
