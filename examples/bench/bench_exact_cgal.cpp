@@ -87,7 +87,8 @@ int main(int argc, char** argv) {
       ShortestPath sp(mesh);
       sp.add_source_point(vid[src]);
       sp.build_sequence_tree();
-      for (Eigen::Index v = 0; v < x.rows(); ++v) d_cgal[v] = sp.shortest_distance_to_source_points(vid[v]).first;
+      for (Eigen::Index v = 0; v < x.rows(); ++v)
+        d_cgal[v] = sp.shortest_distance_to_source_points(vid[v]).first;
     }
     t_cgal.push_back(seconds_since(t0));
     std::printf("repeat %d: ifem %.3f s (%zu windows), CGAL %.3f s\n", r, t_ifem.back(), windows,
@@ -101,7 +102,7 @@ int main(int argc, char** argv) {
     }
   }
   const double mi = median(t_ifem), mc = median(t_cgal);
-  std::printf("median: ifem %.3f s, CGAL %.3f s, ratio ifem/CGAL %.3f; max rel diff %.2e\n", mi,
-              mc, mi / mc, worst);
+  std::printf("median: ifem %.3f s, CGAL %.3f s, ratio ifem/CGAL %.3f; max rel diff %.2e\n", mi, mc,
+              mi / mc, worst);
   return 0;
 }

@@ -23,8 +23,8 @@ const char* exact_flag_help() {
 }
 
 int run_exact_distance(const Args& args, const ResultOutput& out) {
-  for (const char* heat : {"time-factor", "correction-steps", "mixed-precision", "curves",
-                           "sources-batch"}) {
+  for (const char* heat :
+       {"time-factor", "correction-steps", "mixed-precision", "curves", "sources-batch"}) {
     if (args.has(heat)) {
       throw UsageError(std::string("--exact does not take --") + heat +
                        " (a heat-method or batch option; --exact takes --source)");

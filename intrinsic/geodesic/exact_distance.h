@@ -36,8 +36,8 @@ class ExactDistance {
   /// #V of the triangulation: the exact geodesic distance to the nearest source (in the lengths'
   /// unit); +inf on vertices no source reaches (other components, unreferenced vertices).
   Eigen::VectorXd distance;
-  std::size_t windows = 0;        ///< windows created (the measure of the work)
-  std::size_t pseudo_sources = 0; ///< saddle and boundary vertices that re-emitted
+  std::size_t windows = 0;         ///< windows created (the measure of the work)
+  std::size_t pseudo_sources = 0;  ///< saddle and boundary vertices that re-emitted
 
   /// A shortest path from vertex v to its nearest source, as points of the triangulation: v
   /// first, then every crossing of an edge (a point on a face side) and every vertex it runs

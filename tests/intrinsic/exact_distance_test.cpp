@@ -52,7 +52,8 @@ TEST(ExactDistance, FlatSquareIsEuclidean) {
       ASSERT_NEAR(path_length(d, m.positions, v), e, 1e-12) << "path from " << v;
     }
     // A source inside a face, and one on an edge.
-    for (const Eigen::Vector3d& b : {Eigen::Vector3d(0.2, 0.3, 0.5), Eigen::Vector3d(0.4, 0.6, 0)}) {
+    for (const Eigen::Vector3d& b :
+         {Eigen::Vector3d(0.2, 0.3, 0.5), Eigen::Vector3d(0.4, 0.6, 0)}) {
       const SurfacePoint p{7, b};
       const Eigen::Vector3d at = position(tri, m.positions, p);
       const ExactDistance dp = exact_distance(tri, std::vector<SurfacePoint>{p});
@@ -116,8 +117,8 @@ TEST(ExactDistance, SaddleConeShadow) {
     const Eigen::Vector2d pa = polar(a), pb = polar(b);
     double dth = std::abs(pa.y() - pb.y());
     dth = std::min(dth, theta - dth);
-    return std::sqrt(std::max(0.0, pa.x() * pa.x() + pb.x() * pb.x() -
-                                       2 * pa.x() * pb.x() * std::cos(dth)));
+    return std::sqrt(
+        std::max(0.0, pa.x() * pa.x() + pb.x() * pb.x() - 2 * pa.x() * pb.x() * std::cos(dth)));
   };
   std::vector<Triangle> faces;
   for (int i = 0; i < m; ++i) faces.push_back({0, vid(1, i), vid(1, i + 1)});
@@ -160,13 +161,15 @@ TEST(ExactDistance, TuftedCoverOfANonmanifoldBook) {
     if (i == 0) return Index(j);  // spine vertices shared
     return Index((n + 1) + page * n * (n + 1) + (i - 1) * (n + 1) + j);
   };
-  const Eigen::Vector3d dirs[3] = {{1, 0, 0}, {-0.5, 0.8660254037844386, 0}, {-0.5, -0.8660254037844386, 0}};
-  for (int j = 0; j <= n; ++j) pts.push_back(Eigen::Vector3d(0, 0, double(j) / n)),
-                               page_xy.push_back({-1, 0, j});
+  const Eigen::Vector3d dirs[3] = {
+      {1, 0, 0}, {-0.5, 0.8660254037844386, 0}, {-0.5, -0.8660254037844386, 0}};
+  for (int j = 0; j <= n; ++j)
+    pts.push_back(Eigen::Vector3d(0, 0, double(j) / n)), page_xy.push_back({-1, 0, j});
   for (int p = 0; p < 3; ++p) {
     for (int i = 1; i <= n; ++i) {
       for (int j = 0; j <= n; ++j) {
-        pts.push_back(dirs[p].normalized() * (double(i) / n) + Eigen::Vector3d(0, 0, double(j) / n));
+        pts.push_back(dirs[p].normalized() * (double(i) / n) +
+                      Eigen::Vector3d(0, 0, double(j) / n));
         page_xy.push_back({p, i, j});
       }
     }
@@ -193,10 +196,10 @@ TEST(ExactDistance, TuftedCoverOfANonmanifoldBook) {
       const Eigen::Vector2d a(-s.x(), s.y());
       const double t = a.x() / (a.x() - p.x());  // where a → p crosses x = 0
       const double y = a.y() + t * (p.y() - a.y());
-      e = (y >= 0 && y <= 1) ? (a - p).norm()
-                             : std::min((a - Eigen::Vector2d(0, 0)).norm() + p.norm(),
-                                        (a - Eigen::Vector2d(0, 1)).norm() +
-                                            (p - Eigen::Vector2d(0, 1)).norm());
+      e = (y >= 0 && y <= 1)
+              ? (a - p).norm()
+              : std::min((a - Eigen::Vector2d(0, 0)).norm() + p.norm(),
+                         (a - Eigen::Vector2d(0, 1)).norm() + (p - Eigen::Vector2d(0, 1)).norm());
     }
     ASSERT_NEAR(d.distance[v], e, 1e-12) << "vertex " << v << " page " << q[0];
   }
@@ -257,8 +260,7 @@ TEST(ExactDistance, ReferenceMeshes) {
       ++checked;
     }
     std::printf("%-22s src %6d V %6d windows %9zu  %s max rel %.2e\n", ref.stem.c_str(),
-                int(ref.src), int(exact.size()), d.windows, manifold ? "exact" : "tufted<=",
-                worst);
+                int(ref.src), int(exact.size()), d.windows, manifold ? "exact" : "tufted<=", worst);
     EXPECT_GT(checked, exact.size() / 2) << ref.exact;
     EXPECT_LE(worst, 1e-9) << ref.exact;
     ++(ref.bundled ? bundled : shared);
