@@ -11,6 +11,7 @@
 #include "cli.h"
 #include "cli_curves.h"
 #include "cli_isolines.h"
+#include "cli_exact.h"
 #include "cli_refine.h"
 #include "cli_signed.h"
 #include "intrinsic/core/errors.h"
@@ -137,6 +138,7 @@ int run(const Args& args) {
                      "--sources-batch (use .ply or .txt)");
   }
   if (args.has("signed")) return run_signed(args, out);
+  if (args.has("exact")) return run_exact_distance(args, out);
   if (args.has("curves")) return run_curves(args, out);
   if (args.has("sources-batch")) return run_batch(args, out);
   if (!args.has("source")) {
@@ -191,7 +193,9 @@ const char* const kProse =
     "loops, Bézier curves). The curves become edges of a constrained intrinsic\n"
     "Delaunay triangulation, every vertex on them is a source (exactly 0 there), and\n"
     "--refine refines without crossing them. Needs an edge-manifold, orientable\n"
-    "triangle mesh; the curves' values and slits do not change the distance.\n";
+    "triangle mesh; the curves' values and slits do not change the distance.\n\n"
+    "Exact (--exact, with --source): the exact polyhedral geodesic distance instead\n"
+    "(window propagation; slower, no approximation: a reference to measure against).\n";
 
 OptionGroup distance_options() {
   OptionGroup g = {
@@ -233,6 +237,7 @@ OptionGroup distance_options() {
        flag("no-path-bounds")
            .explain("the heat method's values as solved, without the clamp into the\n"
                     "bounds above (to see or measure the method's own error)"),
+       flag("exact").explain(exact_flag_help()),
        flag("refine").explain(
            "the accurate mode: intrinsic Delaunay refinement first (25° and, by\n"
            "default, edges of about 0.4·h: ~10× the vertices), then t = m·ℓ² with\n"
@@ -266,6 +271,7 @@ Command distance_command() {
       curves_file_help(false) + signed_help() +
       "\nexamples: ifem distance bunny.obj --source 0 -o bunny_dist.ply\n"
       "          ifem distance part.obj --source 0 --refine -o part_dist.ply\n"
+      "          ifem distance bunny.obj --source 0 --exact -o bunny_exact.txt\n"
       "          ifem distance bunny.obj --sources-batch landmarks.txt -o D.npy\n"
       "          ifem distance bunny.obj --curves curves.txt --curves-out c.obj -o d.ply\n"
       "          ifem distance bunny.obj --source 0 --isolines 10 --isolines-out iso.obj -o "

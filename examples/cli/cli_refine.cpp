@@ -38,7 +38,8 @@ OptionGroup refine_options_group(double resolution_default) {
                         "vertex, see the message) exceeds GB gigabytes, and stop\n"
                         "inserting there (default: half the physical memory, or 80%\n"
                         "of ulimit -v); with --curves, also Bézier curves whose added\n"
-                        "vertices (estimated up front) exceed it"),
+                        "vertices (estimated up front) exceed it; with --exact, the\n"
+                        "windows (64 bytes each)"),
            count("relax", "ITER")
                .defaults_to("0")
                .explain("then ITER passes of optimal Delaunay (ODT) relaxation of the\n"

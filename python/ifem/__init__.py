@@ -51,9 +51,11 @@ from ._signed import *  # noqa: F401,F403
 from ._signed import __all__ as _signed_all
 from ._trace import *  # noqa: F401,F403
 from ._trace import __all__ as _trace_all
+from ._exact import *  # noqa: F401,F403
+from ._exact import __all__ as _exact_all
 
 __version__ = "0.1.0"
 
 __all__ = (_errors_all + _mesh_all + _operators_all + _solvers_all + _refine_all +
            _geodesic_all + _curves_all + _fields_all + _view_all + _render_all + _isolines_all +
-           _signed_all + _trace_all)
+           _signed_all + _trace_all + _exact_all)

@@ -31,6 +31,8 @@ void bind_view(py::module_& m);       // `ifem view`'s page
 void bind_render(py::module_& m);     // headless pictures (PNG)
 void bind_isolines(py::module_& m);   // level sets of a per-vertex field as polylines
 void bind_signed(py::module_& m);     // signed distance (signed heat method)
+void bind_exact(py::module_& m);      // exact geodesic distance
+void bind_trace(py::module_& m);      // straight geodesics from a point (exponential map)
 
 /// The refined triangulation (ifem.refine's handle, bind_refine.cpp) and what refining it
 /// reported (no report after load()); bind_view.cpp traces its edges.

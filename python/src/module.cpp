@@ -11,8 +11,6 @@
 
 namespace ifem::python {
 
-void bind_trace(py::module_& m);  // straight geodesics from a point (bind_trace.cpp)
-
 namespace {
 
 // Raises the Python class `name` of ifem._errors with the C++ message.
@@ -126,4 +124,5 @@ PYBIND11_MODULE(_ifem, m) {
   ip::bind_isolines(m);
   ip::bind_signed(m);
   ip::bind_trace(m);
+  ip::bind_exact(m);
 }

@@ -14,6 +14,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
 #include "intrinsic/geodesic/curve_network.h"
+#include "intrinsic/geodesic/exact_distance.h"
 #include "intrinsic/geodesic/input_surface.h"
 #include "solvers/recipes/pipeline.h"
 #include "solvers/scalar/heat_distance.h"
@@ -135,8 +136,20 @@ Eigen::VectorXd StartGuide::to(const SignpostTriangulation& st, Index target) {
 Eigen::MatrixXd StartGuide::to_each(const SignpostTriangulation& st,
                                     const std::vector<Index>& targets) {
   Stopwatch watch;
-  if (!solver_) build();
   const Index nv = static_cast<Index>(input_.positions.rows());
+  if (nv > kRefinedGuideMaxVertices) {  // the exact distance on st itself (D-168)
+    try {
+      Eigen::MatrixXd phi(st.intrinsic().n_vertices(), Eigen::Index(targets.size()));
+      for (std::size_t k = 0; k < targets.size(); ++k) {
+        phi.col(Eigen::Index(k)) =
+            intrinsic::exact_distance(st.intrinsic(), std::vector<Index>{targets[k]}).distance;
+      }
+      seconds += watch.seconds();
+      return phi;
+    } catch (const InvalidInput&) {  // over the memory budget: the heat method's guide
+    }
+  }
+  if (!solver_) build();
   std::vector<Index> sources;
   for (const Index target : targets) {
     Index source = target;

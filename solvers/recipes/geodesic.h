@@ -107,8 +107,10 @@ struct SingleSourceResult {
 
 /// The guide of FlipOut's guided start paths (intrinsic::descent_edge_path): the accurate heat
 /// distance (`ifem distance --refine`: refined to edges of about 0.4·h) to a vertex, on every
-/// vertex of a signpost triangulation of the input; on inputs above 20,000 vertices, or when the
-/// refinement is refused, the heat method on the input's intrinsic Delaunay triangulation.
+/// vertex of a signpost triangulation of the input, or the heat method on the input's intrinsic
+/// Delaunay triangulation when the refinement is refused. On inputs above 20,000 vertices, the
+/// exact distance (intrinsic::exact_distance) on st's own triangulation (docs/decisions.md
+/// D-168), falling back to the plain heat method when its windows exceed the memory budget.
 /// The refinement and factorization happen at the first call; later calls cost a heat solve.
 class StartGuide {
  public:

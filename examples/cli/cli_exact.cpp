@@ -1,0 +1,67 @@
+#include "cli_exact.h"
+
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "cli_refine.h"
+#include "intrinsic/core/timer.h"
+#include "solvers/recipes/exact_distance.h"
+
+namespace ifem::cli {
+
+const char* exact_flag_help() {
+  return "exact polyhedral geodesic distance instead of the heat method: window\n"
+         "propagation over the faces (Chen-Han / Xin-Wang with pruning), from the\n"
+         "edge lengths alone, so it runs on the intrinsic Delaunay triangulation, on\n"
+         "the tufted cover (--tufted, nonmanifold meshes) and after --refine (same\n"
+         "surface, same distances). Cost: time and memory grow about as #F^1.5\n"
+         "(64 bytes per window; figures in BENCHMARKS.md); --memory-budget GB stops\n"
+         "it with the figures instead of exhausting memory. Takes --source only;\n"
+         "--mollify defaults to 0 here (the input's own lengths)";
+}
+
+int run_exact_distance(const Args& args, const ResultOutput& out) {
+  for (const char* heat :
+       {"time-factor", "correction-steps", "mixed-precision", "curves", "sources-batch"}) {
+    if (args.has(heat)) {
+      throw UsageError(std::string("--exact does not take --") + heat +
+                       " (a heat-method or batch option; --exact takes --source)");
+    }
+  }
+  if (!args.has("source")) throw UsageError("--exact needs --source I[,J,...] (see --help)");
+  const std::vector<Index> sources = args.vertices("source");
+  std::optional<solvers::SurfaceRefineOptions> refine;
+  if (args.has("refine")) refine = refine_settings(args, 0.0, false);
+  solvers::PrepareOptions prep = prepare_options(args);
+  // exact on the input's own lengths: mollify only when asked (0 still repairs strict violations)
+  if (!args.has("mollify")) prep.mollify_relative_epsilon = 0.0;
+  prep.refine = refine;
+  const PreparedSurface s = solvers::prepare_surface(read_input(args.positional()[0], args), prep);
+  intrinsic::ExactDistanceOptions o;
+  o.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;  // 0: the library's default
+  const Stopwatch watch;
+  intrinsic::ExactDistance full;
+  const Eigen::VectorXd d = solvers::exact_distance(s, sources, o, &full);
+  const double seconds = watch.seconds();
+  progress(args, "exact distance: " + std::to_string(full.windows) + " windows (" +
+                     format_number(double(full.windows) * intrinsic::kExactWindowBytes / 1e6) +
+                     " MB), " + std::to_string(full.pseudo_sources) + " pseudo-sources, " +
+                     format_number(seconds) + " s");
+  write_results(out, s, {{"distance", d}});
+  Index unreachable = 0;
+  double dmax = 0.0;
+  for (Index v = 0; v < d.size(); ++v) {
+    if (std::isfinite(d[v])) {
+      dmax = std::max(dmax, d[v]);
+    } else {
+      ++unreachable;
+    }
+  }
+  std::printf("wrote %s: %d values, max distance %.17g, %d unreachable (inf)\n", out.path.c_str(),
+              int(d.size()), dmax, unreachable);
+  return 0;
+}
+
+}  // namespace ifem::cli
