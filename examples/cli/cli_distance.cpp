@@ -123,6 +123,7 @@ int run(const Args& args) {
                               "distance to the nearest curve)"},
                              {"sources-batch", "the curves are the sources"}});
   check_isoline_options(args);
+  check_path_options(args);
   if (args.has("sources-batch") && args.has("isolines")) {
     throw UsageError("--isolines: one field only (not with --sources-batch's columns)");
   }
@@ -250,6 +251,8 @@ OptionGroup distance_options() {
       "the distance to these curves instead of --source (only where they run\n"
       "counts; their values are ignored)");
   g.options.insert(g.options.end(), curves.begin(), curves.end());
+  const std::vector<OptionSpec> paths = exact_path_options();
+  g.options.insert(g.options.end(), paths.begin(), paths.end());
   const std::vector<OptionSpec> iso = isoline_options("distance");
   g.options.insert(g.options.end(), iso.begin(), iso.end());
   const std::vector<OptionSpec> signed_distance = signed_options();
@@ -272,6 +275,8 @@ Command distance_command() {
       "\nexamples: ifem distance bunny.obj --source 0 -o bunny_dist.ply\n"
       "          ifem distance part.obj --source 0 --refine -o part_dist.ply\n"
       "          ifem distance bunny.obj --source 0 --exact -o bunny_exact.txt\n"
+      "          ifem distance bunny.obj --source 0 --exact --paths-from 10,20 --paths-out p.obj "
+      "-o d.ply\n"
       "          ifem distance bunny.obj --sources-batch landmarks.txt -o D.npy\n"
       "          ifem distance bunny.obj --curves curves.txt --curves-out c.obj -o d.ply\n"
       "          ifem distance bunny.obj --source 0 --isolines 10 --isolines-out iso.obj -o "

@@ -5,8 +5,10 @@
 #include <optional>
 #include <string>
 
+#include "cli_isolines.h"
 #include "cli_refine.h"
 #include "intrinsic/core/timer.h"
+#include "polylines.h"
 #include "solvers/recipes/exact_distance.h"
 
 namespace ifem::cli {
@@ -20,6 +22,29 @@ const char* exact_flag_help() {
          "(64 bytes per window; figures in BENCHMARKS.md); --memory-budget GB stops\n"
          "it with the figures instead of exhausting memory. Takes --source only;\n"
          "--mollify defaults to 0 here (the input's own lengths)";
+}
+
+void check_path_options(const Args& args) {
+  if (args.has("paths-from") != args.has("paths-out")) {
+    throw UsageError("--paths-from I,J,... and --paths-out FILE go together (--exact)");
+  }
+  if (!args.has("paths-from")) return;
+  if (!args.has("exact")) throw UsageError("--paths-from needs --exact");
+  if (args.has("refine")) {
+    throw UsageError("--paths-from draws on the input's own faces: not with --refine");
+  }
+}
+
+std::vector<OptionSpec> exact_path_options() {
+  return {text("paths-from", "I,J,...")
+              .explain("with --exact: also the exact geodesic from each of these input\n"
+                       "vertices back to its nearest source, written to --paths-out (the\n"
+                       "distances are the same; the surface is not flipped for them)"),
+          text("paths-out", "PATHS")
+              .with_extensions({".obj", ".ply"})
+              .explain("the paths' file: PATHS.obj ('v' and 'l' lines) or PATHS.ply (vertex\n"
+                       "and edge elements), one polyline per --paths-from vertex, from it\n"
+                       "to the source")};
 }
 
 int run_exact_distance(const Args& args, const ResultOutput& out) {
@@ -38,6 +63,8 @@ int run_exact_distance(const Args& args, const ResultOutput& out) {
   // exact on the input's own lengths: mollify only when asked (0 still repairs strict violations)
   if (!args.has("mollify")) prep.mollify_relative_epsilon = 0.0;
   prep.refine = refine;
+  const bool want_paths = args.has("paths-from");
+  if (want_paths) prep.intrinsic_delaunay = false;  // the paths run on the input's own faces
   const PreparedSurface s = solvers::prepare_surface(read_input(args.positional()[0], args), prep);
   intrinsic::ExactDistanceOptions o;
   o.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;  // 0: the library's default
@@ -49,7 +76,16 @@ int run_exact_distance(const Args& args, const ResultOutput& out) {
                      format_number(double(full.windows) * intrinsic::kExactWindowBytes / 1e6) +
                      " MB), " + std::to_string(full.pseudo_sources) + " pseudo-sources, " +
                      format_number(seconds) + " s");
+  std::vector<std::vector<Eigen::Vector3d>> paths;
+  if (want_paths) paths = solvers::exact_paths_3d(s, full, args.vertices("paths-from"));
+  const auto iso = isolines_if_asked(args, s.input, d, "distance");
   write_results(out, s, {{"distance", d}});
+  if (iso) write_isolines(*iso);
+  if (want_paths) {
+    const std::string file = args.get("paths-out");
+    write_polylines(file, paths, {}, "exact geodesics back to the nearest source (ifem distance)");
+    std::printf("wrote %s: %d paths\n", file.c_str(), int(paths.size()));
+  }
   Index unreachable = 0;
   double dmax = 0.0;
   for (Index v = 0; v < d.size(); ++v) {

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "cli_curves.h"
+#include "cli_isolines.h"
 #include "cli_refine.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
@@ -58,7 +59,9 @@ int run_signed_curves(const Args& args, const ResultOutput& out) {
   const Eigen::VectorXd d = solvers::signed_distance(run.surface, signed_settings(args), &rep);
   const double seconds = watch.seconds();
   run.polylines = curve_polylines_if_asked(args, run.surface);
+  const auto iso = isolines_if_asked(args, run.surface.surface.input, d, "signed_distance");
   write_curve_outputs(args, out, run, {{"signed_distance", d}});
+  if (iso) write_isolines(*iso);
   report(args, out, d, seconds, rep);
   print_curves_written(args, run);
   return 0;
@@ -73,7 +76,9 @@ int run_signed_points(const Args& args, const ResultOutput& out) {
   solvers::SignedDistanceReport rep;
   const Eigen::VectorXd d = solvers::signed_distance(s, points, signed_settings(args), &rep);
   const double seconds = watch.seconds();
+  const auto iso = isolines_if_asked(args, s.input, d, "signed_distance");
   write_results(out, s, {{"signed_distance", d}});
+  if (iso) write_isolines(*iso);
   report(args, out, d, seconds, rep);
   return 0;
 }

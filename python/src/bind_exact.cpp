@@ -14,20 +14,14 @@
 namespace ifem::python {
 namespace {
 
-// 3D polylines of the paths back from `from` (input vertex ids) on a triangulation without
-// flips or insertions, whose face corners are input vertices (the positions place them).
-py::list paths_in_3d(const intrinsic::ExactDistance& d, const Positions& x,
+// The paths back from `from` as a list of #P×3 arrays (solvers::exact_paths_3d).
+py::list paths_in_3d(const solvers::PreparedSurface& s, const intrinsic::ExactDistance& d,
                      const std::vector<Index>& from) {
   py::list out;
-  for (const Index v : from) {
-    const std::vector<intrinsic::SurfacePoint> path = d.path_to_source(v);
-    Positions p(static_cast<Eigen::Index>(path.size()), 3);
-    for (std::size_t i = 0; i < path.size(); ++i) {
-      Eigen::Vector3d q = Eigen::Vector3d::Zero();
-      for (int k = 0; k < 3; ++k) {
-        q += path[i].bary[k] * x.row(d.tri->tail(3 * path[i].face + k)).transpose();
-      }
-      p.row(static_cast<Eigen::Index>(i)) = q.transpose();
+  for (const std::vector<Eigen::Vector3d>& line : solvers::exact_paths_3d(s, d, from)) {
+    Positions p(static_cast<Eigen::Index>(line.size()), 3);
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      p.row(static_cast<Eigen::Index>(i)) = line[i].transpose();
     }
     out.append(to_numpy(std::move(p)));
   }
@@ -67,7 +61,6 @@ py::tuple exact_distance(const py::handle& V, const py::handle& F, const py::han
     ro.validate();
     o.refine = ro;
   }
-  const Positions x = in.positions;
   const solvers::PreparedSurface s = prepare(std::move(in), o, path);
   intrinsic::ExactDistanceOptions eo;
   eo.max_memory_bytes = memory_budget_gb * 1e9;
@@ -79,7 +72,7 @@ py::tuple exact_distance(const py::handle& V, const py::handle& F, const py::han
   }
   const std::size_t windows = full.windows;
   py::object paths = py::none();
-  if (want_paths) paths = paths_in_3d(full, x, from);
+  if (want_paths) paths = paths_in_3d(s, full, from);
   return py::make_tuple(to_numpy(std::move(d)), windows, paths, surface_info(s));
 }
 

@@ -30,4 +30,34 @@ Eigen::VectorXd exact_distance(const PreparedSurface& s, const std::vector<Index
   return out;
 }
 
+std::vector<std::vector<Eigen::Vector3d>> exact_paths_3d(const PreparedSurface& s,
+                                                         const intrinsic::ExactDistance& full,
+                                                         const std::vector<Index>& from) {
+  if (s.refined || s.flips.flips > 0) {
+    throw InvalidInput(
+        "exact paths are placed on the input's own faces: prepare the surface without intrinsic "
+        "Delaunay flips and without refinement");
+  }
+  const Index nv = s.n_input_vertices();
+  const auto& x = s.input.positions;
+  std::vector<std::vector<Eigen::Vector3d>> out;
+  out.reserve(from.size());
+  for (const Index v : from) {
+    if (v < 0 || v >= nv) {
+      throw InvalidInput("exact paths: vertex " + std::to_string(v) +
+                         " is not an input vertex id in [0, " + std::to_string(nv) + ")");
+    }
+    std::vector<Eigen::Vector3d> line;
+    for (const intrinsic::SurfacePoint& p : full.path_to_source(v)) {
+      Eigen::Vector3d q = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k) {
+        q += p.bary[k] * x.row(s.tri.tail(3 * p.face + k)).transpose();
+      }
+      line.push_back(q);
+    }
+    out.push_back(std::move(line));
+  }
+  return out;
+}
+
 }  // namespace ifem::solvers

@@ -21,4 +21,16 @@ Eigen::VectorXd exact_distance(const PreparedSurface& s, const std::vector<Index
                                const intrinsic::ExactDistanceOptions& options = {},
                                intrinsic::ExactDistance* full = nullptr);
 
+/// The exact geodesics back from input vertices `from` to their nearest source, as 3D polylines
+/// (each from the vertex to the source; a vertex that is a source gives one point, an
+/// unreachable one an empty polyline), placed on the input's own faces.
+/// @param full exact_distance()'s full result on s.tri
+/// @pre s was prepared without flips and without refinement (PrepareOptions::intrinsic_delaunay
+///      false, no refine): then every face corner of s.tri is an input vertex and the paths'
+///      points have positions on the input
+/// @throws InvalidInput if s was flipped or refined, or an id of `from` is not in [0, #V_in)
+std::vector<std::vector<Eigen::Vector3d>> exact_paths_3d(const PreparedSurface& s,
+                                                         const intrinsic::ExactDistance& full,
+                                                         const std::vector<Index>& from);
+
 }  // namespace ifem::solvers

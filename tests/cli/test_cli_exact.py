@@ -4,7 +4,7 @@ refined and tufted surfaces; the shared references when ../shared/data is presen
 
 import math
 
-from clitools import SPOT_VERTICES, count_lines, numbers
+from clitools import SPOT_VERTICES, count_lines, numbers, obj_vertices
 
 
 def max_rel(values, reference):
@@ -68,3 +68,40 @@ def test_exact_refuses_heat_options(cli):
               "--sources-batch", "s.txt", "-o", out)
     cli.fails("--exact needs --source", "distance", cli.spot, "--exact", "-o", out)
     cli.fails("source", "distance", cli.spot, "--source", 99999, "--exact", "-o", out)
+
+
+def obj_polylines(path):
+    """The 'l' lines of an OBJ as 0-based index lists."""
+    return [[int(i) - 1 for i in row.split()[1:]] for row in open(path) if row.startswith("l ")]
+
+
+# --paths-from: one polyline per vertex, from the vertex to the source, as long as its distance;
+# with --isolines the levels of the exact field come out as closed loops on the bunny.
+def test_exact_paths_and_isolines(cli):
+    mesh = cli.data / "bunny_npm_lowres.obj"
+    dist, paths, iso = cli.out / "d.txt", cli.out / "p.obj", cli.out / "iso.obj"
+    cli.ok("distance", mesh, "--source", 0, "--exact", "--paths-from", "10,500,1200",
+           "--paths-out", paths, "--isolines", 3, "--isolines-out", iso, "-o", dist, "--quiet")
+    d = numbers(dist)
+    mesh_points, points, lines = obj_vertices(mesh), obj_vertices(paths), obj_polylines(paths)
+    assert len(lines) == 3
+    for v, line in zip((10, 500, 1200), lines):
+        poly = [points[i] for i in line]
+        length = sum(math.dist(a, b) for a, b in zip(poly, poly[1:]))
+        assert abs(length - d[v]) <= 1e-9 * d[v], (v, length, d[v])
+        assert math.dist(poly[0], mesh_points[v]) <= 1e-12
+        assert math.dist(poly[-1], mesh_points[0]) <= 1e-12
+    loops = obj_polylines(iso)
+    assert len(loops) >= 3 and all(loop[0] == loop[-1] for loop in loops)
+
+
+def test_exact_path_options_refused(cli):
+    out, paths = cli.out / "x.txt", cli.out / "p.obj"
+    cli.fails("--paths-from needs --exact", "distance", cli.spot, "--source", 0,
+              "--paths-from", 1, "--paths-out", paths, "-o", out, rc=2)
+    cli.fails("not with --refine", "distance", cli.spot, "--source", 0, "--exact", "--refine",
+              "--paths-from", 1, "--paths-out", paths, "-o", out, rc=2)
+    cli.fails("go together", "distance", cli.spot, "--source", 0, "--exact", "--paths-from", 1,
+              "-o", out, rc=2)
+    cli.fails_no_partial("not an input vertex", out, "distance", cli.spot, "--source", 0,
+                         "--exact", "--paths-from", 999999, "--paths-out", paths, "-o", out)
