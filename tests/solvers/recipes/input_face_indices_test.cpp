@@ -20,13 +20,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-io::SurfaceInput input_of(const intrinsic::TriangleMesh& m) {
-  io::SurfaceInput in;
-  in.positions = m.positions;
-  in.triangles = m.faces;
-  return in;
-}
-
 // A torus (radii 1 and 0.4) from a nu×nv grid, each quad split along a diagonal.
 intrinsic::TriangleMesh torus(int nu, int nv) {
   intrinsic::TriangleMesh m;
@@ -66,7 +59,7 @@ TEST_P(InputFaceIndices, SumToNChiAfterFlipsAndRefinement) {
       SCOPED_TRACE(std::string(m.name) + (refine ? ", refined" : ""));
       PrepareOptions o;
       if (refine) o.refine = SurfaceRefineOptions{};
-      const PreparedSurface s = prepare_surface(input_of(m.mesh), o);
+      const PreparedSurface s = prepare_surface(test::as_input(m.mesh), o);
       ASSERT_EQ(s.path, intrinsic::SurfacePath::kManifold);
       EXPECT_GT(s.flips.flips, 0u);
       EXPECT_EQ(s.signposts.has_value(), refine);
@@ -90,7 +83,7 @@ TEST(InputFaceIndices, EqualTheIntrinsicOnesWithoutFlips) {
   PrepareOptions o;
   o.intrinsic_delaunay = false;
   const PreparedSurface s =
-      prepare_surface(input_of(test::jittered(intrinsic::icosphere(5), 0.02)), o);
+      prepare_surface(test::as_input(test::jittered(intrinsic::icosphere(5), 0.02)), o);
   ASSERT_EQ(s.flips.flips, 0u);
   const fem::TangentFrames frames = fem::tangent_frames(s.tri);
   for (const int n : {1, 4}) {
@@ -122,7 +115,7 @@ TEST(InputFaceIndices, MatchTheInputTriangulationsOwnOnAPlane) {
   }
   PrepareOptions o;
   o.mollify_relative_epsilon = 0.0;
-  const PreparedSurface s = prepare_surface(input_of(m), o);
+  const PreparedSurface s = prepare_surface(test::as_input(m), o);
   ASSERT_EQ(s.path, intrinsic::SurfacePath::kManifold);
   ASSERT_GT(s.flips.flips, 50u);
   const auto input = intrinsic::IntrinsicTriangulation::from_positions(m.faces, m.positions);
@@ -163,7 +156,7 @@ TEST(InputFaceIndices, MatchTheInputTriangulationsOwnOnAPlane) {
 // edge lengths of a singular intrinsic face (the field is the same; only the faces differ).
 TEST(InputFaceIndices, SitNextToTheIntrinsicSingularities) {
   const intrinsic::TriangleMesh m = test::jittered(intrinsic::uv_sphere(16, 48), 0.01);
-  const PreparedSurface s = prepare_surface(input_of(m));
+  const PreparedSurface s = prepare_surface(test::as_input(m));
   ASSERT_GT(s.flips.flips, 100u);  // many references flipped away
   const fem::TangentFrames frames = fem::tangent_frames(s.tri);
   DirectionFieldOptions d;
@@ -198,7 +191,7 @@ TEST(InputFaceIndices, SumToNChiWithCurves) {
   CurveCondition bezier;
   bezier.vertices = {0, 17, 100, 250};
   bezier.shape = intrinsic::CurveShape::kBezier;
-  const CurveSurface s = prepare_curve_surface(input_of(m), {bezier});
+  const CurveSurface s = prepare_curve_surface(test::as_input(m), {bezier});
   EXPECT_GT(s.surface.tri.n_vertices(), s.n_input_vertices());
   for (const int n : {1, 4}) {
     FieldOptions settings;
@@ -211,7 +204,7 @@ TEST(InputFaceIndices, SumToNChiWithCurves) {
 // The CLI's .ply: the per-face property next to the vertex ones, read back by the repo's reader.
 TEST(InputFaceIndices, PlyFacePropertyReadsBack) {
   const intrinsic::TriangleMesh m = intrinsic::uv_sphere(10, 30);
-  const PreparedSurface s = prepare_surface(input_of(m));
+  const PreparedSurface s = prepare_surface(test::as_input(m));
   FieldOptions settings;
   settings.symmetry = 2;
   const TangentFieldResult r = direction_field_on(s, settings);

@@ -17,19 +17,12 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
+#include "solvers/test_util.h"
 
 namespace ifem::recipes {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-io::SurfaceInput as_input(const intrinsic::TriangleMesh& m) {
-  io::SurfaceInput in;
-  in.positions = m.positions;
-  in.triangles = m.faces;
-  in.n_polygons = static_cast<Index>(m.faces.size());
-  return in;
-}
 
 GivenPoint vertex_point(Index v) {
   GivenPoint p;
@@ -91,7 +84,7 @@ Eigen::Vector3d end_from_bary(const io::SurfaceInput& in, const GeodesicRay& r) 
 TEST(TraceGeodesic, FlatGridStraightLinesOfExactLength) {
   // cells of 0.5 (diagonals alternate): rays from a face point and from a vertex, 48 directions
   // (every 7.5°: along grid lines and cell diagonals, hence through vertices and along edges)
-  const io::SurfaceInput in = as_input(intrinsic::grid(8, 6, 4.0, 3.0));
+  const io::SurfaceInput in = test::as_input(intrinsic::grid(8, 6, 4.0, 3.0));
   const GeodesicTracer tracer(in);
   const Eigen::Vector3d centre(2.0, 1.5, 0.0);  // a vertex of the grid
   const Index centre_vertex = vertex_at(in, centre);
@@ -123,7 +116,7 @@ TEST(TraceGeodesic, FlatGridStraightLinesOfExactLength) {
 }
 
 TEST(TraceGeodesic, FlatGridBoundaryStopsOrSlides) {
-  const io::SurfaceInput in = as_input(intrinsic::grid(8, 6, 4.0, 3.0));
+  const io::SurfaceInput in = test::as_input(intrinsic::grid(8, 6, 4.0, 3.0));
   const GeodesicTracer tracer(in);
   const GivenPoint p = face_point_at(in, Eigen::Vector3d(1.7, 1.3, 0.0));
   GeodesicRay r = tracer.trace(p, Eigen::Vector3d(1, 0, 0), 10.0);
@@ -148,7 +141,7 @@ TEST(TraceGeodesic, FlatGridBoundaryStopsOrSlides) {
 }
 
 TEST(TraceGeodesic, ReorientedFaceGivesTheSamePoint) {
-  io::SurfaceInput in = as_input(intrinsic::grid(4, 4, 2.0, 2.0));
+  io::SurfaceInput in = test::as_input(intrinsic::grid(4, 4, 2.0, 2.0));
   const GivenPoint p = face_point_at(in, Eigen::Vector3d(0.9, 1.15, 0.0));
   const GeodesicRay a = GeodesicTracer(in).trace(p, Eigen::Vector3d(1, 2, 0), 0.7);
   std::swap(in.triangles[p.face][1], in.triangles[p.face][2]);  // the build reorients it back
@@ -261,7 +254,7 @@ TEST(TraceGeodesic, ApexDirectionAlongAnEdgeRunsAlongIt) {
 }
 
 TEST(TraceGeodesic, LongRayOnASphereStaysOnItsGreatCircle) {
-  const io::SurfaceInput in = as_input(intrinsic::icosphere(24));
+  const io::SurfaceInput in = test::as_input(intrinsic::icosphere(24));
   const GeodesicTracer tracer(in);
   const GivenPoint p = vertex_point(0);
   const Eigen::Vector3d x0 = in.positions.row(0);
@@ -322,7 +315,7 @@ void expect_invalid(const GeodesicTracer& tracer, const GivenPoint& p, const Eig
 }
 
 TEST(TraceGeodesic, BadInputsAreRefused) {
-  const io::SurfaceInput in = as_input(intrinsic::grid(4, 4, 2.0, 2.0));
+  const io::SurfaceInput in = test::as_input(intrinsic::grid(4, 4, 2.0, 2.0));
   const GeodesicTracer tracer(in);
   const GivenPoint p = face_point_at(in, Eigen::Vector3d(0.9, 1.15, 0.0));
   expect_invalid(tracer, p, Eigen::Vector3d::Zero(), 1.0, "nonzero");
