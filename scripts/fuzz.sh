@@ -26,6 +26,15 @@ CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_CXX_FLAGS_RELEASE="-O1 -g" -DCMAKE_C_FLAGS_RELEASE="-O1 -g" -DIFEM_FUZZ=ON \
   -DIFEM_BUILD_TESTS=OFF -DIFEM_BUILD_BENCHMARKS=OFF -DIFEM_WITH_PCL=OFF -DIFEM_BUILD_PYTHON=OFF >/dev/null
 cmake --build "$build" -j"${FUZZ_BUILD_JOBS:-2}" --target ifem_fuzzers
+# The library units tests/fuzz/CMakeLists.txt compiles uninstrumented (IFEM_FUZZ_UNREACHED) must
+# stay out of every harness: the linker's maps say which archive members each one pulled in.
+reached=$(cat "$build"/tests/fuzz/fuzz_*.map | grep -o -F -f "$build/tests/fuzz/unreached_members.txt" |
+  sort -u || true)
+if [ -n "$reached" ]; then
+  echo "fuzz: a harness links units built without instrumentation; take them off IFEM_FUZZ_UNREACHED" \
+    "in tests/fuzz/CMakeLists.txt:" $reached >&2
+  exit 1
+fi
 
 # The seed files of each harness: its tests/fuzz/seeds/ folder and the test meshes of its
 # format (the pipeline reads every mesh format; libFuzzer cuts spot.obj to -max_len).

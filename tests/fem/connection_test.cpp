@@ -21,6 +21,7 @@
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/refine/delaunay_refine.h"
 #include "intrinsic/surface/tufted_cover.h"
+#include "support/dense_spectrum.h"
 
 namespace ifem::fem {
 namespace {
@@ -185,7 +186,7 @@ Eigen::VectorXd generalized_eigenvalues(const Matrix& L, const Eigen::VectorXd& 
       A(a, b) = L(keep[a], keep[b]) / std::sqrt(mass[keep[a]] * mass[keep[b]]);
     }
   }
-  return Eigen::SelfAdjointEigenSolver<Matrix>(A, Eigen::EigenvaluesOnly).eigenvalues();
+  return test::self_adjoint_eigenvalues(A);
 }
 
 // Hermitian to 1e-14 relative, real non-negative diagonal, finite, PSD to 1e-10 relative.
@@ -199,8 +200,7 @@ void expect_hermitian_psd(const ComplexSparseMatrix& L) {
     EXPECT_EQ(D(v, v).imag(), 0.0);
     EXPECT_GE(D(v, v).real(), 0.0);
   }
-  const Eigen::VectorXd ev =
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd>(D, Eigen::EigenvaluesOnly).eigenvalues();
+  const Eigen::VectorXd ev = test::self_adjoint_eigenvalues(D);
   EXPECT_GE(ev.minCoeff(), -1e-10 * ev.maxCoeff());
 }
 
@@ -353,8 +353,7 @@ TEST(Connection, NonDelaunayInputCanBeIndefinite) {
   ASSERT_LT(intrinsic::cotan_weights(tri).minCoeff(), 0.0);
   auto smallest = [&](int n) {
     const Eigen::MatrixXcd L = dense(connection_laplacian(tri, tangent_frames(tri), n));
-    const Eigen::VectorXd ev =
-        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd>(L, Eigen::EigenvaluesOnly).eigenvalues();
+    const Eigen::VectorXd ev = test::self_adjoint_eigenvalues(L);
     return ev[0] / ev.maxCoeff();
   };
   EXPECT_LT(smallest(1), -1e-3);

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
@@ -13,6 +13,7 @@
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/io/mesh_io.h"
+#include "support/dense_spectrum.h"
 
 namespace ifem::intrinsic {
 namespace {
@@ -81,8 +82,7 @@ Eigen::VectorXd low_spectrum(const Ops& o, int count) {
       A(a, b) = full(keep[a], keep[b]) / std::sqrt(o.m[keep[a]] * o.m[keep[b]]);
     }
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A, Eigen::EigenvaluesOnly);
-  return es.eigenvalues().head(std::min<Index>(count, n));
+  return test::self_adjoint_eigenvalues(A).head(std::min<Index>(count, n));
 }
 
 void expect_same_spectrum(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double rel) {

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -11,6 +11,7 @@
 #include "fem/operators.h"
 #include "helpers.h"
 #include "intrinsic/io/mesh_io.h"
+#include "support/dense_spectrum.h"
 
 namespace ifem::pointcloud {
 namespace {
@@ -75,8 +76,7 @@ void expect_good(const Ops& o, const std::string& what) {
 Eigen::VectorXd low_spectrum(const Ops& o, int count) {
   const Eigen::VectorXd s = o.m.cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd A = s.asDiagonal() * Eigen::MatrixXd(o.L) * s.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A, Eigen::EigenvaluesOnly);
-  return es.eigenvalues().head(count);
+  return test::self_adjoint_eigenvalues(A).head(count);
 }
 
 Positions fibonacci_sphere(int n, double jitter = 0.0, unsigned seed = 1) {
