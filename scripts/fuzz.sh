@@ -18,7 +18,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 [ $# -gt 0 ] && shift
 build="build-fuzz"
-all=(obj off ply stl xyz values matrix_market signpost pipeline curves)
+all=(obj off ply stl xyz values matrix_market signpost pipeline curves integer)
 harnesses=("${@:-${all[@]}}")
 
 # -O1 -g, assertions on (no NDEBUG): Eigen's index checks are worth having while fuzzing.
