@@ -472,12 +472,15 @@ std::vector<EdgePath> other_sides(const T& tri, const EdgePath& path) {
 
 }  // namespace
 
-FlipOutReport shorten_over_sides(SignpostTriangulation& st, EdgePath& path,
-                                 const FlipOutOptions& options, int rounds) {
+namespace {
+
+// shorten_over_sides() that stops searching once the length is at most `enough`.
+FlipOutReport shorten_over_sides_to(SignpostTriangulation& st, EdgePath& path,
+                                    const FlipOutOptions& options, int rounds, double enough) {
   const bool opened = !st.recording_flips();
   FlipOutReport rep = shorten(st, path, options);
   const double initial = rep.initial_length;
-  for (int r = 0; r < rounds; ++r) {
+  for (int r = 0; r < rounds && rep.final_length > enough; ++r) {
     bool better = false;
     for (const EdgePath& start : other_sides(st.intrinsic(), path)) {
       const std::size_t mark = st.flip_journal_mark();
@@ -494,6 +497,13 @@ FlipOutReport shorten_over_sides(SignpostTriangulation& st, EdgePath& path,
   if (opened && st.recording_flips()) st.end_flip_journal();
   rep.initial_length = initial;
   return rep;
+}
+
+}  // namespace
+
+FlipOutReport shorten_over_sides(SignpostTriangulation& st, EdgePath& path,
+                                 const FlipOutOptions& options, int rounds) {
+  return shorten_over_sides_to(st, path, options, rounds, 0.0);
 }
 
 }  // namespace ifem::intrinsic
@@ -535,7 +545,8 @@ EdgePath reversed_path(const EdgePath& p) {
 // shortest result's flips at the end (shortest_geodesic()).
 FlipOutReport shorten_starts(SignpostTriangulation& st, const std::vector<EdgePath>& starts,
                              const std::vector<std::string>& names,
-                             const ShortestGeodesicOptions& o, EdgePath* path, std::string* won) {
+                             const ShortestGeodesicOptions& o, EdgePath* path, std::string* won,
+                             double enough = 0.0) {
   const bool opened = !st.recording_flips();
   const std::size_t mark = st.flip_journal_mark();
   std::vector<Index> best_flips;
@@ -543,12 +554,13 @@ FlipOutReport shorten_starts(SignpostTriangulation& st, const std::vector<EdgePa
   for (std::size_t i = 0; i < starts.size(); ++i) {
     if (repeats_earlier(starts, i)) continue;
     EdgePath p = starts[i];
-    const FlipOutReport r = shorten_over_sides(st, p, o.flipout, o.side_rounds);
+    const FlipOutReport r = shorten_over_sides_to(st, p, o.flipout, o.side_rounds, enough);
     if (i == 0 || r.final_length < best_report.final_length) {
       best_report = r, *path = std::move(p), best_flips = st.flips_since(mark);
       if (won != nullptr) *won = names[i];
     }
     st.undo_flips(mark);
+    if (best_report.final_length <= enough) break;
   }
   if (opened) st.end_flip_journal();
   for (const Index e : best_flips) st.flip_edge(e);
@@ -596,14 +608,14 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 std::string* won) {
   o.validate();
   const T& tri = st.intrinsic();
-  std::vector<EdgePath> starts{shortest_edge_path(tri, a, b)};  // validates a and b
-  std::vector<std::string> names{"shortest edge path"};
+  EdgePath dijkstra = shortest_edge_path(tri, a, b);  // validates a and b
   if (o.start == StartPath::kDijkstra) {
-    *path = starts[0];
-    if (won != nullptr) *won = names[0];
+    *path = std::move(dijkstra);
+    if (won != nullptr) *won = "shortest edge path";
     return shorten(st, *path, o.flipout);
   }
-  if (o.start == StartPath::kGuided) starts.clear(), names.clear();
+  std::vector<EdgePath> starts;
+  std::vector<std::string> names;
   const char* side_names[3] = {"shorter", "left", "right"};
   for (int k = 0; k < 3; ++k) {
     const auto side = static_cast<StripSide>(k);
@@ -614,7 +626,22 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
       names.push_back(std::string("exact geodesic to a, reversed, ") + side_names[k] + " side");
     }
   }
-  return shorten_starts(st, starts, names, o, path, won);
+  if (o.start == StartPath::kBest) {
+    starts.push_back(std::move(dijkstra));
+    names.emplace_back("shortest edge path");
+  }
+  for (int k = 0; k < 3; ++k) {
+    const auto side = static_cast<StripSide>(k);
+    starts.push_back(descent_edge_path(tri, a, b, exact_to_b.distance, side));
+    names.push_back(std::string("descent to b, ") + side_names[k] + " side");
+    if (exact_to_a != nullptr) {
+      starts.push_back(reversed_path(descent_edge_path(tri, b, a, exact_to_a->distance, side)));
+      names.push_back(std::string("descent to a, reversed, ") + side_names[k] + " side");
+    }
+  }
+  // the exact distance is the length to reach: later starts only where FlipOut falls short
+  const double enough = exact_to_b.distance[a] * (1.0 + 1e-12);
+  return shorten_starts(st, starts, names, o, path, won, enough);
 }
 
 }  // namespace ifem::intrinsic

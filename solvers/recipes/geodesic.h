@@ -89,7 +89,7 @@ struct GeodesicCurves {
   Index bezier_control_points = 0;  ///< Bézier: control points after subdivision
   Index bezier_midpoints = 0;       ///< Bézier: midpoints inserted
   double seconds_signposts = 0.0, seconds_flipout = 0.0;
-  double seconds_guide = 0.0;  ///< the guide's refinement and heat solve (0 when not used)
+  double seconds_guide = 0.0;  ///< StartGuide's seconds (exact distances or heat) (0: not used)
   /// The start path the kept geodesic came from (intrinsic::shortest_geodesic()'s `won`) for a
   /// path between two points; empty for other curves.
   std::string start_won;
