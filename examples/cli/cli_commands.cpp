@@ -22,7 +22,7 @@ std::vector<Command> all_commands() {
   return {info_command(),      laplacian_command(), refine_command(),   distance_command(),
           eigen_command(),     poisson_command(),   geodesic_command(), field_command(),
           transport_command(), logmap_command(),    view_command(),     render_command(),
-          isolines_command(), trace_command()};
+          isolines_command(),  trace_command()};
 }
 
 }  // namespace ifem::cli

@@ -10,8 +10,8 @@
 
 #include "cli.h"
 #include "cli_curves.h"
-#include "cli_isolines.h"
 #include "cli_exact.h"
+#include "cli_isolines.h"
 #include "cli_refine.h"
 #include "cli_signed.h"
 #include "intrinsic/core/errors.h"

@@ -228,7 +228,8 @@ int run(const Args& args) {
   const recipes::GeodesicCurves run = recipes::geodesic(in, specs, geodesic_options_of(args));
   progress(args, "signpost triangulation in " + std::to_string(run.seconds_signposts) + " s");
   if (run.seconds_guide > 0.0) {
-    progress(args, "start guide (exact or heat distance) in " + std::to_string(run.seconds_guide) + " s");
+    progress(args,
+             "start guide (exact or heat distance) in " + std::to_string(run.seconds_guide) + " s");
   }
   if (!run.start_won.empty()) progress(args, "start won: " + run.start_won);
   print_curves(run, specs, args.has("network"),
