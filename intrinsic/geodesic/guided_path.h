@@ -106,15 +106,20 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const ShortestGeodesicOptions& options, EdgePath* path,
                                 std::string* won = nullptr);
 
-/// shortest_geodesic() with the exact distances to the end points: the starts are the exact
-/// geodesic's strip (exact_edge_path(), shorter side) from a to b and, reversed, from b to a
-/// (when exact_to_a is given), each followed by shorten_over_sides(); kBest adds the Dijkstra
-/// edge path, kDijkstra shortens only that. Same contract for st, *path and the flip record.
+/// shortest_geodesic() with the exact distances to the end points, in this order until one
+/// reaches the exact length exact_to_b.distance[a] (1e-12 relative; its side search stops there
+/// too): the exact geodesic's strips (exact_edge_path(); shorter, left, right side) from a to b
+/// and, reversed, from b to a (when exact_to_a is given); then (kBest) the Dijkstra edge path;
+/// then the descent paths of the exact distances (descent_edge_path()). Each is followed by
+/// shorten_over_sides(); the shortest result is kept. kDijkstra shortens the Dijkstra path only.
+/// Same contract for st, *path and the flip record. Usually one start's search: the strips
+/// reach the exact length on most pairs (docs/decisions.md D-200).
 /// @param exact_to_b exact_distance(st.intrinsic(), {b}) on st as it is now (or on an unflipped
 ///        copy of it)
 /// @param exact_to_a nullptr, or exact_distance(st.intrinsic(), {a})
-/// @param won as shortest_geodesic(): "shortest edge path", "exact geodesic to b, shorter side"
-///        or "exact geodesic to a, reversed, shorter side"
+/// @param won as shortest_geodesic(): "shortest edge path", "exact geodesic to b, S side",
+///        "exact geodesic to a, reversed, S side", "descent to b, S side" or "descent to a,
+///        reversed, S side" (S: "shorter", "left", "right")
 /// @throws InvalidInput as shortest_geodesic() and exact_edge_path()
 FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const ExactDistance& exact_to_b, const ExactDistance* exact_to_a,
