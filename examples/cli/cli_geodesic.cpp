@@ -228,7 +228,8 @@ int run(const Args& args) {
   const recipes::GeodesicCurves run = recipes::geodesic(in, specs, geodesic_options_of(args));
   progress(args, "signpost triangulation in " + std::to_string(run.seconds_signposts) + " s");
   if (run.seconds_guide > 0.0) {
-    progress(args, "start guide (heat distance) in " + std::to_string(run.seconds_guide) + " s");
+    progress(args,
+             "start guide (exact or heat distance) in " + std::to_string(run.seconds_guide) + " s");
   }
   if (!run.start_won.empty()) progress(args, "start won: " + run.start_won);
   print_curves(run, specs, args.has("network"),
@@ -312,17 +313,20 @@ OptionGroup geodesic_options() {
            text("start", "S")
                .defaults_to("best")
                .explain("FlipOut's start paths. best: for a path between two points, the\n"
-                        "shortest edge path and six paths down a heat distance (three to\n"
-                        "the end, three to the start reversed; the accurate distance of\n"
-                        "`ifem distance --refine` up to 20,000 vertices, the plain heat\n"
-                        "method above), each shortened and then moved over the vertices\n"
-                        "beside it while that shortens it; the shortest geodesic wins and\n"
-                        "a progress line names its start (the globally shortest one far\n"
-                        "more often). Cost: one heat solve of two sources plus at most 7\n"
-                        "such searches, each tried on the one triangulation and undone (no\n"
-                        "copies): the heat solve dominates. guided: the same without the\n"
-                        "edge path. dijkstra: the shortest edge path, one FlipOut (fastest;\n"
-                        "the result may go round a vertex the wrong way). Other curves\n"
+                        "exact distance to each end (as `ifem distance --exact`) and six\n"
+                        "edge paths along the faces the exact geodesic crosses (three to\n"
+                        "the end, three to the start reversed), each shortened and then\n"
+                        "moved over the vertices beside it while that shortens it, until\n"
+                        "one reaches the exact length; if none does, the shortest edge\n"
+                        "path and six paths down the exact distance too. The shortest\n"
+                        "geodesic wins and a progress line names its start. When the exact\n"
+                        "distance exceeds the memory budget, the six paths follow a heat\n"
+                        "distance's descent instead. Cost: two exact distances (they\n"
+                        "dominate) plus usually one such search, each tried on the one\n"
+                        "triangulation and undone (no copies). guided: the same without\n"
+                        "the shortest edge path. dijkstra: the shortest edge path, one\n"
+                        "FlipOut (fastest; the result may go round a vertex the wrong\n"
+                        "way). Other curves\n"
                         "(several points, loops, networks, --bezier) always start from\n"
                         "shortest edge paths"),
            real("mollify", "F")

@@ -56,7 +56,7 @@ void face_step(const T& tri, Index f, int i, int j, std::vector<PathStep>* out) 
   }
 }
 
-// The two sides of the strip of faces the descent curve crosses between two vertices.
+// The two sides of the strip of faces a curve crosses between two vertices.
 struct Strip {
   std::vector<PathStep> left, right;
   void to_corner(const T& tri, Index f, int lc, int rc, int k) {
@@ -64,6 +64,34 @@ struct Strip {
     face_step(tri, f, rc, k, &right);
   }
 };
+
+// How a curve (the descent curve, or an exact geodesic) runs between two vertices it touches:
+// it leaves corner `corner` of face `face`, crosses the sides `exits` in order (each a halfedge
+// of the face the curve is in, leaving it into its twin's face) and ends at corner `end` of the
+// last face.
+struct StripCrossing {
+  Index face = kInvalidIndex;
+  int corner = 0;
+  std::vector<Index> exits;
+  int end = 0;
+};
+
+// The two edge paths along the sides of a crossed strip: no vertex lies between either of them
+// and the curve, so both are in its class.
+Strip strip_sides(const T& tri, const StripCrossing& c) {
+  Strip s;
+  Index f = c.face;
+  int lc = c.corner, rc = c.corner;
+  for (const Index h : c.exits) {
+    const int j = static_cast<int>(T::side(h));
+    face_step(tri, f, lc, (j + 1) % 3, &s.left);
+    face_step(tri, f, rc, j, &s.right);
+    const Index ht = tri.twin(h);
+    f = T::face(ht), lc = static_cast<int>(T::side(ht)), rc = (lc + 1) % 3;
+  }
+  s.to_corner(tri, f, lc, rc, c.end);
+  return s;
+}
 
 double steps_length(const T& tri, const std::vector<PathStep>& s) {
   double l = 0.0;
@@ -133,45 +161,54 @@ Index steepest_edge(const T& tri, const Eigen::VectorXd& phi, Index v, bool* alo
   return best;
 }
 
-// Follows the descent from face f, entered with strip corners lc (left) / rc (right) at point x
-// (entered through side `in`, −1 from a corner), until it reaches a vertex; adds the strip's
-// sides to *strip and returns that vertex, or kInvalidIndex when it stalls.
-Index follow(const T& tri, const Eigen::VectorXd& phi, Index b, Index f, int lc, int rc, int in,
-             Eigen::Vector2d x, Eigen::Vector2d d, Index* budget, Strip* strip) {
-  for (; (*budget)-- > 0;) {
+// Follows the descent from face f, left at corner c (point x, direction d), until it reaches a
+// vertex; records the crossing in *cross and returns that vertex, or kInvalidIndex when it
+// stalls.
+Index follow(const T& tri, const Eigen::VectorXd& phi, Index b, Index f, int c, Eigen::Vector2d x,
+             Eigen::Vector2d d, Index* budget, StripCrossing* cross) {
+  cross->face = f, cross->corner = c, cross->exits.clear();
+  for (int in = -1; (*budget)-- > 0;) {
     for (int k = 0; k < 3; ++k) {
       if (tri.tail(3 * f + k) != b) continue;
-      strip->to_corner(tri, f, lc, rc, k);
+      cross->end = k;
       return b;
     }
     const Layout l = layout_of(tri, f);
     int j = -1;
     double t = 0.0;
     if (!exit_side(l, x, d, in, &j, &t)) return kInvalidIndex;
-    const int tail_c = j, head_c = (j + 1) % 3;
     const Index h = 3 * f + j, ht = tri.twin(h);
     if (t < kCornerSnap || t > 1.0 - kCornerSnap || ht == kInvalidIndex) {
       // a corner, or the boundary: to the side's corner the curve reaches / the lower one
       const bool to_tail = ht == kInvalidIndex ? phi[tri.tail(h)] <= phi[tri.head(h)] : t < 0.5;
-      const int k = to_tail ? tail_c : head_c;
-      strip->to_corner(tri, f, lc, rc, k);
-      return tri.tail(3 * f + k);
+      cross->end = to_tail ? j : (j + 1) % 3;
+      return tri.tail(3 * f + cross->end);
     }
-    face_step(tri, f, lc, head_c, &strip->left);
-    face_step(tri, f, rc, tail_c, &strip->right);
+    cross->exits.push_back(h);
     const Index g = T::face(ht);
     const int s_in = static_cast<int>(T::side(ht));
     const Layout lg = layout_of(tri, g);
     x = lg.p[(s_in + 1) % 3] + t * (lg.p[s_in] - lg.p[(s_in + 1) % 3]);
     d = descent(tri, phi, g, lg);
-    f = g, lc = s_in, rc = (s_in + 1) % 3, in = s_in;
+    f = g, in = s_in;
+    const int lc = s_in, rc = (s_in + 1) % 3;
     if (!(cross2(lg.p[rc] - lg.p[lc], d) > 0.0)) {  // a valley along this edge: to its lower end
-      const int k = phi[tri.tail(3 * g + lc)] <= phi[tri.tail(3 * g + rc)] ? lc : rc;
-      strip->to_corner(tri, g, lc, rc, k);
-      return tri.tail(3 * g + k);
+      cross->end = phi[tri.tail(3 * g + lc)] <= phi[tri.tail(3 * g + rc)] ? lc : rc;
+      return tri.tail(3 * g + cross->end);
     }
   }
   return kInvalidIndex;
+}
+
+// Appends the side of the strip `cross` describes that `pick` chooses to *steps.
+void append_side(const T& tri, const StripCrossing& cross, StripSide pick,
+                 std::vector<PathStep>* steps) {
+  const Strip strip = strip_sides(tri, cross);
+  const bool left = pick == StripSide::kShorter
+                        ? steps_length(tri, strip.left) <= steps_length(tri, strip.right)
+                        : pick == StripSide::kLeft;
+  const std::vector<PathStep>& side = left ? strip.left : strip.right;
+  steps->insert(steps->end(), side.begin(), side.end());
 }
 
 // One leg of the descent from vertex v to the next vertex it reaches (appended to *steps);
@@ -190,20 +227,15 @@ Index descend_from(const T& tri, const Eigen::VectorXd& phi, Index v, Index b, S
   const Index f = T::face(x);
   const int c = static_cast<int>(T::side(x));
   const Layout l = layout_of(tri, f);
-  Strip strip;
-  const Index w = follow(tri, phi, b, f, c, c, -1, l.p[c], d, budget, &strip);
-  if (w == kInvalidIndex) return w;
-  const bool left = pick == StripSide::kShorter
-                        ? steps_length(tri, strip.left) <= steps_length(tri, strip.right)
-                        : pick == StripSide::kLeft;
-  const std::vector<PathStep>& side = left ? strip.left : strip.right;
-  steps->insert(steps->end(), side.begin(), side.end());
+  StripCrossing cross;
+  const Index w = follow(tri, phi, b, f, c, l.p[c], d, budget, &cross);
+  if (w != kInvalidIndex) append_side(tri, cross, pick, steps);
   return w;
 }
 
-void check_vertex(const T& tri, Index v, const char* name) {
+void check_vertex(const T& tri, Index v, const char* name, const char* fn = "descent_edge_path") {
   if (v < 0 || v >= tri.n_vertices()) {
-    throw InvalidInput(std::string("descent_edge_path: ") + name + " = " + std::to_string(v) +
+    throw InvalidInput(std::string(fn) + ": " + name + " = " + std::to_string(v) +
                        " is out of range [0, " + std::to_string(tri.n_vertices()) + ")");
   }
 }
@@ -249,6 +281,121 @@ EdgePath descent_edge_path(const T& tri, Index a, Index b, const Eigen::VectorXd
     if (v == kInvalidIndex || seen[v]) return shortest_edge_path(tri, a, b);
   }
   return path;
+}
+
+namespace {
+
+// A point of an exact path as a vertex (a corner with coordinate ≈ 1), else kInvalidIndex.
+Index point_vertex(const T& tri, const SurfacePoint& p) {
+  Eigen::Index k = 0;
+  if (p.bary.maxCoeff(&k) < 1.0 - 1e-9) return kInvalidIndex;
+  return tri.tail(3 * p.face + static_cast<Index>(k));
+}
+
+// The edge a crossing point lies on (its face side with coordinate ≈ 0).
+Index point_edge(const T& tri, const SurfacePoint& p) {
+  Eigen::Index k = 0;
+  p.bary.minCoeff(&k);
+  return tri.edge(3 * p.face + (static_cast<Index>(k) + 1) % 3);
+}
+
+// The crossing of the strip from vertex u over the edges `edges` to vertex w; false when the
+// edges do not form such a strip.
+bool crossing_of(const T& tri, Index u, const std::vector<Index>& edges, Index w,
+                 StripCrossing* cross) {
+  const Index h0 = tri.vertex_halfedge(u);
+  Index x = h0, entry = kInvalidIndex;
+  for (Index guard = 0; x != kInvalidIndex && guard <= tri.n_halfedges(); ++guard) {
+    if (tri.edge(T::next(x)) == edges[0]) {
+      entry = x;
+      break;
+    }
+    x = tri.twin(T::prev(x));
+    if (x == h0) break;
+  }
+  if (entry == kInvalidIndex) return false;
+  cross->face = T::face(entry), cross->corner = static_cast<int>(T::side(entry));
+  cross->exits.clear();
+  Index f = cross->face, in = kInvalidIndex;
+  for (const Index e : edges) {
+    Index exit = kInvalidIndex;
+    for (int j = 0; j < 3 && exit == kInvalidIndex; ++j) {
+      if (3 * f + j != in && tri.edge(3 * f + j) == e) exit = 3 * f + j;
+    }
+    if (exit == kInvalidIndex || tri.twin(exit) == kInvalidIndex) return false;
+    cross->exits.push_back(exit);
+    in = tri.twin(exit), f = T::face(in);
+  }
+  cross->end = static_cast<int>(T::side(T::prev(in)));
+  return tri.tail(T::prev(in)) == w;
+}
+
+// The shortest edge from u to w as a step; false when they are not adjacent.
+bool edge_step(const T& tri, Index u, Index w, PathStep* step) {
+  double best = std::numeric_limits<double>::infinity();
+  const Index h0 = tri.vertex_halfedge(u);
+  Index x = h0;
+  for (Index guard = 0; x != kInvalidIndex && guard <= tri.n_halfedges(); ++guard) {
+    if (tri.head(x) == w && tri.length(tri.edge(x)) < best) {
+      best = tri.length(tri.edge(x)), *step = step_along(tri, x, true);
+    }
+    const Index p = T::prev(x);
+    if (tri.tail(p) == w && tri.twin(p) == kInvalidIndex && tri.length(tri.edge(p)) < best) {
+      best = tri.length(tri.edge(p)), *step = step_along(tri, p, false);
+    }
+    x = tri.twin(p);
+    if (x == h0) break;
+  }
+  return std::isfinite(best);
+}
+
+// The edge path along the strips of `points` (an exact path, vertex to vertex); empty when the
+// points do not describe one.
+EdgePath strips_of_points(const T& tri, const std::vector<SurfacePoint>& points, StripSide side) {
+  EdgePath path;
+  Index u = kInvalidIndex;
+  std::vector<Index> edges;
+  for (const SurfacePoint& p : points) {
+    const Index v = point_vertex(tri, p);
+    if (v == kInvalidIndex) {
+      edges.push_back(point_edge(tri, p));
+      continue;
+    }
+    if (u == kInvalidIndex || v == u) {
+      u = v, edges.clear();
+      continue;
+    }
+    if (edges.empty()) {
+      PathStep s{};
+      if (!edge_step(tri, u, v, &s)) return {};
+      path.steps.push_back(s);
+    } else {
+      StripCrossing cross;
+      if (!crossing_of(tri, u, edges, v, &cross)) return {};
+      append_side(tri, cross, side, &path.steps);
+    }
+    u = v, edges.clear();
+  }
+  return path;
+}
+
+}  // namespace
+
+EdgePath exact_edge_path(const T& tri, Index a, Index b, const ExactDistance& from_b,
+                         StripSide side) {
+  check_vertex(tri, a, "a", "exact_edge_path");
+  check_vertex(tri, b, "b", "exact_edge_path");
+  if (from_b.tri == nullptr || from_b.tri->n_halfedges() != tri.n_halfedges() ||
+      from_b.distance.size() != tri.n_vertices()) {
+    throw InvalidInput("exact_edge_path: the exact distance was computed on another triangulation");
+  }
+  if (a == b) throw InvalidInput("exact_edge_path: a == b (" + std::to_string(a) + ")");
+  const std::vector<SurfacePoint> points = from_b.path_to_source(a);
+  if (points.empty() || point_vertex(tri, points.back()) != b) {
+    return shortest_edge_path(tri, a, b);  // b unreachable (throws), or b is not its source
+  }
+  EdgePath path = strips_of_points(tri, points, side);
+  return path.steps.empty() ? shortest_edge_path(tri, a, b) : path;
 }
 
 }  // namespace ifem::intrinsic
@@ -325,12 +472,15 @@ std::vector<EdgePath> other_sides(const T& tri, const EdgePath& path) {
 
 }  // namespace
 
-FlipOutReport shorten_over_sides(SignpostTriangulation& st, EdgePath& path,
-                                 const FlipOutOptions& options, int rounds) {
+namespace {
+
+// shorten_over_sides() that stops searching once the length is at most `enough`.
+FlipOutReport shorten_over_sides_to(SignpostTriangulation& st, EdgePath& path,
+                                    const FlipOutOptions& options, int rounds, double enough) {
   const bool opened = !st.recording_flips();
   FlipOutReport rep = shorten(st, path, options);
   const double initial = rep.initial_length;
-  for (int r = 0; r < rounds; ++r) {
+  for (int r = 0; r < rounds && rep.final_length > enough; ++r) {
     bool better = false;
     for (const EdgePath& start : other_sides(st.intrinsic(), path)) {
       const std::size_t mark = st.flip_journal_mark();
@@ -347,6 +497,13 @@ FlipOutReport shorten_over_sides(SignpostTriangulation& st, EdgePath& path,
   if (opened && st.recording_flips()) st.end_flip_journal();
   rep.initial_length = initial;
   return rep;
+}
+
+}  // namespace
+
+FlipOutReport shorten_over_sides(SignpostTriangulation& st, EdgePath& path,
+                                 const FlipOutOptions& options, int rounds) {
+  return shorten_over_sides_to(st, path, options, rounds, 0.0);
 }
 
 }  // namespace ifem::intrinsic
@@ -384,6 +541,32 @@ EdgePath reversed_path(const EdgePath& p) {
   return r;
 }
 
+// Shortens every distinct start on st itself (its flips undone after it) and redoes the
+// shortest result's flips at the end (shortest_geodesic()).
+FlipOutReport shorten_starts(SignpostTriangulation& st, const std::vector<EdgePath>& starts,
+                             const std::vector<std::string>& names,
+                             const ShortestGeodesicOptions& o, EdgePath* path, std::string* won,
+                             double enough = 0.0) {
+  const bool opened = !st.recording_flips();
+  const std::size_t mark = st.flip_journal_mark();
+  std::vector<Index> best_flips;
+  FlipOutReport best_report;
+  for (std::size_t i = 0; i < starts.size(); ++i) {
+    if (repeats_earlier(starts, i)) continue;
+    EdgePath p = starts[i];
+    const FlipOutReport r = shorten_over_sides_to(st, p, o.flipout, o.side_rounds, enough);
+    if (i == 0 || r.final_length < best_report.final_length) {
+      best_report = r, *path = std::move(p), best_flips = st.flips_since(mark);
+      if (won != nullptr) *won = names[i];
+    }
+    st.undo_flips(mark);
+    if (best_report.final_length <= enough) break;
+  }
+  if (opened) st.end_flip_journal();
+  for (const Index e : best_flips) st.flip_edge(e);
+  return best_report;
+}
+
 }  // namespace
 
 FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
@@ -412,24 +595,53 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
       names.push_back(std::string("descent to a, reversed, ") + side_names[k] + " side");
     }
   }
-  // every start on st itself: its flips are undone after it (the winner's are redone at the end)
-  const bool opened = !st.recording_flips();
-  const std::size_t mark = st.flip_journal_mark();
-  std::vector<Index> best_flips;
-  FlipOutReport best_report;
-  for (std::size_t i = 0; i < starts.size(); ++i) {
-    if (repeats_earlier(starts, i)) continue;
-    EdgePath p = starts[i];
-    const FlipOutReport r = shorten_over_sides(st, p, o.flipout, o.side_rounds);
-    if (i == 0 || r.final_length < best_report.final_length) {
-      best_report = r, *path = std::move(p), best_flips = st.flips_since(mark);
-      if (won != nullptr) *won = names[i];
-    }
-    st.undo_flips(mark);
+  return shorten_starts(st, starts, names, o, path, won);
+}
+
+}  // namespace ifem::intrinsic
+
+namespace ifem::intrinsic {
+
+FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
+                                const ExactDistance& exact_to_b, const ExactDistance* exact_to_a,
+                                const ShortestGeodesicOptions& o, EdgePath* path,
+                                std::string* won) {
+  o.validate();
+  const T& tri = st.intrinsic();
+  EdgePath dijkstra = shortest_edge_path(tri, a, b);  // validates a and b
+  if (o.start == StartPath::kDijkstra) {
+    *path = std::move(dijkstra);
+    if (won != nullptr) *won = "shortest edge path";
+    return shorten(st, *path, o.flipout);
   }
-  if (opened) st.end_flip_journal();
-  for (const Index e : best_flips) st.flip_edge(e);
-  return best_report;
+  std::vector<EdgePath> starts;
+  std::vector<std::string> names;
+  const char* side_names[3] = {"shorter", "left", "right"};
+  for (int k = 0; k < 3; ++k) {
+    const auto side = static_cast<StripSide>(k);
+    starts.push_back(exact_edge_path(tri, a, b, exact_to_b, side));
+    names.push_back(std::string("exact geodesic to b, ") + side_names[k] + " side");
+    if (exact_to_a != nullptr) {
+      starts.push_back(reversed_path(exact_edge_path(tri, b, a, *exact_to_a, side)));
+      names.push_back(std::string("exact geodesic to a, reversed, ") + side_names[k] + " side");
+    }
+  }
+  if (o.start == StartPath::kBest) {
+    starts.push_back(std::move(dijkstra));
+    names.emplace_back("shortest edge path");
+  }
+  for (int k = 0; k < 3; ++k) {
+    const auto side = static_cast<StripSide>(k);
+    starts.push_back(descent_edge_path(tri, a, b, exact_to_b.distance, side));
+    names.push_back(std::string("descent to b, ") + side_names[k] + " side");
+    if (exact_to_a != nullptr) {
+      starts.push_back(reversed_path(descent_edge_path(tri, b, a, exact_to_a->distance, side)));
+      names.push_back(std::string("descent to a, reversed, ") + side_names[k] + " side");
+    }
+  }
+  // the exact distance is the length to reach: later starts only where FlipOut falls short
+  const double enough = exact_to_b.distance[a] * (1.0 + 1e-12);
+  return shorten_starts(st, starts, names, o, path, won, enough);
 }
 
 }  // namespace ifem::intrinsic

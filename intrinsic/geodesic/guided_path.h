@@ -5,13 +5,15 @@
 // distance to the target (e.g. the heat method's, computed by the caller: this layer solves no
 // linear systems) tells the side: the curve of steepest descent of φ runs beside the shortest
 // geodesic, and an edge path along one side of the faces it crosses is in its class (no vertex
-// lies between the two).
+// lies between the two). With the exact distance (exact_distance.h) the curve is the shortest
+// geodesic itself (exact_edge_path()): the same strip sides, from its traced path.
 #pragma once
 
 #include <Eigen/Core>
 #include <string>
 #include <vector>
 
+#include "intrinsic/geodesic/exact_distance.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
 
 namespace ifem::intrinsic {
@@ -38,6 +40,18 @@ enum class StripSide {
 ///         reachable from a
 EdgePath descent_edge_path(const IntrinsicTriangulation& tri, Index a, Index b,
                            const Eigen::VectorXd& guide, StripSide side = StripSide::kShorter);
+
+/// An edge path from a to b in the class of the exact shortest geodesic from a to b
+/// (from_b.path_to_source(a)): between two vertices the geodesic touches, the side of the strip
+/// of faces it crosses that `side` picks (as descent_edge_path()). Where the traced points do
+/// not form such strips (b not the path's source, an inconsistent trace), it is the Dijkstra edge
+/// path (shortest_edge_path) instead. O(path length) after the exact distance.
+/// @param from_b exact_distance(tri, {b}) on tri or an unflipped copy of it (its faces are the
+///        strips'; the triangulation it was computed on must still exist, unchanged)
+/// @throws InvalidInput if a or b is out of range, a == b, from_b was computed on a
+///         triangulation of another size, or b is not reachable from a
+EdgePath exact_edge_path(const IntrinsicTriangulation& tri, Index a, Index b,
+                         const ExactDistance& from_b, StripSide side = StripSide::kShorter);
 
 /// Which start paths shortest_geodesic() shortens (see ShortestGeodesicOptions::start).
 enum class StartPath { kDijkstra, kGuided, kBest };
@@ -89,6 +103,26 @@ struct ShortestGeodesicOptions {
 FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const Eigen::VectorXd* guide_to_b,
                                 const Eigen::VectorXd* guide_to_a,
+                                const ShortestGeodesicOptions& options, EdgePath* path,
+                                std::string* won = nullptr);
+
+/// shortest_geodesic() with the exact distances to the end points, in this order until one
+/// reaches the exact length exact_to_b.distance[a] (1e-12 relative; its side search stops there
+/// too): the exact geodesic's strips (exact_edge_path(); shorter, left, right side) from a to b
+/// and, reversed, from b to a (when exact_to_a is given); then (kBest) the Dijkstra edge path;
+/// then the descent paths of the exact distances (descent_edge_path()). Each is followed by
+/// shorten_over_sides(); the shortest result is kept. kDijkstra shortens the Dijkstra path only.
+/// Same contract for st, *path and the flip record. Usually one start's search: the strips
+/// reach the exact length on most pairs (docs/decisions.md D-200).
+/// @param exact_to_b exact_distance(st.intrinsic(), {b}) on st as it is now (or on an unflipped
+///        copy of it)
+/// @param exact_to_a nullptr, or exact_distance(st.intrinsic(), {a})
+/// @param won as shortest_geodesic(): "shortest edge path", "exact geodesic to b, S side",
+///        "exact geodesic to a, reversed, S side", "descent to b, S side" or "descent to a,
+///        reversed, S side" (S: "shorter", "left", "right")
+/// @throws InvalidInput as shortest_geodesic() and exact_edge_path()
+FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
+                                const ExactDistance& exact_to_b, const ExactDistance* exact_to_a,
                                 const ShortestGeodesicOptions& options, EdgePath* path,
                                 std::string* won = nullptr);
 

@@ -70,9 +70,10 @@ class GeodesicCurve:
             points), in the order given.
         report: FlipOut's report (shared by all curves of a network).
         start_won: the start path the geodesic came from, for a path between two points with
-            ``start='best'`` or ``'guided'``: ``'shortest edge path'``, ``'descent to b, S
-            side'`` or ``'descent to a, reversed, S side'`` (S: ``shorter``, ``left``,
-            ``right``); as the CLI's ``start won:`` line. ``''`` for other curves.
+            ``start='best'`` or ``'guided'``: ``'shortest edge path'``, ``'G to b, S side'``
+            or ``'G to a, reversed, S side'`` (G: ``exact geodesic`` or ``descent``; S:
+            ``shorter``, ``left``, ``right``); as the CLI's ``start won:`` line. ``''`` for
+            other curves.
     """
     polyline: np.ndarray
     length: float
@@ -173,10 +174,12 @@ def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5, start="best
         loop: a closed curve through the points, back to the first.
         pin: keep the loop passing through its points (paths always are).
         mollify: relative mollification margin of the intrinsic triangulation (in [0, 1]).
-        start: FlipOut's start paths for a path between two points: ``"best"`` (the shortest
-            edge path and three paths down the accurate heat distance to the end, each
+        start: FlipOut's start paths for a path between two points: ``"best"`` (edge paths
+            along the faces the exact geodesic to each end crosses, then if none reaches the
+            exact length the shortest edge path and paths down the exact distance, each
             shortened and moved over the vertices beside it while that shortens it; the
-            shortest geodesic wins), ``"guided"`` (the same without the edge path) or
+            shortest geodesic wins; a heat distance's descent when the exact distance exceeds
+            the memory budget), ``"guided"`` (the same without the edge path) or
             ``"dijkstra"`` (the shortest edge path, one FlipOut: fastest, not always the
             shortest geodesic). Other curves always start from shortest edge paths.
 

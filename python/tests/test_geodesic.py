@@ -90,7 +90,7 @@ def test_start_paths_match_cli_and_the_exact_distance(spot, tmp_path):
         won = re.findall(r"^ifem: start won: (.*)$", log, re.M)
         assert won == ([c.start_won] if c.start_won else []), (won, c.start_won)
         assert (c.start_won == "") == (start == "dijkstra"), c.start_won
-    assert re.fullmatch(r"shortest edge path|descent to (b|a, reversed), "
+    assert re.fullmatch(r"shortest edge path|(exact geodesic|descent) to (b|a, reversed), "
                         r"(shorter|left|right) side", ifem.geodesic(V, F, [2222, 0]).start_won)
     # a network (several curves shortened together) starts from shortest edge paths
     assert [c.start_won for c in ifem.geodesic_network(V, F, [[0, 500], [10, 700]]).curves] == \

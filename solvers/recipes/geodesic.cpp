@@ -104,15 +104,20 @@ intrinsic::FlipOutReport shorten_curves(SignpostTriangulation& st, const io::Sur
   if (options.start != intrinsic::StartPath::kDijkstra && through.size() == 1 && !c.closed &&
       c.vertices.size() == 2) {
     StartGuide guide(input);
-    const Eigen::MatrixXd phi = guide.to_each(st, {c.vertices[1], c.vertices[0]});
-    const Eigen::VectorXd to_b = phi.col(0), to_a = phi.col(1);
     intrinsic::ShortestGeodesicOptions o;
     o.start = options.start;
     o.flipout = options.flipout;
     paths->assign(1, EdgePath{});
+    const Index a = c.vertices[0], b = c.vertices[1];
     try {
-      report = intrinsic::shortest_geodesic(st, c.vertices[0], c.vertices[1], &to_b, &to_a, o,
-                                            &(*paths)[0], won);
+      const std::vector<intrinsic::ExactDistance> exact = guide.exact_to_each(st, {b, a});
+      if (!exact.empty()) {  // the exact geodesics' strips (D-200)
+        report = intrinsic::shortest_geodesic(st, a, b, exact[0], &exact[1], o, &(*paths)[0], won);
+      } else {
+        const Eigen::MatrixXd phi = guide.to_each(st, {b, a});
+        const Eigen::VectorXd to_b = phi.col(0), to_a = phi.col(1);
+        report = intrinsic::shortest_geodesic(st, a, b, &to_b, &to_a, o, &(*paths)[0], won);
+      }
     } catch (const InvalidInput& e) {
       throw InvalidInput(c.name + ": " + e.what());
     }
@@ -137,17 +142,11 @@ Eigen::MatrixXd StartGuide::to_each(const SignpostTriangulation& st,
                                     const std::vector<Index>& targets) {
   Stopwatch watch;
   const Index nv = static_cast<Index>(input_.positions.rows());
-  if (nv > kRefinedGuideMaxVertices) {  // the exact distance on st itself (D-168)
-    try {
-      Eigen::MatrixXd phi(st.intrinsic().n_vertices(), Eigen::Index(targets.size()));
-      for (std::size_t k = 0; k < targets.size(); ++k) {
-        phi.col(Eigen::Index(k)) =
-            intrinsic::exact_distance(st.intrinsic(), std::vector<Index>{targets[k]}).distance;
-      }
-      seconds += watch.seconds();
-      return phi;
-    } catch (const InvalidInput&) {  // over the memory budget: the heat method's guide
-    }
+  const std::vector<intrinsic::ExactDistance> exact = exact_to_each(st, targets);
+  if (!exact.empty()) {
+    Eigen::MatrixXd phi(st.intrinsic().n_vertices(), Eigen::Index(targets.size()));
+    for (std::size_t k = 0; k < targets.size(); ++k) phi.col(Eigen::Index(k)) = exact[k].distance;
+    return phi;
   }
   if (!solver_) build();
   std::vector<Index> sources;
@@ -173,6 +172,23 @@ Eigen::MatrixXd StartGuide::to_each(const SignpostTriangulation& st,
   }
   seconds += watch.seconds();
   return phi;
+}
+
+std::vector<intrinsic::ExactDistance> StartGuide::exact_to_each(const SignpostTriangulation& st,
+                                                                const std::vector<Index>& targets) {
+  if (exact_refused_) return {};
+  Stopwatch watch;
+  std::vector<intrinsic::ExactDistance> out;
+  try {
+    for (const Index target : targets) {
+      out.push_back(intrinsic::exact_distance(st.intrinsic(), std::vector<Index>{target}));
+    }
+  } catch (const InvalidInput&) {  // over the memory budget: the heat method's guide
+    exact_refused_ = true;
+    out.clear();
+  }
+  seconds += watch.seconds();
+  return out;
 }
 
 void StartGuide::build() {

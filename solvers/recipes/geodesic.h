@@ -46,11 +46,12 @@ struct GeodesicOptions {
   /// before any flip); 0: intrinsic::default_memory_budget().
   double max_memory_bytes = 0.0;
   /// FlipOut's start paths for one open path between two points (intrinsic::shortest_geodesic):
-  /// kBest (default) shortens the Dijkstra edge path and six paths down a guide (StartGuide: a
-  /// heat distance to each end point, one solve of two sources here) each with the search over
-  /// neighbouring classes, and keeps the shortest. Its cost is the guide plus at most 7 such
-  /// searches, all on one triangulation whose flips are undone between them (no copies);
-  /// kGuided the guided ones only; kDijkstra the Dijkstra path
+  /// kBest (default) shortens the Dijkstra edge path and the start paths of StartGuide (the
+  /// exact geodesic's strip from each end point, intrinsic::exact_edge_path; over the exact
+  /// distance's memory budget, six paths down a heat distance to each end point), each with the
+  /// search over neighbouring classes, and keeps the shortest. Its cost is the guide plus at
+  /// most 7 such searches, all on one triangulation whose flips are undone between them (no
+  /// copies); kGuided the guided ones only; kDijkstra the Dijkstra path
   /// alone (one FlipOut: fastest, but FlipOut keeps its start's class, so the geodesic is more
   /// often not the shortest one). Other curves (loops, networks, several points, Bézier) always
   /// start from Dijkstra edge paths, shortened together.
@@ -88,7 +89,7 @@ struct GeodesicCurves {
   Index bezier_control_points = 0;  ///< Bézier: control points after subdivision
   Index bezier_midpoints = 0;       ///< Bézier: midpoints inserted
   double seconds_signposts = 0.0, seconds_flipout = 0.0;
-  double seconds_guide = 0.0;  ///< the guide's refinement and heat solve (0 when not used)
+  double seconds_guide = 0.0;  ///< StartGuide's seconds (exact distances or heat) (0: not used)
   /// The start path the kept geodesic came from (intrinsic::shortest_geodesic()'s `won`) for a
   /// path between two points; empty for other curves.
   std::string start_won;
@@ -105,31 +106,39 @@ struct SingleSourceResult {
   double seconds = 0.0;
 };
 
-/// The guide of FlipOut's guided start paths (intrinsic::descent_edge_path): the accurate heat
-/// distance (`ifem distance --refine`: refined to edges of about 0.4·h) to a vertex, on every
-/// vertex of a signpost triangulation of the input, or the heat method on the input's intrinsic
-/// Delaunay triangulation when the refinement is refused. On inputs above 20,000 vertices, the
-/// exact distance (intrinsic::exact_distance) on st's own triangulation (docs/decisions.md
-/// D-168), falling back to the plain heat method when its windows exceed the memory budget.
-/// The refinement and factorization happen at the first call; later calls cost a heat solve.
+/// The guide of FlipOut's start paths: the exact distance (intrinsic::exact_distance) on st's own
+/// triangulation, whose traced geodesics give the start paths themselves
+/// (intrinsic::exact_edge_path; docs/decisions.md D-200). When its windows exceed the memory
+/// budget (intrinsic::default_memory_budget()), a heat distance for intrinsic::descent_edge_path:
+/// up to 20,000 input vertices the accurate one (`ifem distance --refine`: refined to edges of
+/// about 0.4·h) on a signpost triangulation of the input, above (or when the refinement is
+/// refused) the heat method on the input's intrinsic Delaunay triangulation; its refinement and
+/// factorization happen at the first heat call, later calls cost a heat solve.
 class StartGuide {
  public:
   /// @param input the mesh st was built from (flipout_surface); kept by reference
   explicit StartGuide(const io::SurfaceInput& input);
   ~StartGuide();
-  /// #V of st.intrinsic(): ≈ the distance to `target` (an inserted vertex: to the nearest corner
-  /// of its input face), linear over input faces at inserted vertices; +∞ where unreachable.
+  /// #V of st.intrinsic(): ≈ the distance to `target` (exact when exact_to_each() is not
+  /// refused; the heat guide at an inserted vertex: to the nearest corner of its input face,
+  /// linear over input faces); +∞ where unreachable.
   Eigen::VectorXd to(const intrinsic::SignpostTriangulation& st, Index target);
   /// to() for each target, one column each (the heat solves batched: cheaper than one by one).
   Eigen::MatrixXd to_each(const intrinsic::SignpostTriangulation& st,
                           const std::vector<Index>& targets);
-  double seconds = 0.0;  ///< spent in to() so far
+  /// The exact distance on st.intrinsic() (as it is now) from each target, in order; empty when
+  /// the windows exceed the memory budget (then every later call is empty at once). Cost about
+  /// #F^1.5 windows per target (BENCHMARKS.md, "Exact geodesic distance").
+  std::vector<intrinsic::ExactDistance> exact_to_each(const intrinsic::SignpostTriangulation& st,
+                                                      const std::vector<Index>& targets);
+  double seconds = 0.0;  ///< spent in to(), to_each() and exact_to_each() so far
 
  private:
   void build();
   const io::SurfaceInput& input_;
   std::unique_ptr<solvers::PreparedSurface> surface_;
   std::unique_ptr<solvers::HeatDistanceSolver> solver_;
+  bool exact_refused_ = false;
 };
 
 /// "" when p names a vertex / face of `input` (a face point also needs a triangle mesh), else

@@ -168,8 +168,8 @@ def test_geodesic_start(cli):
     assert abs(out["best"] - exact) <= 1e-6 * exact, (out, exact)
     assert out["dijkstra"] > exact * (1 + 1e-3), (out, exact)
     log = cli.ok("geodesic", cli.spot, "--path", "2222,0", "-o", cli.out / "start.txt").err
-    assert grep(r"^ifem: start guide \(heat distance\) in [0-9.e-]* s$", log), log
-    kept = r"^ifem: start won: (shortest edge path|descent to (b|a, reversed), " \
+    assert grep(r"^ifem: start guide \(exact or heat distance\) in [0-9.e-]* s$", log), log
+    kept = r"^ifem: start won: (shortest edge path|(exact geodesic|descent) to (b|a, reversed), " \
            r"(shorter|left|right) side)$"
     assert grep(kept, log), log
 
