@@ -598,10 +598,6 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
   return shorten_starts(st, starts, names, o, path, won);
 }
 
-}  // namespace ifem::intrinsic
-
-namespace ifem::intrinsic {
-
 FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const ExactDistance& exact_to_b, const ExactDistance* exact_to_a,
                                 const ShortestGeodesicOptions& o, EdgePath* path,

@@ -29,14 +29,17 @@ SignpostTriangulation flipout_surface(const io::SurfaceInput& in, double mollify
   try {
     return SignpostTriangulation(in.triangles, in.positions, mollify);
   } catch (const NonManifoldInput& e) {
-    std::string why = e.what();
-    const std::size_t advice = why.find("; use the tufted cover");
-    if (advice != std::string::npos) why.resize(advice);
-    throw NonManifoldInput(
-        "FlipOut needs an edge-manifold, orientable surface (signposts; the tufted cover has "
-        "no meaningful paths), and this mesh is not: " +
-        why);
+    throw manifold_only(e,
+                        "FlipOut needs an edge-manifold, orientable surface (signposts; the tufted "
+                        "cover has no meaningful paths)");
   }
+}
+
+NonManifoldInput manifold_only(const NonManifoldInput& e, const std::string& need) {
+  std::string why = e.what();
+  const std::size_t advice = why.find("; use the tufted cover");
+  if (advice != std::string::npos) why.resize(advice);
+  return NonManifoldInput(need + ", and this mesh is not: " + why);
 }
 
 std::vector<Index> given_face_map(const SignpostTriangulation& st, std::size_t n_given_faces) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "intrinsic/core/errors.h"
 #include "intrinsic/core/surface_point.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/io/mesh_io.h"
@@ -24,6 +25,11 @@ bool has_positive_area(const io::SurfaceInput& in);
 /// @throws NonManifoldInput when the mesh is not edge-manifold and orientable, saying that
 ///         FlipOut needs that and naming the offending edge (the library's message)
 SignpostTriangulation flipout_surface(const io::SurfaceInput& in, double mollify);
+
+/// For operations the tufted cover cannot serve: `need` (e.g. "X needs an edge-manifold,
+/// orientable surface (why)") followed by ", and this mesh is not: " and e's message without
+/// the library's advice to use the tufted cover.
+NonManifoldInput manifold_only(const NonManifoldInput& e, const std::string& need);
 
 /// For each given face (row of `given_faces`), the face of st.input() it became, or
 /// kInvalidIndex where it was dropped (a face repeating a vertex).

@@ -8,6 +8,7 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/geodesic/input_surface.h"
 #include "intrinsic/io/tokens.h"
 #include "intrinsic/refine/signpost.h"
 #include "solvers/recipes/geodesic.h"
@@ -96,13 +97,9 @@ GeodesicTracer::GeodesicTracer(const io::SurfaceInput& input) {
   try {
     tri_ = IntrinsicTriangulation::from_positions(input.triangles, input.positions, &report);
   } catch (const NonManifoldInput& e) {
-    std::string why = e.what();
-    const std::size_t advice = why.find("; use the tufted cover");
-    if (advice != std::string::npos) why.resize(advice);
-    throw NonManifoldInput(
-        "trace needs an edge-manifold, orientable surface (a ray has no single way on across an "
-        "edge of 3+ faces), and this mesh is not: " +
-        why);
+    throw intrinsic::manifold_only(e,
+                                   "trace needs an edge-manifold, orientable surface (a ray has "
+                                   "no single way on across an edge of 3+ faces)");
   }
   face_origin_ = report.face_origin;
   given_face_.assign(input.triangles.size(), kInvalidIndex);
