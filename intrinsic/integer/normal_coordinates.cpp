@@ -210,6 +210,24 @@ FlipReport NormalCoordinateTriangulation::flip_to_delaunay() {
   return tri_.flip_to_delaunay([this](Index e) { return flip_edge(e); });
 }
 
+FlipReport NormalCoordinateTriangulation::flip_to_delaunay_from(std::vector<Index> queue,
+                                                                std::vector<Index>* touched) {
+  return tri_.flip_to_delaunay_from(std::move(queue), touched,
+                                    [this](Index e) { return flip_edge(e); });
+}
+
+FlipReport NormalCoordinateTriangulation::flip_to_delaunay(const std::vector<char>& fixed_edges) {
+  return tri_.flip_to_delaunay(
+      [this, &fixed_edges](Index e) { return !is_flagged(&fixed_edges, e) && flip_edge(e); });
+}
+
+FlipReport NormalCoordinateTriangulation::flip_to_delaunay_from(
+    std::vector<Index> queue, std::vector<Index>* touched, const std::vector<char>& fixed_edges) {
+  return tri_.flip_to_delaunay_from(std::move(queue), touched, [this, &fixed_edges](Index e) {
+    return !is_flagged(&fixed_edges, e) && flip_edge(e);
+  });
+}
+
 // ---------------------------------------------------------------------------------------------
 // Tracing
 

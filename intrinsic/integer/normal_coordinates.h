@@ -84,6 +84,14 @@ class NormalCoordinateTriangulation {
   bool flip_edge(Index e);
   /// IntrinsicTriangulation::flip_to_delaunay through flip_edge().
   FlipReport flip_to_delaunay();
+  /// IntrinsicTriangulation::flip_to_delaunay_from through flip_edge() (local repair after an
+  /// insertion); appends every face a flip touched to `touched` when given.
+  FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched);
+  /// The same two, never flipping an edge e whose fixed_edges[e] is nonzero (entries past the
+  /// end count as 0): constrained edges stay (counted as unflippable when not Delaunay).
+  FlipReport flip_to_delaunay(const std::vector<char>& fixed_edges);
+  FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched,
+                                   const std::vector<char>& fixed_edges);
   /// Inserts a vertex in intrinsic face f at barycentric coordinates `bary` (all > 0), as
   /// IntrinsicTriangulation::insert_vertex_in_face(f, bary); returns its id. Traces f's three
   /// sides (O(their crossings × the length of the crossing input edges in faces)).

@@ -57,6 +57,26 @@ class SignpostHost {
   const std::vector<char>* fixed_;
 };
 
+class IntegerHost {
+ public:
+  IntegerHost(NormalCoordinateTriangulation& nc, const std::vector<char>* fixed)
+      : nc_(nc), fixed_(fixed) {}
+  const IntrinsicTriangulation& tri() const { return nc_.intrinsic(); }
+  FlipReport flip_to_delaunay() {
+    return fixed_ ? nc_.flip_to_delaunay(*fixed_) : nc_.flip_to_delaunay();
+  }
+  FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched) {
+    return fixed_ ? nc_.flip_to_delaunay_from(queue, touched, *fixed_)
+                  : nc_.flip_to_delaunay_from(queue, touched);
+  }
+  Index insert_vertex(Index f, const Eigen::Vector3d& bary) { return nc_.insert_vertex(f, bary); }
+  Index split_edge(Index e, double t) { return nc_.split_edge(e, t); }
+
+ private:
+  NormalCoordinateTriangulation& nc_;
+  const std::vector<char>* fixed_;
+};
+
 class PlainHost {
  public:
   PlainHost(IntrinsicTriangulation& tri, const std::vector<char>* fixed)
@@ -934,6 +954,13 @@ RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& opt
                              EdgeConstraints* constraints) {
   check_refinement_budget(st.intrinsic(), options);
   SignpostHost host(st, constraints ? constraints->flags : nullptr);
+  return refine(host, options, constraints);
+}
+
+RefineReport delaunay_refine(NormalCoordinateTriangulation& nc, const RefineOptions& options,
+                             EdgeConstraints* constraints) {
+  check_refinement_budget(nc.intrinsic(), options);
+  IntegerHost host(nc, constraints ? constraints->flags : nullptr);
   return refine(host, options, constraints);
 }
 

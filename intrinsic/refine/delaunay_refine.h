@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "intrinsic/core/progress.h"
+#include "intrinsic/integer/normal_coordinates.h"
 #include "intrinsic/refine/signpost.h"
 
 namespace ifem::intrinsic {
@@ -179,6 +180,15 @@ struct RefineReport {
 /// conforming_splits those of the final conforming step (RefineOptions::conform).
 /// @throws InvalidInput on bad options (RefineOptions::validate())
 RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options = {},
+                             EdgeConstraints* constraints = nullptr);
+
+/// The same algorithm (the same code) on integer coordinates (intrinsic/integer/
+/// normal_coordinates.h): every flip, insertion and split keeps the normal coordinates and
+/// roundabouts, so inserted vertices are located on the input from the integers
+/// (vertex_locations(nc)). The same calls as the signpost overload: on the same input and
+/// options, the same insertions and the same edge lengths.
+/// @throws InvalidInput on bad options (RefineOptions::validate())
+RefineReport delaunay_refine(NormalCoordinateTriangulation& nc, const RefineOptions& options = {},
                              EdgeConstraints* constraints = nullptr);
 
 /// The same algorithm (the same code) on a bare intrinsic triangulation, without signposts:

@@ -22,6 +22,7 @@
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/integer/integer_subdivision.h"
 #include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/delaunay_refine.h"
 #include "intrinsic/refine/signpost.h"
 
 namespace ifem::intrinsic {
@@ -410,6 +411,31 @@ TEST(NormalCoordinates, CommonSubdivisionPartitionsAreas) {
 
 // Two flat fans of two triangles sharing only their centre (a vertex with two boundary fans, as
 // in range scans): its spokes are listed fan after fan.
+// Delaunay refinement on the integers makes the same calls as on signposts (one algorithm,
+// two hosts): the same insertions and bit-identical lengths, valid integers, and a common
+// subdivision that partitions both triangulations. Varied: the angle bound, an area bound.
+TEST(NormalCoordinates, DelaunayRefineAgreesWithSignposts) {
+  const TriangleMesh m = needle_fan(40);
+  for (const double angle : {20.0, 28.0}) {
+    for (const double area : {0.01}) {
+      SCOPED_TRACE(testing::Message() << "angle " << angle << " area " << area);
+      NormalCoordinateTriangulation nc(m.faces, m.positions);
+      SignpostTriangulation st(m.faces, m.positions);
+      RefineOptions o;
+      o.min_angle_degrees = angle;
+      o.max_area = area;
+      const RefineReport a = delaunay_refine(nc, o), b = delaunay_refine(st, o);
+      EXPECT_GT(a.insertions, 3);
+      EXPECT_EQ(a.insertions, b.insertions);
+      EXPECT_EQ(a.edge_splits + a.boundary_splits, b.edge_splits + b.boundary_splits);
+      EXPECT_EQ(nc.intrinsic().lengths(), st.intrinsic().lengths());
+      EXPECT_GE(a.min_angle_after_excluding_needles, angle - 1e-9);
+      nc.validate();
+      expect_area_partition(nc);
+    }
+  }
+}
+
 TEST(NormalCoordinates, VertexWithTwoBoundaryFans) {
   Positions x(7, 3);
   x << 0, 0, 0, 1, -0.5, 0, 1.2, 0.3, 0, 0.4, 1, 0, -1, 0.5, 0, -1.2, -0.3, 0, -0.4, -1, 0;
