@@ -1,8 +1,6 @@
 // What FlipOut is used for (flip_geodesic.h): surface points as path ends, geodesic Bézier
 // curves by de Casteljau subdivision, and single-source geodesics.
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -14,10 +12,8 @@
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/geodesic/flip_network.h"
-#include "intrinsic/geodesic/straight_insert.h"
 
 namespace ifem::intrinsic {
-namespace detail { extern long g_plan_dbg[24]; }
 
 namespace {
 
@@ -398,13 +394,6 @@ namespace {
 // curvature, a near-tie the first start cannot tell). The shortest result wins.
 constexpr int kOtherStarts = 8;
 constexpr double kTieRelative = 1e-5;
-// A joint taken as straight without FlipOut must clear FlipOut's limit by this much (radians):
-// FlipOut sums corner angles where this reads signposts, equal only up to rounding.
-constexpr double kJointMargin = 1e-9;
-// accept_straight() tries the offers whose unfolded key is within this fraction of the least.
-constexpr double kStraightSlack = 0.0;
-// try_strip() walks at most this many edges.
-constexpr int kMaxCrossings = 256;
 
 // single_source_geodesics()'s state: the search's queue and the accepted vertices' paths.
 class SingleSource {
@@ -422,7 +411,12 @@ class SingleSource {
         net_(st, uses_, nullptr) {
     out_.length = Eigen::VectorXd::Constant(tri_.n_vertices(), kInf);
     out_.paths.resize(tri_.n_vertices());
-    net_.on_flip = [this](Index e) { flipped(e); };
+    net_.on_flip = [this](Index e) {  // a flip may join the accepted region to a new vertex
+      ++out_.flips;
+      const Index h = tri_.edge_halfedge(e);
+      offer(e, tri_.tail(h), tri_.head(h));
+      offer(e, tri_.head(h), tri_.tail(h));
+    };
   }
 
   SingleSourceGeodesics solve(const ProgressCallback& on_progress) {
@@ -433,16 +427,6 @@ class SingleSource {
       const Entry top = queue_.top();
       queue_.pop();
       if (accepted_[top.v]) continue;
-      const long before_dbg = dbg_[4] * 1000000 + dbg_[7];
-      if (accept_straight(top.v)) {
-        if (std::getenv("IFEM_SS_CHECK")) {
-          std::vector<double> sum(tri_.n_vertices(), 0.0);
-          for (Index h = 0; h < tri_.n_halfedges(); ++h) sum[tri_.tail(h)] += corner_angle(tri_, h);
-          for (Index v = 0; v < tri_.n_vertices(); ++v) if (std::abs(sum[v] - st_.vertex_angle_sum(v)) > 1e-9) { std::fprintf(stderr, "drift %g at %d after accepting %d branch %ld\n", sum[v] - st_.vertex_angle_sum(v), v, top.v, dbg_[4] * 1000000 + dbg_[7] - before_dbg); std::abort(); }
-        }
-        meter.update(++n_accepted);
-        continue;
-      }
       const PathStep last = step_from(top.edge, top.parent, top.v);
       if (last.edge == kInvalidIndex) continue;  // flipped since it was offered
       EdgePath path = out_.paths[top.parent];
@@ -456,8 +440,6 @@ class SingleSource {
       meter.update(++n_accepted);
     }
     meter.finish();
-    if (std::getenv("IFEM_SS_DEBUG")) for (int k = 0; k < 24; ++k) std::fprintf(stderr, "plan fail %d: %ld\n", k, detail::g_plan_dbg[k]);
-    if (std::getenv("IFEM_SS_DEBUG")) std::fprintf(stderr, "ss: best %ld interior %ld planned %ld anchor %ld inserted %ld strip %ld %ld %ld\n", dbg_[0], dbg_[1], dbg_[2], dbg_[3], dbg_[4], dbg_[5], dbg_[6], dbg_[7]);
     out_.tree_edges.assign(tri_.n_edges(), 0);
     for (Index e = 0; e < tri_.n_edges(); ++e) out_.tree_edges[e] = uses_[e] > 0 ? 1 : 0;
     return std::move(out_);
@@ -469,125 +451,6 @@ class SingleSource {
     Index v, parent, edge;
     bool operator>(const Entry& o) const { return d > o.d; }
   };
-
-  void flipped(Index e) {  // a flip may join the accepted region to a new vertex
-    ++out_.flips;
-    const Index h = tri_.edge_halfedge(e);
-    offer(e, tri_.tail(h), tri_.head(h));
-    offer(e, tri_.head(h), tri_.tail(h));
-  }
-
-  // Accepts w without FlipOut when its best offer (least unfolded key over its accepted
-  // neighbours u) is a path known to be a geodesic: the edge from the source; u's geodesic and
-  // the edge u–w when both wedges at u are ≥ π (a turn there is straight); or the straight
-  // segment from the start p of u's last edge to w across u's wedge < π (plan_fan_segment():
-  // no vertex in the triangle (p, u, w), no accepted path crossed), bent by ≥ π on both sides
-  // at p, made an edge by flipping u's spokes (docs/decisions.md D-205). False: FlipOut decides.
-  bool accept_straight(Index w) {
-    if (pinched_[w]) return false;
-    cands_.clear();
-    for_each_edge_at(tri_, w, false, [&](Index e, Index u) {
-      if (accepted_[u]) cands_.push_back({unfolded_key(st_, pinched_, e, u, reached_[u]), u, e});
-    });
-    if (cands_.empty()) return false;
-    std::sort(cands_.begin(), cands_.end(),
-              [](const Cand& a, const Cand& b) { return a.key < b.key; });
-    ++dbg_[0];
-    const double limit = cands_.front().key * (1.0 + kStraightSlack);
-    for (const Cand& c : cands_) {
-      if (!(c.key <= limit)) break;
-      const int r = try_straight(w, c.u, c.e, limit);
-      if (r >= 0) return r == 1;
-    }
-    return false;
-  }
-
-  // accept_straight() from accepted neighbour u over edge e: 1 accepted, −1 not a known
-  // geodesic, 0 a flip was refused on the way (the surface is unchanged; FlipOut decides).
-  int try_straight(Index w, Index u, Index e_uw, double limit) {
-    const Index h = tri_.edge_halfedge(e_uw);
-    const Index h_uw = tri_.tail(h) == u ? h : tri_.twin(h);
-    if (h_uw == kInvalidIndex || tri_.head(h_uw) != w) return -1;
-    const PathStep uw = step_from(e_uw, u, w);
-    const Reached& at = reached_[u];
-    if (!bent_[u].empty()) return -1;  // a bent (blocked) prefix: FlipOut's to judge
-    if (at.last.edge == kInvalidIndex) {  // from the source
-      accept_along(w, u, uw, at.length + tri_.length(e_uw));
-      return 1;
-    }
-    if (pinched_[u] || st_.is_boundary_vertex(u)) return -1;
-    const Index back = step_halfedge(tri_, {at.last.edge, !at.last.forward});
-    if (back == kInvalidIndex) return -1;
-    ++dbg_[1];
-    const auto [a0, a1] = detail::joint_angles_at(st_, back, st_.halfedge_direction(h_uw));
-    if (std::min(a0, a1) >= kPi - options_.angle_epsilon + kJointMargin) {
-      accept_along(w, u, uw, at.length + tri_.length(e_uw));
-      return 1;
-    }
-    const bool ccw = a0 < kPi;  // the wedge < π runs from u→p to u→w counter-clockwise
-    const int fan = ccw ? detail::plan_fan_segment(st_, back, h_uw, uses_, &plan_)
-                        : detail::plan_fan_segment(st_, h_uw, back, uses_, &plan_);
-    if (fan == 0) return -1;
-    const Index p = tri_.head(back);
-    if (!bent_[p].empty()) return -1;
-    if (!(reached_[p].length + plan_.length <= limit)) return -1;
-    if (fan == 1) {
-      return try_strip(w, p, tri_.twin(back), ccw ? plan_.direction_at_p : plan_.direction_at_w,
-                       limit);
-    }
-    ++dbg_[2];
-    if (!straight_at_anchor(p, ccw ? plan_.direction_at_p : plan_.direction_at_w)) return -1;
-    ++dbg_[3];
-    const Index e = detail::insert_fan_segment(st_, plan_, [this](Index f) {
-      net_.note_outside_flip(f);
-      flipped(f);
-    });
-    if (e == kInvalidIndex) {  // a refused flip (rounding): FlipOut from u as before
-      offer(e_uw, u, w);
-      return 0;
-    }
-    ++dbg_[4];
-    accept_along(w, p, step_from(e, p, w), reached_[p].length + tri_.length(e));
-    return 1;
-  }
-
-  // try_straight() along the line from p in direction theta, walked face by face.
-  int try_strip(Index w, Index p, Index h_pu, double theta, double limit) {
-    ++dbg_[5];
-    if (!detail::plan_strip_segment(st_, h_pu, theta, w, uses_, kMaxCrossings, &strip_)) return -1;
-    if (!(reached_[p].length + strip_.length <= limit)) return -1;
-    ++dbg_[6];
-    if (!straight_at_anchor(p, strip_.direction_at_p)) return -1;
-    ++dbg_[7];
-    const Index e = detail::insert_strip_segment(st_, strip_, [this](Index f) {
-      net_.note_outside_flip(f);
-      flipped(f);
-    });
-    if (e == kInvalidIndex) return 0;
-    accept_along(w, p, step_from(e, p, w), reached_[p].length + tri_.length(e));
-    return 1;
-  }
-
-  // Whether p's geodesic continued in direction `out` at p is straight by ≥ π − ε on both
-  // sides (the source: always).
-  bool straight_at_anchor(Index p, double out) const {
-    const Reached& at = reached_[p];
-    if (at.last.edge == kInvalidIndex) return true;
-    if (pinched_[p] || st_.is_boundary_vertex(p)) return false;
-    const Index back = step_halfedge(tri_, {at.last.edge, !at.last.forward});
-    if (back == kInvalidIndex) return false;
-    const auto [a0, a1] = detail::joint_angles_at(st_, back, out);
-    return std::min(a0, a1) >= kPi - options_.angle_epsilon + kJointMargin;
-  }
-
-  // w's geodesic: the accepted geodesic of `from` and one step, counted as an obstacle.
-  void accept_along(Index w, Index from, const PathStep& step, double length) {
-    EdgePath path = out_.paths[from];
-    path.steps.push_back(step);
-    for (const PathStep& s : path.steps) ++uses_[s.edge];
-    bent_[w] = bent_[from];
-    accept(w, std::move(path), length);
-  }
 
   void offer(Index e, Index from, Index to) {
     if (accepted_[from] && !accepted_[to]) {
@@ -691,16 +554,6 @@ class SingleSource {
   std::vector<std::vector<std::pair<Index, Eigen::Vector2d>>> bent_;
   std::vector<int> uses_;
   detail::FlipNetwork net_;
-  struct Cand {
-    double key;
-    Index u, e;
-  };
-  std::vector<Cand> cands_;  // accept_straight()'s scratch
-  detail::FanSegment plan_;  // and try_straight()'s
-  detail::StripSegment strip_;
- public:
-  long dbg_[8] = {0, 0, 0, 0, 0, 0, 0, 0};
- private:
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue_;
 };
 

@@ -68,9 +68,6 @@ class FlipNetwork {
   /// The joints of open curve c now bent by less than the last run's limit, for add().
   KnownJoints known_joints(Index c);
   Index n_curves() const { return static_cast<Index>(curves_.size()); }
-  /// To be called after a flip of edge e the network did not make (its corner cache follows
-  /// the flips), while it holds no curves.
-  void note_outside_flip(Index e) { forget_corners(e); }
   /// Called after every successful flip with the flipped edge.
   std::function<void(Index)> on_flip;
 
