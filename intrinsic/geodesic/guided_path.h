@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -123,6 +124,18 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
 /// @throws InvalidInput as shortest_geodesic() and exact_edge_path()
 FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const ExactDistance& exact_to_b, const ExactDistance* exact_to_a,
+                                const ShortestGeodesicOptions& options, EdgePath* path,
+                                std::string* won = nullptr);
+
+/// Same, with the exact distance to a asked for only when a start needs it: `exact_to_a` is
+/// called at most once, after the first start (the strip to b, shorter side) fell short of the
+/// exact length, with st as it was at the call (that start's flips undone); it returns nullptr
+/// (then only the starts toward b are tried) or exact_distance(st.intrinsic(), {a}), which must
+/// live until this returns. Same starts in the same order as with the distance given up front,
+/// so the same result (docs/decisions.md D-206).
+FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
+                                const ExactDistance& exact_to_b,
+                                const std::function<const ExactDistance*()>& exact_to_a,
                                 const ShortestGeodesicOptions& options, EdgePath* path,
                                 std::string* won = nullptr);
 
