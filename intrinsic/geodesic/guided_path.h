@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -138,5 +139,14 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const std::function<const ExactDistance*()>& exact_to_a,
                                 const ShortestGeodesicOptions& options, EdgePath* path,
                                 std::string* won = nullptr);
+
+/// The first form with exact_to_a = nullptr (a literal nullptr would fit both forms above).
+inline FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
+                                       const ExactDistance& exact_to_b, std::nullptr_t,
+                                       const ShortestGeodesicOptions& options, EdgePath* path,
+                                       std::string* won = nullptr) {
+  const ExactDistance* none = nullptr;
+  return shortest_geodesic(st, a, b, exact_to_b, none, options, path, won);
+}
 
 }  // namespace ifem::intrinsic

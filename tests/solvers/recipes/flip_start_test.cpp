@@ -216,6 +216,12 @@ TEST(FlipStart, LazyExactToAGivesTheSamePath) {
   }
   std::printf("lazy exact distance to a: asked on %d searches, not needed on %d\n", asked_total,
               first_won);
+  const SignpostTriangulation fresh(knot.faces, knot.positions);  // a literal nullptr still fits
+  SignpostTriangulation st = fresh;
+  EdgePath path;
+  const ExactDistance to_9 = exact_distance(fresh.intrinsic(), std::vector<Index>{9});
+  EXPECT_NEAR(shortest_geodesic(st, 3, 9, to_9, nullptr, {}, &path).final_length, to_9.distance[3],
+              1e-9 * to_9.distance[3]);
   EXPECT_GT(first_won, 0);    // the laziness saves something here
   EXPECT_GT(asked_total, 0);  // and the lazy call is exercised
 }
