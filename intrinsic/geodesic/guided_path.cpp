@@ -541,23 +541,31 @@ EdgePath reversed_path(const EdgePath& p) {
   return r;
 }
 
+// Start i of a search, made when it is needed (after the flips of start i − 1 are undone):
+// false when there is none left.
+using StartSource = std::function<bool(std::size_t i, EdgePath* start, std::string* name)>;
+
 // Shortens every distinct start on st itself (its flips undone after it) and redoes the
-// shortest result's flips at the end (shortest_geodesic()).
-FlipOutReport shorten_starts(SignpostTriangulation& st, const std::vector<EdgePath>& starts,
-                             const std::vector<std::string>& names,
+// shortest result's flips at the end (shortest_geodesic()); stops at a start reaching `enough`.
+FlipOutReport shorten_starts(SignpostTriangulation& st, const StartSource& next,
                              const ShortestGeodesicOptions& o, EdgePath* path, std::string* won,
                              double enough = 0.0) {
   const bool opened = !st.recording_flips();
   const std::size_t mark = st.flip_journal_mark();
+  std::vector<EdgePath> starts;
   std::vector<Index> best_flips;
   FlipOutReport best_report;
-  for (std::size_t i = 0; i < starts.size(); ++i) {
+  std::string name;
+  for (std::size_t i = 0;; ++i) {
+    EdgePath start;
+    if (!next(i, &start, &name)) break;
+    starts.push_back(std::move(start));
     if (repeats_earlier(starts, i)) continue;
     EdgePath p = starts[i];
     const FlipOutReport r = shorten_over_sides_to(st, p, o.flipout, o.side_rounds, enough);
     if (i == 0 || r.final_length < best_report.final_length) {
       best_report = r, *path = std::move(p), best_flips = st.flips_since(mark);
-      if (won != nullptr) *won = names[i];
+      if (won != nullptr) *won = name;
     }
     st.undo_flips(mark);
     if (best_report.final_length <= enough) break;
@@ -565,6 +573,17 @@ FlipOutReport shorten_starts(SignpostTriangulation& st, const std::vector<EdgePa
   if (opened) st.end_flip_journal();
   for (const Index e : best_flips) st.flip_edge(e);
   return best_report;
+}
+
+FlipOutReport shorten_starts(SignpostTriangulation& st, const std::vector<EdgePath>& starts,
+                             const std::vector<std::string>& names,
+                             const ShortestGeodesicOptions& o, EdgePath* path, std::string* won) {
+  const StartSource next = [&](std::size_t i, EdgePath* start, std::string* name) {
+    if (i >= starts.size()) return false;
+    *start = starts[i], *name = names[i];
+    return true;
+  };
+  return shorten_starts(st, next, o, path, won);
 }
 
 }  // namespace
@@ -602,6 +621,15 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const ExactDistance& exact_to_b, const ExactDistance* exact_to_a,
                                 const ShortestGeodesicOptions& o, EdgePath* path,
                                 std::string* won) {
+  return shortest_geodesic(
+      st, a, b, exact_to_b, [exact_to_a] { return exact_to_a; }, o, path, won);
+}
+
+FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
+                                const ExactDistance& exact_to_b,
+                                const std::function<const ExactDistance*()>& exact_to_a,
+                                const ShortestGeodesicOptions& o, EdgePath* path,
+                                std::string* won) {
   o.validate();
   const T& tri = st.intrinsic();
   EdgePath dijkstra = shortest_edge_path(tri, a, b);  // validates a and b
@@ -610,34 +638,41 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
     if (won != nullptr) *won = "shortest edge path";
     return shorten(st, *path, o.flipout);
   }
-  std::vector<EdgePath> starts;
-  std::vector<std::string> names;
+  // the starts in their order: (kind, side); kind 0/1 the exact geodesic's strips to b / to a
+  // (reversed), 2 the Dijkstra path (kBest), 3/4 the descents to b / to a (reversed)
+  std::vector<std::pair<int, int>> order;
+  for (int k = 0; k < 3; ++k) order.push_back({0, k}), order.push_back({1, k});
+  if (o.start == StartPath::kBest) order.push_back({2, 0});
+  for (int k = 0; k < 3; ++k) order.push_back({3, k}), order.push_back({4, k});
+  // the exact distance to a only when a start needs it (after the first one fell short)
+  bool asked = false;
+  const ExactDistance* to_a = nullptr;
   const char* side_names[3] = {"shorter", "left", "right"};
-  for (int k = 0; k < 3; ++k) {
-    const auto side = static_cast<StripSide>(k);
-    starts.push_back(exact_edge_path(tri, a, b, exact_to_b, side));
-    names.push_back(std::string("exact geodesic to b, ") + side_names[k] + " side");
-    if (exact_to_a != nullptr) {
-      starts.push_back(reversed_path(exact_edge_path(tri, b, a, *exact_to_a, side)));
-      names.push_back(std::string("exact geodesic to a, reversed, ") + side_names[k] + " side");
+  std::size_t cursor = 0;
+  const StartSource next = [&](std::size_t, EdgePath* start, std::string* name) {
+    for (; cursor < order.size(); ++cursor) {
+      const auto [kind, k] = order[cursor];
+      const auto side = static_cast<StripSide>(k);
+      if ((kind == 1 || kind == 4) && !asked) asked = true, to_a = exact_to_a();
+      if ((kind == 1 || kind == 4) && to_a == nullptr) continue;
+      const std::string s = side_names[k];
+      if (kind == 0) *start = exact_edge_path(tri, a, b, exact_to_b, side);
+      if (kind == 0) *name = "exact geodesic to b, " + s + " side";
+      if (kind == 1) *start = reversed_path(exact_edge_path(tri, b, a, *to_a, side));
+      if (kind == 1) *name = "exact geodesic to a, reversed, " + s + " side";
+      if (kind == 2) *start = dijkstra, *name = "shortest edge path";
+      if (kind == 3) *start = descent_edge_path(tri, a, b, exact_to_b.distance, side);
+      if (kind == 3) *name = "descent to b, " + s + " side";
+      if (kind == 4) *start = reversed_path(descent_edge_path(tri, b, a, to_a->distance, side));
+      if (kind == 4) *name = "descent to a, reversed, " + s + " side";
+      ++cursor;
+      return true;
     }
-  }
-  if (o.start == StartPath::kBest) {
-    starts.push_back(std::move(dijkstra));
-    names.emplace_back("shortest edge path");
-  }
-  for (int k = 0; k < 3; ++k) {
-    const auto side = static_cast<StripSide>(k);
-    starts.push_back(descent_edge_path(tri, a, b, exact_to_b.distance, side));
-    names.push_back(std::string("descent to b, ") + side_names[k] + " side");
-    if (exact_to_a != nullptr) {
-      starts.push_back(reversed_path(descent_edge_path(tri, b, a, exact_to_a->distance, side)));
-      names.push_back(std::string("descent to a, reversed, ") + side_names[k] + " side");
-    }
-  }
+    return false;
+  };
   // the exact distance is the length to reach: later starts only where FlipOut falls short
   const double enough = exact_to_b.distance[a] * (1.0 + 1e-12);
-  return shorten_starts(st, starts, names, o, path, won, enough);
+  return shorten_starts(st, next, o, path, won, enough);
 }
 
 }  // namespace ifem::intrinsic

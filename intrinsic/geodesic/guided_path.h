@@ -10,6 +10,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -125,5 +127,26 @@ FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
                                 const ExactDistance& exact_to_b, const ExactDistance* exact_to_a,
                                 const ShortestGeodesicOptions& options, EdgePath* path,
                                 std::string* won = nullptr);
+
+/// Same, with the exact distance to a asked for only when a start needs it: `exact_to_a` is
+/// called at most once, after the first start (the strip to b, shorter side) fell short of the
+/// exact length, with st as it was at the call (that start's flips undone); it returns nullptr
+/// (then only the starts toward b are tried) or exact_distance(st.intrinsic(), {a}), which must
+/// live until this returns. Same starts in the same order as with the distance given up front,
+/// so the same result (docs/decisions.md D-206).
+FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
+                                const ExactDistance& exact_to_b,
+                                const std::function<const ExactDistance*()>& exact_to_a,
+                                const ShortestGeodesicOptions& options, EdgePath* path,
+                                std::string* won = nullptr);
+
+/// The first form with exact_to_a = nullptr (a literal nullptr would fit both forms above).
+inline FlipOutReport shortest_geodesic(SignpostTriangulation& st, Index a, Index b,
+                                       const ExactDistance& exact_to_b, std::nullptr_t,
+                                       const ShortestGeodesicOptions& options, EdgePath* path,
+                                       std::string* won = nullptr) {
+  const ExactDistance* none = nullptr;
+  return shortest_geodesic(st, a, b, exact_to_b, none, options, path, won);
+}
 
 }  // namespace ifem::intrinsic

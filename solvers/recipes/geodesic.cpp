@@ -110,9 +110,14 @@ intrinsic::FlipOutReport shorten_curves(SignpostTriangulation& st, const io::Sur
     paths->assign(1, EdgePath{});
     const Index a = c.vertices[0], b = c.vertices[1];
     try {
-      const std::vector<intrinsic::ExactDistance> exact = guide.exact_to_each(st, {b, a});
-      if (!exact.empty()) {  // the exact geodesics' strips (D-200)
-        report = intrinsic::shortest_geodesic(st, a, b, exact[0], &exact[1], o, &(*paths)[0], won);
+      const std::vector<intrinsic::ExactDistance> to_b = guide.exact_to_each(st, {b});
+      if (!to_b.empty()) {  // the exact geodesics' strips (D-200); to a only when needed (D-206)
+        std::vector<intrinsic::ExactDistance> to_a;
+        const auto lazy_to_a = [&]() -> const intrinsic::ExactDistance* {
+          to_a = guide.exact_to_each(st, {a});
+          return to_a.empty() ? nullptr : &to_a[0];
+        };
+        report = intrinsic::shortest_geodesic(st, a, b, to_b[0], lazy_to_a, o, &(*paths)[0], won);
       } else {
         const Eigen::MatrixXd phi = guide.to_each(st, {b, a});
         const Eigen::VectorXd to_b = phi.col(0), to_a = phi.col(1);

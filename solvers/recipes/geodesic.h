@@ -47,7 +47,8 @@ struct GeodesicOptions {
   double max_memory_bytes = 0.0;
   /// FlipOut's start paths for one open path between two points (intrinsic::shortest_geodesic):
   /// kBest (default) shortens the Dijkstra edge path and the start paths of StartGuide (the
-  /// exact geodesic's strip from each end point, intrinsic::exact_edge_path; over the exact
+  /// exact geodesic's strip from each end point, intrinsic::exact_edge_path, the exact distance
+  /// to the start point computed only when the first strip falls short; over the exact
   /// distance's memory budget, six paths down a heat distance to each end point), each with the
   /// search over neighbouring classes, and keeps the shortest. Its cost is the guide plus at
   /// most 7 such searches, all on one triangulation whose flips are undone between them (no

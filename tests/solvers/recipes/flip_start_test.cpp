@@ -170,6 +170,62 @@ TEST(FlipStart, ExactStripStart) {
                InvalidInput);
 }
 
+// The exact distance to a asked for lazily (the recipe's way, D-206): the same starts in the
+// same order as with it given up front, so the same path; asked for at most once, and never
+// when the first start (the strip to b, shorter side) reaches the exact length.
+TEST(FlipStart, LazyExactToAGivesTheSamePath) {
+  const TriangleMesh knot = torus_knot_tube(48, 8, 0.15);
+  TriangleMesh bunny;  // where the first start falls short on some pairs (D-200)
+  const io::SurfaceInput in = io::read_mesh((test::test_data() / "bunny_npm_lowres.obj").string());
+  bunny.faces = in.triangles, bunny.positions = in.positions;
+  int asked_total = 0, first_won = 0;
+  for (const TriangleMesh* m : {&knot, static_cast<const TriangleMesh*>(&bunny)}) {
+    const SignpostTriangulation fresh(m->faces, m->positions);
+    const IntrinsicTriangulation& tri = fresh.intrinsic();
+    const Index nv = tri.n_vertices();
+    for (Index k = 1; k <= 10; ++k) {
+      const Index a = (k * 37) % nv, b = (k * 7919 + 11) % nv;
+      if (a == b) continue;
+      const ExactDistance to_b = exact_distance(tri, std::vector<Index>{b});
+      const ExactDistance to_a = exact_distance(tri, std::vector<Index>{a});
+      for (const int rounds : {0, ShortestGeodesicOptions{}.side_rounds}) {
+        ShortestGeodesicOptions o;
+        o.side_rounds = rounds;
+        SignpostTriangulation s1 = fresh, s2 = fresh;
+        EdgePath p1, p2;
+        std::string won1, won2;
+        const FlipOutReport r1 = shortest_geodesic(s1, a, b, to_b, &to_a, o, &p1, &won1);
+        int asked = 0;
+        const auto lazy = [&]() -> const ExactDistance* { return ++asked, &to_a; };
+        const FlipOutReport r2 = shortest_geodesic(s2, a, b, to_b, lazy, o, &p2, &won2);
+        EXPECT_EQ(r1.final_length, r2.final_length) << a << "-" << b;
+        EXPECT_EQ(won1, won2) << a << "-" << b;
+        ASSERT_EQ(p1.steps.size(), p2.steps.size()) << a << "-" << b;
+        for (std::size_t i = 0; i < p1.steps.size(); ++i) {
+          EXPECT_EQ(p1.steps[i].edge, p2.steps[i].edge) << a << "-" << b << " step " << i;
+        }
+        EXPECT_LE(asked, 1);
+        const bool first = won2 == "exact geodesic to b, shorter side" &&
+                           r2.final_length <= to_b.distance[a] * (1.0 + 1e-12);
+        if (first) {
+          EXPECT_EQ(asked, 0) << a << "-" << b;
+        }
+        asked_total += asked, first_won += first ? 1 : 0;
+      }
+    }
+  }
+  std::printf("lazy exact distance to a: asked on %d searches, not needed on %d\n", asked_total,
+              first_won);
+  const SignpostTriangulation fresh(knot.faces, knot.positions);  // a literal nullptr still fits
+  SignpostTriangulation st = fresh;
+  EdgePath path;
+  const ExactDistance to_9 = exact_distance(fresh.intrinsic(), std::vector<Index>{9});
+  EXPECT_NEAR(shortest_geodesic(st, 3, 9, to_9, nullptr, {}, &path).final_length, to_9.distance[3],
+              1e-9 * to_9.distance[3]);
+  EXPECT_GT(first_won, 0);    // the laziness saves something here
+  EXPECT_GT(asked_total, 0);  // and the lazy call is exercised
+}
+
 // Paths from spread-out vertices to the reference's source.
 TEST(FlipStart, PairsAgainstExactGeodesics) {
   const long pairs = env_or("IFEM_FLIP_START_PAIRS", 20);
