@@ -1,0 +1,671 @@
+// Intrinsic simplification (simplify.h): a working copy of the gluing map with dead faces,
+// per-fan representative halfedges, tracked points per face, and a lazy priority queue.
+#include "intrinsic/simplify/simplify.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <string>
+#include <tuple>
+
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/core/union_find.h"
+
+namespace ifem::intrinsic {
+
+void SimplifyOptions::validate() const {
+  const bool has_target = target_vertices != 0;
+  const bool has_ratio = ratio != 0.0;
+  if (has_target == has_ratio) {
+    throw InvalidInput(
+        "SimplifyOptions: set exactly one of target_vertices (> 0) and ratio (in (0, 1])");
+  }
+  if (has_target && target_vertices < 0) {
+    throw InvalidInput("SimplifyOptions.target_vertices must be > 0, got " +
+                       std::to_string(target_vertices));
+  }
+  if (has_ratio && !(ratio > 0.0 && ratio <= 1.0)) {
+    throw InvalidInput("SimplifyOptions.ratio must be in (0, 1], got " + std::to_string(ratio));
+  }
+}
+
+namespace {
+
+using T = IntrinsicTriangulation;
+constexpr double kPi = 3.14159265358979323846;
+// Relative margin every face made by a flip or a removal keeps in its triangle inequality
+// (validate() asks for 1e-12): a + b − c ≥ kMargin · (a + b + c).
+constexpr double kMargin = 1e-9;
+
+bool good_triangle(double a, double b, double c) {
+  const double m = kMargin * (a + b + c);
+  return std::isfinite(a + b + c) && a + b - c >= m && b + c - a >= m && c + a - b >= m;
+}
+
+// Barycentric coordinates of p in triangle (p0, p1, p2), clamped to ≥ 0 and normalised.
+Eigen::Vector3d bary_of(const Eigen::Vector2d& p, const Eigen::Vector2d& p0,
+                        const Eigen::Vector2d& p1, const Eigen::Vector2d& p2) {
+  const double area = cross2(p1 - p0, p2 - p0);
+  Eigen::Vector3d b(cross2(p1 - p, p2 - p), cross2(p2 - p, p0 - p), cross2(p0 - p, p1 - p));
+  b /= area;
+  return b;
+}
+
+Eigen::Vector3d clamp_bary(Eigen::Vector3d b) {
+  b = b.cwiseMax(0.0);
+  const double s = b.sum();
+  if (!(s > 0.0) || !std::isfinite(s)) return Eigen::Vector3d::Constant(1.0 / 3.0);
+  return b / s;
+}
+
+class Simplifier {
+ public:
+  explicit Simplifier(const IntrinsicTriangulation& fine);
+  void run(Index target, const ProgressCallback& on_progress);
+  Simplification finish(const IntrinsicTriangulation& fine);
+
+ private:
+  // ---- mesh ----
+  Index head(Index h) const { return tail_[T::next(h)]; }
+  double angle(Index h) const {  // corner angle of face(h) at tail(h)
+    return opposite_angle(len_[T::next(h)], len_[h], len_[T::prev(h)]);
+  }
+  double area(Index f) const { return triangle_area(len_[3 * f], len_[3 * f + 1], len_[3 * f + 2]); }
+  void set_side(Index slot, Index tail, Index twin, double len) {
+    tail_[slot] = tail;
+    twin_[slot] = twin;
+    len_[slot] = len;
+    if (twin >= 0) twin_[twin] = slot;
+  }
+  bool fan(Index rep, std::vector<Index>& out, bool& boundary) const;
+  bool flip(Index h);
+  bool is_delaunay(Index h) const;
+  void delaunay_repair(std::vector<Index> stack);
+  void remap_reps(Index v, const Index* from, const Index* to, int n);
+  void touch_face(Index f);
+
+  // ---- removal ----
+  double cost(Index v);
+  bool try_remove(Index v);
+  bool flip_fan_down(Index v, Index k, bool boundary, std::vector<Index>& hs);
+  void remove_interior(Index v, const std::vector<Index>& hs, bool place_v);
+  void remove_ear(Index v, Index h0, bool place_v);
+  bool removable(Index v, const std::vector<Index>& hs, bool boundary) const;
+  bool loop_longer_than_three(Index v, Index h0) const;
+  void move_point(Index p, Index f, const Eigen::Vector3d& b) {
+    pt_face_[p] = f;
+    pt_bary_[p] = b;
+    pts_[f].push_back(p);
+  }
+
+  Index nv_ = 0;
+  int multiplicity_ = 1;
+  std::vector<Index> tail_, twin_;
+  std::vector<double> len_;
+  std::vector<char> face_alive_, vertex_alive_;
+  std::vector<Index> rep_start_, rep_;  // CSR: one outgoing halfedge per fan of each vertex
+  std::vector<Index> comp_;             // component of each vertex
+  std::vector<Index> comp_vertices_;    // alive vertices per component
+  std::vector<char> comp_closed_;
+  std::vector<double> comp_area0_, comp_density_;
+  std::vector<std::vector<Index>> pts_;  // per face: removed fine vertices inside it
+  std::vector<Index> pt_face_;
+  std::vector<Eigen::Vector3d> pt_bary_;
+  std::vector<Index> touched_;  // vertices whose star a rewrite changed
+  std::vector<Index> stamp_;
+  Index alive_count_ = 0;
+  SimplifyReport report_;
+};
+
+// Outgoing halfedges of the fan of `rep` in rotation order (twin(prev(h)) is the next one),
+// starting at its boundary side if the fan has one. False if the fan is not a simple walk.
+bool Simplifier::fan(Index rep, std::vector<Index>& out, bool& boundary) const {
+  out.clear();
+  boundary = false;
+  const Index v = tail_[rep];
+  Index h = rep;
+  for (int k = 0;; ++k) {  // rewind: the previous outgoing halfedge is next(twin(h))
+    const Index t = twin_[h];
+    if (t < 0) {
+      boundary = true;
+      break;
+    }
+    const Index p = T::next(t);
+    if (p == rep) break;
+    h = p;
+    if (k > 4096) return false;
+  }
+  const Index start = h;
+  for (;;) {
+    if (tail_[h] != v) return false;
+    out.push_back(h);
+    const Index t = twin_[T::prev(h)];
+    if (t < 0 || t == start) break;
+    h = t;
+    if (out.size() > 4096) return false;
+  }
+  return true;
+}
+
+bool Simplifier::is_delaunay(Index h) const {
+  const Index t = twin_[h];
+  if (t < 0) return true;
+  const double ca = opposite_cotan(len_[h], len_[T::next(h)], len_[T::prev(h)]);
+  const double cb = opposite_cotan(len_[t], len_[T::next(t)], len_[T::prev(t)]);
+  return !(ca + cb < -1e-12);
+}
+
+void Simplifier::remap_reps(Index v, const Index* from, const Index* to, int n) {
+  for (Index k = rep_start_[v]; k < rep_start_[v + 1]; ++k) {
+    for (int i = 0; i < n; ++i) {
+      if (rep_[k] == from[i] && tail_[to[i]] == v) {
+        rep_[k] = to[i];
+        break;
+      }
+    }
+  }
+}
+
+void Simplifier::touch_face(Index f) {
+  for (int s = 0; s < 3; ++s) touched_.push_back(tail_[3 * f + s]);
+}
+
+// Flips the edge of h in its diamond (a, b, c | b, a, d) to the diagonal c–d, moving the
+// points of both faces. False (nothing changed) unless the diamond is strictly convex and
+// both new faces keep the margin.
+bool Simplifier::flip(Index h) {
+  const Index t = twin_[h];
+  if (t < 0) return false;
+  const Index f = T::face(h), g = T::face(t);
+  if (f == g) return false;
+  const Index h1 = T::next(h), h2 = T::prev(h), t1 = T::next(t), t2 = T::prev(t);
+  for (Index o : {h1, h2, t1, t2}) {
+    const Index w = twin_[o];
+    if (w >= 0 && (T::face(w) == f || T::face(w) == g)) return false;
+  }
+  const Index a = tail_[h], b = tail_[h1], c = tail_[h2], d = tail_[t2];
+  if (c == d) return false;
+  const double lab = len_[h], lbc = len_[h1], lca = len_[h2], lad = len_[t1], ldb = len_[t2];
+  const Eigen::Vector2d A(0.0, 0.0), B(lab, 0.0);
+  const Eigen::Vector2d C = triangle_apex(lab, lbc, lca);
+  Eigen::Vector2d D = triangle_apex(lab, ldb, lad);
+  D.y() = -D.y();
+  const double sa = cross2(D - C, A - C), sb = cross2(D - C, B - C);
+  if (!(sa < 0.0 && sb > 0.0)) return false;  // A right of C→D, B left: strictly convex
+  const double lcd = (C - D).norm();
+  if (!good_triangle(lca, lad, lcd) || !good_triangle(ldb, lbc, lcd)) return false;
+  // old corner positions by slot, then the points of both faces
+  Eigen::Vector2d pf[3], pg[3];
+  pf[T::side(h)] = A, pf[T::side(h1)] = B, pf[T::side(h2)] = C;
+  pg[T::side(t)] = B, pg[T::side(t1)] = A, pg[T::side(t2)] = D;
+  std::vector<Index> moving;
+  moving.swap(pts_[f]);
+  const std::size_t nf = moving.size();
+  moving.insert(moving.end(), pts_[g].begin(), pts_[g].end());
+  pts_[g].clear();
+  const Index tw_h1 = twin_[h1], tw_h2 = twin_[h2], tw_t1 = twin_[t1], tw_t2 = twin_[t2];
+  set_side(3 * f + 0, c, tw_h2, lca);
+  set_side(3 * f + 1, a, tw_t1, lad);
+  set_side(3 * f + 2, d, 3 * g + 2, lcd);
+  set_side(3 * g + 0, d, tw_t2, ldb);
+  set_side(3 * g + 1, b, tw_h1, lbc);
+  set_side(3 * g + 2, c, 3 * f + 2, lcd);
+  for (std::size_t i = 0; i < moving.size(); ++i) {
+    const Index p = moving[i];
+    const Eigen::Vector3d& w = pt_bary_[p];
+    const Eigen::Vector2d* q = i < nf ? pf : pg;
+    const Eigen::Vector2d P = w[0] * q[0] + w[1] * q[1] + w[2] * q[2];
+    const Eigen::Vector3d bf = bary_of(P, C, A, D), bg = bary_of(P, D, B, C);
+    if (bf.minCoeff() >= bg.minCoeff()) {
+      move_point(p, f, clamp_bary(bf));
+    } else {
+      move_point(p, g, clamp_bary(bg));
+    }
+  }
+  const Index from[6] = {h, t, h1, h2, t1, t2};
+  const Index to[6] = {3 * f + 1, 3 * g + 1, 3 * g + 1, 3 * f + 0, 3 * f + 1, 3 * g + 0};
+  for (Index x : {a, b, c, d}) remap_reps(x, from, to, 6);
+  // (from[] names slots by their old roles; remap_reps only checks the new tail)
+  touch_face(f);
+  touch_face(g);
+  ++report_.flips;
+  return true;
+}
+
+// Flips non-Delaunay edges reachable from the halfedges on the stack (a cap against loops).
+void Simplifier::delaunay_repair(std::vector<Index> stack) {
+  std::size_t budget = 64 + 16 * stack.size();
+  while (!stack.empty() && budget > 0) {
+    const Index h = stack.back();
+    stack.pop_back();
+    if (!face_alive_[T::face(h)] || twin_[h] < 0 || is_delaunay(h)) continue;
+    const Index f = T::face(h), g = T::face(twin_[h]);
+    if (!flip(h)) continue;
+    --budget;
+    for (Index s : {3 * f, 3 * f + 1, 3 * g, 3 * g + 1}) stack.push_back(s);
+  }
+}
+
+
+Simplifier::Simplifier(const IntrinsicTriangulation& fine)
+    : nv_(fine.n_vertices()),
+      multiplicity_(fine.multiplicity()),
+      tail_(fine.tails()),
+      twin_(fine.twins()),
+      len_(fine.tails().size()) {
+  const Index nh = fine.n_halfedges(), nf = fine.n_faces();
+  for (Index h = 0; h < nh; ++h) len_[h] = fine.halfedge_length(h);
+  face_alive_.assign(nf, 1);
+  pts_.resize(nf);
+  pt_face_.assign(nv_, kInvalidIndex);
+  pt_bary_.assign(nv_, Eigen::Vector3d::Zero());
+  stamp_.assign(nv_, 0);
+  // fans: one representative per fan, found by walking every halfedge once
+  std::vector<char> seen(nh, 0);
+  std::vector<std::vector<Index>> reps(nv_);
+  std::vector<Index> hs;
+  for (Index h = 0; h < nh; ++h) {
+    if (seen[h]) continue;
+    bool boundary = false;
+    if (!fan(h, hs, boundary)) hs.assign(1, h);  // not a simple walk: h alone (never removed)
+    for (Index x : hs) seen[x] = 1;
+    reps[tail_[h]].push_back(hs.front());
+  }
+  rep_start_.assign(nv_ + 1, 0);
+  for (Index v = 0; v < nv_; ++v) rep_start_[v + 1] = rep_start_[v] + Index(reps[v].size());
+  for (Index v = 0; v < nv_; ++v) rep_.insert(rep_.end(), reps[v].begin(), reps[v].end());
+  // components (by faces), their vertex counts, areas and whether they are closed
+  UnionFind uf(nv_);
+  for (Index h = 0; h < nh; ++h) uf.unite(tail_[h], head(h));
+  comp_.resize(nv_);
+  std::vector<Index> root_id(nv_, kInvalidIndex);
+  for (Index v = 0; v < nv_; ++v) {
+    const Index r = uf.find(v);
+    if (root_id[r] == kInvalidIndex) {
+      root_id[r] = Index(comp_vertices_.size());
+      comp_vertices_.push_back(0);
+    }
+    comp_[v] = root_id[r];
+    ++comp_vertices_[comp_[v]];
+  }
+  comp_closed_.assign(comp_vertices_.size(), 1);
+  comp_area0_.assign(comp_vertices_.size(), 0.0);
+  for (Index h = 0; h < nh; ++h) {
+    if (twin_[h] < 0) comp_closed_[comp_[tail_[h]]] = 0;
+  }
+  for (Index f = 0; f < nf; ++f) comp_area0_[comp_[tail_[3 * f]]] += area(f);
+  comp_density_.resize(comp_area0_.size());
+  for (std::size_t c = 0; c < comp_area0_.size(); ++c) {
+    comp_density_[c] = comp_area0_[c] > 0.0 ? 4.0 * kPi / comp_area0_[c] : 0.0;
+  }
+  vertex_alive_.assign(nv_, 1);
+  alive_count_ = nv_;
+}
+
+// Removal cost (simplify.h): star area × (|angle defect| + 4π / component area); +inf when v
+// cannot be removed as it is (no face, several fans one of which has a boundary, a boundary
+// angle ≥ π, a closed component at 4 vertices).
+double Simplifier::cost(Index v) {
+  const Index n_fans = rep_start_[v + 1] - rep_start_[v];
+  if (n_fans == 0) return HUGE_VAL;
+  if (comp_closed_[comp_[v]] && comp_vertices_[comp_[v]] <= 4) return HUGE_VAL;
+  std::vector<Index> hs;
+  double star = 0.0, defect = 0.0;
+  for (Index k = rep_start_[v]; k < rep_start_[v + 1]; ++k) {
+    bool boundary = false;
+    if (!fan(rep_[k], hs, boundary)) return HUGE_VAL;
+    if (boundary && n_fans > 1) return HUGE_VAL;
+    double theta = 0.0;
+    for (Index h : hs) {
+      theta += angle(h);
+      star += area(T::face(h));
+    }
+    if (boundary && theta >= kPi * (1.0 - 1e-6)) return HUGE_VAL;
+    defect += std::abs((boundary ? kPi : 2.0 * kPi) - theta);
+  }
+  return star * (defect + star * comp_density_[comp_[v]]);
+}
+
+// True if the boundary loop through v (h0: v's outgoing boundary side) has 4+ vertices.
+bool Simplifier::loop_longer_than_three(Index v, Index h0) const {
+  Index h = h0;
+  for (int step = 0; step < 3; ++step) {
+    // the next boundary side: from head(h), rewind its fan to the boundary side
+    Index x = T::next(h);
+    for (int k = 0; twin_[x] >= 0; ++k) {
+      x = T::next(twin_[x]);
+      if (k > 4096) return false;
+    }
+    h = x;
+    if (tail_[h] == v) return false;
+  }
+  return true;
+}
+
+// The three spokes of the closed fan hs (outgoing halfedges in rotation order) to keep when
+// flipping it down to degree 3: their far ends (vertex ids), chosen so that the three angles
+// at v between them are below π and their largest is smallest (v well inside the face that
+// replaces them). False if there are none (an angle sum of 3π or more).
+bool keep_three(const std::vector<double>& gap, const std::vector<Index>& ends, Index keep[3]) {
+  const std::size_t d = gap.size();
+  std::vector<double> phi(d + 1, 0.0);
+  for (std::size_t i = 0; i < d; ++i) phi[i + 1] = phi[i] + gap[i];
+  double best = kPi;
+  for (std::size_t i = 0; i < d; ++i) {
+    for (std::size_t j = i + 1; j < d; ++j) {
+      if (phi[j] - phi[i] >= best) break;
+      for (std::size_t k = j + 1; k < d; ++k) {
+        const double worst = std::max({phi[j] - phi[i], phi[k] - phi[j], phi[d] - phi[k] + phi[i]});
+        if (worst < best) best = worst, keep[0] = ends[i], keep[1] = ends[j], keep[2] = ends[k];
+      }
+    }
+  }
+  return best < kPi;
+}
+
+// Flips the spokes of fan rep_[k] of v until it has 3 faces (closed: the spokes keep_three()
+// picks stay) or 1 face (boundary), each time the flippable spoke whose far end has the
+// smallest angle in its two faces (an ear of the star; a flip keeps rep_[k] valid). On success
+// hs holds the fan. False when no spoke can be flipped.
+bool Simplifier::flip_fan_down(Index v, Index k, bool boundary, std::vector<Index>& hs) {
+  const std::size_t want = boundary ? 1 : 3;
+  bool b = false;
+  if (!fan(rep_[k], hs, b) || b != boundary) return false;
+  std::vector<Index> ends(hs.size());
+  std::vector<double> gap(hs.size());
+  for (std::size_t i = 0; i < hs.size(); ++i) ends[i] = head(hs[i]), gap[i] = angle(hs[i]);
+  std::vector<Index> sorted = ends;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
+  if (std::binary_search(sorted.begin(), sorted.end(), v)) return false;  // a self-edge
+  Index keep[3] = {v, v, v};  // v is no spoke's end: nothing kept on a boundary fan
+  if (!boundary && hs.size() > 3 && !keep_three(gap, ends, keep)) return false;
+  std::vector<std::pair<double, Index>> candidates;
+  for (;;) {
+    if (hs.size() <= want) return hs.size() == want;
+    candidates.clear();
+    for (Index h : hs) {
+      const Index t = twin_[h];  // t: u→v in the previous face
+      const Index u = head(h);
+      if (t < 0 || u == keep[0] || u == keep[1] || u == keep[2]) continue;
+      const double at_u = angle(T::next(h)) + angle(t);
+      const double at_v = angle(h) + angle(T::next(t));
+      if (at_u < kPi && at_v < kPi) candidates.emplace_back(at_u, h);
+    }
+    std::sort(candidates.begin(), candidates.end());
+    bool flipped = false;
+    for (const auto& c : candidates) {
+      if ((flipped = flip(c.second))) break;
+    }
+    if (!flipped || !fan(rep_[k], hs, b) || b != boundary) return false;
+  }
+}
+
+// Replaces the degree-3 fan hs of v by the face of its three outer sides (reusing the first
+// face's slots). The points of the three faces (and v, when place_v) go to the new face: v at
+// the barycentric coordinates given by the three faces' areas (its own, when the star is flat),
+// each face (v, a_i, a_i+1) mapped linearly onto (that point, a_i, a_i+1).
+void Simplifier::remove_interior(Index v, const std::vector<Index>& hs, bool place_v) {
+  Index F[3], o[3], a[3], tw[3];
+  double l[3], A[3];
+  for (int i = 0; i < 3; ++i) {
+    F[i] = T::face(hs[i]);
+    o[i] = T::next(hs[i]);
+    a[i] = tail_[o[i]];
+    A[i] = area(F[i]);
+    tw[i] = twin_[o[i]];
+    l[i] = len_[o[i]];
+  }
+  Eigen::Vector3d q;
+  for (int i = 0; i < 3; ++i) q[(i + 2) % 3] = A[i];
+  q = clamp_bary(q);
+  std::vector<std::pair<Index, Eigen::Vector3d>> moving;
+  for (int i = 0; i < 3; ++i) {
+    const int sv = T::side(hs[i]), sa = T::side(o[i]), sb = T::side(T::prev(hs[i]));
+    for (Index p : pts_[F[i]]) {
+      const Eigen::Vector3d& w = pt_bary_[p];
+      Eigen::Vector3d nb = w[sv] * q;
+      nb[i] += w[sa];
+      nb[(i + 1) % 3] += w[sb];
+      moving.emplace_back(p, nb);
+    }
+    pts_[F[i]].clear();
+  }
+  face_alive_[F[1]] = face_alive_[F[2]] = 0;
+  const Index f0 = F[0];
+  for (int i = 0; i < 3; ++i) set_side(3 * f0 + i, a[i], tw[i], l[i]);
+  for (int i = 0; i < 3; ++i) {
+    for (Index k = rep_start_[a[i]]; k < rep_start_[a[i] + 1]; ++k) {
+      const Index fr = T::face(rep_[k]);
+      if (fr == F[0] || fr == F[1] || fr == F[2]) rep_[k] = 3 * f0 + i;
+    }
+  }
+  for (const auto& [p, nb] : moving) move_point(p, f0, clamp_bary(nb));
+  if (place_v) move_point(v, f0, q);
+  touch_face(f0);
+}
+
+// Cuts off the ear face(h0) = (v, x, y) of boundary vertex v (h0: v→x on the boundary); its
+// points (and v, when place_v) go to their closest points on the side x–y of the face across it.
+void Simplifier::remove_ear(Index v, Index h0, bool place_v) {
+  const Index F = T::face(h0), o = T::next(h0), p = T::prev(h0), w = twin_[o];
+  const Index x = tail_[o], y = tail_[p];
+  const double lxy = len_[o];
+  Eigen::Vector2d pos[3];
+  pos[T::side(o)] = Eigen::Vector2d(0.0, 0.0);
+  pos[T::side(p)] = Eigen::Vector2d(lxy, 0.0);
+  pos[T::side(h0)] = triangle_apex(lxy, len_[p], len_[h0]);
+  const Index g = T::face(w);
+  auto on_side = [&](const Eigen::Vector3d& wb) {
+    const Eigen::Vector2d P = wb[0] * pos[0] + wb[1] * pos[1] + wb[2] * pos[2];
+    const double t = std::clamp(P.x() / lxy, 0.0, 1.0);
+    Eigen::Vector3d nb = Eigen::Vector3d::Zero();
+    nb[T::side(w)] = t;                // y
+    nb[T::side(T::next(w))] = 1.0 - t;  // x
+    return nb;
+  };
+  std::vector<Index> moving;
+  moving.swap(pts_[F]);
+  for (Index q : moving) move_point(q, g, on_side(pt_bary_[q]));
+  if (place_v) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[T::side(h0)] = 1.0;
+    move_point(v, g, on_side(e));
+  }
+  face_alive_[F] = 0;
+  twin_[w] = kInvalidIndex;
+  for (Index k = rep_start_[x]; k < rep_start_[x + 1]; ++k) {
+    if (T::face(rep_[k]) == F) rep_[k] = T::next(w);
+  }
+  for (Index k = rep_start_[y]; k < rep_start_[y + 1]; ++k) {
+    if (T::face(rep_[k]) == F) rep_[k] = w;
+  }
+  touch_face(g);
+}
+
+// The checks a flipped-down fan must pass before anything is removed (simplify.h).
+bool Simplifier::removable(Index v, const std::vector<Index>& hs, bool boundary) const {
+  if (boundary) {
+    const Index o = T::next(hs[0]);
+    return hs.size() == 1 && twin_[o] >= 0 && tail_[o] != head(o) && tail_[o] != v &&
+           head(o) != v;
+  }
+  if (hs.size() != 3) return false;
+  Index a[3];
+  double l[3];
+  for (int i = 0; i < 3; ++i) {
+    const Index o = T::next(hs[i]);
+    a[i] = tail_[o];
+    l[i] = len_[o];
+    const Index w = twin_[o];
+    for (Index x : hs) {
+      if (w >= 0 && T::face(w) == T::face(x)) return false;  // glued inside the star
+    }
+  }
+  if (a[0] == a[1] || a[1] == a[2] || a[2] == a[0] || a[0] == v || a[1] == v || a[2] == v) {
+    return false;
+  }
+  return good_triangle(l[0], l[1], l[2]);
+}
+
+// Flips every fan of v down (3 faces, or an ear), checks, removes. False (after a Delaunay
+// repair of what the flips changed) when v cannot be removed now.
+bool Simplifier::try_remove(Index v) {
+  const Index n_fans = rep_start_[v + 1] - rep_start_[v];
+  if (n_fans == 0 || (comp_closed_[comp_[v]] && comp_vertices_[comp_[v]] <= 4)) return false;
+  std::vector<std::vector<Index>> fans(n_fans);
+  std::vector<char> bnd(n_fans, 0);
+  bool ok = true;
+  for (Index k = 0; k < n_fans && ok; ++k) {
+    bool b = false;
+    ok = fan(rep_[rep_start_[v] + k], fans[k], b) && !(b && n_fans > 1);
+    bnd[k] = b;
+    if (ok && b) ok = loop_longer_than_three(v, fans[k][0]);
+    if (ok) ok = flip_fan_down(v, rep_start_[v] + k, b, fans[k]);
+  }
+  for (Index k = 0; k < n_fans && ok; ++k) {
+    bool b = false;
+    ok = fan(rep_[rep_start_[v] + k], fans[k], b) && b == bool(bnd[k]) &&
+         removable(v, fans[k], b);
+  }
+  if (!ok) {
+    std::vector<Index> stack;
+    for (const auto& hs : fans) stack.insert(stack.end(), hs.begin(), hs.end());
+    for (Index& h : stack) h = T::next(h);
+    delaunay_repair(stack);
+    return false;
+  }
+  std::vector<Index> stack;
+  for (Index k = 0; k < n_fans; ++k) {
+    if (bnd[k]) {
+      const Index w = twin_[T::next(fans[k][0])];
+      remove_ear(v, fans[k][0], k == 0);
+      const Index g = T::face(w);
+      for (int s = 0; s < 3; ++s) stack.push_back(3 * g + s);
+      ++report_.boundary_removals;
+    } else {
+      remove_interior(v, fans[k], k == 0);
+      const Index f0 = T::face(fans[k][0]);
+      for (int s = 0; s < 3; ++s) stack.push_back(3 * f0 + s);
+    }
+  }
+  vertex_alive_[v] = 0;
+  --comp_vertices_[comp_[v]];
+  --alive_count_;
+  ++report_.removals;
+  delaunay_repair(stack);
+  return true;
+}
+
+void Simplifier::run(Index target, const ProgressCallback& on_progress) {
+  std::vector<Index> stack;
+  for (Index h = 0; h < Index(twin_.size()); ++h) {
+    if (twin_[h] > h) stack.push_back(h);
+  }
+  delaunay_repair(stack);
+  touched_.clear();
+  using Entry = std::tuple<double, Index, Index>;  // cost, stamp, vertex
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  for (Index v = 0; v < nv_; ++v) {
+    const double c = cost(v);
+    if (c < HUGE_VAL) queue.emplace(c, 0, v);
+  }
+  const Index wanted = std::max<Index>(alive_count_ - target, 0);
+  ProgressMeter meter(on_progress, "simplify", std::max<Index>(wanted, 1));
+  std::vector<Index> seen(nv_, -1);
+  while (alive_count_ > target && !queue.empty()) {
+    const auto [c, st, v] = queue.top();
+    queue.pop();
+    if (!vertex_alive_[v] || st != stamp_[v]) continue;
+    touched_.clear();
+    if (!try_remove(v)) continue;
+    meter.update(report_.removals);
+    for (Index u : touched_) {
+      if (!vertex_alive_[u] || seen[u] == report_.removals) continue;
+      seen[u] = report_.removals;
+      const double cu = cost(u);
+      ++stamp_[u];
+      if (cu < HUGE_VAL) queue.emplace(cu, stamp_[u], u);
+    }
+    (void)c;
+  }
+  report_.stuck = std::max<Index>(alive_count_ - target, 0);
+  meter.finish();
+}
+
+Simplification Simplifier::finish(const IntrinsicTriangulation& fine) {
+  Simplification s;
+  const Index nf = Index(face_alive_.size());
+  std::vector<Index> face_id(nf, kInvalidIndex), vertex_id(nv_, kInvalidIndex);
+  Index nfc = 0;
+  for (Index f = 0; f < nf; ++f) {
+    if (face_alive_[f]) face_id[f] = nfc++;
+  }
+  for (Index v = 0; v < nv_; ++v) {
+    if (!vertex_alive_[v]) continue;
+    vertex_id[v] = Index(s.coarse_to_fine.size());
+    s.coarse_to_fine.push_back(v);
+  }
+  std::vector<double> comp_area(comp_area0_.size(), 0.0);
+  for (Index f = 0; f < nf; ++f) {
+    if (face_alive_[f]) comp_area[comp_[tail_[3 * f]]] += area(f);
+  }
+  std::vector<double> scale(comp_area.size(), 1.0);
+  for (std::size_t c = 0; c < comp_area.size(); ++c) {
+    if (!(comp_area[c] > 0.0) || !(comp_area0_[c] > 0.0)) continue;
+    scale[c] = std::sqrt(comp_area0_[c] / comp_area[c]);
+    report_.area_change_before_rescale = std::max(
+        report_.area_change_before_rescale, std::abs(comp_area[c] / comp_area0_[c] - 1.0));
+  }
+  std::vector<Index> tail(3 * std::size_t(nfc)), twin(3 * std::size_t(nfc));
+  std::vector<double> len(3 * std::size_t(nfc));
+  for (Index f = 0; f < nf; ++f) {
+    if (!face_alive_[f]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Index h = 3 * f + k, hc = 3 * face_id[f] + k;
+      tail[hc] = vertex_id[tail_[h]];
+      twin[hc] = twin_[h] < 0 ? kInvalidIndex : 3 * face_id[T::face(twin_[h])] + T::side(twin_[h]);
+      len[hc] = len_[h] * scale[comp_[tail_[h]]];
+    }
+  }
+  s.coarse = IntrinsicTriangulation::from_gluing(std::move(tail), std::move(twin), len,
+                                                 Index(s.coarse_to_fine.size()), multiplicity_);
+  s.fine_in_coarse.resize(nv_);
+  for (Index v = 0; v < nv_; ++v) {
+    SurfacePoint& sp = s.fine_in_coarse[v];
+    if (!vertex_alive_[v]) {
+      sp.face = face_id[pt_face_[v]];
+      sp.bary = pt_bary_[v];
+    } else if (rep_start_[v + 1] > rep_start_[v]) {
+      const Index h = rep_[rep_start_[v]];
+      sp.face = face_id[T::face(h)];
+      sp.bary = Eigen::Vector3d::Zero();
+      sp.bary[T::side(h)] = 1.0;
+    }
+  }
+  report_.vertices_before = nv_;
+  report_.vertices_after = Index(s.coarse_to_fine.size());
+  report_.area_before = total_area(fine);
+  s.report = report_;
+  return s;
+}
+
+}  // namespace
+
+Simplification simplify(const IntrinsicTriangulation& fine, const SimplifyOptions& options) {
+  options.validate();
+  const Index nv = fine.n_vertices();
+  Index target = options.target_vertices;
+  if (target > 0 && target >= nv) {
+    throw InvalidInput("simplify: target_vertices (" + std::to_string(target) +
+                       ") must be below the input's vertex count (" + std::to_string(nv) + ")");
+  }
+  if (target == 0) {
+    target = std::max<Index>(1, Index(std::llround(options.ratio * double(nv))));
+  }
+  Simplifier s(fine);
+  s.run(target, options.on_progress);
+  return s.finish(fine);
+}
+
+}  // namespace ifem::intrinsic
