@@ -8,7 +8,7 @@
 #include "cli.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
-#include "intrinsic/simplify/simplify.h"
+#include "solvers/recipes/recipes.h"
 
 namespace ifem::cli {
 namespace {
@@ -100,7 +100,7 @@ int run(const Args& args) {
   }
   o.on_progress = progress_bar(args);
   Stopwatch watch;
-  const intrinsic::Simplification s = intrinsic::simplify(ps.tri, o);
+  const intrinsic::Simplification s = recipes::simplify(ps, o);
   const double seconds = watch.restart();
   if (ends_with(out, ".ifem")) {
     write_ifem(out, s);
