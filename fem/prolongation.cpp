@@ -12,8 +12,8 @@ SparseMatrix prolongation(const intrinsic::Simplification& s) {
   for (Index c = 0; c < Index(s.coarse_to_fine.size()); ++c) {
     const Index v = s.coarse_to_fine[c];
     if (v < 0 || v >= n_fine) {
-      throw InvalidInput("prolongation: coarse_to_fine[" + std::to_string(c) + "] = " +
-                         std::to_string(v) + " is not a fine vertex");
+      throw InvalidInput("prolongation: coarse_to_fine[" + std::to_string(c) +
+                         "] = " + std::to_string(v) + " is not a fine vertex");
     }
     fine_to_coarse[v] = c;
   }

@@ -14,7 +14,8 @@ namespace ifem::cli {
 namespace {
 
 bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 // The coarse triangulation and its map as text (format in the --help of -o).
@@ -58,7 +59,8 @@ void write_coarse_ply(const std::string& path, const PreparedSurface& ps,
     id[v] = fine;
   }
   std::vector<Triangle> faces(c.n_faces());
-  for (Index f = 0; f < c.n_faces(); ++f) faces[f] = {c.tail(3 * f), c.tail(3 * f + 1), c.tail(3 * f + 2)};
+  for (Index f = 0; f < c.n_faces(); ++f)
+    faces[f] = {c.tail(3 * f), c.tail(3 * f + 1), c.tail(3 * f + 2)};
   io::write_ply(path, pos, faces, {{"input_vertex", id}}, binary);
 }
 

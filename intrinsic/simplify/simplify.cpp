@@ -7,6 +7,7 @@
 #include <queue>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/union_find.h"
@@ -66,21 +67,23 @@ class Simplifier {
 
  private:
   // ---- mesh ----
-  Index head(Index h) const { return tail_[T::next(h)]; }
+  Index head(Index h) const { return sd_[T::next(h)].tail; }
   double angle(Index h) const {  // corner angle of face(h) at tail(h)
-    return opposite_angle(len_[T::next(h)], len_[h], len_[T::prev(h)]);
+    return opposite_angle(sd_[T::next(h)].len, sd_[h].len, sd_[T::prev(h)].len);
   }
-  double area(Index f) const { return triangle_area(len_[3 * f], len_[3 * f + 1], len_[3 * f + 2]); }
+  double area(Index f) const {
+    return triangle_area(sd_[3 * f].len, sd_[3 * f + 1].len, sd_[3 * f + 2].len);
+  }
   void set_side(Index slot, Index tail, Index twin, double len) {
-    tail_[slot] = tail;
-    twin_[slot] = twin;
-    len_[slot] = len;
-    if (twin >= 0) twin_[twin] = slot;
+    sd_[slot].tail = tail;
+    sd_[slot].twin = twin;
+    sd_[slot].len = len;
+    if (twin >= 0) sd_[twin].twin = slot;
   }
   bool fan(Index rep, std::vector<Index>& out, bool& boundary) const;
   bool flip(Index h);
   bool is_delaunay(Index h) const;
-  void delaunay_repair(std::vector<Index> stack);
+  void delaunay_repair(std::vector<Index>& stack);  // consumes the stack
   void remap_reps(Index v, const Index* from, const Index* to, int n);
   void touch_face(Index f);
 
@@ -100,8 +103,11 @@ class Simplifier {
 
   Index nv_ = 0;
   int multiplicity_ = 1;
-  std::vector<Index> tail_, twin_;
-  std::vector<double> len_;
+  struct Side {
+    Index tail, twin;  // vertex at the start; glued side or kInvalidIndex
+    double len;
+  };
+  std::vector<Side> sd_;  // #H: a face's three sides in one cache line
   std::vector<char> face_alive_, vertex_alive_;
   std::vector<Index> rep_start_, rep_;  // CSR: one outgoing halfedge per fan of each vertex
   std::vector<Index> comp_;             // component of each vertex
@@ -112,7 +118,13 @@ class Simplifier {
   std::vector<Index> pt_face_;
   std::vector<Eigen::Vector3d> pt_bary_;
   std::vector<Index> touched_;  // vertices whose star a rewrite changed
-  std::vector<Index> stamp_;
+  // scratch buffers, kept between calls (no allocation per removal)
+  std::vector<Index> moving_, hs_, ends_, sorted_, stack_;
+  std::vector<double> gap_;
+  std::vector<std::pair<double, Index>> candidates_;
+  std::vector<std::vector<Index>> fans_;
+  std::vector<char> bnd_;
+  std::vector<std::pair<Index, Eigen::Vector3d>> moving_bary_;
   Index alive_count_ = 0;
   SimplifyReport report_;
 };
@@ -122,43 +134,39 @@ class Simplifier {
 bool Simplifier::fan(Index rep, std::vector<Index>& out, bool& boundary) const {
   out.clear();
   boundary = false;
-  const Index v = tail_[rep];
-  Index h = rep;
-  for (int k = 0;; ++k) {  // rewind: the previous outgoing halfedge is next(twin(h))
-    const Index t = twin_[h];
-    if (t < 0) {
-      boundary = true;
-      break;
-    }
-    const Index p = T::next(t);
-    if (p == rep) break;
-    h = p;
-    if (k > 4096) return false;
-  }
-  const Index start = h;
-  for (;;) {
-    if (tail_[h] != v) return false;
+  const Index v = sd_[rep].tail;
+  for (Index h = rep;;) {  // forward from rep: the next outgoing halfedge is twin(prev(h))
+    if (sd_[h].tail != v || out.size() > 4096) return false;
     out.push_back(h);
-    const Index t = twin_[T::prev(h)];
-    if (t < 0 || t == start) break;
+    const Index t = sd_[T::prev(h)].twin;
+    if (t == rep) return true;  // closed
+    if (t < 0) break;
     h = t;
-    if (out.size() > 4096) return false;
   }
+  boundary = true;  // the ones before rep, back to the boundary side: next(twin(h)) each
+  const std::size_t n_after = out.size();
+  for (Index h = rep; sd_[h].twin >= 0;) {
+    h = T::next(sd_[h].twin);
+    if (sd_[h].tail != v || out.size() > 8192) return false;
+    out.push_back(h);
+  }
+  std::reverse(out.begin() + n_after, out.end());
+  std::rotate(out.begin(), out.begin() + n_after, out.end());
   return true;
 }
 
 bool Simplifier::is_delaunay(Index h) const {
-  const Index t = twin_[h];
+  const Index t = sd_[h].twin;
   if (t < 0) return true;
-  const double ca = opposite_cotan(len_[h], len_[T::next(h)], len_[T::prev(h)]);
-  const double cb = opposite_cotan(len_[t], len_[T::next(t)], len_[T::prev(t)]);
+  const double ca = opposite_cotan(sd_[h].len, sd_[T::next(h)].len, sd_[T::prev(h)].len);
+  const double cb = opposite_cotan(sd_[t].len, sd_[T::next(t)].len, sd_[T::prev(t)].len);
   return !(ca + cb < -1e-12);
 }
 
 void Simplifier::remap_reps(Index v, const Index* from, const Index* to, int n) {
   for (Index k = rep_start_[v]; k < rep_start_[v + 1]; ++k) {
     for (int i = 0; i < n; ++i) {
-      if (rep_[k] == from[i] && tail_[to[i]] == v) {
+      if (rep_[k] == from[i] && sd_[to[i]].tail == v) {
         rep_[k] = to[i];
         break;
       }
@@ -167,25 +175,26 @@ void Simplifier::remap_reps(Index v, const Index* from, const Index* to, int n) 
 }
 
 void Simplifier::touch_face(Index f) {
-  for (int s = 0; s < 3; ++s) touched_.push_back(tail_[3 * f + s]);
+  for (int s = 0; s < 3; ++s) touched_.push_back(sd_[3 * f + s].tail);
 }
 
 // Flips the edge of h in its diamond (a, b, c | b, a, d) to the diagonal c–d, moving the
 // points of both faces. False (nothing changed) unless the diamond is strictly convex and
 // both new faces keep the margin.
 bool Simplifier::flip(Index h) {
-  const Index t = twin_[h];
+  const Index t = sd_[h].twin;
   if (t < 0) return false;
   const Index f = T::face(h), g = T::face(t);
   if (f == g) return false;
   const Index h1 = T::next(h), h2 = T::prev(h), t1 = T::next(t), t2 = T::prev(t);
   for (Index o : {h1, h2, t1, t2}) {
-    const Index w = twin_[o];
+    const Index w = sd_[o].twin;
     if (w >= 0 && (T::face(w) == f || T::face(w) == g)) return false;
   }
-  const Index a = tail_[h], b = tail_[h1], c = tail_[h2], d = tail_[t2];
+  const Index a = sd_[h].tail, b = sd_[h1].tail, c = sd_[h2].tail, d = sd_[t2].tail;
   if (c == d) return false;
-  const double lab = len_[h], lbc = len_[h1], lca = len_[h2], lad = len_[t1], ldb = len_[t2];
+  const double lab = sd_[h].len, lbc = sd_[h1].len, lca = sd_[h2].len, lad = sd_[t1].len,
+               ldb = sd_[t2].len;
   const Eigen::Vector2d A(0.0, 0.0), B(lab, 0.0);
   const Eigen::Vector2d C = triangle_apex(lab, lbc, lca);
   Eigen::Vector2d D = triangle_apex(lab, ldb, lad);
@@ -198,12 +207,14 @@ bool Simplifier::flip(Index h) {
   Eigen::Vector2d pf[3], pg[3];
   pf[T::side(h)] = A, pf[T::side(h1)] = B, pf[T::side(h2)] = C;
   pg[T::side(t)] = B, pg[T::side(t1)] = A, pg[T::side(t2)] = D;
-  std::vector<Index> moving;
-  moving.swap(pts_[f]);
+  std::vector<Index>& moving = moving_;
+  moving.assign(pts_[f].begin(), pts_[f].end());
   const std::size_t nf = moving.size();
   moving.insert(moving.end(), pts_[g].begin(), pts_[g].end());
+  pts_[f].clear();
   pts_[g].clear();
-  const Index tw_h1 = twin_[h1], tw_h2 = twin_[h2], tw_t1 = twin_[t1], tw_t2 = twin_[t2];
+  const Index tw_h1 = sd_[h1].twin, tw_h2 = sd_[h2].twin, tw_t1 = sd_[t1].twin,
+              tw_t2 = sd_[t2].twin;
   set_side(3 * f + 0, c, tw_h2, lca);
   set_side(3 * f + 1, a, tw_t1, lad);
   set_side(3 * f + 2, d, 3 * g + 2, lcd);
@@ -233,33 +244,27 @@ bool Simplifier::flip(Index h) {
 }
 
 // Flips non-Delaunay edges reachable from the halfedges on the stack (a cap against loops).
-void Simplifier::delaunay_repair(std::vector<Index> stack) {
+void Simplifier::delaunay_repair(std::vector<Index>& stack) {
   std::size_t budget = 64 + 16 * stack.size();
   while (!stack.empty() && budget > 0) {
     const Index h = stack.back();
     stack.pop_back();
-    if (!face_alive_[T::face(h)] || twin_[h] < 0 || is_delaunay(h)) continue;
-    const Index f = T::face(h), g = T::face(twin_[h]);
+    if (!face_alive_[T::face(h)] || sd_[h].twin < 0 || is_delaunay(h)) continue;
+    const Index f = T::face(h), g = T::face(sd_[h].twin);
     if (!flip(h)) continue;
     --budget;
     for (Index s : {3 * f, 3 * f + 1, 3 * g, 3 * g + 1}) stack.push_back(s);
   }
 }
 
-
 Simplifier::Simplifier(const IntrinsicTriangulation& fine)
-    : nv_(fine.n_vertices()),
-      multiplicity_(fine.multiplicity()),
-      tail_(fine.tails()),
-      twin_(fine.twins()),
-      len_(fine.tails().size()) {
+    : nv_(fine.n_vertices()), multiplicity_(fine.multiplicity()), sd_(fine.tails().size()) {
   const Index nh = fine.n_halfedges(), nf = fine.n_faces();
-  for (Index h = 0; h < nh; ++h) len_[h] = fine.halfedge_length(h);
+  for (Index h = 0; h < nh; ++h) sd_[h] = {fine.tail(h), fine.twin(h), fine.halfedge_length(h)};
   face_alive_.assign(nf, 1);
   pts_.resize(nf);
   pt_face_.assign(nv_, kInvalidIndex);
   pt_bary_.assign(nv_, Eigen::Vector3d::Zero());
-  stamp_.assign(nv_, 0);
   // fans: one representative per fan, found by walking every halfedge once
   std::vector<char> seen(nh, 0);
   std::vector<std::vector<Index>> reps(nv_);
@@ -269,14 +274,14 @@ Simplifier::Simplifier(const IntrinsicTriangulation& fine)
     bool boundary = false;
     if (!fan(h, hs, boundary)) hs.assign(1, h);  // not a simple walk: h alone (never removed)
     for (Index x : hs) seen[x] = 1;
-    reps[tail_[h]].push_back(hs.front());
+    reps[sd_[h].tail].push_back(hs.front());
   }
   rep_start_.assign(nv_ + 1, 0);
   for (Index v = 0; v < nv_; ++v) rep_start_[v + 1] = rep_start_[v] + Index(reps[v].size());
   for (Index v = 0; v < nv_; ++v) rep_.insert(rep_.end(), reps[v].begin(), reps[v].end());
   // components (by faces), their vertex counts, areas and whether they are closed
   UnionFind uf(nv_);
-  for (Index h = 0; h < nh; ++h) uf.unite(tail_[h], head(h));
+  for (Index h = 0; h < nh; ++h) uf.unite(sd_[h].tail, head(h));
   comp_.resize(nv_);
   std::vector<Index> root_id(nv_, kInvalidIndex);
   for (Index v = 0; v < nv_; ++v) {
@@ -291,9 +296,9 @@ Simplifier::Simplifier(const IntrinsicTriangulation& fine)
   comp_closed_.assign(comp_vertices_.size(), 1);
   comp_area0_.assign(comp_vertices_.size(), 0.0);
   for (Index h = 0; h < nh; ++h) {
-    if (twin_[h] < 0) comp_closed_[comp_[tail_[h]]] = 0;
+    if (sd_[h].twin < 0) comp_closed_[comp_[sd_[h].tail]] = 0;
   }
-  for (Index f = 0; f < nf; ++f) comp_area0_[comp_[tail_[3 * f]]] += area(f);
+  for (Index f = 0; f < nf; ++f) comp_area0_[comp_[sd_[3 * f].tail]] += area(f);
   comp_density_.resize(comp_area0_.size());
   for (std::size_t c = 0; c < comp_area0_.size(); ++c) {
     comp_density_[c] = comp_area0_[c] > 0.0 ? 4.0 * kPi / comp_area0_[c] : 0.0;
@@ -309,7 +314,7 @@ double Simplifier::cost(Index v) {
   const Index n_fans = rep_start_[v + 1] - rep_start_[v];
   if (n_fans == 0) return HUGE_VAL;
   if (comp_closed_[comp_[v]] && comp_vertices_[comp_[v]] <= 4) return HUGE_VAL;
-  std::vector<Index> hs;
+  std::vector<Index>& hs = hs_;
   double star = 0.0, defect = 0.0;
   for (Index k = rep_start_[v]; k < rep_start_[v + 1]; ++k) {
     bool boundary = false;
@@ -332,12 +337,12 @@ bool Simplifier::loop_longer_than_three(Index v, Index h0) const {
   for (int step = 0; step < 3; ++step) {
     // the next boundary side: from head(h), rewind its fan to the boundary side
     Index x = T::next(h);
-    for (int k = 0; twin_[x] >= 0; ++k) {
-      x = T::next(twin_[x]);
+    for (int k = 0; sd_[x].twin >= 0; ++k) {
+      x = T::next(sd_[x].twin);
       if (k > 4096) return false;
     }
     h = x;
-    if (tail_[h] == v) return false;
+    if (sd_[h].tail == v) return false;
   }
   return true;
 }
@@ -371,21 +376,24 @@ bool Simplifier::flip_fan_down(Index v, Index k, bool boundary, std::vector<Inde
   const std::size_t want = boundary ? 1 : 3;
   bool b = false;
   if (!fan(rep_[k], hs, b) || b != boundary) return false;
-  std::vector<Index> ends(hs.size());
-  std::vector<double> gap(hs.size());
+  std::vector<Index>& ends = ends_;
+  std::vector<double>& gap = gap_;
+  ends.resize(hs.size());
+  gap.resize(hs.size());
   for (std::size_t i = 0; i < hs.size(); ++i) ends[i] = head(hs[i]), gap[i] = angle(hs[i]);
-  std::vector<Index> sorted = ends;
+  std::vector<Index>& sorted = sorted_;
+  sorted.assign(ends.begin(), ends.end());
   std::sort(sorted.begin(), sorted.end());
   if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
   if (std::binary_search(sorted.begin(), sorted.end(), v)) return false;  // a self-edge
   Index keep[3] = {v, v, v};  // v is no spoke's end: nothing kept on a boundary fan
   if (!boundary && hs.size() > 3 && !keep_three(gap, ends, keep)) return false;
-  std::vector<std::pair<double, Index>> candidates;
+  std::vector<std::pair<double, Index>>& candidates = candidates_;
   for (;;) {
     if (hs.size() <= want) return hs.size() == want;
     candidates.clear();
     for (Index h : hs) {
-      const Index t = twin_[h];  // t: u→v in the previous face
+      const Index t = sd_[h].twin;  // t: u→v in the previous face
       const Index u = head(h);
       if (t < 0 || u == keep[0] || u == keep[1] || u == keep[2]) continue;
       const double at_u = angle(T::next(h)) + angle(t);
@@ -411,15 +419,16 @@ void Simplifier::remove_interior(Index v, const std::vector<Index>& hs, bool pla
   for (int i = 0; i < 3; ++i) {
     F[i] = T::face(hs[i]);
     o[i] = T::next(hs[i]);
-    a[i] = tail_[o[i]];
+    a[i] = sd_[o[i]].tail;
     A[i] = area(F[i]);
-    tw[i] = twin_[o[i]];
-    l[i] = len_[o[i]];
+    tw[i] = sd_[o[i]].twin;
+    l[i] = sd_[o[i]].len;
   }
   Eigen::Vector3d q;
   for (int i = 0; i < 3; ++i) q[(i + 2) % 3] = A[i];
   q = clamp_bary(q);
-  std::vector<std::pair<Index, Eigen::Vector3d>> moving;
+  auto& moving = moving_bary_;
+  moving.clear();
   for (int i = 0; i < 3; ++i) {
     const int sv = T::side(hs[i]), sa = T::side(o[i]), sb = T::side(T::prev(hs[i]));
     for (Index p : pts_[F[i]]) {
@@ -448,19 +457,19 @@ void Simplifier::remove_interior(Index v, const std::vector<Index>& hs, bool pla
 // Cuts off the ear face(h0) = (v, x, y) of boundary vertex v (h0: v→x on the boundary); its
 // points (and v, when place_v) go to their closest points on the side x–y of the face across it.
 void Simplifier::remove_ear(Index v, Index h0, bool place_v) {
-  const Index F = T::face(h0), o = T::next(h0), p = T::prev(h0), w = twin_[o];
-  const Index x = tail_[o], y = tail_[p];
-  const double lxy = len_[o];
+  const Index F = T::face(h0), o = T::next(h0), p = T::prev(h0), w = sd_[o].twin;
+  const Index x = sd_[o].tail, y = sd_[p].tail;
+  const double lxy = sd_[o].len;
   Eigen::Vector2d pos[3];
   pos[T::side(o)] = Eigen::Vector2d(0.0, 0.0);
   pos[T::side(p)] = Eigen::Vector2d(lxy, 0.0);
-  pos[T::side(h0)] = triangle_apex(lxy, len_[p], len_[h0]);
+  pos[T::side(h0)] = triangle_apex(lxy, sd_[p].len, sd_[h0].len);
   const Index g = T::face(w);
   auto on_side = [&](const Eigen::Vector3d& wb) {
     const Eigen::Vector2d P = wb[0] * pos[0] + wb[1] * pos[1] + wb[2] * pos[2];
     const double t = std::clamp(P.x() / lxy, 0.0, 1.0);
     Eigen::Vector3d nb = Eigen::Vector3d::Zero();
-    nb[T::side(w)] = t;                // y
+    nb[T::side(w)] = t;                 // y
     nb[T::side(T::next(w))] = 1.0 - t;  // x
     return nb;
   };
@@ -473,7 +482,7 @@ void Simplifier::remove_ear(Index v, Index h0, bool place_v) {
     move_point(v, g, on_side(e));
   }
   face_alive_[F] = 0;
-  twin_[w] = kInvalidIndex;
+  sd_[w].twin = kInvalidIndex;
   for (Index k = rep_start_[x]; k < rep_start_[x + 1]; ++k) {
     if (T::face(rep_[k]) == F) rep_[k] = T::next(w);
   }
@@ -487,7 +496,7 @@ void Simplifier::remove_ear(Index v, Index h0, bool place_v) {
 bool Simplifier::removable(Index v, const std::vector<Index>& hs, bool boundary) const {
   if (boundary) {
     const Index o = T::next(hs[0]);
-    return hs.size() == 1 && twin_[o] >= 0 && tail_[o] != head(o) && tail_[o] != v &&
+    return hs.size() == 1 && sd_[o].twin >= 0 && sd_[o].tail != head(o) && sd_[o].tail != v &&
            head(o) != v;
   }
   if (hs.size() != 3) return false;
@@ -495,9 +504,9 @@ bool Simplifier::removable(Index v, const std::vector<Index>& hs, bool boundary)
   double l[3];
   for (int i = 0; i < 3; ++i) {
     const Index o = T::next(hs[i]);
-    a[i] = tail_[o];
-    l[i] = len_[o];
-    const Index w = twin_[o];
+    a[i] = sd_[o].tail;
+    l[i] = sd_[o].len;
+    const Index w = sd_[o].twin;
     for (Index x : hs) {
       if (w >= 0 && T::face(w) == T::face(x)) return false;  // glued inside the star
     }
@@ -513,8 +522,11 @@ bool Simplifier::removable(Index v, const std::vector<Index>& hs, bool boundary)
 bool Simplifier::try_remove(Index v) {
   const Index n_fans = rep_start_[v + 1] - rep_start_[v];
   if (n_fans == 0 || (comp_closed_[comp_[v]] && comp_vertices_[comp_[v]] <= 4)) return false;
-  std::vector<std::vector<Index>> fans(n_fans);
-  std::vector<char> bnd(n_fans, 0);
+  std::vector<std::vector<Index>>& fans = fans_;
+  if (Index(fans.size()) < n_fans) fans.resize(n_fans);
+  for (Index k = 0; k < n_fans; ++k) fans[k].clear();
+  std::vector<char>& bnd = bnd_;
+  bnd.assign(n_fans, 0);
   bool ok = true;
   for (Index k = 0; k < n_fans && ok; ++k) {
     bool b = false;
@@ -525,20 +537,20 @@ bool Simplifier::try_remove(Index v) {
   }
   for (Index k = 0; k < n_fans && ok; ++k) {
     bool b = false;
-    ok = fan(rep_[rep_start_[v] + k], fans[k], b) && b == bool(bnd[k]) &&
-         removable(v, fans[k], b);
+    ok = fan(rep_[rep_start_[v] + k], fans[k], b) && b == bool(bnd[k]) && removable(v, fans[k], b);
   }
+  std::vector<Index>& stack = stack_;
+  stack.clear();
   if (!ok) {
-    std::vector<Index> stack;
-    for (const auto& hs : fans) stack.insert(stack.end(), hs.begin(), hs.end());
-    for (Index& h : stack) h = T::next(h);
+    for (Index k = 0; k < n_fans; ++k) {
+      for (Index h : fans[k]) stack.push_back(T::next(h));
+    }
     delaunay_repair(stack);
     return false;
   }
-  std::vector<Index> stack;
   for (Index k = 0; k < n_fans; ++k) {
     if (bnd[k]) {
-      const Index w = twin_[T::next(fans[k][0])];
+      const Index w = sd_[T::next(fans[k][0])].twin;
       remove_ear(v, fans[k][0], k == 0);
       const Index g = T::face(w);
       for (int s = 0; s < 3; ++s) stack.push_back(3 * g + s);
@@ -557,37 +569,48 @@ bool Simplifier::try_remove(Index v) {
   return true;
 }
 
+// Lazy greedy: a vertex whose star changed is marked dirty, and its cost is recomputed (and
+// the vertex queued again) only when it comes out of the queue; a vertex not queued (failed, or
+// of infinite cost) is queued again when its star changes.
 void Simplifier::run(Index target, const ProgressCallback& on_progress) {
-  std::vector<Index> stack;
-  for (Index h = 0; h < Index(twin_.size()); ++h) {
-    if (twin_[h] > h) stack.push_back(h);
+  std::vector<Index>& stack = stack_;
+  for (Index h = 0; h < Index(sd_.size()); ++h) {
+    if (sd_[h].twin > h) stack.push_back(h);
   }
   delaunay_repair(stack);
   touched_.clear();
-  using Entry = std::tuple<double, Index, Index>;  // cost, stamp, vertex
+  using Entry = std::pair<double, Index>;  // cost, vertex
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  std::vector<char> queued(nv_, 0), dirty(nv_, 0);
   for (Index v = 0; v < nv_; ++v) {
     const double c = cost(v);
-    if (c < HUGE_VAL) queue.emplace(c, 0, v);
+    if (c < HUGE_VAL) queue.emplace(c, v), queued[v] = 1;
   }
   const Index wanted = std::max<Index>(alive_count_ - target, 0);
   ProgressMeter meter(on_progress, "simplify", std::max<Index>(wanted, 1));
-  std::vector<Index> seen(nv_, -1);
   while (alive_count_ > target && !queue.empty()) {
-    const auto [c, st, v] = queue.top();
+    const Index v = queue.top().second;
     queue.pop();
-    if (!vertex_alive_[v] || st != stamp_[v]) continue;
+    queued[v] = 0;
+    if (!vertex_alive_[v]) continue;
+    if (dirty[v]) {
+      dirty[v] = 0;
+      const double c = cost(v);
+      if (c < HUGE_VAL) queue.emplace(c, v), queued[v] = 1;
+      continue;
+    }
     touched_.clear();
     if (!try_remove(v)) continue;
     meter.update(report_.removals);
     for (Index u : touched_) {
-      if (!vertex_alive_[u] || seen[u] == report_.removals) continue;
-      seen[u] = report_.removals;
-      const double cu = cost(u);
-      ++stamp_[u];
-      if (cu < HUGE_VAL) queue.emplace(cu, stamp_[u], u);
+      if (!vertex_alive_[u]) continue;
+      if (queued[u]) {
+        dirty[u] = 1;
+      } else {
+        const double c = cost(u);
+        if (c < HUGE_VAL) queue.emplace(c, u), queued[u] = 1, dirty[u] = 0;
+      }
     }
-    (void)c;
   }
   report_.stuck = std::max<Index>(alive_count_ - target, 0);
   meter.finish();
@@ -608,14 +631,14 @@ Simplification Simplifier::finish(const IntrinsicTriangulation& fine) {
   }
   std::vector<double> comp_area(comp_area0_.size(), 0.0);
   for (Index f = 0; f < nf; ++f) {
-    if (face_alive_[f]) comp_area[comp_[tail_[3 * f]]] += area(f);
+    if (face_alive_[f]) comp_area[comp_[sd_[3 * f].tail]] += area(f);
   }
   std::vector<double> scale(comp_area.size(), 1.0);
   for (std::size_t c = 0; c < comp_area.size(); ++c) {
     if (!(comp_area[c] > 0.0) || !(comp_area0_[c] > 0.0)) continue;
     scale[c] = std::sqrt(comp_area0_[c] / comp_area[c]);
-    report_.area_change_before_rescale = std::max(
-        report_.area_change_before_rescale, std::abs(comp_area[c] / comp_area0_[c] - 1.0));
+    report_.area_change_before_rescale =
+        std::max(report_.area_change_before_rescale, std::abs(comp_area[c] / comp_area0_[c] - 1.0));
   }
   std::vector<Index> tail(3 * std::size_t(nfc)), twin(3 * std::size_t(nfc));
   std::vector<double> len(3 * std::size_t(nfc));
@@ -623,9 +646,10 @@ Simplification Simplifier::finish(const IntrinsicTriangulation& fine) {
     if (!face_alive_[f]) continue;
     for (int k = 0; k < 3; ++k) {
       const Index h = 3 * f + k, hc = 3 * face_id[f] + k;
-      tail[hc] = vertex_id[tail_[h]];
-      twin[hc] = twin_[h] < 0 ? kInvalidIndex : 3 * face_id[T::face(twin_[h])] + T::side(twin_[h]);
-      len[hc] = len_[h] * scale[comp_[tail_[h]]];
+      tail[hc] = vertex_id[sd_[h].tail];
+      twin[hc] = sd_[h].twin < 0 ? kInvalidIndex
+                                 : 3 * face_id[T::face(sd_[h].twin)] + T::side(sd_[h].twin);
+      len[hc] = sd_[h].len * scale[comp_[sd_[h].tail]];
     }
   }
   s.coarse = IntrinsicTriangulation::from_gluing(std::move(tail), std::move(twin), len,

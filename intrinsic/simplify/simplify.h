@@ -27,11 +27,11 @@ struct SimplifyOptions {
 
 /// What simplify() did, counted.
 struct SimplifyReport {
-  Index vertices_before = 0;  ///< #V of the input (unreferenced vertices included)
-  Index vertices_after = 0;   ///< #V of the coarse triangulation
-  Index removals = 0;         ///< vertices removed (interior and boundary)
+  Index vertices_before = 0;    ///< #V of the input (unreferenced vertices included)
+  Index vertices_after = 0;     ///< #V of the coarse triangulation
+  Index removals = 0;           ///< vertices removed (interior and boundary)
   Index boundary_removals = 0;  ///< of which on a boundary (an ear cut off)
-  std::size_t flips = 0;      ///< edge flips: to degree 3 / to an ear, and Delaunay repair
+  std::size_t flips = 0;        ///< edge flips: to degree 3 / to an ear, and Delaunay repair
   /// Vertices left because none could be removed without breaking a guarantee (the target was
   /// not reached): 0 when vertices_after reached the target.
   Index stuck = 0;
@@ -43,7 +43,7 @@ struct SimplifyReport {
 
 /// A coarse intrinsic triangulation and its map to the fine one.
 struct Simplification {
-  IntrinsicTriangulation coarse;  ///< vertices renumbered 0..#Vc−1 (in fine id order)
+  IntrinsicTriangulation coarse;      ///< vertices renumbered 0..#Vc−1 (in fine id order)
   std::vector<Index> coarse_to_fine;  ///< #Vc: the fine vertex each coarse vertex is
   /// #V fine: each fine vertex as a point of `coarse` (face + barycentric coordinates, all ≥ 0,
   /// summing to 1); a kept vertex is a corner with coordinate 1. An unreferenced fine vertex

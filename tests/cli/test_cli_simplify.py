@@ -121,7 +121,7 @@ def test_bad_extension(cli):
 
 
 def test_every_small_shared_mesh(cli, shared_data):
-    meshes = sorted(p for p in (shared_data / "meshes").iterdir() if p.stat().st_size < 400_000)
+    meshes = sorted(p for p in (shared_data / "meshes").iterdir() if p.stat().st_size < 150_000)
     assert len(meshes) > 10
     for p in meshes:
         r = cli.run("simplify", p, "--ratio", "0.2", "-o", "c.ifem", "--quiet")
