@@ -90,7 +90,7 @@ class Simplifier {
   // ---- removal ----
   double cost(Index v);
   bool try_remove(Index v);
-  bool flip_fan_down(Index v, Index k, bool boundary, std::vector<Index>& hs);
+  bool flip_fan_down(Index v, bool boundary, std::vector<Index>& hs);
   void remove_interior(Index v, const std::vector<Index>& hs, bool place_v);
   void remove_ear(Index v, Index h0, bool place_v);
   bool removable(Index v, const std::vector<Index>& hs, bool boundary) const;
@@ -368,14 +368,12 @@ bool keep_three(const std::vector<double>& gap, const std::vector<Index>& ends, 
   return best < kPi;
 }
 
-// Flips the spokes of fan rep_[k] of v until it has 3 faces (closed: the spokes keep_three()
-// picks stay) or 1 face (boundary), each time the flippable spoke whose far end has the
-// smallest angle in its two faces (an ear of the star; a flip keeps rep_[k] valid). On success
-// hs holds the fan. False when no spoke can be flipped.
-bool Simplifier::flip_fan_down(Index v, Index k, bool boundary, std::vector<Index>& hs) {
+// Flips the spokes of the fan hs of v (outgoing halfedges in rotation order) until it has 3
+// faces (closed: the spokes keep_three() picks stay) or 1 face (boundary), each time the
+// flippable spoke whose far end has the smallest angle in its two faces (an ear of the star).
+// hs follows the flips. False when no spoke can be flipped.
+bool Simplifier::flip_fan_down(Index v, bool boundary, std::vector<Index>& hs) {
   const std::size_t want = boundary ? 1 : 3;
-  bool b = false;
-  if (!fan(rep_[k], hs, b) || b != boundary) return false;
   std::vector<Index>& ends = ends_;
   std::vector<double>& gap = gap_;
   ends.resize(hs.size());
@@ -401,11 +399,19 @@ bool Simplifier::flip_fan_down(Index v, Index k, bool boundary, std::vector<Inde
       if (at_u < kPi && at_v < kPi) candidates.emplace_back(at_u, h);
     }
     std::sort(candidates.begin(), candidates.end());
-    bool flipped = false;
+    Index flipped = kInvalidIndex;
     for (const auto& c : candidates) {
-      if ((flipped = flip(c.second))) break;
+      if (flip(c.second)) {
+        flipped = c.second;
+        break;
+      }
     }
-    if (!flipped || !fan(rep_[k], hs, b) || b != boundary) return false;
+    if (flipped == kInvalidIndex) return false;
+    // the fan without the flipped spoke: the spoke before it (in the other face of the diamond)
+    // became v's side 3f+1 of the flipped face f; no other spoke moved
+    const std::size_t i = std::find(hs.begin(), hs.end(), flipped) - hs.begin();
+    hs[(i + hs.size() - 1) % hs.size()] = 3 * T::face(flipped) + 1;
+    hs.erase(hs.begin() + i);
   }
 }
 
@@ -533,11 +539,7 @@ bool Simplifier::try_remove(Index v) {
     ok = fan(rep_[rep_start_[v] + k], fans[k], b) && !(b && n_fans > 1);
     bnd[k] = b;
     if (ok && b) ok = loop_longer_than_three(v, fans[k][0]);
-    if (ok) ok = flip_fan_down(v, rep_start_[v] + k, b, fans[k]);
-  }
-  for (Index k = 0; k < n_fans && ok; ++k) {
-    bool b = false;
-    ok = fan(rep_[rep_start_[v] + k], fans[k], b) && b == bool(bnd[k]) && removable(v, fans[k], b);
+    if (ok) ok = flip_fan_down(v, b, fans[k]) && removable(v, fans[k], b);
   }
   std::vector<Index>& stack = stack_;
   stack.clear();

@@ -52,7 +52,8 @@ struct Simplification {
   SimplifyReport report;
 };
 
-/// Removes vertices of `fine` greedily, cheapest first, until the target is reached.
+/// Removes vertices of `fine` greedily, cheapest first (costs refreshed lazily, when a vertex
+/// whose star changed comes out of the queue), until the target is reached.
 ///
 /// Algorithm: the input is flipped to intrinsic Delaunay. A vertex's cost is the area of its
 /// star times (|angle defect| + the mean curvature density of its component, 4π/area): flat
@@ -64,7 +65,8 @@ struct Simplification {
 /// flip or removal rewrites, are carried over in the 2D layouts of those faces.
 ///
 /// Guarantees (tested): the coarse triangulation validates (every face satisfies the triangle
-/// inequality with a margin); each component keeps its Euler characteristic, its boundary loops
+/// inequality with a margin); each component keeps its Euler characteristic (see multi-fan
+/// vertices below), its boundary loops
 /// (each with ≥ 3 vertices) and at least 4 vertices if closed; Gauss–Bonnet holds (a property
 /// of every valid triangulation); each component's total area equals the input's (up to
 /// round-off): a removal changes the metric locally (lengths are never moved, but a curved
@@ -73,10 +75,15 @@ struct Simplification {
 /// property and the curvature, unchanged; the cotan Laplacian is scale invariant). Boundary
 /// length is not kept (an ear's two sides become its third).
 ///
-/// A vertex is never removed (it stays, counted in report.stuck if the target is missed) when
-/// its star is not one disk (a vertex of the tufted cover with two or more fans, a self-edge),
-/// when flips cannot bring it to degree 3 / an ear with strictly convex diamonds, or when the
-/// resulting face would be degenerate. So no valid input is refused for numerical reasons.
+/// A vertex with several fans (a pinch; every vertex of the tufted cover of a manifold, which is
+/// two copies) is removed from all its fans at once, each flipped to degree 3 (it then lies in
+/// its first fan's coarse face); that raises the Euler characteristic by (fans − 1), so the
+/// Euler characteristic is kept where no such vertex is removed. A vertex stays (counted in
+/// report.stuck when the target is missed) when its star has a self-edge or a repeated
+/// neighbour, a boundary fan among several, an angle sum of 3π or more (no three spokes with
+/// angles below π between them), no strictly convex flip left, a resulting face below the
+/// margin, a boundary loop at 3 vertices or a closed component at 4 vertices. So no valid
+/// input is refused for numerical reasons (docs/decisions.md D-222).
 /// The multiplicity (2 on a tufted cover) is kept. simplify(result.coarse) coarsens again.
 /// @throws InvalidInput on bad options (SimplifyOptions::validate()), or a target ≥ #V
 Simplification simplify(const IntrinsicTriangulation& fine, const SimplifyOptions& options);
