@@ -94,6 +94,7 @@ class Simplifier {
   void remove_interior(Index v, const std::vector<Index>& hs, bool place_v);
   void remove_ear(Index v, Index h0, bool place_v);
   bool removable(Index v, const std::vector<Index>& hs, bool boundary) const;
+  void remove_degree_two(Index v, const std::vector<Index>& hs, bool place_v);
   bool loop_longer_than_three(Index v, Index h0) const;
   void move_point(Index p, Index f, const Eigen::Vector3d& b) {
     pt_face_[p] = f;
@@ -123,7 +124,7 @@ class Simplifier {
   std::vector<double> gap_;
   std::vector<std::pair<double, Index>> candidates_;
   std::vector<std::vector<Index>> fans_;
-  std::vector<char> bnd_;
+  std::vector<char> bnd_, keep_;
   std::vector<std::pair<Index, Eigen::Vector3d>> moving_bary_;
   Index alive_count_ = 0;
   SimplifyReport report_;
@@ -351,7 +352,8 @@ bool Simplifier::loop_longer_than_three(Index v, Index h0) const {
 // flipping it down to degree 3: their far ends (vertex ids), chosen so that the three angles
 // at v between them are below π and their largest is smallest (v well inside the face that
 // replaces them). False if there are none (an angle sum of 3π or more).
-bool keep_three(const std::vector<double>& gap, const std::vector<Index>& ends, Index keep[3]) {
+bool keep_three(const std::vector<double>& gap, const std::vector<Index>& ends,
+                std::vector<char>& keep) {
   const std::size_t d = gap.size();
   std::vector<double> phi(d + 1, 0.0);
   for (std::size_t i = 0; i < d; ++i) phi[i + 1] = phi[i] + gap[i];
@@ -361,7 +363,12 @@ bool keep_three(const std::vector<double>& gap, const std::vector<Index>& ends, 
       if (phi[j] - phi[i] >= best) break;
       for (std::size_t k = j + 1; k < d; ++k) {
         const double worst = std::max({phi[j] - phi[i], phi[k] - phi[j], phi[d] - phi[k] + phi[i]});
-        if (worst < best) best = worst, keep[0] = ends[i], keep[1] = ends[j], keep[2] = ends[k];
+        if (worst >= best || ends[i] == ends[j] || ends[j] == ends[k] || ends[k] == ends[i]) {
+          continue;  // (a repeated end: the face would have a self-edge)
+        }
+        best = worst;
+        keep.assign(d, 0);
+        keep[i] = keep[j] = keep[k] = 1;
       }
     }
   }
@@ -382,18 +389,20 @@ bool Simplifier::flip_fan_down(Index v, bool boundary, std::vector<Index>& hs) {
   std::vector<Index>& sorted = sorted_;
   sorted.assign(ends.begin(), ends.end());
   std::sort(sorted.begin(), sorted.end());
-  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
   if (std::binary_search(sorted.begin(), sorted.end(), v)) return false;  // a self-edge
-  Index keep[3] = {v, v, v};  // v is no spoke's end: nothing kept on a boundary fan
+  // a far end twice: allowed around a closed fan (a zipped boundary of the tufted cover: point
+  // clouds), not on a boundary fan
+  if (boundary && std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
+  std::vector<char>& keep = keep_;  // per spoke of hs: one of the three kept
+  keep.assign(hs.size(), 0);
   if (!boundary && hs.size() > 3 && !keep_three(gap, ends, keep)) return false;
   std::vector<std::pair<double, Index>>& candidates = candidates_;
   for (;;) {
-    if (hs.size() <= want) return hs.size() == want;
+    if (hs.size() <= want) return hs.size() == want || (!boundary && hs.size() == 2);
     candidates.clear();
-    for (Index h : hs) {
-      const Index t = sd_[h].twin;  // t: u→v in the previous face
-      const Index u = head(h);
-      if (t < 0 || u == keep[0] || u == keep[1] || u == keep[2]) continue;
+    for (std::size_t i = 0; i < hs.size(); ++i) {
+      const Index h = hs[i], t = sd_[h].twin;  // t: u→v in the previous face
+      if (t < 0 || keep[i]) continue;
       const double at_u = angle(T::next(h)) + angle(t);
       const double at_v = angle(h) + angle(T::next(t));
       if (at_u < kPi && at_v < kPi) candidates.emplace_back(at_u, h);
@@ -412,6 +421,7 @@ bool Simplifier::flip_fan_down(Index v, bool boundary, std::vector<Index>& hs) {
     const std::size_t i = std::find(hs.begin(), hs.end(), flipped) - hs.begin();
     hs[(i + hs.size() - 1) % hs.size()] = 3 * T::face(flipped) + 1;
     hs.erase(hs.begin() + i);
+    keep.erase(keep.begin() + i);
   }
 }
 
@@ -498,12 +508,70 @@ void Simplifier::remove_ear(Index v, Index h0, bool place_v) {
   touch_face(g);
 }
 
+// Removes v from its two faces (v, a, b), (v, b, a) (a zipped boundary of the tufted cover):
+// the faces go, their outer sides' partners are glued to each other (equal lengths, checked by
+// removable()); the points of the two faces (and v, when place_v) go to their closest points
+// on that edge, in the face of the first partner.
+void Simplifier::remove_degree_two(Index v, const std::vector<Index>& hs, bool place_v) {
+  const Index o0 = T::next(hs[0]), o1 = T::next(hs[1]);
+  const Index w0 = sd_[o0].twin, w1 = sd_[o1].twin;  // w0: b→a, w1: a→b
+  const Index a = sd_[o0].tail, b = sd_[o1].tail;
+  const double lab = sd_[o0].len;
+  auto along = [&](Index h, const Eigen::Vector3d& wb, bool from_a) {  // t from a to b
+    Eigen::Vector2d pos[3];  // the face of spoke h (v→x) laid out with its outer side on x
+    pos[T::side(T::next(h))] = Eigen::Vector2d(0.0, 0.0);
+    pos[T::side(T::prev(h))] = Eigen::Vector2d(lab, 0.0);
+    pos[T::side(h)] = triangle_apex(lab, sd_[T::prev(h)].len, sd_[h].len);
+    const Eigen::Vector2d P = wb[0] * pos[0] + wb[1] * pos[1] + wb[2] * pos[2];
+    const double t = std::clamp(P.x() / lab, 0.0, 1.0);
+    return from_a ? t : 1.0 - t;
+  };
+  const Index g = T::face(w0);
+  auto on_edge = [&](double t) {  // the point a + t·(b − a) in face g
+    Eigen::Vector3d nb = Eigen::Vector3d::Zero();
+    nb[T::side(w0)] = t;                 // b
+    nb[T::side(T::next(w0))] = 1.0 - t;  // a
+    return nb;
+  };
+  for (int i = 0; i < 2; ++i) {
+    const Index f = T::face(hs[i]);
+    std::vector<Index> moving;
+    moving.swap(pts_[f]);
+    for (Index q : moving) move_point(q, g, on_edge(along(hs[i], pt_bary_[q], i == 0)));
+    face_alive_[f] = 0;
+  }
+  if (place_v) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[T::side(hs[0])] = 1.0;
+    move_point(v, g, on_edge(along(hs[0], e, true)));
+  }
+  sd_[w0].twin = w1;
+  sd_[w1].twin = w0;
+  const Index f0 = T::face(hs[0]), f1 = T::face(hs[1]);
+  for (Index k = rep_start_[a]; k < rep_start_[a + 1]; ++k) {
+    if (T::face(rep_[k]) == f0 || T::face(rep_[k]) == f1) rep_[k] = T::next(w0);
+  }
+  for (Index k = rep_start_[b]; k < rep_start_[b + 1]; ++k) {
+    if (T::face(rep_[k]) == f0 || T::face(rep_[k]) == f1) rep_[k] = w0;
+  }
+  touch_face(g);
+  touch_face(T::face(w1));
+}
+
 // The checks a flipped-down fan must pass before anything is removed (simplify.h).
 bool Simplifier::removable(Index v, const std::vector<Index>& hs, bool boundary) const {
   if (boundary) {
     const Index o = T::next(hs[0]);
     return hs.size() == 1 && sd_[o].twin >= 0 && sd_[o].tail != head(o) && sd_[o].tail != v &&
            head(o) != v;
+  }
+  if (hs.size() == 2) {  // two faces (v, a, b), (v, b, a) whose outer sides get glued
+    const Index o0 = T::next(hs[0]), o1 = T::next(hs[1]);
+    const Index w0 = sd_[o0].twin, w1 = sd_[o1].twin, a = sd_[o0].tail, b = sd_[o1].tail;
+    const Index f0 = T::face(hs[0]), f1 = T::face(hs[1]);
+    return a != b && a != v && b != v && f0 != f1 && w0 >= 0 && w1 >= 0 && w0 != o1 &&
+           T::face(w0) != f0 && T::face(w0) != f1 && T::face(w1) != f0 && T::face(w1) != f1 &&
+           std::abs(sd_[o0].len - sd_[o1].len) <= 1e-12 * sd_[o0].len;
   }
   if (hs.size() != 3) return false;
   Index a[3];
@@ -557,6 +625,10 @@ bool Simplifier::try_remove(Index v) {
       const Index g = T::face(w);
       for (int s = 0; s < 3; ++s) stack.push_back(3 * g + s);
       ++report_.boundary_removals;
+    } else if (fans[k].size() == 2) {
+      const Index w = sd_[T::next(fans[k][0])].twin;
+      remove_degree_two(v, fans[k], k == 0);
+      for (int s = 0; s < 3; ++s) stack.push_back(3 * T::face(w) + s);
     } else {
       remove_interior(v, fans[k], k == 0);
       const Index f0 = T::face(fans[k][0]);

@@ -195,6 +195,19 @@ TEST(Simplify, TuftedCoverOfNonmanifoldMesh) {
   EXPECT_LT((L * Eigen::VectorXd::Ones(L.cols())).cwiseAbs().maxCoeff(), 1e-9);
 }
 
+// The tufted cover of a mesh with boundary: its boundary vertices have one closed fan that
+// runs over the front and back copies (zipped), with every neighbour but two twice.
+TEST(Simplify, TuftedCoverOfBoundary) {
+  const TriangleMesh m = grid(12, 12);
+  const IntrinsicTriangulation fine = tufted_cover(m.faces, m.positions);
+  SimplifyOptions o;
+  o.ratio = 0.2;
+  const Simplification s = simplify(fine, o);
+  EXPECT_LE(s.coarse.n_vertices(), Index(0.2 * fine.n_vertices()) + s.report.stuck + 1);
+  EXPECT_LT(s.coarse.n_vertices(), fine.n_vertices() / 3);
+  check(fine, s, /*same_euler=*/false);
+}
+
 TEST(Simplify, RepeatedCoarseningKeepsBoundaryLoops) {
   TriangleMesh m = grid(30, 30);
   // punch two holes: drop the faces of two cells blocks
