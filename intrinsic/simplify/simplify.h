@@ -77,9 +77,9 @@ struct Simplification {
 ///
 /// A vertex with several fans (a pinch; every vertex of the tufted cover of a manifold, which is
 /// two copies) is removed from all its fans at once, each flipped to degree 3 (it then lies in
-/// its first fan's coarse face); that raises the Euler characteristic by (fans − 1), so the
-/// Euler characteristic is kept where no such vertex is removed. A vertex stays (counted in
-/// report.stuck when the target is missed) when its star has a self-edge or a repeated
+/// its first fan's coarse face); that raises the Euler characteristic by (fans − 1) and can
+/// split a component at the pinch, so both are kept where no such vertex is removed. A vertex stays
+/// (counted in report.stuck when the target is missed) when its star has a self-edge or a repeated
 /// neighbour, a boundary fan among several, an angle sum of 3π or more (no three spokes with
 /// angles below π between them), no strictly convex flip left, a resulting face below the
 /// margin, a boundary loop at 3 vertices or a closed component at 4 vertices. So no valid
