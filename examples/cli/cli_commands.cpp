@@ -17,12 +17,13 @@ Command view_command();
 Command render_command();
 Command isolines_command();
 Command trace_command();
+Command simplify_command();
 
 std::vector<Command> all_commands() {
   return {info_command(),      laplacian_command(), refine_command(),   distance_command(),
           eigen_command(),     poisson_command(),   geodesic_command(), field_command(),
           transport_command(), logmap_command(),    view_command(),     render_command(),
-          isolines_command(),  trace_command()};
+          isolines_command(),  trace_command(),     simplify_command()};
 }
 
 }  // namespace ifem::cli

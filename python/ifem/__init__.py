@@ -17,7 +17,7 @@ Conventions shared by every function:
 One name per operation: the functions named after the CLI's commands (``ifem.info``,
 ``ifem.laplacian``, ``ifem.refine``, ``ifem.distance``, ``ifem.eigen``, ``ifem.poisson``,
 ``ifem.geodesic``, ``ifem.field``, ``ifem.transport``, ``ifem.logmap``, ``ifem.view``,
-``ifem.render``, ``ifem.isolines``, ``ifem.trace``) also take a file's path instead of ``V, F``,
+``ifem.render``, ``ifem.isolines``, ``ifem.trace``, ``ifem.simplify``) also take a file's path instead of ``V, F``,
 read with its normals as the CLI reads it; ``knn`` is the neighbour count of the point-cloud path everywhere. Older names (``heat_distance``, ``direction_field``,
 ``mesh_info``, ``VectorHeatSolver.log_map``) are deprecated aliases of the same functions.
 
@@ -53,9 +53,11 @@ from ._trace import *  # noqa: F401,F403
 from ._trace import __all__ as _trace_all
 from ._exact import *  # noqa: F401,F403
 from ._exact import __all__ as _exact_all
+from ._simplify import *  # noqa: F401,F403
+from ._simplify import __all__ as _simplify_all
 
 __version__ = "0.1.0"
 
 __all__ = (_errors_all + _mesh_all + _operators_all + _solvers_all + _refine_all +
            _geodesic_all + _curves_all + _fields_all + _view_all + _render_all + _isolines_all +
-           _signed_all + _trace_all + _exact_all)
+           _signed_all + _trace_all + _exact_all + _simplify_all)

@@ -33,6 +33,7 @@ void bind_isolines(py::module_& m);   // level sets of a per-vertex field as pol
 void bind_signed(py::module_& m);     // signed distance (signed heat method)
 void bind_exact(py::module_& m);      // exact geodesic distance
 void bind_trace(py::module_& m);      // straight geodesics from a point (exponential map)
+void bind_simplify(py::module_& m);   // intrinsic simplification and its prolongation
 
 /// The refined triangulation (ifem.refine's handle, bind_refine.cpp) and what refining it
 /// reported (no report after load()); bind_view.cpp traces its edges.

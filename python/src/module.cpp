@@ -125,4 +125,5 @@ PYBIND11_MODULE(_ifem, m) {
   ip::bind_signed(m);
   ip::bind_trace(m);
   ip::bind_exact(m);
+  ip::bind_simplify(m);
 }

@@ -17,6 +17,7 @@
 //   ifem view       recipes::view()       one offline HTML page of a scene (view_scene.h)
 //   ifem render     recipes::render()     a picture of a mesh, a field and curves (render.h)
 //   ifem trace      recipes::trace()      straight geodesics from a point (trace_geodesic.h)
+//   ifem simplify   recipes::simplify()   intrinsic simplification, map to the input
 //
 // These forward to the solvers:: functions that implement them (named after what they compute:
 // geodesic_distance, eigenmodes, direction_field_on, ...); use those for the variants (several
@@ -29,6 +30,7 @@
 #include <vector>
 
 #include "fem/operators.h"
+#include "intrinsic/simplify/simplify.h"
 #include "solvers/recipes/geodesic.h"
 #include "solvers/recipes/pipeline.h"
 #include "solvers/recipes/render.h"
@@ -68,6 +70,14 @@ inline PreparedSurface refine(io::SurfaceInput input,
 inline Eigen::VectorXd distance(const PreparedSurface& s, const std::vector<Index>& sources,
                                 const solvers::DistanceOptions& options = {}) {
   return solvers::geodesic_distance(s, sources, options);
+}
+
+/// `ifem simplify`: the intrinsic simplification of s.tri (intrinsic::simplify); its
+/// fine_in_coarse has one entry per vertex of s.tri (the input's first), fem::prolongation() of
+/// it is P.
+inline intrinsic::Simplification simplify(const PreparedSurface& s,
+                                          const intrinsic::SimplifyOptions& options) {
+  return intrinsic::simplify(s.tri, options);
 }
 
 /// `ifem eigen`: the k smallest eigenpairs, eigenvectors on the input (solvers::eigenmodes).

@@ -1,0 +1,769 @@
+// Intrinsic simplification (simplify.h): a working copy of the gluing map with dead faces,
+// per-fan representative halfedges, tracked points per face, and a lazy priority queue.
+#include "intrinsic/simplify/simplify.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <string>
+#include <tuple>
+#include <utility>
+
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/core/union_find.h"
+
+namespace ifem::intrinsic {
+
+void SimplifyOptions::validate() const {
+  const bool has_target = target_vertices != 0;
+  const bool has_ratio = ratio != 0.0;
+  if (has_target == has_ratio) {
+    throw InvalidInput(
+        "SimplifyOptions: set exactly one of target_vertices (> 0) and ratio (in (0, 1])");
+  }
+  if (has_target && target_vertices < 0) {
+    throw InvalidInput("SimplifyOptions.target_vertices must be > 0, got " +
+                       std::to_string(target_vertices));
+  }
+  if (has_ratio && !(ratio > 0.0 && ratio <= 1.0)) {
+    throw InvalidInput("SimplifyOptions.ratio must be in (0, 1], got " + std::to_string(ratio));
+  }
+}
+
+namespace {
+
+using T = IntrinsicTriangulation;
+constexpr double kPi = 3.14159265358979323846;
+// Relative margin every face made by a flip or a removal keeps in its triangle inequality
+// (validate() asks for 1e-12): a + b − c ≥ kMargin · (a + b + c).
+constexpr double kMargin = 1e-9;
+
+bool good_triangle(double a, double b, double c) {
+  const double m = kMargin * (a + b + c);
+  return std::isfinite(a + b + c) && a + b - c >= m && b + c - a >= m && c + a - b >= m;
+}
+
+// Barycentric coordinates of p in triangle (p0, p1, p2), clamped to ≥ 0 and normalised.
+Eigen::Vector3d bary_of(const Eigen::Vector2d& p, const Eigen::Vector2d& p0,
+                        const Eigen::Vector2d& p1, const Eigen::Vector2d& p2) {
+  const double area = cross2(p1 - p0, p2 - p0);
+  Eigen::Vector3d b(cross2(p1 - p, p2 - p), cross2(p2 - p, p0 - p), cross2(p0 - p, p1 - p));
+  b /= area;
+  return b;
+}
+
+Eigen::Vector3d clamp_bary(Eigen::Vector3d b) {
+  b = b.cwiseMax(0.0);
+  const double s = b.sum();
+  if (!(s > 0.0) || !std::isfinite(s)) return Eigen::Vector3d::Constant(1.0 / 3.0);
+  return b / s;
+}
+
+class Simplifier {
+ public:
+  explicit Simplifier(const IntrinsicTriangulation& fine);
+  void run(Index target, const ProgressCallback& on_progress);
+  Simplification finish(const IntrinsicTriangulation& fine);
+
+ private:
+  // ---- mesh ----
+  Index head(Index h) const { return sd_[T::next(h)].tail; }
+  double angle(Index h) const {  // corner angle of face(h) at tail(h)
+    return opposite_angle(sd_[T::next(h)].len, sd_[h].len, sd_[T::prev(h)].len);
+  }
+  double area(Index f) const {
+    return triangle_area(sd_[3 * f].len, sd_[3 * f + 1].len, sd_[3 * f + 2].len);
+  }
+  void set_side(Index slot, Index tail, Index twin, double len) {
+    sd_[slot].tail = tail;
+    sd_[slot].twin = twin;
+    sd_[slot].len = len;
+    if (twin >= 0) sd_[twin].twin = slot;
+  }
+  bool fan(Index rep, std::vector<Index>& out, bool& boundary) const;
+  bool flip(Index h);
+  bool is_delaunay(Index h) const;
+  void delaunay_repair(std::vector<Index>& stack);  // consumes the stack
+  void remap_reps(Index v, const Index* from, const Index* to, int n);
+  void touch_face(Index f);
+
+  // ---- removal ----
+  double cost(Index v);
+  bool try_remove(Index v);
+  bool flip_fan_down(Index v, bool boundary, std::vector<Index>& hs);
+  void remove_interior(Index v, const std::vector<Index>& hs, bool place_v);
+  void remove_ear(Index v, Index h0, bool place_v);
+  bool removable(Index v, const std::vector<Index>& hs, bool boundary) const;
+  void remove_degree_two(Index v, const std::vector<Index>& hs, bool place_v);
+  bool loop_longer_than_three(Index v, Index h0) const;
+  void move_point(Index p, Index f, const Eigen::Vector3d& b) {
+    pt_face_[p] = f;
+    pt_bary_[p] = b;
+    pts_[f].push_back(p);
+  }
+
+  Index nv_ = 0;
+  int multiplicity_ = 1;
+  struct Side {
+    Index tail, twin;  // vertex at the start; glued side or kInvalidIndex
+    double len;
+  };
+  std::vector<Side> sd_;  // #H: a face's three sides in one cache line
+  std::vector<char> face_alive_, vertex_alive_;
+  std::vector<Index> rep_start_, rep_;  // CSR: one outgoing halfedge per fan of each vertex
+  std::vector<Index> comp_;             // component of each vertex
+  std::vector<Index> comp_vertices_;    // alive vertices per component
+  std::vector<char> comp_closed_;
+  std::vector<double> comp_area0_, comp_density_;
+  std::vector<std::vector<Index>> pts_;  // per face: removed fine vertices inside it
+  std::vector<Index> pt_face_;
+  std::vector<Eigen::Vector3d> pt_bary_;
+  std::vector<Index> touched_;  // vertices whose star a rewrite changed
+  // scratch buffers, kept between calls (no allocation per removal)
+  std::vector<Index> moving_, hs_, ends_, sorted_, stack_;
+  std::vector<double> gap_;
+  std::vector<std::pair<double, Index>> candidates_;
+  std::vector<std::vector<Index>> fans_;
+  std::vector<char> bnd_, keep_;
+  std::vector<std::pair<Index, Eigen::Vector3d>> moving_bary_;
+  Index alive_count_ = 0;
+  SimplifyReport report_;
+};
+
+// Outgoing halfedges of the fan of `rep` in rotation order (twin(prev(h)) is the next one),
+// starting at its boundary side if the fan has one. False if the fan is not a simple walk.
+bool Simplifier::fan(Index rep, std::vector<Index>& out, bool& boundary) const {
+  out.clear();
+  boundary = false;
+  const Index v = sd_[rep].tail;
+  for (Index h = rep;;) {  // forward from rep: the next outgoing halfedge is twin(prev(h))
+    if (sd_[h].tail != v || out.size() > 4096) return false;
+    out.push_back(h);
+    const Index t = sd_[T::prev(h)].twin;
+    if (t == rep) return true;  // closed
+    if (t < 0) break;
+    h = t;
+  }
+  boundary = true;  // the ones before rep, back to the boundary side: next(twin(h)) each
+  const std::size_t n_after = out.size();
+  for (Index h = rep; sd_[h].twin >= 0;) {
+    h = T::next(sd_[h].twin);
+    if (sd_[h].tail != v || out.size() > 8192) return false;
+    out.push_back(h);
+  }
+  std::reverse(out.begin() + n_after, out.end());
+  std::rotate(out.begin(), out.begin() + n_after, out.end());
+  return true;
+}
+
+bool Simplifier::is_delaunay(Index h) const {
+  const Index t = sd_[h].twin;
+  if (t < 0) return true;
+  const double ca = opposite_cotan(sd_[h].len, sd_[T::next(h)].len, sd_[T::prev(h)].len);
+  const double cb = opposite_cotan(sd_[t].len, sd_[T::next(t)].len, sd_[T::prev(t)].len);
+  return !(ca + cb < -1e-12);
+}
+
+void Simplifier::remap_reps(Index v, const Index* from, const Index* to, int n) {
+  for (Index k = rep_start_[v]; k < rep_start_[v + 1]; ++k) {
+    for (int i = 0; i < n; ++i) {
+      if (rep_[k] == from[i] && sd_[to[i]].tail == v) {
+        rep_[k] = to[i];
+        break;
+      }
+    }
+  }
+}
+
+void Simplifier::touch_face(Index f) {
+  for (int s = 0; s < 3; ++s) touched_.push_back(sd_[3 * f + s].tail);
+}
+
+// Flips the edge of h in its diamond (a, b, c | b, a, d) to the diagonal c–d, moving the
+// points of both faces. False (nothing changed) unless the diamond is strictly convex and
+// both new faces keep the margin.
+bool Simplifier::flip(Index h) {
+  const Index t = sd_[h].twin;
+  if (t < 0) return false;
+  const Index f = T::face(h), g = T::face(t);
+  if (f == g) return false;
+  const Index h1 = T::next(h), h2 = T::prev(h), t1 = T::next(t), t2 = T::prev(t);
+  for (Index o : {h1, h2, t1, t2}) {
+    const Index w = sd_[o].twin;
+    if (w >= 0 && (T::face(w) == f || T::face(w) == g)) return false;
+  }
+  const Index a = sd_[h].tail, b = sd_[h1].tail, c = sd_[h2].tail, d = sd_[t2].tail;
+  if (c == d) return false;
+  const double lab = sd_[h].len, lbc = sd_[h1].len, lca = sd_[h2].len, lad = sd_[t1].len,
+               ldb = sd_[t2].len;
+  const Eigen::Vector2d A(0.0, 0.0), B(lab, 0.0);
+  const Eigen::Vector2d C = triangle_apex(lab, lbc, lca);
+  Eigen::Vector2d D = triangle_apex(lab, ldb, lad);
+  D.y() = -D.y();
+  const double sa = cross2(D - C, A - C), sb = cross2(D - C, B - C);
+  if (!(sa < 0.0 && sb > 0.0)) return false;  // A right of C→D, B left: strictly convex
+  const double lcd = (C - D).norm();
+  if (!good_triangle(lca, lad, lcd) || !good_triangle(ldb, lbc, lcd)) return false;
+  // old corner positions by slot, then the points of both faces
+  Eigen::Vector2d pf[3], pg[3];
+  pf[T::side(h)] = A, pf[T::side(h1)] = B, pf[T::side(h2)] = C;
+  pg[T::side(t)] = B, pg[T::side(t1)] = A, pg[T::side(t2)] = D;
+  std::vector<Index>& moving = moving_;
+  moving.assign(pts_[f].begin(), pts_[f].end());
+  const std::size_t nf = moving.size();
+  moving.insert(moving.end(), pts_[g].begin(), pts_[g].end());
+  pts_[f].clear();
+  pts_[g].clear();
+  const Index tw_h1 = sd_[h1].twin, tw_h2 = sd_[h2].twin, tw_t1 = sd_[t1].twin,
+              tw_t2 = sd_[t2].twin;
+  set_side(3 * f + 0, c, tw_h2, lca);
+  set_side(3 * f + 1, a, tw_t1, lad);
+  set_side(3 * f + 2, d, 3 * g + 2, lcd);
+  set_side(3 * g + 0, d, tw_t2, ldb);
+  set_side(3 * g + 1, b, tw_h1, lbc);
+  set_side(3 * g + 2, c, 3 * f + 2, lcd);
+  for (std::size_t i = 0; i < moving.size(); ++i) {
+    const Index p = moving[i];
+    const Eigen::Vector3d& w = pt_bary_[p];
+    const Eigen::Vector2d* q = i < nf ? pf : pg;
+    const Eigen::Vector2d P = w[0] * q[0] + w[1] * q[1] + w[2] * q[2];
+    const Eigen::Vector3d bf = bary_of(P, C, A, D), bg = bary_of(P, D, B, C);
+    if (bf.minCoeff() >= bg.minCoeff()) {
+      move_point(p, f, clamp_bary(bf));
+    } else {
+      move_point(p, g, clamp_bary(bg));
+    }
+  }
+  const Index from[6] = {h, t, h1, h2, t1, t2};
+  const Index to[6] = {3 * f + 1, 3 * g + 1, 3 * g + 1, 3 * f + 0, 3 * f + 1, 3 * g + 0};
+  for (Index x : {a, b, c, d}) remap_reps(x, from, to, 6);
+  // (from[] names slots by their old roles; remap_reps only checks the new tail)
+  touch_face(f);
+  touch_face(g);
+  ++report_.flips;
+  return true;
+}
+
+// Flips non-Delaunay edges reachable from the halfedges on the stack (a cap against loops).
+void Simplifier::delaunay_repair(std::vector<Index>& stack) {
+  std::size_t budget = 64 + 16 * stack.size();
+  while (!stack.empty() && budget > 0) {
+    const Index h = stack.back();
+    stack.pop_back();
+    if (!face_alive_[T::face(h)] || sd_[h].twin < 0 || is_delaunay(h)) continue;
+    const Index f = T::face(h), g = T::face(sd_[h].twin);
+    if (!flip(h)) continue;
+    --budget;
+    for (Index s : {3 * f, 3 * f + 1, 3 * g, 3 * g + 1}) stack.push_back(s);
+  }
+}
+
+Simplifier::Simplifier(const IntrinsicTriangulation& fine)
+    : nv_(fine.n_vertices()), multiplicity_(fine.multiplicity()), sd_(fine.tails().size()) {
+  const Index nh = fine.n_halfedges(), nf = fine.n_faces();
+  for (Index h = 0; h < nh; ++h) sd_[h] = {fine.tail(h), fine.twin(h), fine.halfedge_length(h)};
+  face_alive_.assign(nf, 1);
+  pts_.resize(nf);
+  pt_face_.assign(nv_, kInvalidIndex);
+  pt_bary_.assign(nv_, Eigen::Vector3d::Zero());
+  // fans: one representative per fan, found by walking every halfedge once
+  std::vector<char> seen(nh, 0);
+  std::vector<std::vector<Index>> reps(nv_);
+  std::vector<Index> hs;
+  for (Index h = 0; h < nh; ++h) {
+    if (seen[h]) continue;
+    bool boundary = false;
+    if (!fan(h, hs, boundary)) hs.assign(1, h);  // not a simple walk: h alone (never removed)
+    for (Index x : hs) seen[x] = 1;
+    reps[sd_[h].tail].push_back(hs.front());
+  }
+  rep_start_.assign(nv_ + 1, 0);
+  for (Index v = 0; v < nv_; ++v) rep_start_[v + 1] = rep_start_[v] + Index(reps[v].size());
+  for (Index v = 0; v < nv_; ++v) rep_.insert(rep_.end(), reps[v].begin(), reps[v].end());
+  // components (by faces), their vertex counts, areas and whether they are closed
+  UnionFind uf(nv_);
+  for (Index h = 0; h < nh; ++h) uf.unite(sd_[h].tail, head(h));
+  comp_.resize(nv_);
+  std::vector<Index> root_id(nv_, kInvalidIndex);
+  for (Index v = 0; v < nv_; ++v) {
+    const Index r = uf.find(v);
+    if (root_id[r] == kInvalidIndex) {
+      root_id[r] = Index(comp_vertices_.size());
+      comp_vertices_.push_back(0);
+    }
+    comp_[v] = root_id[r];
+    ++comp_vertices_[comp_[v]];
+  }
+  comp_closed_.assign(comp_vertices_.size(), 1);
+  comp_area0_.assign(comp_vertices_.size(), 0.0);
+  for (Index h = 0; h < nh; ++h) {
+    if (sd_[h].twin < 0) comp_closed_[comp_[sd_[h].tail]] = 0;
+  }
+  for (Index f = 0; f < nf; ++f) comp_area0_[comp_[sd_[3 * f].tail]] += area(f);
+  comp_density_.resize(comp_area0_.size());
+  for (std::size_t c = 0; c < comp_area0_.size(); ++c) {
+    comp_density_[c] = comp_area0_[c] > 0.0 ? 4.0 * kPi / comp_area0_[c] : 0.0;
+  }
+  vertex_alive_.assign(nv_, 1);
+  alive_count_ = nv_;
+}
+
+// Removal cost (simplify.h): star area × (|angle defect| + 4π / component area); +inf when v
+// cannot be removed as it is (no face, several fans one of which has a boundary, a boundary
+// angle ≥ π, a closed component at 4 vertices).
+double Simplifier::cost(Index v) {
+  const Index n_fans = rep_start_[v + 1] - rep_start_[v];
+  if (n_fans == 0) return HUGE_VAL;
+  if (comp_closed_[comp_[v]] && comp_vertices_[comp_[v]] <= 4) return HUGE_VAL;
+  std::vector<Index>& hs = hs_;
+  double star = 0.0, defect = 0.0;
+  for (Index k = rep_start_[v]; k < rep_start_[v + 1]; ++k) {
+    bool boundary = false;
+    if (!fan(rep_[k], hs, boundary)) return HUGE_VAL;
+    if (boundary && n_fans > 1) return HUGE_VAL;
+    double theta = 0.0;
+    for (Index h : hs) {
+      theta += angle(h);
+      star += area(T::face(h));
+    }
+    if (boundary && theta >= kPi * (1.0 - 1e-6)) return HUGE_VAL;
+    defect += std::abs((boundary ? kPi : 2.0 * kPi) - theta);
+  }
+  return star * (defect + star * comp_density_[comp_[v]]);
+}
+
+// True if the boundary loop through v (h0: v's outgoing boundary side) has 4+ vertices.
+bool Simplifier::loop_longer_than_three(Index v, Index h0) const {
+  Index h = h0;
+  for (int step = 0; step < 3; ++step) {
+    // the next boundary side: from head(h), rewind its fan to the boundary side
+    Index x = T::next(h);
+    for (int k = 0; sd_[x].twin >= 0; ++k) {
+      x = T::next(sd_[x].twin);
+      if (k > 4096) return false;
+    }
+    h = x;
+    if (sd_[h].tail == v) return false;
+  }
+  return true;
+}
+
+// The three spokes of the closed fan hs (outgoing halfedges in rotation order) to keep when
+// flipping it down to degree 3: their far ends (vertex ids), chosen so that the three angles
+// at v between them are below π and their largest is smallest (v well inside the face that
+// replaces them). False if there are none (an angle sum of 3π or more).
+bool keep_three(const std::vector<double>& gap, const std::vector<Index>& ends,
+                std::vector<char>& keep) {
+  const std::size_t d = gap.size();
+  std::vector<double> phi(d + 1, 0.0);
+  for (std::size_t i = 0; i < d; ++i) phi[i + 1] = phi[i] + gap[i];
+  double best = kPi;
+  for (std::size_t i = 0; i < d; ++i) {
+    for (std::size_t j = i + 1; j < d; ++j) {
+      if (phi[j] - phi[i] >= best) break;
+      for (std::size_t k = j + 1; k < d; ++k) {
+        const double worst = std::max({phi[j] - phi[i], phi[k] - phi[j], phi[d] - phi[k] + phi[i]});
+        if (worst >= best || ends[i] == ends[j] || ends[j] == ends[k] || ends[k] == ends[i]) {
+          continue;  // (a repeated end: the face would have a self-edge)
+        }
+        best = worst;
+        keep.assign(d, 0);
+        keep[i] = keep[j] = keep[k] = 1;
+      }
+    }
+  }
+  return best < kPi;
+}
+
+// Flips the spokes of the fan hs of v (outgoing halfedges in rotation order) until it has 3
+// faces (closed: the spokes keep_three() picks stay) or 1 face (boundary), each time the
+// flippable spoke whose far end has the smallest angle in its two faces (an ear of the star).
+// hs follows the flips. False when no spoke can be flipped.
+bool Simplifier::flip_fan_down(Index v, bool boundary, std::vector<Index>& hs) {
+  const std::size_t want = boundary ? 1 : 3;
+  std::vector<Index>& ends = ends_;
+  std::vector<double>& gap = gap_;
+  ends.resize(hs.size());
+  gap.resize(hs.size());
+  for (std::size_t i = 0; i < hs.size(); ++i) ends[i] = head(hs[i]), gap[i] = angle(hs[i]);
+  std::vector<Index>& sorted = sorted_;
+  sorted.assign(ends.begin(), ends.end());
+  std::sort(sorted.begin(), sorted.end());
+  if (std::binary_search(sorted.begin(), sorted.end(), v)) return false;  // a self-edge
+  // a far end twice: allowed around a closed fan (a zipped boundary of the tufted cover: point
+  // clouds), not on a boundary fan
+  if (boundary && std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
+  std::vector<char>& keep = keep_;  // per spoke of hs: one of the three kept
+  keep.assign(hs.size(), 0);
+  if (!boundary && hs.size() > 3 && !keep_three(gap, ends, keep)) return false;
+  std::vector<std::pair<double, Index>>& candidates = candidates_;
+  for (;;) {
+    if (hs.size() <= want) return hs.size() == want || (!boundary && hs.size() == 2);
+    candidates.clear();
+    for (std::size_t i = 0; i < hs.size(); ++i) {
+      const Index h = hs[i], t = sd_[h].twin;  // t: u→v in the previous face
+      if (t < 0 || keep[i]) continue;
+      const double at_u = angle(T::next(h)) + angle(t);
+      const double at_v = angle(h) + angle(T::next(t));
+      if (at_u < kPi && at_v < kPi) candidates.emplace_back(at_u, h);
+    }
+    std::sort(candidates.begin(), candidates.end());
+    Index flipped = kInvalidIndex;
+    for (const auto& c : candidates) {
+      if (flip(c.second)) {
+        flipped = c.second;
+        break;
+      }
+    }
+    if (flipped == kInvalidIndex) return false;
+    // the fan without the flipped spoke: the spoke before it (in the other face of the diamond)
+    // became v's side 3f+1 of the flipped face f; no other spoke moved
+    const std::size_t i = std::find(hs.begin(), hs.end(), flipped) - hs.begin();
+    hs[(i + hs.size() - 1) % hs.size()] = 3 * T::face(flipped) + 1;
+    hs.erase(hs.begin() + i);
+    keep.erase(keep.begin() + i);
+  }
+}
+
+// Replaces the degree-3 fan hs of v by the face of its three outer sides (reusing the first
+// face's slots). The points of the three faces (and v, when place_v) go to the new face: v at
+// the barycentric coordinates given by the three faces' areas (its own, when the star is flat),
+// each face (v, a_i, a_i+1) mapped linearly onto (that point, a_i, a_i+1).
+void Simplifier::remove_interior(Index v, const std::vector<Index>& hs, bool place_v) {
+  Index F[3], o[3], a[3], tw[3];
+  double l[3], A[3];
+  for (int i = 0; i < 3; ++i) {
+    F[i] = T::face(hs[i]);
+    o[i] = T::next(hs[i]);
+    a[i] = sd_[o[i]].tail;
+    A[i] = area(F[i]);
+    tw[i] = sd_[o[i]].twin;
+    l[i] = sd_[o[i]].len;
+  }
+  Eigen::Vector3d q;
+  for (int i = 0; i < 3; ++i) q[(i + 2) % 3] = A[i];
+  q = clamp_bary(q);
+  auto& moving = moving_bary_;
+  moving.clear();
+  for (int i = 0; i < 3; ++i) {
+    const int sv = T::side(hs[i]), sa = T::side(o[i]), sb = T::side(T::prev(hs[i]));
+    for (Index p : pts_[F[i]]) {
+      const Eigen::Vector3d& w = pt_bary_[p];
+      Eigen::Vector3d nb = w[sv] * q;
+      nb[i] += w[sa];
+      nb[(i + 1) % 3] += w[sb];
+      moving.emplace_back(p, nb);
+    }
+    pts_[F[i]].clear();
+  }
+  face_alive_[F[1]] = face_alive_[F[2]] = 0;
+  const Index f0 = F[0];
+  for (int i = 0; i < 3; ++i) set_side(3 * f0 + i, a[i], tw[i], l[i]);
+  for (int i = 0; i < 3; ++i) {
+    for (Index k = rep_start_[a[i]]; k < rep_start_[a[i] + 1]; ++k) {
+      const Index fr = T::face(rep_[k]);
+      if (fr == F[0] || fr == F[1] || fr == F[2]) rep_[k] = 3 * f0 + i;
+    }
+  }
+  for (const auto& [p, nb] : moving) move_point(p, f0, clamp_bary(nb));
+  if (place_v) move_point(v, f0, q);
+  touch_face(f0);
+}
+
+// Cuts off the ear face(h0) = (v, x, y) of boundary vertex v (h0: v→x on the boundary); its
+// points (and v, when place_v) go to their closest points on the side x–y of the face across it.
+void Simplifier::remove_ear(Index v, Index h0, bool place_v) {
+  const Index F = T::face(h0), o = T::next(h0), p = T::prev(h0), w = sd_[o].twin;
+  const Index x = sd_[o].tail, y = sd_[p].tail;
+  const double lxy = sd_[o].len;
+  Eigen::Vector2d pos[3];
+  pos[T::side(o)] = Eigen::Vector2d(0.0, 0.0);
+  pos[T::side(p)] = Eigen::Vector2d(lxy, 0.0);
+  pos[T::side(h0)] = triangle_apex(lxy, sd_[p].len, sd_[h0].len);
+  const Index g = T::face(w);
+  auto on_side = [&](const Eigen::Vector3d& wb) {
+    const Eigen::Vector2d P = wb[0] * pos[0] + wb[1] * pos[1] + wb[2] * pos[2];
+    const double t = std::clamp(P.x() / lxy, 0.0, 1.0);
+    Eigen::Vector3d nb = Eigen::Vector3d::Zero();
+    nb[T::side(w)] = t;                 // y
+    nb[T::side(T::next(w))] = 1.0 - t;  // x
+    return nb;
+  };
+  std::vector<Index> moving;
+  moving.swap(pts_[F]);
+  for (Index q : moving) move_point(q, g, on_side(pt_bary_[q]));
+  if (place_v) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[T::side(h0)] = 1.0;
+    move_point(v, g, on_side(e));
+  }
+  face_alive_[F] = 0;
+  sd_[w].twin = kInvalidIndex;
+  for (Index k = rep_start_[x]; k < rep_start_[x + 1]; ++k) {
+    if (T::face(rep_[k]) == F) rep_[k] = T::next(w);
+  }
+  for (Index k = rep_start_[y]; k < rep_start_[y + 1]; ++k) {
+    if (T::face(rep_[k]) == F) rep_[k] = w;
+  }
+  touch_face(g);
+}
+
+// Removes v from its two faces (v, a, b), (v, b, a) (a zipped boundary of the tufted cover):
+// the faces go, their outer sides' partners are glued to each other (equal lengths, checked by
+// removable()); the points of the two faces (and v, when place_v) go to their closest points
+// on that edge, in the face of the first partner.
+void Simplifier::remove_degree_two(Index v, const std::vector<Index>& hs, bool place_v) {
+  const Index o0 = T::next(hs[0]), o1 = T::next(hs[1]);
+  const Index w0 = sd_[o0].twin, w1 = sd_[o1].twin;  // w0: b→a, w1: a→b
+  const Index a = sd_[o0].tail, b = sd_[o1].tail;
+  const double lab = sd_[o0].len;
+  auto along = [&](Index h, const Eigen::Vector3d& wb, bool from_a) {  // t from a to b
+    Eigen::Vector2d pos[3];  // the face of spoke h (v→x) laid out with its outer side on x
+    pos[T::side(T::next(h))] = Eigen::Vector2d(0.0, 0.0);
+    pos[T::side(T::prev(h))] = Eigen::Vector2d(lab, 0.0);
+    pos[T::side(h)] = triangle_apex(lab, sd_[T::prev(h)].len, sd_[h].len);
+    const Eigen::Vector2d P = wb[0] * pos[0] + wb[1] * pos[1] + wb[2] * pos[2];
+    const double t = std::clamp(P.x() / lab, 0.0, 1.0);
+    return from_a ? t : 1.0 - t;
+  };
+  const Index g = T::face(w0);
+  auto on_edge = [&](double t) {  // the point a + t·(b − a) in face g
+    Eigen::Vector3d nb = Eigen::Vector3d::Zero();
+    nb[T::side(w0)] = t;                 // b
+    nb[T::side(T::next(w0))] = 1.0 - t;  // a
+    return nb;
+  };
+  for (int i = 0; i < 2; ++i) {
+    const Index f = T::face(hs[i]);
+    std::vector<Index> moving;
+    moving.swap(pts_[f]);
+    for (Index q : moving) move_point(q, g, on_edge(along(hs[i], pt_bary_[q], i == 0)));
+    face_alive_[f] = 0;
+  }
+  if (place_v) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[T::side(hs[0])] = 1.0;
+    move_point(v, g, on_edge(along(hs[0], e, true)));
+  }
+  sd_[w0].twin = w1;
+  sd_[w1].twin = w0;
+  const Index f0 = T::face(hs[0]), f1 = T::face(hs[1]);
+  for (Index k = rep_start_[a]; k < rep_start_[a + 1]; ++k) {
+    if (T::face(rep_[k]) == f0 || T::face(rep_[k]) == f1) rep_[k] = T::next(w0);
+  }
+  for (Index k = rep_start_[b]; k < rep_start_[b + 1]; ++k) {
+    if (T::face(rep_[k]) == f0 || T::face(rep_[k]) == f1) rep_[k] = w0;
+  }
+  touch_face(g);
+  touch_face(T::face(w1));
+}
+
+// The checks a flipped-down fan must pass before anything is removed (simplify.h).
+bool Simplifier::removable(Index v, const std::vector<Index>& hs, bool boundary) const {
+  if (boundary) {
+    const Index o = T::next(hs[0]);
+    return hs.size() == 1 && sd_[o].twin >= 0 && sd_[o].tail != head(o) && sd_[o].tail != v &&
+           head(o) != v;
+  }
+  if (hs.size() == 2) {  // two faces (v, a, b), (v, b, a) whose outer sides get glued
+    const Index o0 = T::next(hs[0]), o1 = T::next(hs[1]);
+    const Index w0 = sd_[o0].twin, w1 = sd_[o1].twin, a = sd_[o0].tail, b = sd_[o1].tail;
+    const Index f0 = T::face(hs[0]), f1 = T::face(hs[1]);
+    return a != b && a != v && b != v && f0 != f1 && w0 >= 0 && w1 >= 0 && w0 != o1 &&
+           T::face(w0) != f0 && T::face(w0) != f1 && T::face(w1) != f0 && T::face(w1) != f1 &&
+           std::abs(sd_[o0].len - sd_[o1].len) <= 1e-12 * sd_[o0].len;
+  }
+  if (hs.size() != 3) return false;
+  Index a[3];
+  double l[3];
+  for (int i = 0; i < 3; ++i) {
+    const Index o = T::next(hs[i]);
+    a[i] = sd_[o].tail;
+    l[i] = sd_[o].len;
+    const Index w = sd_[o].twin;
+    for (Index x : hs) {
+      if (w >= 0 && T::face(w) == T::face(x)) return false;  // glued inside the star
+    }
+  }
+  if (a[0] == a[1] || a[1] == a[2] || a[2] == a[0] || a[0] == v || a[1] == v || a[2] == v) {
+    return false;
+  }
+  return good_triangle(l[0], l[1], l[2]);
+}
+
+// Flips every fan of v down (3 faces, or an ear), checks, removes. False (after a Delaunay
+// repair of what the flips changed) when v cannot be removed now.
+bool Simplifier::try_remove(Index v) {
+  const Index n_fans = rep_start_[v + 1] - rep_start_[v];
+  if (n_fans == 0 || (comp_closed_[comp_[v]] && comp_vertices_[comp_[v]] <= 4)) return false;
+  std::vector<std::vector<Index>>& fans = fans_;
+  if (Index(fans.size()) < n_fans) fans.resize(n_fans);
+  for (Index k = 0; k < n_fans; ++k) fans[k].clear();
+  std::vector<char>& bnd = bnd_;
+  bnd.assign(n_fans, 0);
+  bool ok = true;
+  for (Index k = 0; k < n_fans && ok; ++k) {
+    bool b = false;
+    ok = fan(rep_[rep_start_[v] + k], fans[k], b) && !(b && n_fans > 1);
+    bnd[k] = b;
+    if (ok && b) ok = loop_longer_than_three(v, fans[k][0]);
+    if (ok) ok = flip_fan_down(v, b, fans[k]) && removable(v, fans[k], b);
+  }
+  std::vector<Index>& stack = stack_;
+  stack.clear();
+  if (!ok) {
+    for (Index k = 0; k < n_fans; ++k) {
+      for (Index h : fans[k]) stack.push_back(T::next(h));
+    }
+    delaunay_repair(stack);
+    return false;
+  }
+  for (Index k = 0; k < n_fans; ++k) {
+    if (bnd[k]) {
+      const Index w = sd_[T::next(fans[k][0])].twin;
+      remove_ear(v, fans[k][0], k == 0);
+      const Index g = T::face(w);
+      for (int s = 0; s < 3; ++s) stack.push_back(3 * g + s);
+      ++report_.boundary_removals;
+    } else if (fans[k].size() == 2) {
+      const Index w = sd_[T::next(fans[k][0])].twin;
+      remove_degree_two(v, fans[k], k == 0);
+      for (int s = 0; s < 3; ++s) stack.push_back(3 * T::face(w) + s);
+    } else {
+      remove_interior(v, fans[k], k == 0);
+      const Index f0 = T::face(fans[k][0]);
+      for (int s = 0; s < 3; ++s) stack.push_back(3 * f0 + s);
+    }
+  }
+  vertex_alive_[v] = 0;
+  --comp_vertices_[comp_[v]];
+  --alive_count_;
+  ++report_.removals;
+  delaunay_repair(stack);
+  return true;
+}
+
+// Lazy greedy: a vertex whose star changed is marked dirty, and its cost is recomputed (and
+// the vertex queued again) only when it comes out of the queue; a vertex not queued (failed, or
+// of infinite cost) is queued again when its star changes.
+void Simplifier::run(Index target, const ProgressCallback& on_progress) {
+  std::vector<Index>& stack = stack_;
+  for (Index h = 0; h < Index(sd_.size()); ++h) {
+    if (sd_[h].twin > h) stack.push_back(h);
+  }
+  delaunay_repair(stack);
+  touched_.clear();
+  using Entry = std::pair<double, Index>;  // cost, vertex
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  std::vector<char> queued(nv_, 0), dirty(nv_, 0);
+  for (Index v = 0; v < nv_; ++v) {
+    const double c = cost(v);
+    if (c < HUGE_VAL) queue.emplace(c, v), queued[v] = 1;
+  }
+  const Index wanted = std::max<Index>(alive_count_ - target, 0);
+  ProgressMeter meter(on_progress, "simplify", std::max<Index>(wanted, 1));
+  while (alive_count_ > target && !queue.empty()) {
+    const Index v = queue.top().second;
+    queue.pop();
+    queued[v] = 0;
+    if (!vertex_alive_[v]) continue;
+    if (dirty[v]) {
+      dirty[v] = 0;
+      const double c = cost(v);
+      if (c < HUGE_VAL) queue.emplace(c, v), queued[v] = 1;
+      continue;
+    }
+    touched_.clear();
+    if (!try_remove(v)) continue;
+    meter.update(report_.removals);
+    for (Index u : touched_) {
+      if (!vertex_alive_[u]) continue;
+      if (queued[u]) {
+        dirty[u] = 1;
+      } else {
+        const double c = cost(u);
+        if (c < HUGE_VAL) queue.emplace(c, u), queued[u] = 1, dirty[u] = 0;
+      }
+    }
+  }
+  report_.stuck = std::max<Index>(alive_count_ - target, 0);
+  meter.finish();
+}
+
+Simplification Simplifier::finish(const IntrinsicTriangulation& fine) {
+  Simplification s;
+  const Index nf = Index(face_alive_.size());
+  std::vector<Index> face_id(nf, kInvalidIndex), vertex_id(nv_, kInvalidIndex);
+  Index nfc = 0;
+  for (Index f = 0; f < nf; ++f) {
+    if (face_alive_[f]) face_id[f] = nfc++;
+  }
+  for (Index v = 0; v < nv_; ++v) {
+    if (!vertex_alive_[v]) continue;
+    vertex_id[v] = Index(s.coarse_to_fine.size());
+    s.coarse_to_fine.push_back(v);
+  }
+  std::vector<double> comp_area(comp_area0_.size(), 0.0);
+  for (Index f = 0; f < nf; ++f) {
+    if (face_alive_[f]) comp_area[comp_[sd_[3 * f].tail]] += area(f);
+  }
+  std::vector<double> scale(comp_area.size(), 1.0);
+  for (std::size_t c = 0; c < comp_area.size(); ++c) {
+    if (!(comp_area[c] > 0.0) || !(comp_area0_[c] > 0.0)) continue;
+    scale[c] = std::sqrt(comp_area0_[c] / comp_area[c]);
+    report_.area_change_before_rescale =
+        std::max(report_.area_change_before_rescale, std::abs(comp_area[c] / comp_area0_[c] - 1.0));
+  }
+  std::vector<Index> tail(3 * std::size_t(nfc)), twin(3 * std::size_t(nfc));
+  std::vector<double> len(3 * std::size_t(nfc));
+  for (Index f = 0; f < nf; ++f) {
+    if (!face_alive_[f]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Index h = 3 * f + k, hc = 3 * face_id[f] + k;
+      tail[hc] = vertex_id[sd_[h].tail];
+      twin[hc] = sd_[h].twin < 0 ? kInvalidIndex
+                                 : 3 * face_id[T::face(sd_[h].twin)] + T::side(sd_[h].twin);
+      len[hc] = sd_[h].len * scale[comp_[sd_[h].tail]];
+    }
+  }
+  s.coarse = IntrinsicTriangulation::from_gluing(std::move(tail), std::move(twin), len,
+                                                 Index(s.coarse_to_fine.size()), multiplicity_);
+  s.fine_in_coarse.resize(nv_);
+  for (Index v = 0; v < nv_; ++v) {
+    SurfacePoint& sp = s.fine_in_coarse[v];
+    if (!vertex_alive_[v]) {
+      sp.face = face_id[pt_face_[v]];
+      sp.bary = pt_bary_[v];
+    } else if (rep_start_[v + 1] > rep_start_[v]) {
+      const Index h = rep_[rep_start_[v]];
+      sp.face = face_id[T::face(h)];
+      sp.bary = Eigen::Vector3d::Zero();
+      sp.bary[T::side(h)] = 1.0;
+    }
+  }
+  report_.vertices_before = nv_;
+  report_.vertices_after = Index(s.coarse_to_fine.size());
+  report_.area_before = total_area(fine);
+  s.report = report_;
+  return s;
+}
+
+}  // namespace
+
+Simplification simplify(const IntrinsicTriangulation& fine, const SimplifyOptions& options) {
+  options.validate();
+  const Index nv = fine.n_vertices();
+  Index target = options.target_vertices;
+  if (target > 0 && target >= nv) {
+    throw InvalidInput("simplify: target_vertices (" + std::to_string(target) +
+                       ") must be below the input's vertex count (" + std::to_string(nv) + ")");
+  }
+  if (target == 0) {
+    target = std::max<Index>(1, Index(std::llround(options.ratio * double(nv))));
+  }
+  Simplifier s(fine);
+  s.run(target, options.on_progress);
+  return s.finish(fine);
+}
+
+}  // namespace ifem::intrinsic

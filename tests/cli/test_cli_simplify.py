@@ -1,0 +1,134 @@
+"""`ifem simplify` (intrinsic simplification): the .ifem output is a valid coarse intrinsic
+triangulation (glued sides agree, every face satisfies the triangle inequality) with the input's
+total area, its map puts every input vertex in a coarse face with barycentric coordinates ≥ 0
+summing to 1; the PLY's vertices are input vertices at their input positions; --map rows are P's
+(≥ 0, summing to 1); nonmanifold input goes through the tufted cover; refusals have their exit
+code, one stderr line and no partial output; and every small mesh of ../shared/data simplifies."""
+
+import math
+
+import pytest
+
+from clitools import obj_faces, obj_vertices
+
+
+def read_ifem(path):
+    rows = open(path).read().split("\n")
+    assert rows[0] == "ifem-simplify 1"
+    nvc, nf, mult, nv = (int(x) for x in rows[1].split())
+    sides = []
+    for f in range(nf):
+        t = rows[2 + f].split()
+        sides += [(int(t[3 * k]), int(t[3 * k + 1]), float(t[3 * k + 2])) for k in range(3)]
+    at = 2 + nf
+    coarse_to_fine = [int(x) for x in rows[at:at + nvc]]
+    at += nvc
+    points = [rows[at + i].split() for i in range(nv)]
+    points = [(int(p[0]), [float(x) for x in p[1:]]) for p in points]
+    return nvc, nf, mult, sides, coarse_to_fine, points
+
+
+def heron(a, b, c):
+    s = (a + b + c) / 2
+    return math.sqrt(max(s * (s - a) * (s - b) * (s - c), 0.0))
+
+
+def check_ifem(path, n_input, input_area):
+    nvc, nf, mult, sides, c2f, points = read_ifem(path)
+    assert len(c2f) == nvc and len(points) == n_input and len(set(c2f)) == nvc
+    area = 0.0
+    for f in range(nf):
+        a, b, c = (sides[3 * f + k][2] for k in range(3))
+        for x, y, z in ((a, b, c), (b, c, a), (c, a, b)):
+            assert x + y - z > 1e-12 * (x + y + z)
+        area += heron(a, b, c)
+    for h, (tail, twin, length) in enumerate(sides):
+        if twin >= 0:
+            assert sides[twin][1] == h and sides[twin][2] == length
+            nxt = 3 * (twin // 3) + (twin % 3 + 1) % 3
+            assert sides[nxt][0] == tail  # glued sides run in opposite directions
+    assert area / mult == pytest.approx(input_area, rel=1e-9)
+    for v, (face, bary) in enumerate(points):
+        assert 0 <= face < nf
+        assert min(bary) >= 0.0 and sum(bary) == pytest.approx(1.0, abs=1e-12)
+    for c, v in enumerate(c2f):  # a kept vertex is a corner of its face with coordinate 1
+        face, bary = points[v]
+        corners = [sides[3 * face + k][0] for k in range(3)]
+        assert sum(b for k, b in enumerate(bary) if corners[k] == c) == 1.0
+    return nvc
+
+
+def obj_area(path):
+    v, f = obj_vertices(path), obj_faces(path)
+    total = 0.0
+    for t in f:
+        p = [v[i - 1] for i in t]
+        u = [p[1][k] - p[0][k] for k in range(3)]
+        w = [p[2][k] - p[0][k] for k in range(3)]
+        cr = (u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0])
+        total += 0.5 * math.sqrt(sum(x * x for x in cr))
+    return total
+
+
+@pytest.mark.parametrize("n", [300, 40])
+def test_ifem_output_is_valid_and_keeps_the_area(cli, n):
+    r = cli.ok("simplify", cli.spot, "--vertices", n, "-o", "c.ifem", "--quiet")
+    assert f"-> {n} " in r.out
+    n_input = len(obj_vertices(cli.spot))
+    assert check_ifem(cli.out / "c.ifem", n_input, obj_area(cli.spot)) == n
+
+
+def test_ply_and_map(cli):
+    cli.ok("simplify", cli.spot, "--ratio", "0.1", "-o", "c.ply", "--ascii", "--map", "m.txt",
+           "--quiet")
+    verts = obj_vertices(cli.spot)
+    rows = open(cli.out / "c.ply").read().split("\n")
+    nvc = int(next(r for r in rows if r.startswith("element vertex")).split()[2])
+    assert nvc == round(0.1 * len(verts))
+    body = rows[rows.index("end_header") + 1:]
+    for line in body[:nvc]:
+        x, y, z, vid = (float(t) for t in line.split())
+        assert [x, y, z] == pytest.approx(verts[int(vid)], abs=1e-12)
+    maps = [r.split() for r in open(cli.out / "m.txt").read().strip().split("\n")]
+    assert len(maps) == len(verts)
+    for m in maps:
+        ids, w = [int(t) for t in m[:3]], [float(t) for t in m[3:]]
+        assert all(0 <= i < nvc for i in ids)
+        assert min(w) >= 0 and sum(w) == pytest.approx(1.0, abs=1e-12)
+
+
+def test_nonmanifold_goes_through_the_tufted_cover(cli):
+    path = cli.data / "triple_vierbein.obj"
+    r = cli.ok("simplify", path, "--ratio", "0.5", "-o", "c.ifem", "--quiet")
+    assert "vertices: 75 ->" in r.out
+    _, _, mult, _, _, _ = read_ifem(cli.out / "c.ifem")
+    assert mult == 2
+
+
+@pytest.mark.parametrize("args, regex", [
+    ([], "exactly one of --vertices N and --ratio R"),
+    (["--vertices", "10", "--ratio", "0.5"], "exactly one of --vertices N and --ratio R"),
+    (["--ratio", "0"], "--ratio"),
+    (["--ratio", "1.5"], "--ratio"),
+    (["--vertices", "2930"], "must be below the input's 2930 vertices"),
+])
+def test_refusals(cli, args, regex):
+    cli.refuse(2, regex, cli.out / "c.ifem", "simplify", cli.spot, *args)
+
+
+def test_bad_extension(cli):
+    cli.refuse(2, r"\.ply or \.ifem", cli.out / "c.obj", "simplify", cli.spot, "--ratio", "0.5")
+
+
+def test_every_small_shared_mesh(cli, shared_data):
+    meshes = sorted(p for p in (shared_data / "meshes").iterdir() if p.stat().st_size < 150_000)
+    assert len(meshes) > 10
+    for p in meshes:
+        r = cli.run("simplify", p, "--ratio", "0.2", "-o", "c.ifem", "--quiet")
+        if r.rc != 0:  # only inputs without a surface may be refused
+            assert "no surface" in r.last_err_line(), r.describe()
+            continue
+        nvc, nf, _, sides, _, points = read_ifem(cli.out / "c.ifem")
+        assert nf > 0 and len(sides) == 3 * nf
+        for face, bary in points:
+            assert face == -1 or (0 <= face < nf and min(bary) >= 0)

@@ -1,0 +1,297 @@
+// Intrinsic simplification (intrinsic/simplify/simplify.h) and its prolongation
+// (fem/prolongation.h): invariants after every removal, the tracked points, boundary, several
+// components, the tufted cover, repeated coarsening, refusals, and the sphere's spectrum.
+#include "intrinsic/simplify/simplify.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "fem/operators.h"
+#include "fem/prolongation.h"
+#include "helpers.h"
+#include "intrinsic/core/geometry.h"
+#include "intrinsic/core/union_find.h"
+#include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/surface/tufted_cover.h"
+#include "solvers/scalar/eigen.h"
+
+namespace ifem::intrinsic {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+IntrinsicTriangulation mesh_of(const TriangleMesh& m) {
+  return IntrinsicTriangulation::from_positions(m.faces, m.positions);
+}
+
+// Boundary loops of a triangulation: boundary sides joined head to tail.
+Index boundary_loops(const IntrinsicTriangulation& tri) {
+  std::vector<Index> sides;
+  for (Index h = 0; h < tri.n_halfedges(); ++h) {
+    if (tri.twin(h) == kInvalidIndex) sides.push_back(h);
+  }
+  UnionFind uf(tri.n_vertices());
+  for (Index h : sides) uf.unite(tri.tail(h), tri.head(h));
+  std::vector<char> root(tri.n_vertices(), 0);
+  Index loops = 0;
+  for (Index h : sides) {
+    const Index r = uf.find(tri.tail(h));
+    if (!root[r]) root[r] = 1, ++loops;
+  }
+  return loops;
+}
+
+Index components(const IntrinsicTriangulation& tri) {
+  UnionFind uf(tri.n_vertices());
+  for (Index h = 0; h < tri.n_halfedges(); ++h) uf.unite(tri.tail(h), tri.head(h));
+  Index n = 0;
+  for (Index v = 0; v < tri.n_vertices(); ++v) {
+    if (tri.vertex_halfedge(v) != kInvalidIndex && uf.find(v) == v) ++n;
+  }
+  return n;
+}
+
+// Everything simplify.h promises about one result (Euler characteristic and component count
+// only when asked: removing a vertex with two fans changes them).
+void check(const IntrinsicTriangulation& fine, const Simplification& s, bool same_euler = true) {
+  ASSERT_NO_THROW(s.coarse.validate());
+  EXPECT_EQ(s.coarse.n_vertices(), Index(s.coarse_to_fine.size()));
+  EXPECT_EQ(s.coarse.multiplicity(), fine.multiplicity());
+  if (same_euler) {
+    EXPECT_EQ(euler_characteristic(s.coarse), euler_characteristic(fine));
+    EXPECT_NEAR(angle_defects(s.coarse).sum(), 2.0 * kPi * double(euler_characteristic(fine)),
+                1e-9);
+  }
+  EXPECT_NEAR(total_area(s.coarse), total_area(fine), 1e-12 * total_area(fine));
+  EXPECT_EQ(boundary_loops(s.coarse), boundary_loops(fine));
+  if (same_euler) EXPECT_EQ(components(s.coarse), components(fine));  // a pinch can split
+  ASSERT_EQ(Index(s.fine_in_coarse.size()), fine.n_vertices());
+  for (Index v = 0; v < fine.n_vertices(); ++v) {
+    const SurfacePoint& p = s.fine_in_coarse[v];
+    if (fine.vertex_halfedge(v) == kInvalidIndex) {  // unreferenced: kept, no face
+      EXPECT_EQ(p.face, kInvalidIndex);
+      continue;
+    }
+    ASSERT_GE(p.face, 0);
+    ASSERT_LT(p.face, s.coarse.n_faces());
+    EXPECT_GE(p.bary.minCoeff(), 0.0);
+    EXPECT_NEAR(p.bary.sum(), 1.0, 1e-12);
+  }
+  for (Index c = 0; c < s.coarse.n_vertices(); ++c) {
+    const SurfacePoint& p = s.fine_in_coarse[s.coarse_to_fine[c]];  // a corner, coordinate 1
+    if (p.face == kInvalidIndex) continue;
+    double at_c = 0.0;
+    for (int k = 0; k < 3; ++k) at_c += s.coarse.tail(3 * p.face + k) == c ? p.bary[k] : 0.0;
+    EXPECT_EQ(at_c, 1.0);
+  }
+  const fem::SparseMatrix P = fem::prolongation(s);
+  ASSERT_EQ(P.rows(), fine.n_vertices());
+  ASSERT_EQ(P.cols(), s.coarse.n_vertices());
+  const Eigen::VectorXd rows = P * Eigen::VectorXd::Ones(P.cols());
+  EXPECT_LT((rows.array() - 1.0).abs().maxCoeff(), 1e-12);
+  for (int k = 0; k < P.outerSize(); ++k) {
+    for (fem::SparseMatrix::InnerIterator it(P, k); it; ++it) EXPECT_GE(it.value(), 0.0);
+  }
+}
+
+SimplifyOptions to(Index n) {
+  SimplifyOptions o;
+  o.target_vertices = n;
+  return o;
+}
+
+TEST(Simplify, IcosphereEveryRemoval) {
+  const IntrinsicTriangulation fine = mesh_of(icosphere(3));  // 92 vertices
+  for (Index n = fine.n_vertices() - 1; n >= 4; --n) {
+    SCOPED_TRACE(n);
+    const Simplification s = simplify(fine, to(n));
+    EXPECT_EQ(s.coarse.n_vertices(), n);
+    EXPECT_EQ(s.report.removals, fine.n_vertices() - n);
+    EXPECT_EQ(s.report.stuck, 0);
+    check(fine, s);
+  }
+}
+
+TEST(Simplify, BoundaryEveryRemoval) {
+  const IntrinsicTriangulation fine = mesh_of(grid(6, 5));  // 42 vertices, one loop
+  Index last = fine.n_vertices();
+  for (Index n = fine.n_vertices() - 1; n >= 3; --n) {
+    SCOPED_TRACE(n);
+    const Simplification s = simplify(fine, to(n));
+    check(fine, s);
+    EXPECT_LE(s.coarse.n_vertices(), last);
+    last = s.coarse.n_vertices();
+  }
+  EXPECT_GT(simplify(fine, to(3)).report.boundary_removals, 0);
+}
+
+// A flat torus (a periodic grid): every vertex is flat, so every removal keeps the metric and
+// the area exactly, before any rescale.
+TEST(Simplify, FlatTorusIsExact) {
+  const int n = 12;
+  std::vector<Triangle> faces;
+  Eigen::MatrixX3d lengths;
+  auto id = [&](int i, int j) { return Index(((i + n) % n) * n + (j + n) % n); };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  lengths.resize(Index(faces.size()), 3);
+  for (Index f = 0; f < Index(faces.size()); ++f) {
+    lengths.row(f) = f % 2 == 0 ? Eigen::RowVector3d(1.0, 1.0, std::sqrt(2.0))
+                                : Eigen::RowVector3d(std::sqrt(2.0), 1.0, 1.0);
+  }
+  const auto fine = IntrinsicTriangulation::from_side_lengths(faces, n * n, lengths);
+  const Simplification s = simplify(fine, to(20));
+  EXPECT_EQ(s.coarse.n_vertices(), 20);
+  EXPECT_LT(s.report.area_change_before_rescale, 1e-12);
+  EXPECT_LT(angle_defects(s.coarse).cwiseAbs().maxCoeff(), 1e-9);
+  check(fine, s);
+}
+
+TEST(Simplify, SeveralComponents) {
+  TriangleMesh a = icosphere(4), b = grid(8, 8), c = torus_knot_tube(30, 6, 0.3);
+  TriangleMesh all;
+  all.positions.resize(a.positions.rows() + b.positions.rows() + c.positions.rows(), 3);
+  all.positions << a.positions, b.positions, c.positions;
+  all.faces = a.faces;
+  for (auto t : b.faces)
+    all.faces.push_back({t[0] + Index(a.positions.rows()), t[1] + Index(a.positions.rows()),
+                         t[2] + Index(a.positions.rows())});
+  const Index off = Index(a.positions.rows() + b.positions.rows());
+  for (auto t : c.faces) all.faces.push_back({t[0] + off, t[1] + off, t[2] + off});
+  const IntrinsicTriangulation fine = mesh_of(all);
+  SimplifyOptions o;
+  o.ratio = 0.05;
+  const Simplification s = simplify(fine, o);
+  check(fine, s);
+  EXPECT_LE(s.coarse.n_vertices(),
+            std::max<Index>(20, Index(0.05 * fine.n_vertices() + 1)) + s.report.stuck);
+}
+
+TEST(Simplify, TuftedCoverOfNonmanifoldMesh) {
+  // a grid with a fin: three faces on its middle row's edges make them nonmanifold
+  TriangleMesh m = grid(10, 10);
+  const Index top = Index(m.positions.rows());
+  m.positions.conservativeResize(top + 10, 3);
+  for (int i = 0; i < 10; ++i) m.positions.row(top + i) << 0.1 * i + 0.05, 0.5, 0.3;
+  for (int i = 0; i < 9; ++i) {
+    const Index a = 5 * 11 + i, b = a + 1;  // row 5 of the 11×11 vertex grid
+    m.faces.push_back({a, b, top + i});
+  }
+  const IntrinsicTriangulation fine = tufted_cover(m.faces, m.positions);
+  ASSERT_EQ(fine.multiplicity(), 2);
+  SimplifyOptions o;
+  o.ratio = 0.3;
+  const Simplification s = simplify(fine, o);
+  EXPECT_LT(s.coarse.n_vertices(), fine.n_vertices() / 2);
+  check(fine, s, /*same_euler=*/false);
+  // the cover keeps faces in pairs, so its coarse Laplacian still has a constant null vector
+  const fem::SparseMatrix L = fem::cotan_laplacian(s.coarse);
+  EXPECT_LT((L * Eigen::VectorXd::Ones(L.cols())).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+// The tufted cover of a mesh with boundary: its boundary vertices have one closed fan that
+// runs over the front and back copies (zipped), with every neighbour but two twice.
+TEST(Simplify, TuftedCoverOfBoundary) {
+  const TriangleMesh m = grid(12, 12);
+  const IntrinsicTriangulation fine = tufted_cover(m.faces, m.positions);
+  SimplifyOptions o;
+  o.ratio = 0.2;
+  const Simplification s = simplify(fine, o);
+  EXPECT_LE(s.coarse.n_vertices(), Index(0.2 * fine.n_vertices()) + s.report.stuck + 1);
+  EXPECT_LT(s.coarse.n_vertices(), fine.n_vertices() / 3);
+  check(fine, s, /*same_euler=*/false);
+}
+
+TEST(Simplify, RepeatedCoarseningKeepsBoundaryLoops) {
+  TriangleMesh m = grid(30, 30);
+  // punch two holes: drop the faces of two cells blocks
+  std::vector<Triangle> kept;
+  for (std::size_t f = 0; f < m.faces.size(); ++f) {
+    const Index cell = Index(f / 2), i = cell % 30, j = cell / 30;
+    const bool hole =
+        (i >= 5 && i < 9 && j >= 5 && j < 9) || (i >= 18 && i < 25 && j >= 14 && j < 20);
+    if (!hole) kept.push_back(m.faces[f]);
+  }
+  IntrinsicTriangulation tri = IntrinsicTriangulation::from_positions(kept, m.positions);
+  ASSERT_EQ(boundary_loops(tri), 3);
+  SimplifyOptions o;
+  o.ratio = 0.5;
+  for (int level = 0; level < 6; ++level) {
+    SCOPED_TRACE(level);
+    Simplification s = simplify(tri, o);
+    check(tri, s);
+    tri = std::move(s.coarse);
+  }
+  Index referenced = 0;  // the holes' inner grid vertices stay, unreferenced
+  for (Index v = 0; v < tri.n_vertices(); ++v)
+    referenced += tri.vertex_halfedge(v) != kInvalidIndex;
+  EXPECT_LT(referenced, 100);  // from 922: the boundary loops and their corners stay
+}
+
+// Hard inputs at several ratios: a sliver tube, and a range scan (holes, pinched vertices,
+// needle rims, islands) on both paths.
+TEST(Simplify, SliversAndScans) {
+  RangeScanOptions scan;
+  scan.nx = scan.ny = 30;
+  const TriangleMesh tube = torus_knot_tube(100, 8), rs = range_scan(scan);
+  const IntrinsicTriangulation inputs[] = {mesh_of(tube), mesh_of(rs),
+                                           tufted_cover(rs.faces, rs.positions)};
+  for (const auto& fine : inputs) {
+    for (double ratio : {0.5, 0.1, 0.02}) {
+      SCOPED_TRACE(std::to_string(fine.multiplicity()) + " " + std::to_string(fine.n_faces()) +
+                   " " + std::to_string(ratio));
+      SimplifyOptions o;
+      o.ratio = ratio;
+      const Simplification s = simplify(fine, o);
+      check(fine, s, fine.multiplicity() == 1);
+      EXPECT_LT(s.coarse.n_vertices(), fine.n_vertices());
+    }
+  }
+}
+
+TEST(Simplify, RefusesBadOptions) {
+  const IntrinsicTriangulation fine = mesh_of(icosphere(2));
+  SimplifyOptions o;
+  EXPECT_THROW(simplify(fine, o), InvalidInput);  // neither set
+  o.ratio = 0.0;
+  o.target_vertices = fine.n_vertices();
+  try {
+    simplify(fine, o);
+    ADD_FAILURE() << "target = #V accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("target_vertices"), std::string::npos);
+  }
+  o.target_vertices = -3;
+  EXPECT_THROW(simplify(fine, o), InvalidInput);
+  o.target_vertices = 10;
+  o.ratio = 0.5;
+  EXPECT_THROW(simplify(fine, o), InvalidInput);  // both set
+  o.target_vertices = 0;
+  o.ratio = 1.5;
+  EXPECT_THROW(simplify(fine, o), InvalidInput);
+  o.ratio = 1.0;
+  EXPECT_EQ(simplify(fine, o).coarse.n_vertices(), fine.n_vertices());
+}
+
+// The unit sphere's first 16 eigenvalues (0, 2 ×3, 6 ×5, 12 ×7) from the coarse operators.
+TEST(Simplify, SphereSpectrum) {
+  const IntrinsicTriangulation fine = mesh_of(icosphere(40));  // 16,002 vertices
+  const Simplification s = simplify(fine, to(2000));
+  check(fine, s);
+  const auto coarse = solvers::eigenpairs(s.coarse, 16).values;
+  const auto ref = solvers::eigenpairs(fine, 16).values;
+  for (int k = 1; k < 16; ++k) {
+    const int l = k < 4 ? 1 : k < 9 ? 2 : 3;
+    EXPECT_NEAR(coarse[k], ref[k], 0.02 * ref[k]) << k;
+    EXPECT_NEAR(coarse[k], l * (l + 1.0), 0.02 * l * (l + 1.0)) << k;
+  }
+}
+
+}  // namespace
+}  // namespace ifem::intrinsic
