@@ -24,6 +24,8 @@ struct Entry {
   int partner = -1;    // entry at the arc's other end
   Index input_edge = kInvalidIndex;
   double at = 0.0;  // fraction along the input edge's edge_halfedge
+  int enter = 0;    // a crossing: +1 if the input edge, tail to head, enters the face here, −1 if
+                    // it leaves; 0 at a corner
 };
 
 struct Polygon {
@@ -51,6 +53,7 @@ class Builder {
   Index side_input_face(Index h) const;
   void propagate_faces();
   void place_vertices(CommonSubdivision& out);
+  void place_in_polygon(CommonSubdivision& out, Index v, std::size_t poly, int k1, int k2);
   const InputSpoke& spoke(Index v, int r, long steps = 0) const {
     return nc_.spokes(v)[nc_.spoke_index(v, r, steps)];
   }
@@ -108,7 +111,7 @@ std::vector<Entry> Builder::boundary(Index g, const Eigen::Vector2d p[3], int c[
       const int i = forward ? q - 1 : n - q;
       const double t = forward ? tr[i].t : 1.0 - tr[i].t;
       b.push_back({first_crossing_[e] + i, p[k] + t * (p[(k + 1) % 3] - p[k]), -1, tr[i].input_edge,
-                   tr[i].input_t});
+                   tr[i].input_t, tr[i].into_left == forward ? 1 : -1});
     }
   }
   return b;
@@ -190,7 +193,9 @@ void Builder::walk(Index g, const std::vector<Entry>& b, const std::vector<int>*
       if (b[nxt].partner >= 0) {
         const Entry &x = b[nxt], &y = b[x.partner];
         const Index h0 = in_.edge_halfedge(x.input_edge);
-        poly.input = y.at > x.at ? T::face(h0) : T::face(in_.twin(h0));
+        // the polygon lies left of the arc x → y: h0's face if that runs tail to head
+        const bool rising = x.enter != 0 ? x.enter > 0 : y.enter < 0;
+        poly.input = rising ? T::face(h0) : T::face(in_.twin(h0));
         add(x);
         cur = x.partner;
       } else {
@@ -222,6 +227,29 @@ void Builder::propagate_faces() {
   }
 }
 
+// Places vertex v (a corner of polygon poly) by the rigid map of the polygon's layout onto its
+// input face's plane that takes corners k1, k2 (known) to their positions.
+void Builder::place_in_polygon(CommonSubdivision& out, Index v, std::size_t poly, int k1,
+                               int k2) {
+  const Polygon& p = polys_[poly];
+  const Positions& x = nc_.input_positions();
+  const Index c0 = in_.tail(3 * p.input), c1 = in_.tail(3 * p.input + 1),
+              c2 = in_.tail(3 * p.input + 2);
+  const Eigen::Vector3d x0 = x.row(c0), x1 = x.row(c1), x2 = x.row(c2);
+  const Eigen::Vector3d normal = (x1 - x0).cross(x2 - x0).normalized();
+  const Eigen::Vector3d q1 = out.positions.row(p.vertex[k1]);
+  const Eigen::Vector3d q2 = out.positions.row(p.vertex[k2]);
+  const Eigen::Vector3d u = (q2 - q1).normalized(), w = normal.cross(u);
+  const Eigen::Vector2d u2 = (p.xy[k2] - p.xy[k1]).normalized(), w2(-u2.y(), u2.x());
+  for (std::size_t k = 0; k < p.vertex.size(); ++k) {
+    if (p.vertex[k] != v) continue;
+    const Eigen::Vector2d d = p.xy[k] - p.xy[k1];
+    out.positions.row(v) = q1 + d.dot(u2) * u + d.dot(w2) * w;
+    placed_face_[v] = p.input;
+    return;
+  }
+}
+
 void Builder::place_vertices(CommonSubdivision& out) {
   const Index nv = tri_.n_vertices(), n_in = nc_.n_input_vertices();
   std::vector<char> known(out.positions.rows(), 1);
@@ -243,42 +271,43 @@ void Builder::place_vertices(CommonSubdivision& out) {
           on_edge(trace_[e][i].input_edge, trace_[e][i].input_t);
     }
   }
-  // an inserted vertex: the polygon's layout mapped rigidly onto its input face's plane
+  // an inserted vertex: the layout of a polygon it is a corner of, mapped rigidly onto the
+  // polygon's input face plane by two known points; of all such polygons and pairs, the pair
+  // farthest apart (where a vertex sits on or within rounding of an input edge, some polygons
+  // around it are slivers whose known points nearly coincide: a map fixed by them would be
+  // arbitrary). Rounds, for vertices whose polygons have no known pair yet.
+  struct Choice {
+    double d = 0.0;
+    std::size_t poly = 0;
+    int k1 = -1, k2 = -1;
+  };
+  std::vector<Choice> best(nv);
   for (bool changed = true; changed;) {
     changed = false;
-    for (const Polygon& p : polys_) {
-      // the two known points farthest apart fix the map best
-      int k1 = -1, k2 = -1, unknown = 0;
-      double best = 0.0;
+    for (std::size_t pi = 0; pi < polys_.size(); ++pi) {
+      const Polygon& p = polys_[pi];
       const int np = static_cast<int>(p.vertex.size());
+      int k1 = -1, k2 = -1;
+      double d_best = 0.0;
       for (int i = 0; i < np; ++i) {
-        if (!known[p.vertex[i]]) {
-          ++unknown;
-          continue;
-        }
-        for (int j = i + 1; j < np; ++j) {
+        for (int j = i + 1; j < np && known[p.vertex[i]]; ++j) {
           const double d = (p.xy[j] - p.xy[i]).norm();
-          if (known[p.vertex[j]] && d > best) best = d, k1 = i, k2 = j;
+          if (known[p.vertex[j]] && d > d_best) d_best = d, k1 = i, k2 = j;
         }
       }
-      if (unknown == 0 || k2 < 0) continue;
-      const Index c0 = in_.tail(3 * p.input), c1 = in_.tail(3 * p.input + 1),
-                  c2 = in_.tail(3 * p.input + 2);
-      const Eigen::Vector3d x0 = x.row(c0), x1 = x.row(c1), x2 = x.row(c2);
-      const Eigen::Vector3d normal = (x1 - x0).cross(x2 - x0).normalized();
-      const Eigen::Vector3d q1 = out.positions.row(p.vertex[k1]);
-      const Eigen::Vector3d q2 = out.positions.row(p.vertex[k2]);
-      const Eigen::Vector3d u = (q2 - q1).normalized(), w = normal.cross(u);
-      const Eigen::Vector2d u2 = (p.xy[k2] - p.xy[k1]).normalized(), w2(-u2.y(), u2.x());
-      for (std::size_t k = 0; k < p.vertex.size(); ++k) {
-        if (known[p.vertex[k]]) continue;
-        const Eigen::Vector2d d = p.xy[k] - p.xy[k1];
-        out.positions.row(p.vertex[k]) = q1 + d.dot(u2) * u + d.dot(w2) * w;
-        known[p.vertex[k]] = 1;
-        placed_face_[p.vertex[k]] = p.input;
-        changed = true;
+      for (int k = 0; k < np && k2 >= 0; ++k) {
+        const Index v = p.vertex[k];
+        if (!known[v] && d_best > best[v].d) best[v] = {d_best, pi, k1, k2};
       }
     }
+    std::vector<Index> placed;
+    for (Index v = n_in; v < nv; ++v) {
+      if (known[v] || best[v].k2 < 0) continue;
+      place_in_polygon(out, v, best[v].poly, best[v].k1, best[v].k2);
+      placed.push_back(v);
+    }
+    for (const Index v : placed) known[v] = 1;
+    changed = !placed.empty();
   }
   for (Index v = n_in; v < nv; ++v) {
     if (!known[v] && tri_.vertex_halfedge(v) != kInvalidIndex) {
