@@ -469,6 +469,58 @@ TEST(NormalCoordinates, DelaunayRefineAgreesOnRandomMeshes) {
   }
 }
 
+// Constrained refinement (a curve of input edges across a grid, EdgeConstraints): both
+// representations make the same insertions and lengths, every constrained edge (the curve's
+// pieces after splits) runs along the input edge it came from (n = −1), and the common
+// subdivision still partitions the areas.
+TEST(NormalCoordinates, ConstrainedRefineAgreesWithSignposts) {
+  const int nx = 8;
+  for (const double angle : {25.0, 30.0}) {
+    SCOPED_TRACE(testing::Message() << "angle " << angle);
+    const TriangleMesh flat = grid(nx, nx);
+    const TriangleMesh m = test::jittered(flat, 0.04, 5);
+    NormalCoordinateTriangulation nc(m.faces, m.positions);
+    SignpostTriangulation st(m.faces, m.positions);
+    const IntrinsicTriangulation& tri = nc.intrinsic();
+    auto on_row = [&](Index v) { return std::abs(flat.positions(v, 1) - 0.5) < 1e-12; };
+    std::vector<char> fa(tri.n_edges(), 0), fb;
+    std::vector<Index> from(tri.n_edges(), kInvalidIndex);  // the input edge a piece came from
+    for (Index e = 0; e < tri.n_edges(); ++e) {
+      const Index h = tri.edge_halfedge(e);
+      if (on_row(tri.tail(h)) && on_row(tri.head(h))) fa[e] = 1, from[e] = e;
+    }
+    ASSERT_EQ(std::count(fa.begin(), fa.end(), 1), nx);
+    fb = fa;
+    EdgeConstraints ca, cb;
+    ca.flags = &fa;
+    cb.flags = &fb;
+    ca.on_split = [&](Index e, Index new_edge, Index, double) {
+      from.resize(std::max<std::size_t>(from.size(), new_edge + 1), kInvalidIndex);
+      from[new_edge] = from[e];
+    };
+    RefineOptions o;
+    o.min_angle_degrees = angle;
+    o.max_area = 0.01;
+    const RefineReport a = delaunay_refine(nc, o, &ca), b = delaunay_refine(st, o, &cb);
+    EXPECT_GT(a.constrained_splits + a.conforming_splits, 0);
+    EXPECT_EQ(a.insertions, b.insertions);
+    EXPECT_EQ(a.constrained_splits, b.constrained_splits);
+    EXPECT_EQ(fa, fb);
+    EXPECT_EQ(tri.lengths(), st.intrinsic().lengths());
+    nc.validate();
+    Index pieces = 0;
+    for (Index e = 0; e < tri.n_edges(); ++e) {
+      if (!is_flagged(&fa, e)) continue;
+      ++pieces;
+      ASSERT_EQ(nc.normal_coordinate(e), -1) << "constrained edge " << e;
+      EXPECT_EQ(nc.input_edge_along(tri.edge_halfedge(e)), from[e]) << "constrained edge " << e;
+    }
+    EXPECT_GT(pieces, nx);
+    expect_area_partition(nc);
+    expect_input_edges_recovered(nc);
+  }
+}
+
 TEST(NormalCoordinates, VertexWithTwoBoundaryFans) {
   Positions x(7, 3);
   x << 0, 0, 0, 1, -0.5, 0, 1.2, 0.3, 0, 0.4, 1, 0, -1, 0.5, 0, -1.2, -0.3, 0, -0.4, -1, 0;
