@@ -24,6 +24,7 @@ int vector_repeat(int argc, char** argv);
 int isolines(int argc, char** argv);
 int trace(int argc, char** argv);
 int integer(int argc, char** argv);
+int integer_crosscheck(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -89,6 +90,10 @@ const Section kSections[] = {
      "flips to Delaunay with normal coordinates vs signposts (interleaved), tracing every edge "
      "with each: rocketship, igea (--mesh F[,F...])",
      ifem::bench::integer},
+    {"integer-crosscheck",
+     "Delaunay refinement (25°, 30°) with signposts and integer coordinates on every mesh of a "
+     "directory (default ../shared/data/meshes): success, time, agreement, as a markdown table",
+     ifem::bench::integer_crosscheck},
 };
 
 }  // namespace

@@ -521,6 +521,35 @@ TEST(NormalCoordinates, ConstrainedRefineAgreesWithSignposts) {
   }
 }
 
+// Cross-check on the bundled meshes (the shared corpus: ifem_bench integer-crosscheck):
+// refinement to 25° and 30° with both representations gives the same insertions and lengths,
+// the same locations of the intrinsic vertices on the input, and integers that partition the
+// areas.
+TEST(NormalCoordinates, RefineCrossCheckOnBundledMeshes) {
+  for (const char* name : {"spot.obj", "bunny_npm_lowres.obj"}) {
+    const io::SurfaceInput in = io::read_mesh((test::test_data() / name).string());
+    for (const double angle : {25.0, 30.0}) {
+      SCOPED_TRACE(testing::Message() << name << " angle " << angle);
+      NormalCoordinateTriangulation nc(in.triangles, in.positions, kDefaultMollifyEpsilon);
+      SignpostTriangulation st(in.triangles, in.positions, kDefaultMollifyEpsilon);
+      RefineOptions o;
+      o.min_angle_degrees = angle;
+      const RefineReport a = delaunay_refine(nc, o), b = delaunay_refine(st, o);
+      EXPECT_GT(a.insertions, 3);
+      EXPECT_EQ(a.insertions, b.insertions);
+      EXPECT_EQ(nc.intrinsic().lengths(), st.intrinsic().lengths());
+      nc.validate();
+      const std::vector<SurfacePoint> loc = vertex_locations(nc);
+      const double tol = 1e-9 * mesh_scale(nc.input());
+      for (Index v = nc.n_input_vertices(); v < nc.intrinsic().n_vertices(); ++v) {
+        ASSERT_LT((st.position(loc[v]) - st.position(st.vertex_location(v))).norm(), tol)
+            << "vertex " << v;
+      }
+      expect_area_partition(nc);
+    }
+  }
+}
+
 TEST(NormalCoordinates, VertexWithTwoBoundaryFans) {
   Positions x(7, 3);
   x << 0, 0, 0, 1, -0.5, 0, 1.2, 0.3, 0, 0.4, 1, 0, -1, 0.5, 0, -1.2, -0.3, 0, -0.4, -1, 0;
