@@ -9,7 +9,7 @@
 // counter-clockwise from h (h's own spoke when h runs along one). Flips update both with
 // integer formulas only; insertions and edge splits measure where the new edges fall among the
 // input edges of the one or two faces they cut (floating point only for positions along edges).
-// docs/decisions.md D-190..D-192.
+// docs/decisions.md D-190..D-192, D-240.
 #pragma once
 
 #include <Eigen/Core>
