@@ -132,9 +132,8 @@ void row(const std::string& name, std::size_t faces, double angle, const Signpos
     char buf[200];
     std::snprintf(buf, sizeof buf,
                   "%s; max Δℓ %.1e; subd. V %zu/%zu F %zu/%zu; max Δx %.1e; defect %.1e/%.1e",
-                  a.report.insertions == b.report.insertions ? "same insertions" : "DIFFERENT",
-                  dl, a.cs_vertices, b.cs_vertices, a.cs_faces, b.cs_faces, dx, defect(st),
-                  defect(nc));
+                  a.report.insertions == b.report.insertions ? "same insertions" : "DIFFERENT", dl,
+                  a.cs_vertices, b.cs_vertices, a.cs_faces, b.cs_faces, dx, defect(st), defect(nc));
     agree = buf;
   }
   std::printf("| %s | %zu | %.0f° | %lld | %s | %s | %s |\n", name.c_str(), faces, angle,
@@ -163,8 +162,9 @@ int integer_crosscheck(int argc, char** argv) {
     if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl") files.push_back(f.path());
   }
   std::sort(files.begin(), files.end());
-  std::printf("| mesh | faces | angle | insertions | signposts (refine + subd.) | integer "
-              "(refine + subd.) | agreement |\n|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| mesh | faces | angle | insertions | signposts (refine + subd.) | integer "
+      "(refine + subd.) | agreement |\n|---|---|---|---|---|---|---|\n");
   const double eps = intrinsic::kDefaultMollifyEpsilon;
   for (const auto& path : files) {
     const std::string name = path.filename().string();

@@ -229,8 +229,7 @@ void Builder::propagate_faces() {
 
 // Places vertex v (a corner of polygon poly) by the rigid map of the polygon's layout onto its
 // input face's plane that takes corners k1, k2 (known) to their positions.
-void Builder::place_in_polygon(CommonSubdivision& out, Index v, std::size_t poly, int k1,
-                               int k2) {
+void Builder::place_in_polygon(CommonSubdivision& out, Index v, std::size_t poly, int k1, int k2) {
   const Polygon& p = polys_[poly];
   const Positions& x = nc_.input_positions();
   const Index c0 = in_.tail(3 * p.input), c1 = in_.tail(3 * p.input + 1),

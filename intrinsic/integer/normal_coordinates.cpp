@@ -20,7 +20,6 @@ namespace {
 
 using T = IntrinsicTriangulation;
 
-
 // The third corner of a triangle laid out on a→b, to the left of a→b, at distance la from a
 // and lb from b.
 Eigen::Vector2d place_left(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double la,

@@ -141,8 +141,7 @@ class NormalCoordinateTriangulation {
   FaceCounts counts(Index f) const;
   bool shared(Index h) const { return n_[tri_.edge(h)] < 0; }
   ArcEnd follow(Index h, int p, Eigen::Vector2d a, Eigen::Vector2d b) const;
-  void count_new_spokes(Index f, const Eigen::Vector3d& bary, int crossing[3],
-                        int before[3]) const;
+  void count_new_spokes(Index f, const Eigen::Vector3d& bary, int crossing[3], int before[3]) const;
   int count_diagonal(Index side_h, int q, int* fan_before) const;
   void grow_records();
   void add_fan(Index v, Index h0, std::vector<char>& seen);

@@ -148,16 +148,18 @@ void expect_input_edges_recovered(const NormalCoordinateTriangulation& nc) {
       // crossings at the same place up to rounding (an input edge passing a vertex inserted
       // on it, or within rounding of it): their order along the input edge is the one that
       // chains them through shared faces
-      for (std::size_t j = i + 1; !stop_between && j < list.size() &&
-                                  list[j].at - list[i].at < 1e-12 &&
-                                  !share_face(list[i - 1].edge, list[i].edge);
+      for (std::size_t j = i + 1;
+           !stop_between && j < list.size() && list[j].at - list[i].at < 1e-12 &&
+           !share_face(list[i - 1].edge, list[i].edge);
            ++j) {
         if (share_face(list[i - 1].edge, list[j].edge)) std::swap(list[i], list[j]);
       }
       if (!stop_between && !share_face(list[i - 1].edge, list[i].edge)) {
         for (std::size_t j = (i > 3 ? i - 3 : 0); j < std::min(list.size(), i + 3); ++j) {
           const Index hh = tri.edge_halfedge(list[j].edge);
-          std::cout << j << " at " << std::setprecision(17) << list[j].at << " e " << list[j].edge << " (" << tri.tail(hh) << "," << tri.head(hh) << ") n " << nc.normal_coordinate(list[j].edge) << "\n";
+          std::cout << j << " at " << std::setprecision(17) << list[j].at << " e " << list[j].edge
+                    << " (" << tri.tail(hh) << "," << tri.head(hh) << ") n "
+                    << nc.normal_coordinate(list[j].edge) << "\n";
         }
         for (double st : stops[ie]) std::cout << "stop " << st << "\n";
         const Index ih = nc.input().edge_halfedge(ie);
