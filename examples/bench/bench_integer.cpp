@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "bench_util.h"
-#include "intrinsic/integer/integer_subdivision.h"
 #include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/integer/integer_subdivision.h"
 #include "intrinsic/integer/normal_coordinates.h"
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/refine/delaunay_refine.h"
@@ -47,10 +47,11 @@ void refine_times(const SignpostTriangulation& st0, const NormalCoordinateTriang
     intrinsic::delaunay_refine(nc, o);
     t_nc.push_back(seconds_now() - t0);
   }
-  std::printf("%-22s refine to 25°: %lld insertions  integer %7.3f s  signposts %7.3f s"
-              "  integer/signposts %5.2f\n",
-              "", static_cast<long long>(insertions), median(t_nc), median(t_st),
-              median(t_nc) / median(t_st));
+  std::printf(
+      "%-22s refine to 25°: %lld insertions  integer %7.3f s  signposts %7.3f s"
+      "  integer/signposts %5.2f\n",
+      "", static_cast<long long>(insertions), median(t_nc), median(t_st),
+      median(t_nc) / median(t_st));
 }
 
 void run_mesh(const std::string& path, int repeat) {

@@ -42,6 +42,9 @@ class Builder {
   CommonSubdivision run();
   /// After run(): the input face each inserted vertex was placed in (−1 otherwise), by id.
   const std::vector<Index>& placed_face() const { return placed_face_; }
+  /// After run(): barycentric coordinates of inserted vertex v (placed_face(v) ≥ 0) in its input
+  /// face, from the face's intrinsic layout (stable on sliver faces, unlike the 3D plane).
+  Eigen::Vector3d placed_bary(Index v) const;
 
  private:
   void trace_all();
@@ -66,6 +69,12 @@ class Builder {
   std::vector<Polygon> polys_;
   std::vector<Index> side_poly_;    // #H: the polygon along an uncrossed side (n = 0), or −1
   std::vector<Index> placed_face_;  // #V
+  struct Placement {
+    std::size_t poly = 0;
+    int k1 = -1, k2 = -1;
+  };
+  std::vector<Placement> placement_;  // #V: the polygon and known pair that placed v
+  Eigen::Vector2d input_layout_point(Index f, Index vertex) const;
 };
 
 void Builder::trace_all() {
@@ -245,14 +254,75 @@ void Builder::place_in_polygon(CommonSubdivision& out, Index v, std::size_t poly
     const Eigen::Vector2d d = p.xy[k] - p.xy[k1];
     out.positions.row(v) = q1 + d.dot(u2) * u + d.dot(w2) * w;
     placed_face_[v] = p.input;
+    placement_[v] = {poly, k1, k2};
     return;
   }
+}
+
+// Output vertex `vertex` (an input vertex, a vertex on an input edge, or a crossing) in the
+// layout of input face f, which it lies on the boundary of.
+Eigen::Vector2d Builder::input_layout_point(Index f, Index vertex) const {
+  Eigen::Vector2d p[3];
+  face_layout(in_, f, p);
+  Index edge = kInvalidIndex;
+  double at = 0.0;
+  if (vertex < nc_.n_input_vertices()) {
+    for (int k = 0; k < 3; ++k) {
+      if (in_.tail(3 * f + k) == vertex) return p[k];
+    }
+  } else if (vertex < tri_.n_vertices() && nc_.spokes(vertex).empty()) {
+    // an inserted vertex placed in an earlier round, inside this same input face
+    const Eigen::Vector3d b = placed_bary(vertex);
+    return b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
+  } else if (vertex < tri_.n_vertices()) {
+    edge = nc_.spokes(vertex)[0].input_edge;
+    at = nc_.spokes(vertex)[0].at;
+  } else {
+    const auto e = static_cast<Index>(
+        std::upper_bound(first_crossing_.begin(), first_crossing_.end(), vertex) -
+        first_crossing_.begin() - 1);
+    edge = trace_[e][vertex - first_crossing_[e]].input_edge;
+    at = trace_[e][vertex - first_crossing_[e]].input_t;
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (in_.edge(3 * f + k) != edge) continue;
+    const double t = in_.edge_halfedge(edge) == 3 * f + k ? at : 1.0 - at;
+    return p[k] + t * (p[(k + 1) % 3] - p[k]);
+  }
+  throw InvalidInput("common_subdivision: a known point off its polygon's input face");
+}
+
+Eigen::Vector3d Builder::placed_bary(Index v) const {
+  const Placement& pl = placement_[v];
+  const Polygon& p = polys_[pl.poly];
+  const Index f = placed_face_[v];
+  const Eigen::Vector2d q1 = input_layout_point(f, p.vertex[pl.k1]);
+  const Eigen::Vector2d q2 = input_layout_point(f, p.vertex[pl.k2]);
+  const Eigen::Vector2d u = (q2 - q1).normalized(), w(-u.y(), u.x());
+  const Eigen::Vector2d u2 = (p.xy[pl.k2] - p.xy[pl.k1]).normalized(), w2(-u2.y(), u2.x());
+  Eigen::Vector2d x = q1;
+  for (std::size_t k = 0; k < p.vertex.size(); ++k) {
+    if (p.vertex[k] != v) continue;
+    const Eigen::Vector2d d = p.xy[k] - p.xy[pl.k1];
+    x = q1 + d.dot(u2) * u + d.dot(w2) * w;
+  }
+  Eigen::Vector2d c[3];
+  face_layout(in_, f, c);
+  const double area = (c[1] - c[0]).x() * (c[2] - c[0]).y() - (c[1] - c[0]).y() * (c[2] - c[0]).x();
+  auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() * b.y() - a.y() * b.x();
+  };
+  Eigen::Vector3d bary(cross(c[2] - c[1], x - c[1]) / area, cross(c[0] - c[2], x - c[2]) / area,
+                       0.0);
+  bary[2] = 1.0 - bary[0] - bary[1];
+  return bary;
 }
 
 void Builder::place_vertices(CommonSubdivision& out) {
   const Index nv = tri_.n_vertices(), n_in = nc_.n_input_vertices();
   std::vector<char> known(out.positions.rows(), 1);
   placed_face_.assign(nv, kInvalidIndex);
+  placement_.assign(nv, {});
   const Positions& x = nc_.input_positions();
   for (Index v = 0; v < n_in; ++v) out.positions.row(v) = x.row(v);
   auto on_edge = [&](Index e, double t) {
@@ -370,19 +440,12 @@ std::vector<SurfacePoint> vertex_locations(const NormalCoordinateTriangulation& 
   }
   if (!in_faces) return out;
   Builder builder(nc);
-  const CommonSubdivision cs = builder.run();
-  const Positions& x = nc.input_positions();
+  (void)builder.run();
   for (Index v = n_in; v < nv; ++v) {
     const Index f = builder.placed_face()[v];
     if (!nc.spokes(v).empty() || f == kInvalidIndex) continue;
-    // barycentric coordinates of the placed point in its input face's plane
-    const Eigen::Vector3d a = x.row(in.tail(3 * f)), b = x.row(in.tail(3 * f + 1)),
-                          c = x.row(in.tail(3 * f + 2));
-    const Eigen::Vector3d p = cs.positions.row(v);
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    const double nn = n.squaredNorm();
-    Eigen::Vector3d bary((c - b).cross(p - b).dot(n) / nn, (a - c).cross(p - c).dot(n) / nn, 0.0);
-    bary[2] = 1.0 - bary[0] - bary[1];
+    // barycentric coordinates in the input face's intrinsic layout
+    const Eigen::Vector3d bary = builder.placed_bary(v);
     out[v].face = f;
     out[v].bary = bary.cwiseMax(0.0) / bary.cwiseMax(0.0).sum();
   }
