@@ -25,6 +25,7 @@ int isolines(int argc, char** argv);
 int trace(int argc, char** argv);
 int integer(int argc, char** argv);
 int simplify(int argc, char** argv);
+int integer_crosscheck(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -94,6 +95,10 @@ const Section kSections[] = {
      "intrinsic simplification of icospheres 10k..1M faces to --vertices (10,000): removals "
      "per second, flips per removal, the prolongation's assembly",
      ifem::bench::simplify},
+    {"integer-crosscheck",
+     "Delaunay refinement (25°, 30°) with signposts and integer coordinates on every mesh of a "
+     "directory (default ../shared/data/meshes): success, time, agreement, as a markdown table",
+     ifem::bench::integer_crosscheck},
 };
 
 }  // namespace

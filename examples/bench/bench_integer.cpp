@@ -5,6 +5,9 @@
 // triangulation over the input and building the common subdivision (the integer one on one
 // thread, the signpost one on the default threads). Inputs are mollified (1e-5) as the CLI does;
 // times exclude reading the file and building the triangulations (each round starts from a copy).
+// Then Delaunay refinement to 25° (no area bound) with each, interleaved, medians and ratio.
+// The mesh name "sphere1M" is a generated UV sphere of 1.0M faces (500 × 1000; needles at the
+// poles give refinement work).
 //
 //   ifem_bench integer [--repeat 5] [--data ../shared/data/meshes] [--mesh F[,F...]]
 #include <cstdio>
@@ -14,9 +17,11 @@
 #include <vector>
 
 #include "bench_util.h"
+#include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/integer/integer_subdivision.h"
 #include "intrinsic/integer/normal_coordinates.h"
 #include "intrinsic/io/mesh_io.h"
+#include "intrinsic/refine/delaunay_refine.h"
 #include "intrinsic/refine/signpost.h"
 
 namespace ifem::bench {
@@ -25,8 +30,39 @@ namespace {
 using intrinsic::NormalCoordinateTriangulation;
 using intrinsic::SignpostTriangulation;
 
+// Refinement to 25°, interleaved: medians (s) for signposts and integer coordinates.
+void refine_times(const SignpostTriangulation& st0, const NormalCoordinateTriangulation& nc0,
+                  int repeat) {
+  std::vector<double> t_st, t_nc;
+  Index insertions = 0;
+  intrinsic::RefineOptions o;
+  o.min_angle_degrees = 25.0;
+  for (int r = 0; r < repeat; ++r) {
+    SignpostTriangulation st = st0;
+    double t0 = seconds_now();
+    insertions = intrinsic::delaunay_refine(st, o).insertions;
+    t_st.push_back(seconds_now() - t0);
+    NormalCoordinateTriangulation nc = nc0;
+    t0 = seconds_now();
+    intrinsic::delaunay_refine(nc, o);
+    t_nc.push_back(seconds_now() - t0);
+  }
+  std::printf(
+      "%-22s refine to 25°: %lld insertions  integer %7.3f s  signposts %7.3f s"
+      "  integer/signposts %5.2f\n",
+      "", static_cast<long long>(insertions), median(t_nc), median(t_st),
+      median(t_nc) / median(t_st));
+}
+
 void run_mesh(const std::string& path, int repeat) {
-  const io::SurfaceInput in = io::read_mesh(path);
+  io::SurfaceInput in;
+  if (path == "sphere1M") {
+    const intrinsic::TriangleMesh m = intrinsic::uv_sphere(500, 1000);
+    in.triangles = m.faces;
+    in.positions = m.positions;
+  } else {
+    in = io::read_mesh(path);
+  }
   const double eps = intrinsic::kDefaultMollifyEpsilon;
   const SignpostTriangulation st0(in.triangles, in.positions, eps);
   const NormalCoordinateTriangulation nc0(in.triangles, in.positions, eps);
@@ -74,6 +110,7 @@ void run_mesh(const std::string& path, int repeat) {
       median(t_nc), median(t_st), median(t_tri), median(t_nc) / median(t_st), trace_nc, trace_st,
       crossings, sub_nc, cs_nc, sub_st, cs_st);
   (void)points;
+  refine_times(st0, nc0, repeat);
 }
 
 }  // namespace
@@ -89,6 +126,10 @@ int integer(int argc, char** argv) {
         std::filesystem::path(name).is_absolute() || std::filesystem::exists(name)
             ? std::filesystem::path(name)
             : std::filesystem::path(data) / name;
+    if (name == "sphere1M") {
+      run_mesh(name, repeat);
+      continue;
+    }
     if (!std::filesystem::exists(p)) {
       std::printf("%-22s (absent, skipped)\n", name.c_str());
       continue;

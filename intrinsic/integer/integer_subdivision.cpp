@@ -24,6 +24,8 @@ struct Entry {
   int partner = -1;    // entry at the arc's other end
   Index input_edge = kInvalidIndex;
   double at = 0.0;  // fraction along the input edge's edge_halfedge
+  int enter = 0;    // a crossing: +1 if the input edge, tail to head, enters the face here, −1 if
+                    // it leaves; 0 at a corner
 };
 
 struct Polygon {
@@ -40,6 +42,9 @@ class Builder {
   CommonSubdivision run();
   /// After run(): the input face each inserted vertex was placed in (−1 otherwise), by id.
   const std::vector<Index>& placed_face() const { return placed_face_; }
+  /// After run(): barycentric coordinates of inserted vertex v (placed_face(v) ≥ 0) in its input
+  /// face, from the face's intrinsic layout (stable on sliver faces, unlike the 3D plane).
+  Eigen::Vector3d placed_bary(Index v) const;
 
  private:
   void trace_all();
@@ -51,6 +56,7 @@ class Builder {
   Index side_input_face(Index h) const;
   void propagate_faces();
   void place_vertices(CommonSubdivision& out);
+  void place_in_polygon(CommonSubdivision& out, Index v, std::size_t poly, int k1, int k2);
   const InputSpoke& spoke(Index v, int r, long steps = 0) const {
     return nc_.spokes(v)[nc_.spoke_index(v, r, steps)];
   }
@@ -63,6 +69,12 @@ class Builder {
   std::vector<Polygon> polys_;
   std::vector<Index> side_poly_;    // #H: the polygon along an uncrossed side (n = 0), or −1
   std::vector<Index> placed_face_;  // #V
+  struct Placement {
+    std::size_t poly = 0;
+    int k1 = -1, k2 = -1;
+  };
+  std::vector<Placement> placement_;  // #V: the polygon and known pair that placed v
+  Eigen::Vector2d input_layout_point(Index f, Index vertex) const;
 };
 
 void Builder::trace_all() {
@@ -108,7 +120,7 @@ std::vector<Entry> Builder::boundary(Index g, const Eigen::Vector2d p[3], int c[
       const int i = forward ? q - 1 : n - q;
       const double t = forward ? tr[i].t : 1.0 - tr[i].t;
       b.push_back({first_crossing_[e] + i, p[k] + t * (p[(k + 1) % 3] - p[k]), -1, tr[i].input_edge,
-                   tr[i].input_t});
+                   tr[i].input_t, tr[i].into_left == forward ? 1 : -1});
     }
   }
   return b;
@@ -190,7 +202,9 @@ void Builder::walk(Index g, const std::vector<Entry>& b, const std::vector<int>*
       if (b[nxt].partner >= 0) {
         const Entry &x = b[nxt], &y = b[x.partner];
         const Index h0 = in_.edge_halfedge(x.input_edge);
-        poly.input = y.at > x.at ? T::face(h0) : T::face(in_.twin(h0));
+        // the polygon lies left of the arc x → y: h0's face if that runs tail to head
+        const bool rising = x.enter != 0 ? x.enter > 0 : y.enter < 0;
+        poly.input = rising ? T::face(h0) : T::face(in_.twin(h0));
         add(x);
         cur = x.partner;
       } else {
@@ -222,10 +236,93 @@ void Builder::propagate_faces() {
   }
 }
 
+// Places vertex v (a corner of polygon poly) by the rigid map of the polygon's layout onto its
+// input face's plane that takes corners k1, k2 (known) to their positions.
+void Builder::place_in_polygon(CommonSubdivision& out, Index v, std::size_t poly, int k1, int k2) {
+  const Polygon& p = polys_[poly];
+  const Positions& x = nc_.input_positions();
+  const Index c0 = in_.tail(3 * p.input), c1 = in_.tail(3 * p.input + 1),
+              c2 = in_.tail(3 * p.input + 2);
+  const Eigen::Vector3d x0 = x.row(c0), x1 = x.row(c1), x2 = x.row(c2);
+  const Eigen::Vector3d normal = (x1 - x0).cross(x2 - x0).normalized();
+  const Eigen::Vector3d q1 = out.positions.row(p.vertex[k1]);
+  const Eigen::Vector3d q2 = out.positions.row(p.vertex[k2]);
+  const Eigen::Vector3d u = (q2 - q1).normalized(), w = normal.cross(u);
+  const Eigen::Vector2d u2 = (p.xy[k2] - p.xy[k1]).normalized(), w2(-u2.y(), u2.x());
+  for (std::size_t k = 0; k < p.vertex.size(); ++k) {
+    if (p.vertex[k] != v) continue;
+    const Eigen::Vector2d d = p.xy[k] - p.xy[k1];
+    out.positions.row(v) = q1 + d.dot(u2) * u + d.dot(w2) * w;
+    placed_face_[v] = p.input;
+    placement_[v] = {poly, k1, k2};
+    return;
+  }
+}
+
+// Output vertex `vertex` (an input vertex, a vertex on an input edge, or a crossing) in the
+// layout of input face f, which it lies on the boundary of.
+Eigen::Vector2d Builder::input_layout_point(Index f, Index vertex) const {
+  Eigen::Vector2d p[3];
+  face_layout(in_, f, p);
+  Index edge = kInvalidIndex;
+  double at = 0.0;
+  if (vertex < nc_.n_input_vertices()) {
+    for (int k = 0; k < 3; ++k) {
+      if (in_.tail(3 * f + k) == vertex) return p[k];
+    }
+  } else if (vertex < tri_.n_vertices() && nc_.spokes(vertex).empty()) {
+    // an inserted vertex placed in an earlier round, inside this same input face
+    const Eigen::Vector3d b = placed_bary(vertex);
+    return b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
+  } else if (vertex < tri_.n_vertices()) {
+    edge = nc_.spokes(vertex)[0].input_edge;
+    at = nc_.spokes(vertex)[0].at;
+  } else {
+    const auto e = static_cast<Index>(
+        std::upper_bound(first_crossing_.begin(), first_crossing_.end(), vertex) -
+        first_crossing_.begin() - 1);
+    edge = trace_[e][vertex - first_crossing_[e]].input_edge;
+    at = trace_[e][vertex - first_crossing_[e]].input_t;
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (in_.edge(3 * f + k) != edge) continue;
+    const double t = in_.edge_halfedge(edge) == 3 * f + k ? at : 1.0 - at;
+    return p[k] + t * (p[(k + 1) % 3] - p[k]);
+  }
+  throw InvalidInput("common_subdivision: a known point off its polygon's input face");
+}
+
+Eigen::Vector3d Builder::placed_bary(Index v) const {
+  const Placement& pl = placement_[v];
+  const Polygon& p = polys_[pl.poly];
+  const Index f = placed_face_[v];
+  const Eigen::Vector2d q1 = input_layout_point(f, p.vertex[pl.k1]);
+  const Eigen::Vector2d q2 = input_layout_point(f, p.vertex[pl.k2]);
+  const Eigen::Vector2d u = (q2 - q1).normalized(), w(-u.y(), u.x());
+  const Eigen::Vector2d u2 = (p.xy[pl.k2] - p.xy[pl.k1]).normalized(), w2(-u2.y(), u2.x());
+  Eigen::Vector2d x = q1;
+  for (std::size_t k = 0; k < p.vertex.size(); ++k) {
+    if (p.vertex[k] != v) continue;
+    const Eigen::Vector2d d = p.xy[k] - p.xy[pl.k1];
+    x = q1 + d.dot(u2) * u + d.dot(w2) * w;
+  }
+  Eigen::Vector2d c[3];
+  face_layout(in_, f, c);
+  const double area = (c[1] - c[0]).x() * (c[2] - c[0]).y() - (c[1] - c[0]).y() * (c[2] - c[0]).x();
+  auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() * b.y() - a.y() * b.x();
+  };
+  Eigen::Vector3d bary(cross(c[2] - c[1], x - c[1]) / area, cross(c[0] - c[2], x - c[2]) / area,
+                       0.0);
+  bary[2] = 1.0 - bary[0] - bary[1];
+  return bary;
+}
+
 void Builder::place_vertices(CommonSubdivision& out) {
   const Index nv = tri_.n_vertices(), n_in = nc_.n_input_vertices();
   std::vector<char> known(out.positions.rows(), 1);
   placed_face_.assign(nv, kInvalidIndex);
+  placement_.assign(nv, {});
   const Positions& x = nc_.input_positions();
   for (Index v = 0; v < n_in; ++v) out.positions.row(v) = x.row(v);
   auto on_edge = [&](Index e, double t) {
@@ -243,42 +340,43 @@ void Builder::place_vertices(CommonSubdivision& out) {
           on_edge(trace_[e][i].input_edge, trace_[e][i].input_t);
     }
   }
-  // an inserted vertex: the polygon's layout mapped rigidly onto its input face's plane
+  // an inserted vertex: the layout of a polygon it is a corner of, mapped rigidly onto the
+  // polygon's input face plane by two known points; of all such polygons and pairs, the pair
+  // farthest apart (where a vertex sits on or within rounding of an input edge, some polygons
+  // around it are slivers whose known points nearly coincide: a map fixed by them would be
+  // arbitrary). Rounds, for vertices whose polygons have no known pair yet.
+  struct Choice {
+    double d = 0.0;
+    std::size_t poly = 0;
+    int k1 = -1, k2 = -1;
+  };
+  std::vector<Choice> best(nv);
   for (bool changed = true; changed;) {
     changed = false;
-    for (const Polygon& p : polys_) {
-      // the two known points farthest apart fix the map best
-      int k1 = -1, k2 = -1, unknown = 0;
-      double best = 0.0;
+    for (std::size_t pi = 0; pi < polys_.size(); ++pi) {
+      const Polygon& p = polys_[pi];
       const int np = static_cast<int>(p.vertex.size());
+      int k1 = -1, k2 = -1;
+      double d_best = 0.0;
       for (int i = 0; i < np; ++i) {
-        if (!known[p.vertex[i]]) {
-          ++unknown;
-          continue;
-        }
-        for (int j = i + 1; j < np; ++j) {
+        for (int j = i + 1; j < np && known[p.vertex[i]]; ++j) {
           const double d = (p.xy[j] - p.xy[i]).norm();
-          if (known[p.vertex[j]] && d > best) best = d, k1 = i, k2 = j;
+          if (known[p.vertex[j]] && d > d_best) d_best = d, k1 = i, k2 = j;
         }
       }
-      if (unknown == 0 || k2 < 0) continue;
-      const Index c0 = in_.tail(3 * p.input), c1 = in_.tail(3 * p.input + 1),
-                  c2 = in_.tail(3 * p.input + 2);
-      const Eigen::Vector3d x0 = x.row(c0), x1 = x.row(c1), x2 = x.row(c2);
-      const Eigen::Vector3d normal = (x1 - x0).cross(x2 - x0).normalized();
-      const Eigen::Vector3d q1 = out.positions.row(p.vertex[k1]);
-      const Eigen::Vector3d q2 = out.positions.row(p.vertex[k2]);
-      const Eigen::Vector3d u = (q2 - q1).normalized(), w = normal.cross(u);
-      const Eigen::Vector2d u2 = (p.xy[k2] - p.xy[k1]).normalized(), w2(-u2.y(), u2.x());
-      for (std::size_t k = 0; k < p.vertex.size(); ++k) {
-        if (known[p.vertex[k]]) continue;
-        const Eigen::Vector2d d = p.xy[k] - p.xy[k1];
-        out.positions.row(p.vertex[k]) = q1 + d.dot(u2) * u + d.dot(w2) * w;
-        known[p.vertex[k]] = 1;
-        placed_face_[p.vertex[k]] = p.input;
-        changed = true;
+      for (int k = 0; k < np && k2 >= 0; ++k) {
+        const Index v = p.vertex[k];
+        if (!known[v] && d_best > best[v].d) best[v] = {d_best, pi, k1, k2};
       }
     }
+    std::vector<Index> placed;
+    for (Index v = n_in; v < nv; ++v) {
+      if (known[v] || best[v].k2 < 0) continue;
+      place_in_polygon(out, v, best[v].poly, best[v].k1, best[v].k2);
+      placed.push_back(v);
+    }
+    for (const Index v : placed) known[v] = 1;
+    changed = !placed.empty();
   }
   for (Index v = n_in; v < nv; ++v) {
     if (!known[v] && tri_.vertex_halfedge(v) != kInvalidIndex) {
@@ -342,19 +440,12 @@ std::vector<SurfacePoint> vertex_locations(const NormalCoordinateTriangulation& 
   }
   if (!in_faces) return out;
   Builder builder(nc);
-  const CommonSubdivision cs = builder.run();
-  const Positions& x = nc.input_positions();
+  (void)builder.run();
   for (Index v = n_in; v < nv; ++v) {
     const Index f = builder.placed_face()[v];
     if (!nc.spokes(v).empty() || f == kInvalidIndex) continue;
-    // barycentric coordinates of the placed point in its input face's plane
-    const Eigen::Vector3d a = x.row(in.tail(3 * f)), b = x.row(in.tail(3 * f + 1)),
-                          c = x.row(in.tail(3 * f + 2));
-    const Eigen::Vector3d p = cs.positions.row(v);
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    const double nn = n.squaredNorm();
-    Eigen::Vector3d bary((c - b).cross(p - b).dot(n) / nn, (a - c).cross(p - c).dot(n) / nn, 0.0);
-    bary[2] = 1.0 - bary[0] - bary[1];
+    // barycentric coordinates in the input face's intrinsic layout
+    const Eigen::Vector3d bary = builder.placed_bary(v);
     out[v].face = f;
     out[v].bary = bary.cwiseMax(0.0) / bary.cwiseMax(0.0).sum();
   }

@@ -27,8 +27,9 @@ CommonSubdivision common_subdivision(const NormalCoordinateTriangulation& nc);
 /// Where every intrinsic vertex of nc lies on the input (a face of nc.input() and barycentric
 /// coordinates, as SignpostTriangulation::vertex_location): input vertices at a corner of a
 /// face, vertices on an input edge on that edge's side, vertices inside faces as
-/// common_subdivision() places them (so the call builds it when there are such vertices:
-/// O(size of the overlay)). Unreferenced vertices get the default SurfacePoint.
+/// common_subdivision() places them, with barycentric coordinates taken in the input face's
+/// intrinsic layout (so the call builds it when there are such vertices: O(size of the
+/// overlay)). Unreferenced vertices get the default SurfacePoint.
 /// @throws InvalidInput as common_subdivision()
 std::vector<SurfacePoint> vertex_locations(const NormalCoordinateTriangulation& nc);
 

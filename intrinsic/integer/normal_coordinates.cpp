@@ -20,10 +20,6 @@ namespace {
 
 using T = IntrinsicTriangulation;
 
-double cross2d(const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
-  return u.x() * v.y() - u.y() * v.x();
-}
-
 // The third corner of a triangle laid out on a→b, to the left of a→b, at distance la from a
 // and lb from b.
 Eigen::Vector2d place_left(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double la,
@@ -34,15 +30,6 @@ Eigen::Vector2d place_left(const Eigen::Vector2d& a, const Eigen::Vector2d& b, d
   const double x = (la * la - lb * lb + d * d) / (2.0 * d);
   const double y = std::sqrt(std::max(0.0, la * la - x * x));
   return a + x * u + y * w;
-}
-
-// True if the segments (p, q) and (x, y) cross at one interior point of both.
-bool segments_cross(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& x,
-                    const Eigen::Vector2d& y) {
-  const double o1 = cross2d(q - p, x - p), o2 = cross2d(q - p, y - p);
-  const double o3 = cross2d(y - x, p - x), o4 = cross2d(y - x, q - x);
-  return ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0)) &&
-         ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0));
 }
 
 [[noreturn]] void inconsistent(const std::string& what) {
@@ -281,7 +268,7 @@ std::vector<InputCrossing> NormalCoordinateTriangulation::trace_halfedge(Index h
     const double dy = e1.pos.y() - e2.pos.y();
     const double s = dy != 0.0 ? -e2.pos.y() / dy : 0.5;
     const double x = e2.pos.x() + s * (e1.pos.x() - e2.pos.x());
-    out.push_back({s1.input_edge, x / len, s2.at + s * (s1.at - s2.at)});
+    out.push_back({s1.input_edge, x / len, s2.at + s * (s1.at - s2.at), s1.at > s2.at});
   }
   return out;
 }
@@ -308,46 +295,44 @@ Eigen::Vector3d NormalCoordinateTriangulation::crossing_position(const InputCros
 // ---------------------------------------------------------------------------------------------
 // Insertion and splitting: where the new edges fall among the arcs of the cut faces
 
-std::vector<NormalCoordinateTriangulation::Arc> NormalCoordinateTriangulation::face_arcs(
-    Index f, const Eigen::Vector2d p[3]) const {
+// Where the arcs of face f fall relative to a point x = Σ bary[k]·corner k, decided per arc
+// from x's barycentric coordinates and the arc's end fractions along the sides (no layout:
+// robust where arcs shrink onto a corner, e.g. a vertex inserted on an input edge), turned
+// into counts that are consistent by construction (x on an arc counts as on one side):
+// crossing[k] = arcs the segment x–corner k crosses, before[k] = arcs of corner k's fan met
+// turning counter-clockwise from side k before x. In corner k's frame (u, w) = (bary[k+1],
+// bary[k+2]): x lies on corner k's side of a corner arc ending at fractions a (side k, from
+// corner k) and b (side k+2, towards corner k+2) iff u/a + w/b < 1, and on corner k+2's side
+// of a fan arc ending at fraction c of side k+1 iff w > c (u + w).
+void NormalCoordinateTriangulation::count_new_spokes(Index f, const Eigen::Vector3d& bary,
+                                                     int crossing[3], int before[3]) const {
   const FaceCounts c = counts(f);
   std::vector<InputCrossing> trace[3];
   for (int s = 0; s < 3; ++s) {
     if (c.n[s] > 0) trace[s] = trace_halfedge(3 * f + s);
   }
-  auto at = [&](int s, int k) {  // k-th crossing (1-based) of side s from corner s
-    const double t = trace[s][k - 1].t;
-    return Eigen::Vector2d(p[s] + t * (p[(s + 1) % 3] - p[s]));
-  };
-  std::vector<Arc> arcs;
+  auto frac = [&](int s, int i) { return std::clamp(trace[s][i - 1].t, 0.0, 1.0); };
   for (int k = 0; k < 3; ++k) {
-    const int s2 = (k + 2) % 3;
-    for (int i = 1; i <= c.corner[k]; ++i) arcs.push_back({at(k, i), at(s2, c.n[s2] - i + 1), -1});
-    const int s1 = (k + 1) % 3;
-    for (int j = 1; j <= c.fan[k]; ++j) arcs.push_back({p[k], at(s1, c.corner[s1] + j), k});
+    const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+    const double u = bary[k1], w = bary[k2];
+    int far = 0;  // corner k's arcs with x beyond them
+    for (int i = 1; i <= c.corner[k]; ++i) {
+      const double a = frac(k, i), b = 1.0 - frac(k2, c.n[k2] - i + 1);
+      far += u * b + w * a < a * b ? 0 : 1;
+    }
+    for (int j = 1; j <= c.fan[k]; ++j) before[k] += w > frac(k1, c.corner[k1] + j) * (u + w);
+    crossing[k] += far;
+    crossing[k1] += c.corner[k] - far + before[k];
+    crossing[k2] += c.corner[k] - far + c.fan[k] - before[k];
   }
-  return arcs;
 }
 
 Index NormalCoordinateTriangulation::insert_vertex(Index f, const Eigen::Vector3d& bary) {
   if (f < 0 || f >= tri_.n_faces()) {
     throw InvalidInput("insert_vertex: face " + std::to_string(f) + " out of range");
   }
-  Eigen::Vector2d p[3];
-  face_layout(tri_, f, p);
-  const std::vector<Arc> arcs = face_arcs(f, p);
-  const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
   int crossing[3] = {0, 0, 0}, before[3] = {0, 0, 0};
-  for (const Arc& arc : arcs) {
-    for (int k = 0; k < 3; ++k) {
-      if (arc.from_corner == k) {
-        // turning counter-clockwise at corner k from side k, this spoke comes before x
-        if (cross2d(arc.y - p[k], x - p[k]) > 0.0) ++before[k];
-      } else if (segments_cross(x, p[k], arc.x, arc.y)) {
-        ++crossing[k];
-      }
-    }
-  }
+  count_new_spokes(f, bary, crossing, before);
   int r_old[3], shared_side[3];
   Index corner[3];
   for (int k = 0; k < 3; ++k) {
@@ -370,6 +355,20 @@ Index NormalCoordinateTriangulation::insert_vertex(Index f, const Eigen::Vector3
   return v;
 }
 
+// The arcs of face(side_h) crossing the segment from a new vertex m on side s = side(side_h)
+// (q crossings of that side lie between its tail and m) to the opposite corner k = s+2, and
+// (fan_before) the arcs of corner k's fan that end on side s before m. Along side s, from its
+// tail: corner[s] arcs of corner s, fan[k] arcs of corner k, corner[s+1] arcs of corner s+1.
+// The segment crosses corner k's arcs, the fans of corners s and s+1 (they separate side s from
+// corner k), the arcs of corner s beyond m and the arcs of corner s+1 before m.
+int NormalCoordinateTriangulation::count_diagonal(Index side_h, int q, int* fan_before) const {
+  const FaceCounts c = counts(T::face(side_h));
+  const int s = T::side(side_h), s1 = (s + 1) % 3, k = (s + 2) % 3;
+  *fan_before = std::clamp(q - c.corner[s], 0, c.fan[k]);
+  return c.corner[k] + c.fan[s] + c.fan[s1] + std::max(0, c.corner[s] - q) +
+         std::max(0, q - c.corner[s] - c.fan[k]);
+}
+
 // Long function: one straight sequence (measure both faces, split, write every new record),
 // kept together so the slot bookkeeping reads against triangulation.h's split_edge layout.
 Index NormalCoordinateTriangulation::split_edge(Index e, double t) {
@@ -386,27 +385,11 @@ Index NormalCoordinateTriangulation::split_edge(Index e, double t) {
   if (n > 0) {
     for (const InputCrossing& x : trace_halfedge(h)) q += x.t < t ? 1 : 0;
   }
-  // new diagonals m–c and m–d: the arcs of each face crossing them
-  auto count_diagonal = [&](Index side_h, double frac_from_tail, int* fan_before) {
-    Eigen::Vector2d p[3];
-    const Index f = T::face(side_h);
-    const int s = T::side(side_h), k = (s + 2) % 3;
-    face_layout(tri_, f, p);
-    const Eigen::Vector2d m = p[s] + frac_from_tail * (p[(s + 1) % 3] - p[s]);
-    int count = 0;
-    *fan_before = 0;
-    for (const Arc& arc : face_arcs(f, p)) {
-      if (arc.from_corner == k) {
-        if (cross2d(arc.y - p[k], m - p[k]) > 0.0) ++*fan_before;
-      } else if (segments_cross(m, p[k], arc.x, arc.y)) {
-        ++count;
-      }
-    }
-    return count;
-  };
+  // new diagonals m–c and m–d: the arcs of each face crossing them, read from the integers and
+  // the q crossings of e before m (so always consistent)
   int c_before = 0, d_before = 0;
-  const int n_mc = count_diagonal(h, t, &c_before);
-  const int n_md = interior ? count_diagonal(tw, 1.0 - t, &d_before) : 0;
+  const int n_mc = count_diagonal(h, q, &c_before);
+  const int n_md = interior ? count_diagonal(tw, n - q, &d_before) : 0;
   const int rh2 = r_[h2], rt2 = interior ? r_[t2] : 0;
   const long rc = (shared(h2) ? 1 : 0) + c_before;
   const long rd = interior ? (shared(t2) ? 1 : 0) + d_before : 0;

@@ -9,7 +9,7 @@
 // counter-clockwise from h (h's own spoke when h runs along one). Flips update both with
 // integer formulas only; insertions and edge splits measure where the new edges fall among the
 // input edges of the one or two faces they cut (floating point only for positions along edges).
-// docs/decisions.md D-190..D-192.
+// docs/decisions.md D-190..D-192, D-240.
 #pragma once
 
 #include <Eigen/Core>
@@ -26,6 +26,11 @@ struct InputCrossing {
   double t = 0.0;  ///< where, as a fraction of the intrinsic halfedge from its tail, in (0, 1)
   double input_t = 0.0;  ///< where, as a fraction of input().edge_halfedge(input_edge) from its
                          ///< tail, in (0, 1)
+  /// true when the input edge, run from its tail to its head, crosses the intrinsic halfedge
+  /// from right to left (into the halfedge's face). From the integers (which ends of the input
+  /// edge the two halves of the crossing arc reach), so exact where input_t and t are not: at
+  /// a crossing within rounding of an intrinsic vertex.
+  bool into_left = true;
 };
 
 /// A spoke: one direction in which an input edge leaves an intrinsic vertex. Input vertices
@@ -133,14 +138,11 @@ class NormalCoordinateTriangulation {
     int spoke = 0;
     Eigen::Vector2d pos;
   };
-  struct Arc {
-    Eigen::Vector2d x, y;
-    int from_corner = -1;  // corner x is at, or −1
-  };
   FaceCounts counts(Index f) const;
   bool shared(Index h) const { return n_[tri_.edge(h)] < 0; }
   ArcEnd follow(Index h, int p, Eigen::Vector2d a, Eigen::Vector2d b) const;
-  std::vector<Arc> face_arcs(Index f, const Eigen::Vector2d p[3]) const;
+  void count_new_spokes(Index f, const Eigen::Vector3d& bary, int crossing[3], int before[3]) const;
+  int count_diagonal(Index side_h, int q, int* fan_before) const;
   void grow_records();
   void add_fan(Index v, Index h0, std::vector<char>& seen);
 

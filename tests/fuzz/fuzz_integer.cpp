@@ -3,8 +3,10 @@
 // operations of 4 bytes (kind, a 16-bit element index, a parameter): a flip of a non-Delaunay
 // edge (Delaunay-improving flips keep the geometry sound), an insertion in a face at
 // barycentric coordinates in [0.1, 0.9] before normalising, an edge split at t ∈ [0.1, 0.9].
-// After every operation the integer invariants hold (validate()); at the end every edge traces
-// and the common subdivision builds. Any exception is a finding: inputs are always valid here.
+// After every operation the integer invariants hold (validate()); then, when bit 1 of byte 0 is
+// set, Delaunay refinement (angle 20°..30° from byte 1, at most 60 insertions: circumcenters
+// land on input edges and on the square's boundary); at the end every edge traces and the
+// common subdivision builds. Any exception is a finding: inputs are always valid here.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -13,6 +15,7 @@
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/integer/integer_subdivision.h"
 #include "intrinsic/integer/normal_coordinates.h"
+#include "intrinsic/refine/delaunay_refine.h"
 
 namespace {
 
@@ -63,6 +66,13 @@ int fuzz_one(const std::uint8_t* data, std::size_t size) {
     NormalCoordinateTriangulation nc(m.faces, m.positions);
     for (std::size_t k = 1; k + 4 <= size && k < 1 + 4 * 64; k += 4) {
       apply(nc, data + k);
+      nc.validate();
+    }
+    if ((data[0] & 2) != 0 && size >= 2) {
+      RefineOptions o;
+      o.min_angle_degrees = 20.0 + 10.0 * data[1] / 255.0;
+      o.max_insertions = 60;
+      delaunay_refine(nc, o);
       nc.validate();
     }
     for (Index e = 0; e < nc.intrinsic().n_edges(); ++e) (void)nc.trace_edge(e);
