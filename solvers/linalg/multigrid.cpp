@@ -27,9 +27,9 @@ void MultigridOptions::validate() const {
 namespace {
 
 struct Level {
-  SparseMatrix A;          // this level's operator, both triangles
-  Eigen::VectorXd diag;    // its diagonal
-  SparseMatrix P;          // to the next coarser level (empty on the coarsest)
+  SparseMatrix A;        // this level's operator, both triangles
+  Eigen::VectorXd diag;  // its diagonal
+  SparseMatrix P;        // to the next coarser level (empty on the coarsest)
 };
 
 // P without its empty columns (no nonzero value); `kept` receives the old ids of the columns kept.
@@ -133,8 +133,8 @@ struct MultigridSolver::Impl {
   }
 
   // PCG on one right-hand side.
-  MultigridReport pcg(const Eigen::Ref<const Eigen::VectorXd>& b, Eigen::Ref<Eigen::VectorXd> x)
-      const {
+  MultigridReport pcg(const Eigen::Ref<const Eigen::VectorXd>& b,
+                      Eigen::Ref<Eigen::VectorXd> x) const {
     MultigridReport rep;
     const SparseMatrix& A = levels.front().A;
     const double b_norm = b.norm();
@@ -171,7 +171,8 @@ struct MultigridSolver::Impl {
       throw SolverError("MultigridSolver: relative residual " +
                         std::to_string(rep.relative_residual) + " after " +
                         std::to_string(rep.iterations) + " iterations, tolerance " +
-                        std::to_string(opt.tolerance) + " (raise max_iterations, or the "
+                        std::to_string(opt.tolerance) +
+                        " (raise max_iterations, or the "
                         "hierarchy does not fit the matrix)");
     }
     return rep;
@@ -206,9 +207,8 @@ MultigridSolver::MultigridSolver(const SparseMatrix& A,
                            std::to_string(caller_rows) + " unknowns");
       }
       check_finite(given, "a prolongation");
-      SparseMatrix P = l == 0 || Eigen::Index(kept.size()) == given.rows()
-                           ? given
-                           : select_rows(given, kept);
+      SparseMatrix P =
+          l == 0 || Eigen::Index(kept.size()) == given.rows() ? given : select_rows(given, kept);
       P = drop_empty_columns(P, kept);
       if (P.cols() == 0) throw InvalidInput("MultigridSolver: a prolongation has no column");
       const SparseMatrix AP = lv.A * P;

@@ -43,10 +43,10 @@ struct MultigridOptions {
 
 /// What one PCG solve (one right-hand side) did.
 struct MultigridReport {
-  int iterations = 0;               ///< PCG iterations (one V-cycle each)
-  double relative_residual = 0.0;   ///< ‖b − Ax‖₂ / ‖b‖₂ at the end (0 for b = 0)
-  double reduction_per_cycle = 0.0; ///< geometric mean of the residual reduction per iteration
-  bool converged = false;           ///< relative_residual ≤ tolerance
+  int iterations = 0;                ///< PCG iterations (one V-cycle each)
+  double relative_residual = 0.0;    ///< ‖b − Ax‖₂ / ‖b‖₂ at the end (0 for b = 0)
+  double reduction_per_cycle = 0.0;  ///< geometric mean of the residual reduction per iteration
+  bool converged = false;            ///< relative_residual ≤ tolerance
 };
 
 /// Multigrid-preconditioned conjugate gradients for A x = b, A (#n×#n) symmetric positive

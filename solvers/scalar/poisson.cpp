@@ -458,8 +458,7 @@ PoissonOptions PoissonSolver::with_hierarchy(const intrinsic::IntrinsicTriangula
   options.validate();
   PoissonOptions o = options;
   if (!o.prolongations && o.solver.use_multigrid(tri.n_vertices())) {
-    o.prolongations =
-        std::make_shared<const std::vector<SparseMatrix>>(o.solver.provider()(tri));
+    o.prolongations = std::make_shared<const std::vector<SparseMatrix>>(o.solver.provider()(tri));
   }
   return o;
 }
@@ -488,8 +487,8 @@ void PoissonSolver::factor(const fem::SparseMatrix& A, const PoissonOptions& opt
   std::vector<SparseMatrix> chain = *options.prolongations;
   if (chain.front().rows() != im.n) {
     throw InvalidInput("PoissonSolver: the first prolongation has " +
-                       std::to_string(chain.front().rows()) + " rows for " +
-                       std::to_string(im.n) + " vertices");
+                       std::to_string(chain.front().rows()) + " rows for " + std::to_string(im.n) +
+                       " vertices");
   }
   // P₀'s rows of the unknowns (zero rows for fixed ones kept as decoupled rows)
   std::vector<char> fixed_row(im.unknown_vertex.size(), 0);

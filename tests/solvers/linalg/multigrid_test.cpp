@@ -90,9 +90,9 @@ TEST(NestedHierarchies, CoarseVerticesAreFineVerticesAndRowsSumToOne) {
   }
   const Eigen::VectorXd sums = P * Eigen::VectorXd::Ones(P.cols());
   EXPECT_LE((sums.array() - 1.0).abs().maxCoeff(), 1e-12);
-  EXPECT_GE(Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(P.valuePtr(), P.nonZeros()))
-                .minCoeff(),
-            0.0);
+  EXPECT_GE(
+      Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(P.valuePtr(), P.nonZeros())).minCoeff(),
+      0.0);
   const SparseMatrix G = test::grid_prolongation(8);
   const intrinsic::TriangleMesh gf = intrinsic::grid(16, 16), gc = intrinsic::grid(8, 8);
   const Eigen::VectorXd lin_c = 2.0 * gc.positions.col(0) - 3.0 * gc.positions.col(1);
@@ -134,8 +134,8 @@ TEST(Multigrid, DirichletPoissonAndHeatOnNestedGrids) {
   const std::vector<int> interior = interior_grid_vertices(n);
   const auto tri = test::make_tri(intrinsic::grid(n, n));
   const SparseMatrix A = principal(fem::cotan_laplacian(tri), interior);
-  for (const auto smoother : {MultigridOptions::Smoother::kSymmetricGaussSeidel,
-                              MultigridOptions::Smoother::kJacobi}) {
+  for (const auto smoother :
+       {MultigridOptions::Smoother::kSymmetricGaussSeidel, MultigridOptions::Smoother::kJacobi}) {
     SCOPED_TRACE(smoother == MultigridOptions::Smoother::kJacobi ? "Jacobi" : "Gauss-Seidel");
     MultigridOptions o;
     o.smoother = smoother;
@@ -169,7 +169,8 @@ TEST(Multigrid, SeveralRightHandSidesEqualSingleSolves) {
   EXPECT_EQ(X.col(1).norm(), 0.0);
   for (int j = 0; j < 3; ++j) {
     EXPECT_TRUE(reports[std::size_t(j)].converged);
-    EXPECT_LE((X.col(j) - mg.solve(Eigen::VectorXd(B.col(j)))).norm(), 1e-12 * (1 + X.col(j).norm()));
+    EXPECT_LE((X.col(j) - mg.solve(Eigen::VectorXd(B.col(j)))).norm(),
+              1e-12 * (1 + X.col(j).norm()));
   }
   Eigen::MatrixXd in_place = B;
   mg.solve(in_place.data(), in_place.data(), 3);
@@ -210,7 +211,6 @@ TEST(Multigrid, RefusesBadInput) {
   EXPECT_EQ(rep.iterations, 1);
   EXPECT_THROW(mg.solve(Eigen::VectorXd(3)), InvalidInput);
 }
-
 
 // The solver choice behind PoissonSolver and HeatDistanceSolver, with the nested icosphere
 // hierarchy injected as the provider.

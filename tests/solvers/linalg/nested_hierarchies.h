@@ -98,15 +98,16 @@ inline solvers::SparseMatrix icosphere_prolongation(int n) {
   std::vector<Eigen::Matrix3d> inverse(ico.faces.size());
   for (std::size_t f = 0; f < ico.faces.size(); ++f) {
     Eigen::Matrix3d C;
-    for (int s = 0; s < 3; ++s) C.col(s) = ico.positions.row(ico.faces[f][std::size_t(s)]).transpose();
+    for (int s = 0; s < 3; ++s)
+      C.col(s) = ico.positions.row(ico.faces[f][std::size_t(s)]).transpose();
     inverse[f] = C.inverse();
   }
   auto lattice_vertex = [&](std::size_t f, int a, int b) {
     const auto& F = ico.faces[f];
     const Eigen::RowVector3d c0 = ico.positions.row(F[0]), c1 = ico.positions.row(F[1]),
                              c2 = ico.positions.row(F[2]);
-    return coarse_index.find((c0 + (c1 - c0) * (double(a) / n) + (c2 - c0) * (double(b) / n))
-                                 .normalized());
+    return coarse_index.find(
+        (c0 + (c1 - c0) * (double(a) / n) + (c2 - c0) * (double(b) / n)).normalized());
   };
   std::vector<Eigen::Triplet<double>> t;
   for (Eigen::Index v = 0; v < fine.positions.rows(); ++v) {
@@ -134,7 +135,8 @@ inline solvers::SparseMatrix icosphere_prolongation(int n) {
     }
     for (int s = 0; s < 3; ++s) {
       if (weight[std::size_t(s)] > 1e-9) {
-        t.emplace_back(int(v), lattice_vertex(f, corner[std::size_t(s)][0], corner[std::size_t(s)][1]),
+        t.emplace_back(int(v),
+                       lattice_vertex(f, corner[std::size_t(s)][0], corner[std::size_t(s)][1]),
                        weight[std::size_t(s)]);
       }
     }
@@ -172,13 +174,15 @@ inline std::vector<solvers::SparseMatrix> grid_hierarchy(int n, int levels) {
 }
 
 /// P restricted to the rows `keep` (e.g. the free vertices of a Dirichlet problem).
-inline solvers::SparseMatrix keep_rows(const solvers::SparseMatrix& P, const std::vector<int>& keep) {
+inline solvers::SparseMatrix keep_rows(const solvers::SparseMatrix& P,
+                                       const std::vector<int>& keep) {
   std::vector<Eigen::Triplet<double>> t;
   std::vector<int> new_row(std::size_t(P.rows()), -1);
   for (std::size_t i = 0; i < keep.size(); ++i) new_row[std::size_t(keep[i])] = int(i);
   for (int k = 0; k < P.outerSize(); ++k)
     for (solvers::SparseMatrix::InnerIterator it(P, k); it; ++it)
-      if (new_row[std::size_t(it.row())] >= 0) t.emplace_back(new_row[std::size_t(it.row())], k, it.value());
+      if (new_row[std::size_t(it.row())] >= 0)
+        t.emplace_back(new_row[std::size_t(it.row())], k, it.value());
   solvers::SparseMatrix out(Eigen::Index(keep.size()), P.cols());
   out.setFromTriplets(t.begin(), t.end());
   return out;
