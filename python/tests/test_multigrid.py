@@ -17,8 +17,6 @@ def spot():
 def test_auto_equals_direct(spot):
     V, F = spot
     assert np.array_equal(ifem.distance(V, F, 0, solver="auto"), ifem.distance(V, F, 0))
-    d = ifem.HeatDistanceSolver(V, F, solver="auto").compute_distance(0)
-    assert np.array_equal(d, ifem.distance(V, F, 0))
     bc = {0: 1.0, 657: -1.0}
     assert np.array_equal(ifem.poisson(V, F, dirichlet=bc, solver="auto"),
                           ifem.poisson(V, F, dirichlet=bc))

@@ -14,9 +14,9 @@
 
 #include "fem/operators.h"
 #include "intrinsic/core/geometry.h"
+#include "intrinsic/core/triangulation.h"
 #include "solvers/linalg/nested_hierarchies.h"
 #include "solvers/scalar/heat_distance.h"
-#include "intrinsic/core/triangulation.h"
 
 using namespace ifem;
 
@@ -31,8 +31,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 // M + tL (t = h²) and L with vertex 0 eliminated: PCG (iterations, reduction per cycle, seconds
 // per solve of a point source) against the Cholesky factor (factor seconds, solve seconds, MB).
-int linear(const intrinsic::TriangleMesh& mesh, const intrinsic::IntrinsicTriangulation& tri,
-           int n, int levels, int steps, bool jacobi) {
+int linear(const intrinsic::TriangleMesh& mesh, const intrinsic::IntrinsicTriangulation& tri, int n,
+           int levels, int steps, bool jacobi) {
   (void)mesh;
   const double h = intrinsic::mean_edge_length(tri);
   const solvers::SparseMatrix L = fem::cotan_laplacian(tri);

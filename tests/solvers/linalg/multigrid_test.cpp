@@ -276,10 +276,10 @@ TEST(SolverChoice, WithoutProviderMultigridIsRefusedAndAutoIsDirect) {
 TEST(SolverChoice, HeatDistanceMultigridMatchesDirect) {
   // the sphere: the geodesic distance from vertex 0 is the angle; multigrid's distances agree
   // with the direct solver's to well within the heat method's own error
-  const intrinsic::TriangleMesh mesh = intrinsic::icosphere(32);
+  const intrinsic::TriangleMesh mesh = intrinsic::icosphere(16);
   const auto tri = test::make_tri(mesh);
   HeatDistanceOptions mg;
-  mg.solver = icosphere_choice(32, 4);
+  mg.solver = icosphere_choice(16, 3);
   const Eigen::VectorXd direct = HeatDistanceSolver(tri).compute_distance({0});
   HeatDistanceReport report;
   const Eigen::VectorXd multi = HeatDistanceSolver(tri, mg).compute_distance({0}, &report);
