@@ -282,7 +282,12 @@ TEST(SolverChoice, HeatDistanceMultigridMatchesDirect) {
   mg.solver = icosphere_choice(16, 3);
   const Eigen::VectorXd direct = HeatDistanceSolver(tri).compute_distance({0});
   HeatDistanceReport report;
-  const Eigen::VectorXd multi = HeatDistanceSolver(tri, mg).compute_distance({0}, &report);
+  const HeatDistanceSolver solver(tri, mg);
+  const Eigen::VectorXd multi = solver.compute_distance({0}, &report);
+  // the batch path (block solves through the multigrid solver's columns) agrees
+  const Eigen::MatrixXd batch = solver.compute_distances({0, 40});
+  EXPECT_LE((batch.col(0) - multi).cwiseAbs().maxCoeff(), 1e-8);
+  EXPECT_LE((batch.col(1) - solver.compute_distance({40})).cwiseAbs().maxCoeff(), 1e-8);
   Eigen::VectorXd exact(mesh.positions.rows());
   for (Eigen::Index v = 0; v < exact.size(); ++v) {
     exact[v] = std::acos(std::clamp(mesh.positions.row(v).dot(mesh.positions.row(0)), -1.0, 1.0));
