@@ -14,7 +14,7 @@ OptionSpec solver_option() {
           "growing faster than the mesh), multigrid (conjugate gradients with\n"
           "V-cycles on a hierarchy of coarser triangulations: memory linear in the\n"
           "mesh, answers to a relative residual of 1e-10), or auto (multigrid from\n"
-          "2.5M vertices on, where the direct factors outgrow a 24 GiB machine).\n"
+          "2.5M vertices on, where the direct factors take a third of a 24 GiB machine).\n"
           "multigrid needs a hierarchy provider, which this build lacks: it is refused\n"
           "and auto stays direct");
 }
