@@ -14,6 +14,7 @@
 #include "cli_isolines.h"
 #include "cli_refine.h"
 #include "cli_signed.h"
+#include "cli_solver.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
 #include "intrinsic/io/tokens.h"
@@ -54,6 +55,7 @@ solvers::DistanceOptions distance_settings(const Args& args) {
     settings.precision = solvers::HeatDistanceOptions::Precision::kMixed;
   }
   settings.path_bounds = !args.has("no-path-bounds");
+  settings.solver = solver_choice(args);
   settings.on_progress = progress_bar(args);
   return settings;
 }
@@ -235,6 +237,7 @@ OptionGroup distance_options() {
                     "query; distances move by at most ~3e-7 relative, far below the method's\n"
                     "~1% error). Pays only where the solves are memory-bound: not on the\n"
                     "machine of BENCHMARKS.md, \"Heat queries\""),
+       solver_option(),
        flag("no-path-bounds")
            .explain("the heat method's values as solved, without the clamp into the\n"
                     "bounds above (to see or measure the method's own error)"),

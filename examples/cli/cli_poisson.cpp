@@ -9,6 +9,7 @@
 #include "cli_curves.h"
 #include "cli_isolines.h"
 #include "cli_refine.h"
+#include "cli_solver.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
 #include "intrinsic/io/tokens.h"
@@ -70,6 +71,7 @@ int run_curves(const Args& args, const ResultOutput& out) {
   CurveRun run{prepare_curves(std::move(in.input), std::move(curves), args, true, in.refine), {}};
   solvers::PoissonOptions opt;
   opt.screening = args.real("screening");
+  opt.solver = solver_choice(args);
   const Stopwatch watch;
   const solvers::CurvePoissonResult r = solvers::curve_poisson(run.surface, in.f, in.dv, in.g, opt);
   progress(args, "solved in " + std::to_string(watch.seconds()) + " s: u held on " +
@@ -102,6 +104,7 @@ int run(const Args& args) {
   const PreparedSurface s = prepare_surface(std::move(in.input), args, in.refine);
   solvers::PoissonOptions opt;
   opt.screening = args.real("screening");
+  opt.solver = solver_choice(args);
   const Stopwatch watch;
   const Eigen::VectorXd u = solvers::poisson(s, in.f, dv, in.g, opt);  // on the input's vertices
   progress(args, "solved in " + std::to_string(watch.seconds()) + " s");
@@ -144,6 +147,7 @@ OptionGroup poisson_options() {
            .explain("f, one value per line, one line per input vertex (default 0:\n"
                     "Laplace's equation)"),
        real("screening", "c").at_least(0).defaults_to("0").explain("the screening c"),
+       solver_option(),
        text("output", "OUT")
            .short_alias('o')
            .mandatory()

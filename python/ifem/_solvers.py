@@ -189,13 +189,14 @@ class HeatDistanceSolver:
     def __init__(self, V, F=None, refine=False, *, time_factor=None, correction_steps=None,
                  mollify=1e-5, path="auto", knn=30, min_angle=25.0, resolution=0.4,
                  max_area=0.0, max_insertions=None, precision="double", normals=None,
-                 progress=None, path_bounds=True):
+                 progress=None, path_bounds=True, solver="direct"):
         V, F, normals = _input(V, F, normals)
         self._solver = _ifem.HeatDistanceSolver(
             V, _faces(F), _optional(time_factor, "time_factor", _real),
             _optional(correction_steps, "correction_steps", _int), *_surface(mollify, path, knn),
             _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4),
-            _precision(precision), normals, progress, _path_bounds(path_bounds))
+            _precision(precision), normals, progress, _path_bounds(path_bounds),
+            _solver(solver))
 
     def compute_distance(self, sources=None, points=None):
         """Geodesic distance to the nearest source, on every input vertex.
@@ -288,6 +289,14 @@ class HeatDistanceSolver:
                 f"correction_steps={i['correction_steps']})")
 
 
+def _solver(solver):
+    """The linear solver's name, 'direct', 'multigrid' or 'auto' (checked here: the message names
+    the argument)."""
+    if solver not in ("direct", "multigrid", "auto"):
+        raise InvalidInput(f"solver must be 'direct', 'multigrid' or 'auto', got {solver!r}")
+    return solver
+
+
 def _precision(precision):
     """The query precision, 'mixed' or 'double' (checked here: the message names the argument)."""
     if precision not in ("mixed", "double"):
@@ -306,7 +315,7 @@ def _path_bounds(path_bounds):
 def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=None,
              correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
              resolution=0.4, max_area=0.0, max_insertions=None, precision="double",
-             normals=None, curves=None, progress=None, path_bounds=True):
+             normals=None, curves=None, progress=None, path_bounds=True, solver="direct"):
     """Geodesic distance from vertices (or surface points) in one call, as ``ifem distance``
     (``heat_distance`` is its deprecated old name).
 
@@ -323,6 +332,11 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
     ``path_bounds``: True (default) clamps every value into bounds the exact distance
     satisfies; False returns the heat method's values as solved (the CLI's
     ``--no-path-bounds``); see :class:`HeatDistanceSolver`.
+
+    ``solver``: the linear solver, as the CLI's ``--solver``: ``"direct"`` (Cholesky factors,
+    the default), ``"multigrid"`` (conjugate gradients with V-cycles on a hierarchy of coarser
+    triangulations; refused in builds without a hierarchy provider) or ``"auto"`` (multigrid
+    from 2.5M vertices on, when a provider exists).
 
     Returns:
         #V_in float64 array of distances (``inf`` where no source reaches).
@@ -349,11 +363,11 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
         faces, bary = _points(points)  # checked before the work
         solver = _ifem.HeatDistanceSolver(V, _faces(F), t, c, *surface, refine_arg,
                                           _precision(precision), normals, progress,
-                                          _path_bounds(path_bounds))
+                                          _path_bounds(path_bounds), _solver(solver))
         return solver.compute_distance_from_points(faces, bary)
     return _ifem.heat_distance(V, _faces(F), sources, t, c, *surface, refine_arg,
                                _precision(precision), normals, progress,
-                               _path_bounds(path_bounds))
+                               _path_bounds(path_bounds), _solver(solver))
 
 
 #: Deprecated: the old name of :func:`distance`.
@@ -412,7 +426,8 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
 
 def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *, mollify=1e-5,
             path="auto", knn=30, min_angle=25.0, resolution=0.0, max_area=0.0,
-            max_insertions=None, return_info=False, normals=None, curves=None, progress=None):
+            max_insertions=None, return_info=False, normals=None, curves=None, progress=None,
+            solver="direct"):
     """Solves ``−Δu + c·u = f`` with Dirichlet values on chosen vertices, as ``ifem poisson``.
 
     Discretely ``(L + c M) u = M f`` (L the intrinsic Delaunay cotan Laplacian, positive
@@ -443,6 +458,8 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
         progress: None (default: nothing is reported, nothing printed) or a callable
             ``progress(fraction, stage)``, told how refinement goes (``refine=True``: stage
             ``"refine"``; 0 first, non-decreasing, exactly 1 last); ignored with ``curves``.
+        solver: ``"direct"`` (default), ``"multigrid"`` or ``"auto"``, as in :func:`distance`
+            (the CLI's ``--solver``).
 
     Returns:
         u, #V_in float64 array in the input's vertex order (and ``info`` when asked).
@@ -464,7 +481,7 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
     u, info = _ifem.poisson(V, _faces(F), rhs, ids, values, _real(screening, "screening"),
                             *_surface(mollify, path, knn),
                             _refine(refine, min_angle, resolution, max_area, max_insertions,
-                                    0.0), normals, progress)
+                                    0.0), normals, progress, _solver(solver))
     return (u, info) if return_info else u
 
 

@@ -119,7 +119,8 @@ solvers::PreparedSurface prepare_checked(io::SurfaceInput in, const SurfaceArgs&
 
 solvers::DistanceOptions distance_settings(std::optional<double> time_factor,
                                            std::optional<int> correction_steps,
-                                           const std::string& precision, bool path_bounds = true) {
+                                           const std::string& precision, bool path_bounds = true,
+                                           const std::string& solver = "direct") {
   using Precision = solvers::HeatDistanceOptions::Precision;
   if (precision != "mixed" && precision != "double") {
     throw InvalidInput("precision must be 'mixed' or 'double', got '" + precision + "'");
@@ -136,6 +137,7 @@ solvers::DistanceOptions distance_settings(std::optional<double> time_factor,
   o.correction_steps = correction_steps;
   o.precision = precision == "double" ? Precision::kDouble : Precision::kMixed;
   o.path_bounds = path_bounds;
+  o.solver.kind = solvers::parse_linear_solver(solver);
   return o;
 }
 
@@ -306,10 +308,10 @@ std::unique_ptr<DistanceSolver> make_distance_solver(const py::handle& V, const 
                                                      std::optional<double> time_factor,
                                                      std::optional<int> correction_steps,
                                                      const SurfaceArgs& a, const py::handle& refine,
-                                                     const std::string& precision,
-                                                     bool path_bounds) {
+                                                     const std::string& precision, bool path_bounds,
+                                                     const std::string& solver) {
   const solvers::DistanceOptions settings =
-      distance_settings(time_factor, correction_steps, precision, path_bounds);
+      distance_settings(time_factor, correction_steps, precision, path_bounds, solver);
   std::optional<solvers::SurfaceRefineOptions> r =
       refine_settings(refine, solvers::RefinedDistanceOptions{}.resolution, false);
   solvers::PreparedSurface s = prepare_checked(checked_input(V, F, a), a, std::move(r));
@@ -323,9 +325,9 @@ std::unique_ptr<DistanceSolver> make_distance_solver(const py::handle& V, const 
 py::array heat_distance(const py::handle& V, const py::handle& F, const py::handle& sources,
                         std::optional<double> time_factor, std::optional<int> correction_steps,
                         const SurfaceArgs& a, const py::handle& refine,
-                        const std::string& precision, bool path_bounds) {
+                        const std::string& precision, bool path_bounds, const std::string& solver) {
   const solvers::DistanceOptions settings =
-      distance_settings(time_factor, correction_steps, precision, path_bounds);
+      distance_settings(time_factor, correction_steps, precision, path_bounds, solver);
   std::optional<solvers::SurfaceRefineOptions> r =
       refine_settings(refine, solvers::RefinedDistanceOptions{}.resolution, false);
   io::SurfaceInput in = checked_input(V, F, a);
@@ -378,7 +380,8 @@ std::pair<std::vector<Index>, Eigen::VectorXd> checked_dirichlet(const py::handl
 
 py::tuple poisson(const py::handle& V, const py::handle& F, const py::handle& rhs,
                   const py::handle& dirichlet_ids, const py::handle& dirichlet_values,
-                  double screening, const SurfaceArgs& a, const py::handle& refine) {
+                  double screening, const SurfaceArgs& a, const py::handle& refine,
+                  const std::string& solver) {
   if (!(screening >= 0.0 && std::isfinite(screening))) {
     throw InvalidInput("screening must be finite and ≥ 0, got " + num(screening));
   }
@@ -390,6 +393,7 @@ py::tuple poisson(const py::handle& V, const py::handle& F, const py::handle& rh
   const solvers::PreparedSurface s = prepare_checked(std::move(in), a, std::move(r));
   solvers::PoissonOptions o;
   o.screening = screening;
+  o.solver.kind = solvers::parse_linear_solver(solver);
   Eigen::VectorXd u;
   {
     const py::gil_scoped_release release;
@@ -413,15 +417,16 @@ void bind_solvers(py::module_& m) {
       .def(py::init([](const py::handle& V, const py::handle& F, Opt t, Steps c, double mollify,
                        const std::string& path, int knn, const py::handle& refine,
                        const std::string& precision, const py::handle& normals,
-                       const py::handle& progress, bool path_bounds) {
+                       const py::handle& progress, bool path_bounds, const std::string& solver) {
              return make_distance_solver(V, F, t, c,
                                          surface_args(mollify, path, knn, normals, progress),
-                                         refine, precision, path_bounds);
+                                         refine, precision, path_bounds, solver);
            }),
            py::arg("V"), py::arg("F"), py::arg("time_factor"), py::arg("correction_steps"),
            py::arg("mollify"), py::arg("path"), py::arg("knn"), py::arg("refine"),
            py::arg("precision") = "double", py::arg("normals") = py::none(),
-           py::arg("progress") = py::none(), py::arg("path_bounds") = true)
+           py::arg("progress") = py::none(), py::arg("path_bounds") = true,
+           py::arg("solver") = "direct")
       .def("compute_distance", &DistanceSolver::distance, py::arg("sources"))
       .def("compute_distances", &DistanceSolver::distances, py::arg("sources"),
            py::arg("progress") = py::none())
@@ -435,15 +440,16 @@ void bind_solvers(py::module_& m) {
       [](const py::handle& V, const py::handle& F, const py::handle& sources, Opt t, Steps c,
          double mollify, const std::string& path, int knn, const py::handle& refine,
          const std::string& precision, const py::handle& normals, const py::handle& progress,
-         bool path_bounds) {
+         bool path_bounds, const std::string& solver) {
         return heat_distance(V, F, sources, t, c,
                              surface_args(mollify, path, knn, normals, progress), refine, precision,
-                             path_bounds);
+                             path_bounds, solver);
       },
       py::arg("V"), py::arg("F"), py::arg("sources"), py::arg("time_factor"),
       py::arg("correction_steps"), py::arg("mollify"), py::arg("path"), py::arg("knn"),
       py::arg("refine"), py::arg("precision") = "double", py::arg("normals") = py::none(),
-      py::arg("progress") = py::none(), py::arg("path_bounds") = true);
+      py::arg("progress") = py::none(), py::arg("path_bounds") = true,
+      py::arg("solver") = "direct");
   m.def(
       "eigen",
       [](const py::handle& V, const py::handle& F, Index k, double mollify, const std::string& path,
@@ -456,14 +462,15 @@ void bind_solvers(py::module_& m) {
       "poisson",
       [](const py::handle& V, const py::handle& F, const py::handle& rhs, const py::handle& ids,
          const py::handle& values, double screening, double mollify, const std::string& path,
-         int knn, const py::handle& refine, const py::handle& normals, const py::handle& progress) {
+         int knn, const py::handle& refine, const py::handle& normals, const py::handle& progress,
+         const std::string& solver) {
         return poisson(V, F, rhs, ids, values, screening,
-                       surface_args(mollify, path, knn, normals, progress), refine);
+                       surface_args(mollify, path, knn, normals, progress), refine, solver);
       },
       py::arg("V"), py::arg("F"), py::arg("rhs"), py::arg("dirichlet_ids"),
       py::arg("dirichlet_values"), py::arg("screening"), py::arg("mollify"), py::arg("path"),
       py::arg("knn"), py::arg("refine"), py::arg("normals") = py::none(),
-      py::arg("progress") = py::none());
+      py::arg("progress") = py::none(), py::arg("solver") = "direct");
 }
 
 }  // namespace ifem::python

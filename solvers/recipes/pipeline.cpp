@@ -487,6 +487,7 @@ HeatDistanceOptions distance_options(const PreparedSurface& s, const DistanceOpt
       settings.correction_steps.value_or(sized ? accurate.correction_steps : o.correction_steps);
   o.precision = settings.precision.value_or(o.precision);
   o.path_bounds = settings.path_bounds;
+  o.solver = settings.solver;
   o.intrinsic_delaunay = false;  // prepare_surface already flipped (unless told not to)
   if (s.input.has_faces() && s.path != SurfacePath::kPointCloud) {
     // t from the input mesh's edges (more accurate than the IDT's on sliver meshes), and the

@@ -158,6 +158,8 @@ struct DistanceOptions {
   /// Clamp into the bounds every exact distance satisfies (HeatDistanceOptions::path_bounds);
   /// false: the heat method's values as solved
   bool path_bounds = true;
+  /// The linear solver (HeatDistanceOptions::solver; default direct)
+  SolverChoice solver;
   /// Progress of geodesic_distances() (HeatDistanceSolver::compute_distances()); empty: none
   ProgressCallback on_progress;
   /// @throws InvalidInput naming the field and its allowed range

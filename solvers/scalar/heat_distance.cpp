@@ -127,6 +127,7 @@ void HeatDistanceOptions::validate() const {
         trusted_heat <= 1.0)) {
     throw InvalidInput("HeatDistanceOptions: need 0 < resolved_heat ≤ trusted_heat ≤ 1");
   }
+  solver.validate();
   if (max_constrained_sources < 0) {
     throw InvalidInput("HeatDistanceOptions: max_constrained_sources must be ≥ 0");
   }
@@ -371,6 +372,37 @@ void check_heat_factor(const HeatDistanceSolver::Impl& im, const PoissonSolver& 
   }
 }
 
+// build_solver()'s multigrid path (SolverChoice): the heat and Poisson solvers run PCG with
+// V-cycles on one hierarchy of im.tri from the provider; no shared analysis. The heat thresholds
+// are raised to what an iterative heat solve resolves (D-231).
+void build_multigrid(HeatDistanceSolver::Impl& im, const HeatDistanceOptions& options) {
+  const double tol = options.solver.multigrid.tolerance;
+  im.opt.resolved_heat = std::min(1.0, std::max(im.opt.resolved_heat, 1e3 * tol));
+  im.opt.trusted_heat = std::min(1.0, std::max(im.opt.trusted_heat, 1e5 * tol));
+  PoissonOptions poisson_opt;
+  poisson_opt.solver = options.solver;
+  poisson_opt.solver.kind = LinearSolverKind::kMultigrid;
+  poisson_opt.prolongations =
+      std::make_shared<const std::vector<SparseMatrix>>(options.solver.provider()(im.tri));
+  PoissonOptions heat_opt = poisson_opt;
+  heat_opt.screening = 1.0;  // tL + 1·M
+  const std::vector<Index> boundary = boundary_vertex_list(im.tri, options.boundary_vertices);
+  im.comps = connected_components(im.tri);
+  im.L = fem::cotan_laplacian(im.tri);
+  im.mass = fem::lumped_mass(im.tri);
+  const fem::SparseMatrix tL = im.t * im.L;
+  im.unit_div.emplace(im.tri);
+  if (options.path_bounds) im.paths = PathGraph(im.tri);
+  im.one_component =
+      std::all_of(im.comps.label.begin(), im.comps.label.end(), [](Index c) { return c == 0; });
+  im.heat_neumann =
+      std::make_shared<const PoissonSolver>(tL, im.mass, im.comps, std::vector<Index>{}, heat_opt);
+  if (options.boundary == HeatDistanceOptions::Boundary::kAverage && !boundary.empty()) {
+    im.heat_dirichlet.emplace(tL, im.mass, im.comps, boundary, heat_opt);
+  }
+  im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, poisson_opt);
+}
+
 // The constructors: `heat` null builds the Neumann heat factor beside the others, else uses it
 // (after checking that it is M + tL on the solver's triangulation).
 // Long function: the set-up's order (checks, flips, scale, assembly beside the analysis, the
@@ -417,6 +449,10 @@ void build_solver(HeatDistanceSolver::Impl& im, const IntrinsicTriangulation& tr
   // vertices as decoupled rows). The analysis needs only the triangulation's edges, so it runs
   // beside the components, L, M, tL and the face layouts of the queries' divergence
   // (docs/decisions.md, "Small meshes: the analysis beside the assembly").
+  if (!given_heat && options.solver.use_multigrid(im.tri.n_vertices())) {
+    build_multigrid(im, options);
+    return;
+  }
   const PoissonOptions poisson_opt =
       query_factor_options(options.precision, im.tri.n_vertices(), false);
   PoissonOptions heat_opt = query_factor_options(options.precision, im.tri.n_vertices(), true);

@@ -12,6 +12,7 @@
 #include "intrinsic/core/surface_point.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/core/types.h"
+#include "solvers/scalar/solver_choice.h"
 
 namespace ifem::solvers {
 
@@ -97,6 +98,14 @@ struct HeatDistanceOptions {
   /// all with a position. Only correct for positions of the surface the triangulation measures
   /// (solvers::distance_options passes the input mesh's).
   Positions vertex_positions;
+  /// The linear solver of the heat and Poisson steps: the direct Cholesky factors (default) or
+  /// multigrid-preconditioned CG (kMultigrid; kAuto by size) on a hierarchy of the solver's
+  /// triangulation (SolverChoice::provider(), called once on it). An iterative heat solve is
+  /// right only to its tolerance relative to the largest heat, so with multigrid resolved_heat
+  /// and trusted_heat are raised to at least 1e3 and 1e5 × solver.multigrid.tolerance (more
+  /// continuation stages on large meshes: docs/decisions.md D-231). The shared heat factor
+  /// constructor and heat_factor() stay direct.
+  SolverChoice solver;
   /// @throws InvalidInput naming the field: time_factor not > 0 and finite, mean_edge_length
   ///         negative or not finite, thresholds not 0 < resolved_heat ≤ trusted_heat ≤ 1,
   ///         negative max_constrained_sources or correction_steps, non-finite

@@ -25,6 +25,7 @@ void PoissonOptions::validate() const {
                        std::to_string(screening));
   }
   cholesky.validate();
+  solver.validate();
 }
 
 struct PoissonSolver::Impl {
@@ -47,6 +48,16 @@ struct PoissonSolver::Impl {
   std::vector<char> fixed;
   std::vector<Index> fixed_rows;
   std::optional<CholeskySolver> chol;
+  std::optional<MultigridSolver> mg;  // instead of chol (PoissonOptions::solver)
+
+  // Solves the factored (or multigrid) system for k columns, column-major, in place.
+  void solve_columns(double* X, Eigen::Index k) const {
+    if (mg) {
+      mg->solve(X, X, k);
+    } else {
+      chol->solve(X, X, k);
+    }
+  }
 
   // Whether row-major blocks are solved in place: every vertex an unknown (unknown id = vertex),
   // and the pure-Neumann part one component or none.
@@ -115,7 +126,14 @@ struct PoissonSolver::Impl {
     const double* sum =
         one_floating && order ? (compat_sums ? compat_sums : sums(floating_one)) : nullptr;
     zero_fixed();
-    if (n > 0 && sum) {
+    if (n > 0 && mg) {  // column-major through a copy (no block order: block_order() is null)
+      using RowBlock =
+          Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+      RowBlock rows(X, n, k);
+      Eigen::MatrixXd B = rows;
+      mg->solve(B.data(), B.data(), k);
+      rows = B;
+    } else if (n > 0 && sum) {
       CholeskyBlocks::solve_in_block_order(*chol, X, k, nullptr, weight_in_order.data(), sum);
     } else if (n > 0 && order) {
       CholeskyBlocks::solve_in_block_order(*chol, X, k, source_rows);
@@ -188,7 +206,7 @@ struct PoissonSolver::Impl {
     for (Index i = 0; i < nu; ++i) rhs[i] = (*src)[unknown_vertex[i]];
     if (A_ud.cols() > 0) rhs.noalias() -= A_ud * g;
     for (const Index r : fixed_rows) rhs[r] = 0.0;  // decoupled: solved to 0
-    if (nu > 0) chol->solve(rhs.data(), rhs.data());
+    if (nu > 0) solve_columns(rhs.data(), 1);
     Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
     for (Index i = 0; i < nu; ++i) x[unknown_vertex[i]] = rhs[i];
     for (const Index r : fixed_rows) x[unknown_vertex[r]] = 0.0;  // pinned: 0 (not −0)
@@ -211,7 +229,7 @@ struct PoissonSolver::Impl {
     for (const Index r : fixed_rows) rhs.row(r).setZero();  // decoupled: solved to 0
     Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, k);
     if (nu > 0) {
-      chol->solve(rhs.data(), rhs.data(), k);
+      solve_columns(rhs.data(), k);
       for (Eigen::Index j = 0; j < k; ++j) {
         for (Index i = 0; i < nu; ++i) X(unknown_vertex[i], j) = rhs(i, j);
       }
@@ -229,7 +247,7 @@ struct PoissonSolver::Impl {
   void solve_many_identity(Eigen::Ref<Eigen::MatrixXd> B) const {
     make_compatible(B);
     for (const Index r : fixed_rows) B.row(r).setZero();  // decoupled: solved to 0
-    if (n > 0) chol->solve(B.data(), B.data(), B.cols());
+    if (n > 0) solve_columns(B.data(), B.cols());
     for (const Index r : fixed_rows) B.row(r).setZero();  // pinned and Dirichlet: 0 (not −0)
     remove_floating_means(B);
   }
@@ -433,7 +451,62 @@ struct PoissonSolver::Impl {
 PoissonSolver::PoissonSolver(const intrinsic::IntrinsicTriangulation& tri,
                              std::vector<Index> dirichlet_vertices, const PoissonOptions& options)
     : PoissonSolver(fem::cotan_laplacian(tri), fem::lumped_mass(tri), connected_components(tri),
-                    std::move(dirichlet_vertices), options) {}
+                    std::move(dirichlet_vertices), with_hierarchy(tri, options)) {}
+
+PoissonOptions PoissonSolver::with_hierarchy(const intrinsic::IntrinsicTriangulation& tri,
+                                             const PoissonOptions& options) {
+  options.validate();
+  PoissonOptions o = options;
+  if (!o.prolongations && o.solver.use_multigrid(tri.n_vertices())) {
+    o.prolongations = std::make_shared<const std::vector<SparseMatrix>>(o.solver.provider()(tri));
+  }
+  return o;
+}
+
+void PoissonSolver::factor(const fem::SparseMatrix& A, const PoissonOptions& options,
+                           const CholeskyAnalysis* analysis) {
+  Impl& im = *impl_;
+  if (im.unknown_vertex.empty()) return;
+  const SolverChoice& c = options.solver;
+  const bool multigrid = c.kind == LinearSolverKind::kMultigrid ||
+                         (c.kind == LinearSolverKind::kAuto && options.prolongations &&
+                          im.n >= c.auto_multigrid_vertices);
+  if (!multigrid) {
+    if (analysis) {
+      im.chol.emplace(A, *analysis, options.cholesky);
+    } else {
+      im.chol.emplace(A, options.cholesky);
+    }
+    return;
+  }
+  if (!options.prolongations || options.prolongations->empty()) {
+    throw InvalidInput(
+        "PoissonSolver: multigrid needs a hierarchy (PoissonOptions::prolongations, or the "
+        "triangulation constructor with a hierarchy provider)");
+  }
+  std::vector<SparseMatrix> chain = *options.prolongations;
+  if (chain.front().rows() != im.n) {
+    throw InvalidInput("PoissonSolver: the first prolongation has " +
+                       std::to_string(chain.front().rows()) + " rows for " + std::to_string(im.n) +
+                       " vertices");
+  }
+  // P₀'s rows of the unknowns (zero rows for fixed ones kept as decoupled rows)
+  std::vector<char> fixed_row(im.unknown_vertex.size(), 0);
+  for (const Index r : im.fixed_rows) fixed_row[std::size_t(r)] = 1;
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(std::size_t(chain.front().nonZeros()));
+  const SparseMatrix& P0 = chain.front();
+  for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
+    for (SparseMatrix::InnerIterator it(P0, j); it; ++it) {
+      const Index u = im.unknown[it.row()];
+      if (u != kInvalidIndex && !fixed_row[std::size_t(u)]) t.emplace_back(u, int(j), it.value());
+    }
+  }
+  chain.front() = SparseMatrix(Eigen::Index(im.unknown_vertex.size()), P0.cols());
+  chain.front().setFromTriplets(t.begin(), t.end());
+  const SparseMatrix full = A.selfadjointView<Eigen::Lower>();  // A holds its lower triangle
+  im.mg.emplace(full, chain, c.multigrid);
+}
 
 namespace {
 
@@ -475,7 +548,7 @@ PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& 
                              const PoissonOptions& options)
     : impl_(std::make_unique<Impl>()) {
   const fem::SparseMatrix A = setup(L, mass, comps, std::move(dirichlet), options, false);
-  if (!impl_->unknown_vertex.empty()) impl_->chol.emplace(A, options.cholesky);
+  factor(A, options, nullptr);
 }
 
 PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
@@ -486,7 +559,7 @@ PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& 
   if (A.rows() != analysis.size()) {
     throw InvalidInput("PoissonSolver: the analysis is of another Laplacian or components");
   }
-  if (!impl_->unknown_vertex.empty()) impl_->chol.emplace(A, analysis, options.cholesky);
+  factor(A, options, &analysis);
 }
 
 CholeskyAnalysis PoissonSolver::analyze(const fem::SparseMatrix& L, const Components& comps,
@@ -633,7 +706,7 @@ void PoissonBlocks::solve_rows_in_place(const PoissonSolver& p, double* X, Eigen
 
 const std::vector<int>* PoissonBlocks::block_order(const PoissonSolver& p) {
   const PoissonSolver::Impl& im = *p.impl_;
-  return im.rows_direct() && im.n > 0 ? CholeskyBlocks::block_order(*im.chol) : nullptr;
+  return im.rows_direct() && im.n > 0 && im.chol ? CholeskyBlocks::block_order(*im.chol) : nullptr;
 }
 
 const Eigen::VectorXd* PoissonBlocks::compatibility_weights(const PoissonSolver& p) {
@@ -653,6 +726,7 @@ void PoissonBlocks::solve_rows_in_order(const PoissonSolver& p, double* W, Eigen
 
 const std::vector<Index>& PoissonSolver::dirichlet_vertices() const { return impl_->dirichlet; }
 Index PoissonSolver::n_unknowns() const { return Index(impl_->unknown_vertex.size()); }
+bool PoissonSolver::multigrid() const { return impl_->mg.has_value(); }
 double PoissonSolver::factor_nonzeros() const {
   return impl_->chol ? impl_->chol->factor_nonzeros() : 0.0;
 }

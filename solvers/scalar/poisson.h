@@ -10,6 +10,7 @@
 #include "intrinsic/core/triangulation.h"
 #include "solvers/linalg/cholesky.h"
 #include "solvers/scalar/components.h"
+#include "solvers/scalar/solver_choice.h"
 
 namespace ifem::solvers {
 
@@ -19,7 +20,15 @@ struct PoissonOptions {
   double screening = 0.0;
   /// Options of the factorization (e.g. factor_blas_threads = 1 when several are built at once).
   CholeskyOptions cholesky;
-  /// @throws InvalidInput if screening is negative or not finite
+  /// The linear solver: the Cholesky factor (kDirect, the default) or multigrid-preconditioned
+  /// CG (kMultigrid; kAuto by size). With multigrid every solve is iterative, to
+  /// solver.multigrid.tolerance (relative residual), and a shared CholeskyAnalysis is not used.
+  SolverChoice solver;
+  /// The prolongation chain over all #V vertices (P₀ #V × n₁, …) for multigrid from assembled
+  /// operators; the triangulation constructor fills it from solver.provider() when empty. Rows of
+  /// Dirichlet and pinned vertices are left out of the hierarchy here.
+  std::shared_ptr<const std::vector<SparseMatrix>> prolongations;
+  /// @throws InvalidInput if screening is negative or not finite, or on bad solver options
   void validate() const;
 };
 
@@ -40,13 +49,16 @@ class PoissonSolver {
  public:
   /// @param tri the triangulation (use the intrinsic Delaunay one for non-negative weights)
   /// @param dirichlet_vertices distinct vertex ids in [0, #V) where u is prescribed
-  /// @throws InvalidInput on an out-of-range or repeated Dirichlet vertex or bad options
-  /// @throws SolverError if the reduced matrix cannot be factored
+  /// @throws InvalidInput on an out-of-range or repeated Dirichlet vertex or bad options, or
+  ///         multigrid asked for without a hierarchy provider
+  /// @throws SolverError if the reduced matrix cannot be factored (or multigrid does not converge)
   PoissonSolver(const intrinsic::IntrinsicTriangulation& tri, std::vector<Index> dirichlet_vertices,
                 const PoissonOptions& options = {});
 
   /// Same, from assembled operators: A = L + c·diag(mass), with components[v] the component of
   /// v (kInvalidIndex for a vertex that takes part in no face: it is left out of the system).
+  /// Multigrid here needs options.prolongations (InvalidInput for kMultigrid without them; kAuto
+  /// without them is direct).
   PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
                 const Components& components, std::vector<Index> dirichlet_vertices,
                 const PoissonOptions& options = {});
@@ -100,8 +112,11 @@ class PoissonSolver {
   /// Number of unknowns in the factored system (with a shared analysis: including the Dirichlet
   /// and pinned vertices, kept as decoupled rows).
   Index n_unknowns() const;
-  /// Entries of the Cholesky factor (0 when nothing is factored: every vertex constrained).
+  /// Entries of the Cholesky factor (0 when nothing is factored: every vertex constrained, or
+  /// multigrid).
   double factor_nonzeros() const;
+  /// True when the solves run multigrid-preconditioned CG (PoissonOptions::solver).
+  bool multigrid() const;
 
   struct Impl;
 
@@ -109,6 +124,12 @@ class PoissonSolver {
   fem::SparseMatrix setup(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
                           const Components& components, std::vector<Index> dirichlet_vertices,
                           const PoissonOptions& options, bool keep_fixed);
+  // options with prolongations from the provider when multigrid is chosen for tri
+  static PoissonOptions with_hierarchy(const intrinsic::IntrinsicTriangulation& tri,
+                                       const PoissonOptions& options);
+  // the Cholesky factor (with the analysis when given) or the multigrid solver of A (setup()'s)
+  void factor(const fem::SparseMatrix& A, const PoissonOptions& options,
+              const CholeskyAnalysis* analysis);
   std::unique_ptr<Impl> impl_;
   friend struct PoissonBlocks;  // the heat method's block solves (heat_engine.h)
 };

@@ -1,0 +1,40 @@
+"""The ``solver=`` keyword of distance, HeatDistanceSolver and poisson (the CLI's --solver):
+auto is the direct solver here, multigrid is refused while the build has no hierarchy provider,
+and a bad name is refused naming the argument."""
+
+import numpy as np
+import pytest
+
+import ifem
+from conftest import test_data
+
+
+@pytest.fixture(scope="module")
+def spot():
+    return ifem.read_mesh(test_data("spot.obj"))
+
+
+def test_auto_equals_direct(spot):
+    V, F = spot
+    assert np.array_equal(ifem.distance(V, F, 0, solver="auto"), ifem.distance(V, F, 0))
+    bc = {0: 1.0, 657: -1.0}
+    assert np.array_equal(ifem.poisson(V, F, dirichlet=bc, solver="auto"),
+                          ifem.poisson(V, F, dirichlet=bc))
+
+
+def test_multigrid_refused_without_hierarchy(spot):
+    V, F = spot
+    with pytest.raises(ifem.InvalidInput, match="no multigrid hierarchy"):
+        ifem.distance(V, F, 0, solver="multigrid")
+    with pytest.raises(ifem.InvalidInput, match="no multigrid hierarchy"):
+        ifem.HeatDistanceSolver(V, F, solver="multigrid")
+    with pytest.raises(ifem.InvalidInput, match="no multigrid hierarchy"):
+        ifem.poisson(V, F, dirichlet={0: 1.0}, solver="multigrid")
+
+
+def test_bad_solver_name(spot):
+    V, F = spot
+    for call in (lambda: ifem.distance(V, F, 0, solver="cg"),
+                 lambda: ifem.poisson(V, F, solver="cholesky")):
+        with pytest.raises(ifem.InvalidInput, match="solver must be"):
+            call()

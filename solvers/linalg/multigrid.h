@@ -1,0 +1,114 @@
+// Algebraic multigrid on a given hierarchy: Galerkin coarse operators PᵀAP from caller-supplied
+// prolongations, V-cycles (symmetric Gauss–Seidel or damped Jacobi smoothing, a Cholesky solve on
+// the coarsest level) as the preconditioner of conjugate gradients. Matrices only: where the
+// prolongations come from (intrinsic simplification, nested meshes) is the caller's business.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+#include <vector>
+
+#include "solvers/linalg/cholesky.h"
+
+namespace ifem::solvers {
+
+/// Options of MultigridSolver.
+struct MultigridOptions {
+  /// The smoother of every level but the coarsest (pre- and post-smoothing, arranged so that a
+  /// V-cycle is a symmetric operator, as conjugate gradients needs).
+  enum class Smoother {
+    /// Forward Gauss–Seidel sweeps before the coarse correction, backward sweeps after.
+    kSymmetricGaussSeidel,
+    /// Damped Jacobi sweeps x ← x + ω D⁻¹ r (ω = jacobi_weight), the same number before and after.
+    kJacobi,
+  };
+  Smoother smoother = Smoother::kSymmetricGaussSeidel;
+  /// Sweeps before and after the coarse correction on each level. ≥ 1.
+  int smoothing_steps = 1;
+  /// ω of kJacobi, in (0, 1].
+  double jacobi_weight = 2.0 / 3.0;
+  /// Conjugate gradients stop when ‖b − Ax‖₂ ≤ tolerance · ‖b‖₂ (relative residual). In (0, 1).
+  double tolerance = 1e-10;
+  /// Largest number of PCG iterations per right-hand side. ≥ 1.
+  int max_iterations = 200;
+  /// A right-hand side that does not reach the tolerance within max_iterations throws
+  /// SolverError when true; when false its last iterate is returned and the report says so.
+  bool throw_if_not_converged = true;
+  /// Options of the coarsest level's Cholesky factorization.
+  CholeskyOptions coarsest;
+  /// @throws InvalidInput naming the field
+  void validate() const;
+};
+
+/// What one PCG solve (one right-hand side) did.
+struct MultigridReport {
+  int iterations = 0;                ///< PCG iterations (one V-cycle each)
+  double relative_residual = 0.0;    ///< ‖b − Ax‖₂ / ‖b‖₂ at the end (0 for b = 0)
+  double reduction_per_cycle = 0.0;  ///< geometric mean of the residual reduction per iteration
+  bool converged = false;            ///< relative_residual ≤ tolerance
+};
+
+/// Multigrid-preconditioned conjugate gradients for A x = b, A (#n×#n) symmetric positive
+/// definite, on the hierarchy given by prolongations P₀ (#n×n₁), P₁ (n₁×n₂), …, P_{k−1}: level
+/// l+1's operator is A_{l+1} = P_lᵀ A_l P_l (Galerkin), the coarsest one is factored (Cholesky).
+/// A must be stored with both triangles (the smoothers read whole rows). Columns of a P_l with no
+/// entry (e.g. coarse vertices whose fine neighbours are all eliminated Dirichlet rows) are
+/// dropped, so that each coarse operator stays definite.
+///
+/// Null space: A must be definite. A pure-Neumann Laplacian (constants in its kernel) is refused
+/// where the coarsest factorization finds it singular (SolverError); pin a vertex or add mass
+/// first (PoissonSolver pins one vertex per pure-Neumann component).
+///
+/// Thread safety: solve() and cycle() are const and allocate their own work vectors; several
+/// threads may call them at once. Non-copyable, movable.
+class MultigridSolver {
+ public:
+  /// Builds the hierarchy and factors the coarsest level.
+  /// @param A #n×#n, symmetric positive definite, both triangles stored
+  /// @param prolongations P₀ … P_{k−1}, P_l with as many rows as level l has unknowns; k = 0
+  ///        gives a one-level "multigrid", i.e. a Cholesky factorization of A
+  /// @throws InvalidInput on bad options, a non-square or empty A, a non-finite entry, or a
+  ///         prolongation whose rows do not match its level
+  /// @throws SolverError if the coarsest operator is not positive definite
+  MultigridSolver(const SparseMatrix& A, const std::vector<SparseMatrix>& prolongations,
+                  const MultigridOptions& options = {});
+  ~MultigridSolver();
+  MultigridSolver(MultigridSolver&&) noexcept;
+  MultigridSolver& operator=(MultigridSolver&&) noexcept;
+  MultigridSolver(const MultigridSolver&) = delete;
+  MultigridSolver& operator=(const MultigridSolver&) = delete;
+
+  /// Solves A x = b by PCG from x = 0. @param b #n  @param[out] report optional
+  /// @throws InvalidInput on a size mismatch; SolverError if not converged (see
+  ///         MultigridOptions::throw_if_not_converged)
+  Eigen::VectorXd solve(const Eigen::VectorXd& b, MultigridReport* report = nullptr) const;
+  /// Solves A X = B column by column (#n×k), each column to the tolerance on its own.
+  /// @param[out] reports optional, one per column
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B,
+                        std::vector<MultigridReport>* reports = nullptr) const;
+  /// solve() for `cols` columns stored column-major at b (n×cols) into x (may alias b).
+  void solve(const double* b, double* x, Eigen::Index cols = 1) const;
+
+  /// One V-cycle from a zero initial guess: the preconditioner z = B r (B symmetric positive
+  /// definite, B ≈ A⁻¹). As a stationary iteration x ← x + B(b − Ax) its residual reduction per
+  /// cycle is the hierarchy's quality measure. @param r #n
+  Eigen::VectorXd cycle(const Eigen::VectorXd& r) const;
+
+  /// Size n of A.
+  Eigen::Index size() const;
+  /// Number of levels (prolongations + 1).
+  int n_levels() const;
+  /// Unknowns of level l (0 = A's), l in [0, n_levels()).
+  Eigen::Index level_size(int level) const;
+  /// Bytes held: the operators and prolongations of every level (values and indices) and the
+  /// coarsest factor's entries (12 bytes each: value and row index).
+  double memory_bytes() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ifem::solvers

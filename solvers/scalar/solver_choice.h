@@ -1,0 +1,58 @@
+// Which linear solver a scalar PDE (Poisson, the heat method) runs on: a direct Cholesky factor
+// or multigrid-preconditioned conjugate gradients (solvers/linalg/multigrid.h) on a hierarchy of
+// prolongations that a provider builds from the triangulation.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "intrinsic/core/triangulation.h"
+#include "solvers/linalg/multigrid.h"
+
+namespace ifem::solvers {
+
+/// The linear solver of a scalar PDE.
+enum class LinearSolverKind {
+  kDirect,     ///< sparse Cholesky (CholeskySolver)
+  kMultigrid,  ///< PCG with V-cycles (MultigridSolver) on a hierarchy from the provider
+  kAuto,       ///< kDirect below SolverChoice::auto_multigrid_vertices or without a provider
+};
+
+/// Builds the prolongation chain P₀ (#V × n₁), P₁ (n₁ × n₂), … of a triangulation (vertex ids of
+/// the triangulation as given: rows of P₀ are its vertices; each P piecewise linear, rows
+/// summing to 1).
+using HierarchyProvider =
+    std::function<std::vector<SparseMatrix>(const intrinsic::IntrinsicTriangulation&)>;
+
+/// The library's default provider, used when SolverChoice::hierarchy is empty. Empty in this
+/// build (no default hierarchy yet): multigrid is then refused with InvalidInput unless the
+/// caller passes a provider, and kAuto stays direct.
+HierarchyProvider default_hierarchy_provider();
+
+/// The solver choice of PoissonOptions and HeatDistanceOptions.
+struct SolverChoice {
+  LinearSolverKind kind = LinearSolverKind::kDirect;
+  /// The hierarchy for kMultigrid / kAuto; empty: default_hierarchy_provider().
+  HierarchyProvider hierarchy;
+  /// PCG tolerance, iteration cap, smoother.
+  MultigridOptions multigrid;
+  /// kAuto takes multigrid from this many vertices on (when a provider exists). Why this size:
+  /// docs/decisions.md D-230 (the direct factors' memory against the machine's). ≥ 1.
+  Index auto_multigrid_vertices = 2'500'000;
+  /// The provider in effect: hierarchy, or default_hierarchy_provider() when that is empty.
+  HierarchyProvider provider() const;
+  /// Whether a system of n_vertices unknowns runs multigrid.
+  /// @throws InvalidInput for kMultigrid without any provider
+  bool use_multigrid(Index n_vertices) const;
+  /// @throws InvalidInput naming the field
+  void validate() const;
+};
+
+/// "direct", "multigrid", "auto" → the kind. @throws InvalidInput on another name
+LinearSolverKind parse_linear_solver(const std::string& name);
+/// The kind's name, as parse_linear_solver() reads it.
+const char* linear_solver_name(LinearSolverKind kind);
+
+}  // namespace ifem::solvers
