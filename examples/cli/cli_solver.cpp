@@ -12,11 +12,11 @@ OptionSpec solver_option() {
       .explain(
           "the linear solver: direct (sparse Cholesky factors: fast to solve, memory\n"
           "growing faster than the mesh), multigrid (conjugate gradients with\n"
-          "V-cycles on a hierarchy of coarser triangulations: memory linear in the\n"
-          "mesh, answers to a relative residual of 1e-10), or auto (multigrid from\n"
-          "2.5M vertices on, where the direct factors take a third of a 24 GiB machine).\n"
-          "multigrid needs a hierarchy provider, which this build lacks: it is refused\n"
-          "and auto stays direct");
+          "V-cycles on a hierarchy of intrinsic simplifications of the triangulation,\n"
+          "see `ifem simplify`: memory linear in the mesh, answers to a relative\n"
+          "residual of 1e-10; the heat method then needs more continuation stages and\n"
+          "runs slower), or auto (poisson: multigrid from 2.5M vertices on, where the\n"
+          "direct factors take a third of a 24 GiB machine; distance: direct)");;
 }
 
 solvers::SolverChoice solver_choice(const Args& args) {

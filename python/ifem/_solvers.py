@@ -335,8 +335,8 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
 
     ``solver``: the linear solver, as the CLI's ``--solver``: ``"direct"`` (Cholesky factors,
     the default), ``"multigrid"`` (conjugate gradients with V-cycles on a hierarchy of coarser
-    triangulations; refused in builds without a hierarchy provider) or ``"auto"`` (multigrid
-    from 2.5M vertices on, when a provider exists).
+    intrinsic simplifications, see :func:`simplify`; the heat method then needs more
+    continuation stages and runs slower) or ``"auto"`` (the direct solver for distances).
 
     Returns:
         #V_in float64 array of distances (``inf`` where no source reaches).

@@ -449,7 +449,9 @@ void build_solver(HeatDistanceSolver::Impl& im, const IntrinsicTriangulation& tr
   // vertices as decoupled rows). The analysis needs only the triangulation's edges, so it runs
   // beside the components, L, M, tL and the face layouts of the queries' divergence
   // (docs/decisions.md, "Small meshes: the analysis beside the assembly").
-  if (!given_heat && options.solver.use_multigrid(im.tri.n_vertices())) {
+  // kAuto stays direct here: the iterative heat needs many more continuation stages (D-233)
+  if (!given_heat && options.solver.kind == LinearSolverKind::kMultigrid &&
+      options.solver.use_multigrid(im.tri.n_vertices())) {
     build_multigrid(im, options);
     return;
   }

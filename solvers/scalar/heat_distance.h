@@ -99,8 +99,10 @@ struct HeatDistanceOptions {
   /// (solvers::distance_options passes the input mesh's).
   Positions vertex_positions;
   /// The linear solver of the heat and Poisson steps: the direct Cholesky factors (default) or
-  /// multigrid-preconditioned CG (kMultigrid; kAuto by size) on a hierarchy of the solver's
-  /// triangulation (SolverChoice::provider(), called once on it). An iterative heat solve is
+  /// multigrid-preconditioned CG (kMultigrid) on a hierarchy of the solver's triangulation
+  /// (SolverChoice::provider(), called once on it); kAuto is the direct solver here at every size
+  /// (the iterative heat's extra continuation stages cost more than the factor saves:
+  /// docs/decisions.md D-233). An iterative heat solve is
   /// right only to its tolerance relative to the largest heat, so with multigrid resolved_heat
   /// and trusted_heat are raised to at least 1e3 and 1e5 × solver.multigrid.tolerance (more
   /// continuation stages on large meshes: docs/decisions.md D-231). The shared heat factor

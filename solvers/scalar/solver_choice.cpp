@@ -1,10 +1,40 @@
 #include "solvers/scalar/solver_choice.h"
 
+#include <algorithm>
+
+#include "fem/prolongation.h"
 #include "intrinsic/core/errors.h"
+#include "intrinsic/simplify/simplify.h"
 
 namespace ifem::solvers {
 
-HierarchyProvider default_hierarchy_provider() { return {}; }
+void HierarchyOptions::validate() const {
+  if (!(level_ratio > 0.0 && level_ratio < 1.0)) {
+    throw InvalidInput("HierarchyOptions: level_ratio must be in (0, 1)");
+  }
+  if (coarsest_vertices < 1) throw InvalidInput("HierarchyOptions: coarsest_vertices must be ≥ 1");
+}
+
+std::vector<SparseMatrix> simplification_hierarchy(const intrinsic::IntrinsicTriangulation& tri,
+                                                   const HierarchyOptions& options) {
+  options.validate();
+  std::vector<SparseMatrix> chain;
+  intrinsic::IntrinsicTriangulation level = tri;
+  while (level.n_vertices() > options.coarsest_vertices) {
+    intrinsic::SimplifyOptions s;
+    s.target_vertices = std::max(options.coarsest_vertices,
+                                 Index(options.level_ratio * double(level.n_vertices())));
+    intrinsic::Simplification coarse = intrinsic::simplify(level, s);
+    if (double(coarse.coarse.n_vertices()) > 0.6 * double(level.n_vertices())) break;
+    chain.push_back(fem::prolongation(coarse));
+    level = std::move(coarse.coarse);
+  }
+  return chain;
+}
+
+HierarchyProvider default_hierarchy_provider() {
+  return [](const intrinsic::IntrinsicTriangulation& tri) { return simplification_hierarchy(tri); };
+}
 
 HierarchyProvider SolverChoice::provider() const {
   return hierarchy ? hierarchy : default_hierarchy_provider();

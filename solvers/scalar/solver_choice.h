@@ -26,9 +26,29 @@ enum class LinearSolverKind {
 using HierarchyProvider =
     std::function<std::vector<SparseMatrix>(const intrinsic::IntrinsicTriangulation&)>;
 
-/// The library's default provider, used when SolverChoice::hierarchy is empty. Empty in this
-/// build (no default hierarchy yet): multigrid is then refused with InvalidInput unless the
-/// caller passes a provider, and kAuto stays direct.
+/// Options of simplification_hierarchy().
+struct HierarchyOptions {
+  /// Each level keeps this fraction of the previous level's vertices (intrinsic::simplify's
+  /// ratio), in (0, 1).
+  double level_ratio = 0.25;
+  /// Stop coarsening at this many vertices or fewer (the coarsest level is factored). ≥ 1.
+  Index coarsest_vertices = 2000;
+  /// @throws InvalidInput naming the field
+  void validate() const;
+};
+
+/// The prolongation chain of repeated intrinsic simplification (intrinsic/simplify/simplify.h,
+/// fem/prolongation.h): level l+1 is simplify(level l) to max(coarsest_vertices, level_ratio ×
+/// its vertices); P_l is its prolongation. Stops at coarsest_vertices, or when a level keeps more
+/// than 60 % of its vertices (simplify() left vertices it could not remove: tufted covers of point
+/// clouds), so the chain is empty for a triangulation of at most coarsest_vertices vertices
+/// (MultigridSolver then factors A itself).
+/// @throws InvalidInput on bad options
+std::vector<SparseMatrix> simplification_hierarchy(const intrinsic::IntrinsicTriangulation& tri,
+                                                   const HierarchyOptions& options = {});
+
+/// The library's default provider, used when SolverChoice::hierarchy is empty:
+/// simplification_hierarchy() with default options.
 HierarchyProvider default_hierarchy_provider();
 
 /// The solver choice of PoissonOptions and HeatDistanceOptions.

@@ -1,7 +1,6 @@
 """`--solver direct|multigrid|auto` of `ifem distance` and `ifem poisson`: the help teaches it;
-auto is the direct solver below its size and without a hierarchy provider (distance); multigrid
-is refused with the reason while this build has no provider (poisson; distance: the Python and
-library tests); a bad name is a usage error."""
+auto is the direct solver for distances and below its size; multigrid (on the hierarchy of
+intrinsic simplifications) gives the direct solver's answers; a bad name is a usage error."""
 
 from clitools import numbers
 
@@ -19,12 +18,16 @@ def test_auto_is_direct_here(cli):
     assert numbers(a) == numbers(b)
 
 
-def test_multigrid_refused_without_hierarchy(cli):
-    bc = cli.out / "bc1.txt"
-    bc.write_text("0 1\n")
-    out = cli.out / "u_mg.txt"
-    cli.fails_no_partial("no multigrid hierarchy is available", out, "poisson", cli.spot,
-                         "--dirichlet", bc, "--solver", "multigrid", "-o", out, "--quiet")
+def test_multigrid_equals_direct(cli):
+    bc = cli.out / "bc2.txt"
+    bc.write_text("0 1\n657 -1\n")
+    a, b = cli.out / "u_direct.txt", cli.out / "u_mg.txt"
+    cli.ok("poisson", cli.spot, "--dirichlet", bc, "-o", a, "--quiet")
+    cli.ok("poisson", cli.spot, "--dirichlet", bc, "--solver", "multigrid", "-o", b, "--quiet")
+    ua, ub = numbers(a), numbers(b)
+    assert len(ua) == len(ub) == 2930
+    scale = max(abs(x) for x in ua)
+    assert max(abs(x - y) for x, y in zip(ua, ub)) <= 1e-6 * scale
 
 
 def test_bad_solver_name(cli):

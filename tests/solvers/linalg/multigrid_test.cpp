@@ -248,25 +248,57 @@ TEST(SolverChoice, PoissonMultigridEqualsDirect) {
   }
 }
 
-TEST(SolverChoice, WithoutProviderMultigridIsRefusedAndAutoIsDirect) {
-  EXPECT_FALSE(default_hierarchy_provider());  // no default hierarchy in this build
-  const auto tri = test::make_tri(intrinsic::icosphere(4));
-  PoissonOptions o;
-  o.solver.kind = LinearSolverKind::kMultigrid;
-  EXPECT_THROW(PoissonSolver(tri, {0}, o), InvalidInput);
-  HeatDistanceOptions h;
-  h.solver.kind = LinearSolverKind::kMultigrid;
-  EXPECT_THROW(HeatDistanceSolver(tri, h), InvalidInput);
-  o.solver.kind = LinearSolverKind::kAuto;
-  EXPECT_FALSE(PoissonSolver(tri, {0}, o).multigrid());
-  // auto with a provider: multigrid from auto_multigrid_vertices on
-  o.solver.hierarchy = icosphere_choice(4, 2).hierarchy;
-  o.solver.auto_multigrid_vertices = tri.n_vertices() + 1;
-  EXPECT_FALSE(PoissonSolver(tri, {0}, o).multigrid());
-  o.solver.auto_multigrid_vertices = tri.n_vertices();
-  EXPECT_TRUE(PoissonSolver(tri, {0}, o).multigrid());
-  o.solver.auto_multigrid_vertices = 0;
-  EXPECT_THROW(o.validate(), InvalidInput);
+// The default provider: repeated intrinsic simplification. On a mesh whose levels are not
+// nested (a jittered sphere), every level coarsens, P's rows sum to 1, and multigrid Poisson
+// equals the direct solver's; auto takes multigrid by size.
+TEST(SolverChoice, DefaultProviderSimplifiesAndMatchesDirect) {
+  intrinsic::TriangleMesh mesh = intrinsic::icosphere(24);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+  for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) {
+    for (int k = 0; k < 3; ++k) mesh.positions(v, k) += jitter(rng);
+  }
+  const auto tri = test::make_tri(mesh);
+  ASSERT_TRUE(default_hierarchy_provider());
+  for (const Index coarsest : {300, 1000}) {
+    HierarchyOptions h;
+    h.coarsest_vertices = coarsest;
+    const std::vector<SparseMatrix> chain = simplification_hierarchy(tri, h);
+    ASSERT_FALSE(chain.empty());
+    Index rows = tri.n_vertices();
+    for (const SparseMatrix& P : chain) {
+      EXPECT_EQ(P.rows(), rows);
+      EXPECT_LT(double(P.cols()), 0.6 * double(P.rows()));
+      const Eigen::VectorXd sums = P * Eigen::VectorXd::Ones(P.cols());
+      EXPECT_LE((sums.array() - 1.0).abs().maxCoeff(), 1e-12);
+      rows = P.cols();
+    }
+    EXPECT_LE(rows, coarsest);
+  }
+  HierarchyOptions bad;
+  bad.level_ratio = 1.0;
+  EXPECT_THROW(simplification_hierarchy(tri, bad), InvalidInput);
+  bad = {};
+  bad.coarsest_vertices = 0;
+  EXPECT_THROW(bad.validate(), InvalidInput);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(tri.n_vertices());
+  f[5] = 1.0;
+  f[900] = -1.0;
+  PoissonOptions direct, mg;
+  mg.solver.kind = LinearSolverKind::kMultigrid;
+  const PoissonSolver a(tri, {0, 2000}, direct), b(tri, {0, 2000}, mg);
+  ASSERT_TRUE(b.multigrid());
+  const Eigen::Vector2d g(0.0, 1.0);
+  const Eigen::VectorXd ua = a.solve(f, g), ub = b.solve(f, g);
+  EXPECT_LE((ua - ub).norm(), 1e-6 * ua.norm());
+  // auto: by size
+  mg.solver.kind = LinearSolverKind::kAuto;
+  mg.solver.auto_multigrid_vertices = tri.n_vertices();
+  EXPECT_TRUE(PoissonSolver(tri, {0}, mg).multigrid());
+  mg.solver.auto_multigrid_vertices = tri.n_vertices() + 1;
+  EXPECT_FALSE(PoissonSolver(tri, {0}, mg).multigrid());
+  mg.solver.auto_multigrid_vertices = 0;
+  EXPECT_THROW(mg.validate(), InvalidInput);
   EXPECT_EQ(parse_linear_solver("multigrid"), LinearSolverKind::kMultigrid);
   EXPECT_EQ(parse_linear_solver("auto"), LinearSolverKind::kAuto);
   EXPECT_STREQ(linear_solver_name(parse_linear_solver("direct")), "direct");
