@@ -68,12 +68,17 @@ def _surface(mollify, path, knn):
     return _real(mollify, "mollify"), path, _int(knn, "knn")
 
 
-def _refine(refine, min_angle, resolution, max_area, max_insertions, default_resolution):
+def _refine(refine, min_angle, resolution, max_area, max_insertions, default_resolution,
+            correspondence="signposts"):
     """The C++ side's `refine` argument: None, or a dict of the refinement settings."""
+    if not isinstance(correspondence, str):
+        raise InvalidInput(f"correspondence must be 'signposts' or 'integer', got "
+                           f"{correspondence!r}")
     if not refine:
         changed = [name for name, value, default in (
             ("min_angle", min_angle, 25.0), ("resolution", resolution, default_resolution),
-            ("max_area", max_area, 0.0), ("max_insertions", max_insertions, None))
+            ("max_area", max_area, 0.0), ("max_insertions", max_insertions, None),
+            ("correspondence", correspondence, "signposts"))
             if not (value is default or value == default)]
         if changed:
             raise InvalidInput(f"{', '.join(changed)} only apply with refine=True")
@@ -81,7 +86,8 @@ def _refine(refine, min_angle, resolution, max_area, max_insertions, default_res
     return {"min_angle": _real(min_angle, "min_angle"),
             "resolution": _real(resolution, "resolution"),
             "max_area": _real(max_area, "max_area"),
-            "max_insertions": _optional(max_insertions, "max_insertions", _int)}
+            "max_insertions": _optional(max_insertions, "max_insertions", _int),
+            "correspondence": correspondence}
 
 
 def _points(points):
@@ -189,12 +195,12 @@ class HeatDistanceSolver:
     def __init__(self, V, F=None, refine=False, *, time_factor=None, correction_steps=None,
                  mollify=1e-5, path="auto", knn=30, min_angle=25.0, resolution=0.4,
                  max_area=0.0, max_insertions=None, precision="double", normals=None,
-                 progress=None, path_bounds=True):
+                 progress=None, path_bounds=True, correspondence="signposts"):
         V, F, normals = _input(V, F, normals)
         self._solver = _ifem.HeatDistanceSolver(
             V, _faces(F), _optional(time_factor, "time_factor", _real),
             _optional(correction_steps, "correction_steps", _int), *_surface(mollify, path, knn),
-            _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4),
+            _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4, correspondence),
             _precision(precision), normals, progress, _path_bounds(path_bounds))
 
     def compute_distance(self, sources=None, points=None):
@@ -306,7 +312,8 @@ def _path_bounds(path_bounds):
 def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=None,
              correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
              resolution=0.4, max_area=0.0, max_insertions=None, precision="double",
-             normals=None, curves=None, progress=None, path_bounds=True):
+             normals=None, curves=None, progress=None, path_bounds=True,
+             correspondence="signposts"):
     """Geodesic distance from vertices (or surface points) in one call, as ``ifem distance``
     (``heat_distance`` is its deprecated old name).
 
@@ -338,7 +345,8 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
                               resolution=resolution, max_area=max_area,
                               max_insertions=max_insertions, mollify=mollify,
                               path_bounds=path_bounds)
-    refine_arg = _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4)
+    refine_arg = _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4,
+                         correspondence)
     t = _optional(time_factor, "time_factor", _real)
     c = _optional(correction_steps, "correction_steps", _int)
     surface = _surface(mollify, path, knn)
@@ -365,7 +373,7 @@ heat_distance = distance
 
 def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
           resolution=0.0, max_area=0.0, max_insertions=None, return_info=False, normals=None,
-          progress=None):
+          progress=None, correspondence="signposts"):
     """The k smallest Laplace–Beltrami eigenpairs ``L φ = λ M φ``, as ``ifem eigen``.
 
     L is the intrinsic Delaunay cotan Laplacian (positive semi-definite), M the lumped mass;
@@ -403,7 +411,8 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
     V, F, normals = _input(V, F, normals)
     evals, evecs, info = _ifem.eigen(V, _faces(F), _int(k, "k"), *_surface(mollify, path, knn),
                                      _refine(refine, min_angle, resolution, max_area,
-                                             max_insertions, 0.0), normals, progress)
+                                             max_insertions, 0.0, correspondence), normals,
+                                     progress)
     return (evals, evecs, info) if return_info else (evals, evecs)
 
 
@@ -412,7 +421,8 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
 
 def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *, mollify=1e-5,
             path="auto", knn=30, min_angle=25.0, resolution=0.0, max_area=0.0,
-            max_insertions=None, return_info=False, normals=None, curves=None, progress=None):
+            max_insertions=None, return_info=False, normals=None, curves=None, progress=None,
+            correspondence="signposts"):
     """Solves ``−Δu + c·u = f`` with Dirichlet values on chosen vertices, as ``ifem poisson``.
 
     Discretely ``(L + c M) u = M f`` (L the intrinsic Delaunay cotan Laplacian, positive
@@ -464,7 +474,7 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
     u, info = _ifem.poisson(V, _faces(F), rhs, ids, values, _real(screening, "screening"),
                             *_surface(mollify, path, knn),
                             _refine(refine, min_angle, resolution, max_area, max_insertions,
-                                    0.0), normals, progress)
+                                    0.0, correspondence), normals, progress)
     return (u, info) if return_info else u
 
 
