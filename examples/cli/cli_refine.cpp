@@ -152,8 +152,7 @@ std::vector<std::string> write_outputs(const Args& args, const intrinsic::Corres
                     " traced edges, PLY line set)");
   }
   if (args.has("mesh")) {
-    io::write_ply(args.get("mesh"), o.positions, o.faces, {{"inserted", o.inserted}},
-                  binary);
+    io::write_ply(args.get("mesh"), o.positions, o.faces, {{"inserted", o.inserted}}, binary);
     wrote.push_back(args.get("mesh") + " (refined triangulation)");
   }
   if (args.has("save")) {

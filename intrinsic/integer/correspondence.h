@@ -39,7 +39,9 @@ class CorrespondenceView {
   CorrespondenceView(const SignpostTriangulation& st) : st_(&st) {}          // NOLINT
   CorrespondenceView(const NormalCoordinateTriangulation& nc) : nc_(&nc) {}  // NOLINT
 
-  Correspondence kind() const { return st_ ? Correspondence::kSignposts : Correspondence::kInteger; }
+  Correspondence kind() const {
+    return st_ ? Correspondence::kSignposts : Correspondence::kInteger;
+  }
   /// The viewed object when it is of that kind, else nullptr.
   const SignpostTriangulation* signposts() const { return st_; }
   const NormalCoordinateTriangulation* integer() const { return nc_; }

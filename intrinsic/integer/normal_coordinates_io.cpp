@@ -49,7 +49,8 @@ void NormalCoordinateTriangulation::save(const std::string& path) const {
     std::fprintf(f, "%d %.17g\n", int(input_.twin(h)), input_.halfedge_length(h));
   }
   std::fprintf(f, "input_edges %d\n", int(input_.n_edges()));
-  for (Index e = 0; e < input_.n_edges(); ++e) std::fprintf(f, "%d\n", int(input_.edge_halfedge(e)));
+  for (Index e = 0; e < input_.n_edges(); ++e)
+    std::fprintf(f, "%d\n", int(input_.edge_halfedge(e)));
   std::fprintf(f, "intrinsic %d %d\nhalfedges\n", int(tri_.n_vertices()), int(tri_.n_faces()));
   for (Index h = 0; h < tri_.n_halfedges(); ++h) {
     std::fprintf(f, "%d %d %.17g %d\n", int(tri_.tail(h)), int(tri_.twin(h)),
@@ -176,7 +177,8 @@ Gluing read_input(Records& r, Positions& x, std::vector<Index>& origin) {
   origin.resize(nf);
   for (long f = 0; f < nf; ++f) {
     r.next("'a b c origin'");
-    for (int k = 0; k < 3; ++k) g.tail[3 * f + k] = Index(r.in_range("vertex id", 0, g.n_vertices - 1));
+    for (int k = 0; k < 3; ++k)
+      g.tail[3 * f + k] = Index(r.in_range("vertex id", 0, g.n_vertices - 1));
     origin[f] = Index(r.in_range("origin face", 0, kMaxIndex));
     r.end_of_record("'a b c origin'");
   }

@@ -90,6 +90,14 @@ def _refine(refine, min_angle, resolution, max_area, max_insertions, default_res
             "correspondence": correspondence}
 
 
+def _curves_take_signposts(correspondence):
+    """Curves are inserted with signposts (FlipOut): integer coordinates are refused there."""
+    if correspondence != "signposts":
+        raise InvalidInput("curves: integer coordinates are not offered with curves yet (curves "
+                           "are inserted by FlipOut on signposts): use "
+                           "correspondence='signposts'")
+
+
 def _points(points):
     """points as (faces int64 (#P,), barycentric coordinates float64 (#P, 3))."""
     try:
@@ -165,6 +173,10 @@ class HeatDistanceSolver:
             ``refine=True`` only): corner angle bound in degrees, target edge length as a
             multiple of h (0.4 here, as in the CLI), area bound (absolute; 0: none), cap on
             inserted vertices (None: the library's).
+        correspondence: with ``refine=True``: how inserted vertices keep their places on the
+            input, ``'signposts'`` (default) or ``'integer'`` (normal coordinates: exact
+            combinatorics, never a failed trace); the same triangulation and results either
+            way (the CLI's ``--correspondence``; :func:`ifem.refine`).
         precision: ``'double'`` (default): every factor in double. ``'mixed'``: the queries read
             the Poisson factor as floats, half its bytes; distances move by at most ~3e-7
             relative (the heat factor stays double). Not faster on a machine where the solves
@@ -336,6 +348,7 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
     """
     V, F, normals = _input(V, F, normals)
     if curves is not None:
+        _curves_take_signposts(correspondence)
         if sources is not None or points is not None:
             raise InvalidInput("give sources, points or curves, not several (the CLI's --source, "
                                "--curves)")
@@ -386,8 +399,9 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
         refine: intrinsic Delaunay refinement first (``min_angle``; ``resolution`` defaults to 0
             here, i.e. angles only): λ and φ are those of the refined triangulation, φ reported
             on the input's vertices.
-        mollify, path, knn, min_angle, resolution, max_area, max_insertions, normals: as in
-            :class:`HeatDistanceSolver` (V may be a file's path there too).
+        mollify, path, knn, min_angle, resolution, max_area, max_insertions, normals,
+            correspondence: as in :class:`HeatDistanceSolver` (V may be a file's path there
+            too).
         return_info: also return a dict about the preparation (as
             :attr:`HeatDistanceSolver.info`, without the heat-method entries).
         progress: None (default: nothing is reported, nothing printed) or a callable
@@ -445,8 +459,9 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
         screening: c ≥ 0, in 1 / length² units (0: plain Poisson).
         refine: intrinsic Delaunay refinement first (needs an edge-manifold, orientable mesh:
             f is interpolated linearly onto the inserted vertices); ``resolution`` defaults to 0.
-        mollify, path, knn, min_angle, resolution, max_area, max_insertions, normals: as in
-            :class:`HeatDistanceSolver` (V may be a file's path there too).
+        mollify, path, knn, min_angle, resolution, max_area, max_insertions, normals,
+            correspondence: as in :class:`HeatDistanceSolver` (V may be a file's path there
+            too).
         return_info: also return a dict about the preparation.
         curves: the CLI's ``--curves``: u held at the curves' values along them,
             :func:`curve_poisson` (a list of :class:`Curve` or a curves file's path).
@@ -465,6 +480,7 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
     """
     V, F, normals = _input(V, F, normals)
     if curves is not None:
+        _curves_take_signposts(correspondence)
         from ._curves import curve_poisson
         return curve_poisson(V, F, curves, rhs, dirichlet, screening, refine, min_angle=min_angle,
                              resolution=resolution, max_area=max_area,

@@ -151,8 +151,8 @@ std::unique_ptr<Refined> refine(const py::handle& V, const py::handle& F, double
                                 double resolution, double max_area,
                                 std::optional<long long> max_insertions, long long relax,
                                 double max_edge, double mollify,
-                                std::optional<double> memory_budget, const std::string& correspondence,
-                                const py::handle& progress) {
+                                std::optional<double> memory_budget,
+                                const std::string& correspondence, const py::handle& progress) {
   io::SurfaceInput in = surface_input(V, F);
   require(!in.triangles.empty(), "F has no faces: refinement needs a triangle mesh");
   require(std::isfinite(mollify) && mollify >= 0.0,
@@ -257,7 +257,8 @@ void bind_refine(py::module_& m) {
                              [](const Refined& h) { return h.st().n_input_vertices(); })
       .def_property_readonly("n_vertices",
                              [](const Refined& h) { return h.st().intrinsic().n_vertices(); })
-      .def_property_readonly("n_faces", [](const Refined& h) { return h.st().intrinsic().n_faces(); })
+      .def_property_readonly("n_faces",
+                             [](const Refined& h) { return h.st().intrinsic().n_faces(); })
       .def_property_readonly("report",
                              [](const Refined& h) -> py::object {
                                return h.report ? py::object(*h.report) : py::none();

@@ -151,8 +151,8 @@ std::string refine_refusal(const PreparedSurface& s, const SurfaceRefineOptions&
 
 // Refines with integer coordinates from the input's faces (same faces, same mollification):
 // the same insertions and lengths as refine_with_signposts() without relaxation.
-void refine_with_integer(const SurfaceRefineOptions& r, double mollify_epsilon,
-                         PreparedSurface& s, const Progress& progress) {
+void refine_with_integer(const SurfaceRefineOptions& r, double mollify_epsilon, PreparedSurface& s,
+                         const Progress& progress) {
   Stopwatch watch;
   intrinsic::NormalCoordinateTriangulation nc(s.input.triangles, s.input.positions,
                                               mollify_epsilon);

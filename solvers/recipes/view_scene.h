@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "intrinsic/core/types.h"
-#include "intrinsic/io/surface_input.h"
 #include "intrinsic/integer/correspondence.h"
+#include "intrinsic/io/surface_input.h"
 #include "solvers/recipes/render.h"
 
 namespace ifem::recipes {
