@@ -80,9 +80,13 @@ int run(const Args& args) {
 
 void add_triangulation(recipes::Scene& scene, const Args& args) {
   if (!args.has("triangulation")) return;
-  const intrinsic::SavedTriangulation saved =
-      intrinsic::load_triangulation(args.get("triangulation"));
-  recipes::add_intrinsic_edges(scene, saved.view());
+  const std::string file = args.get("triangulation");
+  const intrinsic::SavedTriangulation saved = intrinsic::load_triangulation(file);
+  try {
+    recipes::add_intrinsic_edges(scene, saved.view());
+  } catch (const InvalidInput& e) {  // another mesh, or coordinates that do not trace
+    throw InvalidInput(file + ": " + e.what());
+  }
   progress(args, "traced " + std::to_string(scene.intrinsic_edges.size()) +
                      " intrinsic edges over the input");
 }

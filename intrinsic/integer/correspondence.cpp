@@ -98,13 +98,17 @@ std::vector<std::vector<Eigen::Vector3d>> CorrespondenceView::traced_edges_3d() 
   if (st_) return st_->traced_edges_3d();
   const IntrinsicTriangulation& tri = nc_->intrinsic();
   const Positions x = vertex_positions();
+  const Index n_in = n_input_vertices();
   std::vector<std::vector<Eigen::Vector3d>> out(tri.n_edges());
   FirstError failure;  // transport out of the OpenMP loop: any exception ends the call
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index e = 0; e < tri.n_edges(); ++e) {
     if (failure.failed()) continue;
     try {
-      const Index h = tri.edge_halfedge(e);
+      Index h = tri.edge_halfedge(e);  // from an input vertex when one end is (as signposts)
+      if (tri.tail(h) >= n_in && tri.head(h) < n_in && tri.twin(h) != kInvalidIndex) {
+        h = tri.twin(h);
+      }
       const std::vector<InputCrossing> crossings = nc_->trace_halfedge(h);
       auto& line = out[e];
       line.reserve(crossings.size() + 2);

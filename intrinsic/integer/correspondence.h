@@ -68,8 +68,9 @@ class CorrespondenceView {
   /// The common subdivision (common_subdivision(st, max_memory_bytes) or common_subdivision(nc);
   /// the same format). The budget applies to signposts only.
   CommonSubdivision common_subdivision(double max_memory_bytes = 0.0) const;
-  /// One polyline per intrinsic edge (#E), in 3D on the input's faces, from its tail vertex
-  /// over each input edge it crosses to its head vertex.
+  /// One polyline per intrinsic edge (#E), in 3D on the input's faces, from one end over each
+  /// input edge it crosses to the other, starting at an input vertex when one end is.
+  /// @throws TraceError / InvalidInput when a trace fails
   std::vector<std::vector<Eigen::Vector3d>> traced_edges_3d() const;
   /// Writes the object: format "ifem-signpost 1" or "ifem-integer 1" (file_format()).
   /// @throws IoError if the file cannot be written

@@ -128,3 +128,9 @@ def test_bad_choice_and_bad_files(cli):
     (o / "cut.ifem").write_text(text[:len(text) // 2])
     cli.refuse(1, r"cut\.ifem", o / "x.png", "render", cli.spot, "--triangulation",
                o / "cut.ifem")
+    # coordinates that pass the per-face checks but do not trace: refused naming the file
+    i = text.index("\nedges ")
+    m = text.index(" -1\n", i)
+    (o / "odd.ifem").write_text(text[:m] + " 1\n" + text[m + 4:])
+    cli.refuse(1, r"odd\.ifem: normal coordinates", o / "x.png", "render", cli.spot,
+               "--triangulation", o / "odd.ifem")
