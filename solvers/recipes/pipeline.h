@@ -53,8 +53,8 @@ struct SurfaceRefineOptions {
   bool conform = true;
   /// How inserted vertices keep their places on the input (edge-manifold, orientable meshes;
   /// the tufted cover has neither): signposts (real directions, supports --relax) or integer
-  /// coordinates (normal coordinates: exact combinatorics, never a failed trace). Both give
-  /// the same intrinsic triangulation (same insertions, same lengths).
+  /// coordinates (normal coordinates: the overlay's combinatorics are exact integers). Both
+  /// give the same intrinsic triangulation (same insertions, same lengths).
   intrinsic::Correspondence correspondence = intrinsic::Correspondence::kSignposts;
   /// @throws InvalidInput naming the field and its allowed range
   void validate() const;
