@@ -116,6 +116,9 @@ def test_bad_choice_and_bad_files(cli):
                "--relax", 2, "--correspondence", "integer")
     cli.refuse(2, r"--correspondence", o / "d.txt", "distance", cli.spot, "--source", 0,
                "--refine", "--correspondence", "exact")
+    (o / "c.txt").write_text("0 764 0 813\n")  # curves are inserted with signposts only
+    cli.refuse(1, r"curves: integer coordinates are not offered", o / "u.txt", "poisson",
+               cli.spot, "--curves", o / "c.txt", "--refine", "--correspondence", "integer")
     (o / "bad.ifem").write_text("ifem-integer 7\n")
     cli.refuse(1, r"bad\.ifem.*unsupported version 7", o / "x.png", "render", cli.spot,
                "--triangulation", o / "bad.ifem")
