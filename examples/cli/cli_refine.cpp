@@ -9,6 +9,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/integer/correspondence.h"
 #include "intrinsic/refine/common_subdivision.h"
 
 namespace ifem::cli {
@@ -48,7 +49,17 @@ OptionGroup refine_options_group(double resolution_default) {
            real("max-edge", "L")
                .at_least(0)
                .explain("with --relax: after each pass split edges longer than L at their\n"
-                        "midpoints (the next pass relaxes the new vertices; default: no bound)")}};
+                        "midpoints (the next pass relaxes the new vertices; default: no bound)"),
+           text("correspondence", "KIND")
+               .defaults_to("signposts")
+               .explain("how inserted vertices keep their places on the input surface:\n"
+                        "'signposts' (a direction and length per edge, traced in floating\n"
+                        "point; needed by --relax and --curves) or 'integer' (normal\n"
+                        "coordinates: how many input edges cross each intrinsic edge, so\n"
+                        "the common subdivision's combinatorics are exact integers; for\n"
+                        "near-degenerate meshes where floating-point traces go wrong).\n"
+                        "Both give the same triangulation and results; tufted-cover\n"
+                        "refinement (nonmanifold input) uses neither")}};
 }
 
 solvers::SurfaceRefineOptions refine_settings(const Args& args, double default_resolution,
@@ -61,6 +72,16 @@ solvers::SurfaceRefineOptions refine_settings(const Args& args, double default_r
   r.relax_iterations = args.count("relax");
   r.relax_max_edge = args.real_or("max-edge", 0.0);
   r.need_signposts = need_signposts;
+  try {
+    r.correspondence = intrinsic::parse_correspondence(
+        args.has("correspondence") ? args.get("correspondence") : "signposts");
+  } catch (const InvalidInput& e) {
+    throw UsageError(std::string("--correspondence: ") + e.what());
+  }
+  if (r.correspondence == intrinsic::Correspondence::kInteger && r.relax_iterations > 0) {
+    throw UsageError(
+        "--relax moves inserted vertices along signposts: use --correspondence signposts");
+  }
   r.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;  // 0: the library's default
   if (r.relax_max_edge > 0.0 && r.relax_iterations == 0) {
     throw UsageError("--max-edge splits during --relax ITER");
@@ -86,13 +107,14 @@ struct RefineOutputs {
   std::vector<std::vector<Eigen::Vector3d>> traced_edges;  ///< --lines
   std::vector<Triangle> faces;                             ///< --mesh: the refined faces
   Eigen::VectorXd inserted;                                ///< --mesh: 1 on inserted vertices
+  Positions positions;                                     ///< --mesh: every vertex in 3D
 };
 
-RefineOutputs compute_outputs(const Args& args, const intrinsic::SignpostTriangulation& st) {
+RefineOutputs compute_outputs(const Args& args, const intrinsic::CorrespondenceView& st) {
   RefineOutputs o;
   Stopwatch watch;
   if (args.has("output")) {
-    o.overlay = intrinsic::common_subdivision(st, args.real_or("memory-budget", 0.0) * 1e9);
+    o.overlay = st.common_subdivision(args.real_or("memory-budget", 0.0) * 1e9);
     progress(args, "common subdivision: " + std::to_string(o.overlay.faces.size()) +
                        " triangles in " + std::to_string(watch.restart()) + " s");
   }
@@ -110,12 +132,13 @@ RefineOutputs compute_outputs(const Args& args, const intrinsic::SignpostTriangu
     }
     o.inserted.resize(tri.n_vertices());
     for (Index v = 0; v < tri.n_vertices(); ++v) o.inserted[v] = v >= st.n_input_vertices();
+    o.positions = st.vertex_positions();
   }
   return o;
 }
 
 // Writes the requested files; returns one line per file for the summary.
-std::vector<std::string> write_outputs(const Args& args, const intrinsic::SignpostTriangulation& st,
+std::vector<std::string> write_outputs(const Args& args, const intrinsic::CorrespondenceView& st,
                                        const RefineOutputs& o) {
   const bool binary = !args.has("ascii");
   std::vector<std::string> wrote;
@@ -130,13 +153,13 @@ std::vector<std::string> write_outputs(const Args& args, const intrinsic::Signpo
                     " traced edges, PLY line set)");
   }
   if (args.has("mesh")) {
-    io::write_ply(args.get("mesh"), st.vertex_positions(), o.faces, {{"inserted", o.inserted}},
-                  binary);
+    io::write_ply(args.get("mesh"), o.positions, o.faces, {{"inserted", o.inserted}}, binary);
     wrote.push_back(args.get("mesh") + " (refined triangulation)");
   }
   if (args.has("save")) {
     st.save(args.get("save"));
-    wrote.push_back(args.get("save") + " (intrinsic triangulation, ifem-signpost 1)");
+    wrote.push_back(args.get("save") + " (intrinsic triangulation, " +
+                    intrinsic::file_format(st.kind()) + ")");
   }
   return wrote;
 }
@@ -177,11 +200,13 @@ int run(const Args& args) {
   if (!args.has("output") && !args.has("save") && !args.has("lines") && !args.has("mesh")) {
     throw UsageError("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
   }
-  // refinement with signposts (the library refuses inputs that cannot have them)
+  // refinement with signposts or integer coordinates (the library refuses inputs that cannot
+  // have them)
   const PreparedSurface s =
       prepare_surface(args.positional()[0], args, refine_settings(args, 0.0, true));
-  const RefineOutputs outputs = compute_outputs(args, *s.signposts);
-  const std::vector<std::string> wrote = write_outputs(args, *s.signposts, outputs);
+  const intrinsic::CorrespondenceView correspondence = *s.correspondence();
+  const RefineOutputs outputs = compute_outputs(args, correspondence);
+  const std::vector<std::string> wrote = write_outputs(args, correspondence, outputs);
   print_summary(s, input_min_angle(s.input));
   for (const std::string& w : wrote) std::printf("wrote %s\n", w.c_str());
   return 0;
@@ -196,7 +221,8 @@ Command refine_command() {
   c.spec.positionals = {"MESH"};
   c.spec.prose =
       "Refines the intrinsic Delaunay triangulation of MESH by inserting circumcenters\n"
-      "(Chew's second algorithm, located on the surface with signposts) until every\n"
+      "(Chew's second algorithm, located on the surface with signposts or integer\n"
+      "coordinates, --correspondence) until every\n"
       "triangle has all corner angles ≥ A. The surface itself never changes: inserted\n"
       "vertices lie on the input's triangles. Triangles whose small angle sits at a\n"
       "cone vertex with total angle below the bound (2× it inside) cannot be fixed and\n"
@@ -223,9 +249,11 @@ Command refine_command() {
             .explain("the refined triangulation, inserted vertices at their positions on\n"
                      "the surface (property 'inserted')"),
         text("save", "FILE.ifem")
-            .explain("the input and the intrinsic triangulation (gluing, lengths,\n"
-                     "signposts, inserted-vertex locations) as text, format\n"
-                     "'ifem-signpost 1' (intrinsic/refine/signpost.cpp)"),
+            .explain("the input and the intrinsic triangulation (gluing, lengths, and\n"
+                     "signposts with inserted-vertex locations, or normal coordinates\n"
+                     "with roundabouts and spokes) as text, format 'ifem-signpost 1'\n"
+                     "or 'ifem-integer 1' (--correspondence); ifem view / render\n"
+                     "--triangulation read either"),
         flag("ascii").explain("ASCII PLY instead of binary")}},
       refine_options_group(0.0),
       surface_options()};

@@ -6,7 +6,7 @@
 
 #include "cli.h"
 #include "intrinsic/core/errors.h"
-#include "intrinsic/refine/signpost.h"
+#include "intrinsic/integer/correspondence.h"
 #include "solvers/recipes/render.h"
 #include "solvers/recipes/text_formats.h"
 #include "solvers/recipes/view_scene.h"
@@ -80,8 +80,13 @@ int run(const Args& args) {
 
 void add_triangulation(recipes::Scene& scene, const Args& args) {
   if (!args.has("triangulation")) return;
-  const auto st = intrinsic::SignpostTriangulation::load(args.get("triangulation"));
-  recipes::add_intrinsic_edges(scene, st);
+  const std::string file = args.get("triangulation");
+  const intrinsic::SavedTriangulation saved = intrinsic::load_triangulation(file);
+  try {
+    recipes::add_intrinsic_edges(scene, saved.view());
+  } catch (const InvalidInput& e) {  // another mesh, or coordinates that do not trace
+    throw InvalidInput(file + ": " + e.what());
+  }
   progress(args, "traced " + std::to_string(scene.intrinsic_edges.size()) +
                      " intrinsic edges over the input");
 }
@@ -108,8 +113,9 @@ Command view_command() {
       "  --curves: OBJ polylines ('v' and 'l' lines): ifem geodesic -o OUT.obj and\n"
       "  the --curves-out files of poisson, distance, field.\n"
       "  --triangulation: a saved intrinsic triangulation (ifem refine --save FILE.ifem,\n"
-      "  made on MESH): every intrinsic edge traced over the input surface through its\n"
-      "  signposts, drawn over the input's wireframe (the common subdivision's edges).\n"
+      "  made on MESH; signposts or integer coordinates): every intrinsic edge traced\n"
+      "  over the input surface, drawn over the input's wireframe (the common\n"
+      "  subdivision's edges).\n"
       "The page embeds three.js (npm package three, installed by scripts/setup.sh into\n"
       "build/web) and the data; it loads nothing from the network.\n";
   c.spec.groups = {

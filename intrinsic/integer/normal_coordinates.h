@@ -13,6 +13,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "intrinsic/core/surface_point.h"
@@ -126,6 +127,19 @@ class NormalCoordinateTriangulation {
   /// sums, at most one corner with arcs ending at it), roundabouts in range.
   /// @throws InvalidInput naming the first face or halfedge that fails
   void validate() const;
+
+  // ===== Saving and restoring (format "ifem-integer 1", documented in normal_coordinates_io.cpp)
+
+  /// Writes the input (positions, faces, gluing and lengths) and the intrinsic triangulation
+  /// with its normal coordinates, roundabouts and spokes as text, doubles with 17 significant
+  /// digits so that load() restores it bit for bit. Atomic (path.tmp, then rename).
+  /// @throws IoError if the file cannot be written
+  void save(const std::string& path) const;
+  /// Reads a file written by save(); the result has the same lengths, ids, coordinates,
+  /// roundabouts and spokes, and passes validate().
+  /// @throws IoError naming the file and line on a missing, malformed, inconsistent or
+  ///         unsupported-version file
+  static NormalCoordinateTriangulation load(const std::string& path);
 
  private:
   struct FaceCounts {

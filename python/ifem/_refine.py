@@ -61,6 +61,12 @@ class RefinedTriangulation:
         return self._h.n_faces
 
     @property
+    def correspondence(self):
+        """``"signposts"`` or ``"integer"``: how the inserted vertices keep their places on the
+        input (``refine(..., correspondence=)``; a loaded file's own)."""
+        return self._h.correspondence
+
+    @property
     def report(self):
         """What refinement did, as a dict (a copy; keys listed in :func:`refine`), or None for
         a triangulation made by :func:`load_refined`."""
@@ -195,9 +201,10 @@ class RefinedTriangulation:
         return _ifem.traced_edges(self._h)
 
     def save(self, path):
-        """Saves the input and the refined triangulation (gluing, lengths, signposts, inserted
-        vertices' places) to a text file, format ``ifem-signpost 1`` (as ``ifem refine
-        --save``); every number with 17 digits, so :func:`load_refined` restores it bit for bit.
+        """Saves the input and the refined triangulation (gluing, lengths, and signposts with
+        inserted vertices' places, or normal coordinates with roundabouts and spokes) to a text
+        file, format ``ifem-signpost 1`` or ``ifem-integer 1`` (as ``ifem refine --save``);
+        every number with 17 digits, so :func:`load_refined` restores it bit for bit.
 
         Args:
             path: the file to write (str or os.PathLike; atomically: temporary file, rename).
@@ -222,7 +229,8 @@ class RefinedTriangulation:
 
 
 def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=None, relax=0,
-           max_edge=0, mollify=1e-5, memory_budget=None, progress=None):
+           max_edge=0, mollify=1e-5, memory_budget=None, progress=None,
+           correspondence="signposts"):
     """Intrinsic Delaunay refinement: a triangulation of the same surface with good angles.
 
     The mesh is made intrinsic Delaunay by edge flips, then vertices are inserted at the
@@ -261,6 +269,12 @@ def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=Non
         progress: None (default: nothing is reported, nothing printed) or a callable
             ``progress(fraction, stage)``, stage ``"refine"``: the insertions made over their
             estimate (0 first, non-decreasing, exactly 1 last).
+        correspondence: how inserted vertices keep their places on the input, as ``ifem
+            refine --correspondence``: ``"signposts"`` (directions traced in floating point;
+            needed by ``relax``) or ``"integer"`` (normal coordinates: the common
+            subdivision's combinatorics are exact integers, for near-degenerate input where
+            floating-point traces go wrong). Both give the same triangulation (same
+            insertions, same lengths).
 
     Returns:
         A :class:`RefinedTriangulation`, whose ``report`` dict holds:
@@ -291,9 +305,12 @@ def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=Non
     mi = None if max_insertions is None else _int(max_insertions, "max_insertions")
     mb = None if memory_budget is None else float(memory_budget)
     V, F, _ = _input(V, F)
+    if not isinstance(correspondence, str):
+        raise InvalidInput(f"correspondence must be 'signposts' or 'integer', got "
+                           f"{correspondence!r}")
     return RefinedTriangulation(_ifem.refine(
         V, F, float(min_angle), float(resolution), float(max_area), mi, _int(relax, "relax"),
-        float(max_edge), float(mollify), mb, progress))
+        float(max_edge), float(mollify), mb, correspondence, progress))
 
 
 def load_refined(path):
@@ -302,8 +319,8 @@ def load_refined(path):
     same positions, faces, common subdivision and Laplacian, bit for bit. Its ``report`` is None.
 
     Raises:
-        IoError: a missing file, or one that is not a valid ``ifem-signpost 1`` file (the
-            message names the line).
+        IoError: a missing file, or one that is not a valid ``ifem-signpost 1`` or
+            ``ifem-integer 1`` file (the message names the line).
     """
     return RefinedTriangulation(_ifem.load_refined(os.fspath(path)))
 

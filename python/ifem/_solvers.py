@@ -68,12 +68,17 @@ def _surface(mollify, path, knn):
     return _real(mollify, "mollify"), path, _int(knn, "knn")
 
 
-def _refine(refine, min_angle, resolution, max_area, max_insertions, default_resolution):
+def _refine(refine, min_angle, resolution, max_area, max_insertions, default_resolution,
+            correspondence="signposts"):
     """The C++ side's `refine` argument: None, or a dict of the refinement settings."""
+    if not isinstance(correspondence, str):
+        raise InvalidInput(f"correspondence must be 'signposts' or 'integer', got "
+                           f"{correspondence!r}")
     if not refine:
         changed = [name for name, value, default in (
             ("min_angle", min_angle, 25.0), ("resolution", resolution, default_resolution),
-            ("max_area", max_area, 0.0), ("max_insertions", max_insertions, None))
+            ("max_area", max_area, 0.0), ("max_insertions", max_insertions, None),
+            ("correspondence", correspondence, "signposts"))
             if not (value is default or value == default)]
         if changed:
             raise InvalidInput(f"{', '.join(changed)} only apply with refine=True")
@@ -81,7 +86,16 @@ def _refine(refine, min_angle, resolution, max_area, max_insertions, default_res
     return {"min_angle": _real(min_angle, "min_angle"),
             "resolution": _real(resolution, "resolution"),
             "max_area": _real(max_area, "max_area"),
-            "max_insertions": _optional(max_insertions, "max_insertions", _int)}
+            "max_insertions": _optional(max_insertions, "max_insertions", _int),
+            "correspondence": correspondence}
+
+
+def _curves_take_signposts(correspondence):
+    """Curves are inserted with signposts (FlipOut): integer coordinates are refused there."""
+    if correspondence != "signposts":
+        raise InvalidInput("curves: integer coordinates are not offered with curves yet (curves "
+                           "are inserted by FlipOut on signposts): use "
+                           "correspondence='signposts'")
 
 
 def _points(points):
@@ -159,6 +173,10 @@ class HeatDistanceSolver:
             ``refine=True`` only): corner angle bound in degrees, target edge length as a
             multiple of h (0.4 here, as in the CLI), area bound (absolute; 0: none), cap on
             inserted vertices (None: the library's).
+        correspondence: with ``refine=True``: how inserted vertices keep their places on the
+            input, ``'signposts'`` (default) or ``'integer'`` (normal coordinates: exact
+            combinatorics); the same triangulation and results either way (the CLI's
+            ``--correspondence``; :func:`ifem.refine`). Not with ``curves``.
         precision: ``'double'`` (default): every factor in double. ``'mixed'``: the queries read
             the Poisson factor as floats, half its bytes; distances move by at most ~3e-7
             relative (the heat factor stays double). Not faster on a machine where the solves
@@ -189,12 +207,12 @@ class HeatDistanceSolver:
     def __init__(self, V, F=None, refine=False, *, time_factor=None, correction_steps=None,
                  mollify=1e-5, path="auto", knn=30, min_angle=25.0, resolution=0.4,
                  max_area=0.0, max_insertions=None, precision="double", normals=None,
-                 progress=None, path_bounds=True, solver="direct"):
+                 progress=None, path_bounds=True, solver="direct", correspondence="signposts"):
         V, F, normals = _input(V, F, normals)
         self._solver = _ifem.HeatDistanceSolver(
             V, _faces(F), _optional(time_factor, "time_factor", _real),
             _optional(correction_steps, "correction_steps", _int), *_surface(mollify, path, knn),
-            _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4),
+            _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4, correspondence),
             _precision(precision), normals, progress, _path_bounds(path_bounds),
             _solver(solver))
 
@@ -315,7 +333,8 @@ def _path_bounds(path_bounds):
 def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=None,
              correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
              resolution=0.4, max_area=0.0, max_insertions=None, precision="double",
-             normals=None, curves=None, progress=None, path_bounds=True, solver="direct"):
+             normals=None, curves=None, progress=None, path_bounds=True, solver="direct",
+             correspondence="signposts"):
     """Geodesic distance from vertices (or surface points) in one call, as ``ifem distance``
     (``heat_distance`` is its deprecated old name).
 
@@ -343,6 +362,7 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
     """
     V, F, normals = _input(V, F, normals)
     if curves is not None:
+        _curves_take_signposts(correspondence)
         if sources is not None or points is not None:
             raise InvalidInput("give sources, points or curves, not several (the CLI's --source, "
                                "--curves)")
@@ -352,7 +372,8 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
                               resolution=resolution, max_area=max_area,
                               max_insertions=max_insertions, mollify=mollify,
                               path_bounds=path_bounds)
-    refine_arg = _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4)
+    refine_arg = _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4,
+                         correspondence)
     t = _optional(time_factor, "time_factor", _real)
     c = _optional(correction_steps, "correction_steps", _int)
     surface = _surface(mollify, path, knn)
@@ -379,7 +400,7 @@ heat_distance = distance
 
 def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
           resolution=0.0, max_area=0.0, max_insertions=None, return_info=False, normals=None,
-          progress=None):
+          progress=None, correspondence="signposts"):
     """The k smallest Laplace–Beltrami eigenpairs ``L φ = λ M φ``, as ``ifem eigen``.
 
     L is the intrinsic Delaunay cotan Laplacian (positive semi-definite), M the lumped mass;
@@ -392,8 +413,9 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
         refine: intrinsic Delaunay refinement first (``min_angle``; ``resolution`` defaults to 0
             here, i.e. angles only): λ and φ are those of the refined triangulation, φ reported
             on the input's vertices.
-        mollify, path, knn, min_angle, resolution, max_area, max_insertions, normals: as in
-            :class:`HeatDistanceSolver` (V may be a file's path there too).
+        mollify, path, knn, min_angle, resolution, max_area, max_insertions, normals,
+            correspondence: as in :class:`HeatDistanceSolver` (V may be a file's path there
+            too).
         return_info: also return a dict about the preparation (as
             :attr:`HeatDistanceSolver.info`, without the heat-method entries).
         progress: None (default: nothing is reported, nothing printed) or a callable
@@ -417,7 +439,8 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
     V, F, normals = _input(V, F, normals)
     evals, evecs, info = _ifem.eigen(V, _faces(F), _int(k, "k"), *_surface(mollify, path, knn),
                                      _refine(refine, min_angle, resolution, max_area,
-                                             max_insertions, 0.0), normals, progress)
+                                             max_insertions, 0.0, correspondence), normals,
+                                     progress)
     return (evals, evecs, info) if return_info else (evals, evecs)
 
 
@@ -427,7 +450,7 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
 def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *, mollify=1e-5,
             path="auto", knn=30, min_angle=25.0, resolution=0.0, max_area=0.0,
             max_insertions=None, return_info=False, normals=None, curves=None, progress=None,
-            solver="direct"):
+            solver="direct", correspondence="signposts"):
     """Solves ``−Δu + c·u = f`` with Dirichlet values on chosen vertices, as ``ifem poisson``.
 
     Discretely ``(L + c M) u = M f`` (L the intrinsic Delaunay cotan Laplacian, positive
@@ -450,8 +473,9 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
         screening: c ≥ 0, in 1 / length² units (0: plain Poisson).
         refine: intrinsic Delaunay refinement first (needs an edge-manifold, orientable mesh:
             f is interpolated linearly onto the inserted vertices); ``resolution`` defaults to 0.
-        mollify, path, knn, min_angle, resolution, max_area, max_insertions, normals: as in
-            :class:`HeatDistanceSolver` (V may be a file's path there too).
+        mollify, path, knn, min_angle, resolution, max_area, max_insertions, normals,
+            correspondence: as in :class:`HeatDistanceSolver` (V may be a file's path there
+            too).
         return_info: also return a dict about the preparation.
         curves: the CLI's ``--curves``: u held at the curves' values along them,
             :func:`curve_poisson` (a list of :class:`Curve` or a curves file's path).
@@ -472,6 +496,7 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
     """
     V, F, normals = _input(V, F, normals)
     if curves is not None:
+        _curves_take_signposts(correspondence)
         from ._curves import curve_poisson
         return curve_poisson(V, F, curves, rhs, dirichlet, screening, refine, min_angle=min_angle,
                              resolution=resolution, max_area=max_area,
@@ -481,7 +506,7 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
     u, info = _ifem.poisson(V, _faces(F), rhs, ids, values, _real(screening, "screening"),
                             *_surface(mollify, path, knn),
                             _refine(refine, min_angle, resolution, max_area, max_insertions,
-                                    0.0), normals, progress, _solver(solver))
+                                    0.0, correspondence), normals, progress, _solver(solver))
     return (u, info) if return_info else u
 
 

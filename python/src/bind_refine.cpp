@@ -1,6 +1,6 @@
-// Intrinsic Delaunay refinement (`ifem refine`): a handle on the refined signpost triangulation
-// with its common subdivision, vertex positions on the input, operators, data transfer from the
-// input's vertices, and save / load ("ifem-signpost 1").
+// Intrinsic Delaunay refinement (`ifem refine`): a handle on the refined triangulation (signposts
+// or integer coordinates) with its common subdivision, vertex positions on the input, operators,
+// data transfer from the input's vertices, and save / load ("ifem-signpost 1" or "ifem-integer 1").
 #include <pybind11/stl.h>
 
 #include <cmath>
@@ -39,7 +39,8 @@ void require_size(double x, const char* name) {
 solvers::SurfaceRefineOptions refine_settings(double min_angle, double resolution, double max_area,
                                               const std::optional<long long>& max_insertions,
                                               long long relax, double max_edge,
-                                              const std::optional<double>& memory_budget) {
+                                              const std::optional<double>& memory_budget,
+                                              const std::string& correspondence) {
   require(min_angle > 0.0 && min_angle <= 30.0,
           "min_angle must be in (0, 30] degrees (Chew's algorithm terminates up to 30°), got " +
               number(min_angle));
@@ -63,6 +64,9 @@ solvers::SurfaceRefineOptions refine_settings(double min_angle, double resolutio
   r.relax_max_edge = max_edge;
   r.need_signposts = true;
   r.max_memory_bytes = memory_budget ? *memory_budget * 1e9 : 0.0;
+  r.correspondence = intrinsic::parse_correspondence(correspondence);
+  require(relax == 0 || r.correspondence == intrinsic::Correspondence::kSignposts,
+          "relax moves inserted vertices along signposts: use correspondence='signposts'");
   r.validate();
   return r;
 }
@@ -147,7 +151,8 @@ std::unique_ptr<Refined> refine(const py::handle& V, const py::handle& F, double
                                 double resolution, double max_area,
                                 std::optional<long long> max_insertions, long long relax,
                                 double max_edge, double mollify,
-                                std::optional<double> memory_budget, const py::handle& progress) {
+                                std::optional<double> memory_budget,
+                                const std::string& correspondence, const py::handle& progress) {
   io::SurfaceInput in = surface_input(V, F);
   require(!in.triangles.empty(), "F has no faces: refinement needs a triangle mesh");
   require(std::isfinite(mollify) && mollify >= 0.0,
@@ -155,7 +160,7 @@ std::unique_ptr<Refined> refine(const py::handle& V, const py::handle& F, double
               number(mollify));
   solvers::PrepareOptions o = prepare_options(mollify, "auto", true, 30);
   o.refine = refine_settings(min_angle, resolution, max_area, max_insertions, relax, max_edge,
-                             memory_budget);
+                             memory_budget, correspondence);
   o.on_progress = progress_callback(progress);
   solvers::PreparedSurface s;
   double angle = 0.0, seconds = 0.0;
@@ -171,7 +176,10 @@ std::unique_ptr<Refined> refine(const py::handle& V, const py::handle& F, double
     seconds = watch.seconds();
     angle = input_min_angle(s.input);
   }
-  auto h = std::make_unique<Refined>(std::move(*s.signposts));
+  intrinsic::SavedTriangulation kept;
+  kept.signposts = std::move(s.signposts);
+  kept.integer = std::move(s.integer);
+  auto h = std::make_unique<Refined>(std::move(kept));
   h->report = report_dict(s, angle, seconds);
   h->memory_budget_bytes = o.refine->max_memory_bytes;
   return h;
@@ -200,7 +208,7 @@ py::tuple common_subdivision_of(const Refined& h) {
   intrinsic::CommonSubdivision cs;
   {
     const py::gil_scoped_release release;
-    cs = intrinsic::common_subdivision(h.st, h.memory_budget_bytes);
+    cs = h.st().common_subdivision(h.memory_budget_bytes);
   }
   return py::make_tuple(to_numpy(std::move(cs.positions)), to_numpy(std::move(cs.faces)),
                         to_numpy(std::move(cs.intrinsic_face)), to_numpy(std::move(cs.input_face)));
@@ -211,32 +219,32 @@ py::tuple laplacian_of(const Refined& h) {
   Eigen::VectorXd m;
   {
     const py::gil_scoped_release release;
-    L = fem::cotan_laplacian(h.st.intrinsic());
-    m = fem::lumped_mass(h.st.intrinsic());
+    L = fem::cotan_laplacian(h.st().intrinsic());
+    m = fem::lumped_mass(h.st().intrinsic());
   }
   return py::make_tuple(to_csc_parts(std::move(L)), to_numpy(std::move(m)));
 }
 
 py::array from_input(const Refined& h, const py::handle& x) {
-  const Eigen::VectorXd values = values_from(x, h.st.n_input_vertices(), "x");
+  const Eigen::VectorXd values = values_from(x, h.st().n_input_vertices(), "x");
   Eigen::VectorXd out;
   {
     const py::gil_scoped_release release;
-    out = h.st.input_to_intrinsic(values);
+    out = h.st().input_to_intrinsic(values);
   }
   return to_numpy(std::move(out));
 }
 
 void save(const Refined& h, const std::string& path) {
   const py::gil_scoped_release release;
-  h.st.save(path);
+  h.st().save(path);
 }
 
 std::unique_ptr<Refined> load(const std::string& path) {
-  std::optional<intrinsic::SignpostTriangulation> st;
+  std::optional<intrinsic::SavedTriangulation> st;
   {
     const py::gil_scoped_release release;
-    st.emplace(intrinsic::SignpostTriangulation::load(path));
+    st.emplace(intrinsic::load_triangulation(path));
   }
   return std::make_unique<Refined>(std::move(*st));
 }
@@ -246,25 +254,30 @@ std::unique_ptr<Refined> load(const std::string& path) {
 void bind_refine(py::module_& m) {
   py::class_<Refined>(m, "Refined")
       .def_property_readonly("n_input_vertices",
-                             [](const Refined& h) { return h.st.n_input_vertices(); })
+                             [](const Refined& h) { return h.st().n_input_vertices(); })
       .def_property_readonly("n_vertices",
-                             [](const Refined& h) { return h.st.intrinsic().n_vertices(); })
-      .def_property_readonly("n_faces", [](const Refined& h) { return h.st.intrinsic().n_faces(); })
+                             [](const Refined& h) { return h.st().intrinsic().n_vertices(); })
+      .def_property_readonly("n_faces",
+                             [](const Refined& h) { return h.st().intrinsic().n_faces(); })
       .def_property_readonly("report",
                              [](const Refined& h) -> py::object {
                                return h.report ? py::object(*h.report) : py::none();
                              })
-      .def("positions", [](const Refined& h) { return to_numpy(h.st.vertex_positions()); })
-      .def("faces", [](const Refined& h) { return to_numpy(faces_of(h.st.intrinsic())); })
+      .def("positions", [](const Refined& h) { return to_numpy(h.st().vertex_positions()); })
+      .def("faces", [](const Refined& h) { return to_numpy(faces_of(h.st().intrinsic())); })
       .def("edge_lengths",
-           [](const Refined& h) { return to_numpy(side_lengths(h.st.intrinsic())); })
+           [](const Refined& h) { return to_numpy(side_lengths(h.st().intrinsic())); })
       .def("common_subdivision", &common_subdivision_of)
       .def("laplacian", &laplacian_of)
       .def("from_input", &from_input, py::arg("x"))
-      .def("save", &save, py::arg("path"));
+      .def("save", &save, py::arg("path"))
+      .def_property_readonly("correspondence", [](const Refined& h) {
+        return std::string(intrinsic::to_string(h.st().kind()));
+      });
   m.def("refine", &refine, py::arg("V"), py::arg("F"), py::arg("min_angle"), py::arg("resolution"),
         py::arg("max_area"), py::arg("max_insertions"), py::arg("relax"), py::arg("max_edge"),
-        py::arg("mollify"), py::arg("memory_budget"), py::arg("progress") = py::none());
+        py::arg("mollify"), py::arg("memory_budget"), py::arg("correspondence") = "signposts",
+        py::arg("progress") = py::none());
   m.def("load_refined", &load, py::arg("path"));
 }
 

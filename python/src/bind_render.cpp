@@ -71,7 +71,7 @@ py::tuple render(const py::handle& V, const py::handle& F, const py::handle& fie
       recipes::Scene traced;
       traced.positions = scene.positions;
       traced.faces = scene.triangles;
-      recipes::add_intrinsic_edges(traced, refined.cast<const Refined&>().st);
+      recipes::add_intrinsic_edges(traced, refined.cast<const Refined&>().st());
       scene.intrinsic_edges = std::move(traced.intrinsic_edges);
     }
     r = recipes::render(scene, o);

@@ -76,6 +76,9 @@ std::optional<solvers::SurfaceRefineOptions> refine_settings(const py::handle& r
   if (!get("max_area").is_none()) r.max_area = get("max_area").cast<double>();
   if (!get("max_insertions").is_none()) r.max_insertions = get("max_insertions").cast<Index>();
   r.need_signposts = need_signposts;
+  if (!get("correspondence").is_none()) {
+    r.correspondence = intrinsic::parse_correspondence(get("correspondence").cast<std::string>());
+  }
   if (!(r.min_angle_degrees > 0.0 && r.min_angle_degrees <= 30.0)) {
     throw InvalidInput("min_angle must be in (0, 30] degrees, got " + num(r.min_angle_degrees));
   }

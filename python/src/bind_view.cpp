@@ -73,7 +73,8 @@ py::dict view(const py::handle& V, const py::handle& F, const std::string& path,
   const std::string three = recipes::find_three_js(three_dir);
   {
     const py::gil_scoped_release release;
-    if (!refined.is_none()) recipes::add_intrinsic_edges(scene, refined.cast<const Refined&>().st);
+    if (!refined.is_none())
+      recipes::add_intrinsic_edges(scene, refined.cast<const Refined&>().st());
     recipes::write_view_page(path, scene, three);
   }
   py::dict info;
@@ -100,7 +101,7 @@ py::list traced_edges(const Refined& h) {
   recipes::Polylines lines;
   {
     const py::gil_scoped_release release;
-    lines = h.st.traced_edges_3d();
+    lines = h.st().traced_edges_3d();
   }
   return to_arrays(lines);
 }

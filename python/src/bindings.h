@@ -12,6 +12,7 @@
 #include <optional>
 #include <utility>
 
+#include "intrinsic/integer/correspondence.h"
 #include "intrinsic/refine/signpost.h"
 #include "solvers/recipes/curves.h"
 #include "solvers/recipes/pipeline.h"
@@ -38,8 +39,9 @@ void bind_simplify(py::module_& m);   // intrinsic simplification and its prolon
 /// The refined triangulation (ifem.refine's handle, bind_refine.cpp) and what refining it
 /// reported (no report after load()); bind_view.cpp traces its edges.
 struct Refined {
-  explicit Refined(intrinsic::SignpostTriangulation&& s) : st(std::move(s)) {}
-  intrinsic::SignpostTriangulation st;
+  explicit Refined(intrinsic::SavedTriangulation&& s) : saved(std::move(s)) {}
+  intrinsic::SavedTriangulation saved;  ///< signposts or integer coordinates
+  intrinsic::CorrespondenceView st() const { return saved.view(); }
   std::optional<py::dict> report;    // built while the GIL is held
   double memory_budget_bytes = 0.0;  // for the common subdivision; 0: the library's default
 };

@@ -275,6 +275,11 @@ CurveSurface prepare_curve_surface(io::SurfaceInput input, std::vector<CurveCond
       throw InvalidInput(
           "curves: relaxation is not offered with curves (it would move vertices off them)");
     }
+    if (options.refine->correspondence != intrinsic::Correspondence::kSignposts) {
+      throw InvalidInput(
+          "curves: integer coordinates are not offered with curves yet (curves are inserted by "
+          "FlipOut on signposts): use the signposts correspondence");
+    }
   }
   if (!input.has_faces()) {
     throw InvalidInput("curves need a triangle mesh: this input has no faces (a point cloud)");

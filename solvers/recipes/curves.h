@@ -121,7 +121,8 @@ struct CurveSurface {
 ///         mesh that is not edge-manifold and orientable (curves need signposts), overlapping
 ///         curves, Bézier curves over the budget (intrinsic::insert_curves), curves FlipOut left
 ///         at its iteration cap (unless accept_partial), curves that leave triangles of zero
-///         area (named by origin, never by internal ids), bad options
+///         area (named by origin, never by internal ids), bad options, refinement with
+///         integer coordinates (SurfaceRefineOptions::correspondence: curves need signposts)
 /// @throws NonManifoldInput from the mesh build
 CurveSurface prepare_curve_surface(io::SurfaceInput input, std::vector<CurveCondition> curves,
                                    const CurveSurfaceOptions& options = {});

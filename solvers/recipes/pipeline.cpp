@@ -149,6 +149,32 @@ std::string refine_refusal(const PreparedSurface& s, const SurfaceRefineOptions&
   return "";
 }
 
+// Refines with integer coordinates from the input's faces (same faces, same mollification):
+// the same insertions and lengths as refine_with_signposts() without relaxation.
+void refine_with_integer(const SurfaceRefineOptions& r, double mollify_epsilon, PreparedSurface& s,
+                         const Progress& progress) {
+  Stopwatch watch;
+  intrinsic::NormalCoordinateTriangulation nc(s.input.triangles, s.input.positions,
+                                              mollify_epsilon);
+  intrinsic::RefineOptions refine_opt = refine_options(r, s.target_edge_length);
+  refine_opt.on_progress = progress.fraction();
+  s.refine_report = intrinsic::delaunay_refine(nc, refine_opt);
+  if (s.path != SurfacePath::kManifold) {
+    s.path = SurfacePath::kManifold;  // the encroached boundary edges were split
+    s.reason = PathReason::kEdgeManifoldOrientable;
+    s.reason_detail = "refined (boundary edges opposite obtuse angles are split by refinement)";
+  }
+  s.boundary_vertex.clear();  // the refined triangulation's own boundary is the surface's
+  if (const Index bad = intrinsic::negative_boundary_weights(nc.intrinsic())) {
+    progress("note: " + std::to_string(bad) +
+             " boundary edges still face obtuse angles after refinement (needle cones)");
+  }
+  progress(describe(s.refine_report) + " with integer coordinates in " + fmt(watch.restart()) +
+           " s");
+  s.tri = nc.intrinsic();
+  s.integer = std::move(nc);
+}
+
 // Refines the tufted cover itself, intrinsically (nonmanifold / non-orientable / forced).
 void refine_tufted(const SurfaceRefineOptions& r, PreparedSurface& s, const Progress& progress) {
   Stopwatch watch;
@@ -199,7 +225,9 @@ void refine(const PrepareOptions& opt, PreparedSurface& s, const Progress& progr
   s.target_edge_length = r.resolution * s.input_mean_edge_length;
   intrinsic::check_refinement_budget(s.tri, refine_options(r, s.target_edge_length));
   const double seconds_flip = s.seconds_flip;
-  if (s.supports_signposts()) {
+  if (s.supports_signposts() && r.correspondence == intrinsic::Correspondence::kInteger) {
+    refine_with_integer(r, opt.mollify_relative_epsilon, s, progress);
+  } else if (s.supports_signposts()) {
     refine_with_signposts(r, opt.mollify_relative_epsilon, s, progress);
   } else {
     refine_tufted(r, s, progress);
@@ -391,6 +419,9 @@ void SurfaceRefineOptions::validate() const {
   require(max_memory_bytes >= 0.0,
           "SurfaceRefineOptions: max_memory_bytes must be ≥ 0 (0: automatic), got " +
               fmt(max_memory_bytes));
+  require(relax_iterations == 0 || correspondence == intrinsic::Correspondence::kSignposts,
+          "SurfaceRefineOptions: relaxation moves inserted vertices along signposts; with "
+          "integer coordinates it is not available (use the signposts correspondence)");
 }
 
 SurfaceRefineOptions accurate_distance_refinement() {
@@ -413,6 +444,12 @@ bool PreparedSurface::supports_signposts() const {
   return path != SurfacePath::kPointCloud && stats.edge_manifold() &&
          (reason == PathReason::kEdgeManifoldOrientable ||
           reason == PathReason::kNegativeBoundaryWeights);
+}
+
+std::optional<intrinsic::CorrespondenceView> PreparedSurface::correspondence() const {
+  if (signposts) return intrinsic::CorrespondenceView(*signposts);
+  if (integer) return intrinsic::CorrespondenceView(*integer);
+  return std::nullopt;
 }
 
 PreparedSurface prepare_surface(io::SurfaceInput input, const PrepareOptions& options) {
@@ -461,7 +498,7 @@ Eigen::VectorXd from_input_vertices(const PreparedSurface& s, const Eigen::Vecto
   require(values.size() == n, "from_input_vertices: " + std::to_string(values.size()) +
                                   " values, expected one per input vertex (" + std::to_string(n) +
                                   ")");
-  if (s.signposts) return s.signposts->input_to_intrinsic(values);
+  if (const auto c = s.correspondence()) return c->input_to_intrinsic(values);
   require(s.tri.n_vertices() == n,
           "from_input_vertices: the triangulation has inserted vertices without signposts "
           "(refined on the tufted cover): input data cannot be carried onto them");

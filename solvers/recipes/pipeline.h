@@ -17,6 +17,8 @@
 #include <vector>
 
 #include "intrinsic/core/triangulation.h"
+#include "intrinsic/integer/correspondence.h"
+#include "intrinsic/integer/normal_coordinates.h"
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/refine/delaunay_refine.h"
 #include "intrinsic/refine/signpost.h"
@@ -49,6 +51,11 @@ struct SurfaceRefineOptions {
   /// With constraints (curves): split curve and boundary edges whose cotan weight is negative
   /// after refinement (RefineOptions::conform), so the maximum principle holds.
   bool conform = true;
+  /// How inserted vertices keep their places on the input (edge-manifold, orientable meshes;
+  /// the tufted cover has neither): signposts (real directions, supports --relax) or integer
+  /// coordinates (normal coordinates: the overlay's combinatorics are exact integers). Both
+  /// give the same intrinsic triangulation (same insertions, same lengths).
+  intrinsic::Correspondence correspondence = intrinsic::Correspondence::kSignposts;
   /// @throws InvalidInput naming the field and its allowed range
   void validate() const;
 };
@@ -112,6 +119,9 @@ struct PreparedSurface {
   double target_edge_length = 0.0;
   /// Refined with signposts: inserted vertices' places on the input (SignpostTriangulation).
   std::optional<intrinsic::SignpostTriangulation> signposts;
+  /// Refined with integer coordinates (SurfaceRefineOptions::correspondence): the same, kept
+  /// as normal coordinates. At most one of `signposts` and `integer` is set.
+  std::optional<intrinsic::NormalCoordinateTriangulation> integer;
   double seconds_build = 0, seconds_flip = 0, seconds_refine = 0;
 
   /// #V_in: the input's vertex count (ids 0..#V_in−1 of tri are the input's vertices).
@@ -119,6 +129,9 @@ struct PreparedSurface {
   /// True when signposts can be built (edge-manifold, orientable mesh; a mesh that took the
   /// tufted path only for negative boundary weights counts: refinement splits those edges).
   bool supports_signposts() const;
+  /// The correspondence of a refined manifold surface (signposts or integer), or nullopt when
+  /// it has none (not refined, or refined on the tufted cover).
+  std::optional<intrinsic::CorrespondenceView> correspondence() const;
 };
 
 /// Builds the intrinsic triangulation of an input on the right path, then refines it if asked:
@@ -126,10 +139,12 @@ struct PreparedSurface {
 ///    glued into a tufted cover, knn neighbours);
 ///  - otherwise intrinsic::build_surface(): manifold, or the tufted cover for nonmanifold /
 ///    non-orientable meshes and for boundary edges that would keep negative weights;
-///  - refinement (options.refine): with signposts when supports_signposts(), else on the tufted
-///    cover itself (no signposts; refused when need_signposts or relaxation asks for them).
-/// @throws InvalidInput on bad options, on an input the path cannot use, or on refinement of a
-///         point cloud / of the tufted cover with need_signposts or relaxation
+///  - refinement (options.refine): with signposts or integer coordinates
+///    (SurfaceRefineOptions::correspondence) when supports_signposts(), else on the tufted
+///    cover itself (neither; refused when need_signposts or relaxation asks for them).
+/// @throws InvalidInput on bad options, on an input the path cannot use, on refinement of a
+///         point cloud / of the tufted cover with need_signposts or relaxation, or on
+///         relaxation with integer coordinates
 PreparedSurface prepare_surface(io::SurfaceInput input, const PrepareOptions& options = {});
 
 /// Reads a file (io::read_surface) and prepares it.
@@ -143,8 +158,9 @@ Eigen::VectorXd on_input_vertices(const PreparedSurface& s, const Eigen::VectorX
 Eigen::MatrixXd on_input_vertices(const PreparedSurface& s, const Eigen::MatrixXd& values);
 
 /// Per-vertex data given on the input's vertices (#V_in) carried onto every vertex of s.tri:
-/// copied on input vertices, interpolated linearly at inserted vertices (signposts).
-/// @throws InvalidInput on a size mismatch, or if s has inserted vertices without signposts
+/// copied on input vertices, interpolated linearly at inserted vertices (s.correspondence()).
+/// @throws InvalidInput on a size mismatch, or if s has inserted vertices without a
+///         correspondence (refined on the tufted cover)
 Eigen::VectorXd from_input_vertices(const PreparedSurface& s, const Eigen::VectorXd& values);
 
 /// Heat-method settings of geodesic_distance(); unset fields take the defaults of the surface:

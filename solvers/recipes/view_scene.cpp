@@ -321,7 +321,7 @@ solvers::RenderScene render_scene_of(const Scene& scene, const std::string& prop
   return r;
 }
 
-void add_intrinsic_edges(Scene& scene, const intrinsic::SignpostTriangulation& st) {
+void add_intrinsic_edges(Scene& scene, const intrinsic::CorrespondenceView& st) {
   const Positions& p = st.input_positions();
   const double tolerance = 1e-9 * std::max(bbox_diagonal(scene.positions), 1e-300);
   if (p.rows() != scene.positions.rows() ||

@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "intrinsic/core/types.h"
+#include "intrinsic/integer/correspondence.h"
 #include "intrinsic/io/surface_input.h"
-#include "intrinsic/refine/signpost.h"
 #include "solvers/recipes/render.h"
 
 namespace ifem::recipes {
@@ -87,12 +87,13 @@ void add_field(Scene& scene, SceneField field);
 /// @throws InvalidInput on a non-finite point
 void add_polylines(Scene& scene, const std::string& name, const Polylines& lines);
 
-/// Traces every intrinsic edge of `st` over its input (SignpostTriangulation::traced_edges_3d())
-/// into scene.intrinsic_edges: one polyline per intrinsic edge, every point on an input face.
+/// Traces every intrinsic edge of `st` (signposts or integer coordinates) over its input
+/// (CorrespondenceView::traced_edges_3d()) into scene.intrinsic_edges: one polyline per
+/// intrinsic edge, every point on an input face.
 /// @throws InvalidInput if st's input does not have the scene's vertices (count, or positions
 ///         farther apart than 1e-9 × the bounding box diagonal)
 /// @throws TraceError when a trace fails
-void add_intrinsic_edges(Scene& scene, const intrinsic::SignpostTriangulation& st);
+void add_intrinsic_edges(Scene& scene, const intrinsic::CorrespondenceView& st);
 
 /// The same scene for `ifem render` (solvers::render_scene): positions, faces, the field named
 /// `property` ("" = the first field, or none when the scene has none), every curve group's

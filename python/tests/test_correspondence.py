@@ -1,0 +1,72 @@
+"""correspondence= (signposts | integer) on refine, distance, HeatDistanceSolver, eigen and
+poisson: both give the same results on spot; a refined triangulation of either kind saves and
+loads back the same common subdivision and positions; bad choices are refused by name."""
+
+import numpy as np
+import pytest
+
+import ifem
+from conftest import test_data
+
+KINDS = ("signposts", "integer")
+
+
+@pytest.fixture(scope="module")
+def spot():
+    return ifem.read_mesh(test_data("spot.obj"))
+
+
+def test_refine_both_kinds_agree_and_round_trip(spot, tmp_path):
+    r = {k: ifem.refine(*spot, min_angle=28, correspondence=k) for k in KINDS}
+    assert r["signposts"].correspondence == "signposts"
+    assert r["integer"].correspondence == "integer"
+    a, b = r["signposts"], r["integer"]
+    assert a.n_vertices == b.n_vertices > spot[0].shape[0]
+    assert np.array_equal(a.faces(), b.faces())
+    assert np.array_equal(a.edge_lengths(), b.edge_lengths())
+    assert np.max(np.abs(a.positions() - b.positions())) <= 1e-9
+    x = np.sin(3 * spot[0][:, 0]) + spot[0][:, 2]
+    assert np.max(np.abs(a.from_input(x) - b.from_input(x))) <= 1e-9
+    _, _, fa, ia = a.common_subdivision()
+    _, _, fb, ib = b.common_subdivision()
+    assert set(zip(fa, ia)) == set(zip(fb, ib))  # the same polygons
+    for k in KINDS:
+        path = tmp_path / f"{k}.ifem"
+        r[k].save(path)
+        back = ifem.load_refined(path)
+        assert back.correspondence == k
+        assert back.report is None
+        assert np.array_equal(back.positions(), r[k].positions())
+        for mine, theirs in zip(back.common_subdivision(), r[k].common_subdivision()):
+            assert np.array_equal(mine, theirs)
+
+
+def test_solvers_keyword(spot):
+    V, F = spot
+    d = {k: ifem.distance(V, F, [0], refine=True, resolution=0, correspondence=k) for k in KINDS}
+    assert np.max(np.abs(d["signposts"] - d["integer"])) <= 1e-9
+    s = ifem.HeatDistanceSolver(V, F, refine=True, resolution=0, correspondence="integer")
+    assert np.max(np.abs(s.compute_distance([0]) - d["integer"])) <= 1e-12
+    ev = {k: ifem.eigen(V, F, 3, refine=True, correspondence=k)[0] for k in KINDS}
+    assert np.max(np.abs(ev["signposts"] - ev["integer"])) <= 1e-9 * np.max(ev["signposts"])
+    f = np.cos(2 * V[:, 1])
+    u = {k: ifem.poisson(V, F, f, {0: 0.0, 100: 1.0}, refine=True, correspondence=k)
+         for k in KINDS}
+    assert np.max(np.abs(u["signposts"] - u["integer"])) <= 1e-9
+
+
+def test_bad_choices(spot):
+    V, F = spot
+    with pytest.raises(ifem.InvalidInput, match="'ints' is neither 'signposts' nor 'integer'"):
+        ifem.refine(V, F, correspondence="ints")
+    with pytest.raises(ifem.InvalidInput, match="relax.*signposts"):
+        ifem.refine(V, F, relax=1, correspondence="integer")
+    with pytest.raises(ifem.InvalidInput, match="correspondence only apply with refine=True"):
+        ifem.distance(V, F, [0], correspondence="integer")
+    with pytest.raises(ifem.InvalidInput, match="neither"):
+        ifem.distance(V, F, [0], refine=True, correspondence="exact")
+    with pytest.raises(ifem.InvalidInput, match="must be 'signposts' or 'integer'"):
+        ifem.eigen(V, F, 3, refine=True, correspondence=1)
+    with pytest.raises(ifem.InvalidInput, match="curves: integer coordinates"):
+        ifem.poisson(V, F, curves=[ifem.Curve([0, 100], 1.0)], refine=True,
+                     correspondence="integer")

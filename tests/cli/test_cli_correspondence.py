@@ -1,0 +1,139 @@
+"""`--correspondence signposts|integer`: the two ways refinement keeps inserted vertices on the
+input give the same results through every command (distances, Poisson, the common subdivision,
+the refined mesh), both save and restore (`ifem refine --save`, read back by `ifem render
+--triangulation`), and a bad choice or a bad file is refused with the reason."""
+
+import math
+
+import numpy as np
+
+from clitools import write_obj
+from test_cli_render import read_png
+
+KINDS = ("signposts", "integer")
+
+
+def read_ascii_ply(path):
+    """(vertices #V×3, faces #F×3, face properties #F×k) of an ASCII PLY written by ifem."""
+    text = path.read_text().split("\n")
+    end = text.index("end_header")
+    header = text[:end]
+    nv = int(next(h for h in header if h.startswith("element vertex")).split()[2])
+    nf = int(next(h for h in header if h.startswith("element face")).split()[2])
+    v = np.array([[float(x) for x in line.split()[:3]] for line in text[end + 1:end + 1 + nv]])
+    rows = [[float(x) for x in line.split()] for line in text[end + 1 + nv:end + 1 + nv + nf]]
+    f = np.array([r[1:4] for r in rows], dtype=int)
+    props = np.array([r[4:] for r in rows])
+    return v, f, props
+
+
+def boundary_grid(path, n=7):
+    """A jittered n×n grid (a disk with boundary, non-Delaunay), as an OBJ file."""
+    rng = np.random.default_rng(5)
+    verts = [(i / n + 0.3 * rng.uniform(-1, 1) / n, j / n + 0.3 * rng.uniform(-1, 1) / n,
+              0.1 * math.sin(3 * i / n) * math.cos(2 * j / n))
+             for j in range(n + 1) for i in range(n + 1)]
+    faces = []
+    for j in range(n):
+        for i in range(n):
+            a, b = j * (n + 1) + i + 1, j * (n + 1) + i + 2  # OBJ ids are 1-based
+            c, d = a + n + 1, b + n + 1
+            faces += [(a, b, d), (a, d, c)]
+    write_obj(path, verts, faces)
+    return path
+
+
+def test_same_distances_and_poisson(cli):
+    o = cli.out
+    for mesh in (cli.spot, boundary_grid(o / "grid.obj")):
+        d, p = {}, {}
+        n = sum(1 for line in open(mesh) if line.startswith("v "))
+        (o / "bc.txt").write_text(f"0 0\n{n - 1} 1\n")
+        (o / "rhs.txt").write_text("\n".join(str(math.sin(0.1 * i)) for i in range(n)) + "\n")
+        for kind in KINDS:
+            cli.ok("distance", mesh, "--source", 0, "--refine", "--resolution", 0,
+                   "--min-angle", 28, "--correspondence", kind, "-o", o / f"d_{kind}.txt",
+                   "--quiet")
+            d[kind] = np.loadtxt(o / f"d_{kind}.txt")
+            # f carried onto the inserted vertices through the correspondence
+            cli.ok("poisson", mesh, "--rhs", o / "rhs.txt", "--dirichlet", o / "bc.txt",
+                   "--refine", "--correspondence", kind, "-o", o / f"p_{kind}.txt", "--quiet")
+            p[kind] = np.loadtxt(o / f"p_{kind}.txt")
+        assert d["signposts"].shape == (n,) and d["signposts"].max() > 0
+        assert np.max(np.abs(d["signposts"] - d["integer"])) <= 1e-9, mesh
+        assert np.max(np.abs(p["signposts"] - p["integer"])) <= 1e-9, mesh
+
+
+def test_same_common_subdivision_and_mesh(cli):
+    o = cli.out
+    out = {}
+    for kind in KINDS:
+        r = cli.ok("refine", cli.spot, "--min-angle", 28, "--correspondence", kind, "--ascii",
+                   "-o", o / f"cs_{kind}.ply", "--mesh", o / f"m_{kind}.ply", "--save",
+                   o / f"{kind}.ifem")
+        assert f"ifem-{'signpost' if kind == 'signposts' else 'integer'} 1" in r.out, r.describe()
+        out[kind] = (read_ascii_ply(o / f"cs_{kind}.ply"), read_ascii_ply(o / f"m_{kind}.ply"))
+    (vs, fs, ps), (ms, mfs, _) = out["signposts"]
+    (vi, fi, pi), (mi, mfi, _) = out["integer"]
+    # the same polygons (intrinsic face ∩ input face), covering the same area
+    assert set(map(tuple, ps.astype(int))) == set(map(tuple, pi.astype(int)))
+
+    def area(v, f):
+        return 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]),
+                                    axis=1).sum()
+    assert abs(area(vs, fs) - area(vi, fi)) <= 1e-12 * area(vs, fs)
+    # the same refined triangulation, inserted vertices at the same places
+    assert np.array_equal(mfs, mfi)
+    assert np.max(np.abs(ms - mi)) <= 1e-9
+    assert ms.shape[0] > 2930  # vertices were inserted
+
+
+def blue(rows):
+    return sum(p[2] > p[0] + 60 and p[2] > p[1] + 30 for row in rows for p in row)
+
+
+def test_save_restore_both(cli):
+    o = cli.out
+    counts = {}
+    for kind in KINDS:
+        cli.ok("refine", cli.spot, "--correspondence", kind, "--save", o / f"{kind}.ifem",
+               "--quiet")
+        first = (o / f"{kind}.ifem").read_text().split("\n", 1)[0]
+        assert first == ("ifem-signpost 1" if kind == "signposts" else "ifem-integer 1")
+        cli.ok("render", cli.spot, "--triangulation", o / f"{kind}.ifem", "--size", "200x150",
+               "--colormap", "gray", "-o", o / f"{kind}.png", "--quiet")
+        counts[kind] = blue(read_png(o / f"{kind}.png")[2])
+    # the same edges traced over the input: the same drawing up to antialiasing
+    assert counts["signposts"] > 1000
+    assert abs(counts["signposts"] - counts["integer"]) <= 0.02 * counts["signposts"], counts
+
+
+def test_bad_choice_and_bad_files(cli):
+    o = cli.out
+    cli.refuse(2, r"--correspondence: .*'ints'.*neither 'signposts' nor 'integer'", o / "x.ply",
+               "refine", cli.spot, "--correspondence", "ints")
+    cli.refuse(2, r"--relax .*--correspondence signposts", o / "x.ply", "refine", cli.spot,
+               "--relax", 2, "--correspondence", "integer")
+    cli.refuse(2, r"--correspondence", o / "d.txt", "distance", cli.spot, "--source", 0,
+               "--refine", "--correspondence", "exact")
+    (o / "c.txt").write_text("0 764 0 813\n")  # curves are inserted with signposts only
+    cli.refuse(1, r"curves: integer coordinates are not offered", o / "u.txt", "poisson",
+               cli.spot, "--curves", o / "c.txt", "--refine", "--correspondence", "integer")
+    (o / "bad.ifem").write_text("ifem-integer 7\n")
+    cli.refuse(1, r"bad\.ifem.*unsupported version 7", o / "x.png", "render", cli.spot,
+               "--triangulation", o / "bad.ifem")
+    (o / "junk.ifem").write_text("solid cube\n")
+    cli.refuse(1, r"junk\.ifem.*not a saved intrinsic triangulation", o / "x.png", "render",
+               cli.spot, "--triangulation", o / "junk.ifem")
+    cli.ok("refine", cli.spot, "--correspondence", "integer", "--save", o / "cut.ifem",
+           "--quiet")
+    text = (o / "cut.ifem").read_text()
+    (o / "cut.ifem").write_text(text[:len(text) // 2])
+    cli.refuse(1, r"cut\.ifem", o / "x.png", "render", cli.spot, "--triangulation",
+               o / "cut.ifem")
+    # coordinates that pass the per-face checks but do not trace: refused naming the file
+    i = text.index("\nedges ")
+    m = text.index(" -1\n", i)
+    (o / "odd.ifem").write_text(text[:m] + " 1\n" + text[m + 4:])
+    cli.refuse(1, r"odd\.ifem: normal coordinates", o / "x.png", "render", cli.spot,
+               "--triangulation", o / "odd.ifem")
