@@ -471,7 +471,8 @@ void PoissonSolver::factor(const fem::SparseMatrix& A, const PoissonOptions& opt
   const bool multigrid = c.kind == LinearSolverKind::kMultigrid ||
                          (c.kind == LinearSolverKind::kAuto && options.prolongations &&
                           im.n >= c.auto_multigrid_vertices);
-  if (!multigrid) {
+  // an empty chain (a triangulation at most the coarsest level's size) is one level: the factor
+  if (!multigrid || (options.prolongations && options.prolongations->empty())) {
     if (analysis) {
       im.chol.emplace(A, *analysis, options.cholesky);
     } else {
@@ -479,7 +480,7 @@ void PoissonSolver::factor(const fem::SparseMatrix& A, const PoissonOptions& opt
     }
     return;
   }
-  if (!options.prolongations || options.prolongations->empty()) {
+  if (!options.prolongations) {
     throw InvalidInput(
         "PoissonSolver: multigrid needs a hierarchy (PoissonOptions::prolongations, or the "
         "triangulation constructor with a hierarchy provider)");

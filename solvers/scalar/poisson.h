@@ -26,7 +26,8 @@ struct PoissonOptions {
   SolverChoice solver;
   /// The prolongation chain over all #V vertices (P₀ #V × n₁, …) for multigrid from assembled
   /// operators; the triangulation constructor fills it from solver.provider() when empty. Rows of
-  /// Dirichlet and pinned vertices are left out of the hierarchy here.
+  /// Dirichlet and pinned vertices are left out of the hierarchy here. An empty chain (a mesh no
+  /// larger than the coarsest level) factors directly, as one level.
   std::shared_ptr<const std::vector<SparseMatrix>> prolongations;
   /// @throws InvalidInput if screening is negative or not finite, or on bad solver options
   void validate() const;

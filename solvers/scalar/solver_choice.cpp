@@ -25,9 +25,13 @@ std::vector<SparseMatrix> simplification_hierarchy(const intrinsic::IntrinsicTri
     s.target_vertices = std::max(options.coarsest_vertices,
                                  Index(options.level_ratio * double(level.n_vertices())));
     intrinsic::Simplification coarse = intrinsic::simplify(level, s);
-    if (double(coarse.coarse.n_vertices()) > 0.6 * double(level.n_vertices())) break;
+    // short of the target: vertices simplify() could not remove; a level that keeps most of
+    // them is not worth its cycle, and the next one would not do better
+    const bool stuck = coarse.coarse.n_vertices() > s.target_vertices;
+    if (stuck && double(coarse.coarse.n_vertices()) > 0.6 * double(level.n_vertices())) break;
     chain.push_back(fem::prolongation(coarse));
     level = std::move(coarse.coarse);
+    if (stuck) break;
   }
   return chain;
 }

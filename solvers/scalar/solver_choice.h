@@ -39,10 +39,10 @@ struct HierarchyOptions {
 
 /// The prolongation chain of repeated intrinsic simplification (intrinsic/simplify/simplify.h,
 /// fem/prolongation.h): level l+1 is simplify(level l) to max(coarsest_vertices, level_ratio ×
-/// its vertices); P_l is its prolongation. Stops at coarsest_vertices, or when a level keeps more
-/// than 60 % of its vertices (simplify() left vertices it could not remove: tufted covers of point
-/// clouds), so the chain is empty for a triangulation of at most coarsest_vertices vertices
-/// (MultigridSolver then factors A itself).
+/// its vertices); P_l is its prolongation. Stops at coarsest_vertices, or at a level that misses
+/// its target (simplify() left vertices it could not remove: tufted covers of point clouds),
+/// which is dropped when it keeps more than 60 % of the vertices. The chain is empty for a
+/// triangulation of at most coarsest_vertices vertices (the solvers then factor A directly).
 /// @throws InvalidInput on bad options
 std::vector<SparseMatrix> simplification_hierarchy(const intrinsic::IntrinsicTriangulation& tri,
                                                    const HierarchyOptions& options = {});
