@@ -35,9 +35,8 @@ void require_same_gluing(const IntrinsicTriangulation& a, const IntrinsicTriangu
   };
   if (a.n_vertices() != b.n_vertices() || a.n_halfedges() != b.n_halfedges() ||
       a.n_edges() != b.n_edges()) {
-    fail(std::to_string(a.n_vertices()) + " vs " + std::to_string(b.n_vertices()) +
-         " vertices, " + std::to_string(a.n_halfedges()) + " vs " +
-         std::to_string(b.n_halfedges()) + " halfedges");
+    fail(std::to_string(a.n_vertices()) + " vs " + std::to_string(b.n_vertices()) + " vertices, " +
+         std::to_string(a.n_halfedges()) + " vs " + std::to_string(b.n_halfedges()) + " halfedges");
   }
   for (Index h = 0; h < a.n_halfedges(); ++h) {
     if (a.tail(h) != b.tail(h)) fail("tail of halfedge " + std::to_string(h));

@@ -40,8 +40,8 @@ solvers::CurveSurface spot_surface(intrinsic::Correspondence c, double resolutio
   rs.resolution = resolution;
   rs.correspondence = c;
   opt.refine = rs;
-  return solvers::prepare_curve_surface(
-      io::read_surface((test::test_data() / "spot.obj").string()), spot_curves(), opt);
+  return solvers::prepare_curve_surface(io::read_surface((test::test_data() / "spot.obj").string()),
+                                        spot_curves(), opt);
 }
 
 // Same triangulation (gluing, ids, lengths bit for bit), same Poisson and distance values, the
@@ -57,8 +57,8 @@ TEST(CurvesIntegerCorrespondence, SameTriangulationAndValuesAsSignposts) {
     ASSERT_FALSE(b.surface.signposts.has_value());
     EXPECT_GT(b.surface.refine_report.insertions, 0);
     EXPECT_NO_THROW(intrinsic::require_same_gluing(a.surface.tri, b.surface.tri, "test"));
-    EXPECT_NO_THROW(intrinsic::require_same_gluing(b.surface.tri, b.surface.integer->intrinsic(),
-                                                   "test"));
+    EXPECT_NO_THROW(
+        intrinsic::require_same_gluing(b.surface.tri, b.surface.integer->intrinsic(), "test"));
     EXPECT_NO_THROW(b.surface.integer->validate());
     EXPECT_EQ(a.network.edges.size(), b.network.edges.size());
     EXPECT_EQ(a.network.constrained, b.network.constrained);
