@@ -86,7 +86,9 @@ def test_curves_both_kinds_agree(spot):
     assert np.max(np.abs(u["signposts"] - u["integer"])) <= 1e-9
     for a, b in zip(lines["signposts"], lines["integer"]):
         assert a.shape == b.shape and np.max(np.abs(a - b)) <= 1e-6
-    d = {k: ifem.distance(V, F, curves=curves, refine=True, correspondence=k) for k in KINDS}
+    d = {k: ifem.distance(V, F, curves=curves, refine=True, resolution=0.8, correspondence=k)
+         for k in KINDS}
     assert np.max(np.abs(d["signposts"] - d["integer"])) <= 1e-9
-    p = {k: ifem.poisson(V, F, curves=curves, refine=True, correspondence=k) for k in KINDS}
+    p = {k: ifem.poisson(V, F, curves=curves, refine=True, resolution=0.8, correspondence=k)
+         for k in KINDS}
     assert np.max(np.abs(p["signposts"] - p["integer"])) <= 1e-9
