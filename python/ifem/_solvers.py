@@ -168,7 +168,8 @@ class HeatDistanceSolver:
         correspondence: with ``refine=True``: how inserted vertices keep their places on the
             input, ``'signposts'`` (default) or ``'integer'`` (normal coordinates: exact
             combinatorics); the same triangulation and results either way (the CLI's
-            ``--correspondence``; :func:`ifem.refine`). Not with ``curves``.
+            ``--correspondence``; :func:`ifem.refine`). With ``curves`` too (FlipOut's steps
+            replayed on the integer coordinates).
         precision: ``'double'`` (default): every factor in double. ``'mixed'``: the queries read
             the Poisson factor as floats, half its bytes; distances move by at most ~3e-7
             relative (the heat factor stays double). Not faster on a machine where the solves
