@@ -54,10 +54,12 @@ OptionGroup refine_options_group(double resolution_default) {
                .defaults_to("signposts")
                .explain("how inserted vertices keep their places on the input surface:\n"
                         "'signposts' (a direction and length per edge, traced in floating\n"
-                        "point; needed by --relax and --curves) or 'integer' (normal\n"
-                        "coordinates: how many input edges cross each intrinsic edge, so\n"
-                        "the common subdivision's combinatorics are exact integers; for\n"
-                        "near-degenerate meshes where floating-point traces go wrong).\n"
+                        "point; needed by --relax) or 'integer' (normal coordinates: how\n"
+                        "many input edges cross each intrinsic edge, so the common\n"
+                        "subdivision's combinatorics are exact integers; for near-degenerate\n"
+                        "meshes where floating-point traces go wrong). With --curves, FlipOut\n"
+                        "draws them on signposts and its flips and insertions are replayed\n"
+                        "on the integer coordinates (the same triangulation).\n"
                         "Both give the same triangulation and results; tufted-cover\n"
                         "refinement (nonmanifold input) uses neither")}};
 }

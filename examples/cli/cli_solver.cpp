@@ -17,7 +17,6 @@ OptionSpec solver_option() {
           "residual of 1e-10; the heat method then needs more continuation stages and\n"
           "runs slower), or auto (poisson: multigrid from 2.5M vertices on, where the\n"
           "direct factors take a third of a 24 GiB machine; distance: direct)");
-  ;
 }
 
 solvers::SolverChoice solver_choice(const Args& args) {

@@ -270,10 +270,12 @@ bool SignpostTriangulation::flip_edge(Index e, double* corners) {
     if (!tri_.flip_edge(e, &r.tri)) return false;
     const double d[6] = {direction_[h], direction_[t], dh1, dh2, dt1, dt2};
     std::copy(d, d + 6, r.direction);
+    r.log_size = op_log_.size();
     journal_.push_back(r);
   } else if (!tri_.flip_edge(e)) {
     return false;
   }
+  if (logging_) log(Operation::Kind::kFlip, e, Eigen::Vector3d::Zero(), 0.0);
   // slots keep their sides' signposts: h1 ← h2, h2 ← t1, t1 ← t2, t2 ← h1
   direction_[h1] = dh2;
   direction_[h2] = dt1;
@@ -304,6 +306,7 @@ void SignpostTriangulation::undo_flips(std::size_t mark) {
     const Index h = r.tri.halfedge[0], t = r.tri.halfedge[1];  // save_diamond's order
     const Index slots[6] = {h, t, T::next(h), T::prev(h), T::next(t), T::prev(t)};
     for (int k = 0; k < 6; ++k) direction_[slots[k]] = r.direction[k];
+    if (op_log_.size() > r.log_size) op_log_.resize(r.log_size);  // the undone flip leaves it
     journal_.pop_back();
   }
 }
@@ -323,6 +326,27 @@ void SignpostTriangulation::end_flip_journal() {
   recording_ = false;
   journal_.clear();
   journal_.shrink_to_fit();
+}
+
+void SignpostTriangulation::start_operation_log() {
+  logging_ = true;
+  op_log_.clear();
+}
+
+void SignpostTriangulation::end_operation_log() {
+  logging_ = false;
+  op_log_.clear();
+  op_log_.shrink_to_fit();
+}
+
+void SignpostTriangulation::log(Operation::Kind kind, Index index, const Eigen::Vector3d& bary,
+                                double t) {
+  Operation op;
+  op.kind = kind;
+  op.index = index;
+  op.bary = bary;
+  op.t = t;
+  op_log_.push_back(op);
 }
 
 void SignpostTriangulation::check_not_recording(const char* what) const {
@@ -528,6 +552,7 @@ Index SignpostTriangulation::insert_vertex(Index f, const Eigen::Vector3d& bary)
   check_not_recording("insert_vertex");
   const double d1 = direction_[3 * f + 1], d2 = direction_[3 * f + 2];
   const Index v = tri_.insert_vertex_in_face(f, bary);
+  if (logging_) log(Operation::Kind::kInsertVertex, f, bary, 0.0);
   add_vertex_records();
   const Index f1 = tri_.n_faces() - 2, f2 = f1 + 1;
   const Index c0 = tri_.tail(3 * f), c1 = tri_.tail(3 * f1), c2 = tri_.tail(3 * f2);
@@ -561,6 +586,7 @@ Index SignpostTriangulation::split_edge(Index e, double t) {
   const Index t2 = interior ? T::prev(tw) : kInvalidIndex;
   const double dh1 = direction_[h1], dt1 = interior ? direction_[t1] : 0.0;
   const Index m = tri_.split_edge(e, t);
+  if (logging_) log(Operation::Kind::kSplitEdge, e, Eigen::Vector3d::Zero(), t);
   add_vertex_records();
   const Index g1 = interior ? tri_.n_faces() - 2 : tri_.n_faces() - 1, g2 = g1 + 1;
   auto& dir = direction_;

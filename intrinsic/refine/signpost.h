@@ -183,6 +183,28 @@ class SignpostTriangulation {
   /// Stops recording and forgets the record (the flips stay).
   void end_flip_journal();
 
+  // ===== Operation log (replaying this triangulation's changes on another one) =====
+
+  /// One change to the intrinsic triangulation that stays: a flip, an insertion in a face or
+  /// an edge split, with the arguments it was made with.
+  struct Operation {
+    enum class Kind { kFlip, kInsertVertex, kSplitEdge };
+    Kind kind = Kind::kFlip;
+    Index index = kInvalidIndex;  ///< the edge flipped or split, or the face inserted in
+    Eigen::Vector3d bary = Eigen::Vector3d::Zero();  ///< kInsertVertex: barycentric coordinates
+    double t = 0.0;                                  ///< kSplitEdge: the fraction split at
+  };
+  /// Starts (or restarts, empty) logging every flip_edge() that happens (also those of
+  /// flip_to_delaunay*() and FlipOut), insert_vertex() and split_edge(); undo_flips() removes
+  /// the flips it undoes. Calling the same operations in the same order on a triangulation
+  /// built from the same input (NormalCoordinateTriangulation) gives the same ids and lengths.
+  /// move_inserted_vertex() is not logged.
+  void start_operation_log();
+  /// The operations since start_operation_log(), oldest first (empty when not logging).
+  const std::vector<Operation>& operation_log() const { return op_log_; }
+  /// Stops logging and forgets the log.
+  void end_operation_log();
+
   /// Inserts a vertex in intrinsic face f at barycentric coordinates `bary` (all > 0) and
   /// locates it on the input; returns its id (n_vertices() before the call).
   /// @throws InvalidInput while recording flips (recording_flips())
@@ -266,8 +288,12 @@ class SignpostTriangulation {
                                          // of its location face) of signpost direction 0
   struct FlipRecord {
     IntrinsicTriangulation::FlipUndo tri;
-    double direction[6];  // signposts of the diamond's halfedges h, t, next/prev of h, of t
+    double direction[6];   // signposts of the diamond's halfedges h, t, next/prev of h, of t
+    std::size_t log_size;  // operation_log().size() before the flip
   };
+  bool logging_ = false;
+  std::vector<Operation> op_log_;
+  void log(Operation::Kind kind, Index index, const Eigen::Vector3d& bary, double t);
   bool recording_ = false;
   std::vector<FlipRecord> journal_;
   void check_not_recording(const char* what) const;

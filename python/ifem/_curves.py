@@ -264,11 +264,13 @@ def _specs(curves):
     return [c._spec(f"curves[{i}]") for i, c in enumerate(_as_curves(curves))]
 
 
-def _refine(refine, min_angle, resolution, max_area, max_insertions, conform=True):
+def _refine(refine, min_angle, resolution, max_area, max_insertions, conform=True,
+            correspondence="signposts"):
     if not refine:
         return None
     return (float(min_angle), float(resolution), float(max_area),
-            -1 if max_insertions is None else int(max_insertions), bool(conform))
+            -1 if max_insertions is None else int(max_insertions), bool(conform),
+            str(correspondence))
 
 
 def _flipout_cap(max_iterations):
@@ -301,7 +303,7 @@ def _results(value, lines, info, return_polylines, return_info):
 def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
                   min_angle=25.0, resolution=0.0, max_area=0.0, max_insertions=None,
                   conform=True, mollify=1e-5, max_iterations=None, accept_partial=False,
-                  return_polylines=False, return_info=False):
+                  return_polylines=False, return_info=False, correspondence="signposts"):
     """Solves (L + c·M) u = M f with u held at the curves' values along them.
 
     The curves are inserted as constrained edges of the intrinsic Delaunay triangulation
@@ -335,6 +337,9 @@ def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=
         conform: with refine, split curve and boundary edges whose cotan weight is still
             negative after refinement until every weight is ≥ 0, so that u stays within the
             curves' values (the discrete maximum principle; False: ``--no-conform``).
+        correspondence: with refine, how inserted vertices keep their places on the input:
+            ``"signposts"`` or ``"integer"`` (FlipOut's flips and insertions replayed on integer
+            coordinates: the same triangulation and values; ``--correspondence``).
         mollify: relative mollification margin.
         max_iterations: FlipOut's cap on reroutes while the curves are shortened, all curves
             together (None: 10 × #E + 1000; ``--max-iterations``).
@@ -375,7 +380,8 @@ def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=
     dv, dval = _dirichlet(dirichlet)
     u, lines, info = _ifem.curve_poisson(
         V, F, specs, rhs, dv, dval, float(screening),
-        _refine(refine, min_angle, resolution, max_area, max_insertions, conform),
+        _refine(refine, min_angle, resolution, max_area, max_insertions, conform,
+                correspondence),
         float(mollify), bool(return_polylines), _flipout_cap(max_iterations),
         bool(accept_partial))
     return _results(u, lines, info, return_polylines, return_info)
@@ -384,7 +390,8 @@ def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=
 def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_steps=None,
                    min_angle=25.0, resolution=0.4, max_area=0.0, max_insertions=None,
                    conform=True, mollify=1e-5, max_iterations=None, accept_partial=False,
-                   return_polylines=False, return_info=False, path_bounds=True):
+                   return_polylines=False, return_info=False, path_bounds=True,
+                   correspondence="signposts"):
     """Geodesic distance to the nearest curve (heat method on the constrained triangulation).
 
     Every vertex on a curve is a source, so the distance is exactly 0 along the curves (not
@@ -422,7 +429,8 @@ def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_s
     """
     specs = _specs(curves)
     d, lines, info = _ifem.curve_distance(
-        V, F, specs, _refine(refine, min_angle, resolution, max_area, max_insertions, conform),
+        V, F, specs,
+        _refine(refine, min_angle, resolution, max_area, max_insertions, conform, correspondence),
         None if time_factor is None else float(time_factor),
         None if correction_steps is None else int(correction_steps), float(mollify),
         bool(return_polylines), _flipout_cap(max_iterations), bool(accept_partial),

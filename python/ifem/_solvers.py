@@ -90,14 +90,6 @@ def _refine(refine, min_angle, resolution, max_area, max_insertions, default_res
             "correspondence": correspondence}
 
 
-def _curves_take_signposts(correspondence):
-    """Curves are inserted with signposts (FlipOut): integer coordinates are refused there."""
-    if correspondence != "signposts":
-        raise InvalidInput("curves: integer coordinates are not offered with curves yet (curves "
-                           "are inserted by FlipOut on signposts): use "
-                           "correspondence='signposts'")
-
-
 def _points(points):
     """points as (faces int64 (#P,), barycentric coordinates float64 (#P, 3))."""
     try:
@@ -176,7 +168,8 @@ class HeatDistanceSolver:
         correspondence: with ``refine=True``: how inserted vertices keep their places on the
             input, ``'signposts'`` (default) or ``'integer'`` (normal coordinates: exact
             combinatorics); the same triangulation and results either way (the CLI's
-            ``--correspondence``; :func:`ifem.refine`). Not with ``curves``.
+            ``--correspondence``; :func:`ifem.refine`). With ``curves`` too (FlipOut's steps
+            replayed on the integer coordinates).
         precision: ``'double'`` (default): every factor in double. ``'mixed'``: the queries read
             the Poisson factor as floats, half its bytes; distances move by at most ~3e-7
             relative (the heat factor stays double). Not faster on a machine where the solves
@@ -362,7 +355,6 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
     """
     V, F, normals = _input(V, F, normals)
     if curves is not None:
-        _curves_take_signposts(correspondence)
         if sources is not None or points is not None:
             raise InvalidInput("give sources, points or curves, not several (the CLI's --source, "
                                "--curves)")
@@ -371,7 +363,7 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
                               correction_steps=correction_steps, min_angle=min_angle,
                               resolution=resolution, max_area=max_area,
                               max_insertions=max_insertions, mollify=mollify,
-                              path_bounds=path_bounds)
+                              path_bounds=path_bounds, correspondence=correspondence)
     refine_arg = _refine(refine, min_angle, resolution, max_area, max_insertions, 0.4,
                          correspondence)
     t = _optional(time_factor, "time_factor", _real)
@@ -496,12 +488,11 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
     """
     V, F, normals = _input(V, F, normals)
     if curves is not None:
-        _curves_take_signposts(correspondence)
         from ._curves import curve_poisson
         return curve_poisson(V, F, curves, rhs, dirichlet, screening, refine, min_angle=min_angle,
                              resolution=resolution, max_area=max_area,
                              max_insertions=max_insertions, mollify=mollify,
-                             return_info=return_info)
+                             return_info=return_info, correspondence=correspondence)
     ids, values = _dirichlet(dirichlet)
     u, info = _ifem.poisson(V, _faces(F), rhs, ids, values, _real(screening, "screening"),
                             *_surface(mollify, path, knn),

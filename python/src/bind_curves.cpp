@@ -132,7 +132,8 @@ void write_curves_file(const std::string& path, const py::list& specs) {
   solvers::write_curves_file(path, curves);
 }
 
-// refine: None, or (min_angle, resolution, max_area, max_insertions[, conform]) with Python's
+// refine: None, or (min_angle, resolution, max_area, max_insertions[, conform[, correspondence]])
+// with Python's
 // names in the messages.
 std::optional<solvers::SurfaceRefineOptions> refine_from(const py::handle& refine) {
   if (refine.is_none()) return std::nullopt;
@@ -143,6 +144,7 @@ std::optional<solvers::SurfaceRefineOptions> refine_from(const py::handle& refin
   r.max_area = t[2].cast<double>();
   r.max_insertions = t[3].cast<Index>();
   if (t.size() > 4) r.conform = t[4].cast<bool>();
+  if (t.size() > 5) r.correspondence = intrinsic::parse_correspondence(t[5].cast<std::string>());
   r.need_signposts = true;
   if (!(r.min_angle_degrees > 0.0 && r.min_angle_degrees <= 30.0)) {
     throw InvalidInput("min_angle must be in (0, 30] degrees, got " +

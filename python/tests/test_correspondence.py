@@ -67,6 +67,28 @@ def test_bad_choices(spot):
         ifem.distance(V, F, [0], refine=True, correspondence="exact")
     with pytest.raises(ifem.InvalidInput, match="must be 'signposts' or 'integer'"):
         ifem.eigen(V, F, 3, refine=True, correspondence=1)
-    with pytest.raises(ifem.InvalidInput, match="curves: integer coordinates"):
+    with pytest.raises(ifem.InvalidInput, match="neither"):
         ifem.poisson(V, F, curves=[ifem.Curve([0, 100], 1.0)], refine=True,
-                     correspondence="integer")
+                     correspondence="ints")
+
+
+def test_curves_both_kinds_agree(spot):
+    """Curves with integer coordinates (FlipOut's operations replayed on them): the same
+    Poisson values, distances and traced curves as with signposts."""
+    V, F = spot
+    curves = [ifem.Curve([0, 764], 0.0), ifem.Curve([813, 1200, 2000], 1.0)]
+    u, lines, info = {}, {}, {}
+    for k in KINDS:
+        u[k], lines[k], info[k] = ifem.curve_poisson(V, F, curves, refine=True, resolution=0.8,
+                                                     correspondence=k, return_polylines=True,
+                                                     return_info=True)
+    assert np.ptp(u["signposts"]) > 0.5
+    assert np.max(np.abs(u["signposts"] - u["integer"])) <= 1e-9
+    for a, b in zip(lines["signposts"], lines["integer"]):
+        assert a.shape == b.shape and np.max(np.abs(a - b)) <= 1e-6
+    d = {k: ifem.distance(V, F, curves=curves, refine=True, resolution=0.8, correspondence=k)
+         for k in KINDS}
+    assert np.max(np.abs(d["signposts"] - d["integer"])) <= 1e-9
+    p = {k: ifem.poisson(V, F, curves=curves, refine=True, resolution=0.8, correspondence=k)
+         for k in KINDS}
+    assert np.max(np.abs(p["signposts"] - p["integer"])) <= 1e-9

@@ -11,6 +11,7 @@
 #include "intrinsic/core/timer.h"
 #include "intrinsic/core/triangle_formulas.h"
 #include "intrinsic/core/union_find.h"
+#include "intrinsic/integer/replay.h"
 
 namespace ifem::solvers {
 namespace {
@@ -208,6 +209,10 @@ void build_constrained(const CurveSurfaceOptions& opt, CurveSurface& out) {
   Stopwatch watch;
   intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions,
                                       opt.mollify_relative_epsilon);
+  // integer coordinates: FlipOut runs on the signposts, its operations are replayed (D-260)
+  const bool integer =
+      opt.refine && opt.refine->correspondence == intrinsic::Correspondence::kInteger;
+  if (integer) st.start_operation_log();
   std::vector<intrinsic::CurveSpec> specs;
   for (const CurveCondition& c : out.curves) specs.push_back(to_spec(c));
   s.seconds_build += watch.restart();  // the signposts; seconds_curves: FlipOut and marking
@@ -229,25 +234,33 @@ void build_constrained(const CurveSurfaceOptions& opt, CurveSurface& out) {
     << ") in " << out.seconds_curves << " s";
   report(opt, m.str());
   out.constrained_flips = intrinsic::flip_to_constrained_delaunay(st, out.network);
+  std::optional<intrinsic::NormalCoordinateTriangulation> nc;
+  if (integer) nc.emplace(intrinsic::replay_on_integer(st)), st.end_operation_log();
   s.seconds_flip = watch.restart();
   report(opt, "constrained Delaunay: " + std::to_string(out.constrained_flips.flips) + " flips");
   if (opt.refine) {
     s.target_edge_length = opt.refine->resolution * s.input_mean_edge_length;
-    intrinsic::EdgeConstraints ec = out.network.constraints(st.intrinsic());
+    intrinsic::EdgeConstraints ec = out.network.constraints(nc ? nc->intrinsic() : st.intrinsic());
     intrinsic::RefineOptions ro = refine_options(*opt.refine, s.target_edge_length);
     ro.on_progress = opt.on_progress;
-    s.refine_report = intrinsic::delaunay_refine(st, ro, &ec);
+    s.refine_report =
+        nc ? intrinsic::delaunay_refine(*nc, ro, &ec) : intrinsic::delaunay_refine(st, ro, &ec);
     s.refined = true;
     s.seconds_refine = watch.restart();
     report(opt, describe(s.refine_report) + " in " + std::to_string(s.seconds_refine) + " s");
   }
-  const std::size_t ne = static_cast<std::size_t>(st.intrinsic().n_edges());
+  const T& tri = nc ? nc->intrinsic() : st.intrinsic();
+  const std::size_t ne = static_cast<std::size_t>(tri.n_edges());
   out.network.constrained.resize(ne, 0);
   out.network.edges.resize(ne);
-  out.signs = intrinsic::cotan_signs(st.intrinsic(), out.network.constrained);
-  require_nondegenerate(st.intrinsic(), out);
-  s.tri = st.intrinsic();
-  s.signposts = std::move(st);
+  out.signs = intrinsic::cotan_signs(tri, out.network.constrained);
+  require_nondegenerate(tri, out);
+  s.tri = tri;
+  if (nc) {
+    s.integer = std::move(*nc);
+  } else {
+    s.signposts = std::move(st);
+  }
 }
 
 }  // namespace
@@ -274,11 +287,6 @@ CurveSurface prepare_curve_surface(io::SurfaceInput input, std::vector<CurveCond
     if (options.refine->relax_iterations > 0) {
       throw InvalidInput(
           "curves: relaxation is not offered with curves (it would move vertices off them)");
-    }
-    if (options.refine->correspondence != intrinsic::Correspondence::kSignposts) {
-      throw InvalidInput(
-          "curves: integer coordinates are not offered with curves yet (curves are inserted by "
-          "FlipOut on signposts): use the signposts correspondence");
     }
   }
   if (!input.has_faces()) {
@@ -395,22 +403,40 @@ Eigen::VectorXd curve_distance(const CurveSurface& s, const DistanceOptions& set
 
 std::vector<std::vector<Eigen::Vector3d>> curve_polylines(const CurveSurface& s) {
   const T& tri = s.surface.tri;
-  const intrinsic::SignpostTriangulation& st = *s.surface.signposts;
+  const intrinsic::SignpostTriangulation* st =
+      s.surface.signposts ? &*s.surface.signposts : nullptr;
+  const intrinsic::NormalCoordinateTriangulation* nc =
+      s.surface.integer ? &*s.surface.integer : nullptr;
+  if (!st && !nc) throw InvalidInput("curve_polylines: the surface has no correspondence");
+  const Positions where = nc ? intrinsic::CorrespondenceView(*nc).vertex_positions() : Positions();
+  // halfedge h over the input, tail to head (integer: its ends and the input edges it crosses)
+  auto trace = [&](Index h) {
+    std::vector<Eigen::Vector3d> pts;
+    if (st) {
+      for (const intrinsic::SurfacePoint& p : st->trace_halfedge(h)) pts.push_back(st->position(p));
+      return pts;
+    }
+    pts.push_back(where.row(tri.tail(h)).transpose());
+    for (const intrinsic::InputCrossing& c : nc->trace_halfedge(h)) {
+      pts.push_back(nc->crossing_position(c));
+    }
+    pts.push_back(where.row(tri.head(h)).transpose());
+    return pts;
+  };
   std::vector<std::vector<Eigen::Vector3d>> out;
   for (Index c = 0; c < s.network.n_curves(); ++c) {
     const intrinsic::CurveChain ch = intrinsic::curve_chain(tri, s.network, c);
     std::vector<Eigen::Vector3d> line;
     for (std::size_t i = 0; i < ch.edges.size(); ++i) {
       const Index hl = ch.left_halfedges[i];
-      std::vector<intrinsic::SurfacePoint> pts =
-          st.trace_halfedge(hl != kInvalidIndex ? hl : tri.edge_halfedge(ch.edges[i]));
+      std::vector<Eigen::Vector3d> pts =
+          trace(hl != kInvalidIndex ? hl : tri.edge_halfedge(ch.edges[i]));
       if (hl == kInvalidIndex) std::reverse(pts.begin(), pts.end());
-      for (std::size_t k = line.empty() ? 0 : 1; k < pts.size(); ++k) {
-        line.push_back(st.position(pts[k]));
-      }
+      for (std::size_t k = line.empty() ? 0 : 1; k < pts.size(); ++k) line.push_back(pts[k]);
     }
     if (line.empty() && !ch.vertices.empty()) {
-      line.push_back(st.position(st.vertex_location(ch.vertices.front())));
+      const Index v = ch.vertices.front();
+      line.push_back(st ? st->position(st->vertex_location(v)) : Eigen::Vector3d(where.row(v)));
     }
     out.push_back(std::move(line));
   }

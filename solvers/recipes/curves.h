@@ -103,7 +103,8 @@ struct CurveSurfaceOptions {
 struct CurveSurface {
   /// The input, its reports and h, as prepare_surface() gives them, with `tri` the constrained
   /// intrinsic Delaunay triangulation (refined when asked; slits not cut: curve_poisson() cuts a
-  /// copy) and `signposts` its signposts.
+  /// copy) and its correspondence: `signposts`, or `integer` when refined with
+  /// SurfaceRefineOptions::correspondence = integer.
   PreparedSurface surface;
   std::vector<CurveCondition> curves;       ///< as given
   intrinsic::CurveNetwork network;          ///< the curves as constrained edges of surface.tri
@@ -116,13 +117,15 @@ struct CurveSurface {
 /// Builds the signpost triangulation of an edge-manifold, orientable mesh, inserts the curves
 /// (intrinsic::insert_curves: FlipOut through the given vertices, Bézier curves), flips to the
 /// constrained intrinsic Delaunay triangulation, and refines it when asked (constrained:
-/// curves are split, never crossed).
+/// curves are split, never crossed). With integer coordinates (options.refine->correspondence)
+/// the signposts' operations are replayed on a NormalCoordinateTriangulation
+/// (intrinsic::replay_on_integer), which is then refined and kept instead (D-260).
 /// @throws InvalidInput on bad curves (validate_curves; need_values false), a point cloud or a
 ///         mesh that is not edge-manifold and orientable (curves need signposts), overlapping
 ///         curves, Bézier curves over the budget (intrinsic::insert_curves), curves FlipOut left
 ///         at its iteration cap (unless accept_partial), curves that leave triangles of zero
-///         area (named by origin, never by internal ids), bad options, refinement with
-///         integer coordinates (SurfaceRefineOptions::correspondence: curves need signposts)
+///         area (named by origin, never by internal ids), bad options, a replay on integer
+///         coordinates that does not give the signposts' triangulation
 /// @throws NonManifoldInput from the mesh build
 CurveSurface prepare_curve_surface(io::SurfaceInput input, std::vector<CurveCondition> curves,
                                    const CurveSurfaceOptions& options = {});
@@ -157,8 +160,9 @@ CurvePoissonResult curve_poisson(const CurveSurface& s, const Eigen::VectorXd& f
 Eigen::VectorXd curve_distance(const CurveSurface& s, const DistanceOptions& settings = {},
                                HeatDistanceReport* report = nullptr);
 
-/// The curves as 3D polylines (traced over the input with the signposts), one per curve, in the
-/// order given; a loop repeats its first point.
+/// The curves as 3D polylines (traced over the input with the signposts or the integer
+/// coordinates), one per curve, in the order given; a loop repeats its first point.
+/// @throws InvalidInput when s has neither correspondence
 std::vector<std::vector<Eigen::Vector3d>> curve_polylines(const CurveSurface& s);
 
 }  // namespace ifem::solvers

@@ -108,6 +108,25 @@ def test_save_restore_both(cli):
     assert abs(counts["signposts"] - counts["integer"]) <= 0.02 * counts["signposts"], counts
 
 
+def test_curves_same_with_both_kinds(cli):
+    """Curves with --correspondence integer (FlipOut's steps replayed on integer coordinates):
+    the same Poisson values and distances as with signposts."""
+    o = cli.out
+    (o / "c.txt").write_text("0 764 0 813\n1 1200 2000\n")
+    u, d = {}, {}
+    for kind in KINDS:
+        cli.ok("poisson", cli.spot, "--curves", o / "c.txt", "--refine", "--correspondence",
+               kind, "-o", o / f"u_{kind}.txt", "--quiet")
+        u[kind] = np.loadtxt(o / f"u_{kind}.txt")
+        cli.ok("distance", cli.spot, "--curves", o / "c.txt", "--refine", "--correspondence",
+               kind, "-o", o / f"d_{kind}.txt", "--quiet")
+        d[kind] = np.loadtxt(o / f"d_{kind}.txt")
+    assert np.ptp(u["signposts"]) > 0.5
+    assert np.max(np.abs(u["signposts"] - u["integer"])) <= 1e-9
+    assert d["signposts"].max() > 0
+    assert np.max(np.abs(d["signposts"] - d["integer"])) <= 1e-9
+
+
 def test_bad_choice_and_bad_files(cli):
     o = cli.out
     cli.refuse(2, r"--correspondence: .*'ints'.*neither 'signposts' nor 'integer'", o / "x.ply",
@@ -116,9 +135,6 @@ def test_bad_choice_and_bad_files(cli):
                "--relax", 2, "--correspondence", "integer")
     cli.refuse(2, r"--correspondence", o / "d.txt", "distance", cli.spot, "--source", 0,
                "--refine", "--correspondence", "exact")
-    (o / "c.txt").write_text("0 764 0 813\n")  # curves are inserted with signposts only
-    cli.refuse(1, r"curves: integer coordinates are not offered", o / "u.txt", "poisson",
-               cli.spot, "--curves", o / "c.txt", "--refine", "--correspondence", "integer")
     (o / "bad.ifem").write_text("ifem-integer 7\n")
     cli.refuse(1, r"bad\.ifem.*unsupported version 7", o / "x.png", "render", cli.spot,
                "--triangulation", o / "bad.ifem")
