@@ -28,52 +28,36 @@ using T = IntrinsicTriangulation;
 constexpr double kSizeTermFactor = 0.65;
 
 // The refinement algorithm below is written once, over a "host": the triangulation it refines
-// and the operations that change it. Two hosts: signposts (every operation also keeps the
-// inserted vertices located on the input) and a bare Δ-complex. A host provides
+// and the operations that change it. Hosts: a triangulation that keeps its correspondence with
+// the input (signposts or integer coordinates: every operation also keeps the inserted vertices
+// located on the input) and a bare Δ-complex. A host provides
 //   const IntrinsicTriangulation& tri() const;
 //   FlipReport flip_to_delaunay();
 //   FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched);
 //   Index insert_vertex(Index f, const Eigen::Vector3d& bary);
 //   Index split_edge(Index e, double t);
 
-// Both hosts take the constrained edges' flags (may be null): their flips never flip those.
-class SignpostHost {
+// Every host takes the constrained edges' flags (may be null): its flips never flip those.
+
+// A triangulation that keeps a correspondence with the input under every operation
+// (SignpostTriangulation, NormalCoordinateTriangulation: the same operations by the same names).
+template <class Tracked>
+class TrackedHost {
  public:
-  SignpostHost(SignpostTriangulation& st, const std::vector<char>* fixed)
-      : st_(st), fixed_(fixed) {}
-  const IntrinsicTriangulation& tri() const { return st_.intrinsic(); }
+  TrackedHost(Tracked& t, const std::vector<char>* fixed) : t_(t), fixed_(fixed) {}
+  const IntrinsicTriangulation& tri() const { return t_.intrinsic(); }
   FlipReport flip_to_delaunay() {
-    return fixed_ ? st_.flip_to_delaunay(*fixed_) : st_.flip_to_delaunay();
+    return fixed_ ? t_.flip_to_delaunay(*fixed_) : t_.flip_to_delaunay();
   }
   FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched) {
-    return fixed_ ? st_.flip_to_delaunay_from(queue, touched, *fixed_)
-                  : st_.flip_to_delaunay_from(queue, touched);
+    return fixed_ ? t_.flip_to_delaunay_from(queue, touched, *fixed_)
+                  : t_.flip_to_delaunay_from(queue, touched);
   }
-  Index insert_vertex(Index f, const Eigen::Vector3d& bary) { return st_.insert_vertex(f, bary); }
-  Index split_edge(Index e, double t) { return st_.split_edge(e, t); }
+  Index insert_vertex(Index f, const Eigen::Vector3d& bary) { return t_.insert_vertex(f, bary); }
+  Index split_edge(Index e, double t) { return t_.split_edge(e, t); }
 
  private:
-  SignpostTriangulation& st_;
-  const std::vector<char>* fixed_;
-};
-
-class IntegerHost {
- public:
-  IntegerHost(NormalCoordinateTriangulation& nc, const std::vector<char>* fixed)
-      : nc_(nc), fixed_(fixed) {}
-  const IntrinsicTriangulation& tri() const { return nc_.intrinsic(); }
-  FlipReport flip_to_delaunay() {
-    return fixed_ ? nc_.flip_to_delaunay(*fixed_) : nc_.flip_to_delaunay();
-  }
-  FlipReport flip_to_delaunay_from(const std::vector<Index>& queue, std::vector<Index>* touched) {
-    return fixed_ ? nc_.flip_to_delaunay_from(queue, touched, *fixed_)
-                  : nc_.flip_to_delaunay_from(queue, touched);
-  }
-  Index insert_vertex(Index f, const Eigen::Vector3d& bary) { return nc_.insert_vertex(f, bary); }
-  Index split_edge(Index e, double t) { return nc_.split_edge(e, t); }
-
- private:
-  NormalCoordinateTriangulation& nc_;
+  Tracked& t_;
   const std::vector<char>* fixed_;
 };
 
@@ -953,14 +937,14 @@ void check_refinement_budget(const IntrinsicTriangulation& tri, const RefineOpti
 RefineReport delaunay_refine(SignpostTriangulation& st, const RefineOptions& options,
                              EdgeConstraints* constraints) {
   check_refinement_budget(st.intrinsic(), options);
-  SignpostHost host(st, constraints ? constraints->flags : nullptr);
+  TrackedHost<SignpostTriangulation> host(st, constraints ? constraints->flags : nullptr);
   return refine(host, options, constraints);
 }
 
 RefineReport delaunay_refine(NormalCoordinateTriangulation& nc, const RefineOptions& options,
                              EdgeConstraints* constraints) {
   check_refinement_budget(nc.intrinsic(), options);
-  IntegerHost host(nc, constraints ? constraints->flags : nullptr);
+  TrackedHost<NormalCoordinateTriangulation> host(nc, constraints ? constraints->flags : nullptr);
   return refine(host, options, constraints);
 }
 

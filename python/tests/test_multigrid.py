@@ -28,9 +28,13 @@ def test_multigrid_equals_direct(spot):
     ua = ifem.poisson(V, F, dirichlet=bc)
     ub = ifem.poisson(V, F, dirichlet=bc, solver="multigrid")
     assert np.abs(ua - ub).max() <= 1e-6 * np.abs(ua).max()
-    # distances: the iterative heat differs by the order of the method's own error
+    # distances: the iterative heat takes more continuation stages (D-231), so it differs by
+    # the order of the method's own error; against the exact distance it is as accurate
     da, db = ifem.distance(V, F, 0), ifem.distance(V, F, 0, solver="multigrid")
-    assert np.abs(da - db).max() <= 0.01 * da.max()
+    exact = np.asarray(ifem.exact_distance(V, F, [0]))
+    ea, eb = np.abs(da - exact), np.abs(db - exact)
+    assert eb.mean() <= 1.1 * ea.mean() + 1e-3
+    assert eb.max() <= 1.1 * ea.max() + 1e-3
 
 
 def test_bad_solver_name(spot):

@@ -149,28 +149,35 @@ std::string refine_refusal(const PreparedSurface& s, const SurfaceRefineOptions&
   return "";
 }
 
-// Refines with integer coordinates from the input's faces (same faces, same mollification):
-// the same insertions and lengths as refine_with_signposts() without relaxation.
-void refine_with_integer(const SurfaceRefineOptions& r, double mollify_epsilon, PreparedSurface& s,
-                         const Progress& progress) {
-  Stopwatch watch;
-  intrinsic::NormalCoordinateTriangulation nc(s.input.triangles, s.input.positions,
-                                              mollify_epsilon);
+// Refines `tracked` (signposts or integer coordinates, built from the input's faces with the
+// same mollification: the same insertions and lengths either way) and records what it did;
+// `how`: words for the progress line ("" or " with integer coordinates").
+template <class Tracked>
+void refine_tracked(const SurfaceRefineOptions& r, Tracked& tracked, const char* how,
+                    PreparedSurface& s, const Progress& progress, Stopwatch& watch) {
   intrinsic::RefineOptions refine_opt = refine_options(r, s.target_edge_length);
   refine_opt.on_progress = progress.fraction();
-  s.refine_report = intrinsic::delaunay_refine(nc, refine_opt);
+  s.refine_report = intrinsic::delaunay_refine(tracked, refine_opt);
   if (s.path != SurfacePath::kManifold) {
     s.path = SurfacePath::kManifold;  // the encroached boundary edges were split
     s.reason = PathReason::kEdgeManifoldOrientable;
     s.reason_detail = "refined (boundary edges opposite obtuse angles are split by refinement)";
   }
   s.boundary_vertex.clear();  // the refined triangulation's own boundary is the surface's
-  if (const Index bad = intrinsic::negative_boundary_weights(nc.intrinsic())) {
+  if (const Index bad = intrinsic::negative_boundary_weights(tracked.intrinsic())) {
     progress("note: " + std::to_string(bad) +
              " boundary edges still face obtuse angles after refinement (needle cones)");
   }
-  progress(describe(s.refine_report) + " with integer coordinates in " + fmt(watch.restart()) +
-           " s");
+  progress(describe(s.refine_report) + how + " in " + fmt(watch.restart()) + " s");
+}
+
+// Refines with integer coordinates: refine_with_signposts() without relaxation.
+void refine_with_integer(const SurfaceRefineOptions& r, double mollify_epsilon, PreparedSurface& s,
+                         const Progress& progress) {
+  Stopwatch watch;
+  intrinsic::NormalCoordinateTriangulation nc(s.input.triangles, s.input.positions,
+                                              mollify_epsilon);
+  refine_tracked(r, nc, " with integer coordinates", s, progress, watch);
   s.tri = nc.intrinsic();
   s.integer = std::move(nc);
 }
@@ -188,25 +195,12 @@ void refine_tufted(const SurfaceRefineOptions& r, PreparedSurface& s, const Prog
   progress(describe(s.refine_report) + " on the tufted cover in " + fmt(s.seconds_refine) + " s");
 }
 
-// Refines with signposts from the input's faces (same faces, same mollification), then relaxes.
+// Refines with signposts, then relaxes.
 void refine_with_signposts(const SurfaceRefineOptions& r, double mollify_epsilon,
                            PreparedSurface& s, const Progress& progress) {
   Stopwatch watch;
   intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions, mollify_epsilon);
-  intrinsic::RefineOptions refine_opt = refine_options(r, s.target_edge_length);
-  refine_opt.on_progress = progress.fraction();
-  s.refine_report = intrinsic::delaunay_refine(st, refine_opt);
-  if (s.path != SurfacePath::kManifold) {
-    s.path = SurfacePath::kManifold;  // the encroached boundary edges were split
-    s.reason = PathReason::kEdgeManifoldOrientable;
-    s.reason_detail = "refined (boundary edges opposite obtuse angles are split by refinement)";
-  }
-  s.boundary_vertex.clear();  // the refined triangulation's own boundary is the surface's
-  if (const Index bad = intrinsic::negative_boundary_weights(st.intrinsic())) {
-    progress("note: " + std::to_string(bad) +
-             " boundary edges still face obtuse angles after refinement (needle cones)");
-  }
-  progress(describe(s.refine_report) + " in " + fmt(watch.restart()) + " s");
+  refine_tracked(r, st, "", s, progress, watch);
   if (r.relax_iterations > 0) {
     intrinsic::RelaxOptions ro;
     ro.iterations = r.relax_iterations;
