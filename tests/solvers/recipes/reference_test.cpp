@@ -13,6 +13,7 @@
 #include <optional>
 #include <regex>
 #include <set>
+#include <string>
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/io/mesh_io.h"
@@ -120,6 +121,7 @@ TEST(SolversReference, HeatDistanceVsExact) {
 // path, and the error against the exact distances is the same to 1e-6.
 TEST(SolversReference, MixedPrecisionMatchesDouble) {
   int bundled = 0, shared = 0;
+  std::map<std::string, PreparedSurface> prepared;
   for (const test::ReferenceCase& c : test::reference_cases()) {
     const std::optional<Reference> ref = parse_reference(c.exact);
     ASSERT_TRUE(ref.has_value()) << c.exact;
@@ -127,7 +129,12 @@ TEST(SolversReference, MixedPrecisionMatchesDouble) {
     ASSERT_FALSE(mesh.empty()) << ref->stem;
     if (test::skip_in_quick_run(mesh)) continue;
     const Eigen::VectorXd exact = io::read_values(c.exact.string());
-    const PreparedSurface s = prepare_surface(io::read_mesh(mesh.string()));
+    // each mesh has references from several sources: prepared once
+    auto found = prepared.find(mesh.string());
+    if (found == prepared.end()) {
+      found = prepared.emplace(mesh.string(), prepare_surface(io::read_mesh(mesh.string()))).first;
+    }
+    const PreparedSurface& s = found->second;
     DistanceOptions mixed;
     mixed.precision = HeatDistanceOptions::Precision::kMixed;
     const Eigen::VectorXd d = geodesic_distance(s, {ref->src}, mixed);
