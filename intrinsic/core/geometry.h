@@ -9,6 +9,7 @@
 #include <numeric>
 #include <vector>
 
+#include "intrinsic/core/surface_point.h"
 #include "intrinsic/core/triangle_formulas.h"
 #include "intrinsic/core/triangulation.h"
 
@@ -77,6 +78,28 @@ double mean_side_length(const std::vector<Triangle>& faces, const Positions& pos
 /// robust_mean_length() of the faces' sides as given (each side of each face once), from
 /// positions; the input mesh's h. Defined in surface/face_analysis.cpp.
 double robust_side_length(const std::vector<Triangle>& faces, const Positions& positions);
+
+/// The value at point p of `tri` (a face of tri and barycentric coordinates) of the function
+/// linear in each face with per-vertex values x (#V of tri).
+/// Precondition: p.face is a face of tri.
+inline double interpolate_at(const IntrinsicTriangulation& tri, const Eigen::VectorXd& x,
+                             const SurfacePoint& p) {
+  double s = 0.0;
+  for (int k = 0; k < 3; ++k) s += p.bary[k] * x[tri.tail(3 * p.face + k)];
+  return s;
+}
+
+/// The 3D position of point p of `tri` whose vertices sit at the rows of `positions` (#V × 3),
+/// linear in its face; the origin for a point without a face (kInvalidIndex).
+inline Eigen::Vector3d point_position(const IntrinsicTriangulation& tri, const Positions& positions,
+                                      const SurfacePoint& p) {
+  Eigen::Vector3d out = Eigen::Vector3d::Zero();
+  if (p.face == kInvalidIndex) return out;
+  for (int k = 0; k < 3; ++k) {
+    out += p.bary[k] * positions.row(tri.tail(3 * p.face + k)).transpose();
+  }
+  return out;
+}
 
 /// Euler characteristic V − E + F (all vertices counted, unreferenced ones included).
 inline long euler_characteristic(const IntrinsicTriangulation& tri) {

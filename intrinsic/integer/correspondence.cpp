@@ -5,6 +5,7 @@
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/first_error.h"
+#include "intrinsic/core/geometry.h"
 #include "intrinsic/integer/integer_subdivision.h"
 
 namespace ifem::intrinsic {
@@ -44,18 +45,6 @@ std::vector<SurfacePoint> CorrespondenceView::vertex_locations() const {
   return out;
 }
 
-namespace {
-
-Eigen::Vector3d point_3d(const IntrinsicTriangulation& input, const Positions& x,
-                         const SurfacePoint& p) {
-  Eigen::Vector3d out = Eigen::Vector3d::Zero();
-  if (p.face == kInvalidIndex) return out;
-  for (int k = 0; k < 3; ++k) out += p.bary[k] * x.row(input.tail(3 * p.face + k)).transpose();
-  return out;
-}
-
-}  // namespace
-
 Positions CorrespondenceView::vertex_positions() const {
   if (st_) return st_->vertex_positions();
   const Positions& x = nc_->input_positions();
@@ -65,7 +54,7 @@ Positions CorrespondenceView::vertex_positions() const {
   out.topRows(n_in) = x.topRows(n_in);
   if (nv == n_in) return out;
   const std::vector<SurfacePoint> at = vertex_locations();
-  for (Index v = n_in; v < nv; ++v) out.row(v) = point_3d(nc_->input(), x, at[v]).transpose();
+  for (Index v = n_in; v < nv; ++v) out.row(v) = point_position(nc_->input(), x, at[v]).transpose();
   return out;
 }
 
@@ -81,11 +70,7 @@ Eigen::VectorXd CorrespondenceView::input_to_intrinsic(const Eigen::VectorXd& va
   out.head(n_in) = values;
   if (nv == n_in) return out;
   const std::vector<SurfacePoint> at = vertex_locations();
-  for (Index v = n_in; v < nv; ++v) {
-    double s = 0.0;
-    for (int k = 0; k < 3; ++k) s += at[v].bary[k] * values[nc_->input().tail(3 * at[v].face + k)];
-    out[v] = s;
-  }
+  for (Index v = n_in; v < nv; ++v) out[v] = interpolate_at(nc_->input(), values, at[v]);
   return out;
 }
 

@@ -236,12 +236,7 @@ void SignpostTriangulation::add_vertex_records() {
 }
 
 Eigen::Vector3d SignpostTriangulation::position(const SurfacePoint& p) const {
-  Eigen::Vector3d x = Eigen::Vector3d::Zero();
-  if (p.face == kInvalidIndex) return x;
-  for (int k = 0; k < 3; ++k) {
-    x += p.bary[k] * positions_.row(input_.tail(3 * p.face + k)).transpose();
-  }
-  return x;
+  return point_position(input_, positions_, p);
 }
 
 Positions SignpostTriangulation::vertex_positions() const {
@@ -707,12 +702,7 @@ Eigen::VectorXd SignpostTriangulation::input_to_intrinsic(const Eigen::VectorXd&
   }
   Eigen::VectorXd out(tri_.n_vertices());
   out.head(n_in) = x;
-  for (Index v = n_in; v < tri_.n_vertices(); ++v) {
-    const SurfacePoint& p = location_[v];
-    double s = 0.0;
-    for (int k = 0; k < 3; ++k) s += p.bary[k] * x[input_.tail(3 * p.face + k)];
-    out[v] = s;
-  }
+  for (Index v = n_in; v < tri_.n_vertices(); ++v) out[v] = interpolate_at(input_, x, location_[v]);
   return out;
 }
 

@@ -19,18 +19,20 @@ std::vector<SparseMatrix> simplification_hierarchy(const intrinsic::IntrinsicTri
                                                    const HierarchyOptions& options) {
   options.validate();
   std::vector<SparseMatrix> chain;
-  intrinsic::IntrinsicTriangulation level = tri;
-  while (level.n_vertices() > options.coarsest_vertices) {
+  intrinsic::IntrinsicTriangulation coarsest;  // the last level made (tri itself is not copied)
+  const intrinsic::IntrinsicTriangulation* level = &tri;
+  while (level->n_vertices() > options.coarsest_vertices) {
     intrinsic::SimplifyOptions s;
     s.target_vertices = std::max(options.coarsest_vertices,
-                                 Index(options.level_ratio * double(level.n_vertices())));
-    intrinsic::Simplification coarse = intrinsic::simplify(level, s);
+                                 Index(options.level_ratio * double(level->n_vertices())));
+    intrinsic::Simplification coarse = intrinsic::simplify(*level, s);
     // short of the target: vertices simplify() could not remove; a level that keeps most of
     // them is not worth its cycle, and the next one would not do better
     const bool stuck = coarse.coarse.n_vertices() > s.target_vertices;
-    if (stuck && double(coarse.coarse.n_vertices()) > 0.6 * double(level.n_vertices())) break;
+    if (stuck && double(coarse.coarse.n_vertices()) > 0.6 * double(level->n_vertices())) break;
     chain.push_back(fem::prolongation(coarse));
-    level = std::move(coarse.coarse);
+    coarsest = std::move(coarse.coarse);
+    level = &coarsest;
     if (stuck) break;
   }
   return chain;
