@@ -35,6 +35,21 @@ if [ -n "$reached" ]; then
     "in tests/fuzz/CMakeLists.txt:" $reached >&2
   exit 1
 fi
+# ... and every other (instrumented) unit must be linked by some harness: an unreachable one only
+# costs an instrumented compile.
+unused=$(for lib in "$build"/*/libifem_*.a; do
+  name=$(basename "$lib")
+  ar t "$lib" | while read -r member; do
+    entry="$name($member)"
+    grep -q -F -x "$entry" "$build/tests/fuzz/unreached_members.txt" && continue
+    grep -q -F "$entry" "$build"/tests/fuzz/fuzz_*.map || echo "$entry"
+  done
+done)
+if [ -n "$unused" ]; then
+  echo "fuzz: no harness links these instrumented units; add them to IFEM_FUZZ_UNREACHED in" \
+    "tests/fuzz/CMakeLists.txt:" $unused >&2
+  exit 1
+fi
 
 # The seed files of each harness: its tests/fuzz/seeds/ folder and the test meshes of its
 # format (the pipeline reads every mesh format; libFuzzer cuts spot.obj to -max_len).
