@@ -40,9 +40,10 @@ int run(const Args& args) {
   for (Index j = 0; j < k; ++j) std::printf(" %.10g", ep.values[j]);
   std::printf("\n");
   if (ep.coarse_vertices > 0) {
-    std::printf("approximation (spectral coarsening to %d vertices, %d block iterations)\n"
-                "relative residuals ||L phi - lambda M phi|| / ||lambda M phi||:",
-                ep.coarse_vertices, eo.coarse_iterations);
+    std::printf(
+        "approximation (spectral coarsening to %d vertices, %d block iterations)\n"
+        "relative residuals ||L phi - lambda M phi|| / ||lambda M phi||:",
+        ep.coarse_vertices, eo.coarse_iterations);
     for (Index j = 0; j < k; ++j) std::printf(" %.3g", ep.residuals[j]);
     std::printf("\n");
   }

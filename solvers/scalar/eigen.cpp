@@ -2,12 +2,11 @@
 
 #include <Spectra/SymGEigsShiftSolver.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
-
-#include <Eigen/Eigenvalues>
 
 #include "fem/prolongation.h"
 #include "intrinsic/core/errors.h"
@@ -166,10 +165,10 @@ EigenPairs coarse_eigenpairs(const intrinsic::IntrinsicTriangulation& tri, Index
                        std::to_string(nr) + ") (the number of vertices with mass)");
   }
   if (options.coarse <= k + options.extra_pairs || options.coarse >= n) {
-    throw InvalidInput("eigenpairs: coarse = " + std::to_string(options.coarse) +
-                       " must be above k + extra_pairs = " +
-                       std::to_string(k + options.extra_pairs) + " and below the " +
-                       std::to_string(n) + " vertices");
+    throw InvalidInput(
+        "eigenpairs: coarse = " + std::to_string(options.coarse) +
+        " must be above k + extra_pairs = " + std::to_string(k + options.extra_pairs) +
+        " and below the " + std::to_string(n) + " vertices");
   }
   intrinsic::SimplifyOptions so;
   so.target_vertices = options.coarse;

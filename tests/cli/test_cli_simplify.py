@@ -119,6 +119,21 @@ def test_refusals(cli, args, regex):
     cli.refuse(2, regex, cli.out / "c.ifem", "simplify", cli.spot, *args)
 
 
+def test_point_cloud_keeps_its_invariants_and_names_why_it_stops(cli, tmp_path):
+    """spot's vertices as a point cloud (D-290): a valid coarse cover (area, Gauss–Bonnet, P)
+    that stops above the target, and the output says why."""
+    sweep = sweep_module()
+    r = cli.ok("simplify", cli.spot, "--pointcloud", "--knn", "12", "--ratio", "0.2",
+               "-o", "c.ifem", "--map", "m.txt", "--quiet")
+    assert "could not be removed" in r.out and "wound around the point" in r.out
+    nvc, nf, mult, sides, c2f, points = sweep.read_ifem(cli.out / "c.ifem")
+    area, bad = sweep.check_coarse(nvc, nf, mult, sides, c2f, points)
+    assert mult == 4 and not bad, bad
+    assert not sweep.check_map(cli.out / "m.txt", len(points))
+    assert area == pytest.approx(sweep.input_area(str(cli.exe), str(cli.spot), str(tmp_path),
+                                                  ["--pointcloud", "--knn", "12"]), rel=1e-9)
+
+
 def test_bad_extension(cli):
     cli.refuse(2, r"\.ply or \.ifem", cli.out / "c.obj", "simplify", cli.spot, "--ratio", "0.5")
 
