@@ -115,7 +115,11 @@ int run(const Args& args) {
               r.vertices_before, r.vertices_after, r.removals, r.boundary_removals, r.flips,
               seconds);
   if (r.stuck > 0) {
-    std::printf("%d vertices above the target could not be removed (see --help)\n", r.stuck);
+    std::printf("%d vertices above the target could not be removed (see --help)%s\n", r.stuck,
+                ps.path == intrinsic::SurfacePath::kPointCloud
+                    ? ": a point cloud's points have many fans, some wound around the point"
+                      " more than once"
+                    : "");
   }
   std::printf("area kept: largest change %.3g before the per-component rescale\n",
               r.area_change_before_rescale);
@@ -142,7 +146,10 @@ Command simplify_command() {
       "area (one uniform rescale per component; angles unchanged). Every coarse triangle\n"
       "satisfies the triangle inequality with a margin. Vertices that cannot be removed\n"
       "that way (several fans on a nonmanifold input, no convex flips) are kept and\n"
-      "counted. Nonmanifold meshes and point clouds are simplified on their tufted cover.\n";
+      "counted. Nonmanifold meshes and point clouds are simplified on their tufted cover.\n"
+      "Point clouds coarsen little (about 5–20 % removed): on their cover a point has\n"
+      "many fans, some wound around it more than once (angle sum ≥ 3π, which no three\n"
+      "faces can replace without moving lengths) (docs/decisions.md D-290).\n";
   c.spec.groups = {
       {"Options",
        {count("vertices", "N").above(0).explain("stop at N vertices (below the input's count)"),

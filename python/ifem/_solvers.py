@@ -392,7 +392,7 @@ heat_distance = distance
 
 def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
           resolution=0.0, max_area=0.0, max_insertions=None, return_info=False, normals=None,
-          progress=None, correspondence="signposts"):
+          progress=None, correspondence="signposts", coarse=0, coarse_iterations=0):
     """The k smallest Laplace–Beltrami eigenpairs ``L φ = λ M φ``, as ``ifem eigen``.
 
     L is the intrinsic Delaunay cotan Laplacian (positive semi-definite), M the lumped mass;
@@ -414,6 +414,13 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
             ``progress(fraction, stage)``, called during the long stages with the fraction done
             (0 first, non-decreasing, exactly 1 last) and the stage's name (``"refine"`` with
             ``refine=True``, then ``"eigenpairs"``: the Lanczos solves done over an estimate).
+        coarse: 0 (exact pairs) or N in (k + 6, #V): spectral coarsening, as ``ifem eigen
+            --coarse N``: the surface is simplified to N vertices, the coarse pairs prolonged as
+            a subspace and Rayleigh–Ritz with the fine L, M gives approximate pairs (each λ
+            above the exact one; ``info["eigen_residuals"]`` the relative residuals
+            ``‖Lφ − λMφ‖ / ‖λMφ‖``, ``info["eigen_coarse_vertices"]`` N).
+        coarse_iterations: with ``coarse``: block iterations ``X ← (L − σM)⁻¹ M X`` with one
+            fine Cholesky factor refining the subspace toward the exact pairs (0: none).
 
     Returns:
         ``evals`` (k,) ascending, in 1 / length² units (λ ≥ 0 up to round-off; λ = 0 once per
@@ -432,7 +439,8 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
     evals, evecs, info = _ifem.eigen(V, _faces(F), _int(k, "k"), *_surface(mollify, path, knn),
                                      _refine(refine, min_angle, resolution, max_area,
                                              max_insertions, 0.0, correspondence), normals,
-                                     progress)
+                                     progress, _int(coarse, "coarse"),
+                                     _int(coarse_iterations, "coarse_iterations"))
     return (evals, evecs, info) if return_info else (evals, evecs)
 
 

@@ -346,7 +346,7 @@ py::array heat_distance(const py::handle& V, const py::handle& F, const py::hand
 }
 
 py::tuple eigen(const py::handle& V, const py::handle& F, Index k, const SurfaceArgs& a,
-                const py::handle& refine) {
+                const py::handle& refine, Index coarse, Index coarse_iterations) {
   std::optional<solvers::SurfaceRefineOptions> r = refine_settings(refine, 0.0, false);
   io::SurfaceInput in = checked_input(V, F, a);
   const Index n = static_cast<Index>(in.positions.rows());
@@ -357,13 +357,17 @@ py::tuple eigen(const py::handle& V, const py::handle& F, Index k, const Surface
   const solvers::PreparedSurface s = prepare_checked(std::move(in), a, std::move(r));
   solvers::EigenOptions eo;
   eo.on_progress = progress_callback(a.progress);
+  eo.coarse = coarse;
+  eo.coarse_iterations = coarse_iterations;
   solvers::EigenPairs ep;
   {
     const py::gil_scoped_release release;
     ep = solvers::eigenmodes(s, k, eo);
   }
-  return py::make_tuple(to_numpy(std::move(ep.values)), to_numpy(std::move(ep.vectors)),
-                        surface_info(s));
+  py::dict info = surface_info(s);
+  info["eigen_coarse_vertices"] = ep.coarse_vertices;
+  info["eigen_residuals"] = to_numpy(std::move(ep.residuals));
+  return py::make_tuple(to_numpy(std::move(ep.values)), to_numpy(std::move(ep.vectors)), info);
 }
 
 // Dirichlet data: distinct ids in [0, n) and as many finite values.
@@ -456,11 +460,14 @@ void bind_solvers(py::module_& m) {
   m.def(
       "eigen",
       [](const py::handle& V, const py::handle& F, Index k, double mollify, const std::string& path,
-         int knn, const py::handle& refine, const py::handle& normals, const py::handle& progress) {
-        return eigen(V, F, k, surface_args(mollify, path, knn, normals, progress), refine);
+         int knn, const py::handle& refine, const py::handle& normals, const py::handle& progress,
+         Index coarse, Index coarse_iterations) {
+        return eigen(V, F, k, surface_args(mollify, path, knn, normals, progress), refine, coarse,
+                     coarse_iterations);
       },
       py::arg("V"), py::arg("F"), py::arg("k"), py::arg("mollify"), py::arg("path"), py::arg("knn"),
-      py::arg("refine"), py::arg("normals") = py::none(), py::arg("progress") = py::none());
+      py::arg("refine"), py::arg("normals") = py::none(), py::arg("progress") = py::none(),
+      py::arg("coarse") = 0, py::arg("coarse_iterations") = 0);
   m.def(
       "poisson",
       [](const py::handle& V, const py::handle& F, const py::handle& rhs, const py::handle& ids,

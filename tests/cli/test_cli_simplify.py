@@ -5,7 +5,10 @@ summing to 1; the PLY's vertices are input vertices at their input positions; --
 (≥ 0, summing to 1); nonmanifold input goes through the tufted cover; refusals have their exit
 code, one stderr line and no partial output; and every small mesh of ../shared/data simplifies."""
 
+import argparse
+import importlib.util
 import math
+import pathlib
 
 import pytest
 
@@ -116,19 +119,48 @@ def test_refusals(cli, args, regex):
     cli.refuse(2, regex, cli.out / "c.ifem", "simplify", cli.spot, *args)
 
 
+def test_point_cloud_keeps_its_invariants_and_names_why_it_stops(cli, tmp_path):
+    """spot's vertices as a point cloud (D-290): a valid coarse cover (area, Gauss–Bonnet, P)
+    that stops above the target, and the output says why."""
+    sweep = sweep_module()
+    r = cli.ok("simplify", cli.spot, "--pointcloud", "--knn", "12", "--ratio", "0.2",
+               "-o", "c.ifem", "--map", "m.txt", "--quiet")
+    assert "could not be removed" in r.out and "wound around the point" in r.out
+    nvc, nf, mult, sides, c2f, points = sweep.read_ifem(cli.out / "c.ifem")
+    area, bad = sweep.check_coarse(nvc, nf, mult, sides, c2f, points)
+    assert mult == 4 and not bad, bad
+    assert not sweep.check_map(cli.out / "m.txt", len(points))
+    assert area == pytest.approx(sweep.input_area(str(cli.exe), str(cli.spot), str(tmp_path),
+                                                  ["--pointcloud", "--knn", "12"]), rel=1e-9)
+
+
 def test_bad_extension(cli):
     cli.refuse(2, r"\.ply or \.ifem", cli.out / "c.obj", "simplify", cli.spot, "--ratio", "0.5")
 
 
-def test_every_small_shared_mesh(cli, shared_data):
-    meshes = sorted(p for p in (shared_data / "meshes").iterdir() if p.stat().st_size < 150_000)
-    assert len(meshes) > 10
-    for p in meshes:
-        r = cli.run("simplify", p, "--ratio", "0.2", "-o", "c.ifem", "--quiet")
-        if r.rc != 0:  # only inputs without a surface may be refused
-            assert "no surface" in r.last_err_line(), r.describe()
-            continue
-        nvc, nf, _, sides, _, points = read_ifem(cli.out / "c.ifem")
-        assert nf > 0 and len(sides) == 3 * nf
-        for face, bary in points:
-            assert face == -1 or (0 <= face < nf and min(bary) >= 0)
+def sweep_module():
+    """scripts/simplify_sweep.py (the full sweep over ../shared/data), imported for its checks."""
+    path = pathlib.Path(__file__).resolve().parents[2] / "scripts" / "simplify_sweep.py"
+    spec = importlib.util.spec_from_file_location("simplify_sweep", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_sweep_over_small_shared_inputs(cli, shared_data, tmp_path):
+    """The sweep (scripts/simplify_sweep.py) on every mesh and point cloud of ../shared/data
+    under 150 kB: each simplifies (only inputs without a surface may be refused), and each
+    result keeps the input's area, Gauss–Bonnet per component and P's rows (≥ 0, sum 1)."""
+    sweep = sweep_module()
+    files = sorted(p for sub in ("meshes", "pointclouds") for p in (shared_data / sub).iterdir()
+                   if p.stat().st_size < 150_000)
+    args = argparse.Namespace(ratio=0.2, vertices=0, timeout=60, skip_area=False)
+    checked, refused = 0, 0
+    for p in files:
+        r = sweep.run_one(str(cli.exe), str(p), args, str(tmp_path))
+        assert r["ok"], f"{p.name}: {r['outcome']}"
+        if r["outcome"] == "ok":
+            checked += 1
+        else:
+            refused += 1
+    assert checked >= 15 and refused <= 2, (checked, refused)  # it checked something real
