@@ -15,7 +15,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <queue>
+#include <cstdint>
+#include <cstring>
 #include <sstream>
 
 #include "intrinsic/core/geometry.h"
@@ -29,12 +30,59 @@ using Vec2 = Eigen::Vector2d;
 using Window = ExactDistance::Window;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// A queue entry carries its window (read in key order, a window stored apart would be a cache
+// miss at every pop; one pruned when it comes up is never stored), or a vertex: w.h = −1 − v.
 struct Entry {
   double key;
-  Index id;  // ≥ 0: window; < 0: vertex −1 − id
+  Window w;
 };
-struct Later {
-  bool operator()(const Entry& a, const Entry& b) const { return a.key > b.key; }
+Entry vertex_entry(double d, Index v) { return {d, {0.0, 0.0, 0.0, 0.0, 0.0, -1 - v, 0}}; }
+
+// Monotone priority queue on non-negative keys (a radix heap: Ahuja, Mehlhorn, Orlin & Tarjan
+// 1990, on the bits of the doubles, whose order as unsigned integers is that of the values).
+// Every key pushed is at least the last one popped (a child window or a vertex is never nearer
+// than the window that made it); one below it by rounding is filed as the last popped one, and
+// pop() still returns its own key. Each entry moves down at most 64 buckets, most of them once
+// or twice: several times cheaper than a binary heap of millions of entries.
+class RadixQueue {
+ public:
+  bool empty() const { return size_ == 0; }
+  void push(const Entry& e) {
+    buckets_[bucket_of(bits_of(e.key))].push_back(e);
+    ++size_;
+  }
+  Entry pop() {
+    if (buckets_[0].empty()) refill();
+    const Entry e = buckets_[0].back();
+    buckets_[0].pop_back();
+    --size_;
+    return e;
+  }
+
+ private:
+  std::uint64_t bits_of(double key) const {
+    std::uint64_t b = 0;
+    const double k = key > 0.0 ? key : 0.0;
+    std::memcpy(&b, &k, sizeof b);
+    return std::max(b, last_);
+  }
+  int bucket_of(std::uint64_t b) const {
+    return b == last_ ? 0 : 64 - __builtin_clzll(b ^ last_);
+  }
+  // Moves the least non-empty bucket's entries down, with last_ its least key.
+  void refill() {
+    int i = 1;
+    while (buckets_[i].empty()) ++i;
+    std::vector<Entry>& from = buckets_[i];
+    std::uint64_t least = ~std::uint64_t{0};
+    for (const Entry& e : from) least = std::min(least, bits_of(e.key));
+    last_ = least;
+    for (const Entry& e : from) buckets_[bucket_of(bits_of(e.key))].push_back(e);
+    from.clear();
+  }
+  std::vector<Entry> buckets_[65];
+  std::uint64_t last_ = 0;
+  std::size_t size_ = 0;
 };
 
 // |(x, y)|: the plain formula (std::hypot's care costs several times more on the hot path; lengths
@@ -85,6 +133,9 @@ class Propagator {
     std::vector<Index> fill(start_.begin(), start_.end() - 1);
     for (Index h = 0; h < tri.n_halfedges(); ++h) out_he_[fill[tri.tail(h)]++] = h;
     find_pseudo_sources();
+    // Address space only (pages are touched as windows come): no copy while the store grows
+    // on typical meshes.
+    out_.window_store.reserve(std::min(max_windows_, 32 * std::size_t(tri.n_halfedges())));
     apex_.resize(static_cast<std::size_t>(tri.n_halfedges()));
     for (Index h = 0; h < tri.n_halfedges(); ++h) apex_[h] = apex_of(tri, h);
   }
@@ -92,7 +143,7 @@ class Propagator {
   void add_vertex_source(Index v) {
     out_.distance[v] = 0.0;
     out_.vertex_parent[v] = ExactDistance::kNone;
-    queue_.push({0.0, -1 - v});
+    queue_.push(vertex_entry(0.0, v));
   }
 
   // Source k at barycentric `bary` of face f, not at a corner.
@@ -112,18 +163,17 @@ class Propagator {
 
   void run() {
     while (!queue_.empty()) {
-      const Entry e = queue_.top();
-      queue_.pop();
-      if (e.id >= 0) {
-        propagate(e.id);
+      const Entry e = queue_.pop();
+      if (e.w.h >= 0) {
+        propagate(e.w);
       } else {
-        const Index v = -1 - e.id;
+        const Index v = -1 - e.w.h;
         if (emitted_[v] || e.key > out_.distance[v]) continue;
         emitted_[v] = 1;
         emit_from_vertex(v);
       }
     }
-    out_.windows = out_.window_store.size();
+    out_.windows = created_;
   }
 
  private:
@@ -161,7 +211,7 @@ class Propagator {
     out_.vertex_x[v] = x;
     if (!pseudo_[v] || emitted_[v]) return false;
     if (d < cur * (1.0 - kTie)) arrive_he_[v] = kInvalidIndex;  // not a tie: forget the arrival
-    queue_.push({d, -1 - v});
+    queue_.push(vertex_entry(d, v));
     return arrive_he_[v] == kInvalidIndex;
   }
   // The path reaching v arrives straight from the direction at angle phi counter-clockwise from
@@ -224,7 +274,7 @@ class Propagator {
   void push_window(Window w) {
     if (!(w.b1 > w.b0)) return;
     if (!trim(w)) return;
-    if (out_.window_store.size() >= max_windows_) {
+    if (created_ >= max_windows_) {
       std::ostringstream m;
       m << "exact distance: more than " << max_windows_ << " windows ("
         << mb(double(max_windows_) * kExactWindowBytes) << " at " << kExactWindowBytes
@@ -235,9 +285,8 @@ class Propagator {
     }
     const double nearest_x = std::clamp(w.ix, w.b0, w.b1);
     const double key = w.sigma + norm2(nearest_x - w.ix, w.iy);
-    const Index id = static_cast<Index>(out_.window_store.size());
-    out_.window_store.push_back(w);
-    queue_.push({key, id});
+    ++created_;
+    queue_.push({key, w});
   }
 
   // Windows from u at its distance on the far sides of the faces around it: of every face for a
@@ -312,7 +361,7 @@ class Propagator {
     }
   }
 
-  void propagate(Index id);
+  void propagate(Window w);
 
   static constexpr double kTrimSlack = 1e-13;  // trimming stops short by this × the edge
   static constexpr double kTie = 1e-12;        // distances this close (relative) tie
@@ -320,6 +369,7 @@ class Propagator {
   ExactDistance& out_;
   const Index nv_;
   std::size_t max_windows_ = 0;
+  std::size_t created_ = 0;  // windows pushed (each costs kExactWindowBytes at most)
   double budget_ = 0.0;
   std::vector<double> split_d_, split_x_;
   std::vector<char> pseudo_, emitted_;
@@ -332,12 +382,13 @@ class Propagator {
   };
   std::vector<Corner> ring_;
   std::vector<Index> start_, out_he_;
-  std::priority_queue<Entry, std::vector<Entry>, Later> queue_;
+  RadixQueue queue_;
 };
 
-void Propagator::propagate(Index id) {
-  Window w = out_.window_store[id];
+void Propagator::propagate(Window w) {
   if (!trim(w)) return;
+  const Index id = static_cast<Index>(out_.window_store.size());
+  out_.window_store.push_back(w);
   const Index h = w.h;
   const double L = tri_.halfedge_length(h);
   const Vec2 img(w.ix, w.iy), c = apex_[h];
