@@ -137,6 +137,8 @@ class Propagator {
     // on typical meshes.
     out_.window_store.reserve(std::min(max_windows_, 32 * std::size_t(tri.n_halfedges())));
     apex_.resize(static_cast<std::size_t>(tri.n_halfedges()));
+    recent_.assign(std::size_t(tri.n_halfedges()) * kRecent, {0.0, -1.0, 0.0, 0.0, 0.0, 0, 0});
+    recent_next_.assign(std::size_t(tri.n_halfedges()), 0);
     for (Index h = 0; h < tri.n_halfedges(); ++h) apex_[h] = apex_of(tri, h);
   }
 
@@ -271,9 +273,26 @@ class Propagator {
     return dv + norm2(w.b1 - pos.x(), pos.y()) < e1 * (1.0 - kTie);
   }
 
+  // Cuts w by the ring of windows pushed before it on its halfedge (prune_window_by()). True
+  // when nothing of w is left; else w is recorded in the ring.
+  bool dominated(Window& w) {
+    Window* ring = &recent_[std::size_t(w.h) * kRecent];
+    for (int k = 0; k < kRecent; ++k) {
+      const auto [b0, b1] = prune_window_by(ring[k], w);
+      w.b0 = b0;
+      w.b1 = b1;
+      if (!(w.b1 > w.b0)) return true;
+    }
+    unsigned char& next = recent_next_[w.h];
+    ring[next] = w;
+    next = static_cast<unsigned char>((next + 1) % kRecent);
+    return false;
+  }
+
   void push_window(Window w) {
     if (!(w.b1 > w.b0)) return;
     if (!trim(w)) return;
+    if (dominated(w)) return;
     if (created_ >= max_windows_) {
       std::ostringstream m;
       m << "exact distance: more than " << max_windows_ << " windows ("
@@ -370,6 +389,9 @@ class Propagator {
   const Index nv_;
   std::size_t max_windows_ = 0;
   std::size_t created_ = 0;  // windows pushed (each costs kExactWindowBytes at most)
+  static constexpr int kRecent = 4;
+  std::vector<Window> recent_;              // per halfedge, kRecent windows pushed on it
+  std::vector<unsigned char> recent_next_;  // per halfedge: the ring's slot to fill next
   double budget_ = 0.0;
   std::vector<double> split_d_, split_x_;
   std::vector<char> pseudo_, emitted_;
@@ -438,6 +460,61 @@ void Propagator::propagate(Window w) {
 }
 
 }  // namespace
+
+namespace {
+
+// Real roots of σ' + |I' x| = σ + |I x| on the line (squared twice: a quadratic; it may add
+// roots that are not crossings, which prune_window_by() checks out).
+int crossings(const Window& r, const Window& w, double roots[2]) {
+  const double u = w.ix - r.ix, delta = w.sigma - r.sigma;
+  const double k = r.ix * r.ix - w.ix * w.ix + r.iy * r.iy - w.iy * w.iy - delta * delta;
+  const double d2 = delta * delta;
+  const double qa = u * u - d2, qb = u * k + 2.0 * d2 * w.ix;
+  const double qc = 0.25 * k * k - d2 * (w.ix * w.ix + w.iy * w.iy);
+  if (std::abs(qa) < 1e-300) {
+    if (qb == 0.0) return 0;
+    roots[0] = -qc / qb;
+    return 1;
+  }
+  const double disc = qb * qb - 4.0 * qa * qc;
+  if (disc < 0.0) return 0;
+  const double sq = std::sqrt(disc);
+  roots[0] = (-qb - sq) / (2.0 * qa);
+  roots[1] = (-qb + sq) / (2.0 * qa);
+  return 2;
+}
+
+}  // namespace
+
+std::pair<double, double> prune_window_by(const ExactDistance::Window& other,
+                                          const ExactDistance::Window& w) {
+  const Window& r = other;
+  if (!(r.sigma >= w.sigma) || r.b1 <= w.b0 || w.b1 <= r.b0) return {w.b0, w.b1};
+  const auto beaten = [&](double x) {
+    return x >= r.b0 && x <= r.b1 &&
+           norm2(x - r.ix, r.iy) + r.sigma <= norm2(x - w.ix, w.iy) + w.sigma;
+  };
+  const bool at0 = beaten(w.b0), at1 = beaten(w.b1);
+  if (at0 && at1) return {w.b0, w.b0};
+  if (!at0 && !at1) return {w.b0, w.b1};
+  double roots[2];
+  const int n = crossings(r, w, roots);
+  const double nudge = 1e-13 * (std::abs(w.b0) + std::abs(w.b1));  // a root rounded outside
+  if (at0) {  // the least crossing beyond b0 ends the beaten piece
+    double t = std::min(w.b1, r.b1);
+    for (int i = 0; i < n; ++i) {
+      if (roots[i] > w.b0 && roots[i] < t) t = roots[i];
+    }
+    if (!beaten(t)) t -= nudge;
+    return {t > w.b0 && beaten(t) ? t : w.b0, w.b1};
+  }
+  double t = std::max(w.b0, r.b0);
+  for (int i = 0; i < n; ++i) {
+    if (roots[i] < w.b1 && roots[i] > t) t = roots[i];
+  }
+  if (!beaten(t)) t += nudge;
+  return {w.b0, t < w.b1 && beaten(t) ? t : w.b1};
+}
 
 SurfacePoint corner_point(Index h) {
   SurfacePoint p;
