@@ -359,10 +359,9 @@ OptionGroup geodesic_options() {
                         "geodesic; stdout says 'stopped: iteration cap')"),
            real("memory-budget", "GB")
                .above(0)
-               .explain("with --all-from: the exact distance's windows (64 bytes each;\n"
-                        "over it, FlipOut). With --bezier: refuse a curve whose added\n"
-                        "vertices (estimated up\n"
-                        "front: d(d+1)/2 · (2^R − 1) for degree d, R rounds; 4 KiB each)\n"
+               .explain("--all-from: the exact distance's windows (64 bytes each; over it,\n"
+                        "FlipOut). --bezier: refuse a curve whose added vertices (estimated\n"
+                        "up front: d(d+1)/2 · (2^R − 1) for degree d, R rounds; 4 KiB each)\n"
                         "exceed GB gigabytes (default: half the physical memory, or 80% of\n"
                         "ulimit -v). Rounds whose segments fall below 1/16 of the mesh's mean\n"
                         "edge length are refused too, naming the most rounds that fit"),

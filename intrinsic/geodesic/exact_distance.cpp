@@ -14,9 +14,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <sstream>
 
 #include "intrinsic/core/geometry.h"
@@ -66,9 +66,7 @@ class RadixQueue {
     std::memcpy(&b, &k, sizeof b);
     return std::max(b, last_);
   }
-  int bucket_of(std::uint64_t b) const {
-    return b == last_ ? 0 : 64 - __builtin_clzll(b ^ last_);
-  }
+  int bucket_of(std::uint64_t b) const { return b == last_ ? 0 : 64 - __builtin_clzll(b ^ last_); }
   // Moves the least non-empty bucket's entries down, with last_ its least key.
   void refill() {
     int i = 1;

@@ -112,7 +112,7 @@ struct SingleSourceResult {
   std::vector<std::vector<Eigen::Vector3d>> paths;
   /// True: lengths and paths from the exact distance (shortest geodesics); false: FlipOut's.
   bool exact = false;
-  std::size_t windows = 0;  ///< exact: the exact distance's windows (its work)
+  std::size_t windows = 0;          ///< exact: the exact distance's windows (its work)
   Index flips = 0, iterations = 0;  ///< FlipOut: its flips and iterations
   Index blocked = 0;  ///< FlipOut: vertices whose path was left bent (a blocked wedge)
   double seconds = 0.0;
