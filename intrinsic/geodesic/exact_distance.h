@@ -86,7 +86,7 @@ ExactDistance exact_distance(const IntrinsicTriangulation& tri, const std::vecto
                              const ExactDistanceOptions& options = {});
 
 /// Pruning of a window by another on the same halfedge (exact_distance() tries each window it
-/// makes against the last few made on its halfedge): what is left of w's interval [b0, b1] once
+/// makes against the last one made on its halfedge): what is left of w's interval [b0, b1] once
 /// the ends where `other` is at most as long (σ' + |I' x| ≤ σ + |I x|, x in other's interval)
 /// are cut off. It cuts only when σ' ≥ σ: the points where `other` is at most w then form a
 /// convex set (bounded by a hyperbola branch around I'), so a piece whose two ends it beats is
