@@ -8,6 +8,8 @@
 //   - one angle, one split: of the windows through the corner C opposite h, the one reaching C
 //     first keeps both children; for any other, the rays that cross that window's segment to C
 //     are beaten by it (triangle inequality at the crossing) and are cut off.
+//   - one window per halfedge remembered: a new window there is cut where that one beats it
+//     (prune_window_by(): only where this is proven by convexity).
 // Vertex distances are updated from every window through straight paths (bending at a window end
 // if C lies outside it by rounding), so every bound is a path's length.
 #include "intrinsic/geodesic/exact_distance.h"
