@@ -173,6 +173,9 @@ void check_modes(const Args& args) {
   if (args.has("pin") && !args.has("loop") && !args.has("network")) {
     throw UsageError("--pin keeps a loop's points (--loop, or the loop lines of --network)");
   }
+  if (args.has("single-source-flipout") && !args.has("all-from")) {
+    throw UsageError("--single-source-flipout goes with --all-from");
+  }
   const bool txt_or_ply = io::file_extension(args.get("output")) != ".obj";
   if (args.has("all-from") && !txt_or_ply) {
     throw UsageError("--output '" + args.get("output") +
@@ -188,6 +191,7 @@ recipes::GeodesicOptions geodesic_options_of(const Args& args) {
   o.flipout.max_iterations = args.count_or("max-iterations", -1);
   o.accept_partial = args.has("accept-partial");
   o.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;
+  o.single_source_flipout = args.has("single-source-flipout");
   o.on_progress = progress_bar(args);
   return o;
 }
@@ -206,10 +210,15 @@ int run_all_from(const Args& args, const io::SurfaceInput& in, const ResultOutpu
       ++unreachable;
     }
   }
-  std::printf(
-      "single-source geodesics from vertex %d: %d flips, %d iterations, %d paths left bent, "
-      "%.3g s\n",
-      source, g.flips, g.iterations, g.blocked, g.seconds);
+  if (g.exact) {
+    std::printf("single-source geodesics from vertex %d: exact distance, %zu windows, %.3g s\n",
+                source, g.windows, g.seconds);
+  } else {
+    std::printf(
+        "single-source geodesics from vertex %d: FlipOut, %d flips, %d iterations, %d paths left "
+        "bent, %.3g s\n",
+        source, g.flips, g.iterations, g.blocked, g.seconds);
+  }
   write_results(out, in, {{"geodesic_length", g.length}});
   std::printf("wrote %s: %d values, max length %.9g, %d unreachable (inf)\n", out.path.c_str(), nv,
               longest, unreachable);
@@ -296,11 +305,16 @@ OptionGroup geodesic_options() {
            text("network", "FILE").explain("curves from FILE (format below), shortened together"),
            vertex("all-from", "S")
                .limited_by(InputLimit::kBelowVertexCount)
-               .explain("single-source geodesics: a geodesic from vertex S to every vertex\n"
-                        "(Dijkstra with FlipOut at the frontier); their lengths, one per vertex.\n"
-                        "A length is a geodesic's: never below the exact distance, equal to it\n"
-                        "where the geodesic is the shortest (94-100% of the vertices on the\n"
-                        "reference meshes; fewer on meshes of slivers)"),
+               .explain("single-source geodesics: the shortest geodesic from vertex S to\n"
+                        "every vertex, from the exact distance (as `ifem distance --exact`,\n"
+                        "on the mesh's own faces: no flip); their lengths, one per vertex.\n"
+                        "Over --memory-budget, or with --single-source-flipout: Dijkstra\n"
+                        "with FlipOut at the frontier, whose geodesics are locally shortest\n"
+                        "(never below the exact distance, equal to it on 94-100% of the\n"
+                        "vertices of the reference meshes; fewer on meshes of slivers)"),
+           flag("single-source-flipout")
+               .explain("with --all-from: build every geodesic by FlipOut instead of the\n"
+                        "exact distance (slower; edge paths of the intrinsic triangulation)"),
            text("output", "OUT")
                .short_alias('o')
                .mandatory()
@@ -345,8 +359,9 @@ OptionGroup geodesic_options() {
                         "geodesic; stdout says 'stopped: iteration cap')"),
            real("memory-budget", "GB")
                .above(0)
-               .explain("with --bezier: refuse a curve whose added vertices (estimated up\n"
-                        "front: d(d+1)/2 · (2^R − 1) for degree d, R rounds; 4 KiB each)\n"
+               .explain("--all-from: the exact distance's windows (64 bytes each; over it,\n"
+                        "FlipOut). --bezier: refuse a curve whose added vertices (estimated\n"
+                        "up front: d(d+1)/2 · (2^R − 1) for degree d, R rounds; 4 KiB each)\n"
                         "exceed GB gigabytes (default: half the physical memory, or 80% of\n"
                         "ulimit -v). Rounds whose segments fall below 1/16 of the mesh's mean\n"
                         "edge length are refused too, naming the most rounds that fit"),
@@ -359,7 +374,7 @@ OptionGroup geodesic_options() {
 
 Command geodesic_command() {
   Command c;
-  c.summary = "geodesic paths, loops, networks, Bézier curves; single-source (FlipOut)";
+  c.summary = "geodesic paths, loops, networks, Bézier curves (FlipOut); single-source";
   c.spec.name = "geodesic";
   c.spec.positionals = {"MESH"};
   c.spec.prose = kProse;

@@ -8,14 +8,17 @@
 //   - one angle, one split: of the windows through the corner C opposite h, the one reaching C
 //     first keeps both children; for any other, the rays that cross that window's segment to C
 //     are beaten by it (triangle inequality at the crossing) and are cut off.
+//   - one window per halfedge remembered: a new window there is cut where that one beats it
+//     (prune_window_by(): only where this is proven by convexity).
 // Vertex distances are updated from every window through straight paths (bending at a window end
 // if C lies outside it by rounding), so every bound is a path's length.
 #include "intrinsic/geodesic/exact_distance.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
-#include <queue>
 #include <sstream>
 
 #include "intrinsic/core/geometry.h"
@@ -29,12 +32,57 @@ using Vec2 = Eigen::Vector2d;
 using Window = ExactDistance::Window;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// A queue entry carries its window (read in key order, a window stored apart would be a cache
+// miss at every pop; one pruned when it comes up is never stored), or a vertex: w.h = −1 − v.
 struct Entry {
   double key;
-  Index id;  // ≥ 0: window; < 0: vertex −1 − id
+  Window w;
 };
-struct Later {
-  bool operator()(const Entry& a, const Entry& b) const { return a.key > b.key; }
+Entry vertex_entry(double d, Index v) { return {d, {0.0, 0.0, 0.0, 0.0, 0.0, -1 - v, 0}}; }
+
+// Monotone priority queue on non-negative keys (a radix heap: Ahuja, Mehlhorn, Orlin & Tarjan
+// 1990, on the bits of the doubles, whose order as unsigned integers is that of the values).
+// Every key pushed is at least the last one popped (a child window or a vertex is never nearer
+// than the window that made it); one below it by rounding is filed as the last popped one, and
+// pop() still returns its own key. Each entry moves down at most 64 buckets, most of them once
+// or twice: several times cheaper than a binary heap of millions of entries.
+class RadixQueue {
+ public:
+  bool empty() const { return size_ == 0; }
+  void push(const Entry& e) {
+    buckets_[bucket_of(bits_of(e.key))].push_back(e);
+    ++size_;
+  }
+  Entry pop() {
+    if (buckets_[0].empty()) refill();
+    const Entry e = buckets_[0].back();
+    buckets_[0].pop_back();
+    --size_;
+    return e;
+  }
+
+ private:
+  std::uint64_t bits_of(double key) const {
+    std::uint64_t b = 0;
+    const double k = key > 0.0 ? key : 0.0;
+    std::memcpy(&b, &k, sizeof b);
+    return std::max(b, last_);
+  }
+  int bucket_of(std::uint64_t b) const { return b == last_ ? 0 : 64 - __builtin_clzll(b ^ last_); }
+  // Moves the least non-empty bucket's entries down, with last_ its least key.
+  void refill() {
+    int i = 1;
+    while (buckets_[i].empty()) ++i;
+    std::vector<Entry>& from = buckets_[i];
+    std::uint64_t least = ~std::uint64_t{0};
+    for (const Entry& e : from) least = std::min(least, bits_of(e.key));
+    last_ = least;
+    for (const Entry& e : from) buckets_[bucket_of(bits_of(e.key))].push_back(e);
+    from.clear();
+  }
+  std::vector<Entry> buckets_[65];
+  std::uint64_t last_ = 0;
+  std::size_t size_ = 0;
 };
 
 // |(x, y)|: the plain formula (std::hypot's care costs several times more on the hot path; lengths
@@ -85,14 +133,19 @@ class Propagator {
     std::vector<Index> fill(start_.begin(), start_.end() - 1);
     for (Index h = 0; h < tri.n_halfedges(); ++h) out_he_[fill[tri.tail(h)]++] = h;
     find_pseudo_sources();
+    // Address space only (pages are touched as windows come): no copy while the store grows
+    // on typical meshes.
+    out_.window_store.reserve(std::min(max_windows_, 32 * std::size_t(tri.n_halfedges())));
     apex_.resize(static_cast<std::size_t>(tri.n_halfedges()));
+    recent_.assign(std::size_t(tri.n_halfedges()) * kRecent, {0.0, -1.0, 0.0, 0.0, 0.0, 0, 0});
+    recent_next_.assign(std::size_t(tri.n_halfedges()), 0);
     for (Index h = 0; h < tri.n_halfedges(); ++h) apex_[h] = apex_of(tri, h);
   }
 
   void add_vertex_source(Index v) {
     out_.distance[v] = 0.0;
     out_.vertex_parent[v] = ExactDistance::kNone;
-    queue_.push({0.0, -1 - v});
+    queue_.push(vertex_entry(0.0, v));
   }
 
   // Source k at barycentric `bary` of face f, not at a corner.
@@ -112,18 +165,17 @@ class Propagator {
 
   void run() {
     while (!queue_.empty()) {
-      const Entry e = queue_.top();
-      queue_.pop();
-      if (e.id >= 0) {
-        propagate(e.id);
+      const Entry e = queue_.pop();
+      if (e.w.h >= 0) {
+        propagate(e.w);
       } else {
-        const Index v = -1 - e.id;
+        const Index v = -1 - e.w.h;
         if (emitted_[v] || e.key > out_.distance[v]) continue;
         emitted_[v] = 1;
         emit_from_vertex(v);
       }
     }
-    out_.windows = out_.window_store.size();
+    out_.windows = created_;
   }
 
  private:
@@ -161,7 +213,7 @@ class Propagator {
     out_.vertex_x[v] = x;
     if (!pseudo_[v] || emitted_[v]) return false;
     if (d < cur * (1.0 - kTie)) arrive_he_[v] = kInvalidIndex;  // not a tie: forget the arrival
-    queue_.push({d, -1 - v});
+    queue_.push(vertex_entry(d, v));
     return arrive_he_[v] == kInvalidIndex;
   }
   // The path reaching v arrives straight from the direction at angle phi counter-clockwise from
@@ -221,10 +273,27 @@ class Propagator {
     return dv + norm2(w.b1 - pos.x(), pos.y()) < e1 * (1.0 - kTie);
   }
 
+  // Cuts w by the last kRecent windows pushed on its halfedge (prune_window_by()). True
+  // when nothing of w is left; else w is recorded in the ring.
+  bool dominated(Window& w) {
+    Window* ring = &recent_[std::size_t(w.h) * kRecent];
+    for (int k = 0; k < kRecent; ++k) {
+      const auto [b0, b1] = prune_window_by(ring[k], w);
+      w.b0 = b0;
+      w.b1 = b1;
+      if (!(w.b1 > w.b0)) return true;
+    }
+    unsigned char& next = recent_next_[w.h];
+    ring[next] = w;
+    next = static_cast<unsigned char>((next + 1) % kRecent);
+    return false;
+  }
+
   void push_window(Window w) {
     if (!(w.b1 > w.b0)) return;
     if (!trim(w)) return;
-    if (out_.window_store.size() >= max_windows_) {
+    if (dominated(w)) return;
+    if (created_ >= max_windows_) {
       std::ostringstream m;
       m << "exact distance: more than " << max_windows_ << " windows ("
         << mb(double(max_windows_) * kExactWindowBytes) << " at " << kExactWindowBytes
@@ -235,9 +304,8 @@ class Propagator {
     }
     const double nearest_x = std::clamp(w.ix, w.b0, w.b1);
     const double key = w.sigma + norm2(nearest_x - w.ix, w.iy);
-    const Index id = static_cast<Index>(out_.window_store.size());
-    out_.window_store.push_back(w);
-    queue_.push({key, id});
+    ++created_;
+    queue_.push({key, w});
   }
 
   // Windows from u at its distance on the far sides of the faces around it: of every face for a
@@ -312,7 +380,7 @@ class Propagator {
     }
   }
 
-  void propagate(Index id);
+  void propagate(Window w);
 
   static constexpr double kTrimSlack = 1e-13;  // trimming stops short by this × the edge
   static constexpr double kTie = 1e-12;        // distances this close (relative) tie
@@ -320,6 +388,12 @@ class Propagator {
   ExactDistance& out_;
   const Index nv_;
   std::size_t max_windows_ = 0;
+  std::size_t created_ = 0;  // windows pushed (each costs kExactWindowBytes at most)
+  // Windows remembered per halfedge: 1, 2 and 4 leave 26%, 27% and 28% fewer windows on a
+  // range scan at about the same time; one costs the least memory (docs/decisions.md D-296).
+  static constexpr int kRecent = 1;
+  std::vector<Window> recent_;              // per halfedge, kRecent windows pushed on it
+  std::vector<unsigned char> recent_next_;  // per halfedge: the ring's slot to fill next
   double budget_ = 0.0;
   std::vector<double> split_d_, split_x_;
   std::vector<char> pseudo_, emitted_;
@@ -332,12 +406,13 @@ class Propagator {
   };
   std::vector<Corner> ring_;
   std::vector<Index> start_, out_he_;
-  std::priority_queue<Entry, std::vector<Entry>, Later> queue_;
+  RadixQueue queue_;
 };
 
-void Propagator::propagate(Index id) {
-  Window w = out_.window_store[id];
+void Propagator::propagate(Window w) {
   if (!trim(w)) return;
+  const Index id = static_cast<Index>(out_.window_store.size());
+  out_.window_store.push_back(w);
   const Index h = w.h;
   const double L = tri_.halfedge_length(h);
   const Vec2 img(w.ix, w.iy), c = apex_[h];
@@ -387,6 +462,61 @@ void Propagator::propagate(Index id) {
 }
 
 }  // namespace
+
+namespace {
+
+// Real roots of σ' + |I' x| = σ + |I x| on the line (squared twice: a quadratic; it may add
+// roots that are not crossings, which prune_window_by() checks out).
+int crossings(const Window& r, const Window& w, double roots[2]) {
+  const double u = w.ix - r.ix, delta = w.sigma - r.sigma;
+  const double k = r.ix * r.ix - w.ix * w.ix + r.iy * r.iy - w.iy * w.iy - delta * delta;
+  const double d2 = delta * delta;
+  const double qa = u * u - d2, qb = u * k + 2.0 * d2 * w.ix;
+  const double qc = 0.25 * k * k - d2 * (w.ix * w.ix + w.iy * w.iy);
+  if (std::abs(qa) < 1e-300) {
+    if (qb == 0.0) return 0;
+    roots[0] = -qc / qb;
+    return 1;
+  }
+  const double disc = qb * qb - 4.0 * qa * qc;
+  if (disc < 0.0) return 0;
+  const double sq = std::sqrt(disc);
+  roots[0] = (-qb - sq) / (2.0 * qa);
+  roots[1] = (-qb + sq) / (2.0 * qa);
+  return 2;
+}
+
+}  // namespace
+
+std::pair<double, double> prune_window_by(const ExactDistance::Window& other,
+                                          const ExactDistance::Window& w) {
+  const Window& r = other;
+  if (!(r.sigma >= w.sigma) || r.b1 <= w.b0 || w.b1 <= r.b0) return {w.b0, w.b1};
+  const auto beaten = [&](double x) {
+    return x >= r.b0 && x <= r.b1 &&
+           norm2(x - r.ix, r.iy) + r.sigma <= norm2(x - w.ix, w.iy) + w.sigma;
+  };
+  const bool at0 = beaten(w.b0), at1 = beaten(w.b1);
+  if (at0 && at1) return {w.b0, w.b0};
+  if (!at0 && !at1) return {w.b0, w.b1};
+  double roots[2];
+  const int n = crossings(r, w, roots);
+  const double nudge = 1e-13 * (std::abs(w.b0) + std::abs(w.b1));  // a root rounded outside
+  if (at0) {  // the least crossing beyond b0 ends the beaten piece
+    double t = std::min(w.b1, r.b1);
+    for (int i = 0; i < n; ++i) {
+      if (roots[i] > w.b0 && roots[i] < t) t = roots[i];
+    }
+    if (!beaten(t)) t -= nudge;
+    return {t > w.b0 && beaten(t) ? t : w.b0, w.b1};
+  }
+  double t = std::max(w.b0, r.b0);
+  for (int i = 0; i < n; ++i) {
+    if (roots[i] < w.b1 && roots[i] > t) t = roots[i];
+  }
+  if (!beaten(t)) t += nudge;
+  return {w.b0, t < w.b1 && beaten(t) ? t : w.b1};
+}
 
 SurfacePoint corner_point(Index h) {
   SurfacePoint p;

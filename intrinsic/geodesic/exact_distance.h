@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "intrinsic/core/surface_point.h"
@@ -83,6 +84,19 @@ ExactDistance exact_distance(const IntrinsicTriangulation& tri,
 /// @throws InvalidInput if a vertex is out of range or unreferenced, or as above
 ExactDistance exact_distance(const IntrinsicTriangulation& tri, const std::vector<Index>& sources,
                              const ExactDistanceOptions& options = {});
+
+/// Pruning of a window by another on the same halfedge (exact_distance() tries each window it
+/// makes against the last one made on its halfedge): what is left of w's interval [b0, b1] once
+/// the ends where `other` is at most as long (σ' + |I' x| ≤ σ + |I x|, x in other's interval)
+/// are cut off. It cuts only when σ' ≥ σ: the points where `other` is at most w then form a
+/// convex set (bounded by a hyperbola branch around I'), so a piece whose two ends it beats is
+/// beaten all along, and every point beyond it, ray by ray (when σ' < σ, w may be the shorter
+/// in its middle although beaten at both ends: nothing is cut). The crossing that ends a cut
+/// piece is a root of a quadratic, checked before use. Both windows in the halfedge's frame
+/// (h and parent are not read).
+/// @return {b0, b1} of w's part left; b1 ≤ b0 when nothing is left
+std::pair<double, double> prune_window_by(const ExactDistance::Window& other,
+                                          const ExactDistance::Window& w);
 
 /// The point of face(h)'s corner tail(h) as a SurfacePoint (a vertex as a surface point).
 SurfacePoint corner_point(Index h);

@@ -130,15 +130,19 @@ class SingleSourceGeodesics:
             source, ``inf`` where unreachable: another component, unreferenced vertices).
         paths: with ``return_paths=True``, one (#points, 3) polyline per vertex from the source
             to it (the source's: its own position; unreachable: an empty (0, 3) array); else None.
-        flips: intrinsic edge flips performed.
+        flips: intrinsic edge flips performed (FlipOut; 0 with the exact distance).
         iterations: FlipOut reroutes performed.
         blocked: vertices whose geodesic was left bent (a wedge held an earlier path).
+        exact: True when the geodesics are the exact distance's (the shortest ones).
+        windows: the exact distance's windows (its work; 0 with FlipOut).
     """
     length: np.ndarray
     paths: Optional[List[np.ndarray]]
     flips: int
     iterations: int
     blocked: int
+    exact: bool = False
+    windows: int = 0
 
 
 def _report(d):
@@ -334,43 +338,49 @@ def bezier_curve(V, F, control_points, rounds=4, mollify=1e-5, memory_budget=Non
                        midpoints=report["bezier_midpoints"], **c)
 
 
-def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5, progress=None):
-    """Geodesics from one vertex to every vertex, and their lengths (FlipOut in a Dijkstra).
+def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5, progress=None,
+                            single_source_flipout=False):
+    """Geodesics from one vertex to every vertex, and their lengths.
 
-    A Dijkstra search from ``source`` that straightens every path by FlipOut before accepting
-    it, holding the paths accepted earlier fixed: at the end the triangulation holds a geodesic
-    from the source to every reached vertex. Each length is that geodesic's: ≥ the exact
-    geodesic distance, and equal to it wherever the geodesic found is the shortest one (94–100%
-    of the vertices on the reference meshes; fewer on meshes of slivers). Same as
-    ``ifem geodesic MESH --all-from S -o OUT.txt``.
+    By default the shortest geodesics, from the exact polyhedral distance (window propagation
+    on the mesh's own faces, as ``ifem distance --exact``; each path is traced back through its
+    windows). With ``single_source_flipout=True`` (and when the exact distance's windows exceed
+    the memory budget) a Dijkstra search from ``source`` that straightens every path by FlipOut
+    before accepting it, holding the paths accepted earlier fixed; each length is then that
+    geodesic's: ≥ the exact distance, equal to it wherever the geodesic found is the shortest
+    one (94–100% of the vertices on the reference meshes; fewer on meshes of slivers). Same as
+    ``ifem geodesic MESH --all-from S -o OUT.txt [--single-source-flipout]``.
 
     Args:
         V: #V×3 positions.
         F: #F×3 vertex ids (an edge-manifold, orientable mesh).
         source: the source vertex id.
-        return_paths: also trace every geodesic over the input (one polyline per vertex; costs
-            about as much as the search again).
+        return_paths: also trace every geodesic over the input (one polyline per vertex; with
+            FlipOut it costs about as much as the search again).
         mollify: relative mollification margin.
         progress: None (default: nothing is reported, nothing printed) or a callable
             ``progress(fraction, stage)``, stage ``"single-source geodesics"``: the vertices
             accepted over #V (0 first, non-decreasing, exactly 1 last).
+        single_source_flipout: build the geodesics by FlipOut instead of the exact distance.
 
     Returns:
         SingleSourceGeodesics: ``length`` (#V, ``inf`` where unreachable), ``paths`` (when
-        asked), ``flips``, ``iterations``, ``blocked``.
+        asked), ``flips``, ``iterations``, ``blocked``, ``exact``, ``windows``.
 
     Raises:
         InvalidInput: ``source`` out of range or not an integer.
     """
     V, F, _ = _input(V, F)
     length, paths, info = _ifem.single_source_geodesics(V, F, source, bool(return_paths),
-                                                        float(mollify), progress)
+                                                        float(mollify), progress,
+                                                        bool(single_source_flipout))
     return SingleSourceGeodesics(length=length, paths=paths, **info)
 
 
 def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, network=None,
              all_from=None, return_paths=False, mollify=1e-5, max_iterations=None,
-             accept_partial=False, memory_budget=None, start="best", progress=None):
+             accept_partial=False, memory_budget=None, start="best", progress=None,
+             single_source_flipout=False):
     """Geodesic curves by FlipOut, as ``ifem geodesic``: one function, the CLI's modes as
     keywords. Give exactly one of
 
@@ -385,7 +395,8 @@ def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, netw
     ``accept_partial`` (``--max-iterations``, ``--accept-partial``) go to networks,
     ``memory_budget`` (``--memory-budget``) to Bézier curves, ``start`` (``--start``) to
     :func:`geodesic_path`, ``progress`` (a callable ``progress(fraction, stage)``; None: none)
-    to :func:`single_source_geodesics`.
+    and ``single_source_flipout`` (``--single-source-flipout``) to
+    :func:`single_source_geodesics`.
 
     Returns:
         GeodesicCurve, BezierCurve, GeodesicNetwork or SingleSourceGeodesics, as the mode's
@@ -409,6 +420,8 @@ def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, netw
         raise InvalidInput("return_paths applies to all_from (single-source geodesics)")
     if progress is not None and all_from is None:
         raise InvalidInput("progress applies to all_from (single-source geodesics)")
+    if single_source_flipout and all_from is None:
+        raise InvalidInput("single_source_flipout applies to all_from (single-source geodesics)")
     if (max_iterations is not None or accept_partial) and network is None:
         raise InvalidInput("max_iterations and accept_partial apply to network (FlipOut on "
                            "a curve network)")
@@ -416,7 +429,8 @@ def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, netw
         raise InvalidInput("memory_budget applies to bezier (the vertices a Bézier curve adds)")
     V, F, _ = _input(V, F)
     if all_from is not None:
-        return single_source_geodesics(V, F, all_from, return_paths, mollify, progress)
+        return single_source_geodesics(V, F, all_from, return_paths, mollify, progress,
+                                       single_source_flipout)
     if network is not None:
         return geodesic_network(V, F, network, pin, mollify, max_iterations, accept_partial)
     if bezier is not None:

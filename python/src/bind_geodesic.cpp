@@ -274,7 +274,8 @@ py::tuple bezier_curve(const py::handle& V, const py::handle& F, const py::handl
 // Lengths of single-source geodesics from `source` (the CLI's --all-from), and with
 // `return_paths` every geodesic as a polyline (the source's: one point; unreached: none).
 py::tuple single_source(const py::handle& V, const py::handle& F, const py::handle& source,
-                        bool return_paths, double mollify, const py::handle& progress) {
+                        bool return_paths, double mollify, const py::handle& progress,
+                        bool single_source_flipout) {
   const io::SurfaceInput in = triangle_mesh(V, F);
   const Index nv = static_cast<Index>(in.positions.rows());
   long long s = 0;
@@ -286,6 +287,7 @@ py::tuple single_source(const py::handle& V, const py::handle& F, const py::hand
   }
   recipes::GeodesicOptions o = options_of(mollify);
   o.trace_paths = return_paths;
+  o.single_source_flipout = single_source_flipout;
   o.on_progress = progress_callback(progress);
   recipes::SingleSourceResult g;
   {
@@ -296,6 +298,8 @@ py::tuple single_source(const py::handle& V, const py::handle& F, const py::hand
   info["flips"] = g.flips;
   info["iterations"] = g.iterations;
   info["blocked"] = g.blocked;
+  info["exact"] = g.exact;
+  info["windows"] = g.windows;
   py::object paths = py::none();
   if (return_paths) {
     py::list l;
@@ -340,7 +344,8 @@ void bind_geodesic(py::module_& m) {
   m.def("bezier_curve", &bezier_curve, py::arg("V"), py::arg("F"), py::arg("control_points"),
         py::arg("rounds"), py::arg("mollify"), py::arg("memory_budget_bytes"));
   m.def("single_source_geodesics", &single_source, py::arg("V"), py::arg("F"), py::arg("source"),
-        py::arg("return_paths"), py::arg("mollify"), py::arg("progress") = py::none());
+        py::arg("return_paths"), py::arg("mollify"), py::arg("progress") = py::none(),
+        py::arg("single_source_flipout") = false);
   m.def("read_network", &read_network, py::arg("path"));
 }
 

@@ -176,6 +176,26 @@ def test_single_source_matches_cli(spot, tmp_path):
         assert abs(polyline_length(P) - g.length[v]) <= 1e-9 * g.length[v]
 
 
+def test_single_source_exact_by_default_flipout_on_request(spot):
+    V, F = spot
+    g = ifem.single_source_geodesics(V, F, 7, return_paths=True)
+    assert g.exact and g.windows > 0 and g.flips == 0
+    f = ifem.single_source_geodesics(V, F, 7, single_source_flipout=True)
+    assert not f.exact and f.windows == 0 and f.flips > 0
+    # the exact geodesics are the shortest: FlipOut's are never shorter, equal on most vertices
+    assert (f.length >= g.length * (1 - 1e-9)).all()
+    assert np.mean(np.abs(f.length - g.length) <= 1e-9 * g.length.max()) >= 0.9
+    # the exact paths run on the surface: never shorter than their chords, as long as the length
+    for v in range(1, len(V), 61):
+        P = g.paths[v]
+        assert np.array_equal(P[0], V[7]) and np.allclose(P[-1], V[v], atol=1e-12)
+        assert abs(polyline_length(P) - g.length[v]) <= 1e-9 * g.length[v]
+    same = ifem.geodesic(V, F, all_from=7, single_source_flipout=True)
+    assert np.array_equal(same.length, f.length)
+    with pytest.raises(ifem.InvalidInput, match="single_source_flipout applies to all_from"):
+        ifem.geodesic(V, F, points=[0, 1], single_source_flipout=True)
+
+
 def test_single_source_unreachable_is_inf(tmp_path):
     # two separate squares: the second one is unreachable from the first
     V, F = flat_grid(4)

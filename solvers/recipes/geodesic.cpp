@@ -320,6 +320,46 @@ GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCu
   return run;
 }
 
+namespace {
+
+// Single-source geodesics from the exact distance on st's triangulation as built (its faces are
+// the input's, so each path point's position is its barycentric mix of the corners). False when
+// the windows exceed the memory budget.
+bool exact_single_source(const SignpostTriangulation& st, const io::SurfaceInput& input,
+                         Index source, const GeodesicOptions& options, SingleSourceResult& r) {
+  intrinsic::ExactDistanceOptions eo;
+  eo.max_memory_bytes = options.max_memory_bytes;
+  const intrinsic::IntrinsicTriangulation& tri = st.intrinsic();
+  if (tri.vertex_halfedge(source) == kInvalidIndex) return false;  // FlipOut's message
+  if (options.on_progress) options.on_progress(0.0, "single-source geodesics");
+  intrinsic::ExactDistance d;
+  try {
+    d = intrinsic::exact_distance(tri, std::vector<Index>{source}, eo);
+  } catch (const InvalidInput&) {  // the source is valid: only the budget throws
+    return false;
+  }
+  const Index nv = static_cast<Index>(input.positions.rows());
+  r.exact = true;
+  r.windows = d.windows;
+  r.length = d.distance.head(nv);
+  if (options.on_progress) options.on_progress(1.0, "single-source geodesics");
+  for (Index v = 0; options.trace_paths && v < nv; ++v) {
+    std::vector<Eigen::Vector3d> line;
+    for (const intrinsic::SurfacePoint& p : d.path_to_source(v)) {
+      Eigen::Vector3d q = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k) {
+        q += p.bary[k] * input.positions.row(tri.tail(3 * p.face + k)).transpose();
+      }
+      line.push_back(q);
+    }
+    std::reverse(line.begin(), line.end());  // from the source
+    r.paths.push_back(std::move(line));
+  }
+  return true;
+}
+
+}  // namespace
+
 SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,
                             const GeodesicOptions& options) {
   options.validate();
@@ -329,9 +369,13 @@ SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,
   }
   SignpostTriangulation st = signposts(input, options.mollify_relative_epsilon);
   const Stopwatch watch;
+  SingleSourceResult r;
+  if (!options.single_source_flipout && exact_single_source(st, input, source, options, r)) {
+    r.seconds = watch.seconds();
+    return r;
+  }
   const intrinsic::SingleSourceGeodesics g =
       intrinsic::single_source_geodesics(st, source, {}, options.on_progress);
-  SingleSourceResult r;
   r.seconds = watch.seconds();
   r.length = g.length.head(nv);
   r.flips = g.flips;

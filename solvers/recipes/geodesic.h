@@ -36,14 +36,22 @@ struct GeodesicOptions {
   /// Set: one open curve whose points are the control points of a geodesic Bézier curve, with
   /// this many rounds of de Casteljau subdivision, in [0, 16] (0: the geodesic control polygon).
   std::optional<int> bezier_rounds;
-  /// Single-source mode: also trace every geodesic over the input (costs about one more search).
+  /// Single-source mode: also trace every geodesic over the input (the exact distance's paths
+  /// back: O(path length) each; with FlipOut about one more search).
   bool trace_paths = false;
+  /// Single-source mode: false (default) takes the lengths and paths from the exact distance
+  /// (intrinsic::exact_distance on the signpost triangulation as built: the shortest geodesics,
+  /// no flip); true builds every geodesic by FlipOut (intrinsic::single_source_geodesics: edge
+  /// paths of the triangulation, locally shortest, not always the shortest ones). When the
+  /// exact distance's windows exceed the memory budget (max_memory_bytes), FlipOut is used.
+  bool single_source_flipout = false;
   intrinsic::FlipOutOptions flipout;  ///< how curves are shortened (iteration cap, ...)
   /// Curves that stopped at FlipOut's iteration cap are not geodesic: false refuses them
   /// (InvalidInput stating what was reached), true returns them as they are.
   bool accept_partial = false;
   /// Memory budget, bytes, of the vertices a Bézier curve adds (intrinsic::check_curve_budget(),
-  /// before any flip); 0: intrinsic::default_memory_budget().
+  /// before any flip) and of the exact distance's windows in single-source mode; 0:
+  /// intrinsic::default_memory_budget().
   double max_memory_bytes = 0.0;
   /// FlipOut's start paths for one open path between two points (intrinsic::shortest_geodesic):
   /// kBest (default) shortens the Dijkstra edge path and the start paths of StartGuide (the
@@ -102,8 +110,11 @@ struct SingleSourceResult {
   /// With trace_paths: one polyline per input vertex (the source's: its own position;
   /// unreachable: empty); else empty.
   std::vector<std::vector<Eigen::Vector3d>> paths;
-  Index flips = 0, iterations = 0;
-  Index blocked = 0;  ///< vertices whose path was left bent (a blocked wedge)
+  /// True: lengths and paths from the exact distance (shortest geodesics); false: FlipOut's.
+  bool exact = false;
+  std::size_t windows = 0;          ///< exact: the exact distance's windows (its work)
+  Index flips = 0, iterations = 0;  ///< FlipOut: its flips and iterations
+  Index blocked = 0;  ///< FlipOut: vertices whose path was left bent (a blocked wedge)
   double seconds = 0.0;
 };
 
@@ -160,8 +171,9 @@ void check_curves(const std::vector<GivenCurve>& curves, const io::SurfaceInput&
 GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCurve>& curves,
                         const GeodesicOptions& options = {});
 
-/// Single-source geodesics: a geodesic from `source` to every vertex (Dijkstra with FlipOut at
-/// the frontier) and their lengths.
+/// Single-source geodesics: a geodesic from `source` to every vertex and their lengths: the
+/// shortest ones from the exact distance (default), or by FlipOut (Dijkstra with FlipOut at the
+/// frontier; GeodesicOptions::single_source_flipout).
 /// @throws InvalidInput on a source outside [0, #V_in), bad options, an input without faces
 /// @throws NonManifoldInput on a mesh that is not edge-manifold and orientable
 SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,

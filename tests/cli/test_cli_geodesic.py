@@ -238,6 +238,20 @@ def test_geodesic_all_from(cli):
     for v, (q, d) in enumerate(zip(p, values)):
         chord = math.dist(p[0], q)
         assert d >= 0 and d + 1e-9 >= chord, f"vertex {v}: {d} < {chord}"
+    # the default is the exact distance (the shortest geodesics): FlipOut's geodesics are never
+    # shorter, and equal on most vertices; the exact command gives the same lengths
+    assert grep(r"^single-source geodesics from vertex 0: exact distance, [0-9]+ windows", log)
+    flip = cli.out / "spot_ss_flip.txt"
+    log = cli.ok("geodesic", cli.spot, "--all-from", 0, "--single-source-flipout", "-o", flip,
+                 "--quiet").out
+    assert grep(r"^single-source geodesics from vertex 0: FlipOut, [0-9]+ flips", log), log
+    flipped = numbers(flip)
+    assert all(f >= d * (1 - 1e-9) for d, f in zip(values, flipped))
+    assert sum(abs(f - d) <= 1e-9 * max(d, 1e-300) for d, f in zip(values, flipped)) >= 0.9 * len(
+        values)
+    exact = cli.out / "spot_exact.txt"
+    cli.ok("distance", cli.spot, "--source", 0, "--exact", "-o", exact, "--quiet")
+    assert all(abs(a - b) <= 1e-12 * max(values) for a, b in zip(numbers(exact), values))
     ply = cli.out / "spot_ss.ply"
     cli.ok("geodesic", cli.spot, "--all-from", 0, "-o", ply, "--quiet")
     header = head_bytes(ply, 400)
@@ -259,6 +273,8 @@ USAGE_REFUSALS = [
      ["--all-from", "2930", "--quiet"]),
     ("--all-from writes one length per vertex", "g1.obj", ["--all-from", "0", "--quiet"]),
     ("give exactly one of --path, --network, --all-from", "g1.obj", ["--quiet"]),
+    ("--single-source-flipout goes with --all-from", "g1.obj",
+     ["--path", "0,1", "--single-source-flipout", "--quiet"]),
     ("give exactly one of --path, --network, --all-from", "g1.txt",
      ["--path", "0,1", "--all-from", "0", "--quiet"]),
     ("--bezier takes --path's points as control points", "g1.obj",

@@ -1,5 +1,6 @@
 // Exact geodesic distance (intrinsic/geodesic/exact_distance.h) against known truth: Euclidean
-// distance on flat domains (convex, and around the reflex corner of an L), the analytic distance
+// distance on flat domains (convex, around the reflex corner of an L, around the corners of a
+// hole), the pruning of one window by another where it must and must not cut, the analytic distance
 // on a cone of total angle > 2π (a saddle's shadow), the exact references of tests/data/reference
 // and ../shared/data/reference (CGAL's exact code; MANIFEST.md), invariance under intrinsic
 // Delaunay flips, the tufted cover of a nonmanifold book, paths whose length is the distance,
@@ -8,9 +9,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <utility>
 
 #include "helpers.h"
 #include "intrinsic/core/errors.h"
@@ -100,6 +104,124 @@ TEST(ExactDistance, FlatLShapeBendsAtTheReflexCorner) {
     }
   }
   EXPECT_GT(bent, 50);  // the test reached behind the corner
+}
+
+// prune_window_by() on the unit edge [0, 1]: windows {b0, b1, ix, iy, σ, h, parent}.
+TEST(ExactDistance, PruneWindowByAnotherOnlyWhereProven) {
+  using W = ExactDistance::Window;
+  const auto len = [](const W& w, double x) { return w.sigma + std::hypot(x - w.ix, w.iy); };
+  // Must not prune: `other` (σ' = 0 < σ = 1) is shorter at both ends of w but longer in its
+  // middle, where w's path is the shortest: nothing is cut.
+  const W w{0.0, 1.0, 0.5, -0.1, 1.0, 0, 0}, far{0.0, 1.0, 0.5, -1.3, 0.0, 0, 0};
+  ASSERT_LT(len(far, 0.0), len(w, 0.0));
+  ASSERT_LT(len(far, 1.0), len(w, 1.0));
+  ASSERT_GT(len(far, 0.5), len(w, 0.5));
+  EXPECT_EQ(prune_window_by(far, w), std::make_pair(0.0, 1.0));
+  // σ' ≥ σ and shorter at both ends: shorter all along (convex), nothing is left.
+  const W u{0.0, 1.0, 0.5, -1.0, 0.0, 0, 0}, near{0.0, 1.0, 0.5, -0.5, 0.3, 0, 0};
+  for (double x = 0.0; x <= 1.0; x += 0.125) ASSERT_LT(len(near, x), len(u, x));
+  const auto [a0, a1] = prune_window_by(near, u);
+  EXPECT_LE(a1, a0);
+  // Shorter on one side only: cut at the crossing (found here by bisection), never beyond the
+  // other window's own interval.
+  for (const double sigma : {0.0, 0.1, 0.25}) {
+    const W left{0.0, 1.0, 0.0, -1.0, 0.0, 0, 0}, right{0.0, 1.0, 1.0, -1.0, sigma, 0, 0};
+    double lo = 0.0, hi = 1.0;
+    for (int i = 0; i < 100; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (len(right, mid) <= len(left, mid) ? hi : lo) = mid;
+    }
+    const auto [c0, c1] = prune_window_by(right, left);
+    EXPECT_EQ(c0, 0.0);
+    EXPECT_NEAR(c1, hi, 1e-12) << "sigma " << sigma;
+    EXPECT_LE(len(right, c1), len(left, c1) * (1.0 + 1e-15)) << "the cut point is proven";
+    W part = right;
+    part.b0 = 0.75;  // the other window covers [0.75, 1] only
+    const auto [p0, p1] = prune_window_by(part, left);
+    EXPECT_EQ(p0, 0.0);
+    EXPECT_NEAR(p1, std::max(hi, 0.75), 1e-12) << "sigma " << sigma;
+    // and the other way round: σ' < σ, nothing is cut
+    if (sigma > 0.0) {
+      EXPECT_EQ(prune_window_by(left, right), std::make_pair(0.0, 1.0));
+    }
+  }
+}
+
+// Open square (0.4, 0.6)² (the hole below): true when the segment a→b passes through it.
+bool through_hole(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  double lo = 0.0, hi = 1.0;
+  for (int k = 0; k < 2; ++k) {
+    const double d = b[k] - a[k];
+    if (d == 0.0) {
+      if (!(a[k] > 0.4 && a[k] < 0.6)) return false;
+      continue;
+    }
+    const double t0 = (0.4 - a[k]) / d, t1 = (0.6 - a[k]) / d;
+    lo = std::max(lo, std::min(t0, t1));
+    hi = std::min(hi, std::max(t0, t1));
+  }
+  return lo < hi - 1e-12;
+}
+
+// The unit square less the hole (0.4, 0.6)², a 20×20 grid: the four corners of the hole are
+// pseudo-sources at different distances whose windows cross the same edges as the source's and
+// each other's, in both orders (a farther one pushed first, a nearer one first), which is where
+// pruning one window by another on its edge may cut only what the other beats. Truth: shortest
+// paths in the visibility graph of the source and the hole's corners.
+TEST(ExactDistance, FlatSquareWithAHoleBendsAtItsCorners) {
+  const int n = 20;
+  Positions x((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) x.row(j * (n + 1) + i) << double(i) / n, double(j) / n, 0.0;
+  }
+  std::vector<std::array<Index, 3>> faces;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      if (i >= 8 && i < 12 && j >= 8 && j < 12) continue;
+      const Index a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      if ((i + j) % 2 == 0) {
+        faces.push_back({a, b, c});
+        faces.push_back({a, c, d});
+      } else {
+        faces.push_back({a, b, d});
+        faces.push_back({b, c, d});
+      }
+    }
+  }
+  const auto tri = IntrinsicTriangulation::from_positions(faces, x);
+  const std::vector<Eigen::Vector2d> corners = {{0.4, 0.4}, {0.6, 0.4}, {0.6, 0.6}, {0.4, 0.6}};
+  int bent = 0;
+  for (const Index src : {Index(0), Index(2 * (n + 1) + 10), Index(15 * (n + 1) + 3),
+                          Index(10 * (n + 1) + 20), Index(13 * (n + 1) + 12)}) {
+    const Eigen::Vector2d s = x.row(src).head<2>();
+    // Distances from s to the corners through the visibility graph (4 rounds of relaxation).
+    std::vector<double> dc(4);
+    for (int k = 0; k < 4; ++k) {
+      dc[k] = through_hole(s, corners[k]) ? 1e300 : (s - corners[k]).norm();
+    }
+    for (int round = 0; round < 4; ++round) {
+      for (int a = 0; a < 4; ++a) {
+        for (int b = 0; b < 4; ++b) {
+          if (!through_hole(corners[a], corners[b])) {
+            dc[b] = std::min(dc[b], dc[a] + (corners[a] - corners[b]).norm());
+          }
+        }
+      }
+    }
+    const ExactDistance d = exact_distance(tri, std::vector<Index>{src});
+    for (Index v = 0; v < tri.n_vertices(); ++v) {
+      if (tri.vertex_halfedge(v) == kInvalidIndex) continue;  // inside the hole
+      const Eigen::Vector2d p = x.row(v).head<2>();
+      double e = through_hole(s, p) ? 1e300 : (s - p).norm();
+      bent += e > 1e299;
+      for (int k = 0; k < 4; ++k) {
+        if (!through_hole(corners[k], p)) e = std::min(e, dc[k] + (corners[k] - p).norm());
+      }
+      ASSERT_NEAR(d.distance[v], e, 1e-12) << "source " << src << " vertex " << v;
+      ASSERT_NEAR(path_length(d, x, v), e, 1e-12) << "path from " << v;
+    }
+  }
+  EXPECT_GT(bent, 100);  // the test reached behind the hole
 }
 
 // A flat cone of total angle 2.5π (a saddle at the apex), rings of m vertices, built from

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -244,20 +245,38 @@ TEST(RecipeGeodesic, SingleSourceLengthsAreEuclidean) {
   const Index s = vertex_at(in, 0.25, 0.5);
   GeodesicOptions o;
   o.trace_paths = true;
-  const SingleSourceResult r = geodesic(in, s, o);
-  ASSERT_EQ(r.length.size(), in.positions.rows());
-  ASSERT_EQ(r.paths.size(), static_cast<std::size_t>(in.positions.rows()));
-  // flat and convex: the geodesic is the straight line, found for nearly every vertex (a path
-  // left bent by an earlier one is longer, never shorter)
-  Index straight = 0;
+  // Default: the exact distance, the straight line to every vertex, traced straight.
+  const SingleSourceResult e = geodesic(in, s, o);
+  ASSERT_TRUE(e.exact);
+  ASSERT_EQ(e.paths.size(), static_cast<std::size_t>(in.positions.rows()));
   for (Index v = 0; v < in.positions.rows(); ++v) {
-    const double exact = (in.positions.row(v) - in.positions.row(s)).norm();
-    EXPECT_GE(r.length[v], exact - 1e-9) << v;
-    straight += std::abs(r.length[v] - exact) <= 1e-9;
+    const Eigen::Vector3d a = in.positions.row(s), b = in.positions.row(v);
+    EXPECT_NEAR(e.length[v], (b - a).norm(), 1e-12) << v;
+    const std::vector<Eigen::Vector3d>& line = e.paths[static_cast<std::size_t>(v)];
+    EXPECT_LT((line.front() - a).norm(), 1e-15);
+    EXPECT_LT((line.back() - b).norm(), 1e-15);
+    for (const Eigen::Vector3d& x : line) EXPECT_LT((x - a).cross(b - a).norm(), 1e-12) << v;
   }
-  EXPECT_GE(straight, in.positions.rows() - r.blocked);
-  EXPECT_GE(straight, 0.9 * double(in.positions.rows()));
-  EXPECT_EQ(r.paths[static_cast<std::size_t>(s)].size(), 1u);
+  // Over the memory budget, and on request: FlipOut. Flat and convex: the geodesic is the
+  // straight line, found for nearly every vertex (a path left bent by an earlier one is
+  // longer, never shorter).
+  for (const bool on_request : {false, true}) {
+    GeodesicOptions f = o;
+    f.single_source_flipout = on_request;
+    f.max_memory_bytes = on_request ? 0.0 : 640.0;  // 10 windows
+    const SingleSourceResult r = geodesic(in, s, f);
+    EXPECT_FALSE(r.exact);
+    ASSERT_EQ(r.length.size(), in.positions.rows());
+    ASSERT_EQ(r.paths.size(), static_cast<std::size_t>(in.positions.rows()));
+    Index straight = 0;
+    for (Index v = 0; v < in.positions.rows(); ++v) {
+      EXPECT_GE(r.length[v], e.length[v] - 1e-9) << v;
+      straight += std::abs(r.length[v] - e.length[v]) <= 1e-9;
+    }
+    EXPECT_GE(straight, in.positions.rows() - r.blocked);
+    EXPECT_GE(straight, 0.9 * double(in.positions.rows()));
+    EXPECT_EQ(r.paths[static_cast<std::size_t>(s)].size(), 1u);
+  }
 }
 
 TEST(RecipeGeodesic, BadCurvesAndOptionsRejected) {
