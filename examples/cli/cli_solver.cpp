@@ -14,8 +14,9 @@ OptionSpec solver_option() {
           "growing faster than the mesh), multigrid (conjugate gradients with\n"
           "V-cycles on a hierarchy of intrinsic simplifications of the triangulation,\n"
           "see `ifem simplify`: memory linear in the mesh, answers to a relative\n"
-          "residual of 1e-10; the heat method then needs more continuation stages and\n"
-          "runs slower), or auto (poisson: multigrid from 2.5M vertices on, where the\n"
+          "residual of 1e-10; the heat method then continues in stages from the frontier\n"
+          "of the heat it resolves, each a direct solve on a band around it), or auto\n"
+          "(poisson: multigrid from 2.5M vertices on, where the\n"
           "direct factors take a third of a 24 GiB machine; distance: direct)");
 }
 

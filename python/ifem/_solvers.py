@@ -347,8 +347,9 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
 
     ``solver``: the linear solver, as the CLI's ``--solver``: ``"direct"`` (Cholesky factors,
     the default), ``"multigrid"`` (conjugate gradients with V-cycles on a hierarchy of coarser
-    intrinsic simplifications, see :func:`simplify`; the heat method then needs more
-    continuation stages and runs slower) or ``"auto"`` (the direct solver for distances).
+    intrinsic simplifications, see :func:`simplify`; the heat method then continues in stages
+    from the frontier of the heat it resolves, each a direct solve on a band around it) or
+    ``"auto"`` (the direct solver for distances).
 
     Returns:
         #V_in float64 array of distances (``inf`` where no source reaches).

@@ -28,7 +28,7 @@ def test_multigrid_equals_direct(spot):
     ua = ifem.poisson(V, F, dirichlet=bc)
     ub = ifem.poisson(V, F, dirichlet=bc, solver="multigrid")
     assert np.abs(ua - ub).max() <= 1e-6 * np.abs(ua).max()
-    # distances: the iterative heat takes more continuation stages (D-231), so it differs by
+    # distances: the iterative heat takes continuation stages (D-231, D-285), so it differs by
     # the order of the method's own error; against the exact distance it is as accurate
     da, db = ifem.distance(V, F, 0), ifem.distance(V, F, 0, solver="multigrid")
     exact = np.asarray(ifem.exact_distance(V, F, [0]))

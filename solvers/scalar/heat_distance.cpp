@@ -8,6 +8,7 @@
 #include <mutex>
 #include <numeric>
 #include <optional>
+#include <queue>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -38,6 +39,15 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // and 0.9 ms to write on one).
 constexpr std::int64_t kParallelBlockValues = 1 << 16;
 constexpr double kAbsoluteHeatFloor = 1e-290;  // stay clear of subnormals
+// The multigrid path's later stages (D-285): a band reaches kBandWidth·√t beyond the frontier
+// and kBandBehind·√t behind it (the heat of one backward Euler step decays like e^(−d/√t)); a
+// vertex is resolved / trusted when its heat exceeds 1e3 / 1e5 × the largest heat on the
+// band's far edge (the edge's reflection then moves it by ~1e-6 / 1e-10 relative), so a stage
+// advances ~80·√t.
+constexpr double kBandWidth = 96.0;
+constexpr double kBandBehind = 8.0;
+constexpr double kBandResolvedRatio = 1e3;
+constexpr double kBandTrustedRatio = 1e5;
 // From this many vertices on, queries solve with our supernodal kernel (see the constructor;
 // session 8: 28k vertices (rocketship) faster with CHOLMOD's simplicial solves, 50k
 // (icosphere(71)) faster with ours; since the kernel's own small-supernode loops (session 9)
@@ -343,6 +353,42 @@ struct HeatDistanceSolver::Impl {
   // φ on the region's unknowns: L φ = div(−∇u/|∇u|) over its faces, known φ as Dirichlet values.
   Eigen::VectorXd solve_region(const StageRegion& region, const Eigen::VectorXd& u,
                                const Eigen::VectorXd& phi) const;
+
+  // The multigrid path's later stages (docs/decisions.md D-285): each stage's heat is solved
+  // directly on a band around the frontier (vertices within a path length of it) instead of by a
+  // global PCG solve; the first stage and every Poisson solve on the whole surface stay multigrid.
+  bool band_stages = false;
+  double band_resolved_heat = 0.0;  // the options' thresholds before build_multigrid raised them
+  double band_trusted_heat = 0.0;
+  std::vector<char> on_boundary;  // #V: the surface's boundary (zero-Dirichlet heat), or empty
+  std::vector<Index> vf_offset;   // vertex → incident faces (CSR, each face once per vertex)
+  std::vector<Index> vf_face;
+  struct Band {
+    std::vector<Index> vertex;  // band vertices, in the order Dijkstra settled them
+    std::vector<Index> local;   // #V: vertex → position in `vertex`, or kInvalidIndex
+    std::vector<char> edge;     // per band vertex: on a face that is not in the band
+    std::vector<Index> face;    // faces with every corner in the band
+  };
+  // The bands' factorizations (and their regions'): one solve each, so the supernodal factor is
+  // solved as it is, not converted to simplicial form first.
+  static CholeskyOptions band_cholesky() {
+    CholeskyOptions o;
+    o.simplicial_solves = false;
+    return o;
+  }
+  // Vertices within path length `width` of the frontier beyond it (unknown) and `behind` behind
+  // it (known), their faces and edge.
+  Band make_band(const std::vector<Index>& frontier, const std::vector<char>& known, double width,
+                 double behind) const;
+  // (M + tL) u = δ on the band's faces (δ = 1 on the frontier), natural conditions at the band's
+  // edge; with Boundary::kAverage on a surface with boundary, the mean with the solution that is
+  // zero on its boundary vertices. #V, zero outside the band.
+  Eigen::VectorXd band_solve(const Band& band, const std::vector<char>& is_frontier) const;
+  // A later stage's heat on a band: thresholds as classify_heat(), and the band's truncation
+  // bounded by asking the heat to exceed kBand*Ratio × its largest value at the band's far edge;
+  // the band doubles while that trusts no unknown vertex. u: #V, zero outside the band.
+  StageHeat band_heat(const std::vector<char>& src_comp, const std::vector<char>& known,
+                      Eigen::VectorXd& u) const;
 };
 
 namespace {
@@ -386,6 +432,10 @@ void build_multigrid(HeatDistanceSolver::Impl& im, const HeatDistanceOptions& op
       std::make_shared<const std::vector<SparseMatrix>>(options.solver.provider()(im.tri));
   PoissonOptions heat_opt = poisson_opt;
   heat_opt.screening = 1.0;  // tL + 1·M
+  // positive definite by its masses, as the direct heat factor (query_factor_options): with zero
+  // values on the boundary, a coarse vertex whose support lies almost all on it has a tiny
+  // diagonal, not a singular one
+  heat_opt.solver.multigrid.coarsest.min_rcond = 0.0;
   const std::vector<Index> boundary = boundary_vertex_list(im.tri, options.boundary_vertices);
   im.comps = connected_components(im.tri);
   im.L = fem::cotan_laplacian(im.tri);
@@ -401,6 +451,30 @@ void build_multigrid(HeatDistanceSolver::Impl& im, const HeatDistanceOptions& op
     im.heat_dirichlet.emplace(tL, im.mass, im.comps, boundary, heat_opt);
   }
   im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, poisson_opt);
+  // later stages on bands (D-285): the options' own thresholds, the boundary and the faces of
+  // each vertex
+  im.band_stages = true;
+  im.band_resolved_heat = options.resolved_heat;
+  im.band_trusted_heat = options.trusted_heat;
+  if (im.heat_dirichlet) {
+    im.on_boundary.assign(im.tri.n_vertices(), 0);
+    for (const Index v : boundary) im.on_boundary[v] = 1;
+  }
+  const Index nv = im.tri.n_vertices(), nf = im.tri.n_faces();
+  const auto& tail = im.tri.tails();
+  auto corners = [&](Index f, auto&& visit) {  // each distinct corner of f once
+    for (int c = 0; c < 3; ++c) {
+      const Index v = tail[3 * f + c];
+      if ((c > 0 && v == tail[3 * f]) || (c == 2 && v == tail[3 * f + 1])) continue;
+      visit(v);
+    }
+  };
+  im.vf_offset.assign(nv + 1, 0);
+  for (Index f = 0; f < nf; ++f) corners(f, [&](Index v) { ++im.vf_offset[v + 1]; });
+  for (Index v = 0; v < nv; ++v) im.vf_offset[v + 1] += im.vf_offset[v];
+  im.vf_face.resize(std::size_t(im.vf_offset[nv]));
+  std::vector<Index> fill(im.vf_offset.begin(), im.vf_offset.end() - 1);
+  for (Index f = 0; f < nf; ++f) corners(f, [&](Index v) { im.vf_face[fill[v]++] = f; });
 }
 
 // The constructors: `heat` null builds the Neumann heat factor beside the others, else uses it
@@ -1328,8 +1402,165 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_region(const StageRegion& region
   fem::SparseMatrix A(nu, nu);
   A.setFromTriplets(trip.begin(), trip.end());
   A.makeCompressed();
-  const CholeskySolver chol(A);
+  const CholeskySolver chol(A, band_stages ? band_cholesky() : CholeskyOptions{});
   return chol.solve(rhs);
+}
+
+HeatDistanceSolver::Impl::Band HeatDistanceSolver::Impl::make_band(
+    const std::vector<Index>& frontier, const std::vector<char>& known, double width,
+    double behind) const {
+  const Index nv = tri.n_vertices();
+  const auto& tail = tri.tails();
+  Band band;
+  band.local.assign(nv, kInvalidIndex);
+  // Dijkstra along the edges from the frontier, known vertices up to `behind`
+  std::vector<double> dist(nv, kInf);
+  using Item = std::pair<double, Index>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  for (const Index v : frontier) {
+    dist[v] = 0.0;
+    queue.push({0.0, v});
+  }
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > dist[v] || band.local[v] != kInvalidIndex) continue;
+    band.local[v] = Index(band.vertex.size());
+    band.vertex.push_back(v);
+    for (Index k = vf_offset[v]; k < vf_offset[v + 1]; ++k) {
+      const Index f = vf_face[k];
+      for (int c = 0; c < 3; ++c) {
+        const Index a = tail[3 * f + c], b = tail[3 * f + (c + 1) % 3];
+        if (a == b || (a != v && b != v)) continue;
+        const Index w = a == v ? b : a;
+        const double nd = d + tri.halfedge_length(3 * f + c);
+        if (nd <= (known[w] ? behind : width) && nd < dist[w]) {
+          dist[w] = nd;
+          queue.push({nd, w});
+        }
+      }
+    }
+  }
+  // faces with every corner in the band (listed at their first corner), and the band's edge
+  band.edge.assign(band.vertex.size(), 0);
+  for (Index i = 0; i < Index(band.vertex.size()); ++i) {
+    const Index v = band.vertex[i];
+    for (Index k = vf_offset[v]; k < vf_offset[v + 1]; ++k) {
+      const Index f = vf_face[k];
+      const bool inside = band.local[tail[3 * f]] != kInvalidIndex &&
+                          band.local[tail[3 * f + 1]] != kInvalidIndex &&
+                          band.local[tail[3 * f + 2]] != kInvalidIndex;
+      if (!inside) {
+        band.edge[i] = 1;
+      } else if (tail[3 * f] == v) {
+        band.face.push_back(f);
+      }
+    }
+  }
+  return band;
+}
+
+Eigen::VectorXd HeatDistanceSolver::Impl::band_solve(const Band& band,
+                                                     const std::vector<char>& is_frontier) const {
+  const Index n = Index(band.vertex.size());
+  const double s = t * 0.5 / tri.multiplicity();
+  // one system per boundary condition: `fixed` vertices are zero (the surface's boundary)
+  auto solve = [&](bool dirichlet) {
+    std::vector<Index> id(std::size_t(n), kInvalidIndex);
+    Index m = 0;
+    for (Index i = 0; i < n; ++i) {
+      if (!(dirichlet && on_boundary[band.vertex[i]])) id[i] = m++;
+    }
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
+    std::vector<Eigen::Triplet<double>> trip;
+    for (Index i = 0; i < n; ++i) {
+      if (id[i] == kInvalidIndex) continue;
+      trip.emplace_back(id[i], id[i], mass[band.vertex[i]]);
+      if (is_frontier[band.vertex[i]]) rhs[id[i]] = 1.0;
+    }
+    for (const Index f : band.face) {
+      for (int k = 0; k < 3; ++k) {
+        const Index h = 3 * f + k;
+        const Index i = id[band.local[tri.tail(h)]], j = id[band.local[tri.head(h)]];
+        if (tri.tail(h) == tri.head(h)) continue;
+        const double w = s * intrinsic::halfedge_cotan(tri, h);
+        if (i != kInvalidIndex) trip.emplace_back(i, i, w);
+        if (j != kInvalidIndex) trip.emplace_back(j, j, w);
+        if (i != kInvalidIndex && j != kInvalidIndex) {
+          trip.emplace_back(i, j, -w);
+          trip.emplace_back(j, i, -w);
+        }
+      }
+    }
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
+    if (m == 0) return u;
+    fem::SparseMatrix A(m, m);
+    A.setFromTriplets(trip.begin(), trip.end());
+    A.makeCompressed();
+    CholeskyOptions chol = band_cholesky();
+    chol.min_rcond = 0.0;  // positive definite (masses), as the global heat factor
+    const Eigen::VectorXd x = CholeskySolver(A, chol).solve(rhs);
+    for (Index i = 0; i < n; ++i) {
+      if (id[i] != kInvalidIndex) u[i] = x[id[i]];
+    }
+    return u;
+  };
+  Eigen::VectorXd local = solve(false);
+  if (!on_boundary.empty()) local = 0.5 * (local + solve(true));
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(tri.n_vertices());
+  for (Index i = 0; i < n; ++i) u[band.vertex[i]] = local[i];
+  return u;
+}
+
+HeatDistanceSolver::Impl::StageHeat HeatDistanceSolver::Impl::band_heat(
+    const std::vector<char>& src_comp, const std::vector<char>& known, Eigen::VectorXd& u) const {
+  const Index nv = tri.n_vertices();
+  const Eigen::VectorXd delta = frontier_delta(known);
+  std::vector<Index> frontier;
+  std::vector<char> is_frontier(nv, 0);
+  for (Index v = 0; v < nv; ++v) {
+    if (delta[v] != 0.0) {
+      frontier.push_back(v);
+      is_frontier[v] = 1;
+    }
+  }
+  const double root_t = std::sqrt(t);
+  std::size_t last_size = 0;
+  for (double width = kBandWidth * root_t;; width *= 2.0) {
+    const Band band = make_band(frontier, known, width, kBandBehind * root_t);
+    u = band_solve(band, is_frontier);
+    // per component: the largest heat, and the largest on an unknown vertex of the band's edge
+    std::vector<double> mx(comps.count, 0.0), edge_mx(comps.count, 0.0);
+    for (Index i = 0; i < Index(band.vertex.size()); ++i) {
+      const Index v = band.vertex[i];
+      const Index c = comps.label[v];
+      mx[c] = std::max(mx[c], u[v]);
+      if (band.edge[i] && !known[v]) edge_mx[c] = std::max(edge_mx[c], u[v]);
+    }
+    StageHeat sh;
+    sh.resolved.assign(nv, 0);
+    sh.trusted.assign(nv, 0);
+    sh.comp_done.assign(comps.count, 1);
+    for (const Index v : band.vertex) {
+      const Index c = comps.label[v];
+      const double floor = std::max(
+          {band_resolved_heat * mx[c], kAbsoluteHeatFloor, kBandResolvedRatio * edge_mx[c]});
+      const double trust =
+          std::max({band_trusted_heat * mx[c], kAbsoluteHeatFloor, kBandTrustedRatio * edge_mx[c]});
+      sh.resolved[v] = u[v] > floor;
+      sh.trusted[v] = u[v] >= trust;
+    }
+    for (Index v = 0; v < nv; ++v) {
+      const Index c = comps.label[v];
+      if (c != kInvalidIndex && src_comp[c] && !known[v] && !sh.resolved[v]) sh.comp_done[c] = 0;
+    }
+    const bool progress = std::any_of(band.vertex.begin(), band.vertex.end(), [&](Index v) {
+      return !known[v] && (sh.trusted[v] || sh.comp_done[comps.label[v]]);
+    });
+    // grow the band while it trusts nothing (and still grows)
+    if (progress || band.vertex.size() == last_size) return sh;
+    last_size = band.vertex.size();
+  }
 }
 
 void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pts,
@@ -1340,9 +1571,16 @@ void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pt
   Index left = count_unknown(src_comp, known);
   while (left > 0) {
     ++rep.stages;
-    // heat from the frontier of the known region
-    const Eigen::VectorXd u = heat(frontier_delta(known));
-    const StageHeat sh = classify_heat(u, src_comp, known);
+    // heat from the frontier of the known region: on a band around it (multigrid path), or
+    // on the whole surface through the cached factors
+    Eigen::VectorXd u;
+    StageHeat sh;
+    if (band_stages) {
+      sh = band_heat(src_comp, known, u);
+    } else {
+      u = heat(frontier_delta(known));
+      sh = classify_heat(u, src_comp, known);
+    }
     const StageRegion region = stage_region(sh.resolved, known);
     if (region.unknown_vertex.empty()) {
       throw SolverError("heat distance: the heat does not reach " + std::to_string(left) +

@@ -101,12 +101,17 @@ struct HeatDistanceOptions {
   /// The linear solver of the heat and Poisson steps: the direct Cholesky factors (default) or
   /// multigrid-preconditioned CG (kMultigrid) on a hierarchy of the solver's triangulation
   /// (SolverChoice::provider(), called once on it); kAuto is the direct solver here at every size
-  /// (the iterative heat's extra continuation stages cost more than the factor saves:
-  /// docs/decisions.md D-233). An iterative heat solve is
-  /// right only to its tolerance relative to the largest heat, so with multigrid resolved_heat
-  /// and trusted_heat are raised to at least 1e3 and 1e5 × solver.multigrid.tolerance (more
-  /// continuation stages on large meshes: docs/decisions.md D-231). The shared heat factor
-  /// constructor and heat_factor() stay direct.
+  /// (docs/decisions.md D-233). An iterative heat solve is right only to its tolerance relative
+  /// to the largest heat, so with multigrid the first stage's resolved_heat and trusted_heat are
+  /// raised to at least 1e3 and 1e5 × solver.multigrid.tolerance (D-231), and each later stage
+  /// solves its heat directly on a band around the frontier instead of on the whole surface:
+  /// the vertices within a path length of 96·√t beyond it and 8·√t behind it, natural
+  /// conditions at the band's edge, a vertex resolved / trusted where its heat also exceeds 1e3
+  /// / 1e5 × the largest heat on the band's far edge (the band doubles while it trusts nothing);
+  /// resolved_heat and trusted_heat as given apply there (docs/decisions.md D-285). The
+  /// distances then differ from the direct solver's by the order of the method's own error
+  /// (the continuation's), not by the solver's tolerance. The shared heat factor constructor and
+  /// heat_factor() stay direct.
   SolverChoice solver;
   /// @throws InvalidInput naming the field: time_factor not > 0 and finite, mean_edge_length
   ///         negative or not finite, thresholds not 0 < resolved_heat ≤ trusted_heat ≤ 1,

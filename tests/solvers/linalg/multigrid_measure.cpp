@@ -2,6 +2,7 @@
 // multigrid on the nested icosphere hierarchy (tests/solvers/linalg/nested_hierarchies.h).
 //   ifem_multigrid_measure N direct|multigrid [LEVELS] [STEPS] [gs|jacobi] [TIME_FACTOR]
 //   [CORRECTION_STEPS]
+//   ifem_multigrid_measure N write FILE.ply   (the icosphere as a binary PLY, for `ifem distance`)
 // Prints the set-up and query times, the peak resident memory after each phase, the PCG
 // figures of one heat solve and the distance error against the great-circle distance.
 #include <sys/resource.h>
@@ -15,6 +16,7 @@
 #include "fem/operators.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/triangulation.h"
+#include "intrinsic/io/mesh_io.h"
 #include "solvers/linalg/nested_hierarchies.h"
 #include "solvers/scalar/heat_distance.h"
 
@@ -94,6 +96,10 @@ int main(int argc, char** argv) {
   const int correction_steps = argc > 7 ? std::atoi(argv[7]) : 0;
   auto t0 = std::chrono::steady_clock::now();
   const intrinsic::TriangleMesh mesh = intrinsic::icosphere(n);
+  if (kind == "write" && argc > 3) {
+    io::write_ply(argv[3], mesh.positions, mesh.faces);
+    return 0;
+  }
   const auto tri = intrinsic::IntrinsicTriangulation::from_positions(mesh.faces, mesh.positions);
   std::printf("icosphere(%d): %zu faces, %d vertices; mesh %.2f s, peak %.2f GiB\n", n,
               mesh.faces.size(), int(tri.n_vertices()), seconds_since(t0), peak_gib());
