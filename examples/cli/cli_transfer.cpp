@@ -9,6 +9,7 @@
 #include "fem/attribute_transfer.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
+#include "solvers/recipes/recipes.h"
 
 namespace ifem::cli {
 namespace {
@@ -28,7 +29,7 @@ int run(const Args& args) {
   const Eigen::VectorXd values = io::read_values(args.get("values"));  // fails before the mesh
   const PreparedSurface s =
       prepare_surface(args.positional()[0], args, refine_settings(args, 0.0, true));
-  const intrinsic::CorrespondenceView view = *s.correspondence();
+  const intrinsic::CorrespondenceView view = *s.correspondence();  // refined: always set
   const Index n_in = view.n_input_vertices(), nv = view.intrinsic().n_vertices();
   if (values.size() != (back ? nv : n_in)) {
     throw InvalidInput(
@@ -40,7 +41,7 @@ int run(const Args& args) {
               : "input vertex (" + std::to_string(n_in) + ")"));
   }
   const Stopwatch watch;
-  const Eigen::VectorXd out = fem::transfer(view, values, method, back);
+  const Eigen::VectorXd out = recipes::transfer(s, values, method, back);
   progress(args, std::string(fem::to_string(method)) + " transfer in " +
                      std::to_string(watch.seconds()) + " s");
   io::write_values(args.get("output"), out);

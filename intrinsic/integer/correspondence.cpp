@@ -122,7 +122,6 @@ void CorrespondenceView::save(const std::string& path) const {
   }
 }
 
-
 // ===== Point location =====
 
 namespace {
@@ -335,7 +334,8 @@ Layout own_layout(const IntrinsicTriangulation& in, Index g, const Mat3& at) {
   Vec2 corner[3];
   face_layout(in, g, corner);
   Layout out;
-  for (int j = 0; j < 3; ++j) out[j] = at(0, j) * corner[0] + at(1, j) * corner[1] + at(2, j) * corner[2];
+  for (int j = 0; j < 3; ++j)
+    out[j] = at(0, j) * corner[0] + at(1, j) * corner[1] + at(2, j) * corner[2];
   return out;
 }
 
@@ -378,8 +378,9 @@ bool unfold(const IntrinsicTriangulation& in, const CommonSubdivision& cs,
         const Vec2 &pa = placed[std::size_t(i)][j], &pb = placed[std::size_t(i)][(j + 1) % 3];
         const bool flipped = cs.faces[std::size_t(pk)][c] == b;
         const Vec2 qb = own[flipped ? c : (c + 1) % 3], qa = own[flipped ? (c + 1) % 3 : c];
-        std::complex<double> rot = std::complex<double>(pb.x() - pa.x(), pb.y() - pa.y()) *
-                                   std::conj(std::complex<double>(qb.x() - qa.x(), qb.y() - qa.y()));
+        std::complex<double> rot =
+            std::complex<double>(pb.x() - pa.x(), pb.y() - pa.y()) *
+            std::conj(std::complex<double>(qb.x() - qa.x(), qb.y() - qa.y()));
         rot = std::abs(rot) > 0.0 ? rot / std::abs(rot) : 1.0;
         for (int r = 0; r < 3; ++r) {
           const std::complex<double> z =
@@ -445,9 +446,8 @@ std::array<Vec2, 3> face_corners(const IntrinsicTriangulation& tri, Index f,
 // unfolded layout (unit vectors at f's corners).
 void intrinsic_coordinates(const IntrinsicTriangulation& tri, const IntrinsicTriangulation& in,
                            Index f, const CommonSubdivision& cs,
-                           const std::vector<Index>& input_face,
-                           const std::vector<Mat3>& at_input, const Index* ids, Index m,
-                           std::vector<Mat3>& at_intrinsic) {
+                           const std::vector<Index>& input_face, const std::vector<Mat3>& at_input,
+                           const Index* ids, Index m, std::vector<Mat3>& at_intrinsic) {
   if (m == 0) return;
   std::vector<Layout> placed;
   if (!unfold(in, cs, input_face, at_input, ids, m, placed)) {
@@ -479,8 +479,8 @@ PointLocator::PointLocator(const CorrespondenceView& view, double max_memory_byt
   const IntrinsicTriangulation& in = view.input();
   const IntrinsicTriangulation& tri = view.intrinsic();
   const Positions& x = view.input_positions();
-  const std::vector<Index>& origin =
-      view.signposts() ? view.signposts()->input_face_origin() : view.integer()->input_face_origin();
+  const std::vector<Index>& origin = view.signposts() ? view.signposts()->input_face_origin()
+                                                      : view.integer()->input_face_origin();
   const std::vector<Index> to_input = given_to_input(origin, in.n_faces(), cs);
   const Index np = Index(cs.faces.size()), n_in = view.n_input_vertices();
   intrinsic_face_ = cs.intrinsic_face;

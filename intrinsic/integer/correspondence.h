@@ -128,12 +128,12 @@ class PointLocator {
   /// Per face of one side, its pieces with a coarse grid over each face's barycentric square for
   /// faces with many pieces (internal; public for the implementation's helpers).
   struct FaceIndex {
-    std::vector<Index> begin;         ///< #faces + 1
-    std::vector<Index> pieces;        ///< piece ids, grouped by face
-    std::vector<Index> grid_offset;   ///< #faces + 1: first cell slot (0 cells: no grid)
-    std::vector<int> grid_size;       ///< #faces: cells per axis
-    std::vector<Index> cell_begin;    ///< per cell + 1 (concatenated over faces)
-    std::vector<Index> cell_pieces;   ///< piece ids per cell
+    std::vector<Index> begin;        ///< #faces + 1
+    std::vector<Index> pieces;       ///< piece ids, grouped by face
+    std::vector<Index> grid_offset;  ///< #faces + 1: first cell slot (0 cells: no grid)
+    std::vector<int> grid_size;      ///< #faces: cells per axis
+    std::vector<Index> cell_begin;   ///< per cell + 1 (concatenated over faces)
+    std::vector<Index> cell_pieces;  ///< piece ids per cell
   };
 
  private:

@@ -95,7 +95,8 @@ void check_flat_location(const CorrespondenceView& view) {
   const std::vector<SurfacePoint> on_int = loc.input_to_intrinsic(pts);
   const std::vector<SurfacePoint> back = loc.intrinsic_to_input(on_int);
   for (std::size_t i = 0; i < pts.size(); ++i) {
-    const Eigen::Vector3d p = intrinsic::point_position(view.input(), view.input_positions(), pts[i]);
+    const Eigen::Vector3d p =
+        intrinsic::point_position(view.input(), view.input_positions(), pts[i]);
     ASSERT_LT((intrinsic_position(view, x, on_int[i]) - p).norm(), 1e-12) << "point " << i;
     ASSERT_LT((intrinsic::point_position(view.input(), view.input_positions(), back[i]) - p).norm(),
               1e-12)
@@ -106,8 +107,9 @@ void check_flat_location(const CorrespondenceView& view) {
   const std::vector<SurfacePoint> on_in = loc.intrinsic_to_input(ipts);
   for (std::size_t i = 0; i < ipts.size(); ++i) {
     const Eigen::Vector3d p = intrinsic_position(view, x, ipts[i]);
-    ASSERT_LT((intrinsic::point_position(view.input(), view.input_positions(), on_in[i]) - p).norm(),
-              1e-12)
+    ASSERT_LT(
+        (intrinsic::point_position(view.input(), view.input_positions(), on_in[i]) - p).norm(),
+        1e-12)
         << "intrinsic point " << i;
   }
 }
@@ -211,7 +213,8 @@ TEST(Transfer, L2PreservesTheIntegralAndBothRepresentationsAgree) {
     const Pair pair(curved(), s);
     const Eigen::VectorXd f = pair.st.input_positions().col(2).array().sin() + 2.0;
     Eigen::VectorXd first;
-    for (const CorrespondenceView view : {CorrespondenceView(pair.st), CorrespondenceView(pair.nc)}) {
+    for (const CorrespondenceView view :
+         {CorrespondenceView(pair.st), CorrespondenceView(pair.nc)}) {
       const PointLocator loc(view);
       const Eigen::VectorXd u = transfer(view, f, TransferMethod::kL2, false, &loc);
       const double in = integral(view.input(), f);
