@@ -78,13 +78,13 @@ int transfer(int argc, char** argv) {
          time_interleaved(repeat, both([&](int i) { loc[i].input_to_intrinsic(in_pts); })));
   report(("intrinsic -> input, " + std::to_string(n_points) + " points").c_str(),
          time_interleaved(repeat, both([&](int i) { loc[i].intrinsic_to_input(int_pts); })));
-  report("l2 transfer, locator given", time_interleaved(repeat, both([&](int i) {
-                                           fem::transfer(views[i], f, fem::TransferMethod::kL2,
-                                                         false, &loc[i]);
-                                         })));
-  report("l2 transfer, end to end", time_interleaved(repeat, both([&](int i) {
-                                        fem::transfer(views[i], f, fem::TransferMethod::kL2);
-                                      })));
+  report("l2 transfer, locator given",
+         time_interleaved(repeat, both([&](int i) {
+                            fem::transfer(views[i], f, fem::TransferMethod::kL2, false, &loc[i]);
+                          })));
+  report("l2 transfer, end to end",
+         time_interleaved(
+             repeat, both([&](int i) { fem::transfer(views[i], f, fem::TransferMethod::kL2); })));
   return 0;
 }
 
