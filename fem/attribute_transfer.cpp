@@ -2,7 +2,7 @@
 // mixed mass matrix over the common subdivision.
 #include "fem/attribute_transfer.h"
 
-#include <Eigen/SparseCholesky>
+#include <Eigen/IterativeLinearSolvers>
 #include <array>
 #include <cmath>
 #include <memory>
@@ -48,7 +48,9 @@ void check_values(const Eigen::VectorXd& values, Index expected, const char* wha
 }
 
 // Solves M x = b for the consistent mass M of t; vertices without faces (zero rows) keep
-// `fallback`'s values.
+// `fallback`'s values. Conjugate gradients with the diagonal as preconditioner: the diagonally
+// scaled P1 mass matrix has condition number at most 4 on any triangulation (its element
+// matrices' is 4), so the residual shrinks by about 3 per iteration whatever the mesh.
 Eigen::VectorXd mass_solve(const intrinsic::IntrinsicTriangulation& t, Eigen::VectorXd b,
                            const Eigen::VectorXd& fallback) {
   SparseMatrix m = galerkin_mass(t);
@@ -64,13 +66,15 @@ Eigen::VectorXd mass_solve(const intrinsic::IntrinsicTriangulation& t, Eigen::Ve
     id.setFromTriplets(fix.begin(), fix.end());
     m += id;
   }
-  Eigen::SimplicialLDLT<SparseMatrix> solver(m);
-  if (solver.info() != Eigen::Success) {
-    throw SolverError("transfer: the mass matrix could not be factored (degenerate faces?)");
-  }
-  Eigen::VectorXd x = solver.solve(b);
-  if (solver.info() != Eigen::Success || !x.allFinite()) {
-    throw SolverError("transfer: the mass matrix solve failed");
+  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper> cg;
+  cg.setTolerance(1e-15);
+  cg.setMaxIterations(200);
+  cg.compute(m);
+  Eigen::VectorXd x = cg.solve(b);
+  if (!x.allFinite() || !(cg.error() <= 1e-12)) {
+    throw SolverError("transfer: the mass matrix solve did not converge (relative residual " +
+                      std::to_string(cg.error()) + " after " + std::to_string(cg.iterations()) +
+                      " iterations; degenerate faces?)");
   }
   return x;
 }

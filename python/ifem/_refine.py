@@ -364,7 +364,7 @@ def transfer(refined, x, method="l2", back=False):
 
     Raises:
         InvalidInput: wrong length, a non-finite value, an unknown method.
-        SolverError: the mass matrix could not be factored (degenerate triangles).
+        SolverError: the mass matrix solve did not converge (degenerate triangles).
     """
     if not isinstance(refined, RefinedTriangulation):
         raise InvalidInput("refined must be a RefinedTriangulation (ifem.refine or "
