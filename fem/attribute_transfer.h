@@ -24,8 +24,8 @@ enum class TransferMethod {
   /// Galerkin (L2) projection: the target function u minimises ∫ (u − f)² dA, i.e. solves
   /// M_target u = M_mixed f with the consistent (galerkin_mass) mass matrix of the target and
   /// the mixed mass matrix (mixed_mass()), by diagonally preconditioned conjugate gradients to
-  /// a relative residual of 1e−15 (1e−12 at worst). Preserves ∫ f dA; reproduces any function that is
-  /// linear on both triangulations (e.g. a linear function on a flat mesh).
+  /// a relative residual of 1e−15 (1e−12 at worst). Preserves ∫ f dA; reproduces any
+  /// function linear on both triangulations (e.g. a linear function on a flat mesh).
   kL2,
 };
 
