@@ -275,16 +275,18 @@ std::pair<Index, Eigen::Vector3d> find_piece(const PointLocator::FaceIndex& idx,
 
 // Throws InvalidInput when p is not a point of a face of a triangulation with nf faces.
 void check_point(const SurfacePoint& p, Index nf, const char* side) {
-  std::ostringstream m;
-  if (p.face < 0 || p.face >= nf) {
+  const bool face_ok = p.face >= 0 && p.face < nf;
+  if (face_ok && p.bary.allFinite() && p.bary.minCoeff() >= -1e-9 &&
+      std::abs(p.bary.sum() - 1.0) <= 1e-9) {
+    return;
+  }
+  std::ostringstream m;  // only on the way out: a stream per point would cost more than locating
+  if (!face_ok) {
     m << "face " << p.face << " is not a face of the " << side << " triangulation (" << nf
       << " faces)";
-  } else if (!p.bary.allFinite() || p.bary.minCoeff() < -1e-9 ||
-             std::abs(p.bary.sum() - 1.0) > 1e-9) {
+  } else {
     m << "barycentric coordinates (" << p.bary.transpose()
       << ") are not finite, ≥ 0 and summing to 1 (within 1e-9)";
-  } else {
-    return;
   }
   throw InvalidInput(m.str());
 }
