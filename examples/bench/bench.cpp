@@ -26,6 +26,7 @@ int trace(int argc, char** argv);
 int integer(int argc, char** argv);
 int simplify(int argc, char** argv);
 int integer_crosscheck(int argc, char** argv);
+int transfer(int argc, char** argv);
 }  // namespace ifem::bench
 
 namespace {
@@ -99,6 +100,10 @@ const Section kSections[] = {
      "Delaunay refinement (25°, 30°) with signposts and integer coordinates on every mesh of a "
      "directory (default ../shared/data/meshes): success, time, agreement, as a markdown table",
      ifem::bench::integer_crosscheck},
+    {"transfer",
+     "point location both ways (100k points) and L2 function transfer after refinement to 25°, "
+     "integer coordinates vs signposts (interleaved): igea (--mesh F)",
+     ifem::bench::transfer},
 };
 
 }  // namespace

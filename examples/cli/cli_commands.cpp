@@ -18,12 +18,13 @@ Command render_command();
 Command isolines_command();
 Command trace_command();
 Command simplify_command();
+Command transfer_command();
 
 std::vector<Command> all_commands() {
   return {info_command(),      laplacian_command(), refine_command(),   distance_command(),
           eigen_command(),     poisson_command(),   geodesic_command(), field_command(),
           transport_command(), logmap_command(),    view_command(),     render_command(),
-          isolines_command(),  trace_command(),     simplify_command()};
+          isolines_command(),  trace_command(),     simplify_command(), transfer_command()};
 }
 
 }  // namespace ifem::cli

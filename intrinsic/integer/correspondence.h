@@ -81,6 +81,68 @@ class CorrespondenceView {
   const NormalCoordinateTriangulation* nc_ = nullptr;
 };
 
+/// Point location between the input and the intrinsic triangulation of a CorrespondenceView,
+/// both ways, from its common subdivision (CorrespondenceView::common_subdivision(): built from
+/// the traced signposts or from the integers, one implementation for both). Each triangle of
+/// the subdivision (a "piece": part of one overlay polygon, so one intrinsic face ∩ one input
+/// face) carries its corners' barycentric coordinates in both faces; inside a piece the map
+/// between the two is affine (both faces are flat there), so a point is located by finding the
+/// piece that holds it and interpolating. Input-side coordinates come from the subdivision's 3D
+/// positions in the input face; intrinsic-side ones from unfolding the pieces of each intrinsic
+/// face into the plane (rigid steps across shared sides) and reading them against its corners.
+/// Faces on the input side are faces of view.input() (as vertex_locations()), not the indices
+/// of the faces given (CommonSubdivision::input_face). Holds no reference to the view.
+class PointLocator {
+ public:
+  /// Builds the common subdivision (max_memory_bytes as CorrespondenceView::common_subdivision)
+  /// and both coordinates of every piece corner: O(subdivision) time and about 250 bytes per
+  /// piece.
+  /// @throws TraceError / InvalidInput as common_subdivision(); InvalidInput when the pieces of
+  ///         an intrinsic face do not form one connected region (an inconsistent subdivision)
+  explicit PointLocator(const CorrespondenceView& view, double max_memory_bytes = 0.0);
+
+  /// Points on faces of view.input() → the same points on view.intrinsic() (batched, parallel).
+  /// Points on edges and at vertices are found in any piece that touches them (the result is
+  /// one of the equivalent SurfacePoints).
+  /// @throws InvalidInput naming the first bad point: a face out of range, coordinates not
+  ///         finite / below −1e−9 / not summing to 1 within 1e−9, or (cannot happen on a valid
+  ///         subdivision) a point in no piece of its face, with how far outside the nearest is
+  std::vector<SurfacePoint> input_to_intrinsic(const std::vector<SurfacePoint>& points) const;
+  /// Points on faces of view.intrinsic() → the same points on faces of view.input().
+  /// @throws InvalidInput as input_to_intrinsic()
+  std::vector<SurfacePoint> intrinsic_to_input(const std::vector<SurfacePoint>& points) const;
+
+  /// Pieces (triangles of the common subdivision, in its order).
+  Index n_pieces() const { return Index(intrinsic_face_.size()); }
+  Index intrinsic_face(Index p) const { return intrinsic_face_[std::size_t(p)]; }
+  /// The face of view.input() piece p lies in.
+  Index input_face(Index p) const { return input_face_[std::size_t(p)]; }
+  /// Column k: barycentric coordinates of piece p's corner k in intrinsic_face(p) (each column
+  /// sums to 1; exact unit vectors at intrinsic vertices).
+  const Eigen::Matrix3d& at_intrinsic(Index p) const { return at_intrinsic_[std::size_t(p)]; }
+  /// Column k: barycentric coordinates of piece p's corner k in input_face(p).
+  const Eigen::Matrix3d& at_input(Index p) const { return at_input_[std::size_t(p)]; }
+  /// Area of piece p in the input's metric (input face area × its share), ≥ 0.
+  double area(Index p) const { return area_[std::size_t(p)]; }
+
+  /// Per face of one side, its pieces with a coarse grid over each face's barycentric square for
+  /// faces with many pieces (internal; public for the implementation's helpers).
+  struct FaceIndex {
+    std::vector<Index> begin;        ///< #faces + 1
+    std::vector<Index> pieces;       ///< piece ids, grouped by face
+    std::vector<Index> grid_offset;  ///< #faces + 1: first cell slot (0 cells: no grid)
+    std::vector<int> grid_size;      ///< #faces: cells per axis
+    std::vector<Index> cell_begin;   ///< per cell + 1 (concatenated over faces)
+    std::vector<Index> cell_pieces;  ///< piece ids per cell
+  };
+
+ private:
+  std::vector<Index> intrinsic_face_, input_face_;
+  std::vector<Eigen::Matrix3d> at_intrinsic_, at_input_;
+  std::vector<double> area_;
+  FaceIndex by_input_, by_intrinsic_;
+};
+
 /// The first line of the file CorrespondenceView::save() writes for c: "ifem-signpost 1" or
 /// "ifem-integer 1".
 const char* file_format(Correspondence c);

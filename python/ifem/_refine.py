@@ -336,4 +336,40 @@ def _int(x, name):
     raise InvalidInput(f"{name} must be an integer, got {x!r}")
 
 
-__all__ = ["refine", "load_refined", "RefinedTriangulation"]
+def transfer(refined, x, method="l2", back=False):
+    """Carries a function given by per-vertex values (linear on each triangle) from the input
+    mesh onto a refined triangulation, or with ``back=True`` from it back onto the input.
+    Equivalent to ``ifem transfer`` with the same refinement.
+
+    Methods:
+        ``"pointwise"``: each target vertex takes the function's value at its place (inserted
+        vertices interpolate the input triangle they lie on, as
+        :meth:`RefinedTriangulation.from_input`; back, input vertices keep their values, as
+        :meth:`RefinedTriangulation.to_input`).
+        ``"l2"``: Galerkin projection: the target ``u`` minimises ∫ (u − f)² dA, solving
+        ``M u = M_mixed f`` with the target's consistent mass matrix and the mixed mass matrix
+        integrated exactly over the common subdivision. Keeps ∫ f dA and reproduces functions
+        linear on both triangulations (a linear function on a flat mesh).
+
+    Args:
+        refined: a :class:`RefinedTriangulation` (:func:`refine`, :func:`load_refined`).
+        x: #V_in values on the input's vertices, or with ``back=True`` #V values on the
+            refined triangulation's vertices; finite.
+        method: ``"pointwise"`` or ``"l2"``.
+        back: False: input → refined (returns #V values, the first #V_in on the input's
+            vertices); True: refined → input (returns #V_in values, input order).
+
+    Returns:
+        float64 array.
+
+    Raises:
+        InvalidInput: wrong length, a non-finite value, an unknown method.
+        SolverError: the mass matrix solve did not converge (degenerate triangles).
+    """
+    if not isinstance(refined, RefinedTriangulation):
+        raise InvalidInput("refined must be a RefinedTriangulation (ifem.refine or "
+                           f"ifem.load_refined), got {type(refined).__name__}")
+    return _ifem.transfer(refined._h, x, str(method), bool(back))
+
+
+__all__ = ["refine", "load_refined", "RefinedTriangulation", "transfer"]

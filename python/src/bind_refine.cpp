@@ -12,6 +12,7 @@
 
 #include "arrays.h"
 #include "bindings.h"
+#include "fem/attribute_transfer.h"
 #include "fem/operators.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
@@ -235,6 +236,19 @@ py::array from_input(const Refined& h, const py::handle& x) {
   return to_numpy(std::move(out));
 }
 
+// transfer(h, x, method, back): fem::transfer on the handle's correspondence, GIL released.
+py::array transfer(const Refined& h, const py::handle& x, const std::string& method, bool back) {
+  const fem::TransferMethod m = fem::parse_transfer_method(method);
+  const Index n = back ? h.st().intrinsic().n_vertices() : h.st().n_input_vertices();
+  const Eigen::VectorXd values = values_from(x, n, "x");
+  Eigen::VectorXd out;
+  {
+    const py::gil_scoped_release release;
+    out = fem::transfer(h.st(), values, m, back);
+  }
+  return to_numpy(std::move(out));
+}
+
 void save(const Refined& h, const std::string& path) {
   const py::gil_scoped_release release;
   h.st().save(path);
@@ -279,6 +293,8 @@ void bind_refine(py::module_& m) {
         py::arg("mollify"), py::arg("memory_budget"), py::arg("correspondence") = "signposts",
         py::arg("progress") = py::none());
   m.def("load_refined", &load, py::arg("path"));
+  m.def("transfer", &transfer, py::arg("refined"), py::arg("x"), py::arg("method"),
+        py::arg("back"));
 }
 
 }  // namespace ifem::python

@@ -92,3 +92,57 @@ def test_curves_both_kinds_agree(spot):
     p = {k: ifem.poisson(V, F, curves=curves, refine=True, resolution=0.8, correspondence=k)
          for k in KINDS}
     assert np.max(np.abs(p["signposts"] - p["integer"])) <= 1e-9
+
+
+def _flat_grid(n=6):
+    xs, ys = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1))
+    rng = np.random.default_rng(3)
+    V = np.stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)], axis=1)
+    inner = (V[:, 0] > 0) & (V[:, 0] < 1) & (V[:, 1] > 0) & (V[:, 1] < 1)
+    V[inner, :2] += rng.uniform(-0.3, 0.3, (inner.sum(), 2)) / n
+    F = []
+    for j in range(n):
+        for i in range(n):
+            a, b = j * (n + 1) + i, j * (n + 1) + i + 1
+            F += [[a, b, b + n + 1], [a, b + n + 1, a + n + 1]]
+    return V, np.array(F)
+
+
+def _lumped_mass(V, F):
+    area = 0.5 * np.linalg.norm(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1)
+    m = np.zeros(len(V))
+    for k in range(3):
+        np.add.at(m, F[:, k], area / 3)
+    return m
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_transfer_linear_exact_on_flat_and_l2_keeps_the_integral(spot, kind):
+    V, F = _flat_grid()
+    r = ifem.refine(V, F, min_angle=28, max_area=0.004, correspondence=kind)
+    assert r.n_vertices > len(V)
+    lin = lambda P: 0.4 + 1.3 * P[:, 0] - 0.7 * P[:, 1]  # noqa: E731
+    for method in ("pointwise", "l2"):
+        u = ifem.transfer(r, lin(V), method=method)
+        assert np.max(np.abs(u - lin(r.positions()))) <= 1e-10
+        back = ifem.transfer(r, lin(r.positions()), method, back=True)
+        assert np.max(np.abs(back - lin(V))) <= 1e-10
+    f = np.sin(3 * spot[0][:, 0]) + spot[0][:, 2]
+    s = ifem.refine(*spot, min_angle=25, correspondence=kind)
+    u = ifem.transfer(s, f, "l2")
+    _, M = s.laplacian()
+    assert u[:len(f)].shape == f.shape
+    expected = _lumped_mass(*spot) @ f
+    assert abs(M.diagonal() @ u - expected) <= 1e-12 * abs(expected)
+    assert np.array_equal(ifem.transfer(s, f, "pointwise")[:len(f)], f)
+
+
+def test_transfer_refuses_bad_input_with_the_reason(spot):
+    r = ifem.refine(*spot, min_angle=25)
+    f = np.zeros(len(spot[0]))
+    with pytest.raises(ifem.InvalidInput, match="pointwise"):
+        ifem.transfer(r, f, method="cubic")
+    with pytest.raises(ifem.InvalidInput):
+        ifem.transfer(r, f, back=True)  # needs one value per refined vertex
+    with pytest.raises(ifem.InvalidInput, match="RefinedTriangulation"):
+        ifem.transfer(spot, f)

@@ -18,6 +18,7 @@
 //   ifem render     recipes::render()     a picture of a mesh, a field and curves (render.h)
 //   ifem trace      recipes::trace()      straight geodesics from a point (trace_geodesic.h)
 //   ifem simplify   recipes::simplify()   intrinsic simplification, map to the input
+//   ifem transfer   recipes::transfer()   per-vertex values onto the refinement or back
 //
 // These forward to the solvers:: functions that implement them (named after what they compute:
 // geodesic_distance, eigenmodes, direction_field_on, ...); use those for the variants (several
@@ -29,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "fem/attribute_transfer.h"
 #include "fem/operators.h"
 #include "intrinsic/simplify/simplify.h"
 #include "solvers/recipes/geodesic.h"
@@ -70,6 +72,22 @@ inline PreparedSurface refine(io::SurfaceInput input,
 inline Eigen::VectorXd distance(const PreparedSurface& s, const std::vector<Index>& sources,
                                 const solvers::DistanceOptions& options = {}) {
   return solvers::geodesic_distance(s, sources, options);
+}
+
+/// `ifem transfer`: per-vertex values carried from the input's vertices (#V_in) onto every
+/// vertex of s.tri (#V, the input's first), or with back from s.tri's vertices onto the
+/// input's (fem::transfer over s.correspondence()).
+/// @throws InvalidInput if s was not refined with a correspondence (refine() first), and as
+///         fem::transfer (sizes, non-finite values); SolverError as fem::transfer
+inline Eigen::VectorXd transfer(const PreparedSurface& s, const Eigen::VectorXd& values,
+                                fem::TransferMethod method, bool back = false) {
+  const std::optional<intrinsic::CorrespondenceView> view = s.correspondence();
+  if (!view) {
+    throw InvalidInput(
+        "transfer: the surface was not refined with a correspondence (signposts or integer "
+        "coordinates): refine it first (recipes::refine, an edge-manifold orientable mesh)");
+  }
+  return fem::transfer(*view, values, method, back);
 }
 
 /// `ifem simplify`: the intrinsic simplification of s.tri (intrinsic::simplify); its

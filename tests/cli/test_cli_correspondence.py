@@ -153,3 +153,51 @@ def test_bad_choice_and_bad_files(cli):
     (o / "odd.ifem").write_text(text[:m] + " 1\n" + text[m + 4:])
     cli.refuse(1, r"odd\.ifem: normal coordinates", o / "x.png", "render", cli.spot,
                "--triangulation", o / "odd.ifem")
+
+
+def flat_grid(path, n=6):
+    """A jittered flat n×n grid in z = 0 (linear functions are linear on any triangulation of
+    it), as an OBJ file; returns its vertices."""
+    rng = np.random.default_rng(9)
+    verts = [(i / n + (0.3 * rng.uniform(-1, 1) / n if 0 < i < n else 0),
+              j / n + (0.3 * rng.uniform(-1, 1) / n if 0 < j < n else 0), 0.0)
+             for j in range(n + 1) for i in range(n + 1)]
+    faces = []
+    for j in range(n):
+        for i in range(n):
+            a, b = j * (n + 1) + i + 1, j * (n + 1) + i + 2
+            faces += [(a, b, b + n + 1), (a, b + n + 1, a + n + 1)]
+    write_obj(path, verts, faces)
+    return np.array(verts)
+
+
+def test_transfer_both_ways_both_kinds(cli):
+    o = cli.out
+    v = flat_grid(o / "flat.obj")
+    f = 0.4 + 1.3 * v[:, 0] - 0.7 * v[:, 1]
+    np.savetxt(o / "f.txt", f, fmt="%.17g")
+    refine = ("--min-angle", 28, "--max-area", 0.004, "--quiet")
+    for kind in KINDS:
+        r = cli.ok("refine", o / "flat.obj", "--correspondence", kind, "--mesh",
+                   o / f"m_{kind}.ply", "--ascii", *refine)
+        x = read_ascii_ply(o / f"m_{kind}.ply")[0]
+        for method in ("pointwise", "l2"):
+            r = cli.ok("transfer", o / "flat.obj", "--values", o / "f.txt", "--method", method,
+                       "--correspondence", kind, "-o", o / "u.txt", *refine)
+            u = np.loadtxt(o / "u.txt")
+            assert u.shape == (x.shape[0],) and x.shape[0] > v.shape[0]
+            assert np.max(np.abs(u - (0.4 + 1.3 * x[:, 0] - 0.7 * x[:, 1]))) <= 1e-9
+            before, after = map(float, r.out.split("integral ")[1].split(" -> "))
+            assert abs(before - after) <= 1e-10 * abs(before), r.out
+            cli.ok("transfer", o / "flat.obj", "--values", o / "u.txt", "--method", method,
+                   "--back", "--correspondence", kind, "-o", o / "back.txt", *refine)
+            assert np.max(np.abs(np.loadtxt(o / "back.txt") - f)) <= 1e-9
+    cli.fails("--method.*'cubic'", "transfer", o / "flat.obj", "--values", o / "f.txt",
+              "--method", "cubic", "-o", o / "u.txt")
+    cli.fails("expected one per vertex of the refined triangulation", "transfer", o / "flat.obj",
+              "--values", o / "back.txt", "--back", "-o", o / "u.txt", "--max-area", 0.004)
+    np.savetxt(o / "short.txt", f[:-1])
+    cli.fails("expected one per input vertex", "transfer", o / "flat.obj", "--values",
+              o / "short.txt", "-o", o / "u.txt")
+    h = cli.ok("transfer", "--help").out
+    assert "pointwise" in h and "Galerkin" in h and "--back" in h
