@@ -1,6 +1,7 @@
 // The refinement cross-check (crosscheck.h).
 #include "intrinsic/integer/crosscheck.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <exception>

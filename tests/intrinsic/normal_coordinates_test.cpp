@@ -628,8 +628,12 @@ RefineCrosscheck expect_crosscheck(const std::string& name, const TriangleMesh& 
               c.agree() ? "agree" : "DIFFER", c.max_length_difference, c.max_vertex_distance,
               c.integer.area_partition_error);
   EXPECT_TRUE(c.integer.ok) << c.integer.error;
-  if (signposts_must_succeed) EXPECT_TRUE(c.signposts.ok) << c.signposts.error;
-  if (c.integer.ok) EXPECT_LT(c.integer.area_partition_error, 1e-12);
+  if (signposts_must_succeed) {
+    EXPECT_TRUE(c.signposts.ok) << c.signposts.error;
+  }
+  if (c.integer.ok) {
+    EXPECT_LT(c.integer.area_partition_error, 1e-12);
+  }
   if (c.signposts.ok && c.integer.ok) {
     EXPECT_TRUE(c.same_insertions);
     EXPECT_EQ(c.max_length_difference, 0.0);
