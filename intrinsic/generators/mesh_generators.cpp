@@ -387,9 +387,11 @@ TriangleMesh needle_soup(int components) {
 
 TriangleMesh nearly_coincident_grid(int n, int pairs, double gap, unsigned long seed) {
   if (n < 2 || pairs < 0 || pairs > 2 * n * n || !(gap > 0.0 && gap < 1.0)) {
-    throw InvalidInput("nearly_coincident_grid: need n >= 2, 0 <= pairs <= 2n^2 and gap in "
-                       "(0, 1), got n = " + std::to_string(n) + ", pairs = " +
-                       std::to_string(pairs) + ", gap = " + std::to_string(gap));
+    throw InvalidInput(
+        "nearly_coincident_grid: need n >= 2, 0 <= pairs <= 2n^2 and gap in "
+        "(0, 1), got n = " +
+        std::to_string(n) + ", pairs = " + std::to_string(pairs) +
+        ", gap = " + std::to_string(gap));
   }
   TriangleMesh m = grid(n, n);
   for (Index v = 0; v < m.positions.rows(); ++v) {

@@ -554,8 +554,8 @@ Eigen::Vector3d NormalCoordinateTriangulation::halfedge_direction_3d(Index h) co
   const Eigen::Vector2d ab((d.x() * e2.y() - d.y() * e2.x()) / det,
                            (e1.x() * d.y() - e1.y() * d.x()) / det);
   const Index x = input_.head(w.ih), y = input_.tail(T::prev(w.ih));
-  const Eigen::Vector3d d3 = ab[0] * (positions_.row(x).transpose() - xv) +
-                             ab[1] * (positions_.row(y).transpose() - xv);
+  const Eigen::Vector3d d3 =
+      ab[0] * (positions_.row(x).transpose() - xv) + ab[1] * (positions_.row(y).transpose() - xv);
   return d3.normalized();
 }
 

@@ -303,7 +303,8 @@ Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& 
   TangentBasis3d rebuilt;
   const bool kept = solver.basis_3d().e1.rows() == nv;
   if (!kept)
-    rebuilt = tangent_basis_3d(s.input, solver.triangulation(), solver.frames(), s.correspondence());
+    rebuilt =
+        tangent_basis_3d(s.input, solver.triangulation(), solver.frames(), s.correspondence());
   const TangentBasis3d& basis = kept ? solver.basis_3d() : rebuilt;
   const std::complex<double> z(vector.dot(basis.e1.row(source).transpose()),
                                vector.dot(basis.e2.row(source).transpose()));

@@ -212,8 +212,8 @@ Eigen::VectorXd orientation_votes(Index n, const IntrinsicTriangulation& tri,
 
 // With a correspondence: it must be that of tri (same vertices, halfedges and tails) over an input
 // of n vertices.
-void check_correspondence(const intrinsic::CorrespondenceView& c,
-                          const IntrinsicTriangulation& tri, Index n) {
+void check_correspondence(const intrinsic::CorrespondenceView& c, const IntrinsicTriangulation& tri,
+                          Index n) {
   const IntrinsicTriangulation& t = c.intrinsic();
   bool same = c.n_input_vertices() == n && t.n_vertices() == tri.n_vertices() &&
               t.n_halfedges() == tri.n_halfedges();

@@ -11,8 +11,8 @@
 #include "fem/connection.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/core/types.h"
-#include "intrinsic/io/mesh_io.h"
 #include "intrinsic/integer/correspondence.h"
+#include "intrinsic/io/mesh_io.h"
 
 namespace ifem::solvers {
 

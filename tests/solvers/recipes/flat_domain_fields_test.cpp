@@ -267,9 +267,10 @@ TEST(FlatDomainFields, IntegerCoordinatesGiveTheSignpostsBases) {
     const Eigen::MatrixX3d x0 = transport_on(s[0], solver0, nv / 3, vec);
     const Eigen::MatrixX3d x1 = transport_on(s[1], solver1, nv / 3, vec);
     const double worst_field = (x0 - x1).cwiseAbs().maxCoeff();
-    std::printf("integer vs signposts bases (%d all-inserted one-rings): directions %.3g, off the "
-                "input faces %.3g, e1 %.3g, transport %.3g\n",
-                int(count(lonely)), worst_direction, worst_tangent, worst_e1, worst_field);
+    std::printf(
+        "integer vs signposts bases (%d all-inserted one-rings): directions %.3g, off the "
+        "input faces %.3g, e1 %.3g, transport %.3g\n",
+        int(count(lonely)), worst_direction, worst_tangent, worst_e1, worst_field);
     EXPECT_LT(worst_direction, 1e-9);
     EXPECT_LT(worst_tangent, 1e-9);
     EXPECT_LT(worst_e1, 1e-9);
