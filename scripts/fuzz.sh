@@ -67,7 +67,7 @@ seeds_of() {
 }
 dict_of() {
   case "$1" in
-    obj|off|ply|stl|signpost|matrix_market|curves) [ -f "tests/fuzz/$1.dict" ] && echo "-dict=tests/fuzz/$1.dict" ;;
+    obj|off|ply|stl|signpost|matrix_market|curves|integer) [ -f "tests/fuzz/$1.dict" ] && echo "-dict=tests/fuzz/$1.dict" ;;
     pipeline) echo "-dict=tests/fuzz/pipeline.dict" ;;
   esac
   return 0

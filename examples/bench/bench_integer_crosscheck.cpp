@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "bench_util.h"
+#include "intrinsic/integer/crosscheck.h"
 #include "intrinsic/integer/integer_subdivision.h"
 #include "intrinsic/integer/normal_coordinates.h"
 #include "intrinsic/io/mesh_io.h"
@@ -34,41 +35,8 @@ namespace {
 using intrinsic::NormalCoordinateTriangulation;
 using intrinsic::SignpostTriangulation;
 
-struct Outcome {
-  bool ok = false;
-  std::string error;
-  double seconds = 0.0, subdivision_seconds = 0.0;
-  intrinsic::RefineReport report;
-  std::size_t cs_vertices = 0, cs_faces = 0;
-  Positions cs_positions;
-};
-
 std::string short_error(const std::string& what) {
   return what.size() > 48 ? what.substr(0, 45) + "..." : what;
-}
-
-// Refines a copy of t0, then builds its common subdivision; catches what either throws.
-template <class Tri>
-Outcome refine(const Tri& t0, double angle, Tri* out) {
-  Outcome o;
-  *out = t0;
-  intrinsic::RefineOptions options;
-  options.min_angle_degrees = angle;
-  try {
-    double t = seconds_now();
-    o.report = intrinsic::delaunay_refine(*out, options);
-    o.seconds = seconds_now() - t;
-    t = seconds_now();
-    const intrinsic::CommonSubdivision cs = intrinsic::common_subdivision(*out);
-    o.subdivision_seconds = seconds_now() - t;
-    o.cs_vertices = static_cast<std::size_t>(cs.positions.rows());
-    o.cs_faces = cs.faces.size();
-    o.cs_positions = cs.positions.topRows(out->intrinsic().n_vertices());
-    o.ok = true;
-  } catch (const std::exception& e) {
-    o.error = short_error(e.what());
-  }
-  return o;
 }
 
 // max over edges of |polyline length − edge length| / mean edge length.
@@ -111,34 +79,32 @@ void row(const std::string& name, std::size_t faces, double angle, const Signpos
          const NormalCoordinateTriangulation& n0) {
   SignpostTriangulation st = s0;
   NormalCoordinateTriangulation nc = n0;
-  const Outcome a = refine(s0, angle, &st), b = refine(n0, angle, &nc);
-  auto cell = [](const Outcome& o) {
+  intrinsic::RefineOptions options;
+  options.min_angle_degrees = angle;
+  const intrinsic::RefineCrosscheck c = intrinsic::crosscheck_refine(s0, n0, options, &st, &nc);
+  auto cell = [](const intrinsic::RefineRun& o) {
     char buf[96];
-    if (!o.ok) return "fails: " + o.error;
+    if (!o.ok) return "fails: " + short_error(o.error);
     std::snprintf(buf, sizeof buf, "%.3f s + %.3f s", o.seconds, o.subdivision_seconds);
     return std::string(buf);
   };
   std::string agree = "—";
-  if (a.ok && b.ok) {
-    const auto& la = st.intrinsic().lengths();
-    const auto& lb = nc.intrinsic().lengths();
-    double dl = la.size() == lb.size() ? 0.0 : INFINITY, dx = 0.0;
-    for (std::size_t e = 0; e < la.size() && e < lb.size(); ++e) {
-      dl = std::max(dl, std::abs(la[e] - lb[e]));
-    }
-    if (a.cs_positions.rows() == b.cs_positions.rows()) {
-      dx = (a.cs_positions - b.cs_positions).rowwise().norm().maxCoeff();
-    }
+  if (c.signposts.ok && c.integer.ok) {
     char buf[200];
     std::snprintf(buf, sizeof buf,
-                  "%s; max Δℓ %.1e; subd. V %zu/%zu F %zu/%zu; max Δx %.1e; defect %.1e/%.1e",
-                  a.report.insertions == b.report.insertions ? "same insertions" : "DIFFERENT", dl,
-                  a.cs_vertices, b.cs_vertices, a.cs_faces, b.cs_faces, dx, defect(st), defect(nc));
+                  "%s; max Δℓ %.1e; subd. V %lld/%lld F %lld/%lld; max Δx %.1e; defect %.1e/%.1e",
+                  c.same_insertions ? "same insertions" : "DIFFERENT", c.max_length_difference,
+                  static_cast<long long>(c.signposts.subdivision_vertices),
+                  static_cast<long long>(c.integer.subdivision_vertices),
+                  static_cast<long long>(c.signposts.subdivision_faces),
+                  static_cast<long long>(c.integer.subdivision_faces), c.max_vertex_distance,
+                  defect(st), defect(nc));
     agree = buf;
   }
+  const intrinsic::RefineRun& r = c.integer.ok ? c.integer : c.signposts;
   std::printf("| %s | %zu | %.0f° | %lld | %s | %s | %s |\n", name.c_str(), faces, angle,
-              static_cast<long long>(b.ok ? b.report.insertions : a.report.insertions),
-              cell(a).c_str(), cell(b).c_str(), agree.c_str());
+              static_cast<long long>(r.report.insertions), cell(c.signposts).c_str(),
+              cell(c.integer).c_str(), agree.c_str());
   std::fflush(stdout);
 }
 

@@ -346,3 +346,80 @@ TriangleMesh range_scan(const RangeScanOptions& o) {
 }
 
 }  // namespace ifem::intrinsic
+
+namespace ifem::intrinsic {
+
+TriangleMesh needle_fan(int n, double aspect) {
+  if (n < 4 || !(aspect > 0.0 && aspect <= 1.0)) {
+    throw InvalidInput("needle_fan: need n >= 4 and aspect in (0, 1], got n = " +
+                       std::to_string(n) + ", aspect = " + std::to_string(aspect));
+  }
+  TriangleMesh m;
+  m.positions.resize(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * kPi * i / n;
+    m.positions.row(i) << std::cos(a), aspect * std::sin(a), 0.0;
+  }
+  for (int i = 1; i + 1 < n; ++i) m.faces.push_back({0, i, i + 1});
+  return m;
+}
+
+TriangleMesh needle_soup(int components) {
+  if (components < 1) {
+    throw InvalidInput("needle_soup: need components >= 1, got " + std::to_string(components));
+  }
+  TriangleMesh m;
+  const int k = 12;
+  m.positions.resize(Index(components) * (k + 2), 3);
+  Index row = 0;
+  for (int c = 0; c < components; ++c) {
+    const Index center = row;
+    m.positions.row(row++) << 0.0, 0.0, 1e-3 * (c % 3);
+    for (int i = 0; i <= k; ++i) {
+      const double a = 2.0 * kPi * std::min(i, k - 1) / k;
+      const double r = i % 2 ? 1.0 : 1e-4;  // alternating: needles
+      m.positions.row(row++) << r * std::cos(a), r * std::sin(a), 0.0;
+    }
+    for (int i = 0; i < k; ++i) m.faces.push_back({center, center + 1 + i, center + 2 + i});
+  }
+  return m;
+}
+
+TriangleMesh nearly_coincident_grid(int n, int pairs, double gap, unsigned long seed) {
+  if (n < 2 || pairs < 0 || pairs > 2 * n * n || !(gap > 0.0 && gap < 1.0)) {
+    throw InvalidInput(
+        "nearly_coincident_grid: need n >= 2, 0 <= pairs <= 2n^2 and gap in "
+        "(0, 1), got n = " +
+        std::to_string(n) + ", pairs = " + std::to_string(pairs) +
+        ", gap = " + std::to_string(gap));
+  }
+  TriangleMesh m = grid(n, n);
+  for (Index v = 0; v < m.positions.rows(); ++v) {
+    m.positions(v, 2) = 0.1 * std::sin(3.0 * m.positions(v, 0)) * std::cos(2.0 * m.positions(v, 1));
+  }
+  SplitMix rng(seed);
+  std::vector<char> split(m.faces.size(), 0);
+  const std::size_t n_faces = m.faces.size();
+  std::vector<Eigen::RowVector3d> added;
+  for (int p = 0; p < pairs; ++p) {
+    std::size_t f = static_cast<std::size_t>(rng.below(static_cast<int>(n_faces)));
+    while (split[f]) f = (f + 1) % n_faces;
+    split[f] = 1;
+    const Triangle t = m.faces[f];
+    const int k = rng.below(3);
+    const Eigen::RowVector3d corner = m.positions.row(t[k]);
+    const Eigen::RowVector3d centroid =
+        (m.positions.row(t[0]) + m.positions.row(t[1]) + m.positions.row(t[2])) / 3.0;
+    const Index v = m.positions.rows() + Index(added.size());
+    added.push_back(corner + gap * (centroid - corner));
+    m.faces[f] = {t[0], t[1], v};
+    m.faces.push_back({t[1], t[2], v});
+    m.faces.push_back({t[2], t[0], v});
+  }
+  const Index n0 = m.positions.rows();
+  m.positions.conservativeResize(n0 + Index(added.size()), 3);
+  for (std::size_t i = 0; i < added.size(); ++i) m.positions.row(n0 + Index(i)) = added[i];
+  return m;
+}
+
+}  // namespace ifem::intrinsic

@@ -36,6 +36,26 @@ TriangleMesh torus_knot_tube(int n_along, int n_around, double radius = 0.1, int
 /// Regular tetrahedron inscribed in the unit sphere.
 TriangleMesh tetrahedron();
 
+/// A flat ellipse (semi-axes 1 and `aspect`, z = 0) with n boundary vertices, fanned from
+/// vertex 0: n − 2 faces, nearly all needles (long and thin), a strongly non-Delaunay input.
+/// @throws InvalidInput unless n ≥ 4 and 0 < aspect ≤ 1
+TriangleMesh needle_fan(int n, double aspect = 0.08);
+
+/// `components` separate fans (not welded) stacked on each other: each a centre vertex (at
+/// height 1e-3·(c mod 3)) with 13 rim vertices in the plane z = 0 alternating between radius 1
+/// and 1e-4 (needles), the last two rim vertices at the same angle, 12 faces per fan. Rim
+/// vertices of different components coincide exactly.
+/// @throws InvalidInput unless components ≥ 1
+TriangleMesh needle_soup(int components);
+
+/// A wavy grid of n×n cells over [0,1]² (alternating diagonals, z = 0.1·sin(3x)·cos(2y)) in
+/// which `pairs` triangles, chosen at random (seed), are each split into three at a point at
+/// relative distance `gap` from one of their corners (towards the centroid): a vertex nearly
+/// coincident with an input vertex, two faces with a side of length about gap·h and the third
+/// a needle of about that width. Edge-manifold, orientable, one component with boundary.
+/// @throws InvalidInput unless n ≥ 2, 0 ≤ pairs ≤ 2n², 0 < gap < 1
+TriangleMesh nearly_coincident_grid(int n, int pairs, double gap, unsigned long seed = 1);
+
 /// What range_scan() puts into the scan.
 struct RangeScanOptions {
   int nx = 100, ny = 100;   ///< sample grid cells (nx+1)×(ny+1) samples over [0,1]², each ≥ 4

@@ -85,6 +85,10 @@ CommonSubdivision CorrespondenceView::common_subdivision(double max_memory_bytes
   return intrinsic::common_subdivision(*nc_);
 }
 
+Eigen::Vector3d CorrespondenceView::halfedge_direction_3d(Index h) const {
+  return st_ ? st_->halfedge_direction_3d(h) : nc_->halfedge_direction_3d(h);
+}
+
 std::vector<std::vector<Eigen::Vector3d>> CorrespondenceView::traced_edges_3d() const {
   if (st_) return st_->traced_edges_3d();
   const IntrinsicTriangulation& tri = nc_->intrinsic();

@@ -72,6 +72,12 @@ class CorrespondenceView {
   /// input edge it crosses to the other, starting at an input vertex when one end is.
   /// @throws TraceError / InvalidInput when a trace fails
   std::vector<std::vector<Eigen::Vector3d>> traced_edges_3d() const;
+  /// The unit 3D direction in which halfedge h leaves its tail on the input surface
+  /// (SignpostTriangulation::halfedge_direction_3d() or
+  /// NormalCoordinateTriangulation::halfedge_direction_3d(); the latter needs an input vertex
+  /// as the tail).
+  /// @throws InvalidInput as those
+  Eigen::Vector3d halfedge_direction_3d(Index h) const;
   /// Writes the object: format "ifem-signpost 1" or "ifem-integer 1" (file_format()).
   /// @throws IoError if the file cannot be written
   void save(const std::string& path) const;

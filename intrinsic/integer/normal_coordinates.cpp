@@ -445,4 +445,118 @@ void NormalCoordinateTriangulation::validate() const {
   }
 }
 
+// ---------------------------------------------------------------------------------------------
+// Directions at input vertices (the 3D tangent bases of refined surfaces, D-280)
+
+namespace {
+
+// The input face left of the outgoing input halfedge `ih` (a wedge at its tail), laid out: corner
+// j is the tail, corner j+1 the head.
+struct WedgeLayout {
+  Index ih = kInvalidIndex;
+  int j = 0;
+  Eigen::Vector2d p[3];
+};
+
+WedgeLayout wedge_layout(const IntrinsicTriangulation& input, Index ih) {
+  WedgeLayout w;
+  w.ih = ih;
+  w.j = T::side(ih);
+  face_layout(input, T::face(ih), w.p);
+  return w;
+}
+
+// The angle from a to b, counter-clockwise, in (−π, π].
+double angle_between(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+}
+
+}  // namespace
+
+// The outgoing input halfedge of spoke k of input vertex v (a spoke that starts a wedge).
+Index NormalCoordinateTriangulation::spoke_out(Index v, int k) const {
+  const InputSpoke& s = spokes_[v][static_cast<std::size_t>(k)];
+  const Index eh = input_.edge_halfedge(s.input_edge);
+  const Index out = s.at == 0.0 ? eh : input_.twin(eh);
+  if (out == kInvalidIndex) inconsistent("a wedge starting at an incoming boundary spoke");
+  return out;
+}
+
+// The angle of h (tail an input vertex, n(h) = 0) from the first spoke of its wedge, walking
+// clockwise: each intrinsic corner passed adds its angle, until a halfedge along an input edge
+// (that spoke), one with crossings (its first crossing in the wedge), or a corner with spokes
+// inside (the last of them crosses the opposite side at a traced point).
+double NormalCoordinateTriangulation::wedge_angle(Index h) const {
+  const Index v = tri_.tail(h);
+  double acc = 0.0;
+  Index cur = h;
+  for (Index guard = 0; guard <= tri_.n_halfedges(); ++guard) {
+    const Index tw = tri_.twin(cur);
+    if (tw == kInvalidIndex) inconsistent("no spoke clockwise of a halfedge at a boundary vertex");
+    const Index g = T::next(tw);  // clockwise of cur; face(g) has the corner (g, cur) at v
+    const Index f = T::face(g);
+    const int k = T::side(g);
+    const FaceCounts c = counts(f);
+    if (c.fan[k] > 0) {
+      const std::vector<InputCrossing> across = trace_halfedge(T::next(g));
+      const std::size_t i = static_cast<std::size_t>(c.corner[(k + 1) % 3] + c.fan[k] - 1);
+      if (i >= across.size()) inconsistent("a fan arc missing from its opposite side");
+      Eigen::Vector2d q[3];
+      face_layout(tri_, f, q);
+      const Eigen::Vector2d a = q[(k + 1) % 3], b = q[(k + 2) % 3];
+      const Eigen::Vector2d at = a + across[i].t * (b - a);
+      return acc + angle_between(at - q[k], b - q[k]);
+    }
+    acc += corner_angle(tri_, g);
+    const int ng = n_[tri_.edge(g)];
+    if (ng < 0) return acc;
+    if (ng > 0) {
+      const WedgeLayout w = wedge_layout(input_, spoke_out(v, spoke_index(v, r_[g], -1)));
+      const InputCrossing first = trace_halfedge(g).front();
+      const Index ob = T::next(w.ih);  // the side opposite v, which g's first crossing is on
+      if (input_.edge(ob) != first.input_edge) inconsistent("a first crossing off its wedge");
+      const double s =
+          input_.edge_halfedge(first.input_edge) == ob ? first.input_t : 1.0 - first.input_t;
+      const Eigen::Vector2d x = w.p[(w.j + 1) % 3], y = w.p[(w.j + 2) % 3];
+      return acc + angle_between(x - w.p[w.j], x + s * (y - x) - w.p[w.j]);
+    }
+    cur = g;
+  }
+  inconsistent("the walk around an input vertex did not end");
+}
+
+Eigen::Vector3d NormalCoordinateTriangulation::halfedge_direction_3d(Index h) const {
+  if (h < 0 || h >= tri_.n_halfedges()) {
+    throw InvalidInput("halfedge_direction_3d: halfedge " + std::to_string(h) +
+                       " out of range [0, " + std::to_string(tri_.n_halfedges()) + ")");
+  }
+  const Index v = tri_.tail(h);
+  if (v >= n_input_vertices()) {
+    throw InvalidInput("halfedge_direction_3d: halfedge " + std::to_string(h) +
+                       " starts at inserted vertex " + std::to_string(v));
+  }
+  const Eigen::Vector3d xv = positions_.row(v).transpose();
+  const int n = n_[tri_.edge(h)];
+  if (n < 0) {  // along the input edge of spoke r(h), towards its other end
+    const InputSpoke& s = spokes_[v][r_[h]];
+    const Index eh = input_.edge_halfedge(s.input_edge);
+    const Index w = s.at == 0.0 ? input_.head(eh) : input_.tail(eh);
+    return (positions_.row(w).transpose() - xv).normalized();
+  }
+  if (n > 0) return (crossing_position(trace_halfedge(h).front()) - xv).normalized();
+  const WedgeLayout w = wedge_layout(input_, spoke_out(v, spoke_index(v, r_[h], -1)));
+  const double alpha = wedge_angle(h);
+  const Eigen::Vector2d o = w.p[w.j], e1 = w.p[(w.j + 1) % 3] - o, e2 = w.p[(w.j + 2) % 3] - o;
+  const Eigen::Vector2d u = e1.normalized();
+  const Eigen::Vector2d d = std::cos(alpha) * u + std::sin(alpha) * Eigen::Vector2d(-u.y(), u.x());
+  // d = a·e1 + b·e2 (Cramer's rule), mapped onto the 3D triangle
+  const double det = e1.x() * e2.y() - e1.y() * e2.x();
+  const Eigen::Vector2d ab((d.x() * e2.y() - d.y() * e2.x()) / det,
+                           (e1.x() * d.y() - e1.y() * d.x()) / det);
+  const Index x = input_.head(w.ih), y = input_.tail(T::prev(w.ih));
+  const Eigen::Vector3d d3 =
+      ab[0] * (positions_.row(x).transpose() - xv) + ab[1] * (positions_.row(y).transpose() - xv);
+  return d3.normalized();
+}
+
 }  // namespace ifem::intrinsic

@@ -122,6 +122,17 @@ class NormalCoordinateTriangulation {
   SurfacePoint crossing_point(const InputCrossing& c) const;
   /// A crossing in 3D (on the straight input edge between its vertices' positions).
   Eigen::Vector3d crossing_position(const InputCrossing& c) const;
+  /// The unit 3D direction in which intrinsic halfedge h leaves its tail, an input vertex, on
+  /// the input surface: along the input edge it runs on (n = −1); towards its first crossing
+  /// (n > 0); else (n = 0: h stays in the input face of its wedge, the one before spoke r(h))
+  /// at the angle from that wedge's first spoke that the intrinsic corners give, walking
+  /// clockwise from h to the first halfedge or input edge whose direction the integers fix (a
+  /// spoke inside an intrinsic corner is placed by its crossing of the opposite side). The
+  /// direction in the input face's layout is mapped affinely onto its 3D triangle, as
+  /// SignpostTriangulation::halfedge_direction_3d() does. O(crossings traced).
+  /// @throws InvalidInput if h is out of range or starts at an inserted vertex, or on
+  ///         inconsistent coordinates
+  Eigen::Vector3d halfedge_direction_3d(Index h) const;
 
   /// Checks the integer invariants: per face, the three coordinates admit normal arcs (even
   /// sums, at most one corner with arcs ending at it), roundabouts in range.
@@ -153,6 +164,8 @@ class NormalCoordinateTriangulation {
     Eigen::Vector2d pos;
   };
   FaceCounts counts(Index f) const;
+  double wedge_angle(Index h) const;
+  Index spoke_out(Index v, int k) const;
   bool shared(Index h) const { return n_[tri_.edge(h)] < 0; }
   ArcEnd follow(Index h, int p, Eigen::Vector2d a, Eigen::Vector2d b) const;
   void count_new_spokes(Index f, const Eigen::Vector3d& bary, int crossing[3], int before[3]) const;

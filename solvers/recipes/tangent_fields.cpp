@@ -92,12 +92,6 @@ bool on_frame_path(const PreparedSurface& s, const char* what) {
   return true;
 }
 
-// The signposts of a refined surface, for the 3D bases of input vertices whose neighbours are
-// all inserted vertices (tangent_basis_3d); none otherwise.
-const intrinsic::SignpostTriangulation* signposts_of(const PreparedSurface& s) {
-  return s.signposts ? &*s.signposts : nullptr;
-}
-
 // The field's singular faces added to their lowest corner (input vertices only).
 void add_singularities(const std::vector<Triangle>& faces, const Eigen::VectorXi& index, Index nv,
                        TangentFieldResult& r) {
@@ -265,7 +259,7 @@ TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldOptio
   o.validate();
   if (on_frame_path(s, "a direction field")) return frame_field(s, settings, o);
   const fem::TangentFrames frames = fem::tangent_frames(s.tri);
-  const TangentBasis3d basis = tangent_basis_3d(s.input, s.tri, frames, signposts_of(s));
+  const TangentBasis3d basis = tangent_basis_3d(s.input, s.tri, frames, s.correspondence());
   const std::vector<Triangle> faces = triangulation_faces(s.tri);
   Index flat = 0, skipped = 0;
   const Components comps = field_components(s, faces, &flat);
@@ -293,7 +287,7 @@ VectorHeatSolver vector_heat_solver(const PreparedSurface& s) {
   if (on_frame_path(s, "the vector heat method (transport, log map)")) {
     return VectorHeatSolver(s.tri, s.input.positions, frame_basis_3d(s.input, s.tri), o);
   }
-  return VectorHeatSolver(s.tri, s.input, o, signposts_of(s));  // keeps the 3D bases
+  return VectorHeatSolver(s.tri, s.input, o, s.correspondence());  // keeps the 3D bases
 }
 
 Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& solver,
@@ -309,7 +303,8 @@ Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& 
   TangentBasis3d rebuilt;
   const bool kept = solver.basis_3d().e1.rows() == nv;
   if (!kept)
-    rebuilt = tangent_basis_3d(s.input, solver.triangulation(), solver.frames(), signposts_of(s));
+    rebuilt =
+        tangent_basis_3d(s.input, solver.triangulation(), solver.frames(), s.correspondence());
   const TangentBasis3d& basis = kept ? solver.basis_3d() : rebuilt;
   const std::complex<double> z(vector.dot(basis.e1.row(source).transpose()),
                                vector.dot(basis.e2.row(source).transpose()));

@@ -87,8 +87,9 @@ struct TangentFieldResult {
 /// directions and, when asked, along the boundary; components without any constraint get
 /// their globally smoothest field, each on its own (any number of components: a triangle soup
 /// works), and components without area in space get none (TangentFieldResult::empty_components).
-/// Its 3D vectors are in tangent_basis_3d()'s bases, with s.signposts when refined (so right at
-/// every input vertex, those whose neighbours are all inserted vertices included).
+/// Its 3D vectors are in tangent_basis_3d()'s bases, with s.correspondence() when refined
+/// (signposts or integer coordinates: right at every input vertex, those whose neighbours are
+/// all inserted vertices included).
 /// On the frame path (tufted, point cloud) the field lives in frame_basis_3d()'s frames.
 /// @throws InvalidInput on bad settings, a vertex out of [0, #V_in), a direction normal to the
 ///         surface there, two different directions at one vertex (each named by its origin,
@@ -121,12 +122,12 @@ VectorHeatSolver vector_heat_solver(const PreparedSurface& s);
 /// Parallel transport of a 3D vector given at input vertex `source` (projected to its tangent
 /// plane, keeping its length) to every input vertex, as 3D tangent vectors (#V_in×3), in the
 /// tangent planes of the solver's bases (tangent_basis_3d() on the manifold path, with
-/// s.signposts when refined; solver.frame_basis() on the frame path). Finite at every vertex
+/// s.correspondence() when refined; solver.frame_basis() on the frame path). Finite at every vertex
 /// the source reaches; NaN (all three coordinates) where it does not: other connected components (a
 /// triangle soup's other pieces), unreferenced vertices, and where the heat underflowed, as the
 /// report counts (unreached_vertices + unresolved_vertices); heat distance writes inf there.
 /// @throws InvalidInput on a source out of range or a vector normal to the surface there, or a
-///         solver whose triangulation is not s.tri's (when s has signposts)
+///         solver whose triangulation is not s.tri's (when s has a correspondence)
 Eigen::MatrixX3d transport_on(const PreparedSurface& s, const VectorHeatSolver& solver,
                               Index source, const Eigen::Vector3d& vector,
                               VectorHeatReport* report = nullptr);

@@ -132,19 +132,20 @@ void check_basis_inputs(const Positions& positions, const std::vector<Triangle>&
 namespace {
 
 // The direction in which halfedge h leaves its tail (an input vertex), projected to the tail's
-// tangent plane (unit normals), not normalized; zero where it is not known: with signposts their
-// exact 3D direction, else the chord to the head when that is another input vertex.
+// tangent plane (unit normals), not normalized; zero where it is not known: with a correspondence
+// their exact 3D direction, else the chord to the head when that is another input vertex.
 class TangentDirections {
  public:
   TangentDirections(const Positions& p, const IntrinsicTriangulation& tri,
-                    const Eigen::MatrixX3d& normal, const intrinsic::SignpostTriangulation* st)
-      : p_(p), tri_(tri), normal_(normal), st_(st) {}
+                    const Eigen::MatrixX3d& normal,
+                    const std::optional<intrinsic::CorrespondenceView>& c)
+      : p_(p), tri_(tri), normal_(normal), c_(c) {}
 
   Eigen::Vector3d operator()(Index h) const {
     const Index v = tri_.tail(h), w = tri_.head(h);
     Eigen::Vector3d d;
-    if (st_ != nullptr) {
-      d = st_->halfedge_direction_3d(h);
+    if (c_) {
+      d = c_->halfedge_direction_3d(h);
     } else if (w < p_.rows() && w != v) {
       d = (p_.row(w) - p_.row(v)).transpose();
     } else {
@@ -159,7 +160,7 @@ class TangentDirections {
   const Positions& p_;
   const IntrinsicTriangulation& tri_;
   const Eigen::MatrixX3d& normal_;
-  const intrinsic::SignpostTriangulation* st_;
+  const std::optional<intrinsic::CorrespondenceView>& c_;
 };
 
 // Per input vertex, the outgoing halfedge that fixes e1: the reference halfedge when its
@@ -209,17 +210,17 @@ Eigen::VectorXd orientation_votes(Index n, const IntrinsicTriangulation& tri,
   return vote;
 }
 
-// With signposts: they must be those of tri (same vertices, halfedges and tails) over an input of
-// n vertices.
-void check_signposts(const intrinsic::SignpostTriangulation& st, const IntrinsicTriangulation& tri,
-                     Index n) {
-  const IntrinsicTriangulation& t = st.intrinsic();
-  bool same = st.n_input_vertices() == n && t.n_vertices() == tri.n_vertices() &&
+// With a correspondence: it must be that of tri (same vertices, halfedges and tails) over an input
+// of n vertices.
+void check_correspondence(const intrinsic::CorrespondenceView& c, const IntrinsicTriangulation& tri,
+                          Index n) {
+  const IntrinsicTriangulation& t = c.intrinsic();
+  bool same = c.n_input_vertices() == n && t.n_vertices() == tri.n_vertices() &&
               t.n_halfedges() == tri.n_halfedges();
   for (Index h = 0; same && h < tri.n_halfedges(); ++h) same = t.tail(h) == tri.tail(h);
   if (!same) {
-    throw InvalidInput("tangent_basis_3d: the signposts are not those of the triangulation (" +
-                       str(t.n_vertices()) + " vertices, " + str(st.n_input_vertices()) +
+    throw InvalidInput("tangent_basis_3d: the correspondence is not that of the triangulation (" +
+                       str(t.n_vertices()) + " vertices, " + str(c.n_input_vertices()) +
                        " input ones, against " + str(tri.n_vertices()) + " and " + str(n) + ")");
   }
 }
@@ -229,10 +230,10 @@ void check_signposts(const intrinsic::SignpostTriangulation& st, const Intrinsic
 TangentBasis3d tangent_basis_3d(const Positions& p, const std::vector<Triangle>& triangles,
                                 const Eigen::MatrixX3d& normals, const IntrinsicTriangulation& tri,
                                 const fem::TangentFrames& frames,
-                                const intrinsic::SignpostTriangulation* signposts) {
+                                std::optional<intrinsic::CorrespondenceView> correspondence) {
   check_basis_inputs(p, triangles, normals, tri, frames);
   const Index n = static_cast<Index>(p.rows());
-  if (signposts != nullptr) check_signposts(*signposts, tri, n);
+  if (correspondence) check_correspondence(*correspondence, tri, n);
   TangentBasis3d b;
   b.normal = raw_normals(p, triangles, normals, tri);
   std::vector<char> fallback(static_cast<std::size_t>(n), 0);
@@ -245,7 +246,7 @@ TangentBasis3d tangent_basis_3d(const Positions& p, const std::vector<Triangle>&
       fallback[v] = 1;
     }
   }
-  const TangentDirections direction(p, tri, b.normal, signposts);
+  const TangentDirections direction(p, tri, b.normal, correspondence);
   const std::vector<Index> anchor = anchors(n, tri, frames, direction);
   const Eigen::VectorXd vote = orientation_votes(n, tri, frames, b.normal, direction, anchor);
   b.e1.resize(n, 3);
@@ -271,8 +272,9 @@ TangentBasis3d tangent_basis_3d(const Positions& p, const std::vector<Triangle>&
 
 TangentBasis3d tangent_basis_3d(const io::SurfaceInput& input, const IntrinsicTriangulation& tri,
                                 const fem::TangentFrames& frames,
-                                const intrinsic::SignpostTriangulation* signposts) {
-  return tangent_basis_3d(input.positions, input.triangles, input.normals, tri, frames, signposts);
+                                std::optional<intrinsic::CorrespondenceView> correspondence) {
+  return tangent_basis_3d(input.positions, input.triangles, input.normals, tri, frames,
+                          correspondence);
 }
 
 // --- frames for the frame path ------------------------------------------------------------------

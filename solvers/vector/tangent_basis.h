@@ -5,13 +5,14 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "fem/connection.h"
 #include "intrinsic/core/triangulation.h"
 #include "intrinsic/core/types.h"
+#include "intrinsic/integer/correspondence.h"
 #include "intrinsic/io/mesh_io.h"
-#include "intrinsic/refine/signpost.h"
 
 namespace ifem::solvers {
 
@@ -36,31 +37,33 @@ struct TangentBasis3d {
 ///    fan turns counter-clockwise about it (a vote over the outgoing halfedges), which makes it
 ///    agree with the angular coordinates even where the input's faces were reoriented.
 ///  - e1: the direction in which the vertex's reference halfedge (tri.vertex_halfedge(v))
-///    leaves it, projected to the tangent plane. With signposts (tri refined or flipped as a
-///    SignpostTriangulation) that is the halfedge's exact 3D direction on the input surface
-///    (SignpostTriangulation::halfedge_direction_3d(): its signpost placed in the input face
-///    it starts in), known for every halfedge, inserted heads included. Without, it is the
+///    leaves it, projected to the tangent plane. With a correspondence (tri refined or flipped
+///    with signposts or integer coordinates) that is the halfedge's exact 3D direction on the
+///    input surface (CorrespondenceView::halfedge_direction_3d(): the direction in the input
+///    face it starts in, from the signpost or from the integers), known for every halfedge,
+///    inserted heads included; both give the same basis to rounding. Without, it is the
 ///    chord towards the head's position; when the head is an inserted vertex (no position),
 ///    the first outgoing halfedge with an input head, rotated back by its angle.
 /// @param frames tangent_frames(tri)
-/// @param signposts when tri has inserted vertices, the SignpostTriangulation it comes from
-///        (tri is its intrinsic(), possibly with all lengths scaled): without them an input
-///        vertex whose intrinsic neighbours are all inserted gets an arbitrary e1 (a fallback)
+/// @param correspondence when tri has inserted vertices, the signposts or integer coordinates
+///        it comes from (tri is its intrinsic(), possibly with all lengths scaled): without one
+///        an input vertex whose intrinsic neighbours are all inserted gets an arbitrary e1 (a
+///        fallback)
 /// @throws InvalidInput on size mismatches (positions rows > #V, normals neither empty nor
-///         #V_in×3, a triangle index out of range), or signposts whose triangulation is not
-///         tri's (other vertex or halfedge counts or tails, or #V_in input vertices)
+///         #V_in×3, a triangle index out of range), or a correspondence whose triangulation
+///         is not tri's (other vertex or halfedge counts or tails, or #V_in input vertices)
 TangentBasis3d tangent_basis_3d(const Positions& positions, const std::vector<Triangle>& triangles,
                                 const Eigen::MatrixX3d& normals,
                                 const intrinsic::IntrinsicTriangulation& tri,
                                 const fem::TangentFrames& frames,
-                                const intrinsic::SignpostTriangulation* signposts = nullptr);
+                                std::optional<intrinsic::CorrespondenceView> correspondence = {});
 
 /// tangent_basis_3d() of an input as read (its positions, triangles and, for point clouds,
 /// normals).
 TangentBasis3d tangent_basis_3d(const io::SurfaceInput& input,
                                 const intrinsic::IntrinsicTriangulation& tri,
                                 const fem::TangentFrames& frames,
-                                const intrinsic::SignpostTriangulation* signposts = nullptr);
+                                std::optional<intrinsic::CorrespondenceView> correspondence = {});
 
 /// Per-vertex 3D frames for the frame path (fem/frame_connection.h: the tufted cover of a
 /// nonmanifold mesh, point clouds), where tangent vectors are x·e1 + y·e2 in space rather than

@@ -236,10 +236,10 @@ VectorHeatSolver::VectorHeatSolver(const IntrinsicTriangulation& tri_in, const P
 
 VectorHeatSolver::VectorHeatSolver(const IntrinsicTriangulation& tri_in,
                                    const io::SurfaceInput& input, const VectorHeatOptions& options,
-                                   const intrinsic::SignpostTriangulation* signposts)
+                                   std::optional<intrinsic::CorrespondenceView> correspondence)
     : impl_(std::make_unique<Impl>()) {
   impl_->construct(tri_in, options);
-  impl_->basis3d = tangent_basis_3d(input, impl_->tri, impl_->frames, signposts);
+  impl_->basis3d = tangent_basis_3d(input, impl_->tri, impl_->frames, correspondence);
 }
 
 VectorHeatSolver::~VectorHeatSolver() = default;

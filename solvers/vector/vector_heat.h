@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <complex>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -168,14 +169,15 @@ class VectorHeatSolver {
   VectorHeatSolver(const intrinsic::IntrinsicTriangulation& tri, const Positions& positions,
                    const TangentBasis3d& basis, const VectorHeatOptions& options = {});
   /// The intrinsic path, with the 3D tangent bases of its angular coordinates built once here
-  /// (tangent_basis_3d(input, triangulation(), frames(), signposts)) and kept: basis_3d().
+  /// (tangent_basis_3d(input, triangulation(), frames(), correspondence)) and kept: basis_3d().
   /// input: the surface tri was built from (its vertices are tri's first input.positions.rows());
-  /// signposts: tri's signposts when tri was refined (optional; with them the bases are right at
-  /// input vertices whose neighbours are all inserted vertices, tangent_basis_3d()).
+  /// correspondence: tri's signposts or integer coordinates when tri was refined (optional; with
+  /// one the bases are right at input vertices whose neighbours are all inserted vertices,
+  /// tangent_basis_3d()).
   /// @throws as the first constructor, and as tangent_basis_3d()
   VectorHeatSolver(const intrinsic::IntrinsicTriangulation& tri, const io::SurfaceInput& input,
                    const VectorHeatOptions& options = {},
-                   const intrinsic::SignpostTriangulation* signposts = nullptr);
+                   std::optional<intrinsic::CorrespondenceView> correspondence = {});
   ~VectorHeatSolver();
   VectorHeatSolver(VectorHeatSolver&&) noexcept;
   VectorHeatSolver& operator=(VectorHeatSolver&&) noexcept;

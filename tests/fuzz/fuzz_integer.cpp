@@ -7,8 +7,14 @@
 // set, Delaunay refinement (angle 20°..30° from byte 1, at most 60 insertions: circumcenters
 // land on input edges and on the square's boundary); at the end every edge traces and the
 // common subdivision builds. Any exception is a finding: inputs are always valid here.
+// Bytes starting with "ifem-integer" are a saved file instead (the "ifem-integer 1" format,
+// through a temporary file): NormalCoordinateTriangulation::load validates what it reads and
+// throws IoError otherwise; what it returns must pass validate(), and its edges trace, its
+// common subdivision builds and its directions at input vertices are found, or throw an
+// ifem::Error (any other exception, or a sanitizer report, is a finding).
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string>
 
 #include "fuzz_common.h"
@@ -59,7 +65,30 @@ void apply(NormalCoordinateTriangulation& nc, const std::uint8_t* op) {
   }
 }
 
+void fuzz_load(const std::uint8_t* data, std::size_t size) {
+  const std::string& path = ifem::fuzz::write_temporary(".integer", data, size);
+  ifem::fuzz::run_expecting_errors([&] {
+    const NormalCoordinateTriangulation nc = NormalCoordinateTriangulation::load(path);
+    try {
+      nc.validate();
+    } catch (const std::exception& e) {
+      ifem::fuzz::fail(std::string("a loaded file fails validate(): ") + e.what());
+    }
+    const IntrinsicTriangulation& tri = nc.intrinsic();
+    for (Index e = 0; e < tri.n_edges(); ++e) (void)nc.trace_edge(e);
+    for (Index h = 0; h < tri.n_halfedges(); ++h) {
+      if (tri.tail(h) < nc.n_input_vertices()) (void)nc.halfedge_direction_3d(h);
+    }
+    (void)common_subdivision(nc);
+  });
+}
+
 int fuzz_one(const std::uint8_t* data, std::size_t size) {
+  constexpr char kSaved[] = "ifem-integer";
+  if (size >= sizeof kSaved - 1 && std::memcmp(data, kSaved, sizeof kSaved - 1) == 0) {
+    fuzz_load(data, size);
+    return 0;
+  }
   if (size < 1) return 0;
   const TriangleMesh m = small_mesh(data[0] % 2 == 1);
   try {

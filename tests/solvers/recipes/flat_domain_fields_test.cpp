@@ -205,3 +205,78 @@ TEST(FlatDomainFields, CrossFieldAlongTheBoundaryIsConstant) {
 
 }  // namespace
 }  // namespace ifem::solvers
+
+namespace ifem::solvers {
+namespace {
+
+// The unit normal of the input triangle f (3D positions).
+Eigen::Vector3d face_normal(const intrinsic::TriangleMesh& m, const Triangle& f) {
+  const Eigen::Vector3d a = m.positions.row(f[0]), b = m.positions.row(f[1]),
+                        c = m.positions.row(f[2]);
+  return (b - a).cross(c - a).normalized();
+}
+
+// Refined with integer coordinates the 3D bases are the signposts' (D-280): the same insertions,
+// every outgoing halfedge of an input vertex leaves it in the same 3D direction (tangent to an
+// input face at the vertex), no fallback basis, and transport_on's vectors agree at every input
+// vertex, those with an all-inserted one-ring included. A curved surface (icosphere) and a flat
+// L with boundary splits.
+TEST(FlatDomainFields, IntegerCoordinatesGiveTheSignpostsBases) {
+  const intrinsic::TriangleMesh sphere = intrinsic::icosphere(3);
+  const intrinsic::TriangleMesh ell = test::flat_l_shape(10, 0.3, 7);
+  for (const auto* m : {&sphere, &ell}) {
+    SCOPED_TRACE(m == &sphere ? "icosphere(3)" : "L");
+    PreparedSurface s[2];
+    for (int k = 0; k < 2; ++k) {
+      PrepareOptions o;
+      o.refine = SurfaceRefineOptions{};
+      o.refine->resolution = 0.5;
+      o.refine->correspondence =
+          k == 0 ? intrinsic::Correspondence::kSignposts : intrinsic::Correspondence::kInteger;
+      s[k] = prepare_surface(test::as_input(*m), o);
+      ASSERT_TRUE(s[k].correspondence().has_value());
+    }
+    ASSERT_TRUE(s[1].integer.has_value());
+    ASSERT_EQ(s[0].tri.n_vertices(), s[1].tri.n_vertices());
+    ASSERT_EQ(s[0].tri.n_halfedges(), s[1].tri.n_halfedges());
+    const std::vector<char> lonely = inserted_one_rings(s[1]);
+    EXPECT_GT(count(lonely), 0) << "no input vertex with an all-inserted one-ring";
+    const Index nv = s[0].n_input_vertices();
+    const auto sp = *s[0].correspondence(), ic = *s[1].correspondence();
+    std::vector<std::vector<Eigen::Vector3d>> normals(nv);
+    for (const Triangle& f : m->faces) {
+      for (const Index v : f) normals[v].push_back(face_normal(*m, f));
+    }
+    double worst_direction = 0.0, worst_tangent = 0.0;
+    for (Index h = 0; h < s[1].tri.n_halfedges(); ++h) {
+      const Index v = s[1].tri.tail(h);
+      if (v >= nv) continue;
+      const Eigen::Vector3d d = ic.halfedge_direction_3d(h);
+      worst_direction = std::max(worst_direction, (d - sp.halfedge_direction_3d(h)).norm());
+      double off = 1.0;
+      for (const Eigen::Vector3d& n : normals[v]) off = std::min(off, std::abs(d.dot(n)));
+      worst_tangent = std::max(worst_tangent, off);
+    }
+    const fem::TangentFrames frames = fem::tangent_frames(s[1].tri);
+    const TangentBasis3d b0 = tangent_basis_3d(s[0].input, s[0].tri, frames, sp);
+    const TangentBasis3d b1 = tangent_basis_3d(s[1].input, s[1].tri, frames, ic);
+    EXPECT_EQ(b1.fallback_vertices, 0);
+    const double worst_e1 = (b0.e1 - b1.e1).cwiseAbs().maxCoeff();
+    const VectorHeatSolver solver0 = vector_heat_solver(s[0]), solver1 = vector_heat_solver(s[1]);
+    const Eigen::Vector3d vec(0.3, -0.5, 0.8);
+    const Eigen::MatrixX3d x0 = transport_on(s[0], solver0, nv / 3, vec);
+    const Eigen::MatrixX3d x1 = transport_on(s[1], solver1, nv / 3, vec);
+    const double worst_field = (x0 - x1).cwiseAbs().maxCoeff();
+    std::printf(
+        "integer vs signposts bases (%d all-inserted one-rings): directions %.3g, off the "
+        "input faces %.3g, e1 %.3g, transport %.3g\n",
+        int(count(lonely)), worst_direction, worst_tangent, worst_e1, worst_field);
+    EXPECT_LT(worst_direction, 1e-9);
+    EXPECT_LT(worst_tangent, 1e-9);
+    EXPECT_LT(worst_e1, 1e-9);
+    EXPECT_LT(worst_field, 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace ifem::solvers

@@ -112,32 +112,13 @@ TEST(RefineBudget, RangeScanRefinesToFiniteOperators) {
   EXPECT_THROW(intrinsic::common_subdivision(*s.signposts, 1e5), InvalidInput);
 }
 
-// Hundreds of components stacked on each other (coincident vertices across components, not
-// welded), each a fan of needles around a vertex with two coincident rim vertices.
-intrinsic::TriangleMesh needle_soup(int components) {
-  intrinsic::TriangleMesh m;
-  const int k = 12;
-  m.positions.resize(components * (k + 2), 3);
-  Index row = 0;
-  for (int c = 0; c < components; ++c) {
-    const Index center = row;
-    m.positions.row(row++) << 0.0, 0.0, 1e-3 * (c % 3);
-    for (int i = 0; i <= k; ++i) {
-      const double a = 2.0 * 3.141592653589793 * std::min(i, k - 1) / k;
-      const double r = i % 2 ? 1.0 : 1e-4;  // alternating: needles
-      m.positions.row(row++) << r * std::cos(a), r * std::sin(a), 0.0;
-    }
-    for (int i = 0; i < k; ++i) m.faces.push_back({center, center + 1 + i, center + 2 + i});
-  }
-  return m;
-}
-
+// Hundreds of components stacked on each other: intrinsic::needle_soup().
 TEST(RefineBudget, SyntheticSoupRefinesToFiniteOperators) {
   solvers::PrepareOptions opt;
   opt.refine = solvers::SurfaceRefineOptions{};
   solvers::PreparedSurface s;
   try {
-    s = solvers::prepare_surface(to_input(needle_soup(300)), opt);
+    s = solvers::prepare_surface(to_input(intrinsic::needle_soup(300)), opt);
   } catch (const Error& e) {
     FAIL() << "refinement failed: " << e.what();  // a clear Error would be acceptable, but
                                                   // this input is repairable by mollification
