@@ -16,19 +16,8 @@ from clitools import obj_faces, obj_vertices
 
 
 def read_ifem(path):
-    rows = open(path).read().split("\n")
-    assert rows[0] == "ifem-simplify 1"
-    nvc, nf, mult, nv = (int(x) for x in rows[1].split())
-    sides = []
-    for f in range(nf):
-        t = rows[2 + f].split()
-        sides += [(int(t[3 * k]), int(t[3 * k + 1]), float(t[3 * k + 2])) for k in range(3)]
-    at = 2 + nf
-    coarse_to_fine = [int(x) for x in rows[at:at + nvc]]
-    at += nvc
-    points = [rows[at + i].split() for i in range(nv)]
-    points = [(int(p[0]), [float(x) for x in p[1:]]) for p in points]
-    return nvc, nf, mult, sides, coarse_to_fine, points
+    """The .ifem file's parts, by the sweep script's reader (it also checks the header)."""
+    return sweep_module().read_ifem(path)
 
 
 def heron(a, b, c):
