@@ -652,8 +652,8 @@ bool NormalCoordinateTriangulation::move_inserted_vertex(Index v, const Eigen::V
       if (e.kind == StarEnd::kOuter) return outer[e.ring][e.pos - 1].input_edge;
       return e.spoke < 0 ? kInvalidIndex : spokes_[tri_.head(hs[e.ring])][e.spoke].input_edge;
     };
-    Index ie = !spokes_[v].empty() && chords[on].crossed < 0 ? spokes_[v][0].input_edge
-                                                             : input_edge(e0);
+    Index ie =
+        !spokes_[v].empty() && chords[on].crossed < 0 ? spokes_[v][0].input_edge : input_edge(e0);
     if (ie == kInvalidIndex) ie = input_edge(e1);
     if (ie == kInvalidIndex) return false;
     auto at = [&](const StarEnd& e) {

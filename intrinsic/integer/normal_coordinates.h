@@ -197,8 +197,7 @@ class NormalCoordinateTriangulation {
     int crossed = -1;
   };
   StarEnd walk_star(const std::vector<Index>& spokes, Index h, int p, int* crossed) const;
-  bool star_chords(Index v, const std::vector<Index>& spokes,
-                   std::vector<StarChord>* chords) const;
+  bool star_chords(Index v, const std::vector<Index>& spokes, std::vector<StarChord>* chords) const;
   bool shared(Index h) const { return n_[tri_.edge(h)] < 0; }
   ArcEnd follow(Index h, int p, Eigen::Vector2d a, Eigen::Vector2d b) const;
   void count_new_spokes(Index f, const Eigen::Vector3d& bary, int crossing[3], int before[3]) const;

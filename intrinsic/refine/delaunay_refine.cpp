@@ -989,8 +989,7 @@ namespace {
 // Splits the edges longer than options.max_edge_length at their midpoints, round after round
 // (a split edge's halves may still be too long), each round followed by Delaunay flips.
 template <class Tracked>
-void split_long_edges(Tracked& st, const RelaxOptions& options, Index cap,
-                      RelaxReport& rep) {
+void split_long_edges(Tracked& st, const RelaxOptions& options, Index cap, RelaxReport& rep) {
   const IntrinsicTriangulation& tri = st.intrinsic();
   std::vector<Index> longer;
   for (;;) {
@@ -1078,9 +1077,8 @@ bool keeps_min_angles(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2
 // Moves inserted vertex v toward its ODT target (the whole way, half, a quarter: the first
 // allowed); counts it as moved or rejected.
 template <class Tracked>
-void relax_vertex(Tracked& st, Index v, const RelaxOptions& options,
-                  std::vector<Index>& spokes, std::vector<Eigen::Vector2d>& ring,
-                  RelaxReport& rep) {
+void relax_vertex(Tracked& st, Index v, const RelaxOptions& options, std::vector<Index>& spokes,
+                  std::vector<Eigen::Vector2d>& ring, RelaxReport& rep) {
   if (st.is_boundary_vertex(v)) {
     ++rep.skipped_boundary;
     return;
