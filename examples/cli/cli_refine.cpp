@@ -54,7 +54,7 @@ OptionGroup refine_options_group(double resolution_default) {
                .defaults_to("signposts")
                .explain("how inserted vertices keep their places on the input surface:\n"
                         "'signposts' (a direction and length per edge, traced in floating\n"
-                        "point; needed by --relax) or 'integer' (normal coordinates: how\n"
+                        "point) or 'integer' (normal coordinates: how\n"
                         "many input edges cross each intrinsic edge, so the common\n"
                         "subdivision's combinatorics are exact integers; for near-degenerate\n"
                         "meshes where floating-point traces go wrong). With --curves, FlipOut\n"
@@ -79,10 +79,6 @@ solvers::SurfaceRefineOptions refine_settings(const Args& args, double default_r
         args.has("correspondence") ? args.get("correspondence") : "signposts");
   } catch (const InvalidInput& e) {
     throw UsageError(std::string("--correspondence: ") + e.what());
-  }
-  if (r.correspondence == intrinsic::Correspondence::kInteger && r.relax_iterations > 0) {
-    throw UsageError(
-        "--relax moves inserted vertices along signposts: use --correspondence signposts");
   }
   r.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;  // 0: the library's default
   if (r.relax_max_edge > 0.0 && r.relax_iterations == 0) {

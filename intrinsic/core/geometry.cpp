@@ -56,4 +56,61 @@ Eigen::VectorXd cotan_weights(const IntrinsicTriangulation& tri) {
   return w;
 }
 
+bool vertex_star_is_disk(const IntrinsicTriangulation& tri, Index v, std::vector<Index>* spokes) {
+  using T = IntrinsicTriangulation;
+  spokes->clear();
+  if (v < 0 || v >= tri.n_vertices()) return false;
+  const Index h0 = tri.vertex_halfedge(v);
+  if (h0 == kInvalidIndex) return false;
+  Index h = h0;
+  for (Index guard = 0;; ++guard) {
+    if (guard > 4096) return false;
+    if (tri.head(h) == v) return false;  // self-edge
+    spokes->push_back(h);
+    const Index n = tri.twin(T::prev(h));
+    if (n == kInvalidIndex) return false;
+    if (n == h0) break;
+    h = n;
+  }
+  const std::size_t n = spokes->size();
+  if (n < 3) return false;
+  std::vector<Index> faces;
+  faces.reserve(n);
+  for (const Index x : *spokes) faces.push_back(T::face(x));
+  std::sort(faces.begin(), faces.end());
+  if (std::adjacent_find(faces.begin(), faces.end()) != faces.end()) return false;
+  for (const Index x : *spokes) {
+    const Index tw = tri.twin(T::next(x));
+    if (tw != kInvalidIndex && std::binary_search(faces.begin(), faces.end(), T::face(tw))) {
+      return false;
+    }
+  }
+  return true;
+}
+
+std::vector<Eigen::Vector2d> flat_star_layout(const IntrinsicTriangulation& tri,
+                                              const std::vector<Index>& spokes) {
+  std::vector<Eigen::Vector2d> ring;
+  ring.reserve(spokes.size());
+  double phi = 0.0;
+  for (const Index h : spokes) {
+    const double l = tri.halfedge_length(h);
+    ring.emplace_back(l * std::cos(phi), l * std::sin(phi));
+    phi += corner_angle(tri, h);
+  }
+  return ring;
+}
+
+bool inside_star_kernel(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vector2d& p,
+                        double min_relative_height) {
+  const std::size_t n = ring.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d& a = ring[i];
+    const Eigen::Vector2d& b = ring[(i + 1) % n];
+    // cross = |ab| × height of p above ab
+    if (!(cross2(a - p, b - p) > min_relative_height * (b - a).squaredNorm())) return false;
+  }
+  return true;
+}
+
 }  // namespace ifem::intrinsic

@@ -101,6 +101,25 @@ inline Eigen::Vector3d point_position(const IntrinsicTriangulation& tri, const P
   return out;
 }
 
+/// The outgoing halfedges h_0, h_1, … of vertex v, counter-clockwise from vertex_halfedge(v)
+/// (face(h_i) = (v, head(h_i), head(h_{i+1}))), when v's star is a disk: an interior vertex
+/// with at least 3 faces, all distinct, no self-edge at v and no outer side glued to another
+/// face of the star. Returns false otherwise (`spokes` then holds nothing useful).
+bool vertex_star_is_disk(const IntrinsicTriangulation& tri, Index v, std::vector<Index>* spokes);
+
+/// The star of a flat vertex laid out isometrically in the plane: the vertex at the origin,
+/// ring vertex i (head(spokes[i])) at length(h_i)·(cos φ_i, sin φ_i), φ_0 = 0 and φ_{i+1} =
+/// φ_i + the angle of face(h_i) at the vertex. `spokes` as vertex_star_is_disk() gives them.
+/// One layout for every representation, so their moves agree bit for bit.
+std::vector<Eigen::Vector2d> flat_star_layout(const IntrinsicTriangulation& tri,
+                                              const std::vector<Index>& spokes);
+
+/// Whether planar point p lies strictly inside the kernel of the star polygon `ring`
+/// (counter-clockwise): every triangle (p, ring[i], ring[i+1]) has a height above its outer
+/// side of more than min_relative_height × that side's length.
+bool inside_star_kernel(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vector2d& p,
+                        double min_relative_height);
+
 /// Euler characteristic V − E + F (all vertices counted, unreferenced ones included).
 inline long euler_characteristic(const IntrinsicTriangulation& tri) {
   return static_cast<long>(tri.n_vertices()) - tri.n_edges() + tri.n_faces();

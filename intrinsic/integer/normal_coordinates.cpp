@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
@@ -30,6 +31,12 @@ Eigen::Vector2d place_left(const Eigen::Vector2d& a, const Eigen::Vector2d& b, d
   const double x = (la * la - lb * lb + d * d) / (2.0 * d);
   const double y = std::sqrt(std::max(0.0, la * la - x * x));
   return a + x * u + y * w;
+}
+
+// Whether x lies strictly between `from` and `to` going forward cyclically (along the boundary
+// of a star, counter-clockwise: the left part of a chord from `to` to `from` has those points).
+bool in_cyclic_interval(std::pair<int, int> from, std::pair<int, int> to, std::pair<int, int> x) {
+  return from < to ? (from < x && x < to) : (from < x || x < to);
 }
 
 [[noreturn]] void inconsistent(const std::string& what) {
@@ -423,6 +430,250 @@ Index NormalCoordinateTriangulation::split_edge(Index e, double t) {
     r_[t1] = 0;                                // m→d
   }
   return m;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Moving an inserted vertex inside its flat star. Notation: spokes h_i = v→ring i, star face
+// F_i = face(h_i) = (v, ring i, ring i+1) with outer side o_i = next(h_i) and g_i = prev(h_i)
+// (ring i+1 → v, the twin of h_i+1). Input edges cross the flat star as straight chords.
+
+bool NormalCoordinateTriangulation::is_boundary_vertex(Index v) const {
+  const Index h0 = tri_.vertex_halfedge(v);
+  if (h0 == kInvalidIndex) return false;
+  Index h = h0;
+  for (Index guard = 0; guard <= tri_.n_halfedges(); ++guard) {
+    if (tri_.twin(h) == kInvalidIndex) return true;
+    h = tri_.twin(T::prev(h));
+    if (h == kInvalidIndex) return true;
+    if (h == h0) return false;
+  }
+  return false;
+}
+
+bool NormalCoordinateTriangulation::inserted_vertex_star(Index v, std::vector<Index>* spokes,
+                                                         std::vector<Eigen::Vector2d>* ring) const {
+  ring->clear();
+  if (v < n_input_vertices() || v >= tri_.n_vertices() || !vertex_star_is_disk(tri_, v, spokes)) {
+    spokes->clear();
+    return false;
+  }
+  *ring = flat_star_layout(tri_, *spokes);
+  return true;
+}
+
+// The piece of an input edge entering star face face(h) through side h, p-th from tail(h),
+// followed through the star (the rules of follow()) to the outer side it leaves through, or
+// the ring vertex or centre it ends at. Sets *crossed to the first spoke it crosses (the ring
+// index of its far end) if *crossed < 0.
+NormalCoordinateTriangulation::StarEnd NormalCoordinateTriangulation::walk_star(
+    const std::vector<Index>& spokes, Index h, int p, int* crossed) const {
+  const int k = static_cast<int>(spokes.size());
+  // 0: h_i, 1: o_i, 2: g_i
+  auto role = [&](Index x, int* i) {
+    for (int j = 0; j < k; ++j) {
+      *i = j;
+      if (x == spokes[j]) return 0;
+      if (x == T::next(spokes[j])) return 1;
+      if (x == T::prev(spokes[j])) return 2;
+    }
+    inconsistent("an input edge leaves the star of a vertex through a spoke");
+  };
+  for (int step = 0; step <= 2 * k + 2; ++step) {
+    const int s = T::side(h);
+    const FaceCounts c = counts(T::face(h));
+    if (p < 1 || p > c.n[s]) inconsistent("arc position out of range in a vertex star");
+    Index exit = kInvalidIndex;
+    int q = 0;  // exit's q-th crossing from its tail
+    if (p <= c.corner[s]) {
+      exit = T::prev(h);
+      q = c.n[(s + 2) % 3] - p + 1;
+    } else if (p <= c.corner[s] + c.fan[(s + 2) % 3]) {  // ends at tail(prev(h))
+      int i = 0;
+      const int r = role(T::prev(h), &i);
+      const Index hp = T::prev(h);
+      const int spoke =
+          spoke_index(tri_.tail(hp), r_[hp], (shared(hp) ? 1 : 0) + p - c.corner[s] - 1);
+      if (r == 0) return {StarEnd::kCentre, 0, 0, spoke};
+      return {StarEnd::kCorner, r == 1 ? i : (i + 1) % k, 0, spoke};
+    } else {
+      exit = T::next(h);
+      q = c.n[s] - p + 1;
+    }
+    int i = 0;
+    const int exit_role = role(exit, &i);
+    if (exit_role == 1) return {StarEnd::kOuter, i, q};
+    if (*crossed < 0) *crossed = exit_role == 0 ? i : (i + 1) % k;
+    h = tri_.twin(exit);
+    p = std::max(0, n_[tri_.edge(exit)]) - q + 1;
+  }
+  inconsistent("an input edge does not leave the star of a vertex");
+}
+
+// Every input edge piece inside v's star as a chord between two ends on the star's boundary,
+// each once (ends ordered along the boundary: (ring, pos), a ring vertex with pos 0); at a
+// vertex on an input edge, its two pieces are joined into one chord, the last, from the end
+// along v's spoke 0 to the end along spoke 1. False if the pieces ending at v are not one per
+// spoke of v, or v has other than 0 or 2 spokes.
+bool NormalCoordinateTriangulation::star_chords(Index v, const std::vector<Index>& spokes,
+                                                std::vector<StarChord>* chords) const {
+  const int k = static_cast<int>(spokes.size());
+  std::vector<std::pair<int, StarEnd>> at_centre;  // (spoke of v, other end)
+  auto key = [](const StarEnd& e) { return std::pair(e.ring, e.pos); };
+  int crossed = -1;
+  auto add = [&](const StarEnd& from, const StarEnd& to) {
+    if (to.kind == StarEnd::kCentre) {
+      at_centre.emplace_back(to.spoke, from);
+    } else if (key(from) < key(to)) {
+      chords->push_back({{from, to}, crossed});
+    }
+  };
+  for (int i = 0; i < k; ++i) {
+    const Index o = T::next(spokes[i]);
+    for (int j = 1; j <= n_[tri_.edge(o)]; ++j) {
+      crossed = -1;
+      add({StarEnd::kOuter, i, j}, walk_star(spokes, o, j, &crossed));
+    }
+  }
+  for (int i = 0; i < k; ++i) {
+    const Index h = spokes[i], g = T::prev(h);
+    const FaceCounts c = counts(T::face(h));
+    const int sh = T::side(h), so = (sh + 1) % 3, sg = (sh + 2) % 3;
+    // ring i's fan crosses g_i after corner[sg] arcs from ring i+1; ring i+1's fan crosses h_i
+    // after corner[sh] arcs from v
+    for (int m = 1; m <= c.fan[so]; ++m) {
+      crossed = (i + 1) % k;
+      add({StarEnd::kCorner, i, 0},
+          walk_star(spokes, tri_.twin(g), c.n[sg] - c.corner[sg] - m + 1, &crossed));
+    }
+    for (int m = 1; m <= c.fan[sg]; ++m) {
+      crossed = i;
+      add({StarEnd::kCorner, (i + 1) % k, 0},
+          walk_star(spokes, tri_.twin(h), c.n[sh] - c.corner[sh] - m + 1, &crossed));
+    }
+    if (n_[tri_.edge(h)] < 0) {  // along h_i
+      at_centre.emplace_back(r_[h], StarEnd{StarEnd::kCorner, i, 0, r_[tri_.twin(h)]});
+    }
+  }
+  if (at_centre.size() != spokes_[v].size()) return false;
+  if (at_centre.empty()) return true;
+  if (at_centre.size() != 2 || key(at_centre[0].second) == key(at_centre[1].second)) return false;
+  if (at_centre[0].first == at_centre[1].first) return false;
+  if (at_centre[0].first != 0) std::swap(at_centre[0], at_centre[1]);
+  chords->push_back({{at_centre[0].second, at_centre[1].second}, -1});
+  return true;
+}
+
+// Long function: one straight sequence (chords, the side of each, the counts, the update).
+bool NormalCoordinateTriangulation::move_inserted_vertex(Index v, const Eigen::Vector2d& d,
+                                                         double min_relative_height) {
+  std::vector<Index> hs;
+  std::vector<Eigen::Vector2d> ring;
+  if (!inserted_vertex_star(v, &hs, &ring)) return false;
+  const double dist = d.norm();
+  if (!std::isfinite(dist)) return false;
+  if (!(dist > 0.0)) return true;
+  if (!inside_star_kernel(ring, d, min_relative_height)) return false;
+  std::vector<StarChord> chords;
+  if (!star_chords(v, hs, &chords)) return false;
+  const int k = static_cast<int>(hs.size());
+  std::vector<std::vector<InputCrossing>> outer(k);
+  double radius = 0.0;
+  for (int i = 0; i < k; ++i) {
+    radius = std::max(radius, ring[i].norm());
+    if (n_[tri_.edge(T::next(hs[i]))] > 0) outer[i] = trace_halfedge(T::next(hs[i]));
+  }
+  auto position = [&](const StarEnd& e) -> Eigen::Vector2d {
+    if (e.kind == StarEnd::kCorner) return ring[e.ring];
+    const double t = outer[e.ring][e.pos - 1].t;
+    return (1.0 - t) * ring[e.ring] + t * ring[(e.ring + 1) % k];
+  };
+  auto key = [](const StarEnd& e) { return std::pair(e.ring, e.pos); };
+  // the side of each chord (end 0 → end 1) the new position lies on: a chord splits the star
+  // in two, and the new position (in the kernel) lies in the part on that side of its line.
+  // Within rounding of the line but not of the chord: in the part v lies in (from the
+  // integers: the part without the ring vertex whose spoke the chord crosses), as the segment
+  // from v to it does not cross the chord. Within rounding of the chord itself (of one chord;
+  // of several, the move is refused): v lands on that input edge and gets its two spokes (a
+  // vertex on an input edge moved along it stays on it).
+  const double tol = 1e-10 * radius;
+  std::vector<char> left(chords.size(), 0);
+  std::size_t on = chords.size();  // the chord v lands on, if any
+  for (std::size_t c = 0; c < chords.size(); ++c) {
+    const Eigen::Vector2d a = position(chords[c].end[0]), ab = position(chords[c].end[1]) - a;
+    const double cr = cross2(ab, d - a), len = ab.norm();
+    if (len > 100.0 * tol && std::abs(cr) > tol * len) {
+      left[c] = cr > 0.0 ? 1 : 0;
+      continue;
+    }
+    const double t = len > 0.0 ? std::clamp((d - a).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
+    if (len > 100.0 * tol && (d - a - t * ab).norm() <= tol) {
+      if (on < chords.size()) return false;
+      on = c;
+      continue;
+    }
+    if (chords[c].crossed < 0) return false;  // v's own input edge, too short to tell
+    const std::pair<int, int> kx(chords[c].crossed, 0);
+    left[c] = in_cyclic_interval(key(chords[c].end[1]), key(chords[c].end[0]), kx) ? 0 : 1;
+  }
+  // per ring vertex x: chords crossing the new spoke to it (x in the other part than the new
+  // position, by the order of the ends along the boundary), and chords ending at x that come
+  // before the new spoke turning counter-clockwise from o_x (the new position on their far side)
+  std::vector<int> n_new(k, 0), before(k, 0);
+  for (std::size_t c = 0; c < chords.size(); ++c) {
+    if (c == on) continue;
+    const StarEnd& a = chords[c].end[0];
+    const StarEnd& b = chords[c].end[1];
+    for (int x = 0; x < k; ++x) {
+      const std::pair<int, int> kx(x, 0);
+      if (kx == key(a) || kx == key(b)) continue;
+      if (in_cyclic_interval(key(b), key(a), kx) != (left[c] != 0)) ++n_new[x];
+    }
+    if (a.kind == StarEnd::kCorner) before[a.ring] += left[c];
+    if (b.kind == StarEnd::kCorner) before[b.ring] += 1 - left[c];
+  }
+  // on an input edge: spoke 0 towards the chord's end 0, spoke 1 towards end 1; a new edge to
+  // a ring vertex on the chord runs along it, another one turns counter-clockwise to spoke 1
+  // first when its ring vertex lies left of the chord from end 1 to end 0
+  std::vector<int> r_out(k, 0);
+  std::vector<InputSpoke> new_spokes;
+  if (on < chords.size()) {
+    const StarEnd& e0 = chords[on].end[0];
+    const StarEnd& e1 = chords[on].end[1];
+    for (int x = 0; x < k; ++x) {
+      const std::pair<int, int> kx(x, 0);
+      if (kx == key(e0) || kx == key(e1)) {
+        n_new[x] = -1;
+        r_out[x] = kx == key(e0) ? 0 : 1;
+      } else {
+        r_out[x] = in_cyclic_interval(key(e0), key(e1), kx) ? 1 : 0;
+      }
+    }
+    auto input_edge = [&](const StarEnd& e) {
+      if (e.kind == StarEnd::kOuter) return outer[e.ring][e.pos - 1].input_edge;
+      return e.spoke < 0 ? kInvalidIndex : spokes_[tri_.head(hs[e.ring])][e.spoke].input_edge;
+    };
+    Index ie =
+        !spokes_[v].empty() && chords[on].crossed < 0 ? spokes_[v][0].input_edge : input_edge(e0);
+    if (ie == kInvalidIndex) ie = input_edge(e1);
+    if (ie == kInvalidIndex) return false;
+    auto at = [&](const StarEnd& e) {
+      return e.kind == StarEnd::kCorner ? vertex_at(tri_.head(hs[e.ring]), ie)
+                                        : outer[e.ring][e.pos - 1].input_t;
+    };
+    const Eigen::Vector2d p0 = position(e0), p01 = position(e1) - p0;
+    const double lambda = std::clamp((d - p0).dot(p01) / p01.squaredNorm(), 0.0, 1.0);
+    const InputSpoke sp{ie, at(e0) + lambda * (at(e1) - at(e0))};
+    new_spokes = {sp, sp};
+  }
+  spokes_[v] = std::move(new_spokes);
+  for (int x = 0; x < k; ++x) {
+    const Index o = T::next(hs[x]);
+    tri_.set_length(tri_.edge(hs[x]), (ring[x] - d).norm());
+    r_[tri_.twin(hs[x])] = spoke_index(tri_.tail(o), r_[o], (shared(o) ? 1 : 0) + before[x]);
+    n_[tri_.edge(hs[x])] = n_new[x];
+    r_[hs[x]] = r_out[x];
+  }
+  return true;
 }
 
 void NormalCoordinateTriangulation::validate() const {

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -108,6 +109,35 @@ class NormalCoordinateTriangulation {
   /// @throws InvalidInput as IntrinsicTriangulation::split_edge
   Index split_edge(Index e, double t);
 
+  // ===== Moving inserted vertices (relax_inserted_vertices(), intrinsic/refine/delaunay_refine.h)
+
+  /// Whether a side without twin starts or ends at vertex v (walks the fan of faces at
+  /// vertex_halfedge(v): every fan for a vertex with one, as inserted vertices).
+  bool is_boundary_vertex(Index v) const;
+  /// The star of an inserted interior vertex v (id ≥ n_input_vertices()) laid out in the plane
+  /// (v is flat): `spokes` as vertex_star_is_disk(), `ring` as flat_star_layout() (intrinsic/
+  /// core/geometry.h; the same layout as SignpostTriangulation::inserted_vertex_star()).
+  /// Returns false, filling nothing useful, when v is an input or boundary vertex or its star
+  /// is not a disk.
+  bool inserted_vertex_star(Index v, std::vector<Index>* spokes,
+                            std::vector<Eigen::Vector2d>* ring) const;
+  /// Moves inserted interior vertex v by `displacement`, given in the layout of
+  /// inserted_vertex_star(), as SignpostTriangulation::move_inserted_vertex: the star keeps its
+  /// edges and ids, the spokes get their new planar lengths. The input edges crossing the star
+  /// are straight chords of its flat layout; which ring vertex or outer crossing each chord
+  /// joins comes from the integers, and only which side of each chord the new position lies on
+  /// from floating point. From those, the spokes' normal coordinates and the roundabouts of the
+  /// ring vertices towards v are recounted (the outer sides keep theirs). A vertex on an input
+  /// edge leaves it: its spokes are dropped and the input edge becomes one more chord. Returns
+  /// false and changes nothing if v has no such star, if the new position is not strictly
+  /// inside the star's kernel (as SignpostTriangulation::move_inserted_vertex with
+  /// min_relative_height), or if two chords pass within 1e-10 of the star's radius of it
+  /// (which sides it lies on could then disagree with each other). O(star sides + chords ×
+  /// star sides), plus tracing the outer sides (trace_halfedge()).
+  /// @throws InvalidInput if the coordinates are inconsistent (a bug, or a broken invariant)
+  bool move_inserted_vertex(Index v, const Eigen::Vector2d& displacement,
+                            double min_relative_height = 1e-6);
+
   // ===== Tracing from the integers =====
 
   /// The input edges crossing intrinsic halfedge h, in order from its tail (n(edge(h)) of them;
@@ -166,6 +196,21 @@ class NormalCoordinateTriangulation {
   FaceCounts counts(Index f) const;
   double wedge_angle(Index h) const;
   Index spoke_out(Index v, int k) const;
+  // An end of an input edge's piece inside the star of a vertex (move_inserted_vertex()):
+  // a crossing of outer side `ring` (pos-th from ring vertex `ring`), ring vertex `ring`, or
+  // the star's centre; at a vertex, the spoke it ends along when found by walk_star() (else −1).
+  struct StarEnd {
+    enum Kind { kOuter, kCorner, kCentre } kind = kOuter;
+    int ring = 0, pos = 0, spoke = -1;
+  };
+  // A piece of an input edge across the star, between two ends, and one spoke it crosses
+  // (ring index of that spoke's far end; −1 for the joined pieces at a vertex on an input edge).
+  struct StarChord {
+    std::array<StarEnd, 2> end;
+    int crossed = -1;
+  };
+  StarEnd walk_star(const std::vector<Index>& spokes, Index h, int p, int* crossed) const;
+  bool star_chords(Index v, const std::vector<Index>& spokes, std::vector<StarChord>* chords) const;
   bool shared(Index h) const { return n_[tri_.edge(h)] < 0; }
   ArcEnd follow(Index h, int p, Eigen::Vector2d a, Eigen::Vector2d b) const;
   void count_new_spokes(Index f, const Eigen::Vector3d& bary, int crossing[3], int before[3]) const;

@@ -981,10 +981,15 @@ void angle_stats(const IntrinsicTriangulation& tri, double& min_deg, double& mea
 
 namespace {
 
+// ODT relaxation is written once over the triangulation that keeps the correspondence
+// (SignpostTriangulation, NormalCoordinateTriangulation: the same operations by the same names:
+// n_input_vertices(), is_boundary_vertex(), inserted_vertex_star(), move_inserted_vertex(),
+// split_edge(), flip_to_delaunay()).
+
 // Splits the edges longer than options.max_edge_length at their midpoints, round after round
 // (a split edge's halves may still be too long), each round followed by Delaunay flips.
-void split_long_edges(SignpostTriangulation& st, const RelaxOptions& options, Index cap,
-                      RelaxReport& rep) {
+template <class Tracked>
+void split_long_edges(Tracked& st, const RelaxOptions& options, Index cap, RelaxReport& rep) {
   const IntrinsicTriangulation& tri = st.intrinsic();
   std::vector<Index> longer;
   for (;;) {
@@ -1071,9 +1076,9 @@ bool keeps_min_angles(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2
 
 // Moves inserted vertex v toward its ODT target (the whole way, half, a quarter: the first
 // allowed); counts it as moved or rejected.
-void relax_vertex(SignpostTriangulation& st, Index v, const RelaxOptions& options,
-                  std::vector<Index>& spokes, std::vector<Eigen::Vector2d>& ring,
-                  RelaxReport& rep) {
+template <class Tracked>
+void relax_vertex(Tracked& st, Index v, const RelaxOptions& options, std::vector<Index>& spokes,
+                  std::vector<Eigen::Vector2d>& ring, RelaxReport& rep) {
   if (st.is_boundary_vertex(v)) {
     ++rep.skipped_boundary;
     return;
@@ -1100,9 +1105,8 @@ void relax_vertex(SignpostTriangulation& st, Index v, const RelaxOptions& option
   ++rep.rejected;
 }
 
-}  // namespace
-
-RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options) {
+template <class Tracked>
+RelaxReport relax(Tracked& st, const RelaxOptions& options) {
   check_relax_options(options);
   const IntrinsicTriangulation& tri = st.intrinsic();
   RelaxReport rep;
@@ -1124,6 +1128,17 @@ RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOption
     rep.max_edge_after = std::max(rep.max_edge_after, tri.length(e));
   }
   return rep;
+}
+
+}  // namespace
+
+RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options) {
+  return relax(st, options);
+}
+
+RelaxReport relax_inserted_vertices(NormalCoordinateTriangulation& nc,
+                                    const RelaxOptions& options) {
+  return relax(nc, options);
 }
 
 }  // namespace ifem::intrinsic

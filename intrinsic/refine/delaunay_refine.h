@@ -257,6 +257,16 @@ struct RelaxReport {
 /// @throws InvalidInput on bad options (RelaxOptions::validate())
 RelaxReport relax_inserted_vertices(SignpostTriangulation& st, const RelaxOptions& options = {});
 
+/// The same relaxation (the same code) on integer coordinates: vertices move inside their flat
+/// star with NormalCoordinateTriangulation::move_inserted_vertex() (the star keeps its edges;
+/// the spokes' normal coordinates and roundabouts are recounted), so on the same triangulation
+/// and options it makes the same moves, splits and flips as the signpost overload, and its
+/// edge lengths agree with it to rounding. A vertex inserted on an input edge moves off it, as
+/// with signposts.
+/// @throws InvalidInput on bad options (RelaxOptions::validate())
+RelaxReport relax_inserted_vertices(NormalCoordinateTriangulation& nc,
+                                    const RelaxOptions& options = {});
+
 /// Smallest corner angle of face f, in radians (reports give degrees).
 double min_corner_angle(const IntrinsicTriangulation& tri, Index f);
 

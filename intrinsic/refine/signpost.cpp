@@ -616,37 +616,8 @@ bool SignpostTriangulation::inserted_vertex_star(Index v, std::vector<Index>* sp
   spokes->clear();
   ring->clear();
   if (v < n_input_vertices() || v >= tri_.n_vertices() || boundary_[v]) return false;
-  const Index h0 = tri_.vertex_halfedge(v);
-  if (h0 == kInvalidIndex) return false;
-  Index h = h0;
-  for (Index guard = 0;; ++guard) {
-    if (guard > 4096) return false;
-    if (tri_.head(h) == v) return false;  // self-edge
-    spokes->push_back(h);
-    const Index n = tri_.twin(T::prev(h));
-    if (n == kInvalidIndex) return false;
-    if (n == h0) break;
-    h = n;
-  }
-  const std::size_t n = spokes->size();
-  if (n < 3) return false;
-  // a disk: no outer side glued to a face of the star, no face visited twice
-  std::vector<Index> faces;
-  faces.reserve(n);
-  for (const Index x : *spokes) faces.push_back(T::face(x));
-  std::sort(faces.begin(), faces.end());
-  if (std::adjacent_find(faces.begin(), faces.end()) != faces.end()) return false;
-  for (const Index x : *spokes) {
-    const Index tw = tri_.twin(T::next(x));
-    if (tw != kInvalidIndex && std::binary_search(faces.begin(), faces.end(), T::face(tw))) {
-      return false;
-    }
-  }
-  ring->reserve(n);
-  for (const Index x : *spokes) {
-    const double a = direction_[x], l = tri_.halfedge_length(x);
-    ring->emplace_back(l * std::cos(a), l * std::sin(a));
-  }
+  if (!vertex_star_is_disk(tri_, v, spokes)) return false;
+  *ring = flat_star_layout(tri_, *spokes);
   return true;
 }
 
@@ -660,13 +631,9 @@ bool SignpostTriangulation::move_inserted_vertex(Index v, const Eigen::Vector2d&
   if (!(dist > 0.0)) return true;
   const Eigen::Vector2d& p = displacement;
   const std::size_t n = ring.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d& a = ring[i];
-    const Eigen::Vector2d& b = ring[(i + 1) % n];
-    // cross = |ab| × height of p above ab
-    if (!(cross2(a - p, b - p) > min_relative_height * (b - a).squaredNorm())) return false;
-  }
-  const double theta = wrap(v, std::atan2(p.y(), p.x()));
+  if (!inside_star_kernel(ring, p, min_relative_height)) return false;
+  const double base = direction_[spokes[0]];  // the layout's angle 0, as a signpost at v
+  const double theta = wrap(v, base + std::atan2(p.y(), p.x()));
   TraceResult r;
   try {
     r = trace_from_vertex(v, theta, dist, false);
@@ -679,7 +646,7 @@ bool SignpostTriangulation::move_inserted_vertex(Index v, const Eigen::Vector2d&
   }
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector2d w = ring[i] - p;
-    direction_[spokes[i]] = wrap(v, std::atan2(w.y(), w.x()));
+    direction_[spokes[i]] = wrap(v, base + std::atan2(w.y(), w.x()));
     // at the ring vertex u: u→v follows the (unchanged) outer side u→ring[i+1] by the corner
     // angle of face(h_i) at u
     const Index out = T::next(spokes[i]);

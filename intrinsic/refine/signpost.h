@@ -215,11 +215,11 @@ class SignpostTriangulation {
   Index split_edge(Index e, double t);
 
   /// The star of an inserted interior vertex v laid out isometrically in the plane (v is flat,
-  /// Θ_v = 2π): v at the origin, angle 0 along signpost direction 0, ring vertex i at
-  /// length(h_i)·(cos φ_i, sin φ_i) with φ_i the signpost of the i-th outgoing halfedge h_i,
-  /// counter-clockwise (face(h_i) = (v, ring[i], ring[i+1])). Returns false, filling nothing
-  /// useful, when v is an input or boundary vertex or its star is not a disk (a self-edge at
-  /// v, or an outer side glued to another face of the star).
+  /// Θ_v = 2π): `spokes` as vertex_star_is_disk() (the outgoing halfedges h_i counter-clockwise
+  /// from vertex_halfedge(v), face(h_i) = (v, ring[i], ring[i+1])), `ring` as
+  /// flat_star_layout() (intrinsic/core/geometry.h: v at the origin, ring[0] along h_0). Returns
+  /// false, filling nothing useful, when v is an input or boundary vertex or its star is not a
+  /// disk (a self-edge at v, or an outer side glued to another face of the star).
   bool inserted_vertex_star(Index v, std::vector<Index>* spokes,
                             std::vector<Eigen::Vector2d>* ring) const;
   /// Moves inserted interior vertex v by `displacement`, given in the layout of

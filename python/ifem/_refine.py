@@ -271,7 +271,7 @@ def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=Non
             estimate (0 first, non-decreasing, exactly 1 last).
         correspondence: how inserted vertices keep their places on the input, as ``ifem
             refine --correspondence``: ``"signposts"`` (directions traced in floating point;
-            needed by ``relax``) or ``"integer"`` (normal coordinates: the common
+            or ``"integer"`` (normal coordinates: the common
             subdivision's combinatorics are exact integers, for near-degenerate input where
             floating-point traces go wrong). Both give the same triangulation (same
             insertions, same lengths).

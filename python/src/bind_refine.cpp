@@ -66,8 +66,6 @@ solvers::SurfaceRefineOptions refine_settings(double min_angle, double resolutio
   r.need_signposts = true;
   r.max_memory_bytes = memory_budget ? *memory_budget * 1e9 : 0.0;
   r.correspondence = intrinsic::parse_correspondence(correspondence);
-  require(relax == 0 || r.correspondence == intrinsic::Correspondence::kSignposts,
-          "relax moves inserted vertices along signposts: use correspondence='signposts'");
   r.validate();
   return r;
 }

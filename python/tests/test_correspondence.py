@@ -55,12 +55,21 @@ def test_solvers_keyword(spot):
     assert np.max(np.abs(u["signposts"] - u["integer"])) <= 1e-9
 
 
+def test_relax_with_integer_coordinates(spot):
+    """relax with integer coordinates: the same moves and mesh as with signposts."""
+    V, F = spot
+    r = {k: ifem.refine(V, F, relax=2, correspondence=k) for k in KINDS}
+    s, i = r["signposts"], r["integer"]
+    assert s.report["relax"]["moved"] > 0
+    assert s.report["relax"]["moved"] == i.report["relax"]["moved"]
+    assert np.array_equal(s.faces(), i.faces())
+    assert np.max(np.abs(s.positions() - i.positions())) <= 1e-9 * np.ptp(V, axis=0).max()
+
+
 def test_bad_choices(spot):
     V, F = spot
     with pytest.raises(ifem.InvalidInput, match="'ints' is neither 'signposts' nor 'integer'"):
         ifem.refine(V, F, correspondence="ints")
-    with pytest.raises(ifem.InvalidInput, match="relax.*signposts"):
-        ifem.refine(V, F, relax=1, correspondence="integer")
     with pytest.raises(ifem.InvalidInput, match="correspondence only apply with refine=True"):
         ifem.distance(V, F, [0], correspondence="integer")
     with pytest.raises(ifem.InvalidInput, match="neither"):

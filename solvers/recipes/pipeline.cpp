@@ -171,13 +171,26 @@ void refine_tracked(const SurfaceRefineOptions& r, Tracked& tracked, const char*
   progress(describe(s.refine_report) + how + " in " + fmt(watch.restart()) + " s");
 }
 
-// Refines with integer coordinates: refine_with_signposts() without relaxation.
+// ODT relaxation of the inserted vertices of `tracked` (either correspondence), when asked for.
+template <class Tracked>
+void relax_tracked(const SurfaceRefineOptions& r, Tracked& tracked, PreparedSurface& s,
+                   const Progress& progress, Stopwatch& watch) {
+  if (r.relax_iterations <= 0) return;
+  intrinsic::RelaxOptions ro;
+  ro.iterations = r.relax_iterations;
+  ro.max_edge_length = r.relax_max_edge;
+  s.relax_report = intrinsic::relax_inserted_vertices(tracked, ro);
+  progress(describe(s.relax_report) + " in " + fmt(watch.seconds()) + " s");
+}
+
+// Refines with integer coordinates, then relaxes.
 void refine_with_integer(const SurfaceRefineOptions& r, double mollify_epsilon, PreparedSurface& s,
                          const Progress& progress) {
   Stopwatch watch;
   intrinsic::NormalCoordinateTriangulation nc(s.input.triangles, s.input.positions,
                                               mollify_epsilon);
   refine_tracked(r, nc, " with integer coordinates", s, progress, watch);
+  relax_tracked(r, nc, s, progress, watch);
   s.tri = nc.intrinsic();
   s.integer = std::move(nc);
 }
@@ -201,13 +214,7 @@ void refine_with_signposts(const SurfaceRefineOptions& r, double mollify_epsilon
   Stopwatch watch;
   intrinsic::SignpostTriangulation st(s.input.triangles, s.input.positions, mollify_epsilon);
   refine_tracked(r, st, "", s, progress, watch);
-  if (r.relax_iterations > 0) {
-    intrinsic::RelaxOptions ro;
-    ro.iterations = r.relax_iterations;
-    ro.max_edge_length = r.relax_max_edge;
-    s.relax_report = intrinsic::relax_inserted_vertices(st, ro);
-    progress(describe(s.relax_report) + " in " + fmt(watch.seconds()) + " s");
-  }
+  relax_tracked(r, st, s, progress, watch);
   s.tri = st.intrinsic();
   s.signposts = std::move(st);
 }
@@ -413,9 +420,6 @@ void SurfaceRefineOptions::validate() const {
   require(max_memory_bytes >= 0.0,
           "SurfaceRefineOptions: max_memory_bytes must be ≥ 0 (0: automatic), got " +
               fmt(max_memory_bytes));
-  require(relax_iterations == 0 || correspondence == intrinsic::Correspondence::kSignposts,
-          "SurfaceRefineOptions: relaxation moves inserted vertices along signposts; with "
-          "integer coordinates it is not available (use the signposts correspondence)");
 }
 
 SurfaceRefineOptions accurate_distance_refinement() {

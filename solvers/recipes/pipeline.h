@@ -38,7 +38,7 @@ struct SurfaceRefineOptions {
   double resolution = 0.0;
   double max_area = 0.0;        ///< also split triangles above this area (absolute); 0 = none
   Index max_insertions = -1;    ///< cap on inserted vertices; −1 = RefineOptions' default
-  int relax_iterations = 0;     ///< ODT relaxation passes of the inserted vertices (signposts)
+  int relax_iterations = 0;     ///< ODT relaxation passes of the inserted vertices
   double relax_max_edge = 0.0;  ///< with relaxation: split edges longer than this (absolute)
   /// Require signposts (inserted vertices' places on the input, needed to carry input data onto
   /// inserted vertices and for the common subdivision): refuse the tufted path instead of
@@ -52,9 +52,10 @@ struct SurfaceRefineOptions {
   /// after refinement (RefineOptions::conform), so the maximum principle holds.
   bool conform = true;
   /// How inserted vertices keep their places on the input (edge-manifold, orientable meshes;
-  /// the tufted cover has neither): signposts (real directions, supports --relax) or integer
-  /// coordinates (normal coordinates: the overlay's combinatorics are exact integers). Both
-  /// give the same intrinsic triangulation (same insertions, same lengths).
+  /// the tufted cover has neither): signposts (real directions) or integer coordinates (normal
+  /// coordinates: the overlay's combinatorics are exact integers). Both give the same
+  /// intrinsic triangulation (same insertions, same lengths; after relaxation, the same moves
+  /// and lengths to rounding).
   intrinsic::Correspondence correspondence = intrinsic::Correspondence::kSignposts;
   /// @throws InvalidInput naming the field and its allowed range
   void validate() const;
@@ -143,8 +144,7 @@ struct PreparedSurface {
 ///    (SurfaceRefineOptions::correspondence) when supports_signposts(), else on the tufted
 ///    cover itself (neither; refused when need_signposts or relaxation asks for them).
 /// @throws InvalidInput on bad options, on an input the path cannot use, on refinement of a
-///         point cloud / of the tufted cover with need_signposts or relaxation, or on
-///         relaxation with integer coordinates
+///         point cloud / of the tufted cover with need_signposts or relaxation
 PreparedSurface prepare_surface(io::SurfaceInput input, const PrepareOptions& options = {});
 
 /// Reads a file (io::read_surface) and prepares it.

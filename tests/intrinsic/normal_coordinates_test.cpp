@@ -612,6 +612,115 @@ TEST(NormalCoordinates, SharedMeshesDelaunayAgreesWithSignposts) {
   }
 }
 
+// Moving inserted vertices inside their flat stars (move_inserted_vertex): the same moves as on
+// signposts, to the same points (given as the same combination of the two layouts' ring
+// vertices: the layouts differ by a rotation), after random insertions, splits (vertices on
+// input edges, which the move takes off them) and flips. The recounted integers are valid,
+// equal the signpost traces, recover every input edge and partition the areas.
+TEST(NormalCoordinates, MoveInsertedVertexAgreesWithSignposts) {
+  const std::vector<TriangleMesh> meshes = {test::jittered(icosphere(1), 0.1, 3),
+                                            test::flat_square(5, 0.3, 4)};
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    SCOPED_TRACE("mesh " + std::to_string(i));
+    NormalCoordinateTriangulation nc(meshes[i].faces, meshes[i].positions);
+    SignpostTriangulation st(meshes[i].faces, meshes[i].positions);
+    random_operations(nc, st, 120, 30 + static_cast<unsigned>(i), i == 0 ? 7 : 6);
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> unit(0.05, 0.45);
+    Index moved = 0, off_input_edges = 0;
+    for (int round = 0; round < 3; ++round) {
+      for (Index v = nc.n_input_vertices(); v < nc.intrinsic().n_vertices(); ++v) {
+        std::vector<Index> hs, hs_st;
+        std::vector<Eigen::Vector2d> ring, ring_st;
+        const bool a = nc.inserted_vertex_star(v, &hs, &ring);
+        ASSERT_EQ(a, st.inserted_vertex_star(v, &hs_st, &ring_st)) << "vertex " << v;
+        if (!a) continue;
+        ASSERT_EQ(hs, hs_st);
+        const std::size_t k = static_cast<std::size_t>(rng() % ring.size());
+        const double wa = unit(rng), wb = unit(rng);
+        const std::size_t k1 = (k + 1) % ring.size();
+        const bool on_edge = !nc.spokes(v).empty();
+        const bool ma = nc.move_inserted_vertex(v, wa * ring[k] + wb * ring[k1]);
+        ASSERT_EQ(ma, st.move_inserted_vertex(v, wa * ring_st[k] + wb * ring_st[k1]));
+        moved += ma ? 1 : 0;
+        off_input_edges += ma && on_edge ? 1 : 0;
+        ASSERT_NO_THROW(nc.validate()) << "after moving vertex " << v;
+      }
+    }
+    EXPECT_GT(moved, 10);
+    EXPECT_GT(off_input_edges, 0);
+    const std::vector<double>& la = nc.intrinsic().lengths();
+    const std::vector<double>& lb = st.intrinsic().lengths();
+    for (std::size_t e = 0; e < la.size(); ++e) ASSERT_NEAR(la[e], lb[e], 1e-12 * lb[e]);
+    expect_matches_signposts(nc, st, 1e-8);
+    expect_input_edges_recovered(nc);
+    expect_area_partition(nc);
+    EXPECT_EQ(nc.flip_to_delaunay().flips, st.flip_to_delaunay().flips);
+    expect_matches_signposts(nc, st, 1e-8);
+  }
+}
+
+// ODT relaxation after refinement (relax_inserted_vertices, one algorithm over both
+// representations): the same moves, rejections and splits, the same triangulation after its
+// Delaunay flips (edge lengths to 1e-9 relative), integers equal to the signpost traces (not
+// on the needle fan, where signpost traces near the tip miss crossings at rounding level even
+// before relaxing), every input edge recovered, the common subdivision partitioning the areas.
+// Varied: the mesh (a needle fan, a jittered sphere, a jittered grid with boundary), passes
+// {1 (without the min-angle guard), 3} and max_edge_length {0, 0.7 × the mean edge}.
+void expect_relax_agrees(const TriangleMesh& m, double angle, int iterations, bool split,
+                         bool compare_traces) {
+  SCOPED_TRACE(testing::Message() << "iterations " << iterations << " split " << split);
+  NormalCoordinateTriangulation nc(m.faces, m.positions);
+  SignpostTriangulation st(m.faces, m.positions);
+  RefineOptions o;
+  o.min_angle_degrees = angle;
+  o.max_area = total_area(nc.intrinsic()) / 150.0;  // vertices inside the needle fan too
+  delaunay_refine(nc, o);
+  delaunay_refine(st, o);
+  RelaxOptions r;
+  r.iterations = iterations;
+  r.keep_min_angle = iterations > 1;  // one unguarded pass: every star moves
+  if (split) r.max_edge_length = 0.7 * mean_edge_length(nc.intrinsic());
+  const RelaxReport a = relax_inserted_vertices(nc, r), b = relax_inserted_vertices(st, r);
+  if (!r.keep_min_angle) {
+    EXPECT_GT(a.moved, 0);
+  }
+  EXPECT_EQ(a.moved, b.moved);
+  EXPECT_EQ(a.rejected, b.rejected);
+  EXPECT_EQ(a.skipped_boundary, b.skipped_boundary);
+  EXPECT_EQ(a.splits, b.splits);
+  EXPECT_EQ(a.flips, b.flips);
+  if (split) {
+    EXPECT_GT(a.splits, 0);
+  }
+  const std::vector<double>& la = nc.intrinsic().lengths();
+  const std::vector<double>& lb = st.intrinsic().lengths();
+  ASSERT_EQ(la.size(), lb.size());
+  for (std::size_t e = 0; e < la.size(); ++e) ASSERT_NEAR(la[e], lb[e], 1e-9 * lb[e]);
+  ASSERT_NO_THROW(nc.validate());
+  if (compare_traces) expect_matches_signposts(nc, st, 1e-8);
+  expect_input_edges_recovered(nc);
+  expect_area_partition(nc);
+}
+
+TEST(NormalCoordinates, RelaxAgreesWithSignposts) {
+  const TriangleMesh meshes[] = {needle_fan(40), test::jittered(icosphere(1), 0.15, 2),
+                                 test::jittered(grid(6, 5), 0.3, 3)};
+  for (std::size_t i = 0; i < std::size(meshes); ++i) {
+    SCOPED_TRACE("mesh " + std::to_string(i));
+    for (const int iterations : {1, 3}) {
+      for (const bool split : {false, true}) {
+        // needle fan, 3 passes with splits: vertices pile up on the symmetry axis (an input
+        // edge) at equal positions, where the recovery check's ordering of crossings by their
+        // position along the input edge is ambiguous (left open: see docs/decisions.md D-275)
+        if (i == 0 && iterations == 3 && split) continue;
+        expect_relax_agrees(meshes[i], 25.0, iterations, split, i > 0);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ifem::intrinsic
 
