@@ -120,8 +120,9 @@ intrinsic::FlipOutReport shorten_curves(SignpostTriangulation& st, const io::Sur
         report = intrinsic::shortest_geodesic(st, a, b, to_b[0], lazy_to_a, o, &(*paths)[0], won);
       } else {
         const Eigen::MatrixXd phi = guide.to_each(st, {b, a});
-        const Eigen::VectorXd to_b = phi.col(0), to_a = phi.col(1);
-        report = intrinsic::shortest_geodesic(st, a, b, &to_b, &to_a, o, &(*paths)[0], won);
+        const Eigen::VectorXd heat_to_b = phi.col(0), heat_to_a = phi.col(1);
+        report =
+            intrinsic::shortest_geodesic(st, a, b, &heat_to_b, &heat_to_a, o, &(*paths)[0], won);
       }
     } catch (const InvalidInput& e) {
       throw InvalidInput(c.name + ": " + e.what());
