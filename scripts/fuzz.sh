@@ -8,8 +8,8 @@
 # Findings are copied to tests/fuzz/crashes/<harness>/ (crash-/leak-/timeout-/oom-<hash>);
 # reproduce one with: build-fuzz/tests/fuzz/<harness> tests/fuzz/crashes/<harness>/<file>
 # Corpora grow in build-fuzz/corpus/<harness>/ (kept between runs; delete to start over from
-# the seeds). FUZZ_JOBS=N runs N harnesses at a time (default 1). FUZZ_OPT=-O1 builds the tree
-# optimized (faster open-ended runs; default -O0, D-261). Known open UBSan reports are
+# the seeds). FUZZ_JOBS=N runs N harnesses at a time (default 1). FUZZ_OPT=-O0 builds the readers
+# and the triangulation unoptimized too (default -O1; D-261). Known open UBSan reports are
 # suppressed through tests/fuzz/ubsan.supp; IFEM_FUZZ_STRICT=1 reports them too.
 # FUZZ_RUNS=N stops each harness after N inputs (SECONDS stays an upper bound) and FUZZ_SEED=S
 # fixes libFuzzer's random seed: from the committed seeds that makes a run repeatable, which is
@@ -22,11 +22,10 @@ build="build-fuzz"
 all=(obj off ply stl xyz values matrix_market signpost pipeline curves integer)
 harnesses=("${@:-${all[@]}}")
 
-# -O0 -g, assertions on (no NDEBUG): Eigen's index checks are worth having while fuzzing. -O0, not
-# -O1: the instrumented libraries compile 2-6x faster (supernodal_solve.cpp 121 -> 20 CPU s,
-# heat_distance.cpp 73 -> 36), which is most of CI's fuzz stage; the harnesses run slower, and
-# CI's slice stops at FUZZ_RUNS inputs or the time bound, whichever comes first (D-261).
-opt=${FUZZ_OPT:--O0}
+# -O1 -g, assertions on (no NDEBUG): Eigen's index checks are worth having while fuzzing. The fem
+# and solvers libraries are instrumented at -O0 (tests/fuzz/CMakeLists.txt, D-261). FUZZ_OPT sets
+# the level of the rest (the readers and the triangulation, which every harness runs).
+opt=${FUZZ_OPT:--O1}
 CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_CXX_FLAGS_RELEASE="$opt -g" -DCMAKE_C_FLAGS_RELEASE="$opt -g" -DIFEM_FUZZ=ON \
   -DIFEM_BUILD_TESTS=OFF -DIFEM_BUILD_BENCHMARKS=OFF -DIFEM_WITH_PCL=OFF -DIFEM_BUILD_PYTHON=OFF >/dev/null
