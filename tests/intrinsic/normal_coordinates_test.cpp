@@ -705,16 +705,14 @@ void expect_relax_agrees(const TriangleMesh& m, double angle, int iterations, bo
 }
 
 TEST(NormalCoordinates, RelaxAgreesWithSignposts) {
-  const TriangleMesh meshes[] = {needle_fan(40), test::jittered(icosphere(1), 0.15, 2),
+  // needle_fan(44), not the exactly symmetric 40: a vertex on its symmetry axis breaks the integers
+  // (docs/decisions.md D-281, the disabled RefineOnTheSymmetryAxisOfANeedleFan)
+  const TriangleMesh meshes[] = {needle_fan(44), test::jittered(icosphere(1), 0.15, 2),
                                  test::jittered(grid(6, 5), 0.3, 3)};
   for (std::size_t i = 0; i < std::size(meshes); ++i) {
     SCOPED_TRACE("mesh " + std::to_string(i));
     for (const int iterations : {1, 3}) {
       for (const bool split : {false, true}) {
-        // needle fan, 3 passes with splits: vertices pile up on the symmetry axis (an input
-        // edge) at equal positions, where the recovery check's ordering of crossings by their
-        // position along the input edge is ambiguous (left open: see docs/decisions.md D-275)
-        if (i == 0 && iterations == 3 && split) continue;
         expect_relax_agrees(meshes[i], 25.0, iterations, split, i > 0);
       }
     }
