@@ -8,9 +8,10 @@
 # Findings are copied to tests/fuzz/crashes/<harness>/ (crash-/leak-/timeout-/oom-<hash>);
 # reproduce one with: build-fuzz/tests/fuzz/<harness> tests/fuzz/crashes/<harness>/<file>
 # Corpora grow in build-fuzz/corpus/<harness>/ (kept between runs; delete to start over from
-# the seeds). FUZZ_JOBS=N runs N harnesses at a time (default 1). FUZZ_OPT=-O0 builds the readers
-# and the triangulation unoptimized too (default -O1; D-261). Known open UBSan reports are
-# suppressed through tests/fuzz/ubsan.supp; IFEM_FUZZ_STRICT=1 reports them too.
+# the seeds). FUZZ_JOBS=N runs N harnesses at a time (default 1). FUZZ_O0_LIBS=OFF builds the
+# libraries at FUZZ_OPT (default -O1) instead of -O0 (D-261): faster long runs, slower build.
+# Known open UBSan reports are suppressed through tests/fuzz/ubsan.supp; IFEM_FUZZ_STRICT=1
+# reports them too.
 # FUZZ_RUNS=N stops each harness after N inputs (SECONDS stays an upper bound) and FUZZ_SEED=S
 # fixes libFuzzer's random seed: from the committed seeds that makes a run repeatable, which is
 # what CI uses (a green CI cannot turn red by luck); longer random runs find the new bugs.
@@ -22,12 +23,13 @@ build="build-fuzz"
 all=(obj off ply stl xyz values matrix_market signpost pipeline curves integer)
 harnesses=("${@:-${all[@]}}")
 
-# -O1 -g, assertions on (no NDEBUG): Eigen's index checks are worth having while fuzzing. The fem
-# and solvers libraries are instrumented at -O0 (tests/fuzz/CMakeLists.txt, D-261). FUZZ_OPT sets
-# the level of the rest (the readers and the triangulation, which every harness runs).
+# -O1 -g, assertions on (no NDEBUG): Eigen's index checks are worth having while fuzzing. The
+# libraries but their readers are instrumented at -O0 to keep CI's build short (D-261);
+# FUZZ_O0_LIBS=OFF builds them at FUZZ_OPT (default -O1) too, for long hunts.
 opt=${FUZZ_OPT:--O1}
 CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_CXX_FLAGS_RELEASE="$opt -g" -DCMAKE_C_FLAGS_RELEASE="$opt -g" -DIFEM_FUZZ=ON \
+  -DIFEM_FUZZ_O0_LIBS="${FUZZ_O0_LIBS:-ON}" \
   -DIFEM_BUILD_TESTS=OFF -DIFEM_BUILD_BENCHMARKS=OFF -DIFEM_WITH_PCL=OFF -DIFEM_BUILD_PYTHON=OFF >/dev/null
 cmake --build "$build" -j"${FUZZ_BUILD_JOBS:-2}" --target ifem_fuzzers
 # The library units tests/fuzz/CMakeLists.txt compiles uninstrumented (IFEM_FUZZ_UNREACHED) must
