@@ -147,7 +147,9 @@ TEST(FlipStart, ExactStripStart) {
         for (std::size_t i = 1; i < p.steps.size(); ++i) {
           EXPECT_EQ(step_head(tri, p.steps[i - 1]), step_tail(tri, p.steps[i])) << "step " << i;
         }
-        if (m == &flat) EXPECT_LE(path_length(tri, p), std::sqrt(2.0) * to_b.distance[a] + 1e-12);
+        if (m == &flat) {
+          EXPECT_LE(path_length(tri, p), std::sqrt(2.0) * to_b.distance[a] + 1e-12);
+        }
       }
       SignpostTriangulation st = fresh;
       ShortestGeodesicOptions o;

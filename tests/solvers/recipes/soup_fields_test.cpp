@@ -132,7 +132,9 @@ TEST(SoupFieldsAligned, EachDiskFollowsPoincareHopfWithBoundary) {
     o.align_boundary = true;
     const TangentFieldResult r = direction_field_on(s, o);
     EXPECT_EQ(r.empty_components, 1) << n;
-    if (n == 1) EXPECT_EQ(r.total_index, 9);
+    if (n == 1) {
+      EXPECT_EQ(r.total_index, 9);
+    }
     double along = 0.0, boundary_turn = 0.0;
     for (Index h = 0; h < s.tri.n_halfedges(); ++h) {
       if (s.tri.twin(h) != kInvalidIndex || s.tri.tail(h) >= kFlat) continue;
