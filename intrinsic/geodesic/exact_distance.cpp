@@ -263,14 +263,9 @@ class Propagator {
     return true;
   }
 
-  // True when vertex v at `pos` (in w's frame) reaches both ends of w more cheaply than w.
+  // True when vertex v at `pos` (in w's frame) reaches every point of w more cheaply than w.
   bool beats(Index v, const Vec2& pos, const Window& w) const {
-    const double dv = out_.distance[v];
-    if (!(dv < kInf)) return false;
-    const double e0 = norm2(w.b0 - w.ix, w.iy) + w.sigma;
-    if (!(dv + norm2(w.b0 - pos.x(), pos.y()) < e0 * (1.0 - kTie))) return false;
-    const double e1 = norm2(w.b1 - w.ix, w.iy) + w.sigma;
-    return dv + norm2(w.b1 - pos.x(), pos.y()) < e1 * (1.0 - kTie);
+    return point_beats_window(pos.x(), pos.y(), out_.distance[v], w, kTie);
   }
 
   // Cuts w by the last kRecent windows pushed on its halfedge (prune_window_by()). True
@@ -516,6 +511,25 @@ std::pair<double, double> prune_window_by(const ExactDistance::Window& other,
   }
   if (!beaten(t)) t += nudge;
   return {w.b0, t < w.b1 && beaten(t) ? t : w.b1};
+}
+
+bool point_beats_window(double px, double py, double d, const ExactDistance::Window& w,
+                        double tie) {
+  if (!(d < kInf) || !(w.b1 >= w.b0)) return false;
+  const double e0 = norm2(w.b0 - w.ix, w.iy) + w.sigma;
+  if (!(d + norm2(w.b0 - px, py) < e0 * (1.0 - tie))) return false;
+  const double e1 = norm2(w.b1 - w.ix, w.iy) + w.sigma;
+  if (!(d + norm2(w.b1 - px, py) < e1 * (1.0 - tie))) return false;
+  if (d >= w.sigma) return true;  // the set the point beats is convex: both ends, all of it
+  // d < σ: w's own set is the convex one, so w may still win inside (b0, b1), between two
+  // crossings; no crossing there means the sign holds all along.
+  const Window r{w.b0, w.b1, px, py, d, w.h, w.parent};
+  double roots[2];
+  const int n = crossings(r, w, roots);
+  for (int i = 0; i < n; ++i) {
+    if (!(roots[i] <= w.b0 || roots[i] >= w.b1)) return false;  // NaN counts as inside
+  }
+  return true;
 }
 
 SurfacePoint corner_point(Index h) {

@@ -98,6 +98,16 @@ ExactDistance exact_distance(const IntrinsicTriangulation& tri, const std::vecto
 std::pair<double, double> prune_window_by(const ExactDistance::Window& other,
                                           const ExactDistance::Window& w);
 
+/// Whether a point (px, py) of w's halfedge frame at distance d from the sources (a vertex of
+/// face(h) or of the face behind) reaches every point of w's interval [b0, b1] by a straight
+/// segment more cheaply than w does, by a relative margin `tie` at both ends (exact_distance()
+/// then drops w). When d ≥ σ the points it beats form a convex set, so beating both ends is
+/// enough; when d < σ it is w's own set that is convex and w may still be the shorter between
+/// two crossings inside (b0, b1) (roots of a quadratic): then the answer is false.
+/// False when d is not finite or the interval is empty.
+bool point_beats_window(double px, double py, double d, const ExactDistance::Window& w,
+                        double tie);
+
 /// The point of face(h)'s corner tail(h) as a SurfacePoint (a vertex as a surface point).
 SurfacePoint corner_point(Index h);
 
