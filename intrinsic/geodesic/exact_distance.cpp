@@ -115,8 +115,8 @@ std::string mb(double bytes) {
 // What a window reads of its halfedge h, in one record (a window pops far from the previous one
 // in memory: one cache line instead of a load from each of the triangulation's arrays).
 struct HalfedgeRecord {
-  double L;              // length
-  double ax, ay;         // apex_of(h): the corner of face(h) opposite h, in h's frame
+  double L;                     // length
+  double ax, ay;                // apex_of(h): the corner of face(h) opposite h, in h's frame
   Index twin, tail, head, opp;  // opp: tail(prev(h)), the corner opposite h
 };
 
@@ -152,8 +152,8 @@ class Propagator {
     recent_next_.assign(std::size_t(tri.n_halfedges()), 0);
     for (Index h = 0; h < tri.n_halfedges(); ++h) {
       const Vec2 a = apex_of(tri, h);
-      he_[h] = {tri.halfedge_length(h), a.x(),        a.y(),
-                tri.twin(h),          tri.tail(h), tri.head(h), tri.tail(T::prev(h))};
+      he_[h] = {tri.halfedge_length(h), a.x(), a.y(), tri.twin(h), tri.tail(h), tri.head(h),
+                tri.tail(T::prev(h))};
     }
   }
 
@@ -304,9 +304,9 @@ class Propagator {
     if (dominated(w)) return;
     if ((keep_ ? created_ : queue_.size()) >= max_windows_) {
       std::ostringstream m;
-      m << "exact distance: more than " << max_windows_ << (keep_ ? "" : " queued") << " windows ("
-        << mb(double(max_windows_) * kExactWindowBytes) << " at " << kExactWindowBytes
-        << " bytes each) exceed the memory budget of " << mb(budget_)
+      m << "exact distance: more than " << max_windows_ << " windows"
+        << (keep_ ? "" : " waiting at once") << " (" << mb(double(max_windows_) * kExactWindowBytes)
+        << " at " << kExactWindowBytes << " bytes each) exceed the memory budget of " << mb(budget_)
         << "; raise it (ExactDistanceOptions::max_memory_bytes, `--memory-budget GB` in the "
            "CLI, memory_budget= in Python) or use the heat method";
       throw InvalidInput(m.str());
@@ -435,8 +435,8 @@ void Propagator::propagate(Window w) {
   const double xc = w.ix + (c.x() - w.ix) * (-w.iy) / (c.y() - w.iy);
   const double xs = std::clamp(xc, w.b0, w.b1);
   const Vec2 xp(xs, 0.0);
-  if (relax(e.opp, w.sigma + (xp - img).norm() + (c - xp).norm(), id, xs) &&
-      xs == xc && w.b0 < xc && xc < w.b1) {  // a straight arrival with rays on both sides
+  if (relax(e.opp, w.sigma + (xp - img).norm() + (c - xp).norm(), id, xs) && xs == xc &&
+      w.b0 < xc && xc < w.b1) {  // a straight arrival with rays on both sides
     const Vec2 ca = -c, cx = xp - c;
     arrive(e.opp, T::prev(h), std::atan2(cross2(ca, cx), ca.dot(cx)));
   }

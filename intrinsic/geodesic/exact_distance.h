@@ -113,8 +113,7 @@ std::pair<double, double> prune_window_by(const ExactDistance::Window& other,
 /// enough; when d < σ it is w's own set that is convex and w may still be the shorter between
 /// two crossings inside (b0, b1) (roots of a quadratic): then the answer is false.
 /// False when d is not finite or the interval is empty.
-bool point_beats_window(double px, double py, double d, const ExactDistance::Window& w,
-                        double tie);
+bool point_beats_window(double px, double py, double d, const ExactDistance::Window& w, double tie);
 
 /// The point of face(h)'s corner tail(h) as a SurfacePoint (a vertex as a surface point).
 SurfacePoint corner_point(Index h);

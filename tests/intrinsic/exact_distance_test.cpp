@@ -171,7 +171,9 @@ TEST(ExactDistance, PointBeatsWindowOnlyWhereItBeatsAllOfIt) {
   EXPECT_FALSE(point_beats_window(0.5, -0.5, 0.6, z, 1e-12));
   // Random configurations: a true answer is never contradicted along the interval.
   std::srand(7);
-  const auto uni = [](double a, double b) { return a + (b - a) * (std::rand() / double(RAND_MAX)); };
+  const auto uni = [](double a, double b) {
+    return a + (b - a) * (std::rand() / double(RAND_MAX));
+  };
   int yes = 0, no_below_sigma = 0;
   for (int k = 0; k < 4000; ++k) {
     const W r{uni(0.0, 0.4), uni(0.6, 1.0), uni(-1.0, 2.0), uni(-1.0, -0.001), uni(0.0, 2.0), 0, 0};
@@ -445,6 +447,27 @@ TEST(ExactDistance, PathLengthEqualsDistanceOnBunny) {
     ASSERT_NEAR(path_length(d, in.positions, v), d.distance[v], 1e-9 * (1 + d.distance[v]))
         << "vertex " << v;
   }
+}
+
+// keep_paths = false: the same distances and windows, no store, and the path calls refuse.
+TEST(ExactDistance, WithoutPathsSameDistancesNoStore) {
+  const io::SurfaceInput in = io::read_mesh((test::test_data() / "bunny_npm_lowres.obj").string());
+  const auto tri = IntrinsicTriangulation::from_positions(in.triangles, in.positions);
+  ExactDistanceOptions o;
+  o.keep_paths = false;
+  const ExactDistance with = exact_distance(tri, std::vector<Index>{5, 900});
+  const ExactDistance without = exact_distance(tri, std::vector<Index>{5, 900}, o);
+  EXPECT_EQ(with.windows, without.windows);
+  EXPECT_GT(with.window_store.size(), 1000u);
+  EXPECT_TRUE(without.window_store.empty());
+  for (Index v = 0; v < tri.n_vertices(); ++v) ASSERT_EQ(with.distance[v], without.distance[v]);
+  EXPECT_THROW((void)without.path_to_source(7), InvalidInput);
+  EXPECT_THROW((void)without.nearest_source(7), InvalidInput);
+  // the budget bounds the windows queued at once: far fewer than all of them
+  o.max_memory_bytes = double(with.windows) * kExactWindowBytes / 4;
+  EXPECT_NO_THROW(exact_distance(tri, std::vector<Index>{5, 900}, o));
+  o.keep_paths = true;
+  EXPECT_THROW(exact_distance(tri, std::vector<Index>{5, 900}, o), InvalidInput);
 }
 
 TEST(ExactDistance, UnreachableComponentIsInfinite) {
