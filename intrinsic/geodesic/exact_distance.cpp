@@ -419,8 +419,10 @@ class Propagator {
   RadixQueue queue_;
 };
 
+// w as pushed: trimmed then (push_window()), not again here (the vertex distances improve
+// between push and pop, but a second trim dropped 1 window in 10,000 and cost ~8% of the time;
+// docs/decisions.md D-321).
 void Propagator::propagate(Window w) {
-  if (!trim(w)) return;
   // Without the store, ids only have to differ from the origins' (−1 − origin): 0 for all.
   const Index id = keep_ ? static_cast<Index>(out_.window_store.size()) : 0;
   if (keep_) out_.window_store.push_back(w);
