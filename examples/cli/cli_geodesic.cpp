@@ -364,8 +364,7 @@ OptionGroup geodesic_options() {
                         "vertices (estimated up front: d(d+1)/2 · (2^R − 1) for degree d, R\n"
                         "rounds; 4 KiB each) exceed GB gigabytes (default: half the physical\n"
                         "memory, or 80% of ulimit -v). Rounds whose segments fall below 1/16\n"
-                        "of the mesh's mean edge length are refused too, naming the most\n"
-                        "rounds that fit"),
+                        "of the mean edge length are refused too, naming the most rounds that fit"),
            flag("quiet").explain(
                "no progress lines and no progress bar on stderr (the bar is drawn\nonly when "
                "stderr is a terminal, once the command has run 2 s)")}};
