@@ -16,12 +16,14 @@ namespace ifem::cli {
 const char* exact_flag_help() {
   return "exact polyhedral geodesic distance instead of the heat method: window\n"
          "propagation over the faces (Chen-Han / Xin-Wang with pruning), from the\n"
-         "edge lengths alone, so it runs on the intrinsic Delaunay triangulation, on\n"
+         "edge lengths alone, so it runs on the input's own faces (not flipped: on\n"
+         "scans the intrinsic Delaunay faces need several times the windows), on\n"
          "the tufted cover (--tufted, nonmanifold meshes) and after --refine (same\n"
-         "surface, same distances). Cost: time and memory grow about as #F^1.5\n"
-         "(64 bytes per window; figures in BENCHMARKS.md); --memory-budget GB stops\n"
-         "it with the figures instead of exhausting memory. Takes --source only;\n"
-         "--mollify defaults to 0 here (the input's own lengths)";
+         "surface, same distances). Cost: time grows about as #F^1.5 (the windows;\n"
+         "figures in BENCHMARKS.md); memory: the windows waiting at once (64 bytes\n"
+         "each), all of them with --paths-from; --memory-budget GB stops it with the\n"
+         "figures instead of exhausting memory. Takes --source only; --mollify\n"
+         "defaults to 0 here (the input's own lengths)";
 }
 
 void check_path_options(const Args& args) {
@@ -39,7 +41,7 @@ std::vector<OptionSpec> exact_path_options() {
   return {text("paths-from", "I,J,...")
               .explain("with --exact: also the exact geodesic from each of these input\n"
                        "vertices back to its nearest source, written to --paths-out (the\n"
-                       "distances are the same; the surface is not flipped for them)"),
+                       "distances are the same)"),
           text("paths-out", "PATHS")
               .with_extensions({".obj", ".ply"})
               .explain("the paths' file: PATHS.obj ('v' and 'l' lines) or PATHS.ply (vertex\n"
@@ -64,17 +66,19 @@ int run_exact_distance(const Args& args, const ResultOutput& out) {
   if (!args.has("mollify")) prep.mollify_relative_epsilon = 0.0;
   prep.refine = refine;
   const bool want_paths = args.has("paths-from");
-  if (want_paths) prep.intrinsic_delaunay = false;  // the paths run on the input's own faces
+  // On the input's own faces (the paths need them; flips keep the distance and cost windows:
+  // docs/decisions.md D-321); refinement flips regardless.
+  prep.intrinsic_delaunay = false;
   const PreparedSurface s = solvers::prepare_surface(read_input(args.positional()[0], args), prep);
   intrinsic::ExactDistanceOptions o;
   o.max_memory_bytes = args.real_or("memory-budget", 0.0) * 1e9;  // 0: the library's default
+  o.keep_paths = want_paths;
   const Stopwatch watch;
   intrinsic::ExactDistance full;
   const Eigen::VectorXd d = solvers::exact_distance(s, sources, o, &full);
   const double seconds = watch.seconds();
-  progress(args, "exact distance: " + std::to_string(full.windows) + " windows (" +
-                     format_number(double(full.windows) * intrinsic::kExactWindowBytes / 1e6) +
-                     " MB), " + std::to_string(full.pseudo_sources) + " pseudo-sources, " +
+  progress(args, "exact distance: " + std::to_string(full.windows) + " windows, " +
+                     std::to_string(full.pseudo_sources) + " pseudo-sources, " +
                      format_number(seconds) + " s");
   std::vector<std::vector<Eigen::Vector3d>> paths;
   if (want_paths) paths = solvers::exact_paths_3d(s, full, args.vertices("paths-from"));

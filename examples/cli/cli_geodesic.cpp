@@ -359,12 +359,12 @@ OptionGroup geodesic_options() {
                         "geodesic; stdout says 'stopped: iteration cap')"),
            real("memory-budget", "GB")
                .above(0)
-               .explain("--all-from: the exact distance's windows (64 bytes each; over it,\n"
-                        "FlipOut). --bezier: refuse a curve whose added vertices (estimated\n"
-                        "up front: d(d+1)/2 · (2^R − 1) for degree d, R rounds; 4 KiB each)\n"
-                        "exceed GB gigabytes (default: half the physical memory, or 80% of\n"
-                        "ulimit -v). Rounds whose segments fall below 1/16 of the mesh's mean\n"
-                        "edge length are refused too, naming the most rounds that fit"),
+               .explain("--all-from: the exact distance's windows waiting at once (64 bytes\n"
+                        "each; over it, FlipOut). --bezier: refuse a curve whose added\n"
+                        "vertices (estimated up front: d(d+1)/2 · (2^R − 1) for degree d, R\n"
+                        "rounds; 4 KiB each) exceed GB gigabytes (default: half the physical\n"
+                        "memory, or 80% of ulimit -v). Rounds whose segments fall below 1/16\n"
+                        "of the mean edge length are refused too, naming the most rounds that fit"),
            flag("quiet").explain(
                "no progress lines and no progress bar on stderr (the bar is drawn\nonly when "
                "stderr is a terminal, once the command has run 2 s)")}};

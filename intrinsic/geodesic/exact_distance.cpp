@@ -49,6 +49,7 @@ Entry vertex_entry(double d, Index v) { return {d, {0.0, 0.0, 0.0, 0.0, 0.0, -1 
 class RadixQueue {
  public:
   bool empty() const { return size_ == 0; }
+  std::size_t size() const { return size_; }
   void push(const Entry& e) {
     buckets_[bucket_of(bits_of(e.key))].push_back(e);
     ++size_;
@@ -111,10 +112,18 @@ std::string mb(double bytes) {
   return s.str();
 }
 
+// What a window reads of its halfedge h, in one record (a window pops far from the previous one
+// in memory: one cache line instead of a load from each of the triangulation's arrays).
+struct HalfedgeRecord {
+  double L;                     // length
+  double ax, ay;                // apex_of(h): the corner of face(h) opposite h, in h's frame
+  Index twin, tail, head, opp;  // opp: tail(prev(h)), the corner opposite h
+};
+
 class Propagator {
  public:
   Propagator(const T& tri, ExactDistance& out, double budget_bytes)
-      : tri_(tri), out_(out), nv_(tri.n_vertices()) {
+      : tri_(tri), out_(out), nv_(tri.n_vertices()), keep_(out.has_paths) {
     max_windows_ = static_cast<std::size_t>(std::max(1.0, budget_bytes / kExactWindowBytes));
     budget_ = budget_bytes;
     out_.distance = Eigen::VectorXd::Constant(nv_, kInf);
@@ -135,11 +144,17 @@ class Propagator {
     find_pseudo_sources();
     // Address space only (pages are touched as windows come): no copy while the store grows
     // on typical meshes.
-    out_.window_store.reserve(std::min(max_windows_, 32 * std::size_t(tri.n_halfedges())));
-    apex_.resize(static_cast<std::size_t>(tri.n_halfedges()));
+    if (keep_) {
+      out_.window_store.reserve(std::min(max_windows_, 32 * std::size_t(tri.n_halfedges())));
+    }
+    he_.resize(static_cast<std::size_t>(tri.n_halfedges()));
     recent_.assign(std::size_t(tri.n_halfedges()) * kRecent, {0.0, -1.0, 0.0, 0.0, 0.0, 0, 0});
     recent_next_.assign(std::size_t(tri.n_halfedges()), 0);
-    for (Index h = 0; h < tri.n_halfedges(); ++h) apex_[h] = apex_of(tri, h);
+    for (Index h = 0; h < tri.n_halfedges(); ++h) {
+      const Vec2 a = apex_of(tri, h);
+      he_[h] = {tri.halfedge_length(h), a.x(), a.y(), tri.twin(h), tri.tail(h), tri.head(h),
+                tri.tail(T::prev(h))};
+    }
   }
 
   void add_vertex_source(Index v) {
@@ -229,9 +244,10 @@ class Propagator {
   // σ + |I x| + x rises, so each end dominates an interval next to it, whose end solves a
   // linear equation. False when nothing is left.
   bool trim(Window& w) const {
-    const double L = tri_.halfedge_length(w.h);
-    const double da = out_.distance[tri_.tail(w.h)] - w.sigma;
-    const double db = out_.distance[tri_.head(w.h)] - w.sigma;
+    const HalfedgeRecord& e = he_[w.h];
+    const double L = e.L;
+    const double da = out_.distance[e.tail] - w.sigma;
+    const double db = out_.distance[e.head] - w.sigma;
     const double r2 = w.ix * w.ix + w.iy * w.iy;
     if (da < kInf) {
       const double den = 2.0 * (w.ix + da);
@@ -253,24 +269,17 @@ class Propagator {
     if (!(w.b1 > w.b0)) return false;
     // The far corner of face(h) and the near one of the face behind: a vertex that beats both
     // ends of w beats all of it (the points p with dv + |v p| < σ + |I p| form a convex set).
-    const Vec2 c = apex_[w.h];
-    if (beats(tri_.tail(T::prev(w.h)), c, w)) return false;
-    const Index t = tri_.twin(w.h);
-    if (t != kInvalidIndex) {
-      const Vec2 d = apex_[t];
-      if (beats(tri_.tail(T::prev(t)), Vec2(L - d.x(), -d.y()), w)) return false;
+    if (beats(e.opp, Vec2(e.ax, e.ay), w)) return false;
+    if (e.twin != kInvalidIndex) {
+      const HalfedgeRecord& d = he_[e.twin];
+      if (beats(d.opp, Vec2(L - d.ax, -d.ay), w)) return false;
     }
     return true;
   }
 
-  // True when vertex v at `pos` (in w's frame) reaches both ends of w more cheaply than w.
+  // True when vertex v at `pos` (in w's frame) reaches every point of w more cheaply than w.
   bool beats(Index v, const Vec2& pos, const Window& w) const {
-    const double dv = out_.distance[v];
-    if (!(dv < kInf)) return false;
-    const double e0 = norm2(w.b0 - w.ix, w.iy) + w.sigma;
-    if (!(dv + norm2(w.b0 - pos.x(), pos.y()) < e0 * (1.0 - kTie))) return false;
-    const double e1 = norm2(w.b1 - w.ix, w.iy) + w.sigma;
-    return dv + norm2(w.b1 - pos.x(), pos.y()) < e1 * (1.0 - kTie);
+    return point_beats_window(pos.x(), pos.y(), out_.distance[v], w, kTie);
   }
 
   // Cuts w by the last kRecent windows pushed on its halfedge (prune_window_by()). True
@@ -293,11 +302,11 @@ class Propagator {
     if (!(w.b1 > w.b0)) return;
     if (!trim(w)) return;
     if (dominated(w)) return;
-    if (created_ >= max_windows_) {
+    if ((keep_ ? created_ : queue_.size()) >= max_windows_) {
       std::ostringstream m;
-      m << "exact distance: more than " << max_windows_ << " windows ("
-        << mb(double(max_windows_) * kExactWindowBytes) << " at " << kExactWindowBytes
-        << " bytes each) exceed the memory budget of " << mb(budget_)
+      m << "exact distance: more than " << max_windows_ << " windows"
+        << (keep_ ? "" : " waiting at once") << " (" << mb(double(max_windows_) * kExactWindowBytes)
+        << " at " << kExactWindowBytes << " bytes each) exceed the memory budget of " << mb(budget_)
         << "; raise it (ExactDistanceOptions::max_memory_bytes, `--memory-budget GB` in the "
            "CLI, memory_budget= in Python) or use the heat method";
       throw InvalidInput(m.str());
@@ -387,6 +396,7 @@ class Propagator {
   const T& tri_;
   ExactDistance& out_;
   const Index nv_;
+  const bool keep_;  // ExactDistanceOptions::keep_paths
   std::size_t max_windows_ = 0;
   std::size_t created_ = 0;  // windows pushed (each costs kExactWindowBytes at most)
   // Windows remembered per halfedge: 1, 2 and 4 leave 26%, 27% and 28% fewer windows on a
@@ -397,7 +407,7 @@ class Propagator {
   double budget_ = 0.0;
   std::vector<double> split_d_, split_x_;
   std::vector<char> pseudo_, emitted_;
-  std::vector<Vec2> apex_;  // per halfedge: apex_of()
+  std::vector<HalfedgeRecord> he_;  // per halfedge
   std::vector<Index> arrive_he_;
   std::vector<double> arrive_phi_;
   struct Corner {
@@ -409,24 +419,28 @@ class Propagator {
   RadixQueue queue_;
 };
 
+// w as pushed: trimmed then (push_window()), not again here (the vertex distances improve
+// between push and pop, but a second trim dropped 1 window in 10,000 and cost ~8% of the time;
+// docs/decisions.md D-321).
 void Propagator::propagate(Window w) {
-  if (!trim(w)) return;
-  const Index id = static_cast<Index>(out_.window_store.size());
-  out_.window_store.push_back(w);
+  // Without the store, ids only have to differ from the origins' (−1 − origin): 0 for all.
+  const Index id = keep_ ? static_cast<Index>(out_.window_store.size()) : 0;
+  if (keep_) out_.window_store.push_back(w);
   const Index h = w.h;
-  const double L = tri_.halfedge_length(h);
-  const Vec2 img(w.ix, w.iy), c = apex_[h];
+  const HalfedgeRecord& e = he_[h];
+  const double L = e.L;
+  const Vec2 img(w.ix, w.iy), c(e.ax, e.ay);
   const Vec2 p0(w.b0, 0.0), p1(w.b1, 0.0);
-  relax(tri_.tail(h), w.sigma + (p0 - img).norm() + w.b0, id, w.b0);
-  relax(tri_.head(h), w.sigma + (p1 - img).norm() + (L - w.b1), id, w.b1);
+  relax(e.tail, w.sigma + (p0 - img).norm() + w.b0, id, w.b0);
+  relax(e.head, w.sigma + (p1 - img).norm() + (L - w.b1), id, w.b1);
   if (!(c.y() > 0.0)) return;  // a degenerate face: nothing beyond
   const double xc = w.ix + (c.x() - w.ix) * (-w.iy) / (c.y() - w.iy);
   const double xs = std::clamp(xc, w.b0, w.b1);
   const Vec2 xp(xs, 0.0);
-  if (relax(tri_.tail(T::prev(h)), w.sigma + (xp - img).norm() + (c - xp).norm(), id, xs) &&
-      xs == xc && w.b0 < xc && xc < w.b1) {  // a straight arrival with rays on both sides
+  if (relax(e.opp, w.sigma + (xp - img).norm() + (c - xp).norm(), id, xs) && xs == xc &&
+      w.b0 < xc && xc < w.b1) {  // a straight arrival with rays on both sides
     const Vec2 ca = -c, cx = xp - c;
-    arrive(tri_.tail(T::prev(h)), T::prev(h), std::atan2(cross2(ca, cx), ca.dot(cx)));
+    arrive(e.opp, T::prev(h), std::atan2(cross2(ca, cx), ca.dot(cx)));
   }
   // One angle, one split.
   double left_end = std::min(w.b1, xc), right_start = std::max(w.b0, xc);
@@ -440,9 +454,10 @@ void Propagator::propagate(Window w) {
     split_x_[h] = xc;
   }
   if (w.b0 < left_end) {  // onto side C → A, stored on its twin (A → C)
-    const Index g = tri_.twin(T::prev(h));
+    const HalfedgeRecord& side = he_[T::prev(h)];
+    const Index g = side.twin;
     if (g != kInvalidIndex) {
-      const double lac = tri_.halfedge_length(g);
+      const double lac = side.L;
       const Vec2 a(0.0, 0.0), u = c / lac;
       const double t0 = ray_fraction(a, c, img, w.b0);
       const double t1 = left_end == xc ? 1.0 : ray_fraction(a, c, img, left_end);
@@ -450,9 +465,10 @@ void Propagator::propagate(Window w) {
     }
   }
   if (right_start < w.b1) {  // onto side B → C, stored on its twin (C → B)
-    const Index g = tri_.twin(T::next(h));
+    const HalfedgeRecord& side = he_[T::next(h)];
+    const Index g = side.twin;
     if (g != kInvalidIndex) {
-      const double lcb = tri_.halfedge_length(g);
+      const double lcb = side.L;
       const Vec2 b(L, 0.0), u = (b - c) / lcb, r = img - c;
       const double t0 = right_start == xc ? 0.0 : ray_fraction(c, b, img, right_start);
       const double t1 = ray_fraction(c, b, img, w.b1);
@@ -518,6 +534,25 @@ std::pair<double, double> prune_window_by(const ExactDistance::Window& other,
   return {w.b0, t < w.b1 && beaten(t) ? t : w.b1};
 }
 
+bool point_beats_window(double px, double py, double d, const ExactDistance::Window& w,
+                        double tie) {
+  if (!(d < kInf) || !(w.b1 >= w.b0)) return false;
+  const double e0 = norm2(w.b0 - w.ix, w.iy) + w.sigma;
+  if (!(d + norm2(w.b0 - px, py) < e0 * (1.0 - tie))) return false;
+  const double e1 = norm2(w.b1 - w.ix, w.iy) + w.sigma;
+  if (!(d + norm2(w.b1 - px, py) < e1 * (1.0 - tie))) return false;
+  if (d >= w.sigma) return true;  // the set the point beats is convex: both ends, all of it
+  // d < σ: w's own set is the convex one, so w may still win inside (b0, b1), between two
+  // crossings; no crossing there means the sign holds all along.
+  const Window r{w.b0, w.b1, px, py, d, w.h, w.parent};
+  double roots[2];
+  const int n = crossings(r, w, roots);
+  for (int i = 0; i < n; ++i) {
+    if (!(roots[i] <= w.b0 || roots[i] >= w.b1)) return false;  // NaN counts as inside
+  }
+  return true;
+}
+
 SurfacePoint corner_point(Index h) {
   SurfacePoint p;
   p.face = T::face(h);
@@ -565,6 +600,7 @@ ExactDistance exact_distance(const IntrinsicTriangulation& tri,
   for (std::size_t k = 0; k < sources.size(); ++k) check_point(tri, sources[k], k);
   ExactDistance out;
   out.tri = &tri;
+  out.has_paths = options.keep_paths;
   out.sources = sources;
   const double budget =
       options.max_memory_bytes > 0.0 ? options.max_memory_bytes : default_memory_budget();
@@ -614,6 +650,9 @@ std::vector<SurfacePoint> ExactDistance::path_to_source(Index v) const {
     throw InvalidInput("path_to_source: vertex " + std::to_string(v) + " outside [0, " +
                        std::to_string(distance.size()) + ")");
   }
+  if (!has_paths) {
+    throw InvalidInput("path_to_source: the exact distance was run without keep_paths");
+  }
   std::vector<SurfacePoint> path;
   if (!std::isfinite(distance[v])) return path;
   const T& t = *tri;
@@ -653,6 +692,9 @@ std::vector<SurfacePoint> ExactDistance::path_to_source(Index v) const {
 }
 
 Index ExactDistance::nearest_source(Index v) const {
+  if (!has_paths) {
+    throw InvalidInput("nearest_source: the exact distance was run without keep_paths");
+  }
   if (v < 0 || v >= distance.size() || !std::isfinite(distance[v])) return -1;
   const Index nv = tri->n_vertices();
   for (std::size_t guard = 0; guard <= window_store.size() + std::size_t(nv); ++guard) {

@@ -24,6 +24,11 @@ struct ExactDistanceOptions {
   /// the physical memory, refine/delaunay_refine.h). The run stops with InvalidInput stating
   /// the figures when the windows would need more. ≥ 0.
   double max_memory_bytes = 0.0;
+  /// Keep every window that survives for ExactDistance::path_to_source() and nearest_source().
+  /// false: distances only; the windows are dropped once propagated, so the memory is that of
+  /// the windows waiting in the queue (the budget above then bounds those), and the two calls
+  /// throw.
+  bool keep_paths = true;
 };
 
 /// Bytes one window costs against ExactDistanceOptions::max_memory_bytes (the window and its
@@ -39,16 +44,18 @@ class ExactDistance {
   Eigen::VectorXd distance;
   std::size_t windows = 0;         ///< windows created (the measure of the work)
   std::size_t pseudo_sources = 0;  ///< saddle and boundary vertices that re-emitted
+  bool has_paths = true;           ///< ExactDistanceOptions::keep_paths as run
 
   /// A shortest path from vertex v to its nearest source, as points of the triangulation: v
   /// first, then every crossing of an edge (a point on a face side) and every vertex it runs
   /// through, the source last (a vertex, or the SurfacePoint given). Its length (straight
   /// segments in the faces between consecutive points) equals distance[v] up to rounding.
   /// Empty when v is unreachable. O(path length).
-  /// @throws InvalidInput if v is out of range
+  /// @throws InvalidInput if v is out of range, or if run without keep_paths
   std::vector<SurfacePoint> path_to_source(Index v) const;
 
   /// The source the path from v ends at (an index into the sources given); -1 if unreachable.
+  /// @throws InvalidInput if run without keep_paths
   Index nearest_source(Index v) const;
 
   // ===== What path_to_source() reads (filled by exact_distance()) =====
@@ -71,8 +78,9 @@ class ExactDistance {
 /// Exact geodesic distance from the sources (minimum over them) to every vertex of tri, and the
 /// path back (ExactDistance::path_to_source()). Sources are surface points of tri (a face and
 /// barycentric coordinates; a coordinate of 1 is that corner's vertex, a 0 puts the point on a
-/// side). Cost: O(W log W) time for W windows, W·kExactWindowBytes memory; W grows about as
-/// #F^1.5 on typical meshes (measured figures in BENCHMARKS.md).
+/// side). Cost: O(W log W) time for W windows, W·kExactWindowBytes memory (without keep_paths:
+/// that of the windows queued at once); W grows about as #F^1.5 on typical meshes (measured
+/// figures in BENCHMARKS.md).
 /// @throws InvalidInput if sources is empty, a source's face is out of range, its barycentric
 ///         coordinates are not finite, negative or do not sum to 1 (1e-9); or if the windows
 ///         exceed the memory budget (the message gives the figures and the option to raise)
@@ -97,6 +105,15 @@ ExactDistance exact_distance(const IntrinsicTriangulation& tri, const std::vecto
 /// @return {b0, b1} of w's part left; b1 ≤ b0 when nothing is left
 std::pair<double, double> prune_window_by(const ExactDistance::Window& other,
                                           const ExactDistance::Window& w);
+
+/// Whether a point (px, py) of w's halfedge frame at distance d from the sources (a vertex of
+/// face(h) or of the face behind) reaches every point of w's interval [b0, b1] by a straight
+/// segment more cheaply than w does, by a relative margin `tie` at both ends (exact_distance()
+/// then drops w). When d ≥ σ the points it beats form a convex set, so beating both ends is
+/// enough; when d < σ it is w's own set that is convex and w may still be the shorter between
+/// two crossings inside (b0, b1) (roots of a quadratic): then the answer is false.
+/// False when d is not finite or the interval is empty.
+bool point_beats_window(double px, double py, double d, const ExactDistance::Window& w, double tie);
 
 /// The point of face(h)'s corner tail(h) as a SurfacePoint (a vertex as a surface point).
 SurfacePoint corner_point(Index h);

@@ -14,11 +14,12 @@ def exact_distance(V, F=None, sources=None, *, refine=False, min_angle=25.0, res
     """Exact geodesic distance from source vertices, as ``ifem distance --exact``.
 
     Window propagation over the faces of the intrinsic triangulation (Chen–Han / Xin–Wang with
-    pruning), from edge lengths alone: it runs on the intrinsic Delaunay triangulation, on the
-    tufted cover of a nonmanifold mesh (``path="tufted"`` or automatically) and after
-    refinement (``refine=True``: the same surface, the same distances). No approximation: a
-    reference to measure approximate distances against. Cost grows about as #F^1.5 (time and
-    memory, 64 bytes per window).
+    pruning), from edge lengths alone: it runs on the input's own faces (not flipped: on scans
+    the intrinsic Delaunay faces need several times the windows), on the tufted cover of a
+    nonmanifold mesh (``path="tufted"`` or automatically) and after refinement
+    (``refine=True``: the same surface, the same distances). No approximation: a reference to
+    measure approximate distances against. Time grows about as #F^1.5 (the windows); memory is
+    that of the windows waiting at once (64 bytes each), of all of them with ``paths_from``.
 
     Args:
         V: #V×3 vertex positions, or a mesh file's path (F then None).
@@ -32,8 +33,8 @@ def exact_distance(V, F=None, sources=None, *, refine=False, min_angle=25.0, res
             it, :class:`InvalidInput` states the figures.
         paths_from: None or vertex ids: also return, for each, the shortest path back to its
             nearest source as a (k, 3) array of points on the surface (vertex first, source
-            last; edge crossings between). The surface is then not flipped (needs
-            ``refine=False``); the distances are the same.
+            last; edge crossings between). Needs ``refine=False``; the distances are the
+            same.
         return_info: also return a dict (windows, and the preparation as in ``eigen``).
 
     Returns:

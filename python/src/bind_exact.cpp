@@ -52,7 +52,8 @@ py::tuple exact_distance(const py::handle& V, const py::handle& F, const py::han
   const std::vector<Index> ids = indices_from(sources, n, "sources");
   const std::vector<Index> from =
       want_paths ? indices_from(paths_from, n, "paths_from") : std::vector<Index>{};
-  solvers::PrepareOptions o = prepare_options(mollify, path, !want_paths, 30);
+  // the input's own faces: flips keep the distance and cost windows (docs/decisions.md D-321)
+  solvers::PrepareOptions o = prepare_options(mollify, path, false, 30);
   if (!refine.is_none()) {
     const py::tuple r = py::reinterpret_borrow<py::tuple>(refine);
     solvers::SurfaceRefineOptions ro;
@@ -64,6 +65,7 @@ py::tuple exact_distance(const py::handle& V, const py::handle& F, const py::han
   const solvers::PreparedSurface s = prepare(std::move(in), o, path);
   intrinsic::ExactDistanceOptions eo;
   eo.max_memory_bytes = memory_budget_gb * 1e9;
+  eo.keep_paths = want_paths;
   intrinsic::ExactDistance full;
   Eigen::VectorXd d;
   {

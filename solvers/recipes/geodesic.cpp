@@ -330,6 +330,7 @@ bool exact_single_source(const SignpostTriangulation& st, const io::SurfaceInput
                          Index source, const GeodesicOptions& options, SingleSourceResult& r) {
   intrinsic::ExactDistanceOptions eo;
   eo.max_memory_bytes = options.max_memory_bytes;
+  eo.keep_paths = options.trace_paths;
   const intrinsic::IntrinsicTriangulation& tri = st.intrinsic();
   if (tri.vertex_halfedge(source) == kInvalidIndex) return false;  // FlipOut's message
   if (options.on_progress) options.on_progress(0.0, "single-source geodesics");

@@ -147,6 +147,55 @@ TEST(ExactDistance, PruneWindowByAnotherOnlyWhereProven) {
   }
 }
 
+// point_beats_window(): a vertex that beats both ends of a window beats all of it only when its
+// distance is at least the window's σ; below σ the window may win between the ends.
+TEST(ExactDistance, PointBeatsWindowOnlyWhereItBeatsAllOfIt) {
+  using W = ExactDistance::Window;
+  const auto len = [](const W& w, double x) { return w.sigma + std::hypot(x - w.ix, w.iy); };
+  const auto pt = [](double px, double py, double d, double x) {
+    return d + std::hypot(x - px, py);
+  };
+  // A long edge [0, 200], w's image just below its middle (σ = 1), the vertex 10 above the
+  // middle at distance 0.4: shorter at both ends, longer in the middle.
+  const W w{0.0, 200.0, 100.0, -0.01, 1.0, 0, 0};
+  ASSERT_LT(pt(100.0, 10.0, 0.4, 0.0), len(w, 0.0));
+  ASSERT_LT(pt(100.0, 10.0, 0.4, 200.0), len(w, 200.0));
+  ASSERT_GT(pt(100.0, 10.0, 0.4, 100.0), len(w, 100.0));
+  EXPECT_FALSE(point_beats_window(100.0, 10.0, 0.4, w, 1e-12));
+  // d < σ and shorter everywhere (the vertex lies between the image and the edge).
+  const W u{0.0, 1.0, 0.5, -1.0, 1.0, 0, 0};
+  EXPECT_TRUE(point_beats_window(0.5, -0.5, 0.2, u, 1e-12));
+  // d ≥ σ: both ends are enough (convex).
+  const W z{0.0, 1.0, 0.5, -1.0, 0.0, 0, 0};
+  EXPECT_TRUE(point_beats_window(0.5, -0.5, 0.3, z, 1e-12));
+  EXPECT_FALSE(point_beats_window(0.5, -0.5, 0.6, z, 1e-12));
+  // Random configurations: a true answer is never contradicted along the interval.
+  std::srand(7);
+  const auto uni = [](double a, double b) {
+    return a + (b - a) * (std::rand() / double(RAND_MAX));
+  };
+  int yes = 0, no_below_sigma = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const W r{uni(0.0, 0.4), uni(0.6, 1.0), uni(-1.0, 2.0), uni(-1.0, -0.001), uni(0.0, 2.0), 0, 0};
+    const double px = uni(-1.0, 2.0), py = uni(-3.0, 3.0), d = uni(0.0, 2.0);
+    const bool beats = point_beats_window(px, py, d, r, 1e-12);
+    bool everywhere = true;
+    for (int i = 0; i <= 400; ++i) {
+      const double x = r.b0 + (r.b1 - r.b0) * i / 400.0;
+      everywhere = everywhere && pt(px, py, d, x) <= len(r, x);
+    }
+    if (beats) {
+      ++yes;
+      ASSERT_TRUE(everywhere) << "case " << k;
+    }
+    const bool ends = pt(px, py, d, r.b0) < len(r, r.b0) * (1 - 1e-12) &&
+                      pt(px, py, d, r.b1) < len(r, r.b1) * (1 - 1e-12);
+    if (ends && !everywhere && d < r.sigma) ++no_below_sigma;
+  }
+  EXPECT_GT(yes, 200);
+  EXPECT_GT(no_below_sigma, 0);  // the case both-ends-only gets wrong does occur
+}
+
 // Open square (0.4, 0.6)² (the hole below): true when the segment a→b passes through it.
 bool through_hole(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   double lo = 0.0, hi = 1.0;
@@ -398,6 +447,27 @@ TEST(ExactDistance, PathLengthEqualsDistanceOnBunny) {
     ASSERT_NEAR(path_length(d, in.positions, v), d.distance[v], 1e-9 * (1 + d.distance[v]))
         << "vertex " << v;
   }
+}
+
+// keep_paths = false: the same distances and windows, no store, and the path calls refuse.
+TEST(ExactDistance, WithoutPathsSameDistancesNoStore) {
+  const io::SurfaceInput in = io::read_mesh((test::test_data() / "bunny_npm_lowres.obj").string());
+  const auto tri = IntrinsicTriangulation::from_positions(in.triangles, in.positions);
+  ExactDistanceOptions o;
+  o.keep_paths = false;
+  const ExactDistance with = exact_distance(tri, std::vector<Index>{5, 900});
+  const ExactDistance without = exact_distance(tri, std::vector<Index>{5, 900}, o);
+  EXPECT_EQ(with.windows, without.windows);
+  EXPECT_GT(with.window_store.size(), 1000u);
+  EXPECT_TRUE(without.window_store.empty());
+  for (Index v = 0; v < tri.n_vertices(); ++v) ASSERT_EQ(with.distance[v], without.distance[v]);
+  EXPECT_THROW((void)without.path_to_source(7), InvalidInput);
+  EXPECT_THROW((void)without.nearest_source(7), InvalidInput);
+  // the budget bounds the windows queued at once: far fewer than all of them
+  o.max_memory_bytes = double(with.windows) * kExactWindowBytes / 4;
+  EXPECT_NO_THROW(exact_distance(tri, std::vector<Index>{5, 900}, o));
+  o.keep_paths = true;
+  EXPECT_THROW(exact_distance(tri, std::vector<Index>{5, 900}, o), InvalidInput);
 }
 
 TEST(ExactDistance, UnreachableComponentIsInfinite) {
