@@ -31,6 +31,12 @@ struct SimplifyReport {
   Index vertices_after = 0;     ///< #V of the coarse triangulation
   Index removals = 0;           ///< vertices removed (interior and boundary)
   Index boundary_removals = 0;  ///< of which on a boundary (an ear cut off)
+  /// Fans removed by flattening (their link polygon laid out convex and triangulated: the
+  /// vertex's angle defect moves to its neighbours), where flips to 3 faces do not suffice.
+  Index flattened = 0;
+  /// Pillows deleted: closed fans of two faces glued along all three sides (an isolated
+  /// triangle of a nonmanifold mesh or point cloud, zipped to its back), whose area is dropped.
+  Index pillows = 0;
   std::size_t flips = 0;        ///< edge flips: to degree 3 / to an ear, and Delaunay repair
   /// Vertices left because none could be removed without breaking a guarantee (the target was
   /// not reached): 0 when vertices_after reached the target.
