@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numeric>
 #include <queue>
+#include <set>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -127,7 +128,11 @@ class Simplifier {
     if (twin >= 0) sd_[twin].twin = slot;
   }
   bool fan(Index rep, std::vector<Index>& out, bool& boundary) const;
-  bool flip(Index h);
+  bool flip(Index h, bool loop = false);
+  bool flip_loop(Index v, Index h);
+  bool faces_of(Index v, std::vector<Index>& faces);
+  bool rebuild_reps(Index v, const std::vector<Index>& faces);
+  bool flip_loops(Index v);
   bool is_delaunay(Index h) const;
   void delaunay_repair(std::vector<Index>& stack);  // consumes the stack
   void remap_reps(Index v, const Index* from, const Index* to, int n);
@@ -143,6 +148,7 @@ class Simplifier {
   void remove_degree_two(Index v, const std::vector<Index>& hs, bool place_v);
   bool is_pillow(Index v, const std::vector<Index>& hs) const;
   bool plan_fans(Index v, Index n_fans, Index& home);
+  bool flip_outer(Index v, Index o);
   bool pillows_leave_fans(const std::vector<std::vector<Index>>& fans, Index n_fans);
   void remove_pillow(const std::vector<Index>& hs, std::vector<Index>& points);
   // removal by flattening: the link polygon of a closed fan laid out convex and triangulated
@@ -192,6 +198,7 @@ class Simplifier {
   std::vector<Index> pillow_points_;
   std::vector<std::pair<Index, Eigen::Vector3d>> moving_bary_;
   PolygonPlan plan_;
+  std::set<Index> tried_;  // self-edges flip_loops() tried
   Index alive_count_ = 0;
   SimplifyReport report_;
 };
@@ -248,7 +255,7 @@ void Simplifier::touch_face(Index f) {
 // Flips the edge of h in its diamond (a, b, c | b, a, d) to the diagonal c–d, moving the
 // points of both faces. False (nothing changed) unless the diamond is strictly convex and
 // both new faces keep the margin.
-bool Simplifier::flip(Index h) {
+bool Simplifier::flip(Index h, bool loop) {
   const Index t = sd_[h].twin;
   if (t < 0) return false;
   const Index f = T::face(h), g = T::face(t);
@@ -261,7 +268,9 @@ bool Simplifier::flip(Index h) {
   const Index a = sd_[h].tail, b = sd_[h1].tail, c = sd_[h2].tail, d = sd_[t2].tail;
   // four distinct vertices: a repeated one (a self-edge in the diamond) could join or split its
   // fans, which the per-fan representatives do not follow
-  if (c == d || a == b || a == c || a == d || b == c || b == d) return false;
+  // (loop: the edge a = b is a self-edge, c and d distinct from it and each other; the caller
+  // rebuilds a's representatives)
+  if (c == d || a == c || a == d || b == c || b == d || (a == b) != loop) return false;
   const double lab = sd_[h].len, lbc = sd_[h1].len, lca = sd_[h2].len, lad = sd_[t1].len,
                ldb = sd_[t2].len;
   const Eigen::Vector2d A(0.0, 0.0), B(lab, 0.0);
@@ -823,6 +832,17 @@ void Simplifier::remove_polygon(Index v, const std::vector<Index>& hs, bool plac
   ++report_.flattened;
 }
 
+// Flips the outer side o of one of v's fans, across a face without v (so v's other fans stay as
+// walked): the fan gains a face.
+bool Simplifier::flip_outer(Index v, Index o) {
+  const Index w = sd_[o].twin;
+  if (w < 0) return false;
+  for (int c = 0; c < 3; ++c) {
+    if (sd_[3 * T::face(w) + c].tail == v) return false;
+  }
+  return flip(o);
+}
+
 // Walks v's fans and readies each for removal (simplify.h): a pillow as it is; a fan flipped
 // down to 3 faces (an ear, 2 zipped faces); else a closed fan planned for flattening (a fan of
 // two faces that cannot be zipped gets an outer side flipped first). `home`: the first fan that
@@ -841,29 +861,110 @@ bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
     }
     if (home == kInvalidIndex) home = k;
     if (!b && fans[k].size() == 2 && !removable(v, fans[k], b)) {
-      // outer sides of unequal lengths: flip one (across a face without v, so that the other
-      // fans stay as walked) to make three faces, which flattening can take
-      auto free_flip = [&](Index o) {
-        const Index w = sd_[o].twin;
-        if (w < 0) return false;
-        for (int c = 0; c < 3; ++c) {
-          if (sd_[3 * T::face(w) + c].tail == v) return false;
-        }
-        return flip(o);
-      };
-      if (free_flip(T::next(fans[k][0])) || free_flip(T::next(fans[k][1]))) {
+      // outer sides of unequal lengths: one flipped makes three faces, which flattening can take
+      if (flip_outer(v, T::next(fans[k][0])) || flip_outer(v, T::next(fans[k][1]))) {
         if (!fan(rep_[rep_start_[v] + k], fans[k], b) || b) return false;
       }
     }
     kind[k] = !(flip_fan_down(v, b, fans[k]) && removable(v, fans[k], b));
-    if (kind[k] == 1 && (b || !plan_polygon(v, fans[k], plan_))) return false;
+    if (kind[k] == 1 && b) return false;
+    // a link with a side as long as the others together: its longest side flipped outwards
+    for (int tries = 0; kind[k] == 1 && !plan_polygon(v, fans[k], plan_); ++tries) {
+      Index longest = T::next(fans[k][0]);
+      for (Index h : fans[k]) {
+        if (sd_[T::next(h)].len > sd_[longest].len) longest = T::next(h);
+      }
+      if (tries == 2 || !flip_outer(v, longest)) return false;
+      if (!fan(rep_[rep_start_[v] + k], fans[k], b) || b) return false;
+    }
   }
   return home != kInvalidIndex && pillows_leave_fans(fans, n_fans);
+}
+
+// The faces of v's fans (from its representatives, which must be exact). False if a walk fails.
+bool Simplifier::faces_of(Index v, std::vector<Index>& faces) {
+  faces.clear();
+  std::vector<Index>& w = hs_;
+  for (Index k = rep_start_[v]; k < rep_end_[v]; ++k) {
+    bool b = false;
+    if (!fan(rep_[k], w, b)) return false;
+    for (Index h : w) faces.push_back(T::face(h));
+  }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return true;
+}
+
+// v's fan representatives walked again from its corners in `faces` (all faces with v as a
+// corner: a flip of a self-edge at v, which can join or split its fans, keeps that set). False
+// (nothing changed) if a walk leaves the set or there are more fans than v has room for.
+bool Simplifier::rebuild_reps(Index v, const std::vector<Index>& faces) {
+  std::vector<Index>& all = sorted_;
+  all.clear();
+  for (Index f : faces) {
+    for (int s = 0; s < 3; ++s) {
+      if (sd_[3 * f + s].tail == v) all.push_back(3 * f + s);
+    }
+  }
+  std::vector<Index>& w = hs_;
+  std::vector<Index> reps;
+  std::vector<char> seen(all.size(), 0);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (seen[i]) continue;
+    bool b = false;
+    if (!fan(all[i], w, b)) return false;
+    for (Index h : w) {
+      const auto it = std::lower_bound(all.begin(), all.end(), h);
+      if (it == all.end() || *it != h) return false;
+      seen[it - all.begin()] = 1;
+    }
+    reps.push_back(w.front());
+  }
+  if (Index(reps.size()) > rep_start_[v + 1] - rep_start_[v]) return false;
+  std::copy(reps.begin(), reps.end(), rep_.begin() + rep_start_[v]);
+  rep_end_[v] = rep_start_[v] + Index(reps.size());
+  return true;
+}
+
+// Flips the self-edge h (v → v) away (a strictly convex diamond with two other distinct
+// corners) and rebuilds v's representatives; flipped back if they cannot be rebuilt.
+bool Simplifier::flip_loop(Index v, Index h) {
+  std::vector<Index> faces;
+  if (!faces_of(v, faces)) return false;
+  const Index f = T::face(h);
+  if (!flip(h, /*loop=*/true)) return false;
+  if (rebuild_reps(v, faces)) return true;
+  if (!flip(3 * f + 2, /*loop=*/false) || !rebuild_reps(v, faces)) {  // back to the self-edge
+    throw Error("simplify: internal: a self-edge flip could not be undone");
+  }
+  return false;
+}
+
+// Flips away the self-edges at v that can be (they put v on its own link: no removal).
+bool Simplifier::flip_loops(Index v) {
+  bool any = false;
+  for (int round = 0; round < 8; ++round) {
+    Index loop = kInvalidIndex;
+    std::vector<Index>& w = ends_;
+    for (Index k = rep_start_[v]; k < rep_end_[v] && loop == kInvalidIndex; ++k) {
+      bool b = false;
+      if (!fan(rep_[k], w, b)) return any;
+      for (Index h : w) {
+        if (head(h) == v && !tried_.count(h)) loop = h;
+      }
+    }
+    if (loop == kInvalidIndex) return any;
+    tried_.insert(loop);
+    any = flip_loop(v, loop) || any;
+  }
+  return any;
 }
 
 // Readies every fan of v (plan_fans), removes them. False (after a Delaunay repair of what the
 // flips changed) when v cannot be removed now.
 bool Simplifier::try_remove(Index v) {
+  tried_.clear();
+  flip_loops(v);
   const Index n_fans = rep_end_[v] - rep_start_[v];
   if (n_fans == 0 || (comp_closed_[comp_[v]] && comp_vertices_[comp_[v]] <= 4)) return false;
   std::vector<std::vector<Index>>& fans = fans_;
