@@ -110,6 +110,7 @@ class Simplifier {
  public:
   explicit Simplifier(const IntrinsicTriangulation& fine);
   void run(Index target, const ProgressCallback& on_progress);
+  void drain(Index target, ProgressMeter& meter);
   Simplification finish(const IntrinsicTriangulation& fine);
 
  private:
@@ -198,6 +199,7 @@ class Simplifier {
   std::vector<Index> pillow_points_;
   std::vector<std::pair<Index, Eigen::Vector3d>> moving_bary_;
   PolygonPlan plan_;
+  bool flatten_ = false;  // second pass: any closed fan may be flattened
   std::set<Index> tried_;  // self-edges flip_loops() tried
   Index alive_count_ = 0;
   SimplifyReport report_;
@@ -866,8 +868,14 @@ bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
         if (!fan(rep_[rep_start_[v] + k], fans[k], b) || b) return false;
       }
     }
+    // flattening (closed fans only) where flips to 3 faces cannot be had: an angle sum of 3π
+    // or more, or a vertex with several fans (all must go at once); otherwise a fan waits for
+    // its star to change, and is flattened only in the second pass (run())
+    double theta = 0.0;
+    for (Index h : fans[k]) theta += angle(h);
+    const bool may_flatten = flatten_ || n_fans > 1 || theta >= 3.0 * kPi * (1.0 - 1e-9);
     kind[k] = !(flip_fan_down(v, b, fans[k]) && removable(v, fans[k], b));
-    if (kind[k] == 1 && b) return false;
+    if (kind[k] == 1 && (b || !may_flatten)) return false;
     // a link with a side as long as the others together: its longest side flipped outwards
     for (int tries = 0; kind[k] == 1 && !plan_polygon(v, fans[k], plan_); ++tries) {
       Index longest = T::next(fans[k][0]);
@@ -1066,25 +1074,38 @@ void Simplifier::remove_pillow(const std::vector<Index>& hs, std::vector<Index>&
   ++report_.pillows;
 }
 
-// Lazy greedy: a vertex whose star changed is marked dirty, and its cost is recomputed (and
-// the vertex queued again) only when it comes out of the queue; a vertex not queued (failed, or
-// of infinite cost) is queued again when its star changes.
+// Two passes: in the first a single fan below 3π is only flipped to degree 3 (an ear, zipped
+// faces), so manifold inputs that reach their target that way keep their metric; if the
+// target is missed, the second may flatten any closed fan (simplify.h).
 void Simplifier::run(Index target, const ProgressCallback& on_progress) {
   std::vector<Index>& stack = stack_;
   for (Index h = 0; h < Index(sd_.size()); ++h) {
     if (sd_[h].twin > h) stack.push_back(h);
   }
   delaunay_repair(stack);
+  const Index wanted = std::max<Index>(alive_count_ - target, 0);
+  ProgressMeter meter(on_progress, "simplify", std::max<Index>(wanted, 1));
+  for (int pass = 0; pass < 2 && alive_count_ > target; ++pass) {
+    flatten_ = pass == 1;
+    drain(target, meter);
+  }
+  report_.stuck = std::max<Index>(alive_count_ - target, 0);
+  meter.finish();
+}
+
+// Lazy greedy: a vertex whose star changed is marked dirty, and its cost is recomputed (and
+// the vertex queued again) only when it comes out of the queue; a vertex not queued (failed, or
+// of infinite cost) is queued again when its star changes.
+void Simplifier::drain(Index target, ProgressMeter& meter) {
   touched_.clear();
   using Entry = std::pair<double, Index>;  // cost, vertex
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   std::vector<char> queued(nv_, 0), dirty(nv_, 0);
   for (Index v = 0; v < nv_; ++v) {
+    if (!vertex_alive_[v]) continue;
     const double c = cost(v);
     if (c < HUGE_VAL) queue.emplace(c, v), queued[v] = 1;
   }
-  const Index wanted = std::max<Index>(alive_count_ - target, 0);
-  ProgressMeter meter(on_progress, "simplify", std::max<Index>(wanted, 1));
   while (alive_count_ > target && !queue.empty()) {
     const Index v = queue.top().second;
     queue.pop();
@@ -1109,8 +1130,6 @@ void Simplifier::run(Index target, const ProgressCallback& on_progress) {
       }
     }
   }
-  report_.stuck = std::max<Index>(alive_count_ - target, 0);
-  meter.finish();
 }
 
 Simplification Simplifier::finish(const IntrinsicTriangulation& fine) {
