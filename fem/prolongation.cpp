@@ -122,7 +122,8 @@ ComplexSparseMatrix tangent_prolongation(const intrinsic::IntrinsicTriangulation
   }
   const T& c = s.coarse;
   std::vector<Index> fine_to_coarse(nv, kInvalidIndex);
-  for (Index k = 0; k < Index(s.coarse_to_fine.size()); ++k) fine_to_coarse[s.coarse_to_fine[k]] = k;
+  for (Index k = 0; k < Index(s.coarse_to_fine.size()); ++k)
+    fine_to_coarse[s.coarse_to_fine[k]] = k;
   const TangentFrames ff = tangent_frames(fine), cf = tangent_frames(c);
   // per fine vertex: Σ over its fine edges of exp(i(layout angle − fine halfedge angle))
   std::vector<std::complex<double>> to_fine(nv, 0.0);
@@ -133,7 +134,8 @@ ComplexSparseMatrix tangent_prolongation(const intrinsic::IntrinsicTriangulation
     const FaceLayout L = layout_of(c, pi.face);
     Eigen::Vector2d xj;
     if (!place_in(c, pi.face, L, s.fine_in_coarse[j], xj)) continue;
-    const Eigen::Vector2d d = xj - (pi.bary[0] * L.p[0] + pi.bary[1] * L.p[1] + pi.bary[2] * L.p[2]);
+    const Eigen::Vector2d d =
+        xj - (pi.bary[0] * L.p[0] + pi.bary[1] * L.p[1] + pi.bary[2] * L.p[2]);
     if (!(d.norm() > 0.0)) continue;
     to_fine[i] += std::polar(1.0, std::atan2(d.y(), d.x()) - ff.halfedge_angle[h]);
   }

@@ -155,8 +155,8 @@ int run(const Args& args) {
   std::printf(
       "vertices: %d -> %d (%d removed, %d on the boundary, %d fans flattened, %d pillows "
       "deleted; %zu flips) in %.3f s\n",
-      r.vertices_before, r.vertices_after, r.removals, r.boundary_removals, r.flattened,
-      r.pillows, r.flips, seconds);
+      r.vertices_before, r.vertices_after, r.removals, r.boundary_removals, r.flattened, r.pillows,
+      r.flips, seconds);
   if (r.stuck > 0) {
     std::printf("%d vertices above the target could not be removed (see --help)%s\n", r.stuck,
                 ps.path == intrinsic::SurfacePath::kPointCloud

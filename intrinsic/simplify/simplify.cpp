@@ -154,8 +154,8 @@ class Simplifier {
   void remove_pillow(const std::vector<Index>& hs, std::vector<Index>& points);
   // removal by flattening: the link polygon of a closed fan laid out convex and triangulated
   struct PolygonPlan {
-    std::vector<Index> ends;               // a_i: far end of spoke i, corner i of the polygon
-    std::vector<double> side, beta, cum;   // l_i (a_i → a_i+1), half central angles, their sums
+    std::vector<Index> ends;              // a_i: far end of spoke i, corner i of the polygon
+    std::vector<double> side, beta, cum;  // l_i (a_i → a_i+1), half central angles, their sums
     double radius = 0.0;
     std::vector<std::array<int, 3>> tris;  // d − 2 corner triples i < k < j (counter-clockwise)
     std::vector<int> apex;                 // scratch of triangulate_polygon()
@@ -164,6 +164,8 @@ class Simplifier {
   bool triangulate_polygon(PolygonPlan& plan) const;
   void remove_polygon(Index v, const std::vector<Index>& hs, bool place_v,
                       std::vector<Index>& stack);
+  void locate_in_plan(const std::vector<std::pair<Index, Eigen::Vector2d>>& moving,
+                      const std::vector<Eigen::Vector2d>& pos, const std::vector<Index>& F);
   bool loop_longer_than_three(Index v, Index h0) const;
   void move_point(Index p, Index f, const Eigen::Vector3d& b) {
     pt_face_[p] = f;
@@ -182,8 +184,8 @@ class Simplifier {
   // CSR: one outgoing halfedge per fan of each vertex, v's in [rep_start_[v], rep_end_[v])
   // (a deleted pillow's fan leaves the range)
   std::vector<Index> rep_start_, rep_end_, rep_;
-  std::vector<Index> comp_;             // component of each vertex
-  std::vector<Index> comp_vertices_;    // alive vertices per component
+  std::vector<Index> comp_;           // component of each vertex
+  std::vector<Index> comp_vertices_;  // alive vertices per component
   std::vector<char> comp_closed_;
   std::vector<double> comp_area0_, comp_density_;
   std::vector<std::vector<Index>> pts_;  // per face: removed fine vertices inside it
@@ -199,7 +201,7 @@ class Simplifier {
   std::vector<Index> pillow_points_;
   std::vector<std::pair<Index, Eigen::Vector3d>> moving_bary_;
   PolygonPlan plan_;
-  bool flatten_ = false;  // second pass: any closed fan may be flattened
+  bool flatten_ = false;   // second pass: any closed fan may be flattened
   std::set<Index> tried_;  // self-edges flip_loops() tried
   Index alive_count_ = 0;
   SimplifyReport report_;
@@ -740,6 +742,23 @@ bool Simplifier::plan_polygon(Index v, const std::vector<Index>& hs, PolygonPlan
   return triangulate_polygon(plan);
 }
 
+// Moves each point (2D position in the planned polygon) to the new triangle of plan_ that holds
+// it best (largest smallest barycentric coordinate, clamped): triangle t is face F[t].
+void Simplifier::locate_in_plan(const std::vector<std::pair<Index, Eigen::Vector2d>>& moving,
+                                const std::vector<Eigen::Vector2d>& pos,
+                                const std::vector<Index>& F) {
+  for (const auto& [p, P] : moving) {
+    std::size_t best = 0;
+    Eigen::Vector3d best_b(-HUGE_VAL, 0.0, 0.0);
+    for (std::size_t t = 0; t < plan_.tris.size(); ++t) {
+      const auto& c = plan_.tris[t];
+      const Eigen::Vector3d b = bary_of(P, pos[c[0]], pos[c[1]], pos[c[2]]);
+      if (b.minCoeff() > best_b.minCoeff()) best = t, best_b = b;
+    }
+    move_point(p, F[best], clamp_bary(best_b));
+  }
+}
+
 // Removes v from its closed fan hs by the plan of plan_polygon() (which must hold): the d − 2
 // triangles reuse the first d − 2 faces' slots. v goes to p_v, the mean of the corners weighted
 // by 1 / spoke length (inside the convex polygon); each face (v, a_i, a_i+1) maps linearly onto
@@ -821,16 +840,7 @@ void Simplifier::remove_polygon(Index v, const std::vector<Index>& hs, bool plac
   }
   for (int i = int(plan.tris.size()); i < d; ++i) face_alive_[F[i]] = 0;
   for (const auto& [k, corner] : rep_role) rep_[k] = side_slot[corner];
-  for (const auto& [p, P] : moving) {
-    std::size_t best = 0;
-    Eigen::Vector3d best_b(-HUGE_VAL, 0.0, 0.0);
-    for (std::size_t t = 0; t < plan.tris.size(); ++t) {
-      const auto& c = plan.tris[t];
-      const Eigen::Vector3d b = bary_of(P, pos[c[0]], pos[c[1]], pos[c[2]]);
-      if (b.minCoeff() > best_b.minCoeff()) best = t, best_b = b;
-    }
-    move_point(p, F[best], clamp_bary(best_b));
-  }
+  locate_in_plan(moving, pos, F);
   ++report_.flattened;
 }
 
@@ -1036,8 +1046,7 @@ bool Simplifier::is_pillow(Index v, const std::vector<Index>& hs) const {
 }
 
 // True if every vertex of v's pillows (other than v) keeps a fan after they are deleted.
-bool Simplifier::pillows_leave_fans(const std::vector<std::vector<Index>>& fans,
-                                    Index n_fans) {
+bool Simplifier::pillows_leave_fans(const std::vector<std::vector<Index>>& fans, Index n_fans) {
   std::vector<Index>& ends = ends_;
   ends.clear();
   for (Index k = 0; k < n_fans; ++k) {

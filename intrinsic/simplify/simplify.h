@@ -37,7 +37,7 @@ struct SimplifyReport {
   /// Pillows deleted: closed fans of two faces glued along all three sides (an isolated
   /// triangle of a nonmanifold mesh or point cloud, zipped to its back), whose area is dropped.
   Index pillows = 0;
-  std::size_t flips = 0;        ///< edge flips: to degree 3 / to an ear, and Delaunay repair
+  std::size_t flips = 0;  ///< edge flips: to degree 3 / to an ear, and Delaunay repair
   /// Vertices left because none could be removed without breaking a guarantee (the target was
   /// not reached): 0 when vertices_after reached the target.
   Index stuck = 0;

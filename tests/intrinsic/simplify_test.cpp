@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
 #include <cmath>
 #include <numeric>
 #include <queue>
@@ -311,7 +310,8 @@ TEST(Simplify, RefusesBadOptions) {
 void expect_unit_rows(const fem::ComplexSparseMatrix& P) {
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(P.rows());
   for (int k = 0; k < P.outerSize(); ++k) {
-    for (fem::ComplexSparseMatrix::InnerIterator it(P, k); it; ++it) sum[it.row()] += std::abs(it.value());
+    for (fem::ComplexSparseMatrix::InnerIterator it(P, k); it; ++it)
+      sum[it.row()] += std::abs(it.value());
   }
   EXPECT_LT((sum.array() - 1.0).abs().maxCoeff(), 1e-12);
 }
@@ -404,8 +404,7 @@ TEST(Simplify, TangentProlongationOfARotationFieldOnTheSphere) {
     for (Index v = 0; v < tri.n_vertices(); ++v) {
       const Eigen::Vector3d x = m.positions.row(ids[v]).transpose();
       const Index far = ids[tri.head(tri.vertex_halfedge(v))];
-      z[v] = sphere_coordinate(x, m.positions.row(far).transpose(), ez.cross(x),
-                               fr.angle_scale[v]);
+      z[v] = sphere_coordinate(x, m.positions.row(far).transpose(), ez.cross(x), fr.angle_scale[v]);
     }
     return z;
   };
