@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cli.h"
+#include "fem/prolongation.h"
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/timer.h"
 #include "solvers/recipes/recipes.h"
@@ -83,6 +84,43 @@ void write_map(const std::string& path, const intrinsic::Simplification& s, Inde
   if (!out) throw IoError("cannot write " + path);
 }
 
+// The tangent-vector prolongation's rows: "c0 c1 c2 re0 im0 re1 im1 re2 im2" per input vertex
+// (the coarse vertices of write_map() and complex weights; 0 where the weight is 0).
+void write_tangent_map(const std::string& path, const PreparedSurface& ps,
+                       const intrinsic::Simplification& s, Index n_rows) {
+  const fem::ComplexSparseMatrix Pt = fem::tangent_prolongation(ps.tri, s);
+  const Eigen::SparseMatrix<std::complex<double>, Eigen::RowMajor, int> rows(Pt);
+  std::ofstream out(path);
+  if (!out) throw IoError("cannot write " + path);
+  out.precision(17);
+  for (Index v = 0; v < n_rows; ++v) {
+    const auto& p = s.fine_in_coarse[v];
+    Index ids[3];
+    for (int k = 0; k < 3; ++k) {
+      ids[k] = p.face == kInvalidIndex ? kInvalidIndex : s.coarse.tail(3 * p.face + k);
+    }
+    std::complex<double> w[3] = {0.0, 0.0, 0.0};
+    Index col[3] = {kInvalidIndex, kInvalidIndex, kInvalidIndex};
+    int n = 0;
+    for (decltype(rows)::InnerIterator it(rows, v); it && n < 3; ++it, ++n) {
+      col[n] = it.col();
+      w[n] = it.value();
+    }
+    if (p.face == kInvalidIndex) ids[0] = ids[1] = ids[2] = col[0];
+    std::complex<double> wk[3] = {0.0, 0.0, 0.0};  // a repeated corner: its sum, once
+    for (int k = 0; k < 3; ++k) {
+      if ((k > 0 && ids[k] == ids[0]) || (k == 2 && ids[2] == ids[1])) continue;
+      for (int j = 0; j < n; ++j) {
+        if (col[j] == ids[k]) wk[k] = w[j];
+      }
+    }
+    out << ids[0] << ' ' << ids[1] << ' ' << ids[2];
+    for (const auto& z : wk) out << ' ' << z.real() << ' ' << z.imag();
+    out << '\n';
+  }
+  if (!out) throw IoError("cannot write " + path);
+}
+
 int run(const Args& args) {
   if (args.has("vertices") == args.has("ratio")) {
     throw UsageError("give exactly one of --vertices N and --ratio R");
@@ -110,21 +148,27 @@ int run(const Args& args) {
     write_coarse_ply(out, ps, s, !args.has("ascii"));
   }
   if (args.has("map")) write_map(args.get("map"), s, ps.tri.n_vertices());
+  if (args.has("tangent-map")) {
+    write_tangent_map(args.get("tangent-map"), ps, s, ps.tri.n_vertices());
+  }
   const auto& r = s.report;
-  std::printf("vertices: %d -> %d (%d removed, %d on the boundary; %zu flips) in %.3f s\n",
-              r.vertices_before, r.vertices_after, r.removals, r.boundary_removals, r.flips,
-              seconds);
+  std::printf(
+      "vertices: %d -> %d (%d removed, %d on the boundary, %d fans flattened, %d pillows "
+      "deleted; %zu flips) in %.3f s\n",
+      r.vertices_before, r.vertices_after, r.removals, r.boundary_removals, r.flattened, r.pillows,
+      r.flips, seconds);
   if (r.stuck > 0) {
     std::printf("%d vertices above the target could not be removed (see --help)%s\n", r.stuck,
                 ps.path == intrinsic::SurfacePath::kPointCloud
-                    ? ": a point cloud's points have many fans, some wound around the point"
-                      " more than once"
+                    ? ": on a point cloud's cover, mostly self-edges at a point that no"
+                      " convex flip removes"
                     : "");
   }
   std::printf("area kept: largest change %.3g before the per-component rescale\n",
               r.area_change_before_rescale);
   std::printf("wrote %s\n", out.c_str());
   if (args.has("map")) std::printf("wrote %s\n", args.get("map").c_str());
+  if (args.has("tangent-map")) std::printf("wrote %s\n", args.get("tangent-map").c_str());
   return 0;
 }
 
@@ -139,17 +183,22 @@ Command simplify_command() {
       "Coarsens the intrinsic Delaunay triangulation of MESH to N vertices by intrinsic\n"
       "vertex removal: the cheapest vertex (star area × (|angle defect| + 4π / area)) is\n"
       "flipped to degree 3 (an ear on the boundary) and removed, then the new sides are\n"
-      "flipped back to Delaunay. Kept vertices are input vertices; every removed one is\n"
-      "tracked as a point of a coarse triangle (barycentric coordinates), which gives the\n"
-      "prolongation P (input vertices × coarse vertices, rows ≥ 0 summing to 1).\n\n"
-      "Kept exactly: each component's Euler characteristic, boundary loops and total\n"
-      "area (one uniform rescale per component; angles unchanged). Every coarse triangle\n"
-      "satisfies the triangle inequality with a margin. Vertices that cannot be removed\n"
-      "that way (several fans on a nonmanifold input, no convex flips) are kept and\n"
-      "counted. Nonmanifold meshes and point clouds are simplified on their tufted cover.\n"
-      "Point clouds coarsen little (about 5–20 % removed): on their cover a point has\n"
-      "many fans, some wound around it more than once (angle sum ≥ 3π, which no three\n"
-      "faces can replace without moving lengths) (docs/decisions.md D-290).\n";
+      "flipped back to Delaunay. Where flips cannot make 3 faces (an angle sum of 3π or\n"
+      "more, no convex flip) the vertex is flattened: its neighbours' polygon is laid\n"
+      "out convex in the plane (side lengths kept, inscribed in a circle) and\n"
+      "triangulated, so its angle defect moves to them. Kept vertices are input vertices;\n"
+      "every removed one is tracked as a point of a coarse triangle (barycentric\n"
+      "coordinates), which gives the prolongation P (input vertices × coarse vertices,\n"
+      "rows ≥ 0 summing to 1) and the tangent-vector one (--tangent-map).\n\n"
+      "Kept exactly: total area (one uniform rescale per component; angles unchanged),\n"
+      "Gauss–Bonnet, boundary loops, and each component's Euler characteristic where no\n"
+      "vertex with several fans is removed. Every coarse triangle satisfies the triangle\n"
+      "inequality with a margin. Nonmanifold meshes and point clouds are simplified on\n"
+      "their tufted cover: a vertex with several fans is removed from all at once, and\n"
+      "pillows (an isolated triangle zipped to its back) are deleted. Vertices that\n"
+      "cannot be removed (a self-edge no convex flip removes, a fan with a boundary among\n"
+      "several) are kept and counted: on point clouds this leaves 1.5–4× the target at\n"
+      "10 % (docs/decisions.md D-290, D-325).\n";
   c.spec.groups = {
       {"Options",
        {count("vertices", "N").above(0).explain("stop at N vertices (below the input's count)"),
@@ -170,6 +219,13 @@ Command simplify_command() {
         text("map", "MAP.txt")
             .explain("P's rows: one line per input vertex 'c0 c1 c2 w0 w1 w2' (coarse\n"
                      "vertex ids, 0-based, and weights)"),
+        text("tangent-map", "TMAP.txt")
+            .explain("the tangent-vector prolongation's rows: one line per input vertex\n"
+                     "'c0 c1 c2 re0 im0 re1 im1 re2 im2': P's weights times the unit\n"
+                     "complex number that carries a tangent vector from the coarse vertex\n"
+                     "(in its angular coordinate: its reference edge at angle 0, angles\n"
+                     "scaled to 2π) through the coarse triangle to the input vertex's\n"
+                     "coordinate; |weights| sum to 1 (fem/prolongation.h)"),
         flag("ascii").explain("ASCII PLY instead of binary")}},
       surface_options()};
   c.run = run;

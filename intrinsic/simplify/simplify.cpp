@@ -3,8 +3,11 @@
 #include "intrinsic/simplify/simplify.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <numeric>
 #include <queue>
+#include <set>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -59,10 +62,55 @@ Eigen::Vector3d clamp_bary(Eigen::Vector3d b) {
   return b / s;
 }
 
+// The convex polygon inscribed in a circle with sides l (d ≥ 3, in order): its corners' half
+// central angles beta (Σ = π; the largest side's is obtuse when the centre lies outside) and
+// radius. False when there is none with the margin (the largest side not below the others' sum).
+bool cyclic_polygon(const std::vector<double>& l, std::vector<double>& beta, double& radius) {
+  const std::size_t d = l.size();
+  const std::size_t imax = std::max_element(l.begin(), l.end()) - l.begin();
+  const double total = std::accumulate(l.begin(), l.end(), 0.0), lmax = l[imax];
+  if (!std::isfinite(total) || !(total - 2.0 * lmax > kMargin * total)) return false;
+  auto sum_others = [&](double R) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < d; ++i) {
+      if (i != imax) s += std::asin(std::min(1.0, l[i] / (2.0 * R)));
+    }
+    return s;
+  };
+  const double r0 = 0.5 * lmax;
+  const bool inside = sum_others(r0) + 0.5 * kPi >= kPi;  // the centre inside the polygon
+  // inside: Σ asin(l_i / 2R) = π, decreasing in R; outside: Σ_others = asin(lmax / 2R)
+  auto excess = [&](double R) {
+    const double m = std::asin(std::min(1.0, lmax / (2.0 * R)));
+    return inside ? sum_others(R) + m - kPi : sum_others(R) - m;
+  };
+  double lo = r0, hi = 2.0 * r0;
+  for (int k = 0; k < 200 && (inside ? excess(hi) > 0.0 : excess(hi) < 0.0); ++k) hi *= 2.0;
+  for (int k = 0; k < 200 && hi - lo > 1e-15 * hi; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    if ((excess(mid) > 0.0) == inside) {
+      lo = mid;
+    } else {
+      hi = mid;
+    }
+  }
+  radius = 0.5 * (lo + hi);
+  beta.resize(d);
+  double others = 0.0;
+  for (std::size_t i = 0; i < d; ++i) {
+    if (i == imax) continue;
+    beta[i] = std::asin(std::min(1.0, l[i] / (2.0 * radius)));
+    others += beta[i];
+  }
+  beta[imax] = kPi - others;  // closes the circle exactly (obtuse when the centre is outside)
+  return std::isfinite(radius) && radius > 0.0 && beta[imax] > 0.0;
+}
+
 class Simplifier {
  public:
   explicit Simplifier(const IntrinsicTriangulation& fine);
   void run(Index target, const ProgressCallback& on_progress);
+  void drain(Index target, ProgressMeter& meter);
   Simplification finish(const IntrinsicTriangulation& fine);
 
  private:
@@ -81,7 +129,11 @@ class Simplifier {
     if (twin >= 0) sd_[twin].twin = slot;
   }
   bool fan(Index rep, std::vector<Index>& out, bool& boundary) const;
-  bool flip(Index h);
+  bool flip(Index h, bool loop = false);
+  bool flip_loop(Index v, Index h);
+  bool faces_of(Index v, std::vector<Index>& faces);
+  bool rebuild_reps(Index v, const std::vector<Index>& faces);
+  bool flip_loops(Index v);
   bool is_delaunay(Index h) const;
   void delaunay_repair(std::vector<Index>& stack);  // consumes the stack
   void remap_reps(Index v, const Index* from, const Index* to, int n);
@@ -95,6 +147,25 @@ class Simplifier {
   void remove_ear(Index v, Index h0, bool place_v);
   bool removable(Index v, const std::vector<Index>& hs, bool boundary) const;
   void remove_degree_two(Index v, const std::vector<Index>& hs, bool place_v);
+  bool is_pillow(Index v, const std::vector<Index>& hs) const;
+  bool plan_fans(Index v, Index n_fans, Index& home);
+  bool flip_outer(Index v, Index o);
+  bool pillows_leave_fans(const std::vector<std::vector<Index>>& fans, Index n_fans);
+  void remove_pillow(const std::vector<Index>& hs, std::vector<Index>& points);
+  // removal by flattening: the link polygon of a closed fan laid out convex and triangulated
+  struct PolygonPlan {
+    std::vector<Index> ends;              // a_i: far end of spoke i, corner i of the polygon
+    std::vector<double> side, beta, cum;  // l_i (a_i → a_i+1), half central angles, their sums
+    double radius = 0.0;
+    std::vector<std::array<int, 3>> tris;  // d − 2 corner triples i < k < j (counter-clockwise)
+    std::vector<int> apex;                 // scratch of triangulate_polygon()
+  };
+  bool plan_polygon(Index v, const std::vector<Index>& hs, PolygonPlan& plan) const;
+  bool triangulate_polygon(PolygonPlan& plan) const;
+  void remove_polygon(Index v, const std::vector<Index>& hs, bool place_v,
+                      std::vector<Index>& stack);
+  void locate_in_plan(const std::vector<std::pair<Index, Eigen::Vector2d>>& moving,
+                      const std::vector<Eigen::Vector2d>& pos, const std::vector<Index>& F);
   bool loop_longer_than_three(Index v, Index h0) const;
   void move_point(Index p, Index f, const Eigen::Vector3d& b) {
     pt_face_[p] = f;
@@ -110,9 +181,11 @@ class Simplifier {
   };
   std::vector<Side> sd_;  // #H: a face's three sides in one cache line
   std::vector<char> face_alive_, vertex_alive_;
-  std::vector<Index> rep_start_, rep_;  // CSR: one outgoing halfedge per fan of each vertex
-  std::vector<Index> comp_;             // component of each vertex
-  std::vector<Index> comp_vertices_;    // alive vertices per component
+  // CSR: one outgoing halfedge per fan of each vertex, v's in [rep_start_[v], rep_end_[v])
+  // (a deleted pillow's fan leaves the range)
+  std::vector<Index> rep_start_, rep_end_, rep_;
+  std::vector<Index> comp_;           // component of each vertex
+  std::vector<Index> comp_vertices_;  // alive vertices per component
   std::vector<char> comp_closed_;
   std::vector<double> comp_area0_, comp_density_;
   std::vector<std::vector<Index>> pts_;  // per face: removed fine vertices inside it
@@ -124,8 +197,12 @@ class Simplifier {
   std::vector<double> gap_;
   std::vector<std::pair<double, Index>> candidates_;
   std::vector<std::vector<Index>> fans_;
-  std::vector<char> bnd_, keep_;
+  std::vector<char> bnd_, keep_, kind_;
+  std::vector<Index> pillow_points_;
   std::vector<std::pair<Index, Eigen::Vector3d>> moving_bary_;
+  PolygonPlan plan_;
+  bool flatten_ = false;   // second pass: any closed fan may be flattened
+  std::set<Index> tried_;  // self-edges flip_loops() tried
   Index alive_count_ = 0;
   SimplifyReport report_;
 };
@@ -165,7 +242,7 @@ bool Simplifier::is_delaunay(Index h) const {
 }
 
 void Simplifier::remap_reps(Index v, const Index* from, const Index* to, int n) {
-  for (Index k = rep_start_[v]; k < rep_start_[v + 1]; ++k) {
+  for (Index k = rep_start_[v]; k < rep_end_[v]; ++k) {
     for (int i = 0; i < n; ++i) {
       if (rep_[k] == from[i] && sd_[to[i]].tail == v) {
         rep_[k] = to[i];
@@ -182,7 +259,7 @@ void Simplifier::touch_face(Index f) {
 // Flips the edge of h in its diamond (a, b, c | b, a, d) to the diagonal c–d, moving the
 // points of both faces. False (nothing changed) unless the diamond is strictly convex and
 // both new faces keep the margin.
-bool Simplifier::flip(Index h) {
+bool Simplifier::flip(Index h, bool loop) {
   const Index t = sd_[h].twin;
   if (t < 0) return false;
   const Index f = T::face(h), g = T::face(t);
@@ -193,7 +270,11 @@ bool Simplifier::flip(Index h) {
     if (w >= 0 && (T::face(w) == f || T::face(w) == g)) return false;
   }
   const Index a = sd_[h].tail, b = sd_[h1].tail, c = sd_[h2].tail, d = sd_[t2].tail;
-  if (c == d) return false;
+  // four distinct vertices: a repeated one (a self-edge in the diamond) could join or split its
+  // fans, which the per-fan representatives do not follow
+  // (loop: the edge a = b is a self-edge, c and d distinct from it and each other; the caller
+  // rebuilds a's representatives)
+  if (c == d || a == c || a == d || b == c || b == d || (a == b) != loop) return false;
   const double lab = sd_[h].len, lbc = sd_[h1].len, lca = sd_[h2].len, lad = sd_[t1].len,
                ldb = sd_[t2].len;
   const Eigen::Vector2d A(0.0, 0.0), B(lab, 0.0);
@@ -280,6 +361,7 @@ Simplifier::Simplifier(const IntrinsicTriangulation& fine)
   rep_start_.assign(nv_ + 1, 0);
   for (Index v = 0; v < nv_; ++v) rep_start_[v + 1] = rep_start_[v] + Index(reps[v].size());
   for (Index v = 0; v < nv_; ++v) rep_.insert(rep_.end(), reps[v].begin(), reps[v].end());
+  rep_end_.assign(rep_start_.begin() + 1, rep_start_.end());
   // components (by faces), their vertex counts, areas and whether they are closed
   UnionFind uf(nv_);
   for (Index h = 0; h < nh; ++h) uf.unite(sd_[h].tail, head(h));
@@ -312,12 +394,12 @@ Simplifier::Simplifier(const IntrinsicTriangulation& fine)
 // cannot be removed as it is (no face, several fans one of which has a boundary, a boundary
 // angle ≥ π, a closed component at 4 vertices).
 double Simplifier::cost(Index v) {
-  const Index n_fans = rep_start_[v + 1] - rep_start_[v];
+  const Index n_fans = rep_end_[v] - rep_start_[v];
   if (n_fans == 0) return HUGE_VAL;
   if (comp_closed_[comp_[v]] && comp_vertices_[comp_[v]] <= 4) return HUGE_VAL;
   std::vector<Index>& hs = hs_;
   double star = 0.0, defect = 0.0;
-  for (Index k = rep_start_[v]; k < rep_start_[v + 1]; ++k) {
+  for (Index k = rep_start_[v]; k < rep_end_[v]; ++k) {
     bool boundary = false;
     if (!fan(rep_[k], hs, boundary)) return HUGE_VAL;
     if (boundary && n_fans > 1) return HUGE_VAL;
@@ -460,7 +542,7 @@ void Simplifier::remove_interior(Index v, const std::vector<Index>& hs, bool pla
   const Index f0 = F[0];
   for (int i = 0; i < 3; ++i) set_side(3 * f0 + i, a[i], tw[i], l[i]);
   for (int i = 0; i < 3; ++i) {
-    for (Index k = rep_start_[a[i]]; k < rep_start_[a[i] + 1]; ++k) {
+    for (Index k = rep_start_[a[i]]; k < rep_end_[a[i]]; ++k) {
       const Index fr = T::face(rep_[k]);
       if (fr == F[0] || fr == F[1] || fr == F[2]) rep_[k] = 3 * f0 + i;
     }
@@ -499,10 +581,10 @@ void Simplifier::remove_ear(Index v, Index h0, bool place_v) {
   }
   face_alive_[F] = 0;
   sd_[w].twin = kInvalidIndex;
-  for (Index k = rep_start_[x]; k < rep_start_[x + 1]; ++k) {
+  for (Index k = rep_start_[x]; k < rep_end_[x]; ++k) {
     if (T::face(rep_[k]) == F) rep_[k] = T::next(w);
   }
-  for (Index k = rep_start_[y]; k < rep_start_[y + 1]; ++k) {
+  for (Index k = rep_start_[y]; k < rep_end_[y]; ++k) {
     if (T::face(rep_[k]) == F) rep_[k] = w;
   }
   touch_face(g);
@@ -548,10 +630,10 @@ void Simplifier::remove_degree_two(Index v, const std::vector<Index>& hs, bool p
   sd_[w0].twin = w1;
   sd_[w1].twin = w0;
   const Index f0 = T::face(hs[0]), f1 = T::face(hs[1]);
-  for (Index k = rep_start_[a]; k < rep_start_[a + 1]; ++k) {
+  for (Index k = rep_start_[a]; k < rep_end_[a]; ++k) {
     if (T::face(rep_[k]) == f0 || T::face(rep_[k]) == f1) rep_[k] = T::next(w0);
   }
-  for (Index k = rep_start_[b]; k < rep_start_[b + 1]; ++k) {
+  for (Index k = rep_start_[b]; k < rep_end_[b]; ++k) {
     if (T::face(rep_[k]) == f0 || T::face(rep_[k]) == f1) rep_[k] = w0;
   }
   touch_face(g);
@@ -591,24 +673,327 @@ bool Simplifier::removable(Index v, const std::vector<Index>& hs, bool boundary)
   return good_triangle(l[0], l[1], l[2]);
 }
 
-// Flips every fan of v down (3 faces, or an ear), checks, removes. False (after a Delaunay
-// repair of what the flips changed) when v cannot be removed now.
+// Triangulates the planned polygon into plan.tris: over every range of corners i..j, by
+// dynamic programming (O(d³)), a triangle (i, k, j) keeping the margin, no new side from a
+// vertex to itself (a polygon side may be one already), both sides triangulable, the apex k
+// nearest the middle. False if there is none.
+bool Simplifier::triangulate_polygon(PolygonPlan& plan) const {
+  const int d = int(plan.ends.size());
+  auto chord = [&](int x, int y) {  // x < y
+    if (y == x + 1) return plan.side[x];
+    if (x == 0 && y == d - 1) return plan.side[d - 1];
+    return 2.0 * plan.radius * std::sin(plan.cum[y] - plan.cum[x]);
+  };
+  auto self_diagonal = [&](int x, int y) {  // a new side from a vertex to itself
+    return y != x + 1 && !(x == 0 && y == d - 1) && plan.ends[x] == plan.ends[y];
+  };
+  std::vector<int>& apex = plan.apex;  // apex[i·d + j]: −1 none, 0 for j − i < 2
+  apex.assign(std::size_t(d) * d, -1);
+  for (int i = 0; i + 1 < d; ++i) apex[i * d + i + 1] = 0;
+  for (int span = 2; span < d; ++span) {
+    for (int i = 0; i + span < d; ++i) {
+      const int j = i + span, mid = (i + j) / 2;
+      for (int step = 0; step < 2 * span && apex[i * d + j] < 0; ++step) {
+        const int k = step % 2 == 0 ? mid + step / 2 : mid - (step + 1) / 2;
+        if (k <= i || k >= j || apex[i * d + k] < 0 || apex[k * d + j] < 0) continue;
+        if (self_diagonal(i, k) || self_diagonal(k, j) || self_diagonal(i, j)) continue;
+        if (good_triangle(chord(i, k), chord(k, j), chord(i, j))) {
+          apex[i * d + j] = k;
+        }
+      }
+    }
+  }
+  if (apex[d - 1] < 0) return false;
+  std::vector<std::pair<int, int>> todo{{0, d - 1}};
+  while (!todo.empty()) {
+    const auto [i, j] = todo.back();
+    todo.pop_back();
+    if (j - i < 2) continue;
+    const int k = apex[i * d + j];
+    plan.tris.push_back({i, k, j});
+    todo.emplace_back(i, k);
+    todo.emplace_back(k, j);
+  }
+  return true;
+}
+
+// Plans v's removal from its closed fan hs by flattening (simplify.h): the link polygon
+// a_0 … a_d−1 (sides the fan's outer sides, lengths kept) inscribed in a circle and triangulated.
+// False when v is on its own link, an outer side is glued inside the star, or no such polygon or
+// triangulation keeps the margin.
+bool Simplifier::plan_polygon(Index v, const std::vector<Index>& hs, PolygonPlan& plan) const {
+  const std::size_t d = hs.size();
+  if (d < 3 || d > 1024) return false;
+  plan.ends.resize(d);
+  plan.side.resize(d);
+  plan.tris.clear();
+  for (std::size_t i = 0; i < d; ++i) {
+    const Index o = T::next(hs[i]), w = sd_[o].twin;
+    plan.ends[i] = sd_[o].tail;
+    plan.side[i] = sd_[o].len;
+    if (plan.ends[i] == v) return false;
+    for (Index x : hs) {  // glued inside the star: only to another outer side (kept glued)
+      if (w >= 0 && T::face(w) == T::face(x) && w != T::next(x)) return false;
+    }
+  }
+  if (!cyclic_polygon(plan.side, plan.beta, plan.radius)) return false;
+  plan.cum.assign(d + 1, 0.0);
+  for (std::size_t i = 0; i < d; ++i) plan.cum[i + 1] = plan.cum[i] + plan.beta[i];
+  return triangulate_polygon(plan);
+}
+
+// Moves each point (2D position in the planned polygon) to the new triangle of plan_ that holds
+// it best (largest smallest barycentric coordinate, clamped): triangle t is face F[t].
+void Simplifier::locate_in_plan(const std::vector<std::pair<Index, Eigen::Vector2d>>& moving,
+                                const std::vector<Eigen::Vector2d>& pos,
+                                const std::vector<Index>& F) {
+  for (const auto& [p, P] : moving) {
+    std::size_t best = 0;
+    Eigen::Vector3d best_b(-HUGE_VAL, 0.0, 0.0);
+    for (std::size_t t = 0; t < plan_.tris.size(); ++t) {
+      const auto& c = plan_.tris[t];
+      const Eigen::Vector3d b = bary_of(P, pos[c[0]], pos[c[1]], pos[c[2]]);
+      if (b.minCoeff() > best_b.minCoeff()) best = t, best_b = b;
+    }
+    move_point(p, F[best], clamp_bary(best_b));
+  }
+}
+
+// Removes v from its closed fan hs by the plan of plan_polygon() (which must hold): the d − 2
+// triangles reuse the first d − 2 faces' slots. v goes to p_v, the mean of the corners weighted
+// by 1 / spoke length (inside the convex polygon); each face (v, a_i, a_i+1) maps linearly onto
+// (p_v, a_i, a_i+1), and its points are located in the new triangles. The new faces' sides are
+// pushed on the stack (Delaunay repair).
+void Simplifier::remove_polygon(Index v, const std::vector<Index>& hs, bool place_v,
+                                std::vector<Index>& stack) {
+  PolygonPlan& plan = plan_;
+  if (!plan_polygon(v, hs, plan)) {  // checked by try_remove(); only gluing could change since
+    throw Error("simplify: internal: a fan planned for flattening changed before its removal");
+  }
+  const int d = int(hs.size());
+  std::vector<Index> F(d), o(d), tw(d), side_slot(d, kInvalidIndex);
+  std::vector<Eigen::Vector2d> pos(d);
+  Eigen::Vector2d pv = Eigen::Vector2d::Zero();
+  double wsum = 0.0;
+  for (int i = 0; i < d; ++i) {
+    F[i] = T::face(hs[i]);
+    o[i] = T::next(hs[i]);
+    tw[i] = sd_[o[i]].twin;
+    const double a = 2.0 * plan.cum[i];
+    pos[i] = plan.radius * Eigen::Vector2d(std::cos(a), std::sin(a));
+    const double w = 1.0 / std::max(sd_[hs[i]].len, 1e-300);
+    pv += w * pos[i];
+    wsum += w;
+  }
+  pv /= wsum;
+  std::vector<std::pair<Index, Eigen::Vector2d>> moving;
+  for (int i = 0; i < d; ++i) {
+    const int sv = T::side(hs[i]), sa = T::side(o[i]), sb = T::side(T::prev(hs[i]));
+    for (Index p : pts_[F[i]]) {
+      const Eigen::Vector3d& w = pt_bary_[p];
+      moving.emplace_back(p, w[sv] * pv + w[sa] * pos[i] + w[sb] * pos[(i + 1) % d]);
+    }
+    pts_[F[i]].clear();
+  }
+  if (place_v) moving.emplace_back(v, pv);
+  // new rep of each link vertex whose rep was a slot of the star (by the old slot's role)
+  std::vector<std::pair<Index, int>> rep_role;  // rep index, polygon corner
+  std::vector<Index> distinct(plan.ends);
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  for (Index u : distinct) {
+    for (Index k = rep_start_[u]; k < rep_end_[u]; ++k) {
+      for (int j = 0; j < d; ++j) {
+        if (rep_[k] == o[j]) rep_role.emplace_back(k, j);
+        if (rep_[k] == T::prev(hs[j])) rep_role.emplace_back(k, (j + 1) % d);
+      }
+    }
+  }
+  // the new faces and their gluing
+  std::vector<std::tuple<int, int, Index>> diagonals;  // (from corner, to corner, slot)
+  for (std::size_t t = 0; t < plan.tris.size(); ++t) {
+    const auto& c = plan.tris[t];
+    const Index f = F[t];
+    for (int s = 0; s < 3; ++s) {
+      const int x = c[s], y = c[(s + 1) % 3], slot = int(3 * f + s);
+      if (y == (x + 1) % d) {  // a side of the polygon (glued to another one: below)
+        const bool inner = std::find(o.begin(), o.end(), tw[x]) != o.end();
+        set_side(slot, plan.ends[x], inner ? kInvalidIndex : tw[x], plan.side[x]);
+        side_slot[x] = slot;
+        continue;
+      }
+      const double len = 2.0 * plan.radius * std::sin(std::abs(plan.cum[y] - plan.cum[x]));
+      Index partner = kInvalidIndex;
+      for (const auto& [dx, dy, ds] : diagonals) {
+        if (dx == y && dy == x) partner = ds;
+      }
+      set_side(slot, plan.ends[x], partner, len);
+      diagonals.emplace_back(x, y, slot);
+    }
+    face_alive_[f] = 1;
+    touch_face(f);
+    for (int s = 0; s < 3; ++s) stack.push_back(3 * f + s);
+  }
+  for (int x = 0; x < d; ++x) {  // outer sides glued to each other stay glued
+    const std::size_t y = std::find(o.begin(), o.end(), tw[x]) - o.begin();
+    if (y < o.size()) sd_[side_slot[x]].twin = side_slot[y];
+  }
+  for (int i = int(plan.tris.size()); i < d; ++i) face_alive_[F[i]] = 0;
+  for (const auto& [k, corner] : rep_role) rep_[k] = side_slot[corner];
+  locate_in_plan(moving, pos, F);
+  ++report_.flattened;
+}
+
+// Flips the outer side o of one of v's fans, across a face without v (so v's other fans stay as
+// walked): the fan gains a face.
+bool Simplifier::flip_outer(Index v, Index o) {
+  const Index w = sd_[o].twin;
+  if (w < 0) return false;
+  for (int c = 0; c < 3; ++c) {
+    if (sd_[3 * T::face(w) + c].tail == v) return false;
+  }
+  return flip(o);
+}
+
+// Walks v's fans and readies each for removal (simplify.h): a pillow as it is; a fan flipped
+// down to 3 faces (an ear, 2 zipped faces); else a closed fan planned for flattening (a fan of
+// two faces that cannot be zipped gets an outer side flipped first). `home`: the first fan that
+// is not a pillow. False when some fan cannot be removed (flips made stay).
+bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
+  std::vector<std::vector<Index>>& fans = fans_;
+  std::vector<char>&kind = kind_, &bnd = bnd_;
+  for (Index k = 0; k < n_fans; ++k) {
+    bool b = false;
+    if (!fan(rep_[rep_start_[v] + k], fans[k], b) || (b && n_fans > 1)) return false;
+    bnd[k] = b;
+    if (b && !loop_longer_than_three(v, fans[k][0])) return false;
+    if (!b && is_pillow(v, fans[k])) {
+      kind[k] = 2;
+      continue;
+    }
+    if (home == kInvalidIndex) home = k;
+    if (!b && fans[k].size() == 2 && !removable(v, fans[k], b)) {
+      // outer sides of unequal lengths: one flipped makes three faces, which flattening can take
+      if (flip_outer(v, T::next(fans[k][0])) || flip_outer(v, T::next(fans[k][1]))) {
+        if (!fan(rep_[rep_start_[v] + k], fans[k], b) || b) return false;
+      }
+    }
+    // flattening (closed fans only) where flips to 3 faces cannot be had: an angle sum of 3π
+    // or more, or a vertex with several fans (all must go at once); otherwise a fan waits for
+    // its star to change, and is flattened only in the second pass (run())
+    double theta = 0.0;
+    for (Index h : fans[k]) theta += angle(h);
+    const bool may_flatten = flatten_ || n_fans > 1 || theta >= 3.0 * kPi * (1.0 - 1e-9);
+    kind[k] = !(flip_fan_down(v, b, fans[k]) && removable(v, fans[k], b));
+    if (kind[k] == 1 && (b || !may_flatten)) return false;
+    // a link with a side as long as the others together: its longest side flipped outwards
+    for (int tries = 0; kind[k] == 1 && !plan_polygon(v, fans[k], plan_); ++tries) {
+      Index longest = T::next(fans[k][0]);
+      for (Index h : fans[k]) {
+        if (sd_[T::next(h)].len > sd_[longest].len) longest = T::next(h);
+      }
+      if (tries == 2 || !flip_outer(v, longest)) return false;
+      if (!fan(rep_[rep_start_[v] + k], fans[k], b) || b) return false;
+    }
+  }
+  return home != kInvalidIndex && pillows_leave_fans(fans, n_fans);
+}
+
+// The faces of v's fans (from its representatives, which must be exact). False if a walk fails.
+bool Simplifier::faces_of(Index v, std::vector<Index>& faces) {
+  faces.clear();
+  std::vector<Index>& w = hs_;
+  for (Index k = rep_start_[v]; k < rep_end_[v]; ++k) {
+    bool b = false;
+    if (!fan(rep_[k], w, b)) return false;
+    for (Index h : w) faces.push_back(T::face(h));
+  }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return true;
+}
+
+// v's fan representatives walked again from its corners in `faces` (all faces with v as a
+// corner: a flip of a self-edge at v, which can join or split its fans, keeps that set). False
+// (nothing changed) if a walk leaves the set or there are more fans than v has room for.
+bool Simplifier::rebuild_reps(Index v, const std::vector<Index>& faces) {
+  std::vector<Index>& all = sorted_;
+  all.clear();
+  for (Index f : faces) {
+    for (int s = 0; s < 3; ++s) {
+      if (sd_[3 * f + s].tail == v) all.push_back(3 * f + s);
+    }
+  }
+  std::vector<Index>& w = hs_;
+  std::vector<Index> reps;
+  std::vector<char> seen(all.size(), 0);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (seen[i]) continue;
+    bool b = false;
+    if (!fan(all[i], w, b)) return false;
+    for (Index h : w) {
+      const auto it = std::lower_bound(all.begin(), all.end(), h);
+      if (it == all.end() || *it != h) return false;
+      seen[it - all.begin()] = 1;
+    }
+    reps.push_back(w.front());
+  }
+  if (Index(reps.size()) > rep_start_[v + 1] - rep_start_[v]) return false;
+  std::copy(reps.begin(), reps.end(), rep_.begin() + rep_start_[v]);
+  rep_end_[v] = rep_start_[v] + Index(reps.size());
+  return true;
+}
+
+// Flips the self-edge h (v → v) away (a strictly convex diamond with two other distinct
+// corners) and rebuilds v's representatives; flipped back if they cannot be rebuilt.
+bool Simplifier::flip_loop(Index v, Index h) {
+  std::vector<Index> faces;
+  if (!faces_of(v, faces)) return false;
+  const Index f = T::face(h);
+  if (!flip(h, /*loop=*/true)) return false;
+  if (rebuild_reps(v, faces)) return true;
+  if (!flip(3 * f + 2, /*loop=*/false) || !rebuild_reps(v, faces)) {  // back to the self-edge
+    throw Error("simplify: internal: a self-edge flip could not be undone");
+  }
+  return false;
+}
+
+// Flips away the self-edges at v that can be (they put v on its own link: no removal).
+bool Simplifier::flip_loops(Index v) {
+  bool any = false;
+  for (int round = 0; round < 8; ++round) {
+    Index loop = kInvalidIndex;
+    std::vector<Index>& w = ends_;
+    for (Index k = rep_start_[v]; k < rep_end_[v] && loop == kInvalidIndex; ++k) {
+      bool b = false;
+      if (!fan(rep_[k], w, b)) return any;
+      for (Index h : w) {
+        if (head(h) == v && !tried_.count(h)) loop = h;
+      }
+    }
+    if (loop == kInvalidIndex) return any;
+    tried_.insert(loop);
+    any = flip_loop(v, loop) || any;
+  }
+  return any;
+}
+
+// Readies every fan of v (plan_fans), removes them. False (after a Delaunay repair of what the
+// flips changed) when v cannot be removed now.
 bool Simplifier::try_remove(Index v) {
-  const Index n_fans = rep_start_[v + 1] - rep_start_[v];
+  tried_.clear();
+  flip_loops(v);
+  const Index n_fans = rep_end_[v] - rep_start_[v];
   if (n_fans == 0 || (comp_closed_[comp_[v]] && comp_vertices_[comp_[v]] <= 4)) return false;
   std::vector<std::vector<Index>>& fans = fans_;
   if (Index(fans.size()) < n_fans) fans.resize(n_fans);
   for (Index k = 0; k < n_fans; ++k) fans[k].clear();
+  std::vector<char>& kind = kind_;  // per fan: 0 flipped down, 1 flattened, 2 a pillow
+  kind.assign(n_fans, 0);
   std::vector<char>& bnd = bnd_;
   bnd.assign(n_fans, 0);
-  bool ok = true;
-  for (Index k = 0; k < n_fans && ok; ++k) {
-    bool b = false;
-    ok = fan(rep_[rep_start_[v] + k], fans[k], b) && !(b && n_fans > 1);
-    bnd[k] = b;
-    if (ok && b) ok = loop_longer_than_three(v, fans[k][0]);
-    if (ok) ok = flip_fan_down(v, b, fans[k]) && removable(v, fans[k], b);
-  }
+  Index home = kInvalidIndex;  // the fan whose coarse face v goes to: the first not a pillow
+  const bool ok = plan_fans(v, n_fans, home);
   std::vector<Index>& stack = stack_;
   stack.clear();
   if (!ok) {
@@ -618,23 +1003,30 @@ bool Simplifier::try_remove(Index v) {
     delaunay_repair(stack);
     return false;
   }
+  std::vector<Index>& pillow_points = pillow_points_;
+  pillow_points.clear();
   for (Index k = 0; k < n_fans; ++k) {
-    if (bnd[k]) {
+    if (kind[k] == 2) {
+      remove_pillow(fans[k], pillow_points);
+    } else if (kind[k] == 1) {
+      remove_polygon(v, fans[k], k == home, stack);
+    } else if (bnd[k]) {
       const Index w = sd_[T::next(fans[k][0])].twin;
-      remove_ear(v, fans[k][0], k == 0);
+      remove_ear(v, fans[k][0], k == home);
       const Index g = T::face(w);
       for (int s = 0; s < 3; ++s) stack.push_back(3 * g + s);
       ++report_.boundary_removals;
     } else if (fans[k].size() == 2) {
       const Index w = sd_[T::next(fans[k][0])].twin;
-      remove_degree_two(v, fans[k], k == 0);
+      remove_degree_two(v, fans[k], k == home);
       for (int s = 0; s < 3; ++s) stack.push_back(3 * T::face(w) + s);
     } else {
-      remove_interior(v, fans[k], k == 0);
+      remove_interior(v, fans[k], k == home);
       const Index f0 = T::face(fans[k][0]);
       for (int s = 0; s < 3; ++s) stack.push_back(3 * f0 + s);
     }
   }
+  for (Index p : pillow_points) move_point(p, pt_face_[v], pt_bary_[v]);  // where v went
   vertex_alive_[v] = 0;
   --comp_vertices_[comp_[v]];
   --alive_count_;
@@ -643,25 +1035,86 @@ bool Simplifier::try_remove(Index v) {
   return true;
 }
 
-// Lazy greedy: a vertex whose star changed is marked dirty, and its cost is recomputed (and
-// the vertex queued again) only when it comes out of the queue; a vertex not queued (failed, or
-// of infinite cost) is queued again when its star changes.
+// A closed fan of two faces (v, a, b), (v, b, a) glued to each other along all three sides: a
+// pillow, a sphere of its own through three pinch points (an isolated triangle of a point
+// cloud's local triangulations, zipped to its back).
+bool Simplifier::is_pillow(Index v, const std::vector<Index>& hs) const {
+  if (hs.size() != 2) return false;
+  const Index o0 = T::next(hs[0]), o1 = T::next(hs[1]);
+  const Index a = sd_[o0].tail, b = sd_[o1].tail;
+  return sd_[o0].twin == o1 && T::face(hs[0]) != T::face(hs[1]) && a != b && a != v && b != v;
+}
+
+// True if every vertex of v's pillows (other than v) keeps a fan after they are deleted.
+bool Simplifier::pillows_leave_fans(const std::vector<std::vector<Index>>& fans, Index n_fans) {
+  std::vector<Index>& ends = ends_;
+  ends.clear();
+  for (Index k = 0; k < n_fans; ++k) {
+    if (kind_[k] != 2) continue;
+    for (Index h : fans[k]) ends.push_back(head(h));
+  }
+  std::sort(ends.begin(), ends.end());
+  for (std::size_t i = 0; i < ends.size();) {
+    std::size_t j = i;
+    while (j < ends.size() && ends[j] == ends[i]) ++j;
+    if (Index(j - i) >= rep_end_[ends[i]] - rep_start_[ends[i]]) return false;
+    i = j;
+  }
+  return true;
+}
+
+// Deletes the pillow hs of v: its two faces die, its other two corners each lose that fan; the
+// points inside it are appended to `points` (they go where v goes).
+void Simplifier::remove_pillow(const std::vector<Index>& hs, std::vector<Index>& points) {
+  for (Index h : hs) {
+    const Index f = T::face(h), u = head(h);
+    points.insert(points.end(), pts_[f].begin(), pts_[f].end());
+    pts_[f].clear();
+    face_alive_[f] = 0;
+    touched_.push_back(u);
+    for (Index k = rep_start_[u]; k < rep_end_[u]; ++k) {
+      const Index fr = T::face(rep_[k]);
+      if (fr == T::face(hs[0]) || fr == T::face(hs[1])) {
+        rep_[k] = rep_[--rep_end_[u]];
+        break;
+      }
+    }
+  }
+  ++report_.pillows;
+}
+
+// Two passes: in the first a single fan below 3π is only flipped to degree 3 (an ear, zipped
+// faces), so manifold inputs that reach their target that way keep their metric; if the
+// target is missed, the second may flatten any closed fan (simplify.h).
 void Simplifier::run(Index target, const ProgressCallback& on_progress) {
   std::vector<Index>& stack = stack_;
   for (Index h = 0; h < Index(sd_.size()); ++h) {
     if (sd_[h].twin > h) stack.push_back(h);
   }
   delaunay_repair(stack);
+  const Index wanted = std::max<Index>(alive_count_ - target, 0);
+  ProgressMeter meter(on_progress, "simplify", std::max<Index>(wanted, 1));
+  for (int pass = 0; pass < 2 && alive_count_ > target; ++pass) {
+    flatten_ = pass == 1;
+    drain(target, meter);
+  }
+  report_.stuck = std::max<Index>(alive_count_ - target, 0);
+  meter.finish();
+}
+
+// Lazy greedy: a vertex whose star changed is marked dirty, and its cost is recomputed (and
+// the vertex queued again) only when it comes out of the queue; a vertex not queued (failed, or
+// of infinite cost) is queued again when its star changes.
+void Simplifier::drain(Index target, ProgressMeter& meter) {
   touched_.clear();
   using Entry = std::pair<double, Index>;  // cost, vertex
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   std::vector<char> queued(nv_, 0), dirty(nv_, 0);
   for (Index v = 0; v < nv_; ++v) {
+    if (!vertex_alive_[v]) continue;
     const double c = cost(v);
     if (c < HUGE_VAL) queue.emplace(c, v), queued[v] = 1;
   }
-  const Index wanted = std::max<Index>(alive_count_ - target, 0);
-  ProgressMeter meter(on_progress, "simplify", std::max<Index>(wanted, 1));
   while (alive_count_ > target && !queue.empty()) {
     const Index v = queue.top().second;
     queue.pop();
@@ -686,8 +1139,6 @@ void Simplifier::run(Index target, const ProgressCallback& on_progress) {
       }
     }
   }
-  report_.stuck = std::max<Index>(alive_count_ - target, 0);
-  meter.finish();
 }
 
 Simplification Simplifier::finish(const IntrinsicTriangulation& fine) {
@@ -734,7 +1185,7 @@ Simplification Simplifier::finish(const IntrinsicTriangulation& fine) {
     if (!vertex_alive_[v]) {
       sp.face = face_id[pt_face_[v]];
       sp.bary = pt_bary_[v];
-    } else if (rep_start_[v + 1] > rep_start_[v]) {
+    } else if (rep_end_[v] > rep_start_[v]) {
       const Index h = rep_[rep_start_[v]];
       sp.face = face_id[T::face(h)];
       sp.bary = Eigen::Vector3d::Zero();

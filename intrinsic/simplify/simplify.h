@@ -2,7 +2,7 @@
 // space of intrinsic triangulations (Liu, Gillespie, Chislett, Sharp, Jacobson, Crane 2023,
 // "Surface Simplification using Intrinsic Error Metrics"; Shoemaker, Sartor, Peers 2023), with
 // every removed vertex tracked as a point of a coarse face, so the coarse surface keeps a map to
-// the fine one (prolongation: fem/prolongation.h). docs/decisions.md D-220..D-223.
+// the fine one (prolongation: fem/prolongation.h). docs/decisions.md D-220..D-223, D-325.
 #pragma once
 
 #include <vector>
@@ -31,7 +31,13 @@ struct SimplifyReport {
   Index vertices_after = 0;     ///< #V of the coarse triangulation
   Index removals = 0;           ///< vertices removed (interior and boundary)
   Index boundary_removals = 0;  ///< of which on a boundary (an ear cut off)
-  std::size_t flips = 0;        ///< edge flips: to degree 3 / to an ear, and Delaunay repair
+  /// Fans removed by flattening (their link polygon laid out convex and triangulated: the
+  /// vertex's angle defect moves to its neighbours), where flips to 3 faces do not suffice.
+  Index flattened = 0;
+  /// Pillows deleted: closed fans of two faces glued along all three sides (an isolated
+  /// triangle of a nonmanifold mesh or point cloud, zipped to its back), whose area is dropped.
+  Index pillows = 0;
+  std::size_t flips = 0;  ///< edge flips: to degree 3 / to an ear, and Delaunay repair
   /// Vertices left because none could be removed without breaking a guarantee (the target was
   /// not reached): 0 when vertices_after reached the target.
   Index stuck = 0;
@@ -64,26 +70,43 @@ struct Simplification {
 /// are flipped back to Delaunay. Removed vertices, and the points already inside the faces a
 /// flip or removal rewrites, are carried over in the 2D layouts of those faces.
 ///
+/// Flattening, where flips cannot make 3 faces: the fan's link polygon (its outer sides, lengths
+/// kept) is laid out convex in the plane, inscribed in a circle, and triangulated (no new side
+/// from a vertex to itself); v goes to the mean of the corners weighted by 1 / spoke length and
+/// each old face maps linearly onto (that point, its outer side), so the map stays bijective.
+/// The vertex's angle defect moves to its neighbours and the star's area changes (the cost
+/// charges it; the rescale below restores each component's total). It is used from the start
+/// for a vertex with several fans or a fan of angle sum ≥ 3π (which no three faces can
+/// replace), and for any closed fan only in a second pass, when the first misses the target —
+/// so a manifold mesh that reaches its target by flips keeps the metric as before. Fans of two
+/// faces whose outer sides differ in length get one outer side flipped (three faces); a link
+/// whose longest side is not below the others' sum gets that side flipped outwards (twice at
+/// most). Self-edges at a vertex (it would be on its own link) are flipped away first where
+/// their diamond is strictly convex. A pillow — a closed fan of two faces glued along all three
+/// sides (an isolated triangle of a nonmanifold mesh or point cloud, zipped to its back) — is
+/// deleted with the vertex when its two other corners keep another fan (its area is dropped,
+/// its points go where the vertex goes). Flips keep four distinct vertices in their diamond.
+///
 /// Guarantees (tested): the coarse triangulation validates (every face satisfies the triangle
 /// inequality with a margin); each component keeps its Euler characteristic (see multi-fan
 /// vertices below), its boundary loops
 /// (each with ≥ 3 vertices) and at least 4 vertices if closed; Gauss–Bonnet holds (a property
 /// of every valid triangulation); each component's total area equals the input's (up to
-/// round-off): a removal changes the metric locally (lengths are never moved, but a curved
-/// vertex's star and the triangle replacing it differ in area; a cut ear loses its area), and
-/// one uniform scale per component at the end restores the area (angles, and so the Delaunay
-/// property and the curvature, unchanged; the cotan Laplacian is scale invariant). Boundary
-/// length is not kept (an ear's two sides become its third).
+/// round-off): a removal changes the metric locally (a curved vertex's star and the face(s)
+/// replacing it differ in area; a cut ear or a pillow loses its area), and one uniform scale
+/// per component at the end restores the area (angles, and so the Delaunay property and the
+/// curvature, unchanged; the cotan Laplacian is scale invariant). Boundary length is not kept
+/// (an ear's two sides become its third).
 ///
 /// A vertex with several fans (a pinch; every vertex of the tufted cover of a manifold, which is
-/// two copies) is removed from all its fans at once, each flipped to degree 3 (it then lies in
-/// its first fan's coarse face); that raises the Euler characteristic by (fans − 1) and can
-/// split a component at the pinch, so both are kept where no such vertex is removed. A vertex stays
-/// (counted in report.stuck when the target is missed) when its star has a self-edge or a repeated
-/// neighbour, a boundary fan among several, an angle sum of 3π or more (no three spokes with
-/// angles below π between them), no strictly convex flip left, a resulting face below the
-/// margin, a boundary loop at 3 vertices or a closed component at 4 vertices. So no valid
-/// input is refused for numerical reasons (docs/decisions.md D-222).
+/// two copies) is removed from all its fans at once (it then lies in its first fan that is not
+/// a pillow); that raises the Euler characteristic by (fans − 1) and can split a component at
+/// the pinch, so both are kept where no such vertex is removed. A vertex stays (counted in
+/// report.stuck when the target is missed) when it has a self-edge that cannot be flipped away,
+/// a boundary fan among several or at an angle ≥ π, a fan of two faces that cannot be zipped or
+/// opened, no polygon or triangulation keeping the margin, a boundary loop at 3 vertices or a
+/// closed component at 4 vertices. So no valid input is refused for numerical reasons
+/// (docs/decisions.md D-222, D-325).
 /// The multiplicity (2 on a tufted cover) is kept. simplify(result.coarse) coarsens again.
 /// @throws InvalidInput on bad options (SimplifyOptions::validate()), or a target ≥ #V
 Simplification simplify(const IntrinsicTriangulation& fine, const SimplifyOptions& options);

@@ -1,5 +1,8 @@
 // simplify: intrinsic simplification (intrinsic/simplify/simplify.h) of an input on whichever
-// path it takes, with the prolongation P (fem/prolongation.h).
+// path it takes, with the prolongation P and, on request, the tangent-vector one
+// (fem/prolongation.h).
+#include <algorithm>
+#include <complex>
 #include <memory>
 #include <string>
 #include <utility>
@@ -14,9 +17,23 @@ namespace ifem::python {
 
 namespace {
 
-// (coarse faces #Fc×3, kept input ids #Vc, P parts, side lengths #Fc×3, info)
+// Complex CSC parts (data complex128, indices, indptr, shape), copied.
+py::tuple complex_csc_parts(fem::ComplexSparseMatrix& A) {
+  A.makeCompressed();
+  const auto nnz = static_cast<py::ssize_t>(A.nonZeros());
+  py::array_t<std::complex<double>> data(nnz);
+  py::array_t<int> indices(nnz), indptr(A.cols() + 1);
+  std::copy(A.valuePtr(), A.valuePtr() + nnz, data.mutable_data());
+  std::copy(A.innerIndexPtr(), A.innerIndexPtr() + nnz, indices.mutable_data());
+  std::copy(A.outerIndexPtr(), A.outerIndexPtr() + A.cols() + 1, indptr.mutable_data());
+  return py::make_tuple(data, indices, indptr, py::make_tuple(A.rows(), A.cols()));
+}
+
+// (coarse faces #Fc×3, kept input ids #Vc, P parts, side lengths #Fc×3, info, tangent P parts
+// or None)
 py::tuple simplify(const py::handle& V, const py::handle& F, Index vertices, double ratio,
-                   double mollify, const std::string& path, const py::handle& progress) {
+                   double mollify, const std::string& path, const py::handle& progress,
+                   bool tangent) {
   io::SurfaceInput in = surface_input(V, F);
   const solvers::PrepareOptions po = prepare_options(mollify, path, true, 30);
   auto s = std::make_unique<solvers::PreparedSurface>(prepare(std::move(in), po, path));
@@ -27,12 +44,14 @@ py::tuple simplify(const py::handle& V, const py::handle& F, Index vertices, dou
   o.on_progress = progress_callback(progress);
   intrinsic::Simplification r;
   fem::SparseMatrix P;
+  fem::ComplexSparseMatrix Pt;
   std::vector<Triangle> faces;
   Eigen::MatrixXd lengths;
   {
     const py::gil_scoped_release release;
     r = intrinsic::simplify(s->tri, o);
     fem::prolongation(r).swap(P);
+    if (tangent) Pt = fem::tangent_prolongation(s->tri, r);
     const auto& c = r.coarse;
     faces.resize(c.n_faces());
     lengths.resize(c.n_faces(), 3);
@@ -46,19 +65,24 @@ py::tuple simplify(const py::handle& V, const py::handle& F, Index vertices, dou
   info["vertices_after"] = rep.vertices_after;
   info["removals"] = rep.removals;
   info["boundary_removals"] = rep.boundary_removals;
+  info["flattened"] = rep.flattened;
+  info["pillows"] = rep.pillows;
   info["simplify_flips"] = rep.flips;
   info["stuck"] = rep.stuck;
   info["area_change_before_rescale"] = rep.area_change_before_rescale;
   info["multiplicity"] = r.coarse.multiplicity();
+  py::object tangent_parts = py::none();
+  if (tangent) tangent_parts = complex_csc_parts(Pt);
   return py::make_tuple(to_numpy(std::move(faces)), to_numpy(std::move(r.coarse_to_fine)),
-                        to_csc_parts(std::move(P)), to_numpy(std::move(lengths)), info);
+                        to_csc_parts(std::move(P)), to_numpy(std::move(lengths)), info,
+                        tangent_parts);
 }
 
 }  // namespace
 
 void bind_simplify(py::module_& m) {
   m.def("simplify", &simplify, py::arg("V"), py::arg("F"), py::arg("vertices"), py::arg("ratio"),
-        py::arg("mollify"), py::arg("path"), py::arg("progress"));
+        py::arg("mollify"), py::arg("path"), py::arg("progress"), py::arg("tangent"));
 }
 
 }  // namespace ifem::python

@@ -100,3 +100,15 @@ def test_tufted_cover():
 def test_refusals(kwargs, regex):
     with pytest.raises(ifem.InvalidInput, match=regex):
         ifem.simplify(str(test_data("spot.obj")), **kwargs)
+
+
+def test_tangent_prolongation():
+    """P_tangent: P's magnitudes with phases; a flat grid's parallel field stays of unit length."""
+    path = test_data("spot.obj")
+    V, F = ifem.read_mesh(path)[:2]
+    faces, kept, P, Pt, info = ifem.simplify(V, F, vertices=300, tangent=True, return_info=True)
+    assert Pt.shape == P.shape and np.iscomplexobj(Pt.data)
+    assert abs(abs(Pt).sum(axis=1) - 1).max() < 1e-12
+    assert abs(abs(Pt) - P).max() < 1e-12
+    assert abs(np.angle(Pt.data)).max() > 0.1  # not the scalar P
+    assert ifem.simplify(V, F, vertices=300)[2].shape == P.shape  # default: no P_tangent

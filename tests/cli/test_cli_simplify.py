@@ -89,6 +89,22 @@ def test_ply_and_map(cli):
         assert min(w) >= 0 and sum(w) == pytest.approx(1.0, abs=1e-12)
 
 
+def test_tangent_map(cli):
+    """--tangent-map: P's coarse vertices, complex weights of P's magnitudes (D-326)."""
+    cli.ok("simplify", cli.spot, "--ratio", "0.1", "-o", "c.ifem", "--map", "m.txt",
+           "--tangent-map", "t.txt", "--quiet")
+    maps = [r.split() for r in open(cli.out / "m.txt").read().strip().split("\n")]
+    tmaps = [r.split() for r in open(cli.out / "t.txt").read().strip().split("\n")]
+    assert len(tmaps) == len(maps) == len(obj_vertices(cli.spot))
+    phases = 0
+    for m, t in zip(maps, tmaps):
+        assert t[:3] == m[:3]
+        z = [complex(float(t[3 + 2 * k]), float(t[4 + 2 * k])) for k in range(3)]
+        assert [abs(x) for x in z] == pytest.approx([float(w) for w in m[3:]], abs=1e-12)
+        phases += any(abs(x.imag) > 1e-3 for x in z)
+    assert phases > len(maps) / 2  # rotations, not the scalar weights
+
+
 def test_nonmanifold_goes_through_the_tufted_cover(cli):
     path = cli.data / "triple_vierbein.obj"
     r = cli.ok("simplify", path, "--ratio", "0.5", "-o", "c.ifem", "--quiet")
@@ -109,12 +125,12 @@ def test_refusals(cli, args, regex):
 
 
 def test_point_cloud_keeps_its_invariants_and_names_why_it_stops(cli, tmp_path):
-    """spot's vertices as a point cloud (D-290): a valid coarse cover (area, Gauss–Bonnet, P)
-    that stops above the target, and the output says why."""
+    """spot's vertices as a point cloud (D-290, D-325): a valid coarse cover (area,
+    Gauss–Bonnet, P) that stops above the target, and the output says why."""
     sweep = sweep_module()
     r = cli.ok("simplify", cli.spot, "--pointcloud", "--knn", "12", "--ratio", "0.2",
                "-o", "c.ifem", "--map", "m.txt", "--quiet")
-    assert "could not be removed" in r.out and "wound around the point" in r.out
+    assert "could not be removed" in r.out and "self-edges" in r.out
     nvc, nf, mult, sides, c2f, points = sweep.read_ifem(cli.out / "c.ifem")
     area, bad = sweep.check_coarse(nvc, nf, mult, sides, c2f, points)
     assert mult == 4 and not bad, bad
