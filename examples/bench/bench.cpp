@@ -98,7 +98,8 @@ const Section kSections[] = {
      ifem::bench::simplify},
     {"integer-crosscheck",
      "Delaunay refinement (25°, 30°) with signposts and integer coordinates on every mesh of a "
-     "directory (default ../shared/data/meshes): success, time, agreement, as a markdown table",
+     "directory (default ../shared/data/meshes; --generated: also the adversarial generators): "
+     "success, time, agreement, area partition, as a markdown table",
      ifem::bench::integer_crosscheck},
     {"transfer",
      "point location both ways (100k points) and L2 function transfer after refinement to 25°, "

@@ -7,10 +7,14 @@
 // input, and, as the exact test of which locations are right, the path-length defect of each:
 // every intrinsic edge is a straight path through the input faces, so the 3D polyline through
 // its located ends and traced crossings has the edge's length; the largest |polyline − length|
-// over the edges, relative to the mean edge length (mollification alone leaves about 1e-5).
-// Meshes the triangulation refuses (not edge-manifold / orientable) are listed as such.
+// over the edges, relative to the mean edge length (mollification alone leaves about 1e-5), and
+// each common subdivision's area partition error (its pieces summed per input face against the
+// face's 3D area, relative to the mean face area; 1e-12 is the tests' bound). Meshes the
+// triangulation refuses (not edge-manifold / orientable) are listed as such. --generated adds
+// the generated adversarial set (intrinsic/generators/mesh_generators.h) at the ctests' sizes and
+// larger.
 //
-//   ifem_bench integer-crosscheck [DIR] [--max-faces 300000] [--angles 25,30]
+//   ifem_bench integer-crosscheck [DIR] [--max-faces 300000] [--angles 25,30] [--generated]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,9 +22,11 @@
 #include <filesystem>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench_util.h"
+#include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/integer/crosscheck.h"
 #include "intrinsic/integer/integer_subdivision.h"
 #include "intrinsic/integer/normal_coordinates.h"
@@ -90,15 +96,17 @@ void row(const std::string& name, std::size_t faces, double angle, const Signpos
   };
   std::string agree = "—";
   if (c.signposts.ok && c.integer.ok) {
-    char buf[200];
+    char buf[240];
     std::snprintf(buf, sizeof buf,
-                  "%s; max Δℓ %.1e; subd. V %lld/%lld F %lld/%lld; max Δx %.1e; defect %.1e/%.1e",
+                  "%s; max Δℓ %.1e; subd. V %lld/%lld F %lld/%lld; max Δx %.1e; defect %.1e/%.1e; "
+                  "area %.0e/%.0e",
                   c.same_insertions ? "same insertions" : "DIFFERENT", c.max_length_difference,
                   static_cast<long long>(c.signposts.subdivision_vertices),
                   static_cast<long long>(c.integer.subdivision_vertices),
                   static_cast<long long>(c.signposts.subdivision_faces),
                   static_cast<long long>(c.integer.subdivision_faces), c.max_vertex_distance,
-                  defect(st), defect(nc));
+                  defect(st), defect(nc), c.signposts.area_partition_error,
+                  c.integer.area_partition_error);
     agree = buf;
   }
   const intrinsic::RefineRun& r = c.integer.ok ? c.integer : c.signposts;
@@ -106,6 +114,35 @@ void row(const std::string& name, std::size_t faces, double angle, const Signpos
               static_cast<long long>(r.report.insertions), cell(c.signposts).c_str(),
               cell(c.integer).c_str(), agree.c_str());
   std::fflush(stdout);
+}
+
+// The generated adversarial inputs: the ctests' (IntegerCrosscheck.*) and larger ones.
+void generated_rows(const std::vector<double>& angles) {
+  std::vector<std::pair<std::string, intrinsic::TriangleMesh>> inputs = {
+      {"needle_fan(44)", intrinsic::needle_fan(44)},
+      {"needle_fan(80, 0.02)", intrinsic::needle_fan(80, 0.02)},
+      {"needle_soup(3)", intrinsic::needle_soup(3)},
+      {"needle_soup(30)", intrinsic::needle_soup(30)},
+      {"nearly_coincident_grid(6, 10, 1e-6, 3)", intrinsic::nearly_coincident_grid(6, 10, 1e-6, 3)},
+      {"nearly_coincident_grid(6, 10, 1e-9, 3)", intrinsic::nearly_coincident_grid(6, 10, 1e-9, 3)},
+      {"nearly_coincident_grid(30, 400, 1e-9, 5)",
+       intrinsic::nearly_coincident_grid(30, 400, 1e-9, 5)}};
+  for (const unsigned long seed : {1ul, 2ul}) {
+    intrinsic::RangeScanOptions scan;
+    scan.nx = scan.ny = 16;
+    scan.objects = 5;
+    scan.islands = 3;
+    scan.seed = seed;
+    inputs.emplace_back("range_scan(16², seed " + std::to_string(seed) + ")",
+                        intrinsic::range_scan(scan));
+  }
+  inputs.emplace_back("range_scan(100², default)", intrinsic::range_scan({}));
+  const double eps = intrinsic::kDefaultMollifyEpsilon;
+  for (const auto& [name, m] : inputs) {
+    const SignpostTriangulation s0(m.faces, m.positions, eps);
+    const NormalCoordinateTriangulation n0(m.faces, m.positions, eps);
+    for (const double angle : angles) row(name, m.faces.size(), angle, s0, n0);
+  }
 }
 
 }  // namespace
@@ -147,6 +184,7 @@ int integer_crosscheck(int argc, char** argv) {
       std::printf("| %s | | | | not used: %s | | |\n", name.c_str(), short_error(e.what()).c_str());
     }
   }
+  if (has_flag(argc, argv, "--generated")) generated_rows(angles);
   return 0;
 }
 

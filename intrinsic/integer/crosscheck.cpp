@@ -81,7 +81,8 @@ double mean_edge_length(const IntrinsicTriangulation& tri) {
 }  // namespace
 
 bool RefineCrosscheck::agree() const {
-  return same_insertions && max_length_difference <= 1e-9 * mean_length;
+  return same_insertions && max_length_difference <= 1e-9 * mean_length &&
+         max_vertex_distance <= 1e-6 * mean_length;
 }
 
 RefineCrosscheck crosscheck_refine(const SignpostTriangulation& s0,

@@ -39,9 +39,9 @@ struct RefineCrosscheck {
   double max_vertex_distance = 0.0;
   /// Both ok: the mean edge length after refinement (the tolerance's scale).
   double mean_length = 0.0;
-  /// Both ok, the same insertions and lengths within 1e-9·mean_length. The vertex locations
-  /// are reported, not required: on degenerate inputs the two can place an inserted vertex
-  /// differently (`ifem_bench integer-crosscheck` measures which path lengths are right).
+  /// Both ok, the same insertions, lengths within 1e-9·mean_length and every intrinsic vertex
+  /// at the same place within 1e-6·mean_length (the signposts locate inserted vertices to a few
+  /// 1e-9 of the mesh size).
   bool agree() const;
 };
 

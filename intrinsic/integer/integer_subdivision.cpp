@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,13 @@ namespace ifem::intrinsic {
 namespace {
 
 using T = IntrinsicTriangulation;
+
+// Barycentric coordinates of a point placed within rounding of its face: negative ones cut to
+// zero, renormalized (a point in the closed face).
+Eigen::Vector3d clamped(const Eigen::Vector3d& bary) {
+  const Eigen::Vector3d b = bary.cwiseMax(0.0);
+  return b / b.sum();
+}
 
 struct Entry {
   Index vertex;        // output vertex id
@@ -236,15 +244,31 @@ void Builder::propagate_faces() {
   }
 }
 
-// Places vertex v (a corner of polygon poly) by the rigid map of the polygon's layout onto its
-// input face's plane that takes corners k1, k2 (known) to their positions.
+// Places vertex v (a corner of polygon poly), with corners k1, k2 known. Where the input face's
+// intrinsic lengths are its 3D ones (no mollification), its layout is congruent to the 3D
+// triangle: the rigid map of the polygon's layout onto the face's plane taking k1, k2 to their
+// positions (well conditioned on needle faces). Where they are not, that map would carry the
+// misfit and could put v outside the face (the pieces around v then overlap or leave gaps): v
+// gets the barycentric coordinates of its place in the face's intrinsic layout (placed_bary,
+// clamped) applied to the 3D corners, as a signpost location, so the pieces tile the 3D face.
 void Builder::place_in_polygon(CommonSubdivision& out, Index v, std::size_t poly, int k1, int k2) {
   const Polygon& p = polys_[poly];
+  placed_face_[v] = p.input;
+  placement_[v] = {poly, k1, k2};
   const Positions& x = nc_.input_positions();
-  const Index c0 = in_.tail(3 * p.input), c1 = in_.tail(3 * p.input + 1),
-              c2 = in_.tail(3 * p.input + 2);
-  const Eigen::Vector3d x0 = x.row(c0), x1 = x.row(c1), x2 = x.row(c2);
-  const Eigen::Vector3d normal = (x1 - x0).cross(x2 - x0).normalized();
+  Eigen::Vector3d c[3];
+  bool congruent = true;
+  for (int k = 0; k < 3; ++k) c[k] = x.row(in_.tail(3 * p.input + k));
+  for (int k = 0; k < 3; ++k) {
+    const double l = in_.halfedge_length(3 * p.input + k);
+    congruent = congruent && std::abs((c[(k + 1) % 3] - c[k]).norm() - l) <= 1e-12 * l;
+  }
+  if (!congruent) {
+    const Eigen::Vector3d b = clamped(placed_bary(v));
+    out.positions.row(v) = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
+    return;
+  }
+  const Eigen::Vector3d normal = (c[1] - c[0]).cross(c[2] - c[0]).normalized();
   const Eigen::Vector3d q1 = out.positions.row(p.vertex[k1]);
   const Eigen::Vector3d q2 = out.positions.row(p.vertex[k2]);
   const Eigen::Vector3d u = (q2 - q1).normalized(), w = normal.cross(u);
@@ -253,8 +277,6 @@ void Builder::place_in_polygon(CommonSubdivision& out, Index v, std::size_t poly
     if (p.vertex[k] != v) continue;
     const Eigen::Vector2d d = p.xy[k] - p.xy[k1];
     out.positions.row(v) = q1 + d.dot(u2) * u + d.dot(w2) * w;
-    placed_face_[v] = p.input;
-    placement_[v] = {poly, k1, k2};
     return;
   }
 }
@@ -445,9 +467,8 @@ std::vector<SurfacePoint> vertex_locations(const NormalCoordinateTriangulation& 
     const Index f = builder.placed_face()[v];
     if (!nc.spokes(v).empty() || f == kInvalidIndex) continue;
     // barycentric coordinates in the input face's intrinsic layout
-    const Eigen::Vector3d bary = builder.placed_bary(v);
     out[v].face = f;
-    out[v].bary = bary.cwiseMax(0.0) / bary.cwiseMax(0.0).sum();
+    out[v].bary = clamped(builder.placed_bary(v));
   }
   return out;
 }

@@ -18,8 +18,11 @@ namespace ifem::intrinsic {
 /// (input_face as an index into the faces given). Which input face a polygon lies in comes from
 /// the integers (the side of an input edge an arc leaves it on; across uncrossed sides, the
 /// neighbour's); positions come from the traced crossings (positions along input edges), and an
-/// inserted vertex's position from a rigid map of its intrinsic face's layout onto the input
-/// face, fixed by two known points of a polygon it is a corner of.
+/// inserted vertex's position from a rigid map of the layout of a polygon it is a corner of,
+/// fixed by two known points: onto the input face's 3D plane where the face's intrinsic lengths
+/// are its 3D ones, else onto the face's intrinsic layout, read as barycentric coordinates
+/// (clamped to the face) of the 3D triangle. So the triangles in each input face tile its 3D
+/// triangle, mollified or not.
 /// @throws InvalidInput if the coordinates are inconsistent, or an inserted vertex cannot be
 ///         placed (no polygon around it has two known points)
 CommonSubdivision common_subdivision(const NormalCoordinateTriangulation& nc);

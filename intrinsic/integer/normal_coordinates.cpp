@@ -33,6 +33,31 @@ Eigen::Vector2d place_left(const Eigen::Vector2d& a, const Eigen::Vector2d& b, d
   return a + x * u + y * w;
 }
 
+// Where the arc from p (below the x axis) to q (above) crosses the intrinsic edge [0, len] on
+// the x axis: the fraction s along the arc (returned) and the abscissa *x. The integers say that
+// it does; the intersection of the two lines says where. When that lies off the edge or off the
+// arc by more than rounding, the lines are nearly parallel (the arc runs along the edge, whose
+// ends both lie within rounding of the input edge: two vertices inserted there) and the
+// intersection means nothing: s moves to the nearest fraction whose point lies over the edge
+// (x in [0, len]) and on the arc, which is within rounding of both. Intersections within
+// rounding of the segments are kept as computed.
+double arc_crossing(const Eigen::Vector2d& p, const Eigen::Vector2d& q, double len, double* x) {
+  const double dy = q.y() - p.y(), dx = q.x() - p.x();
+  double s = dy != 0.0 ? -p.y() / dy : 0.5;
+  *x = p.x() + s * dx;
+  const double slack = 1e-9;
+  if (s >= -slack && s <= 1.0 + slack && *x >= -slack * len && *x <= (1.0 + slack) * len) return s;
+  double lo = 0.0, hi = 1.0;
+  if (dx != 0.0) {
+    const double s0 = -p.x() / dx, s1 = (len - p.x()) / dx;
+    lo = std::max(lo, std::min(s0, s1));
+    hi = std::min(hi, std::max(s0, s1));
+  }
+  s = lo <= hi ? std::clamp(s, lo, hi) : std::clamp(s, 0.0, 1.0);
+  *x = std::clamp(p.x() + s * dx, 0.0, len);
+  return s;
+}
+
 // Whether x lies strictly between `from` and `to` going forward cyclically (along the boundary
 // of a star, counter-clockwise: the left part of a chord from `to` to `from` has those points).
 bool in_cyclic_interval(std::pair<int, int> from, std::pair<int, int> to, std::pair<int, int> x) {
@@ -272,9 +297,8 @@ std::vector<InputCrossing> NormalCoordinateTriangulation::trace_halfedge(Index h
     const InputSpoke& s1 = spokes_[e1.vertex][e1.spoke];
     const InputSpoke& s2 = spokes_[e2.vertex][e2.spoke];
     if (s1.input_edge != s2.input_edge) inconsistent("arc ends on two different input edges");
-    const double dy = e1.pos.y() - e2.pos.y();
-    const double s = dy != 0.0 ? -e2.pos.y() / dy : 0.5;
-    const double x = e2.pos.x() + s * (e1.pos.x() - e2.pos.x());
+    double x = 0.0;
+    const double s = arc_crossing(e2.pos, e1.pos, len, &x);
     out.push_back({s1.input_edge, x / len, s2.at + s * (s1.at - s2.at), s1.at > s2.at});
   }
   return out;

@@ -143,7 +143,9 @@ class NormalCoordinateTriangulation {
   /// The input edges crossing intrinsic halfedge h, in order from its tail (n(edge(h)) of them;
   /// none when n ≤ 0). Each is found by following its arcs through the intrinsic faces to the
   /// vertices it leaves (roundabouts name it), and placed by laying those faces out in the
-  /// plane. Does not build the common subdivision.
+  /// plane (where the arc runs along h, both within rounding of each other, at a point of h
+  /// within rounding of the arc: t and input_t stay within their segments). Does not build the
+  /// common subdivision.
   /// @throws InvalidInput if the coordinates are inconsistent (a bug, or a broken invariant)
   std::vector<InputCrossing> trace_halfedge(Index h) const;
   /// trace_halfedge(intrinsic().edge_halfedge(e)).

@@ -419,6 +419,109 @@ TEST(NormalCoordinates, CommonSubdivisionPartitionsAreas) {
   }
 }
 
+// Two vertices inserted within rounding of an input edge (the square's diagonal 0–2, crossed by
+// the flipped diagonal 1–3), at fractions `at` and 1 − `at` along it; flipping 1–3 joins them by
+// an edge along the input edge. Where the integers count them on two sides, that edge crosses
+// the input edge once, at a point the intersection of the two nearly parallel lines does not
+// fix: the crossing must still lie on both (D-300: on needle_soup(3) it was put at t = 5.7, off
+// the edge, and the common subdivision's pieces overlapped by 5e-2 of a face).
+TEST(NormalCoordinates, CrossingOfAnEdgeAlongAnInputEdgeStaysOnBoth) {
+  Positions x(4, 3);
+  x << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
+  const std::vector<Triangle> faces = {{0, 1, 2}, {0, 2, 3}};  // input diagonal 0–2
+  int crossed = 0;
+  // fractions at which the lines' intersection fell off the edge (t = -9.4, -11.8, -1.1, 1.7)
+  for (const double off : {0.0, 1e-17, -1e-16}) {
+    for (const int i : {7, 10, 14, 36}) {
+      const double at = 0.05 + 0.01 * i + 1e-3 * std::sqrt(double(i));
+      SCOPED_TRACE(testing::Message() << "off " << off << " at " << at);
+      NormalCoordinateTriangulation nc(faces, x);
+      const IntrinsicTriangulation& tri = nc.intrinsic();
+      auto edge_between = [&](Index a, Index b) {
+        for (Index e = 0; e < tri.n_edges(); ++e) {
+          const Index h = tri.edge_halfedge(e);
+          if (std::minmax(tri.tail(h), tri.head(h)) == std::minmax(a, b)) return e;
+        }
+        return kInvalidIndex;
+      };
+      const Index diagonal = edge_between(0, 2);
+      ASSERT_TRUE(nc.flip_edge(diagonal));  // now 1–3
+      // the points (at + off, at) and (1 − at, 1 − at − off), in the faces holding them
+      auto insert_at = [&](double px, double py) {
+        for (Index f = 0; f < tri.n_faces(); ++f) {
+          Eigen::Vector2d c[3];
+          for (int k = 0; k < 3; ++k) c[k] = x.row(tri.tail(3 * f + k)).head<2>().transpose();
+          const Eigen::Matrix2d m = (Eigen::Matrix2d() << c[1] - c[0], c[2] - c[0]).finished();
+          const Eigen::Vector2d b = m.inverse() * (Eigen::Vector2d(px, py) - c[0]);
+          if (b.minCoeff() > 0.0 && b.sum() < 1.0) {
+            return nc.insert_vertex(f, Eigen::Vector3d(1.0 - b.sum(), b[0], b[1]));
+          }
+        }
+        return kInvalidIndex;
+      };
+      const Index v = insert_at(at + off, at), w = insert_at(1.0 - at, 1.0 - at - off);
+      ASSERT_NE(v, kInvalidIndex);
+      ASSERT_NE(w, kInvalidIndex);
+      ASSERT_TRUE(nc.flip_edge(diagonal));  // 1–3 becomes v–w, along the input diagonal
+      ASSERT_EQ(edge_between(v, w), diagonal);
+      nc.validate();
+      const std::vector<InputCrossing> c = nc.trace_edge(diagonal);
+      if (!c.empty()) {
+        ++crossed;
+        ASSERT_EQ(c.size(), 1u);
+        EXPECT_GE(c[0].t, 0.0);
+        EXPECT_LE(c[0].t, 1.0);
+        // between the two vertices along the diagonal
+        EXPECT_GE(c[0].input_t, at - 1e-12);
+        EXPECT_LE(c[0].input_t, 1.0 - at + 1e-12);
+      }
+      expect_area_partition(nc);
+      expect_input_edges_recovered(nc);
+    }
+  }
+  EXPECT_GT(crossed, 0);  // the case under test happened
+}
+
+// A vertex inserted in a mollified sliver (the intrinsic face is much fatter than the 3D one):
+// the common subdivision puts it where its location says, inside the 3D triangle, so the
+// pieces tile the input face (D-300: a rigid map of the mollified layout onto the face's plane
+// put it 2e-4 outside, and the pieces' areas overshot the face's 4000-fold), and where the
+// signposts locate it.
+TEST(NormalCoordinates, VertexInAMollifiedSliverLiesInItsInputFace) {
+  Positions x(4, 3);
+  x << 0, 0, 0, 1, 0, 0, 0.5, 1e-7, 0, 0.5, -1.0, 0.2;
+  const std::vector<Triangle> faces = {{0, 1, 2}, {1, 0, 3}};
+  for (const Eigen::Vector3d& bary :
+       {Eigen::Vector3d(1.0 / 3, 1.0 / 3, 1.0 / 3), Eigen::Vector3d(0.1, 0.2, 0.7)}) {
+    NormalCoordinateTriangulation nc(faces, x, kDefaultMollifyEpsilon);
+    SignpostTriangulation st(faces, x, kDefaultMollifyEpsilon);
+    ASSERT_NE(nc.input().lengths(), IntrinsicTriangulation::from_positions(faces, x).lengths());
+    const Index v = nc.insert_vertex(0, bary);
+    ASSERT_EQ(st.insert_vertex(0, bary), v);
+    nc.flip_to_delaunay();
+    st.flip_to_delaunay();
+    const CommonSubdivision cs = common_subdivision(nc);
+    std::vector<double> sum(2, 0.0);
+    for (std::size_t i = 0; i < cs.faces.size(); ++i) {
+      const Triangle& t = cs.faces[i];
+      const Eigen::Vector3d a = cs.positions.row(t[0]), b = cs.positions.row(t[1]),
+                            c = cs.positions.row(t[2]);
+      sum[cs.input_face[i]] += 0.5 * (b - a).cross(c - a).norm();
+    }
+    for (Index f = 0; f < 2; ++f) {
+      const Eigen::Vector3d a = x.row(faces[f][0]), b = x.row(faces[f][1]), c = x.row(faces[f][2]);
+      EXPECT_NEAR(sum[f], 0.5 * (b - a).cross(c - a).norm(), 1e-15) << "input face " << f;
+    }
+    const SurfacePoint loc = vertex_locations(nc)[v];
+    EXPECT_EQ(loc.face, 0);
+    EXPECT_GE(loc.bary.minCoeff(), 0.0);
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) p += loc.bary[k] * Eigen::Vector3d(x.row(faces[0][k]));
+    EXPECT_LT((Eigen::Vector3d(cs.positions.row(v)) - p).norm(), 1e-15);
+    EXPECT_LT((st.position(st.vertex_location(v)) - p).norm(), 1e-9);
+  }
+}
+
 // Two flat fans of two triangles sharing only their centre (a vertex with two boundary fans, as
 // in range scans): its spokes are listed fan after fan.
 // Delaunay refinement on the integers makes the same calls as on signposts (one algorithm,
@@ -661,11 +764,35 @@ TEST(NormalCoordinates, MoveInsertedVertexAgreesWithSignposts) {
   }
 }
 
+// Every intrinsic edge is a straight path over the input: on an unmollified input, the 3D
+// polyline through its ends (as the common subdivision places them) and its traced crossings has
+// the edge's length (1e-9 of the mesh size). Wrong integers put crossings on other input edges
+// or vertices in other faces, which lengthens the polyline; this holds where signpost traces
+// cannot be compared (near a needle fan's tip they miss crossings at rounding level).
+void expect_straight_paths(const NormalCoordinateTriangulation& nc) {
+  const IntrinsicTriangulation& tri = nc.intrinsic();
+  const CommonSubdivision cs = common_subdivision(nc);
+  const double tol = 1e-9 * mesh_scale(nc.input());
+  for (Index e = 0; e < tri.n_edges(); ++e) {
+    const Index h = tri.edge_halfedge(e);
+    Eigen::Vector3d last = cs.positions.row(tri.tail(h));
+    double length = 0.0;
+    for (const InputCrossing& c : nc.trace_edge(e)) {
+      const Eigen::Vector3d y = nc.crossing_position(c);
+      length += (y - last).norm();
+      last = y;
+    }
+    length += (Eigen::Vector3d(cs.positions.row(tri.head(h))) - last).norm();
+    ASSERT_NEAR(length, tri.length(e), tol) << "edge " << e;
+  }
+}
+
 // ODT relaxation after refinement (relax_inserted_vertices, one algorithm over both
 // representations): the same moves, rejections and splits, the same triangulation after its
 // Delaunay flips (edge lengths to 1e-9 relative), integers equal to the signpost traces (not
 // on the needle fan, where signpost traces near the tip miss crossings at rounding level even
-// before relaxing), every input edge recovered, the common subdivision partitioning the areas.
+// before relaxing; there, straight paths check them), every input edge recovered, the common
+// subdivision partitioning the areas.
 // Varied: the mesh (a needle fan, a jittered sphere, a jittered grid with boundary), passes
 // {1 (without the min-angle guard), 3} and max_edge_length {0, 0.7 × the mean edge}.
 void expect_relax_agrees(const TriangleMesh& m, double angle, int iterations, bool split,
@@ -700,6 +827,7 @@ void expect_relax_agrees(const TriangleMesh& m, double angle, int iterations, bo
   for (std::size_t e = 0; e < la.size(); ++e) ASSERT_NEAR(la[e], lb[e], 1e-9 * lb[e]);
   ASSERT_NO_THROW(nc.validate());
   if (compare_traces) expect_matches_signposts(nc, st, 1e-8);
+  expect_straight_paths(nc);
   expect_input_edges_recovered(nc);
   expect_area_partition(nc);
 }
@@ -727,12 +855,11 @@ namespace {
 
 // Refinement to 30° of one input with both representations (crosscheck_refine, mollified as
 // the CLI does): both succeed (integer coordinates at least), make the same insertions with
-// bit-identical lengths, and each common subdivision partitions the input faces' areas (1e-12
-// relative to the mean face area). `partition_open`: an input on which the integer common
-// subdivision is known not to partition yet (reported in the table, not asserted; D-281).
+// bit-identical lengths, place every intrinsic vertex at the same point (1e-6 of the mean edge
+// length), and each common subdivision partitions the input faces' areas (1e-12 relative to the
+// mean face area).
 RefineCrosscheck expect_crosscheck(const std::string& name, const TriangleMesh& m,
-                                   bool signposts_must_succeed = true,
-                                   bool partition_open = false) {
+                                   bool signposts_must_succeed = true) {
   SCOPED_TRACE(name);
   const SignpostTriangulation s0(m.faces, m.positions, kDefaultMollifyEpsilon);
   const NormalCoordinateTriangulation n0(m.faces, m.positions, kDefaultMollifyEpsilon);
@@ -749,7 +876,7 @@ RefineCrosscheck expect_crosscheck(const std::string& name, const TriangleMesh& 
   if (signposts_must_succeed) {
     EXPECT_TRUE(c.signposts.ok) << c.signposts.error;
   }
-  if (c.integer.ok && !partition_open) {
+  if (c.integer.ok) {
     EXPECT_LT(c.integer.area_partition_error, 1e-12);
   }
   if (c.signposts.ok) {
@@ -758,6 +885,7 @@ RefineCrosscheck expect_crosscheck(const std::string& name, const TriangleMesh& 
   if (c.signposts.ok && c.integer.ok) {
     EXPECT_TRUE(c.same_insertions);
     EXPECT_EQ(c.max_length_difference, 0.0);
+    EXPECT_LT(c.max_vertex_distance, 1e-6 * c.mean_length);  // the same locations
     EXPECT_TRUE(c.agree());
   }
   return c;
@@ -765,17 +893,17 @@ RefineCrosscheck expect_crosscheck(const std::string& name, const TriangleMesh& 
 
 // The generated adversarial set (intrinsic/generators/mesh_generators.h): needle fans, stacked
 // needle soups with coincident rims, vertices nearly coincident with input vertices (relative
-// gaps 1e-6 and 1e-9), and range scans (many components, boundary, needle rims). Open: the
-// integer common subdivision of the needle soup and of the nearly coincident grids does not
-// partition the input faces (errors 1e-7..5e-2; the signposts' does, to 1e-13).
+// gaps 1e-6 and 1e-9), and range scans (many components, boundary, needle rims). The needle
+// soup and the nearly coincident grids are the inputs on which the integer common subdivision
+// did not partition the input faces before D-300 (errors 1e-7..5e-2).
 TEST(IntegerCrosscheck, GeneratedAdversarialInputsRefineAndAgree) {
   std::printf("| input | faces | signposts | integer | insertions | agreement | |\n");
   EXPECT_GT(expect_crosscheck("needle fan 44", needle_fan(44)).integer.report.insertions, 0);
   expect_crosscheck("needle fan 80 × 0.02", needle_fan(80, 0.02));
-  expect_crosscheck("needle soup 3", needle_soup(3), true, true);
+  expect_crosscheck("needle soup 3", needle_soup(3));
   for (const double gap : {1e-6, 1e-9}) {
     const RefineCrosscheck c = expect_crosscheck("nearly coincident, gap " + std::to_string(gap),
-                                                 nearly_coincident_grid(6, 10, gap, 3), true, true);
+                                                 nearly_coincident_grid(6, 10, gap, 3));
     EXPECT_GT(c.integer.report.insertions, 0);
   }
   for (const unsigned long seed : {1ul, 2ul}) {
@@ -842,8 +970,7 @@ TEST(IntegerCrosscheck, SharedMeshesSweep) {
       std::printf("| %s | %zu | not used: %s |\n", name.c_str(), in.triangles.size(), e.what());
       continue;
     }
-    // open: on thingi10k_90225 the integer common subdivision misses 2e-5 of a face's area
-    expect_crosscheck(name, {in.positions, in.triangles}, false, name == "thingi10k_90225.obj");
+    expect_crosscheck(name, {in.positions, in.triangles}, false);
     ++checked;
   }
   EXPECT_GT(checked, 0) << "no mesh of " << test::shared_data() / "meshes"
