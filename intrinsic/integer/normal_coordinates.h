@@ -37,8 +37,8 @@ struct InputCrossing {
 
 /// A spoke: one direction in which an input edge leaves an intrinsic vertex. Input vertices
 /// have one per incident input edge end (a self-loop gives two); a vertex inserted on an input
-/// edge (split_edge of an edge with n = −1) has two, one per direction along it; a vertex
-/// inserted in a face has none.
+/// edge (split_edge of an edge with n = −1, or insert_vertex within rounding of an input edge
+/// crossing the face) has two, one per direction along it; any other inserted vertex has none.
 struct InputSpoke {
   Index input_edge = kInvalidIndex;  ///< edge of input()
   double at = 0.0;  ///< the vertex's position along input().edge_halfedge(input_edge), as a
@@ -100,12 +100,17 @@ class NormalCoordinateTriangulation {
   FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched,
                                    const std::vector<char>& fixed_edges);
   /// Inserts a vertex in intrinsic face f at barycentric coordinates `bary` (all > 0), as
-  /// IntrinsicTriangulation::insert_vertex_in_face(f, bary); returns its id. Traces f's three
-  /// sides (O(their crossings × the length of the crossing input edges in faces)).
+  /// IntrinsicTriangulation::insert_vertex_in_face(f, bary); returns its id. A point within
+  /// rounding of an input edge crossing f (1e-10 of f's longest side, in f's layout; the
+  /// nearest such edge) is taken to lie on it: the vertex gets two spokes and the edge ends at
+  /// it, so every later count agrees on that side (an exactly symmetric input puts
+  /// circumcenters on its symmetry axis). Traces f's three sides (O(their crossings × the
+  /// length of the crossing input edges in faces)).
   Index insert_vertex(Index f, const Eigen::Vector3d& bary);
   /// Splits intrinsic edge e at fraction t ∈ (0, 1) from the tail of edge_halfedge(e), as
   /// IntrinsicTriangulation::split_edge(e, t) (boundary edges included); returns the new vertex.
-  /// A vertex on an input edge (n(e) = −1) gets two spokes.
+  /// A vertex on an input edge (n(e) = −1, or t within 1e-10 of where an input edge crosses e;
+  /// the nearest such crossing) gets two spokes, and that input edge ends at it.
   /// @throws InvalidInput as IntrinsicTriangulation::split_edge
   Index split_edge(Index e, double t);
 
@@ -213,8 +218,24 @@ class NormalCoordinateTriangulation {
   bool star_chords(Index v, const std::vector<Index>& spokes, std::vector<StarChord>* chords) const;
   bool shared(Index h) const { return n_[tri_.edge(h)] < 0; }
   ArcEnd follow(Index h, int p, Eigen::Vector2d a, Eigen::Vector2d b) const;
-  void count_new_spokes(Index f, const Eigen::Vector3d& bary, int crossing[3], int before[3]) const;
-  int count_diagonal(Index side_h, int q, int* fan_before) const;
+  // The arc of a face that a new vertex lies on within rounding (insert_vertex()): one of
+  // corner `corner`'s corner arcs (cutting it off) or fan arcs (leaving it), `index`-th (from
+  // 1, as counted along the sides); corner −1 when none. `spoke`: the input edge and the
+  // vertex's place along it.
+  struct OnArc {
+    int corner = -1;
+    bool fan = false;
+    int index = 0;
+    InputSpoke spoke;
+  };
+  OnArc arc_at(Index f, const Eigen::Vector3d& bary, const FaceCounts& c,
+               const std::vector<InputCrossing> trace[3]) const;
+  void count_new_spokes(Index f, const Eigen::Vector3d& bary, int crossing[3], int before[3],
+                        OnArc* on) const;
+  // The diagonal's crossings; `at_m`: the (q+1)-th crossing of the side is at the new vertex
+  // (its arc, of kind 0 / 1 / 2 = corner arc of the side's tail / fan / corner arc of its head,
+  // is not counted; a fan gives −1).
+  int count_diagonal(Index side_h, int q, bool at_m, int* fan_before, int* kind) const;
   void grow_records();
   void add_fan(Index v, Index h0, std::vector<char>& seen);
 

@@ -427,7 +427,9 @@ TEST(NormalCoordinates, CommonSubdivisionPartitionsAreas) {
 // Refinement on both representations: the same insertions and lengths, and the integers
 // stay exact where circumcenters land on (or within rounding of) input edges — the needle
 // fan's symmetry axis is an input edge, and boundary splits put vertices on input edges.
-void expect_refine_agrees(const TriangleMesh& m, double angle, double area) {
+// With compare_traces, the integers also equal the signpost traces (expect_matches_signposts).
+void expect_refine_agrees(const TriangleMesh& m, double angle, double area,
+                          bool compare_traces = false) {
   SCOPED_TRACE(testing::Message() << "angle " << angle << " area " << area);
   NormalCoordinateTriangulation nc(m.faces, m.positions);
   SignpostTriangulation st(m.faces, m.positions);
@@ -443,6 +445,7 @@ void expect_refine_agrees(const TriangleMesh& m, double angle, double area) {
   nc.validate();
   expect_area_partition(nc);
   expect_input_edges_recovered(nc);
+  if (compare_traces) expect_matches_signposts(nc, st, 1e-9);
 }
 
 TEST(NormalCoordinates, DelaunayRefineAgreesWithSignposts) {
@@ -452,13 +455,21 @@ TEST(NormalCoordinates, DelaunayRefineAgreesWithSignposts) {
   }
 }
 
-// Open (D-281): on the exactly symmetric needle_fan(40) (vertex 20 at angle π, so the axis is
-// the input edge 0–20) the second insertion at 20° with area 0.01 puts a circumcenter within
-// rounding of that edge, and the integers go wrong (an input edge's crossings are not in
-// adjacent faces, the overlay misses 0.2 of the area); signposts are right. Run with
-// --gtest_also_run_disabled_tests.
-TEST(NormalCoordinates, DISABLED_RefineOnTheSymmetryAxisOfANeedleFan) {
-  expect_refine_agrees(needle_fan(40), 20.0, 0.01);
+// Exactly symmetric inputs put new vertices on input edges up to rounding: on needle_fan(n), n
+// even, the axis is the input edge 0–n/2 and circumcenters land on it (insertions in a face);
+// in a grid of rectangles the flipped diagonal's midpoint is the input diagonal's (splits).
+// The new vertex must then lie on that input edge, not on a side chosen per count (D-305).
+TEST(NormalCoordinates, RefineOnTheSymmetryAxisOfANeedleFan) {
+  expect_refine_agrees(needle_fan(40), 20.0, 0.01, true);  // at the second insertion
+  for (const int n : {30, 40, 64}) {
+    SCOPED_TRACE(testing::Message() << "needle_fan(" << n << ")");
+    expect_refine_agrees(needle_fan(n), 25.0, 0.002, true);
+  }
+}
+
+TEST(NormalCoordinates, RefineAnExactlySymmetricGrid) {
+  expect_refine_agrees(grid(8, 3, 1.0, 0.5), 28.0, 0.002, true);
+  expect_refine_agrees(grid(10, 10), 30.0, 0.001, true);
 }
 
 // Random meshes: a jittered sphere and a jittered grid with boundary, several seeds.
