@@ -534,17 +534,6 @@ bool NormalCoordinateTriangulation::is_boundary_vertex(Index v) const {
   return false;
 }
 
-bool NormalCoordinateTriangulation::inserted_vertex_star(Index v, std::vector<Index>* spokes,
-                                                         std::vector<Eigen::Vector2d>* ring) const {
-  ring->clear();
-  if (v < n_input_vertices() || v >= tri_.n_vertices() || !vertex_star_is_disk(tri_, v, spokes)) {
-    spokes->clear();
-    return false;
-  }
-  *ring = flat_star_layout(tri_, *spokes);
-  return true;
-}
-
 // The piece of an input edge entering star face face(h) through side h, p-th from tail(h),
 // followed through the star (the rules of follow()) to the outer side it leaves through, or
 // the ring vertex or centre it ends at. Sets *crossed to the first spoke it crosses (the ring
@@ -652,11 +641,9 @@ bool NormalCoordinateTriangulation::move_inserted_vertex(Index v, const Eigen::V
                                                          double min_relative_height) {
   std::vector<Index> hs;
   std::vector<Eigen::Vector2d> ring;
-  if (!inserted_vertex_star(v, &hs, &ring)) return false;
-  const double dist = d.norm();
-  if (!std::isfinite(dist)) return false;
-  if (!(dist > 0.0)) return true;
-  if (!inside_star_kernel(ring, d, min_relative_height)) return false;
+  const StarMove check =
+      check_star_move(tri_, v, n_input_vertices(), d, min_relative_height, &hs, &ring);
+  if (check != StarMove::kMoves) return check == StarMove::kStays;
   std::vector<StarChord> chords;
   if (!star_chords(v, hs, &chords)) return false;
   const int k = static_cast<int>(hs.size());

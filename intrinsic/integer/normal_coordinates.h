@@ -119,16 +119,10 @@ class NormalCoordinateTriangulation {
   /// Whether a side without twin starts or ends at vertex v (walks the fan of faces at
   /// vertex_halfedge(v): every fan for a vertex with one, as inserted vertices).
   bool is_boundary_vertex(Index v) const;
-  /// The star of an inserted interior vertex v (id ≥ n_input_vertices()) laid out in the plane
-  /// (v is flat): `spokes` as vertex_star_is_disk(), `ring` as flat_star_layout() (intrinsic/
-  /// core/geometry.h; the same layout as SignpostTriangulation::inserted_vertex_star()).
-  /// Returns false, filling nothing useful, when v is an input or boundary vertex or its star
-  /// is not a disk.
-  bool inserted_vertex_star(Index v, std::vector<Index>* spokes,
-                            std::vector<Eigen::Vector2d>* ring) const;
   /// Moves inserted interior vertex v by `displacement`, given in the layout of
-  /// inserted_vertex_star(), as SignpostTriangulation::move_inserted_vertex: the star keeps its
-  /// edges and ids, the spokes get their new planar lengths. The input edges crossing the star
+  /// inserted_vertex_star(intrinsic(), v, n_input_vertices(), …) (intrinsic/core/geometry.h),
+  /// as SignpostTriangulation::move_inserted_vertex (the same checks, check_star_move()): the
+  /// star keeps its edges and ids, the spokes get their new planar lengths. The input edges crossing the star
   /// are straight chords of its flat layout; which ring vertex or outer crossing each chord
   /// joins comes from the integers, and only which side of each chord the new position lies on
   /// from floating point. From those, the spokes' normal coordinates and the roundabouts of the

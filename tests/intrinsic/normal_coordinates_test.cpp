@@ -644,8 +644,10 @@ TEST(NormalCoordinates, MoveInsertedVertexAgreesWithSignposts) {
       for (Index v = nc.n_input_vertices(); v < nc.intrinsic().n_vertices(); ++v) {
         std::vector<Index> hs, hs_st;
         std::vector<Eigen::Vector2d> ring, ring_st;
-        const bool a = nc.inserted_vertex_star(v, &hs, &ring);
-        ASSERT_EQ(a, st.inserted_vertex_star(v, &hs_st, &ring_st)) << "vertex " << v;
+        const bool a = inserted_vertex_star(nc.intrinsic(), v, nc.n_input_vertices(), &hs, &ring);
+        ASSERT_EQ(a, inserted_vertex_star(st.intrinsic(), v, st.n_input_vertices(), &hs_st,
+                                          &ring_st))
+            << "vertex " << v;
         if (!a) continue;
         ASSERT_EQ(hs, hs_st);
         const std::size_t k = static_cast<std::size_t>(rng() % ring.size());
