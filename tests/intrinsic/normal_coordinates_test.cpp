@@ -676,9 +676,8 @@ TEST(NormalCoordinates, MoveInsertedVertexAgreesWithSignposts) {
 
 // ODT relaxation after refinement (relax_inserted_vertices, one algorithm over both
 // representations): the same moves, rejections and splits, the same triangulation after its
-// Delaunay flips (edge lengths to 1e-9 relative), integers equal to the signpost traces (not
-// on the needle fan, where signpost traces near the tip miss crossings at rounding level even
-// before relaxing), every input edge recovered, the common subdivision partitioning the areas.
+// Delaunay flips (edge lengths to 1e-9 relative), integers equal to the signpost traces, every
+// input edge recovered, the common subdivision partitioning the areas.
 // Varied: the mesh (a needle fan, a jittered sphere, a jittered grid with boundary), passes
 // {1 (without the min-angle guard), 3} and max_edge_length {0, 0.7 × the mean edge}.
 void expect_relax_agrees(const TriangleMesh& m, double angle, int iterations, bool split,
@@ -718,15 +717,14 @@ void expect_relax_agrees(const TriangleMesh& m, double angle, int iterations, bo
 }
 
 TEST(NormalCoordinates, RelaxAgreesWithSignposts) {
-  // needle_fan(44), not the exactly symmetric 40: a vertex on its symmetry axis breaks the integers
-  // (docs/decisions.md D-281, the disabled RefineOnTheSymmetryAxisOfANeedleFan)
-  const TriangleMesh meshes[] = {needle_fan(44), test::jittered(icosphere(1), 0.15, 2),
+  // the exactly symmetric needle_fan(40): vertices on its symmetry axis, an input edge (D-305)
+  const TriangleMesh meshes[] = {needle_fan(40), test::jittered(icosphere(1), 0.15, 2),
                                  test::jittered(grid(6, 5), 0.3, 3)};
   for (std::size_t i = 0; i < std::size(meshes); ++i) {
     SCOPED_TRACE("mesh " + std::to_string(i));
     for (const int iterations : {1, 3}) {
       for (const bool split : {false, true}) {
-        expect_relax_agrees(meshes[i], 25.0, iterations, split, i > 0);
+        expect_relax_agrees(meshes[i], 25.0, iterations, split, true);
       }
     }
   }
