@@ -334,8 +334,8 @@ NormalCoordinateTriangulation::OnArc NormalCoordinateTriangulation::arc_at(
       const InputCrossing& P = trace[k][i - 1];
       const InputCrossing& Q = trace[k2][c.n[k2] - i];
       if (P.input_edge != Q.input_edge) inconsistent("a corner arc ends on two input edges");
-      consider(k, false, i, p[k] + P.t * (p[k1] - p[k]), p[k2] + Q.t * (p[k] - p[k2]),
-               P.input_edge, P.input_t, Q.input_t);
+      consider(k, false, i, p[k] + P.t * (p[k1] - p[k]), p[k2] + Q.t * (p[k] - p[k2]), P.input_edge,
+               P.input_t, Q.input_t);
     }
     const Index ck = tri_.tail(3 * f + k);
     for (int j = 1; j <= c.fan[k]; ++j) {
@@ -459,7 +459,7 @@ Index NormalCoordinateTriangulation::split_edge(Index e, double t) {
   const Index a = tri_.tail(h), b = tri_.head(h), c = tri_.tail(h2);
   const Index d = interior ? tri_.tail(t2) : kInvalidIndex;
   const int n_e = n_[e], n = std::max(0, n_e);
-  int q = 0;  // crossings between a and the new vertex
+  int q = 0;                         // crossings between a and the new vertex
   std::vector<InputSpoke> m_spokes;  // a vertex on an input edge: two spokes
   if (n > 0) {
     const std::vector<InputCrossing> trace = trace_halfedge(h);
@@ -502,16 +502,16 @@ Index NormalCoordinateTriangulation::split_edge(Index e, double t) {
   // m's spokes counter-clockwise (around m: b, c, a, d): along e, 0 toward b and 1 toward a;
   // at a crossing, 0 into face(h) (before c for an arc of b's corner) and 1 into face(tw)
   // (after d for an arc of a's corner)
-  r_[3 * g1 + 1] = rh1;                                          // b→c moved
-  r_[3 * g1 + 2] = spoke_index(c, rh2, rc);                      // c→m
-  r_[3 * g1] = 0;                                                // m→b
-  r_[h1] = along || (at_m && c_kind == 2) ? 1 : 0;               // m→c
+  r_[3 * g1 + 1] = rh1;                             // b→c moved
+  r_[3 * g1 + 2] = spoke_index(c, rh2, rc);         // c→m
+  r_[3 * g1] = 0;                                   // m→b
+  r_[h1] = along || (at_m && c_kind == 2) ? 1 : 0;  // m→c
   if (interior) {
     n_[e_mb + 2] = n_md;
-    r_[3 * g2 + 1] = rt1;                                        // a→d moved
-    r_[3 * g2 + 2] = spoke_index(d, rt2, rd);                    // d→m
-    r_[3 * g2] = along || at_m ? 1 : 0;                          // m→a
-    r_[t1] = at_m && d_kind != 2 ? 1 : 0;                        // m→d
+    r_[3 * g2 + 1] = rt1;                      // a→d moved
+    r_[3 * g2 + 2] = spoke_index(d, rt2, rd);  // d→m
+    r_[3 * g2] = along || at_m ? 1 : 0;        // m→a
+    r_[t1] = at_m && d_kind != 2 ? 1 : 0;      // m→d
   }
   return m;
 }

@@ -122,11 +122,11 @@ class NormalCoordinateTriangulation {
   /// Moves inserted interior vertex v by `displacement`, given in the layout of
   /// inserted_vertex_star(intrinsic(), v, n_input_vertices(), …) (intrinsic/core/geometry.h),
   /// as SignpostTriangulation::move_inserted_vertex (the same checks, check_star_move()): the
-  /// star keeps its edges and ids, the spokes get their new planar lengths. The input edges crossing the star
-  /// are straight chords of its flat layout; which ring vertex or outer crossing each chord
-  /// joins comes from the integers, and only which side of each chord the new position lies on
-  /// from floating point. From those, the spokes' normal coordinates and the roundabouts of the
-  /// ring vertices towards v are recounted (the outer sides keep theirs). A vertex on an input
+  /// star keeps its edges and ids, the spokes get their new planar lengths. The input edges
+  /// crossing the star are straight chords of its flat layout; which ring vertex or outer crossing
+  /// each chord joins comes from the integers, and only which side of each chord the new position
+  /// lies on from floating point. From those, the spokes' normal coordinates and the roundabouts of
+  /// the ring vertices towards v are recounted (the outer sides keep theirs). A vertex on an input
   /// edge leaves it: its spokes are dropped and the input edge becomes one more chord. Returns
   /// false and changes nothing if v has no such star, if the new position is not strictly
   /// inside the star's kernel (as SignpostTriangulation::move_inserted_vertex with

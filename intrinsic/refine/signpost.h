@@ -216,13 +216,13 @@ class SignpostTriangulation {
 
   /// Moves inserted interior vertex v by `displacement`, given in the layout of
   /// inserted_vertex_star(intrinsic(), v, n_input_vertices(), …) (intrinsic/core/geometry.h;
-  /// check_star_move() there makes the checks both representations share). The surface is unchanged (v moves inside its flat star): the
-  /// spokes get their new planar lengths, the signposts at v and of the spokes' twins are
-  /// updated (the ring vertices' total angles do not change), and v's location on the input
-  /// is traced from the old one along the displacement. Returns false and changes nothing if v
-  /// has no such star, if the new position is not strictly inside the star's kernel (every
-  /// new triangle's height above its outer side at least min_relative_height × that side's
-  /// length), or if the trace over the input fails.
+  /// check_star_move() there makes the checks both representations share). The surface is unchanged
+  /// (v moves inside its flat star): the spokes get their new planar lengths, the signposts at v
+  /// and of the spokes' twins are updated (the ring vertices' total angles do not change), and v's
+  /// location on the input is traced from the old one along the displacement. Returns false and
+  /// changes nothing if v has no such star, if the new position is not strictly inside the star's
+  /// kernel (every new triangle's height above its outer side at least min_relative_height × that
+  /// side's length), or if the trace over the input fails.
   bool move_inserted_vertex(Index v, const Eigen::Vector2d& displacement,
                             double min_relative_height = 1e-6);
 
