@@ -113,4 +113,26 @@ bool inside_star_kernel(const std::vector<Eigen::Vector2d>& ring, const Eigen::V
   return true;
 }
 
+bool inserted_vertex_star(const IntrinsicTriangulation& tri, Index v, Index n_input,
+                          std::vector<Index>* spokes, std::vector<Eigen::Vector2d>* ring) {
+  ring->clear();
+  if (v < n_input || !vertex_star_is_disk(tri, v, spokes)) {
+    spokes->clear();
+    return false;
+  }
+  *ring = flat_star_layout(tri, *spokes);
+  return true;
+}
+
+StarMove check_star_move(const IntrinsicTriangulation& tri, Index v, Index n_input,
+                         const Eigen::Vector2d& displacement, double min_relative_height,
+                         std::vector<Index>* spokes, std::vector<Eigen::Vector2d>* ring) {
+  if (!inserted_vertex_star(tri, v, n_input, spokes, ring)) return StarMove::kRefused;
+  const double dist = displacement.norm();
+  if (!std::isfinite(dist)) return StarMove::kRefused;
+  if (!(dist > 0.0)) return StarMove::kStays;
+  if (!inside_star_kernel(*ring, displacement, min_relative_height)) return StarMove::kRefused;
+  return StarMove::kMoves;
+}
+
 }  // namespace ifem::intrinsic

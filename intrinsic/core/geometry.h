@@ -120,6 +120,26 @@ std::vector<Eigen::Vector2d> flat_star_layout(const IntrinsicTriangulation& tri,
 bool inside_star_kernel(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vector2d& p,
                         double min_relative_height);
 
+/// The star of an inserted interior vertex v laid out isometrically in the plane (v is flat,
+/// Θ_v = 2π), as every representation of the correspondence moves it: `spokes` as
+/// vertex_star_is_disk() (h_i counter-clockwise from vertex_halfedge(v), face(h_i) = (v,
+/// ring[i], ring[i+1])), `ring` as flat_star_layout() (v at the origin, ring[0] along h_0).
+/// Returns false, with both emptied, when v is an input vertex (v < n_input: the input's
+/// vertices come first), out of range, or its star is not a disk (a boundary vertex's never
+/// is; a self-edge at v, or an outer side glued to another face of the star).
+bool inserted_vertex_star(const IntrinsicTriangulation& tri, Index v, Index n_input,
+                          std::vector<Index>* spokes, std::vector<Eigen::Vector2d>* ring);
+
+/// What moving inserted vertex v by `displacement` (in the layout of its star) comes to, the
+/// checks every representation makes before it moves v: kRefused when v has no
+/// inserted_vertex_star(), the displacement is not finite, or it does not end strictly inside
+/// the star's kernel (inside_star_kernel() with min_relative_height); kStays for a zero
+/// displacement; else kMoves. `spokes` and `ring` receive the star (when v has one).
+enum class StarMove { kRefused, kStays, kMoves };
+StarMove check_star_move(const IntrinsicTriangulation& tri, Index v, Index n_input,
+                         const Eigen::Vector2d& displacement, double min_relative_height,
+                         std::vector<Index>* spokes, std::vector<Eigen::Vector2d>* ring);
+
 /// Euler characteristic V − E + F (all vertices counted, unreferenced ones included).
 inline long euler_characteristic(const IntrinsicTriangulation& tri) {
   return static_cast<long>(tri.n_vertices()) - tri.n_edges() + tri.n_faces();

@@ -326,6 +326,53 @@ Eigen::Vector3d NormalCoordinateTriangulation::crossing_position(const InputCros
 // ---------------------------------------------------------------------------------------------
 // Insertion and splitting: where the new edges fall among the arcs of the cut faces
 
+// Within this fraction of a face's longest side of an input edge crossing it, a new vertex is
+// taken to lie on that edge (insert_vertex()).
+constexpr double kOnArc = 1e-10;
+
+// The arc of face f nearest to x = Σ bary[k]·corner k in f's layout, if within kOnArc of f's
+// longest side: a corner arc i of corner k runs from its crossing of side k (i-th from corner
+// k) to its crossing of side k+2 (i-th back from corner k), a fan arc j from corner k to its
+// crossing of side k+1 (after the corner arcs of corner k+1). `trace` holds f's sides traced.
+NormalCoordinateTriangulation::OnArc NormalCoordinateTriangulation::arc_at(
+    Index f, const Eigen::Vector3d& bary, const FaceCounts& c,
+    const std::vector<InputCrossing> trace[3]) const {
+  Eigen::Vector2d p[3];
+  face_layout(tri_, f, p);
+  const Eigen::Vector2d x = bary[0] * p[0] + bary[1] * p[1] + bary[2] * p[2];
+  double best = 0.0;
+  for (int k = 0; k < 3; ++k) best = std::max(best, (p[(k + 1) % 3] - p[k]).norm());
+  best *= kOnArc;
+  OnArc on;
+  auto consider = [&](int k, bool fan, int i, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      Index edge, double at_a, double at_b) {
+    const Eigen::Vector2d ab = b - a;
+    const double len2 = ab.squaredNorm();
+    const double s = len2 > 0.0 ? std::clamp((x - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    const double d = (x - a - s * ab).norm();
+    if (d <= best) best = d, on = {k, fan, i, {edge, at_a + s * (at_b - at_a)}};
+  };
+  for (int k = 0; k < 3; ++k) {
+    const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+    for (int i = 1; i <= c.corner[k]; ++i) {
+      const InputCrossing& P = trace[k][i - 1];
+      const InputCrossing& Q = trace[k2][c.n[k2] - i];
+      if (P.input_edge != Q.input_edge) inconsistent("a corner arc ends on two input edges");
+      consider(k, false, i, p[k] + P.t * (p[k1] - p[k]), p[k2] + Q.t * (p[k] - p[k2]), P.input_edge,
+               P.input_t, Q.input_t);
+    }
+    const Index ck = tri_.tail(3 * f + k);
+    for (int j = 1; j <= c.fan[k]; ++j) {
+      const InputCrossing& R = trace[k1][c.corner[k1] + j - 1];
+      const long steps = (shared(3 * f + k) ? 1 : 0) + j - 1;
+      const InputSpoke& sp = spokes_[ck][spoke_index(ck, r_[3 * f + k], steps)];
+      if (sp.input_edge != R.input_edge) inconsistent("a fan arc ends on two input edges");
+      consider(k, true, j, p[k], p[k1] + R.t * (p[k2] - p[k1]), R.input_edge, sp.at, R.input_t);
+    }
+  }
+  return on;
+}
+
 // Where the arcs of face f fall relative to a point x = Σ bary[k]·corner k, decided per arc
 // from x's barycentric coordinates and the arc's end fractions along the sides (no layout:
 // robust where arcs shrink onto a corner, e.g. a vertex inserted on an input edge), turned
@@ -334,14 +381,18 @@ Eigen::Vector3d NormalCoordinateTriangulation::crossing_position(const InputCros
 // turning counter-clockwise from side k before x. In corner k's frame (u, w) = (bary[k+1],
 // bary[k+2]): x lies on corner k's side of a corner arc ending at fractions a (side k, from
 // corner k) and b (side k+2, towards corner k+2) iff u/a + w/b < 1, and on corner k+2's side
-// of a fan arc ending at fraction c of side k+1 iff w > c (u + w).
+// of a fan arc ending at fraction c of side k+1 iff w > c (u + w). The arc x lies on within
+// rounding (arc_at(), `on`) crosses none of the three segments (a fan arc runs along the one
+// to its corner), and the arcs of its family before it are on the corner's side of x.
 void NormalCoordinateTriangulation::count_new_spokes(Index f, const Eigen::Vector3d& bary,
-                                                     int crossing[3], int before[3]) const {
+                                                     int crossing[3], int before[3],
+                                                     OnArc* on) const {
   const FaceCounts c = counts(f);
   std::vector<InputCrossing> trace[3];
   for (int s = 0; s < 3; ++s) {
     if (c.n[s] > 0) trace[s] = trace_halfedge(3 * f + s);
   }
+  *on = arc_at(f, bary, c, trace);
   auto frac = [&](int s, int i) { return std::clamp(trace[s][i - 1].t, 0.0, 1.0); };
   for (int k = 0; k < 3; ++k) {
     const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
@@ -352,9 +403,12 @@ void NormalCoordinateTriangulation::count_new_spokes(Index f, const Eigen::Vecto
       far += u * b + w * a < a * b ? 0 : 1;
     }
     for (int j = 1; j <= c.fan[k]; ++j) before[k] += w > frac(k1, c.corner[k1] + j) * (u + w);
+    int on_corner = 0, on_fan = 0;
+    if (on->corner == k && on->fan) before[k] = on->index - 1, on_fan = 1;
+    if (on->corner == k && !on->fan) far = on->index - 1, on_corner = 1;
     crossing[k] += far;
-    crossing[k1] += c.corner[k] - far + before[k];
-    crossing[k2] += c.corner[k] - far + c.fan[k] - before[k];
+    crossing[k1] += c.corner[k] - far - on_corner + before[k];
+    crossing[k2] += c.corner[k] - far - on_corner + c.fan[k] - before[k] - on_fan;
   }
 }
 
@@ -363,7 +417,8 @@ Index NormalCoordinateTriangulation::insert_vertex(Index f, const Eigen::Vector3
     throw InvalidInput("insert_vertex: face " + std::to_string(f) + " out of range");
   }
   int crossing[3] = {0, 0, 0}, before[3] = {0, 0, 0};
-  count_new_spokes(f, bary, crossing, before);
+  OnArc on;
+  count_new_spokes(f, bary, crossing, before, &on);
   int r_old[3], shared_side[3];
   Index corner[3];
   for (int k = 0; k < 3; ++k) {
@@ -381,8 +436,19 @@ Index NormalCoordinateTriangulation::insert_vertex(Index f, const Eigen::Vector3
   r_[3 * f2 + 1] = spoke_index(corner[0], r_old[0], shared_side[0] + before[0]);  // c0→v
   r_[3 * f + 1] = spoke_index(corner[1], r_old[1], shared_side[1] + before[1]);   // c1→v
   r_[3 * f1 + 1] = spoke_index(corner[2], r_old[2], shared_side[2] + before[2]);  // c2→v
-  r_[3 * f + 2] = r_[3 * f1 + 2] = r_[3 * f2 + 2] = 0;                            // v has no spokes
+  const Index out[3] = {3 * f + 2, 3 * f1 + 2, 3 * f2 + 2};                       // v→c0, c1, c2
+  for (int k = 0; k < 3; ++k) r_[out[k]] = 0;
   for (int k = 0; k < 3; ++k) n_[e0 + k] = crossing[k];
+  if (on.corner >= 0) {
+    // v on an input edge: spokes counter-clockwise, 0 towards side k's crossing (a corner arc
+    // of corner k) or along v→c_k (a fan arc), 1 towards the crossing of side k+2 (corner
+    // arc) or k+1 (fan arc)
+    const int k = on.corner;
+    spokes_[v] = {on.spoke, on.spoke};
+    r_[out[(k + 1) % 3]] = 1;
+    r_[out[(k + 2) % 3]] = on.fan ? 0 : 1;
+    if (on.fan) n_[e0 + k] = -1;
+  }
   return v;
 }
 
@@ -391,13 +457,18 @@ Index NormalCoordinateTriangulation::insert_vertex(Index f, const Eigen::Vector3
 // (fan_before) the arcs of corner k's fan that end on side s before m. Along side s, from its
 // tail: corner[s] arcs of corner s, fan[k] arcs of corner k, corner[s+1] arcs of corner s+1.
 // The segment crosses corner k's arcs, the fans of corners s and s+1 (they separate side s from
-// corner k), the arcs of corner s beyond m and the arcs of corner s+1 before m.
-int NormalCoordinateTriangulation::count_diagonal(Index side_h, int q, int* fan_before) const {
+// corner k), the arcs of corner s beyond m and the arcs of corner s+1 before m. With at_m, the
+// arc of the (q+1)-th crossing ends at m: it crosses nothing (an arc of corner s no longer
+// counts among those beyond m), and a fan arc of corner k runs along the segment (−1).
+int NormalCoordinateTriangulation::count_diagonal(Index side_h, int q, bool at_m, int* fan_before,
+                                                  int* kind) const {
   const FaceCounts c = counts(T::face(side_h));
   const int s = T::side(side_h), s1 = (s + 1) % 3, k = (s + 2) % 3;
   *fan_before = std::clamp(q - c.corner[s], 0, c.fan[k]);
-  return c.corner[k] + c.fan[s] + c.fan[s1] + std::max(0, c.corner[s] - q) +
-         std::max(0, q - c.corner[s] - c.fan[k]);
+  *kind = q < c.corner[s] ? 0 : q < c.corner[s] + c.fan[k] ? 1 : 2;
+  if (at_m && *kind == 1) return -1;
+  return c.corner[k] + c.fan[s] + c.fan[s1] + std::max(0, c.corner[s] - q) -
+         (at_m && *kind == 0 ? 1 : 0) + std::max(0, q - c.corner[s] - c.fan[k]);
 }
 
 // Long function: one straight sequence (measure both faces, split, write every new record),
@@ -412,21 +483,31 @@ Index NormalCoordinateTriangulation::split_edge(Index e, double t) {
   const Index a = tri_.tail(h), b = tri_.head(h), c = tri_.tail(h2);
   const Index d = interior ? tri_.tail(t2) : kInvalidIndex;
   const int n_e = n_[e], n = std::max(0, n_e);
-  int q = 0;  // crossings between a and the new vertex
+  int q = 0;                         // crossings between a and the new vertex
+  std::vector<InputSpoke> m_spokes;  // a vertex on an input edge: two spokes
   if (n > 0) {
-    for (const InputCrossing& x : trace_halfedge(h)) q += x.t < t ? 1 : 0;
+    const std::vector<InputCrossing> trace = trace_halfedge(h);
+    int near = 0;  // the crossing nearest to m: m is on its input edge if within rounding
+    for (int i = 0; i < n; ++i) {
+      q += trace[i].t < t ? 1 : 0;
+      if (std::abs(trace[i].t - t) < std::abs(trace[near].t - t)) near = i;
+    }
+    if (std::abs(trace[near].t - t) <= kOnArc) {
+      q = near;
+      m_spokes.assign(2, InputSpoke{trace[near].input_edge, trace[near].input_t});
+    }
   }
+  const bool at_m = !m_spokes.empty();
   // new diagonals m–c and m–d: the arcs of each face crossing them, read from the integers and
   // the q crossings of e before m (so always consistent)
-  int c_before = 0, d_before = 0;
-  const int n_mc = count_diagonal(h, q, &c_before);
-  const int n_md = interior ? count_diagonal(tw, n - q, &d_before) : 0;
+  int c_before = 0, d_before = 0, c_kind = 0, d_kind = 0;
+  const int n_mc = count_diagonal(h, q, at_m, &c_before, &c_kind);
+  const int n_md = interior ? count_diagonal(tw, n - q - at_m, at_m, &d_before, &d_kind) : 0;
   const int rh2 = r_[h2], rt2 = interior ? r_[t2] : 0;
   const long rc = (shared(h2) ? 1 : 0) + c_before;
   const long rd = interior ? (shared(t2) ? 1 : 0) + d_before : 0;
   const int rh1 = r_[h1], rt1 = interior ? r_[t1] : 0;
-  // a vertex on an input edge: two spokes, 0 toward b and 1 toward a
-  std::vector<InputSpoke> m_spokes;
+  // on the input edge e runs along: two spokes, 0 toward b and 1 toward a
   if (n_e < 0) {
     const InputSpoke& sa = spokes_[a][r_[h]];
     const double at_b = interior ? spokes_[b][r_[tw]].at : vertex_at(b, sa.input_edge);
@@ -437,21 +518,24 @@ Index NormalCoordinateTriangulation::split_edge(Index e, double t) {
   const Index m = tri_.split_edge(e, t);
   grow_records();
   const Index g1 = interior ? tri_.n_faces() - 2 : tri_.n_faces() - 1, g2 = g1 + 1;
-  const bool on_input = !m_spokes.empty();
+  const bool along = n_e < 0;
   spokes_[m] = std::move(m_spokes);
-  n_[e] = n_e < 0 ? -1 : q;
-  n_[e_mb] = n_e < 0 ? -1 : n - q;
+  n_[e] = along ? -1 : q;
+  n_[e_mb] = along ? -1 : n - q - at_m;
   n_[e_mb + 1] = n_mc;
-  r_[3 * g1 + 1] = rh1;                      // b→c moved
-  r_[3 * g1 + 2] = spoke_index(c, rh2, rc);  // c→m
-  r_[3 * g1] = 0;                            // m→b
-  r_[h1] = on_input ? 1 : 0;                 // m→c
+  // m's spokes counter-clockwise (around m: b, c, a, d): along e, 0 toward b and 1 toward a;
+  // at a crossing, 0 into face(h) (before c for an arc of b's corner) and 1 into face(tw)
+  // (after d for an arc of a's corner)
+  r_[3 * g1 + 1] = rh1;                             // b→c moved
+  r_[3 * g1 + 2] = spoke_index(c, rh2, rc);         // c→m
+  r_[3 * g1] = 0;                                   // m→b
+  r_[h1] = along || (at_m && c_kind == 2) ? 1 : 0;  // m→c
   if (interior) {
     n_[e_mb + 2] = n_md;
     r_[3 * g2 + 1] = rt1;                      // a→d moved
     r_[3 * g2 + 2] = spoke_index(d, rt2, rd);  // d→m
-    r_[3 * g2] = on_input ? 1 : 0;             // m→a
-    r_[t1] = 0;                                // m→d
+    r_[3 * g2] = along || at_m ? 1 : 0;        // m→a
+    r_[t1] = at_m && d_kind != 2 ? 1 : 0;      // m→d
   }
   return m;
 }
@@ -472,17 +556,6 @@ bool NormalCoordinateTriangulation::is_boundary_vertex(Index v) const {
     if (h == h0) return false;
   }
   return false;
-}
-
-bool NormalCoordinateTriangulation::inserted_vertex_star(Index v, std::vector<Index>* spokes,
-                                                         std::vector<Eigen::Vector2d>* ring) const {
-  ring->clear();
-  if (v < n_input_vertices() || v >= tri_.n_vertices() || !vertex_star_is_disk(tri_, v, spokes)) {
-    spokes->clear();
-    return false;
-  }
-  *ring = flat_star_layout(tri_, *spokes);
-  return true;
 }
 
 // The piece of an input edge entering star face face(h) through side h, p-th from tail(h),
@@ -592,11 +665,9 @@ bool NormalCoordinateTriangulation::move_inserted_vertex(Index v, const Eigen::V
                                                          double min_relative_height) {
   std::vector<Index> hs;
   std::vector<Eigen::Vector2d> ring;
-  if (!inserted_vertex_star(v, &hs, &ring)) return false;
-  const double dist = d.norm();
-  if (!std::isfinite(dist)) return false;
-  if (!(dist > 0.0)) return true;
-  if (!inside_star_kernel(ring, d, min_relative_height)) return false;
+  const StarMove check =
+      check_star_move(tri_, v, n_input_vertices(), d, min_relative_height, &hs, &ring);
+  if (check != StarMove::kMoves) return check == StarMove::kStays;
   std::vector<StarChord> chords;
   if (!star_chords(v, hs, &chords)) return false;
   const int k = static_cast<int>(hs.size());

@@ -37,8 +37,8 @@ struct InputCrossing {
 
 /// A spoke: one direction in which an input edge leaves an intrinsic vertex. Input vertices
 /// have one per incident input edge end (a self-loop gives two); a vertex inserted on an input
-/// edge (split_edge of an edge with n = −1) has two, one per direction along it; a vertex
-/// inserted in a face has none.
+/// edge (split_edge of an edge with n = −1, or insert_vertex within rounding of an input edge
+/// crossing the face) has two, one per direction along it; any other inserted vertex has none.
 struct InputSpoke {
   Index input_edge = kInvalidIndex;  ///< edge of input()
   double at = 0.0;  ///< the vertex's position along input().edge_halfedge(input_edge), as a
@@ -100,12 +100,17 @@ class NormalCoordinateTriangulation {
   FlipReport flip_to_delaunay_from(std::vector<Index> queue, std::vector<Index>* touched,
                                    const std::vector<char>& fixed_edges);
   /// Inserts a vertex in intrinsic face f at barycentric coordinates `bary` (all > 0), as
-  /// IntrinsicTriangulation::insert_vertex_in_face(f, bary); returns its id. Traces f's three
-  /// sides (O(their crossings × the length of the crossing input edges in faces)).
+  /// IntrinsicTriangulation::insert_vertex_in_face(f, bary); returns its id. A point within
+  /// rounding of an input edge crossing f (1e-10 of f's longest side, in f's layout; the
+  /// nearest such edge) is taken to lie on it: the vertex gets two spokes and the edge ends at
+  /// it, so every later count agrees on that side (an exactly symmetric input puts
+  /// circumcenters on its symmetry axis). Traces f's three sides (O(their crossings × the
+  /// length of the crossing input edges in faces)).
   Index insert_vertex(Index f, const Eigen::Vector3d& bary);
   /// Splits intrinsic edge e at fraction t ∈ (0, 1) from the tail of edge_halfedge(e), as
   /// IntrinsicTriangulation::split_edge(e, t) (boundary edges included); returns the new vertex.
-  /// A vertex on an input edge (n(e) = −1) gets two spokes.
+  /// A vertex on an input edge (n(e) = −1, or t within 1e-10 of where an input edge crosses e;
+  /// the nearest such crossing) gets two spokes, and that input edge ends at it.
   /// @throws InvalidInput as IntrinsicTriangulation::split_edge
   Index split_edge(Index e, double t);
 
@@ -114,20 +119,14 @@ class NormalCoordinateTriangulation {
   /// Whether a side without twin starts or ends at vertex v (walks the fan of faces at
   /// vertex_halfedge(v): every fan for a vertex with one, as inserted vertices).
   bool is_boundary_vertex(Index v) const;
-  /// The star of an inserted interior vertex v (id ≥ n_input_vertices()) laid out in the plane
-  /// (v is flat): `spokes` as vertex_star_is_disk(), `ring` as flat_star_layout() (intrinsic/
-  /// core/geometry.h; the same layout as SignpostTriangulation::inserted_vertex_star()).
-  /// Returns false, filling nothing useful, when v is an input or boundary vertex or its star
-  /// is not a disk.
-  bool inserted_vertex_star(Index v, std::vector<Index>* spokes,
-                            std::vector<Eigen::Vector2d>* ring) const;
   /// Moves inserted interior vertex v by `displacement`, given in the layout of
-  /// inserted_vertex_star(), as SignpostTriangulation::move_inserted_vertex: the star keeps its
-  /// edges and ids, the spokes get their new planar lengths. The input edges crossing the star
-  /// are straight chords of its flat layout; which ring vertex or outer crossing each chord
-  /// joins comes from the integers, and only which side of each chord the new position lies on
-  /// from floating point. From those, the spokes' normal coordinates and the roundabouts of the
-  /// ring vertices towards v are recounted (the outer sides keep theirs). A vertex on an input
+  /// inserted_vertex_star(intrinsic(), v, n_input_vertices(), …) (intrinsic/core/geometry.h),
+  /// as SignpostTriangulation::move_inserted_vertex (the same checks, check_star_move()): the
+  /// star keeps its edges and ids, the spokes get their new planar lengths. The input edges
+  /// crossing the star are straight chords of its flat layout; which ring vertex or outer crossing
+  /// each chord joins comes from the integers, and only which side of each chord the new position
+  /// lies on from floating point. From those, the spokes' normal coordinates and the roundabouts of
+  /// the ring vertices towards v are recounted (the outer sides keep theirs). A vertex on an input
   /// edge leaves it: its spokes are dropped and the input edge becomes one more chord. Returns
   /// false and changes nothing if v has no such star, if the new position is not strictly
   /// inside the star's kernel (as SignpostTriangulation::move_inserted_vertex with
@@ -215,8 +214,24 @@ class NormalCoordinateTriangulation {
   bool star_chords(Index v, const std::vector<Index>& spokes, std::vector<StarChord>* chords) const;
   bool shared(Index h) const { return n_[tri_.edge(h)] < 0; }
   ArcEnd follow(Index h, int p, Eigen::Vector2d a, Eigen::Vector2d b) const;
-  void count_new_spokes(Index f, const Eigen::Vector3d& bary, int crossing[3], int before[3]) const;
-  int count_diagonal(Index side_h, int q, int* fan_before) const;
+  // The arc of a face that a new vertex lies on within rounding (insert_vertex()): one of
+  // corner `corner`'s corner arcs (cutting it off) or fan arcs (leaving it), `index`-th (from
+  // 1, as counted along the sides); corner −1 when none. `spoke`: the input edge and the
+  // vertex's place along it.
+  struct OnArc {
+    int corner = -1;
+    bool fan = false;
+    int index = 0;
+    InputSpoke spoke;
+  };
+  OnArc arc_at(Index f, const Eigen::Vector3d& bary, const FaceCounts& c,
+               const std::vector<InputCrossing> trace[3]) const;
+  void count_new_spokes(Index f, const Eigen::Vector3d& bary, int crossing[3], int before[3],
+                        OnArc* on) const;
+  // The diagonal's crossings; `at_m`: the (q+1)-th crossing of the side is at the new vertex
+  // (its arc, of kind 0 / 1 / 2 = corner arc of the side's tail / fan / corner arc of its head,
+  // is not counted; a fan gives −1).
+  int count_diagonal(Index side_h, int q, bool at_m, int* fan_before, int* kind) const;
   void grow_records();
   void add_fan(Index v, Index h0, std::vector<char>& seen);
 

@@ -983,8 +983,8 @@ namespace {
 
 // ODT relaxation is written once over the triangulation that keeps the correspondence
 // (SignpostTriangulation, NormalCoordinateTriangulation: the same operations by the same names:
-// n_input_vertices(), is_boundary_vertex(), inserted_vertex_star(), move_inserted_vertex(),
-// split_edge(), flip_to_delaunay()).
+// n_input_vertices(), is_boundary_vertex(), move_inserted_vertex(), split_edge(),
+// flip_to_delaunay(); both lay out a star with inserted_vertex_star(), core/geometry.h).
 
 // Splits the edges longer than options.max_edge_length at their midpoints, round after round
 // (a split edge's halves may still be too long), each round followed by Delaunay flips.
@@ -1085,7 +1085,8 @@ void relax_vertex(Tracked& st, Index v, const RelaxOptions& options, std::vector
   }
   Eigen::Vector2d target;
   double old_min = kPi, old_sum = 0.0;
-  if (!st.inserted_vertex_star(v, &spokes, &ring) || !odt_target(ring, target, old_min, old_sum)) {
+  if (!inserted_vertex_star(st.intrinsic(), v, st.n_input_vertices(), &spokes, &ring) ||
+      !odt_target(ring, target, old_min, old_sum)) {
     ++rep.skipped_irregular;
     return;
   }

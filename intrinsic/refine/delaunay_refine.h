@@ -249,7 +249,7 @@ struct RelaxReport {
 /// ODT relaxation: for `iterations` passes, moves every inserted interior vertex (ids ≥
 /// n_input_vertices(); input vertices never move, inserted boundary vertices neither) to the
 /// area-weighted mean of the circumcenters of its star's triangles, computed in the flat
-/// layout of its star (SignpostTriangulation::inserted_vertex_star()), if that point lies
+/// layout of its star (inserted_vertex_star(), intrinsic/core/geometry.h), if that point lies
 /// strictly inside the star (else half, then a quarter of the way, else not at all), then
 /// flips to intrinsic Delaunay, then splits edges longer than max_edge_length (if set). The
 /// surface, the input vertices' angle sums and the total area are unchanged; inserted vertices

@@ -611,27 +611,16 @@ Index SignpostTriangulation::split_edge(Index e, double t) {
 // ---------------------------------------------------------------------------------------------
 // Moving inserted vertices inside their flat star
 
-bool SignpostTriangulation::inserted_vertex_star(Index v, std::vector<Index>* spokes,
-                                                 std::vector<Eigen::Vector2d>* ring) const {
-  spokes->clear();
-  ring->clear();
-  if (v < n_input_vertices() || v >= tri_.n_vertices() || boundary_[v]) return false;
-  if (!vertex_star_is_disk(tri_, v, spokes)) return false;
-  *ring = flat_star_layout(tri_, *spokes);
-  return true;
-}
-
 bool SignpostTriangulation::move_inserted_vertex(Index v, const Eigen::Vector2d& displacement,
                                                  double min_relative_height) {
   std::vector<Index> spokes;
   std::vector<Eigen::Vector2d> ring;
-  if (!inserted_vertex_star(v, &spokes, &ring)) return false;
+  const StarMove check = check_star_move(tri_, v, n_input_vertices(), displacement,
+                                         min_relative_height, &spokes, &ring);
+  if (check != StarMove::kMoves) return check == StarMove::kStays;
   const double dist = displacement.norm();
-  if (!std::isfinite(dist)) return false;
-  if (!(dist > 0.0)) return true;
   const Eigen::Vector2d& p = displacement;
   const std::size_t n = ring.size();
-  if (!inside_star_kernel(ring, p, min_relative_height)) return false;
   const double base = direction_[spokes[0]];  // the layout's angle 0, as a signpost at v
   const double theta = wrap(v, base + std::atan2(p.y(), p.x()));
   TraceResult r;

@@ -530,7 +530,9 @@ TEST(NormalCoordinates, VertexInAMollifiedSliverLiesInItsInputFace) {
 // Refinement on both representations: the same insertions and lengths, and the integers
 // stay exact where circumcenters land on (or within rounding of) input edges — the needle
 // fan's symmetry axis is an input edge, and boundary splits put vertices on input edges.
-void expect_refine_agrees(const TriangleMesh& m, double angle, double area) {
+// With compare_traces, the integers also equal the signpost traces (expect_matches_signposts).
+void expect_refine_agrees(const TriangleMesh& m, double angle, double area,
+                          bool compare_traces = false) {
   SCOPED_TRACE(testing::Message() << "angle " << angle << " area " << area);
   NormalCoordinateTriangulation nc(m.faces, m.positions);
   SignpostTriangulation st(m.faces, m.positions);
@@ -546,6 +548,7 @@ void expect_refine_agrees(const TriangleMesh& m, double angle, double area) {
   nc.validate();
   expect_area_partition(nc);
   expect_input_edges_recovered(nc);
+  if (compare_traces) expect_matches_signposts(nc, st, 1e-9);
 }
 
 TEST(NormalCoordinates, DelaunayRefineAgreesWithSignposts) {
@@ -555,13 +558,21 @@ TEST(NormalCoordinates, DelaunayRefineAgreesWithSignposts) {
   }
 }
 
-// Open (D-281): on the exactly symmetric needle_fan(40) (vertex 20 at angle π, so the axis is
-// the input edge 0–20) the second insertion at 20° with area 0.01 puts a circumcenter within
-// rounding of that edge, and the integers go wrong (an input edge's crossings are not in
-// adjacent faces, the overlay misses 0.2 of the area); signposts are right. Run with
-// --gtest_also_run_disabled_tests.
-TEST(NormalCoordinates, DISABLED_RefineOnTheSymmetryAxisOfANeedleFan) {
-  expect_refine_agrees(needle_fan(40), 20.0, 0.01);
+// Exactly symmetric inputs put new vertices on input edges up to rounding: on needle_fan(n), n
+// even, the axis is the input edge 0–n/2 and circumcenters land on it (insertions in a face);
+// in a grid of rectangles the flipped diagonal's midpoint is the input diagonal's (splits).
+// The new vertex must then lie on that input edge, not on a side chosen per count (D-305).
+TEST(NormalCoordinates, RefineOnTheSymmetryAxisOfANeedleFan) {
+  expect_refine_agrees(needle_fan(40), 20.0, 0.01, true);  // at the second insertion
+  for (const int n : {30, 40, 64}) {
+    SCOPED_TRACE(testing::Message() << "needle_fan(" << n << ")");
+    expect_refine_agrees(needle_fan(n), 25.0, 0.002, true);
+  }
+}
+
+TEST(NormalCoordinates, RefineAnExactlySymmetricGrid) {
+  expect_refine_agrees(grid(8, 3, 1.0, 0.5), 28.0, 0.002, true);
+  expect_refine_agrees(grid(10, 10), 30.0, 0.001, true);
 }
 
 // Random meshes: a jittered sphere and a jittered grid with boundary, several seeds.
@@ -736,8 +747,10 @@ TEST(NormalCoordinates, MoveInsertedVertexAgreesWithSignposts) {
       for (Index v = nc.n_input_vertices(); v < nc.intrinsic().n_vertices(); ++v) {
         std::vector<Index> hs, hs_st;
         std::vector<Eigen::Vector2d> ring, ring_st;
-        const bool a = nc.inserted_vertex_star(v, &hs, &ring);
-        ASSERT_EQ(a, st.inserted_vertex_star(v, &hs_st, &ring_st)) << "vertex " << v;
+        const bool a = inserted_vertex_star(nc.intrinsic(), v, nc.n_input_vertices(), &hs, &ring);
+        ASSERT_EQ(a,
+                  inserted_vertex_star(st.intrinsic(), v, st.n_input_vertices(), &hs_st, &ring_st))
+            << "vertex " << v;
         if (!a) continue;
         ASSERT_EQ(hs, hs_st);
         const std::size_t k = static_cast<std::size_t>(rng() % ring.size());
@@ -789,14 +802,12 @@ void expect_straight_paths(const NormalCoordinateTriangulation& nc) {
 
 // ODT relaxation after refinement (relax_inserted_vertices, one algorithm over both
 // representations): the same moves, rejections and splits, the same triangulation after its
-// Delaunay flips (edge lengths to 1e-9 relative), integers equal to the signpost traces (not
-// on the needle fan, where signpost traces near the tip miss crossings at rounding level even
-// before relaxing; there, straight paths check them), every input edge recovered, the common
+// Delaunay flips (edge lengths to 1e-9 relative), integers equal to the signpost traces, every
+// intrinsic edge a straight path over the input, every input edge recovered, the common
 // subdivision partitioning the areas.
 // Varied: the mesh (a needle fan, a jittered sphere, a jittered grid with boundary), passes
 // {1 (without the min-angle guard), 3} and max_edge_length {0, 0.7 × the mean edge}.
-void expect_relax_agrees(const TriangleMesh& m, double angle, int iterations, bool split,
-                         bool compare_traces) {
+void expect_relax_agrees(const TriangleMesh& m, double angle, int iterations, bool split) {
   SCOPED_TRACE(testing::Message() << "iterations " << iterations << " split " << split);
   NormalCoordinateTriangulation nc(m.faces, m.positions);
   SignpostTriangulation st(m.faces, m.positions);
@@ -826,22 +837,21 @@ void expect_relax_agrees(const TriangleMesh& m, double angle, int iterations, bo
   ASSERT_EQ(la.size(), lb.size());
   for (std::size_t e = 0; e < la.size(); ++e) ASSERT_NEAR(la[e], lb[e], 1e-9 * lb[e]);
   ASSERT_NO_THROW(nc.validate());
-  if (compare_traces) expect_matches_signposts(nc, st, 1e-8);
+  expect_matches_signposts(nc, st, 1e-8);
   expect_straight_paths(nc);
   expect_input_edges_recovered(nc);
   expect_area_partition(nc);
 }
 
 TEST(NormalCoordinates, RelaxAgreesWithSignposts) {
-  // needle_fan(44), not the exactly symmetric 40: a vertex on its symmetry axis breaks the integers
-  // (docs/decisions.md D-281, the disabled RefineOnTheSymmetryAxisOfANeedleFan)
-  const TriangleMesh meshes[] = {needle_fan(44), test::jittered(icosphere(1), 0.15, 2),
+  // the exactly symmetric needle_fan(40): vertices on its symmetry axis, an input edge (D-305)
+  const TriangleMesh meshes[] = {needle_fan(40), test::jittered(icosphere(1), 0.15, 2),
                                  test::jittered(grid(6, 5), 0.3, 3)};
   for (std::size_t i = 0; i < std::size(meshes); ++i) {
     SCOPED_TRACE("mesh " + std::to_string(i));
     for (const int iterations : {1, 3}) {
       for (const bool split : {false, true}) {
-        expect_relax_agrees(meshes[i], 25.0, iterations, split, i > 0);
+        expect_relax_agrees(meshes[i], 25.0, iterations, split);
       }
     }
   }

@@ -400,7 +400,7 @@ TEST(Relax, MoveRejectsPointsOutsideTheStar) {
   EXPECT_FALSE(st.move_inserted_vertex(0, Eigen::Vector2d(1e-3, 0.0)));  // input vertex
   std::vector<Index> spokes;
   std::vector<Eigen::Vector2d> ring;
-  ASSERT_TRUE(st.inserted_vertex_star(v, &spokes, &ring));
+  ASSERT_TRUE(inserted_vertex_star(st.intrinsic(), v, st.n_input_vertices(), &spokes, &ring));
   ASSERT_EQ(ring.size(), 3u);
   const std::vector<double> before = st.intrinsic().lengths();
   EXPECT_FALSE(st.move_inserted_vertex(v, 2.0 * ring[0]));  // beyond a ring vertex
