@@ -70,6 +70,60 @@ SparseMatrix select_rows(const SparseMatrix& P, const std::vector<int>& rows) {
   return out;
 }
 
+// The Galerkin product PᵀAP (A square with both triangles stored, P with sorted columns), one
+// coarse column at a time through a dense accumulator: no A·P temporary (which holds about as
+// many entries as A), sorted columns, exact zeros kept out.
+SparseMatrix galerkin(const SparseMatrix& A, const SparseMatrix& P) {
+  const int nc = int(P.cols());
+  const SparseMatrix Pt = P.transpose();  // column i: the coarse columns of fine row i
+  const int* a_outer = A.outerIndexPtr();
+  const int* a_inner = A.innerIndexPtr();
+  const double* a_value = A.valuePtr();
+  const int* t_outer = Pt.outerIndexPtr();
+  const int* t_inner = Pt.innerIndexPtr();
+  const double* t_value = Pt.valuePtr();
+  std::vector<double> acc(std::size_t(nc), 0.0);
+  std::vector<char> mark(std::size_t(nc), 0);
+  std::vector<int> rows, inner, outer(std::size_t(nc) + 1, 0);
+  std::vector<double> value;
+  inner.reserve(std::size_t(P.nonZeros()) * 4);
+  value.reserve(inner.capacity());
+  for (int j = 0; j < nc; ++j) {
+    rows.clear();
+    for (SparseMatrix::InnerIterator pk(P, j); pk; ++pk) {
+      const int k = int(pk.row());
+      for (int q = a_outer[k]; q < a_outer[k + 1]; ++q) {
+        const int i = a_inner[q];
+        const double w = pk.value() * a_value[q];
+        for (int r = t_outer[i]; r < t_outer[i + 1]; ++r) {
+          const int c = t_inner[r];
+          if (!mark[std::size_t(c)]) {
+            mark[std::size_t(c)] = 1;
+            rows.push_back(c);
+          }
+          acc[std::size_t(c)] += w * t_value[r];
+        }
+      }
+    }
+    std::sort(rows.begin(), rows.end());
+    for (const int c : rows) {
+      if (acc[std::size_t(c)] != 0.0) {
+        inner.push_back(c);
+        value.push_back(acc[std::size_t(c)]);
+      }
+      acc[std::size_t(c)] = 0.0;
+      mark[std::size_t(c)] = 0;
+    }
+    outer[std::size_t(j) + 1] = int(inner.size());
+  }
+  SparseMatrix out(nc, nc);
+  out.resizeNonZeros(Eigen::Index(inner.size()));
+  std::copy(outer.begin(), outer.end(), out.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), out.innerIndexPtr());
+  std::copy(value.begin(), value.end(), out.valuePtr());
+  return out;
+}
+
 void check_finite(const SparseMatrix& A, const char* what) {
   for (Eigen::Index k = 0; k < A.nonZeros(); ++k) {
     if (!std::isfinite(A.valuePtr()[k])) {
@@ -179,8 +233,7 @@ struct MultigridSolver::Impl {
   }
 };
 
-MultigridSolver::MultigridSolver(const SparseMatrix& A,
-                                 const std::vector<SparseMatrix>& prolongations,
+MultigridSolver::MultigridSolver(SparseMatrix A, const std::vector<SparseMatrix>& prolongations,
                                  const MultigridOptions& options)
     : impl_(std::make_unique<Impl>()) {
   options.validate();
@@ -190,8 +243,10 @@ MultigridSolver::MultigridSolver(const SparseMatrix& A,
   check_finite(A, "A");
   Impl& im = *impl_;
   im.opt = options;
-  SparseMatrix current = A;
+  const Eigen::Index n = A.rows();
+  SparseMatrix current = std::move(A);
   current.makeCompressed();
+  im.levels.reserve(prolongations.size() + 1);  // no copies of the levels while they are added
   std::vector<int> kept;  // the previous level's columns kept: this level's rows to keep
   for (std::size_t l = 0; l <= prolongations.size(); ++l) {
     Level lv;
@@ -200,7 +255,7 @@ MultigridSolver::MultigridSolver(const SparseMatrix& A,
     if (l < prolongations.size()) {
       const SparseMatrix& given = prolongations[l];
       // rows are checked against the caller's numbering (before any dropped column)
-      const Eigen::Index caller_rows = l == 0 ? A.rows() : prolongations[l - 1].cols();
+      const Eigen::Index caller_rows = l == 0 ? n : prolongations[l - 1].cols();
       if (given.rows() != caller_rows) {
         throw InvalidInput("MultigridSolver: prolongation " + std::to_string(l) + " has " +
                            std::to_string(given.rows()) + " rows, its level has " +
@@ -211,9 +266,7 @@ MultigridSolver::MultigridSolver(const SparseMatrix& A,
           l == 0 || Eigen::Index(kept.size()) == given.rows() ? given : select_rows(given, kept);
       P = drop_empty_columns(P, kept);
       if (P.cols() == 0) throw InvalidInput("MultigridSolver: a prolongation has no column");
-      const SparseMatrix AP = lv.A * P;
-      current = SparseMatrix(P.transpose() * AP);
-      current.makeCompressed();
+      current = galerkin(lv.A, P);
       lv.P = std::move(P);
     }
     for (Eigen::Index i = 0; i < lv.diag.size(); ++i) {

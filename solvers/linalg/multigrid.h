@@ -71,7 +71,8 @@ class MultigridSolver {
   /// @throws InvalidInput on bad options, a non-square or empty A, a non-finite entry, or a
   ///         prolongation whose rows do not match its level
   /// @throws SolverError if the coarsest operator is not positive definite
-  MultigridSolver(const SparseMatrix& A, const std::vector<SparseMatrix>& prolongations,
+  /// (A is taken by value: pass an rvalue to hand its storage over instead of copying it.)
+  MultigridSolver(SparseMatrix A, const std::vector<SparseMatrix>& prolongations,
                   const MultigridOptions& options = {});
   ~MultigridSolver();
   MultigridSolver(MultigridSolver&&) noexcept;

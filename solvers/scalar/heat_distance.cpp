@@ -168,7 +168,7 @@ struct HeatDistanceSolver::Impl {
   IntrinsicTriangulation tri;
   Components comps;
   bool one_component = false;  // every vertex in component 0 (none unreferenced)
-  fem::SparseMatrix L;
+  fem::SparseMatrix L;         // empty on the multigrid path (build_multigrid)
   Eigen::VectorXd mass;
   double t = 0.0;      // time step, in units of scale²
   double scale = 1.0;  // tri's lengths are the input's divided by scale (a power of two)
@@ -177,13 +177,23 @@ struct HeatDistanceSolver::Impl {
   std::optional<PoissonSolver> poisson;               // L, pure Neumann per component
   std::optional<UnitGradientDivergence> unit_div;     // div(−∇u/|∇u|) with tri's face layouts
   PathGraph paths;  // options.path_bounds: upper bounds (tri's unit: × scale for absolute)
+  // The multigrid path builds `paths` on first use (clamp()), after a query's stages have freed
+  // their bands: its arcs are not alive beside them at the query's peak.
+  bool paths_on_use = false;
+  mutable std::once_flag paths_once;
+  mutable PathGraph paths_built;
+  const PathGraph& path_graph() const {
+    if (!paths_on_use) return paths;
+    std::call_once(paths_once, [this] { paths_built = PathGraph(tri); });
+    return paths_built;
+  }
 
   // options.path_bounds: d (absolute) clamped into [chord to the nearest vertex source, shortest
   // PathGraph path from the seeds (vertex, start length in tri's unit)].
   void clamp(Eigen::Ref<Eigen::VectorXd> d, const std::vector<std::pair<Index, double>>& seeds,
              const std::vector<Index>& vertex_sources) const {
     if (!opt.path_bounds) return;
-    const Eigen::VectorXd upper = paths.shortest_paths(seeds) * scale;
+    const Eigen::VectorXd upper = path_graph().shortest_paths(seeds) * scale;
     const Index rows = Index(opt.vertex_positions.rows());
     const bool chord =
         vertex_sources.size() <= 64 && std::all_of(vertex_sources.begin(), vertex_sources.end(),
@@ -438,19 +448,23 @@ void build_multigrid(HeatDistanceSolver::Impl& im, const HeatDistanceOptions& op
   heat_opt.solver.multigrid.coarsest.min_rcond = 0.0;
   const std::vector<Index> boundary = boundary_vertex_list(im.tri, options.boundary_vertices);
   im.comps = connected_components(im.tri);
-  im.L = fem::cotan_laplacian(im.tri);
+  // L is not kept: each multigrid solver holds its own operator (constraints() assembles it
+  // again in the rare case that needs it), and tL lives only while the heat solvers are built
+  fem::SparseMatrix L = fem::cotan_laplacian(im.tri);
   im.mass = fem::lumped_mass(im.tri);
-  const fem::SparseMatrix tL = im.t * im.L;
+  std::optional<fem::SparseMatrix> tL(im.t * L);
   im.unit_div.emplace(im.tri);
-  if (options.path_bounds) im.paths = PathGraph(im.tri);
+  im.paths_on_use = options.path_bounds;
   im.one_component =
       std::all_of(im.comps.label.begin(), im.comps.label.end(), [](Index c) { return c == 0; });
   im.heat_neumann =
-      std::make_shared<const PoissonSolver>(tL, im.mass, im.comps, std::vector<Index>{}, heat_opt);
+      std::make_shared<const PoissonSolver>(*tL, im.mass, im.comps, std::vector<Index>{}, heat_opt);
   if (options.boundary == HeatDistanceOptions::Boundary::kAverage && !boundary.empty()) {
-    im.heat_dirichlet.emplace(tL, im.mass, im.comps, boundary, heat_opt);
+    im.heat_dirichlet.emplace(*tL, im.mass, im.comps, boundary, heat_opt);
   }
-  im.poisson.emplace(im.L, im.mass, im.comps, std::vector<Index>{}, poisson_opt);
+  tL.reset();
+  im.poisson.emplace(L, im.mass, im.comps, std::vector<Index>{}, poisson_opt);
+  L = fem::SparseMatrix();
   // later stages on bands (D-285): the options' own thresholds, the boundary and the faces of
   // each vertex
   im.band_stages = true;
@@ -1240,7 +1254,9 @@ HeatDistanceSolver::Impl::SourceConstraints HeatDistanceSolver::Impl::constraint
     // many vertex sources: zero Dirichlet values on all of them (one new factorization)
     std::vector<Index> dv;
     for (const WeightedPoint& p : pts) dv.push_back(p.vertex[0]);
-    sc.direct.emplace(L, mass, comps, dv, PoissonOptions{});
+    fem::SparseMatrix assembled;  // the multigrid path keeps no L: assembled again here
+    const fem::SparseMatrix& lap = L.nonZeros() > 0 ? L : (assembled = fem::cotan_laplacian(tri));
+    sc.direct.emplace(lap, mass, comps, dv, PoissonOptions{});
   }
   return sc;
 }
@@ -1380,22 +1396,18 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_region(const StageRegion& region
       const Index i = tri.tail(h), j = tri.head(h);
       if (i == j) continue;
       const double w = s * intrinsic::halfedge_cotan(tri, h);
+      // the lower triangle only: the factorization reads no more
       const Index ui = region.unknown_id[i], uj = region.unknown_id[j];
       if (ui != kInvalidIndex) {
         trip.emplace_back(ui, ui, w);
-        if (uj != kInvalidIndex) {
-          trip.emplace_back(ui, uj, -w);
-        } else {
-          rhs[ui] += w * phi[j];
-        }
+        if (uj == kInvalidIndex) rhs[ui] += w * phi[j];
       }
       if (uj != kInvalidIndex) {
         trip.emplace_back(uj, uj, w);
-        if (ui != kInvalidIndex) {
-          trip.emplace_back(uj, ui, -w);
-        } else {
-          rhs[uj] += w * phi[i];
-        }
+        if (ui == kInvalidIndex) rhs[uj] += w * phi[i];
+      }
+      if (ui != kInvalidIndex && uj != kInvalidIndex) {
+        trip.emplace_back(std::max(ui, uj), std::min(ui, uj), -w);
       }
     }
   }
@@ -1486,9 +1498,8 @@ Eigen::VectorXd HeatDistanceSolver::Impl::band_solve(const Band& band,
         const double w = s * intrinsic::halfedge_cotan(tri, h);
         if (i != kInvalidIndex) trip.emplace_back(i, i, w);
         if (j != kInvalidIndex) trip.emplace_back(j, j, w);
-        if (i != kInvalidIndex && j != kInvalidIndex) {
-          trip.emplace_back(i, j, -w);
-          trip.emplace_back(j, i, -w);
+        if (i != kInvalidIndex && j != kInvalidIndex) {  // lower triangle: all CHOLMOD reads
+          trip.emplace_back(std::max(i, j), std::min(i, j), -w);
         }
       }
     }

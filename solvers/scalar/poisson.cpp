@@ -463,7 +463,7 @@ PoissonOptions PoissonSolver::with_hierarchy(const intrinsic::IntrinsicTriangula
   return o;
 }
 
-void PoissonSolver::factor(const fem::SparseMatrix& A, const PoissonOptions& options,
+void PoissonSolver::factor(fem::SparseMatrix A, const PoissonOptions& options,
                            const CholeskyAnalysis* analysis) {
   Impl& im = *impl_;
   if (im.unknown_vertex.empty()) return;
@@ -485,28 +485,33 @@ void PoissonSolver::factor(const fem::SparseMatrix& A, const PoissonOptions& opt
         "PoissonSolver: multigrid needs a hierarchy (PoissonOptions::prolongations, or the "
         "triangulation constructor with a hierarchy provider)");
   }
-  std::vector<SparseMatrix> chain = *options.prolongations;
-  if (chain.front().rows() != im.n) {
+  const std::vector<SparseMatrix>& given = *options.prolongations;
+  if (given.front().rows() != im.n) {
     throw InvalidInput("PoissonSolver: the first prolongation has " +
-                       std::to_string(chain.front().rows()) + " rows for " + std::to_string(im.n) +
+                       std::to_string(given.front().rows()) + " rows for " + std::to_string(im.n) +
                        " vertices");
   }
   // P₀'s rows of the unknowns (zero rows for fixed ones kept as decoupled rows)
   std::vector<char> fixed_row(im.unknown_vertex.size(), 0);
   for (const Index r : im.fixed_rows) fixed_row[std::size_t(r)] = 1;
   std::vector<Eigen::Triplet<double>> t;
-  t.reserve(std::size_t(chain.front().nonZeros()));
-  const SparseMatrix& P0 = chain.front();
+  t.reserve(std::size_t(given.front().nonZeros()));
+  const SparseMatrix& P0 = given.front();
   for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
     for (SparseMatrix::InnerIterator it(P0, j); it; ++it) {
       const Index u = im.unknown[it.row()];
       if (u != kInvalidIndex && !fixed_row[std::size_t(u)]) t.emplace_back(u, int(j), it.value());
     }
   }
-  chain.front() = SparseMatrix(Eigen::Index(im.unknown_vertex.size()), P0.cols());
+  std::vector<SparseMatrix> chain;  // P₀ of the unknowns, then the given coarser ones
+  chain.reserve(given.size());
+  chain.emplace_back(Eigen::Index(im.unknown_vertex.size()), P0.cols());
   chain.front().setFromTriplets(t.begin(), t.end());
-  const SparseMatrix full = A.selfadjointView<Eigen::Lower>();  // A holds its lower triangle
-  im.mg.emplace(full, chain, c.multigrid);
+  t = {};
+  chain.insert(chain.end(), given.begin() + 1, given.end());
+  SparseMatrix full = A.selfadjointView<Eigen::Lower>();  // A holds its lower triangle
+  A = SparseMatrix();  // freed before the hierarchy's operators are built
+  im.mg.emplace(std::move(full), chain, c.multigrid);
 }
 
 namespace {
@@ -548,19 +553,18 @@ PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& 
                              const Components& comps, std::vector<Index> dirichlet,
                              const PoissonOptions& options)
     : impl_(std::make_unique<Impl>()) {
-  const fem::SparseMatrix A = setup(L, mass, comps, std::move(dirichlet), options, false);
-  factor(A, options, nullptr);
+  factor(setup(L, mass, comps, std::move(dirichlet), options, false), options, nullptr);
 }
 
 PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
                              const Components& comps, std::vector<Index> dirichlet,
                              const CholeskyAnalysis& analysis, const PoissonOptions& options)
     : impl_(std::make_unique<Impl>()) {
-  const fem::SparseMatrix A = setup(L, mass, comps, std::move(dirichlet), options, true);
+  fem::SparseMatrix A = setup(L, mass, comps, std::move(dirichlet), options, true);
   if (A.rows() != analysis.size()) {
     throw InvalidInput("PoissonSolver: the analysis is of another Laplacian or components");
   }
-  factor(A, options, &analysis);
+  factor(std::move(A), options, &analysis);
 }
 
 CholeskyAnalysis PoissonSolver::analyze(const fem::SparseMatrix& L, const Components& comps,

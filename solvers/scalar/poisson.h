@@ -129,8 +129,7 @@ class PoissonSolver {
   static PoissonOptions with_hierarchy(const intrinsic::IntrinsicTriangulation& tri,
                                        const PoissonOptions& options);
   // the Cholesky factor (with the analysis when given) or the multigrid solver of A (setup()'s)
-  void factor(const fem::SparseMatrix& A, const PoissonOptions& options,
-              const CholeskyAnalysis* analysis);
+  void factor(fem::SparseMatrix A, const PoissonOptions& options, const CholeskyAnalysis* analysis);
   std::unique_ptr<Impl> impl_;
   friend struct PoissonBlocks;  // the heat method's block solves (heat_engine.h)
 };

@@ -118,6 +118,37 @@ TEST(Multigrid, HeatMatrixOnNestedIcospheres) {
   expect_matches_direct(mg, A, delta, 0.2);
 }
 
+// One Gauss–Seidel sweep on A x = b over the rows in increasing or decreasing order, from the
+// whole rows of A (both triangles): the textbook form, as a reference for the solver's sweeps.
+void reference_sweep(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                     bool forward) {
+  const Eigen::Index n = b.size();
+  for (Eigen::Index s = 0; s < n; ++s) {
+    const Eigen::Index i = forward ? s : n - 1 - s;
+    x[i] = (b[i] - A.row(i).dot(x) + A(i, i) * x[i]) / A(i, i);
+  }
+}
+
+TEST(Multigrid, CycleEqualsTheTextbookTwoLevelCycle) {
+  // two levels: forward sweep, coarse correction with the exact PᵀAP, backward sweep; the
+  // solver keeps lower triangles and forms PᵀAP itself, the reference uses dense whole rows
+  const SparseMatrix A = heat_matrix(intrinsic::icosphere(8));
+  const std::vector<SparseMatrix> chain = test::icosphere_hierarchy(8, 2);
+  ASSERT_EQ(chain.size(), 1U);
+  const MultigridSolver mg(A, chain);
+  const Eigen::MatrixXd Ad = Eigen::MatrixXd(A);
+  const Eigen::MatrixXd P = Eigen::MatrixXd(chain[0]);
+  const Eigen::MatrixXd Ac = P.transpose() * Ad * P;
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    const Eigen::VectorXd r = random_vector(A.rows(), seed);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(r.size());
+    reference_sweep(Ad, r, x, true);
+    x += P * Ac.ldlt().solve(P.transpose() * (r - Ad * x));
+    reference_sweep(Ad, r, x, false);
+    EXPECT_LE((mg.cycle(r) - x).norm(), 1e-12 * x.norm()) << "seed " << seed;
+  }
+}
+
 TEST(Multigrid, PinnedLaplacianOnNestedIcospheres) {
   // L with vertex 0 eliminated (u(0) = 0): SPD, the pure-Neumann null space removed
   const auto tri = test::make_tri(intrinsic::icosphere(16));
