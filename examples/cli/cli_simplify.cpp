@@ -83,7 +83,7 @@ void write_map(const std::string& path, const intrinsic::Simplification& s, Inde
   if (!out) throw IoError("cannot write " + path);
 }
 
-int run(const Args& args) {
+int run_simplify(const Args& args) {
   if (args.has("vertices") == args.has("ratio")) {
     throw UsageError("give exactly one of --vertices N and --ratio R");
   }
@@ -172,7 +172,7 @@ Command simplify_command() {
                      "vertex ids, 0-based, and weights)"),
         flag("ascii").explain("ASCII PLY instead of binary")}},
       surface_options()};
-  c.run = run;
+  c.run = run_simplify;
   return c;
 }
 

@@ -18,7 +18,7 @@ namespace ifem {
 namespace {
 
 using solvers::CurveCondition;
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 // [−1, 1]² as an n×n grid.
 intrinsic::TriangleMesh square(int n) {
