@@ -53,7 +53,9 @@ solvers::RenderOptions render_options(const Args& args) {
   return o;
 }
 
-std::string render_stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
+std::string render_stem(const std::string& path) {
+  return std::filesystem::path(path).stem().string();
+}
 
 /// What `ifem view` would show for the same inputs (recipes::Scene), MESH's own properties or
 /// --field's, the curves and the traced intrinsic edges.

@@ -124,7 +124,8 @@ TEST(ComplexSupernodal, SameBitsOnOneThreadAndTwo) {
 
 TEST(ComplexSupernodal, SinglePrecisionKernelRefused) {
   const ComplexSparseMatrix A = vector_heat_matrix(intrinsic::icosphere(2), 1);
-  EXPECT_THROW(ComplexCholeskySolver(A, complex_kernel_options(Kernel::kSupernodalSingle)), InvalidInput);
+  EXPECT_THROW(ComplexCholeskySolver(A, complex_kernel_options(Kernel::kSupernodalSingle)),
+               InvalidInput);
 }
 
 }  // namespace

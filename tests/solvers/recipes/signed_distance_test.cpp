@@ -17,8 +17,8 @@
 namespace ifem {
 namespace {
 
-using solvers::CurveCondition;
 using intrinsic::kPi;
+using solvers::CurveCondition;
 
 // [−1, 1]² as an n×n grid.
 intrinsic::TriangleMesh square(int n) {
