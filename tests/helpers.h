@@ -238,6 +238,13 @@ inline intrinsic::TriangleMesh jittered(intrinsic::TriangleMesh m, double amount
   return m;
 }
 
+/// Length of a 3D polyline: the sum of its segments' lengths.
+inline double polyline_length(const std::vector<Eigen::Vector3d>& line) {
+  double s = 0.0;
+  for (std::size_t i = 1; i < line.size(); ++i) s += (line[i] - line[i - 1]).norm();
+  return s;
+}
+
 /// Flips `tri` to intrinsic Delaunay in place and checks what flips must preserve: validity,
 /// total area and every vertex angle sum and angle defect (1e-9 relative), Gauss–Bonnet
 /// (Σ defects = 2πχ, boundary terms included), α + β ≤ π(1 + 1e-12) on every interior edge,

@@ -98,7 +98,7 @@ int run_batch(const Args& args, const ResultOutput& out) {
 }
 
 // --curves: the distance to the union of the curves (every vertex on them is a source).
-int run_curves(const Args& args, const ResultOutput& out) {
+int run_distance_curves(const Args& args, const ResultOutput& out) {
   std::vector<solvers::CurveCondition> curves = read_curves(args);  // fails fast, before the mesh
   io::SurfaceInput input = read_input(args.positional()[0], args);
   std::optional<solvers::SurfaceRefineOptions> refine;
@@ -117,7 +117,7 @@ int run_curves(const Args& args, const ResultOutput& out) {
   return 0;
 }
 
-int run(const Args& args) {
+int run_distance(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
   check_signed_options(args);
   check_curve_options(args, {{"source",
@@ -142,7 +142,7 @@ int run(const Args& args) {
   }
   if (args.has("signed")) return run_signed(args, out);
   if (args.has("exact")) return run_exact_distance(args, out);
-  if (args.has("curves")) return run_curves(args, out);
+  if (args.has("curves")) return run_distance_curves(args, out);
   if (args.has("sources-batch")) return run_batch(args, out);
   if (!args.has("source")) {
     throw UsageError(
@@ -174,7 +174,7 @@ int run(const Args& args) {
   return 0;
 }
 
-const char* const kProse =
+const char* const kDistanceProse =
     "Approximate geodesic distance from one or more source vertices by the heat\n"
     "method (Crane, Weischedel, Wardetzky 2013) on the intrinsic Delaunay\n"
     "triangulation: one heat step (M + tL) u = δ with t = m·h² (h = mean edge length\n"
@@ -270,7 +270,7 @@ Command distance_command() {
   c.summary = "geodesic distance from vertices or curves, signed distance (heat methods)";
   c.spec.name = "distance";
   c.spec.positionals = {"MESH"};
-  c.spec.prose = kProse;
+  c.spec.prose = kDistanceProse;
   c.spec.groups = {distance_options(), refine_options_group(kAccurate.resolution),
                    surface_options()};
   c.spec.epilogue =
@@ -286,7 +286,7 @@ Command distance_command() {
       "d.ply\n"
       "          ifem distance bunny.obj --signed --curves curves.txt -o sd.ply\n"
       "          ifem distance scan.ply --signed --points oriented.txt -o sd.ply\n";
-  c.run = run;
+  c.run = run_distance;
   return c;
 }
 

@@ -12,7 +12,7 @@
 namespace ifem::cli {
 namespace {
 
-int run(const Args& args) {
+int run_eigen(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
   const Index k = args.count("k");               // ≥ 1 (table), < #V (prepare_surface)
   // refined: input vertices keep ids 0..#V_in-1, so the eigenvectors restricted to them are the
@@ -102,7 +102,7 @@ Command eigen_command() {
   c.spec.epilogue =
       "example: ifem eigen spot.obj -k 20 -o spot_modes.ply\n"
       "         ifem eigen igea_268k.ply -k 16 --coarse 2000 -o igea_modes.ply\n";
-  c.run = run;
+  c.run = run_eigen;
   return c;
 }
 

@@ -72,7 +72,7 @@ void print_written(const ResultOutput& out, const solvers::FieldOptions& setting
 
 // --curves: the curves inserted as edges of the constrained triangulation, the field held
 // along them (solvers/recipes/curve_fields.h).
-int run_curves(const Args& args, const ResultOutput& out) {
+int run_field_curves(const Args& args, const ResultOutput& out) {
   std::vector<solvers::CurveCondition> curves = read_curves(args);  // fails fast, before the mesh
   const solvers::FieldOptions settings = field_settings(args);
   io::SurfaceInput input = read_input(args.positional()[0], args);
@@ -96,10 +96,10 @@ int run_curves(const Args& args, const ResultOutput& out) {
   return 0;
 }
 
-int run(const Args& args) {
+int run_field(const Args& args) {
   const ResultOutput out = result_output(args);
   check_curve_options(args, {});
-  if (args.has("curves")) return run_curves(args, out);
+  if (args.has("curves")) return run_field_curves(args, out);
   const solvers::FieldOptions settings = field_settings(args);
   std::optional<solvers::SurfaceRefineOptions> refine;
   if (args.has("refine")) refine = refine_settings(args, 0.0, false);
@@ -193,7 +193,7 @@ Command field_command() {
       "  # 40 77 93 310; the leading 0 of each line is its value (unused by field)\n"
       "  printf 'bezier 0 120 455 873 1201\\nclosed 0 40 77 93 310\\n' > curves.txt\n"
       "  ifem field scan.ply --symmetry 4 --curves curves.txt --curves-out c.obj -o cross.ply\n";
-  c.run = run;
+  c.run = run_field;
   return c;
 }
 

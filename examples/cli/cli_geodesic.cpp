@@ -225,7 +225,7 @@ int run_all_from(const Args& args, const io::SurfaceInput& in, const ResultOutpu
   return 0;
 }
 
-int run(const Args& args) {
+int run_geodesic(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
   check_modes(args);
   std::vector<GivenCurve> specs;
@@ -255,7 +255,7 @@ int run(const Args& args) {
   return 0;
 }
 
-const char* const kProse =
+const char* const kGeodesicProse =
     "Geodesic curves on a triangle mesh by FlipOut (Sharp & Crane 2020, \"You Can Find\n"
     "Geodesic Paths in Triangle Meshes by Just Flipping Edges\"). A curve starts as a\n"
     "shortest path along mesh edges; wherever it bends by less than π, the intrinsic\n"
@@ -273,7 +273,7 @@ const char* const kProse =
     "orientable triangle mesh (with or without boundary); nonmanifold and\n"
     "non-orientable meshes and point clouds are refused.\n";
 
-const char* const kEpilogue =
+const char* const kGeodesicEpilogue =
     "Network file (--network): one curve per line, 'path P0 P1 ...' (an open geodesic\n"
     "through the points, kept at each) or 'loop P0 P1 ...' (a closed one, free to\n"
     "move off its points unless --pin); points as above, whitespace separated; '#'\n"
@@ -377,10 +377,10 @@ Command geodesic_command() {
   c.summary = "geodesic paths, loops, networks, Bézier curves (FlipOut); single-source";
   c.spec.name = "geodesic";
   c.spec.positionals = {"MESH"};
-  c.spec.prose = kProse;
+  c.spec.prose = kGeodesicProse;
   c.spec.groups = {geodesic_options()};
-  c.spec.epilogue = kEpilogue;
-  c.run = run;
+  c.spec.epilogue = kGeodesicEpilogue;
+  c.run = run_geodesic;
   return c;
 }
 

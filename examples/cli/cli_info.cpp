@@ -86,7 +86,7 @@ int print_pointcloud(const std::string& file, const PreparedSurface& s, bool jso
   return 0;
 }
 
-int run(const Args& args) {
+int run_info(const Args& args) {
   const std::string file = args.positional()[0];
   // Always flip here: info reports the flip count; --no-delaunay only skips it.
   PreparedSurface s = prepare_surface(file, args);
@@ -153,7 +153,7 @@ Command info_command() {
       "On a point cloud: point count, k, local triangles, isolated points, stage times.\n";
   c.spec.groups = {{"Options", {flag("json").explain("one JSON object on stdout instead of text")}},
                    surface_options()};
-  c.run = run;
+  c.run = run_info;
   return c;
 }
 

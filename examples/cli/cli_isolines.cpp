@@ -90,7 +90,7 @@ Eigen::VectorXd read_field(const Args& args, Index nv) {
   return f;
 }
 
-int run(const Args& args) {
+int run_isolines(const Args& args) {
   const std::string path = args.get("output");
   if (args.has("values") == args.has("count")) {
     throw UsageError("give exactly one of --values c1,c2,... and --count N (see --help)");
@@ -127,7 +127,7 @@ int run(const Args& args) {
   return 0;
 }
 
-const char* const kProse =
+const char* const kIsolinesProse =
     "The level sets {f = c} of a per-vertex field f as polylines on the surface\n"
     "(marching triangles): f is linear on each triangle of MESH, every point of a\n"
     "curve lies on an input edge where f crosses c (f interpolated there is c), and\n"
@@ -141,7 +141,7 @@ const char* const kProse =
     "Curves end on the mesh boundary or where the level set branches (a saddle\n"
     "exactly at c).\n";
 
-const char* const kEpilogue =
+const char* const kIsolinesEpilogue =
     "\nexamples: ifem distance bunny.obj --source 0 -o d.ply\n"
     "          ifem isolines bunny.obj d.ply --property distance --count 10 -o iso.obj\n"
     "          ifem isolines bunny.obj d.ply --values 0.05,0.1 -o iso.ply --points p.txt\n"
@@ -205,7 +205,7 @@ Command isolines_command() {
   c.summary = "isolines of a per-vertex field as polylines on the surface";
   c.spec.name = "isolines";
   c.spec.positionals = {"MESH", "FIELD"};
-  c.spec.prose = kProse;
+  c.spec.prose = kIsolinesProse;
   c.spec.groups = {
       {"Options",
        {text("output", "OUT")
@@ -229,8 +229,8 @@ Command isolines_command() {
                      "b: barycentric coordinates for its corners; isoline: 0-based, in\n"
                      "OUT's order)"),
         flag("quiet").explain("no progress lines on stderr")}}};
-  c.spec.epilogue = kEpilogue;
-  c.run = run;
+  c.spec.epilogue = kIsolinesEpilogue;
+  c.run = run_isolines;
   return c;
 }
 

@@ -11,7 +11,7 @@
 namespace ifem::cli {
 namespace {
 
-int run(const Args& args) {
+int run_laplacian(const Args& args) {
   const std::string prefix = args.get("output");
   PreparedSurface s = prepare_surface(args.positional()[0], args);
   const Stopwatch watch;
@@ -72,7 +72,7 @@ Command laplacian_command() {
   c.spec.groups = {
       {"Options", {text("output", "PREFIX").short_alias('o').mandatory().explain("output prefix")}},
       surface_options()};
-  c.run = run;
+  c.run = run_laplacian;
   return c;
 }
 

@@ -64,7 +64,7 @@ PoissonInputs read_poisson_inputs(const Args& args) {
 }
 
 // --curves: u held at the curves' values on a constrained triangulation (solvers/recipes/curves.h).
-int run_curves(const Args& args, const ResultOutput& out) {
+int run_poisson_curves(const Args& args, const ResultOutput& out) {
   std::vector<solvers::CurveCondition> curves = read_curves(args);  // fails fast, before the mesh
   PoissonInputs in = read_poisson_inputs(args);
   const Index nv = in.nv;
@@ -91,11 +91,11 @@ int run_curves(const Args& args, const ResultOutput& out) {
   return 0;
 }
 
-int run(const Args& args) {
+int run_poisson(const Args& args) {
   const ResultOutput out = result_output(args);  // checked before any computation
   check_curve_options(args, {});
   check_isoline_options(args);
-  if (args.has("curves")) return run_curves(args, out);
+  if (args.has("curves")) return run_poisson_curves(args, out);
   // refined (signposts needed): f is interpolated linearly onto the inserted vertices, which lie
   // on input faces; the Dirichlet vertices are input vertices, which keep their ids
   PoissonInputs in = read_poisson_inputs(args);
@@ -116,7 +116,7 @@ int run(const Args& args) {
   return 0;
 }
 
-const char* const kProse =
+const char* const kPoissonProse =
     "Solves the Poisson problem −Δu = f, i.e. L u = M f (L the intrinsic Delaunay\n"
     "cotan Laplacian, PSD; M the lumped mass), or the screened problem\n"
     "(L + cM) u = M f, with u fixed on the Dirichlet vertices and natural (zero\n"
@@ -175,13 +175,13 @@ Command poisson_command() {
   c.summary = "solve (L + cM) u = M f with Dirichlet values on any vertices or on curves";
   c.spec.name = "poisson";
   c.spec.positionals = {"MESH"};
-  c.spec.prose = kProse;
+  c.spec.prose = kPoissonProse;
   c.spec.groups = {poisson_options(), refine_options_group(0.0), surface_options()};
   c.spec.epilogue = curves_file_help(true) +
                     "\nexamples: ifem poisson disk.obj --dirichlet bc.txt -o u.ply\n"
                     "          ifem poisson bunny.obj --curves curves.txt --curves-out c.obj -o "
                     "u.ply\n";
-  c.run = run;
+  c.run = run_poisson;
   return c;
 }
 

@@ -194,7 +194,7 @@ void print_summary(const PreparedSurface& s, double min_angle_input) {
   }
 }
 
-int run(const Args& args) {
+int run_refine(const Args& args) {
   if (!args.has("output") && !args.has("save") && !args.has("lines") && !args.has("mesh")) {
     throw UsageError("missing -o OUT.ply (or --save / --lines / --mesh; see --help)");
   }
@@ -255,7 +255,7 @@ Command refine_command() {
         flag("ascii").explain("ASCII PLY instead of binary")}},
       refine_options_group(0.0),
       surface_options()};
-  c.run = run;
+  c.run = run_refine;
   return c;
 }
 

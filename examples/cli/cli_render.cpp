@@ -53,7 +53,9 @@ solvers::RenderOptions render_options(const Args& args) {
   return o;
 }
 
-std::string stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
+std::string render_stem(const std::string& path) {
+  return std::filesystem::path(path).stem().string();
+}
 
 /// What `ifem view` would show for the same inputs (recipes::Scene), MESH's own properties or
 /// --field's, the curves and the traced intrinsic edges.
@@ -71,17 +73,17 @@ recipes::Scene read_scene(const Args& args) {
     }
     properties = std::move(values.vertex_properties);
   }
-  recipes::Scene scene = recipes::view_scene(input, stem(mesh));
+  recipes::Scene scene = recipes::view_scene(input, render_stem(mesh));
   recipes::add_properties(scene, properties, "", static_cast<int>(args.count("symmetry")));
   if (args.has("curves")) {
     const std::string file = args.get("curves");
-    recipes::add_polylines(scene, stem(file), solvers::read_polylines(file));
+    recipes::add_polylines(scene, render_stem(file), solvers::read_polylines(file));
   }
   add_triangulation(scene, args);
   return scene;
 }
 
-int run(const Args& args) {
+int run_render(const Args& args) {
   const solvers::RenderOptions options = render_options(args);  // checked before any reading
   const solvers::RenderScene scene =
       recipes::render_scene_of(read_scene(args), args.has("property") ? args.get("property") : "");
@@ -198,7 +200,7 @@ Command render_command() {
       "w.png\n"
       "  ifem refine spot.obj --save spot.ifem\n"
       "  ifem render spot.obj --triangulation spot.ifem --wireframe -o spot_idt.png\n";
-  c.run = run;
+  c.run = run_render;
   return c;
 }
 

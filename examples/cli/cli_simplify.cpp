@@ -121,7 +121,7 @@ void write_tangent_map(const std::string& path, const PreparedSurface& ps,
   if (!out) throw IoError("cannot write " + path);
 }
 
-int run(const Args& args) {
+int run_simplify(const Args& args) {
   if (args.has("vertices") == args.has("ratio")) {
     throw UsageError("give exactly one of --vertices N and --ratio R");
   }
@@ -228,7 +228,7 @@ Command simplify_command() {
                      "coordinate; |weights| sum to 1 (fem/prolongation.h)"),
         flag("ascii").explain("ASCII PLY instead of binary")}},
       surface_options()};
-  c.run = run;
+  c.run = run_simplify;
   return c;
 }
 

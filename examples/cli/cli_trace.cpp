@@ -101,7 +101,7 @@ void write_rays(const std::string& path, const std::vector<GeodesicRay>& rays) {
   }
 }
 
-int run(const Args& args) {
+int run_trace(const Args& args) {
   const recipes::GivenPoint from = from_option(args);
   const std::vector<Eigen::Vector3d> dirs = directions(args);
   const double length = args.real("length");
@@ -139,7 +139,7 @@ int run(const Args& args) {
   return 0;
 }
 
-const char* const kProse =
+const char* const kTraceProse =
     "Straight geodesics (the exponential map): from a point of the surface, the\n"
     "line that never turns, leaving in a given direction, for a given length. It is\n"
     "traced face by face over the input's own triangles (each face unfolded into the\n"
@@ -160,7 +160,7 @@ const char* const kProse =
     "Needs an edge-manifold, orientable triangle mesh: nonmanifold meshes (a ray has\n"
     "no single way on across an edge of 3+ faces) and point clouds are refused.\n";
 
-const char* const kEpilogue =
+const char* const kTraceEpilogue =
     "Output: stdout has one line per ray: its length, its points, its end as a point\n"
     "token (face:F:u:v, usable as --from again; '= vertex V' when it ends at one),\n"
     "and whether it stopped at the boundary. --json prints the same as one object\n"
@@ -201,10 +201,10 @@ Command trace_command() {
   c.summary = "straight geodesics from a point in a direction (exponential map)";
   c.spec.name = "trace";
   c.spec.positionals = {"MESH"};
-  c.spec.prose = kProse;
+  c.spec.prose = kTraceProse;
   c.spec.groups = {trace_options()};
-  c.spec.epilogue = kEpilogue;
-  c.run = run;
+  c.spec.epilogue = kTraceEpilogue;
+  c.run = run_trace;
   return c;
 }
 

@@ -18,7 +18,7 @@ double integral(const intrinsic::IntrinsicTriangulation& t, const Eigen::VectorX
   return fem::lumped_mass(t).dot(u);
 }
 
-int run(const Args& args) {
+int run_transfer(const Args& args) {
   fem::TransferMethod method;
   try {
     method = fem::parse_transfer_method(args.get("method"));
@@ -54,7 +54,7 @@ int run(const Args& args) {
   return 0;
 }
 
-const char* const kProse =
+const char* const kTransferProse =
     "Carries a function given by one value per vertex (linear on each triangle) from\n"
     "MESH onto its intrinsic Delaunay refinement (refinement options below; the same\n"
     "options always give the same refinement), or with --back from the refinement\n"
@@ -79,7 +79,7 @@ Command transfer_command() {
   c.summary = "carry per-vertex values onto the refined triangulation or back (pointwise, L2)";
   c.spec.name = "transfer";
   c.spec.positionals = {"MESH"};
-  c.spec.prose = kProse;
+  c.spec.prose = kTransferProse;
   c.spec.groups = {
       {"Options",
        {text("values", "FILE")
@@ -103,7 +103,7 @@ Command transfer_command() {
       "          ifem transfer bunny.obj --values on_refined.txt --back -o f_again.txt\n"
       "          ifem transfer bunny.obj --values f.txt --correspondence integer "
       "--min-angle 30 -o g.txt\n";
-  c.run = run;
+  c.run = run_transfer;
   return c;
 }
 

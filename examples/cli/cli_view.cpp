@@ -41,7 +41,7 @@ void add_field_files(recipes::Scene& scene, const Args& args) {
   }
 }
 
-int run(const Args& args) {
+int run_view(const Args& args) {
   const std::string mesh = args.positional()[0];
   const std::string out = args.get("output");
   // three.js first: a missing install fails before any work
@@ -148,7 +148,7 @@ Command view_command() {
       "  ifem refine spot.obj --save spot.ifem\n"
       "  ifem geodesic spot.obj --path 0,500 -o path.obj\n"
       "  ifem view spot.obj --triangulation spot.ifem --curves path.obj -o spot_idt.html\n";
-  c.run = run;
+  c.run = run_view;
   return c;
 }
 

@@ -176,8 +176,9 @@ struct CurveFlipOut {
 };
 
 // The input with its curves inserted (and refined when asked), GIL released.
-solvers::CurveSurface prepare(io::SurfaceInput in, const py::list& specs, const py::handle& refine,
-                              double mollify, bool need_values, const CurveFlipOut& flipout) {
+solvers::CurveSurface prepare_curves(io::SurfaceInput in, const py::list& specs,
+                                     const py::handle& refine, double mollify, bool need_values,
+                                     const CurveFlipOut& flipout) {
   std::vector<CurveCondition> curves = conditions_from(specs);
   if (!(mollify >= 0.0 && mollify <= 1.0)) {
     throw InvalidInput("mollify must be in [0, 1] (relative to the mean edge length), got " +
@@ -198,7 +199,7 @@ solvers::CurveSurface prepare(io::SurfaceInput in, const py::list& specs, const 
 }
 
 // What inserting the curves did, for the `info` dicts.
-py::dict surface_info(const solvers::CurveSurface& s) {
+py::dict curves_info(const solvers::CurveSurface& s) {
   const intrinsic::FlipOutReport& fo = s.network.flipout;
   py::dict d;
   d["flipout"] =
@@ -262,7 +263,7 @@ py::tuple curve_poisson(const py::handle& V, const py::handle& F, const py::list
     throw InvalidInput("screening must be finite and ≥ 0, got " + std::to_string(screening));
   }
   const solvers::CurveSurface s =
-      prepare(std::move(in), specs, refine, mollify, true, {max_iterations, accept_partial});
+      prepare_curves(std::move(in), specs, refine, mollify, true, {max_iterations, accept_partial});
   solvers::PoissonOptions opt;
   opt.screening = screening;
   solvers::CurvePoissonResult r;
@@ -270,7 +271,7 @@ py::tuple curve_poisson(const py::handle& V, const py::handle& F, const py::list
     const py::gil_scoped_release release;
     r = solvers::curve_poisson(s, f, dv, dval, opt);
   }
-  py::dict info = surface_info(s);
+  py::dict info = curves_info(s);
   info["dirichlet_vertices"] = r.dirichlet_vertices;
   info["conflicting_vertices"] = r.conflicting_vertices;
   info["slit_copies"] = r.slit_copies;
@@ -289,8 +290,8 @@ py::tuple curve_distance(const py::handle& V, const py::handle& F, const py::lis
   if (correction_steps && *correction_steps < 0) {
     throw InvalidInput("correction_steps must be ≥ 0, got " + std::to_string(*correction_steps));
   }
-  const solvers::CurveSurface s =
-      prepare(surface_input(V, F), specs, refine, mollify, false, {max_iterations, accept_partial});
+  const solvers::CurveSurface s = prepare_curves(surface_input(V, F), specs, refine, mollify, false,
+                                                 {max_iterations, accept_partial});
   solvers::DistanceOptions settings;
   settings.time_factor = time_factor;
   settings.correction_steps = correction_steps;
@@ -301,7 +302,7 @@ py::tuple curve_distance(const py::handle& V, const py::handle& F, const py::lis
     const py::gil_scoped_release release;
     d = solvers::curve_distance(s, settings, &report);
   }
-  py::dict info = surface_info(s);
+  py::dict info = curves_info(s);
   info["stages"] = report.stages;
   py::object lines = polylines_of(s, want_polylines);
   return py::make_tuple(to_numpy(std::move(d)), lines, info);
@@ -313,11 +314,11 @@ solvers::CurveSurface prepare_with_curves(io::SurfaceInput input, const py::list
                                           const py::handle& refine, double mollify,
                                           bool need_values, Index max_iterations,
                                           bool accept_partial) {
-  return prepare(std::move(input), specs, refine, mollify, need_values,
-                 {max_iterations, accept_partial});
+  return prepare_curves(std::move(input), specs, refine, mollify, need_values,
+                        {max_iterations, accept_partial});
 }
 
-py::dict curve_surface_info(const solvers::CurveSurface& s) { return surface_info(s); }
+py::dict curve_surface_info(const solvers::CurveSurface& s) { return curves_info(s); }
 
 void bind_curves(py::module_& m) {
   m.def("check_curve", &check_curve, py::arg("spec"));

@@ -38,7 +38,7 @@ std::vector<solvers::InputDirection> input_directions(const py::handle& vertices
 }
 
 // The surface arguments every field function shares: mollify, path, knn, point normals.
-struct SurfaceArgs {
+struct FieldArgs {
   double mollify = 1e-5;
   std::string path = "auto";
   int knn = 30;
@@ -46,7 +46,7 @@ struct SurfaceArgs {
   bool accept_partial = false;  ///< with curves: accept curves left at that cap
 };
 
-solvers::PreparedSurface prepared(io::SurfaceInput in, const SurfaceArgs& a) {
+solvers::PreparedSurface prepared(io::SurfaceInput in, const FieldArgs& a) {
   return prepare(std::move(in), prepare_options(a.mollify, a.path, true, a.knn), a.path);
 }
 
@@ -54,7 +54,7 @@ solvers::PreparedSurface prepared(io::SurfaceInput in, const SurfaceArgs& a) {
 // need the manifold path (signposts), so path must be 'auto' or 'manifold'.
 solvers::TangentFieldResult field_along_curves(io::SurfaceInput in, const py::list& curves,
                                                const solvers::FieldOptions& settings,
-                                               const SurfaceArgs& a, py::dict& info) {
+                                               const FieldArgs& a, py::dict& info) {
   if (a.path != "auto" && a.path != "manifold") {
     throw InvalidInput(
         "curves need the manifold path (signposts on an edge-manifold, orientable "
@@ -77,7 +77,7 @@ solvers::TangentFieldResult field_along_curves(io::SurfaceInput in, const py::li
 py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry,
                           bool align_boundary, const py::handle& vertices,
                           const py::handle& directions, const py::handle& normals,
-                          const SurfaceArgs& a, const py::handle& curves) {
+                          const FieldArgs& a, const py::handle& curves) {
   solvers::FieldOptions settings;
   settings.symmetry = symmetry;
   settings.align_boundary = align_boundary;
@@ -117,7 +117,7 @@ py::tuple direction_field(const py::handle& V, const py::handle& F, int symmetry
 class VectorHeat {
  public:
   VectorHeat(const py::handle& V, const py::handle& F, const py::handle& normals,
-             const SurfaceArgs& a)
+             const FieldArgs& a)
       : s_(prepared(surface_input(V, F, normals), a)), solver_(build(s_)) {}
 
   py::array transport(const py::handle& source, const py::handle& vector) const {
@@ -176,7 +176,7 @@ void bind_fields(py::module_& m) {
   py::class_<VectorHeat>(m, "VectorHeat")
       .def(py::init([](const py::handle& V, const py::handle& F, const py::handle& normals,
                        double mollify, const std::string& path, int knn) {
-             return std::make_unique<VectorHeat>(V, F, normals, SurfaceArgs{mollify, path, knn});
+             return std::make_unique<VectorHeat>(V, F, normals, FieldArgs{mollify, path, knn});
            }),
            py::arg("V"), py::arg("F"), py::arg("normals"), py::arg("mollify"), py::arg("path"),
            py::arg("knn"))
@@ -190,7 +190,7 @@ void bind_fields(py::module_& m) {
          double mollify, const std::string& path, int knn, const py::handle& curves,
          Index max_iterations, bool accept_partial) {
         return direction_field(V, F, symmetry, align_boundary, vertices, directions, normals,
-                               SurfaceArgs{mollify, path, knn, max_iterations, accept_partial},
+                               FieldArgs{mollify, path, knn, max_iterations, accept_partial},
                                curves);
       },
       py::arg("V"), py::arg("F"), py::arg("symmetry"), py::arg("align_boundary"),

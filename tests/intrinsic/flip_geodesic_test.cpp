@@ -37,11 +37,7 @@ TriangleMesh flat_jittered_grid(int n, double amount, unsigned seed) {
   return m;
 }
 
-double polyline_length(const std::vector<Eigen::Vector3d>& line) {
-  double s = 0.0;
-  for (std::size_t i = 1; i < line.size(); ++i) s += (line[i] - line[i - 1]).norm();
-  return s;
-}
+using test::polyline_length;
 
 // Shortens step by step (one reroute per call) and checks the length never increases.
 FlipOutReport shorten_monotone(SignpostTriangulation& st, EdgePath& path,

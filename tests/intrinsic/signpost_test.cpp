@@ -25,12 +25,7 @@ namespace ifem::intrinsic {
 namespace {
 
 using test::jittered;
-
-double polyline_length(const std::vector<Eigen::Vector3d>& line) {
-  double s = 0.0;
-  for (std::size_t i = 1; i < line.size(); ++i) s += (line[i] - line[i - 1]).norm();
-  return s;
-}
+using test::polyline_length;
 
 // Every traced edge has its intrinsic length in 3D and ends where its endpoints are located.
 void expect_traces_consistent(const SignpostTriangulation& st, double rel_tol = 1e-6) {
@@ -148,7 +143,7 @@ TEST(Signpost, BoundarySplitStaysOnTheBoundary) {
 }
 
 // A jittered grid that stays in the plane z = 0.
-TriangleMesh flat_jittered_grid(int n, double amount, unsigned seed) {
+TriangleMesh planar_jittered_grid(int n, double amount, unsigned seed) {
   TriangleMesh m = jittered(grid(n, n), amount, seed);
   m.positions.col(2).setZero();
   return m;
@@ -157,7 +152,7 @@ TriangleMesh flat_jittered_grid(int n, double amount, unsigned seed) {
 TEST(Signpost, LocateMatchesTheFlatPosition) {
   // on a flat mesh the intrinsic geometry is the plane's: a located point is where the
   // barycentric combination of its corners' positions is
-  const TriangleMesh m = flat_jittered_grid(10, 0.05, 9);
+  const TriangleMesh m = planar_jittered_grid(10, 0.05, 9);
   SignpostTriangulation st(m.faces, m.positions);
   st.flip_to_delaunay();
   const Positions x = st.vertex_positions();
@@ -170,7 +165,7 @@ TEST(Signpost, LocateMatchesTheFlatPosition) {
 }
 
 TEST(Signpost, LinearFunctionTransfersExactlyOnFlatMesh) {
-  const TriangleMesh m = flat_jittered_grid(8, 0.08, 4);
+  const TriangleMesh m = planar_jittered_grid(8, 0.08, 4);
   SignpostTriangulation st(m.faces, m.positions);
   RefineOptions opt;
   opt.min_angle_degrees = 30;
@@ -192,7 +187,7 @@ TEST(Signpost, LinearFunctionTransfersExactlyOnFlatMesh) {
 // leaves its tail towards its head's position, at input vertices (the signpost placed in an
 // input wedge) and at inserted ones (the signpost in the location face's layout) alike.
 TEST(Signpost, HalfedgeDirection3dPointsAtTheHeadOnFlatMesh) {
-  TriangleMesh m = flat_jittered_grid(8, 0.08, 4);
+  TriangleMesh m = planar_jittered_grid(8, 0.08, 4);
   const Eigen::Matrix3d turn =
       Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, -2.0, 0.5).normalized()).toRotationMatrix();
   m.positions = (m.positions * turn.transpose()).eval();

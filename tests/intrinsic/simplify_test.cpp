@@ -24,7 +24,7 @@
 namespace ifem::intrinsic {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 IntrinsicTriangulation mesh_of(const TriangleMesh& m) {
   return IntrinsicTriangulation::from_positions(m.faces, m.positions);

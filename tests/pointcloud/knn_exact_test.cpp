@@ -11,13 +11,14 @@
 #include <set>
 #include <vector>
 
+#include "intrinsic/core/triangle_formulas.h"
 #include "pointcloud/knn.h"
 #include "pointcloud/pointcloud_laplacian.h"
 
 namespace ifem::pointcloud {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 // `flowers` flowers of k + 1 points each (centre first, then petals in angular order), 100
 // apart along x, each in a plane of its own (tilted about the x axis) so that the tangent

@@ -40,13 +40,13 @@ ComplexSparseMatrix vector_heat_matrix(const intrinsic::TriangleMesh& m, int sym
   return A;
 }
 
-CholeskyOptions kernel_options(Kernel kernel) {
+CholeskyOptions complex_kernel_options(Kernel kernel) {
   CholeskyOptions o;
   o.solve_kernel = kernel;
   return o;
 }
 
-double rel_diff(const Eigen::MatrixXcd& a, const Eigen::MatrixXcd& b) {
+double complex_rel_diff(const Eigen::MatrixXcd& a, const Eigen::MatrixXcd& b) {
   return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
 }
 
@@ -68,20 +68,20 @@ std::vector<Eigen::VectorXcd> right_hand_sides(Eigen::Index n) {
 void expect_kernel_matches_cholmod(const intrinsic::TriangleMesh& mesh, int symmetry,
                                    bool expect_split) {
   const ComplexSparseMatrix A = vector_heat_matrix(mesh, symmetry);
-  const ComplexCholeskySolver cholmod(A, kernel_options(Kernel::kCholmod));
-  const ComplexCholeskySolver ours(A, kernel_options(Kernel::kSupernodalDouble));
+  const ComplexCholeskySolver cholmod(A, complex_kernel_options(Kernel::kCholmod));
+  const ComplexCholeskySolver ours(A, complex_kernel_options(Kernel::kSupernodalDouble));
   const std::vector<Eigen::VectorXcd> rhs = right_hand_sides(A.rows());
   Eigen::MatrixXcd block(A.rows(), Eigen::Index(rhs.size()));
   for (std::size_t j = 0; j < rhs.size(); ++j) {
     const Eigen::VectorXcd x = ours.solve(rhs[j]);
     const Eigen::VectorXcd ref = cholmod.solve(rhs[j]);
-    EXPECT_LT(rel_diff(x, ref), 1e-12) << "right-hand side " << j << ", n = " << A.rows();
+    EXPECT_LT(complex_rel_diff(x, ref), 1e-12) << "right-hand side " << j << ", n = " << A.rows();
     const Eigen::VectorXcd r = A.selfadjointView<Eigen::Lower>() * x - rhs[j];
     EXPECT_LT(r.norm() / rhs[j].norm(), 1e-11) << "residual, right-hand side " << j;
     block.col(Eigen::Index(j)) = rhs[j];
   }
   const Eigen::MatrixXcd X = ours.solve(block);
-  EXPECT_LT(rel_diff(X, cholmod.solve(block)), 1e-12) << "block of " << block.cols();
+  EXPECT_LT(complex_rel_diff(X, cholmod.solve(block)), 1e-12) << "block of " << block.cols();
   for (Eigen::Index j = 0; j < X.cols(); ++j) {  // a column of a block: the same as alone
     EXPECT_EQ(X.col(j), ours.solve(Eigen::VectorXcd(block.col(j)))) << "column " << j;
   }
@@ -107,7 +107,7 @@ TEST(ComplexSupernodal, MatchesCholmodLargeSphereOverTwoBins) {
 TEST(ComplexSupernodal, SameBitsOnOneThreadAndTwo) {
 #ifdef _OPENMP
   const ComplexSparseMatrix A = vector_heat_matrix(intrinsic::icosphere(50), 1);
-  const ComplexCholeskySolver ours(A, kernel_options(Kernel::kSupernodalDouble));
+  const ComplexCholeskySolver ours(A, complex_kernel_options(Kernel::kSupernodalDouble));
   const int saved = omp_get_max_threads();
   for (const Eigen::VectorXcd& b : right_hand_sides(A.rows())) {
     omp_set_num_threads(1);
@@ -124,7 +124,8 @@ TEST(ComplexSupernodal, SameBitsOnOneThreadAndTwo) {
 
 TEST(ComplexSupernodal, SinglePrecisionKernelRefused) {
   const ComplexSparseMatrix A = vector_heat_matrix(intrinsic::icosphere(2), 1);
-  EXPECT_THROW(ComplexCholeskySolver(A, kernel_options(Kernel::kSupernodalSingle)), InvalidInput);
+  EXPECT_THROW(ComplexCholeskySolver(A, complex_kernel_options(Kernel::kSupernodalSingle)),
+               InvalidInput);
 }
 
 }  // namespace

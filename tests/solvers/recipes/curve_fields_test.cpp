@@ -19,7 +19,7 @@ namespace ifem::solvers {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 // A prism tube of `around` sides and `rows` rows of rectangles (each split along a diagonal),
 // radius 1, height 2: intrinsically a flat cylinder whose boundary vertices have angle π, so

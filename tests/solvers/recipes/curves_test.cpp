@@ -22,7 +22,7 @@ namespace {
 using intrinsic::CurveShape;
 using solvers::CurveCondition;
 
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 // A flat n×n grid on the unit square whose interior vertices are jittered by up to `jitter`·h
 // (and the top / bottom rows along x), so straight lines cross its triangles; the left and right

@@ -25,7 +25,7 @@ namespace ifem::solvers {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 io::SurfaceInput cloud_of(Positions p) {
   io::SurfaceInput in;

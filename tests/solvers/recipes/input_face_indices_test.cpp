@@ -18,7 +18,7 @@
 namespace ifem::solvers {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 // A torus (radii 1 and 0.4) from a nu×nv grid, each quad split along a diagonal.
 intrinsic::TriangleMesh torus(int nu, int nv) {

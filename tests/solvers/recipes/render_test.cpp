@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "intrinsic/core/errors.h"
+#include "intrinsic/core/triangle_formulas.h"
 #include "intrinsic/generators/mesh_generators.h"
 #include "intrinsic/refine/common_subdivision.h"
 #include "solvers/recipes/recipes.h"
@@ -23,7 +24,7 @@
 namespace ifem::solvers {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 /// Unit icosphere coloured by height (y).
 RenderScene sphere_by_height(int n = 16) {

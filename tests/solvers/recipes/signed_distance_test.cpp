@@ -17,8 +17,8 @@
 namespace ifem {
 namespace {
 
+using intrinsic::kPi;
 using solvers::CurveCondition;
-constexpr double kPi = 3.14159265358979323846;
 
 // [−1, 1]² as an n×n grid.
 intrinsic::TriangleMesh square(int n) {

@@ -23,7 +23,7 @@
 namespace ifem::solvers {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 constexpr Index kLone = 240;  // the lone flat triangle: vertices 240..242 (in the plane z = 0)
 constexpr Index kFlat = 243;  // the zero-area face: vertices 243..245, all at (0, 0, 2)
 

@@ -22,7 +22,7 @@
 namespace ifem::recipes {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 GivenPoint vertex_point(Index v) {
   GivenPoint p;

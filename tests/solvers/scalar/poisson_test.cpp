@@ -12,7 +12,7 @@
 namespace ifem::solvers {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 // max error of L u = M f on [0,1]² with u = sin(πx) sin(πy) + xy, Dirichlet on the boundary
 double square_error(int n) {

@@ -17,7 +17,7 @@ namespace ifem::solvers {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 // A flat torus: an n×n periodic grid of squares of side `side` split along a diagonal, all
 // lengths from the plane (zero curvature everywhere: a parallel field exists); `copies` disjoint

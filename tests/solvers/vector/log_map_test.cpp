@@ -29,7 +29,7 @@ namespace ifem::solvers {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 // A flat grid of cells of size 1/n over the cells (i, j) that `keep` accepts, i, j in [0, k·n):
 // interior vertices jittered by up to 0.25/n in x and y, boundary vertices on the straight

@@ -25,7 +25,7 @@ namespace ifem::solvers {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr double kPi = 3.14159265358979323846;
+using intrinsic::kPi;
 
 // A flat n×n grid on the unit square, interior vertices jittered in the plane by up to
 // `jitter`·(1/n) in x and y (the boundary stays straight, so boundary vertices have angle sum
