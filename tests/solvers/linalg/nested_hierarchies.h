@@ -113,7 +113,7 @@ inline solvers::SparseMatrix icosphere_prolongation(int n) {
   for (Eigen::Index v = 0; v < fine.positions.rows(); ++v) {
     const Eigen::Vector3d d = fine.positions.row(v).transpose();
     std::size_t f = 0;
-    Eigen::Vector3d w;
+    Eigen::Vector3d w = Eigen::Vector3d::Zero();  // set by the search below (gcc cannot see it)
     for (; f < ico.faces.size(); ++f) {
       w = inverse[f] * d;
       if (w.minCoeff() >= -1e-9 && w.sum() > 0) break;
