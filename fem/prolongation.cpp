@@ -62,11 +62,7 @@ struct FaceLayout {
 
 FaceLayout layout_of(const T& c, Index f) {
   FaceLayout L;
-  const double l0 = c.halfedge_length(3 * f), l1 = c.halfedge_length(3 * f + 1),
-               l2 = c.halfedge_length(3 * f + 2);
-  L.p[0] = Eigen::Vector2d(0.0, 0.0);
-  L.p[1] = Eigen::Vector2d(l0, 0.0);
-  L.p[2] = intrinsic::triangle_apex(l0, l1, l2);
+  intrinsic::face_layout(c, f, L.p);
   return L;
 }
 
