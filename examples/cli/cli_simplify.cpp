@@ -129,7 +129,11 @@ int run_simplify(const Args& args) {
   if (!ends_with(out, ".ply") && !ends_with(out, ".ifem")) {
     throw UsageError("-o " + out + ": the output is FILE.ply or FILE.ifem");
   }
-  const PreparedSurface ps = prepare_surface(args.positional()[0], args);
+  // a point cloud's cover without self-edges (a point on its own link cannot be removed: D-345)
+  solvers::PrepareOptions prep = prepare_options(args);
+  prep.self_edges = false;
+  const PreparedSurface ps =
+      solvers::prepare_surface(read_input(args.positional()[0], args), prep);
   intrinsic::SimplifyOptions o;
   if (args.has("vertices")) o.target_vertices = args.count("vertices");
   if (args.has("ratio")) o.ratio = args.real("ratio");
