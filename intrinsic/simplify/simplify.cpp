@@ -150,7 +150,7 @@ class Simplifier {
   bool is_pillow(Index v, const std::vector<Index>& hs) const;
   bool plan_fans(Index v, Index n_fans, Index& home);
   bool flip_outer(Index v, Index o);
-  bool pillows_leave_fans(const std::vector<std::vector<Index>>& fans, Index n_fans);
+  bool plan_pillows(const std::vector<std::vector<Index>>& fans, Index n_fans, bool has_home);
   void remove_pillow(const std::vector<Index>& hs, std::vector<Index>& points);
   // removal by flattening: the link polygon of a closed fan laid out convex and triangulated
   struct PolygonPlan {
@@ -201,6 +201,9 @@ class Simplifier {
   std::vector<Index> pillow_points_;
   std::vector<std::pair<Index, Eigen::Vector3d>> moving_bary_;
   PolygonPlan plan_;
+  std::vector<Index> orphans_;     // plan_pillows(): pillow corners that die with v
+  Index keeper_ = kInvalidIndex;  // plan_pillows(): a pillow corner keeping a fan
+  Index target_ = 0;
   bool flatten_ = false;   // second pass: any closed fan may be flattened
   std::set<Index> tried_;  // self-edges flip_loops() tried
   Index alive_count_ = 0;
@@ -858,7 +861,8 @@ bool Simplifier::flip_outer(Index v, Index o) {
 // Walks v's fans and readies each for removal (simplify.h): a pillow as it is; a fan flipped
 // down to 3 faces (an ear, 2 zipped faces); else a closed fan planned for flattening (a fan of
 // two faces that cannot be zipped gets an outer side flipped first). `home`: the first fan that
-// is not a pillow. False when some fan cannot be removed (flips made stay).
+// is not a pillow (none: v has only pillows, and goes to a corner of one that keeps a fan).
+// False when some fan cannot be removed (flips made stay).
 bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
   std::vector<std::vector<Index>>& fans = fans_;
   std::vector<char>&kind = kind_, &bnd = bnd_;
@@ -896,7 +900,7 @@ bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
       if (!fan(rep_[rep_start_[v] + k], fans[k], b) || b) return false;
     }
   }
-  return home != kInvalidIndex && pillows_leave_fans(fans, n_fans);
+  return plan_pillows(fans, n_fans, home != kInvalidIndex);
 }
 
 // The faces of v's fans (from its representatives, which must be exact). False if a walk fails.
@@ -1026,7 +1030,20 @@ bool Simplifier::try_remove(Index v) {
       for (int s = 0; s < 3; ++s) stack.push_back(3 * f0 + s);
     }
   }
+  if (home == kInvalidIndex) {  // only pillows: v goes to the corner of a neighbour's fan
+    const Index h = rep_[rep_start_[keeper_]];  // (plan_pillows(): it keeps a fan)
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[T::side(h)] = 1.0;
+    move_point(v, T::face(h), e);
+  }
   for (Index p : pillow_points) move_point(p, pt_face_[v], pt_bary_[v]);  // where v went
+  for (Index u : orphans_) {  // corners of v's pillows left without a face: gone with them
+    move_point(u, pt_face_[v], pt_bary_[v]);
+    vertex_alive_[u] = 0;
+    --comp_vertices_[comp_[u]];
+    --alive_count_;
+    ++report_.removals;
+  }
   vertex_alive_[v] = 0;
   --comp_vertices_[comp_[v]];
   --alive_count_;
@@ -1035,50 +1052,83 @@ bool Simplifier::try_remove(Index v) {
   return true;
 }
 
-// A closed fan of two faces (v, a, b), (v, b, a) glued to each other along all three sides: a
-// pillow, a sphere of its own through three pinch points (an isolated triangle of a point
-// cloud's local triangulations, zipped to its back).
+// A pillow: a closed fan of v that is a whole closed surface of its own (every outer side glued
+// to another outer side of the fan; v not on its link), joined to the rest only at pinch
+// points. Its simplest form is two faces (v, a, b), (v, b, a) glued along all three sides (an
+// isolated triangle of a point cloud's local triangulations, zipped to its back); larger ones
+// (links a, b, a, b, …) are a few such triangles glued around their edges.
 bool Simplifier::is_pillow(Index v, const std::vector<Index>& hs) const {
-  if (hs.size() != 2) return false;
-  const Index o0 = T::next(hs[0]), o1 = T::next(hs[1]);
-  const Index a = sd_[o0].tail, b = sd_[o1].tail;
-  return sd_[o0].twin == o1 && T::face(hs[0]) != T::face(hs[1]) && a != b && a != v && b != v;
-}
-
-// True if every vertex of v's pillows (other than v) keeps a fan after they are deleted.
-bool Simplifier::pillows_leave_fans(const std::vector<std::vector<Index>>& fans, Index n_fans) {
-  std::vector<Index>& ends = ends_;
-  ends.clear();
-  for (Index k = 0; k < n_fans; ++k) {
-    if (kind_[k] != 2) continue;
-    for (Index h : fans[k]) ends.push_back(head(h));
-  }
-  std::sort(ends.begin(), ends.end());
-  for (std::size_t i = 0; i < ends.size();) {
-    std::size_t j = i;
-    while (j < ends.size() && ends[j] == ends[i]) ++j;
-    if (Index(j - i) >= rep_end_[ends[i]] - rep_start_[ends[i]]) return false;
-    i = j;
+  if (hs.size() < 2 || hs.size() > 64) return false;
+  for (Index h : hs) {
+    const Index o = T::next(h), w = sd_[o].twin;
+    if (sd_[o].tail == v || head(o) == v || sd_[o].tail == head(o) || w < 0) return false;
+    bool inside = false;
+    for (Index x : hs) inside = inside || (w == T::next(x) && T::face(x) != T::face(h));
+    if (!inside) return false;
   }
   return true;
 }
 
-// Deletes the pillow hs of v: its two faces die, its other two corners each lose that fan; the
-// points inside it are appended to `points` (they go where v goes).
+// Checks v's pillows (kind 2): their corners other than v whose every fan lies in them die with
+// them (orphans_: removed too, they go where v goes); keeper_: a corner that keeps a fan (where
+// v goes when it has only pillows), or kInvalidIndex. False when v would have nowhere to go (only
+// pillows, no corner keeping a fan: a component of its own) or the orphans would take the count
+// below the target.
+bool Simplifier::plan_pillows(const std::vector<std::vector<Index>>& fans, Index n_fans,
+                              bool has_home) {
+  std::vector<Index>& ends = ends_;
+  std::vector<Index>& faces = sorted_;
+  ends.clear();
+  faces.clear();
+  orphans_.clear();
+  keeper_ = kInvalidIndex;
+  for (Index k = 0; k < n_fans; ++k) {
+    if (kind_[k] != 2) continue;
+    for (Index h : fans[k]) ends.push_back(head(h)), faces.push_back(T::face(h));
+  }
+  std::sort(ends.begin(), ends.end());
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  std::sort(faces.begin(), faces.end());
+  for (Index u : ends) {
+    Index inside = 0;
+    for (Index r = rep_start_[u]; r < rep_end_[u]; ++r) {
+      inside += std::binary_search(faces.begin(), faces.end(), T::face(rep_[r]));
+    }
+    if (inside >= rep_end_[u] - rep_start_[u]) {
+      orphans_.push_back(u);
+    } else if (keeper_ == kInvalidIndex) {
+      keeper_ = u;
+    }
+  }
+  return (has_home || keeper_ != kInvalidIndex) &&
+         alive_count_ - 1 - Index(orphans_.size()) >= target_;
+}
+
+// Deletes the pillow hs of v: its faces die, its other corners lose their fans in it; the points
+// inside it are appended to `points` (they go where v goes).
 void Simplifier::remove_pillow(const std::vector<Index>& hs, std::vector<Index>& points) {
+  auto in_pillow = [&](Index f) {
+    for (Index h : hs) {
+      if (T::face(h) == f) return true;
+    }
+    return false;
+  };
   for (Index h : hs) {
-    const Index f = T::face(h), u = head(h);
+    const Index u = head(h);
+    touched_.push_back(u);
+    for (Index k = rep_start_[u]; k < rep_end_[u];) {
+      if (in_pillow(T::face(rep_[k]))) {
+        rep_[k] = rep_[--rep_end_[u]];
+      } else {
+        ++k;
+      }
+    }
+  }
+  for (Index h : hs) {
+    const Index f = T::face(h);
     points.insert(points.end(), pts_[f].begin(), pts_[f].end());
     pts_[f].clear();
     face_alive_[f] = 0;
-    touched_.push_back(u);
-    for (Index k = rep_start_[u]; k < rep_end_[u]; ++k) {
-      const Index fr = T::face(rep_[k]);
-      if (fr == T::face(hs[0]) || fr == T::face(hs[1])) {
-        rep_[k] = rep_[--rep_end_[u]];
-        break;
-      }
-    }
   }
   ++report_.pillows;
 }
@@ -1092,6 +1142,7 @@ void Simplifier::run(Index target, const ProgressCallback& on_progress) {
     if (sd_[h].twin > h) stack.push_back(h);
   }
   delaunay_repair(stack);
+  target_ = target;
   const Index wanted = std::max<Index>(alive_count_ - target, 0);
   ProgressMeter meter(on_progress, "simplify", std::max<Index>(wanted, 1));
   for (int pass = 0; pass < 2 && alive_count_ > target; ++pass) {
