@@ -152,6 +152,13 @@ class Simplifier {
   bool flip_outer(Index v, Index o);
   bool plan_pillows(const std::vector<std::vector<Index>>& fans, Index n_fans, bool has_home);
   void remove_pillow(const std::vector<Index>& hs, std::vector<Index>& points);
+  bool equalize_digon(Index v, const std::vector<Index>& hs);
+  void undo_digons(std::size_t flips_before);
+  struct Digon {
+    Index o0, o1;   // the outer sides of a fan of two faces
+    double l0, l1;  // their lengths before equalize_digon()
+  };
+  std::vector<Digon> digons_;  // equalized for the removal being planned
   // removal by flattening: the link polygon of a closed fan laid out convex and triangulated
   struct PolygonPlan {
     std::vector<Index> ends;              // a_i: far end of spoke i, corner i of the polygon
@@ -866,6 +873,14 @@ bool Simplifier::flip_outer(Index v, Index o) {
 bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
   std::vector<std::vector<Index>>& fans = fans_;
   std::vector<char>&kind = kind_, &bnd = bnd_;
+  // first, before any fan is planned (plans read the outer sides' lengths): digons to zip
+  for (Index k = 0; k < n_fans; ++k) {
+    bool b = false;
+    if (!fan(rep_[rep_start_[v] + k], fans[k], b)) return false;
+    if (!b && fans[k].size() == 2 && !is_pillow(v, fans[k]) && !removable(v, fans[k], b)) {
+      equalize_digon(v, fans[k]);
+    }
+  }
   for (Index k = 0; k < n_fans; ++k) {
     bool b = false;
     if (!fan(rep_[rep_start_[v] + k], fans[k], b) || (b && n_fans > 1)) return false;
@@ -900,7 +915,70 @@ bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
       if (!fan(rep_[rep_start_[v] + k], fans[k], b) || b) return false;
     }
   }
+  // two fans of two faces glued to each other (a closed surface of v, a, b through two fans of
+  // v): the first zip would glue the second's sides to each other
+  std::vector<Index>& digon_faces = ends_;
+  digon_faces.clear();
+  for (Index k = 0; k < n_fans; ++k) {
+    if (kind[k] == 0 && !bnd[k] && fans[k].size() == 2) {
+      for (Index h : fans[k]) digon_faces.push_back(T::face(h));
+    }
+  }
+  for (Index k = 0; k < n_fans && digon_faces.size() > 2; ++k) {
+    if (kind[k] != 0 || bnd[k] || fans[k].size() != 2) continue;
+    for (Index h : fans[k]) {
+      const Index g = T::face(sd_[T::next(h)].twin);
+      if (std::find(digon_faces.begin(), digon_faces.end(), g) != digon_faces.end()) return false;
+    }
+  }
   return plan_pillows(fans, n_fans, home != kInvalidIndex);
+}
+
+// A closed fan of v of two faces (v, a, b), (v, b, a) whose outer sides differ in length, so
+// that they cannot be zipped (remove_degree_two()), and cannot be flipped out where the faces
+// across them are v's own (the faces of its other fans, removed with it): both outer sides and
+// their partners get the mean length (undone by undo_digons() if v is not removed). The metric
+// changes only in v's star where both faces across have v (they are replaced anyway), else
+// only where the two lengths agree to 1 %. False (nothing changed) when a face across would
+// lose the margin, or the gluing is not that of two faces with two partners outside them.
+bool Simplifier::equalize_digon(Index v, const std::vector<Index>& hs) {
+  const Index o0 = T::next(hs[0]), o1 = T::next(hs[1]);
+  const Index w0 = sd_[o0].twin, w1 = sd_[o1].twin, a = sd_[o0].tail, b = sd_[o1].tail;
+  const Index f0 = T::face(hs[0]), f1 = T::face(hs[1]);
+  if (a == b || a == v || b == v || f0 == f1 || w0 < 0 || w1 < 0 || w0 == o1) return false;
+  const Index g0 = T::face(w0), g1 = T::face(w1);
+  if (g0 == f0 || g0 == f1 || g1 == f0 || g1 == f1) return false;
+  auto has_v = [&](Index g) {
+    return sd_[3 * g].tail == v || sd_[3 * g + 1].tail == v || sd_[3 * g + 2].tail == v;
+  };
+  const double l0 = sd_[o0].len, l1 = sd_[o1].len, mean = 0.5 * (l0 + l1);
+  if (!(has_v(g0) && has_v(g1)) && std::abs(l0 - l1) > 0.01 * std::max(l0, l1)) return false;
+  const double m0 = sd_[w0].len, m1 = sd_[w1].len;  // (= l0, l1 unless glued oddly)
+  sd_[o0].len = sd_[w0].len = sd_[o1].len = sd_[w1].len = mean;
+  auto good = [&](Index g) {  // (with what earlier digons of v changed)
+    return good_triangle(sd_[3 * g].len, sd_[3 * g + 1].len, sd_[3 * g + 2].len);
+  };
+  if (!good(g0) || !good(g1) || !good(f0) || !good(f1)) {
+    sd_[o0].len = l0, sd_[w0].len = m0, sd_[o1].len = l1, sd_[w1].len = m1;
+    return false;
+  }
+  digons_.push_back({o0, o1, l0, l1});
+  return true;
+}
+
+// Puts back the lengths equalize_digon() changed (v was not removed), unless a flip was made
+// since (its new side was measured with them: the equalized metric stays, every face valid).
+// The digons' own faces are never flipped, so their sides still name the edges.
+void Simplifier::undo_digons(std::size_t flips_before) {
+  if (report_.flips != flips_before) {
+    digons_.clear();
+    return;
+  }
+  for (auto it = digons_.rbegin(); it != digons_.rend(); ++it) {
+    sd_[it->o0].len = sd_[sd_[it->o0].twin].len = it->l0;
+    sd_[it->o1].len = sd_[sd_[it->o1].twin].len = it->l1;
+  }
+  digons_.clear();
 }
 
 // The faces of v's fans (from its representatives, which must be exact). False if a walk fails.
@@ -997,10 +1075,13 @@ bool Simplifier::try_remove(Index v) {
   std::vector<char>& bnd = bnd_;
   bnd.assign(n_fans, 0);
   Index home = kInvalidIndex;  // the fan whose coarse face v goes to: the first not a pillow
+  digons_.clear();
+  const std::size_t flips_before = report_.flips;
   const bool ok = plan_fans(v, n_fans, home);
   std::vector<Index>& stack = stack_;
   stack.clear();
   if (!ok) {
+    undo_digons(flips_before);
     for (Index k = 0; k < n_fans; ++k) {
       for (Index h : fans[k]) stack.push_back(T::next(h));
     }
