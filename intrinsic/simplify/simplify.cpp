@@ -937,7 +937,8 @@ bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
 // A closed fan of v of two faces (v, a, b), (v, b, a) whose outer sides differ in length, so
 // that they cannot be zipped (remove_degree_two()), and cannot be flipped out where the faces
 // across them are v's own (the faces of its other fans, removed with it): both outer sides and
-// their partners get the mean length (undone by undo_digons() if v is not removed). The metric
+// their partners get one length, the mean or the nearest one every face they bound keeps the
+// margin with (undone by undo_digons() if v is not removed). The metric
 // changes only in v's star where both faces across have v (they are replaced anyway), else
 // only where the two lengths agree to 1 %. False (nothing changed) when a face across would
 // lose the margin, or the gluing is not that of two faces with two partners outside them.
@@ -951,8 +952,18 @@ bool Simplifier::equalize_digon(Index v, const std::vector<Index>& hs) {
   auto has_v = [&](Index g) {
     return sd_[3 * g].tail == v || sd_[3 * g + 1].tail == v || sd_[3 * g + 2].tail == v;
   };
-  const double l0 = sd_[o0].len, l1 = sd_[o1].len, mean = 0.5 * (l0 + l1);
+  const double l0 = sd_[o0].len, l1 = sd_[o1].len;
   if (!(has_v(g0) && has_v(g1)) && std::abs(l0 - l1) > 0.01 * std::max(l0, l1)) return false;
+  // the length nearest the mean that the four faces' other sides (x, y) allow: |x − y| < L < x + y
+  double lo = 0.0, hi = HUGE_VAL;
+  for (Index side : {o0, o1, w0, w1}) {
+    if (side == w1 && g1 == g0) continue;  // two sides of one face: its third below 2L (checked)
+    const double x = sd_[T::next(side)].len, y = sd_[T::prev(side)].len;
+    lo = std::max(lo, std::abs(x - y) * (1.0 + 1e-6) + 4.0 * kMargin * (x + y));
+    hi = std::min(hi, (x + y) * (1.0 - 1e-6));
+  }
+  if (!(lo < hi)) return false;
+  const double mean = std::clamp(0.5 * (l0 + l1), lo, hi);
   const double m0 = sd_[w0].len, m1 = sd_[w1].len;  // (= l0, l1 unless glued oddly)
   sd_[o0].len = sd_[w0].len = sd_[o1].len = sd_[w1].len = mean;
   auto good = [&](Index g) {  // (with what earlier digons of v changed)
