@@ -877,8 +877,9 @@ bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
   for (Index k = 0; k < n_fans; ++k) {
     bool b = false;
     if (!fan(rep_[rep_start_[v] + k], fans[k], b)) return false;
-    if (!b && fans[k].size() == 2 && !is_pillow(v, fans[k]) && !removable(v, fans[k], b)) {
-      equalize_digon(v, fans[k]);
+    if (multiplicity_ > 1 && !b && fans[k].size() == 2 && !is_pillow(v, fans[k]) &&
+        !removable(v, fans[k], b)) {
+      equalize_digon(v, fans[k]);  // (the tufted cover only: manifold inputs as before)
     }
   }
   for (Index k = 0; k < n_fans; ++k) {
@@ -1150,7 +1151,7 @@ bool Simplifier::try_remove(Index v) {
 // isolated triangle of a point cloud's local triangulations, zipped to its back); larger ones
 // (links a, b, a, b, …) are a few such triangles glued around their edges.
 bool Simplifier::is_pillow(Index v, const std::vector<Index>& hs) const {
-  if (hs.size() < 2 || hs.size() > 64) return false;
+  if (hs.size() < 2 || hs.size() > (multiplicity_ > 1 ? 64 : 2)) return false;  // (D-345)
   for (Index h : hs) {
     const Index o = T::next(h), w = sd_[o].twin;
     if (sd_[o].tail == v || head(o) == v || sd_[o].tail == head(o) || w < 0) return false;
@@ -1187,6 +1188,9 @@ bool Simplifier::plan_pillows(const std::vector<std::vector<Index>>& fans, Index
       inside += std::binary_search(faces.begin(), faces.end(), T::face(rep_[r]));
     }
     if (inside >= rep_end_[u] - rep_start_[u]) {
+      // on a manifold input a pillow is what is left of a real piece (an hourglass's bulb
+      // coarsened to three vertices): its corners keep it
+      if (multiplicity_ == 1) return false;
       orphans_.push_back(u);
     } else if (keeper_ == kInvalidIndex) {
       keeper_ = u;
