@@ -1166,7 +1166,8 @@ bool Simplifier::is_pillow(Index v, const std::vector<Index>& hs) const {
 // them (orphans_: removed too, they go where v goes); keeper_: a corner that keeps a fan (where
 // v goes when it has only pillows), or kInvalidIndex. False when v would have nowhere to go (only
 // pillows, no corner keeping a fan: a component of its own) or the orphans would take the count
-// below the target.
+// below the target; on a manifold input (multiplicity 1) also when there are orphans or v has
+// only pillows (as before D-345).
 bool Simplifier::plan_pillows(const std::vector<std::vector<Index>>& fans, Index n_fans,
                               bool has_home) {
   std::vector<Index>& ends = ends_;
@@ -1196,7 +1197,7 @@ bool Simplifier::plan_pillows(const std::vector<std::vector<Index>>& fans, Index
       keeper_ = u;
     }
   }
-  return (has_home || keeper_ != kInvalidIndex) &&
+  return (has_home || (keeper_ != kInvalidIndex && multiplicity_ > 1)) &&
          alive_count_ - 1 - Index(orphans_.size()) >= target_;
 }
 
