@@ -132,8 +132,7 @@ int run_simplify(const Args& args) {
   // a point cloud's cover without self-edges (a point on its own link cannot be removed: D-345)
   solvers::PrepareOptions prep = prepare_options(args);
   prep.self_edges = false;
-  const PreparedSurface ps =
-      solvers::prepare_surface(read_input(args.positional()[0], args), prep);
+  const PreparedSurface ps = solvers::prepare_surface(read_input(args.positional()[0], args), prep);
   intrinsic::SimplifyOptions o;
   if (args.has("vertices")) o.target_vertices = args.count("vertices");
   if (args.has("ratio")) o.ratio = args.real("ratio");

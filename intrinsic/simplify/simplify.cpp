@@ -208,7 +208,7 @@ class Simplifier {
   std::vector<Index> pillow_points_;
   std::vector<std::pair<Index, Eigen::Vector3d>> moving_bary_;
   PolygonPlan plan_;
-  std::vector<Index> orphans_;     // plan_pillows(): pillow corners that die with v
+  std::vector<Index> orphans_;    // plan_pillows(): pillow corners that die with v
   Index keeper_ = kInvalidIndex;  // plan_pillows(): a pillow corner keeping a fan
   Index target_ = 0;
   bool flatten_ = false;   // second pass: any closed fan may be flattened

@@ -219,10 +219,11 @@ TEST(Simplify, PointCloudReachesItsTarget) {
   for (Index v = 0; v < Index(jittered.positions.rows()); ++v) {
     for (int c = 0; c < 3; ++c) jittered.positions(v, c) += u(rng);
   }
-  const std::pair<Positions, double> clouds[] = {
-      {icosphere(8).positions, 0.3},  {icosphere(11).positions, 0.1},
-      {jittered.positions, 0.1},      {torus_knot_tube(60, 8).positions, 0.2},
-      {range_scan(scan).positions, 0.1}};
+  const std::pair<Positions, double> clouds[] = {{icosphere(8).positions, 0.3},
+                                                 {icosphere(11).positions, 0.1},
+                                                 {jittered.positions, 0.1},
+                                                 {torus_knot_tube(60, 8).positions, 0.2},
+                                                 {range_scan(scan).positions, 0.1}};
   pointcloud::PointCloudOptions po;
   po.self_edges = false;
   for (const auto& [points, ratio] : clouds) {
