@@ -329,7 +329,19 @@ intrinsic::IntrinsicTriangulation pointcloud_triangulation(const Positions& poin
 
   if (options.intrinsic_delaunay) {
     watch.restart();
-    rep.flips = tri.flip_to_delaunay();
+    if (options.self_edges) {
+      rep.flips = tri.flip_to_delaunay();
+    } else {
+      // a flip of edge a–b in the diamond (a, b, c | b, a, d) makes c–d: skipped when c = d
+      rep.flips = tri.flip_to_delaunay([&tri](Index e) {
+        const Index h = tri.edge_halfedge(e), t = tri.twin(h);
+        if (t != kInvalidIndex && tri.tail(intrinsic::IntrinsicTriangulation::prev(h)) ==
+                                      tri.tail(intrinsic::IntrinsicTriangulation::prev(t))) {
+          return false;
+        }
+        return tri.flip_edge(e);
+      });
+    }
     rep.seconds_idt = watch.seconds();
   }
   if (report) *report = std::move(rep);

@@ -22,6 +22,13 @@ struct PointCloudOptions {
   /// finite, ≥ 0.
   double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;
   bool intrinsic_delaunay = true;  ///< flip the cover to intrinsic Delaunay
+  /// false: the flips to intrinsic Delaunay skip a flip whose new edge would join a point to
+  /// itself (a self-edge: a flip of a diamond whose two opposite corners are one point, which
+  /// the Delaunay triangulation of the cover has where a point's fans wind around it), so the
+  /// cover keeps none (it has none before the flips) and is Delaunay everywhere else. What
+  /// intrinsic::simplify needs to reach its target (a point on its own link cannot be removed;
+  /// docs/decisions.md D-345); L and M are then not exactly the Delaunay ones. Default true.
+  bool self_edges = true;
   /// How the local triangles are glued (weights of triangles found in 1, 2, 3 stars):
   /// kNone 1/3, 2/3, 1 (×3 copies); kHalf 1/2, 1/2, 1 (×2); kUnion 1, 1, 1 (×1). See
   /// pointcloud_triangulation().

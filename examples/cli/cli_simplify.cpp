@@ -129,7 +129,10 @@ int run_simplify(const Args& args) {
   if (!ends_with(out, ".ply") && !ends_with(out, ".ifem")) {
     throw UsageError("-o " + out + ": the output is FILE.ply or FILE.ifem");
   }
-  const PreparedSurface ps = prepare_surface(args.positional()[0], args);
+  // a point cloud's cover without self-edges (a point on its own link cannot be removed: D-345)
+  solvers::PrepareOptions prep = prepare_options(args);
+  prep.self_edges = false;
+  const PreparedSurface ps = solvers::prepare_surface(read_input(args.positional()[0], args), prep);
   intrinsic::SimplifyOptions o;
   if (args.has("vertices")) o.target_vertices = args.count("vertices");
   if (args.has("ratio")) o.ratio = args.real("ratio");
@@ -160,8 +163,8 @@ int run_simplify(const Args& args) {
   if (r.stuck > 0) {
     std::printf("%d vertices above the target could not be removed (see --help)%s\n", r.stuck,
                 ps.path == intrinsic::SurfacePath::kPointCloud
-                    ? ": on a point cloud's cover, mostly self-edges at a point that no"
-                      " convex flip removes"
+                    ? ": on a point cloud's cover, mostly points whose link runs between two"
+                      " neighbours only (no triangulation of it without a self-edge)"
                     : "");
   }
   std::printf("area kept: largest change %.3g before the per-component rescale\n",
@@ -195,10 +198,12 @@ Command simplify_command() {
       "vertex with several fans is removed. Every coarse triangle satisfies the triangle\n"
       "inequality with a margin. Nonmanifold meshes and point clouds are simplified on\n"
       "their tufted cover: a vertex with several fans is removed from all at once, and\n"
-      "pillows (an isolated triangle zipped to its back) are deleted. Vertices that\n"
-      "cannot be removed (a self-edge no convex flip removes, a fan with a boundary among\n"
-      "several) are kept and counted: on point clouds this leaves 1.5–4× the target at\n"
-      "10 % (docs/decisions.md D-290, D-325).\n";
+      "pillows (a closed surface of the cover through one point, e.g. an isolated\n"
+      "triangle zipped to its back) are deleted. A point cloud's cover is built here\n"
+      "without self-edges (its Delaunay flips skip those; a point on its own link\n"
+      "cannot be removed), so point clouds reach --ratio 0.1. Vertices that cannot be\n"
+      "removed (a link that no triangulation without a self-edge replaces, a fan with a\n"
+      "boundary among several) are kept and counted (docs/decisions.md D-325, D-345).\n";
   c.spec.groups = {
       {"Options",
        {count("vertices", "N").above(0).explain("stop at N vertices (below the input's count)"),

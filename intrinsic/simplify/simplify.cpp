@@ -150,8 +150,15 @@ class Simplifier {
   bool is_pillow(Index v, const std::vector<Index>& hs) const;
   bool plan_fans(Index v, Index n_fans, Index& home);
   bool flip_outer(Index v, Index o);
-  bool pillows_leave_fans(const std::vector<std::vector<Index>>& fans, Index n_fans);
+  bool plan_pillows(const std::vector<std::vector<Index>>& fans, Index n_fans, bool has_home);
   void remove_pillow(const std::vector<Index>& hs, std::vector<Index>& points);
+  bool equalize_digon(Index v, const std::vector<Index>& hs);
+  void undo_digons(std::size_t flips_before);
+  struct Digon {
+    Index o0, o1;   // the outer sides of a fan of two faces
+    double l0, l1;  // their lengths before equalize_digon()
+  };
+  std::vector<Digon> digons_;  // equalized for the removal being planned
   // removal by flattening: the link polygon of a closed fan laid out convex and triangulated
   struct PolygonPlan {
     std::vector<Index> ends;              // a_i: far end of spoke i, corner i of the polygon
@@ -201,6 +208,9 @@ class Simplifier {
   std::vector<Index> pillow_points_;
   std::vector<std::pair<Index, Eigen::Vector3d>> moving_bary_;
   PolygonPlan plan_;
+  std::vector<Index> orphans_;    // plan_pillows(): pillow corners that die with v
+  Index keeper_ = kInvalidIndex;  // plan_pillows(): a pillow corner keeping a fan
+  Index target_ = 0;
   bool flatten_ = false;   // second pass: any closed fan may be flattened
   std::set<Index> tried_;  // self-edges flip_loops() tried
   Index alive_count_ = 0;
@@ -858,10 +868,20 @@ bool Simplifier::flip_outer(Index v, Index o) {
 // Walks v's fans and readies each for removal (simplify.h): a pillow as it is; a fan flipped
 // down to 3 faces (an ear, 2 zipped faces); else a closed fan planned for flattening (a fan of
 // two faces that cannot be zipped gets an outer side flipped first). `home`: the first fan that
-// is not a pillow. False when some fan cannot be removed (flips made stay).
+// is not a pillow (none: v has only pillows, and goes to a corner of one that keeps a fan).
+// False when some fan cannot be removed (flips made stay).
 bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
   std::vector<std::vector<Index>>& fans = fans_;
   std::vector<char>&kind = kind_, &bnd = bnd_;
+  // first, before any fan is planned (plans read the outer sides' lengths): digons to zip
+  for (Index k = 0; k < n_fans; ++k) {
+    bool b = false;
+    if (!fan(rep_[rep_start_[v] + k], fans[k], b)) return false;
+    if (multiplicity_ > 1 && !b && fans[k].size() == 2 && !is_pillow(v, fans[k]) &&
+        !removable(v, fans[k], b)) {
+      equalize_digon(v, fans[k]);  // (the tufted cover only: manifold inputs as before)
+    }
+  }
   for (Index k = 0; k < n_fans; ++k) {
     bool b = false;
     if (!fan(rep_[rep_start_[v] + k], fans[k], b) || (b && n_fans > 1)) return false;
@@ -896,7 +916,81 @@ bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
       if (!fan(rep_[rep_start_[v] + k], fans[k], b) || b) return false;
     }
   }
-  return home != kInvalidIndex && pillows_leave_fans(fans, n_fans);
+  // two fans of two faces glued to each other (a closed surface of v, a, b through two fans of
+  // v): the first zip would glue the second's sides to each other
+  std::vector<Index>& digon_faces = ends_;
+  digon_faces.clear();
+  for (Index k = 0; k < n_fans; ++k) {
+    if (kind[k] == 0 && !bnd[k] && fans[k].size() == 2) {
+      for (Index h : fans[k]) digon_faces.push_back(T::face(h));
+    }
+  }
+  for (Index k = 0; k < n_fans && digon_faces.size() > 2; ++k) {
+    if (kind[k] != 0 || bnd[k] || fans[k].size() != 2) continue;
+    for (Index h : fans[k]) {
+      const Index g = T::face(sd_[T::next(h)].twin);
+      if (std::find(digon_faces.begin(), digon_faces.end(), g) != digon_faces.end()) return false;
+    }
+  }
+  return plan_pillows(fans, n_fans, home != kInvalidIndex);
+}
+
+// A closed fan of v of two faces (v, a, b), (v, b, a) whose outer sides differ in length, so
+// that they cannot be zipped (remove_degree_two()), and cannot be flipped out where the faces
+// across them are v's own (the faces of its other fans, removed with it): both outer sides and
+// their partners get one length, the mean or the nearest one every face they bound keeps the
+// margin with (undone by undo_digons() if v is not removed). The metric
+// changes only in v's star where both faces across have v (they are replaced anyway), else
+// only where the two lengths agree to 1 %. False (nothing changed) when a face across would
+// lose the margin, or the gluing is not that of two faces with two partners outside them.
+bool Simplifier::equalize_digon(Index v, const std::vector<Index>& hs) {
+  const Index o0 = T::next(hs[0]), o1 = T::next(hs[1]);
+  const Index w0 = sd_[o0].twin, w1 = sd_[o1].twin, a = sd_[o0].tail, b = sd_[o1].tail;
+  const Index f0 = T::face(hs[0]), f1 = T::face(hs[1]);
+  if (a == b || a == v || b == v || f0 == f1 || w0 < 0 || w1 < 0 || w0 == o1) return false;
+  const Index g0 = T::face(w0), g1 = T::face(w1);
+  if (g0 == f0 || g0 == f1 || g1 == f0 || g1 == f1) return false;
+  auto has_v = [&](Index g) {
+    return sd_[3 * g].tail == v || sd_[3 * g + 1].tail == v || sd_[3 * g + 2].tail == v;
+  };
+  const double l0 = sd_[o0].len, l1 = sd_[o1].len;
+  if (!(has_v(g0) && has_v(g1)) && std::abs(l0 - l1) > 0.01 * std::max(l0, l1)) return false;
+  // the length nearest the mean that the four faces' other sides (x, y) allow: |x − y| < L < x + y
+  double lo = 0.0, hi = HUGE_VAL;
+  for (Index side : {o0, o1, w0, w1}) {
+    if (side == w1 && g1 == g0) continue;  // two sides of one face: its third below 2L (checked)
+    const double x = sd_[T::next(side)].len, y = sd_[T::prev(side)].len;
+    lo = std::max(lo, std::abs(x - y) * (1.0 + 1e-6) + 4.0 * kMargin * (x + y));
+    hi = std::min(hi, (x + y) * (1.0 - 1e-6));
+  }
+  if (!(lo < hi)) return false;
+  const double mean = std::clamp(0.5 * (l0 + l1), lo, hi);
+  const double m0 = sd_[w0].len, m1 = sd_[w1].len;  // (= l0, l1 unless glued oddly)
+  sd_[o0].len = sd_[w0].len = sd_[o1].len = sd_[w1].len = mean;
+  auto good = [&](Index g) {  // (with what earlier digons of v changed)
+    return good_triangle(sd_[3 * g].len, sd_[3 * g + 1].len, sd_[3 * g + 2].len);
+  };
+  if (!good(g0) || !good(g1) || !good(f0) || !good(f1)) {
+    sd_[o0].len = l0, sd_[w0].len = m0, sd_[o1].len = l1, sd_[w1].len = m1;
+    return false;
+  }
+  digons_.push_back({o0, o1, l0, l1});
+  return true;
+}
+
+// Puts back the lengths equalize_digon() changed (v was not removed), unless a flip was made
+// since (its new side was measured with them: the equalized metric stays, every face valid).
+// The digons' own faces are never flipped, so their sides still name the edges.
+void Simplifier::undo_digons(std::size_t flips_before) {
+  if (report_.flips != flips_before) {
+    digons_.clear();
+    return;
+  }
+  for (auto it = digons_.rbegin(); it != digons_.rend(); ++it) {
+    sd_[it->o0].len = sd_[sd_[it->o0].twin].len = it->l0;
+    sd_[it->o1].len = sd_[sd_[it->o1].twin].len = it->l1;
+  }
+  digons_.clear();
 }
 
 // The faces of v's fans (from its representatives, which must be exact). False if a walk fails.
@@ -993,10 +1087,13 @@ bool Simplifier::try_remove(Index v) {
   std::vector<char>& bnd = bnd_;
   bnd.assign(n_fans, 0);
   Index home = kInvalidIndex;  // the fan whose coarse face v goes to: the first not a pillow
+  digons_.clear();
+  const std::size_t flips_before = report_.flips;
   const bool ok = plan_fans(v, n_fans, home);
   std::vector<Index>& stack = stack_;
   stack.clear();
   if (!ok) {
+    undo_digons(flips_before);
     for (Index k = 0; k < n_fans; ++k) {
       for (Index h : fans[k]) stack.push_back(T::next(h));
     }
@@ -1026,7 +1123,20 @@ bool Simplifier::try_remove(Index v) {
       for (int s = 0; s < 3; ++s) stack.push_back(3 * f0 + s);
     }
   }
+  if (home == kInvalidIndex) {  // only pillows: v goes to the corner of a neighbour's fan
+    const Index h = rep_[rep_start_[keeper_]];  // (plan_pillows(): it keeps a fan)
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[T::side(h)] = 1.0;
+    move_point(v, T::face(h), e);
+  }
   for (Index p : pillow_points) move_point(p, pt_face_[v], pt_bary_[v]);  // where v went
+  for (Index u : orphans_) {  // corners of v's pillows left without a face: gone with them
+    move_point(u, pt_face_[v], pt_bary_[v]);
+    vertex_alive_[u] = 0;
+    --comp_vertices_[comp_[u]];
+    --alive_count_;
+    ++report_.removals;
+  }
   vertex_alive_[v] = 0;
   --comp_vertices_[comp_[v]];
   --alive_count_;
@@ -1035,50 +1145,87 @@ bool Simplifier::try_remove(Index v) {
   return true;
 }
 
-// A closed fan of two faces (v, a, b), (v, b, a) glued to each other along all three sides: a
-// pillow, a sphere of its own through three pinch points (an isolated triangle of a point
-// cloud's local triangulations, zipped to its back).
+// A pillow: a closed fan of v that is a whole closed surface of its own (every outer side glued
+// to another outer side of the fan; v not on its link), joined to the rest only at pinch
+// points. Its simplest form is two faces (v, a, b), (v, b, a) glued along all three sides (an
+// isolated triangle of a point cloud's local triangulations, zipped to its back); larger ones
+// (links a, b, a, b, …) are a few such triangles glued around their edges.
 bool Simplifier::is_pillow(Index v, const std::vector<Index>& hs) const {
-  if (hs.size() != 2) return false;
-  const Index o0 = T::next(hs[0]), o1 = T::next(hs[1]);
-  const Index a = sd_[o0].tail, b = sd_[o1].tail;
-  return sd_[o0].twin == o1 && T::face(hs[0]) != T::face(hs[1]) && a != b && a != v && b != v;
-}
-
-// True if every vertex of v's pillows (other than v) keeps a fan after they are deleted.
-bool Simplifier::pillows_leave_fans(const std::vector<std::vector<Index>>& fans, Index n_fans) {
-  std::vector<Index>& ends = ends_;
-  ends.clear();
-  for (Index k = 0; k < n_fans; ++k) {
-    if (kind_[k] != 2) continue;
-    for (Index h : fans[k]) ends.push_back(head(h));
-  }
-  std::sort(ends.begin(), ends.end());
-  for (std::size_t i = 0; i < ends.size();) {
-    std::size_t j = i;
-    while (j < ends.size() && ends[j] == ends[i]) ++j;
-    if (Index(j - i) >= rep_end_[ends[i]] - rep_start_[ends[i]]) return false;
-    i = j;
+  if (hs.size() < 2 || hs.size() > (multiplicity_ > 1 ? 64 : 2)) return false;  // (D-345)
+  for (Index h : hs) {
+    const Index o = T::next(h), w = sd_[o].twin;
+    if (sd_[o].tail == v || head(o) == v || sd_[o].tail == head(o) || w < 0) return false;
+    bool inside = false;
+    for (Index x : hs) inside = inside || (w == T::next(x) && T::face(x) != T::face(h));
+    if (!inside) return false;
   }
   return true;
 }
 
-// Deletes the pillow hs of v: its two faces die, its other two corners each lose that fan; the
-// points inside it are appended to `points` (they go where v goes).
+// Checks v's pillows (kind 2): their corners other than v whose every fan lies in them die with
+// them (orphans_: removed too, they go where v goes); keeper_: a corner that keeps a fan (where
+// v goes when it has only pillows), or kInvalidIndex. False when v would have nowhere to go (only
+// pillows, no corner keeping a fan: a component of its own) or the orphans would take the count
+// below the target; on a manifold input (multiplicity 1) also when there are orphans or v has
+// only pillows (as before D-345).
+bool Simplifier::plan_pillows(const std::vector<std::vector<Index>>& fans, Index n_fans,
+                              bool has_home) {
+  std::vector<Index>& ends = ends_;
+  std::vector<Index>& faces = sorted_;
+  ends.clear();
+  faces.clear();
+  orphans_.clear();
+  keeper_ = kInvalidIndex;
+  for (Index k = 0; k < n_fans; ++k) {
+    if (kind_[k] != 2) continue;
+    for (Index h : fans[k]) ends.push_back(head(h)), faces.push_back(T::face(h));
+  }
+  std::sort(ends.begin(), ends.end());
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  std::sort(faces.begin(), faces.end());
+  for (Index u : ends) {
+    Index inside = 0;
+    for (Index r = rep_start_[u]; r < rep_end_[u]; ++r) {
+      inside += std::binary_search(faces.begin(), faces.end(), T::face(rep_[r]));
+    }
+    if (inside >= rep_end_[u] - rep_start_[u]) {
+      // on a manifold input a pillow is what is left of a real piece (an hourglass's bulb
+      // coarsened to three vertices): its corners keep it
+      if (multiplicity_ == 1) return false;
+      orphans_.push_back(u);
+    } else if (keeper_ == kInvalidIndex) {
+      keeper_ = u;
+    }
+  }
+  return (has_home || (keeper_ != kInvalidIndex && multiplicity_ > 1)) &&
+         alive_count_ - 1 - Index(orphans_.size()) >= target_;
+}
+
+// Deletes the pillow hs of v: its faces die, its other corners lose their fans in it; the points
+// inside it are appended to `points` (they go where v goes).
 void Simplifier::remove_pillow(const std::vector<Index>& hs, std::vector<Index>& points) {
+  auto in_pillow = [&](Index f) {
+    for (Index h : hs) {
+      if (T::face(h) == f) return true;
+    }
+    return false;
+  };
   for (Index h : hs) {
-    const Index f = T::face(h), u = head(h);
+    const Index u = head(h);
+    touched_.push_back(u);
+    for (Index k = rep_start_[u]; k < rep_end_[u];) {
+      if (in_pillow(T::face(rep_[k]))) {
+        rep_[k] = rep_[--rep_end_[u]];
+      } else {
+        ++k;
+      }
+    }
+  }
+  for (Index h : hs) {
+    const Index f = T::face(h);
     points.insert(points.end(), pts_[f].begin(), pts_[f].end());
     pts_[f].clear();
     face_alive_[f] = 0;
-    touched_.push_back(u);
-    for (Index k = rep_start_[u]; k < rep_end_[u]; ++k) {
-      const Index fr = T::face(rep_[k]);
-      if (fr == T::face(hs[0]) || fr == T::face(hs[1])) {
-        rep_[k] = rep_[--rep_end_[u]];
-        break;
-      }
-    }
   }
   ++report_.pillows;
 }
@@ -1092,6 +1239,7 @@ void Simplifier::run(Index target, const ProgressCallback& on_progress) {
     if (sd_[h].twin > h) stack.push_back(h);
   }
   delaunay_repair(stack);
+  target_ = target;
   const Index wanted = std::max<Index>(alive_count_ - target, 0);
   ProgressMeter meter(on_progress, "simplify", std::max<Index>(wanted, 1));
   for (int pass = 0; pass < 2 && alive_count_ > target; ++pass) {

@@ -2,7 +2,7 @@
 // space of intrinsic triangulations (Liu, Gillespie, Chislett, Sharp, Jacobson, Crane 2023,
 // "Surface Simplification using Intrinsic Error Metrics"; Shoemaker, Sartor, Peers 2023), with
 // every removed vertex tracked as a point of a coarse face, so the coarse surface keeps a map to
-// the fine one (prolongation: fem/prolongation.h). docs/decisions.md D-220..D-223, D-325.
+// the fine one (prolongation: fem/prolongation.h). docs/decisions.md D-220..D-223, D-325, D-345.
 #pragma once
 
 #include <vector>
@@ -35,7 +35,8 @@ struct SimplifyReport {
   /// vertex's angle defect moves to its neighbours), where flips to 3 faces do not suffice.
   Index flattened = 0;
   /// Pillows deleted: closed fans of two faces glued along all three sides (an isolated
-  /// triangle of a nonmanifold mesh or point cloud, zipped to its back), whose area is dropped.
+  /// triangle of a nonmanifold mesh or point cloud, zipped to its back), whose area is dropped;
+  /// on the tufted cover any closed fan that is a closed surface of its own.
   Index pillows = 0;
   std::size_t flips = 0;  ///< edge flips: to degree 3 / to an ear, and Delaunay repair
   /// Vertices left because none could be removed without breaking a guarantee (the target was
@@ -86,6 +87,16 @@ struct Simplification {
 /// sides (an isolated triangle of a nonmanifold mesh or point cloud, zipped to its back) — is
 /// deleted with the vertex when its two other corners keep another fan (its area is dropped,
 /// its points go where the vertex goes). Flips keep four distinct vertices in their diamond.
+/// On the tufted cover (multiplicity > 1) also (docs/decisions.md D-345): a pillow is any closed
+/// fan that is a closed surface of its own (every outer side glued to another outer side of
+/// the fan); a pillow corner left without a fan is removed with the vertex (it goes where the
+/// vertex goes; never below the target); a vertex whose fans are all pillows goes to a corner
+/// of one that keeps a fan; and a fan of two faces (v, a, b), (v, b, a) whose outer sides differ
+/// in length gets both sides (and their partners) one length, the mean clamped to what the four
+/// faces allow, where the faces across are v's own (removed with it) or the lengths agree to
+/// 1 %: then it is zipped (a metric change in v's star, restored in total by the rescale).
+/// simplify() never makes a self-edge; an input without one (a point cloud's cover built with
+/// pointcloud::PointCloudOptions::self_edges = false, as `ifem simplify` does) keeps none.
 ///
 /// Guarantees (tested): the coarse triangulation validates (every face satisfies the triangle
 /// inequality with a margin); each component keeps its Euler characteristic (see multi-fan
@@ -104,8 +115,9 @@ struct Simplification {
 /// the pinch, so both are kept where no such vertex is removed. A vertex stays (counted in
 /// report.stuck when the target is missed) when it has a self-edge that cannot be flipped away,
 /// a boundary fan among several or at an angle ≥ π, a fan of two faces that cannot be zipped or
-/// opened, no polygon or triangulation keeping the margin, a boundary loop at 3 vertices or a
-/// closed component at 4 vertices. So no valid input is refused for numerical reasons
+/// opened, no polygon or triangulation keeping the margin (a link running between two
+/// neighbours only has none without a self-edge), a boundary loop at 3 vertices or a closed
+/// component at 4 vertices. So no valid input is refused for numerical reasons
 /// (docs/decisions.md D-222, D-325).
 /// The multiplicity (2 on a tufted cover) is kept. simplify(result.coarse) coarsens again.
 /// @throws InvalidInput on bad options (SimplifyOptions::validate()), or a target ≥ #V

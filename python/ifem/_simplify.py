@@ -18,8 +18,10 @@ def simplify(V, F=None, vertices=None, ratio=None, mollify=1e-5, path="auto",
     A vertex that cannot be flipped to degree 3 is removed by flattening (its neighbours'
     polygon laid out convex; ``info['flattened']``). Nonmanifold meshes and point clouds go
     through the tufted cover, whose pillows (isolated triangles zipped to their back) are
-    deleted (``info['pillows']``); vertices that still cannot be removed (a self-edge that cannot
-    be flipped away) are kept and counted in ``info['stuck']``.
+    deleted (``info['pillows']``); a point cloud's cover is built without self-edges (its
+    Delaunay flips skip those), so point clouds reach a ratio of 0.1; vertices that still cannot
+    be removed (a link no triangulation without a self-edge replaces) are kept and counted in
+    ``info['stuck']``.
 
     Args:
         V: #V×3 positions, or a file's path.

@@ -35,7 +35,8 @@ py::tuple simplify(const py::handle& V, const py::handle& F, Index vertices, dou
                    double mollify, const std::string& path, const py::handle& progress,
                    bool tangent) {
   io::SurfaceInput in = surface_input(V, F);
-  const solvers::PrepareOptions po = prepare_options(mollify, path, true, 30);
+  solvers::PrepareOptions po = prepare_options(mollify, path, true, 30);
+  po.self_edges = false;  // a point cloud's cover without self-edges (D-345), as `ifem simplify`
   auto s = std::make_unique<solvers::PreparedSurface>(prepare(std::move(in), po, path));
   py::dict info = surface_info(*s);
   intrinsic::SimplifyOptions o;

@@ -49,6 +49,7 @@ void prepare_point_cloud(const PrepareOptions& opt, PreparedSurface& s, const Pr
   pc.k = opt.knn;
   pc.mollify_relative_epsilon = opt.mollify_relative_epsilon;
   pc.intrinsic_delaunay = opt.intrinsic_delaunay;
+  pc.self_edges = opt.self_edges;
   const Index nv = s.n_input_vertices();
   const bool with_normals = s.input.normals.rows() == nv && nv > 0;
   s.tri = pointcloud::pointcloud_triangulation(s.input.positions, pc,

@@ -79,6 +79,10 @@ struct PrepareOptions {
   bool force_tufted = false;       ///< tufted cover even for an edge-manifold mesh
   bool force_pointcloud = false;   ///< treat a mesh's vertices as a point cloud
   int knn = 30;                    ///< neighbours per point on the point-cloud path, ≥ 2
+  /// Point-cloud path: false keeps the cover free of self-edges (its Delaunay flips skip those
+  /// that would join a point to itself: pointcloud::PointCloudOptions::self_edges), as
+  /// simplification wants (`ifem simplify`, docs/decisions.md D-345).
+  bool self_edges = true;
   std::optional<SurfaceRefineOptions> refine;  ///< refine after the flips when set
   /// Receives one progress line per stage ("read ...", "path: ...", "refined: ..."); none when
   /// empty.

@@ -124,19 +124,26 @@ def test_refusals(cli, args, regex):
     cli.refuse(2, regex, cli.out / "c.ifem", "simplify", cli.spot, *args)
 
 
-def test_point_cloud_keeps_its_invariants_and_names_why_it_stops(cli, tmp_path):
-    """spot's vertices as a point cloud (D-290, D-325): a valid coarse cover (area,
-    Gauss–Bonnet, P) that stops above the target, and the output says why."""
+def test_point_cloud_reaches_its_target_and_keeps_its_invariants(cli, tmp_path):
+    """spot's vertices as a point cloud (D-290, D-325, D-345): the cover without self-edges
+    reaches the target exactly, and the coarse cover is valid (area, Gauss–Bonnet, P)."""
     sweep = sweep_module()
     r = cli.ok("simplify", cli.spot, "--pointcloud", "--knn", "12", "--ratio", "0.2",
                "-o", "c.ifem", "--map", "m.txt", "--quiet")
-    assert "could not be removed" in r.out and "self-edges" in r.out
+    assert "vertices: 2930 -> 586 " in r.out and "could not be removed" not in r.out, r.out
     nvc, nf, mult, sides, c2f, points = sweep.read_ifem(cli.out / "c.ifem")
     area, bad = sweep.check_coarse(nvc, nf, mult, sides, c2f, points)
     assert mult == 4 and not bad, bad
     assert not sweep.check_map(cli.out / "m.txt", len(points))
     assert area == pytest.approx(sweep.input_area(str(cli.exe), str(cli.spot), str(tmp_path),
                                                   ["--pointcloud", "--knn", "12"]), rel=1e-9)
+
+
+def test_point_cloud_names_why_it_stops(cli):
+    """Far below (spot's points to 5 %) some points stay; the output counts them and says why
+    (links between two neighbours only: no triangulation without a self-edge)."""
+    r = cli.ok("simplify", cli.spot, "--pointcloud", "--ratio", "0.05", "-o", "c.ifem", "--quiet")
+    assert "could not be removed" in r.out and "self-edge" in r.out, r.out
 
 
 def test_bad_extension(cli):

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numeric>
 #include <queue>
+#include <random>
 
 #include "fem/connection.h"
 #include "fem/operators.h"
@@ -204,23 +205,38 @@ TEST(Simplify, TuftedCoverOfNonmanifoldMesh) {
 // A point cloud's triangulation (local triangulations merged, tufted, its vertices with many
 // fans, some wound around the point more than once, self-edges): simplified close to the target
 // by flattening, deleting pillows and flipping self-edges away, every invariant kept.
+// Point clouds reach the target: the cover built without self-edges (PointCloudOptions::
+// self_edges = false, as `ifem simplify` builds it), pillows of any size deleted, a point
+// whose fans are all pillows removed (D-345). Clouds of several shapes: a sphere, a jittered
+// sphere (irregular stars), the knot tube's vertices (thin, curved), a range scan's vertices
+// (holes, needle rims, islands).
 TEST(Simplify, PointCloudReachesItsTarget) {
-  // (642 points to 10 % stops at 89 vertices for a target of 64: not asked here)
-  for (const auto& [n, ratio] : {std::pair{8, 0.3}, std::pair{11, 0.3}, std::pair{11, 0.1}}) {
-    const TriangleMesh m = icosphere(n);  // 642 and 1,212 points on the unit sphere
-    const IntrinsicTriangulation fine = pointcloud::pointcloud_triangulation(m.positions);
-    {
-      SimplifyOptions o;
-      o.ratio = ratio;
-      const Simplification s = simplify(fine, o);
-      check(fine, s, /*same_euler=*/false);
-      const double target = std::round(ratio * double(fine.n_vertices()));
-      std::printf("%d points, ratio %.1f: %d vertices (target %.0f), %d flattened, %d pillows\n",
-                  int(fine.n_vertices()), ratio, int(s.coarse.n_vertices()), target,
-                  int(s.report.flattened), int(s.report.pillows));
-      EXPECT_LE(double(s.coarse.n_vertices()), 1.05 * target + 5) << n << " " << ratio;
-      EXPECT_GT(s.report.flattened, 0);
-    }
+  RangeScanOptions scan;
+  scan.nx = scan.ny = 24;
+  TriangleMesh jittered = icosphere(9);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.04, 0.04);
+  for (Index v = 0; v < Index(jittered.positions.rows()); ++v) {
+    for (int c = 0; c < 3; ++c) jittered.positions(v, c) += u(rng);
+  }
+  const std::pair<Positions, double> clouds[] = {{icosphere(8).positions, 0.3},
+                                                 {icosphere(11).positions, 0.1},
+                                                 {jittered.positions, 0.1},
+                                                 {torus_knot_tube(60, 8).positions, 0.2},
+                                                 {range_scan(scan).positions, 0.1}};
+  pointcloud::PointCloudOptions po;
+  po.self_edges = false;
+  for (const auto& [points, ratio] : clouds) {
+    const IntrinsicTriangulation fine = pointcloud::pointcloud_triangulation(points, po);
+    SimplifyOptions o;
+    o.ratio = ratio;
+    const Simplification s = simplify(fine, o);
+    check(fine, s, /*same_euler=*/false);
+    const Index target = Index(std::llround(ratio * double(fine.n_vertices())));
+    SCOPED_TRACE(std::to_string(fine.n_vertices()) + " points, ratio " + std::to_string(ratio));
+    EXPECT_EQ(s.coarse.n_vertices(), target);
+    EXPECT_EQ(s.report.stuck, 0);
+    EXPECT_GT(s.report.flattened, 0);
   }
 }
 

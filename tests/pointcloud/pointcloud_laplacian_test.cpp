@@ -109,6 +109,38 @@ TEST(PointCloudLaplacian, SphereSpectrum) {
   for (int i = 4; i <= 8; ++i) EXPECT_NEAR(lam[i], 6.0, 0.12) << i;
 }
 
+// PointCloudOptions::self_edges = false (what simplification builds, D-345): the Delaunay flips
+// skip those that would join a point to itself, so the cover has no self-edge, and every edge
+// left non-Delaunay is one whose flip would make one. The metric is the same (flips keep it):
+// same total area. The default cover of the same cloud has self-edges (so this checks
+// something).
+TEST(PointCloudLaplacian, CoverWithoutSelfEdges) {
+  const Positions p = fibonacci_sphere(1500, 0.3);
+  auto self_edges = [](const intrinsic::IntrinsicTriangulation& t) {
+    Index n = 0;
+    for (Index h = 0; h < t.n_halfedges(); ++h) n += t.tail(h) == t.head(h);
+    return n;
+  };
+  const Ops with = build(p);
+  PointCloudOptions opt;
+  opt.self_edges = false;
+  const Ops without = build(p, opt);
+  EXPECT_GT(self_edges(with.tri), 0);
+  EXPECT_EQ(self_edges(without.tri), 0);
+  Index skipped = 0;
+  const auto& t = without.tri;
+  for (Index e = 0; e < t.n_edges(); ++e) {
+    if (t.is_delaunay(e)) continue;
+    const Index h = t.edge_halfedge(e), tw = t.twin(h);
+    ASSERT_NE(tw, kInvalidIndex);
+    EXPECT_EQ(t.tail(intrinsic::IntrinsicTriangulation::prev(h)),
+              t.tail(intrinsic::IntrinsicTriangulation::prev(tw)));
+    ++skipped;
+  }
+  EXPECT_GT(skipped, 0);
+  EXPECT_NEAR(without.m.sum(), with.m.sum(), 1e-12 * with.m.sum());
+}
+
 TEST(PointCloudLaplacian, PointOrderInvariance) {
   const Positions p = fibonacci_sphere(700, 0.5, 3);
   const Ops a = build(p);
