@@ -96,7 +96,7 @@ int run_poisson(const Args& args) {
   check_curve_options(args, {});
   check_isoline_options(args);
   if (args.has("curves")) return run_poisson_curves(args, out);
-  // refined (signposts needed): f is interpolated linearly onto the inserted vertices, which lie
+  // refined (a correspondence needed): f is interpolated linearly onto the inserted vertices, which lie
   // on input faces; the Dirichlet vertices are input vertices, which keep their ids
   PoissonInputs in = read_poisson_inputs(args);
   const Index nv = in.nv;

@@ -41,6 +41,19 @@ def test_refine_both_kinds_agree_and_round_trip(spot, tmp_path):
             assert np.array_equal(mine, theirs)
 
 
+def test_default_is_integer(spot):
+    """Integer coordinates by default (D-330), everywhere a refinement takes the keyword."""
+    V, F = spot
+    assert ifem.refine(V, F, min_angle=20).correspondence == "integer"
+    s = ifem.HeatDistanceSolver(V, F, refine=True, resolution=0)
+    assert s.info["correspondence"] == "integer" and not s.info["signposts"]
+    _, info = ifem.poisson(V, F, dirichlet={0: 0.0, 100: 1.0}, refine=True, return_info=True)
+    assert info["correspondence"] == "integer"
+    _, _, info = ifem.eigen(V, F, 2, refine=True, return_info=True)
+    assert info["correspondence"] == "integer"
+    assert ifem.HeatDistanceSolver(V, F).info["correspondence"] is None  # not refined
+
+
 def test_solvers_keyword(spot):
     V, F = spot
     d = {k: ifem.distance(V, F, [0], refine=True, resolution=0, correspondence=k) for k in KINDS}
@@ -71,7 +84,7 @@ def test_bad_choices(spot):
     with pytest.raises(ifem.InvalidInput, match="'ints' is neither 'signposts' nor 'integer'"):
         ifem.refine(V, F, correspondence="ints")
     with pytest.raises(ifem.InvalidInput, match="correspondence only apply with refine=True"):
-        ifem.distance(V, F, [0], correspondence="integer")
+        ifem.distance(V, F, [0], correspondence="signposts")
     with pytest.raises(ifem.InvalidInput, match="neither"):
         ifem.distance(V, F, [0], refine=True, correspondence="exact")
     with pytest.raises(ifem.InvalidInput, match="must be 'signposts' or 'integer'"):

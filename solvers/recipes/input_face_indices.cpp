@@ -9,6 +9,7 @@
 // of the same surface, relative to the input triangulation's transport, plus its share of
 // curvature). The plain intrinsic Delaunay path keeps no signposts; they are rebuilt here with
 // the same construction and flips, which gives back s.tri exactly (checked, bit for bit).
+// Refined with integer coordinates, the same angles come from the integers.
 #include <complex>
 #include <optional>
 
@@ -39,6 +40,29 @@ std::optional<intrinsic::SignpostTriangulation> rebuilt_signposts(const Prepared
   return std::nullopt;
 }
 
+// The same turn with integer coordinates (refined with them, D-330): the angle from the input's
+// reference halfedge to s.tri's at each input vertex, from the integers
+// (angle_from_input_halfedge(): the input corners between them plus the angle inside a wedge).
+Eigen::VectorXi integer_input_face_indices(const intrinsic::NormalCoordinateTriangulation& nc,
+                                           const T& tri, const fem::TangentFrames& frames,
+                                           const Eigen::VectorXcd& u, int symmetry,
+                                           const io::SurfaceInput& given) {
+  const T& input = nc.input();
+  const Index nv = input.n_vertices();
+  Eigen::VectorXcd u_input = Eigen::VectorXcd::Zero(nv);
+  for (Index v = 0; v < nv; ++v) {
+    const Index g = input.vertex_halfedge(v), r = tri.vertex_halfedge(v);
+    if (g == kInvalidIndex || r == kInvalidIndex) continue;
+    const double offset = -frames.angle_scale[v] * nc.angle_from_input_halfedge(r, g);
+    u_input[v] = u[v] * std::polar(1.0, -symmetry * offset);
+  }
+  const Eigen::VectorXi index = face_indices(input, fem::tangent_frames(input), u_input, symmetry);
+  Eigen::VectorXi out = Eigen::VectorXi::Zero(static_cast<Eigen::Index>(given.triangles.size()));
+  const std::vector<Index>& origin = nc.input_face_origin();
+  for (Index f = 0; f < input.n_faces(); ++f) out[origin[f]] += index[f];
+  return out;
+}
+
 }  // namespace
 
 Eigen::VectorXi input_face_indices(const PreparedSurface& s, const fem::TangentFrames& frames,
@@ -49,6 +73,9 @@ Eigen::VectorXi input_face_indices(const PreparedSurface& s, const fem::TangentF
                        std::to_string(s.tri.n_vertices()) + " vertices");
   }
   if (s.path != intrinsic::SurfacePath::kManifold || !s.input.has_faces()) return {};
+  if (s.integer && same_triangulation(s.integer->intrinsic(), s.tri)) {
+    return integer_input_face_indices(*s.integer, s.tri, frames, u, symmetry, s.input);
+  }
   std::optional<intrinsic::SignpostTriangulation> built;
   const intrinsic::SignpostTriangulation* st = s.signposts ? &*s.signposts : nullptr;
   if (st == nullptr || !same_triangulation(st->intrinsic(), s.tri)) {
