@@ -114,6 +114,12 @@ def test_curves_both_kinds_agree(spot):
     p = {k: ifem.poisson(V, F, curves=curves, refine=True, resolution=0.8, correspondence=k)
          for k in KINDS}
     assert np.max(np.abs(p["signposts"] - p["integer"])) <= 1e-9
+    # signed distance to the curves, refined with either kind (the keyword reaches it too)
+    loop = [ifem.Curve([100, 900, 1700], 0.0, closed=True)]
+    sd = {k: ifem.signed_distance(V, F, loop, refine=True, resolution=0.8, correspondence=k)
+          for k in KINDS}
+    assert np.ptp(sd["integer"]) > 0
+    assert np.max(np.abs(sd["signposts"] - sd["integer"])) <= 1e-9
 
 
 def _flat_grid(n=6):

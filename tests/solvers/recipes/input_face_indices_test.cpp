@@ -188,7 +188,7 @@ TEST(InputFaceIndices, IntegerCoordinatesGiveTheSignpostsIndices) {
       const Eigen::VectorXi a = input_face_indices(sp, frames, u, n);
       const Eigen::VectorXi b = input_face_indices(si, frames, u, n);
       ASSERT_EQ(a.size(), Eigen::Index(m.faces.size())) << name;
-      EXPECT_GT(a.cwiseAbs().sum(), Index(m.faces.size()) / 4) << name;
+      EXPECT_GT(a.cwiseAbs().sum(), Index(m.faces.size()) / 8) << name;  // ~20% singular
       EXPECT_EQ(a, b) << name << ", n = " << n;
     }
   }

@@ -118,7 +118,7 @@ TEST(RefineBudget, RangeScanRefinesToFiniteOperators) {
   const solvers::PreparedSurface si = solvers::prepare_surface(io::read_mesh(file.string()), opt);
   ASSERT_TRUE(si.integer.has_value());
   EXPECT_EQ(si.tri.lengths(), s.tri.lengths());
-  const intrinsic::CommonSubdivision ci = intrinsic::common_subdivision(*si.integer);
+  const intrinsic::CommonSubdivision ci = si.correspondence()->common_subdivision();
   EXPECT_GT(ci.crossings, 0u);
 }
 
