@@ -239,8 +239,9 @@ def test_integer_is_the_default_everywhere(cli):
     assert "ifem-integer 1" in r.out, r.describe()
     for command in REFINING:
         h = cli.ok(command, "--help").out
-        i = h.find("--correspondence")
+        i = h.find("--correspondence KIND")  # the option's entry (the prose may name it too)
         assert i >= 0, command
-        text = " ".join(h[i:i + 1200].split())
+        end = h.find("\n  -", i)  # the next option's entry
+        text = " ".join(h[i:end if end > 0 else len(h)].split())
         assert "(default integer" in text, (command, text[:300])
         assert "'signposts'" in text, command
