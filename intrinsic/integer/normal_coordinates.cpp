@@ -905,7 +905,6 @@ Eigen::Vector3d NormalCoordinateTriangulation::halfedge_direction_3d(Index h) co
   return d3.normalized();
 }
 
-
 double NormalCoordinateTriangulation::angle_from_input_halfedge(Index h, Index from) const {
   if (h < 0 || h >= tri_.n_halfedges()) {
     throw InvalidInput("angle_from_input_halfedge: halfedge " + std::to_string(h) +

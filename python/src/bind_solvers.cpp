@@ -236,8 +236,8 @@ class DistanceSolver {
         const std::vector<Index> face_map =
             intrinsic::given_face_map(st, s_.input.triangles.size());
         for (std::size_t i = 0; i < f.size(); ++i) {
-          const SurfacePoint p = intrinsic::given_face_point(st, s_.input.triangles, face_map,
-                                                             f[i], b.row(i), name(i));
+          const SurfacePoint p = intrinsic::given_face_point(st, s_.input.triangles, face_map, f[i],
+                                                             b.row(i), name(i));
           pts[i] = intrinsic::locate_input_point(st, p.face, p.bary);
         }
       }
@@ -292,9 +292,8 @@ class DistanceSolver {
 
   // The point locator of an integer-refined surface (built once, on the first points query).
   const intrinsic::PointLocator& locator() {
-    std::call_once(locator_once_, [this] {
-      locator_.emplace(intrinsic::CorrespondenceView(*s_.integer));
-    });
+    std::call_once(locator_once_,
+                   [this] { locator_.emplace(intrinsic::CorrespondenceView(*s_.integer)); });
     return *locator_;
   }
 

@@ -101,7 +101,7 @@ py::dict surface_info(const solvers::PreparedSurface& s) {
   d["inserted_vertices"] = s.tri.n_vertices() - s.n_input_vertices();
   d["signposts"] = s.signposts.has_value();
   // "integer" / "signposts": how inserted vertices keep their places; None without one
-  d["correspondence"] = s.signposts  ? py::object(py::str("signposts"))
+  d["correspondence"] = s.signposts ? py::object(py::str("signposts"))
                         : s.integer ? py::object(py::str("integer"))
                                     : py::object(py::none());
   d["mean_edge_length"] = s.input_mean_edge_length;

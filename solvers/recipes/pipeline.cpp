@@ -144,7 +144,8 @@ std::string refine_refusal(const PreparedSurface& s, const SurfaceRefineOptions&
   }
   if (r.relax_iterations > 0) {
     return "relaxation moves vertices with signposts or integer coordinates, which the tufted "
-           "cover (" + took + ") does not have";
+           "cover (" +
+           took + ") does not have";
   }
   return "";
 }

@@ -3,8 +3,8 @@
 // returns the source's 3D vector at every vertex, corners included, and a cross field along the
 // boundary of a square or an L is the constant cross, without singularities. Refined or not:
 // after refinement the 3D bases come from the correspondence (tangent_basis_3d; integer
-// coordinates by default, signposts in IntegerCoordinatesGiveTheSignpostsBases), right also at input
-// vertices whose neighbours are all inserted vertices; a refined icosphere checks the same
+// coordinates by default, signposts in IntegerCoordinatesGiveTheSignpostsBases), right also at
+// input vertices whose neighbours are all inserted vertices; a refined icosphere checks the same
 // bases on a curved surface against the sphere's own parallel transport.
 #include <gtest/gtest.h>
 
