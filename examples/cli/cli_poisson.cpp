@@ -96,8 +96,8 @@ int run_poisson(const Args& args) {
   check_curve_options(args, {});
   check_isoline_options(args);
   if (args.has("curves")) return run_poisson_curves(args, out);
-  // refined (signposts needed): f is interpolated linearly onto the inserted vertices, which lie
-  // on input faces; the Dirichlet vertices are input vertices, which keep their ids
+  // refined (a correspondence needed): f is interpolated linearly onto the inserted vertices, which
+  // lie on input faces; the Dirichlet vertices are input vertices, which keep their ids
   PoissonInputs in = read_poisson_inputs(args);
   const Index nv = in.nv;
   const std::vector<Index>& dv = in.dv;

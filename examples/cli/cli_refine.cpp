@@ -1,4 +1,5 @@
-// `ifem refine`: intrinsic Delaunay refinement of a mesh (signposts, Chew's 2nd algorithm).
+// `ifem refine`: intrinsic Delaunay refinement of a mesh (Chew's 2nd algorithm; inserted vertices
+// kept on the input by integer coordinates or signposts).
 #include "cli_refine.h"
 
 #include <cmath>
@@ -51,16 +52,20 @@ OptionGroup refine_options_group(double resolution_default) {
                .explain("with --relax: after each pass split edges longer than L at their\n"
                         "midpoints (the next pass relaxes the new vertices; default: no bound)"),
            text("correspondence", "KIND")
-               .defaults_to("signposts")
+               .defaults_to("integer")
                .explain("how inserted vertices keep their places on the input surface:\n"
-                        "'signposts' (a direction and length per edge, traced in floating\n"
-                        "point) or 'integer' (normal coordinates: how\n"
-                        "many input edges cross each intrinsic edge, so the common\n"
-                        "subdivision's combinatorics are exact integers; for near-degenerate\n"
-                        "meshes where floating-point traces go wrong). With --curves, FlipOut\n"
-                        "draws them on signposts and its flips and insertions are replayed\n"
-                        "on the integer coordinates (the same triangulation).\n"
-                        "Both give the same triangulation and results; tufted-cover\n"
+                        "'integer' (normal coordinates: how many input edges cross each\n"
+                        "intrinsic edge, so the common subdivision's combinatorics are exact\n"
+                        "integers and it partitions the input's faces on every mesh tried)\n"
+                        "or 'signposts' (a direction and length per edge, traced in floating\n"
+                        "point; on a few near-degenerate meshes the traced overlay does not\n"
+                        "cover the input faces exactly, docs/decisions.md D-330). Pick\n"
+                        "signposts to compare with earlier results or other tools that use\n"
+                        "them, or when only the refined mesh is wanted and time counts (a\n"
+                        "little faster on needle-heavy meshes). Both give the same\n"
+                        "triangulation and results. With --curves, FlipOut draws the curves\n"
+                        "on signposts and its flips and insertions are replayed on the\n"
+                        "integer coordinates (the same triangulation). Tufted-cover\n"
                         "refinement (nonmanifold input) uses neither")}};
 }
 
@@ -76,7 +81,7 @@ solvers::SurfaceRefineOptions refine_settings(const Args& args, double default_r
   r.need_signposts = need_signposts;
   try {
     r.correspondence = intrinsic::parse_correspondence(
-        args.has("correspondence") ? args.get("correspondence") : "signposts");
+        args.has("correspondence") ? args.get("correspondence") : "integer");
   } catch (const InvalidInput& e) {
     throw UsageError(std::string("--correspondence: ") + e.what());
   }
@@ -219,15 +224,15 @@ Command refine_command() {
   c.spec.positionals = {"MESH"};
   c.spec.prose =
       "Refines the intrinsic Delaunay triangulation of MESH by inserting circumcenters\n"
-      "(Chew's second algorithm, located on the surface with signposts or integer\n"
-      "coordinates, --correspondence) until every\n"
+      "(Chew's second algorithm, located on the surface with integer coordinates or\n"
+      "signposts, --correspondence) until every\n"
       "triangle has all corner angles ≥ A. The surface itself never changes: inserted\n"
       "vertices lie on the input's triangles. Triangles whose small angle sits at a\n"
       "cone vertex with total angle below the bound (2× it inside) cannot be fixed and\n"
       "are left alone and counted. Needs at least one of -o, --lines, --mesh, --save.\n\n"
       "Supported inputs: edge-manifold, orientable meshes, with or without boundary\n"
       "(nonmanifold and non-orientable meshes are refined on their tufted cover by\n"
-      "`ifem distance --refine` and `ifem eigen --refine`, which need no signposts;\n"
+      "`ifem distance --refine` and `ifem eigen --refine`, which need no correspondence;\n"
       "here they are an error, as are point clouds).\n";
   c.spec.groups = {
       {"Options",
@@ -248,9 +253,9 @@ Command refine_command() {
                      "the surface (property 'inserted')"),
         text("save", "FILE.ifem")
             .explain("the input and the intrinsic triangulation (gluing, lengths, and\n"
-                     "signposts with inserted-vertex locations, or normal coordinates\n"
-                     "with roundabouts and spokes) as text, format 'ifem-signpost 1'\n"
-                     "or 'ifem-integer 1' (--correspondence); ifem view / render\n"
+                     "normal coordinates with roundabouts and spokes, or signposts with\n"
+                     "inserted-vertex locations) as text, format 'ifem-integer 1' or\n"
+                     "'ifem-signpost 1' (--correspondence); ifem view / render\n"
                      "--triangulation read either"),
         flag("ascii").explain("ASCII PLY instead of binary")}},
       refine_options_group(0.0),

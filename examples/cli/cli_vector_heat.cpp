@@ -129,7 +129,8 @@ Command transport_command() {
       "neighbours), oriented consistently by propagation; the transport between\n"
       "neighbours is the minimal rotation of their normals (no --refine there).\n"
       "With --refine the method runs on the refined triangulation; the vectors are\n"
-      "written at the input's vertices, in the directions the signposts place them in.\n";
+      "written at the input's vertices, in the directions the correspondence (integer\n"
+      "coordinates or signposts, --correspondence) places them in.\n";
   c.spec.groups = {
       {"Options",
        {source_option(), text("vector", "X,Y,Z").mandatory().explain("the vector at the source"),

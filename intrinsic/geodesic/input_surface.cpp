@@ -42,16 +42,20 @@ NonManifoldInput manifold_only(const NonManifoldInput& e, const std::string& nee
   return NonManifoldInput(need + ", and this mesh is not: " + why);
 }
 
-std::vector<Index> given_face_map(const SignpostTriangulation& st, std::size_t n_given_faces) {
+std::vector<Index> given_face_map(const std::vector<Index>& input_face_origin,
+                                  std::size_t n_given_faces) {
   std::vector<Index> map(n_given_faces, kInvalidIndex);
-  const std::vector<Index>& origin = st.input_face_origin();
-  for (std::size_t f = 0; f < origin.size(); ++f) {
-    map[static_cast<std::size_t>(origin[f])] = static_cast<Index>(f);
+  for (std::size_t f = 0; f < input_face_origin.size(); ++f) {
+    map[static_cast<std::size_t>(input_face_origin[f])] = static_cast<Index>(f);
   }
   return map;
 }
 
-SurfacePoint given_face_point(const SignpostTriangulation& st,
+std::vector<Index> given_face_map(const SignpostTriangulation& st, std::size_t n_given_faces) {
+  return given_face_map(st.input_face_origin(), n_given_faces);
+}
+
+SurfacePoint given_face_point(const IntrinsicTriangulation& input,
                               const std::vector<Triangle>& given_faces,
                               const std::vector<Index>& face_map, Index face,
                               const Eigen::Vector3d& w, const std::string& name) {
@@ -64,13 +68,20 @@ SurfacePoint given_face_point(const SignpostTriangulation& st,
   SurfacePoint sp;
   sp.face = f;
   for (int s = 0; s < 3; ++s) {
-    const Index corner = st.input().tail(3 * f + s);
+    const Index corner = input.tail(3 * f + s);
     for (int k = 0; k < 3; ++k) {
       if (given[static_cast<std::size_t>(k)] == corner) sp.bary[s] = w[k];
     }
   }
   sp.bary /= sp.bary.sum();
   return sp;
+}
+
+SurfacePoint given_face_point(const SignpostTriangulation& st,
+                              const std::vector<Triangle>& given_faces,
+                              const std::vector<Index>& face_map, Index face,
+                              const Eigen::Vector3d& w, const std::string& name) {
+  return given_face_point(st.input(), given_faces, face_map, face, w, name);
 }
 
 FlipOutReport shorten_through(SignpostTriangulation& st, const std::vector<CurveThrough>& curves,

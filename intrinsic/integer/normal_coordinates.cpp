@@ -905,4 +905,69 @@ Eigen::Vector3d NormalCoordinateTriangulation::halfedge_direction_3d(Index h) co
   return d3.normalized();
 }
 
+double NormalCoordinateTriangulation::angle_from_input_halfedge(Index h, Index from) const {
+  if (h < 0 || h >= tri_.n_halfedges()) {
+    throw InvalidInput("angle_from_input_halfedge: halfedge " + std::to_string(h) +
+                       " out of range [0, " + std::to_string(tri_.n_halfedges()) + ")");
+  }
+  const Index v = tri_.tail(h);
+  if (v >= n_input_vertices()) {
+    throw InvalidInput("angle_from_input_halfedge: halfedge " + std::to_string(h) +
+                       " starts at inserted vertex " + std::to_string(v));
+  }
+  if (from < 0 || from >= input_.n_halfedges() || input_.tail(from) != v) {
+    throw InvalidInput("angle_from_input_halfedge: input halfedge " + std::to_string(from) +
+                       " does not start at vertex " + std::to_string(v));
+  }
+  // h's direction as (an outgoing input halfedge b, the angle from b counter-clockwise)
+  Index b = kInvalidIndex;
+  double alpha = 0.0;
+  const int n = n_[tri_.edge(h)];
+  if (n < 0) {  // along the input edge of spoke r(h)
+    const InputSpoke& s = spokes_[v][r_[h]];
+    const Index eh = input_.edge_halfedge(s.input_edge);
+    const Index in = s.at == 0.0 ? input_.twin(eh) : eh;  // into v (none: v is its tail)
+    b = s.at == 0.0 ? eh : input_.twin(eh);
+    if (b == kInvalidIndex) {  // an incoming boundary side: the far side of its face's corner
+      b = T::next(in);
+      alpha = corner_angle(input_, b);
+    }
+  } else {
+    const WedgeLayout w = wedge_layout(input_, spoke_out(v, spoke_index(v, r_[h], -1)));
+    b = w.ih;
+    if (n == 0) {
+      alpha = wedge_angle(h);
+    } else {  // the first crossing, on the wedge's side opposite v
+      const InputCrossing first = trace_halfedge(h).front();
+      const Index ob = T::next(w.ih);
+      if (input_.edge(ob) != first.input_edge) inconsistent("a first crossing off its wedge");
+      const double s =
+          input_.edge_halfedge(first.input_edge) == ob ? first.input_t : 1.0 - first.input_t;
+      const Eigen::Vector2d x = w.p[(w.j + 1) % 3], y = w.p[(w.j + 2) % 3];
+      alpha = angle_between(x - w.p[w.j], x + s * (y - x) - w.p[w.j]);
+    }
+  }
+  // from `from` to b over the input's corners: counter-clockwise, or clockwise when the fan
+  // ends at the boundary first
+  double acc = 0.0;
+  for (Index cur = from, guard = 0; guard <= input_.n_halfedges(); ++guard) {
+    if (cur == b) return acc + alpha;
+    const Index p = input_.twin(T::prev(cur));
+    if (p == kInvalidIndex) break;
+    acc += corner_angle(input_, cur);
+    cur = p;
+  }
+  acc = 0.0;
+  for (Index cur = from, guard = 0; guard <= input_.n_halfedges(); ++guard) {
+    if (cur == b) return acc + alpha;
+    const Index tw = input_.twin(cur);
+    if (tw == kInvalidIndex) break;
+    cur = T::next(tw);
+    acc -= corner_angle(input_, cur);
+  }
+  throw InvalidInput("angle_from_input_halfedge: halfedge " + std::to_string(h) +
+                     " is not in the fan of faces of input halfedge " + std::to_string(from) +
+                     " at vertex " + std::to_string(v));
+}
+
 }  // namespace ifem::intrinsic

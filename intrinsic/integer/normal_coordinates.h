@@ -164,6 +164,16 @@ class NormalCoordinateTriangulation {
   /// @throws InvalidInput if h is out of range or starts at an inserted vertex, or on
   ///         inconsistent coordinates
   Eigen::Vector3d halfedge_direction_3d(Index h) const;
+  /// The angle at input vertex v = tail(h) from outgoing input halfedge `from` (of input(),
+  /// tail v) counter-clockwise to the direction in which intrinsic halfedge h leaves v, in
+  /// radians of the input's (mollified) corner angles: the sum of the input corners between
+  /// `from` and the wedge h starts in, plus h's angle inside it (found as halfedge_direction_3d()
+  /// finds it, without 3D). Negative when h lies clockwise of `from` in a fan that ends at the
+  /// boundary before reaching h counter-clockwise. What SignpostTriangulation gives as
+  /// halfedge_direction(h) − input_halfedge_direction(from) (modulo Θ_v inside).
+  /// @throws InvalidInput if h is out of range, starts at an inserted vertex, `from` does not
+  ///         start at v, h is not in the fan of faces of `from`, or on inconsistent coordinates
+  double angle_from_input_halfedge(Index h, Index from) const;
 
   /// Checks the integer invariants: per face, the three coordinates admit normal arcs (even
   /// sums, at most one corner with arcs ending at it), roundabouts in range.

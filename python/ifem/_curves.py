@@ -265,7 +265,7 @@ def _specs(curves):
 
 
 def _refine(refine, min_angle, resolution, max_area, max_insertions, conform=True,
-            correspondence="signposts"):
+            correspondence="integer"):
     if not refine:
         return None
     return (float(min_angle), float(resolution), float(max_area),
@@ -303,7 +303,7 @@ def _results(value, lines, info, return_polylines, return_info):
 def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
                   min_angle=25.0, resolution=0.0, max_area=0.0, max_insertions=None,
                   conform=True, mollify=1e-5, max_iterations=None, accept_partial=False,
-                  return_polylines=False, return_info=False, correspondence="signposts"):
+                  return_polylines=False, return_info=False, correspondence="integer"):
     """Solves (L + c·M) u = M f with u held at the curves' values along them.
 
     The curves are inserted as constrained edges of the intrinsic Delaunay triangulation
@@ -338,8 +338,9 @@ def curve_poisson(V, F, curves, rhs=None, dirichlet=None, screening=0.0, refine=
             negative after refinement until every weight is ≥ 0, so that u stays within the
             curves' values (the discrete maximum principle; False: ``--no-conform``).
         correspondence: with refine, how inserted vertices keep their places on the input:
-            ``"signposts"`` or ``"integer"`` (FlipOut's flips and insertions replayed on integer
-            coordinates: the same triangulation and values; ``--correspondence``).
+            ``"integer"`` (default; FlipOut's flips and insertions replayed on integer
+            coordinates: the same triangulation and values) or ``"signposts"``
+            (``--correspondence``).
         mollify: relative mollification margin.
         max_iterations: FlipOut's cap on reroutes while the curves are shortened, all curves
             together (None: 10 × #E + 1000; ``--max-iterations``).
@@ -391,7 +392,7 @@ def curve_distance(V, F, curves, refine=False, *, time_factor=None, correction_s
                    min_angle=25.0, resolution=0.4, max_area=0.0, max_insertions=None,
                    conform=True, mollify=1e-5, max_iterations=None, accept_partial=False,
                    return_polylines=False, return_info=False, path_bounds=True,
-                   correspondence="signposts"):
+                   correspondence="integer"):
     """Geodesic distance to the nearest curve (heat method on the constrained triangulation).
 
     Every vertex on a curve is a source, so the distance is exactly 0 along the curves (not

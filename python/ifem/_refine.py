@@ -190,7 +190,8 @@ class RefinedTriangulation:
         return self._h.from_input(a)
 
     def traced_edges(self):
-        """The intrinsic edges traced over the input surface through the signposts: one k×3
+        """The intrinsic edges traced over the input surface (through the integer coordinates or
+        the signposts, :attr:`correspondence`): one k×3
         array of 3D points per intrinsic edge (edge order), from one endpoint to the other,
         every point on a face of the input (its crossings of the input's edges in between) —
         the lines :func:`view` draws with ``triangulation=``, as ``ifem refine --lines`` writes.
@@ -201,9 +202,10 @@ class RefinedTriangulation:
         return _ifem.traced_edges(self._h)
 
     def save(self, path):
-        """Saves the input and the refined triangulation (gluing, lengths, and signposts with
-        inserted vertices' places, or normal coordinates with roundabouts and spokes) to a text
-        file, format ``ifem-signpost 1`` or ``ifem-integer 1`` (as ``ifem refine --save``);
+        """Saves the input and the refined triangulation (gluing, lengths, and normal
+        coordinates with roundabouts and spokes, or signposts with inserted vertices' places) to
+        a text file, format ``ifem-integer 1`` or ``ifem-signpost 1`` (as ``ifem refine
+        --save``);
         every number with 17 digits, so :func:`load_refined` restores it bit for bit.
 
         Args:
@@ -230,12 +232,13 @@ class RefinedTriangulation:
 
 def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=None, relax=0,
            max_edge=0, mollify=1e-5, memory_budget=None, progress=None,
-           correspondence="signposts"):
+           correspondence="integer"):
     """Intrinsic Delaunay refinement: a triangulation of the same surface with good angles.
 
     The mesh is made intrinsic Delaunay by edge flips, then vertices are inserted at the
     circumcenters of bad triangles, located on the surface by tracing straight lines over it
-    (Chew's second algorithm on signposts), until every triangle has all corner angles ≥
+    (Chew's second algorithm; integer coordinates or signposts keep their places), until
+    every triangle has all corner angles ≥
     ``min_angle`` and, with a size bound, is small enough. The surface never changes: inserted
     vertices lie on the input's triangles and the total area is the input's. Input vertices
     keep their ids ``0 .. #V_in - 1``; inserted vertices follow. Equivalent to ``ifem refine``
@@ -270,11 +273,12 @@ def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=Non
             ``progress(fraction, stage)``, stage ``"refine"``: the insertions made over their
             estimate (0 first, non-decreasing, exactly 1 last).
         correspondence: how inserted vertices keep their places on the input, as ``ifem
-            refine --correspondence``: ``"signposts"`` (directions traced in floating point;
-            or ``"integer"`` (normal coordinates: the common
-            subdivision's combinatorics are exact integers, for near-degenerate input where
-            floating-point traces go wrong). Both give the same triangulation (same
-            insertions, same lengths).
+            refine --correspondence``: ``"integer"`` (default: normal coordinates, so the
+            common subdivision's combinatorics are exact integers and it partitions the input's
+            faces on every mesh tried) or ``"signposts"`` (directions traced in floating point;
+            on a few near-degenerate meshes their overlay does not cover the input faces
+            exactly; for comparison with earlier results). Both give the same triangulation
+            (same insertions, same lengths); docs/decisions.md D-330.
 
     Returns:
         A :class:`RefinedTriangulation`, whose ``report`` dict holds:
@@ -299,7 +303,8 @@ def refine(V, F=None, min_angle=25, resolution=0, max_area=0, max_insertions=Non
         InvalidInput: bad arrays, an option out of range (the message names it), no faces, or
             an estimate over the memory budget.
         NonManifoldInput: a nonmanifold mesh (an edge with 3+ faces; NonOrientableInput for a
-            non-orientable one): refinement needs signposts, which the tufted cover these take
+            non-orientable one): refinement needs integer coordinates or signposts, which the
+            tufted cover these take
             in :func:`ifem.laplacian` does not have.
     """
     mi = None if max_insertions is None else _int(max_insertions, "max_insertions")

@@ -13,7 +13,7 @@ def signed_distance(V, F=None, curves=None, *, points=None, point_normals=None, 
                     time_factor=1.0, level_set="zero-set", refine=False, min_angle=25.0,
                     resolution=0.4, max_area=0.0, max_insertions=None, conform=True,
                     path="auto", knn=30, mollify=1e-5, max_iterations=None, accept_partial=False,
-                    return_info=False):
+                    return_info=False, correspondence="integer"):
     """Signed distance to curves or to oriented points, on meshes and point clouds.
 
     The sources' normals are diffused by the vector heat method (one step (M + t·L∇) Y = Y₀,
@@ -38,8 +38,9 @@ def signed_distance(V, F=None, curves=None, *, points=None, point_normals=None, 
         time_factor: m in t = m·h² (> 0); larger smooths over gaps and noise.
         level_set: 'zero-set' (φ = 0 on the curves' vertices or the points) or 'mean' (the mean
             of φ there is 0; the zero level may move off a broken or noisy curve).
-        refine, min_angle, resolution, max_area, max_insertions, conform: with curves,
-            constrained refinement first (see :func:`curve_poisson`).
+        refine, min_angle, resolution, max_area, max_insertions, conform, correspondence: with
+            curves, constrained refinement first (see :func:`curve_poisson`; correspondence
+            ``"integer"`` by default or ``"signposts"``, the CLI's ``--correspondence``).
         path, knn: with points, the surface path ('auto', 'manifold', 'tufted', 'pointcloud') and
             neighbours on the point-cloud path. Points run on every path, never refined.
         mollify: relative mollification margin.
@@ -66,7 +67,8 @@ def signed_distance(V, F=None, curves=None, *, points=None, point_normals=None, 
         point_normals = None if point_normals is None else np.asarray(point_normals, float)
     d, info = _ifem.signed_distance(
         V, F, normals, specs, points, point_normals,
-        _refine(refine, min_angle, resolution, max_area, max_insertions, conform),
+        _refine(refine, min_angle, resolution, max_area, max_insertions, conform,
+                correspondence),
         float(time_factor), str(level_set), float(mollify), str(path), int(knn),
         _flipout_cap(max_iterations), bool(accept_partial))
     return (d, info) if return_info else d

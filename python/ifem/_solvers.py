@@ -69,7 +69,7 @@ def _surface(mollify, path, knn):
 
 
 def _refine(refine, min_angle, resolution, max_area, max_insertions, default_resolution,
-            correspondence="signposts"):
+            correspondence="integer"):
     """The C++ side's `refine` argument: None, or a dict of the refinement settings."""
     if not isinstance(correspondence, str):
         raise InvalidInput(f"correspondence must be 'signposts' or 'integer', got "
@@ -78,7 +78,7 @@ def _refine(refine, min_angle, resolution, max_area, max_insertions, default_res
         changed = [name for name, value, default in (
             ("min_angle", min_angle, 25.0), ("resolution", resolution, default_resolution),
             ("max_area", max_area, 0.0), ("max_insertions", max_insertions, None),
-            ("correspondence", correspondence, "signposts"))
+            ("correspondence", correspondence, "integer"))
             if not (value is default or value == default)]
         if changed:
             raise InvalidInput(f"{', '.join(changed)} only apply with refine=True")
@@ -166,8 +166,8 @@ class HeatDistanceSolver:
             multiple of h (0.4 here, as in the CLI), area bound (absolute; 0: none), cap on
             inserted vertices (None: the library's).
         correspondence: with ``refine=True``: how inserted vertices keep their places on the
-            input, ``'signposts'`` (default) or ``'integer'`` (normal coordinates: exact
-            combinatorics); the same triangulation and results either way (the CLI's
+            input, ``'integer'`` (default; normal coordinates: exact combinatorics) or
+            ``'signposts'``; the same triangulation and results either way (the CLI's
             ``--correspondence``; :func:`ifem.refine`). With ``curves`` too (FlipOut's steps
             replayed on the integer coordinates).
         precision: ``'double'`` (default): every factor in double. ``'mixed'``: the queries read
@@ -200,7 +200,7 @@ class HeatDistanceSolver:
     def __init__(self, V, F=None, refine=False, *, time_factor=None, correction_steps=None,
                  mollify=1e-5, path="auto", knn=30, min_angle=25.0, resolution=0.4,
                  max_area=0.0, max_insertions=None, precision="double", normals=None,
-                 progress=None, path_bounds=True, solver="direct", correspondence="signposts"):
+                 progress=None, path_bounds=True, solver="direct", correspondence="integer"):
         V, F, normals = _input(V, F, normals)
         self._solver = _ifem.HeatDistanceSolver(
             V, _faces(F), _optional(time_factor, "time_factor", _real),
@@ -222,8 +222,9 @@ class HeatDistanceSolver:
                 ``face`` a row of the input's ``F``, ``b0, b1, b2`` barycentric coordinates of
                 its corners ``F[face, 0], F[face, 1], F[face, 2]`` (≥ 0, summing to 1). They are
                 located on the solver's (flipped, maybe refined) triangulation by tracing along
-                its signposts, so they need an edge-manifold, orientable mesh: on the tufted and
-                point-cloud paths they raise InvalidInput.
+                its signposts, or, refined with integer coordinates, through the common
+                subdivision (built on the first such query), so they need an edge-manifold,
+                orientable mesh: on the tufted and point-cloud paths they raise InvalidInput.
 
         Returns:
             #V_in float64 array: distances in the unit of V's coordinates, in the input's
@@ -286,7 +287,8 @@ class HeatDistanceSolver:
         """dict of what preparation chose and did: ``path``, ``reason``, ``flips``,
         ``mollify_delta``, ``dropped_faces``, ``reoriented_faces``, ``unreferenced_vertices``,
         ``input_vertices``, ``vertices`` / ``faces`` (of the triangulation
-        solved on), ``refined``, ``inserted_vertices``, ``signposts``, ``mean_edge_length``
+        solved on), ``refined``, ``inserted_vertices``, ``signposts`` (refined with signposts),
+        ``correspondence`` (``'integer'``, ``'signposts'`` or None), ``mean_edge_length``
         (h of the input), ``target_edge_length`` (ℓ with a refinement size bound, else 0),
         ``time_factor``, ``correction_steps``, ``step_length`` (the h in t = m·h²; 0 when
         computed from the triangulation, e.g. point clouds) and ``time_step`` (t, in the solver's
@@ -327,7 +329,7 @@ def distance(V, F=None, sources=None, *, points=None, refine=False, time_factor=
              correction_steps=None, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
              resolution=0.4, max_area=0.0, max_insertions=None, precision="double",
              normals=None, curves=None, progress=None, path_bounds=True, solver="direct",
-             correspondence="signposts"):
+             correspondence="integer"):
     """Geodesic distance from vertices (or surface points) in one call, as ``ifem distance``
     (``heat_distance`` is its deprecated old name).
 
@@ -393,7 +395,7 @@ heat_distance = distance
 
 def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, min_angle=25.0,
           resolution=0.0, max_area=0.0, max_insertions=None, return_info=False, normals=None,
-          progress=None, correspondence="signposts", coarse=0, coarse_iterations=0):
+          progress=None, correspondence="integer", coarse=0, coarse_iterations=0):
     """The k smallest Laplace–Beltrami eigenpairs ``L φ = λ M φ``, as ``ifem eigen``.
 
     L is the intrinsic Delaunay cotan Laplacian (positive semi-definite), M the lumped mass;
@@ -451,7 +453,7 @@ def eigen(V, F=None, k=10, refine=False, *, mollify=1e-5, path="auto", knn=30, m
 def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *, mollify=1e-5,
             path="auto", knn=30, min_angle=25.0, resolution=0.0, max_area=0.0,
             max_insertions=None, return_info=False, normals=None, curves=None, progress=None,
-            solver="direct", correspondence="signposts"):
+            solver="direct", correspondence="integer"):
     """Solves ``−Δu + c·u = f`` with Dirichlet values on chosen vertices, as ``ifem poisson``.
 
     Discretely ``(L + c M) u = M f`` (L the intrinsic Delaunay cotan Laplacian, positive
@@ -492,7 +494,8 @@ def poisson(V, F=None, rhs=None, dirichlet=None, screening=0.0, refine=False, *,
     Raises:
         InvalidInput: rhs of the wrong length or with a NaN / inf, bad Dirichlet data (an id out
             of range or repeated, a non-finite value, ids and values of different lengths), a
-            negative screening, bad options; refinement on a mesh without signposts.
+            negative screening, bad options; refinement on a mesh without a correspondence
+            (the tufted cover).
         SolverError: the factorization failed.
     """
     V, F, normals = _input(V, F, normals)

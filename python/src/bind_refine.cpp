@@ -288,7 +288,7 @@ void bind_refine(py::module_& m) {
       });
   m.def("refine", &refine, py::arg("V"), py::arg("F"), py::arg("min_angle"), py::arg("resolution"),
         py::arg("max_area"), py::arg("max_insertions"), py::arg("relax"), py::arg("max_edge"),
-        py::arg("mollify"), py::arg("memory_budget"), py::arg("correspondence") = "signposts",
+        py::arg("mollify"), py::arg("memory_budget"), py::arg("correspondence") = "integer",
         py::arg("progress") = py::none());
   m.def("load_refined", &load, py::arg("path"));
   m.def("transfer", &transfer, py::arg("refined"), py::arg("x"), py::arg("method"),

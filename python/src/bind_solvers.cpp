@@ -7,9 +7,11 @@
 // Surface points as heat sources are given on the INPUT's faces; the solver works on the
 // flipped (and maybe refined) intrinsic triangulation, so they are located on it by tracing from
 // an input corner along the signposts (as intrinsic::insert_surface_point does, without
-// inserting anything). Signposts exist for edge-manifold, orientable meshes: refined ones carry
-// them (PreparedSurface::signposts); unrefined ones get a SignpostTriangulation of the same
-// input flipped the same way, checked to be edge for edge the solver's triangulation.
+// inserting anything), or, refined with integer coordinates (the default), through the common
+// subdivision (intrinsic::PointLocator). Both exist for edge-manifold, orientable meshes:
+// refined ones carry theirs (PreparedSurface::signposts / integer); unrefined ones get a
+// SignpostTriangulation of the same input flipped the same way, checked to be edge for edge the
+// solver's triangulation.
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -31,6 +33,7 @@
 #include "intrinsic/core/timer.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/geodesic/input_surface.h"
+#include "intrinsic/integer/correspondence.h"
 #include "intrinsic/refine/signpost.h"
 
 namespace ifem::python {
@@ -215,13 +218,28 @@ class DistanceSolver {
     {
       const py::gil_scoped_release release;
       const Stopwatch watch;
-      const SignpostTriangulation& st = signposts();
-      const std::vector<Index> face_map = intrinsic::given_face_map(st, s_.input.triangles.size());
       std::vector<SurfacePoint> pts(f.size());
-      for (std::size_t i = 0; i < f.size(); ++i) {
-        const SurfacePoint p = intrinsic::given_face_point(
-            st, s_.input.triangles, face_map, f[i], b.row(i), "points[" + std::to_string(i) + "]");
-        pts[i] = intrinsic::locate_input_point(st, p.face, p.bary);
+      auto name = [](std::size_t i) { return "points[" + std::to_string(i) + "]"; };
+      if (s_.integer) {
+        // integer coordinates: located through the common subdivision (PointLocator, built on
+        // the first points query)
+        const intrinsic::NormalCoordinateTriangulation& nc = *s_.integer;
+        const std::vector<Index> face_map =
+            intrinsic::given_face_map(nc.input_face_origin(), s_.input.triangles.size());
+        for (std::size_t i = 0; i < f.size(); ++i) {
+          pts[i] = intrinsic::given_face_point(nc.input(), s_.input.triangles, face_map, f[i],
+                                               b.row(i), name(i));
+        }
+        pts = locator().input_to_intrinsic(pts);
+      } else {
+        const SignpostTriangulation& st = signposts();
+        const std::vector<Index> face_map =
+            intrinsic::given_face_map(st, s_.input.triangles.size());
+        for (std::size_t i = 0; i < f.size(); ++i) {
+          const SurfacePoint p = intrinsic::given_face_point(st, s_.input.triangles, face_map, f[i],
+                                                             b.row(i), name(i));
+          pts[i] = intrinsic::locate_input_point(st, p.face, p.bary);
+        }
       }
       d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points(pts));
       last_query_seconds_ = watch.seconds();
@@ -272,9 +290,18 @@ class DistanceSolver {
     return *own_;
   }
 
+  // The point locator of an integer-refined surface (built once, on the first points query).
+  const intrinsic::PointLocator& locator() {
+    std::call_once(locator_once_,
+                   [this] { locator_.emplace(intrinsic::CorrespondenceView(*s_.integer)); });
+    return *locator_;
+  }
+
   // Why surface points cannot be located on this surface; "" when they can.
   std::string points_refusal() const {
-    if (s_.signposts || (s_.path == SurfacePath::kManifold && !s_.refined)) return "";
+    if (s_.signposts || s_.integer || (s_.path == SurfacePath::kManifold && !s_.refined)) {
+      return "";
+    }
     return "points need signposts to be located on the solver's flipped triangulation (an "
            "edge-manifold, orientable mesh); this input took the " +
            std::string(intrinsic::to_string(s_.path)) + " path (" + s_.reason_detail +
@@ -304,6 +331,8 @@ class DistanceSolver {
   std::once_flag once_;
   std::optional<SignpostTriangulation> own_;
   std::string mismatch_;  // why own_ could not be built
+  std::once_flag locator_once_;
+  std::optional<intrinsic::PointLocator> locator_;
   mutable std::atomic<double> last_query_seconds_{0.0};
 };
 

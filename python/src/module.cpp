@@ -100,6 +100,10 @@ py::dict surface_info(const solvers::PreparedSurface& s) {
   d["refined"] = s.refined;
   d["inserted_vertices"] = s.tri.n_vertices() - s.n_input_vertices();
   d["signposts"] = s.signposts.has_value();
+  // "integer" / "signposts": how inserted vertices keep their places; None without one
+  d["correspondence"] = s.signposts ? py::object(py::str("signposts"))
+                        : s.integer ? py::object(py::str("integer"))
+                                    : py::object(py::none());
   d["mean_edge_length"] = s.input_mean_edge_length;
   d["target_edge_length"] = s.target_edge_length;
   return d;

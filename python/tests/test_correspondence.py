@@ -41,6 +41,19 @@ def test_refine_both_kinds_agree_and_round_trip(spot, tmp_path):
             assert np.array_equal(mine, theirs)
 
 
+def test_default_is_integer(spot):
+    """Integer coordinates by default (D-330), everywhere a refinement takes the keyword."""
+    V, F = spot
+    assert ifem.refine(V, F, min_angle=20).correspondence == "integer"
+    s = ifem.HeatDistanceSolver(V, F, refine=True, resolution=0)
+    assert s.info["correspondence"] == "integer" and not s.info["signposts"]
+    _, info = ifem.poisson(V, F, dirichlet={0: 0.0, 100: 1.0}, refine=True, return_info=True)
+    assert info["correspondence"] == "integer"
+    _, _, info = ifem.eigen(V, F, 2, refine=True, return_info=True)
+    assert info["correspondence"] == "integer"
+    assert ifem.HeatDistanceSolver(V, F).info["correspondence"] is None  # not refined
+
+
 def test_solvers_keyword(spot):
     V, F = spot
     d = {k: ifem.distance(V, F, [0], refine=True, resolution=0, correspondence=k) for k in KINDS}
@@ -71,7 +84,7 @@ def test_bad_choices(spot):
     with pytest.raises(ifem.InvalidInput, match="'ints' is neither 'signposts' nor 'integer'"):
         ifem.refine(V, F, correspondence="ints")
     with pytest.raises(ifem.InvalidInput, match="correspondence only apply with refine=True"):
-        ifem.distance(V, F, [0], correspondence="integer")
+        ifem.distance(V, F, [0], correspondence="signposts")
     with pytest.raises(ifem.InvalidInput, match="neither"):
         ifem.distance(V, F, [0], refine=True, correspondence="exact")
     with pytest.raises(ifem.InvalidInput, match="must be 'signposts' or 'integer'"):
@@ -101,6 +114,12 @@ def test_curves_both_kinds_agree(spot):
     p = {k: ifem.poisson(V, F, curves=curves, refine=True, resolution=0.8, correspondence=k)
          for k in KINDS}
     assert np.max(np.abs(p["signposts"] - p["integer"])) <= 1e-9
+    # signed distance to the curves, refined with either kind (the keyword reaches it too)
+    loop = [ifem.Curve([100, 900, 1700], 0.0, closed=True)]
+    sd = {k: ifem.signed_distance(V, F, loop, refine=True, resolution=0.8, correspondence=k)
+          for k in KINDS}
+    assert np.ptp(sd["integer"]) > 0
+    assert np.max(np.abs(sd["signposts"] - sd["integer"])) <= 1e-9
 
 
 def _flat_grid(n=6):

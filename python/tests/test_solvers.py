@@ -214,7 +214,7 @@ def test_poisson_refined_matches_cli(tmp_path):
     bc = {5: 0.0, 2000: 1.0}
     expected = poisson_cli(tmp_path, spot(), f, bc, "--refine", "--resolution", 0.8)
     u, info = ifem.poisson(V, F, f, bc, refine=True, resolution=0.8, return_info=True)
-    assert info["refined"] and info["signposts"]
+    assert info["refined"] and info["correspondence"] == "integer"  # the default (D-330)
     assert_close(u, expected)
 
 
@@ -351,8 +351,9 @@ def test_points_at_vertices_equal_vertex_sources():
     assert_close(ifem.heat_distance(V, F, points=p), solver.compute_distance(points=p))
 
 
-@pytest.mark.parametrize("refine", [False, True])
-def test_points_are_located_on_the_flipped_triangulation(refine):
+@pytest.mark.parametrize("refine,correspondence",
+                         [(False, "integer"), (True, "integer"), (True, "signposts")])
+def test_points_are_located_on_the_flipped_triangulation(refine, correspondence):
     # On a flat grid the distance from a point p inside a face is |x − p| up to the heat
     # method's error, which is smooth and nearly a constant offset in the far field. A point
     # located in the wrong place shows there as a tilt: against a point moved by h/2, the
@@ -360,8 +361,10 @@ def test_points_are_located_on_the_flipped_triangulation(refine):
     n = 31
     h = 1.0 / (n - 1)
     V, F, _ = grid(n)
-    solver = ifem.HeatDistanceSolver(V, F, refine=refine)
-    assert solver.info["signposts"] == refine
+    # refined: located through the signposts, or through the common subdivision (integer)
+    solver = ifem.HeatDistanceSolver(V, F, refine=refine, correspondence=correspondence)
+    assert solver.info["correspondence"] == (correspondence if refine else None)
+    assert solver.info["signposts"] == (refine and correspondence == "signposts")
     rng = np.random.default_rng(0)
     centre = np.flatnonzero(np.linalg.norm(V[F].mean(1)[:, :2] - 0.5, axis=1) < 0.1)
     for f in rng.choice(centre, 3, replace=False):

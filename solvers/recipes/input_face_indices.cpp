@@ -9,6 +9,7 @@
 // of the same surface, relative to the input triangulation's transport, plus its share of
 // curvature). The plain intrinsic Delaunay path keeps no signposts; they are rebuilt here with
 // the same construction and flips, which gives back s.tri exactly (checked, bit for bit).
+// Refined with integer coordinates, the same angles come from the integers.
 #include <complex>
 #include <optional>
 
@@ -39,6 +40,29 @@ std::optional<intrinsic::SignpostTriangulation> rebuilt_signposts(const Prepared
   return std::nullopt;
 }
 
+// The indices on the input's faces (s.input.triangles' order) of u given on s.tri, where
+// turn(r, g) is the angle at their common tail from input halfedge g (of `input`)
+// counter-clockwise to s.tri's halfedge r, in radians (modulo the vertex's angle sum inside):
+// u is turned back by it into the input triangulation's angular coordinate at each vertex.
+template <class Turn>
+Eigen::VectorXi indices_through(const PreparedSurface& s, const T& input,
+                                const std::vector<Index>& face_origin,
+                                const fem::TangentFrames& frames, const Eigen::VectorXcd& u,
+                                int symmetry, Turn turn) {
+  const Index nv = input.n_vertices();
+  Eigen::VectorXcd u_input = Eigen::VectorXcd::Zero(nv);
+  for (Index v = 0; v < nv; ++v) {
+    const Index g = input.vertex_halfedge(v), r = s.tri.vertex_halfedge(v);
+    if (g == kInvalidIndex || r == kInvalidIndex) continue;
+    const double offset = -frames.angle_scale[v] * turn(r, g);
+    u_input[v] = u[v] * std::polar(1.0, -symmetry * offset);
+  }
+  const Eigen::VectorXi index = face_indices(input, fem::tangent_frames(input), u_input, symmetry);
+  Eigen::VectorXi out = Eigen::VectorXi::Zero(static_cast<Eigen::Index>(s.input.triangles.size()));
+  for (Index f = 0; f < input.n_faces(); ++f) out[face_origin[f]] += index[f];
+  return out;
+}
+
 }  // namespace
 
 Eigen::VectorXi input_face_indices(const PreparedSurface& s, const fem::TangentFrames& frames,
@@ -49,6 +73,13 @@ Eigen::VectorXi input_face_indices(const PreparedSurface& s, const fem::TangentF
                        std::to_string(s.tri.n_vertices()) + " vertices");
   }
   if (s.path != intrinsic::SurfacePath::kManifold || !s.input.has_faces()) return {};
+  if (s.integer && same_triangulation(s.integer->intrinsic(), s.tri)) {
+    // refined with integer coordinates (D-330): the turn from the integers (the input corners
+    // between the two halfedges plus the angle inside a wedge)
+    const intrinsic::NormalCoordinateTriangulation& nc = *s.integer;
+    return indices_through(s, nc.input(), nc.input_face_origin(), frames, u, symmetry,
+                           [&](Index r, Index g) { return nc.angle_from_input_halfedge(r, g); });
+  }
   std::optional<intrinsic::SignpostTriangulation> built;
   const intrinsic::SignpostTriangulation* st = s.signposts ? &*s.signposts : nullptr;
   if (st == nullptr || !same_triangulation(st->intrinsic(), s.tri)) {
@@ -56,23 +87,11 @@ Eigen::VectorXi input_face_indices(const PreparedSurface& s, const fem::TangentF
     if (!built) return {};
     st = &*built;
   }
-  const T& input = st->input();
-  const Index nv = input.n_vertices();
-  // u in the input triangulation's coordinates: turned back by the angle (in s.tri's
-  // coordinate) of the input's reference halfedge
-  Eigen::VectorXcd u_input = Eigen::VectorXcd::Zero(nv);
-  for (Index v = 0; v < nv; ++v) {
-    const Index g = input.vertex_halfedge(v), r = s.tri.vertex_halfedge(v);
-    if (g == kInvalidIndex || r == kInvalidIndex) continue;
-    const double offset =
-        frames.angle_scale[v] * (st->input_halfedge_direction(g) - st->halfedge_direction(r));
-    u_input[v] = u[v] * std::polar(1.0, -symmetry * offset);
-  }
-  const Eigen::VectorXi index = face_indices(input, fem::tangent_frames(input), u_input, symmetry);
-  Eigen::VectorXi out = Eigen::VectorXi::Zero(static_cast<Eigen::Index>(s.input.triangles.size()));
-  const std::vector<Index>& origin = st->input_face_origin();
-  for (Index f = 0; f < input.n_faces(); ++f) out[origin[f]] += index[f];
-  return out;
+  // the signposts: both directions in s.tri's angular coordinate at the vertex
+  return indices_through(s, st->input(), st->input_face_origin(), frames, u, symmetry,
+                         [&](Index r, Index g) {
+                           return st->halfedge_direction(r) - st->input_halfedge_direction(g);
+                         });
 }
 
 }  // namespace ifem::solvers

@@ -139,13 +139,14 @@ std::string refine_refusal(const PreparedSurface& s, const SurfaceRefineOptions&
                            " path (" + s.reason_detail + ")";
   if (r.need_signposts) {
     return took +
-           ": refinement then runs on the tufted cover, without signposts, so inserted vertices "
-           "have no place on the input; distance and eigen support that, this operation needs "
-           "signposts (edge-manifold, orientable meshes only)";
+           ": refinement then runs on the tufted cover, without signposts or integer "
+           "coordinates, so inserted vertices have no place on the input; distance and eigen "
+           "support that, this operation needs them (edge-manifold, orientable meshes only)";
   }
   if (r.relax_iterations > 0) {
-    return "relaxation moves vertices with signposts, which the tufted cover (" + took +
-           ") does not have";
+    return "relaxation moves vertices with signposts or integer coordinates, which the tufted "
+           "cover (" +
+           took + ") does not have";
   }
   return "";
 }

@@ -2,7 +2,8 @@
 // benchmark and library users go:
 //
 //   file / arrays ──► prepare_surface(): path (manifold | tufted | point cloud), mollify,
-//                     intrinsic Delaunay flips, optional refinement (signposts or tufted cover)
+//                     intrinsic Delaunay flips, optional refinement (integer coordinates or
+//                     signposts; the tufted cover)
 //                 ──► recipes: geodesic_distance(), eigenmodes(), poisson()
 //                 ──► results on the input's vertices, in the input's order (on_input_vertices)
 //
@@ -40,9 +41,10 @@ struct SurfaceRefineOptions {
   Index max_insertions = -1;    ///< cap on inserted vertices; −1 = RefineOptions' default
   int relax_iterations = 0;     ///< ODT relaxation passes of the inserted vertices
   double relax_max_edge = 0.0;  ///< with relaxation: split edges longer than this (absolute)
-  /// Require signposts (inserted vertices' places on the input, needed to carry input data onto
-  /// inserted vertices and for the common subdivision): refuse the tufted path instead of
-  /// refining the cover without them.
+  /// Require a correspondence with the input (integer coordinates or signposts, `correspondence`:
+  /// inserted vertices' places on the input, needed to carry input data onto inserted vertices
+  /// and for the common subdivision): refuse the tufted path instead of refining the cover
+  /// without one. (The name predates integer coordinates.)
   bool need_signposts = false;
   /// Memory budget, bytes (RefineOptions::max_memory_bytes): a request whose estimate
   /// (intrinsic::estimate_refinement()) exceeds it is refused up front. 0: half the physical
@@ -52,11 +54,13 @@ struct SurfaceRefineOptions {
   /// after refinement (RefineOptions::conform), so the maximum principle holds.
   bool conform = true;
   /// How inserted vertices keep their places on the input (edge-manifold, orientable meshes;
-  /// the tufted cover has neither): signposts (real directions) or integer coordinates (normal
-  /// coordinates: the overlay's combinatorics are exact integers). Both give the same
-  /// intrinsic triangulation (same insertions, same lengths; after relaxation, the same moves
-  /// and lengths to rounding).
-  intrinsic::Correspondence correspondence = intrinsic::Correspondence::kSignposts;
+  /// the tufted cover has neither): integer coordinates (normal coordinates: the overlay's
+  /// combinatorics are exact integers, so the common subdivision partitions the input faces on
+  /// every input tried; the default, docs/decisions.md D-330) or signposts (real directions,
+  /// traced in floating point). Both give the same intrinsic triangulation (same insertions,
+  /// same lengths; after relaxation, the same moves and lengths to rounding). Integer
+  /// refinement fills PreparedSurface::integer, signposts PreparedSurface::signposts.
+  intrinsic::Correspondence correspondence = intrinsic::Correspondence::kInteger;
   /// @throws InvalidInput naming the field and its allowed range
   void validate() const;
 };
@@ -219,7 +223,8 @@ EigenPairs eigenmodes(const PreparedSurface& s, Index k, const EigenOptions& opt
 /// Solves (L + c·M) u = M f on s.tri with u fixed on Dirichlet input vertices; f is given on the
 /// input's vertices (#V_in) and carried onto inserted vertices (from_input_vertices). Returns u
 /// on the input's vertices, #V_in. Conventions as solve_poisson().
-/// @throws InvalidInput on sizes, ids out of [0, #V_in) or inserted vertices without signposts
+/// @throws InvalidInput on sizes, ids out of [0, #V_in) or inserted vertices without a
+///         correspondence (refined on the tufted cover)
 Eigen::VectorXd poisson(const PreparedSurface& s, const Eigen::VectorXd& f,
                         const std::vector<Index>& dirichlet_vertices,
                         const Eigen::VectorXd& dirichlet_values,

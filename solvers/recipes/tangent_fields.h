@@ -105,7 +105,9 @@ TangentFieldResult direction_field_on(const PreparedSurface& s, const FieldOptio
 /// where s.tri is the input (no flips) they equal face_indices() on s.tri. Faces the build dropped
 /// (a repeated vertex) get 0. The signposts are s.signposts, or, on the plain intrinsic Delaunay
 /// path, rebuilt from the input with s's mollification and flips (O(#F) more work) and checked to
-/// give back s.tri exactly. Empty when they do not, and off the manifold path.
+/// give back s.tri exactly; refined with integer coordinates (s.integer), the same directions
+/// come from the integers (NormalCoordinateTriangulation::angle_from_input_halfedge()). Empty
+/// when neither gives back s.tri, and off the manifold path.
 /// @param frames fem::tangent_frames(s.tri); u the field on s.tri's vertices (power
 ///        representation, solvers/vector/direction_field.h)
 /// @throws InvalidInput if u or frames do not have s.tri's vertex count

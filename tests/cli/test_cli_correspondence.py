@@ -224,3 +224,24 @@ def test_transfer_both_ways_both_kinds(cli):
               o / "short.txt", "-o", o / "u.txt")
     h = cli.ok("transfer", "--help").out
     assert "pointwise" in h and "Galerkin" in h and "--back" in h
+
+
+# every command that refines takes --correspondence (issue 33 item 3; D-330)
+REFINING = ("refine", "distance", "eigen", "poisson", "field", "transport", "logmap", "transfer")
+
+
+def test_integer_is_the_default_everywhere(cli):
+    """Integer coordinates by default (D-330): `refine --save` writes 'ifem-integer 1' without
+    the option, and every refining command's help names both kinds, integer as the default."""
+    o = cli.out
+    r = cli.ok("refine", cli.spot, "--min-angle", 20, "--save", o / "default.ifem")
+    assert (o / "default.ifem").read_text().split("\n", 1)[0] == "ifem-integer 1"
+    assert "ifem-integer 1" in r.out, r.describe()
+    for command in REFINING:
+        h = cli.ok(command, "--help").out
+        i = h.find("--correspondence KIND")  # the option's entry (the prose may name it too)
+        assert i >= 0, command
+        end = h.find("\n  -", i)  # the next option's entry
+        text = " ".join(h[i:end if end > 0 else len(h)].split())
+        assert "(default integer" in text, (command, text[:300])
+        assert "'signposts'" in text, command

@@ -111,7 +111,7 @@ def test_refine(cli):
     angles = re.findall(r"([0-9.]+)° refined", r.out)
     assert angles and float(angles[0]) >= 28, r.describe()
     assert grep("property int intrinsic_face", head_bytes(o / "spot_cs.ply", 1000))
-    assert lines(o / "spot.ifem")[0] == "ifem-signpost 1"
+    assert lines(o / "spot.ifem")[0] == "ifem-integer 1"  # the default correspondence (D-330)
 
 
 # relaxation with long-edge splits: more vertices than refinement alone

@@ -587,6 +587,50 @@ TEST(NormalCoordinates, DelaunayRefineAgreesOnRandomMeshes) {
   }
 }
 
+// angle_from_input_halfedge() (D-330): the angle at an input vertex from an input halfedge to an
+// intrinsic one, from the integers, is the signposts' difference of directions (modulo Θ at an
+// interior vertex), for every intrinsic halfedge leaving an input vertex and every input
+// halfedge there, after a refinement that leaves input vertices with only inserted neighbours;
+// on a closed surface with needles and on a jittered grid with boundary.
+TEST(NormalCoordinates, AngleFromInputHalfedgeIsTheSignpostsTurn) {
+  const std::vector<TriangleMesh> meshes = {test::jittered(uv_sphere(8, 24), 0.05, 2),
+                                            test::jittered(grid(7, 6), 0.3, 4)};
+  for (const TriangleMesh& m : meshes) {
+    NormalCoordinateTriangulation nc(m.faces, m.positions);
+    SignpostTriangulation st(m.faces, m.positions);
+    RefineOptions o;
+    o.min_angle_degrees = 28.0;
+    o.max_area = 0.2 * total_area(nc.input()) / double(m.faces.size());
+    ASSERT_EQ(delaunay_refine(nc, o).insertions, delaunay_refine(st, o).insertions);
+    const IntrinsicTriangulation& tri = nc.intrinsic();
+    const IntrinsicTriangulation& input = nc.input();
+    double worst = 0.0;
+    Index checked = 0, crossing = 0, inside = 0;
+    for (Index h = 0; h < tri.n_halfedges(); ++h) {
+      const Index v = tri.tail(h);
+      if (v >= nc.n_input_vertices()) continue;
+      const int n = nc.normal_coordinate(tri.edge(h));
+      crossing += n > 0;
+      inside += n == 0;
+      for (Index g = 0; g < input.n_halfedges(); ++g) {
+        if (input.tail(g) != v) continue;
+        double want = st.halfedge_direction(h) - st.input_halfedge_direction(g);
+        const double theta = st.vertex_angle_sum(v);
+        if (!st.is_boundary_vertex(v)) want -= theta * std::round(want / theta);
+        double got = nc.angle_from_input_halfedge(h, g);
+        if (!st.is_boundary_vertex(v)) got -= theta * std::round((got - want) / theta);
+        worst = std::max(worst, std::abs(got - want));
+        ++checked;
+      }
+    }
+    EXPECT_GT(crossing, 20);  // directions from a first crossing
+    EXPECT_GT(inside, 5);     // and from inside a wedge (n = 0)
+    EXPECT_GT(checked, 500);
+    EXPECT_LT(worst, 1e-9);
+    EXPECT_THROW(nc.angle_from_input_halfedge(tri.n_halfedges(), 0), InvalidInput);
+  }
+}
+
 // Constrained refinement (a curve of input edges across a grid, EdgeConstraints): both
 // representations make the same insertions and lengths, every constrained edge (the curve's
 // pieces after splits) runs along the input edge it came from (n = −1), and the common

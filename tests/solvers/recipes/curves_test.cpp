@@ -142,7 +142,7 @@ TEST(CurvePoisson, VertexStaircaseIsOffByOrderH) {
 
 // Values linear in arc length between control points: on a straight curve along a row every
 // vertex of the curve (input vertices, and the vertices refinement inserts on it, located by
-// their signposts) carries exactly the interpolated value of its x.
+// the correspondence) carries exactly the interpolated value of its x.
 TEST(CurvePoisson, ValuesVaryLinearlyInArcLength) {
   const int n = 12, row = 6;
   auto expect = [&](double x) {
@@ -160,8 +160,10 @@ TEST(CurvePoisson, ValuesVaryLinearlyInArcLength) {
     if (refine) {
       EXPECT_GT(ch.vertices.size(), std::size_t(n + 1));
     }
+    // signposts without refinement, integer coordinates (the default) when refined
+    const Positions where = s.surface.correspondence()->vertex_positions();
     for (const Index v : ch.vertices) {
-      const double x = s.surface.signposts->position(s.surface.signposts->vertex_location(v)).x();
+      const double x = where(v, 0);
       EXPECT_NEAR(r.u_intrinsic[v], expect(x), 1e-9) << "vertex " << v << " refine " << refine;
     }
     for (int i = 0; i <= n; ++i) EXPECT_NEAR(r.u[grid_id(n, i, row)], expect(double(i) / n), 1e-12);

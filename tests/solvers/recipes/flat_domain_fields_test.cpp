@@ -2,8 +2,9 @@
 // boundary vertices keep their true angles (fem/connection.h), so on the manifold path transport
 // returns the source's 3D vector at every vertex, corners included, and a cross field along the
 // boundary of a square or an L is the constant cross, without singularities. Refined or not:
-// after refinement the 3D bases come from the signposts (tangent_basis_3d), right also at input
-// vertices whose neighbours are all inserted vertices; a refined icosphere checks the same
+// after refinement the 3D bases come from the correspondence (tangent_basis_3d; integer
+// coordinates by default, signposts in IntegerCoordinatesGiveTheSignpostsBases), right also at
+// input vertices whose neighbours are all inserted vertices; a refined icosphere checks the same
 // bases on a curved surface against the sphere's own parallel transport.
 #include <gtest/gtest.h>
 
@@ -72,7 +73,7 @@ double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 // plane z = 0, its length kept): exact up to round-off (the connection is flat: see
 // vector_heat_test's FlatDomainsWithCornersTransportExactly), at every vertex; refined too,
 // where some input vertices have only inserted neighbours (asserted, so that the 3D bases from
-// the signposts are what is tested there).
+// the correspondence are what is tested there).
 TEST(FlatDomainFields, TransportOnReturnsTheSourcesVectorEverywhere) {
   for (const bool l_shape : {false, true}) {
     for (const bool refine : {false, true}) {
@@ -110,7 +111,7 @@ TEST(FlatDomainFields, TransportOnReturnsTheSourcesVectorEverywhere) {
 }
 
 // On a refined icosphere (a curved surface: the bases' normals are the faces' and the
-// directions the signposts') transport_on agrees with the sphere's parallel transport along
+// directions the correspondence's) transport_on agrees with the sphere's parallel transport along
 // great circles (the rotation about p × q taking p to q) at the input vertices within 120° of
 // the source, the all-inserted one-rings included, to the discretization error; its vectors are
 // tangent to the sphere and all as long as the source's (the given vector projected to the
@@ -181,7 +182,7 @@ TEST(FlatDomainFields, CrossFieldAlongTheBoundaryIsConstant) {
       EXPECT_EQ(r.face_singularity.cwiseAbs().sum(), 0);
       EXPECT_LT(r.energy, 1e-12);
       // in 3D: arms along x and y at every input vertex, those with only inserted neighbours
-      // included (their bases come from the signposts)
+      // included (their bases come from the correspondence)
       const std::vector<char> lonely = inserted_one_rings(s);
       if (refine) {
         EXPECT_GT(count(lonely), 0) << "no input vertex with an all-inserted one-ring";

@@ -7,7 +7,9 @@
 #include <cmath>
 #include <complex>
 #include <filesystem>
+#include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "intrinsic/io/mesh_io.h"
@@ -62,7 +64,7 @@ TEST_P(InputFaceIndices, SumToNChiAfterFlipsAndRefinement) {
       const PreparedSurface s = prepare_surface(test::as_input(m.mesh), o);
       ASSERT_EQ(s.path, intrinsic::SurfacePath::kManifold);
       EXPECT_GT(s.flips.flips, 0u);
-      EXPECT_EQ(s.signposts.has_value(), refine);
+      EXPECT_EQ(s.integer.has_value(), refine);  // the default correspondence (D-330)
       FieldOptions settings;
       settings.symmetry = n;
       const TangentFieldResult r = direction_field_on(s, settings);
@@ -149,6 +151,46 @@ TEST(InputFaceIndices, MatchTheInputTriangulationsOwnOnAPlane) {
     EXPECT_EQ(got, expected) << n;
     // the two singularities inside, and the square's corners (a boundary that turns)
     EXPECT_GE(expected.cwiseAbs().sum(), 2 * n) << n;
+  }
+}
+
+// Refined with integer coordinates, the input vertices' turn from the input's reference
+// halfedge to the refined triangulation's comes from the integers: the same per-face indices as
+// with signposts, for a field with singularities nearly everywhere (a wrong turn at one vertex
+// changes its faces' indices), on a closed surface with needles and on a plane with boundary.
+TEST(InputFaceIndices, IntegerCoordinatesGiveTheSignpostsIndices) {
+  intrinsic::TriangleMesh plane = test::jittered(intrinsic::grid(12, 12), 0.4 / 12, 3);
+  plane.positions.col(2).setZero();
+  const std::vector<std::pair<const char*, intrinsic::TriangleMesh>> meshes = {
+      {"jittered uv sphere", test::jittered(intrinsic::uv_sphere(10, 30), 0.05)},
+      {"jittered plane", plane}};
+  for (const auto& [name, m] : meshes) {
+    PrepareOptions o;
+    o.refine = SurfaceRefineOptions{};
+    o.refine->resolution = 0.7;
+    o.refine->correspondence = intrinsic::Correspondence::kSignposts;
+    const PreparedSurface sp = prepare_surface(test::as_input(m), o);
+    o.refine->correspondence = intrinsic::Correspondence::kInteger;
+    const PreparedSurface si = prepare_surface(test::as_input(m), o);
+    ASSERT_TRUE(sp.signposts && si.integer) << name;
+    ASSERT_EQ(sp.tri.lengths(), si.tri.lengths()) << name;
+    const fem::TangentFrames frames = fem::tangent_frames(si.tri);
+    Index turned = 0;  // input vertices whose reference halfedge is no longer an input edge
+    for (Index v = 0; v < si.n_input_vertices(); ++v) {
+      turned += si.integer->normal_coordinate(si.tri.edge(si.tri.vertex_halfedge(v))) >= 0;
+    }
+    EXPECT_GT(turned, 20) << name;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> angle(-kPi, kPi);
+    for (const int n : {1, 2, 4}) {
+      Eigen::VectorXcd u(si.tri.n_vertices());
+      for (Index v = 0; v < si.tri.n_vertices(); ++v) u[v] = std::polar(1.0, angle(rng));
+      const Eigen::VectorXi a = input_face_indices(sp, frames, u, n);
+      const Eigen::VectorXi b = input_face_indices(si, frames, u, n);
+      ASSERT_EQ(a.size(), Eigen::Index(m.faces.size())) << name;
+      EXPECT_GT(a.cwiseAbs().sum(), Index(m.faces.size()) / 8) << name;  // ~20% singular
+      EXPECT_EQ(a, b) << name << ", n = " << n;
+    }
   }
 }
 

@@ -89,7 +89,8 @@ TEST(Pipeline, NegativeBoundaryWeightsAreRefinable) {
   opt.refine = SurfaceRefineOptions{};
   const PreparedSurface r = prepare_surface(test::as_input(m), opt);
   EXPECT_EQ(r.path, SurfacePath::kManifold);
-  EXPECT_TRUE(r.signposts.has_value());
+  EXPECT_TRUE(r.integer.has_value());  // the default correspondence (D-330)
+  EXPECT_FALSE(r.signposts.has_value());
   EXPECT_EQ(intrinsic::negative_boundary_weights(r.tri), 0);
   EXPECT_NEAR(intrinsic::total_area(r.tri), intrinsic::total_area(s.tri), 1e-9);
 }
@@ -108,7 +109,7 @@ TEST(Pipeline, RefinementKeepsInputIdsAndCarriesData) {
   Eigen::VectorXd f(s.n_input_vertices());
   for (Index v = 0; v < f.size(); ++v) f[v] = 2 * m.positions(v, 0) - m.positions(v, 1);
   const Eigen::VectorXd g = from_input_vertices(s, f);
-  const Positions x = s.signposts->vertex_positions();
+  const Positions x = s.correspondence()->vertex_positions();
   for (Index v = 0; v < g.size(); ++v) ASSERT_NEAR(g[v], 2 * x(v, 0) - x(v, 1), 1e-12);
   EXPECT_EQ(on_input_vertices(s, g), f);
   EXPECT_THROW(on_input_vertices(s, Eigen::VectorXd(3)), InvalidInput);
@@ -125,6 +126,7 @@ TEST(Pipeline, RefusalsAreTyped) {
   const PreparedSurface t = prepare_surface(test::as_input(book()), opt);  // refined on the cover
   EXPECT_TRUE(t.refined);
   EXPECT_FALSE(t.signposts.has_value());
+  EXPECT_FALSE(t.integer.has_value());
   EXPECT_GT(t.tri.n_vertices(), t.n_input_vertices());
   // no signposts: input data cannot reach inserted vertices
   EXPECT_THROW(from_input_vertices(t, Eigen::VectorXd::Zero(5)), InvalidInput);

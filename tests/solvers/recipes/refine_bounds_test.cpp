@@ -100,6 +100,9 @@ TEST(RefineBudget, RangeScanRefinesToFiniteOperators) {
   solvers::PrepareOptions opt;
   opt.refine = solvers::SurfaceRefineOptions{};
   opt.refine->need_signposts = true;
+  // the signposts' overlay (the memory budget applies to it); the default correspondence's is
+  // checked below
+  opt.refine->correspondence = intrinsic::Correspondence::kSignposts;
   const solvers::PreparedSurface s = solvers::prepare_surface(io::read_mesh(file.string()), opt);
   ASSERT_TRUE(s.refined);
   expect_finite_operators(s.tri);
@@ -110,6 +113,13 @@ TEST(RefineBudget, RangeScanRefinesToFiniteOperators) {
             3.0 * double(cs.crossings + s.input.triangles.size() + s.tri.n_edges()));
   // a budget below what the crossings cost is refused, with C
   EXPECT_THROW(intrinsic::common_subdivision(*s.signposts, 1e5), InvalidInput);
+  // integer coordinates (the default): the same triangulation, an overlay from the integers
+  opt.refine->correspondence = intrinsic::Correspondence::kInteger;
+  const solvers::PreparedSurface si = solvers::prepare_surface(io::read_mesh(file.string()), opt);
+  ASSERT_TRUE(si.integer.has_value());
+  EXPECT_EQ(si.tri.lengths(), s.tri.lengths());
+  const intrinsic::CommonSubdivision ci = si.correspondence()->common_subdivision();
+  EXPECT_GT(ci.crossings, 0u);
 }
 
 // Hundreds of components stacked on each other: intrinsic::needle_soup().
@@ -125,8 +135,8 @@ TEST(RefineBudget, SyntheticSoupRefinesToFiniteOperators) {
   }
   ASSERT_TRUE(s.refined);
   expect_finite_operators(s.tri);
-  if (s.signposts) {
-    const intrinsic::CommonSubdivision cs = intrinsic::common_subdivision(*s.signposts);
+  if (s.correspondence()) {
+    const intrinsic::CommonSubdivision cs = s.correspondence()->common_subdivision();
     EXPECT_GT(cs.faces.size(), 0u);
   }
 }
