@@ -12,9 +12,11 @@
 // face's 3D area, relative to the mean face area; 1e-12 is the tests' bound). Meshes the
 // triangulation refuses (not edge-manifold / orientable) are listed as such. --generated adds
 // the generated adversarial set (intrinsic/generators/mesh_generators.h) at the ctests' sizes and
-// larger.
+// larger; --sphere1M the 1.0M-face UV sphere of `ifem_bench integer` (500 × 1000, needles at the
+// poles: issue 33's "1M-face refinement"; a few GB, about a minute per angle).
 //
 //   ifem_bench integer-crosscheck [DIR] [--max-faces 300000] [--angles 25,30] [--generated]
+//                                 [--sphere1M]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -185,6 +187,12 @@ int integer_crosscheck(int argc, char** argv) {
     }
   }
   if (has_flag(argc, argv, "--generated")) generated_rows(angles);
+  if (has_flag(argc, argv, "--sphere1M")) {
+    const intrinsic::TriangleMesh m = intrinsic::uv_sphere(500, 1000);
+    const SignpostTriangulation s0(m.faces, m.positions, eps);
+    const NormalCoordinateTriangulation n0(m.faces, m.positions, eps);
+    for (const double angle : angles) row("uv_sphere(500, 1000)", m.faces.size(), angle, s0, n0);
+  }
   return 0;
 }
 
