@@ -428,7 +428,7 @@ def item2(cli, data, tmp, pairs, max_v, results):
         rec = {"mesh": stem, "src": src, "V": nv}
         results.setdefault("item2", []).append(rec)
         probe = cli("geodesic", mesh, "--path", f"{(7919 % nv + 1) % nv},{src}", "-o",
-                    tmp / "p.txt")
+                    tmp / "p.txt", "--mollify", 0)
         if probe.rc != 0 and "edge-manifold" in probe.err:  # FlipOut refuses it: not counted
             rec["refused"] = short(probe.last_err())
             continue
@@ -437,7 +437,7 @@ def item2(cli, data, tmp, pairs, max_v, results):
             v = (k * 7919) % nv
             if v == src or not (np.isfinite(exact[v]) and exact[v] > 0):
                 continue
-            r = cli("geodesic", mesh, "--path", f"{v},{src}", "-o", tmp / "p.txt")
+            r = cli("geodesic", mesh, "--path", f"{v},{src}", "-o", tmp / "p.txt", "--mollify", 0)
             cpu += r.cpu
             n += 1
             m = re.search(r"length ([0-9.eE+-]+) -> ([0-9.eE+-]+)", r.out)
@@ -449,7 +449,7 @@ def item2(cli, data, tmp, pairs, max_v, results):
         ss = {}
         for mode, extra in (("exact", []), ("flipout", ["--single-source-flipout"])):
             out = tmp / "ss.txt"
-            r = cli("geodesic", mesh, "--all-from", src, "-o", out, *extra)
+            r = cli("geodesic", mesh, "--all-from", src, "-o", out, "--mollify", 0, *extra)
             if r.rc != 0:
                 ss[mode] = {"ok": False, "msg": r.last_err()[:120], "cpu": r.cpu}
                 continue
