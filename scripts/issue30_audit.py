@@ -442,8 +442,8 @@ def item2(cli, data, tmp, pairs, max_v, results):
             n += 1
             m = re.search(r"length ([0-9.eE+-]+) -> ([0-9.eE+-]+)", r.out)
             rel = (float(m.group(2)) - exact[v]) / exact[v] if r.rc == 0 and m else math.inf
-            n_eq += abs(rel) <= EQUAL
-            worst = max(worst, rel)
+            n_eq += int(abs(rel) <= EQUAL)
+            worst = max(worst, float(rel))
         rec.update(equal=n_eq, pairs=n, worst=worst, cpu_per_path=cpu / max(n, 1))
         print(f"[item 2] {stem} {src}: {n_eq}/{n} worst {worst:.2e}", file=sys.stderr, flush=True)
         ss = {}
@@ -472,11 +472,11 @@ def render_item2(records):
             rows.append([stem, src, nv, "refused", short(why, 90), ""])
             ss_rows.append([stem, src, nv, "refused", "refused"])
             continue
-        total += rec["pairs"]
-        equal += rec["equal"]
-        worst_all = max(worst_all, rec["worst"])
+        total += int(rec["pairs"])
+        equal += int(rec["equal"])
+        worst_all = max(worst_all, float(rec["worst"]))
         cpu = rec.get("cpu_per_path")
-        rows.append([stem, src, nv, f"{rec['equal']}/{rec['pairs']}", f"{rec['worst']:.1e}",
+        rows.append([stem, src, nv, f"{rec['equal']}/{rec['pairs']}", f"{float(rec['worst']):.1e}",
                      "" if cpu is None else f"{cpu:.2f}"])
         cells = []
         for mode in ("exact", "flipout"):
