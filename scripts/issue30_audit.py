@@ -4,7 +4,11 @@ prints, per deliver item of issue 30, a Markdown table of what holds (docs/decis
 
     scripts/issue30_audit.py [--exe build/examples/ifem] [--data ../shared/data]
                              [--items 1,2,3,4] [--pairs 8] [--out DIR] [--max-vertices N]
-                             [--json FILE] [--timeout S]
+                             [--only REGEX] [--budget GB] [--json FILE] [--timeout S]
+    scripts/issue30_audit.py --from-json FILE [FILE ...]   # the tables of saved runs
+
+The whole run takes about 25 minutes of wall time on a loaded 2-core machine (item 1: 10,
+item 2: 12, item 3: 4, items 4-7: 10 s); BENCHMARKS.md, "Issue 30 audit (I30z)", has its tables.
 
 Items (the issue's numbering; each a table on stdout, raw results in --json):
   1  `ifem refine`, `distance --refine`, `poisson --refine` (Dirichlet 0 | 1) and
