@@ -351,6 +351,15 @@ def test_bad_input_raises_with_a_clear_message(spot):
             call()
 
 
+def test_isolated_vertex_is_refused_by_name():
+    # as the CLI (the recipe's check_curves): a curve point no face uses, from either end
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [5, 5, 5]], float)
+    F = np.array([[0, 1, 2], [0, 2, 3]])
+    for points in ([0, 4], [4, 0]):
+        with pytest.raises(ifem.InvalidInput, match="vertex 4 is used by no face"):
+            ifem.geodesic_path(V, F, points)
+
+
 def test_bad_network_file(spot, tmp_path):
     V, F = spot
     bad = tmp_path / "bad.txt"

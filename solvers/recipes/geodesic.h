@@ -160,7 +160,8 @@ class StartGuide {
 /// what is wrong (naming the point and the range).
 std::string point_problem(const GivenPoint& p, const io::SurfaceInput& input);
 
-/// Checks every curve: ≥ 2 points, each as point_problem(), no repeated consecutive points.
+/// Checks every curve: ≥ 2 points, each as point_problem() and, for a vertex, used by some
+/// face (an isolated vertex is not on the surface), no repeated consecutive points.
 /// @throws InvalidInput "ORIGIN: problem"
 void check_curves(const std::vector<GivenCurve>& curves, const io::SurfaceInput& input);
 

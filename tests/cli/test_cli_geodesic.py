@@ -392,3 +392,19 @@ def test_default_lengths_are_the_inputs_own_on_a_sliver(cli):
     r = cli.ok("geodesic", mesh, "--path", "0,2", "-o", out, "--mollify", "1e-5")
     mollified = float(re.search(r"length [0-9.e+-]+ -> ([0-9.e+-]+)", r.out).group(1))
     assert mollified - math.sqrt(2) > 1e-8, r.describe()
+
+
+def test_isolated_vertex_is_refused_by_name(cli):
+    """A curve through a vertex that no face uses: refused up front naming it, from either end
+    (it used to fail in the start guide's heat distance, "sources[0] = 5 is not referenced",
+    or as "not reachable")."""
+    mesh = cli.out / "square_and_lone_vertex.obj"
+    write_obj(mesh, [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (5, 5, 5)],
+              [(1, 2, 3), (1, 3, 4)])
+    for path in ("0,4", "4,0", "0,2,4"):
+        cli.refuse(1, r"--path: vertex 4 is used by no face \(an isolated vertex, not on the "
+                      r"surface\)$", cli.out / "p.txt", "geodesic", mesh, "--path", path)
+    net = cli.out / "net.txt"
+    net.write_text("path 0 2\npath 2 4\n")
+    cli.refuse(1, r"net.txt:2: vertex 4 is used by no face", cli.out / "p.obj", "geodesic", mesh,
+               "--network", net)
