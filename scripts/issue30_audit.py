@@ -707,6 +707,16 @@ def item4(cli, data, tmp, results):
     r = cli("field", spot, "--constraints", tmp / "cr.txt", "-o", tmp / "o.txt")
     row("7", "constraint out of range names FILE:line", r.rc != 0 and "cr.txt:2" in r.last_err(),
         f"exit {r.rc}: {short(r.last_err())}")
+    # a path through a vertex no face uses (lato000 has 192): refused naming it, either way
+    lato = data / "meshes" / "lato000_rangescan.ply"
+    V, F = read_mesh(lato)
+    lone = int(np.setdiff1d(np.arange(len(V)), F.ravel())[0])
+    on = int(F[0, 0])
+    for pts in (f"{lone},{on}", f"{on},{lone}"):
+        r = cli("geodesic", lato, "--path", pts, "-o", tmp / "o.txt")
+        row("7", f"`geodesic lato000 --path {pts}` (vertex {lone} is used by no face)",
+            r.rc == 1 and f"vertex {lone} is used by no face" in r.last_err(),
+            f"exit {r.rc}: {short(r.last_err())}")
     # a large network at a small cap: nonzero exit unless --accept-partial
     rng = np.random.default_rng(1)
     nv = 2930
