@@ -358,6 +358,8 @@ def test_isolated_vertex_is_refused_by_name():
     for points in ([0, 4], [4, 0]):
         with pytest.raises(ifem.InvalidInput, match="vertex 4 is used by no face"):
             ifem.geodesic_path(V, F, points)
+    with pytest.raises(ifem.InvalidInput, match="source = 4: vertex used by no face"):
+        ifem.single_source_geodesics(V, F, 4)
 
 
 def test_bad_network_file(spot, tmp_path):

@@ -380,6 +380,10 @@ SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,
     throw InvalidInput("source = " + std::to_string(source) + ": vertex out of range " + range(nv));
   }
   SignpostTriangulation st = signposts(input, options.mollify_relative_epsilon);
+  if (st.intrinsic().vertex_halfedge(source) == kInvalidIndex) {  // as exact_distance() refuses
+    throw InvalidInput("source = " + std::to_string(source) +
+                       ": vertex used by no face (an isolated vertex, not on the surface)");
+  }
   const Stopwatch watch;
   SingleSourceResult r;
   if (!options.single_source_flipout && exact_single_source(st, input, source, options, r)) {

@@ -178,7 +178,8 @@ GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCu
 /// Single-source geodesics: a geodesic from `source` to every vertex and their lengths: the
 /// shortest ones from the exact distance (default), or by FlipOut (Dijkstra with FlipOut at the
 /// frontier; GeodesicOptions::single_source_flipout).
-/// @throws InvalidInput on a source outside [0, #V_in), bad options, an input without faces
+/// @throws InvalidInput on a source outside [0, #V_in) or used by no face, bad options, an input
+///         without faces
 /// @throws NonManifoldInput on a mesh that is not edge-manifold and orientable
 SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,
                             const GeodesicOptions& options = {});

@@ -396,8 +396,8 @@ def test_default_lengths_are_the_inputs_own_on_a_sliver(cli):
 
 def test_isolated_vertex_is_refused_by_name(cli):
     """A curve through a vertex that no face uses: refused up front naming it, from either end
-    (it used to fail in the start guide's heat distance, "sources[0] = 5 is not referenced",
-    or as "not reachable")."""
+    (it used to fail in the start guide's heat distance, "sources[0] = 4 is not referenced",
+    or as "not reachable"); single-source from it too (it wrote inf everywhere)."""
     mesh = cli.out / "square_and_lone_vertex.obj"
     write_obj(mesh, [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (5, 5, 5)],
               [(1, 2, 3), (1, 3, 4)])
@@ -408,3 +408,6 @@ def test_isolated_vertex_is_refused_by_name(cli):
     net.write_text("path 0 2\npath 2 4\n")
     cli.refuse(1, r"net.txt:2: vertex 4 is used by no face", cli.out / "p.obj", "geodesic", mesh,
                "--network", net)
+    # single-source from it: refused as `distance --exact` refuses it (not a file of inf)
+    cli.refuse(1, r"source = 4: vertex used by no face \(an isolated vertex", cli.out / "s.txt",
+               "geodesic", mesh, "--all-from", 4)
