@@ -348,7 +348,8 @@ OptionGroup geodesic_options() {
                .at_least(0)
                .at_most(1)
                .defaults_to("0")
-               .explain("relative mollification margin (0: the input's own lengths, as --exact)"),
+               .explain("relative mollification margin (as other commands' --mollify;\n"
+                        "default 0 here: lengths of the input's own edges, as --exact)"),
            count("max-iterations", "N")
                .explain("FlipOut's cap on reroutes, all curves together (default\n"
                         "10 × edges + 1000). Curves that reach it are not geodesic yet: an\n"
