@@ -347,9 +347,8 @@ OptionGroup geodesic_options() {
            real("mollify", "F")
                .at_least(0)
                .at_most(1)
-               .defaults_to("0")
-               .explain("relative mollification margin (as other commands' --mollify;\n"
-                        "default 0 here: lengths of the input's own edges, as --exact)"),
+               .defaults_to(format_number(intrinsic::kDefaultMollifyEpsilon))
+               .explain("relative mollification margin (as other commands' --mollify)"),
            count("max-iterations", "N")
                .explain("FlipOut's cap on reroutes, all curves together (default\n"
                         "10 × edges + 1000). Curves that reach it are not geodesic yet: an\n"

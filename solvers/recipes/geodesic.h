@@ -31,11 +31,8 @@ namespace ifem::recipes {
 
 /// Options of geodesic().
 struct GeodesicOptions {
-  /// Relative mollification margin of the signpost triangulation, in [0, 1]. Default 0: paths
-  /// and lengths on the input's own edge lengths (0 still repairs strict triangle-inequality
-  /// violations); a margin lengthens every edge of a mesh with a face below it, e.g. block's
-  /// and rocketship's geodesics by 1e-5..1e-4 relative (docs/decisions.md D-350, as D-167).
-  double mollify_relative_epsilon = 0.0;
+  /// Relative mollification margin of the signpost triangulation, in [0, 1].
+  double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;
   /// Set: one open curve whose points are the control points of a geodesic Bézier curve, with
   /// this many rounds of de Casteljau subdivision, in [0, 16] (0: the geodesic control polygon).
   std::optional<int> bezier_rounds;

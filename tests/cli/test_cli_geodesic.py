@@ -375,25 +375,6 @@ def test_geodesic_refused_inputs(cli):
     assert not (cli.out / "g_cc.txt.tmp").exists()
 
 
-def test_default_lengths_are_the_inputs_own_on_a_sliver(cli):
-    """A unit square with a vertex 1e-9 above its bottom side: the sliver under it is below
-    the mollification margin, so a margin lengthens every edge. `geodesic` defaults to none
-    (docs/decisions.md D-350): the diagonal 0 -> 2 is sqrt(2) to round-off, in --path and in
-    --all-from; an explicit --mollify 1e-5 is honoured (and is longer)."""
-    mesh = cli.out / "sliver_square.obj"
-    write_obj(mesh, [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0.5, 1e-9, 0)],
-              [(1, 2, 5), (1, 5, 4), (5, 2, 3), (5, 3, 4)])
-    out = cli.out / "diag.txt"
-    r = cli.ok("geodesic", mesh, "--path", "0,2", "-o", out)
-    length = float(re.search(r"length [0-9.e+-]+ -> ([0-9.e+-]+)", r.out).group(1))
-    assert abs(length - math.sqrt(2)) <= 1e-11, r.describe()
-    cli.ok("geodesic", mesh, "--all-from", 0, "-o", out, "--quiet")
-    assert abs(numbers(out)[2] - math.sqrt(2)) <= 1e-12
-    r = cli.ok("geodesic", mesh, "--path", "0,2", "-o", out, "--mollify", "1e-5")
-    mollified = float(re.search(r"length [0-9.e+-]+ -> ([0-9.e+-]+)", r.out).group(1))
-    assert mollified - math.sqrt(2) > 1e-8, r.describe()
-
-
 def test_isolated_vertex_is_refused_by_name(cli):
     """A curve through a vertex that no face uses: refused up front naming it, from either end
     (it used to fail in the start guide's heat distance, "sources[0] = 4 is not referenced",
