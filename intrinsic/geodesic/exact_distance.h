@@ -18,6 +18,13 @@
 
 namespace ifem::intrinsic {
 
+/// Mollification margin (relative to the robust mean edge length) of the exact distance's
+/// default surface in the CLI and Python: the input's own lengths unless a face has a margin
+/// a + b − c below 1e-12 of the mean edge, i.e. zero area (coincident vertices, collinear
+/// corners), whose windows would not cross it (a vertex behind it unreached or 2.6× too far);
+/// then every edge grows by at most that, ~1e-12 relative (docs/decisions.md D-350).
+inline constexpr double kExactMollifyEpsilon = 1e-12;
+
 /// Options of exact_distance().
 struct ExactDistanceOptions {
   /// Bytes the windows (and their queue entries) may take; 0: default_memory_budget() (half
