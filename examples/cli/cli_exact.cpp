@@ -64,7 +64,7 @@ int run_exact_distance(const Args& args, const ResultOutput& out) {
   if (args.has("refine")) refine = refine_settings(args, 0.0, false);
   solvers::PrepareOptions prep = prepare_options(args);
   // exact on the input's own lengths: a margin only for zero-area faces unless asked (D-350)
-  if (!args.has("mollify")) prep.mollify_relative_epsilon = intrinsic::kExactMollifyEpsilon;
+  if (!args.has("mollify")) prep.mollify_relative_epsilon = intrinsic::kOwnLengthsMollifyEpsilon;
   prep.refine = refine;
   const bool want_paths = args.has("paths-from");
   // On the input's own faces (the paths need them; flips keep the distance and cost windows:

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "intrinsic/geodesic/exact_distance.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/geodesic/guided_path.h"
 #include "intrinsic/io/mesh_io.h"
@@ -31,8 +32,9 @@ namespace ifem::recipes {
 
 /// Options of geodesic().
 struct GeodesicOptions {
-  /// Relative mollification margin of the signpost triangulation, in [0, 1].
-  double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;
+  /// Relative mollification margin of the signpost triangulation, in [0, 1]; by default the
+  /// input's own lengths (zero-area faces lifted by ~1e-12: intrinsic::kOwnLengthsMollifyEpsilon).
+  double mollify_relative_epsilon = intrinsic::kOwnLengthsMollifyEpsilon;
   /// Set: one open curve whose points are the control points of a geodesic Bézier curve, with
   /// this many rounds of de Casteljau subdivision, in [0, 16] (0: the geodesic control polygon).
   std::optional<int> bezier_rounds;
