@@ -25,8 +25,8 @@ Items (the issue's numbering; each a table on stdout, raw results in --json):
      exact distance. Single-source: `ifem geodesic MESH --all-from s` (the default: exact
      distance, D-295) and with `--single-source-flipout` (FlipOut, D-144) against the exact
      file, fraction of vertices within 1e-6, worst excess, CPU seconds. All with `--mollify 0`,
-     the reference's metric (the default 1e-5 lengthens block's and rocketship's paths by
-     1e-5..1e-4: D-350).
+     the reference's metric (`geodesic`'s default is 1e-12 since D-350, the same lengths on
+     the references; the older default 1e-5 lengthened block's and rocketship's by 1e-5..1e-4).
   3  `ifem distance MESH --source s` (defaults) against the exact distances: mean relative error
      (tests/solvers/test_util.h's definition) and CGAL's heat method's from the .cgal-heat.txt
      file beside it, the ratio. Stray vertex: the vertex with the smallest star (face area around
