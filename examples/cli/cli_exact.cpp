@@ -23,7 +23,8 @@ const char* exact_flag_help() {
          "figures in BENCHMARKS.md); memory: the windows waiting at once (64 bytes\n"
          "each), all of them with --paths-from; --memory-budget GB stops it with the\n"
          "figures instead of exhausting memory. Takes --source only; --mollify\n"
-         "defaults to 0 here (the input's own lengths)";
+         "defaults to 1e-12 here (the input's own lengths; only zero-area faces\n"
+         "are lifted, by about 1e-12 of the mean edge)";
 }
 
 void check_path_options(const Args& args) {
@@ -62,8 +63,8 @@ int run_exact_distance(const Args& args, const ResultOutput& out) {
   std::optional<solvers::SurfaceRefineOptions> refine;
   if (args.has("refine")) refine = refine_settings(args, 0.0, false);
   solvers::PrepareOptions prep = prepare_options(args);
-  // exact on the input's own lengths: mollify only when asked (0 still repairs strict violations)
-  if (!args.has("mollify")) prep.mollify_relative_epsilon = 0.0;
+  // exact on the input's own lengths: a margin only for zero-area faces unless asked (D-350)
+  if (!args.has("mollify")) prep.mollify_relative_epsilon = intrinsic::kOwnLengthsMollifyEpsilon;
   prep.refine = refine;
   const bool want_paths = args.has("paths-from");
   // On the input's own faces (the paths need them; flips keep the distance and cost windows:

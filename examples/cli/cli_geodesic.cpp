@@ -347,8 +347,8 @@ OptionGroup geodesic_options() {
            real("mollify", "F")
                .at_least(0)
                .at_most(1)
-               .defaults_to(format_number(intrinsic::kDefaultMollifyEpsilon))
-               .explain("relative mollification margin (as other commands' --mollify)"),
+               .defaults_to(format_number(intrinsic::kOwnLengthsMollifyEpsilon))
+               .explain("relative mollification margin (the input's own lengths, as --exact)"),
            count("max-iterations", "N")
                .explain("FlipOut's cap on reroutes, all curves together (default\n"
                         "10 × edges + 1000). Curves that reach it are not geodesic yet: an\n"

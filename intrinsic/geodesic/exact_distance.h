@@ -18,6 +18,15 @@
 
 namespace ifem::intrinsic {
 
+/// Mollification margin (relative to the robust mean edge length) of the surfaces that measure
+/// the input's own lengths: the exact distance and geodesics (CLI, Python, recipes::geodesic).
+/// No edge changes unless a face has a margin a + b − c below 1e-12 of the mean edge, i.e.
+/// zero area (coincident vertices, collinear corners), which windows would not cross (a vertex
+/// behind it unreached or 2.6× too far); then every edge grows by at most that, ~1e-12
+/// relative. The other commands' 1e-5 (kDefaultMollifyEpsilon) lengthens every edge of a mesh
+/// with a sliver below it, 1e-5..1e-4 on block and rocketship (docs/decisions.md D-350).
+inline constexpr double kOwnLengthsMollifyEpsilon = 1e-12;
+
 /// Options of exact_distance().
 struct ExactDistanceOptions {
   /// Bytes the windows (and their queue entries) may take; 0: default_memory_budget() (half

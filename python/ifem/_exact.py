@@ -9,7 +9,7 @@ __all__ = ["exact_distance"]
 
 
 def exact_distance(V, F=None, sources=None, *, refine=False, min_angle=25.0, resolution=0.0,
-                   mollify=0.0, path="auto", memory_budget=None, paths_from=None,
+                   mollify=1e-12, path="auto", memory_budget=None, paths_from=None,
                    return_info=False):
     """Exact geodesic distance from source vertices, as ``ifem distance --exact``.
 
@@ -27,8 +27,10 @@ def exact_distance(V, F=None, sources=None, *, refine=False, min_angle=25.0, res
         sources: vertex ids (the distance is to the nearest).
         refine, min_angle, resolution: intrinsic Delaunay refinement first (angles only by
             default); results on the input's vertices either way.
-        mollify, path: as in :class:`HeatDistanceSolver`; mollify defaults to 0 here (the
-            distances of the input's own lengths; a margin > 0 lengthens every edge).
+        mollify, path: as in :class:`HeatDistanceSolver`; mollify defaults to 1e-12 here (the
+            distances of the input's own lengths: only a face of zero area, which windows
+            would not cross, is lifted, every edge by about 1e-12 of the mean; a larger margin
+            lengthens every edge of a mesh with a face below it).
         memory_budget: None (half the physical memory) or gigabytes the windows may take; over
             it, :class:`InvalidInput` states the figures.
         paths_from: None or vertex ids: also return, for each, the shortest path back to its

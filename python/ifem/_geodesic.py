@@ -154,7 +154,7 @@ def _curves(curves, report):
     return [GeodesicCurve(report=r, **c) for c in curves], r
 
 
-def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5, start="best"):
+def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-12, start="best"):
     """A geodesic through points of a mesh, in order (FlipOut).
 
     The curve starts as a shortest path along mesh edges through the points and is shortened by
@@ -177,7 +177,9 @@ def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-5, start="best
             first too: do not repeat the first point).
         loop: a closed curve through the points, back to the first.
         pin: keep the loop passing through its points (paths always are).
-        mollify: relative mollification margin of the intrinsic triangulation (in [0, 1]).
+        mollify: relative mollification margin of the intrinsic triangulation (in [0, 1]);
+            default 1e-12: the input's own lengths (only zero-area faces are lifted), as the
+            CLI's ``geodesic`` and ``exact_distance``.
         start: FlipOut's start paths for a path between two points: ``"best"`` (edge paths
             along the faces the exact geodesic to each end crosses, then if none reaches the
             exact length the shortest edge path and paths down the exact distance, each
@@ -239,7 +241,7 @@ def read_network(path):
     return _ifem.read_network(os.fspath(path))
 
 
-def geodesic_network(V, F, curves, pin=False, mollify=1e-5, max_iterations=None,
+def geodesic_network(V, F, curves, pin=False, mollify=1e-12, max_iterations=None,
                      accept_partial=False):
     """Several geodesic paths and loops, shortened together (FlipOut on a curve network).
 
@@ -292,7 +294,7 @@ def geodesic_network(V, F, curves, pin=False, mollify=1e-5, max_iterations=None,
     return GeodesicNetwork(curves=cs, report=r)
 
 
-def bezier_curve(V, F, control_points, rounds=4, mollify=1e-5, memory_budget=None):
+def bezier_curve(V, F, control_points, rounds=4, mollify=1e-12, memory_budget=None):
     """A geodesic Bézier curve with the given control points (de Casteljau with geodesics).
 
     Each round splits every Bézier piece at t = 1/2, taking midpoints halfway along FlipOut
@@ -338,7 +340,7 @@ def bezier_curve(V, F, control_points, rounds=4, mollify=1e-5, memory_budget=Non
                        midpoints=report["bezier_midpoints"], **c)
 
 
-def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5, progress=None,
+def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-12, progress=None,
                             single_source_flipout=False):
     """Geodesics from one vertex to every vertex, and their lengths.
 
@@ -378,7 +380,7 @@ def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-5, prog
 
 
 def geodesic(V, F=None, points=None, *, loop=False, pin=False, bezier=None, network=None,
-             all_from=None, return_paths=False, mollify=1e-5, max_iterations=None,
+             all_from=None, return_paths=False, mollify=1e-12, max_iterations=None,
              accept_partial=False, memory_budget=None, start="best", progress=None,
              single_source_flipout=False):
     """Geodesic curves by FlipOut, as ``ifem geodesic``: one function, the CLI's modes as

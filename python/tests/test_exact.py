@@ -40,3 +40,15 @@ def test_budget_and_bad_arguments():
         ifem.exact_distance(V, F, sources=[0], memory_budget=-1)
     with pytest.raises(ifem.InvalidInput):
         ifem.exact_distance(V, F, sources=[0], refine=True, paths_from=[1])
+
+
+def test_zero_area_faces_are_crossed():
+    # as tests/cli/test_cli_exact.py: four coincident copies of an interior point joined by
+    # zero-area faces; every copy is 2 from the apex (the default margin, D-350; 0 fails)
+    V = np.array([[0, 0, 0], [3, 0, 0], [1.5, 3, 0]] + [[1.5, 1, 0]] * 4, float)
+    F = np.array([[0, 1, 3], [1, 4, 3], [0, 3, 5], [3, 4, 6], [4, 5, 6], [5, 3, 6], [1, 2, 4],
+                  [0, 5, 2], [5, 4, 2]])
+    d = ifem.exact_distance(V, F, [2])
+    assert np.abs(d[3:] - 2.0).max() <= 1e-11
+    assert not np.allclose(ifem.exact_distance(V, F, [2], mollify=0.0)[3:], 2.0, atol=1e-6)
+

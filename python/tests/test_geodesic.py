@@ -231,6 +231,16 @@ def test_flat_geodesic_is_the_straight_segment(points):
     assert c.length < c.initial_length  # the edge path zigzags on the jittered grid
 
 
+def test_default_lengths_are_the_inputs_own():
+    """A sliver below the other commands' 1e-5 margin: geodesics default to the input's own
+    lengths (D-350), the unit square's diagonal is sqrt(2); mollify=1e-5 is honoured (longer)."""
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 1e-9, 0]], float)
+    F = np.array([[0, 1, 4], [0, 4, 3], [4, 1, 2], [4, 2, 3]])
+    assert abs(ifem.geodesic_path(V, F, [0, 2]).length - np.sqrt(2)) <= 1e-11
+    assert abs(ifem.single_source_geodesics(V, F, 0).length[2] - np.sqrt(2)) <= 1e-11
+    assert ifem.geodesic_path(V, F, [0, 2], mollify=1e-5).length - np.sqrt(2) > 1e-8
+
+
 def test_flat_bezier_converges_to_the_planar_bezier_curve():
     V, F = flat_grid(16)
     ctrl = [1 + 1 * 17, 8 + 15 * 17, 15 + 1 * 17]
@@ -339,6 +349,17 @@ def test_bad_input_raises_with_a_clear_message(spot):
     for call, exc, message in bad_calls(*spot):
         with pytest.raises(exc, match=message):
             call()
+
+
+def test_isolated_vertex_is_refused_by_name():
+    # as the CLI (the recipe's check_curves): a curve point no face uses, from either end
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [5, 5, 5]], float)
+    F = np.array([[0, 1, 2], [0, 2, 3]])
+    for points in ([0, 4], [4, 0]):
+        with pytest.raises(ifem.InvalidInput, match="vertex 4 is used by no face"):
+            ifem.geodesic_path(V, F, points)
+    with pytest.raises(ifem.InvalidInput, match="source = 4: vertex used by no face"):
+        ifem.single_source_geodesics(V, F, 4)
 
 
 def test_bad_network_file(spot, tmp_path):

@@ -260,6 +260,10 @@ std::string point_problem(const GivenPoint& p, const io::SurfaceInput& input) {
 
 void check_curves(const std::vector<GivenCurve>& curves, const io::SurfaceInput& input) {
   if (curves.empty()) throw InvalidInput("geodesic: no curves given");
+  std::vector<char> on_a_face(static_cast<std::size_t>(input.positions.rows()), 0);
+  for (const Triangle& t : input.triangles) {
+    for (const Index v : t) on_a_face[static_cast<std::size_t>(v)] = 1;
+  }
   for (const GivenCurve& c : curves) {
     if (c.points.size() < 2) {
       throw InvalidInput(c.origin + ": needs at least two points, got " +
@@ -268,6 +272,12 @@ void check_curves(const std::vector<GivenCurve>& curves, const io::SurfaceInput&
     for (const GivenPoint& p : c.points) {
       const std::string problem = point_problem(p, input);
       if (!problem.empty()) throw InvalidInput(c.origin + ": " + problem);
+      // (no faces at all: a point cloud, refused later as such)
+      if (p.vertex != kInvalidIndex && !input.triangles.empty() &&
+          !on_a_face[static_cast<std::size_t>(p.vertex)]) {
+        throw InvalidInput(c.origin + ": vertex " + std::to_string(p.vertex) +
+                           " is used by no face (an isolated vertex, not on the surface)");
+      }
     }
     const std::string repeated = repeated_point(c);
     if (!repeated.empty()) throw InvalidInput(c.origin + ": " + repeated);
@@ -370,6 +380,10 @@ SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,
     throw InvalidInput("source = " + std::to_string(source) + ": vertex out of range " + range(nv));
   }
   SignpostTriangulation st = signposts(input, options.mollify_relative_epsilon);
+  if (st.intrinsic().vertex_halfedge(source) == kInvalidIndex) {  // as exact_distance() refuses
+    throw InvalidInput("source = " + std::to_string(source) +
+                       ": vertex used by no face (an isolated vertex, not on the surface)");
+  }
   const Stopwatch watch;
   SingleSourceResult r;
   if (!options.single_source_flipout && exact_single_source(st, input, source, options, r)) {

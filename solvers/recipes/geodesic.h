@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "intrinsic/geodesic/exact_distance.h"
 #include "intrinsic/geodesic/flip_geodesic.h"
 #include "intrinsic/geodesic/guided_path.h"
 #include "intrinsic/io/mesh_io.h"
@@ -31,8 +32,9 @@ namespace ifem::recipes {
 
 /// Options of geodesic().
 struct GeodesicOptions {
-  /// Relative mollification margin of the signpost triangulation, in [0, 1].
-  double mollify_relative_epsilon = intrinsic::kDefaultMollifyEpsilon;
+  /// Relative mollification margin of the signpost triangulation, in [0, 1]; by default the
+  /// input's own lengths (zero-area faces lifted by ~1e-12: intrinsic::kOwnLengthsMollifyEpsilon).
+  double mollify_relative_epsilon = intrinsic::kOwnLengthsMollifyEpsilon;
   /// Set: one open curve whose points are the control points of a geodesic Bézier curve, with
   /// this many rounds of de Casteljau subdivision, in [0, 16] (0: the geodesic control polygon).
   std::optional<int> bezier_rounds;
@@ -157,7 +159,8 @@ class StartGuide {
 /// what is wrong (naming the point and the range).
 std::string point_problem(const GivenPoint& p, const io::SurfaceInput& input);
 
-/// Checks every curve: ≥ 2 points, each as point_problem(), no repeated consecutive points.
+/// Checks every curve: ≥ 2 points, each as point_problem() and, for a vertex, used by some
+/// face (an isolated vertex is not on the surface), no repeated consecutive points.
 /// @throws InvalidInput "ORIGIN: problem"
 void check_curves(const std::vector<GivenCurve>& curves, const io::SurfaceInput& input);
 
@@ -174,7 +177,8 @@ GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCu
 /// Single-source geodesics: a geodesic from `source` to every vertex and their lengths: the
 /// shortest ones from the exact distance (default), or by FlipOut (Dijkstra with FlipOut at the
 /// frontier; GeodesicOptions::single_source_flipout).
-/// @throws InvalidInput on a source outside [0, #V_in), bad options, an input without faces
+/// @throws InvalidInput on a source outside [0, #V_in) or used by no face, bad options, an input
+///         without faces
 /// @throws NonManifoldInput on a mesh that is not edge-manifold and orientable
 SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,
                             const GeodesicOptions& options = {});

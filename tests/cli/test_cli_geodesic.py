@@ -373,3 +373,50 @@ def test_geodesic_refused_inputs(cli):
     assert re.search("component", r.err), r.describe()
     assert not (cli.out / "g_cc.txt").exists()
     assert not (cli.out / "g_cc.txt.tmp").exists()
+
+
+
+def test_default_lengths_are_the_inputs_own(cli):
+    """geodesic measures the input's own lengths by default (docs/decisions.md D-350): a unit
+    square with a vertex 1e-9 above its bottom side (a sliver below the other commands' 1e-5
+    margin, which lengthens every edge) has the diagonal sqrt(2) to round-off, in --path and
+    --all-from; --mollify 1e-5 is honoured (longer). Four coincident copies of a point joined
+    by zero-area faces are still crossed: each 2 from the apex."""
+    mesh = cli.out / "sliver_square.obj"
+    write_obj(mesh, [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0.5, 1e-9, 0)],
+              [(1, 2, 5), (1, 5, 4), (5, 2, 3), (5, 3, 4)])
+    out = cli.out / "diag.txt"
+
+    def length(*extra):
+        r = cli.ok("geodesic", mesh, "--path", "0,2", "-o", out, *extra)
+        return float(re.search(r"length [0-9.e+-]+ -> ([0-9.e+-]+)", r.out).group(1))
+
+    assert abs(length() - math.sqrt(2)) <= 1e-11
+    assert length("--mollify", "1e-5") - math.sqrt(2) > 1e-8
+    cli.ok("geodesic", mesh, "--all-from", 0, "-o", out, "--quiet")
+    assert abs(numbers(out)[2] - math.sqrt(2)) <= 1e-11
+    fused = cli.out / "coincident_center.obj"
+    write_obj(fused, [(0, 0, 0), (3, 0, 0), (1.5, 3, 0)] + [(1.5, 1, 0)] * 4,
+              [(1, 2, 4), (2, 5, 4), (1, 4, 6), (4, 5, 7), (5, 6, 7), (6, 4, 7), (2, 3, 5),
+               (1, 6, 3), (6, 5, 3)])
+    for flipout in ([], ["--single-source-flipout"]):
+        cli.ok("geodesic", fused, "--all-from", 2, "-o", out, "--quiet", *flipout)
+        assert all(abs(x - 2.0) <= 1e-11 for x in numbers(out)[3:]), (flipout, numbers(out))
+
+def test_isolated_vertex_is_refused_by_name(cli):
+    """A curve through a vertex that no face uses: refused up front naming it, from either end
+    (it used to fail in the start guide's heat distance, "sources[0] = 4 is not referenced",
+    or as "not reachable"); single-source from it too (it wrote inf everywhere)."""
+    mesh = cli.out / "square_and_lone_vertex.obj"
+    write_obj(mesh, [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (5, 5, 5)],
+              [(1, 2, 3), (1, 3, 4)])
+    for path in ("0,4", "4,0", "0,2,4"):
+        cli.refuse(1, r"--path: vertex 4 is used by no face \(an isolated vertex, not on the "
+                      r"surface\)$", cli.out / "p.txt", "geodesic", mesh, "--path", path)
+    net = cli.out / "net.txt"
+    net.write_text("path 0 2\npath 2 4\n")
+    cli.refuse(1, r"net.txt:2: vertex 4 is used by no face", cli.out / "p.obj", "geodesic", mesh,
+               "--network", net)
+    # single-source from it: refused as `distance --exact` refuses it (not a file of inf)
+    cli.refuse(1, r"source = 4: vertex used by no face \(an isolated vertex", cli.out / "s.txt",
+               "geodesic", mesh, "--all-from", 4)
