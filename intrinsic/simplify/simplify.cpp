@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <numeric>
 #include <queue>
 #include <set>
@@ -105,6 +107,72 @@ bool cyclic_polygon(const std::vector<double>& l, std::vector<double>& beta, dou
   beta[imax] = kPi - others;  // closes the circle exactly (obtuse when the centre is outside)
   return std::isfinite(radius) && radius > 0.0 && beta[imax] > 0.0;
 }
+
+// Removal order (D-340): a vertex's cost rounded down to a bucket of relative width
+// 2^-kCostBits (its binary exponent and leading kCostBits mantissa bits: the bit pattern of a
+// non-negative double orders as its value), then its id. Exact greedy order visits the mesh at
+// random (the costs of a uniform surface differ in their last bits): a cache miss per step on
+// large meshes. Ids are near in memory and, for meshes written in any local order, near on the
+// surface, so a bucket is swept in a few passes over memory. 1 bit (buckets of 1.5×, 1.33×):
+// the multigrid's PCG iterations as with the exact order; 0 bits moved more area on meshes with
+// sharp features (fandisk, ogre).
+constexpr int kCostBits = 1;
+constexpr int kBuckets = 1 << (11 + kCostBits);  // every finite non-negative double's bucket
+
+std::uint64_t queue_key(double cost, Index v) {
+  const double c = cost > 0.0 ? cost : 0.0;
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &c, sizeof bits);
+  return ((bits >> (52 - kCostBits)) << 32) | std::uint32_t(v);
+}
+
+// A min-queue of queue_key()s in the same order as a binary heap of them, without its random
+// accesses: one vector per cost bucket, the current bucket sorted once when it is reached, and a
+// small heap for the keys pushed into it (or below it) after that. Each vertex is queued once.
+class BucketQueue {
+ public:
+  BucketQueue() : buckets_(kBuckets) {}
+  bool empty() const { return size_ == 0; }
+  void push(std::uint64_t key) {
+    ++size_;
+    const int b = int(key >> 32);
+    if (b <= current_) {
+      late_.push(key);
+    } else {
+      buckets_[b].push_back(key);
+    }
+  }
+  // the smallest key, removed; the queue must not be empty
+  std::uint64_t pop() {
+    --size_;
+    for (;;) {
+      const bool have_sorted = cursor_ < sorted_.size();
+      if (!late_.empty() && (!have_sorted || late_.top() < sorted_[cursor_])) {
+        const std::uint64_t k = late_.top();
+        late_.pop();
+        return k;
+      }
+      if (have_sorted) return sorted_[cursor_++];
+      // the current bucket is done: the next non-empty one, sorted
+      do {
+        ++current_;
+      } while (buckets_[current_].empty());
+      sorted_.swap(buckets_[current_]);
+      buckets_[current_].clear();
+      buckets_[current_].shrink_to_fit();
+      cursor_ = 0;
+      std::sort(sorted_.begin(), sorted_.end());
+    }
+  }
+
+ private:
+  std::vector<std::vector<std::uint64_t>> buckets_;
+  std::vector<std::uint64_t> sorted_;  // the current bucket's keys, from cursor_ on
+  std::size_t cursor_ = 0, size_ = 0;
+  int current_ = -1;
+  std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<std::uint64_t>>
+      late_;
+};
 
 class Simplifier {
  public:
@@ -1104,38 +1172,40 @@ void Simplifier::run(Index target, const ProgressCallback& on_progress) {
 
 // Lazy greedy: a vertex whose star changed is marked dirty, and its cost is recomputed (and
 // the vertex queued again) only when it comes out of the queue; a vertex not queued (failed, or
-// of infinite cost) is queued again when its star changes.
+// of infinite cost) is queued again when its star changes. The queue orders by cost bucket, then
+// by vertex id (queue_key()): within a bucket the removals sweep the vertices in memory order.
 void Simplifier::drain(Index target, ProgressMeter& meter) {
   touched_.clear();
-  using Entry = std::pair<double, Index>;  // cost, vertex
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  BucketQueue queue;
   std::vector<char> queued(nv_, 0), dirty(nv_, 0);
   for (Index v = 0; v < nv_; ++v) {
     if (!vertex_alive_[v]) continue;
     const double c = cost(v);
-    if (c < HUGE_VAL) queue.emplace(c, v), queued[v] = 1;
+    if (c < HUGE_VAL) queue.push(queue_key(c, v)), queued[v] = 1;
   }
   while (alive_count_ > target && !queue.empty()) {
-    const Index v = queue.top().second;
-    queue.pop();
+    const Index v = Index(queue.pop() & 0xffffffffu);
     queued[v] = 0;
     if (!vertex_alive_[v]) continue;
     if (dirty[v]) {
       dirty[v] = 0;
       const double c = cost(v);
-      if (c < HUGE_VAL) queue.emplace(c, v), queued[v] = 1;
+      if (c < HUGE_VAL) queue.push(queue_key(c, v)), queued[v] = 1;
       continue;
     }
     touched_.clear();
     if (!try_remove(v)) continue;
     meter.update(report_.removals);
+    // each vertex once: a duplicate would mark the vertex just queued dirty, a second cost
+    std::sort(touched_.begin(), touched_.end());
+    touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
     for (Index u : touched_) {
       if (!vertex_alive_[u]) continue;
       if (queued[u]) {
         dirty[u] = 1;
       } else {
         const double c = cost(u);
-        if (c < HUGE_VAL) queue.emplace(c, u), queued[u] = 1, dirty[u] = 0;
+        if (c < HUGE_VAL) queue.push(queue_key(c, u)), queued[u] = 1, dirty[u] = 0;
       }
     }
   }
