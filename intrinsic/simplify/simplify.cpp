@@ -185,7 +185,13 @@ class Simplifier {
   // ---- mesh ----
   Index head(Index h) const { return sd_[T::next(h)].tail; }
   double angle(Index h) const {  // corner angle of face(h) at tail(h)
-    return opposite_angle(sd_[T::next(h)].len, sd_[h].len, sd_[T::prev(h)].len);
+    const Index f0 = 3 * T::face(h);
+    if (angle_[f0] < 0.0) {  // the face's three angles, once per change of its sides
+      for (Index k = f0; k < f0 + 3; ++k) {
+        angle_[k] = opposite_angle(sd_[T::next(k)].len, sd_[k].len, sd_[T::prev(k)].len);
+      }
+    }
+    return angle_[h];
   }
   double area(Index f) const {
     return triangle_area(sd_[3 * f].len, sd_[3 * f + 1].len, sd_[3 * f + 2].len);
@@ -194,6 +200,7 @@ class Simplifier {
     sd_[slot].tail = tail;
     sd_[slot].twin = twin;
     sd_[slot].len = len;
+    angle_[3 * T::face(slot)] = -1.0;
     if (twin >= 0) sd_[twin].twin = slot;
   }
   bool fan(Index rep, std::vector<Index>& out, bool& boundary) const;
@@ -248,6 +255,9 @@ class Simplifier {
     double len;
   };
   std::vector<Side> sd_;  // #H: a face's three sides in one cache line
+  // #H: angle(h), cached per face (each removal asks for its star's angles several times: the
+  // costs of its neighbours, the flips to degree 3); the face's first entry < 0: not computed
+  mutable std::vector<double> angle_;
   std::vector<char> face_alive_, vertex_alive_;
   // CSR: one outgoing halfedge per fan of each vertex, v's in [rep_start_[v], rep_end_[v])
   // (a deleted pillow's fan leaves the range)
@@ -411,6 +421,7 @@ Simplifier::Simplifier(const IntrinsicTriangulation& fine)
     : nv_(fine.n_vertices()), multiplicity_(fine.multiplicity()), sd_(fine.tails().size()) {
   const Index nh = fine.n_halfedges(), nf = fine.n_faces();
   for (Index h = 0; h < nh; ++h) sd_[h] = {fine.tail(h), fine.twin(h), fine.halfedge_length(h)};
+  angle_.assign(sd_.size(), -1.0);
   face_alive_.assign(nf, 1);
   pts_.resize(nf);
   pt_face_.assign(nv_, kInvalidIndex);
