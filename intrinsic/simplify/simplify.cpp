@@ -250,6 +250,9 @@ class Simplifier {
 
   Index nv_ = 0;
   int multiplicity_ = 1;
+  // the working id of each input vertex (the constructor's order); every array below is indexed
+  // by working ids, faces by working face ids
+  std::vector<Index> vertex_new_;
   struct Side {
     Index tail, twin;  // vertex at the start; glued side or kInvalidIndex
     double len;
@@ -420,7 +423,43 @@ void Simplifier::delaunay_repair(std::vector<Index>& stack) {
 Simplifier::Simplifier(const IntrinsicTriangulation& fine)
     : nv_(fine.n_vertices()), multiplicity_(fine.multiplicity()), sd_(fine.tails().size()) {
   const Index nh = fine.n_halfedges(), nf = fine.n_faces();
-  for (Index h = 0; h < nh; ++h) sd_[h] = {fine.tail(h), fine.twin(h), fine.halfedge_length(h)};
+  // Working order (D-340): faces breadth first across glued sides, vertices by their first
+  // corner in that order (unreferenced ones last), so that ids near in memory are near on the
+  // surface whatever the input's order; finish() maps back to the input's ids.
+  std::vector<Index> face_new(nf, kInvalidIndex), face_old;
+  face_old.reserve(nf);
+  for (Index seed = 0; seed < nf; ++seed) {
+    if (face_new[seed] != kInvalidIndex) continue;
+    face_new[seed] = Index(face_old.size());
+    face_old.push_back(seed);
+    for (std::size_t q = face_old.size() - 1; q < face_old.size(); ++q) {
+      for (int k = 0; k < 3; ++k) {
+        const Index t = fine.twin(3 * face_old[q] + k);
+        if (t < 0 || face_new[T::face(t)] != kInvalidIndex) continue;
+        face_new[T::face(t)] = Index(face_old.size());
+        face_old.push_back(T::face(t));
+      }
+    }
+  }
+  vertex_new_.assign(nv_, kInvalidIndex);
+  Index n_ordered = 0;
+  for (Index f : face_old) {
+    for (int k = 0; k < 3; ++k) {
+      Index& id = vertex_new_[fine.tail(3 * f + k)];
+      if (id == kInvalidIndex) id = n_ordered++;
+    }
+  }
+  for (Index v = 0; v < nv_; ++v) {
+    if (vertex_new_[v] == kInvalidIndex) vertex_new_[v] = n_ordered++;
+  }
+  for (Index f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Index h = 3 * face_old[f] + k, t = fine.twin(h);
+      sd_[3 * f + k] = {vertex_new_[fine.tail(h)],
+                        t < 0 ? kInvalidIndex : 3 * face_new[T::face(t)] + T::side(t),
+                        fine.halfedge_length(h)};
+    }
+  }
   angle_.assign(sd_.size(), -1.0);
   face_alive_.assign(nf, 1);
   pts_.resize(nf);
@@ -1230,10 +1269,11 @@ Simplification Simplifier::finish(const IntrinsicTriangulation& fine) {
   for (Index f = 0; f < nf; ++f) {
     if (face_alive_[f]) face_id[f] = nfc++;
   }
-  for (Index v = 0; v < nv_; ++v) {
+  for (Index v_in = 0; v_in < nv_; ++v_in) {  // coarse vertices in the input's id order
+    const Index v = vertex_new_[v_in];
     if (!vertex_alive_[v]) continue;
     vertex_id[v] = Index(s.coarse_to_fine.size());
-    s.coarse_to_fine.push_back(v);
+    s.coarse_to_fine.push_back(v_in);
   }
   std::vector<double> comp_area(comp_area0_.size(), 0.0);
   for (Index f = 0; f < nf; ++f) {
@@ -1261,8 +1301,9 @@ Simplification Simplifier::finish(const IntrinsicTriangulation& fine) {
   s.coarse = IntrinsicTriangulation::from_gluing(std::move(tail), std::move(twin), len,
                                                  Index(s.coarse_to_fine.size()), multiplicity_);
   s.fine_in_coarse.resize(nv_);
-  for (Index v = 0; v < nv_; ++v) {
-    SurfacePoint& sp = s.fine_in_coarse[v];
+  for (Index v_in = 0; v_in < nv_; ++v_in) {
+    const Index v = vertex_new_[v_in];
+    SurfacePoint& sp = s.fine_in_coarse[v_in];
     if (!vertex_alive_[v]) {
       sp.face = face_id[pt_face_[v]];
       sp.bary = pt_bary_[v];
