@@ -21,8 +21,8 @@ int simplify(int argc, char** argv) {
   const int max_n = int(int_option(argc, argv, "--max-n", 224));
   const Index target = Index(int_option(argc, argv, "--vertices", 10000));
   print_load_average();
-  std::printf("%10s %10s %10s %10s %10s %14s %12s %10s\n", "faces", "vertices", "target",
-              "time s", "cpu s", "removed/s", "flips/rem", "P s");
+  std::printf("%10s %10s %10s %10s %10s %14s %12s %10s\n", "faces", "vertices", "target", "time s",
+              "cpu s", "removed/s", "flips/rem", "P s");
   for (int n : {23, 71, 224, 316}) {
     if (n > max_n) break;
     const intrinsic::TriangleMesh m = intrinsic::icosphere(n);

@@ -170,9 +170,44 @@ class BucketQueue {
   std::vector<std::uint64_t> sorted_;  // the current bucket's keys, from cursor_ on
   std::size_t cursor_ = 0, size_ = 0;
   int current_ = -1;
-  std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<std::uint64_t>>
-      late_;
+  std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<std::uint64_t>> late_;
 };
+
+// Working order (D-340): faces breadth first across glued sides from face 0 (face_old: the
+// input face of each working face), vertices by their first corner in that order, unreferenced
+// ones last (vertex_new: the working id of each input vertex). Ids near in memory are then near
+// on the surface whatever the input's order; Simplifier::finish() maps back to the input's ids.
+void working_order(const IntrinsicTriangulation& fine, std::vector<Index>& face_old,
+                   std::vector<Index>& vertex_new) {
+  const Index nf = fine.n_faces(), nv = fine.n_vertices();
+  std::vector<char> seen(nf, 0);
+  face_old.clear();
+  face_old.reserve(nf);
+  for (Index seed = 0; seed < nf; ++seed) {
+    if (seen[seed]) continue;
+    seen[seed] = 1;
+    face_old.push_back(seed);
+    for (std::size_t q = face_old.size() - 1; q < face_old.size(); ++q) {
+      for (int k = 0; k < 3; ++k) {
+        const Index t = fine.twin(3 * face_old[q] + k);
+        if (t < 0 || seen[T::face(t)]) continue;
+        seen[T::face(t)] = 1;
+        face_old.push_back(T::face(t));
+      }
+    }
+  }
+  vertex_new.assign(nv, kInvalidIndex);
+  Index n_ordered = 0;
+  for (Index f : face_old) {
+    for (int k = 0; k < 3; ++k) {
+      Index& id = vertex_new[fine.tail(3 * f + k)];
+      if (id == kInvalidIndex) id = n_ordered++;
+    }
+  }
+  for (Index v = 0; v < nv; ++v) {
+    if (vertex_new[v] == kInvalidIndex) vertex_new[v] = n_ordered++;
+  }
+}
 
 class Simplifier {
  public:
@@ -423,35 +458,10 @@ void Simplifier::delaunay_repair(std::vector<Index>& stack) {
 Simplifier::Simplifier(const IntrinsicTriangulation& fine)
     : nv_(fine.n_vertices()), multiplicity_(fine.multiplicity()), sd_(fine.tails().size()) {
   const Index nh = fine.n_halfedges(), nf = fine.n_faces();
-  // Working order (D-340): faces breadth first across glued sides, vertices by their first
-  // corner in that order (unreferenced ones last), so that ids near in memory are near on the
-  // surface whatever the input's order; finish() maps back to the input's ids.
-  std::vector<Index> face_new(nf, kInvalidIndex), face_old;
-  face_old.reserve(nf);
-  for (Index seed = 0; seed < nf; ++seed) {
-    if (face_new[seed] != kInvalidIndex) continue;
-    face_new[seed] = Index(face_old.size());
-    face_old.push_back(seed);
-    for (std::size_t q = face_old.size() - 1; q < face_old.size(); ++q) {
-      for (int k = 0; k < 3; ++k) {
-        const Index t = fine.twin(3 * face_old[q] + k);
-        if (t < 0 || face_new[T::face(t)] != kInvalidIndex) continue;
-        face_new[T::face(t)] = Index(face_old.size());
-        face_old.push_back(T::face(t));
-      }
-    }
-  }
-  vertex_new_.assign(nv_, kInvalidIndex);
-  Index n_ordered = 0;
-  for (Index f : face_old) {
-    for (int k = 0; k < 3; ++k) {
-      Index& id = vertex_new_[fine.tail(3 * f + k)];
-      if (id == kInvalidIndex) id = n_ordered++;
-    }
-  }
-  for (Index v = 0; v < nv_; ++v) {
-    if (vertex_new_[v] == kInvalidIndex) vertex_new_[v] = n_ordered++;
-  }
+  std::vector<Index> face_old;
+  working_order(fine, face_old, vertex_new_);
+  std::vector<Index> face_new(nf);
+  for (Index f = 0; f < nf; ++f) face_new[face_old[f]] = f;
   for (Index f = 0; f < nf; ++f) {
     for (int k = 0; k < 3; ++k) {
       const Index h = 3 * face_old[f] + k, t = fine.twin(h);

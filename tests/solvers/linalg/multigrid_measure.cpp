@@ -52,8 +52,8 @@ int linear(const intrinsic::TriangleMesh& mesh, const intrinsic::IntrinsicTriang
   const solvers::SparseMatrix Lp =
       test::keep_rows(solvers::SparseMatrix(test::keep_rows(L, keep).transpose()), keep);
   const std::clock_t c0 = std::clock();
-  auto chain = levels > 0 ? test::icosphere_hierarchy(n, levels)
-                          : solvers::simplification_hierarchy(tri);
+  auto chain =
+      levels > 0 ? test::icosphere_hierarchy(n, levels) : solvers::simplification_hierarchy(tri);
   std::printf("hierarchy: %s, %.2f CPU s, levels (vertices):", levels > 0 ? "nested" : "simplified",
               double(std::clock() - c0) / CLOCKS_PER_SEC);
   for (const auto& P : chain) std::printf(" %d", int(P.cols()));
