@@ -1272,6 +1272,10 @@ void Simplifier::drain(Index target, ProgressMeter& meter) {
 }
 
 Simplification Simplifier::finish(const IntrinsicTriangulation& fine) {
+  // what the removals needed and finish() does not, freed before the coarse triangulation and
+  // the map are built beside the rest
+  std::vector<double>().swap(angle_);
+  std::vector<std::vector<Index>>().swap(pts_);
   Simplification s;
   const Index nf = Index(face_alive_.size());
   std::vector<Index> face_id(nf, kInvalidIndex), vertex_id(nv_, kInvalidIndex);
