@@ -60,7 +60,10 @@ struct Simplification {
 };
 
 /// Removes vertices of `fine` greedily, cheapest first (costs refreshed lazily, when a vertex
-/// whose star changed comes out of the queue), until the target is reached.
+/// whose star changed comes out of the queue), until the target is reached. Costs are compared
+/// in buckets of relative width 1.5 and 1.33 (alternately), ties broken by a breadth-first order
+/// of the faces from face 0, so that the removals sweep the surface whatever the input's vertex
+/// order (docs/decisions.md D-340).
 ///
 /// Algorithm: the input is flipped to intrinsic Delaunay. A vertex's cost is the area of its
 /// star times (|angle defect| + the mean curvature density of its component, 4π/area): flat

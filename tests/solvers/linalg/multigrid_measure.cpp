@@ -3,6 +3,10 @@
 //   ifem_multigrid_measure N direct|multigrid [LEVELS] [STEPS] [gs|jacobi] [TIME_FACTOR]
 //   [CORRECTION_STEPS]
 //   ifem_multigrid_measure N write FILE.ply   (the icosphere as a binary PLY, for `ifem distance`)
+//   ifem_multigrid_measure N linear [LEVELS] [STEPS] [gs|jacobi]   (PCG on M + tL and pinned L;
+//   LEVELS 0: the library's simplification hierarchy instead of the nested one, its CPU time)
+//   ifem_multigrid_measure MESH_FILE linear   (the same on a manifold mesh file, flipped to
+//   intrinsic Delaunay, with the simplification hierarchy)
 // Prints the set-up and query times, the peak resident memory after each phase, the PCG
 // figures of one heat solve and the distance error against the great-circle distance.
 #include <sys/resource.h>
@@ -11,6 +15,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 
 #include "fem/operators.h"
@@ -19,6 +24,7 @@
 #include "intrinsic/io/mesh_io.h"
 #include "solvers/linalg/nested_hierarchies.h"
 #include "solvers/scalar/heat_distance.h"
+#include "solvers/scalar/solver_choice.h"
 
 using namespace ifem;
 
@@ -45,7 +51,13 @@ int linear(const intrinsic::TriangleMesh& mesh, const intrinsic::IntrinsicTriang
   for (int v = 1; v < int(L.rows()); ++v) keep.push_back(v);
   const solvers::SparseMatrix Lp =
       test::keep_rows(solvers::SparseMatrix(test::keep_rows(L, keep).transpose()), keep);
-  auto chain = test::icosphere_hierarchy(n, levels);
+  const std::clock_t c0 = std::clock();
+  auto chain =
+      levels > 0 ? test::icosphere_hierarchy(n, levels) : solvers::simplification_hierarchy(tri);
+  std::printf("hierarchy: %s, %.2f CPU s, levels (vertices):", levels > 0 ? "nested" : "simplified",
+              double(std::clock() - c0) / CLOCKS_PER_SEC);
+  for (const auto& P : chain) std::printf(" %d", int(P.cols()));
+  std::printf("\n");
   solvers::MultigridOptions o;
   o.smoothing_steps = steps;
   if (jacobi) o.smoother = solvers::MultigridOptions::Smoother::kJacobi;
@@ -87,8 +99,17 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s N direct|multigrid [LEVELS] [STEPS] [jacobi]\n", argv[0]);
     return 2;
   }
-  const int n = std::atoi(argv[1]);
   const std::string kind = argv[2];
+  if (std::string(argv[1]).find_first_not_of("0123456789") != std::string::npos) {
+    if (kind != "linear") return 2;
+    const io::SurfaceInput in = io::read_mesh(argv[1]);
+    auto tri = intrinsic::IntrinsicTriangulation::from_positions(in.triangles, in.positions);
+    tri.flip_to_delaunay();
+    std::printf("%s: %d faces, %d vertices\n", argv[1], int(tri.n_faces()), int(tri.n_vertices()));
+    return linear(intrinsic::TriangleMesh{}, tri, 0, 0, argc > 4 ? std::atoi(argv[4]) : 1,
+                  argc > 5 && std::string(argv[5]) == "jacobi");
+  }
+  const int n = std::atoi(argv[1]);
   const int levels = argc > 3 ? std::atoi(argv[3]) : 5;
   const int steps = argc > 4 ? std::atoi(argv[4]) : 1;
   const bool jacobi = argc > 5 && std::string(argv[5]) == "jacobi";
