@@ -491,27 +491,40 @@ void PoissonSolver::factor(fem::SparseMatrix A, const PoissonOptions& options,
                        std::to_string(given.front().rows()) + " rows for " + std::to_string(im.n) +
                        " vertices");
   }
-  // P₀'s rows of the unknowns (zero rows for fixed ones kept as decoupled rows)
+  // P₀'s rows of the unknowns (zero rows for fixed ones kept as decoupled rows), column by
+  // column: unknown ids increase with vertex ids, so the rows stay sorted (no triplets)
   std::vector<char> fixed_row(im.unknown_vertex.size(), 0);
   for (const Index r : im.fixed_rows) fixed_row[std::size_t(r)] = 1;
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(std::size_t(given.front().nonZeros()));
   const SparseMatrix& P0 = given.front();
-  for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
-    for (SparseMatrix::InnerIterator it(P0, j); it; ++it) {
-      const Index u = im.unknown[it.row()];
-      if (u != kInvalidIndex && !fixed_row[std::size_t(u)]) t.emplace_back(u, int(j), it.value());
-    }
-  }
+  auto row_of = [&](Eigen::Index fine) {
+    const Index u = im.unknown[fine];
+    return u != kInvalidIndex && !fixed_row[std::size_t(u)] ? int(u) : -1;
+  };
   std::vector<SparseMatrix> chain;  // P₀ of the unknowns, then the given coarser ones
   chain.reserve(given.size());
   chain.emplace_back(Eigen::Index(im.unknown_vertex.size()), P0.cols());
-  chain.front().setFromTriplets(t.begin(), t.end());
-  t = {};
+  SparseMatrix& R = chain.front();
+  int* outer = R.outerIndexPtr();
+  outer[0] = 0;
+  for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
+    int count = 0;
+    for (SparseMatrix::InnerIterator it(P0, j); it; ++it) count += row_of(it.row()) >= 0;
+    outer[j + 1] = outer[j] + count;
+  }
+  R.resizeNonZeros(outer[P0.cols()]);
+  int k = 0;
+  for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
+    for (SparseMatrix::InnerIterator it(P0, j); it; ++it) {
+      const int u = row_of(it.row());
+      if (u < 0) continue;
+      R.innerIndexPtr()[k] = u;
+      R.valuePtr()[k++] = it.value();
+    }
+  }
   chain.insert(chain.end(), given.begin() + 1, given.end());
-  SparseMatrix full = A.selfadjointView<Eigen::Lower>();  // A holds its lower triangle
-  A = SparseMatrix();  // freed before the hierarchy's operators are built
-  im.mg.emplace(std::move(full), chain, c.multigrid);
+  // A holds its lower triangle (diagonal first): the multigrid levels keep that form
+  im.mg.emplace(std::move(A), std::move(chain), c.multigrid,
+                MultigridSolver::Stored::kLowerTriangle);
 }
 
 namespace {

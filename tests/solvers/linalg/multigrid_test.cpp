@@ -149,6 +149,39 @@ TEST(Multigrid, CycleEqualsTheTextbookTwoLevelCycle) {
   }
 }
 
+TEST(Multigrid, LowerTriangleGivenEqualsBothTriangles) {
+  // three levels (the second Galerkin product formed from the first one's lower triangle): the
+  // cycle of the solver given only A's lower triangle equals the one given the whole A and the
+  // textbook cycle with dense PᵀAP products; the whole A passed as a lower triangle is refused
+  const SparseMatrix A = heat_matrix(intrinsic::icosphere(8));
+  const std::vector<SparseMatrix> chain = test::icosphere_hierarchy(8, 3);
+  const SparseMatrix lower = A.triangularView<Eigen::Lower>();
+  const MultigridSolver whole(A, chain);
+  const MultigridSolver from_lower(lower, chain, {}, MultigridSolver::Stored::kLowerTriangle);
+  ASSERT_EQ(from_lower.n_levels(), 3);
+  EXPECT_EQ(from_lower.memory_bytes(), whole.memory_bytes());
+  const Eigen::VectorXd r = random_vector(A.rows(), 21);
+  const Eigen::VectorXd z = whole.cycle(r);
+  EXPECT_LE((from_lower.cycle(r) - z).norm(), 1e-14 * z.norm());
+  // the textbook three-level cycle with dense Galerkin products (the second one of a product)
+  std::vector<Eigen::MatrixXd> As{Eigen::MatrixXd(A)}, Ps;
+  for (const SparseMatrix& P : chain) {
+    Ps.push_back(Eigen::MatrixXd(P));
+    As.push_back(Ps.back().transpose() * As.back() * Ps.back());
+  }
+  auto textbook = [&](auto&& self, std::size_t l, const Eigen::VectorXd& b) -> Eigen::VectorXd {
+    if (l + 1 == As.size()) return As[l].ldlt().solve(b);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
+    reference_sweep(As[l], b, x, true);
+    x += Ps[l] * self(self, l + 1, Ps[l].transpose() * (b - As[l] * x));
+    reference_sweep(As[l], b, x, false);
+    return x;
+  };
+  EXPECT_LE((textbook(textbook, 0, r) - z).norm(), 1e-12 * z.norm());
+  EXPECT_THROW(MultigridSolver(A, chain, {}, MultigridSolver::Stored::kLowerTriangle),
+               InvalidInput);
+}
+
 TEST(Multigrid, PinnedLaplacianOnNestedIcospheres) {
   // L with vertex 0 eliminated (u(0) = 0): SPD, the pure-Neumann null space removed
   const auto tri = test::make_tri(intrinsic::icosphere(16));
