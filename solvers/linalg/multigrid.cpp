@@ -27,12 +27,19 @@ void MultigridOptions::validate() const {
 
 namespace {
 
+// to = from's storage, from left empty (Eigen 3.4's SparseMatrix has no move operations: a
+// std::move() copies).
+void take(SparseMatrix& to, SparseMatrix& from) {
+  to = SparseMatrix();
+  to.swap(from);
+}
+
 // Each level's operator is kept as its lower triangle (CSC, sorted rows, the diagonal first in
 // every column): half the entries of both triangles, and every kernel below reads a column once.
 struct Level {
-  SparseMatrix A;        // this level's operator, lower triangle, diagonal first
-  Eigen::VectorXd diag;  // its diagonal
-  SparseMatrix P;        // to the next coarser level (empty on the coarsest)
+  SparseMatrix A;  // this level's operator, lower triangle, diagonal first (a_ii = value[outer[i]])
+  // to the next coarser level (null on the coarsest); shared with the caller when used as given
+  std::shared_ptr<const SparseMatrix> P;
 };
 
 // The lower triangle of A (both triangles stored, sorted columns), compressed.
@@ -77,25 +84,26 @@ void symmetric_multiply(const SparseMatrix& A, const double* x, double* y) {
   }
 }
 
-// P without its empty columns (no nonzero value); `kept` receives the old ids of the columns kept.
-SparseMatrix drop_empty_columns(SparseMatrix P, std::vector<int>& kept) {
+// The ids of P's columns with a nonzero value, in `kept`; when some column has none, `dropped`
+// receives P without them (left untouched otherwise). Returns whether any column was dropped.
+bool drop_empty_columns(const SparseMatrix& P, std::vector<int>& kept, SparseMatrix& dropped) {
   kept.clear();
   for (int j = 0; j < int(P.cols()); ++j) {
     bool any = false;
     for (SparseMatrix::InnerIterator it(P, j); it && !any; ++it) any = it.value() != 0.0;
     if (any) kept.push_back(j);
   }
-  if (Eigen::Index(kept.size()) == P.cols()) return P;
-  SparseMatrix out(P.rows(), Eigen::Index(kept.size()));
-  out.reserve(P.nonZeros());
+  if (Eigen::Index(kept.size()) == P.cols()) return false;
+  dropped.resize(P.rows(), Eigen::Index(kept.size()));
+  dropped.reserve(P.nonZeros());
   for (int c = 0; c < int(kept.size()); ++c) {
-    out.startVec(c);
+    dropped.startVec(c);
     for (SparseMatrix::InnerIterator it(P, kept[std::size_t(c)]); it; ++it) {
-      if (it.value() != 0.0) out.insertBack(it.row(), c) = it.value();
+      if (it.value() != 0.0) dropped.insertBack(it.row(), c) = it.value();
     }
   }
-  out.finalize();
-  return out;
+  dropped.finalize();
+  return true;
 }
 
 // The rows `rows` (increasing) of P, in that order; written column by column (rows stay sorted).
@@ -247,13 +255,12 @@ SparseMatrix galerkin_lower(const SparseMatrix& A, const SparseMatrix& P) {
   return out;
 }
 
-// The diagonal of a lower triangle (level `level`), checked: rows increasing below a leading
-// diagonal entry in every column, and the diagonal positive.
+// Checks a lower triangle (level `level`): rows increasing below a leading diagonal entry in
+// every column, and the diagonal positive (the kernels read it as the column's first value).
 // @throws InvalidInput on rows out of order; SolverError on a missing or non-positive diagonal
-Eigen::VectorXd lower_diagonal(const SparseMatrix& A, std::size_t level) {
+void check_lower(const SparseMatrix& A, std::size_t level) {
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
-  Eigen::VectorXd diag = Eigen::VectorXd::Zero(A.cols());
   for (int j = 0; j < int(A.cols()); ++j) {
     for (int k = outer[j]; k < outer[j + 1]; ++k) {
       if (inner[k] < j || (k > outer[j] && inner[k] <= inner[k - 1])) {
@@ -263,14 +270,14 @@ Eigen::VectorXd lower_diagonal(const SparseMatrix& A, std::size_t level) {
             std::to_string(level) + ", column " + std::to_string(j) + ")");
       }
     }
-    if (outer[j] < outer[j + 1] && inner[outer[j]] == j) diag[j] = A.valuePtr()[outer[j]];
-    if (!(diag[j] > 0.0)) {
+    const double diag =
+        outer[j] < outer[j + 1] && inner[outer[j]] == j ? A.valuePtr()[outer[j]] : 0.0;
+    if (!(diag > 0.0)) {
       throw SolverError("MultigridSolver: level " + std::to_string(level) + " row " +
-                        std::to_string(j) + " has diagonal " + std::to_string(diag[j]) +
+                        std::to_string(j) + " has diagonal " + std::to_string(diag) +
                         " (A must be positive definite)");
     }
   }
-  return diag;
 }
 
 void check_finite(const SparseMatrix& A, const char* what) {
@@ -298,7 +305,7 @@ struct MultigridSolver::Impl {
     const double* val = lv.A.valuePtr();
     d.resize(n);
     for (int i = 0; i < n; ++i) {
-      const double di = r[i] / lv.diag[i];
+      const double di = r[i] / val[start[i]];
       d[i] = di;
       for (int k = start[i] + 1; k < start[i + 1]; ++k) r[row[k]] -= val[k] * di;
     }
@@ -331,8 +338,15 @@ struct MultigridSolver::Impl {
     for (int i = n - 1; i >= 0; --i) {
       double s = r[i];
       for (int k = start[i] + 1; k < start[i + 1]; ++k) s -= val[k] * d[row[k]];
-      d[i] = s / lv.diag[i];
+      d[i] = s / val[start[i]];
     }
+  }
+
+  // x += ω D⁻¹ r (damped Jacobi)
+  void jacobi_step(const Level& lv, const Eigen::VectorXd& r, Eigen::VectorXd& x) const {
+    const int* start = lv.A.outerIndexPtr();
+    const double* val = lv.A.valuePtr();
+    for (Eigen::Index i = 0; i < x.size(); ++i) x[i] += opt.jacobi_weight * r[i] / val[start[i]];
   }
 
   // r = b − A x
@@ -352,7 +366,7 @@ struct MultigridSolver::Impl {
     Eigen::VectorXd d;
     for (int s = 0; s < opt.smoothing_steps; ++s) {
       if (jacobi) {
-        x.array() += opt.jacobi_weight * r.array() / lv.diag.array();
+        jacobi_step(lv, r, x);
         residual(lv, b, x, r);
       } else {
         forward_sweep(lv, r, d);
@@ -369,7 +383,7 @@ struct MultigridSolver::Impl {
     for (int s = 0; s < opt.smoothing_steps; ++s) {
       residual(lv, b, x, r);
       if (jacobi) {
-        x.array() += opt.jacobi_weight * r.array() / lv.diag.array();
+        jacobi_step(lv, r, x);
       } else {
         backward_sweep(lv, r, d);
         x += d;
@@ -386,11 +400,11 @@ struct MultigridSolver::Impl {
     const Level& lv = levels[l];
     Eigen::VectorXd r;
     pre_smooth(lv, b, x, r);
-    const Eigen::VectorXd coarse_b = lv.P.transpose() * r;
+    const Eigen::VectorXd coarse_b = lv.P->transpose() * r;
     r = Eigen::VectorXd();
     Eigen::VectorXd coarse_x;
     v_cycle(l + 1, coarse_b, coarse_x);
-    x.noalias() += lv.P * coarse_x;
+    x.noalias() += *lv.P * coarse_x;
     post_smooth(lv, b, x);
   }
 
@@ -442,7 +456,34 @@ struct MultigridSolver::Impl {
   }
 };
 
-MultigridSolver::MultigridSolver(SparseMatrix A, std::vector<SparseMatrix> prolongations,
+namespace {
+
+// Each P of the vector as a shared matrix, its storage swapped in (no copy).
+std::vector<std::shared_ptr<const SparseMatrix>> shared(std::vector<SparseMatrix>& prolongations) {
+  std::vector<std::shared_ptr<const SparseMatrix>> out;
+  out.reserve(prolongations.size());
+  for (SparseMatrix& P : prolongations) {
+    auto p = std::make_shared<SparseMatrix>();
+    p->swap(P);
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+}  // namespace
+
+MultigridSolver::MultigridSolver(const SparseMatrix& A, std::vector<SparseMatrix> prolongations,
+                                 const MultigridOptions& options, Stored stored)
+    : MultigridSolver(SparseMatrix(A), shared(prolongations), options, stored) {}
+
+MultigridSolver::MultigridSolver(SparseMatrix&& A, std::vector<SparseMatrix> prolongations,
+                                 const MultigridOptions& options, Stored stored)
+    : MultigridSolver(std::move(A), shared(prolongations), options, stored) {}
+
+// Eigen 3.4's SparseMatrix has no move constructor or move assignment: std::move() copies. The
+// levels are therefore handed on with swap() (take()), never with a move.
+MultigridSolver::MultigridSolver(SparseMatrix&& A,
+                                 std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
                                  const MultigridOptions& options, Stored stored)
     : impl_(std::make_unique<Impl>()) {
   options.validate();
@@ -455,40 +496,57 @@ MultigridSolver::MultigridSolver(SparseMatrix A, std::vector<SparseMatrix> prolo
   const Eigen::Index n = A.rows();
   SparseMatrix current;
   if (stored == Stored::kBothTriangles) {
-    current = lower_of(A);
+    SparseMatrix lower = lower_of(A);
     A = SparseMatrix();
+    take(current, lower);
   } else {
-    current = std::move(A);
+    take(current, A);
     current.makeCompressed();
   }
-  im.levels.reserve(prolongations.size() + 1);  // no copies of the levels while they are added
+  im.levels.reserve(prolongations.size() + 1);
   std::vector<int> kept;  // the previous level's columns kept: this level's rows to keep
   Eigen::Index caller_rows = n;  // rows are checked against the caller's numbering
   for (std::size_t l = 0; l <= prolongations.size(); ++l) {
-    Level lv;
-    lv.A = std::move(current);
-    lv.diag = lower_diagonal(lv.A, l);
-    if (l < prolongations.size()) {
-      SparseMatrix given = std::move(prolongations[l]);
-      prolongations[l] = SparseMatrix();
-      if (given.rows() != caller_rows) {
-        throw InvalidInput("MultigridSolver: prolongation " + std::to_string(l) + " has " +
-                           std::to_string(given.rows()) + " rows, its level has " +
-                           std::to_string(caller_rows) + " unknowns");
-      }
-      caller_rows = given.cols();
-      check_finite(given, "a prolongation");
-      given.makeCompressed();
-      SparseMatrix P = l == 0 || Eigen::Index(kept.size()) == given.rows()
-                           ? std::move(given)
-                           : select_rows(given, kept);
-      given = SparseMatrix();
-      P = drop_empty_columns(std::move(P), kept);
-      if (P.cols() == 0) throw InvalidInput("MultigridSolver: a prolongation has no column");
-      current = galerkin_lower(lv.A, P);
-      lv.P = std::move(P);
+    Level& lv = im.levels.emplace_back();
+    take(lv.A, current);
+    check_lower(lv.A, l);
+    if (l == prolongations.size()) break;
+    std::shared_ptr<const SparseMatrix> P = std::move(prolongations[l]);
+    if (!P) throw InvalidInput("MultigridSolver: prolongation " + std::to_string(l) + " is null");
+    if (P->rows() != caller_rows) {
+      throw InvalidInput("MultigridSolver: prolongation " + std::to_string(l) + " has " +
+                         std::to_string(P->rows()) + " rows, its level has " +
+                         std::to_string(caller_rows) + " unknowns");
     }
-    im.levels.push_back(std::move(lv));
+    caller_rows = P->cols();
+    check_finite(*P, "a prolongation");
+    // a changed P (uncompressed, rows of dropped columns, empty columns) is this level's own
+    SparseMatrix changed;
+    bool own = false;
+    if (!P->isCompressed()) {
+      changed = *P;
+      changed.makeCompressed();
+      own = true;
+    }
+    if (l > 0 && Eigen::Index(kept.size()) != P->rows()) {
+      SparseMatrix selected = select_rows(own ? changed : *P, kept);
+      take(changed, selected);
+      own = true;
+    }
+    SparseMatrix dropped;
+    if (drop_empty_columns(own ? changed : *P, kept, dropped)) {
+      take(changed, dropped);
+      own = true;
+    }
+    if (own) {
+      auto mine = std::make_shared<SparseMatrix>();
+      mine->swap(changed);
+      P = std::move(mine);
+    }
+    if (P->cols() == 0) throw InvalidInput("MultigridSolver: a prolongation has no column");
+    SparseMatrix coarse = galerkin_lower(lv.A, *P);
+    take(current, coarse);
+    lv.P = std::move(P);
   }
   im.coarsest.emplace(im.levels.back().A, options.coarsest);
 }
@@ -550,8 +608,9 @@ Eigen::Index MultigridSolver::level_size(int level) const {
 double MultigridSolver::memory_bytes() const {
   double bytes = 0.0;
   for (const Level& lv : impl_->levels) {
-    bytes += 12.0 * double(lv.A.nonZeros() + lv.P.nonZeros()) +
-             4.0 * double(lv.A.cols() + lv.P.cols()) + 8.0 * double(lv.diag.size());
+    const double p_entries = lv.P ? double(lv.P->nonZeros()) : 0.0;
+    const double p_cols = lv.P ? double(lv.P->cols()) : 0.0;
+    bytes += 12.0 * (double(lv.A.nonZeros()) + p_entries) + 4.0 * (double(lv.A.cols()) + p_cols);
   }
   return bytes + 12.0 * impl_->coarsest->factor_nonzeros();
 }

@@ -79,9 +79,20 @@ class MultigridSolver {
   ///         triangle with rows out of order, or a prolongation whose rows do not match its level
   /// @throws SolverError if a level's diagonal is not positive or the coarsest operator is not
   ///         positive definite
-  /// (A and the prolongations are taken by value: pass rvalues to hand their storage over
-  /// instead of copying it.)
-  MultigridSolver(SparseMatrix A, std::vector<SparseMatrix> prolongations,
+  MultigridSolver(const SparseMatrix& A, std::vector<SparseMatrix> prolongations,
+                  const MultigridOptions& options = {},
+                  Stored stored = Stored::kBothTriangles);
+  /// As above, taking A's storage (A is left empty: Eigen 3.4's SparseMatrix has no move
+  /// constructor, so this overload swaps instead of copying). Pass the prolongations as an
+  /// rvalue too to hand them over.
+  MultigridSolver(SparseMatrix&& A, std::vector<SparseMatrix> prolongations,
+                  const MultigridOptions& options = {},
+                  Stored stored = Stored::kBothTriangles);
+  /// As above, with prolongations shared with the caller (e.g. one hierarchy behind several
+  /// solvers): a P_l used as given is referenced, not copied; one whose rows or columns must
+  /// change (columns dropped, or rows of the previous level's dropped columns) is copied first.
+  /// @throws InvalidInput also on a null prolongation
+  MultigridSolver(SparseMatrix&& A, std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
                   const MultigridOptions& options = {},
                   Stored stored = Stored::kBothTriangles);
   ~MultigridSolver();

@@ -328,14 +328,14 @@ struct PoissonSolver::Impl {
   // keeps its entries, as zeros but its positive diagonal: decoupled, with L's pattern.
   fem::SparseMatrix assemble_unknown_block(const fem::SparseMatrix& L, double c) const {
     const Index nu = static_cast<Index>(unknown_vertex.size());
-    if (nu == n) {
-      std::optional<fem::SparseMatrix> A = lower_triangle(L, c);
-      if (A) {
-        decouple_fixed(*A);
-        return std::move(*A);
-      }
+    // one named result, returned from both paths (copy elision: Eigen 3.4's SparseMatrix has
+    // no move constructor, so any other return copies it)
+    fem::SparseMatrix A;
+    if (nu == n && lower_triangle(L, c, A)) {
+      decouple_fixed(A);
+      return A;
     }
-    fem::SparseMatrix A(nu, nu);
+    A.resize(nu, nu);
     int* outer = A.outerIndexPtr();
     outer[0] = 0;
     for (Index u = 0; u < nu; ++u) {
@@ -389,21 +389,21 @@ struct PoissonSolver::Impl {
   }
 
   // assemble_unknown_block() when every vertex is an unknown (the heat method's matrices): each
-  // column's lower part is a contiguous tail of L's sorted column, copied whole (fixed rows not
-  // yet decoupled). nullopt when L is not compressed or lacks a stored diagonal entry (the
-  // general loop inserts it).
-  std::optional<fem::SparseMatrix> lower_triangle(const fem::SparseMatrix& L, double c) const {
-    if (!L.isCompressed()) return std::nullopt;
+  // column's lower part is a contiguous tail of L's sorted column, copied whole into A (fixed
+  // rows not yet decoupled). False when L is not compressed or lacks a stored diagonal entry
+  // (the general loop inserts it).
+  bool lower_triangle(const fem::SparseMatrix& L, double c, fem::SparseMatrix& A) const {
+    if (!L.isCompressed()) return false;
     const int* l_outer = L.outerIndexPtr();
     const int* l_inner = L.innerIndexPtr();
     const double* l_value = L.valuePtr();
-    fem::SparseMatrix A(n, n);
+    A.resize(n, n);
     int* outer = A.outerIndexPtr();
     std::vector<int> diag(n);
     outer[0] = 0;
     for (Index j = 0; j < n; ++j) {
       const int* d = std::lower_bound(l_inner + l_outer[j], l_inner + l_outer[j + 1], int(j));
-      if (d == l_inner + l_outer[j + 1] || *d != j) return std::nullopt;
+      if (d == l_inner + l_outer[j + 1] || *d != j) return false;
       diag[j] = static_cast<int>(d - l_inner);
       outer[j + 1] = outer[j] + (l_outer[j + 1] - diag[j]);
     }
@@ -416,7 +416,7 @@ struct PoissonSolver::Impl {
       std::copy_n(l_value + diag[j], count, value + outer[j]);
       value[outer[j]] += c * mass[j];
     }
-    return A;
+    return true;
   }
 
   // The coupling A_ud (unknown rows × Dirichlet columns) from L's Dirichlet columns.
@@ -463,7 +463,7 @@ PoissonOptions PoissonSolver::with_hierarchy(const intrinsic::IntrinsicTriangula
   return o;
 }
 
-void PoissonSolver::factor(fem::SparseMatrix A, const PoissonOptions& options,
+void PoissonSolver::factor(fem::SparseMatrix&& A, const PoissonOptions& options,
                            const CholeskyAnalysis* analysis) {
   Impl& im = *impl_;
   if (im.unknown_vertex.empty()) return;
@@ -491,37 +491,42 @@ void PoissonSolver::factor(fem::SparseMatrix A, const PoissonOptions& options,
                        std::to_string(given.front().rows()) + " rows for " + std::to_string(im.n) +
                        " vertices");
   }
-  // P₀'s rows of the unknowns (zero rows for fixed ones kept as decoupled rows), column by
-  // column: unknown ids increase with vertex ids, so the rows stay sorted (no triplets)
-  std::vector<char> fixed_row(im.unknown_vertex.size(), 0);
-  for (const Index r : im.fixed_rows) fixed_row[std::size_t(r)] = 1;
-  const SparseMatrix& P0 = given.front();
-  auto row_of = [&](Eigen::Index fine) {
-    const Index u = im.unknown[fine];
-    return u != kInvalidIndex && !fixed_row[std::size_t(u)] ? int(u) : -1;
-  };
-  std::vector<SparseMatrix> chain;  // P₀ of the unknowns, then the given coarser ones
+  // the hierarchy is shared with the caller (and with the other solvers built from the same
+  // options): only P₀ is copied, and only when some vertex is not an unknown or is fixed
+  const std::shared_ptr<const std::vector<SparseMatrix>>& shared_chain = options.prolongations;
+  std::vector<std::shared_ptr<const SparseMatrix>> chain;
   chain.reserve(given.size());
-  chain.emplace_back(Eigen::Index(im.unknown_vertex.size()), P0.cols());
-  SparseMatrix& R = chain.front();
-  int* outer = R.outerIndexPtr();
-  outer[0] = 0;
-  for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
-    int count = 0;
-    for (SparseMatrix::InnerIterator it(P0, j); it; ++it) count += row_of(it.row()) >= 0;
-    outer[j + 1] = outer[j] + count;
-  }
-  R.resizeNonZeros(outer[P0.cols()]);
-  int k = 0;
-  for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
-    for (SparseMatrix::InnerIterator it(P0, j); it; ++it) {
-      const int u = row_of(it.row());
-      if (u < 0) continue;
-      R.innerIndexPtr()[k] = u;
-      R.valuePtr()[k++] = it.value();
+  for (const SparseMatrix& P : given) chain.emplace_back(shared_chain, &P);  // aliases
+  if (Index(im.unknown_vertex.size()) != im.n || !im.fixed_rows.empty()) {
+    // P₀'s rows of the unknowns (zero rows for fixed ones kept as decoupled rows), column by
+    // column: unknown ids increase with vertex ids, so the rows stay sorted (no triplets)
+    std::vector<char> fixed_row(im.unknown_vertex.size(), 0);
+    for (const Index r : im.fixed_rows) fixed_row[std::size_t(r)] = 1;
+    const SparseMatrix& P0 = given.front();
+    auto row_of = [&](Eigen::Index fine) {
+      const Index u = im.unknown[fine];
+      return u != kInvalidIndex && !fixed_row[std::size_t(u)] ? int(u) : -1;
+    };
+    auto R = std::make_shared<SparseMatrix>(Eigen::Index(im.unknown_vertex.size()), P0.cols());
+    int* outer = R->outerIndexPtr();
+    outer[0] = 0;
+    for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
+      int count = 0;
+      for (SparseMatrix::InnerIterator it(P0, j); it; ++it) count += row_of(it.row()) >= 0;
+      outer[j + 1] = outer[j] + count;
     }
+    R->resizeNonZeros(outer[P0.cols()]);
+    int k = 0;
+    for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
+      for (SparseMatrix::InnerIterator it(P0, j); it; ++it) {
+        const int u = row_of(it.row());
+        if (u < 0) continue;
+        R->innerIndexPtr()[k] = u;
+        R->valuePtr()[k++] = it.value();
+      }
+    }
+    chain.front() = std::move(R);
   }
-  chain.insert(chain.end(), given.begin() + 1, given.end());
   // A holds its lower triangle (diagonal first): the multigrid levels keep that form
   im.mg.emplace(std::move(A), std::move(chain), c.multigrid,
                 MultigridSolver::Stored::kLowerTriangle);
