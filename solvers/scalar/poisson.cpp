@@ -463,27 +463,40 @@ PoissonOptions PoissonSolver::with_hierarchy(const intrinsic::IntrinsicTriangula
   return o;
 }
 
+namespace {
+
+// Whether a system of n vertices runs multigrid (PoissonOptions::solver): kMultigrid, or kAuto
+// from its size on with a hierarchy; an empty chain (a triangulation at most the coarsest
+// level's size) is one level, i.e. the factor.
+// @throws InvalidInput for multigrid without a hierarchy
+bool multigrid_for(const PoissonOptions& options, Index n) {
+  const SolverChoice& c = options.solver;
+  const bool multigrid = c.kind == LinearSolverKind::kMultigrid ||
+                         (c.kind == LinearSolverKind::kAuto && options.prolongations &&
+                          n >= c.auto_multigrid_vertices);
+  if (!multigrid || (options.prolongations && options.prolongations->empty())) return false;
+  if (!options.prolongations) {
+    throw InvalidInput(
+        "PoissonSolver: multigrid needs a hierarchy (PoissonOptions::prolongations, or the "
+        "triangulation constructor with a hierarchy provider)");
+  }
+  return true;
+}
+
+}  // namespace
+
 void PoissonSolver::factor(fem::SparseMatrix&& A, const PoissonOptions& options,
                            const CholeskyAnalysis* analysis) {
   Impl& im = *impl_;
   if (im.unknown_vertex.empty()) return;
   const SolverChoice& c = options.solver;
-  const bool multigrid = c.kind == LinearSolverKind::kMultigrid ||
-                         (c.kind == LinearSolverKind::kAuto && options.prolongations &&
-                          im.n >= c.auto_multigrid_vertices);
-  // an empty chain (a triangulation at most the coarsest level's size) is one level: the factor
-  if (!multigrid || (options.prolongations && options.prolongations->empty())) {
+  if (!multigrid_for(options, im.n)) {
     if (analysis) {
       im.chol.emplace(A, *analysis, options.cholesky);
     } else {
       im.chol.emplace(A, options.cholesky);
     }
     return;
-  }
-  if (!options.prolongations) {
-    throw InvalidInput(
-        "PoissonSolver: multigrid needs a hierarchy (PoissonOptions::prolongations, or the "
-        "triangulation constructor with a hierarchy provider)");
   }
   const std::vector<SparseMatrix>& given = *options.prolongations;
   if (given.front().rows() != im.n) {
@@ -492,12 +505,15 @@ void PoissonSolver::factor(fem::SparseMatrix&& A, const PoissonOptions& options,
                        " vertices");
   }
   // the hierarchy is shared with the caller (and with the other solvers built from the same
-  // options): only P₀ is copied, and only when some vertex is not an unknown or is fixed
+  // options): only P₀ is copied, and only when some vertex is not an unknown or is a Dirichlet
+  // vertex. A pinned vertex (a decoupled row, u = 0) keeps its row of P₀: the coarse operators
+  // then hold its diagonal as a penalty at its coarse vertices, and the heat and Poisson solvers
+  // of one triangulation share every P (docs/decisions.md D-335).
   const std::shared_ptr<const std::vector<SparseMatrix>>& shared_chain = options.prolongations;
   std::vector<std::shared_ptr<const SparseMatrix>> chain;
   chain.reserve(given.size());
   for (const SparseMatrix& P : given) chain.emplace_back(shared_chain, &P);  // aliases
-  if (Index(im.unknown_vertex.size()) != im.n || !im.fixed_rows.empty()) {
+  if (Index(im.unknown_vertex.size()) != im.n || !im.dirichlet.empty()) {
     // P₀'s rows of the unknowns (zero rows for fixed ones kept as decoupled rows), column by
     // column: unknown ids increase with vertex ids, so the rows stay sorted (no triplets)
     std::vector<char> fixed_row(im.unknown_vertex.size(), 0);
@@ -571,7 +587,10 @@ PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& 
                              const Components& comps, std::vector<Index> dirichlet,
                              const PoissonOptions& options)
     : impl_(std::make_unique<Impl>()) {
-  factor(setup(L, mass, comps, std::move(dirichlet), options, false), options, nullptr);
+  // multigrid without Dirichlet vertices keeps the pinned vertices in the system as decoupled
+  // rows: every vertex an unknown, so P₀ is used as given (factor())
+  const bool keep_pins = dirichlet.empty() && multigrid_for(options, L.rows());
+  factor(setup(L, mass, comps, std::move(dirichlet), options, keep_pins), options, nullptr);
 }
 
 PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
