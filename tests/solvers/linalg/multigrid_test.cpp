@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 #include <utility>
 #include <vector>
@@ -180,6 +181,24 @@ TEST(Multigrid, LowerTriangleGivenEqualsBothTriangles) {
   EXPECT_LE((textbook(textbook, 0, r) - z).norm(), 1e-12 * z.norm());
   EXPECT_THROW(MultigridSolver(A, chain, {}, MultigridSolver::Stored::kLowerTriangle),
                InvalidInput);
+}
+
+TEST(Multigrid, SharedProlongationsAreReferencedNotCopied) {
+  // a hierarchy shared by two solvers (as the heat and Poisson solvers share one): a P used as
+  // given is held by reference (the owner's count grows), and the cycle is the one of a solver
+  // given its own copies
+  const SparseMatrix A = heat_matrix(intrinsic::icosphere(8));
+  const auto owner = std::make_shared<const std::vector<SparseMatrix>>(
+      test::icosphere_hierarchy(8, 3));
+  std::vector<std::shared_ptr<const SparseMatrix>> aliases;
+  for (const SparseMatrix& P : *owner) aliases.emplace_back(owner, &P);
+  const MultigridSolver shared(SparseMatrix(A), aliases);
+  EXPECT_EQ(owner.use_count(), 1 + 2 * long(owner->size()));  // the aliases and the levels
+  const MultigridSolver copied(A, *owner);
+  const Eigen::VectorXd r = random_vector(A.rows(), 22);
+  EXPECT_LE((shared.cycle(r) - copied.cycle(r)).norm(), 1e-14 * copied.cycle(r).norm());
+  aliases.back() = nullptr;  // a null prolongation is refused
+  EXPECT_THROW(MultigridSolver(SparseMatrix(A), aliases), InvalidInput);
 }
 
 TEST(Multigrid, PinnedLaplacianOnNestedIcospheres) {
