@@ -115,7 +115,8 @@ SparseMatrix select_rows(const SparseMatrix& P, const std::vector<int>& rows) {
   outer[0] = 0;
   for (int j = 0; j < int(P.cols()); ++j) {
     int count = 0;
-    for (SparseMatrix::InnerIterator it(P, j); it; ++it) count += new_row[std::size_t(it.row())] >= 0;
+    for (SparseMatrix::InnerIterator it(P, j); it; ++it)
+      count += new_row[std::size_t(it.row())] >= 0;
     outer[j + 1] = outer[j] + count;
   }
   out.resizeNonZeros(outer[P.cols()]);
@@ -131,15 +132,20 @@ SparseMatrix select_rows(const SparseMatrix& P, const std::vector<int>& rows) {
   return out;
 }
 
-// The lower triangle of the Galerkin product C = PᵀAP from A's lower triangle (diagonal first),
-// P with sorted columns. With B = A's strict lower part plus half its diagonal, A = B + Bᵀ and
-// C = G + Gᵀ for G = PᵀBP. G is formed one coarse column b at a time through a dense
-// accumulator; its entries G_ab with a ≥ b belong to C's column b, those with a < b to C's
-// column a (row b). A counting pass sizes each column's slot; the numeric pass writes column
-// b's own entries at the start of its slot and appends the others to the slots of earlier
-// columns, in increasing b: each slot holds two sorted runs, merged (duplicates summed) into C.
-// No A·P temporary, no full copy of A, no triplets.
-SparseMatrix galerkin_lower(const SparseMatrix& A, const SparseMatrix& P) {
+// The Galerkin product's staging (galerkin_lower): per coarse column b, its slot
+// [start[b], start[b + 1]) of (row, value) pairs: first the own[b] entries of G's column b with
+// rows ≥ b (sorted), then the entries G_ba of later columns a (rows a, increasing).
+struct GalerkinSlots {
+  std::vector<int> own;
+  std::vector<std::int64_t> start;
+  std::vector<int> row;
+  std::vector<double> value;
+};
+
+// G = PᵀBP (B = A's strict lower part plus half its diagonal, A a lower triangle with the
+// diagonal first) column by column through a dense accumulator, written into the slots of the
+// lower triangle of G + Gᵀ: a counting pass sizes them, the numeric pass fills them.
+GalerkinSlots galerkin_slots(const SparseMatrix& A, const SparseMatrix& P) {
   const int nc = int(P.cols());
   const SparseMatrix Pt = P.transpose();  // column i: the coarse columns of fine row i
   const int* a_outer = A.outerIndexPtr();
@@ -170,63 +176,55 @@ SparseMatrix galerkin_lower(const SparseMatrix& A, const SparseMatrix& P) {
     }
     for (const int c : rows) mark[std::size_t(c)] = 0;
   };
-  // counting pass: own[b] entries of G's column b fall in C's column b, slot[a] in all
-  std::vector<int> own(std::size_t(nc), 0);
-  std::vector<std::int64_t> slot(std::size_t(nc) + 1, 0);
-  for (int b = 0; b < nc; ++b) {
+  GalerkinSlots g;
+  g.own.assign(std::size_t(nc), 0);
+  g.start.assign(std::size_t(nc) + 1, 0);
+  for (int b = 0; b < nc; ++b) {  // counting pass
     column(b, nullptr);
     for (const int a : rows) {
-      if (a >= b) {
-        ++own[std::size_t(b)];
-        ++slot[std::size_t(b) + 1];
-      } else {
-        ++slot[std::size_t(a) + 1];
-      }
+      if (a >= b) ++g.own[std::size_t(b)];
+      ++g.start[std::size_t(std::min(a, b)) + 1];
     }
   }
-  for (int b = 0; b < nc; ++b) slot[std::size_t(b) + 1] += slot[std::size_t(b)];
-  std::vector<int> s_row(static_cast<std::size_t>(slot[std::size_t(nc)]));
-  std::vector<double> s_val(s_row.size());
-  std::vector<std::int64_t> cursor(slot.begin(), slot.end() - 1);
-  for (int b = 0; b < nc; ++b) cursor[std::size_t(b)] += own[std::size_t(b)];
+  for (int b = 0; b < nc; ++b) g.start[std::size_t(b) + 1] += g.start[std::size_t(b)];
+  g.row.resize(static_cast<std::size_t>(g.start[std::size_t(nc)]));
+  g.value.resize(g.row.size());
+  std::vector<std::int64_t> cursor(g.start.begin(), g.start.end() - 1);
+  for (int b = 0; b < nc; ++b) cursor[std::size_t(b)] += g.own[std::size_t(b)];
   std::vector<double> acc(std::size_t(nc), 0.0);
-  for (int b = 0; b < nc; ++b) {
+  for (int b = 0; b < nc; ++b) {  // numeric pass
     column(b, acc.data());
     std::sort(rows.begin(), rows.end());
-    std::int64_t at = slot[std::size_t(b)];
+    std::int64_t at = g.start[std::size_t(b)];
     for (const int a : rows) {
-      double& v = acc[std::size_t(a)];
-      if (a >= b) {
-        s_row[std::size_t(at)] = a;
-        s_val[std::size_t(at++)] = v;
-      } else {
-        std::int64_t& c = cursor[std::size_t(a)];
-        s_row[std::size_t(c)] = b;
-        s_val[std::size_t(c++)] = v;
-      }
-      v = 0.0;
+      std::int64_t& to = a >= b ? at : cursor[std::size_t(a)];
+      g.row[std::size_t(to)] = std::max(a, b);
+      g.value[std::size_t(to++)] = acc[std::size_t(a)];
+      acc[std::size_t(a)] = 0.0;
     }
   }
-  cursor = {};
-  // merge each slot's two runs; C's column b: the diagonal 2·G_bb first, exact zeros left out
-  std::vector<int> outer(std::size_t(nc) + 1, 0);
-  std::int64_t total = 0;
+  return g;
+}
+
+// The lower triangle of the Galerkin product C = PᵀAP from A's lower triangle (diagonal first),
+// P with sorted columns. With B = A's strict lower part plus half its diagonal, A = B + Bᵀ and
+// C = G + Gᵀ for G = PᵀBP. G's entries G_ab with a ≥ b belong to C's column b, those with a < b
+// to C's column a (row b) (galerkin_slots()); each column's two sorted runs are merged here,
+// duplicates summed, the diagonal 2·G_bb first, exact zeros left out. No A·P temporary, no full
+// copy of A, no triplets.
+SparseMatrix galerkin_lower(const SparseMatrix& A, const SparseMatrix& P) {
+  const int nc = int(P.cols());
+  const GalerkinSlots g = galerkin_slots(A, P);
   auto merge = [&](int b, auto&& emit) {
-    std::int64_t p = slot[std::size_t(b)], q = p + own[std::size_t(b)];
-    const std::int64_t p_end = q, q_end = slot[std::size_t(b) + 1];
+    std::int64_t p = g.start[std::size_t(b)], q = p + g.own[std::size_t(b)];
+    const std::int64_t p_end = q, q_end = g.start[std::size_t(b) + 1];
     while (p < p_end || q < q_end) {
-      int row;
-      double v = 0.0;
-      if (q == q_end || (p < p_end && s_row[std::size_t(p)] < s_row[std::size_t(q)])) {
-        row = s_row[std::size_t(p)];
-        v = s_val[std::size_t(p++)];
-      } else if (p == p_end || s_row[std::size_t(q)] < s_row[std::size_t(p)]) {
-        row = s_row[std::size_t(q)];
-        v = s_val[std::size_t(q++)];
-      } else {
-        row = s_row[std::size_t(p)];
-        v = s_val[std::size_t(p++)] + s_val[std::size_t(q++)];
-      }
+      const bool from_p =
+          q == q_end || (p < p_end && g.row[std::size_t(p)] <= g.row[std::size_t(q)]);
+      const bool both = from_p && q < q_end && g.row[std::size_t(p)] == g.row[std::size_t(q)];
+      const int row = g.row[std::size_t(from_p ? p : q)];
+      double v = from_p ? g.value[std::size_t(p++)] : g.value[std::size_t(q++)];
+      if (both) v += g.value[std::size_t(q++)];
       if (row == b) {
         emit(row, 2.0 * v);
       } else if (v != 0.0) {
@@ -234,18 +232,18 @@ SparseMatrix galerkin_lower(const SparseMatrix& A, const SparseMatrix& P) {
       }
     }
   };
+  SparseMatrix out(nc, nc);
+  int* outer = out.outerIndexPtr();
+  outer[0] = 0;
   for (int b = 0; b < nc; ++b) {
     int count = 0;
     merge(b, [&](int, double) { ++count; });
-    total += count;
-    outer[std::size_t(b) + 1] = int(total);
+    outer[b + 1] = outer[b] + count;
   }
-  SparseMatrix out(nc, nc);
-  out.resizeNonZeros(Eigen::Index(total));
-  std::copy(outer.begin(), outer.end(), out.outerIndexPtr());
+  out.resizeNonZeros(outer[nc]);
   int* inner = out.innerIndexPtr();
   double* value = out.valuePtr();
-  std::int64_t k = 0;
+  int k = 0;
   for (int b = 0; b < nc; ++b) {
     merge(b, [&](int row, double v) {
       inner[k] = row;
@@ -504,7 +502,7 @@ MultigridSolver::MultigridSolver(SparseMatrix&& A,
     current.makeCompressed();
   }
   im.levels.reserve(prolongations.size() + 1);
-  std::vector<int> kept;  // the previous level's columns kept: this level's rows to keep
+  std::vector<int> kept;         // the previous level's columns kept: this level's rows to keep
   Eigen::Index caller_rows = n;  // rows are checked against the caller's numbering
   for (std::size_t l = 0; l <= prolongations.size(); ++l) {
     Level& lv = im.levels.emplace_back();

@@ -80,21 +80,18 @@ class MultigridSolver {
   /// @throws SolverError if a level's diagonal is not positive or the coarsest operator is not
   ///         positive definite
   MultigridSolver(const SparseMatrix& A, std::vector<SparseMatrix> prolongations,
-                  const MultigridOptions& options = {},
-                  Stored stored = Stored::kBothTriangles);
+                  const MultigridOptions& options = {}, Stored stored = Stored::kBothTriangles);
   /// As above, taking A's storage (A is left empty: Eigen 3.4's SparseMatrix has no move
   /// constructor, so this overload swaps instead of copying). Pass the prolongations as an
   /// rvalue too to hand them over.
   MultigridSolver(SparseMatrix&& A, std::vector<SparseMatrix> prolongations,
-                  const MultigridOptions& options = {},
-                  Stored stored = Stored::kBothTriangles);
+                  const MultigridOptions& options = {}, Stored stored = Stored::kBothTriangles);
   /// As above, with prolongations shared with the caller (e.g. one hierarchy behind several
   /// solvers): a P_l used as given is referenced, not copied; one whose rows or columns must
   /// change (columns dropped, or rows of the previous level's dropped columns) is copied first.
   /// @throws InvalidInput also on a null prolongation
   MultigridSolver(SparseMatrix&& A, std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
-                  const MultigridOptions& options = {},
-                  Stored stored = Stored::kBothTriangles);
+                  const MultigridOptions& options = {}, Stored stored = Stored::kBothTriangles);
   ~MultigridSolver();
   MultigridSolver(MultigridSolver&&) noexcept;
   MultigridSolver& operator=(MultigridSolver&&) noexcept;
@@ -124,7 +121,8 @@ class MultigridSolver {
   /// Unknowns of level l (0 = A's), l in [0, n_levels()).
   Eigen::Index level_size(int level) const;
   /// Bytes held: the operators (lower triangles) and prolongations of every level (values and
-  /// indices) and the coarsest factor's entries (12 bytes each: value and row index).
+  /// indices; a prolongation shared with the caller counted in full) and the coarsest factor's
+  /// entries (12 bytes each: value and row index).
   double memory_bytes() const;
 
   struct Impl;

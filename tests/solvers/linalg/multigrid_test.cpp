@@ -188,8 +188,8 @@ TEST(Multigrid, SharedProlongationsAreReferencedNotCopied) {
   // given is held by reference (the owner's count grows), and the cycle is the one of a solver
   // given its own copies
   const SparseMatrix A = heat_matrix(intrinsic::icosphere(8));
-  const auto owner = std::make_shared<const std::vector<SparseMatrix>>(
-      test::icosphere_hierarchy(8, 3));
+  const auto owner =
+      std::make_shared<const std::vector<SparseMatrix>>(test::icosphere_hierarchy(8, 3));
   std::vector<std::shared_ptr<const SparseMatrix>> aliases;
   for (const SparseMatrix& P : *owner) aliases.emplace_back(owner, &P);
   const MultigridSolver shared(SparseMatrix(A), aliases);
