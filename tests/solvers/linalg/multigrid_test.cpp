@@ -335,6 +335,36 @@ TEST(SolverChoice, PoissonMultigridEqualsDirect) {
   }
 }
 
+// Pure Neumann on two components: each is pinned at one vertex, kept in the multigrid system as a
+// decoupled row with its row of P₀ (D-335); the solutions (zero mean per component) equal the
+// direct solver's.
+TEST(SolverChoice, PureNeumannMultigridOnTwoComponentsEqualsDirect) {
+  const intrinsic::TriangleMesh one = intrinsic::icosphere(12);
+  intrinsic::TriangleMesh two;
+  const Index nv = Index(one.positions.rows());
+  two.positions.resize(2 * nv, 3);
+  two.positions << one.positions, one.positions.rowwise() + Eigen::RowVector3d(3.0, 0.0, 0.0);
+  two.faces = one.faces;
+  for (const auto& t : one.faces) two.faces.push_back({t[0] + nv, t[1] + nv, t[2] + nv});
+  const auto tri = test::make_tri(two);
+  PoissonOptions direct, mg;
+  mg.solver.kind = LinearSolverKind::kMultigrid;
+  mg.solver.hierarchy = [](const intrinsic::IntrinsicTriangulation& t) {
+    HierarchyOptions h;
+    h.coarsest_vertices = 300;
+    return simplification_hierarchy(t, h);
+  };
+  const PoissonSolver a(tri, {}, direct), b(tri, {}, mg);
+  ASSERT_TRUE(b.multigrid());
+  const Eigen::VectorXd f = random_vector(tri.n_vertices(), 23);
+  const Eigen::VectorXd ua = a.solve(f, Eigen::VectorXd()), ub = b.solve(f, Eigen::VectorXd());
+  EXPECT_LE((ua - ub).norm(), 1e-6 * ua.norm());
+  Eigen::MatrixXd F(tri.n_vertices(), 2);
+  F << f, f.reverse();
+  const Eigen::MatrixXd Ua = a.solve_weak_homogeneous(F), Ub = b.solve_weak_homogeneous(F);
+  EXPECT_LE((Ua - Ub).norm(), 1e-6 * Ua.norm());
+}
+
 // The default provider: repeated intrinsic simplification. On a mesh whose levels are not
 // nested (a jittered sphere), every level coarsens, P's rows sum to 1, and multigrid Poisson
 // equals the direct solver's; auto takes multigrid by size.
