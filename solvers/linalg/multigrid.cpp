@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <mutex>
 #include <optional>
@@ -26,54 +27,125 @@ void MultigridOptions::validate() const {
 
 namespace {
 
+// to = from's storage, from left empty (Eigen 3.4's SparseMatrix has no move operations: a
+// std::move() copies).
+void take(SparseMatrix& to, SparseMatrix& from) {
+  to = SparseMatrix();
+  to.swap(from);
+}
+
+// Each level's operator is kept as its lower triangle (CSC, sorted rows, the diagonal first in
+// every column): half the entries of both triangles, and every kernel below reads a column once.
 struct Level {
-  SparseMatrix A;        // this level's operator, both triangles
-  Eigen::VectorXd diag;  // its diagonal
-  SparseMatrix P;        // to the next coarser level (empty on the coarsest)
+  SparseMatrix A;  // this level's operator, lower triangle, diagonal first (a_ii = value[outer[i]])
+  // to the next coarser level (null on the coarsest); shared with the caller when used as given
+  std::shared_ptr<const SparseMatrix> P;
 };
 
-// P without its empty columns (no nonzero value); `kept` receives the old ids of the columns kept.
-SparseMatrix drop_empty_columns(const SparseMatrix& P, std::vector<int>& kept) {
+// The lower triangle of A (both triangles stored, sorted columns), compressed.
+SparseMatrix lower_of(const SparseMatrix& A) {
+  const int n = int(A.cols());
+  SparseMatrix out(A.rows(), A.cols());
+  int* outer = out.outerIndexPtr();
+  outer[0] = 0;
+  for (int j = 0; j < n; ++j) {
+    int count = 0;
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it) count += it.row() >= j;
+    outer[j + 1] = outer[j] + count;
+  }
+  out.resizeNonZeros(outer[n]);
+  int k = 0;
+  for (int j = 0; j < n; ++j) {
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it) {
+      if (it.row() < j) continue;
+      out.innerIndexPtr()[k] = int(it.row());
+      out.valuePtr()[k++] = it.value();
+    }
+  }
+  return out;
+}
+
+// y = A x for A symmetric, stored as its lower triangle (diagonal first).
+void symmetric_multiply(const SparseMatrix& A, const double* x, double* y) {
+  const int n = int(A.cols());
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  const double* val = A.valuePtr();
+  std::fill(y, y + n, 0.0);
+  for (int j = 0; j < n; ++j) {
+    const double xj = x[j];
+    double s = val[outer[j]] * xj;
+    for (int k = outer[j] + 1; k < outer[j + 1]; ++k) {
+      const int i = inner[k];
+      s += val[k] * x[i];
+      y[i] += val[k] * xj;
+    }
+    y[j] += s;
+  }
+}
+
+// The ids of P's columns with a nonzero value, in `kept`; when some column has none, `dropped`
+// receives P without them (left untouched otherwise). Returns whether any column was dropped.
+bool drop_empty_columns(const SparseMatrix& P, std::vector<int>& kept, SparseMatrix& dropped) {
   kept.clear();
   for (int j = 0; j < int(P.cols()); ++j) {
     bool any = false;
     for (SparseMatrix::InnerIterator it(P, j); it && !any; ++it) any = it.value() != 0.0;
     if (any) kept.push_back(j);
   }
-  if (Eigen::Index(kept.size()) == P.cols()) return P;
-  SparseMatrix out(P.rows(), Eigen::Index(kept.size()));
-  out.reserve(P.nonZeros());
+  if (Eigen::Index(kept.size()) == P.cols()) return false;
+  dropped.resize(P.rows(), Eigen::Index(kept.size()));
+  dropped.reserve(P.nonZeros());
   for (int c = 0; c < int(kept.size()); ++c) {
-    out.startVec(c);
+    dropped.startVec(c);
     for (SparseMatrix::InnerIterator it(P, kept[std::size_t(c)]); it; ++it) {
-      if (it.value() != 0.0) out.insertBack(it.row(), c) = it.value();
+      if (it.value() != 0.0) dropped.insertBack(it.row(), c) = it.value();
     }
   }
-  out.finalize();
-  return out;
+  dropped.finalize();
+  return true;
 }
 
-// The rows `rows` of P, in that order.
+// The rows `rows` (increasing) of P, in that order; written column by column (rows stay sorted).
 SparseMatrix select_rows(const SparseMatrix& P, const std::vector<int>& rows) {
   std::vector<int> new_row(std::size_t(P.rows()), -1);
   for (std::size_t i = 0; i < rows.size(); ++i) new_row[std::size_t(rows[i])] = int(i);
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(std::size_t(P.nonZeros()));
+  SparseMatrix out(Eigen::Index(rows.size()), P.cols());
+  int* outer = out.outerIndexPtr();
+  outer[0] = 0;
+  for (int j = 0; j < int(P.cols()); ++j) {
+    int count = 0;
+    for (SparseMatrix::InnerIterator it(P, j); it; ++it)
+      count += new_row[std::size_t(it.row())] >= 0;
+    outer[j + 1] = outer[j] + count;
+  }
+  out.resizeNonZeros(outer[P.cols()]);
+  int k = 0;
   for (int j = 0; j < int(P.cols()); ++j) {
     for (SparseMatrix::InnerIterator it(P, j); it; ++it) {
       const int r = new_row[std::size_t(it.row())];
-      if (r >= 0) t.emplace_back(r, j, it.value());
+      if (r < 0) continue;
+      out.innerIndexPtr()[k] = r;
+      out.valuePtr()[k++] = it.value();
     }
   }
-  SparseMatrix out(Eigen::Index(rows.size()), P.cols());
-  out.setFromTriplets(t.begin(), t.end());
   return out;
 }
 
-// The Galerkin product PᵀAP (A square with both triangles stored, P with sorted columns), one
-// coarse column at a time through a dense accumulator: no A·P temporary (which holds about as
-// many entries as A), sorted columns, exact zeros kept out.
-SparseMatrix galerkin(const SparseMatrix& A, const SparseMatrix& P) {
+// The Galerkin product's staging (galerkin_lower): per coarse column b, its slot
+// [start[b], start[b + 1]) of (row, value) pairs: first the own[b] entries of G's column b with
+// rows ≥ b (sorted), then the entries G_ba of later columns a (rows a, increasing).
+struct GalerkinSlots {
+  std::vector<int> own;
+  std::vector<std::int64_t> start;
+  std::vector<int> row;
+  std::vector<double> value;
+};
+
+// G = PᵀBP (B = A's strict lower part plus half its diagonal, A a lower triangle with the
+// diagonal first) column by column through a dense accumulator, written into the slots of the
+// lower triangle of G + Gᵀ: a counting pass sizes them, the numeric pass fills them.
+GalerkinSlots galerkin_slots(const SparseMatrix& A, const SparseMatrix& P) {
   const int nc = int(P.cols());
   const SparseMatrix Pt = P.transpose();  // column i: the coarse columns of fine row i
   const int* a_outer = A.outerIndexPtr();
@@ -82,46 +154,128 @@ SparseMatrix galerkin(const SparseMatrix& A, const SparseMatrix& P) {
   const int* t_outer = Pt.outerIndexPtr();
   const int* t_inner = Pt.innerIndexPtr();
   const double* t_value = Pt.valuePtr();
-  std::vector<double> acc(std::size_t(nc), 0.0);
   std::vector<char> mark(std::size_t(nc), 0);
-  std::vector<int> rows, inner, outer(std::size_t(nc) + 1, 0);
-  std::vector<double> value;
-  inner.reserve(std::size_t(P.nonZeros()) * 4);
-  value.reserve(inner.capacity());
-  for (int j = 0; j < nc; ++j) {
+  std::vector<int> rows;
+  // G's column b: its pattern in `rows` (unsorted), and with `acc` its values
+  auto column = [&](int b, double* acc) {
     rows.clear();
-    for (SparseMatrix::InnerIterator pk(P, j); pk; ++pk) {
+    for (SparseMatrix::InnerIterator pk(P, b); pk; ++pk) {
       const int k = int(pk.row());
       for (int q = a_outer[k]; q < a_outer[k + 1]; ++q) {
         const int i = a_inner[q];
-        const double w = pk.value() * a_value[q];
+        const double w = pk.value() * (q == a_outer[k] ? 0.5 * a_value[q] : a_value[q]);
         for (int r = t_outer[i]; r < t_outer[i + 1]; ++r) {
           const int c = t_inner[r];
           if (!mark[std::size_t(c)]) {
             mark[std::size_t(c)] = 1;
             rows.push_back(c);
           }
-          acc[std::size_t(c)] += w * t_value[r];
+          if (acc) acc[c] += w * t_value[r];
         }
       }
     }
-    std::sort(rows.begin(), rows.end());
-    for (const int c : rows) {
-      if (acc[std::size_t(c)] != 0.0) {
-        inner.push_back(c);
-        value.push_back(acc[std::size_t(c)]);
-      }
-      acc[std::size_t(c)] = 0.0;
-      mark[std::size_t(c)] = 0;
+    for (const int c : rows) mark[std::size_t(c)] = 0;
+  };
+  GalerkinSlots g;
+  g.own.assign(std::size_t(nc), 0);
+  g.start.assign(std::size_t(nc) + 1, 0);
+  for (int b = 0; b < nc; ++b) {  // counting pass
+    column(b, nullptr);
+    for (const int a : rows) {
+      if (a >= b) ++g.own[std::size_t(b)];
+      ++g.start[std::size_t(std::min(a, b)) + 1];
     }
-    outer[std::size_t(j) + 1] = int(inner.size());
   }
+  for (int b = 0; b < nc; ++b) g.start[std::size_t(b) + 1] += g.start[std::size_t(b)];
+  g.row.resize(static_cast<std::size_t>(g.start[std::size_t(nc)]));
+  g.value.resize(g.row.size());
+  std::vector<std::int64_t> cursor(g.start.begin(), g.start.end() - 1);
+  for (int b = 0; b < nc; ++b) cursor[std::size_t(b)] += g.own[std::size_t(b)];
+  std::vector<double> acc(std::size_t(nc), 0.0);
+  for (int b = 0; b < nc; ++b) {  // numeric pass
+    column(b, acc.data());
+    std::sort(rows.begin(), rows.end());
+    std::int64_t at = g.start[std::size_t(b)];
+    for (const int a : rows) {
+      std::int64_t& to = a >= b ? at : cursor[std::size_t(a)];
+      g.row[std::size_t(to)] = std::max(a, b);
+      g.value[std::size_t(to++)] = acc[std::size_t(a)];
+      acc[std::size_t(a)] = 0.0;
+    }
+  }
+  return g;
+}
+
+// The lower triangle of the Galerkin product C = PᵀAP from A's lower triangle (diagonal first),
+// P with sorted columns. With B = A's strict lower part plus half its diagonal, A = B + Bᵀ and
+// C = G + Gᵀ for G = PᵀBP. G's entries G_ab with a ≥ b belong to C's column b, those with a < b
+// to C's column a (row b) (galerkin_slots()); each column's two sorted runs are merged here,
+// duplicates summed, the diagonal 2·G_bb first, exact zeros left out. No A·P temporary, no full
+// copy of A, no triplets.
+SparseMatrix galerkin_lower(const SparseMatrix& A, const SparseMatrix& P) {
+  const int nc = int(P.cols());
+  const GalerkinSlots g = galerkin_slots(A, P);
+  auto merge = [&](int b, auto&& emit) {
+    std::int64_t p = g.start[std::size_t(b)], q = p + g.own[std::size_t(b)];
+    const std::int64_t p_end = q, q_end = g.start[std::size_t(b) + 1];
+    while (p < p_end || q < q_end) {
+      const bool from_p =
+          q == q_end || (p < p_end && g.row[std::size_t(p)] <= g.row[std::size_t(q)]);
+      const bool both = from_p && q < q_end && g.row[std::size_t(p)] == g.row[std::size_t(q)];
+      const int row = g.row[std::size_t(from_p ? p : q)];
+      double v = from_p ? g.value[std::size_t(p++)] : g.value[std::size_t(q++)];
+      if (both) v += g.value[std::size_t(q++)];
+      if (row == b) {
+        emit(row, 2.0 * v);
+      } else if (v != 0.0) {
+        emit(row, v);
+      }
+    }
+  };
   SparseMatrix out(nc, nc);
-  out.resizeNonZeros(Eigen::Index(inner.size()));
-  std::copy(outer.begin(), outer.end(), out.outerIndexPtr());
-  std::copy(inner.begin(), inner.end(), out.innerIndexPtr());
-  std::copy(value.begin(), value.end(), out.valuePtr());
+  int* outer = out.outerIndexPtr();
+  outer[0] = 0;
+  for (int b = 0; b < nc; ++b) {
+    int count = 0;
+    merge(b, [&](int, double) { ++count; });
+    outer[b + 1] = outer[b] + count;
+  }
+  out.resizeNonZeros(outer[nc]);
+  int* inner = out.innerIndexPtr();
+  double* value = out.valuePtr();
+  int k = 0;
+  for (int b = 0; b < nc; ++b) {
+    merge(b, [&](int row, double v) {
+      inner[k] = row;
+      value[k++] = v;
+    });
+  }
   return out;
+}
+
+// Checks a lower triangle (level `level`): rows increasing below a leading diagonal entry in
+// every column, and the diagonal positive (the kernels read it as the column's first value).
+// @throws InvalidInput on rows out of order; SolverError on a missing or non-positive diagonal
+void check_lower(const SparseMatrix& A, std::size_t level) {
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  for (int j = 0; j < int(A.cols()); ++j) {
+    for (int k = outer[j]; k < outer[j + 1]; ++k) {
+      if (inner[k] < j || (k > outer[j] && inner[k] <= inner[k - 1])) {
+        throw InvalidInput(
+            "MultigridSolver: the lower triangle's rows must increase within each column "
+            "(level " +
+            std::to_string(level) + ", column " + std::to_string(j) + ")");
+      }
+    }
+    const double diag =
+        outer[j] < outer[j + 1] && inner[outer[j]] == j ? A.valuePtr()[outer[j]] : 0.0;
+    if (!(diag > 0.0)) {
+      throw SolverError("MultigridSolver: level " + std::to_string(level) + " row " +
+                        std::to_string(j) + " has diagonal " + std::to_string(diag) +
+                        " (A must be positive definite)");
+    }
+  }
 }
 
 void check_finite(const SparseMatrix& A, const char* what) {
@@ -139,33 +293,98 @@ struct MultigridSolver::Impl {
   std::vector<Level> levels;
   std::optional<CholeskySolver> coarsest;
 
-  // Gauss–Seidel sweep over the rows in increasing (forward) or decreasing order. A is
-  // symmetric, so column i holds row i.
-  void gauss_seidel(const Level& lv, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                    bool forward) const {
-    const int n = int(lv.A.rows());
+  // Forward Gauss–Seidel sweep on the correction: d_i = (r_i − Σ_{j<i} a_ij d_j) / a_ii in
+  // increasing i, i.e. x + d is one sweep from x when r = b − Ax. Column i of the lower triangle
+  // holds a_ki (k > i): each d_i is pushed into the later rows of r, which is overwritten.
+  static void forward_sweep(const Level& lv, Eigen::VectorXd& r, Eigen::VectorXd& d) {
+    const int n = int(lv.A.cols());
     const int* start = lv.A.outerIndexPtr();
     const int* row = lv.A.innerIndexPtr();
     const double* val = lv.A.valuePtr();
-    for (int s = 0; s < n; ++s) {
-      const int i = forward ? s : n - 1 - s;
-      double sum = b[i];
-      for (int k = start[i]; k < start[i + 1]; ++k) sum -= val[k] * x[row[k]];
-      x[i] += sum / lv.diag[i];  // sum included the diagonal term: x_i = (b_i − Σ_{j≠i}) / a_ii
+    d.resize(n);
+    for (int i = 0; i < n; ++i) {
+      const double di = r[i] / val[start[i]];
+      d[i] = di;
+      for (int k = start[i] + 1; k < start[i + 1]; ++k) r[row[k]] -= val[k] * di;
     }
   }
 
-  void jacobi(const Level& lv, const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
-    const Eigen::VectorXd r = b - lv.A * x;
-    x.array() += opt.jacobi_weight * r.array() / lv.diag.array();
+  // After a forward sweep with correction d, the residual b − A(x + d): row i's equation holds
+  // with the rows before it updated, so r_i = −Σ_{j>i} a_ij d_j (column i below the diagonal).
+  static void residual_after_forward(const Level& lv, const Eigen::VectorXd& d,
+                                     Eigen::VectorXd& r) {
+    const int n = int(lv.A.cols());
+    const int* start = lv.A.outerIndexPtr();
+    const int* row = lv.A.innerIndexPtr();
+    const double* val = lv.A.valuePtr();
+    r.resize(n);
+    for (int i = 0; i < n; ++i) {
+      double s = 0.0;
+      for (int k = start[i] + 1; k < start[i + 1]; ++k) s -= val[k] * d[row[k]];
+      r[i] = s;
+    }
   }
 
-  void smooth(const Level& lv, const Eigen::VectorXd& b, Eigen::VectorXd& x, bool pre) const {
+  // Backward Gauss–Seidel sweep on the correction: d_i = (r_i − Σ_{j>i} a_ij d_j) / a_ii in
+  // decreasing i (column i below the diagonal holds those a_ij).
+  static void backward_sweep(const Level& lv, const Eigen::VectorXd& r, Eigen::VectorXd& d) {
+    const int n = int(lv.A.cols());
+    const int* start = lv.A.outerIndexPtr();
+    const int* row = lv.A.innerIndexPtr();
+    const double* val = lv.A.valuePtr();
+    d.resize(n);
+    for (int i = n - 1; i >= 0; --i) {
+      double s = r[i];
+      for (int k = start[i] + 1; k < start[i + 1]; ++k) s -= val[k] * d[row[k]];
+      d[i] = s / val[start[i]];
+    }
+  }
+
+  // x += ω D⁻¹ r (damped Jacobi)
+  void jacobi_step(const Level& lv, const Eigen::VectorXd& r, Eigen::VectorXd& x) const {
+    const int* start = lv.A.outerIndexPtr();
+    const double* val = lv.A.valuePtr();
+    for (Eigen::Index i = 0; i < x.size(); ++i) x[i] += opt.jacobi_weight * r[i] / val[start[i]];
+  }
+
+  // r = b − A x
+  static void residual(const Level& lv, const Eigen::VectorXd& b, const Eigen::VectorXd& x,
+                       Eigen::VectorXd& r) {
+    r.resize(b.size());
+    symmetric_multiply(lv.A, x.data(), r.data());
+    r = b - r;
+  }
+
+  // Pre-smoothing from x = 0: x after the sweeps and r = b − Ax.
+  void pre_smooth(const Level& lv, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                  Eigen::VectorXd& r) const {
+    const bool jacobi = opt.smoother == MultigridOptions::Smoother::kJacobi;
+    x.setZero(b.size());
+    r = b;
+    Eigen::VectorXd d;
     for (int s = 0; s < opt.smoothing_steps; ++s) {
-      if (opt.smoother == MultigridOptions::Smoother::kJacobi) {
-        jacobi(lv, b, x);
+      if (jacobi) {
+        jacobi_step(lv, r, x);
+        residual(lv, b, x, r);
       } else {
-        gauss_seidel(lv, b, x, pre);
+        forward_sweep(lv, r, d);
+        x += d;
+        residual_after_forward(lv, d, r);
+      }
+    }
+  }
+
+  // Post-smoothing of x (backward sweeps for Gauss–Seidel: the cycle stays symmetric).
+  void post_smooth(const Level& lv, const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+    const bool jacobi = opt.smoother == MultigridOptions::Smoother::kJacobi;
+    Eigen::VectorXd r, d;
+    for (int s = 0; s < opt.smoothing_steps; ++s) {
+      residual(lv, b, x, r);
+      if (jacobi) {
+        jacobi_step(lv, r, x);
+      } else {
+        backward_sweep(lv, r, d);
+        x += d;
       }
     }
   }
@@ -177,20 +396,21 @@ struct MultigridSolver::Impl {
       return;
     }
     const Level& lv = levels[l];
-    x.setZero(b.size());
-    smooth(lv, b, x, true);
-    const Eigen::VectorXd coarse_b = lv.P.transpose() * (b - lv.A * x);
+    Eigen::VectorXd r;
+    pre_smooth(lv, b, x, r);
+    const Eigen::VectorXd coarse_b = lv.P->transpose() * r;
+    r = Eigen::VectorXd();
     Eigen::VectorXd coarse_x;
     v_cycle(l + 1, coarse_b, coarse_x);
-    x.noalias() += lv.P * coarse_x;
-    smooth(lv, b, x, false);
+    x.noalias() += *lv.P * coarse_x;
+    post_smooth(lv, b, x);
   }
 
   // PCG on one right-hand side.
   MultigridReport pcg(const Eigen::Ref<const Eigen::VectorXd>& b,
                       Eigen::Ref<Eigen::VectorXd> x) const {
     MultigridReport rep;
-    const SparseMatrix& A = levels.front().A;
+    const Level& fine = levels.front();
     const double b_norm = b.norm();
     x.setZero();
     if (b_norm == 0.0) {
@@ -203,7 +423,8 @@ struct MultigridSolver::Impl {
     double rz = r.dot(z);
     double res = b_norm;
     while (rep.iterations < opt.max_iterations) {
-      Ap.noalias() = A * p;
+      Ap.resize(p.size());
+      symmetric_multiply(fine.A, p.data(), Ap.data());
       const double pAp = p.dot(Ap);
       if (!(pAp > 0.0)) break;  // breakdown: A or the cycle not definite
       const double alpha = rz / pAp;
@@ -233,8 +454,35 @@ struct MultigridSolver::Impl {
   }
 };
 
-MultigridSolver::MultigridSolver(SparseMatrix A, const std::vector<SparseMatrix>& prolongations,
-                                 const MultigridOptions& options)
+namespace {
+
+// Each P of the vector as a shared matrix, its storage swapped in (no copy).
+std::vector<std::shared_ptr<const SparseMatrix>> shared(std::vector<SparseMatrix>& prolongations) {
+  std::vector<std::shared_ptr<const SparseMatrix>> out;
+  out.reserve(prolongations.size());
+  for (SparseMatrix& P : prolongations) {
+    auto p = std::make_shared<SparseMatrix>();
+    p->swap(P);
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+}  // namespace
+
+MultigridSolver::MultigridSolver(const SparseMatrix& A, std::vector<SparseMatrix> prolongations,
+                                 const MultigridOptions& options, Stored stored)
+    : MultigridSolver(SparseMatrix(A), shared(prolongations), options, stored) {}
+
+MultigridSolver::MultigridSolver(SparseMatrix&& A, std::vector<SparseMatrix> prolongations,
+                                 const MultigridOptions& options, Stored stored)
+    : MultigridSolver(std::move(A), shared(prolongations), options, stored) {}
+
+// Eigen 3.4's SparseMatrix has no move constructor or move assignment: std::move() copies. The
+// levels are therefore handed on with swap() (take()), never with a move.
+MultigridSolver::MultigridSolver(SparseMatrix&& A,
+                                 std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                                 const MultigridOptions& options, Stored stored)
     : impl_(std::make_unique<Impl>()) {
   options.validate();
   if (A.rows() != A.cols() || A.rows() == 0) {
@@ -244,39 +492,59 @@ MultigridSolver::MultigridSolver(SparseMatrix A, const std::vector<SparseMatrix>
   Impl& im = *impl_;
   im.opt = options;
   const Eigen::Index n = A.rows();
-  SparseMatrix current = std::move(A);
-  current.makeCompressed();
-  im.levels.reserve(prolongations.size() + 1);  // no copies of the levels while they are added
-  std::vector<int> kept;  // the previous level's columns kept: this level's rows to keep
+  SparseMatrix current;
+  if (stored == Stored::kBothTriangles) {
+    SparseMatrix lower = lower_of(A);
+    A = SparseMatrix();
+    take(current, lower);
+  } else {
+    take(current, A);
+    current.makeCompressed();
+  }
+  im.levels.reserve(prolongations.size() + 1);
+  std::vector<int> kept;         // the previous level's columns kept: this level's rows to keep
+  Eigen::Index caller_rows = n;  // rows are checked against the caller's numbering
   for (std::size_t l = 0; l <= prolongations.size(); ++l) {
-    Level lv;
-    lv.A = std::move(current);
-    lv.diag = lv.A.diagonal();
-    if (l < prolongations.size()) {
-      const SparseMatrix& given = prolongations[l];
-      // rows are checked against the caller's numbering (before any dropped column)
-      const Eigen::Index caller_rows = l == 0 ? n : prolongations[l - 1].cols();
-      if (given.rows() != caller_rows) {
-        throw InvalidInput("MultigridSolver: prolongation " + std::to_string(l) + " has " +
-                           std::to_string(given.rows()) + " rows, its level has " +
-                           std::to_string(caller_rows) + " unknowns");
-      }
-      check_finite(given, "a prolongation");
-      SparseMatrix P =
-          l == 0 || Eigen::Index(kept.size()) == given.rows() ? given : select_rows(given, kept);
-      P = drop_empty_columns(P, kept);
-      if (P.cols() == 0) throw InvalidInput("MultigridSolver: a prolongation has no column");
-      current = galerkin(lv.A, P);
-      lv.P = std::move(P);
+    Level& lv = im.levels.emplace_back();
+    take(lv.A, current);
+    check_lower(lv.A, l);
+    if (l == prolongations.size()) break;
+    std::shared_ptr<const SparseMatrix> P = std::move(prolongations[l]);
+    if (!P) throw InvalidInput("MultigridSolver: prolongation " + std::to_string(l) + " is null");
+    if (P->rows() != caller_rows) {
+      throw InvalidInput("MultigridSolver: prolongation " + std::to_string(l) + " has " +
+                         std::to_string(P->rows()) + " rows, its level has " +
+                         std::to_string(caller_rows) + " unknowns");
     }
-    for (Eigen::Index i = 0; i < lv.diag.size(); ++i) {
-      if (!(lv.diag[i] > 0.0)) {
-        throw SolverError("MultigridSolver: level " + std::to_string(l) + " row " +
-                          std::to_string(i) + " has diagonal " + std::to_string(lv.diag[i]) +
-                          " (A must be positive definite)");
-      }
+    caller_rows = P->cols();
+    check_finite(*P, "a prolongation");
+    // a changed P (uncompressed, rows of dropped columns, empty columns) is this level's own
+    SparseMatrix changed;
+    bool own = false;
+    if (!P->isCompressed()) {
+      changed = *P;
+      changed.makeCompressed();
+      own = true;
     }
-    im.levels.push_back(std::move(lv));
+    if (l > 0 && Eigen::Index(kept.size()) != P->rows()) {
+      SparseMatrix selected = select_rows(own ? changed : *P, kept);
+      take(changed, selected);
+      own = true;
+    }
+    SparseMatrix dropped;
+    if (drop_empty_columns(own ? changed : *P, kept, dropped)) {
+      take(changed, dropped);
+      own = true;
+    }
+    if (own) {
+      auto mine = std::make_shared<SparseMatrix>();
+      mine->swap(changed);
+      P = std::move(mine);
+    }
+    if (P->cols() == 0) throw InvalidInput("MultigridSolver: a prolongation has no column");
+    SparseMatrix coarse = galerkin_lower(lv.A, *P);
+    take(current, coarse);
+    lv.P = std::move(P);
   }
   im.coarsest.emplace(im.levels.back().A, options.coarsest);
 }
@@ -338,8 +606,9 @@ Eigen::Index MultigridSolver::level_size(int level) const {
 double MultigridSolver::memory_bytes() const {
   double bytes = 0.0;
   for (const Level& lv : impl_->levels) {
-    bytes += 12.0 * double(lv.A.nonZeros() + lv.P.nonZeros()) +
-             4.0 * double(lv.A.cols() + lv.P.cols()) + 8.0 * double(lv.diag.size());
+    const double p_entries = lv.P ? double(lv.P->nonZeros()) : 0.0;
+    const double p_cols = lv.P ? double(lv.P->cols()) : 0.0;
+    bytes += 12.0 * (double(lv.A.nonZeros()) + p_entries) + 4.0 * (double(lv.A.cols()) + p_cols);
   }
   return bytes + 12.0 * impl_->coarsest->factor_nonzeros();
 }

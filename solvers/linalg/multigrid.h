@@ -52,9 +52,10 @@ struct MultigridReport {
 /// Multigrid-preconditioned conjugate gradients for A x = b, A (#n×#n) symmetric positive
 /// definite, on the hierarchy given by prolongations P₀ (#n×n₁), P₁ (n₁×n₂), …, P_{k−1}: level
 /// l+1's operator is A_{l+1} = P_lᵀ A_l P_l (Galerkin), the coarsest one is factored (Cholesky).
-/// A must be stored with both triangles (the smoothers read whole rows). Columns of a P_l with no
-/// entry (e.g. coarse vertices whose fine neighbours are all eliminated Dirichlet rows) are
-/// dropped, so that each coarse operator stays definite.
+/// A is given with both triangles or as its lower triangle (Stored); every level is kept as its
+/// lower triangle (docs/decisions.md D-335). Columns of a P_l with no entry (e.g. coarse vertices
+/// whose fine neighbours are all eliminated Dirichlet rows) are dropped, so that each coarse
+/// operator stays definite.
 ///
 /// Null space: A must be definite. A pure-Neumann Laplacian (constants in its kernel) is refused
 /// where the coarsest factorization finds it singular (SolverError); pin a vertex or add mass
@@ -64,16 +65,33 @@ struct MultigridReport {
 /// threads may call them at once. Non-copyable, movable.
 class MultigridSolver {
  public:
+  /// What the constructor's A holds.
+  enum class Stored {
+    kBothTriangles,  ///< the whole symmetric matrix
+    kLowerTriangle,  ///< its lower triangle only (what CHOLMOD reads), rows increasing per column
+  };
+
   /// Builds the hierarchy and factors the coarsest level.
-  /// @param A #n×#n, symmetric positive definite, both triangles stored
+  /// @param A #n×#n, symmetric positive definite, stored as `stored` says
   /// @param prolongations P₀ … P_{k−1}, P_l with as many rows as level l has unknowns; k = 0
   ///        gives a one-level "multigrid", i.e. a Cholesky factorization of A
-  /// @throws InvalidInput on bad options, a non-square or empty A, a non-finite entry, or a
-  ///         prolongation whose rows do not match its level
-  /// @throws SolverError if the coarsest operator is not positive definite
-  /// (A is taken by value: pass an rvalue to hand its storage over instead of copying it.)
-  MultigridSolver(SparseMatrix A, const std::vector<SparseMatrix>& prolongations,
-                  const MultigridOptions& options = {});
+  /// @throws InvalidInput on bad options, a non-square or empty A, a non-finite entry, a lower
+  ///         triangle with rows out of order, or a prolongation whose rows do not match its level
+  /// @throws SolverError if a level's diagonal is not positive or the coarsest operator is not
+  ///         positive definite
+  MultigridSolver(const SparseMatrix& A, std::vector<SparseMatrix> prolongations,
+                  const MultigridOptions& options = {}, Stored stored = Stored::kBothTriangles);
+  /// As above, taking A's storage (A is left empty: Eigen 3.4's SparseMatrix has no move
+  /// constructor, so this overload swaps instead of copying). Pass the prolongations as an
+  /// rvalue too to hand them over.
+  MultigridSolver(SparseMatrix&& A, std::vector<SparseMatrix> prolongations,
+                  const MultigridOptions& options = {}, Stored stored = Stored::kBothTriangles);
+  /// As above, with prolongations shared with the caller (e.g. one hierarchy behind several
+  /// solvers): a P_l used as given is referenced, not copied; one whose rows or columns must
+  /// change (columns dropped, or rows of the previous level's dropped columns) is copied first.
+  /// @throws InvalidInput also on a null prolongation
+  MultigridSolver(SparseMatrix&& A, std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                  const MultigridOptions& options = {}, Stored stored = Stored::kBothTriangles);
   ~MultigridSolver();
   MultigridSolver(MultigridSolver&&) noexcept;
   MultigridSolver& operator=(MultigridSolver&&) noexcept;
@@ -102,8 +120,9 @@ class MultigridSolver {
   int n_levels() const;
   /// Unknowns of level l (0 = A's), l in [0, n_levels()).
   Eigen::Index level_size(int level) const;
-  /// Bytes held: the operators and prolongations of every level (values and indices) and the
-  /// coarsest factor's entries (12 bytes each: value and row index).
+  /// Bytes held: the operators (lower triangles) and prolongations of every level (values and
+  /// indices; a prolongation shared with the caller counted in full) and the coarsest factor's
+  /// entries (12 bytes each: value and row index).
   double memory_bytes() const;
 
   struct Impl;

@@ -328,14 +328,14 @@ struct PoissonSolver::Impl {
   // keeps its entries, as zeros but its positive diagonal: decoupled, with L's pattern.
   fem::SparseMatrix assemble_unknown_block(const fem::SparseMatrix& L, double c) const {
     const Index nu = static_cast<Index>(unknown_vertex.size());
-    if (nu == n) {
-      std::optional<fem::SparseMatrix> A = lower_triangle(L, c);
-      if (A) {
-        decouple_fixed(*A);
-        return std::move(*A);
-      }
+    // one named result, returned from both paths (copy elision: Eigen 3.4's SparseMatrix has
+    // no move constructor, so any other return copies it)
+    fem::SparseMatrix A;
+    if (nu == n && lower_triangle(L, c, A)) {
+      decouple_fixed(A);
+      return A;
     }
-    fem::SparseMatrix A(nu, nu);
+    A.resize(nu, nu);
     int* outer = A.outerIndexPtr();
     outer[0] = 0;
     for (Index u = 0; u < nu; ++u) {
@@ -389,21 +389,21 @@ struct PoissonSolver::Impl {
   }
 
   // assemble_unknown_block() when every vertex is an unknown (the heat method's matrices): each
-  // column's lower part is a contiguous tail of L's sorted column, copied whole (fixed rows not
-  // yet decoupled). nullopt when L is not compressed or lacks a stored diagonal entry (the
-  // general loop inserts it).
-  std::optional<fem::SparseMatrix> lower_triangle(const fem::SparseMatrix& L, double c) const {
-    if (!L.isCompressed()) return std::nullopt;
+  // column's lower part is a contiguous tail of L's sorted column, copied whole into A (fixed
+  // rows not yet decoupled). False when L is not compressed or lacks a stored diagonal entry
+  // (the general loop inserts it).
+  bool lower_triangle(const fem::SparseMatrix& L, double c, fem::SparseMatrix& A) const {
+    if (!L.isCompressed()) return false;
     const int* l_outer = L.outerIndexPtr();
     const int* l_inner = L.innerIndexPtr();
     const double* l_value = L.valuePtr();
-    fem::SparseMatrix A(n, n);
+    A.resize(n, n);
     int* outer = A.outerIndexPtr();
     std::vector<int> diag(n);
     outer[0] = 0;
     for (Index j = 0; j < n; ++j) {
       const int* d = std::lower_bound(l_inner + l_outer[j], l_inner + l_outer[j + 1], int(j));
-      if (d == l_inner + l_outer[j + 1] || *d != j) return std::nullopt;
+      if (d == l_inner + l_outer[j + 1] || *d != j) return false;
       diag[j] = static_cast<int>(d - l_inner);
       outer[j + 1] = outer[j] + (l_outer[j + 1] - diag[j]);
     }
@@ -416,7 +416,7 @@ struct PoissonSolver::Impl {
       std::copy_n(l_value + diag[j], count, value + outer[j]);
       value[outer[j]] += c * mass[j];
     }
-    return A;
+    return true;
   }
 
   // The coupling A_ud (unknown rows × Dirichlet columns) from L's Dirichlet columns.
@@ -463,16 +463,34 @@ PoissonOptions PoissonSolver::with_hierarchy(const intrinsic::IntrinsicTriangula
   return o;
 }
 
-void PoissonSolver::factor(fem::SparseMatrix A, const PoissonOptions& options,
+namespace {
+
+// Whether a system of n vertices runs multigrid (PoissonOptions::solver): kMultigrid, or kAuto
+// from its size on with a hierarchy; an empty chain (a triangulation at most the coarsest
+// level's size) is one level, i.e. the factor.
+// @throws InvalidInput for multigrid without a hierarchy
+bool multigrid_for(const PoissonOptions& options, Index n) {
+  const SolverChoice& c = options.solver;
+  const bool multigrid = c.kind == LinearSolverKind::kMultigrid ||
+                         (c.kind == LinearSolverKind::kAuto && options.prolongations &&
+                          n >= c.auto_multigrid_vertices);
+  if (!multigrid || (options.prolongations && options.prolongations->empty())) return false;
+  if (!options.prolongations) {
+    throw InvalidInput(
+        "PoissonSolver: multigrid needs a hierarchy (PoissonOptions::prolongations, or the "
+        "triangulation constructor with a hierarchy provider)");
+  }
+  return true;
+}
+
+}  // namespace
+
+void PoissonSolver::factor(fem::SparseMatrix&& A, const PoissonOptions& options,
                            const CholeskyAnalysis* analysis) {
   Impl& im = *impl_;
   if (im.unknown_vertex.empty()) return;
   const SolverChoice& c = options.solver;
-  const bool multigrid = c.kind == LinearSolverKind::kMultigrid ||
-                         (c.kind == LinearSolverKind::kAuto && options.prolongations &&
-                          im.n >= c.auto_multigrid_vertices);
-  // an empty chain (a triangulation at most the coarsest level's size) is one level: the factor
-  if (!multigrid || (options.prolongations && options.prolongations->empty())) {
+  if (!multigrid_for(options, im.n)) {
     if (analysis) {
       im.chol.emplace(A, *analysis, options.cholesky);
     } else {
@@ -480,38 +498,54 @@ void PoissonSolver::factor(fem::SparseMatrix A, const PoissonOptions& options,
     }
     return;
   }
-  if (!options.prolongations) {
-    throw InvalidInput(
-        "PoissonSolver: multigrid needs a hierarchy (PoissonOptions::prolongations, or the "
-        "triangulation constructor with a hierarchy provider)");
-  }
   const std::vector<SparseMatrix>& given = *options.prolongations;
   if (given.front().rows() != im.n) {
     throw InvalidInput("PoissonSolver: the first prolongation has " +
                        std::to_string(given.front().rows()) + " rows for " + std::to_string(im.n) +
                        " vertices");
   }
-  // P₀'s rows of the unknowns (zero rows for fixed ones kept as decoupled rows)
-  std::vector<char> fixed_row(im.unknown_vertex.size(), 0);
-  for (const Index r : im.fixed_rows) fixed_row[std::size_t(r)] = 1;
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(std::size_t(given.front().nonZeros()));
-  const SparseMatrix& P0 = given.front();
-  for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
-    for (SparseMatrix::InnerIterator it(P0, j); it; ++it) {
-      const Index u = im.unknown[it.row()];
-      if (u != kInvalidIndex && !fixed_row[std::size_t(u)]) t.emplace_back(u, int(j), it.value());
-    }
-  }
-  std::vector<SparseMatrix> chain;  // P₀ of the unknowns, then the given coarser ones
+  // the hierarchy is shared with the caller (and with the other solvers built from the same
+  // options): only P₀ is copied, and only when some vertex is not an unknown or is a Dirichlet
+  // vertex. A pinned vertex (a decoupled row, u = 0) keeps its row of P₀: the coarse operators
+  // then hold its diagonal as a penalty at its coarse vertices, and the heat and Poisson solvers
+  // of one triangulation share every P (docs/decisions.md D-335).
+  const std::shared_ptr<const std::vector<SparseMatrix>>& shared_chain = options.prolongations;
+  std::vector<std::shared_ptr<const SparseMatrix>> chain;
   chain.reserve(given.size());
-  chain.emplace_back(Eigen::Index(im.unknown_vertex.size()), P0.cols());
-  chain.front().setFromTriplets(t.begin(), t.end());
-  t = {};
-  chain.insert(chain.end(), given.begin() + 1, given.end());
-  SparseMatrix full = A.selfadjointView<Eigen::Lower>();  // A holds its lower triangle
-  A = SparseMatrix();  // freed before the hierarchy's operators are built
-  im.mg.emplace(std::move(full), chain, c.multigrid);
+  for (const SparseMatrix& P : given) chain.emplace_back(shared_chain, &P);  // aliases
+  if (Index(im.unknown_vertex.size()) != im.n || !im.dirichlet.empty()) {
+    // P₀'s rows of the unknowns (zero rows for fixed ones kept as decoupled rows), column by
+    // column: unknown ids increase with vertex ids, so the rows stay sorted (no triplets)
+    std::vector<char> fixed_row(im.unknown_vertex.size(), 0);
+    for (const Index r : im.fixed_rows) fixed_row[std::size_t(r)] = 1;
+    const SparseMatrix& P0 = given.front();
+    auto row_of = [&](Eigen::Index fine) {
+      const Index u = im.unknown[fine];
+      return u != kInvalidIndex && !fixed_row[std::size_t(u)] ? int(u) : -1;
+    };
+    auto R = std::make_shared<SparseMatrix>(Eigen::Index(im.unknown_vertex.size()), P0.cols());
+    int* outer = R->outerIndexPtr();
+    outer[0] = 0;
+    for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
+      int count = 0;
+      for (SparseMatrix::InnerIterator it(P0, j); it; ++it) count += row_of(it.row()) >= 0;
+      outer[j + 1] = outer[j] + count;
+    }
+    R->resizeNonZeros(outer[P0.cols()]);
+    int k = 0;
+    for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
+      for (SparseMatrix::InnerIterator it(P0, j); it; ++it) {
+        const int u = row_of(it.row());
+        if (u < 0) continue;
+        R->innerIndexPtr()[k] = u;
+        R->valuePtr()[k++] = it.value();
+      }
+    }
+    chain.front() = std::move(R);
+  }
+  // A holds its lower triangle (diagonal first): the multigrid levels keep that form
+  im.mg.emplace(std::move(A), std::move(chain), c.multigrid,
+                MultigridSolver::Stored::kLowerTriangle);
 }
 
 namespace {
@@ -553,7 +587,10 @@ PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& 
                              const Components& comps, std::vector<Index> dirichlet,
                              const PoissonOptions& options)
     : impl_(std::make_unique<Impl>()) {
-  factor(setup(L, mass, comps, std::move(dirichlet), options, false), options, nullptr);
+  // multigrid without Dirichlet vertices keeps the pinned vertices in the system as decoupled
+  // rows: every vertex an unknown, so P₀ is used as given (factor())
+  const bool keep_pins = dirichlet.empty() && multigrid_for(options, L.rows());
+  factor(setup(L, mass, comps, std::move(dirichlet), options, keep_pins), options, nullptr);
 }
 
 PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,

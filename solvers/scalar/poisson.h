@@ -128,8 +128,10 @@ class PoissonSolver {
   // options with prolongations from the provider when multigrid is chosen for tri
   static PoissonOptions with_hierarchy(const intrinsic::IntrinsicTriangulation& tri,
                                        const PoissonOptions& options);
-  // the Cholesky factor (with the analysis when given) or the multigrid solver of A (setup()'s)
-  void factor(fem::SparseMatrix A, const PoissonOptions& options, const CholeskyAnalysis* analysis);
+  // the Cholesky factor (with the analysis when given) or the multigrid solver of A (setup()'s;
+  // an rvalue: the multigrid solver takes its storage, Eigen 3.4 has no sparse move)
+  void factor(fem::SparseMatrix&& A, const PoissonOptions& options,
+              const CholeskyAnalysis* analysis);
   std::unique_ptr<Impl> impl_;
   friend struct PoissonBlocks;  // the heat method's block solves (heat_engine.h)
 };

@@ -7,6 +7,8 @@
 //   LEVELS 0: the library's simplification hierarchy instead of the nested one, its CPU time)
 //   ifem_multigrid_measure MESH_FILE linear   (the same on a manifold mesh file, flipped to
 //   intrinsic Delaunay, with the simplification hierarchy)
+//   ifem_multigrid_measure N pinned   (L pinned at vertex 0 on the default simplification
+//   hierarchy: the vertex eliminated with its row of P₀, or kept as a decoupled row with it)
 // Prints the set-up and query times, the peak resident memory after each phase, the PCG
 // figures of one heat solve and the distance error against the great-circle distance.
 #include <sys/resource.h>
@@ -92,6 +94,60 @@ int linear(const intrinsic::TriangleMesh& mesh, const intrinsic::IntrinsicTriang
   return 0;
 }
 
+// The pinned Laplacian two ways on the default hierarchy (D-335): vertex 0 eliminated (its row
+// of P₀ dropped), or kept as a decoupled row (a_00 = L_00, zero off-diagonal) with P₀ whole.
+// PCG iterations, reduction per cycle and seconds for one right-hand side, and the difference.
+int pinned(const intrinsic::IntrinsicTriangulation& tri) {
+  const solvers::SparseMatrix L = fem::cotan_laplacian(tri);
+  auto t0 = std::chrono::steady_clock::now();
+  const std::vector<solvers::SparseMatrix> chain = solvers::default_hierarchy_provider()(tri);
+  std::printf("hierarchy %.2f s, %zu prolongations\n", seconds_since(t0), chain.size());
+  const Eigen::Index n = L.rows();
+  std::vector<int> keep;
+  for (int v = 1; v < int(n); ++v) keep.push_back(v);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+  b[7] = 1.0;
+  b.array() -= 1.0 / double(n);
+  b[0] = 0.0;
+  solvers::SparseMatrix decoupled = L;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    for (solvers::SparseMatrix::InnerIterator it(decoupled, j); it; ++it) {
+      if ((it.row() == 0 || j == 0) && it.row() != j) it.valueRef() = 0.0;
+    }
+  }
+  Eigen::VectorXd x[2];
+  for (int which = 0; which < 2; ++which) {
+    std::vector<solvers::SparseMatrix> c = chain;
+    solvers::SparseMatrix A;
+    Eigen::VectorXd rhs = b;
+    if (which == 0) {
+      c[0] = test::keep_rows(c[0], keep);
+      A = test::keep_rows(solvers::SparseMatrix(test::keep_rows(L, keep).transpose()), keep);
+      rhs = b.tail(n - 1);
+    } else {
+      A = decoupled;
+    }
+    t0 = std::chrono::steady_clock::now();
+    const solvers::MultigridSolver mg(A, c);
+    const double build = seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+    solvers::MultigridReport rep;
+    const Eigen::VectorXd sol = mg.solve(rhs, &rep);
+    x[which] = which == 0 ? Eigen::VectorXd(n) : sol;
+    if (which == 0) {
+      x[0][0] = 0.0;
+      x[0].tail(n - 1) = sol;
+    }
+    std::printf("%s: build %.2f s, %.1f MB, PCG %d iterations, %.3f per cycle, %.2f s\n",
+                which == 0 ? "vertex eliminated, row of P0 dropped" : "decoupled row, P0 whole",
+                build, mg.memory_bytes() / 1e6, rep.iterations, rep.reduction_per_cycle,
+                seconds_since(t0));
+  }
+  std::printf("|x_eliminated - x_decoupled| / |x_eliminated| = %.2g\n",
+              (x[0] - x[1]).norm() / x[0].norm());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -125,6 +181,7 @@ int main(int argc, char** argv) {
   std::printf("icosphere(%d): %zu faces, %d vertices; mesh %.2f s, peak %.2f GiB\n", n,
               mesh.faces.size(), int(tri.n_vertices()), seconds_since(t0), peak_gib());
   if (kind == "linear") return linear(mesh, tri, n, levels, steps, jacobi);
+  if (kind == "pinned") return pinned(tri);
   solvers::HeatDistanceOptions o;
   o.time_factor = time_factor;
   o.correction_steps = correction_steps;

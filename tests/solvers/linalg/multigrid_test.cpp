@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 #include <utility>
 #include <vector>
@@ -149,6 +150,57 @@ TEST(Multigrid, CycleEqualsTheTextbookTwoLevelCycle) {
   }
 }
 
+TEST(Multigrid, LowerTriangleGivenEqualsBothTriangles) {
+  // three levels (the second Galerkin product formed from the first one's lower triangle): the
+  // cycle of the solver given only A's lower triangle equals the one given the whole A and the
+  // textbook cycle with dense PᵀAP products; the whole A passed as a lower triangle is refused
+  const SparseMatrix A = heat_matrix(intrinsic::icosphere(8));
+  const std::vector<SparseMatrix> chain = test::icosphere_hierarchy(8, 3);
+  const SparseMatrix lower = A.triangularView<Eigen::Lower>();
+  const MultigridSolver whole(A, chain);
+  const MultigridSolver from_lower(lower, chain, {}, MultigridSolver::Stored::kLowerTriangle);
+  ASSERT_EQ(from_lower.n_levels(), 3);
+  EXPECT_EQ(from_lower.memory_bytes(), whole.memory_bytes());
+  const Eigen::VectorXd r = random_vector(A.rows(), 21);
+  const Eigen::VectorXd z = whole.cycle(r);
+  EXPECT_LE((from_lower.cycle(r) - z).norm(), 1e-14 * z.norm());
+  // the textbook three-level cycle with dense Galerkin products (the second one of a product)
+  std::vector<Eigen::MatrixXd> As{Eigen::MatrixXd(A)}, Ps;
+  for (const SparseMatrix& P : chain) {
+    Ps.push_back(Eigen::MatrixXd(P));
+    As.push_back(Ps.back().transpose() * As.back() * Ps.back());
+  }
+  auto textbook = [&](auto&& self, std::size_t l, const Eigen::VectorXd& b) -> Eigen::VectorXd {
+    if (l + 1 == As.size()) return As[l].ldlt().solve(b);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
+    reference_sweep(As[l], b, x, true);
+    x += Ps[l] * self(self, l + 1, Ps[l].transpose() * (b - As[l] * x));
+    reference_sweep(As[l], b, x, false);
+    return x;
+  };
+  EXPECT_LE((textbook(textbook, 0, r) - z).norm(), 1e-12 * z.norm());
+  EXPECT_THROW(MultigridSolver(A, chain, {}, MultigridSolver::Stored::kLowerTriangle),
+               InvalidInput);
+}
+
+TEST(Multigrid, SharedProlongationsAreReferencedNotCopied) {
+  // a hierarchy shared by two solvers (as the heat and Poisson solvers share one): a P used as
+  // given is held by reference (the owner's count grows), and the cycle is the one of a solver
+  // given its own copies
+  const SparseMatrix A = heat_matrix(intrinsic::icosphere(8));
+  const auto owner =
+      std::make_shared<const std::vector<SparseMatrix>>(test::icosphere_hierarchy(8, 3));
+  std::vector<std::shared_ptr<const SparseMatrix>> aliases;
+  for (const SparseMatrix& P : *owner) aliases.emplace_back(owner, &P);
+  const MultigridSolver shared(SparseMatrix(A), aliases);
+  EXPECT_EQ(owner.use_count(), 1 + 2 * long(owner->size()));  // the aliases and the levels
+  const MultigridSolver copied(A, *owner);
+  const Eigen::VectorXd r = random_vector(A.rows(), 22);
+  EXPECT_LE((shared.cycle(r) - copied.cycle(r)).norm(), 1e-14 * copied.cycle(r).norm());
+  aliases.back() = nullptr;  // a null prolongation is refused
+  EXPECT_THROW(MultigridSolver(SparseMatrix(A), aliases), InvalidInput);
+}
+
 TEST(Multigrid, PinnedLaplacianOnNestedIcospheres) {
   // L with vertex 0 eliminated (u(0) = 0): SPD, the pure-Neumann null space removed
   const auto tri = test::make_tri(intrinsic::icosphere(16));
@@ -281,6 +333,36 @@ TEST(SolverChoice, PoissonMultigridEqualsDirect) {
       EXPECT_LE((Ua - Ub).norm(), 1e-6 * Ua.norm());
     }
   }
+}
+
+// Pure Neumann on two components: each is pinned at one vertex, kept in the multigrid system as a
+// decoupled row with its row of P₀ (D-335); the solutions (zero mean per component) equal the
+// direct solver's.
+TEST(SolverChoice, PureNeumannMultigridOnTwoComponentsEqualsDirect) {
+  const intrinsic::TriangleMesh one = intrinsic::icosphere(12);
+  intrinsic::TriangleMesh two;
+  const Index nv = Index(one.positions.rows());
+  two.positions.resize(2 * nv, 3);
+  two.positions << one.positions, one.positions.rowwise() + Eigen::RowVector3d(3.0, 0.0, 0.0);
+  two.faces = one.faces;
+  for (const auto& t : one.faces) two.faces.push_back({t[0] + nv, t[1] + nv, t[2] + nv});
+  const auto tri = test::make_tri(two);
+  PoissonOptions direct, mg;
+  mg.solver.kind = LinearSolverKind::kMultigrid;
+  mg.solver.hierarchy = [](const intrinsic::IntrinsicTriangulation& t) {
+    HierarchyOptions h;
+    h.coarsest_vertices = 300;
+    return simplification_hierarchy(t, h);
+  };
+  const PoissonSolver a(tri, {}, direct), b(tri, {}, mg);
+  ASSERT_TRUE(b.multigrid());
+  const Eigen::VectorXd f = random_vector(tri.n_vertices(), 23);
+  const Eigen::VectorXd ua = a.solve(f, Eigen::VectorXd()), ub = b.solve(f, Eigen::VectorXd());
+  EXPECT_LE((ua - ub).norm(), 1e-6 * ua.norm());
+  Eigen::MatrixXd F(tri.n_vertices(), 2);
+  F << f, f.reverse();
+  const Eigen::MatrixXd Ua = a.solve_weak_homogeneous(F), Ub = b.solve_weak_homogeneous(F);
+  EXPECT_LE((Ua - Ub).norm(), 1e-6 * Ua.norm());
 }
 
 // The default provider: repeated intrinsic simplification. On a mesh whose levels are not
