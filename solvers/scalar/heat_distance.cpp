@@ -3,7 +3,6 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -49,7 +48,6 @@ constexpr double kBandWidth = 96.0;
 constexpr double kBandBehind = 8.0;
 constexpr double kBandResolvedRatio = 1e3;
 constexpr double kBandTrustedRatio = 1e5;
-constexpr double kBandSpan = 0.0;
 // From this many vertices on, queries solve with our supernodal kernel (see the constructor;
 // session 8: 28k vertices (rocketship) faster with CHOLMOD's simplicial solves, 50k
 // (icosphere(71)) faster with ours; since the kernel's own small-supernode loops (session 9)
@@ -146,6 +144,10 @@ void HeatDistanceOptions::validate() const {
   if (correction_steps < 0) {
     throw InvalidInput("HeatDistanceOptions: correction_steps must be ≥ 0, got " +
                        std::to_string(correction_steps));
+  }
+  if (!(band_span >= 0.0) || !std::isfinite(band_span)) {
+    throw InvalidInput("HeatDistanceOptions: band_span must be ≥ 0 and finite, got " +
+                       std::to_string(band_span));
   }
   if (!vertex_positions.allFinite()) {
     throw InvalidInput("HeatDistanceOptions: vertex_positions must be finite");
@@ -410,9 +412,15 @@ struct HeatDistanceSolver::Impl {
     o.simplicial_solves = false;
     return o;
   }
-  // The first band's path length beyond the frontier (D-355): kBandWidth·√t, or where that is
-  // narrower, kBandSpan × the square root of the largest area of a component with a source.
-  double band_width(const std::vector<char>& src_comp) const;
+  // The bands' time step and its root (D-355): the query's t, or where kBandWidth·√t is narrower
+  // than options.band_span × the square root of the largest area of a component with a source,
+  // the step whose band is that wide (at icosphere(224), 1M faces and t = h², kBandWidth·√t is
+  // 0.146·√area; widening the band in units of √t instead costs accuracy: 0.29 → 0.32 % there
+  // at 3× the width). The bands reach kBandWidth·root beyond the frontier.
+  struct BandTime {
+    double t = 0.0, root = 0.0;
+  };
+  BandTime band_time(const std::vector<char>& src_comp) const;
   // Vertices within path length `width` of the frontier beyond it (unknown) and `behind` behind
   // it (known), their faces and edge; fills scratch.local and scratch.dist on the band only.
   Band make_band(const std::vector<char>& known, double width, double behind,
@@ -421,13 +429,13 @@ struct HeatDistanceSolver::Impl {
   static void clear_band(const Band& band, BandScratch& scratch);
   // (M + tL) u = δ on the band's faces (δ = 1 on the frontier), natural conditions at the band's
   // edge; with Boundary::kAverage on a surface with boundary, the mean with the solution that is
-  // zero on its boundary vertices. Per band position.
-  Eigen::VectorXd band_solve(const Band& band, const BandScratch& scratch) const;
+  // zero on its boundary vertices; t = time_step. Per band position.
+  Eigen::VectorXd band_solve(const Band& band, double time_step, const BandScratch& scratch) const;
   // A later stage's heat on a band: thresholds as classify_heat(), and the band's truncation
   // bounded by asking the heat to exceed kBand*Ratio × its largest value at the band's far edge;
   // the band doubles while that trusts no unknown vertex. The returned band stays in scratch.
   BandHeat band_heat(const std::vector<char>& src_comp, const std::vector<char>& known,
-                     double width, BandScratch& scratch) const;
+                     const BandTime& bt, BandScratch& scratch) const;
   // stage_region() and solve_region() on a band's faces only
   BandRegion band_region(const BandHeat& bh, const std::vector<char>& known,
                          const BandScratch& scratch) const;
@@ -1455,7 +1463,8 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_region(const StageRegion& region
   return chol.solve(rhs);
 }
 
-double HeatDistanceSolver::Impl::band_width(const std::vector<char>& src_comp) const {
+HeatDistanceSolver::Impl::BandTime HeatDistanceSolver::Impl::band_time(
+    const std::vector<char>& src_comp) const {
   std::vector<double> area(comps.count, 0.0);
   for (Index v = 0; v < tri.n_vertices(); ++v) {
     const Index c = comps.label[v];
@@ -1465,9 +1474,9 @@ double HeatDistanceSolver::Impl::band_width(const std::vector<char>& src_comp) c
   for (Index c = 0; c < comps.count; ++c) {
     if (src_comp[c]) largest = std::max(largest, area[c]);
   }
-  double span = kBandSpan;
-  if (const char* e = std::getenv("IFEM_F_SPAN")) span = std::atof(e);  // EXPERIMENT
-  return std::max(kBandWidth * std::sqrt(t), span * std::sqrt(largest));
+  const double root = opt.band_span * std::sqrt(largest) / kBandWidth;
+  if (!(root > std::sqrt(t))) return {t, std::sqrt(t)};  // the query's own step, bit for bit
+  return {root * root, root};
 }
 
 HeatDistanceSolver::Impl::Band HeatDistanceSolver::Impl::make_band(const std::vector<char>& known,
@@ -1531,10 +1540,10 @@ void HeatDistanceSolver::Impl::clear_band(const Band& band, BandScratch& scratch
   }
 }
 
-Eigen::VectorXd HeatDistanceSolver::Impl::band_solve(const Band& band,
+Eigen::VectorXd HeatDistanceSolver::Impl::band_solve(const Band& band, double time_step,
                                                      const BandScratch& scratch) const {
   const Index n = Index(band.vertex.size());
-  const double s = t * 0.5 / tri.multiplicity();
+  const double s = time_step * 0.5 / tri.multiplicity();
   // one system per boundary condition: `fixed` vertices are zero (the surface's boundary)
   auto solve = [&](bool dirichlet) {
     std::vector<Index> id(std::size_t(n), kInvalidIndex);
@@ -1581,16 +1590,15 @@ Eigen::VectorXd HeatDistanceSolver::Impl::band_solve(const Band& band,
 }
 
 HeatDistanceSolver::Impl::BandHeat HeatDistanceSolver::Impl::band_heat(
-    const std::vector<char>& src_comp, const std::vector<char>& known, double width,
+    const std::vector<char>& src_comp, const std::vector<char>& known, const BandTime& bt,
     BandScratch& scratch) const {
-  const double root_t = std::sqrt(t);
   std::size_t last_size = 0;
-  for (;; width *= 2.0) {
+  for (double width = kBandWidth * bt.root;; width *= 2.0) {
     BandHeat bh;
-    bh.band = make_band(known, width, kBandBehind * root_t, scratch);
+    bh.band = make_band(known, width, kBandBehind * bt.root, scratch);
     const Band& band = bh.band;
     const Index n = Index(band.vertex.size());
-    bh.u = band_solve(band, scratch);
+    bh.u = band_solve(band, bt.t, scratch);
     const Eigen::VectorXd& u = bh.u;
     // per component: the largest heat, and the largest on an unknown vertex of the band's edge
     std::vector<double> mx(comps.count, 0.0), edge_mx(comps.count, 0.0);
@@ -1760,11 +1768,11 @@ void HeatDistanceSolver::Impl::band_stages_loop(const std::vector<char>& src_com
     }
     return false;
   };
-  const double width = band_width(src_comp);
+  const BandTime bt = band_time(src_comp);
   std::vector<Index> added;
   while (left > 0) {
     ++rep.stages;
-    const BandHeat bh = band_heat(src_comp, known, width, scratch);
+    const BandHeat bh = band_heat(src_comp, known, bt, scratch);
     const BandRegion region = band_region(bh, known, scratch);
     if (region.unknown_vertex.empty()) {
       throw SolverError("heat distance: the heat does not reach " + std::to_string(left) +
