@@ -416,7 +416,8 @@ struct HeatDistanceSolver::Impl {
   // than options.band_span × the square root of the largest area of a component with a source,
   // the step whose band is that wide (at icosphere(224), 1M faces and t = h², kBandWidth·√t is
   // 0.146·√area; widening the band in units of √t instead costs accuracy: 0.29 → 0.32 % there
-  // at 3× the width). The bands reach kBandWidth·root beyond the frontier.
+  // at 3× the width, while a larger step gains it). The bands reach kBandWidth·root beyond the
+  // frontier.
   struct BandTime {
     double t = 0.0, root = 0.0;
   };

@@ -467,8 +467,8 @@ TEST(SolverChoice, HeatDistanceBandStages) {
 
 // The bands' time step is raised where 96·√t would be narrower than band_span·√area (D-355), so
 // that the stage count does not grow as the mesh refines (at 10M faces D-285's bands took 27
-// stages, more time than the whole budget). The default band_span (0.14) raises it only above
-// ~1M faces; a larger one stands in for that here: on icosphere(32) with t = 0.02 h² (D-285's
+// stages). The default band_span (0.07) raises it only above ~4M faces; a larger one stands in
+// for that here: on icosphere(32) with t = 0.02 h² (D-285's
 // bands advance ~0.43 a stage, ~8 stages for half a great circle), band_span 0.3 widens the
 // bands ~2× and halves the stages, at the direct solver's accuracy against the great circles;
 // below the threshold (the default here) nothing changes, bit for bit.
