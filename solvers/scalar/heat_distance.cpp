@@ -1697,8 +1697,8 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_band_region(const BandRegion& re
   unit_div->add_faces(region.face.data(), below, bh.u.data(), local.data(), div.data());
   if (split != region.face.end()) {
     Eigen::VectorXd upper = Eigen::VectorXd::Zero(n);
-    unit_div->add_faces(region.face.data() + below, Index(region.face.size()) - below,
-                        bh.u.data(), local.data(), upper.data());
+    unit_div->add_faces(region.face.data() + below, Index(region.face.size()) - below, bh.u.data(),
+                        local.data(), upper.data());
     div += upper;
   }
   // stiffness from the region's faces, Dirichlet = known values (as solve_region())
