@@ -442,6 +442,10 @@ struct HeatDistanceSolver::Impl {
                          const BandScratch& scratch) const;
   Eigen::VectorXd solve_band_region(const BandRegion& region, const BandHeat& bh,
                                     const Eigen::VectorXd& phi, const BandScratch& scratch) const;
+  // After a stage made `added` known: the frontier's list and marks in scratch, from the old
+  // frontier and the added vertices only.
+  void advance_frontier(const std::vector<Index>& added, const std::vector<char>& known,
+                        BandScratch& scratch) const;
   // later_stages() on bands
   void band_stages_loop(const std::vector<char>& src_comp, Eigen::VectorXd& phi,
                         std::vector<char>& known, HeatDistanceReport& rep) const;
@@ -1737,7 +1741,6 @@ void HeatDistanceSolver::Impl::band_stages_loop(const std::vector<char>& src_com
                                                 Eigen::VectorXd& phi, std::vector<char>& known,
                                                 HeatDistanceReport& rep) const {
   const Index nv = tri.n_vertices();
-  const auto& tail = tri.tails();
   BandScratch scratch;
   scratch.local.assign(nv, kInvalidIndex);
   scratch.dist.assign(nv, kInf);
@@ -1761,14 +1764,6 @@ void HeatDistanceSolver::Impl::band_stages_loop(const std::vector<char>& src_com
       }
     }
   }
-  // a known vertex stays on the frontier while one of its faces has an unknown corner
-  auto on_frontier = [&](Index v) {
-    for (Index k = vf_offset[v]; k < vf_offset[v + 1]; ++k) {
-      const Index f = vf_face[k];
-      if (!known[tail[3 * f]] || !known[tail[3 * f + 1]] || !known[tail[3 * f + 2]]) return true;
-    }
-    return false;
-  };
   const BandTime bt = band_time(src_comp);
   std::vector<Index> added;
   while (left > 0) {
@@ -1799,24 +1794,39 @@ void HeatDistanceSolver::Impl::band_stages_loop(const std::vector<char>& src_com
     }
     left -= Index(added.size());
     clear_band(bh.band, scratch);
-    // the new frontier: the old one's vertices that still border an unknown one, and the new
-    // known vertices that do (no other vertex can join it: the unknown set only shrinks)
-    std::vector<Index> next;
-    for (const Index v : scratch.frontier) {
-      if (on_frontier(v)) {
-        next.push_back(v);
-      } else {
-        scratch.is_frontier[v] = 0;
-      }
-    }
-    for (const Index v : added) {
-      if (on_frontier(v)) {
-        next.push_back(v);
-        scratch.is_frontier[v] = 1;
-      }
-    }
-    scratch.frontier = std::move(next);
+    advance_frontier(added, known, scratch);
   }
+}
+
+void HeatDistanceSolver::Impl::advance_frontier(const std::vector<Index>& added,
+                                                const std::vector<char>& known,
+                                                BandScratch& scratch) const {
+  const auto& tail = tri.tails();
+  // a known vertex is on the frontier while one of its faces has an unknown corner
+  auto on_frontier = [&](Index v) {
+    for (Index k = vf_offset[v]; k < vf_offset[v + 1]; ++k) {
+      const Index f = vf_face[k];
+      if (!known[tail[3 * f]] || !known[tail[3 * f + 1]] || !known[tail[3 * f + 2]]) return true;
+    }
+    return false;
+  };
+  // the old frontier's vertices that still border an unknown one, and the new known vertices
+  // that do (no other vertex can join it: the unknown set only shrinks)
+  std::vector<Index> next;
+  for (const Index v : scratch.frontier) {
+    if (on_frontier(v)) {
+      next.push_back(v);
+    } else {
+      scratch.is_frontier[v] = 0;
+    }
+  }
+  for (const Index v : added) {
+    if (on_frontier(v)) {
+      next.push_back(v);
+      scratch.is_frontier[v] = 1;
+    }
+  }
+  scratch.frontier = std::move(next);
 }
 
 void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pts,
