@@ -116,11 +116,12 @@ struct HeatDistanceOptions {
   /// The multigrid path's bands (above) reach at least band_span·√A beyond the frontier (A the
   /// largest area of a component with a source): where 96·√t is narrower, the bands' heat uses
   /// the time step t_b = (band_span·√A / 96)² instead of t (and 96·√t_b, 8·√t_b as their
-  /// widths), so that the stage count stays ~9 however fine the mesh (docs/decisions.md D-355).
-  /// The default 0.07 leaves meshes up to ~4M faces (t = h²) at their own t, bit for bit, and
-  /// gives icosphere(707) (10M faces) √t_b = 1.5·√t; 0: always t (D-285's bands). Larger values
-  /// mean fewer, wider stages and (on the sphere) smaller errors, but a band's factorization
-  /// costs more per vertex as it widens. Dimensionless, ≥ 0; unused by the direct solver.
+  /// widths), so that the stage count stops growing as the mesh refines (docs/decisions.md
+  /// D-355). The default 0.07 leaves meshes up to ~4M faces (t = h²) at their own t, bit for
+  /// bit, and gives icosphere(707) (10M faces) √t_b = 1.5·√t and 18 stages (27 at t); 0: always
+  /// t (D-285's bands). Larger values mean fewer, wider stages and (on the sphere) smaller
+  /// errors, but a band's factorization costs more per vertex as it widens. Dimensionless, ≥ 0;
+  /// unused by the direct solver.
   double band_span = 0.07;
   /// @throws InvalidInput naming the field: time_factor not > 0 and finite, mean_edge_length
   ///         negative or not finite, thresholds not 0 < resolved_heat ≤ trusted_heat ≤ 1,
