@@ -105,10 +105,10 @@ struct HeatDistanceOptions {
   /// to the largest heat, so with multigrid the first stage's resolved_heat and trusted_heat are
   /// raised to at least 1e3 and 1e5 × solver.multigrid.tolerance (D-231), and each later stage
   /// solves its heat directly on a band around the frontier instead of on the whole surface:
-  /// the vertices within a path length of 96·√t beyond it and 8·√t behind it, natural
-  /// conditions at the band's edge, a vertex resolved / trusted where its heat also exceeds 1e3
-  /// / 1e5 × the largest heat on the band's far edge (the band doubles while it trusts nothing);
-  /// resolved_heat and trusted_heat as given apply there (docs/decisions.md D-285). The
+  /// the vertices within a path length of 96·√t beyond it and 8·√t behind it (t: band_span),
+  /// natural conditions at the band's edge, a vertex resolved / trusted where its heat also exceeds
+  /// 1e3 / 1e5 × the largest heat on the band's far edge (the band doubles while it trusts
+  /// nothing); resolved_heat and trusted_heat as given apply there (docs/decisions.md D-285). The
   /// distances then differ from the direct solver's by the order of the method's own error
   /// (the continuation's), not by the solver's tolerance. The shared heat factor constructor and
   /// heat_factor() stay direct.
