@@ -145,6 +145,10 @@ void HeatDistanceOptions::validate() const {
     throw InvalidInput("HeatDistanceOptions: correction_steps must be ≥ 0, got " +
                        std::to_string(correction_steps));
   }
+  if (!(band_span >= 0.0) || !std::isfinite(band_span)) {
+    throw InvalidInput("HeatDistanceOptions: band_span must be ≥ 0 and finite, got " +
+                       std::to_string(band_span));
+  }
   if (!vertex_positions.allFinite()) {
     throw InvalidInput("HeatDistanceOptions: vertex_positions must be finite");
   }
@@ -375,9 +379,31 @@ struct HeatDistanceSolver::Impl {
   std::vector<Index> vf_face;
   struct Band {
     std::vector<Index> vertex;  // band vertices, in the order Dijkstra settled them
-    std::vector<Index> local;   // #V: vertex → position in `vertex`, or kInvalidIndex
     std::vector<char> edge;     // per band vertex: on a face that is not in the band
     std::vector<Index> face;    // faces with every corner in the band
+  };
+  // One query's #V arrays for its band stages, made once and kept between the stages; each stage
+  // resets only what its band touched, so that a stage's work is proportional to its band, not
+  // to #V (D-355).
+  struct BandScratch {
+    std::vector<Index> local;       // vertex → position in the current band, or kInvalidIndex
+    std::vector<double> dist;       // Dijkstra's path lengths: kInf outside the current band
+    std::vector<char> is_frontier;  // known vertices on a face with an unknown corner
+    std::vector<Index> frontier;    // the vertices is_frontier marks
+    std::vector<Index> unknown;     // per component with a source: its unknown vertices
+  };
+  // A later stage's heat on its band: values and marks per band position (band.vertex), and per
+  // component whether every unknown vertex in it is resolved.
+  struct BandHeat {
+    Band band;
+    Eigen::VectorXd u;
+    std::vector<char> resolved, trusted, comp_done;
+  };
+  // stage_region() on a band: its faces by increasing index, its unknowns numbered in that order
+  struct BandRegion {
+    std::vector<Index> face;
+    std::vector<Index> unknown_id;  // per band position: the unknown's number, or kInvalidIndex
+    std::vector<Index> unknown_vertex;
   };
   // The bands' factorizations (and their regions'): one solve each, so the supernodal factor is
   // solved as it is, not converted to simplicial form first.
@@ -386,19 +412,43 @@ struct HeatDistanceSolver::Impl {
     o.simplicial_solves = false;
     return o;
   }
+  // The bands' time step and its root (D-355): the query's t, or where kBandWidth·√t is narrower
+  // than options.band_span × the square root of the largest area of a component with a source,
+  // the step whose band is that wide (at icosphere(224), 1M faces and t = h², kBandWidth·√t is
+  // 0.146·√area; widening the band in units of √t instead costs accuracy: 0.29 → 0.32 % there
+  // at 3× the width, while a larger step gains it). The bands reach kBandWidth·root beyond the
+  // frontier.
+  struct BandTime {
+    double t = 0.0, root = 0.0;
+  };
+  BandTime band_time(const std::vector<char>& src_comp) const;
   // Vertices within path length `width` of the frontier beyond it (unknown) and `behind` behind
-  // it (known), their faces and edge.
-  Band make_band(const std::vector<Index>& frontier, const std::vector<char>& known, double width,
-                 double behind) const;
+  // it (known), their faces and edge; fills scratch.local and scratch.dist on the band only.
+  Band make_band(const std::vector<char>& known, double width, double behind,
+                 BandScratch& scratch) const;
+  // Resets what make_band() wrote into the scratch.
+  static void clear_band(const Band& band, BandScratch& scratch);
   // (M + tL) u = δ on the band's faces (δ = 1 on the frontier), natural conditions at the band's
   // edge; with Boundary::kAverage on a surface with boundary, the mean with the solution that is
-  // zero on its boundary vertices. #V, zero outside the band.
-  Eigen::VectorXd band_solve(const Band& band, const std::vector<char>& is_frontier) const;
+  // zero on its boundary vertices; t = time_step. Per band position.
+  Eigen::VectorXd band_solve(const Band& band, double time_step, const BandScratch& scratch) const;
   // A later stage's heat on a band: thresholds as classify_heat(), and the band's truncation
   // bounded by asking the heat to exceed kBand*Ratio × its largest value at the band's far edge;
-  // the band doubles while that trusts no unknown vertex. u: #V, zero outside the band.
-  StageHeat band_heat(const std::vector<char>& src_comp, const std::vector<char>& known,
-                      Eigen::VectorXd& u) const;
+  // the band doubles while that trusts no unknown vertex. The returned band stays in scratch.
+  BandHeat band_heat(const std::vector<char>& src_comp, const std::vector<char>& known,
+                     const BandTime& bt, BandScratch& scratch) const;
+  // stage_region() and solve_region() on a band's faces only
+  BandRegion band_region(const BandHeat& bh, const std::vector<char>& known,
+                         const BandScratch& scratch) const;
+  Eigen::VectorXd solve_band_region(const BandRegion& region, const BandHeat& bh,
+                                    const Eigen::VectorXd& phi, const BandScratch& scratch) const;
+  // After a stage made `added` known: the frontier's list and marks in scratch, from the old
+  // frontier and the added vertices only.
+  void advance_frontier(const std::vector<Index>& added, const std::vector<char>& known,
+                        BandScratch& scratch) const;
+  // later_stages() on bands
+  void band_stages_loop(const std::vector<char>& src_comp, Eigen::VectorXd& phi,
+                        std::vector<char>& known, HeatDistanceReport& rep) const;
 };
 
 namespace {
@@ -1414,30 +1464,46 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_region(const StageRegion& region
   fem::SparseMatrix A(nu, nu);
   A.setFromTriplets(trip.begin(), trip.end());
   A.makeCompressed();
-  const CholeskySolver chol(A, band_stages ? band_cholesky() : CholeskyOptions{});
+  const CholeskySolver chol(A, CholeskyOptions{});
   return chol.solve(rhs);
 }
 
-HeatDistanceSolver::Impl::Band HeatDistanceSolver::Impl::make_band(
-    const std::vector<Index>& frontier, const std::vector<char>& known, double width,
-    double behind) const {
-  const Index nv = tri.n_vertices();
+HeatDistanceSolver::Impl::BandTime HeatDistanceSolver::Impl::band_time(
+    const std::vector<char>& src_comp) const {
+  std::vector<double> area(comps.count, 0.0);
+  for (Index v = 0; v < tri.n_vertices(); ++v) {
+    const Index c = comps.label[v];
+    if (c != kInvalidIndex) area[c] += mass[v];
+  }
+  double largest = 0.0;
+  for (Index c = 0; c < comps.count; ++c) {
+    if (src_comp[c]) largest = std::max(largest, area[c]);
+  }
+  const double root = opt.band_span * std::sqrt(largest) / kBandWidth;
+  if (!(root > std::sqrt(t))) return {t, std::sqrt(t)};  // the query's own step, bit for bit
+  return {root * root, root};
+}
+
+HeatDistanceSolver::Impl::Band HeatDistanceSolver::Impl::make_band(const std::vector<char>& known,
+                                                                   double width, double behind,
+                                                                   BandScratch& scratch) const {
   const auto& tail = tri.tails();
   Band band;
-  band.local.assign(nv, kInvalidIndex);
-  // Dijkstra along the edges from the frontier, known vertices up to `behind`
-  std::vector<double> dist(nv, kInf);
+  std::vector<Index>& local = scratch.local;
+  std::vector<double>& dist = scratch.dist;
+  // Dijkstra along the edges from the frontier, known vertices up to `behind` (every vertex it
+  // reaches is settled, so the band's vertices are all that dist and local hold afterwards)
   using Item = std::pair<double, Index>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
-  for (const Index v : frontier) {
+  for (const Index v : scratch.frontier) {
     dist[v] = 0.0;
     queue.push({0.0, v});
   }
   while (!queue.empty()) {
     const auto [d, v] = queue.top();
     queue.pop();
-    if (d > dist[v] || band.local[v] != kInvalidIndex) continue;
-    band.local[v] = Index(band.vertex.size());
+    if (d > dist[v] || local[v] != kInvalidIndex) continue;
+    local[v] = Index(band.vertex.size());
     band.vertex.push_back(v);
     for (Index k = vf_offset[v]; k < vf_offset[v + 1]; ++k) {
       const Index f = vf_face[k];
@@ -1459,9 +1525,9 @@ HeatDistanceSolver::Impl::Band HeatDistanceSolver::Impl::make_band(
     const Index v = band.vertex[i];
     for (Index k = vf_offset[v]; k < vf_offset[v + 1]; ++k) {
       const Index f = vf_face[k];
-      const bool inside = band.local[tail[3 * f]] != kInvalidIndex &&
-                          band.local[tail[3 * f + 1]] != kInvalidIndex &&
-                          band.local[tail[3 * f + 2]] != kInvalidIndex;
+      const bool inside = local[tail[3 * f]] != kInvalidIndex &&
+                          local[tail[3 * f + 1]] != kInvalidIndex &&
+                          local[tail[3 * f + 2]] != kInvalidIndex;
       if (!inside) {
         band.edge[i] = 1;
       } else if (tail[3 * f] == v) {
@@ -1472,10 +1538,17 @@ HeatDistanceSolver::Impl::Band HeatDistanceSolver::Impl::make_band(
   return band;
 }
 
-Eigen::VectorXd HeatDistanceSolver::Impl::band_solve(const Band& band,
-                                                     const std::vector<char>& is_frontier) const {
+void HeatDistanceSolver::Impl::clear_band(const Band& band, BandScratch& scratch) {
+  for (const Index v : band.vertex) {
+    scratch.local[v] = kInvalidIndex;
+    scratch.dist[v] = kInf;
+  }
+}
+
+Eigen::VectorXd HeatDistanceSolver::Impl::band_solve(const Band& band, double time_step,
+                                                     const BandScratch& scratch) const {
   const Index n = Index(band.vertex.size());
-  const double s = t * 0.5 / tri.multiplicity();
+  const double s = time_step * 0.5 / tri.multiplicity();
   // one system per boundary condition: `fixed` vertices are zero (the surface's boundary)
   auto solve = [&](bool dirichlet) {
     std::vector<Index> id(std::size_t(n), kInvalidIndex);
@@ -1488,12 +1561,12 @@ Eigen::VectorXd HeatDistanceSolver::Impl::band_solve(const Band& band,
     for (Index i = 0; i < n; ++i) {
       if (id[i] == kInvalidIndex) continue;
       trip.emplace_back(id[i], id[i], mass[band.vertex[i]]);
-      if (is_frontier[band.vertex[i]]) rhs[id[i]] = 1.0;
+      if (scratch.is_frontier[band.vertex[i]]) rhs[id[i]] = 1.0;
     }
     for (const Index f : band.face) {
       for (int k = 0; k < 3; ++k) {
         const Index h = 3 * f + k;
-        const Index i = id[band.local[tri.tail(h)]], j = id[band.local[tri.head(h)]];
+        const Index i = id[scratch.local[tri.tail(h)]], j = id[scratch.local[tri.head(h)]];
         if (tri.tail(h) == tri.head(h)) continue;
         const double w = s * intrinsic::halfedge_cotan(tri, h);
         if (i != kInvalidIndex) trip.emplace_back(i, i, w);
@@ -1516,62 +1589,244 @@ Eigen::VectorXd HeatDistanceSolver::Impl::band_solve(const Band& band,
     }
     return u;
   };
-  Eigen::VectorXd local = solve(false);
-  if (!on_boundary.empty()) local = 0.5 * (local + solve(true));
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(tri.n_vertices());
-  for (Index i = 0; i < n; ++i) u[band.vertex[i]] = local[i];
+  Eigen::VectorXd u = solve(false);
+  if (!on_boundary.empty()) u = 0.5 * (u + solve(true));
   return u;
 }
 
-HeatDistanceSolver::Impl::StageHeat HeatDistanceSolver::Impl::band_heat(
-    const std::vector<char>& src_comp, const std::vector<char>& known, Eigen::VectorXd& u) const {
-  const Index nv = tri.n_vertices();
-  const Eigen::VectorXd delta = frontier_delta(known);
-  std::vector<Index> frontier;
-  std::vector<char> is_frontier(nv, 0);
-  for (Index v = 0; v < nv; ++v) {
-    if (delta[v] != 0.0) {
-      frontier.push_back(v);
-      is_frontier[v] = 1;
-    }
-  }
-  const double root_t = std::sqrt(t);
+HeatDistanceSolver::Impl::BandHeat HeatDistanceSolver::Impl::band_heat(
+    const std::vector<char>& src_comp, const std::vector<char>& known, const BandTime& bt,
+    BandScratch& scratch) const {
   std::size_t last_size = 0;
-  for (double width = kBandWidth * root_t;; width *= 2.0) {
-    const Band band = make_band(frontier, known, width, kBandBehind * root_t);
-    u = band_solve(band, is_frontier);
+  for (double width = kBandWidth * bt.root;; width *= 2.0) {
+    BandHeat bh;
+    bh.band = make_band(known, width, kBandBehind * bt.root, scratch);
+    const Band& band = bh.band;
+    const Index n = Index(band.vertex.size());
+    bh.u = band_solve(band, bt.t, scratch);
+    const Eigen::VectorXd& u = bh.u;
     // per component: the largest heat, and the largest on an unknown vertex of the band's edge
     std::vector<double> mx(comps.count, 0.0), edge_mx(comps.count, 0.0);
-    for (Index i = 0; i < Index(band.vertex.size()); ++i) {
+    for (Index i = 0; i < n; ++i) {
       const Index v = band.vertex[i];
       const Index c = comps.label[v];
-      mx[c] = std::max(mx[c], u[v]);
-      if (band.edge[i] && !known[v]) edge_mx[c] = std::max(edge_mx[c], u[v]);
+      mx[c] = std::max(mx[c], u[i]);
+      if (band.edge[i] && !known[v]) edge_mx[c] = std::max(edge_mx[c], u[i]);
     }
-    StageHeat sh;
-    sh.resolved.assign(nv, 0);
-    sh.trusted.assign(nv, 0);
-    sh.comp_done.assign(comps.count, 1);
-    for (const Index v : band.vertex) {
+    bh.resolved.assign(std::size_t(n), 0);
+    bh.trusted.assign(std::size_t(n), 0);
+    // a component is done when the band resolves all its unknown vertices (none outside it is)
+    std::vector<Index> resolved_unknown(comps.count, 0);
+    for (Index i = 0; i < n; ++i) {
+      const Index v = band.vertex[i];
       const Index c = comps.label[v];
       const double floor = std::max(
           {band_resolved_heat * mx[c], kAbsoluteHeatFloor, kBandResolvedRatio * edge_mx[c]});
       const double trust =
           std::max({band_trusted_heat * mx[c], kAbsoluteHeatFloor, kBandTrustedRatio * edge_mx[c]});
-      sh.resolved[v] = u[v] > floor;
-      sh.trusted[v] = u[v] >= trust;
+      bh.resolved[i] = u[i] > floor;
+      bh.trusted[i] = u[i] >= trust;
+      if (bh.resolved[i] && !known[v]) ++resolved_unknown[c];
     }
-    for (Index v = 0; v < nv; ++v) {
-      const Index c = comps.label[v];
-      if (c != kInvalidIndex && src_comp[c] && !known[v] && !sh.resolved[v]) sh.comp_done[c] = 0;
+    bh.comp_done.assign(comps.count, 1);
+    for (Index c = 0; c < comps.count; ++c) {
+      if (src_comp[c] && resolved_unknown[c] < scratch.unknown[c]) bh.comp_done[c] = 0;
     }
-    const bool progress = std::any_of(band.vertex.begin(), band.vertex.end(), [&](Index v) {
-      return !known[v] && (sh.trusted[v] || sh.comp_done[comps.label[v]]);
-    });
+    bool progress = false;
+    for (Index i = 0; i < n && !progress; ++i) {
+      const Index v = band.vertex[i];
+      progress = !known[v] && (bh.trusted[i] || bh.comp_done[comps.label[v]]);
+    }
     // grow the band while it trusts nothing (and still grows)
-    if (progress || band.vertex.size() == last_size) return sh;
+    if (progress || band.vertex.size() == last_size) return bh;
     last_size = band.vertex.size();
+    clear_band(band, scratch);
   }
+}
+
+HeatDistanceSolver::Impl::BandRegion HeatDistanceSolver::Impl::band_region(
+    const BandHeat& bh, const std::vector<char>& known, const BandScratch& scratch) const {
+  const Index n = Index(bh.band.vertex.size());
+  const auto& tail = tri.tails();
+  const std::vector<Index>& local = scratch.local;
+  // resolved faces with an unknown vertex (in face order, as stage_region()); drop pieces
+  // without a known vertex
+  std::vector<Index> faces = bh.band.face;
+  std::sort(faces.begin(), faces.end());
+  std::vector<Index> use;
+  UnionFind pieces(n);
+  for (const Index f : faces) {
+    const Index a = tail[3 * f], b = tail[3 * f + 1], c = tail[3 * f + 2];
+    const Index la = local[a], lb = local[b], lc = local[c];
+    if (!(bh.resolved[la] && bh.resolved[lb] && bh.resolved[lc])) continue;
+    if (known[a] && known[b] && known[c]) continue;
+    use.push_back(f);
+    pieces.unite(la, lb);
+    pieces.unite(la, lc);
+  }
+  std::vector<char> piece_known(std::size_t(n), 0);
+  for (const Index f : use) {
+    for (int i = 0; i < 3; ++i) {
+      const Index v = tail[3 * f + i];
+      if (known[v]) piece_known[pieces.find(local[v])] = 1;
+    }
+  }
+  BandRegion region;
+  region.unknown_id.assign(std::size_t(n), kInvalidIndex);
+  for (const Index f : use) {
+    if (!piece_known[pieces.find(local[tail[3 * f]])]) continue;
+    region.face.push_back(f);
+    for (int i = 0; i < 3; ++i) {
+      const Index v = tail[3 * f + i];
+      if (!known[v] && region.unknown_id[local[v]] == kInvalidIndex) {
+        region.unknown_id[local[v]] = Index(region.unknown_vertex.size());
+        region.unknown_vertex.push_back(v);
+      }
+    }
+  }
+  return region;
+}
+
+Eigen::VectorXd HeatDistanceSolver::Impl::solve_band_region(const BandRegion& region,
+                                                            const BandHeat& bh,
+                                                            const Eigen::VectorXd& phi,
+                                                            const BandScratch& scratch) const {
+  const Index n = Index(bh.band.vertex.size());
+  const std::vector<Index>& local = scratch.local;
+  // the divergence on the region's faces, summed as UnitGradientDivergence::apply() sums them
+  const auto split =
+      std::lower_bound(region.face.begin(), region.face.end(), unit_div->face_split());
+  const auto below = Index(split - region.face.begin());
+  Eigen::VectorXd div = Eigen::VectorXd::Zero(n);
+  unit_div->add_faces(region.face.data(), below, bh.u.data(), local.data(), div.data());
+  if (split != region.face.end()) {
+    Eigen::VectorXd upper = Eigen::VectorXd::Zero(n);
+    unit_div->add_faces(region.face.data() + below, Index(region.face.size()) - below, bh.u.data(),
+                        local.data(), upper.data());
+    div += upper;
+  }
+  // stiffness from the region's faces, Dirichlet = known values (as solve_region())
+  const Index nu = Index(region.unknown_vertex.size());
+  Eigen::VectorXd rhs(nu);
+  for (Index i = 0; i < nu; ++i) rhs[i] = div[local[region.unknown_vertex[i]]];
+  std::vector<Eigen::Triplet<double>> trip;
+  const double s = 0.5 / tri.multiplicity();
+  for (const Index f : region.face) {
+    for (int k = 0; k < 3; ++k) {
+      const Index h = 3 * f + k;
+      const Index i = tri.tail(h), j = tri.head(h);
+      if (i == j) continue;
+      const double w = s * intrinsic::halfedge_cotan(tri, h);
+      const Index ui = region.unknown_id[local[i]], uj = region.unknown_id[local[j]];
+      if (ui != kInvalidIndex) {
+        trip.emplace_back(ui, ui, w);
+        if (uj == kInvalidIndex) rhs[ui] += w * phi[j];
+      }
+      if (uj != kInvalidIndex) {
+        trip.emplace_back(uj, uj, w);
+        if (ui == kInvalidIndex) rhs[uj] += w * phi[i];
+      }
+      if (ui != kInvalidIndex && uj != kInvalidIndex) {
+        trip.emplace_back(std::max(ui, uj), std::min(ui, uj), -w);
+      }
+    }
+  }
+  fem::SparseMatrix A(nu, nu);
+  A.setFromTriplets(trip.begin(), trip.end());
+  A.makeCompressed();
+  return CholeskySolver(A, band_cholesky()).solve(rhs);
+}
+
+void HeatDistanceSolver::Impl::band_stages_loop(const std::vector<char>& src_comp,
+                                                Eigen::VectorXd& phi, std::vector<char>& known,
+                                                HeatDistanceReport& rep) const {
+  const Index nv = tri.n_vertices();
+  BandScratch scratch;
+  scratch.local.assign(nv, kInvalidIndex);
+  scratch.dist.assign(nv, kInf);
+  scratch.is_frontier.assign(nv, 0);
+  scratch.unknown.assign(comps.count, 0);
+  // the only passes over every vertex: the unknowns per component and the first frontier
+  Index left = 0;
+  for (Index v = 0; v < nv; ++v) {
+    const Index c = comps.label[v];
+    if (c != kInvalidIndex && src_comp[c] && !known[v]) {
+      ++scratch.unknown[c];
+      ++left;
+    }
+  }
+  {
+    const Eigen::VectorXd delta = frontier_delta(known);
+    for (Index v = 0; v < nv; ++v) {
+      if (delta[v] != 0.0) {
+        scratch.frontier.push_back(v);
+        scratch.is_frontier[v] = 1;
+      }
+    }
+  }
+  const BandTime bt = band_time(src_comp);
+  std::vector<Index> added;
+  while (left > 0) {
+    ++rep.stages;
+    const BandHeat bh = band_heat(src_comp, known, bt, scratch);
+    const BandRegion region = band_region(bh, known, scratch);
+    if (region.unknown_vertex.empty()) {
+      throw SolverError("heat distance: the heat does not reach " + std::to_string(left) +
+                        " vertices beyond stage " + std::to_string(rep.stages - 1) +
+                        " (no resolved face next to the known region)");
+    }
+    // Poisson on the region; keep the trusted values (all, where the component is resolved)
+    const Eigen::VectorXd y = solve_band_region(region, bh, phi, scratch);
+    added.clear();
+    for (Index i = 0; i < Index(region.unknown_vertex.size()); ++i) {
+      const Index v = region.unknown_vertex[i];
+      const Index c = comps.label[v];
+      if (bh.trusted[scratch.local[v]] || bh.comp_done[c]) {
+        known[v] = 1;
+        phi[v] = y[i];
+        added.push_back(v);
+        --scratch.unknown[c];
+      }
+    }
+    if (added.empty()) {
+      throw SolverError("heat distance: no progress at stage " + std::to_string(rep.stages) + " (" +
+                        std::to_string(left) + " vertices left)");
+    }
+    left -= Index(added.size());
+    clear_band(bh.band, scratch);
+    advance_frontier(added, known, scratch);
+  }
+}
+
+void HeatDistanceSolver::Impl::advance_frontier(const std::vector<Index>& added,
+                                                const std::vector<char>& known,
+                                                BandScratch& scratch) const {
+  const auto& tail = tri.tails();
+  // a known vertex is on the frontier while one of its faces has an unknown corner
+  auto on_frontier = [&](Index v) {
+    for (Index k = vf_offset[v]; k < vf_offset[v + 1]; ++k) {
+      const Index f = vf_face[k];
+      if (!known[tail[3 * f]] || !known[tail[3 * f + 1]] || !known[tail[3 * f + 2]]) return true;
+    }
+    return false;
+  };
+  // the old frontier's vertices that still border an unknown one, and the new known vertices
+  // that do (no other vertex can join it: the unknown set only shrinks)
+  std::vector<Index> next;
+  for (const Index v : scratch.frontier) {
+    if (on_frontier(v)) {
+      next.push_back(v);
+    } else {
+      scratch.is_frontier[v] = 0;
+    }
+  }
+  for (const Index v : added) {
+    if (on_frontier(v)) {
+      next.push_back(v);
+      scratch.is_frontier[v] = 1;
+    }
+  }
+  scratch.frontier = std::move(next);
 }
 
 void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pts,
@@ -1579,19 +1834,16 @@ void HeatDistanceSolver::Impl::later_stages(const std::vector<WeightedPoint>& pt
                                             std::vector<char>& known,
                                             HeatDistanceReport& rep) const {
   (void)pts;
+  if (band_stages) {
+    band_stages_loop(src_comp, phi, known, rep);
+    return;
+  }
   Index left = count_unknown(src_comp, known);
   while (left > 0) {
     ++rep.stages;
-    // heat from the frontier of the known region: on a band around it (multigrid path), or
-    // on the whole surface through the cached factors
-    Eigen::VectorXd u;
-    StageHeat sh;
-    if (band_stages) {
-      sh = band_heat(src_comp, known, u);
-    } else {
-      u = heat(frontier_delta(known));
-      sh = classify_heat(u, src_comp, known);
-    }
+    // heat from the frontier of the known region on the whole surface (cached factors)
+    const Eigen::VectorXd u = heat(frontier_delta(known));
+    const StageHeat sh = classify_heat(u, src_comp, known);
     const StageRegion region = stage_region(sh.resolved, known);
     if (region.unknown_vertex.empty()) {
       throw SolverError("heat distance: the heat does not reach " + std::to_string(left) +

@@ -105,18 +105,28 @@ struct HeatDistanceOptions {
   /// to the largest heat, so with multigrid the first stage's resolved_heat and trusted_heat are
   /// raised to at least 1e3 and 1e5 × solver.multigrid.tolerance (D-231), and each later stage
   /// solves its heat directly on a band around the frontier instead of on the whole surface:
-  /// the vertices within a path length of 96·√t beyond it and 8·√t behind it, natural
-  /// conditions at the band's edge, a vertex resolved / trusted where its heat also exceeds 1e3
-  /// / 1e5 × the largest heat on the band's far edge (the band doubles while it trusts nothing);
-  /// resolved_heat and trusted_heat as given apply there (docs/decisions.md D-285). The
+  /// the vertices within a path length of 96·√t beyond it and 8·√t behind it (t: band_span),
+  /// natural conditions at the band's edge, a vertex resolved / trusted where its heat also exceeds
+  /// 1e3 / 1e5 × the largest heat on the band's far edge (the band doubles while it trusts
+  /// nothing); resolved_heat and trusted_heat as given apply there (docs/decisions.md D-285). The
   /// distances then differ from the direct solver's by the order of the method's own error
   /// (the continuation's), not by the solver's tolerance. The shared heat factor constructor and
   /// heat_factor() stay direct.
   SolverChoice solver;
+  /// The multigrid path's bands (above) reach at least band_span·√A beyond the frontier (A the
+  /// largest area of a component with a source): where 96·√t is narrower, the bands' heat uses
+  /// the time step t_b = (band_span·√A / 96)² instead of t (and 96·√t_b, 8·√t_b as their
+  /// widths), so that the stage count stops growing as the mesh refines (docs/decisions.md
+  /// D-355). The default 0.07 leaves meshes up to ~4M faces (t = h²) at their own t, bit for
+  /// bit, and gives icosphere(707) (10M faces) √t_b = 1.5·√t and 18 stages (27 at t); 0: always
+  /// t (D-285's bands). Larger values mean fewer, wider stages and (on the sphere) smaller
+  /// errors, but a band's factorization costs more per vertex as it widens. Dimensionless, ≥ 0;
+  /// unused by the direct solver.
+  double band_span = 0.07;
   /// @throws InvalidInput naming the field: time_factor not > 0 and finite, mean_edge_length
   ///         negative or not finite, thresholds not 0 < resolved_heat ≤ trusted_heat ≤ 1,
   ///         negative max_constrained_sources or correction_steps, non-finite
-  ///         vertex_positions
+  ///         vertex_positions, band_span negative or not finite
   void validate() const;
 };
 

@@ -133,6 +133,24 @@ Eigen::VectorXd UnitGradientDivergence::apply(const Eigen::VectorXd& u,
   return half[0];
 }
 
+void UnitGradientDivergence::add_faces(const Index* faces, Index n, const double* u,
+                                       const Index* local, double* div) const {
+  const double half_s = 0.5 * scale_;
+  for (Index i = 0; i < n; ++i) {
+    const Index* t = &tail_[3 * std::size_t(faces[i])];
+    const Index a = local[t[0]], b = local[t[1]], c3 = local[t[2]];
+    double c[3];
+    if (!unit_corners(&frame_[3 * std::size_t(faces[i])], u[a], u[b], u[c3], half_s, c)) continue;
+    div[a] += c[0];
+    div[b] += c[1];
+    div[c3] += c[2];
+  }
+}
+
+Index UnitGradientDivergence::face_split() const {
+  return n_faces_ >= kParallelFaces ? n_faces_ / 2 : n_faces_;
+}
+
 Eigen::MatrixXd UnitGradientDivergence::apply_columns(
     const Eigen::MatrixXd& U, const std::vector<std::vector<char>>& use_face) const {
   Eigen::MatrixXd div(n_vertices_, U.cols());

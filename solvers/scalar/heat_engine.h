@@ -66,6 +66,17 @@ class UnitGradientDivergence {
   /// @throws InvalidInput unless 0 ≤ j0 ≤ j1 ≤ k and k ≥ 1
   void apply_rows(const double* U, Eigen::Index k, double* div, Eigen::Index j0, Eigen::Index j1,
                   const Index* u_row = nullptr, const Index* d_row = nullptr) const;
+  /// apply() on a list of faces, for fields kept on a subset of the vertices (e.g. a band):
+  /// face f adds its corners' divergences to div[local[v]], reading u[local[v]] (v a corner).
+  /// The faces are summed in the order given. apply()'s bits: the faces by increasing index,
+  /// those below face_split() into one accumulator, the others into another, then added.
+  /// @param faces n face indices in [0, #F) (not checked)
+  /// @param local #V entries; every corner of a listed face maps into u and div (not checked)
+  void add_faces(const Index* faces, Index n, const double* u, const Index* local,
+                 double* div) const;
+  /// Where apply() splits the faces into its two sums: #F/2, or #F when it sums them as one.
+  Index face_split() const;
+
   /// Where apply_rows() splits the columns between two threads: ⌊k/2⌋ rounded up to a multiple of
   /// 8 (whole vectors, and for k = 32 whole cache lines of a row); k when k < 16 (one thread).
   static Eigen::Index column_split(Eigen::Index k);

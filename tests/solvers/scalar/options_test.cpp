@@ -35,6 +35,7 @@ TEST(OptionsValidate, HeatDistanceOptions) {
   expect_each_rejected(&HeatDistanceOptions::correction_steps, {-1}, "correction_steps");
   expect_each_rejected(&HeatDistanceOptions::max_constrained_sources, {-1},
                        "max_constrained_sources");
+  expect_each_rejected(&HeatDistanceOptions::band_span, {-1.0, kNan}, "band_span");
 }
 
 TEST(OptionsValidate, PoissonAndCholeskyOptions) {
