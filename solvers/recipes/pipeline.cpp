@@ -2,11 +2,9 @@
 
 #include <algorithm>
 #include <array>
-#include <cstddef>
-#include <cstdio>
-#include <cstdlib>
-#include <optional>
 #include <cmath>
+#include <cstddef>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -549,7 +547,7 @@ namespace {
 // contract, D-360).
 struct OutlierCut {
   std::optional<PreparedSurface> surface;  // none: nothing cut, use s
-  std::vector<Index> loose;    // vertices with faces on s.tri and none on surface->tri
+  std::vector<Index> loose;                // vertices with faces on s.tri and none on surface->tri
   std::vector<char> boundary;  // #V of surface->tri: the input's boundary (the hole's rim is not)
 };
 
