@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <utility>
@@ -553,10 +554,11 @@ struct OutlierCut {
 
 // The input vertices all of whose sides (in the input's faces) are longer than kOutlierClip ×
 // the 99th percentile of the input's side lengths (outliers of the robust length scale, D-132)
-// are cut loose: the input's faces at them are left out and the rest is prepared as s was
-// (mollified, intrinsic Delaunay, the same path). Nothing is cut when no vertex qualifies (the
-// usual case: s is used as it is, bit for bit), on refined surfaces and point clouds, when a
-// source would lose its faces, or when the rest cannot be prepared.
+// and than the bounding-box diagonal of the vertices with a short side are cut loose: the input's
+// faces at them are left out and the rest is prepared as s was (mollified, intrinsic Delaunay, the
+// same path). Nothing is cut when no vertex qualifies (the usual case: s is used as it is, bit for
+// bit), on refined surfaces and point clouds, when a source would lose its faces, or when the rest
+// cannot be prepared.
 OutlierCut cut_outlier_stars(const PreparedSurface& s, const std::vector<Index>& sources) {
   OutlierCut cut;
   const io::SurfaceInput& in = s.input;
@@ -574,17 +576,35 @@ OutlierCut cut_outlier_stars(const PreparedSurface& s, const std::vector<Index>&
   std::nth_element(sorted.begin(), p99, sorted.end());
   const double cap = intrinsic::kOutlierClip * *p99;
   std::vector<char> has_face(nv, 0), has_short(nv, 0);
+  std::vector<double> shortest(nv, std::numeric_limits<double>::infinity());
   for (std::size_t f = 0; f < in.triangles.size(); ++f) {
     const Triangle& t = in.triangles[f];
     for (int i = 0; i < 3; ++i) {
-      has_face[t[i]] = 1;
-      if (sides[3 * f + i] <= cap) has_short[t[i]] = has_short[t[(i + 1) % 3]] = 1;
+      const Index a = t[i], b = t[(i + 1) % 3];
+      has_face[a] = 1;
+      if (sides[3 * f + i] <= cap) has_short[a] = has_short[b] = 1;
+      shortest[a] = std::min(shortest[a], sides[3 * f + i]);
+      shortest[b] = std::min(shortest[b], sides[3 * f + i]);
     }
   }
-  std::vector<char> cut_vertex(nv, 0);
   bool any = false;
+  for (Index v = 0; v < nv; ++v) any = any || (has_face[v] && !has_short[v]);
+  if (!any) return cut;
+  // ... and whose every side is also longer than the bounding-box diagonal of the other
+  // vertices: a spike beyond the whole model, not a genuine fan of long faces (a cylinder's cap)
+  Eigen::RowVector3d lo = Eigen::RowVector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::RowVector3d hi = -lo;
   for (Index v = 0; v < nv; ++v) {
-    cut_vertex[v] = has_face[v] && !has_short[v];
+    if (has_face[v] && has_short[v]) {
+      lo = lo.cwiseMin(in.positions.row(v));
+      hi = hi.cwiseMax(in.positions.row(v));
+    }
+  }
+  const double extent = (hi - lo).norm();
+  std::vector<char> cut_vertex(nv, 0);
+  any = false;
+  for (Index v = 0; v < nv; ++v) {
+    cut_vertex[v] = has_face[v] && !has_short[v] && shortest[v] > extent;
     any = any || cut_vertex[v];
   }
   if (!any) return cut;

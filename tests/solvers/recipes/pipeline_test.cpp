@@ -449,5 +449,40 @@ TEST(Pipeline, PulledHubDoesNotMoveSpotsDistances) {
   EXPECT_EQ(from_hub[hub], 0.0);
 }
 
+// A cylinder whose side is fine (64 around, 100 rings 0.005 apart) and whose caps are fans:
+// every side of a cap's centre (length 1) is beyond 4× the 99th percentile of the sides (0.39),
+// but not beyond the model's extent, so it is genuine surface, not a stray hub (D-360): nothing
+// is cut, geodesic_distance gives the solver's values on s.tri bit for bit.
+TEST(Pipeline, CapFanIsNotCutLoose) {
+  const Index around = 64, rings = 100;
+  io::SurfaceInput in;
+  in.positions.resize(around * rings + 2, 3);
+  for (Index r = 0; r < rings; ++r) {
+    for (Index k = 0; k < around; ++k) {
+      const double a = 2.0 * M_PI * double(k) / double(around);
+      in.positions.row(r * around + k) = Eigen::RowVector3d(std::cos(a), std::sin(a), 0.005 * r);
+    }
+  }
+  const Index bottom = around * rings, top = bottom + 1;
+  in.positions.row(bottom) = Eigen::RowVector3d(0.0, 0.0, 0.0);
+  in.positions.row(top) = Eigen::RowVector3d(0.0, 0.0, 0.005 * (rings - 1));
+  for (Index r = 0; r + 1 < rings; ++r) {
+    for (Index k = 0; k < around; ++k) {
+      const Index a = r * around + k, b = r * around + (k + 1) % around;
+      in.triangles.push_back({a, b, b + around});
+      in.triangles.push_back({a, b + around, a + around});
+    }
+  }
+  for (Index k = 0; k < around; ++k) {
+    in.triangles.push_back({bottom, (k + 1) % around, k});
+    in.triangles.push_back(
+        {top, (rings - 1) * around + k, (rings - 1) * around + (k + 1) % around});
+  }
+  const PreparedSurface s = prepare_surface(in);
+  const Eigen::VectorXd d = geodesic_distance(s, {around / 2});
+  EXPECT_EQ(d, HeatDistanceSolver(s.tri, distance_options(s)).compute_distance({around / 2}));
+  EXPECT_LT(d[top], 2.0) << "across the cap, not around a hole";
+}
+
 }  // namespace
 }  // namespace ifem::solvers
