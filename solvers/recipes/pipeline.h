@@ -202,8 +202,10 @@ HeatDistanceOptions distance_options(const PreparedSurface& s,
 ///
 /// Stray hubs (docs/decisions.md D-360): an input vertex all of whose sides (in the input's
 /// faces) are longer than intrinsic::kOutlierClip × the 99th percentile of the input's side
-/// lengths — the outliers robust_mean_length() leaves out, e.g. a vertex pulled far off the
-/// surface — is cut loose when s is neither refined nor a point cloud: the input's faces at it are
+/// lengths — the outliers robust_mean_length() leaves out — and than the bounding-box diagonal
+/// of the vertices with a shorter side (a spike beyond the whole model, e.g. a vertex pulled far
+/// off the surface; a cylinder's cap fan is not one) is cut loose when s is neither refined nor
+/// a point cloud: the input's faces at it are
 /// left out, the rest is prepared again as s was (same mollification margin, intrinsic Delaunay,
 /// tufted if s is), and the heat method runs there with s's h and s's boundary (the hole's rim
 /// gets natural conditions). Without this, its needle faces put a needle's area of mass on each
