@@ -3,12 +3,16 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <utility>
 
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/core/timer.h"
+#include "intrinsic/core/triangle_formulas.h"
 #include "intrinsic/surface/face_analysis.h"
 
 namespace ifem::solvers {
@@ -540,16 +544,164 @@ HeatDistanceOptions distance_options(const PreparedSurface& s, const DistanceOpt
 
 namespace {
 
+// s prepared again without the faces of its cut-loose vertices (geodesic_distance()'s
+// contract, D-360).
+struct OutlierCut {
+  std::optional<PreparedSurface> surface;  // none: nothing cut, use s
+  std::vector<Index> loose;                // vertices with faces on s.tri and none on surface->tri
+  std::vector<char> boundary;  // #V of surface->tri: the input's boundary (the hole's rim is not)
+};
+
+// The input vertices all of whose sides (in the input's faces) are longer than kOutlierClip ×
+// the 99th percentile of the input's side lengths (outliers of the robust length scale, D-132)
+// and than the bounding-box diagonal of the vertices with a short side are cut loose: the input's
+// faces at them are left out and the rest is prepared as s was (mollified, intrinsic Delaunay, the
+// same path). Nothing is cut when no vertex qualifies (the usual case: s is used as it is, bit for
+// bit), on refined surfaces and point clouds, when a source would lose its faces, or when the rest
+// cannot be prepared.
+OutlierCut cut_outlier_stars(const PreparedSurface& s, const std::vector<Index>& sources) {
+  OutlierCut cut;
+  const io::SurfaceInput& in = s.input;
+  if (s.refined || s.path == SurfacePath::kPointCloud || in.triangles.size() < 34) return cut;
+  const Index nv = static_cast<Index>(in.positions.rows());
+  std::vector<double> sides;
+  sides.reserve(3 * in.triangles.size());
+  for (const Triangle& t : in.triangles) {
+    for (int i = 0; i < 3; ++i) {
+      sides.push_back((in.positions.row(t[i]) - in.positions.row(t[(i + 1) % 3])).norm());
+    }
+  }
+  std::vector<double> sorted = sides;
+  const auto p99 = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() * 99 / 100);
+  std::nth_element(sorted.begin(), p99, sorted.end());
+  const double cap = intrinsic::kOutlierClip * *p99;
+  std::vector<char> has_face(nv, 0), has_short(nv, 0);
+  std::vector<double> shortest(nv, std::numeric_limits<double>::infinity());
+  for (std::size_t f = 0; f < in.triangles.size(); ++f) {
+    const Triangle& t = in.triangles[f];
+    for (int i = 0; i < 3; ++i) {
+      const Index a = t[i], b = t[(i + 1) % 3];
+      has_face[a] = 1;
+      if (sides[3 * f + i] <= cap) has_short[a] = has_short[b] = 1;
+      shortest[a] = std::min(shortest[a], sides[3 * f + i]);
+      shortest[b] = std::min(shortest[b], sides[3 * f + i]);
+    }
+  }
+  bool any = false;
+  for (Index v = 0; v < nv; ++v) any = any || (has_face[v] && !has_short[v]);
+  if (!any) return cut;
+  // ... and whose every side is also longer than the bounding-box diagonal of the other
+  // vertices: a spike beyond the whole model, not a genuine fan of long faces (a cylinder's cap)
+  Eigen::RowVector3d lo = Eigen::RowVector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::RowVector3d hi = -lo;
+  for (Index v = 0; v < nv; ++v) {
+    if (has_face[v] && has_short[v]) {
+      lo = lo.cwiseMin(in.positions.row(v));
+      hi = hi.cwiseMax(in.positions.row(v));
+    }
+  }
+  const double extent = (hi - lo).norm();
+  std::vector<char> cut_vertex(nv, 0);
+  any = false;
+  for (Index v = 0; v < nv; ++v) {
+    cut_vertex[v] = has_face[v] && !has_short[v] && shortest[v] > extent;
+    any = any || cut_vertex[v];
+  }
+  if (!any) return cut;
+  io::SurfaceInput rest;
+  rest.positions = in.positions;
+  rest.format = in.format;
+  std::vector<char> kept_face(nv, 0);
+  for (const Triangle& t : in.triangles) {
+    if (cut_vertex[t[0]] || cut_vertex[t[1]] || cut_vertex[t[2]]) continue;
+    rest.triangles.push_back(t);
+    kept_face[t[0]] = kept_face[t[1]] = kept_face[t[2]] = 1;
+  }
+  rest.n_polygons = static_cast<Index>(rest.triangles.size());
+  for (const Index v : sources) {
+    if (!kept_face[v]) return cut;  // a source on a cut star: keep everything
+  }
+  PrepareOptions again;
+  again.mollify_relative_epsilon = s.mollify_relative_epsilon;
+  again.force_tufted = s.path == SurfacePath::kTufted;
+  try {
+    cut.surface = prepare_surface(std::move(rest), again);
+  } catch (const InvalidInput&) {
+    return OutlierCut{};  // e.g. nothing left: keep everything
+  }
+  for (Index v = 0; v < nv; ++v) {
+    if (has_face[v] && !kept_face[v]) cut.loose.push_back(v);
+  }
+  cut.boundary = s.boundary_vertex;
+  if (cut.boundary.empty()) {
+    cut.boundary.assign(s.tri.n_vertices(), 0);
+    for (Index h = 0; h < s.tri.n_halfedges(); ++h) {
+      if (s.tri.twin(h) == kInvalidIndex) {
+        cut.boundary[s.tri.tail(h)] = cut.boundary[s.tri.head(h)] = 1;
+      }
+    }
+  }
+  cut.boundary.resize(cut.surface->tri.n_vertices(), 0);
+  for (const Index v : cut.loose) cut.boundary[v] = 0;
+  return cut;
+}
+
+// Each cut-loose vertex's distance (every column of d, #V rows): the shortest way to it along
+// s.tri's edges from the vertices that kept faces (relaxed until nothing changes).
+template <class Matrix>
+void fill_cut_loose(const intrinsic::IntrinsicTriangulation& tri, const std::vector<Index>& loose,
+                    Matrix& d) {
+  for (std::size_t pass = 0; pass <= loose.size(); ++pass) {
+    bool changed = false;
+    for (const Index v : loose) {
+      const Index start = tri.vertex_halfedge(v);
+      // every outgoing halfedge of v (its fan; on a boundary vertex, from the boundary side)
+      for (Index h = start;;) {
+        const Index u = tri.head(h);
+        for (Index j = 0; j < d.cols(); ++j) {
+          const double via = d(u, j) + tri.halfedge_length(h);
+          if (via < d(v, j)) {
+            d(v, j) = via;
+            changed = true;
+          }
+        }
+        const Index back = tri.twin(intrinsic::IntrinsicTriangulation::prev(h));
+        if (back == kInvalidIndex) {  // boundary: the last edge of the fan ends at prev's tail
+          const Index p = intrinsic::IntrinsicTriangulation::prev(h);
+          const Index w = tri.tail(p);
+          for (Index j = 0; j < d.cols(); ++j) {
+            const double via = d(w, j) + tri.halfedge_length(p);
+            if (via < d(v, j)) {
+              d(v, j) = via;
+              changed = true;
+            }
+          }
+          break;
+        }
+        h = back;
+        if (h == start) break;
+      }
+    }
+    if (!changed) break;
+  }
+}
+
 // A heat-distance recipe on s from input vertices: checks the ids, builds the solver with
-// distance_options(), runs query(solver) and restricts its #V or #V×k values to the input.
+// distance_options() (on s.tri without the stars of cut-loose vertices: D-360), runs
+// query(solver) and restricts its #V or #V×k values to the input.
 template <class Query>
 auto distance_recipe(const PreparedSurface& s, const std::vector<Index>& sources,
                      const DistanceOptions& settings, const std::string& what, Query query) {
   require(!sources.empty(), what + ": no source vertex given");
   check_input_vertex_ids(s, sources, (what + ": source").c_str());
   return with_hint(s, [&] {
-    const HeatDistanceSolver solver(s.tri, distance_options(s, settings));
-    auto d = on_input_vertices(s, query(solver));
+    const OutlierCut cut = cut_outlier_stars(s, sources);
+    HeatDistanceOptions options = distance_options(s, settings);
+    if (cut.surface) options.boundary_vertices = cut.boundary;  // h and positions stay s's
+    const HeatDistanceSolver solver(cut.surface ? cut.surface->tri : s.tri, options);
+    auto all = query(solver);
+    if (cut.surface) fill_cut_loose(s.tri, cut.loose, all);
+    auto d = on_input_vertices(s, all);
     require_finite(d, what.c_str(), true);  // +inf: unreachable, by convention
     return d;
   });

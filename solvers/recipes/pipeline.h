@@ -199,6 +199,22 @@ HeatDistanceOptions distance_options(const PreparedSurface& s,
 
 /// Geodesic distance from input vertices (ids < #V_in) to every input vertex, #V_in; +inf where
 /// no source reaches, 0 at every source.
+///
+/// Stray hubs (docs/decisions.md D-360): an input vertex all of whose sides (in the input's
+/// faces) are longer than intrinsic::kOutlierClip × the 99th percentile of the input's side
+/// lengths — the outliers robust_mean_length() leaves out — and than the bounding-box diagonal
+/// of the vertices with a shorter side (a spike beyond the whole model, e.g. a vertex pulled far
+/// off the surface; a cylinder's cap fan is not one) is cut loose when s is neither refined nor
+/// a point cloud: the input's faces at it are
+/// left out, the rest is prepared again as s was (same mollification margin, intrinsic Delaunay,
+/// tufted if s is), and the heat method runs there with s's h and s's boundary (the hole's rim
+/// gets natural conditions). Without this, its needle faces put a needle's area of mass on each
+/// vertex of their short side (a heat sink) and the other vertices' distances moved by ~2 %.
+/// A cut-loose vertex (and any vertex left without faces) gets the shortest way to it along
+/// s.tri's edges from the others. Nothing is cut (s.tri as it is, bit for bit) when no vertex
+/// qualifies — every reference mesh — or when a source would lose its faces. Cost where nothing
+/// is cut: one pass over the input's sides (a copy and a partial sort). Solvers built directly
+/// with HeatDistanceSolver(s.tri, distance_options(s)) do not cut.
 /// @throws InvalidInput on an empty source list or an id out of [0, #V_in)
 /// @throws SolverError if a factorization fails
 Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<Index>& sources,
@@ -207,7 +223,7 @@ Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<In
 
 /// Geodesic distances from each of the given input vertices on its own (a distance matrix),
 /// #V_in×k: column j is geodesic_distance(s, {sources[j]}) up to rounding, computed in blocks
-/// of sources (HeatDistanceSolver::compute_distances).
+/// of sources (HeatDistanceSolver::compute_distances); stray hubs cut loose as there.
 /// @param[out] reports optional: one per source
 /// @throws InvalidInput on an empty list or an id out of [0, #V_in) (naming its position)
 /// @throws SolverError if a factorization fails

@@ -410,5 +410,79 @@ TEST(Pipeline, StrayVertexDoesNotMoveTheKnotsDistances) {
   }
 }
 
+// A hub of spot (tests/data/spot.obj: the vertex with the largest star, by area) pulled 1e4
+// bounding-box diagonals away: its star becomes needles 1e4 diagonals long, and geodesic_distance
+// leaves them out of the operators (D-360). Before, their mass (a third of a needle's area on
+// each rim vertex) moved the other vertices' default distances by 1.9e-2 median; now 5.8e-4
+// (exact distances change on 19% of the vertices: geodesics no longer cross the star). A mesh
+// without such outliers gets the solver's values bit for bit, and a source on the pulled
+// vertex keeps the star (nothing to cut).
+TEST(Pipeline, PulledHubDoesNotMoveSpotsDistances) {
+  const io::SurfaceInput in = io::read_mesh((test::test_data() / "spot.obj").string());
+  const Index nv = Index(in.positions.rows());
+  std::vector<double> star(nv, 0.0);
+  for (const Triangle& t : in.triangles) {
+    const Eigen::Vector3d a = in.positions.row(t[0]), b = in.positions.row(t[1]),
+                          c = in.positions.row(t[2]);
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    for (const Index v : t) star[v] += area;
+  }
+  const Index hub = Index(std::max_element(star.begin() + 1, star.end()) - star.begin());
+  const double diag =
+      (in.positions.colwise().maxCoeff() - in.positions.colwise().minCoeff()).norm();
+  io::SurfaceInput pulled = in;
+  pulled.positions.row(hub) += 1e4 * diag * Eigen::RowVector3d(0.6, 0.64, 0.48);
+
+  const PreparedSurface clean = prepare_surface(in), s = prepare_surface(pulled);
+  const Eigen::VectorXd d0 = geodesic_distance(clean, {0});
+  EXPECT_EQ(d0, HeatDistanceSolver(clean.tri, distance_options(clean)).compute_distance({0}))
+      << "no outlier: the solver's values on s.tri, bit for bit";
+  const Eigen::VectorXd d = geodesic_distance(s, {0});
+  std::vector<char> masked(nv, 0);
+  masked[hub] = 1;
+  const auto [median, largest] = relative_change(d0, d, masked);
+  EXPECT_LT(median, 5e-3) << "largest " << largest;
+  EXPECT_GT(d[hub], 0.99e4 * diag) << "the pulled vertex: from its neighbours, along its edges";
+  EXPECT_TRUE(std::isfinite(d[hub]));
+  const Eigen::VectorXd from_hub = geodesic_distance(s, {hub});
+  EXPECT_TRUE(from_hub.allFinite());
+  EXPECT_EQ(from_hub[hub], 0.0);
+}
+
+// A cylinder whose side is fine (64 around, 100 rings 0.005 apart) and whose caps are fans:
+// every side of a cap's centre (length 1) is beyond 4× the 99th percentile of the sides (0.39),
+// but not beyond the model's extent, so it is genuine surface, not a stray hub (D-360): nothing
+// is cut, geodesic_distance gives the solver's values on s.tri bit for bit.
+TEST(Pipeline, CapFanIsNotCutLoose) {
+  const Index around = 64, rings = 100;
+  io::SurfaceInput in;
+  in.positions.resize(around * rings + 2, 3);
+  for (Index r = 0; r < rings; ++r) {
+    for (Index k = 0; k < around; ++k) {
+      const double a = 2.0 * M_PI * double(k) / double(around);
+      in.positions.row(r * around + k) = Eigen::RowVector3d(std::cos(a), std::sin(a), 0.005 * r);
+    }
+  }
+  const Index bottom = around * rings, top = bottom + 1;
+  in.positions.row(bottom) = Eigen::RowVector3d(0.0, 0.0, 0.0);
+  in.positions.row(top) = Eigen::RowVector3d(0.0, 0.0, 0.005 * (rings - 1));
+  for (Index r = 0; r + 1 < rings; ++r) {
+    for (Index k = 0; k < around; ++k) {
+      const Index a = r * around + k, b = r * around + (k + 1) % around;
+      in.triangles.push_back({a, b, b + around});
+      in.triangles.push_back({a, b + around, a + around});
+    }
+  }
+  for (Index k = 0; k < around; ++k) {
+    in.triangles.push_back({bottom, (k + 1) % around, k});
+    in.triangles.push_back(
+        {top, (rings - 1) * around + k, (rings - 1) * around + (k + 1) % around});
+  }
+  const PreparedSurface s = prepare_surface(in);
+  const Eigen::VectorXd d = geodesic_distance(s, {around / 2});
+  EXPECT_EQ(d, HeatDistanceSolver(s.tri, distance_options(s)).compute_distance({around / 2}));
+  EXPECT_LT(d[top], 2.0) << "across the cap, not around a hole";
+}
+
 }  // namespace
 }  // namespace ifem::solvers
