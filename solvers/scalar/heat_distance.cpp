@@ -570,6 +570,9 @@ void build_multigrid(HeatDistanceSolver::Impl& im, const HeatDistanceOptions& op
     im.heat_dirichlet.emplace(*tL, im.mass, im.comps, boundary, heat_opt);
   }
   tL.reset();
+  // L's lower triangle has the pattern of M + tL's (the pinned rows kept as decoupled rows):
+  // one set of index arrays for both (D-365)
+  poisson_opt.multigrid_pattern = im.heat_neumann->multigrid_pattern();
   im.poisson.emplace(L, im.mass, im.comps, std::vector<Index>{}, poisson_opt);
   L = fem::SparseMatrix();
   // later stages on bands (D-285): the options' own thresholds, the boundary and the faces of

@@ -545,7 +545,7 @@ void PoissonSolver::factor(fem::SparseMatrix&& A, const PoissonOptions& options,
   }
   // A holds its lower triangle (diagonal first): the multigrid levels keep that form
   im.mg.emplace(std::move(A), std::move(chain), c.multigrid,
-                MultigridSolver::Stored::kLowerTriangle);
+                MultigridSolver::Stored::kLowerTriangle, options.multigrid_pattern);
 }
 
 namespace {
@@ -769,6 +769,9 @@ void PoissonBlocks::solve_rows_in_order(const PoissonSolver& p, double* W, Eigen
 const std::vector<Index>& PoissonSolver::dirichlet_vertices() const { return impl_->dirichlet; }
 Index PoissonSolver::n_unknowns() const { return Index(impl_->unknown_vertex.size()); }
 bool PoissonSolver::multigrid() const { return impl_->mg.has_value(); }
+std::shared_ptr<const SparseMatrix> PoissonSolver::multigrid_pattern() const {
+  return impl_->mg ? impl_->mg->fine_pattern() : nullptr;
+}
 double PoissonSolver::factor_nonzeros() const {
   return impl_->chol ? impl_->chol->factor_nonzeros() : 0.0;
 }
