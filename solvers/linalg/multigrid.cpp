@@ -514,9 +514,6 @@ MultigridSolver::MultigridSolver(SparseMatrix&& A,
     throw InvalidInput("MultigridSolver: A must be square and not empty");
   }
   check_finite(A, "A");
-  Impl& im = *impl_;
-  im.opt = options;
-  const Eigen::Index n = A.rows();
   SparseMatrix current;
   if (stored == Stored::kBothTriangles) {
     SparseMatrix lower = lower_of(A);
@@ -526,23 +523,61 @@ MultigridSolver::MultigridSolver(SparseMatrix&& A,
     take(current, A);
     current.makeCompressed();
   }
+  build(*impl_, current, std::move(fine_pattern), nullptr, std::move(prolongations), options);
+}
+
+MultigridSolver::MultigridSolver(std::shared_ptr<const SparseMatrix> fine_pattern,
+                                 std::vector<double>&& values,
+                                 std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                                 const MultigridOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  if (!fine_pattern || fine_pattern->rows() != fine_pattern->cols() ||
+      fine_pattern->rows() == 0 || !fine_pattern->isCompressed() ||
+      Eigen::Index(values.size()) != fine_pattern->nonZeros() || prolongations.empty()) {
+    throw InvalidInput(
+        "MultigridSolver: values on a pattern need a square, compressed, non-empty pattern, one "
+        "value per entry and at least one prolongation");
+  }
+  for (const double v : values) {
+    if (!std::isfinite(v)) throw InvalidInput("MultigridSolver: A has a non-finite entry");
+  }
+  SparseMatrix current;
+  build(*impl_, current, std::move(fine_pattern), &values, std::move(prolongations), options);
+}
+
+// The constructors' common part: the levels from the fine operator (`current`, or `values` on
+// `fine_pattern` when values is non-null) and the prolongations; the coarsest factor.
+void MultigridSolver::build(Impl& im, SparseMatrix& current,
+                            std::shared_ptr<const SparseMatrix> fine_pattern,
+                            std::vector<double>* values,
+                            std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                            const MultigridOptions& options) {
+  im.opt = options;
+  const Eigen::Index n = values ? fine_pattern->rows() : current.rows();
   im.levels.reserve(prolongations.size() + 1);
   std::vector<int> kept;         // the previous level's columns kept: this level's rows to keep
   Eigen::Index caller_rows = n;  // rows are checked against the caller's numbering
   for (std::size_t l = 0; l <= prolongations.size(); ++l) {
     Level& lv = im.levels.emplace_back();
-    check_lower(LowerMap(current.rows(), current.cols(), current.nonZeros(),
-                         current.outerIndexPtr(), current.innerIndexPtr(), current.valuePtr()),
-                l);
-    if (l == 0 && !prolongations.empty() && same_pattern(current, fine_pattern.get())) {
-      // the values only; the index arrays are fine_pattern's (D-365)
-      lv.own_values.assign(current.valuePtr(), current.valuePtr() + current.nonZeros());
-      current = SparseMatrix();
+    if (l == 0 && values) {  // given on another solver's pattern
       lv.A = std::move(fine_pattern);
+      lv.own_values = std::move(*values);
+      check_lower(lv.op(), l);
     } else {
-      auto mine = std::make_shared<SparseMatrix>();
-      take(*mine, current);
-      lv.A = std::move(mine);
+      check_lower(LowerMap(current.rows(), current.cols(), current.nonZeros(),
+                           current.outerIndexPtr(), current.innerIndexPtr(), current.valuePtr()),
+                  l);
+      if (l == 0 && !prolongations.empty() && same_pattern(current, fine_pattern.get())) {
+        // the values only; the index arrays are fine_pattern's (D-365)
+        lv.own_values.assign(current.valuePtr(), current.valuePtr() + current.nonZeros());
+        current = SparseMatrix();
+        lv.A = std::move(fine_pattern);
+      } else {
+        auto mine = std::make_shared<SparseMatrix>();
+        take(*mine, current);
+        lv.A = std::move(mine);
+      }
     }
     if (l == prolongations.size()) break;
     std::shared_ptr<const SparseMatrix> P = std::move(prolongations[l]);

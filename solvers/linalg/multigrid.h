@@ -97,6 +97,15 @@ class MultigridSolver {
   MultigridSolver(SparseMatrix&& A, std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
                   const MultigridOptions& options = {}, Stored stored = Stored::kBothTriangles,
                   std::shared_ptr<const SparseMatrix> fine_pattern = nullptr);
+  /// A given as its lower triangle's values on another solver's fine_pattern() (so that A's
+  /// index arrays are never allocated; docs/decisions.md D-365).
+  /// @param values fine_pattern->nonZeros() values in its storage order (diagonal first)
+  /// @throws InvalidInput on a null, non-square, empty or uncompressed pattern, a values count
+  ///         that differs from its entries, a non-finite value, no prolongation, or as above
+  /// @throws SolverError as above
+  MultigridSolver(std::shared_ptr<const SparseMatrix> fine_pattern, std::vector<double>&& values,
+                  std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                  const MultigridOptions& options = {});
   ~MultigridSolver();
   MultigridSolver(MultigridSolver&&) noexcept;
   MultigridSolver& operator=(MultigridSolver&&) noexcept;
@@ -138,6 +147,10 @@ class MultigridSolver {
   struct Impl;
 
  private:
+  static void build(Impl& im, SparseMatrix& current, std::shared_ptr<const SparseMatrix> fine_pattern,
+                    std::vector<double>* values,
+                    std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                    const MultigridOptions& options);
   std::unique_ptr<Impl> impl_;
 };
 

@@ -226,6 +226,16 @@ TEST(Multigrid, SharedFinePatternKeepsOwnValues) {
   EXPECT_LE((second.cycle(r) - alone.cycle(r)).norm(), 1e-14 * alone.cycle(r).norm());
   const Eigen::VectorXd x = second.solve(r);
   EXPECT_LE((B * x - r).norm(), 1e-9 * r.norm());
+  // the values given on the pattern directly: the same solver, no index arrays allocated
+  const MultigridSolver lower = [&] {
+    const SparseMatrix BL = SparseMatrix(B.triangularView<Eigen::Lower>());
+    std::vector<double> values(BL.valuePtr(), BL.valuePtr() + BL.nonZeros());
+    return MultigridSolver(first.fine_pattern(), std::move(values), aliases);
+  }();
+  EXPECT_EQ(lower.fine_pattern(), first.fine_pattern());
+  EXPECT_LE((lower.cycle(r) - alone.cycle(r)).norm(), 1e-14 * alone.cycle(r).norm());
+  EXPECT_THROW(MultigridSolver(first.fine_pattern(), std::vector<double>(3, 1.0), aliases),
+               InvalidInput);
   // another pattern (an extra coupling): its own arrays
   SparseMatrix C = B;
   C.coeffRef(0, int(C.rows()) - 1) += -1e-3;
