@@ -306,8 +306,7 @@ bool same_pattern(const SparseMatrix& A, const SparseMatrix* pattern) {
   }
   return std::equal(A.outerIndexPtr(), A.outerIndexPtr() + A.cols() + 1,
                     pattern->outerIndexPtr()) &&
-         std::equal(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(),
-                    pattern->innerIndexPtr());
+         std::equal(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(), pattern->innerIndexPtr());
 }
 
 }  // namespace
@@ -532,9 +531,9 @@ MultigridSolver::MultigridSolver(std::shared_ptr<const SparseMatrix> fine_patter
                                  const MultigridOptions& options)
     : impl_(std::make_unique<Impl>()) {
   options.validate();
-  if (!fine_pattern || fine_pattern->rows() != fine_pattern->cols() ||
-      fine_pattern->rows() == 0 || !fine_pattern->isCompressed() ||
-      Eigen::Index(values.size()) != fine_pattern->nonZeros() || prolongations.empty()) {
+  if (!fine_pattern || fine_pattern->rows() != fine_pattern->cols() || fine_pattern->rows() == 0 ||
+      !fine_pattern->isCompressed() || Eigen::Index(values.size()) != fine_pattern->nonZeros() ||
+      prolongations.empty()) {
     throw InvalidInput(
         "MultigridSolver: values on a pattern need a square, compressed, non-empty pattern, one "
         "value per entry and at least one prolongation");

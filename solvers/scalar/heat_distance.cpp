@@ -1522,7 +1522,9 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_region(const StageRegion& region
             if (ui == kInvalidIndex) rhs[uj] += w * phi[i];
           }
         }
-        if (ui != kInvalidIndex && uj != kInvalidIndex) emit(std::max(ui, uj), std::min(ui, uj), -w);
+        if (ui != kInvalidIndex && uj != kInvalidIndex) {
+          emit(std::max(ui, uj), std::min(ui, uj), -w);
+        }
       }
     }
     first_pass = false;
@@ -1797,7 +1799,9 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_band_region(const BandRegion& re
             if (ui == kInvalidIndex) rhs[uj] += w * phi[i];
           }
         }
-        if (ui != kInvalidIndex && uj != kInvalidIndex) emit(std::max(ui, uj), std::min(ui, uj), -w);
+        if (ui != kInvalidIndex && uj != kInvalidIndex) {
+          emit(std::max(ui, uj), std::min(ui, uj), -w);
+        }
       }
     }
     first_pass = false;

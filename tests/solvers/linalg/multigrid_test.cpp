@@ -241,8 +241,8 @@ TEST(Multigrid, SharedFinePatternKeepsOwnValues) {
   C.coeffRef(0, int(C.rows()) - 1) += -1e-3;
   C.coeffRef(int(C.rows()) - 1, 0) += -1e-3;
   C.makeCompressed();
-  const MultigridSolver other(SparseMatrix(C), aliases, {},
-                              MultigridSolver::Stored::kBothTriangles, first.fine_pattern());
+  const MultigridSolver other(SparseMatrix(C), aliases, {}, MultigridSolver::Stored::kBothTriangles,
+                              first.fine_pattern());
   EXPECT_NE(other.fine_pattern(), first.fine_pattern());
 }
 
