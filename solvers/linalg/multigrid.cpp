@@ -36,10 +36,21 @@ void take(SparseMatrix& to, SparseMatrix& from) {
 
 // Each level's operator is kept as its lower triangle (CSC, sorted rows, the diagonal first in
 // every column): half the entries of both triangles, and every kernel below reads a column once.
+// A level's operator as the kernels read it: a lower triangle, diagonal first.
+using LowerMap = Eigen::Map<const SparseMatrix>;
+
 struct Level {
-  SparseMatrix A;  // this level's operator, lower triangle, diagonal first (a_ii = value[outer[i]])
+  // this level's operator, lower triangle, diagonal first (a_ii = value[outer[i]]); on a fine
+  // level that shares its pattern (D-365), another solver's fine operator, whose index arrays
+  // are read with own_values
+  std::shared_ptr<const SparseMatrix> A;
+  std::vector<double> own_values;  // empty unless the pattern is shared
   // to the next coarser level (null on the coarsest); shared with the caller when used as given
   std::shared_ptr<const SparseMatrix> P;
+  LowerMap op() const {
+    return LowerMap(A->rows(), A->cols(), A->nonZeros(), A->outerIndexPtr(), A->innerIndexPtr(),
+                    own_values.empty() ? A->valuePtr() : own_values.data());
+  }
 };
 
 // The lower triangle of A (both triangles stored, sorted columns), compressed.
@@ -66,7 +77,7 @@ SparseMatrix lower_of(const SparseMatrix& A) {
 }
 
 // y = A x for A symmetric, stored as its lower triangle (diagonal first).
-void symmetric_multiply(const SparseMatrix& A, const double* x, double* y) {
+void symmetric_multiply(const LowerMap& A, const double* x, double* y) {
   const int n = int(A.cols());
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
@@ -145,7 +156,7 @@ struct GalerkinSlots {
 // G = PᵀBP (B = A's strict lower part plus half its diagonal, A a lower triangle with the
 // diagonal first) column by column through a dense accumulator, written into the slots of the
 // lower triangle of G + Gᵀ: a counting pass sizes them, the numeric pass fills them.
-GalerkinSlots galerkin_slots(const SparseMatrix& A, const SparseMatrix& P) {
+GalerkinSlots galerkin_slots(const LowerMap& A, const SparseMatrix& P) {
   const int nc = int(P.cols());
   const SparseMatrix Pt = P.transpose();  // column i: the coarse columns of fine row i
   const int* a_outer = A.outerIndexPtr();
@@ -212,7 +223,7 @@ GalerkinSlots galerkin_slots(const SparseMatrix& A, const SparseMatrix& P) {
 // to C's column a (row b) (galerkin_slots()); each column's two sorted runs are merged here,
 // duplicates summed, the diagonal 2·G_bb first, exact zeros left out. No A·P temporary, no full
 // copy of A, no triplets.
-SparseMatrix galerkin_lower(const SparseMatrix& A, const SparseMatrix& P) {
+SparseMatrix galerkin_lower(const LowerMap& A, const SparseMatrix& P) {
   const int nc = int(P.cols());
   const GalerkinSlots g = galerkin_slots(A, P);
   auto merge = [&](int b, auto&& emit) {
@@ -256,7 +267,7 @@ SparseMatrix galerkin_lower(const SparseMatrix& A, const SparseMatrix& P) {
 // Checks a lower triangle (level `level`): rows increasing below a leading diagonal entry in
 // every column, and the diagonal positive (the kernels read it as the column's first value).
 // @throws InvalidInput on rows out of order; SolverError on a missing or non-positive diagonal
-void check_lower(const SparseMatrix& A, std::size_t level) {
+void check_lower(const LowerMap& A, std::size_t level) {
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   for (int j = 0; j < int(A.cols()); ++j) {
@@ -286,6 +297,18 @@ void check_finite(const SparseMatrix& A, const char* what) {
   }
 }
 
+// Whether lower triangle A has exactly the pattern of `pattern` (same size, column starts and
+// rows; both compressed). Null: no.
+bool same_pattern(const SparseMatrix& A, const SparseMatrix* pattern) {
+  if (!pattern || !pattern->isCompressed() || !A.isCompressed() || pattern->rows() != A.rows() ||
+      pattern->cols() != A.cols() || pattern->nonZeros() != A.nonZeros()) {
+    return false;
+  }
+  return std::equal(A.outerIndexPtr(), A.outerIndexPtr() + A.cols() + 1,
+                    pattern->outerIndexPtr()) &&
+         std::equal(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(), pattern->innerIndexPtr());
+}
+
 }  // namespace
 
 struct MultigridSolver::Impl {
@@ -297,10 +320,10 @@ struct MultigridSolver::Impl {
   // increasing i, i.e. x + d is one sweep from x when r = b − Ax. Column i of the lower triangle
   // holds a_ki (k > i): each d_i is pushed into the later rows of r, which is overwritten.
   static void forward_sweep(const Level& lv, Eigen::VectorXd& r, Eigen::VectorXd& d) {
-    const int n = int(lv.A.cols());
-    const int* start = lv.A.outerIndexPtr();
-    const int* row = lv.A.innerIndexPtr();
-    const double* val = lv.A.valuePtr();
+    const int n = int(lv.op().cols());
+    const int* start = lv.op().outerIndexPtr();
+    const int* row = lv.op().innerIndexPtr();
+    const double* val = lv.op().valuePtr();
     d.resize(n);
     for (int i = 0; i < n; ++i) {
       const double di = r[i] / val[start[i]];
@@ -313,10 +336,10 @@ struct MultigridSolver::Impl {
   // with the rows before it updated, so r_i = −Σ_{j>i} a_ij d_j (column i below the diagonal).
   static void residual_after_forward(const Level& lv, const Eigen::VectorXd& d,
                                      Eigen::VectorXd& r) {
-    const int n = int(lv.A.cols());
-    const int* start = lv.A.outerIndexPtr();
-    const int* row = lv.A.innerIndexPtr();
-    const double* val = lv.A.valuePtr();
+    const int n = int(lv.op().cols());
+    const int* start = lv.op().outerIndexPtr();
+    const int* row = lv.op().innerIndexPtr();
+    const double* val = lv.op().valuePtr();
     r.resize(n);
     for (int i = 0; i < n; ++i) {
       double s = 0.0;
@@ -328,10 +351,10 @@ struct MultigridSolver::Impl {
   // Backward Gauss–Seidel sweep on the correction: d_i = (r_i − Σ_{j>i} a_ij d_j) / a_ii in
   // decreasing i (column i below the diagonal holds those a_ij).
   static void backward_sweep(const Level& lv, const Eigen::VectorXd& r, Eigen::VectorXd& d) {
-    const int n = int(lv.A.cols());
-    const int* start = lv.A.outerIndexPtr();
-    const int* row = lv.A.innerIndexPtr();
-    const double* val = lv.A.valuePtr();
+    const int n = int(lv.op().cols());
+    const int* start = lv.op().outerIndexPtr();
+    const int* row = lv.op().innerIndexPtr();
+    const double* val = lv.op().valuePtr();
     d.resize(n);
     for (int i = n - 1; i >= 0; --i) {
       double s = r[i];
@@ -342,8 +365,8 @@ struct MultigridSolver::Impl {
 
   // x += ω D⁻¹ r (damped Jacobi)
   void jacobi_step(const Level& lv, const Eigen::VectorXd& r, Eigen::VectorXd& x) const {
-    const int* start = lv.A.outerIndexPtr();
-    const double* val = lv.A.valuePtr();
+    const int* start = lv.op().outerIndexPtr();
+    const double* val = lv.op().valuePtr();
     for (Eigen::Index i = 0; i < x.size(); ++i) x[i] += opt.jacobi_weight * r[i] / val[start[i]];
   }
 
@@ -351,7 +374,7 @@ struct MultigridSolver::Impl {
   static void residual(const Level& lv, const Eigen::VectorXd& b, const Eigen::VectorXd& x,
                        Eigen::VectorXd& r) {
     r.resize(b.size());
-    symmetric_multiply(lv.A, x.data(), r.data());
+    symmetric_multiply(lv.op(), x.data(), r.data());
     r = b - r;
   }
 
@@ -424,7 +447,7 @@ struct MultigridSolver::Impl {
     double res = b_norm;
     while (rep.iterations < opt.max_iterations) {
       Ap.resize(p.size());
-      symmetric_multiply(fine.A, p.data(), Ap.data());
+      symmetric_multiply(fine.op(), p.data(), Ap.data());
       const double pAp = p.dot(Ap);
       if (!(pAp > 0.0)) break;  // breakdown: A or the cycle not definite
       const double alpha = rz / pAp;
@@ -482,16 +505,14 @@ MultigridSolver::MultigridSolver(SparseMatrix&& A, std::vector<SparseMatrix> pro
 // levels are therefore handed on with swap() (take()), never with a move.
 MultigridSolver::MultigridSolver(SparseMatrix&& A,
                                  std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
-                                 const MultigridOptions& options, Stored stored)
+                                 const MultigridOptions& options, Stored stored,
+                                 std::shared_ptr<const SparseMatrix> fine_pattern)
     : impl_(std::make_unique<Impl>()) {
   options.validate();
   if (A.rows() != A.cols() || A.rows() == 0) {
     throw InvalidInput("MultigridSolver: A must be square and not empty");
   }
   check_finite(A, "A");
-  Impl& im = *impl_;
-  im.opt = options;
-  const Eigen::Index n = A.rows();
   SparseMatrix current;
   if (stored == Stored::kBothTriangles) {
     SparseMatrix lower = lower_of(A);
@@ -501,13 +522,62 @@ MultigridSolver::MultigridSolver(SparseMatrix&& A,
     take(current, A);
     current.makeCompressed();
   }
+  build(*impl_, current, std::move(fine_pattern), nullptr, std::move(prolongations), options);
+}
+
+MultigridSolver::MultigridSolver(std::shared_ptr<const SparseMatrix> fine_pattern,
+                                 std::vector<double>&& values,
+                                 std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                                 const MultigridOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  if (!fine_pattern || fine_pattern->rows() != fine_pattern->cols() || fine_pattern->rows() == 0 ||
+      !fine_pattern->isCompressed() || Eigen::Index(values.size()) != fine_pattern->nonZeros() ||
+      prolongations.empty()) {
+    throw InvalidInput(
+        "MultigridSolver: values on a pattern need a square, compressed, non-empty pattern, one "
+        "value per entry and at least one prolongation");
+  }
+  for (const double v : values) {
+    if (!std::isfinite(v)) throw InvalidInput("MultigridSolver: A has a non-finite entry");
+  }
+  SparseMatrix current;
+  build(*impl_, current, std::move(fine_pattern), &values, std::move(prolongations), options);
+}
+
+// The constructors' common part: the levels from the fine operator (`current`, or `values` on
+// `fine_pattern` when values is non-null) and the prolongations; the coarsest factor.
+void MultigridSolver::build(Impl& im, SparseMatrix& current,
+                            std::shared_ptr<const SparseMatrix> fine_pattern,
+                            std::vector<double>* values,
+                            std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                            const MultigridOptions& options) {
+  im.opt = options;
+  const Eigen::Index n = values ? fine_pattern->rows() : current.rows();
   im.levels.reserve(prolongations.size() + 1);
   std::vector<int> kept;         // the previous level's columns kept: this level's rows to keep
   Eigen::Index caller_rows = n;  // rows are checked against the caller's numbering
   for (std::size_t l = 0; l <= prolongations.size(); ++l) {
     Level& lv = im.levels.emplace_back();
-    take(lv.A, current);
-    check_lower(lv.A, l);
+    if (l == 0 && values) {  // given on another solver's pattern
+      lv.A = std::move(fine_pattern);
+      lv.own_values = std::move(*values);
+      check_lower(lv.op(), l);
+    } else {
+      check_lower(LowerMap(current.rows(), current.cols(), current.nonZeros(),
+                           current.outerIndexPtr(), current.innerIndexPtr(), current.valuePtr()),
+                  l);
+      if (l == 0 && !prolongations.empty() && same_pattern(current, fine_pattern.get())) {
+        // the values only; the index arrays are fine_pattern's (D-365)
+        lv.own_values.assign(current.valuePtr(), current.valuePtr() + current.nonZeros());
+        current = SparseMatrix();
+        lv.A = std::move(fine_pattern);
+      } else {
+        auto mine = std::make_shared<SparseMatrix>();
+        take(*mine, current);
+        lv.A = std::move(mine);
+      }
+    }
     if (l == prolongations.size()) break;
     std::shared_ptr<const SparseMatrix> P = std::move(prolongations[l]);
     if (!P) throw InvalidInput("MultigridSolver: prolongation " + std::to_string(l) + " is null");
@@ -542,11 +612,11 @@ MultigridSolver::MultigridSolver(SparseMatrix&& A,
       P = std::move(mine);
     }
     if (P->cols() == 0) throw InvalidInput("MultigridSolver: a prolongation has no column");
-    SparseMatrix coarse = galerkin_lower(lv.A, *P);
+    SparseMatrix coarse = galerkin_lower(lv.op(), *P);
     take(current, coarse);
     lv.P = std::move(P);
   }
-  im.coarsest.emplace(im.levels.back().A, options.coarsest);
+  im.coarsest.emplace(*im.levels.back().A, options.coarsest);  // own values (not shared)
 }
 
 MultigridSolver::~MultigridSolver() = default;
@@ -596,11 +666,15 @@ Eigen::VectorXd MultigridSolver::cycle(const Eigen::VectorXd& r) const {
   return z;
 }
 
-Eigen::Index MultigridSolver::size() const { return impl_->levels.front().A.rows(); }
+Eigen::Index MultigridSolver::size() const { return impl_->levels.front().A->rows(); }
 int MultigridSolver::n_levels() const { return int(impl_->levels.size()); }
 Eigen::Index MultigridSolver::level_size(int level) const {
   if (level < 0 || level >= n_levels()) throw InvalidInput("MultigridSolver: no such level");
-  return impl_->levels[std::size_t(level)].A.rows();
+  return impl_->levels[std::size_t(level)].A->rows();
+}
+
+std::shared_ptr<const SparseMatrix> MultigridSolver::fine_pattern() const {
+  return impl_->levels.front().A;
 }
 
 double MultigridSolver::memory_bytes() const {
@@ -608,7 +682,13 @@ double MultigridSolver::memory_bytes() const {
   for (const Level& lv : impl_->levels) {
     const double p_entries = lv.P ? double(lv.P->nonZeros()) : 0.0;
     const double p_cols = lv.P ? double(lv.P->cols()) : 0.0;
-    bytes += 12.0 * (double(lv.A.nonZeros()) + p_entries) + 4.0 * (double(lv.A.cols()) + p_cols);
+    const double a_entries = double(lv.A->nonZeros());
+    if (lv.own_values.empty()) {
+      bytes += 12.0 * a_entries + 4.0 * double(lv.A->cols());
+    } else {
+      bytes += 8.0 * a_entries;  // the pattern is another solver's
+    }
+    bytes += 12.0 * p_entries + 4.0 * p_cols;
   }
   return bytes + 12.0 * impl_->coarsest->factor_nonzeros();
 }

@@ -89,9 +89,23 @@ class MultigridSolver {
   /// As above, with prolongations shared with the caller (e.g. one hierarchy behind several
   /// solvers): a P_l used as given is referenced, not copied; one whose rows or columns must
   /// change (columns dropped, or rows of the previous level's dropped columns) is copied first.
+  /// fine_pattern: null, or another solver's fine_pattern() (e.g. M + tL and L of one
+  /// triangulation): when A's lower triangle has exactly its pattern (size, column starts, rows)
+  /// and there is at least one prolongation, this solver keeps A's values only and references
+  /// that pattern (12 → 8 bytes an entry; docs/decisions.md D-365); else it is ignored.
   /// @throws InvalidInput also on a null prolongation
   MultigridSolver(SparseMatrix&& A, std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
-                  const MultigridOptions& options = {}, Stored stored = Stored::kBothTriangles);
+                  const MultigridOptions& options = {}, Stored stored = Stored::kBothTriangles,
+                  std::shared_ptr<const SparseMatrix> fine_pattern = nullptr);
+  /// A given as its lower triangle's values on another solver's fine_pattern() (so that A's
+  /// index arrays are never allocated; docs/decisions.md D-365).
+  /// @param values fine_pattern->nonZeros() values in its storage order (diagonal first)
+  /// @throws InvalidInput on a null, non-square, empty or uncompressed pattern, a values count
+  ///         that differs from its entries, a non-finite value, no prolongation, or as above
+  /// @throws SolverError as above
+  MultigridSolver(std::shared_ptr<const SparseMatrix> fine_pattern, std::vector<double>&& values,
+                  std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                  const MultigridOptions& options = {});
   ~MultigridSolver();
   MultigridSolver(MultigridSolver&&) noexcept;
   MultigridSolver& operator=(MultigridSolver&&) noexcept;
@@ -120,14 +134,23 @@ class MultigridSolver {
   int n_levels() const;
   /// Unknowns of level l (0 = A's), l in [0, n_levels()).
   Eigen::Index level_size(int level) const;
+  /// The fine level's operator as stored (lower triangle, diagonal first), for its pattern: pass
+  /// it as another solver's fine_pattern. Its values are this solver's unless this solver itself
+  /// shares a pattern (then they are the owner's). Never null.
+  std::shared_ptr<const SparseMatrix> fine_pattern() const;
   /// Bytes held: the operators (lower triangles) and prolongations of every level (values and
   /// indices; a prolongation shared with the caller counted in full) and the coarsest factor's
-  /// entries (12 bytes each: value and row index).
+  /// entries (12 bytes each: value and row index); a fine level sharing another solver's pattern
+  /// counts its values only.
   double memory_bytes() const;
 
   struct Impl;
 
  private:
+  static void build(Impl& im, SparseMatrix& current,
+                    std::shared_ptr<const SparseMatrix> fine_pattern, std::vector<double>* values,
+                    std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                    const MultigridOptions& options);
   std::unique_ptr<Impl> impl_;
 };
 

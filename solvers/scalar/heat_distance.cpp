@@ -123,6 +123,63 @@ std::vector<Index> boundary_vertex_list(const IntrinsicTriangulation& tri,
   return list;
 }
 
+// A band or region system's lower triangle straight into CSC, without triplets (D-365): the
+// diagonal d (n values) and the strict lower entries that `visit(emit)` gives by
+// emit(row, col, value) with row > col, duplicates allowed. visit is called twice (a counting
+// pass, then a writing pass) and must emit the same entries both times; d is read after the
+// first call, so that pass may sum it.
+// Each column holds its diagonal first, then its rows in increasing order with duplicates
+// summed in the order emitted (setFromTriplets()'s sums, bit for bit). The staging is the
+// matrix's own arrays (12 bytes an emitted entry), trimmed after the merge.
+template <class Visit>
+fem::SparseMatrix lower_from_entries(const Eigen::VectorXd& d, Visit&& visit) {
+  const Eigen::Index n = d.size();
+  fem::SparseMatrix A(n, n);
+  int* outer = A.outerIndexPtr();
+  std::fill(outer, outer + n + 1, 1);
+  outer[0] = 0;
+  visit([outer](Index, Index col, double) { ++outer[col + 1]; });
+  for (Eigen::Index j = 0; j < n; ++j) outer[j + 1] += outer[j];
+  A.resizeNonZeros(outer[n]);
+  int* inner = A.innerIndexPtr();
+  double* value = A.valuePtr();
+  std::vector<int> next(outer, outer + n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    inner[next[j]] = int(j);
+    value[next[j]++] = d[j];
+  }
+  visit([&](Index row, Index col, double w) {
+    const int k = next[std::size_t(col)]++;
+    inner[k] = int(row);
+    value[k] = w;
+  });
+  // per column: a stable sort of the strict lower part by row, duplicates summed in order
+  std::vector<std::pair<int, double>> col;
+  int out = 0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const int b = outer[j], e = outer[j + 1];
+    col.clear();
+    for (int k = b + 1; k < e; ++k) col.emplace_back(inner[k], value[k]);
+    std::stable_sort(col.begin(), col.end(),
+                     [](const auto& x, const auto& y) { return x.first < y.first; });
+    outer[j] = out;
+    inner[out] = int(j);
+    value[out++] = value[b];
+    for (std::size_t k = 0; k < col.size(); ++k) {
+      if (k > 0 && col[k].first == col[k - 1].first) {
+        value[out - 1] += col[k].second;
+      } else {
+        inner[out] = col[k].first;
+        value[out++] = col[k].second;
+      }
+    }
+  }
+  outer[n] = out;
+  A.resizeNonZeros(out);
+  A.data().squeeze();
+  return A;
+}
+
 }  // namespace
 
 void HeatDistanceOptions::validate() const {
@@ -513,6 +570,9 @@ void build_multigrid(HeatDistanceSolver::Impl& im, const HeatDistanceOptions& op
     im.heat_dirichlet.emplace(*tL, im.mass, im.comps, boundary, heat_opt);
   }
   tL.reset();
+  // L's lower triangle has the pattern of M + tL's (the pinned rows kept as decoupled rows):
+  // one set of index arrays for both (D-365)
+  poisson_opt.multigrid_pattern = im.heat_neumann->multigrid_pattern();
   im.poisson.emplace(L, im.mass, im.comps, std::vector<Index>{}, poisson_opt);
   L = fem::SparseMatrix();
   // later stages on bands (D-285): the options' own thresholds, the boundary and the faces of
@@ -1437,33 +1497,38 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_region(const StageRegion& region
   const Index nu = Index(region.unknown_vertex.size());
   Eigen::VectorXd rhs(nu);
   for (Index i = 0; i < nu; ++i) rhs[i] = div[region.unknown_vertex[i]];
-  std::vector<Eigen::Triplet<double>> trip;
   const double s = 0.5 / tri.multiplicity();
-  for (Index f = 0; f < tri.n_faces(); ++f) {
-    if (!region.use_face[f]) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Index h = 3 * f + k;
-      const Index i = tri.tail(h), j = tri.head(h);
-      if (i == j) continue;
-      const double w = s * intrinsic::halfedge_cotan(tri, h);
-      // the lower triangle only: the factorization reads no more
-      const Index ui = region.unknown_id[i], uj = region.unknown_id[j];
-      if (ui != kInvalidIndex) {
-        trip.emplace_back(ui, ui, w);
-        if (uj == kInvalidIndex) rhs[ui] += w * phi[j];
-      }
-      if (uj != kInvalidIndex) {
-        trip.emplace_back(uj, uj, w);
-        if (ui == kInvalidIndex) rhs[uj] += w * phi[i];
-      }
-      if (ui != kInvalidIndex && uj != kInvalidIndex) {
-        trip.emplace_back(std::max(ui, uj), std::min(ui, uj), -w);
+  // the lower triangle only (the factorization reads no more), straight into CSC: the diagonal
+  // and the right-hand side in the counting pass, the off-diagonal entries in both
+  Eigen::VectorXd diag = Eigen::VectorXd::Zero(nu);
+  bool first_pass = true;
+  const fem::SparseMatrix A = lower_from_entries(diag, [&](auto&& emit) {
+    for (Index f = 0; f < tri.n_faces(); ++f) {
+      if (!region.use_face[f]) continue;
+      for (int k = 0; k < 3; ++k) {
+        const Index h = 3 * f + k;
+        const Index i = tri.tail(h), j = tri.head(h);
+        if (i == j) continue;
+        const Index ui = region.unknown_id[i], uj = region.unknown_id[j];
+        if (ui == kInvalidIndex && uj == kInvalidIndex) continue;
+        const double w = s * intrinsic::halfedge_cotan(tri, h);
+        if (first_pass) {
+          if (ui != kInvalidIndex) {
+            diag[ui] += w;
+            if (uj == kInvalidIndex) rhs[ui] += w * phi[j];
+          }
+          if (uj != kInvalidIndex) {
+            diag[uj] += w;
+            if (ui == kInvalidIndex) rhs[uj] += w * phi[i];
+          }
+        }
+        if (ui != kInvalidIndex && uj != kInvalidIndex) {
+          emit(std::max(ui, uj), std::min(ui, uj), -w);
+        }
       }
     }
-  }
-  fem::SparseMatrix A(nu, nu);
-  A.setFromTriplets(trip.begin(), trip.end());
-  A.makeCompressed();
+    first_pass = false;
+  });
   const CholeskySolver chol(A, CholeskyOptions{});
   return chol.solve(rhs);
 }
@@ -1556,31 +1621,34 @@ Eigen::VectorXd HeatDistanceSolver::Impl::band_solve(const Band& band, double ti
     for (Index i = 0; i < n; ++i) {
       if (!(dirichlet && on_boundary[band.vertex[i]])) id[i] = m++;
     }
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
-    std::vector<Eigen::Triplet<double>> trip;
-    for (Index i = 0; i < n; ++i) {
-      if (id[i] == kInvalidIndex) continue;
-      trip.emplace_back(id[i], id[i], mass[band.vertex[i]]);
-      if (scratch.is_frontier[band.vertex[i]]) rhs[id[i]] = 1.0;
-    }
-    for (const Index f : band.face) {
-      for (int k = 0; k < 3; ++k) {
-        const Index h = 3 * f + k;
-        const Index i = id[scratch.local[tri.tail(h)]], j = id[scratch.local[tri.head(h)]];
-        if (tri.tail(h) == tri.head(h)) continue;
-        const double w = s * intrinsic::halfedge_cotan(tri, h);
-        if (i != kInvalidIndex) trip.emplace_back(i, i, w);
-        if (j != kInvalidIndex) trip.emplace_back(j, j, w);
-        if (i != kInvalidIndex && j != kInvalidIndex) {  // lower triangle: all CHOLMOD reads
-          trip.emplace_back(std::max(i, j), std::min(i, j), -w);
-        }
-      }
-    }
     Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
     if (m == 0) return u;
-    fem::SparseMatrix A(m, m);
-    A.setFromTriplets(trip.begin(), trip.end());
-    A.makeCompressed();
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
+    Eigen::VectorXd diag(m);
+    for (Index i = 0; i < n; ++i) {
+      if (id[i] == kInvalidIndex) continue;
+      diag[id[i]] = mass[band.vertex[i]];
+      if (scratch.is_frontier[band.vertex[i]]) rhs[id[i]] = 1.0;
+    }
+    // lower triangle (all CHOLMOD reads), straight into CSC; the diagonal in the counting pass
+    bool first_pass = true;
+    const fem::SparseMatrix A = lower_from_entries(diag, [&](auto&& emit) {
+      for (const Index f : band.face) {
+        for (int k = 0; k < 3; ++k) {
+          const Index h = 3 * f + k;
+          if (tri.tail(h) == tri.head(h)) continue;
+          const Index i = id[scratch.local[tri.tail(h)]], j = id[scratch.local[tri.head(h)]];
+          if (i == kInvalidIndex && j == kInvalidIndex) continue;
+          const double w = s * intrinsic::halfedge_cotan(tri, h);
+          if (first_pass) {
+            if (i != kInvalidIndex) diag[i] += w;
+            if (j != kInvalidIndex) diag[j] += w;
+          }
+          if (i != kInvalidIndex && j != kInvalidIndex) emit(std::max(i, j), std::min(i, j), -w);
+        }
+      }
+      first_pass = false;
+    });
     CholeskyOptions chol = band_cholesky();
     chol.min_rcond = 0.0;  // positive definite (masses), as the global heat factor
     const Eigen::VectorXd x = CholeskySolver(A, chol).solve(rhs);
@@ -1709,31 +1777,35 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_band_region(const BandRegion& re
   const Index nu = Index(region.unknown_vertex.size());
   Eigen::VectorXd rhs(nu);
   for (Index i = 0; i < nu; ++i) rhs[i] = div[local[region.unknown_vertex[i]]];
-  std::vector<Eigen::Triplet<double>> trip;
   const double s = 0.5 / tri.multiplicity();
-  for (const Index f : region.face) {
-    for (int k = 0; k < 3; ++k) {
-      const Index h = 3 * f + k;
-      const Index i = tri.tail(h), j = tri.head(h);
-      if (i == j) continue;
-      const double w = s * intrinsic::halfedge_cotan(tri, h);
-      const Index ui = region.unknown_id[local[i]], uj = region.unknown_id[local[j]];
-      if (ui != kInvalidIndex) {
-        trip.emplace_back(ui, ui, w);
-        if (uj == kInvalidIndex) rhs[ui] += w * phi[j];
-      }
-      if (uj != kInvalidIndex) {
-        trip.emplace_back(uj, uj, w);
-        if (ui == kInvalidIndex) rhs[uj] += w * phi[i];
-      }
-      if (ui != kInvalidIndex && uj != kInvalidIndex) {
-        trip.emplace_back(std::max(ui, uj), std::min(ui, uj), -w);
+  Eigen::VectorXd diag = Eigen::VectorXd::Zero(nu);
+  bool first_pass = true;  // the diagonal and the right-hand side in the counting pass
+  const fem::SparseMatrix A = lower_from_entries(diag, [&](auto&& emit) {
+    for (const Index f : region.face) {
+      for (int k = 0; k < 3; ++k) {
+        const Index h = 3 * f + k;
+        const Index i = tri.tail(h), j = tri.head(h);
+        if (i == j) continue;
+        const Index ui = region.unknown_id[local[i]], uj = region.unknown_id[local[j]];
+        if (ui == kInvalidIndex && uj == kInvalidIndex) continue;
+        const double w = s * intrinsic::halfedge_cotan(tri, h);
+        if (first_pass) {
+          if (ui != kInvalidIndex) {
+            diag[ui] += w;
+            if (uj == kInvalidIndex) rhs[ui] += w * phi[j];
+          }
+          if (uj != kInvalidIndex) {
+            diag[uj] += w;
+            if (ui == kInvalidIndex) rhs[uj] += w * phi[i];
+          }
+        }
+        if (ui != kInvalidIndex && uj != kInvalidIndex) {
+          emit(std::max(ui, uj), std::min(ui, uj), -w);
+        }
       }
     }
-  }
-  fem::SparseMatrix A(nu, nu);
-  A.setFromTriplets(trip.begin(), trip.end());
-  A.makeCompressed();
+    first_pass = false;
+  });
   return CholeskySolver(A, band_cholesky()).solve(rhs);
 }
 

@@ -47,6 +47,9 @@ struct PoissonSolver::Impl {
   // row), and those rows; both empty otherwise.
   std::vector<char> fixed;
   std::vector<Index> fixed_rows;
+  // the fine operator's values on PoissonOptions::multigrid_pattern, when setup() assembled
+  // them there (D-365): factor() then builds the multigrid solver from them, A is empty
+  std::vector<double> pattern_values;
   std::optional<CholeskySolver> chol;
   std::optional<MultigridSolver> mg;  // instead of chol (PoissonOptions::solver)
 
@@ -372,14 +375,43 @@ struct PoissonSolver::Impl {
     return A;
   }
 
+  // lower_triangle()'s values (L + c·M, fixed rows decoupled) written on `pattern`'s storage into
+  // pattern_values, without index arrays of their own. False (nothing written) unless every
+  // vertex is an unknown and L's lower triangle has exactly that pattern.
+  bool values_on_pattern(const fem::SparseMatrix& L, double c, const SparseMatrix& pattern) {
+    if (Index(unknown_vertex.size()) != n || !L.isCompressed() || !pattern.isCompressed() ||
+        pattern.rows() != n || pattern.cols() != n) {
+      return false;
+    }
+    const int* l_outer = L.outerIndexPtr();
+    const int* l_inner = L.innerIndexPtr();
+    const double* l_value = L.valuePtr();
+    const int* outer = pattern.outerIndexPtr();
+    const int* inner = pattern.innerIndexPtr();
+    std::vector<double> value(std::size_t(pattern.nonZeros()));
+    for (Index j = 0; j < n; ++j) {
+      const int* d = std::lower_bound(l_inner + l_outer[j], l_inner + l_outer[j + 1], int(j));
+      const int count = int(l_inner + l_outer[j + 1] - d);
+      if (count == 0 || *d != j || count != outer[j + 1] - outer[j] ||
+          !std::equal(d, d + count, inner + outer[j])) {
+        return false;
+      }
+      std::copy_n(l_value + (d - l_inner), count, value.data() + outer[j]);
+      value[std::size_t(outer[j])] += c * mass[j];
+    }
+    decouple_fixed(outer, inner, value.data(), n);
+    pattern_values.swap(value);
+    return true;
+  }
+
+  void decouple_fixed(fem::SparseMatrix& A) const {
+    decouple_fixed(A.outerIndexPtr(), A.innerIndexPtr(), A.valuePtr(), A.cols());
+  }
   // Decouples the fixed rows and columns of a block (diagonal first in each column): their
   // off-diagonal entries become zeros, their diagonal any positive value.
-  void decouple_fixed(fem::SparseMatrix& A) const {
+  void decouple_fixed(const int* outer, const int* inner, double* value, Index cols) const {
     if (fixed_rows.empty()) return;
-    const int* outer = A.outerIndexPtr();
-    const int* inner = A.innerIndexPtr();
-    double* value = A.valuePtr();
-    for (Index u = 0; u < A.cols(); ++u) {
+    for (Index u = 0; u < cols; ++u) {
       const bool fixed_u = is_fixed(unknown_vertex[u]);
       for (int k = outer[u] + 1; k < outer[u + 1]; ++k) {
         if (fixed_u || is_fixed(unknown_vertex[inner[k]])) value[k] = 0.0;
@@ -543,9 +575,15 @@ void PoissonSolver::factor(fem::SparseMatrix&& A, const PoissonOptions& options,
     }
     chain.front() = std::move(R);
   }
+  if (!im.pattern_values.empty()) {  // setup() wrote the values on the shared pattern
+    im.mg.emplace(options.multigrid_pattern, std::move(im.pattern_values), std::move(chain),
+                  c.multigrid);
+    im.pattern_values = std::vector<double>();
+    return;
+  }
   // A holds its lower triangle (diagonal first): the multigrid levels keep that form
   im.mg.emplace(std::move(A), std::move(chain), c.multigrid,
-                MultigridSolver::Stored::kLowerTriangle);
+                MultigridSolver::Stored::kLowerTriangle, options.multigrid_pattern);
 }
 
 namespace {
@@ -578,6 +616,12 @@ fem::SparseMatrix PoissonSolver::setup(const fem::SparseMatrix& L, const Eigen::
   if (options.screening == 0.0) im.pin_floating_components(comp_has_dirichlet, pinned);
   im.number_unknowns(is_dirichlet, pinned, keep_fixed);
   im.assemble_coupling(L);
+  // multigrid on a shared pattern: the values only (factor() takes them from im)
+  if (keep_fixed && options.multigrid_pattern && im.dirichlet.empty() &&
+      multigrid_for(options, im.n) &&
+      im.values_on_pattern(L, options.screening, *options.multigrid_pattern)) {
+    return fem::SparseMatrix();
+  }
   // Direct CSC assembly, no triplets (sorting triplets cost more than half a
   // factorization at 100k faces).
   return im.assemble_unknown_block(L, options.screening);
@@ -769,6 +813,9 @@ void PoissonBlocks::solve_rows_in_order(const PoissonSolver& p, double* W, Eigen
 const std::vector<Index>& PoissonSolver::dirichlet_vertices() const { return impl_->dirichlet; }
 Index PoissonSolver::n_unknowns() const { return Index(impl_->unknown_vertex.size()); }
 bool PoissonSolver::multigrid() const { return impl_->mg.has_value(); }
+std::shared_ptr<const SparseMatrix> PoissonSolver::multigrid_pattern() const {
+  return impl_->mg ? impl_->mg->fine_pattern() : nullptr;
+}
 double PoissonSolver::factor_nonzeros() const {
   return impl_->chol ? impl_->chol->factor_nonzeros() : 0.0;
 }

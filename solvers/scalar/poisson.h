@@ -29,6 +29,11 @@ struct PoissonOptions {
   /// Dirichlet and pinned vertices are left out of the hierarchy here. An empty chain (a mesh no
   /// larger than the coarsest level) factors directly, as one level.
   std::shared_ptr<const std::vector<SparseMatrix>> prolongations;
+  /// Multigrid only: another PoissonSolver's multigrid_pattern() (e.g. the heat method's M + tL
+  /// beside its L, built on the same vertices and prolongations). Where this solver's fine
+  /// operator has exactly that pattern it keeps its values only (MultigridSolver's
+  /// fine_pattern; docs/decisions.md D-365); otherwise it is ignored. Null: nothing shared.
+  std::shared_ptr<const SparseMatrix> multigrid_pattern;
   /// @throws InvalidInput if screening is negative or not finite, or on bad solver options
   void validate() const;
 };
@@ -118,6 +123,9 @@ class PoissonSolver {
   double factor_nonzeros() const;
   /// True when the solves run multigrid-preconditioned CG (PoissonOptions::solver).
   bool multigrid() const;
+  /// The multigrid solver's fine operator, for its pattern (MultigridSolver::fine_pattern()):
+  /// pass it as another solver's PoissonOptions::multigrid_pattern. Null when not multigrid.
+  std::shared_ptr<const SparseMatrix> multigrid_pattern() const;
 
   struct Impl;
 

@@ -202,6 +202,50 @@ TEST(Multigrid, SharedProlongationsAreReferencedNotCopied) {
   EXPECT_THROW(MultigridSolver(SparseMatrix(A), aliases), InvalidInput);
 }
 
+TEST(Multigrid, SharedFinePatternKeepsOwnValues) {
+  // two operators with one pattern (as M + tL and L of one triangulation): the second keeps its
+  // values only and references the first's index arrays; its cycles are those of a solver that
+  // owns everything, and an operator of another pattern ignores the offer (D-365)
+  const SparseMatrix A = heat_matrix(intrinsic::icosphere(8));
+  SparseMatrix B = 3.0 * A;
+  for (int i = 0; i < int(B.rows()); ++i) B.coeffRef(i, i) += 0.5;  // same pattern, other values
+  const auto owner =
+      std::make_shared<const std::vector<SparseMatrix>>(test::icosphere_hierarchy(8, 3));
+  std::vector<std::shared_ptr<const SparseMatrix>> aliases;
+  for (const SparseMatrix& P : *owner) aliases.emplace_back(owner, &P);
+  const MultigridSolver first(SparseMatrix(A), aliases);
+  const MultigridSolver second(SparseMatrix(B), aliases, {},
+                               MultigridSolver::Stored::kBothTriangles, first.fine_pattern());
+  const MultigridSolver alone(B, *owner);
+  EXPECT_EQ(second.fine_pattern(), first.fine_pattern());
+  EXPECT_NE(alone.fine_pattern(), first.fine_pattern());
+  const double nnz = double(first.fine_pattern()->nonZeros());
+  EXPECT_DOUBLE_EQ(alone.memory_bytes() - second.memory_bytes(),
+                   4.0 * nnz + 4.0 * double(B.rows()));
+  const Eigen::VectorXd r = random_vector(B.rows(), 23);
+  EXPECT_LE((second.cycle(r) - alone.cycle(r)).norm(), 1e-14 * alone.cycle(r).norm());
+  const Eigen::VectorXd x = second.solve(r);
+  EXPECT_LE((B * x - r).norm(), 1e-9 * r.norm());
+  // the values given on the pattern directly: the same solver, no index arrays allocated
+  const MultigridSolver lower = [&] {
+    const SparseMatrix BL = SparseMatrix(B.triangularView<Eigen::Lower>());
+    std::vector<double> values(BL.valuePtr(), BL.valuePtr() + BL.nonZeros());
+    return MultigridSolver(first.fine_pattern(), std::move(values), aliases);
+  }();
+  EXPECT_EQ(lower.fine_pattern(), first.fine_pattern());
+  EXPECT_LE((lower.cycle(r) - alone.cycle(r)).norm(), 1e-14 * alone.cycle(r).norm());
+  EXPECT_THROW(MultigridSolver(first.fine_pattern(), std::vector<double>(3, 1.0), aliases),
+               InvalidInput);
+  // another pattern (an extra coupling): its own arrays
+  SparseMatrix C = B;
+  C.coeffRef(0, int(C.rows()) - 1) += -1e-3;
+  C.coeffRef(int(C.rows()) - 1, 0) += -1e-3;
+  C.makeCompressed();
+  const MultigridSolver other(SparseMatrix(C), aliases, {}, MultigridSolver::Stored::kBothTriangles,
+                              first.fine_pattern());
+  EXPECT_NE(other.fine_pattern(), first.fine_pattern());
+}
+
 TEST(Multigrid, PinnedLaplacianOnNestedIcospheres) {
   // L with vertex 0 eliminated (u(0) = 0): SPD, the pure-Neumann null space removed
   const auto tri = test::make_tri(intrinsic::icosphere(16));
