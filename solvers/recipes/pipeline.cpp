@@ -552,17 +552,8 @@ struct OutlierCut {
   std::vector<char> boundary;  // #V of surface->tri: the input's boundary (the hole's rim is not)
 };
 
-// The input vertices all of whose sides (in the input's faces) are longer than kOutlierClip ×
-// the 99th percentile of the input's side lengths (outliers of the robust length scale, D-132)
-// and than the bounding-box diagonal of the vertices with a short side are cut loose: the input's
-// faces at them are left out and the rest is prepared as s was (mollified, intrinsic Delaunay, the
-// same path). Nothing is cut when no vertex qualifies (the usual case: s is used as it is, bit for
-// bit), on refined surfaces and point clouds, when a source would lose its faces, or when the rest
-// cannot be prepared.
-OutlierCut cut_outlier_stars(const PreparedSurface& s, const std::vector<Index>& sources) {
-  OutlierCut cut;
-  const io::SurfaceInput& in = s.input;
-  if (s.refined || s.path == SurfacePath::kPointCloud || in.triangles.size() < 34) return cut;
+// The vertices cut_outlier_stars() cuts loose (#V flags), or empty when there is none.
+std::vector<char> outlier_vertices(const io::SurfaceInput& in) {
   const Index nv = static_cast<Index>(in.positions.rows());
   std::vector<double> sides;
   sides.reserve(3 * in.triangles.size());
@@ -589,7 +580,7 @@ OutlierCut cut_outlier_stars(const PreparedSurface& s, const std::vector<Index>&
   }
   bool any = false;
   for (Index v = 0; v < nv; ++v) any = any || (has_face[v] && !has_short[v]);
-  if (!any) return cut;
+  if (!any) return {};
   // ... and whose every side is also longer than the bounding-box diagonal of the other
   // vertices: a spike beyond the whole model, not a genuine fan of long faces (a cylinder's cap)
   Eigen::RowVector3d lo = Eigen::RowVector3d::Constant(std::numeric_limits<double>::infinity());
@@ -607,7 +598,26 @@ OutlierCut cut_outlier_stars(const PreparedSurface& s, const std::vector<Index>&
     cut_vertex[v] = has_face[v] && !has_short[v] && shortest[v] > extent;
     any = any || cut_vertex[v];
   }
-  if (!any) return cut;
+  if (!any) return {};
+  return cut_vertex;
+}
+
+// The input vertices all of whose sides (in the input's faces) are longer than kOutlierClip ×
+// the 99th percentile of the input's side lengths (outliers of the robust length scale, D-132)
+// and than the bounding-box diagonal of the vertices with a short side are cut loose: the input's
+// faces at them are left out and the rest is prepared as s was (mollified, intrinsic Delaunay, the
+// same path). Nothing is cut when no vertex qualifies (the usual case: s is used as it is, bit for
+// bit), on refined surfaces and point clouds, when a source would lose its faces, or when the rest
+// cannot be prepared.
+OutlierCut cut_outlier_stars(const PreparedSurface& s, const std::vector<Index>& sources) {
+  OutlierCut cut;
+  const io::SurfaceInput& in = s.input;
+  if (s.refined || s.path == SurfacePath::kPointCloud || in.triangles.size() < 34) return cut;
+  const Index nv = static_cast<Index>(in.positions.rows());
+  const std::vector<char> cut_vertex = outlier_vertices(in);
+  if (cut_vertex.empty()) return cut;
+  std::vector<char> has_face(nv, 0);
+  for (const Triangle& t : in.triangles) has_face[t[0]] = has_face[t[1]] = has_face[t[2]] = 1;
   io::SurfaceInput rest;
   rest.positions = in.positions;
   rest.format = in.format;
