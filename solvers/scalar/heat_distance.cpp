@@ -123,6 +123,26 @@ std::vector<Index> boundary_vertex_list(const IntrinsicTriangulation& tri,
   return list;
 }
 
+// One halfedge's cotan term w (s × its cotan) in a region's Dirichlet system, its ends' unknown
+// ids ui, uj (kInvalidIndex: a known value, phi_i / phi_j): on the counting pass (first) it is
+// added to the diagonal and, where one end is known, moved to the right-hand side; on both
+// passes the off-diagonal entry between two unknowns is emitted (lower triangle).
+template <class Emit>
+void region_term(double w, Index ui, Index uj, double phi_i, double phi_j, bool first,
+                 Eigen::VectorXd& diag, Eigen::VectorXd& rhs, Emit& emit) {
+  if (first) {
+    if (ui != kInvalidIndex) {
+      diag[ui] += w;
+      if (uj == kInvalidIndex) rhs[ui] += w * phi_j;
+    }
+    if (uj != kInvalidIndex) {
+      diag[uj] += w;
+      if (ui == kInvalidIndex) rhs[uj] += w * phi_i;
+    }
+  }
+  if (ui != kInvalidIndex && uj != kInvalidIndex) emit(std::max(ui, uj), std::min(ui, uj), -w);
+}
+
 // A band or region system's lower triangle straight into CSC, without triplets (D-365): the
 // diagonal d (n values) and the strict lower entries that `visit(emit)` gives by
 // emit(row, col, value) with row > col, duplicates allowed. visit is called twice (a counting
@@ -1511,20 +1531,8 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_region(const StageRegion& region
         if (i == j) continue;
         const Index ui = region.unknown_id[i], uj = region.unknown_id[j];
         if (ui == kInvalidIndex && uj == kInvalidIndex) continue;
-        const double w = s * intrinsic::halfedge_cotan(tri, h);
-        if (first_pass) {
-          if (ui != kInvalidIndex) {
-            diag[ui] += w;
-            if (uj == kInvalidIndex) rhs[ui] += w * phi[j];
-          }
-          if (uj != kInvalidIndex) {
-            diag[uj] += w;
-            if (ui == kInvalidIndex) rhs[uj] += w * phi[i];
-          }
-        }
-        if (ui != kInvalidIndex && uj != kInvalidIndex) {
-          emit(std::max(ui, uj), std::min(ui, uj), -w);
-        }
+        region_term(s * intrinsic::halfedge_cotan(tri, h), ui, uj, phi[i], phi[j], first_pass, diag,
+                    rhs, emit);
       }
     }
     first_pass = false;
@@ -1788,20 +1796,8 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_band_region(const BandRegion& re
         if (i == j) continue;
         const Index ui = region.unknown_id[local[i]], uj = region.unknown_id[local[j]];
         if (ui == kInvalidIndex && uj == kInvalidIndex) continue;
-        const double w = s * intrinsic::halfedge_cotan(tri, h);
-        if (first_pass) {
-          if (ui != kInvalidIndex) {
-            diag[ui] += w;
-            if (uj == kInvalidIndex) rhs[ui] += w * phi[j];
-          }
-          if (uj != kInvalidIndex) {
-            diag[uj] += w;
-            if (ui == kInvalidIndex) rhs[uj] += w * phi[i];
-          }
-        }
-        if (ui != kInvalidIndex && uj != kInvalidIndex) {
-          emit(std::max(ui, uj), std::min(ui, uj), -w);
-        }
+        region_term(s * intrinsic::halfedge_cotan(tri, h), ui, uj, phi[i], phi[j], first_pass, diag,
+                    rhs, emit);
       }
     }
     first_pass = false;
