@@ -664,28 +664,23 @@ void fill_cut_loose(const intrinsic::IntrinsicTriangulation& tri, const std::vec
   for (std::size_t pass = 0; pass <= loose.size(); ++pass) {
     bool changed = false;
     for (const Index v : loose) {
-      const Index start = tri.vertex_halfedge(v);
-      // every outgoing halfedge of v (its fan; on a boundary vertex, from the boundary side)
-      for (Index h = start;;) {
-        const Index u = tri.head(h);
+      // v's distance through its neighbour u along an edge of length len
+      auto relax = [&](Index u, double len) {
         for (Index j = 0; j < d.cols(); ++j) {
-          const double via = d(u, j) + tri.halfedge_length(h);
-          if (via < d(v, j)) {
-            d(v, j) = via;
+          if (d(u, j) + len < d(v, j)) {
+            d(v, j) = d(u, j) + len;
             changed = true;
           }
         }
-        const Index back = tri.twin(intrinsic::IntrinsicTriangulation::prev(h));
+      };
+      const Index start = tri.vertex_halfedge(v);
+      // every outgoing halfedge of v (its fan; on a boundary vertex, from the boundary side)
+      for (Index h = start;;) {
+        relax(tri.head(h), tri.halfedge_length(h));
+        const Index p = intrinsic::IntrinsicTriangulation::prev(h);
+        const Index back = tri.twin(p);
         if (back == kInvalidIndex) {  // boundary: the last edge of the fan ends at prev's tail
-          const Index p = intrinsic::IntrinsicTriangulation::prev(h);
-          const Index w = tri.tail(p);
-          for (Index j = 0; j < d.cols(); ++j) {
-            const double via = d(w, j) + tri.halfedge_length(p);
-            if (via < d(v, j)) {
-              d(v, j) = via;
-              changed = true;
-            }
-          }
+          relax(tri.tail(p), tri.halfedge_length(p));
           break;
         }
         h = back;
