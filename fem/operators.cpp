@@ -75,9 +75,9 @@ void scatter_edges(const IntrinsicTriangulation& tri, const std::vector<Index>& 
   }
 }
 
-// Sorts one column's n entries (r, x) by row and merges equal rows (parallel edges); returns
-// the merged count.
-inline int sort_and_merge_column(int* r, double* x, int n) {
+}  // namespace
+
+int sort_and_merge_column(int* r, double* x, int n) {
   for (int a = 1; a < n; ++a) {  // insertion sort by row: columns hold ~7 entries
     const int ra = r[a];
     const double xa = x[a];
@@ -101,8 +101,6 @@ inline int sort_and_merge_column(int* r, double* x, int n) {
   return m;
 }
 
-// Squeezes out the slots merged multi-edges freed (nothing moves on an ordinary mesh); returns
-// the final number of nonzeros.
 int squeeze_columns(Index nv, const std::vector<int>& count, int* outer, int* inner,
                     double* value) {
   int out = 0;
@@ -118,8 +116,6 @@ int squeeze_columns(Index nv, const std::vector<int>& count, int* outer, int* in
   outer[nv] = out;
   return out;
 }
-
-}  // namespace
 
 SparseMatrix laplacian_from_weights(const IntrinsicTriangulation& tri, const Eigen::VectorXd& w) {
   // Direct CSC assembly (no triplets): count entries per column, scatter each edge's two

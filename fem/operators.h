@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <vector>
 
 #include "intrinsic/core/triangulation.h"
 
@@ -33,5 +34,15 @@ SparseMatrix galerkin_mass(const intrinsic::IntrinsicTriangulation& tri);
 
 /// Per-face areas, #F (not divided by the multiplicity).
 Eigen::VectorXd face_areas(const intrinsic::IntrinsicTriangulation& tri);
+
+/// CSC assembly helpers (for matrices written straight into Eigen's arrays, no triplets).
+/// Sorts one column's n entries (rows r, values x) by row, stably, and sums equal rows in the
+/// order they were given (parallel edges, repeated entries); returns the merged count (≤ n),
+/// the merged entries first in r, x.
+int sort_and_merge_column(int* r, double* x, int n);
+
+/// Moves each column v's first count[v] entries (starting at outer[v]) down so the columns are
+/// contiguous, and sets outer[v] (#nv + 1) to match; returns the final number of nonzeros.
+int squeeze_columns(Index nv, const std::vector<int>& count, int* outer, int* inner, double* value);
 
 }  // namespace ifem::fem

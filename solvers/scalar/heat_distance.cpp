@@ -173,29 +173,14 @@ fem::SparseMatrix lower_from_entries(const Eigen::VectorXd& d, Visit&& visit) {
     inner[k] = int(row);
     value[k] = w;
   });
-  // per column: a stable sort of the strict lower part by row, duplicates summed in order
-  std::vector<std::pair<int, double>> col;
-  int out = 0;
+  // per column: a stable sort by row, duplicates summed in order (the diagonal's row is the
+  // column's smallest, so it stays first), then the columns made contiguous
+  std::vector<int> count(static_cast<std::size_t>(n));
   for (Eigen::Index j = 0; j < n; ++j) {
-    const int b = outer[j], e = outer[j + 1];
-    col.clear();
-    for (int k = b + 1; k < e; ++k) col.emplace_back(inner[k], value[k]);
-    std::stable_sort(col.begin(), col.end(),
-                     [](const auto& x, const auto& y) { return x.first < y.first; });
-    outer[j] = out;
-    inner[out] = int(j);
-    value[out++] = value[b];
-    for (std::size_t k = 0; k < col.size(); ++k) {
-      if (k > 0 && col[k].first == col[k - 1].first) {
-        value[out - 1] += col[k].second;
-      } else {
-        inner[out] = col[k].first;
-        value[out++] = col[k].second;
-      }
-    }
+    count[std::size_t(j)] =
+        fem::sort_and_merge_column(inner + outer[j], value + outer[j], outer[j + 1] - outer[j]);
   }
-  outer[n] = out;
-  A.resizeNonZeros(out);
+  A.resizeNonZeros(fem::squeeze_columns(Index(n), count, outer, inner, value));
   A.data().squeeze();
   return A;
 }
@@ -257,16 +242,15 @@ struct HeatDistanceSolver::Impl {
   std::optional<PoissonSolver> heat_dirichlet;        // (M + tL), u = 0 on the boundary
   std::optional<PoissonSolver> poisson;               // L, pure Neumann per component
   std::optional<UnitGradientDivergence> unit_div;     // div(−∇u/|∇u|) with tri's face layouts
-  PathGraph paths;  // options.path_bounds: upper bounds (tri's unit: × scale for absolute)
-  // The multigrid path builds `paths` on first use (clamp()), after a query's stages have freed
-  // their bands: its arcs are not alive beside them at the query's peak.
+  // options.path_bounds: upper bounds (tri's unit: × scale for absolute). The multigrid path
+  // builds it on first use (clamp()), after a query's stages have freed their bands: its arcs
+  // are not alive beside them at the query's peak.
+  mutable PathGraph paths;
   bool paths_on_use = false;
   mutable std::once_flag paths_once;
-  mutable PathGraph paths_built;
   const PathGraph& path_graph() const {
-    if (!paths_on_use) return paths;
-    std::call_once(paths_once, [this] { paths_built = PathGraph(tri); });
-    return paths_built;
+    if (paths_on_use) std::call_once(paths_once, [this] { paths = PathGraph(tri); });
+    return paths;
   }
 
   // options.path_bounds: d (absolute) clamped into [chord to the nearest vertex source, shortest
