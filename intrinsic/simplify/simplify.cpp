@@ -213,7 +213,7 @@ class Simplifier {
  public:
   explicit Simplifier(const IntrinsicTriangulation& fine);
   void run(Index target, const ProgressCallback& on_progress);
-  void drain(Index target, ProgressMeter& meter);
+  void drain(ProgressMeter& meter);  // down to target_
   Simplification finish(const IntrinsicTriangulation& fine);
 
  private:
@@ -1005,13 +1005,13 @@ bool Simplifier::flip_outer(Index v, Index o) {
 bool Simplifier::plan_fans(Index v, Index n_fans, Index& home) {
   std::vector<std::vector<Index>>& fans = fans_;
   std::vector<char>&kind = kind_, &bnd = bnd_;
-  // first, before any fan is planned (plans read the outer sides' lengths): digons to zip
-  for (Index k = 0; k < n_fans; ++k) {
+  // first, before any fan is planned (plans read the outer sides' lengths): digons to zip (the
+  // tufted cover only: manifold inputs as before)
+  for (Index k = 0; multiplicity_ > 1 && k < n_fans; ++k) {
     bool b = false;
     if (!fan(rep_[rep_start_[v] + k], fans[k], b)) return false;
-    if (multiplicity_ > 1 && !b && fans[k].size() == 2 && !is_pillow(v, fans[k]) &&
-        !removable(v, fans[k], b)) {
-      equalize_digon(v, fans[k]);  // (the tufted cover only: manifold inputs as before)
+    if (!b && fans[k].size() == 2 && !is_pillow(v, fans[k]) && !removable(v, fans[k], b)) {
+      equalize_digon(v, fans[k]);
     }
   }
   for (Index k = 0; k < n_fans; ++k) {
@@ -1262,17 +1262,17 @@ bool Simplifier::try_remove(Index v) {
     move_point(v, T::face(h), e);
   }
   for (Index p : pillow_points) move_point(p, pt_face_[v], pt_bary_[v]);  // where v went
-  for (Index u : orphans_) {  // corners of v's pillows left without a face: gone with them
-    move_point(u, pt_face_[v], pt_bary_[v]);
+  auto retire = [&](Index u) {
     vertex_alive_[u] = 0;
     --comp_vertices_[comp_[u]];
     --alive_count_;
     ++report_.removals;
+  };
+  for (Index u : orphans_) {  // corners of v's pillows left without a face: gone with them
+    move_point(u, pt_face_[v], pt_bary_[v]);
+    retire(u);
   }
-  vertex_alive_[v] = 0;
-  --comp_vertices_[comp_[v]];
-  --alive_count_;
-  ++report_.removals;
+  retire(v);
   delaunay_repair(stack);
   return true;
 }
@@ -1376,7 +1376,7 @@ void Simplifier::run(Index target, const ProgressCallback& on_progress) {
   ProgressMeter meter(on_progress, "simplify", std::max<Index>(wanted, 1));
   for (int pass = 0; pass < 2 && alive_count_ > target; ++pass) {
     flatten_ = pass == 1;
-    drain(target, meter);
+    drain(meter);
   }
   report_.stuck = std::max<Index>(alive_count_ - target, 0);
   meter.finish();
@@ -1386,7 +1386,7 @@ void Simplifier::run(Index target, const ProgressCallback& on_progress) {
 // the vertex queued again) only when it comes out of the queue; a vertex not queued (failed, or
 // of infinite cost) is queued again when its star changes. The queue orders by cost bucket, then
 // by vertex id (queue_key()): within a bucket the removals sweep the vertices in memory order.
-void Simplifier::drain(Index target, ProgressMeter& meter) {
+void Simplifier::drain(ProgressMeter& meter) {
   touched_.clear();
   BucketQueue queue;
   std::vector<char> queued(nv_, 0), dirty(nv_, 0);
@@ -1395,7 +1395,7 @@ void Simplifier::drain(Index target, ProgressMeter& meter) {
     const double c = cost(v);
     if (c < HUGE_VAL) queue.push(queue_key(c, v)), queued[v] = 1;
   }
-  while (alive_count_ > target && !queue.empty()) {
+  while (alive_count_ > target_ && !queue.empty()) {
     const Index v = Index(queue.pop() & 0xffffffffu);
     queued[v] = 0;
     if (!vertex_alive_[v]) continue;
