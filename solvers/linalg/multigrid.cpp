@@ -53,29 +53,6 @@ struct Level {
   }
 };
 
-// The lower triangle of A (both triangles stored, sorted columns), compressed.
-SparseMatrix lower_of(const SparseMatrix& A) {
-  const int n = int(A.cols());
-  SparseMatrix out(A.rows(), A.cols());
-  int* outer = out.outerIndexPtr();
-  outer[0] = 0;
-  for (int j = 0; j < n; ++j) {
-    int count = 0;
-    for (SparseMatrix::InnerIterator it(A, j); it; ++it) count += it.row() >= j;
-    outer[j + 1] = outer[j] + count;
-  }
-  out.resizeNonZeros(outer[n]);
-  int k = 0;
-  for (int j = 0; j < n; ++j) {
-    for (SparseMatrix::InnerIterator it(A, j); it; ++it) {
-      if (it.row() < j) continue;
-      out.innerIndexPtr()[k] = int(it.row());
-      out.valuePtr()[k++] = it.value();
-    }
-  }
-  return out;
-}
-
 // y = A x for A symmetric, stored as its lower triangle (diagonal first).
 void symmetric_multiply(const LowerMap& A, const double* x, double* y) {
   const int n = int(A.cols());
@@ -515,7 +492,7 @@ MultigridSolver::MultigridSolver(SparseMatrix&& A,
   check_finite(A, "A");
   SparseMatrix current;
   if (stored == Stored::kBothTriangles) {
-    SparseMatrix lower = lower_of(A);
+    SparseMatrix lower = A.triangularView<Eigen::Lower>();
     A = SparseMatrix();
     take(current, lower);
   } else {
@@ -562,11 +539,7 @@ void MultigridSolver::build(Impl& im, SparseMatrix& current,
     if (l == 0 && values) {  // given on another solver's pattern
       lv.A = std::move(fine_pattern);
       lv.own_values = std::move(*values);
-      check_lower(lv.op(), l);
     } else {
-      check_lower(LowerMap(current.rows(), current.cols(), current.nonZeros(),
-                           current.outerIndexPtr(), current.innerIndexPtr(), current.valuePtr()),
-                  l);
       if (l == 0 && !prolongations.empty() && same_pattern(current, fine_pattern.get())) {
         // the values only; the index arrays are fine_pattern's (D-365)
         lv.own_values.assign(current.valuePtr(), current.valuePtr() + current.nonZeros());
@@ -578,6 +551,7 @@ void MultigridSolver::build(Impl& im, SparseMatrix& current,
         lv.A = std::move(mine);
       }
     }
+    check_lower(lv.op(), l);
     if (l == prolongations.size()) break;
     std::shared_ptr<const SparseMatrix> P = std::move(prolongations[l]);
     if (!P) throw InvalidInput("MultigridSolver: prolongation " + std::to_string(l) + " is null");
