@@ -25,6 +25,31 @@ void MultigridOptions::validate() const {
   coarsest.validate();
 }
 
+SparseMatrix renumber_rows(const SparseMatrix& P, const std::vector<int>& new_row,
+                           Eigen::Index rows) {
+  SparseMatrix out(rows, P.cols());
+  int* outer = out.outerIndexPtr();
+  outer[0] = 0;
+  for (int j = 0; j < int(P.cols()); ++j) {
+    int count = 0;
+    for (SparseMatrix::InnerIterator it(P, j); it; ++it) {
+      count += new_row[std::size_t(it.row())] >= 0;
+    }
+    outer[j + 1] = outer[j] + count;
+  }
+  out.resizeNonZeros(outer[P.cols()]);
+  int k = 0;
+  for (int j = 0; j < int(P.cols()); ++j) {
+    for (SparseMatrix::InnerIterator it(P, j); it; ++it) {
+      const int r = new_row[std::size_t(it.row())];
+      if (r < 0) continue;
+      out.innerIndexPtr()[k] = r;
+      out.valuePtr()[k++] = it.value();
+    }
+  }
+  return out;
+}
+
 namespace {
 
 // to = from's storage, from left empty (Eigen 3.4's SparseMatrix has no move operations: a
@@ -94,30 +119,11 @@ bool drop_empty_columns(const SparseMatrix& P, std::vector<int>& kept, SparseMat
   return true;
 }
 
-// The rows `rows` (increasing) of P, in that order; written column by column (rows stay sorted).
+// The rows `rows` (increasing) of P, in that order.
 SparseMatrix select_rows(const SparseMatrix& P, const std::vector<int>& rows) {
   std::vector<int> new_row(std::size_t(P.rows()), -1);
   for (std::size_t i = 0; i < rows.size(); ++i) new_row[std::size_t(rows[i])] = int(i);
-  SparseMatrix out(Eigen::Index(rows.size()), P.cols());
-  int* outer = out.outerIndexPtr();
-  outer[0] = 0;
-  for (int j = 0; j < int(P.cols()); ++j) {
-    int count = 0;
-    for (SparseMatrix::InnerIterator it(P, j); it; ++it)
-      count += new_row[std::size_t(it.row())] >= 0;
-    outer[j + 1] = outer[j] + count;
-  }
-  out.resizeNonZeros(outer[P.cols()]);
-  int k = 0;
-  for (int j = 0; j < int(P.cols()); ++j) {
-    for (SparseMatrix::InnerIterator it(P, j); it; ++it) {
-      const int r = new_row[std::size_t(it.row())];
-      if (r < 0) continue;
-      out.innerIndexPtr()[k] = r;
-      out.valuePtr()[k++] = it.value();
-    }
-  }
-  return out;
+  return renumber_rows(P, new_row, Eigen::Index(rows.size()));
 }
 
 // The Galerkin product's staging (galerkin_lower): per coarse column b, its slot

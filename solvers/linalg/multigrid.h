@@ -13,6 +13,12 @@
 
 namespace ifem::solvers {
 
+/// P (#n×m) with row i moved to row new_row[i] (#n entries; −1: row dropped) of a rows×m
+/// matrix, column by column (no triplets). new_row must increase over the rows it keeps (the
+/// rows then stay sorted in each column), and each kept target must be < rows.
+SparseMatrix renumber_rows(const SparseMatrix& P, const std::vector<int>& new_row,
+                           Eigen::Index rows);
+
 /// Options of MultigridSolver.
 struct MultigridOptions {
   /// The smoother of every level but the coarsest (pre- and post-smoothing, arranged so that a

@@ -551,29 +551,13 @@ void PoissonSolver::factor(fem::SparseMatrix&& A, const PoissonOptions& options,
     std::vector<char> fixed_row(im.unknown_vertex.size(), 0);
     for (const Index r : im.fixed_rows) fixed_row[std::size_t(r)] = 1;
     const SparseMatrix& P0 = given.front();
-    auto row_of = [&](Eigen::Index fine) {
+    std::vector<int> new_row(std::size_t(P0.rows()));
+    for (Eigen::Index fine = 0; fine < P0.rows(); ++fine) {
       const Index u = im.unknown[fine];
-      return u != kInvalidIndex && !fixed_row[std::size_t(u)] ? int(u) : -1;
-    };
-    auto R = std::make_shared<SparseMatrix>(Eigen::Index(im.unknown_vertex.size()), P0.cols());
-    int* outer = R->outerIndexPtr();
-    outer[0] = 0;
-    for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
-      int count = 0;
-      for (SparseMatrix::InnerIterator it(P0, j); it; ++it) count += row_of(it.row()) >= 0;
-      outer[j + 1] = outer[j] + count;
+      new_row[std::size_t(fine)] = u != kInvalidIndex && !fixed_row[std::size_t(u)] ? int(u) : -1;
     }
-    R->resizeNonZeros(outer[P0.cols()]);
-    int k = 0;
-    for (Eigen::Index j = 0; j < P0.outerSize(); ++j) {
-      for (SparseMatrix::InnerIterator it(P0, j); it; ++it) {
-        const int u = row_of(it.row());
-        if (u < 0) continue;
-        R->innerIndexPtr()[k] = u;
-        R->valuePtr()[k++] = it.value();
-      }
-    }
-    chain.front() = std::move(R);
+    chain.front() = std::make_shared<SparseMatrix>(
+        renumber_rows(P0, new_row, Eigen::Index(im.unknown_vertex.size())));
   }
   if (!im.pattern_values.empty()) {  // setup() wrote the values on the shared pattern
     im.mg.emplace(options.multigrid_pattern, std::move(im.pattern_values), std::move(chain),
