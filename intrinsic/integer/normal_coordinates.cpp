@@ -817,6 +817,18 @@ double angle_between(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
 }
 
+// The angle at the wedge's corner from its first side (the input halfedge w.ih) to `first`, an
+// intrinsic edge's first crossing, which lies on the wedge's side opposite the corner.
+double first_crossing_angle(const IntrinsicTriangulation& input, const WedgeLayout& w,
+                            const InputCrossing& first) {
+  const Index ob = T::next(w.ih);
+  if (input.edge(ob) != first.input_edge) inconsistent("a first crossing off its wedge");
+  const double s =
+      input.edge_halfedge(first.input_edge) == ob ? first.input_t : 1.0 - first.input_t;
+  const Eigen::Vector2d x = w.p[(w.j + 1) % 3], y = w.p[(w.j + 2) % 3];
+  return angle_between(x - w.p[w.j], x + s * (y - x) - w.p[w.j]);
+}
+
 }  // namespace
 
 // The outgoing input halfedge of spoke k of input vertex v (a spoke that starts a wedge).
@@ -858,13 +870,7 @@ double NormalCoordinateTriangulation::wedge_angle(Index h) const {
     if (ng < 0) return acc;
     if (ng > 0) {
       const WedgeLayout w = wedge_layout(input_, spoke_out(v, spoke_index(v, r_[g], -1)));
-      const InputCrossing first = trace_halfedge(g).front();
-      const Index ob = T::next(w.ih);  // the side opposite v, which g's first crossing is on
-      if (input_.edge(ob) != first.input_edge) inconsistent("a first crossing off its wedge");
-      const double s =
-          input_.edge_halfedge(first.input_edge) == ob ? first.input_t : 1.0 - first.input_t;
-      const Eigen::Vector2d x = w.p[(w.j + 1) % 3], y = w.p[(w.j + 2) % 3];
-      return acc + angle_between(x - w.p[w.j], x + s * (y - x) - w.p[w.j]);
+      return acc + first_crossing_angle(input_, w, trace_halfedge(g).front());
     }
     cur = g;
   }
@@ -938,13 +944,7 @@ double NormalCoordinateTriangulation::angle_from_input_halfedge(Index h, Index f
     if (n == 0) {
       alpha = wedge_angle(h);
     } else {  // the first crossing, on the wedge's side opposite v
-      const InputCrossing first = trace_halfedge(h).front();
-      const Index ob = T::next(w.ih);
-      if (input_.edge(ob) != first.input_edge) inconsistent("a first crossing off its wedge");
-      const double s =
-          input_.edge_halfedge(first.input_edge) == ob ? first.input_t : 1.0 - first.input_t;
-      const Eigen::Vector2d x = w.p[(w.j + 1) % 3], y = w.p[(w.j + 2) % 3];
-      alpha = angle_between(x - w.p[w.j], x + s * (y - x) - w.p[w.j]);
+      alpha = first_crossing_angle(input_, w, trace_halfedge(h).front());
     }
   }
   // from `from` to b over the input's corners: counter-clockwise, or clockwise when the fan
