@@ -51,10 +51,6 @@ std::vector<Index> given_face_map(const std::vector<Index>& input_face_origin,
   return map;
 }
 
-std::vector<Index> given_face_map(const SignpostTriangulation& st, std::size_t n_given_faces) {
-  return given_face_map(st.input_face_origin(), n_given_faces);
-}
-
 SurfacePoint given_face_point(const IntrinsicTriangulation& input,
                               const std::vector<Triangle>& given_faces,
                               const std::vector<Index>& face_map, Index face,
@@ -75,13 +71,6 @@ SurfacePoint given_face_point(const IntrinsicTriangulation& input,
   }
   sp.bary /= sp.bary.sum();
   return sp;
-}
-
-SurfacePoint given_face_point(const SignpostTriangulation& st,
-                              const std::vector<Triangle>& given_faces,
-                              const std::vector<Index>& face_map, Index face,
-                              const Eigen::Vector3d& w, const std::string& name) {
-  return given_face_point(st.input(), given_faces, face_map, face, w, name);
 }
 
 FlipOutReport shorten_through(SignpostTriangulation& st, const std::vector<CurveThrough>& curves,

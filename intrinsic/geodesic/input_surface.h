@@ -31,25 +31,20 @@ SignpostTriangulation flipout_surface(const io::SurfaceInput& in, double mollify
 /// the library's advice to use the tufted cover.
 NonManifoldInput manifold_only(const NonManifoldInput& e, const std::string& need);
 
-/// For each given face (row of `given_faces`), the face of st.input() it became, or
-/// kInvalidIndex where it was dropped (a face repeating a vertex).
-std::vector<Index> given_face_map(const SignpostTriangulation& st, std::size_t n_given_faces);
-/// The same from any input triangulation's face origins (input_face_origin(): per input face,
-/// the given face it came from; NormalCoordinateTriangulation's as well as the signposts').
+/// For each given face (row of `given_faces`), the face of the input triangulation it became,
+/// or kInvalidIndex where it was dropped (a face repeating a vertex).
+/// @param input_face_origin per input face, the given face it came from
+///        (SignpostTriangulation's or NormalCoordinateTriangulation's input_face_origin())
 std::vector<Index> given_face_map(const std::vector<Index>& input_face_origin,
                                   std::size_t n_given_faces);
 
 /// A point of given face `face` with barycentric weights `w` in that face's corner order, as a
-/// point of st.input() (faces may have been reoriented: weights are matched corner by corner).
-/// @param face_map given_face_map(st, given_faces.size())
+/// point of `input` (the input triangulation face_map points into, e.g. st.input() or
+/// NormalCoordinateTriangulation::input(); faces may have been reoriented: weights are matched
+/// corner by corner).
+/// @param face_map given_face_map(input_face_origin, given_faces.size())
 /// @param name how messages call the point (e.g. "points[2]" or "'face:12:0.3:0.3'")
 /// @throws InvalidInput if the face was dropped
-SurfacePoint given_face_point(const SignpostTriangulation& st,
-                              const std::vector<Triangle>& given_faces,
-                              const std::vector<Index>& face_map, Index face,
-                              const Eigen::Vector3d& w, const std::string& name);
-/// The same on any input triangulation (`input`: the faces face_map points into, e.g.
-/// NormalCoordinateTriangulation::input()).
 SurfacePoint given_face_point(const IntrinsicTriangulation& input,
                               const std::vector<Triangle>& given_faces,
                               const std::vector<Index>& face_map, Index face,

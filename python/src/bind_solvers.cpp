@@ -220,26 +220,23 @@ class DistanceSolver {
       const Stopwatch watch;
       std::vector<SurfacePoint> pts(f.size());
       auto name = [](std::size_t i) { return "points[" + std::to_string(i) + "]"; };
+      // the given faces' points on the input triangulation, then located on the intrinsic one:
+      // through the common subdivision with integer coordinates (PointLocator, built on the
+      // first points query), by tracing along the signposts otherwise
+      const SignpostTriangulation* st = s_.integer ? nullptr : &signposts();
+      const intrinsic::IntrinsicTriangulation& input =
+          s_.integer ? s_.integer->input() : st->input();
+      const std::vector<Index> face_map = intrinsic::given_face_map(
+          s_.integer ? s_.integer->input_face_origin() : st->input_face_origin(),
+          s_.input.triangles.size());
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        pts[i] = intrinsic::given_face_point(input, s_.input.triangles, face_map, f[i], b.row(i),
+                                             name(i));
+      }
       if (s_.integer) {
-        // integer coordinates: located through the common subdivision (PointLocator, built on
-        // the first points query)
-        const intrinsic::NormalCoordinateTriangulation& nc = *s_.integer;
-        const std::vector<Index> face_map =
-            intrinsic::given_face_map(nc.input_face_origin(), s_.input.triangles.size());
-        for (std::size_t i = 0; i < f.size(); ++i) {
-          pts[i] = intrinsic::given_face_point(nc.input(), s_.input.triangles, face_map, f[i],
-                                               b.row(i), name(i));
-        }
         pts = locator().input_to_intrinsic(pts);
       } else {
-        const SignpostTriangulation& st = signposts();
-        const std::vector<Index> face_map =
-            intrinsic::given_face_map(st, s_.input.triangles.size());
-        for (std::size_t i = 0; i < f.size(); ++i) {
-          const SurfacePoint p = intrinsic::given_face_point(st, s_.input.triangles, face_map, f[i],
-                                                             b.row(i), name(i));
-          pts[i] = intrinsic::locate_input_point(st, p.face, p.bary);
-        }
+        for (SurfacePoint& p : pts) p = intrinsic::locate_input_point(*st, p.face, p.bary);
       }
       d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points(pts));
       last_query_seconds_ = watch.seconds();

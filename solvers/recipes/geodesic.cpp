@@ -49,7 +49,8 @@ SignpostTriangulation signposts(const io::SurfaceInput& in, double mollify) {
 std::vector<std::vector<Index>> insert_points(SignpostTriangulation& st, const io::SurfaceInput& in,
                                               const std::vector<GivenCurve>& curves,
                                               GeodesicCurves& out) {
-  const std::vector<Index> input_face = intrinsic::given_face_map(st, in.triangles.size());
+  const std::vector<Index> input_face =
+      intrinsic::given_face_map(st.input_face_origin(), in.triangles.size());
   std::map<std::tuple<Index, double, double, double>, Index> inserted;
   std::vector<std::vector<Index>> ids(curves.size());
   out.curves.resize(curves.size());
@@ -62,7 +63,7 @@ std::vector<std::vector<Index>> insert_points(SignpostTriangulation& st, const i
         if (it == inserted.end()) {
           const Eigen::Vector3d w(p.bary[0], p.bary[1], p.bary[2]);
           const intrinsic::SurfacePoint sp =
-              intrinsic::given_face_point(st, in.triangles, input_face, p.face, w, p.token);
+              intrinsic::given_face_point(st.input(), in.triangles, input_face, p.face, w, p.token);
           const Index before = st.intrinsic().n_vertices();
           const Index added = intrinsic::insert_surface_point(st, sp);
           it = inserted.emplace(key, added).first;
