@@ -113,10 +113,11 @@ Eigen::VectorXd UnitGradientDivergence::apply(const Eigen::VectorXd& u,
   const bool two = nf >= kParallelFaces;
   if (nf >= kParallelFaces) half[1] = Eigen::VectorXd::Zero(n_vertices_);
   const int parts = nf >= kParallelFaces ? 2 : 1;
+  const Index mid = face_split();  // (add_faces()'s callers split at the same face)
 #pragma omp parallel for schedule(static, 1) num_threads(at_most_two_threads()) if (two)
   for (int part = 0; part < parts; ++part) {
     double* div = half[part].data();
-    const Index f1 = nf * part / parts, f2 = nf * (part + 1) / parts;
+    const Index f1 = part == 0 ? 0 : mid, f2 = part == 0 ? mid : nf;
     for (Index f = f1; f < f2; ++f) {
       if (use_face && !(*use_face)[std::size_t(f)]) continue;
       const Index* t = &tail_[3 * std::size_t(f)];
