@@ -436,6 +436,7 @@ struct HeatDistanceSolver::Impl {
   double band_resolved_heat = 0.0;  // the options' thresholds before build_multigrid raised them
   double band_trusted_heat = 0.0;
   std::vector<char> on_boundary;  // #V: the surface's boundary (zero-Dirichlet heat), or empty
+  std::vector<double> comp_area;  // per component, Σ mass (band_time(): the bands' step)
   std::vector<Index> vf_offset;   // vertex → incident faces (CSR, each face once per vertex)
   std::vector<Index> vf_face;
   struct Band {
@@ -582,6 +583,11 @@ void build_multigrid(HeatDistanceSolver::Impl& im, const HeatDistanceOptions& op
   // later stages on bands (D-285): the options' own thresholds, the boundary and the faces of
   // each vertex
   im.band_stages = true;
+  im.comp_area.assign(std::size_t(im.comps.count), 0.0);
+  for (Index v = 0; v < im.tri.n_vertices(); ++v) {
+    const Index c = im.comps.label[v];
+    if (c != kInvalidIndex) im.comp_area[std::size_t(c)] += im.mass[v];
+  }
   im.band_resolved_heat = options.resolved_heat;
   im.band_trusted_heat = options.trusted_heat;
   if (im.heat_dirichlet) {
@@ -1527,14 +1533,9 @@ Eigen::VectorXd HeatDistanceSolver::Impl::solve_region(const StageRegion& region
 
 HeatDistanceSolver::Impl::BandTime HeatDistanceSolver::Impl::band_time(
     const std::vector<char>& src_comp) const {
-  std::vector<double> area(comps.count, 0.0);
-  for (Index v = 0; v < tri.n_vertices(); ++v) {
-    const Index c = comps.label[v];
-    if (c != kInvalidIndex) area[c] += mass[v];
-  }
   double largest = 0.0;
   for (Index c = 0; c < comps.count; ++c) {
-    if (src_comp[c]) largest = std::max(largest, area[c]);
+    if (src_comp[c]) largest = std::max(largest, comp_area[std::size_t(c)]);
   }
   const double root = opt.band_span * std::sqrt(largest) / kBandWidth;
   if (!(root > std::sqrt(t))) return {t, std::sqrt(t)};  // the query's own step, bit for bit
