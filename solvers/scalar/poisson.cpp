@@ -584,7 +584,8 @@ void check_sizes(const fem::SparseMatrix& L, Eigen::Index mass_size, const Compo
 // Everything but the factorization: marks, numbering, the coupling; returns the matrix to factor.
 fem::SparseMatrix PoissonSolver::setup(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
                                        const Components& comps, std::vector<Index> dirichlet,
-                                       const PoissonOptions& options, bool keep_fixed) {
+                                       const PoissonOptions& options, bool keep_fixed,
+                                       bool on_shared_pattern) {
   options.validate();
   check_sizes(L, mass.size(), comps);
   Impl& im = *impl_;
@@ -601,9 +602,7 @@ fem::SparseMatrix PoissonSolver::setup(const fem::SparseMatrix& L, const Eigen::
   im.number_unknowns(is_dirichlet, pinned, keep_fixed);
   im.assemble_coupling(L);
   // multigrid on a shared pattern: the values only (factor() takes them from im)
-  if (keep_fixed && options.multigrid_pattern && im.dirichlet.empty() &&
-      multigrid_for(options, im.n) &&
-      im.values_on_pattern(L, options.screening, *options.multigrid_pattern)) {
+  if (on_shared_pattern && im.values_on_pattern(L, options.screening, *options.multigrid_pattern)) {
     return fem::SparseMatrix();
   }
   // Direct CSC assembly, no triplets (sorting triplets cost more than half a
@@ -618,14 +617,16 @@ PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& 
   // multigrid without Dirichlet vertices keeps the pinned vertices in the system as decoupled
   // rows: every vertex an unknown, so P₀ is used as given (factor())
   const bool keep_pins = dirichlet.empty() && multigrid_for(options, L.rows());
-  factor(setup(L, mass, comps, std::move(dirichlet), options, keep_pins), options, nullptr);
+  const bool on_shared_pattern = keep_pins && options.multigrid_pattern != nullptr;
+  factor(setup(L, mass, comps, std::move(dirichlet), options, keep_pins, on_shared_pattern),
+         options, nullptr);
 }
 
 PoissonSolver::PoissonSolver(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
                              const Components& comps, std::vector<Index> dirichlet,
                              const CholeskyAnalysis& analysis, const PoissonOptions& options)
     : impl_(std::make_unique<Impl>()) {
-  fem::SparseMatrix A = setup(L, mass, comps, std::move(dirichlet), options, true);
+  fem::SparseMatrix A = setup(L, mass, comps, std::move(dirichlet), options, true, false);
   if (A.rows() != analysis.size()) {
     throw InvalidInput("PoissonSolver: the analysis is of another Laplacian or components");
   }

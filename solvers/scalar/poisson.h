@@ -132,7 +132,7 @@ class PoissonSolver {
  private:
   fem::SparseMatrix setup(const fem::SparseMatrix& L, const Eigen::VectorXd& mass,
                           const Components& components, std::vector<Index> dirichlet_vertices,
-                          const PoissonOptions& options, bool keep_fixed);
+                          const PoissonOptions& options, bool keep_fixed, bool on_shared_pattern);
   // options with prolongations from the provider when multigrid is chosen for tri
   static PoissonOptions with_hierarchy(const intrinsic::IntrinsicTriangulation& tri,
                                        const PoissonOptions& options);
