@@ -11,7 +11,7 @@ import re
 import numpy as np
 import pytest
 
-from clitools import count_lines, face_components, grep, numbers
+from clitools import count_lines, face_components, grep, numbers, write_obj
 
 
 def range_scan(n, seed, jump=2.0, objects=30, rim_fraction=0.3, islands=6):
@@ -65,13 +65,6 @@ def range_scan(n, seed, jump=2.0, objects=30, rim_fraction=0.3, islands=6):
     return pos[used], remap[faces]
 
 
-def write_off(path, pos, faces):
-    with open(path, "w", encoding="ascii") as f:
-        f.write(f"OFF\n{len(pos)} {len(faces)} 0\n")
-        f.writelines(f"{p[0]:.17g} {p[1]:.17g} {p[2]:.17g}\n" for p in pos)
-        f.writelines(f"3 {t[0]} {t[1]} {t[2]}\n" for t in faces)
-
-
 def components(n_vertices, faces):
     return len(set(face_components(n_vertices, faces)))
 
@@ -87,8 +80,8 @@ def largest_component_vertices(pos, faces, targets):
 @pytest.fixture
 def scan(cli):
     pos, faces = range_scan(20, 6)
-    path = cli.out / "scan.off"
-    write_off(path, pos, faces)
+    path = cli.out / "scan.obj"
+    write_obj(path, pos, faces + 1)
     return path, pos, faces
 
 
