@@ -474,67 +474,12 @@ std::vector<std::shared_ptr<const SparseMatrix>> shared(std::vector<SparseMatrix
   return out;
 }
 
-}  // namespace
-
-MultigridSolver::MultigridSolver(const SparseMatrix& A, std::vector<SparseMatrix> prolongations,
-                                 const MultigridOptions& options, Stored stored)
-    : MultigridSolver(SparseMatrix(A), shared(prolongations), options, stored) {}
-
-MultigridSolver::MultigridSolver(SparseMatrix&& A, std::vector<SparseMatrix> prolongations,
-                                 const MultigridOptions& options, Stored stored)
-    : MultigridSolver(std::move(A), shared(prolongations), options, stored) {}
-
-// Eigen 3.4's SparseMatrix has no move constructor or move assignment: std::move() copies. The
-// levels are therefore handed on with swap() (take()), never with a move.
-MultigridSolver::MultigridSolver(SparseMatrix&& A,
-                                 std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
-                                 const MultigridOptions& options, Stored stored,
-                                 std::shared_ptr<const SparseMatrix> fine_pattern)
-    : impl_(std::make_unique<Impl>()) {
-  options.validate();
-  if (A.rows() != A.cols() || A.rows() == 0) {
-    throw InvalidInput("MultigridSolver: A must be square and not empty");
-  }
-  check_finite(A, "A");
-  SparseMatrix current;
-  if (stored == Stored::kBothTriangles) {
-    SparseMatrix lower = A.triangularView<Eigen::Lower>();
-    A = SparseMatrix();
-    take(current, lower);
-  } else {
-    take(current, A);
-    current.makeCompressed();
-  }
-  build(*impl_, current, std::move(fine_pattern), nullptr, std::move(prolongations), options);
-}
-
-MultigridSolver::MultigridSolver(std::shared_ptr<const SparseMatrix> fine_pattern,
-                                 std::vector<double>&& values,
-                                 std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
-                                 const MultigridOptions& options)
-    : impl_(std::make_unique<Impl>()) {
-  options.validate();
-  if (!fine_pattern || fine_pattern->rows() != fine_pattern->cols() || fine_pattern->rows() == 0 ||
-      !fine_pattern->isCompressed() || Eigen::Index(values.size()) != fine_pattern->nonZeros() ||
-      prolongations.empty()) {
-    throw InvalidInput(
-        "MultigridSolver: values on a pattern need a square, compressed, non-empty pattern, one "
-        "value per entry and at least one prolongation");
-  }
-  for (const double v : values) {
-    if (!std::isfinite(v)) throw InvalidInput("MultigridSolver: A has a non-finite entry");
-  }
-  SparseMatrix current;
-  build(*impl_, current, std::move(fine_pattern), &values, std::move(prolongations), options);
-}
-
 // The constructors' common part: the levels from the fine operator (`current`, or `values` on
 // `fine_pattern` when values is non-null) and the prolongations; the coarsest factor.
-void MultigridSolver::build(Impl& im, SparseMatrix& current,
-                            std::shared_ptr<const SparseMatrix> fine_pattern,
-                            std::vector<double>* values,
-                            std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
-                            const MultigridOptions& options) {
+void build_levels(MultigridSolver::Impl& im, SparseMatrix& current,
+                  std::shared_ptr<const SparseMatrix> fine_pattern, std::vector<double>* values,
+                  std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                  const MultigridOptions& options) {
   im.opt = options;
   const Eigen::Index n = values ? fine_pattern->rows() : current.rows();
   im.levels.reserve(prolongations.size() + 1);
@@ -597,6 +542,61 @@ void MultigridSolver::build(Impl& im, SparseMatrix& current,
     lv.P = std::move(P);
   }
   im.coarsest.emplace(*im.levels.back().A, options.coarsest);  // own values (not shared)
+}
+}  // namespace
+
+MultigridSolver::MultigridSolver(const SparseMatrix& A, std::vector<SparseMatrix> prolongations,
+                                 const MultigridOptions& options, Stored stored)
+    : MultigridSolver(SparseMatrix(A), shared(prolongations), options, stored) {}
+
+MultigridSolver::MultigridSolver(SparseMatrix&& A, std::vector<SparseMatrix> prolongations,
+                                 const MultigridOptions& options, Stored stored)
+    : MultigridSolver(std::move(A), shared(prolongations), options, stored) {}
+
+// Eigen 3.4's SparseMatrix has no move constructor or move assignment: std::move() copies. The
+// levels are therefore handed on with swap() (take()), never with a move.
+MultigridSolver::MultigridSolver(SparseMatrix&& A,
+                                 std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                                 const MultigridOptions& options, Stored stored,
+                                 std::shared_ptr<const SparseMatrix> fine_pattern)
+    : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  if (A.rows() != A.cols() || A.rows() == 0) {
+    throw InvalidInput("MultigridSolver: A must be square and not empty");
+  }
+  check_finite(A, "A");
+  SparseMatrix current;
+  if (stored == Stored::kBothTriangles) {
+    SparseMatrix lower = A.triangularView<Eigen::Lower>();
+    A = SparseMatrix();
+    take(current, lower);
+  } else {
+    take(current, A);
+    current.makeCompressed();
+  }
+  build_levels(*impl_, current, std::move(fine_pattern), nullptr, std::move(prolongations),
+               options);
+}
+
+MultigridSolver::MultigridSolver(std::shared_ptr<const SparseMatrix> fine_pattern,
+                                 std::vector<double>&& values,
+                                 std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
+                                 const MultigridOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  if (!fine_pattern || fine_pattern->rows() != fine_pattern->cols() || fine_pattern->rows() == 0 ||
+      !fine_pattern->isCompressed() || Eigen::Index(values.size()) != fine_pattern->nonZeros() ||
+      prolongations.empty()) {
+    throw InvalidInput(
+        "MultigridSolver: values on a pattern need a square, compressed, non-empty pattern, one "
+        "value per entry and at least one prolongation");
+  }
+  for (const double v : values) {
+    if (!std::isfinite(v)) throw InvalidInput("MultigridSolver: A has a non-finite entry");
+  }
+  SparseMatrix current;
+  build_levels(*impl_, current, std::move(fine_pattern), &values, std::move(prolongations),
+               options);
 }
 
 MultigridSolver::~MultigridSolver() = default;

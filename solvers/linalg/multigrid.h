@@ -153,10 +153,6 @@ class MultigridSolver {
   struct Impl;
 
  private:
-  static void build(Impl& im, SparseMatrix& current,
-                    std::shared_ptr<const SparseMatrix> fine_pattern, std::vector<double>* values,
-                    std::vector<std::shared_ptr<const SparseMatrix>> prolongations,
-                    const MultigridOptions& options);
   std::unique_ptr<Impl> impl_;
 };
 
