@@ -226,7 +226,8 @@ Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<In
 
 /// Geodesic distances from each of the given input vertices on its own (a distance matrix),
 /// #V_in×k: column j is geodesic_distance(s, {sources[j]}) up to rounding, computed in blocks
-/// of sources (HeatDistanceSolver::compute_distances); stray hubs cut loose as there.
+/// of sources (HeatDistanceSolver::compute_distances); stray hubs cut loose as there (a column
+/// whose source lost its faces is computed on s.tri uncut, the others on the cut surface).
 /// @param[out] reports optional: one per source
 /// @throws InvalidInput on an empty list or an id out of [0, #V_in) (naming its position)
 /// @throws SolverError if a factorization fails
