@@ -8,6 +8,7 @@
 #include <mutex>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <utility>
 
 #include "intrinsic/core/errors.h"
@@ -778,7 +779,8 @@ Eigen::MatrixXd GeodesicDistanceSolver::compute_distances(const std::vector<Inde
   }
   if (on_star.empty()) return m.filled(m.solver->compute_distances(sources, reports, on_progress));
   if (on_cut.empty()) return m.uncut().compute_distances(sources, reports, on_progress);
-  // both kinds: each solver its own columns, put back in the given order
+  // both kinds: each solver its own columns, put back in the given order; progress as the
+  // fraction of all sources done (the cut surface's first)
   Eigen::MatrixXd d;
   if (reports) reports->assign(sources.size(), HeatDistanceReport{});
   for (const bool star : {false, true}) {
@@ -786,9 +788,17 @@ Eigen::MatrixXd GeodesicDistanceSolver::compute_distances(const std::vector<Inde
     std::vector<Index> ids;
     for (const Index j : cols) ids.push_back(sources[j]);
     std::vector<HeatDistanceReport> reps;
+    const double before = star ? double(on_cut.size()) / double(sources.size()) : 0.0;
+    const double share = double(cols.size()) / double(sources.size());
+    ProgressCallback part_progress;
+    if (on_progress) {
+      part_progress = [&](double fraction, std::string_view stage) {
+        on_progress(star && fraction >= 1.0 ? 1.0 : before + share * fraction, stage);
+      };
+    }
     const Eigen::MatrixXd part =
-        star ? m.uncut().compute_distances(ids, reports ? &reps : nullptr, on_progress)
-             : m.filled(m.solver->compute_distances(ids, reports ? &reps : nullptr, on_progress));
+        star ? m.uncut().compute_distances(ids, reports ? &reps : nullptr, part_progress)
+             : m.filled(m.solver->compute_distances(ids, reports ? &reps : nullptr, part_progress));
     if (d.size() == 0) d.resize(part.rows(), Eigen::Index(sources.size()));
     for (std::size_t i = 0; i < cols.size(); ++i) {
       d.col(cols[i]) = part.col(Eigen::Index(i));

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -515,6 +516,12 @@ TEST(Pipeline, GeodesicDistanceSolverCutsAsTheRecipe) {
   EXPECT_EQ(D.col(1), D.col(3));
   EXPECT_EQ(solver.compute_distance({hub, 0}), uncut.compute_distance({hub, 0}));
   EXPECT_EQ(D(hub, 1), 0.0);
+  std::vector<double> seen;  // progress over both solvers: 0 first, non-decreasing, 1 last
+  solver.compute_distances(batch, nullptr, [&](double f, std::string_view) { seen.push_back(f); });
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.front(), 0.0);
+  EXPECT_EQ(seen.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
 
   // points: a point at a vertex is that vertex, on surface().tri and, uncut, on s.tri
   auto at_vertex = [](const intrinsic::IntrinsicTriangulation& tri, Index v) {
