@@ -214,10 +214,9 @@ class DistanceSolver {
     // with stray hubs cut loose (D-360, D-380) the points are located on the solver's surface
     // (the input without the hubs' faces), unless one lies on a cut face: then on s_ uncut
     const std::vector<Index>& kept = solver_.surface_face();
-    const bool on_cut_surface =
-        solver_.cut() && std::all_of(f.begin(), f.end(), [&](Index g) {
-          return kept[std::size_t(g)] != kInvalidIndex;
-        });
+    const bool on_cut_surface = solver_.cut() && std::all_of(f.begin(), f.end(), [&](Index g) {
+                                  return kept[std::size_t(g)] != kInvalidIndex;
+                                });
     Eigen::VectorXd d;
     {
       const py::gil_scoped_release release;
@@ -246,8 +245,8 @@ class DistanceSolver {
             s_.integer ? s_.integer->input_face_origin() : st->input_face_origin(),
             s_.input.triangles.size());
         for (std::size_t i = 0; i < f.size(); ++i) {
-          pts[i] = intrinsic::given_face_point(input, s_.input.triangles, face_map, f[i],
-                                               b.row(i), name(i));
+          pts[i] = intrinsic::given_face_point(input, s_.input.triangles, face_map, f[i], b.row(i),
+                                               name(i));
         }
         if (s_.integer) {
           pts = locator().input_to_intrinsic(pts);

@@ -769,9 +769,9 @@ Eigen::VectorXd GeodesicDistanceSolver::compute_distance(const std::vector<Index
   return m.filled(m.solver->compute_distance(sources, report));
 }
 
-Eigen::MatrixXd GeodesicDistanceSolver::compute_distances(const std::vector<Index>& sources,
-                                                          std::vector<HeatDistanceReport>* reports,
-                                                          const ProgressCallback& on_progress) const {
+Eigen::MatrixXd GeodesicDistanceSolver::compute_distances(
+    const std::vector<Index>& sources, std::vector<HeatDistanceReport>* reports,
+    const ProgressCallback& on_progress) const {
   const Impl& m = *impl_;
   std::vector<Index> on_cut, on_star;  // column numbers of the sources of each solver
   for (std::size_t j = 0; j < sources.size(); ++j) {
