@@ -32,8 +32,12 @@ Items (the issue's numbering; each a table on stdout, raw results in --json):
      file beside it, the ratio. Stray vertex: the vertex with the smallest star (face area around
      it: its own geometry negligible) or the largest (a hub) pulled 1e4 bounding-box diagonals
      away, or a lone small triangle added 1e4 diagonals away (its own component); the median
-     relative change of the other vertices' default distances (goal ≤ 1 %; judged on the
-     smallest star and the lone triangle, the hub is listed: its star is surface).
+     relative change of the other vertices' default distances on the vertices whose exact
+     distance it did not change (`ifem distance PULLED --exact`, relative 1e-9; goal ≤ 1 %),
+     and the pulled run's mean relative error against the pulled input's own exact distances
+     (goal: at most 0.01 above the unpulled error). A pulled hub really changes the exact
+     distances where geodesics crossed its star (D-360), so the change there is not an error;
+     every case is judged (D-380).
   4  items 4-7 on generated inputs: a triangle soup (tests/data/soup_icosphere.obj) with curves
      at default settings; a 16-round cubic Bézier on an 800-vertex torus-knot tube (the issue's
      case) and on spot: refused up front (time) or completes; the maximum principle is item 1's
@@ -506,6 +510,20 @@ def render_item2(records):
 
 # ---------------------------------------------------------------- item 3
 
+# Item 3's stray-vertex goal (D-380): on the vertices whose exact distance the stray vertex did
+# not change (relative UNCHANGED_EXACT), the default distances move by at most CHANGE_GOAL
+# median, and against the pulled mesh's own exact distances the default distance's mean relative
+# error is at most ERROR_SLACK (absolute) above the unpulled run's error against the reference.
+# The change is judged only where the pulled star is less than PIECE of the surface's area: a
+# vertex carrying more (conrod's hub: 41 %, 5 fan faces) takes a piece of the model with it, and
+# the heat method on the smaller surface is another smoothing even where geodesics do not move.
+UNCHANGED_EXACT = 1e-9
+CHANGE_GOAL = 0.01
+ERROR_SLACK = 0.01
+PIECE = 0.05
+STRAY_CASES = ("smallest_star", "hub", "lone_triangle")
+
+
 def item3(cli, data, tmp, max_v, results):
     for stem, src, mesh, exact_path, cgal_path in references(data):
         exact = values(exact_path)
@@ -522,45 +540,88 @@ def item3(cli, data, tmp, max_v, results):
         rec["mean"], rec["max"] = relative_error(d, exact)
         rec["cgal_mean"], rec["cgal_max"] = relative_error(values(cgal_path), exact)
         rec["ratio"] = rec["mean"] / rec["cgal_mean"]
-        changes = stray_changes(cli, tmp, mesh, src, exact, d)
-        rec.update(smallest_star_pulled=changes[0], largest_star_pulled=changes[1],
-                   lone_triangle=changes[2])
-        print(f"[item 3] {stem} {src}: ratio {rec['ratio']:.3f}, stray {changes}",
+        stray = stray_changes(cli, tmp, mesh, src, exact, d)
+        rec["stray"] = dict(zip(STRAY_CASES, stray))
+        # the older records' fields (--from-json of saved runs reads either)
+        rec.update(smallest_star_pulled=stray[0]["change"], largest_star_pulled=stray[1]["change"],
+                   lone_triangle=stray[2]["change"])
+        print(f"[item 3] {stem} {src}: ratio {rec['ratio']:.3f}, stray "
+              f"{[{k: round(v, 6) for k, v in c.items()} for c in stray]}",
               file=sys.stderr, flush=True)
     return render_item3(results.get("item3", []))
 
 
+def stray_met(rec, case):
+    """True when the stray case meets the goal (see CHANGE_GOAL); None for older records."""
+    c = rec.get("stray", {}).get(case)
+    if c is None:
+        return None
+    still = c["change_kept"] <= CHANGE_GOAL or c["star_fraction"] >= PIECE
+    return bool(still and c["error"] <= rec["mean"] + ERROR_SLACK)
+
+
 def render_item3(records):
-    rows, fails = [], 0
+    rows, hub_rows, fails = [], [], 0
     for rec in records:
         if "failed" in rec:
             rows.append([rec["mesh"], rec["src"], rec["V"], "FAIL " + rec["failed"], "", "", "",
                          "", ""])
             fails += 1
             continue
-        changes = [rec["smallest_star_pulled"], rec["largest_star_pulled"], rec["lone_triangle"]]
         fails += rec["ratio"] > 1.0
-        # the goal is judged on the smallest star and the lone triangle: a hub's star is a piece
-        # of the surface (pulling it away changes what the heat diffuses over); listed, not judged
-        fails += not (changes[0] <= 0.01 and changes[2] <= 0.01)
-        rows.append([rec["mesh"], rec["src"], rec.get("V", ""), f"{rec['mean']:.4f}",
-                     f"{rec['cgal_mean']:.4f}", f"**{rec['ratio']:.3f}**",
-                     *(f"{c:.1e}" + (" ⚠" if c > 0.01 else "") for c in changes)])
+        head = [rec["mesh"], rec["src"], rec.get("V", ""), f"{rec['mean']:.4f}",
+                f"{rec['cgal_mean']:.4f}", f"**{rec['ratio']:.3f}**"]
+        if "stray" not in rec:  # a record of the older audit: the change over all vertices
+            changes = [rec["smallest_star_pulled"], rec["largest_star_pulled"],
+                       rec["lone_triangle"]]
+            fails += not (changes[0] <= 0.01 and changes[2] <= 0.01)
+            rows.append(head + [f"{c:.1e}" + (" ⚠" if c > 0.01 else "") for c in changes])
+            continue
+        cells = []
+        for case in STRAY_CASES:
+            c, met = rec["stray"][case], stray_met(rec, case)
+            fails += not met
+            cells.append(f"{c['change_kept']:.1e}" + ("" if met else " ⚠") +
+                         (" †" if c["star_fraction"] >= PIECE else ""))
+        rows.append(head + cells)
+        h = rec["stray"]["hub"]
+        hub_rows.append([rec["mesh"], rec["src"], f"{100 * h['star_fraction']:.2f} %",
+                         f"{100 * h['exact_changed']:.1f} %",
+                         f"{h['change']:.1e}", f"{h['change_kept']:.1e}",
+                         f"{h['error']:.4f}", f"{rec['mean']:.4f}",
+                         f"{h['error'] - rec['mean']:+.4f}" + ("" if stray_met(rec, "hub")
+                                                              else " ⚠")])
     table = md_table(["mesh", "src", "V", "ifem mean rel. error", "CGAL heat", "ratio",
-                      "median change: smallest star pulled", "largest star pulled",
+                      "median change: smallest star pulled", "largest star (hub) pulled",
                       "lone far triangle"], rows)
     ratios = [r["ratio"] for r in records if "ratio" in r]
     if ratios:
         table += (f"\n\nRatio ≤ 1 on {sum(x <= 1 for x in ratios)} of {len(ratios)} references "
                   f"(range {min(ratios):.3f}–{max(ratios):.3f}).")
+    if hub_rows:
+        table += (f"\n\nThe change columns: median relative change of the other vertices' "
+                  f"default distances, on the vertices whose exact distance the stray vertex "
+                  f"did not change (relative {UNCHANGED_EXACT:g}); ⚠: above {CHANGE_GOAL:g}, or "
+                  f"the pulled run's mean relative error against the pulled mesh's own exact "
+                  f"distances more than {ERROR_SLACK:g} above the unpulled error; †: the "
+                  f"pulled star is {100 * PIECE:g} % of the surface's area or more (a piece of "
+                  f"the model), its change is listed, not judged. The hub (largest star) in "
+                  f"detail:\n\n")
+        table += md_table(["mesh", "src", "star / surface area", "exact distance changed on",
+                           "median change (all)",
+                           "median change (exact unchanged)", "error vs own exact (pulled)",
+                           "unpulled error", "difference"], hub_rows)
     return table, fails
 
 
 def stray_changes(cli, tmp, mesh, src, exact, d):
-    """Median relative change of the default distances d elsewhere when (1) the vertex with the
-    smallest star (face area around it: its own geometry negligible) and (2) the one with the
-    largest star are pulled 1e4 bounding-box diagonals away, and (3) when a lone small triangle
-    is added 1e4 diagonals away (its own component)."""
+    """For (1) the vertex with the smallest star (face area around it: its own geometry
+    negligible) and (2) the one with the largest star (a hub) pulled 1e4 bounding-box diagonals
+    away, and (3) a lone small triangle added 1e4 diagonals away (its own component): a dict of
+    the median relative change of the other vertices' default distances from d ("change"), the
+    same on the vertices whose exact distance did not change ("change_kept"), the fraction
+    whose exact distance changed ("exact_changed") and the default distance's mean relative
+    error against the pulled input's own exact distances ("error"; `ifem distance --exact`)."""
     V, F = read_mesh(mesh)
     diag = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0)))
     away = 1e4 * diag * np.array([0.6, 0.64, 0.48])
@@ -576,24 +637,33 @@ def stray_changes(cli, tmp, mesh, src, exact, d):
     for v in (int(cand[np.argmin(star[cand])]), int(cand[np.argmax(star[cand])])):
         W = V.copy()
         W[v] += away
-        inputs.append((W, F, v))
+        inputs.append((W, F, v, star[v] / area.sum()))
     c = V.mean(axis=0) + away
     small = 1e-3 * diag
     inputs.append((np.vstack([V, c, c + [small, 0, 0], c + [0, small, 0]]),
-                   np.vstack([F, [[len(V), len(V) + 1, len(V) + 2]]]), None))
-    changes = []
-    for W, G, pulled in inputs:
+                   np.vstack([F, [[len(V), len(V) + 1, len(V) + 2]]]), None,
+                   0.5 * small ** 2 / area.sum()))
+    cases = []
+    for W, G, pulled, fraction in inputs:
         write_off(tmp / "stray.off", W, G)
         r = cli("distance", tmp / "stray.off", "--source", src, "-o", tmp / "d2.txt", "--quiet")
-        if r.rc != 0:
-            changes.append(math.nan)
+        e = cli("distance", tmp / "stray.off", "--source", src, "--exact", "-o",
+                tmp / "e2.txt", "--quiet")
+        if r.rc != 0 or e.rc != 0:
+            cases.append({"change": math.nan, "change_kept": math.nan, "exact_changed": math.nan,
+                          "error": math.nan, "star_fraction": fraction})
             continue
-        d2 = values(tmp / "d2.txt")[:len(V)]
+        d2, e2 = values(tmp / "d2.txt")[:len(V)], values(tmp / "e2.txt")[:len(V)]
         ok = np.isfinite(d) & (d > 0) & np.isfinite(d2)
         if pulled is not None:
             ok[pulled] = False
-        changes.append(float(np.median(np.abs(d2[ok] - d[ok]) / d[ok])))
-    return changes
+        rel = np.abs(d2[ok] - d[ok]) / d[ok]
+        moved = ~(np.abs(e2[ok] - exact[ok]) <= UNCHANGED_EXACT * exact[ok])
+        cases.append({"change": float(np.median(rel)),
+                      "change_kept": float(np.median(rel[~moved])) if (~moved).any() else 0.0,
+                      "exact_changed": float(moved.mean()),
+                      "error": relative_error(d2, e2)[0], "star_fraction": float(fraction)})
+    return cases
 
 
 # ---------------------------------------------------------------- items 4-7

@@ -142,7 +142,10 @@ class HeatDistanceSolver:
     ``X = −∇u/|∇u|``, then ``L φ = div X``, shifted so that the sources are at distance 0.
     Meshes with boundary use the mean of the Neumann and Dirichlet heat solutions. Far from the
     sources, where the heat underflows, the solver continues in stages from the frontier of
-    the resolved region.
+    the resolved region. A stray hub (a vertex far beyond the model whose every side is an
+    outlier, e.g. one pulled away by a bad scan) is cut loose as ``ifem distance`` and
+    :func:`geodesic_distance` do, so it moves nothing else; a query from a vertex or point on
+    its star runs on the uncut surface (docs/decisions.md D-360, D-380).
 
     Args:
         V: #V×3 vertex positions (any real dtype), or a mesh / point-cloud file's path (read
@@ -291,8 +294,10 @@ class HeatDistanceSolver:
         ``correspondence`` (``'integer'``, ``'signposts'`` or None), ``mean_edge_length``
         (h of the input), ``target_edge_length`` (ℓ with a refinement size bound, else 0),
         ``time_factor``, ``correction_steps``, ``step_length`` (the h in t = m·h²; 0 when
-        computed from the triangulation, e.g. point clouds) and ``time_step`` (t, in the solver's
-        length unit, a power of two near h)."""
+        computed from the triangulation, e.g. point clouds), ``time_step`` (t, in the solver's
+        length unit, a power of two near h) and ``stray_hubs_cut`` (True when vertices far
+        beyond the model, all of whose sides are outliers, were cut loose as
+        :func:`geodesic_distance` does: docs/decisions.md D-360, D-380)."""
         return self._solver.info
 
     def __repr__(self):

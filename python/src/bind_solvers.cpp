@@ -193,10 +193,7 @@ class DistanceSolver {
   // mollify: the relative margin s was prepared with (the signposts are built with it too)
   DistanceSolver(solvers::PreparedSurface s, const solvers::DistanceOptions& settings,
                  double mollify)
-      : s_(std::move(s)),
-        options_(solvers::distance_options(s_, settings)),
-        solver_(s_.tri, options_),
-        mollify_(mollify) {}
+      : s_(std::move(s)), solver_(s_, settings), mollify_(mollify) {}
 
   py::array distance(const py::handle& sources) const {
     return timed_query(
@@ -214,31 +211,50 @@ class DistanceSolver {
     const std::string refusal = points_refusal();
     if (!refusal.empty()) throw InvalidInput(refusal);
     auto [f, b] = checked_points(faces, bary, static_cast<Index>(s_.input.triangles.size()));
+    // with stray hubs cut loose (D-360, D-380) the points are located on the solver's surface
+    // (the input without the hubs' faces), unless one lies on a cut face: then on s_ uncut
+    const std::vector<Index>& kept = solver_.surface_face();
+    const bool on_cut_surface = solver_.cut() && std::all_of(f.begin(), f.end(), [&](Index g) {
+                                  return kept[std::size_t(g)] != kInvalidIndex;
+                                });
     Eigen::VectorXd d;
     {
       const py::gil_scoped_release release;
       const Stopwatch watch;
       std::vector<SurfacePoint> pts(f.size());
       auto name = [](std::size_t i) { return "points[" + std::to_string(i) + "]"; };
-      // the given faces' points on the input triangulation, then located on the intrinsic one:
-      // through the common subdivision with integer coordinates (PointLocator, built on the
-      // first points query), by tracing along the signposts otherwise
-      const SignpostTriangulation* st = s_.integer ? nullptr : &signposts();
-      const intrinsic::IntrinsicTriangulation& input =
-          s_.integer ? s_.integer->input() : st->input();
-      const std::vector<Index> face_map = intrinsic::given_face_map(
-          s_.integer ? s_.integer->input_face_origin() : st->input_face_origin(),
-          s_.input.triangles.size());
-      for (std::size_t i = 0; i < f.size(); ++i) {
-        pts[i] = intrinsic::given_face_point(input, s_.input.triangles, face_map, f[i], b.row(i),
-                                             name(i));
-      }
-      if (s_.integer) {
-        pts = locator().input_to_intrinsic(pts);
+      if (on_cut_surface) {
+        const SignpostTriangulation& st = cut_signposts();
+        const solvers::PreparedSurface& c = solver_.surface();
+        const std::vector<Index> face_map =
+            intrinsic::given_face_map(st.input_face_origin(), c.input.triangles.size());
+        for (std::size_t i = 0; i < f.size(); ++i) {
+          const SurfacePoint p = intrinsic::given_face_point(
+              st.input(), c.input.triangles, face_map, kept[std::size_t(f[i])], b.row(i), name(i));
+          pts[i] = intrinsic::locate_input_point(st, p.face, p.bary);
+        }
+        d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points(pts));
       } else {
-        for (SurfacePoint& p : pts) p = intrinsic::locate_input_point(*st, p.face, p.bary);
+        // the given faces' points on the input triangulation, then located on the intrinsic
+        // one: through the common subdivision with integer coordinates (PointLocator, built on
+        // the first points query), by tracing along the signposts otherwise
+        const SignpostTriangulation* st = s_.integer ? nullptr : &signposts();
+        const intrinsic::IntrinsicTriangulation& input =
+            s_.integer ? s_.integer->input() : st->input();
+        const std::vector<Index> face_map = intrinsic::given_face_map(
+            s_.integer ? s_.integer->input_face_origin() : st->input_face_origin(),
+            s_.input.triangles.size());
+        for (std::size_t i = 0; i < f.size(); ++i) {
+          pts[i] = intrinsic::given_face_point(input, s_.input.triangles, face_map, f[i], b.row(i),
+                                               name(i));
+        }
+        if (s_.integer) {
+          pts = locator().input_to_intrinsic(pts);
+        } else {
+          for (SurfacePoint& p : pts) p = intrinsic::locate_input_point(*st, p.face, p.bary);
+        }
+        d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points_uncut(pts));
       }
-      d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points(pts));
       last_query_seconds_ = watch.seconds();
     }
     require_no_nan(d, "heat distance");
@@ -246,14 +262,16 @@ class DistanceSolver {
   }
 
   py::dict info() const {
+    const solvers::HeatDistanceOptions& o = solver_.options();
     py::dict d = surface_info(s_);
-    d["time_factor"] = options_.time_factor;
-    d["correction_steps"] = options_.correction_steps;
+    d["time_factor"] = o.time_factor;
+    d["correction_steps"] = o.correction_steps;
     d["precision"] =
-        options_.precision == solvers::HeatDistanceOptions::Precision::kDouble ? "double" : "mixed";
-    d["path_bounds"] = options_.path_bounds;
+        o.precision == solvers::HeatDistanceOptions::Precision::kDouble ? "double" : "mixed";
+    d["path_bounds"] = o.path_bounds;
     d["time_step"] = solver_.time_step();
-    d["step_length"] = options_.mean_edge_length;
+    d["step_length"] = o.mean_edge_length;
+    d["stray_hubs_cut"] = solver_.cut();
     return d;
   }
 
@@ -282,9 +300,16 @@ class DistanceSolver {
   // Call after points_refusal() came back empty.
   const SignpostTriangulation& signposts() {
     if (s_.signposts) return *s_.signposts;
-    std::call_once(once_, [this] { own_ = build_signposts(); });
+    std::call_once(once_, [this] { own_ = build_signposts(s_); });
     if (!own_) throw InvalidInput(mismatch_);
     return *own_;
+  }
+
+  // The signposts that locate points on the solver's surface when stray hubs were cut loose.
+  const SignpostTriangulation& cut_signposts() {
+    std::call_once(cut_once_, [this] { cut_own_ = build_signposts(solver_.surface()); });
+    if (!cut_own_) throw InvalidInput(mismatch_);
+    return *cut_own_;
   }
 
   // The point locator of an integer-refined surface (built once, on the first points query).
@@ -305,11 +330,12 @@ class DistanceSolver {
            "): give vertex ids as sources instead";
   }
 
-  std::optional<SignpostTriangulation> build_signposts() {
-    SignpostTriangulation st(s_.input.triangles, s_.input.positions, mollify_);
+  // Signposts of p's input flipped as p.tri was, checked to be p.tri edge for edge.
+  std::optional<SignpostTriangulation> build_signposts(const solvers::PreparedSurface& p) {
+    SignpostTriangulation st(p.input.triangles, p.input.positions, mollify_);
     st.flip_to_delaunay();
     const T& a = st.intrinsic();
-    const T& b = s_.tri;
+    const T& b = p.tri;
     if (a.tails() != b.tails() || a.twins() != b.twins() || a.edges() != b.edges() ||
         a.lengths() != b.lengths()) {
       mismatch_ =
@@ -322,12 +348,13 @@ class DistanceSolver {
   }
 
   solvers::PreparedSurface s_;
-  solvers::HeatDistanceOptions options_;
-  solvers::HeatDistanceSolver solver_;
+  solvers::GeodesicDistanceSolver solver_;
   double mollify_;
   std::once_flag once_;
   std::optional<SignpostTriangulation> own_;
-  std::string mismatch_;  // why own_ could not be built
+  std::once_flag cut_once_;
+  std::optional<SignpostTriangulation> cut_own_;
+  std::string mismatch_;  // why own_ or cut_own_ could not be built
   std::once_flag locator_once_;
   std::optional<intrinsic::PointLocator> locator_;
   mutable std::atomic<double> last_query_seconds_{0.0};

@@ -290,6 +290,42 @@ def test_solver_reuse_equals_one_offs():
     assert 0 < solver.last_query_seconds < 1
 
 
+def test_solver_cuts_a_stray_hub_as_the_one_off(tmp_path):
+    # spot's hub (largest star) pulled 1e4 diagonals away: the solver leaves its needle faces
+    # out as heat_distance / `ifem distance` do (D-360, D-380), so the other distances barely
+    # move (median 1.9e-2 uncut); vertex, batch and point queries agree with the one-off
+    V, F = ifem.read_mesh(spot())
+    area = 0.5 * np.linalg.norm(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1)
+    star = np.bincount(F.ravel(), np.repeat(area, 3), len(V))
+    star[0] = 0
+    hub = int(np.argmax(star))
+    W = V.copy()
+    W[hub] += 1e4 * np.linalg.norm(V.max(0) - V.min(0)) * np.array([0.6, 0.64, 0.48])
+    clean, solver = ifem.HeatDistanceSolver(V, F), ifem.HeatDistanceSolver(W, F)
+    assert not clean.info["stray_hubs_cut"] and solver.info["stray_hubs_cut"]
+    d0, d = clean.compute_distance(0), solver.compute_distance(0)
+    assert (d == ifem.heat_distance(W, F, 0)).all()
+    off = np.arange(len(V)) != hub
+    assert np.median(np.abs(d - d0)[off][1:] / d0[off][1:]) < 5e-3
+    pulled = tmp_path / "pulled.obj"
+    with open(pulled, "w") as out:
+        out.writelines("v %.17g %.17g %.17g\n" % tuple(p) for p in W)
+        out.writelines("f %d %d %d\n" % tuple(f + 1) for f in F)
+    run_cli("distance", pulled, "--source", 0, "-o", tmp_path / "d.txt", "--quiet")
+    assert_close(read_txt(tmp_path / "d.txt"), d, rtol=1e-12)
+    D = solver.compute_distances([0, hub, 77])
+    for j, s in enumerate([0, hub, 77]):
+        assert_close(D[:, j], solver.compute_distance(s), rtol=1e-12)
+    assert (np.abs(D[:, 1] - d)[off] > 0).any() and D[hub, 1] == 0  # from the hub: uncut
+    # points: at vertex 0 on a kept face (located on the cut surface), at the hub on its star
+    f0 = int(np.flatnonzero((F == 0).any(axis=1) & ~(F == hub).any(axis=1))[0])
+    fh = int(np.flatnonzero((F == hub).any(axis=1))[0])
+    for f, v in ((f0, 0), (fh, hub)):
+        bary = (F[f] == v).astype(float)
+        assert_close(solver.compute_distance(points=[(f, *bary)]), solver.compute_distance(v),
+                     rtol=1e-10)
+
+
 @pytest.mark.parametrize("kind", ["manifold", "nonmanifold", "cloud"])
 def test_batched_sources_equal_single_queries_and_the_cli(tmp_path, kind):
     path = {"manifold": spot, "nonmanifold": lambda: nonmanifold(tmp_path),

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <utility>
 
 #include "intrinsic/core/errors.h"
@@ -549,6 +551,8 @@ namespace {
 struct OutlierCut {
   std::optional<PreparedSurface> surface;  // none: nothing cut, use s
   std::vector<Index> loose;                // vertices with faces on s.tri and none on surface->tri
+  std::vector<char> kept;                  // #V_in: the vertex has a face on surface->tri
+  std::vector<Index> face;                 // s.input's face → surface->input's, or kInvalidIndex
   std::vector<char> boundary;  // #V of surface->tri: the input's boundary (the hole's rim is not)
 };
 
@@ -607,9 +611,9 @@ std::vector<char> outlier_vertices(const io::SurfaceInput& in) {
 // and than the bounding-box diagonal of the vertices with a short side are cut loose: the input's
 // faces at them are left out and the rest is prepared as s was (mollified, intrinsic Delaunay, the
 // same path). Nothing is cut when no vertex qualifies (the usual case: s is used as it is, bit for
-// bit), on refined surfaces and point clouds, when a source would lose its faces, or when the rest
-// cannot be prepared.
-OutlierCut cut_outlier_stars(const PreparedSurface& s, const std::vector<Index>& sources) {
+// bit), on refined surfaces and point clouds, or when the rest cannot be prepared. (A query
+// whose source lost its faces runs on s.tri: GeodesicDistanceSolver.)
+OutlierCut cut_outlier_stars(const PreparedSurface& s) {
   OutlierCut cut;
   const io::SurfaceInput& in = s.input;
   if (s.refined || s.path == SurfacePath::kPointCloud || in.triangles.size() < 34) return cut;
@@ -621,16 +625,16 @@ OutlierCut cut_outlier_stars(const PreparedSurface& s, const std::vector<Index>&
   io::SurfaceInput rest;
   rest.positions = in.positions;
   rest.format = in.format;
-  std::vector<char> kept_face(nv, 0);
-  for (const Triangle& t : in.triangles) {
+  cut.kept.assign(nv, 0);
+  cut.face.assign(in.triangles.size(), kInvalidIndex);
+  for (std::size_t f = 0; f < in.triangles.size(); ++f) {
+    const Triangle& t = in.triangles[f];
     if (cut_vertex[t[0]] || cut_vertex[t[1]] || cut_vertex[t[2]]) continue;
+    cut.face[f] = static_cast<Index>(rest.triangles.size());
     rest.triangles.push_back(t);
-    kept_face[t[0]] = kept_face[t[1]] = kept_face[t[2]] = 1;
+    cut.kept[t[0]] = cut.kept[t[1]] = cut.kept[t[2]] = 1;
   }
   rest.n_polygons = static_cast<Index>(rest.triangles.size());
-  for (const Index v : sources) {
-    if (!kept_face[v]) return cut;  // a source on a cut star: keep everything
-  }
   PrepareOptions again;
   again.mollify_relative_epsilon = s.mollify_relative_epsilon;
   again.force_tufted = s.path == SurfacePath::kTufted;
@@ -640,7 +644,7 @@ OutlierCut cut_outlier_stars(const PreparedSurface& s, const std::vector<Index>&
     return OutlierCut{};  // e.g. nothing left: keep everything
   }
   for (Index v = 0; v < nv; ++v) {
-    if (has_face[v] && !kept_face[v]) cut.loose.push_back(v);
+    if (has_face[v] && !cut.kept[v]) cut.loose.push_back(v);
   }
   cut.boundary = s.boundary_vertex;
   if (cut.boundary.empty()) {
@@ -691,8 +695,8 @@ void fill_cut_loose(const intrinsic::IntrinsicTriangulation& tri, const std::vec
   }
 }
 
-// A heat-distance recipe on s from input vertices: checks the ids, builds the solver with
-// distance_options() (on s.tri without the stars of cut-loose vertices: D-360), runs
+// A heat-distance recipe on s from input vertices: checks the ids, builds the solver
+// (GeodesicDistanceSolver: s.tri without the stars of cut-loose vertices, D-360), runs
 // query(solver) and restricts its #V or #V×k values to the input.
 template <class Query>
 auto distance_recipe(const PreparedSurface& s, const std::vector<Index>& sources,
@@ -700,13 +704,8 @@ auto distance_recipe(const PreparedSurface& s, const std::vector<Index>& sources
   require(!sources.empty(), what + ": no source vertex given");
   check_input_vertex_ids(s, sources, (what + ": source").c_str());
   return with_hint(s, [&] {
-    const OutlierCut cut = cut_outlier_stars(s, sources);
-    HeatDistanceOptions options = distance_options(s, settings);
-    if (cut.surface) options.boundary_vertices = cut.boundary;  // h and positions stay s's
-    const HeatDistanceSolver solver(cut.surface ? cut.surface->tri : s.tri, options);
-    auto all = query(solver);
-    if (cut.surface) fill_cut_loose(s.tri, cut.loose, all);
-    auto d = on_input_vertices(s, all);
+    const GeodesicDistanceSolver solver(s, settings);
+    auto d = on_input_vertices(s, query(solver));
     require_finite(d, what.c_str(), true);  // +inf: unreachable, by convention
     return d;
   });
@@ -714,18 +713,135 @@ auto distance_recipe(const PreparedSurface& s, const std::vector<Index>& sources
 
 }  // namespace
 
+struct GeodesicDistanceSolver::Impl {
+  explicit Impl(const PreparedSurface& surface) : s(surface) {}
+
+  // The solver on s.tri itself: the main one when nothing is cut, else built on first use.
+  const HeatDistanceSolver& uncut() const {
+    if (!cut.surface) return *solver;
+    std::call_once(uncut_once, [this] { uncut_solver.emplace(s.tri, options); });
+    return *uncut_solver;
+  }
+  // True when v (an id in range) lost its faces to the cut: its queries run on s.tri.
+  bool on_cut_star(Index v) const {
+    return cut.surface && v >= 0 && v < static_cast<Index>(cut.kept.size()) && !cut.kept[v];
+  }
+  template <class Matrix>
+  Matrix filled(Matrix d) const {
+    if (cut.surface) fill_cut_loose(s.tri, cut.loose, d);
+    return d;
+  }
+
+  const PreparedSurface& s;
+  HeatDistanceOptions options;  // on s
+  OutlierCut cut;
+  std::optional<HeatDistanceSolver> solver;  // on surface()
+  mutable std::once_flag uncut_once;
+  mutable std::optional<HeatDistanceSolver> uncut_solver;
+};
+
+GeodesicDistanceSolver::GeodesicDistanceSolver(const PreparedSurface& s,
+                                               const DistanceOptions& settings)
+    : impl_(std::make_unique<Impl>(s)) {
+  Impl& m = *impl_;
+  m.options = distance_options(s, settings);
+  m.cut = cut_outlier_stars(s);
+  if (m.cut.surface) {
+    HeatDistanceOptions o = m.options;
+    o.boundary_vertices = m.cut.boundary;  // h and positions stay s's
+    m.solver.emplace(m.cut.surface->tri, o);
+  } else {
+    m.solver.emplace(s.tri, m.options);
+  }
+}
+
+GeodesicDistanceSolver::~GeodesicDistanceSolver() = default;
+GeodesicDistanceSolver::GeodesicDistanceSolver(GeodesicDistanceSolver&&) noexcept = default;
+GeodesicDistanceSolver& GeodesicDistanceSolver::operator=(GeodesicDistanceSolver&&) noexcept =
+    default;
+
+Eigen::VectorXd GeodesicDistanceSolver::compute_distance(const std::vector<Index>& sources,
+                                                         HeatDistanceReport* report) const {
+  const Impl& m = *impl_;
+  for (const Index v : sources) {
+    if (m.on_cut_star(v)) return m.uncut().compute_distance(sources, report);
+  }
+  return m.filled(m.solver->compute_distance(sources, report));
+}
+
+Eigen::MatrixXd GeodesicDistanceSolver::compute_distances(
+    const std::vector<Index>& sources, std::vector<HeatDistanceReport>* reports,
+    const ProgressCallback& on_progress) const {
+  const Impl& m = *impl_;
+  std::vector<Index> on_cut, on_star;  // column numbers of the sources of each solver
+  for (std::size_t j = 0; j < sources.size(); ++j) {
+    (m.on_cut_star(sources[j]) ? on_star : on_cut).push_back(static_cast<Index>(j));
+  }
+  if (on_star.empty()) return m.filled(m.solver->compute_distances(sources, reports, on_progress));
+  if (on_cut.empty()) return m.uncut().compute_distances(sources, reports, on_progress);
+  // both kinds: each solver its own columns, put back in the given order; progress as the
+  // fraction of all sources done (the cut surface's first)
+  Eigen::MatrixXd d;
+  if (reports) reports->assign(sources.size(), HeatDistanceReport{});
+  for (const bool star : {false, true}) {
+    const std::vector<Index>& cols = star ? on_star : on_cut;
+    std::vector<Index> ids;
+    for (const Index j : cols) ids.push_back(sources[j]);
+    std::vector<HeatDistanceReport> reps;
+    const double before = star ? double(on_cut.size()) / double(sources.size()) : 0.0;
+    const double share = double(cols.size()) / double(sources.size());
+    ProgressCallback part_progress;
+    if (on_progress) {
+      part_progress = [&](double fraction, std::string_view stage) {
+        on_progress(star && fraction >= 1.0 ? 1.0 : before + share * fraction, stage);
+      };
+    }
+    const Eigen::MatrixXd part =
+        star ? m.uncut().compute_distances(ids, reports ? &reps : nullptr, part_progress)
+             : m.filled(m.solver->compute_distances(ids, reports ? &reps : nullptr, part_progress));
+    if (d.size() == 0) d.resize(part.rows(), Eigen::Index(sources.size()));
+    for (std::size_t i = 0; i < cols.size(); ++i) {
+      d.col(cols[i]) = part.col(Eigen::Index(i));
+      if (reports) (*reports)[cols[i]] = reps[i];
+    }
+  }
+  return d;
+}
+
+Eigen::VectorXd GeodesicDistanceSolver::compute_distance_from_points(
+    const std::vector<SurfacePoint>& points, HeatDistanceReport* report) const {
+  return impl_->filled(impl_->solver->compute_distance_from_points(points, report));
+}
+
+Eigen::VectorXd GeodesicDistanceSolver::compute_distance_from_points_uncut(
+    const std::vector<SurfacePoint>& points, HeatDistanceReport* report) const {
+  return impl_->uncut().compute_distance_from_points(points, report);
+}
+
+const PreparedSurface& GeodesicDistanceSolver::surface() const {
+  return impl_->cut.surface ? *impl_->cut.surface : impl_->s;
+}
+
+bool GeodesicDistanceSolver::cut() const { return impl_->cut.surface.has_value(); }
+
+const std::vector<Index>& GeodesicDistanceSolver::surface_face() const { return impl_->cut.face; }
+
+const HeatDistanceOptions& GeodesicDistanceSolver::options() const { return impl_->options; }
+
+double GeodesicDistanceSolver::time_step() const { return impl_->solver->time_step(); }
+
 Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<Index>& sources,
                                   const DistanceOptions& settings, HeatDistanceReport* report) {
   return distance_recipe(
       s, sources, settings, "geodesic_distance",
-      [&](const HeatDistanceSolver& h) { return h.compute_distance(sources, report); });
+      [&](const GeodesicDistanceSolver& h) { return h.compute_distance(sources, report); });
 }
 
 Eigen::MatrixXd geodesic_distances(const PreparedSurface& s, const std::vector<Index>& sources,
                                    const DistanceOptions& settings,
                                    std::vector<HeatDistanceReport>* reports) {
   return distance_recipe(s, sources, settings, "geodesic_distances",
-                         [&](const HeatDistanceSolver& h) {
+                         [&](const GeodesicDistanceSolver& h) {
                            return h.compute_distances(sources, reports, settings.on_progress);
                          });
 }

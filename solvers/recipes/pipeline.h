@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -193,7 +194,8 @@ struct DistanceOptions {
 /// The heat-method options geodesic_distance() uses on s: h from the input's faces (or ℓ when
 /// refined with a size bound), the input's boundary and vertex positions (path bounds' straight-
 /// line lower bound, HeatDistanceOptions::path_bounds), no further flips (s is already intrinsic
-/// Delaunay). Build a HeatDistanceSolver(s.tri, distance_options(s)) for many queries.
+/// Delaunay). For many queries: GeodesicDistanceSolver(s) (geodesic_distance()'s stray-hub cut
+/// too; HeatDistanceSolver(s.tri, distance_options(s)) has the same values where nothing is cut).
 HeatDistanceOptions distance_options(const PreparedSurface& s,
                                      const DistanceOptions& settings = {});
 
@@ -213,8 +215,9 @@ HeatDistanceOptions distance_options(const PreparedSurface& s,
 /// A cut-loose vertex (and any vertex left without faces) gets the shortest way to it along
 /// s.tri's edges from the others. Nothing is cut (s.tri as it is, bit for bit) when no vertex
 /// qualifies — every reference mesh — or when a source would lose its faces. Cost where nothing
-/// is cut: one pass over the input's sides (a copy and a partial sort). Solvers built directly
-/// with HeatDistanceSolver(s.tri, distance_options(s)) do not cut.
+/// is cut: one pass over the input's sides (a copy and a partial sort). For many queries:
+/// GeodesicDistanceSolver (the same cut); solvers built directly with
+/// HeatDistanceSolver(s.tri, distance_options(s)) do not cut.
 /// @throws InvalidInput on an empty source list or an id out of [0, #V_in)
 /// @throws SolverError if a factorization fails
 Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<Index>& sources,
@@ -223,13 +226,73 @@ Eigen::VectorXd geodesic_distance(const PreparedSurface& s, const std::vector<In
 
 /// Geodesic distances from each of the given input vertices on its own (a distance matrix),
 /// #V_in×k: column j is geodesic_distance(s, {sources[j]}) up to rounding, computed in blocks
-/// of sources (HeatDistanceSolver::compute_distances); stray hubs cut loose as there.
+/// of sources (HeatDistanceSolver::compute_distances); stray hubs cut loose as there (a column
+/// whose source lost its faces is computed on s.tri uncut, the others on the cut surface).
 /// @param[out] reports optional: one per source
 /// @throws InvalidInput on an empty list or an id out of [0, #V_in) (naming its position)
 /// @throws SolverError if a factorization fails
 Eigen::MatrixXd geodesic_distances(const PreparedSurface& s, const std::vector<Index>& sources,
                                    const DistanceOptions& settings = {},
                                    std::vector<HeatDistanceReport>* reports = nullptr);
+
+/// The stateful form of geodesic_distance(): the default heat distance on a prepared surface,
+/// factored once, queried many times (Python's HeatDistanceSolver). Stray hubs are cut loose
+/// as geodesic_distance() does (docs/decisions.md D-360, D-380): when s has one, the solver
+/// runs on surface() — s prepared again without the hubs' input faces, the hole's rim with
+/// natural conditions — and a query whose source lies on a cut star (a vertex or a point that
+/// lost its faces) goes to a second solver on s.tri, built on the first such query. Without
+/// stray hubs (every reference mesh), refined surfaces and point clouds, surface() is s and the
+/// results are HeatDistanceSolver(s.tri, distance_options(s, settings))'s, bit for bit.
+/// Results are on s.tri's vertices (#V; the input's are the first #V_in: on_input_vertices());
+/// a cut-loose vertex gets the shortest way to it along s.tri's edges. The queries are const
+/// and may run from several threads. s must outlive the solver.
+class GeodesicDistanceSolver {
+ public:
+  /// @throws InvalidInput on bad settings or a surface without faces
+  /// @throws SolverError if a factorization fails
+  explicit GeodesicDistanceSolver(const PreparedSurface& s, const DistanceOptions& settings = {});
+  ~GeodesicDistanceSolver();
+  GeodesicDistanceSolver(GeodesicDistanceSolver&&) noexcept;
+  GeodesicDistanceSolver& operator=(GeodesicDistanceSolver&&) noexcept;
+
+  /// Distance to the nearest of the given vertices (ids of s.tri), #V.
+  /// @throws InvalidInput as HeatDistanceSolver::compute_distance()
+  Eigen::VectorXd compute_distance(const std::vector<Index>& sources,
+                                   HeatDistanceReport* report = nullptr) const;
+  /// One column per source, each on its own, #V×k (HeatDistanceSolver::compute_distances());
+  /// column j equals compute_distance({sources[j]}) up to rounding.
+  /// @throws InvalidInput as HeatDistanceSolver::compute_distances()
+  Eigen::MatrixXd compute_distances(const std::vector<Index>& sources,
+                                    std::vector<HeatDistanceReport>* reports = nullptr,
+                                    const ProgressCallback& on_progress = {}) const;
+  /// Distance to the nearest of the given points on surface().tri (faces of surface().tri), #V.
+  /// Points on a cut star have no face there: compute_distance_from_points_uncut() takes them.
+  /// @throws InvalidInput as HeatDistanceSolver::compute_distance_from_points()
+  Eigen::VectorXd compute_distance_from_points(const std::vector<SurfacePoint>& points,
+                                               HeatDistanceReport* report = nullptr) const;
+  /// The same from points on s.tri (faces of s.tri), on s.tri itself without any cut: for a
+  /// query with a point on a cut star (surface_face()). Equal to the above when nothing is cut.
+  /// @throws InvalidInput as HeatDistanceSolver::compute_distance_from_points()
+  Eigen::VectorXd compute_distance_from_points_uncut(const std::vector<SurfacePoint>& points,
+                                                     HeatDistanceReport* report = nullptr) const;
+
+  /// The surface the solver runs on: s, or s prepared again without the stray hubs' faces.
+  const PreparedSurface& surface() const;
+  /// True when stray hubs were cut loose (surface() is not s).
+  bool cut() const;
+  /// For each face of s.input.triangles, its index in surface().input.triangles, or
+  /// kInvalidIndex where it was cut (a face at a cut-loose vertex); empty when nothing is cut.
+  const std::vector<Index>& surface_face() const;
+  /// The heat-method options on s (distance_options(s, settings)).
+  const HeatDistanceOptions& options() const;
+  /// The heat time step t (squared length units).
+  double time_step() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
 
 /// The k smallest eigenpairs of L φ = λ M φ on s.tri, eigenvectors restricted to the input's
 /// vertices (#V_in×k; M-orthonormal on s.tri, the input's rows of them).

@@ -1,10 +1,12 @@
 """`ifem distance`: .ply, .txt and .npy outputs, several sources (each exactly 0), batches of
-sources, --refine (also on the tufted cover of a nonmanifold mesh), and its refusals."""
+sources (also with a stray hub among them), --refine (also on the tufted cover of a nonmanifold
+mesh), and its refusals."""
 
 import math
 import re
 
-from clitools import SPOT_VERTICES, count_lines, head_bytes, grep, lines, numbers
+from clitools import (SPOT_VERTICES, count_lines, head_bytes, grep, lines, numbers, obj_faces,
+                      obj_vertices, write_obj)
 
 
 def test_distance_ply(cli):
@@ -129,3 +131,40 @@ def test_distance_refine_tufted(cli):
     exact = [0, 6.1511, 4.7255, 6.1511, 4.7255]
     e = max(abs((a - b) / b) for a, b in zip(d[1:], exact[1:]))
     assert e < 0.04, f"max relative error {e}"
+
+
+# spot's hub (the vertex with the largest star, 0 aside) pulled 1e4 diagonals away: the default
+# distance cuts it loose (D-360); in a batch a column from the hub itself runs on the uncut mesh
+# and the others on the cut one, each equal to its own --source run (D-380)
+def test_distance_batch_with_a_pulled_hub(cli):
+    V = obj_vertices(cli.spot)
+    F = obj_faces(cli.spot)
+    star = [0.0] * len(V)
+    for f in F:
+        a, b, c = (V[i - 1] for i in f)
+        u = [b[k] - a[k] for k in range(3)]
+        w = [c[k] - a[k] for k in range(3)]
+        n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
+        for i in f:
+            star[i - 1] += 0.5 * math.sqrt(sum(x * x for x in n))
+    hub = max(range(1, len(V)), key=lambda v: star[v])
+    diag = math.dist([min(p[k] for p in V) for k in range(3)],
+                     [max(p[k] for p in V) for k in range(3)])
+    W = list(V)
+    W[hub] = tuple(W[hub][k] + 1e4 * diag * d for k, d in enumerate((0.6, 0.64, 0.48)))
+    pulled = cli.out / "spot_hub.obj"
+    write_obj(pulled, W, F)
+    sources = [0, hub, 657]
+    listed = cli.out / "hub_batch.txt"
+    listed.write_text("".join(f"{s}\n" for s in sources))
+    cli.ok("distance", pulled, "--sources-batch", listed, "-o", cli.out / "D.txt", "--quiet")
+    for j, s in enumerate(sources):
+        cli.ok("distance", pulled, "--source", s, "-o", cli.out / f"d{s}.txt", "--quiet")
+        col, single = numbers(cli.out / "D.txt", j), numbers(cli.out / f"d{s}.txt")
+        assert col[s] == 0 and all(math.isfinite(x) for x in col)
+        assert max(abs(x - y) for x, y in zip(col, single)) <= 1e-12 * max(single), s
+    cli.ok("distance", cli.spot, "--source", 0, "-o", cli.out / "clean.txt", "--quiet")
+    clean, d0 = numbers(cli.out / "clean.txt"), numbers(cli.out / "D.txt", 0)
+    change = sorted(abs(x - y) / y for v, (x, y) in enumerate(zip(d0, clean)) if v not in (0, hub))
+    assert change[len(change) // 2] < 5e-3, change[len(change) // 2]
+    assert d0[hub] > 0.99e4 * diag

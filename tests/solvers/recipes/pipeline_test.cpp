@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -417,8 +418,18 @@ TEST(Pipeline, StrayVertexDoesNotMoveTheKnotsDistances) {
 // (exact distances change on 19% of the vertices: geodesics no longer cross the star). A mesh
 // without such outliers gets the solver's values bit for bit, and a source on the pulled
 // vertex keeps the star (nothing to cut).
-TEST(Pipeline, PulledHubDoesNotMoveSpotsDistances) {
-  const io::SurfaceInput in = io::read_mesh((test::test_data() / "spot.obj").string());
+// spot (tests/data/spot.obj) and spot with its hub (the vertex with the largest star by area,
+// vertex 0 aside) pulled 1e4 bounding-box diagonals away.
+struct PulledSpot {
+  io::SurfaceInput in, pulled;
+  Index hub = 0;
+  double diag = 0.0;
+};
+
+PulledSpot pulled_spot() {
+  PulledSpot p;
+  p.in = io::read_mesh((test::test_data() / "spot.obj").string());
+  const io::SurfaceInput& in = p.in;
   const Index nv = Index(in.positions.rows());
   std::vector<double> star(nv, 0.0);
   for (const Triangle& t : in.triangles) {
@@ -427,11 +438,18 @@ TEST(Pipeline, PulledHubDoesNotMoveSpotsDistances) {
     const double area = 0.5 * (b - a).cross(c - a).norm();
     for (const Index v : t) star[v] += area;
   }
-  const Index hub = Index(std::max_element(star.begin() + 1, star.end()) - star.begin());
-  const double diag =
-      (in.positions.colwise().maxCoeff() - in.positions.colwise().minCoeff()).norm();
-  io::SurfaceInput pulled = in;
-  pulled.positions.row(hub) += 1e4 * diag * Eigen::RowVector3d(0.6, 0.64, 0.48);
+  p.hub = Index(std::max_element(star.begin() + 1, star.end()) - star.begin());
+  p.diag = (in.positions.colwise().maxCoeff() - in.positions.colwise().minCoeff()).norm();
+  p.pulled = in;
+  p.pulled.positions.row(p.hub) += 1e4 * p.diag * Eigen::RowVector3d(0.6, 0.64, 0.48);
+  return p;
+}
+
+TEST(Pipeline, PulledHubDoesNotMoveSpotsDistances) {
+  const PulledSpot p = pulled_spot();
+  const io::SurfaceInput &in = p.in, &pulled = p.pulled;
+  const Index nv = Index(in.positions.rows()), hub = p.hub;
+  const double diag = p.diag;
 
   const PreparedSurface clean = prepare_surface(in), s = prepare_surface(pulled);
   const Eigen::VectorXd d0 = geodesic_distance(clean, {0});
@@ -447,6 +465,74 @@ TEST(Pipeline, PulledHubDoesNotMoveSpotsDistances) {
   const Eigen::VectorXd from_hub = geodesic_distance(s, {hub});
   EXPECT_TRUE(from_hub.allFinite());
   EXPECT_EQ(from_hub[hub], 0.0);
+}
+
+// GeodesicDistanceSolver, the stateful form (Python's HeatDistanceSolver), cuts as
+// geodesic_distance() does (D-380): on pulled spot its vertex queries are the recipe's bit for
+// bit, its batch columns equal single queries, a source on the cut star runs on s.tri uncut
+// (HeatDistanceSolver(s.tri, distance_options(s))'s values), and so do points given on s.tri;
+// without an outlier it is HeatDistanceSolver on s.tri, bit for bit.
+TEST(Pipeline, GeodesicDistanceSolverCutsAsTheRecipe) {
+  const PulledSpot p = pulled_spot();
+  const PreparedSurface clean = prepare_surface(p.in), s = prepare_surface(p.pulled);
+  const Index nv = s.n_input_vertices(), hub = p.hub;
+
+  const GeodesicDistanceSolver plain(clean);
+  EXPECT_FALSE(plain.cut());
+  EXPECT_TRUE(plain.surface_face().empty());
+  EXPECT_EQ(&plain.surface(), &clean);
+  const HeatDistanceSolver reference(clean.tri, distance_options(clean));
+  EXPECT_EQ(plain.compute_distance({0, 300}), reference.compute_distance({0, 300}));
+  EXPECT_EQ(plain.compute_distances({0, hub, 9}), reference.compute_distances({0, hub, 9}));
+  EXPECT_EQ(plain.time_step(), reference.time_step());
+
+  const GeodesicDistanceSolver solver(s);
+  ASSERT_TRUE(solver.cut());
+  ASSERT_EQ(solver.surface_face().size(), s.input.triangles.size());
+  Index cut_faces = 0;
+  for (std::size_t f = 0; f < s.input.triangles.size(); ++f) {
+    const Triangle& t = s.input.triangles[f];
+    const bool at_hub = t[0] == hub || t[1] == hub || t[2] == hub;
+    EXPECT_EQ(solver.surface_face()[f] == kInvalidIndex, at_hub) << "face " << f;
+    cut_faces += at_hub;
+  }
+  EXPECT_EQ(Index(solver.surface().input.triangles.size()),
+            Index(s.input.triangles.size()) - cut_faces);
+  const Eigen::VectorXd d = on_input_vertices(s, solver.compute_distance({0}));
+  EXPECT_EQ(d, geodesic_distance(s, {0})) << "the recipe's values, bit for bit";
+  std::vector<char> masked(nv, 0);
+  masked[hub] = 1;
+  EXPECT_LT(relative_change(geodesic_distance(clean, {0}), d, masked).first, 5e-3);
+
+  const HeatDistanceSolver uncut(s.tri, distance_options(s));
+  const std::vector<Index> batch = {0, hub, 500, hub};
+  std::vector<HeatDistanceReport> reps;
+  const Eigen::MatrixXd D = solver.compute_distances(batch, &reps);
+  ASSERT_EQ(D.cols(), Index(batch.size()));
+  ASSERT_EQ(reps.size(), batch.size());
+  EXPECT_TRUE(D.col(0).isApprox(solver.compute_distance({0}), 1e-12));
+  EXPECT_TRUE(D.col(2).isApprox(solver.compute_distance({500}), 1e-12));
+  EXPECT_TRUE(D.col(1).isApprox(uncut.compute_distance({hub}), 1e-12)) << "on the star: uncut";
+  EXPECT_EQ(D.col(1), D.col(3));
+  EXPECT_EQ(solver.compute_distance({hub, 0}), uncut.compute_distance({hub, 0}));
+  EXPECT_EQ(D(hub, 1), 0.0);
+  std::vector<double> seen;  // progress over both solvers: 0 first, non-decreasing, 1 last
+  solver.compute_distances(batch, nullptr, [&](double f, std::string_view) { seen.push_back(f); });
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.front(), 0.0);
+  EXPECT_EQ(seen.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+
+  // points: a point at a vertex is that vertex, on surface().tri and, uncut, on s.tri
+  auto at_vertex = [](const intrinsic::IntrinsicTriangulation& tri, Index v) {
+    SurfacePoint q{intrinsic::IntrinsicTriangulation::face(tri.vertex_halfedge(v)), {0, 0, 0}};
+    for (int k = 0; k < 3; ++k) q.bary[k] = tri.tail(3 * q.face + k) == v ? 1.0 : 0.0;
+    return q;
+  };
+  EXPECT_TRUE(solver.compute_distance_from_points({at_vertex(solver.surface().tri, 0)})
+                  .isApprox(solver.compute_distance({0}), 1e-10));
+  EXPECT_TRUE(solver.compute_distance_from_points_uncut({at_vertex(s.tri, hub)})
+                  .isApprox(uncut.compute_distance({hub}), 1e-10));
 }
 
 // A cylinder whose side is fine (64 around, 100 rings 0.005 apart) and whose caps are fans:
