@@ -141,6 +141,12 @@ void print_curves(const recipes::GeodesicCurves& run, const std::vector<GivenCur
                     ? "; collapsed: a contractible loop shrank to a point or around one vertex"
                     : "");
   }
+  if (run.tufted_cover) {
+    std::printf("exact distance on the tufted cover (nonmanifold mesh, no FlipOut): %zu windows, "
+                "%.3g s\n",
+                run.windows, run.seconds_flipout);
+    return;
+  }
   const intrinsic::FlipOutReport& rep = run.report;
   std::printf("FlipOut: %d flips, %d iterations, stopped: %s", rep.flips, rep.iterations,
               intrinsic::to_string(rep.stopped_by));
@@ -211,8 +217,9 @@ int run_all_from(const Args& args, const io::SurfaceInput& in, const ResultOutpu
     }
   }
   if (g.exact) {
-    std::printf("single-source geodesics from vertex %d: exact distance, %zu windows, %.3g s\n",
-                source, g.windows, g.seconds);
+    std::printf("single-source geodesics from vertex %d: exact distance%s, %zu windows, %.3g s\n",
+                source, g.tufted_cover ? " on the tufted cover (nonmanifold mesh)" : "", g.windows,
+                g.seconds);
   } else {
     std::printf(
         "single-source geodesics from vertex %d: FlipOut, %d flips, %d iterations, %d paths left "
@@ -269,9 +276,20 @@ const char* const kGeodesicProse =
     "face, face:F:u:v (F: 0-based face of the file; barycentric coordinates\n"
     "(1−u−v, u, v) for its corners in the file's order; u, v ≥ 0, u + v ≤ 1). Face\n"
     "points are inserted as vertices first and reported (id, position).\n\n"
-    "Give exactly one of --path, --network, --all-from. Needs an edge-manifold,\n"
-    "orientable triangle mesh (with or without boundary); nonmanifold and\n"
-    "non-orientable meshes and point clouds are refused.\n";
+    "A path between two points is never longer than the exact distance between\n"
+    "them: where FlipOut's geodesic is (it can stay held at a saddle vertex, one\n"
+    "of more than 2π around it), the exact distance's shortest path is written\n"
+    "instead and the progress line 'start won: exact path (...)' says so.\n\n"
+    "Give exactly one of --path, --network, --all-from. FlipOut needs an\n"
+    "edge-manifold, orientable triangle mesh (with or without boundary). On a\n"
+    "nonmanifold or non-orientable mesh, --path A,B (two points) and --all-from S\n"
+    "still run: exact shortest paths on the mesh's tufted cover (every face\n"
+    "doubled, the copies glued around each edge: the surface `ifem distance\n"
+    "--exact` measures; a path on it is a path on the mesh, of the same length;\n"
+    "around an edge of 4+ faces it crosses only between neighbouring faces in\n"
+    "their order about the edge); --loop, --network, --bezier, more than two\n"
+    "points and --single-source-flipout are refused there (they need FlipOut's\n"
+    "signposts). Point clouds are refused.\n";
 
 const char* const kGeodesicEpilogue =
     "Network file (--network): one curve per line, 'path P0 P1 ...' (an open geodesic\n"
@@ -287,7 +305,8 @@ const char* const kGeodesicEpilogue =
     "  ifem geodesic torus.obj --path 10,200,350 --loop -o loop.ply\n"
     "  ifem geodesic bunny.obj --path face:12:0.3:0.3,800,1500 --bezier 4 -o curve.txt\n"
     "  ifem geodesic bunny.obj --network curves.txt -o net.obj\n"
-    "  ifem geodesic bunny.obj --all-from 0 -o lengths.ply\n";
+    "  ifem geodesic bunny.obj --all-from 0 -o lengths.ply\n"
+    "  ifem geodesic conrod.obj --path 0,900 -o path.obj    (nonmanifold: tufted cover)\n";
 
 OptionGroup geodesic_options() {
   return {"Options",
