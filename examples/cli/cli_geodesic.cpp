@@ -242,7 +242,8 @@ int run_geodesic(const Args& args) {
   if (args.has("network")) specs = recipes::read_network_file(args.get("network"), args.has("pin"));
   if (args.has("path")) check_path_points(specs[0], in);
   const recipes::GeodesicCurves run = recipes::geodesic(in, specs, geodesic_options_of(args));
-  progress(args, "signpost triangulation in " + std::to_string(run.seconds_signposts) + " s");
+  progress(args, std::string(run.tufted_cover ? "tufted cover" : "signpost triangulation") +
+                     " in " + std::to_string(run.seconds_signposts) + " s");
   if (run.seconds_guide > 0.0) {
     progress(args,
              "start guide (exact or heat distance) in " + std::to_string(run.seconds_guide) + " s");
