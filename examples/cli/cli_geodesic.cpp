@@ -142,9 +142,10 @@ void print_curves(const recipes::GeodesicCurves& run, const std::vector<GivenCur
                     : "");
   }
   if (run.tufted_cover) {
-    std::printf("exact distance on the tufted cover (nonmanifold mesh, no FlipOut): %zu windows, "
-                "%.3g s\n",
-                run.windows, run.seconds_flipout);
+    std::printf(
+        "exact distance on the tufted cover (nonmanifold mesh, no FlipOut): %zu windows, "
+        "%.3g s\n",
+        run.windows, run.seconds_flipout);
     return;
   }
   const intrinsic::FlipOutReport& rep = run.report;

@@ -128,8 +128,7 @@ intrinsic::FlipOutReport shorten_curves(SignpostTriangulation& st, const io::Sur
                                         const std::vector<intrinsic::CurveThrough>& through,
                                         const GeodesicOptions& options,
                                         std::vector<EdgePath>* paths, std::vector<double>* initial,
-                                        double* seconds_guide, std::string* won,
-                                        ExactPair* exact) {
+                                        double* seconds_guide, std::string* won, ExactPair* exact) {
   const intrinsic::CurveThrough& c = through[0];
   intrinsic::FlipOutReport report;
   if (options.start != intrinsic::StartPath::kDijkstra && through.size() == 1 && !c.closed &&
@@ -390,28 +389,80 @@ CoverPoint cover_point(const solvers::PreparedSurface& s, const GivenPoint& p,
   return c;
 }
 
-// One open path between two points on a mesh the signposts refuse: the exact distance on the
-// tufted cover from one end, its shortest path back from the other (a face point there is
-// inserted into both copies of its face; the shorter of the two paths). Anything else is
-// refused with what does run on such a mesh.
+// Refuses what needs FlipOut on a mesh the signposts refuse (anything but one open curve
+// through two points), saying what does run there.
+void refuse_without_signposts(const std::vector<GivenCurve>& curves, const GeodesicOptions& options,
+                              const NonManifoldInput& e) {
+  if (!options.bezier_rounds && curves.size() == 1 && !curves[0].closed &&
+      curves[0].points.size() == 2) {
+    return;
+  }
+  const std::string what = options.bezier_rounds ? "a Bézier curve"
+                           : curves.size() > 1   ? "a network of curves"
+                           : curves[0].closed    ? "a loop"
+                                                 : "a path through more than two points";
+  throw NonManifoldInput(
+      "geodesic: " + what +
+      " needs FlipOut, whose signposts need an edge-manifold, orientable surface, and this "
+      "mesh is not: " +
+      nonmanifold_reason(e) +
+      ". On such a mesh a path between two points (--path A,B) and single-source geodesics "
+      "(--all-from S) run: exact shortest paths on its tufted cover");
+}
+
+// The exact shortest path on the cover between two points not in one face: the exact distance
+// from one end (`source`), path_to_source() from the other (`target`: a vertex, or a face point
+// strictly inside its face, inserted into both cover copies; the shorter path). Fills
+// out.polyline (from `target` to `source`) and out.length; returns the windows.
+std::size_t cover_path(solvers::PreparedSurface& s, const CoverPoint& source,
+                       const CoverPoint& target, const GivenCurve& curve,
+                       const GeodesicOptions& options, GeodesicCurve& out) {
+  intrinsic::IntrinsicTriangulation& tri = s.tri;
+  const Index nv = tri.n_vertices();
+  std::vector<Index> ends;
+  if (target.vertex != kInvalidIndex) {
+    ends.push_back(target.vertex);
+  } else {
+    for (const intrinsic::SurfacePoint& sp : target.copies) {
+      ends.push_back(tri.insert_vertex_in_face(sp.face, sp.bary));
+    }
+  }
+  intrinsic::ExactDistanceOptions eo;
+  eo.max_memory_bytes = options.max_memory_bytes;
+  const intrinsic::ExactDistance d =
+      source.vertex != kInvalidIndex
+          ? intrinsic::exact_distance(tri, std::vector<Index>{source.vertex}, eo)
+          : intrinsic::exact_distance(tri, source.copies, eo);
+  Index end = ends[0];
+  for (const Index v : ends) {
+    if (d.distance[v] < d.distance[end]) end = v;
+  }
+  if (!std::isfinite(d.distance[end])) {
+    throw InvalidInput(curve.origin + ": " + curve.points[0].token + " and " +
+                       curve.points[1].token + " lie on different components (no path)");
+  }
+  const auto& x = s.input.positions;
+  for (const intrinsic::SurfacePoint& p : d.path_to_source(end)) {  // target → source
+    Eigen::Vector3d q = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const Index v = tri.tail(3 * p.face + k);
+      if (p.bary[k] != 0.0) {
+        q += p.bary[k] * (v < nv ? Eigen::Vector3d(x.row(v).transpose()) : target.position);
+      }
+    }
+    out.polyline.push_back(q);
+  }
+  out.length = d.distance[end];
+  return d.windows;
+}
+
+// One open path between two points on a mesh the signposts refuse: the exact shortest path on
+// the tufted cover (cover_path; straight within one face). Anything else is refused with what
+// does run on such a mesh.
 GeodesicCurves tufted_cover_path(const io::SurfaceInput& input,
                                  const std::vector<GivenCurve>& curves,
                                  const GeodesicOptions& options, const NonManifoldInput& e) {
-  const bool pair = !options.bezier_rounds && curves.size() == 1 && !curves[0].closed &&
-                    curves[0].points.size() == 2;
-  if (!pair) {
-    const std::string what = options.bezier_rounds ? "a Bézier curve"
-                             : curves.size() > 1   ? "a network of curves"
-                             : curves[0].closed    ? "a loop"
-                                                   : "a path through more than two points";
-    throw NonManifoldInput(
-        "geodesic: " + what +
-        " needs FlipOut, whose signposts need an edge-manifold, orientable surface, and this "
-        "mesh is not: " +
-        nonmanifold_reason(e) +
-        ". On such a mesh a path between two points (--path A,B) and single-source geodesics "
-        "(--all-from S) run: exact shortest paths on its tufted cover");
-  }
+  refuse_without_signposts(curves, options, e);
   GeodesicCurves run;
   Stopwatch watch;
   solvers::PreparedSurface s = tufted_surface(input, options.mollify_relative_epsilon);
@@ -428,63 +479,25 @@ GeodesicCurves tufted_cover_path(const io::SurfaceInput& input,
   run.curves.resize(1);
   GeodesicCurve& out = run.curves[0];
   out.points = {a.position, b.position};
+  const std::string pair =
+      curve.origin + ": " + curve.points[0].token + " and " + curve.points[1].token;
   if (a.vertex == b.vertex && a.vertex != kInvalidIndex) {
-    throw InvalidInput(curve.origin + ": " + curve.points[0].token + " and " +
-                       curve.points[1].token + " are the same point");
+    throw InvalidInput(pair + " are the same point");
   }
   if (a.vertex == kInvalidIndex && a.given_face == b.given_face) {  // one flat face: straight
     out.polyline = {a.position, b.position};
     out.length = (a.position - b.position).norm();
   } else {
-    // Source: the end that is not traced to. The traced end must be a vertex, or a face point
-    // strictly inside its face (inserted as a vertex into the cover).
+    // The traced end must be a vertex, or a face point strictly inside its face.
     const bool from_b = b.vertex == kInvalidIndex && (a.vertex != kInvalidIndex || !b.interior);
-    const CoverPoint& source = from_b ? b : a;
     const CoverPoint& target = from_b ? a : b;
     if (target.vertex == kInvalidIndex && !target.interior) {
-      throw InvalidInput(curve.origin + ": " + curve.points[0].token + " and " +
-                         curve.points[1].token +
+      throw InvalidInput(pair +
                          " both lie on face sides; on a nonmanifold mesh (the tufted cover) give "
                          "one of them as a vertex or inside a face");
     }
-    intrinsic::IntrinsicTriangulation& tri = s.tri;
-    const Index nv = tri.n_vertices();
-    std::vector<Index> ends;
-    if (target.vertex != kInvalidIndex) {
-      ends.push_back(target.vertex);
-    } else {
-      for (const intrinsic::SurfacePoint& sp : target.copies) {
-        ends.push_back(tri.insert_vertex_in_face(sp.face, sp.bary));
-      }
-    }
-    intrinsic::ExactDistanceOptions eo;
-    eo.max_memory_bytes = options.max_memory_bytes;
-    const intrinsic::ExactDistance d =
-        source.vertex != kInvalidIndex
-            ? intrinsic::exact_distance(tri, std::vector<Index>{source.vertex}, eo)
-            : intrinsic::exact_distance(tri, source.copies, eo);
-    Index end = ends[0];
-    for (const Index v : ends) {
-      if (d.distance[v] < d.distance[end]) end = v;
-    }
-    if (!std::isfinite(d.distance[end])) {
-      throw InvalidInput(curve.origin + ": " + curve.points[0].token + " and " +
-                         curve.points[1].token + " lie on different components (no path)");
-    }
-    const auto& x = input.positions;
-    for (const intrinsic::SurfacePoint& p : d.path_to_source(end)) {  // target → source
-      Eigen::Vector3d q = Eigen::Vector3d::Zero();
-      for (int k = 0; k < 3; ++k) {
-        const Index v = tri.tail(3 * p.face + k);
-        if (p.bary[k] != 0.0) {
-          q += p.bary[k] * (v < nv ? Eigen::Vector3d(x.row(v).transpose()) : target.position);
-        }
-      }
-      out.polyline.push_back(q);
-    }
+    run.windows = cover_path(s, from_b ? b : a, target, curve, options, out);
     if (!from_b) std::reverse(out.polyline.begin(), out.polyline.end());  // from a to b
-    out.length = d.distance[end];
-    run.windows = d.windows;
   }
   out.initial_length = out.length;
   run.report.initial_length = run.report.final_length = out.length;
@@ -551,8 +564,8 @@ GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCu
       run.curves[0].length > exact.length * (1.0 + kExactPairTolerance)) {
     char excess[64];
     std::snprintf(excess, sizeof excess, "%.2e", run.curves[0].length / exact.length - 1.0);
-    run.start_won = "exact path (FlipOut's geodesic from " + run.start_won + " was " + excess +
-                    " longer)";
+    run.start_won =
+        "exact path (FlipOut's geodesic from " + run.start_won + " was " + excess + " longer)";
     run.curves[0].polyline = std::move(exact.polyline);
     run.curves[0].length = exact.length;
   }

@@ -246,8 +246,8 @@ TEST(GeodesicCover, ConrodAgainstTheReferences) {
   const io::SurfaceInput in = io::read_mesh(mesh.string());
   int checked = 0;
   for (const Index src : {0, 7}) {
-    const fs::path ref = test::shared_data() / "reference" /
-                         ("conrod.src" + std::to_string(src) + ".exact.txt");
+    const fs::path ref =
+        test::shared_data() / "reference" / ("conrod.src" + std::to_string(src) + ".exact.txt");
     ASSERT_TRUE(fs::exists(ref)) << ref;
     const Eigen::VectorXd exact = io::read_values(ref.string());
     const SingleSourceResult r = geodesic(in, src);
@@ -301,8 +301,8 @@ TEST(GeodesicExactPairs, RocketshipPairsAreNeverLongerThanExact) {
 // of three hashed uniforms, so many saddle vertices. Its own hash (no library generator), so
 // the cases below stay the cases FlipOut misses.
 double bumpy_hash01(std::uint64_t i, std::uint64_t j, std::uint64_t seed) {
-  std::uint32_t h = static_cast<std::uint32_t>((i * 73856093u) ^ (j * 19349663u) ^
-                                               (seed * 83492791u));
+  std::uint32_t h =
+      static_cast<std::uint32_t>((i * 73856093u) ^ (j * 19349663u) ^ (seed * 83492791u));
   for (int k = 0; k < 3; ++k) {
     h ^= h << 13;
     h ^= h >> 17;
