@@ -278,10 +278,11 @@ const char* const kGeodesicProse =
     "face, face:F:u:v (F: 0-based face of the file; barycentric coordinates\n"
     "(1−u−v, u, v) for its corners in the file's order; u, v ≥ 0, u + v ≤ 1). Face\n"
     "points are inserted as vertices first and reported (id, position).\n\n"
-    "A path between two points is never longer than the exact distance between\n"
-    "them: where FlipOut's geodesic is (it can stay held at a saddle vertex, one\n"
-    "of more than 2π around it), the exact distance's shortest path is written\n"
-    "instead and the progress line 'start won: exact path (...)' says so.\n\n"
+    "A path between two points (--start best or guided) is never longer than the\n"
+    "exact distance between them: where FlipOut's geodesic is (it can stay held\n"
+    "at saddle vertices, with more than 2π of angle around them), the exact\n"
+    "distance's shortest path is written instead and the progress line 'start\n"
+    "won: exact path (...)' says so.\n\n"
     "Give exactly one of --path, --network, --all-from. FlipOut needs an\n"
     "edge-manifold, orientable triangle mesh (with or without boundary). On a\n"
     "nonmanifold or non-orientable mesh, --path A,B (two points) and --all-from S\n"
@@ -328,14 +329,16 @@ OptionGroup geodesic_options() {
                .limited_by(InputLimit::kBelowVertexCount)
                .explain("single-source geodesics: the shortest geodesic from vertex S to\n"
                         "every vertex, from the exact distance (as `ifem distance --exact`,\n"
-                        "on the mesh's own faces: no flip); their lengths, one per vertex.\n"
+                        "on the mesh's own faces: no flip; on a nonmanifold mesh, on its\n"
+                        "tufted cover); their lengths, one per vertex.\n"
                         "Over --memory-budget, or with --single-source-flipout: Dijkstra\n"
                         "with FlipOut at the frontier, whose geodesics are locally shortest\n"
                         "(never below the exact distance, equal to it on 94-100% of the\n"
                         "vertices of the reference meshes; fewer on meshes of slivers)"),
            flag("single-source-flipout")
                .explain("with --all-from: build every geodesic by FlipOut instead of the\n"
-                        "exact distance (slower; edge paths of the intrinsic triangulation)"),
+                        "exact distance (slower; edge paths of the intrinsic triangulation;\n"
+                        "refused on nonmanifold and non-orientable meshes: no signposts)"),
            text("output", "OUT")
                .short_alias('o')
                .mandatory()
