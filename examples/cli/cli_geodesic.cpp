@@ -311,6 +311,7 @@ const char* const kGeodesicEpilogue =
     "  ifem geodesic bunny.obj --all-from 0 -o lengths.ply\n"
     "  ifem geodesic conrod.obj --path 0,900 -o path.obj    (nonmanifold: tufted cover)\n";
 
+// Long function: the option table (data: one entry per option, each with its help text).
 OptionGroup geodesic_options() {
   return {"Options",
           {text("path", "P0,P1[,...]")
@@ -384,7 +385,9 @@ OptionGroup geodesic_options() {
            real("memory-budget", "GB")
                .above(0)
                .explain("--all-from: the exact distance's windows waiting at once (64 bytes\n"
-                        "each; over it, FlipOut). --bezier: refuse a curve whose added\n"
+                        "each; over it, FlipOut, or on a nonmanifold mesh a refusal with the\n"
+                        "figures). --path A,B on a nonmanifold mesh: all its windows (the\n"
+                        "path is traced back through them). --bezier: refuse a curve whose added\n"
                         "vertices (estimated up front: d(d+1)/2 · (2^R − 1) for degree d, R\n"
                         "rounds; 4 KiB each) exceed GB gigabytes (default: half the physical\n"
                         "memory, or 80% of ulimit -v). Rounds whose segments fall below 1/16\n"

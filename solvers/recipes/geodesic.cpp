@@ -429,10 +429,16 @@ std::size_t cover_path(solvers::PreparedSurface& s, const CoverPoint& source,
   }
   intrinsic::ExactDistanceOptions eo;
   eo.max_memory_bytes = options.max_memory_bytes;
-  const intrinsic::ExactDistance d =
-      source.vertex != kInvalidIndex
-          ? intrinsic::exact_distance(tri, std::vector<Index>{source.vertex}, eo)
-          : intrinsic::exact_distance(tri, source.copies, eo);
+  intrinsic::ExactDistance d;
+  try {
+    d = source.vertex != kInvalidIndex
+            ? intrinsic::exact_distance(tri, std::vector<Index>{source.vertex}, eo)
+            : intrinsic::exact_distance(tri, source.copies, eo);
+  } catch (const InvalidInput& e) {  // the points are valid: only the budget throws
+    throw InvalidInput(curve.origin + ": " + e.what() +
+                       " (on a nonmanifold mesh a path between two points is the exact "
+                       "distance's, on the tufted cover: no heat-method alternative)");
+  }
   Index end = ends[0];
   for (const Index v : ends) {
     if (d.distance[v] < d.distance[end]) end = v;

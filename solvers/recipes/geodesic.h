@@ -57,8 +57,8 @@ struct GeodesicOptions {
   /// (InvalidInput stating what was reached), true returns them as they are.
   bool accept_partial = false;
   /// Memory budget, bytes, of the vertices a Bézier curve adds (intrinsic::check_curve_budget(),
-  /// before any flip) and of the exact distance's windows in single-source mode; 0:
-  /// intrinsic::default_memory_budget().
+  /// before any flip) and of the exact distance's windows in single-source mode and, on a
+  /// nonmanifold input, for a path between two points; 0: intrinsic::default_memory_budget().
   double max_memory_bytes = 0.0;
   /// FlipOut's start paths for one open path between two points (intrinsic::shortest_geodesic):
   /// kBest (default) shortens the Dijkstra edge path and the start paths of StartGuide (the

@@ -373,6 +373,9 @@ def test_geodesic_nonmanifold(cli):
     assert r.rc == 1 and r.err.count("\n") == 1, r.describe()
     assert grep("a network of curves needs FlipOut", r.err), r.describe()
     assert not bad.exists()
+    cli.fails_no_partial(r"exceed the memory budget.*no heat-method alternative", bad,
+                         "geodesic", cli.fan3, "--path", "0,1", "--memory-budget", "1e-12",
+                         "-o", bad, "--quiet")
     cli.fails_no_partial(r"--single-source-flipout.* need signposts.*edge \(2,4\)", lengths.with_suffix(".ply"),
                          "geodesic", cli.fan3, "--all-from", "0", "--single-source-flipout",
                          "-o", lengths.with_suffix(".ply"), "--quiet")
