@@ -123,7 +123,7 @@ struct GeodesicCurves {
 /// distance between them by more than this (relative): then the exact distance's path is
 /// returned instead (GeodesicCurves::start_won "exact path ..."). Both lengths are sums over
 /// the same intrinsic edge lengths; where they describe the same geodesic they agreed to ≤ 5e-14
-/// on 63 reference pairs (rounding over a few hundred segments), while the FlipOut geodesics in
+/// on 55 reference pairs (rounding over a few hundred segments), while the FlipOut geodesics in
 /// another class were 1e-6–4.4e-3 longer (the 7 of 208 audit pairs that fall back; generated
 /// bumpy grids: ≥ 8e-5); 1e-9 separates the two with margins of 10⁴ and 10³
 /// (docs/decisions.md D-375).
