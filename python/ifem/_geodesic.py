@@ -211,8 +211,7 @@ def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-12, start="bes
 
     Raises:
         InvalidInput: a vertex or face out of range, fewer than 2 points, a repeated point, bad
-            barycentric coordinates, points on different connected components; on a
-            nonmanifold mesh two face points that both lie on face sides.
+            barycentric coordinates, points on different connected components.
         NonManifoldInput: a mesh that is not edge-manifold and orientable, with a loop or
             more than two points.
 

@@ -412,8 +412,44 @@ void refuse_without_signposts(const std::vector<GivenCurve>& curves, const Geode
 
 // The exact shortest path on the cover between two points not in one face: the exact distance
 // from one end (`source`), path_to_source() from the other (`target`: a vertex, or a face point
-// strictly inside its face, inserted into both cover copies; the shorter path). Fills
+// inserted into both cover copies of its face, or split into the cover edges under it when on
+// a side; the shortest path). Fills
 // out.polyline (from `target` to `source`) and out.length; returns the windows.
+// The cover edges under a face point on a side of its face (one per copy; a zipped boundary
+// side is one edge for both), each with the fraction of the way from vertex `from`.
+struct CoverSide {
+  Index edge = kInvalidIndex, from = kInvalidIndex;
+  double t = 0.0;
+};
+
+std::vector<CoverSide> cover_sides(const intrinsic::IntrinsicTriangulation& tri,
+                                   const CoverPoint& p) {
+  std::vector<CoverSide> sides;
+  for (const intrinsic::SurfacePoint& sp : p.copies) {
+    Eigen::Index k = 0;
+    sp.bary.minCoeff(&k);  // the corner opposite the side
+    const Index h = 3 * sp.face + Index((k + 1) % 3);
+    const double wa = sp.bary[(k + 1) % 3], wb = sp.bary[(k + 2) % 3];
+    const CoverSide side{tri.edge(h), tri.tail(h), wb / (wa + wb)};
+    bool seen = false;
+    for (const CoverSide& o : sides) seen = seen || o.edge == side.edge;
+    if (!seen) sides.push_back(side);
+  }
+  return sides;
+}
+
+// True when splitting p's cover edges would rewrite a face that q's copies lie in.
+bool split_touches(const intrinsic::IntrinsicTriangulation& tri, const CoverPoint& p,
+                   const CoverPoint& q) {
+  for (const CoverSide& side : cover_sides(tri, p)) {
+    const Index h = tri.edge_halfedge(side.edge), t = tri.twin(h);
+    for (const intrinsic::SurfacePoint& sp : q.copies) {
+      if (tri.face(h) == sp.face || (t != kInvalidIndex && tri.face(t) == sp.face)) return true;
+    }
+  }
+  return false;
+}
+
 std::size_t cover_path(solvers::PreparedSurface& s, const CoverPoint& source,
                        const CoverPoint& target, const GivenCurve& curve,
                        const GeodesicOptions& options, GeodesicCurve& out) {
@@ -422,9 +458,19 @@ std::size_t cover_path(solvers::PreparedSurface& s, const CoverPoint& source,
   std::vector<Index> ends;
   if (target.vertex != kInvalidIndex) {
     ends.push_back(target.vertex);
-  } else {
+  } else if (target.interior) {
     for (const intrinsic::SurfacePoint& sp : target.copies) {
       ends.push_back(tri.insert_vertex_in_face(sp.face, sp.bary));
+    }
+  } else {
+    for (const CoverSide& side : cover_sides(tri, target)) {
+      if (!tri.can_split_edge(side.edge)) {
+        throw InvalidInput(curve.origin +
+                           ": the cover edge under a face point on a side is "
+                           "glued to itself (give the point as a vertex or inside a face)");
+      }
+      const bool along = tri.tail(tri.edge_halfedge(side.edge)) == side.from;
+      ends.push_back(tri.split_edge(side.edge, along ? side.t : 1.0 - side.t));
     }
   }
   intrinsic::ExactDistanceOptions eo;
@@ -490,18 +536,20 @@ GeodesicCurves tufted_cover_path(const io::SurfaceInput& input,
   if (a.vertex == b.vertex && a.vertex != kInvalidIndex) {
     throw InvalidInput(pair + " are the same point");
   }
-  if (a.vertex == kInvalidIndex && a.given_face == b.given_face) {  // one flat face: straight
+  // The traced end: a vertex, else a face point inside its face, else one on a side whose
+  // split leaves the other's faces alone. Both on sides, each splitting the other's faces:
+  // they lie on one input face's sides (with its duplicates), joined straight as in one face.
+  const bool sides =
+      a.vertex == kInvalidIndex && b.vertex == kInvalidIndex && !a.interior && !b.interior;
+  const bool b_touches = sides && split_touches(s.tri, b, a);
+  if ((a.vertex == kInvalidIndex && a.given_face == b.given_face) ||
+      (b_touches && split_touches(s.tri, a, b))) {  // one flat face: straight
     out.polyline = {a.position, b.position};
     out.length = (a.position - b.position).norm();
   } else {
-    // The traced end must be a vertex, or a face point strictly inside its face.
-    const bool from_b = b.vertex == kInvalidIndex && (a.vertex != kInvalidIndex || !b.interior);
+    const bool from_b = b.vertex == kInvalidIndex &&
+                        (a.vertex != kInvalidIndex || (!b.interior && a.interior) || b_touches);
     const CoverPoint& target = from_b ? a : b;
-    if (target.vertex == kInvalidIndex && !target.interior) {
-      throw InvalidInput(pair +
-                         " both lie on face sides; on a nonmanifold mesh (the tufted cover) give "
-                         "one of them as a vertex or inside a face");
-    }
     run.windows = cover_path(s, from_b ? b : a, target, curve, options, out);
     if (!from_b) std::reverse(out.polyline.begin(), out.polyline.end());  // from a to b
   }

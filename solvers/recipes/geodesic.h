@@ -195,13 +195,13 @@ void check_curves(const std::vector<GivenCurve>& curves, const io::SurfaceInput&
 /// is never longer than the exact distance between them (kExactPairTolerance) while the exact
 /// distance fits the memory budget.
 /// On a mesh that is not edge-manifold and orientable, one open curve through two points
-/// (vertices or face points, not both on face sides) is the exact shortest path on the tufted
-/// cover (GeodesicCurves::tufted_cover; options.start is not used).
+/// (vertices or face points) is the exact shortest path on the tufted cover
+/// (GeodesicCurves::tufted_cover; options.start is not used).
 /// @throws InvalidInput on bad options or curves (check_curves), an input without faces or
 ///         area, points on different components, a Bézier curve over its budget
 ///         (intrinsic::check_curve_budget), curves left at FlipOut's iteration cap (unless
-///         accept_partial; intrinsic::iteration_cap_message); on the tufted cover: two face
-///         points that both lie on face sides, the exact distance over the memory budget
+///         accept_partial; intrinsic::iteration_cap_message); on the tufted cover: the exact
+///         distance over the memory budget
 /// @throws NonManifoldInput on a mesh that is not edge-manifold and orientable, for anything
 ///         but one path between two points (loops, networks, several points, Bézier: FlipOut
 ///         needs signposts), saying what does run on such a mesh

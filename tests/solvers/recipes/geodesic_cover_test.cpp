@@ -132,9 +132,23 @@ TEST(GeodesicCover, BookPathsAreThePagesUnfolded) {
       {book_point_face(book_face(0, 1, 0), 0.6, 0.3, 0.1), book_point_vertex(book_vertex(2, 4, 4))},
       {book_point_face(book_face(1, 2, 3), 0.1, 0.1, 0.8),
        book_point_face(book_face(2, 0, 0), 0.3, 0.3, 0.4)},
-      // on a face side (traced from the other end), and two points of one face
+      // on a face side (traced from the other end), both on sides, on the spine (the side of
+      // face (0, 0, 1) from its corner 0 to 2), and two points of one face
       {book_point_face(book_face(1, 3, 1), 0.5, 0.5, 0.0),
        book_point_face(book_face(0, 2, 2), 0.2, 0.2, 0.6)},
+      {book_point_face(book_face(0, 1, 1), 0.5, 0.5, 0.0),
+       book_point_face(book_face(1, 1, 1), 0.0, 0.5, 0.5)},
+      {book_point_face(book_face(0, 0, 1), 0.4, 0.0, 0.6), book_point_vertex(book_vertex(2, 3, 0))},
+      {book_point_face(book_face(1, 2, 2), 0.3, 0.3, 0.4),
+       book_point_face(book_face(0, 0, 1), 0.4, 0.0, 0.6)},
+      {book_point_face(book_face(0, 0, 1), 0.4, 0.0, 0.6),
+       book_point_face(book_face(2, 3, 3), 0.0, 0.7, 0.3)},
+      {book_point_face(book_face(2, 3, 3), 0.0, 0.7, 0.3),
+       book_point_face(book_face(0, 0, 1), 0.4, 0.0, 0.6)},
+      // the diagonal of cell (1, 1) of page 0 (its faces' shared side) and another side of the
+      // second face: splitting the diagonal would rewrite the other point's face
+      {book_point_face(book_face(0, 1, 1) + 1, 0.0, 0.4, 0.6),
+       book_point_face(book_face(0, 1, 1), 0.3, 0.0, 0.7)},
       {book_point_face(book_face(1, 3, 1), 0.7, 0.2, 0.1),
        book_point_face(book_face(1, 3, 1), 0.1, 0.2, 0.7)},
   };
@@ -231,10 +245,6 @@ TEST(GeodesicCover, WhatNeedsSignpostsIsRefusedWithTheReason) {
   } catch (const NonManifoldInput& e) {
     EXPECT_NE(std::string(e.what()).find("need signposts"), std::string::npos) << e.what();
   }
-  // two face points both on face sides: refused naming them
-  const GivenPoint s1 = book_point_face(book_face(0, 1, 1), 0.5, 0.5, 0.0),
-                   s2 = book_point_face(book_face(1, 1, 1), 0.0, 0.5, 0.5);
-  EXPECT_THROW(geodesic(in, {book_curve({s1, s2})}), InvalidInput);
 }
 
 // conrod (nonmanifold: 4 faces at some edges) against its exact references: single-source
