@@ -141,6 +141,13 @@ void print_curves(const recipes::GeodesicCurves& run, const std::vector<GivenCur
                     ? "; collapsed: a contractible loop shrank to a point or around one vertex"
                     : "");
   }
+  if (run.tufted_cover) {
+    std::printf(
+        "exact distance on the tufted cover (nonmanifold mesh, no FlipOut): %zu windows, "
+        "%.3g s\n",
+        run.windows, run.seconds_flipout);
+    return;
+  }
   const intrinsic::FlipOutReport& rep = run.report;
   std::printf("FlipOut: %d flips, %d iterations, stopped: %s", rep.flips, rep.iterations,
               intrinsic::to_string(rep.stopped_by));
@@ -211,8 +218,9 @@ int run_all_from(const Args& args, const io::SurfaceInput& in, const ResultOutpu
     }
   }
   if (g.exact) {
-    std::printf("single-source geodesics from vertex %d: exact distance, %zu windows, %.3g s\n",
-                source, g.windows, g.seconds);
+    std::printf("single-source geodesics from vertex %d: exact distance%s, %zu windows, %.3g s\n",
+                source, g.tufted_cover ? " on the tufted cover (nonmanifold mesh)" : "", g.windows,
+                g.seconds);
   } else {
     std::printf(
         "single-source geodesics from vertex %d: FlipOut, %d flips, %d iterations, %d paths left "
@@ -235,7 +243,8 @@ int run_geodesic(const Args& args) {
   if (args.has("network")) specs = recipes::read_network_file(args.get("network"), args.has("pin"));
   if (args.has("path")) check_path_points(specs[0], in);
   const recipes::GeodesicCurves run = recipes::geodesic(in, specs, geodesic_options_of(args));
-  progress(args, "signpost triangulation in " + std::to_string(run.seconds_signposts) + " s");
+  progress(args, std::string(run.tufted_cover ? "tufted cover" : "signpost triangulation") +
+                     " in " + std::to_string(run.seconds_signposts) + " s");
   if (run.seconds_guide > 0.0) {
     progress(args,
              "start guide (exact or heat distance) in " + std::to_string(run.seconds_guide) + " s");
@@ -269,9 +278,21 @@ const char* const kGeodesicProse =
     "face, face:F:u:v (F: 0-based face of the file; barycentric coordinates\n"
     "(1−u−v, u, v) for its corners in the file's order; u, v ≥ 0, u + v ≤ 1). Face\n"
     "points are inserted as vertices first and reported (id, position).\n\n"
-    "Give exactly one of --path, --network, --all-from. Needs an edge-manifold,\n"
-    "orientable triangle mesh (with or without boundary); nonmanifold and\n"
-    "non-orientable meshes and point clouds are refused.\n";
+    "A path between two points (--start best or guided) is never longer than the\n"
+    "exact distance between them: where FlipOut's geodesic is (it can stay held\n"
+    "at saddle vertices, with more than 2π of angle around them), the exact\n"
+    "distance's shortest path is written instead and the progress line 'start\n"
+    "won: exact path (...)' says so.\n\n"
+    "Give exactly one of --path, --network, --all-from. FlipOut needs an\n"
+    "edge-manifold, orientable triangle mesh (with or without boundary). On a\n"
+    "nonmanifold or non-orientable mesh, --path A,B (two points) and --all-from S\n"
+    "still run: exact shortest paths on the mesh's tufted cover (every face\n"
+    "doubled, the copies glued around each edge: the surface `ifem distance\n"
+    "--exact` measures; a path on it is a path on the mesh, of the same length;\n"
+    "around an edge of 4+ faces it crosses only between neighbouring faces in\n"
+    "their order about the edge); --loop, --network, --bezier, more than two\n"
+    "points and --single-source-flipout are refused there (they need FlipOut's\n"
+    "signposts). Point clouds are refused.\n";
 
 const char* const kGeodesicEpilogue =
     "Network file (--network): one curve per line, 'path P0 P1 ...' (an open geodesic\n"
@@ -287,8 +308,10 @@ const char* const kGeodesicEpilogue =
     "  ifem geodesic torus.obj --path 10,200,350 --loop -o loop.ply\n"
     "  ifem geodesic bunny.obj --path face:12:0.3:0.3,800,1500 --bezier 4 -o curve.txt\n"
     "  ifem geodesic bunny.obj --network curves.txt -o net.obj\n"
-    "  ifem geodesic bunny.obj --all-from 0 -o lengths.ply\n";
+    "  ifem geodesic bunny.obj --all-from 0 -o lengths.ply\n"
+    "  ifem geodesic conrod.obj --path 0,900 -o path.obj    (nonmanifold: tufted cover)\n";
 
+// Long function: the option table (data: one entry per option, each with its help text).
 OptionGroup geodesic_options() {
   return {"Options",
           {text("path", "P0,P1[,...]")
@@ -307,14 +330,16 @@ OptionGroup geodesic_options() {
                .limited_by(InputLimit::kBelowVertexCount)
                .explain("single-source geodesics: the shortest geodesic from vertex S to\n"
                         "every vertex, from the exact distance (as `ifem distance --exact`,\n"
-                        "on the mesh's own faces: no flip); their lengths, one per vertex.\n"
+                        "on the mesh's own faces: no flip; on a nonmanifold mesh, on its\n"
+                        "tufted cover); their lengths, one per vertex.\n"
                         "Over --memory-budget, or with --single-source-flipout: Dijkstra\n"
                         "with FlipOut at the frontier, whose geodesics are locally shortest\n"
                         "(never below the exact distance, equal to it on 94-100% of the\n"
                         "vertices of the reference meshes; fewer on meshes of slivers)"),
            flag("single-source-flipout")
                .explain("with --all-from: build every geodesic by FlipOut instead of the\n"
-                        "exact distance (slower; edge paths of the intrinsic triangulation)"),
+                        "exact distance (slower; edge paths of the intrinsic triangulation;\n"
+                        "refused on nonmanifold and non-orientable meshes: no signposts)"),
            text("output", "OUT")
                .short_alias('o')
                .mandatory()
@@ -360,7 +385,9 @@ OptionGroup geodesic_options() {
            real("memory-budget", "GB")
                .above(0)
                .explain("--all-from: the exact distance's windows waiting at once (64 bytes\n"
-                        "each; over it, FlipOut). --bezier: refuse a curve whose added\n"
+                        "each; over it, FlipOut, or on a nonmanifold mesh a refusal with the\n"
+                        "figures). --path A,B on a nonmanifold mesh: all its windows (the\n"
+                        "path is traced back through them). --bezier: refuse a curve whose added\n"
                         "vertices (estimated up front: d(d+1)/2 · (2^R − 1) for degree d, R\n"
                         "rounds; 4 KiB each) exceed GB gigabytes (default: half the physical\n"
                         "memory, or 80% of ulimit -v). Rounds whose segments fall below 1/16\n"

@@ -137,6 +137,43 @@ TriangleMesh grid(int nx, int ny, double width, double height, bool alternate) {
   return mesh;
 }
 
+TriangleMesh book(int pages, int nx, int ny, double width, double height) {
+  if (pages < 1 || nx < 1 || ny < 1 || !(width > 0.0) || !(height > 0.0)) {
+    throw InvalidInput("book: need pages ≥ 1, nx ≥ 1, ny ≥ 1, width > 0 and height > 0");
+  }
+  TriangleMesh mesh;
+  const Index column = ny + 1;
+  mesh.positions.resize(column * (1 + Index(pages) * nx), 3);
+  const auto id = [&](int p, int i, int j) -> Index {
+    return i == 0 ? Index(j) : column + (Index(p) * nx + (i - 1)) * column + j;
+  };
+  const double two_pi = 2.0 * std::acos(-1.0);
+  for (int p = 0; p < pages; ++p) {
+    const double angle = two_pi * p / pages;
+    for (int i = 0; i <= nx; ++i) {
+      const double u = width * i / nx;
+      for (int j = 0; j <= ny; ++j) {
+        mesh.positions.row(id(p, i, j)) << u * std::cos(angle), u * std::sin(angle),
+            height * j / ny;
+      }
+    }
+    for (int i = 0; i < nx; ++i) {
+      for (int j = 0; j < ny; ++j) {
+        const Index a = id(p, i, j), b = id(p, i + 1, j), c = id(p, i + 1, j + 1),
+                    d = id(p, i, j + 1);
+        if ((i + j) % 2 == 0) {
+          mesh.faces.push_back({a, b, c});
+          mesh.faces.push_back({a, c, d});
+        } else {
+          mesh.faces.push_back({a, b, d});
+          mesh.faces.push_back({b, c, d});
+        }
+      }
+    }
+  }
+  return mesh;
+}
+
 TriangleMesh torus_knot_tube(int n_along, int n_around, double radius, int p, int q) {
   if (n_along < 3 || n_around < 3 || !(radius > 0.0) || p < 1 || q < 1 || std::gcd(p, q) != 1) {
     throw InvalidInput(

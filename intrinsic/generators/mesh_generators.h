@@ -56,6 +56,18 @@ TriangleMesh needle_soup(int components);
 /// @throws InvalidInput unless n ≥ 2, 0 ≤ pairs ≤ 2n², 0 < gap < 1
 TriangleMesh nearly_coincident_grid(int n, int pairs, double gap, unsigned long seed = 1);
 
+/// A nonmanifold "book": `pages` flat rectangular pages of `width` × `height` sharing their
+/// spine, the segment from (0, 0, 0) to (0, 0, height) on the z axis; page p lies in the
+/// half-plane at angle 2π·p/pages about z (the point at distance u from the spine and height
+/// z is (u·cos θ_p, u·sin θ_p, z)). Each page is an nx×ny grid of cells (nx across, ny up the
+/// spine), split along alternating diagonals. Vertices: the ny + 1 spine vertices first (vertex
+/// j at height height·j/ny), then page by page the columns i = 1..nx, each j = 0..ny: vertex
+/// (ny + 1) + p·nx·(ny + 1) + (i − 1)·(ny + 1) + j. The ny spine edges have `pages` faces each
+/// (nonmanifold from 3 pages on). Two points on different pages are joined on the book by the
+/// straight line of the two pages unfolded into one plane: √((u₁ + u₂)² + (z₁ − z₂)²).
+/// @throws InvalidInput unless pages ≥ 1, nx, ny ≥ 1, width, height > 0
+TriangleMesh book(int pages, int nx, int ny, double width = 1.0, double height = 1.0);
+
 /// What range_scan() puts into the scan.
 struct RangeScanOptions {
   int nx = 100, ny = 100;   ///< sample grid cells (nx+1)×(ny+1) samples over [0,1]², each ≥ 4

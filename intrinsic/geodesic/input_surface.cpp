@@ -29,9 +29,7 @@ SignpostTriangulation flipout_surface(const io::SurfaceInput& in, double mollify
   try {
     return SignpostTriangulation(in.triangles, in.positions, mollify);
   } catch (const NonManifoldInput& e) {
-    throw manifold_only(e,
-                        "FlipOut needs an edge-manifold, orientable surface (signposts; the tufted "
-                        "cover has no meaningful paths)");
+    throw manifold_only(e, "FlipOut needs an edge-manifold, orientable surface (signposts)");
   }
 }
 

@@ -14,8 +14,14 @@ Points are given as
   coordinates ``b0, b1, b2`` (≥ 0, summing to 1) for that row's corners ``F[face, 0]``,
   ``F[face, 1]``, ``F[face, 2]``. The CLI's ``face:F:u:v`` is ``(F, 1 - u - v, u, v)``.
 
-Every function needs an edge-manifold, orientable triangle mesh (with or without boundary);
-other meshes raise :class:`ifem.NonManifoldInput`.
+FlipOut needs an edge-manifold, orientable triangle mesh (with or without boundary). On a
+nonmanifold or non-orientable mesh, :func:`geodesic_path` with two points and
+:func:`single_source_geodesics` still run: exact shortest paths on the mesh's tufted cover (every
+face doubled, the copies glued around each edge; the surface :func:`ifem.exact_distance`
+measures there; a path on it is a path on the mesh, of the same length; around an edge of 4+
+faces it crosses only between faces next to each other about the edge). Loops, networks, paths
+through more than two points, Bézier curves and ``single_source_flipout`` raise
+:class:`ifem.NonManifoldInput` there (they need FlipOut's signposts), saying what does run.
 """
 
 import os
@@ -72,8 +78,11 @@ class GeodesicCurve:
         start_won: the start path the geodesic came from, for a path between two points with
             ``start='best'`` or ``'guided'``: ``'shortest edge path'``, ``'G to b, S side'``
             or ``'G to a, reversed, S side'`` (G: ``exact geodesic`` or ``descent``; S:
-            ``shorter``, ``left``, ``right``); as the CLI's ``start won:`` line. ``''`` for
-            other curves.
+            ``shorter``, ``left``, ``right``); as the CLI's ``start won:`` line. ``'exact
+            path (...)'`` when the path is the exact distance's shortest path: FlipOut's
+            geodesic was longer than the exact distance by more than 1e-9 (relative; the
+            parenthesis names its start and the excess), or the mesh is nonmanifold (``'exact
+            path (tufted cover)'``; ``report`` then counts no flips). ``''`` for other curves.
     """
     polyline: np.ndarray
     length: float
@@ -135,6 +144,8 @@ class SingleSourceGeodesics:
         blocked: vertices whose geodesic was left bent (a wedge held an earlier path).
         exact: True when the geodesics are the exact distance's (the shortest ones).
         windows: the exact distance's windows (its work; 0 with FlipOut).
+        tufted_cover: True when the mesh is not edge-manifold and orientable and the exact
+            distance ran on its tufted cover (paths on the cover are paths on the mesh).
     """
     length: np.ndarray
     paths: Optional[List[np.ndarray]]
@@ -143,6 +154,7 @@ class SingleSourceGeodesics:
     blocked: int
     exact: bool = False
     windows: int = 0
+    tufted_cover: bool = False
 
 
 def _report(d):
@@ -165,13 +177,17 @@ def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-12, start="bes
 
     FlipOut keeps the class of its start path around the vertices (which side of each it
     passes), so a path between two points starts from several paths (``start``) and the
-    shortest geodesic is kept.
+    shortest geodesic is kept; a path between two points is never longer than the exact
+    distance between them (where FlipOut's geodesic is, the exact shortest path is returned:
+    ``start_won`` says so) while that distance fits the memory budget. On a nonmanifold or
+    non-orientable mesh, two points only: the exact shortest path on its tufted cover (see the
+    module's docstring).
 
     Same as ``ifem geodesic MESH --path P0,P1,... [--loop] [--pin] [--start S] -o OUT.txt``.
 
     Args:
         V: #V×3 positions.
-        F: #F×3 vertex ids (an edge-manifold, orientable mesh).
+        F: #F×3 vertex ids (an edge-manifold, orientable mesh; or any mesh for two points).
         points: ≥ 2 points, each a vertex id or a face point ``(face, b0, b1, b2)`` (see the
             module's docstring); consecutive points must differ (for a loop, the last and the
             first too: do not repeat the first point).
@@ -196,7 +212,8 @@ def geodesic_path(V, F, points, loop=False, pin=False, mollify=1e-12, start="bes
     Raises:
         InvalidInput: a vertex or face out of range, fewer than 2 points, a repeated point, bad
             barycentric coordinates, points on different connected components.
-        NonManifoldInput: a mesh that is not edge-manifold and orientable.
+        NonManifoldInput: a mesh that is not edge-manifold and orientable, with a loop or
+            more than two points.
 
     Example:
         >>> c = ifem.geodesic_path(V, F, [0, 500, (12, 0.2, 0.3, 0.5)])
@@ -350,12 +367,14 @@ def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-12, pro
     the memory budget) a Dijkstra search from ``source`` that straightens every path by FlipOut
     before accepting it, holding the paths accepted earlier fixed; each length is then that
     geodesic's: ≥ the exact distance, equal to it wherever the geodesic found is the shortest
-    one (94–100% of the vertices on the reference meshes; fewer on meshes of slivers). Same as
+    one (94–100% of the vertices on the reference meshes; fewer on meshes of slivers). On a
+    nonmanifold or non-orientable mesh: the exact distance on its tufted cover (``tufted_cover``
+    True), as :func:`ifem.exact_distance` there. Same as
     ``ifem geodesic MESH --all-from S -o OUT.txt [--single-source-flipout]``.
 
     Args:
         V: #V×3 positions.
-        F: #F×3 vertex ids (an edge-manifold, orientable mesh).
+        F: #F×3 vertex ids (any triangle mesh; nonmanifold: through the tufted cover).
         source: the source vertex id.
         return_paths: also trace every geodesic over the input (one polyline per vertex; with
             FlipOut it costs about as much as the search again).
@@ -367,10 +386,14 @@ def single_source_geodesics(V, F, source, return_paths=False, mollify=1e-12, pro
 
     Returns:
         SingleSourceGeodesics: ``length`` (#V, ``inf`` where unreachable), ``paths`` (when
-        asked), ``flips``, ``iterations``, ``blocked``, ``exact``, ``windows``.
+        asked), ``flips``, ``iterations``, ``blocked``, ``exact``, ``windows``,
+        ``tufted_cover``.
 
     Raises:
-        InvalidInput: ``source`` out of range or not an integer.
+        InvalidInput: ``source`` out of range or not an integer; on a nonmanifold mesh the
+            exact distance over the memory budget.
+        NonManifoldInput: ``single_source_flipout`` on a mesh that is not edge-manifold and
+            orientable (FlipOut needs signposts).
     """
     V, F, _ = _input(V, F)
     length, paths, info = _ifem.single_source_geodesics(V, F, source, bool(return_paths),

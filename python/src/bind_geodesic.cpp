@@ -300,6 +300,7 @@ py::tuple single_source(const py::handle& V, const py::handle& F, const py::hand
   info["blocked"] = g.blocked;
   info["exact"] = g.exact;
   info["windows"] = g.windows;
+  info["tufted_cover"] = g.tufted_cover;
   py::object paths = py::none();
   if (return_paths) {
     py::list l;

@@ -375,12 +375,52 @@ def test_bad_network_file(spot, tmp_path):
         ifem.geodesic_network(V, F, tmp_path / "missing.txt")
 
 
-def test_nonmanifold_mesh_is_refused():
-    # three triangles on the edge 0–1
+def test_nonmanifold_mesh_two_points_and_single_source_on_the_tufted_cover():
+    """Three triangles on the edge 0–1: a path between two points and single-source geodesics
+    are the exact shortest paths on the tufted cover (across the edge: the two faces unfolded);
+    what needs FlipOut's signposts is refused saying what does run."""
     V = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0.2], [0.5, 0.1, 1.0]])
     F = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
-    with pytest.raises(ifem.NonManifoldInput, match="FlipOut needs an edge-manifold"):
-        ifem.geodesic_path(V, F, [2, 3])
+    across = 1 + np.hypot(1, 0.2)  # 2 and 3 are 1 and √1.04 from the edge, above x = 0.5
+    c = ifem.geodesic_path(V, F, [2, 3])
+    assert c.start_won == "exact path (tufted cover)"
+    assert c.length == pytest.approx(across, rel=1e-12)
+    assert polyline_length(c.polyline) == pytest.approx(across, rel=1e-12)
+    assert np.allclose(c.polyline[0], V[2], atol=1e-12) and np.allclose(c.polyline[-1], V[3],
+                                                                         atol=1e-12)
+    # a face point (the centroid of face 1) to vertex 2
+    f = ifem.geodesic_path(V, F, [(1, 1 / 3, 1 / 3, 1 / 3), 2])
+    assert f.length == pytest.approx(1 + np.hypot(1, 0.2) / 3, rel=1e-12)
+    g = ifem.single_source_geodesics(V, F, 2, return_paths=True)
+    assert g.exact and g.tufted_cover
+    assert g.length[3] == pytest.approx(across, rel=1e-12)
+    assert g.length[0] == pytest.approx(np.hypot(0.5, 1), rel=1e-12)
+    assert polyline_length(g.paths[3]) == pytest.approx(across, rel=1e-12)
+    assert np.allclose(g.paths[3][0], V[2], atol=1e-12)
+    with pytest.raises(ifem.NonManifoldInput,
+                       match=r"a path through more than two points needs FlipOut.*edge \(0,1\)"
+                             r".*--path A,B.*--all-from"):
+        ifem.geodesic_path(V, F, [2, 3, 4])
+    with pytest.raises(ifem.NonManifoldInput, match="a loop needs FlipOut"):
+        ifem.geodesic_path(V, F, [2, 3, 4], loop=True)
+    with pytest.raises(ifem.NonManifoldInput, match="a network of curves needs FlipOut"):
+        ifem.geodesic_network(V, F, [[2, 3], [3, 4]])
+    with pytest.raises(ifem.NonManifoldInput, match="single_source_flipout.*need signposts"):
+        ifem.single_source_geodesics(V, F, 2, single_source_flipout=True)
+
+
+def test_nonmanifold_path_matches_cli(tmp_path):
+    V, F = ifem.read_mesh(test_data("fan3.obj"))
+    out = tmp_path / "p.txt"
+    stdout = run_cli("geodesic", test_data("fan3.obj"), "--path", "0,1", "-o", out)
+    c = ifem.geodesic(V, F, [0, 1])
+    (line,) = read_txt_polylines(out)
+    assert np.allclose(c.polyline, line, rtol=0, atol=1e-12)
+    assert abs(c.length - float(re.search(r"-> ([0-9.e+-]+)", stdout).group(1))) <= 1e-11
+    lengths = tmp_path / "all.txt"
+    run_cli("geodesic", test_data("fan3.obj"), "--all-from", "0", "-o", lengths)
+    g = ifem.geodesic(V, F, all_from=0)
+    assert np.allclose(g.length, read_txt(lengths), rtol=1e-15, atol=0)
 
 
 def test_network_file_is_read_by_the_library(spot, tmp_path):

@@ -8,7 +8,12 @@
 //                       ──► FlipOut (all curves together: they never cross) or de Casteljau
 //                       ──► polylines on the input surface, lengths, FlipOut's report
 //
-// Needs an edge-manifold, orientable triangle mesh (with or without boundary).
+// FlipOut needs an edge-manifold, orientable triangle mesh (with or without boundary). On a
+// nonmanifold or non-orientable mesh (which the signposts refuse) a path between two points and
+// single-source geodesics are the exact distance's shortest paths on the input's tufted cover
+// (the surface `ifem distance --exact` measures: each cover face a copy of an input face, so a
+// path on the cover is a path on the input of the same length); loops, networks, several
+// points and Bézier curves are refused there (docs/decisions.md D-375).
 #pragma once
 
 #include <Eigen/Core>
@@ -52,8 +57,8 @@ struct GeodesicOptions {
   /// (InvalidInput stating what was reached), true returns them as they are.
   bool accept_partial = false;
   /// Memory budget, bytes, of the vertices a Bézier curve adds (intrinsic::check_curve_budget(),
-  /// before any flip) and of the exact distance's windows in single-source mode; 0:
-  /// intrinsic::default_memory_budget().
+  /// before any flip) and of the exact distance's windows in single-source mode and, on a
+  /// nonmanifold input, for a path between two points; 0: intrinsic::default_memory_budget().
   double max_memory_bytes = 0.0;
   /// FlipOut's start paths for one open path between two points (intrinsic::shortest_geodesic):
   /// kBest (default) shortens the Dijkstra edge path and the start paths of StartGuide (the
@@ -102,9 +107,27 @@ struct GeodesicCurves {
   double seconds_signposts = 0.0, seconds_flipout = 0.0;
   double seconds_guide = 0.0;  ///< StartGuide's seconds (exact distances or heat) (0: not used)
   /// The start path the kept geodesic came from (intrinsic::shortest_geodesic()'s `won`) for a
-  /// path between two points; empty for other curves.
+  /// path between two points; empty for other curves. "exact path (...)" when the path is the
+  /// exact distance's shortest path instead of FlipOut's: FlipOut's kept geodesic was longer
+  /// than the exact distance by more than kExactPairTolerance (the parenthesis says from which
+  /// start and by how much), or the input is nonmanifold ("exact path (tufted cover)").
   std::string start_won;
+  /// True: the input is not edge-manifold and orientable and the one path between two points is
+  /// the exact shortest path on its tufted cover (no FlipOut: `report` is empty, `windows` the
+  /// exact distance's work).
+  bool tufted_cover = false;
+  std::size_t windows = 0;  ///< tufted_cover: windows of the exact distance
 };
+
+/// A path between two points is FlipOut's geodesic unless that is longer than the exact
+/// distance between them by more than this (relative): then the exact distance's path is
+/// returned instead (GeodesicCurves::start_won "exact path ..."). Both lengths are sums over
+/// the same intrinsic edge lengths; where they describe the same geodesic they agreed to ≤ 5e-14
+/// on 55 reference pairs (rounding over a few hundred segments), while the FlipOut geodesics in
+/// another class were 1e-6–4.4e-3 longer (the 7 of 208 audit pairs that fall back; generated
+/// bumpy grids: ≥ 8e-5); 1e-9 separates the two with margins of 10⁴ and 10³
+/// (docs/decisions.md D-375).
+inline constexpr double kExactPairTolerance = 1e-9;
 
 /// What geodesic() computed from one source vertex.
 struct SingleSourceResult {
@@ -114,6 +137,9 @@ struct SingleSourceResult {
   std::vector<std::vector<Eigen::Vector3d>> paths;
   /// True: lengths and paths from the exact distance (shortest geodesics); false: FlipOut's.
   bool exact = false;
+  /// True: the input is not edge-manifold and orientable, and the exact distance ran on its
+  /// tufted cover (paths on the cover are paths on the input: same points, same lengths).
+  bool tufted_cover = false;
   std::size_t windows = 0;          ///< exact: the exact distance's windows (its work)
   Index flips = 0, iterations = 0;  ///< FlipOut: its flips and iterations
   Index blocked = 0;  ///< FlipOut: vertices whose path was left bent (a blocked wedge)
@@ -165,21 +191,33 @@ std::string point_problem(const GivenPoint& p, const io::SurfaceInput& input);
 void check_curves(const std::vector<GivenCurve>& curves, const io::SurfaceInput& input);
 
 /// Geodesic curves through the given points (paths, loops, a network shortened together; with
-/// options.bezier_rounds one Bézier curve), traced over the input.
+/// options.bezier_rounds one Bézier curve), traced over the input. A path between two points
+/// is never longer than the exact distance between them (kExactPairTolerance) while the exact
+/// distance fits the memory budget.
+/// On a mesh that is not edge-manifold and orientable, one open curve through two points
+/// (vertices or face points) is the exact shortest path on the tufted cover
+/// (GeodesicCurves::tufted_cover; options.start is not used).
 /// @throws InvalidInput on bad options or curves (check_curves), an input without faces or
 ///         area, points on different components, a Bézier curve over its budget
 ///         (intrinsic::check_curve_budget), curves left at FlipOut's iteration cap (unless
-///         accept_partial; intrinsic::iteration_cap_message)
-/// @throws NonManifoldInput on a mesh that is not edge-manifold and orientable
+///         accept_partial; intrinsic::iteration_cap_message); on the tufted cover: the exact
+///         distance over the memory budget
+/// @throws NonManifoldInput on a mesh that is not edge-manifold and orientable, for anything
+///         but one path between two points (loops, networks, several points, Bézier: FlipOut
+///         needs signposts), saying what does run on such a mesh
 GeodesicCurves geodesic(const io::SurfaceInput& input, const std::vector<GivenCurve>& curves,
                         const GeodesicOptions& options = {});
 
 /// Single-source geodesics: a geodesic from `source` to every vertex and their lengths: the
 /// shortest ones from the exact distance (default), or by FlipOut (Dijkstra with FlipOut at the
-/// frontier; GeodesicOptions::single_source_flipout).
+/// frontier; GeodesicOptions::single_source_flipout). On a mesh that is not edge-manifold and
+/// orientable: the exact distance on its tufted cover (SingleSourceResult::tufted_cover), as
+/// `ifem distance --exact` computes it, its paths mapped onto the input.
 /// @throws InvalidInput on a source outside [0, #V_in) or used by no face, bad options, an input
-///         without faces
-/// @throws NonManifoldInput on a mesh that is not edge-manifold and orientable
+///         without faces; on the tufted cover, the exact distance over the memory budget (no
+///         FlipOut to fall back on)
+/// @throws NonManifoldInput with single_source_flipout on a mesh that is not edge-manifold and
+///         orientable (FlipOut needs signposts)
 SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,
                             const GeodesicOptions& options = {});
 
