@@ -14,6 +14,16 @@
 
 namespace ifem::intrinsic {
 
+void add_quad(std::vector<Triangle>& faces, Index a, Index b, Index c, Index d, bool along_ac) {
+  if (along_ac) {
+    faces.push_back({a, b, c});
+    faces.push_back({a, c, d});
+  } else {
+    faces.push_back({a, b, d});
+    faces.push_back({b, c, d});
+  }
+}
+
 TriangleMesh icosphere(int n) {
   if (n < 1) throw InvalidInput("icosphere: n must be ≥ 1");
   const double p = (1.0 + std::sqrt(5.0)) / 2.0;
@@ -124,14 +134,8 @@ TriangleMesh grid(int nx, int ny, double width, double height, bool alternate) {
   }
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
-      const Index a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if (!alternate || (i + j) % 2 == 0) {
-        mesh.faces.push_back({a, b, c});
-        mesh.faces.push_back({a, c, d});
-      } else {
-        mesh.faces.push_back({a, b, d});
-        mesh.faces.push_back({b, c, d});
-      }
+      add_quad(mesh.faces, id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1),
+               !alternate || (i + j) % 2 == 0);
     }
   }
   return mesh;
@@ -159,15 +163,8 @@ TriangleMesh book(int pages, int nx, int ny, double width, double height) {
     }
     for (int i = 0; i < nx; ++i) {
       for (int j = 0; j < ny; ++j) {
-        const Index a = id(p, i, j), b = id(p, i + 1, j), c = id(p, i + 1, j + 1),
-                    d = id(p, i, j + 1);
-        if ((i + j) % 2 == 0) {
-          mesh.faces.push_back({a, b, c});
-          mesh.faces.push_back({a, c, d});
-        } else {
-          mesh.faces.push_back({a, b, d});
-          mesh.faces.push_back({b, c, d});
-        }
+        add_quad(mesh.faces, id(p, i, j), id(p, i + 1, j), id(p, i + 1, j + 1), id(p, i, j + 1),
+                 (i + j) % 2 == 0);
       }
     }
   }

@@ -13,6 +13,11 @@ struct TriangleMesh {
   std::vector<Triangle> faces;  ///< #F, counter-clockwise seen from outside
 };
 
+/// Appends the two triangles of the quad a → b → c → d (counter-clockwise): split along the
+/// diagonal a–c, {a, b, c} and {a, c, d}, when `along_ac`; else along b–d, {a, b, d} and
+/// {b, c, d}. The grids here alternate the diagonal by cell parity.
+void add_quad(std::vector<Triangle>& faces, Index a, Index b, Index c, Index d, bool along_ac);
+
 /// Unit icosphere with every icosahedron edge cut into n segments: 20·n² faces, 10·n² + 2
 /// vertices, all on the unit sphere. n = 224 gives 1,003,520 faces.
 TriangleMesh icosphere(int n);

@@ -334,14 +334,8 @@ io::SurfaceInput bumpy_grid(int nx, int ny, double w, double h, double amp, int 
   }
   for (int i = 0; i < nx; ++i) {
     for (int j = 0; j < ny; ++j) {
-      const Index a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if ((i + j) % 2 == 0) {
-        in.triangles.push_back({a, b, c});
-        in.triangles.push_back({a, c, d});
-      } else {
-        in.triangles.push_back({a, b, d});
-        in.triangles.push_back({b, c, d});
-      }
+      intrinsic::add_quad(in.triangles, id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1),
+                          (i + j) % 2 == 0);
     }
   }
   return in;
