@@ -367,9 +367,17 @@ bool FlipNetwork::flip_wedge(Index a, int side) {
   std::size_t from = 1, refused = kNone;  // refused: the first index that refused to flip
   for (std::size_t guard = w.size(); guard > 0 && !w.empty(); --guard) {
     std::size_t flipped = kNone;
+    bool spliced = false;  // w already updated for the flip
     for (std::size_t j = from; j < w.size(); ++j) {
       if (beta_at_least_flat(w, j)) continue;
-      const Index e = tri.edge(w[j]);
+      const Index x = w[j];
+      const Index e = tri.edge(x);
+      // whether the diamond's other corners (head(x), the third corners of faces j and j − 1)
+      // all differ from b = tail(x): then faces j − 1 and j are passed once by the wedge (a
+      // face with one corner at b is), and the walk after the flip is known without walking
+      const Index b = tri.tail(x);
+      const bool once = tri.tail(T::next(x)) != b && tri.tail(T::prev(x)) != b &&
+                        tri.tail(T::next(w[j - 1])) != b;
       double measured[2];  // the signposts' two new corners (a third fewer atan2 in corner())
       if (st_.flip_edge(e, measured)) {
         forget_corners(e);
@@ -379,19 +387,29 @@ bool FlipNetwork::flip_wedge(Index a, int side) {
         flipped = j;
         ++flips_;
         if (on_flip) on_flip(e);
+        if (once) {
+          // in both flip patterns the new face at b holds w[j − 1]'s side in slot prev(x),
+          // followed by w[j + 1]: the walk would give w[0 .. j − 2], prev(x), w[j + 1 ..]
+          w[j - 1] = T::prev(x);
+          w.erase(w.begin() + static_cast<std::ptrdiff_t>(j));
+          spliced = true;
+        }
         break;
       }
       refused = std::min(refused, j);
     }
     if (flipped == kNone) return refused == kNone && !w.empty();
     from = std::max<std::size_t>(1, flipped - 1);
-    // a Δ-complex wedge may pass a face twice: the prefix is unchanged only if the flip's two
-    // faces are not in it
-    const Index f0 = T::face(w[flipped - 1]), f1 = T::face(w[flipped]);
-    for (std::size_t i = 0; i < from; ++i) {
-      if (T::face(w[i]) == f0 || T::face(w[i]) == f1) from = 1;
+    if (!spliced) {
+      // a Δ-complex wedge may pass a face twice: the prefix is unchanged only if the flip's
+      // two faces are not in it
+      const Index f0 = T::face(w[flipped - 1]), f1 = T::face(w[flipped]);
+      for (std::size_t i = 0; i < from; ++i) {
+        if (T::face(w[i]) == f0 || T::face(w[i]) == f1) from = 1;
+      }
     }
-    if (refused >= from) refused = kNone;           // those are scanned again
+    if (refused >= from) refused = kNone;  // those are scanned again
+    if (spliced) continue;
     const auto [s, t] = joint_wedge_ends(a, side);  // a flip moves halfedges between slots
     wedge_faces(tri, s, t, &w);
   }
