@@ -104,8 +104,6 @@ void FlipNetwork::forget_corners(Index e) {
   const Index h = tri.edge_halfedge(e);
   for (const Index f : {T::face(h), T::face(tri.twin(h))}) {
     std::fill_n(corner_.get() + 3 * f, 3, 0.0);
-    FaceArgs& m = face_args_[f & (kFaceArgs - 1)];
-    if (m.face == f) m.face = kInvalidIndex;
   }
 }
 
@@ -140,29 +138,6 @@ double FlipNetwork::beta(const std::vector<Index>& w, std::size_t i) {
   return corner(T::prev(w[i - 1])) + corner(T::next(w[i]));
 }
 
-// opposite_angle_args(l(next(h)), l(h), l(prev(h))), bit for bit: its scale and 4·area depend
-// on the face alone (the area sorts its sides), and x = (b² + c²) − a² is summed from the same
-// squares in the same order.
-inline void FlipNetwork::corner_args(Index h, double* y, double* x) {
-  const Index f = T::face(h);
-  FaceArgs& m = face_args_[f & (kFaceArgs - 1)];
-  if (m.face != f) {
-    const T& tri = st_.intrinsic();
-    double l[3] = {tri.halfedge_length(3 * f), tri.halfedge_length(3 * f + 1),
-                   tri.halfedge_length(3 * f + 2)};
-    const double s = length_normalizer(std::max({l[0], l[1], l[2]}));
-    if (s != 1.0) l[0] /= s, l[1] /= s, l[2] /= s;
-    m.y = 4.0 * triangle_area(l[0], l[1], l[2]);
-    const double q[3] = {l[0] * l[0], l[1] * l[1], l[2] * l[2]};
-    m.x[0] = q[0] + q[2] - q[1];  // corner k: b = side k, c = side k − 1, a = side k + 1
-    m.x[1] = q[1] + q[0] - q[2];
-    m.x[2] = q[2] + q[1] - q[0];
-    m.face = f;
-  }
-  *y = m.y;
-  *x = m.x[h - 3 * f];
-}
-
 // beta(w, i) >= π − kFlatSlack, the same answer, mostly without atan2: with both corners cached
 // their sum; else from the atan2 arguments (x_k, y_k) of the two corners (y_k ≥ 0, so each
 // corner θ_k = atan2(y_k, x_k) is in [0, π]): sin(θ1 + θ2) = (y1 x2 + x1 y2) / (r1 r2). When
@@ -176,9 +151,12 @@ bool FlipNetwork::beta_at_least_flat(const std::vector<Index>& w, std::size_t i)
   const double c1 = corner_.get()[h1], c2 = corner_.get()[h2];
   if (c1 != 0.0 && c2 != 0.0) return c1 + c2 >= kPi - kFlatSlack;
   constexpr double kSure = 1e-9, kRound = 1e-15;  // kRound > 4 unit roundoffs
+  const T& tri = st_.intrinsic();
   double y1 = 0.0, x1 = 0.0, y2 = 0.0, x2 = 0.0;
-  corner_args(h1, &y1, &x1);
-  corner_args(h2, &y2, &x2);
+  opposite_angle_args(tri.halfedge_length(T::next(h1)), tri.halfedge_length(h1),
+                      tri.halfedge_length(T::prev(h1)), &y1, &x1);
+  opposite_angle_args(tri.halfedge_length(T::next(h2)), tri.halfedge_length(h2),
+                      tri.halfedge_length(T::prev(h2)), &y2, &x2);
   const double p = y1 * x2, q = x1 * y2, cross = p + q;
   const double bound =
       kSure * (std::abs(x1) + y1) * (std::abs(x2) + y2) + kRound * (std::abs(p) + std::abs(q));

@@ -130,17 +130,6 @@ class FlipNetwork {
   // per vertex: 0 not yet known, 1 one closed fan, 2 boundary or pinched (one_closed_fan())
   std::unique_ptr<unsigned char, void (*)(void*)> fan_{nullptr, std::free};
   std::vector<PathStep> chain_;  // reroute()'s scratch
-  // The β test's faces: opposite_angle_args() of their three corners (4·area, and b² + c² − a²
-  // per corner), direct-mapped by face; consecutive tests share a face (D-385). Entries of a
-  // flipped face are dropped by forget_corners().
-  struct FaceArgs {
-    Index face = kInvalidIndex;
-    double y = 0.0;
-    double x[3] = {0.0, 0.0, 0.0};  // by side
-  };
-  static constexpr Index kFaceArgs = 64;  // a power of two
-  FaceArgs face_args_[kFaceArgs];
-  void corner_args(Index h, double* y, double* x);  // opposite_angle_args() of corner h
 };
 
 }  // namespace ifem::intrinsic::detail
