@@ -334,20 +334,22 @@ bool FlipNetwork::remove_backtrack(Index a) {
   return true;
 }
 
-// Whether the wedge from start to end holds a curve edge or a fixed edge, or does not close
-// (its walk stops at the first such edge: a blocked joint at a vertex of high valence is
-// common in single-source geodesics).
-bool FlipNetwork::wedge_blocked(Index start, Index end) const {
+// The wedge from start to end, as wedge_faces() gives it, into *w; false when it holds a curve
+// edge or a fixed edge, or does not close (the walk stops at the first obstacle: a blocked
+// joint at a vertex of high valence is common in single-source geodesics). One walk for both.
+bool FlipNetwork::open_wedge(Index start, Index end, std::vector<Index>* w) const {
+  w->clear();
+  if (start == kInvalidIndex || end == kInvalidIndex) return false;
   const T& tri = st_.intrinsic();
-  if (start == kInvalidIndex || end == kInvalidIndex) return true;
-  Index n = 1;
-  for (Index x = start; T::prev(x) != end; ++n) {
+  w->push_back(start);
+  for (Index x = start; T::prev(x) != end;) {
     x = tri.twin(T::prev(x));
-    if (x == kInvalidIndex || n > tri.n_halfedges()) return true;
+    if (x == kInvalidIndex || static_cast<Index>(w->size()) > tri.n_halfedges()) return false;
     const Index e = tri.edge(x);
-    if (uses_[e] > 0 || (fixed_ != nullptr && (*fixed_)[e] != 0)) return true;
+    if (uses_[e] > 0 || (fixed_ != nullptr && (*fixed_)[e] != 0)) return false;
+    w->push_back(x);
   }
-  return false;
+  return true;
 }
 
 // Flips the wedge's interior edges whose angle β at their far end is < π (their diamonds are
@@ -361,8 +363,7 @@ bool FlipNetwork::flip_wedge(Index a, int side) {
   const T& tri = st_.intrinsic();
   std::vector<Index>& w = wedge_;
   const auto [start, end] = joint_wedge_ends(a, side);
-  if (wedge_blocked(start, end)) return false;
-  wedge_faces(tri, start, end, &w);
+  if (!open_wedge(start, end, &w)) return false;
   constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
   std::size_t from = 1, refused = kNone;  // refused: the first index that refused to flip
   for (std::size_t guard = w.size(); guard > 0 && !w.empty(); --guard) {

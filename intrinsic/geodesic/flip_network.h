@@ -109,7 +109,7 @@ class FlipNetwork {
   Index new_node(const PathStep& s, Index curve);
   void link(Index a, Index b);
   bool remove_backtrack(Index a);
-  bool wedge_blocked(Index start, Index end) const;
+  bool open_wedge(Index start, Index end, std::vector<Index>* w) const;
   bool flip_wedge(Index a, int side);
   void reroute(Index a, int side);
   bool straighten(Index a, const Eigen::Vector2d& angles);
