@@ -138,18 +138,18 @@ double FlipNetwork::beta(const std::vector<Index>& w, std::size_t i) {
   return corner(T::prev(w[i - 1])) + corner(T::next(w[i]));
 }
 
-// beta(w, i) >= π − kFlatSlack, the same answer, mostly without atan2: with both corners cached
-// their sum; else from the atan2 arguments (x_k, y_k) of the two corners (y_k ≥ 0, so each
+// beta(w, i) >= π − kFlatSlack, the same answer, mostly without atan2: from the atan2
+// arguments (x_k, y_k) of the two corners (y_k ≥ 0, so each
 // corner θ_k = atan2(y_k, x_k) is in [0, π]): sin(θ1 + θ2) = (y1 x2 + x1 y2) / (r1 r2). When
 // that cross term, less its rounding bound, exceeds kSure·r1 r2 (r_k ≤ |x_k| + y_k), the sum is
 // in (kSure, π − kSure) and beta() (atan2 within an ulp, one rounded add) is below π − kFlatSlack;
 // below −kSure·r1 r2 the sum is in (π + kSure, 2π − kSure). In between (within 1e-9 rad of 0 or
 // π, or NaN) beta() decides. Measured (callgrind, the icosphere(71) path of ifem_bench
-// geodesic): 427 → 242 instructions per test, no test left to beta() (D-147).
+// geodesic): 427 → 242 instructions per test, no test left to beta() (D-147). The corner cache
+// is not read first: both corners were cached in 106 of 30,463 tests, and its two loads cost
+// more than those tests save (its sum answers as the arguments do where they are sure; D-385).
 bool FlipNetwork::beta_at_least_flat(const std::vector<Index>& w, std::size_t i) {
   const Index h1 = T::prev(w[i - 1]), h2 = T::next(w[i]);
-  const double c1 = corner_.get()[h1], c2 = corner_.get()[h2];
-  if (c1 != 0.0 && c2 != 0.0) return c1 + c2 >= kPi - kFlatSlack;
   constexpr double kSure = 1e-9, kRound = 1e-15;  // kRound > 4 unit roundoffs
   const T& tri = st_.intrinsic();
   double y1 = 0.0, x1 = 0.0, y2 = 0.0, x2 = 0.0;
