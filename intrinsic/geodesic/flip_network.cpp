@@ -359,6 +359,8 @@ bool FlipNetwork::open_wedge(Index start, Index end, std::vector<Index>* w) cons
 // Each pass scans the wedge from its start for the first edge to flip; a flip at index k
 // changes only the faces k − 1 and k, so the next pass resumes at k − 1: the β before it, and
 // which of those edges refused to flip, are those of the pass before (same faces, same bits).
+// The wedge after a flip is spliced in place when its two faces have one corner at the joint
+// (every flip on the benchmark meshes; D-385), else walked again.
 bool FlipNetwork::flip_wedge(Index a, int side) {
   const T& tri = st_.intrinsic();
   std::vector<Index>& w = wedge_;

@@ -9,9 +9,11 @@
 // of sin β from the two corners' atan2 arguments (atan2 only within 1e-9 rad of 0 or π: the
 // same answers). A joint at an interior vertex (one closed fan) that is straight by a margin
 // is judged from the signposts at its vertex in O(1), and a bent one is summed face by face
-// over its side-0 wedge (over at most 32 faces: past that, the signposts' figure). All flips
+// over its side-0 wedge (over at most 32 faces: past that, the signposts' figure). After a flip
+// the wedge is updated in O(1) where the flipped faces have one corner at the joint (walked
+// again otherwise), and one walk both finds a wedge and checks it is not blocked. All flips
 // during a network's life must be its own (the corner cache follows them). docs/decisions.md
-// D-128, D-147.
+// D-128, D-147, D-385.
 #pragma once
 
 #include <cstdlib>
