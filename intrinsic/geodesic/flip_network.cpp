@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <limits>
 #include <new>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -397,6 +398,7 @@ bool FlipNetwork::flip_wedge(Index a, int side) {
           w.erase(w.begin() + static_cast<std::ptrdiff_t>(j));
           spliced = true;
         }
+        if (check_splices) check_splice(a, side, j, x, spliced);
         break;
       }
       refused = std::min(refused, j);
@@ -417,6 +419,27 @@ bool FlipNetwork::flip_wedge(Index a, int side) {
     wedge_faces(tri, s, t, &w);
   }
   return false;
+}
+
+// check_splices: the wedge in wedge_ spliced after the flip of its edge j (halfedge slot x)
+// against the walk joint_wedge_ends() gives, and the prefix before j − 1 free of the two
+// flipped faces (the pass resumes there).
+void FlipNetwork::check_splice(Index a, int side, std::size_t j, Index x, bool spliced) {
+  ++(spliced ? spliced_flips : walked_flips);
+  if (!spliced) return;
+  const T& tri = st_.intrinsic();
+  const auto [s, t] = joint_wedge_ends(a, side);
+  std::vector<Index> walked;
+  wedge_faces(tri, s, t, &walked);
+  bool same = walked == wedge_;
+  const Index f0 = T::face(x), f1 = T::face(tri.twin(x));  // x holds the new edge
+  for (std::size_t i = 0; i + 1 < j; ++i) {
+    same = same && T::face(wedge_[i]) != f0 && T::face(wedge_[i]) != f1;
+  }
+  if (!same) {
+    throw std::logic_error("FlipNetwork: the wedge spliced after flip " + std::to_string(flips_) +
+                           " differs from the walked one");
+  }
 }
 
 // Replaces the steps of joint a (a and its next) by the outer boundary of the wedge in wedge_.

@@ -72,6 +72,11 @@ class FlipNetwork {
   Index n_curves() const { return static_cast<Index>(curves_.size()); }
   /// Called after every successful flip with the flipped edge.
   std::function<void(Index)> on_flip;
+  /// Test hook (D-385): when set, the wedge spliced after a flip is compared with the wedge
+  /// walked again (std::logic_error naming the flip if they differ), and flips are counted by
+  /// how their wedge was updated.
+  bool check_splices = false;
+  Index spliced_flips = 0, walked_flips = 0;
 
  private:
   struct Node {
@@ -113,6 +118,7 @@ class FlipNetwork {
   bool remove_backtrack(Index a);
   bool open_wedge(Index start, Index end, std::vector<Index>* w) const;
   bool flip_wedge(Index a, int side);
+  void check_splice(Index a, int side, std::size_t j, Index x, bool spliced);
   void reroute(Index a, int side);
   bool straighten(Index a, const Eigen::Vector2d& angles);
   Index push_all_bends();
