@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <limits>
 #include <new>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -138,18 +139,18 @@ double FlipNetwork::beta(const std::vector<Index>& w, std::size_t i) {
   return corner(T::prev(w[i - 1])) + corner(T::next(w[i]));
 }
 
-// beta(w, i) >= π − kFlatSlack, the same answer, mostly without atan2: with both corners cached
-// their sum; else from the atan2 arguments (x_k, y_k) of the two corners (y_k ≥ 0, so each
+// beta(w, i) >= π − kFlatSlack, the same answer, mostly without atan2: from the atan2
+// arguments (x_k, y_k) of the two corners (y_k ≥ 0, so each
 // corner θ_k = atan2(y_k, x_k) is in [0, π]): sin(θ1 + θ2) = (y1 x2 + x1 y2) / (r1 r2). When
 // that cross term, less its rounding bound, exceeds kSure·r1 r2 (r_k ≤ |x_k| + y_k), the sum is
 // in (kSure, π − kSure) and beta() (atan2 within an ulp, one rounded add) is below π − kFlatSlack;
 // below −kSure·r1 r2 the sum is in (π + kSure, 2π − kSure). In between (within 1e-9 rad of 0 or
 // π, or NaN) beta() decides. Measured (callgrind, the icosphere(71) path of ifem_bench
-// geodesic): 427 → 242 instructions per test, no test left to beta() (D-147).
+// geodesic): 427 → 242 instructions per test, no test left to beta() (D-147). The corner cache
+// is not read first: both corners were cached in 106 of 30,463 tests, and its two loads cost
+// more than those tests save (its sum answers as the arguments do where they are sure; D-385).
 bool FlipNetwork::beta_at_least_flat(const std::vector<Index>& w, std::size_t i) {
   const Index h1 = T::prev(w[i - 1]), h2 = T::next(w[i]);
-  const double c1 = corner_.get()[h1], c2 = corner_.get()[h2];
-  if (c1 != 0.0 && c2 != 0.0) return c1 + c2 >= kPi - kFlatSlack;
   constexpr double kSure = 1e-9, kRound = 1e-15;  // kRound > 4 unit roundoffs
   const T& tri = st_.intrinsic();
   double y1 = 0.0, x1 = 0.0, y2 = 0.0, x2 = 0.0;
@@ -334,20 +335,22 @@ bool FlipNetwork::remove_backtrack(Index a) {
   return true;
 }
 
-// Whether the wedge from start to end holds a curve edge or a fixed edge, or does not close
-// (its walk stops at the first such edge: a blocked joint at a vertex of high valence is
-// common in single-source geodesics).
-bool FlipNetwork::wedge_blocked(Index start, Index end) const {
+// The wedge from start to end, as wedge_faces() gives it, into *w; false when it holds a curve
+// edge or a fixed edge, or does not close (the walk stops at the first obstacle: a blocked
+// joint at a vertex of high valence is common in single-source geodesics). One walk for both.
+bool FlipNetwork::open_wedge(Index start, Index end, std::vector<Index>* w) const {
+  w->clear();
+  if (start == kInvalidIndex || end == kInvalidIndex) return false;
   const T& tri = st_.intrinsic();
-  if (start == kInvalidIndex || end == kInvalidIndex) return true;
-  Index n = 1;
-  for (Index x = start; T::prev(x) != end; ++n) {
+  w->push_back(start);
+  for (Index x = start; T::prev(x) != end;) {
     x = tri.twin(T::prev(x));
-    if (x == kInvalidIndex || n > tri.n_halfedges()) return true;
+    if (x == kInvalidIndex || static_cast<Index>(w->size()) > tri.n_halfedges()) return false;
     const Index e = tri.edge(x);
-    if (uses_[e] > 0 || (fixed_ != nullptr && (*fixed_)[e] != 0)) return true;
+    if (uses_[e] > 0 || (fixed_ != nullptr && (*fixed_)[e] != 0)) return false;
+    w->push_back(x);
   }
-  return false;
+  return true;
 }
 
 // Flips the wedge's interior edges whose angle β at their far end is < π (their diamonds are
@@ -357,19 +360,28 @@ bool FlipNetwork::wedge_blocked(Index start, Index end) const {
 // Each pass scans the wedge from its start for the first edge to flip; a flip at index k
 // changes only the faces k − 1 and k, so the next pass resumes at k − 1: the β before it, and
 // which of those edges refused to flip, are those of the pass before (same faces, same bits).
+// The wedge after a flip is spliced in place when its two faces have one corner at the joint
+// (every flip on the benchmark meshes; D-385), else walked again.
 bool FlipNetwork::flip_wedge(Index a, int side) {
   const T& tri = st_.intrinsic();
   std::vector<Index>& w = wedge_;
   const auto [start, end] = joint_wedge_ends(a, side);
-  if (wedge_blocked(start, end)) return false;
-  wedge_faces(tri, start, end, &w);
+  if (!open_wedge(start, end, &w)) return false;
   constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
   std::size_t from = 1, refused = kNone;  // refused: the first index that refused to flip
   for (std::size_t guard = w.size(); guard > 0 && !w.empty(); --guard) {
     std::size_t flipped = kNone;
+    bool spliced = false;  // w already updated for the flip
     for (std::size_t j = from; j < w.size(); ++j) {
       if (beta_at_least_flat(w, j)) continue;
-      const Index e = tri.edge(w[j]);
+      const Index x = w[j];
+      const Index e = tri.edge(x);
+      // whether the diamond's other corners (head(x), the third corners of faces j and j − 1)
+      // all differ from b = tail(x): then faces j − 1 and j are passed once by the wedge (a
+      // face with one corner at b is), and the walk after the flip is known without walking
+      const Index b = tri.tail(x);
+      const bool once = tri.tail(T::next(x)) != b && tri.tail(T::prev(x)) != b &&
+                        tri.tail(T::next(w[j - 1])) != b;
       double measured[2];  // the signposts' two new corners (a third fewer atan2 in corner())
       if (st_.flip_edge(e, measured)) {
         forget_corners(e);
@@ -379,23 +391,55 @@ bool FlipNetwork::flip_wedge(Index a, int side) {
         flipped = j;
         ++flips_;
         if (on_flip) on_flip(e);
+        if (once) {
+          // in both flip patterns the new face at b holds w[j − 1]'s side in slot prev(x),
+          // followed by w[j + 1]: the walk would give w[0 .. j − 2], prev(x), w[j + 1 ..]
+          w[j - 1] = T::prev(x);
+          w.erase(w.begin() + static_cast<std::ptrdiff_t>(j));
+          spliced = true;
+        }
+        if (check_splices) check_splice(a, side, j, x, spliced);
         break;
       }
       refused = std::min(refused, j);
     }
     if (flipped == kNone) return refused == kNone && !w.empty();
     from = std::max<std::size_t>(1, flipped - 1);
-    // a Δ-complex wedge may pass a face twice: the prefix is unchanged only if the flip's two
-    // faces are not in it
-    const Index f0 = T::face(w[flipped - 1]), f1 = T::face(w[flipped]);
-    for (std::size_t i = 0; i < from; ++i) {
-      if (T::face(w[i]) == f0 || T::face(w[i]) == f1) from = 1;
+    if (!spliced) {
+      // a Δ-complex wedge may pass a face twice: the prefix is unchanged only if the flip's
+      // two faces are not in it
+      const Index f0 = T::face(w[flipped - 1]), f1 = T::face(w[flipped]);
+      for (std::size_t i = 0; i < from; ++i) {
+        if (T::face(w[i]) == f0 || T::face(w[i]) == f1) from = 1;
+      }
     }
-    if (refused >= from) refused = kNone;           // those are scanned again
+    if (refused >= from) refused = kNone;  // those are scanned again
+    if (spliced) continue;
     const auto [s, t] = joint_wedge_ends(a, side);  // a flip moves halfedges between slots
     wedge_faces(tri, s, t, &w);
   }
   return false;
+}
+
+// check_splices: the wedge in wedge_ spliced after the flip of its edge j (halfedge slot x)
+// against the walk joint_wedge_ends() gives, and the prefix before j − 1 free of the two
+// flipped faces (the pass resumes there).
+void FlipNetwork::check_splice(Index a, int side, std::size_t j, Index x, bool spliced) {
+  ++(spliced ? spliced_flips : walked_flips);
+  if (!spliced) return;
+  const T& tri = st_.intrinsic();
+  const auto [s, t] = joint_wedge_ends(a, side);
+  std::vector<Index> walked;
+  wedge_faces(tri, s, t, &walked);
+  bool same = walked == wedge_;
+  const Index f0 = T::face(x), f1 = T::face(tri.twin(x));  // x holds the new edge
+  for (std::size_t i = 0; i + 1 < j; ++i) {
+    same = same && T::face(wedge_[i]) != f0 && T::face(wedge_[i]) != f1;
+  }
+  if (!same) {
+    throw std::logic_error("FlipNetwork: the wedge spliced after flip " + std::to_string(flips_) +
+                           " differs from the walked one");
+  }
 }
 
 // Replaces the steps of joint a (a and its next) by the outer boundary of the wedge in wedge_.

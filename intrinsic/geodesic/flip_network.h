@@ -9,9 +9,11 @@
 // of sin β from the two corners' atan2 arguments (atan2 only within 1e-9 rad of 0 or π: the
 // same answers). A joint at an interior vertex (one closed fan) that is straight by a margin
 // is judged from the signposts at its vertex in O(1), and a bent one is summed face by face
-// over its side-0 wedge (over at most 32 faces: past that, the signposts' figure). All flips
+// over its side-0 wedge (over at most 32 faces: past that, the signposts' figure). After a flip
+// the wedge is updated in O(1) where the flipped faces have one corner at the joint (walked
+// again otherwise), and one walk both finds a wedge and checks it is not blocked. All flips
 // during a network's life must be its own (the corner cache follows them). docs/decisions.md
-// D-128, D-147.
+// D-128, D-147, D-385.
 #pragma once
 
 #include <cstdlib>
@@ -70,6 +72,11 @@ class FlipNetwork {
   Index n_curves() const { return static_cast<Index>(curves_.size()); }
   /// Called after every successful flip with the flipped edge.
   std::function<void(Index)> on_flip;
+  /// Test hook (D-385): when set, the wedge spliced after a flip is compared with the wedge
+  /// walked again (std::logic_error naming the flip if they differ), and flips are counted by
+  /// how their wedge was updated.
+  bool check_splices = false;
+  Index spliced_flips = 0, walked_flips = 0;
 
  private:
   struct Node {
@@ -109,8 +116,9 @@ class FlipNetwork {
   Index new_node(const PathStep& s, Index curve);
   void link(Index a, Index b);
   bool remove_backtrack(Index a);
-  bool wedge_blocked(Index start, Index end) const;
+  bool open_wedge(Index start, Index end, std::vector<Index>* w) const;
   bool flip_wedge(Index a, int side);
+  void check_splice(Index a, int side, std::size_t j, Index x, bool spliced);
   void reroute(Index a, int side);
   bool straighten(Index a, const Eigen::Vector2d& angles);
   Index push_all_bends();

@@ -10,6 +10,7 @@
 #include "intrinsic/core/errors.h"
 #include "intrinsic/core/geometry.h"
 #include "intrinsic/generators/mesh_generators.h"
+#include "intrinsic/geodesic/flip_network.h"
 #include "intrinsic/io/mesh_io.h"
 #include "intrinsic/refine/delaunay_refine.h"
 
@@ -123,6 +124,61 @@ TEST(FlipGeodesic, IcospherePathBetweenChordAndDijkstra) {
   EXPECT_NO_THROW(st.intrinsic().validate());
   const std::vector<Eigen::Vector3d> line = path_polyline(st, path);
   EXPECT_NEAR(polyline_length(line), rep.final_length, 1e-6 * rep.final_length);
+}
+
+// After a flip FlipOut splices its wedge in place where the two flipped faces have one corner at
+// the joint (docs/decisions.md D-385): the spliced wedge must be the one walked again. On an
+// icosphere, and on a Δ-complex: an icosphere with one vertex pulled out into a spike (angle sum
+// below π), whose edges are flipped away until none flips (faces with two corners at one vertex
+// appear around it, and there the wedge is walked instead; the test makes sure both ways occur).
+TEST(FlipGeodesic, SplicedWedgesEqualWalkedOnes) {
+  for (const bool spike : {false, true}) {
+    TriangleMesh m = icosphere(4);
+    const Index v = 0;
+    if (spike) m.positions.row(v) *= 4.0;
+    SignpostTriangulation st(m.faces, m.positions);
+    const IntrinsicTriangulation& tri = st.intrinsic();
+    for (int round = 0; spike && round < 50; ++round) {
+      bool any = false;
+      for (Index h = 0; h < tri.n_halfedges(); ++h) {
+        if (tri.tail(h) == v && tri.twin(h) != kInvalidIndex)
+          any = st.flip_edge(tri.edge(h)) || any;
+      }
+      if (!any) break;
+    }
+    Index x = v;  // a vertex with two corners in one face, if any
+    for (Index f = 0; f < tri.n_faces(); ++f) {
+      const Index a = tri.tail(3 * f), b = tri.tail(3 * f + 1), c = tri.tail(3 * f + 2);
+      if (a == b || b == c || a == c) x = a == b || a == c ? a : b;
+    }
+    std::vector<Index> ends;  // vertices near x (every 7th vertex without a spike)
+    for (Index u = 0; u < m.positions.rows(); ++u) {
+      const double d = (m.positions.row(u) - m.positions.row(x)).norm();
+      if (spike ? u != v && d < 0.9 : u % 7 == 0) ends.push_back(u);
+    }
+    Index spliced = 0, walked = 0;
+    for (const Index a : ends) {
+      for (const Index b : ends) {
+        if (b <= a) continue;
+        EdgePath path = shortest_edge_path(st, a, b);
+        std::vector<int> uses;
+        detail::FlipNetwork net(st, uses, nullptr);
+        net.check_splices = true;
+        net.add(path, 0);
+        FlipOutReport rep;
+        ASSERT_NO_THROW(net.run(FlipOutOptions{}, rep))
+            << "spike " << spike << ", " << a << "-" << b;
+        EXPECT_LE(rep.final_length, rep.initial_length);
+        spliced += net.spliced_flips;
+        walked += net.walked_flips;
+      }
+    }
+    EXPECT_GT(spliced, 100) << "spike " << spike;  // 7,451 and 1,089 when written (3 walked)
+    if (spike) {
+      EXPECT_GT(walked, 0);
+    }
+    EXPECT_NO_THROW(tri.validate());
+  }
 }
 
 // On a refined intrinsic triangulation (inserted vertices, Delaunay flips), a path between two
