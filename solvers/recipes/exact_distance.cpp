@@ -47,15 +47,8 @@ std::vector<std::vector<Eigen::Vector3d>> exact_paths_3d(const PreparedSurface& 
       throw InvalidInput("exact paths: vertex " + std::to_string(v) +
                          " is not an input vertex id in [0, " + std::to_string(nv) + ")");
     }
-    std::vector<Eigen::Vector3d> line;
-    for (const intrinsic::SurfacePoint& p : full.path_to_source(v)) {
-      Eigen::Vector3d q = Eigen::Vector3d::Zero();
-      for (int k = 0; k < 3; ++k) {
-        q += p.bary[k] * x.row(s.tri.tail(3 * p.face + k)).transpose();
-      }
-      line.push_back(q);
-    }
-    out.push_back(std::move(line));
+    out.push_back(path_points_3d(s.tri, full.path_to_source(v),
+                                 [&](Index u) -> Eigen::Vector3d { return x.row(u).transpose(); }));
   }
   return out;
 }

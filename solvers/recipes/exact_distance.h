@@ -21,6 +21,25 @@ Eigen::VectorXd exact_distance(const PreparedSurface& s, const std::vector<Index
                                const intrinsic::ExactDistanceOptions& options = {},
                                intrinsic::ExactDistance* full = nullptr);
 
+/// The points of a path on tri (SurfacePoints, e.g. intrinsic::ExactDistance::path_to_source())
+/// in 3D: each the blend, by its barycentric coordinates, of position_of(v) at its face's
+/// corners v (a zero coordinate's corner is not read). position_of: Index → Eigen::Vector3d.
+template <class PositionOf>
+std::vector<Eigen::Vector3d> path_points_3d(const intrinsic::IntrinsicTriangulation& tri,
+                                            const std::vector<intrinsic::SurfacePoint>& path,
+                                            const PositionOf& position_of) {
+  std::vector<Eigen::Vector3d> line;
+  line.reserve(path.size());
+  for (const intrinsic::SurfacePoint& p : path) {
+    Eigen::Vector3d q = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      if (p.bary[k] != 0.0) q += p.bary[k] * position_of(tri.tail(3 * p.face + k));
+    }
+    line.push_back(q);
+  }
+  return line;
+}
+
 /// The exact geodesics back from input vertices `from` to their nearest source, as 3D polylines
 /// (each from the vertex to the source; a vertex that is a source gives one point, an
 /// unreachable one an empty polyline), placed on the input's own faces.

@@ -106,19 +106,9 @@ struct ExactPair {
 // Points of st.intrinsic() (unflipped: every face lies in one input face) in 3D.
 std::vector<Eigen::Vector3d> unflipped_polyline(const SignpostTriangulation& st,
                                                 const std::vector<intrinsic::SurfacePoint>& pts) {
-  const intrinsic::IntrinsicTriangulation& tri = st.intrinsic();
-  std::vector<Eigen::Vector3d> line;
-  line.reserve(pts.size());
-  for (const intrinsic::SurfacePoint& p : pts) {
-    Eigen::Vector3d q = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) {
-      if (p.bary[k] != 0.0) {
-        q += p.bary[k] * st.position(st.vertex_location(tri.tail(3 * p.face + k)));
-      }
-    }
-    line.push_back(q);
-  }
-  return line;
+  return solvers::path_points_3d(st.intrinsic(), pts, [&](Index v) -> Eigen::Vector3d {
+    return st.position(st.vertex_location(v));
+  });
 }
 
 // The curves shortened as options.start says (GeodesicOptions::start): one open path between
@@ -410,11 +400,6 @@ void refuse_without_signposts(const std::vector<GivenCurve>& curves, const Geode
       "(--all-from S) run: exact shortest paths on its tufted cover");
 }
 
-// The exact shortest path on the cover between two points not in one face: the exact distance
-// from one end (`source`), path_to_source() from the other (`target`: a vertex, or a face point
-// inserted into both cover copies of its face, or split into the cover edges under it when on
-// a side; the shortest path). Fills
-// out.polyline (from `target` to `source`) and out.length; returns the windows.
 // The cover edges under a face point on a side of its face (one per copy; a zipped boundary
 // side is one edge for both), each with the fraction of the way from vertex `from`.
 struct CoverSide {
@@ -450,6 +435,11 @@ bool split_touches(const intrinsic::IntrinsicTriangulation& tri, const CoverPoin
   return false;
 }
 
+// The exact shortest path on the cover between two points not in one face: the exact distance
+// from one end (`source`), path_to_source() from the other (`target`: a vertex, or a face point
+// inserted into both cover copies of its face, or split into the cover edges under it when on
+// a side; the shortest path). Fills out.polyline (from `target` to `source`) and out.length;
+// returns the windows.
 std::size_t cover_path(solvers::PreparedSurface& s, const CoverPoint& source,
                        const CoverPoint& target, const GivenCurve& curve,
                        const GeodesicOptions& options, GeodesicCurve& out) {
@@ -494,16 +484,10 @@ std::size_t cover_path(solvers::PreparedSurface& s, const CoverPoint& source,
                        curve.points[1].token + " lie on different components (no path)");
   }
   const auto& x = s.input.positions;
-  for (const intrinsic::SurfacePoint& p : d.path_to_source(end)) {  // target → source
-    Eigen::Vector3d q = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) {
-      const Index v = tri.tail(3 * p.face + k);
-      if (p.bary[k] != 0.0) {
-        q += p.bary[k] * (v < nv ? Eigen::Vector3d(x.row(v).transpose()) : target.position);
-      }
-    }
-    out.polyline.push_back(q);
-  }
+  out.polyline = solvers::path_points_3d(  // target → source
+      tri, d.path_to_source(end), [&](Index v) -> Eigen::Vector3d {
+        return v < nv ? Eigen::Vector3d(x.row(v).transpose()) : target.position;
+      });
   out.length = d.distance[end];
   return d.windows;
 }
@@ -652,18 +636,21 @@ bool exact_single_source(const SignpostTriangulation& st, const io::SurfaceInput
   r.length = d.distance.head(nv);
   if (options.on_progress) options.on_progress(1.0, "single-source geodesics");
   for (Index v = 0; options.trace_paths && v < nv; ++v) {
-    std::vector<Eigen::Vector3d> line;
-    for (const intrinsic::SurfacePoint& p : d.path_to_source(v)) {
-      Eigen::Vector3d q = Eigen::Vector3d::Zero();
-      for (int k = 0; k < 3; ++k) {
-        q += p.bary[k] * input.positions.row(tri.tail(3 * p.face + k)).transpose();
-      }
-      line.push_back(q);
-    }
+    std::vector<Eigen::Vector3d> line = solvers::path_points_3d(
+        tri, d.path_to_source(v),
+        [&](Index u) -> Eigen::Vector3d { return input.positions.row(u).transpose(); });
     std::reverse(line.begin(), line.end());  // from the source
     r.paths.push_back(std::move(line));
   }
   return true;
+}
+
+// A source vertex no face of tri uses is refused (as exact_distance() refuses it).
+void refuse_isolated_source(const intrinsic::IntrinsicTriangulation& tri, Index source) {
+  if (tri.vertex_halfedge(source) == kInvalidIndex) {
+    throw InvalidInput("source = " + std::to_string(source) +
+                       ": vertex used by no face (an isolated vertex, not on the surface)");
+  }
 }
 
 // Single-source geodesics on a mesh the signposts refuse: the exact distance on the tufted
@@ -671,10 +658,7 @@ bool exact_single_source(const SignpostTriangulation& st, const io::SurfaceInput
 SingleSourceResult tufted_single_source(const io::SurfaceInput& input, Index source,
                                         const GeodesicOptions& options) {
   const solvers::PreparedSurface s = tufted_surface(input, options.mollify_relative_epsilon);
-  if (s.tri.vertex_halfedge(source) == kInvalidIndex) {
-    throw InvalidInput("source = " + std::to_string(source) +
-                       ": vertex used by no face (an isolated vertex, not on the surface)");
-  }
+  refuse_isolated_source(s.tri, source);
   const Stopwatch watch;
   if (options.on_progress) options.on_progress(0.0, "single-source geodesics");
   intrinsic::ExactDistanceOptions eo;
@@ -721,10 +705,7 @@ SingleSourceResult geodesic(const io::SurfaceInput& input, Index source,
     return tufted_single_source(input, source, options);
   }
   SignpostTriangulation& st = *built;
-  if (st.intrinsic().vertex_halfedge(source) == kInvalidIndex) {  // as exact_distance() refuses
-    throw InvalidInput("source = " + std::to_string(source) +
-                       ": vertex used by no face (an isolated vertex, not on the surface)");
-  }
+  refuse_isolated_source(st.intrinsic(), source);
   const Stopwatch watch;
   SingleSourceResult r;
   if (!options.single_source_flipout && exact_single_source(st, input, source, options, r)) {
