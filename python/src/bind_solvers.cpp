@@ -223,35 +223,37 @@ class DistanceSolver {
       const Stopwatch watch;
       std::vector<SurfacePoint> pts(f.size());
       auto name = [](std::size_t i) { return "points[" + std::to_string(i) + "]"; };
-      if (on_cut_surface) {
-        const SignpostTriangulation& st = cut_signposts();
-        const solvers::PreparedSurface& c = solver_.surface();
-        const std::vector<Index> face_map =
-            intrinsic::given_face_map(st.input_face_origin(), c.input.triangles.size());
-        for (std::size_t i = 0; i < f.size(); ++i) {
-          const SurfacePoint p = intrinsic::given_face_point(
-              st.input(), c.input.triangles, face_map, kept[std::size_t(f[i])], b.row(i), name(i));
-          pts[i] = intrinsic::locate_input_point(st, p.face, p.bary);
-        }
-        d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points(pts));
-      } else {
-        // the given faces' points on the input triangulation, then located on the intrinsic
-        // one: through the common subdivision with integer coordinates (PointLocator, built on
-        // the first points query), by tracing along the signposts otherwise
-        const SignpostTriangulation* st = s_.integer ? nullptr : &signposts();
-        const intrinsic::IntrinsicTriangulation& input =
-            s_.integer ? s_.integer->input() : st->input();
-        const std::vector<Index> face_map = intrinsic::given_face_map(
-            s_.integer ? s_.integer->input_face_origin() : st->input_face_origin(),
-            s_.input.triangles.size());
-        for (std::size_t i = 0; i < f.size(); ++i) {
-          pts[i] = intrinsic::given_face_point(input, s_.input.triangles, face_map, f[i], b.row(i),
+      // the given faces' points on an input triangulation (`input`, whose face f comes from
+      // given face origin[f] of `triangles`), then located on the intrinsic one: by tracing along
+      // signposts, or through the common subdivision with integer coordinates (PointLocator,
+      // built on the first points query)
+      const auto given = [&](const T& input, const std::vector<Index>& origin,
+                             const std::vector<Triangle>& triangles,
+                             const std::vector<Index>& given_faces, const Eigen::MatrixX3d& w) {
+        const std::vector<Index> face_map = intrinsic::given_face_map(origin, triangles.size());
+        for (std::size_t i = 0; i < given_faces.size(); ++i) {
+          pts[i] = intrinsic::given_face_point(input, triangles, face_map, given_faces[i], w.row(i),
                                                name(i));
         }
+      };
+      const auto traced = [&](const SignpostTriangulation& st) {
+        for (SurfacePoint& p : pts) p = intrinsic::locate_input_point(st, p.face, p.bary);
+      };
+      if (on_cut_surface) {
+        const SignpostTriangulation& st = cut_signposts();
+        std::vector<Index> cut_faces(f.size());
+        for (std::size_t i = 0; i < f.size(); ++i) cut_faces[i] = kept[std::size_t(f[i])];
+        given(st.input(), st.input_face_origin(), solver_.surface().input.triangles, cut_faces, b);
+        traced(st);
+        d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points(pts));
+      } else {
         if (s_.integer) {
+          given(s_.integer->input(), s_.integer->input_face_origin(), s_.input.triangles, f, b);
           pts = locator().input_to_intrinsic(pts);
         } else {
-          for (SurfacePoint& p : pts) p = intrinsic::locate_input_point(*st, p.face, p.bary);
+          const SignpostTriangulation& st = signposts();
+          given(st.input(), st.input_face_origin(), s_.input.triangles, f, b);
+          traced(st);
         }
         d = solvers::on_input_vertices(s_, solver_.compute_distance_from_points_uncut(pts));
       }
