@@ -212,9 +212,12 @@ class DistanceSolver {
     if (!refusal.empty()) throw InvalidInput(refusal);
     auto [f, b] = checked_points(faces, bary, static_cast<Index>(s_.input.triangles.size()));
     // with stray hubs cut loose (D-360, D-380) the points are located on the solver's surface
-    // (the input without the hubs' faces), unless one lies on a cut face: then on s_ uncut
+    // (the input without the hubs' faces), unless one lies on a cut face or that surface took
+    // the tufted path (its hole's rim can choose it; no signposts there): then on s_ uncut
     const std::vector<Index>& kept = solver_.surface_face();
-    const bool on_cut_surface = solver_.cut() && std::all_of(f.begin(), f.end(), [&](Index g) {
+    const solvers::PreparedSurface& c = solver_.surface();
+    const bool on_cut_surface = solver_.cut() && c.path == SurfacePath::kManifold && !c.refined &&
+                                std::all_of(f.begin(), f.end(), [&](Index g) {
                                   return kept[std::size_t(g)] != kInvalidIndex;
                                 });
     Eigen::VectorXd d;

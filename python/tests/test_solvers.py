@@ -326,6 +326,25 @@ def test_solver_cuts_a_stray_hub_as_the_one_off(tmp_path):
                      rtol=1e-10)
 
 
+def test_points_next_to_a_cut_hub_whose_hole_takes_the_tufted_path():
+    # spot's vertex of largest degree pulled away: the rest, with a hole, takes the tufted path
+    # (obtuse angles at the rim), where no signposts locate points: they are located uncut
+    # (this raised "did not come out edge for edge" before)
+    V, F = ifem.read_mesh(spot())
+    hub = int(np.argmax(np.bincount(F.ravel())))
+    W = V.copy()
+    W[hub] += 1e4 * np.ptp(V, axis=0).max()
+    solver = ifem.HeatDistanceSolver(W, F)
+    assert solver.info["stray_hubs_cut"]
+    f = int(np.flatnonzero(~(F == hub).any(axis=1))[0])
+    v = int(F[f, 0])
+    d = solver.compute_distance(points=[(f, 1.0, 0.0, 0.0)])
+    dv = solver.compute_distance(v)
+    off = (np.arange(len(V)) != hub) & (dv > 0)
+    assert d[v] == 0 and np.isfinite(d).all()
+    assert np.median(np.abs(d - dv)[off] / dv[off]) < 5e-2
+
+
 @pytest.mark.parametrize("kind", ["manifold", "nonmanifold", "cloud"])
 def test_batched_sources_equal_single_queries_and_the_cli(tmp_path, kind):
     path = {"manifold": spot, "nonmanifold": lambda: nonmanifold(tmp_path),
